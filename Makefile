@@ -1,0 +1,44 @@
+# Entry points. Each target installs what it needs from Debian's packages first (idempotent).
+PRESET ?= default
+BUILD := build/$(PRESET)
+JOBS ?= $(shell nproc)
+FUZZ_SECONDS ?= 20
+
+.PHONY: deps deps-browser build demo test test-asan bench fuzz format install-check clean
+
+deps:
+	@bash scripts/install-deps.sh
+
+deps-browser:
+	@bash scripts/install-deps.sh --browser
+
+build: deps
+	@cmake --preset $(PRESET) >/dev/null
+	@cmake --build --preset $(PRESET) -j $(JOBS)
+
+demo: build
+	./$(BUILD)/lathectl demo --out demo-out
+	@echo "open demo-out/index.html"
+
+test: deps-browser
+	@cmake --preset default >/dev/null
+	@cmake --build --preset default -j $(JOBS)
+	ctest --preset default -j $(JOBS)
+	@bash scripts/fuzz-smoke.sh $(FUZZ_SECONDS)
+
+test-asan: deps
+	@cmake --preset asan >/dev/null
+	@cmake --build --preset asan -j $(JOBS)
+	ctest --preset asan -j $(JOBS)
+
+bench: build
+	./$(BUILD)/bench/lathectl_bench --benchmark_counters_tabular=true
+
+fuzz: deps
+	@bash scripts/fuzz-smoke.sh 600
+
+format:
+	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
+
+clean:
+	rm -rf build demo-out

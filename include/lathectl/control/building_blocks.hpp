@@ -1,0 +1,72 @@
+#pragma once
+// Building blocks of the one controller structure the seeds share:
+//   sensor → validity monitor → comparison with a programmed setpoint → regulator (PI with limits
+//   and anti-windup) → rate limiter → actuator.
+// All are real-time safe: configure() validates (may throw), the stepping calls never allocate,
+// throw, lock or log.
+
+#include "lathectl/control/types.hpp"
+
+namespace lathectl::control {
+
+// Checks one sensor sample: finite, inside [min, max], and not frozen (a real sensor with noise
+// never repeats the same value for long; a stuck ADC or broken wire does).
+class SignalMonitor {
+ public:
+  struct Params {
+    double min = -1e300;        // lowest valid value
+    double max = 1e300;         // highest valid value
+    double stuck_time_s = 0.0;  // unchanged this long → stuck; 0 disables the check
+    double stuck_tolerance = 0.0;  // |Δ| at or below this counts as unchanged
+  };
+  void configure(const Params& p);  // throws std::invalid_argument on min ≥ max or negative times
+  // Returns Reason::None when the sample is usable, else the fault. dt in s.
+  [[nodiscard]] Reason check(double value, double dt) noexcept;
+  void reset() noexcept;
+
+ private:
+  Params p_{};
+  double last_ = 0.0;
+  double unchanged_s_ = 0.0;
+  bool has_last_ = false;
+};
+
+// PI regulator with output limits and anti-windup by conditional integration with
+// back-calculation: while the output is clamped the integrator is pulled back so that it
+// leaves the limit as soon as the error changes sign (no windup, no overshoot from stored error).
+class PiRegulator {
+ public:
+  struct Params {
+    double kp = 0.0;        // proportional gain [output/error]
+    double ti_s = 0.0;      // integral time [s]; 0 → P only
+    double out_min = 0.0;   // output lower limit
+    double out_max = 1.0;   // output upper limit
+  };
+  void configure(const Params& p);  // throws on out_min > out_max, negative gains
+  // One step; returns the clamped output. `limited` tells whether a limit was active.
+  double update(double error, double dt, Reason& limited) noexcept;
+  // Bumpless start: set the integrator so the next output equals `output` at zero error.
+  void preset(double output) noexcept;
+  void set_limits(double out_min, double out_max) noexcept;
+  [[nodiscard]] double output() const noexcept { return out_; }
+
+ private:
+  Params p_{};
+  double integral_ = 0.0;
+  double out_ = 0.0;
+};
+
+// Slew-rate limiter: the output moves toward the input at most rate·dt per step.
+class RateLimiter {
+ public:
+  void configure(double rate_per_s);  // throws on rate ≤ 0
+  double update(double target, double dt, bool& limited) noexcept;
+  void reset(double value) noexcept { y_ = value; }
+  [[nodiscard]] double value() const noexcept { return y_; }
+
+ private:
+  double rate_ = 1.0;
+  double y_ = 0.0;
+};
+
+}  // namespace lathectl::control

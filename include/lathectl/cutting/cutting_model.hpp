@@ -1,0 +1,107 @@
+#pragma once
+// Cutting-force, power, tool-life and roughness model for turning (all systems).
+//
+// Handbook form (Kosilova & Meshcheryakov, "Spravochnik tekhnologa-mashinostroitelya", t.2):
+//   P_i = 10 · Cp_i · t^x_i · s^y_i · V^n_i · Kp          [N]
+//   t depth [mm], s feed [mm/rev], V cutting speed [m/min], i ∈ {z, y, x}
+//   Kp = Kmp · (hardness and wear factors of the disturbances)
+//   Kmp = (strength / strength_base)^kmp_exponent (σв for steel, HB for cast iron)
+// Kienzle form (König & Essel; Degner, Lutze, Smejkal "Spanende Formung"):
+//   F_i = k_i1.1 · b · h^(1 − m_i),  b = t / sin κ,  h = s · sin κ    [N; mm]
+//   Fc ↔ Pz, Fp (passive) ↔ Py, Ff (feed) ↔ Px
+// Power: Nc = Pz · V.  Tool life (extended Taylor, handbook): V = Cv / (T^m · t^xv · s^yv),
+// so T = (Cv / (V · t^xv · s^yv))^(1/m) [min]; the coefficients depend on the feed range.
+// Roughness: Rz = s² / (8 r), Ra ≈ s² / (32 r) (r nose radius).
+//
+// Units here are the handbook's shop units (mm, mm/rev, m/min, N); callers convert from SI.
+// All evaluation calls are noexcept and allocation-free.
+
+#include <array>
+#include <string>
+
+namespace lathectl::cutting {
+
+struct PowerLaw {  // handbook force law 10·Cp·t^x·s^y·V^n
+  double Cp = 0.0;
+  double x = 1.0;
+  double y = 1.0;
+  double n = 0.0;
+};
+
+struct KienzleLaw {  // k1.1 · b · h^(1 − m)
+  double k11_N_per_mm2 = 0.0;
+  double m = 0.0;
+};
+
+struct ToolLifeRange {  // extended Taylor law valid for feeds up to feed_max_mm_per_rev
+  double feed_max_mm_per_rev = 1e9;
+  double Cv = 0.0;
+  double xv = 0.0;
+  double yv = 0.0;
+  double m = 0.2;
+};
+
+struct Material {
+  std::string name;
+  std::string description;
+  std::string strength_basis;      // "sigma_b_MPa" or "HB"
+  double strength = 0.0;           // of this material, in strength_basis units
+  double strength_base = 0.0;      // the handbook coefficients' reference strength
+  double kmp_exponent = 0.0;       // Kmp = (strength/base)^exponent
+  PowerLaw Pz, Py, Px;             // handbook form
+  KienzleLaw Fc, Fp, Ff;           // Kienzle form
+  std::array<ToolLifeRange, 3> tool_life{};  // ascending feed ranges
+  int tool_life_ranges = 0;
+};
+
+enum class ForceForm { Handbook, Kienzle };
+
+struct Forces {
+  double Pz = 0.0;  // tangential [N]
+  double Py = 0.0;  // radial (passive) [N]
+  double Px = 0.0;  // axial (feed) [N]
+};
+
+struct CutState {
+  double depth_mm = 0.0;            // t
+  double feed_mm_per_rev = 0.0;     // s
+  double speed_m_per_min = 0.0;     // V
+  double strength_factor = 1.0;     // local hardness / strength relative to the material's
+  double wear_factor = 1.0;         // force growth from flank wear (≥ 1)
+};
+
+class CuttingModel {
+ public:
+  struct Params {
+    Material material;
+    ForceForm form = ForceForm::Handbook;
+    double approach_angle_deg = 90.0;  // κ, Kienzle form only
+    double nose_radius_mm = 0.8;
+  };
+  void configure(const Params& p);  // throws std::invalid_argument on bad data
+
+  // Forces for one cutting state; zero when depth or feed is not positive (tool out of cut).
+  [[nodiscard]] Forces forces(const CutState& c) const noexcept;
+  // Only the radial force (cheaper: one power law).
+  [[nodiscard]] double radial_force(const CutState& c) const noexcept;
+  // Cutting power Nc = Pz·V [W].
+  [[nodiscard]] double power_W(const Forces& f, double speed_m_per_min) const noexcept;
+  // Tool life T [min] at V, s, t (extended Taylor); +inf when not cutting.
+  [[nodiscard]] double tool_life_min(double speed_m_per_min, double feed_mm_per_rev,
+                                     double depth_mm) const noexcept;
+  // Speed [m/min] giving tool life T_min at s, t.
+  [[nodiscard]] double speed_for_life(double life_min, double feed_mm_per_rev,
+                                      double depth_mm) const noexcept;
+  [[nodiscard]] double roughness_Rz_um(double feed_mm_per_rev) const noexcept;
+  [[nodiscard]] double roughness_Ra_um(double feed_mm_per_rev) const noexcept;
+  [[nodiscard]] const Params& params() const noexcept { return p_; }
+  [[nodiscard]] double kmp() const noexcept { return kmp_; }
+
+ private:
+  [[nodiscard]] const ToolLifeRange& life_range(double feed_mm_per_rev) const noexcept;
+  Params p_{};
+  double kmp_ = 1.0;
+  double sin_kappa_ = 1.0;
+};
+
+}  // namespace lathectl::cutting

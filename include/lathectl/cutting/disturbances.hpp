@@ -1,0 +1,67 @@
+#pragma once
+// What makes cutting forces vary (seeds 000, 004): allowance (depth) variation — steps along the
+// part, runout once per revolution (eccentric blank), random allowance — hardness along the part,
+// and tool wear growing with cutting time.
+//
+//   depth(x, φ) = depth_profile(x) + runout · sin φ + r(x)          [mm]
+//     depth_profile: piecewise constant steps, each entered over a ramp of `step_ramp_mm`
+//     r(x): Ornstein–Uhlenbeck process in travel x, σ = random_sigma, correlation length L,
+//           advanced exactly: r ← r·e^(−Δx/L) + σ·sqrt(1 − e^(−2Δx/L))·N(0,1)
+//   strength_factor(x): piecewise linear between the given points (1 outside none given)
+//   VB(t_cut) = VB0 + rate · t_cut;  wear_factor = 1 + force_gain · VB       [mm; 1/mm]
+//
+// x is the tool's travel along its feed path [mm]; φ the spindle angle [rad]; t_cut the time in
+// cut [s]. Measurement noise lives with each sensor, seeded from the scenario.
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+namespace lathectl::cutting {
+
+struct ProfilePoint {
+  double at_mm = 0.0;
+  double value = 0.0;
+};
+
+struct DisturbanceParams {
+  double depth_mm = 1.0;                   // nominal depth of cut (allowance)
+  std::vector<ProfilePoint> depth_steps;   // at_mm → new depth_mm, ascending
+  double step_ramp_mm = 0.5;               // travel over which a step is entered
+  double runout_mm = 0.0;                  // depth amplitude per revolution
+  double random_sigma_mm = 0.0;            // random allowance σ
+  double random_correlation_mm = 5.0;      // its correlation length
+  std::vector<ProfilePoint> hardness;      // at_mm → strength factor, ascending
+  double wear_VB0_mm = 0.0;                // initial flank wear
+  double wear_rate_mm_per_min = 0.0;       // flank wear growth per minute in cut
+  double wear_force_gain_per_mm = 0.0;     // force factor growth per mm of VB
+  std::uint64_t seed = 1;
+};
+
+struct LocalCut {
+  double depth_mm = 0.0;
+  double strength_factor = 1.0;
+  double wear_factor = 1.0;
+  double flank_wear_mm = 0.0;
+};
+
+class Disturbances {
+ public:
+  void configure(const DisturbanceParams& p);  // throws std::invalid_argument
+  // Advances the random allowance to travel x (monotone or not) and evaluates the local cut.
+  LocalCut at(double travel_mm, double spindle_angle_rad, double time_in_cut_s) noexcept;
+  // Depth of the deterministic profile alone (no runout, no random part).
+  [[nodiscard]] double depth_profile(double travel_mm) const noexcept;
+  [[nodiscard]] double strength_factor(double travel_mm) const noexcept;
+  // Travel of the first step or hardness change (where the first disturbance begins), or +inf.
+  [[nodiscard]] double first_change_mm() const noexcept;
+
+ private:
+  DisturbanceParams p_{};
+  std::mt19937_64 rng_{1};
+  std::normal_distribution<double> normal_{0.0, 1.0};
+  double random_mm_ = 0.0;
+  double last_x_ = 0.0;
+};
+
+}  // namespace lathectl::cutting

@@ -1,0 +1,78 @@
+#pragma once
+// Discrete (on/off) flow regulator 5 of seed 000: a spool of diameter d opens a slot of height h
+// for a pulse of width Δt every period T = 1/f. Δp across it is held constant by the reducing
+// valve, so while open q = K_o · y⁺ with K_o = μπd·sqrt(2Δp/ρ) (see orifice.hpp) and y⁺ the
+// positive part of the spool's opening y.
+//
+// Ideal mean flow, seed (1): Q = K_o · h · Δt/T; AIM (2) Q = Ka·h, FIM (6) Q = Kf·f.
+//
+// Real switching: the spool moves at finite speed — it opens over `opening_time_s` and closes
+// over `closing_time_s` (each for the full travel lap + max_slot) — and must first cross the
+// overlap (lap) before the slot opens. Hence:
+//   - a pulse shorter than lap / v_open gives no flow (dead zone),
+//   - near duty 1 the spool cannot close before the next pulse and the flow saturates at the
+//     continuous-opening value,
+//   - between, the mean flow is bent from (1) by the opening and closing ramps.
+// The slot height h is the stop (eccentric 8 in AIM): the spool cannot open past it.
+//
+// Integration: exact. Within a simulation step the command is piecewise constant between pulse
+// edges, and the spool position is piecewise linear, so ∫ y⁺ dt is computed in closed form
+// segment by segment; no sub-stepping, no edge quantisation.
+
+#include "lathectl/hydraulics/orifice.hpp"
+
+namespace lathectl::hydraulics {
+
+class PulseRegulator {
+ public:
+  struct Params {
+    SlotOrifice orifice;
+    double max_slot_m = 0.2e-3;    // travel of the spool past the lap
+    double lap_m = 0.0;            // overlap to cross before the slot opens
+    double opening_time_s = 0.0;   // full travel (lap + max_slot) opening time; 0 = instantaneous
+    double closing_time_s = 0.0;   // full travel closing time; 0 = instantaneous
+    ObliterationParams obliteration;
+  };
+  void configure(const Params& p);  // throws std::invalid_argument
+
+  // Advances by dt with slot stop h [m], pulse frequency f [Hz] and pulse width Δt [s];
+  // returns the mean flow over the step [m³/s]. f ≤ 0 stops pulsing (spool closes).
+  double step(double dt, double slot_m, double frequency_Hz, double pulse_width_s) noexcept;
+
+  [[nodiscard]] double opening_m() const noexcept { return y_ > 0.0 ? y_ : 0.0; }
+  [[nodiscard]] const Params& params() const noexcept { return p_; }
+  // Ideal mean flow by seed formula (1).
+  [[nodiscard]] double ideal_flow(double slot_m, double frequency_Hz, double pulse_width_s) const noexcept;
+  void reset() noexcept;
+
+ private:
+  // Moves y toward target at speed v for time tau; returns ∫ max(y, 0) dt over it.
+  double move(double target, double v, double tau) noexcept;
+
+  Params p_{};
+  double gain_ = 0.0;     // K_o [m³/s per m]
+  double v_open_ = 0.0;   // spool speed opening [m/s]; +inf for instantaneous
+  double v_close_ = 0.0;
+  double phase_ = 0.0;    // position in the period, [0, 1)
+  double y_ = 0.0;        // spool opening past the lap edge [m]; −lap when fully closed
+  ObliterationLayer layer_;
+};
+
+// Continuous throttle (the seed's baseline): a fixed slot opening with obliteration.
+class Throttle {
+ public:
+  struct Params {
+    SlotOrifice orifice;
+    ObliterationParams obliteration;
+  };
+  void configure(const Params& p);
+  double step(double dt, double opening_m) noexcept;  // returns flow [m³/s]
+  [[nodiscard]] double layer_m() const noexcept { return layer_.thickness_m(); }
+
+ private:
+  Params p_{};
+  double gain_ = 0.0;
+  ObliterationLayer layer_;
+};
+
+}  // namespace lathectl::hydraulics

@@ -1,0 +1,60 @@
+#pragma once
+// HTML report: a self-contained page (inline CSS + inline SVG, no scripts, no network) that opens
+// offline in any browser. Plots are drawn here, in C++, as SVG polylines, so the report needs
+// nothing installed to be read.
+
+#include <string>
+#include <vector>
+
+namespace lathectl::io {
+
+struct Series {
+  std::string name;        // legend text
+  std::vector<double> x;   // same length as y
+  std::vector<double> y;
+  std::string color;       // CSS colour; empty → from a default palette
+  bool dashed = false;     // dashed line (e.g. setpoints, formula curves)
+  bool points = false;     // draw markers instead of a line (e.g. measured points)
+};
+
+struct Marker {             // vertical line on a time axis: an event, alarm or disturbance
+  double x = 0.0;
+  std::string label;
+};
+
+struct Plot {
+  std::string title;
+  std::string x_label;      // with unit, e.g. "time [s]"
+  std::string y_label;      // with unit
+  std::vector<Series> series;
+  std::vector<Marker> markers;
+};
+
+struct Table {
+  std::string title;
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+};
+
+struct Report {
+  std::string title;
+  std::string subtitle;                 // scenario file, system
+  std::string description;              // free text (paragraphs separated by blank lines)
+  std::vector<std::pair<std::string, std::string>> metrics;  // name → formatted value
+  std::vector<std::string> notes;       // findings, each a short paragraph
+  std::vector<Table> tables;
+  std::vector<Plot> plots;
+};
+
+// Renders the report as one HTML document. Series longer than max_points are decimated by
+// min/max per pixel column so peaks survive.
+std::string render_html(const Report& report, std::size_t max_points = 2000);
+
+struct IndexEntry {
+  std::string title;
+  std::string href;      // relative link to the report
+  std::string summary;   // one line: the key numbers
+};
+std::string render_index_html(const std::string& title, const std::vector<IndexEntry>& entries);
+
+}  // namespace lathectl::io

@@ -1,0 +1,51 @@
+#pragma once
+// Scenario files (TOML): a system, a machine, a material, a part and its disturbances, a
+// controller and its settings, run length and step. Shop units in key names; converted to SI
+// here. Unknown keys, missing keys, wrong types and out-of-range values are InputErrors naming
+// file, line and key. Nothing runs on a half-read scenario: parsing builds the whole Scenario
+// or throws.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "lathectl/io/materials.hpp"
+#include "lathectl/sim/rig_a.hpp"
+
+namespace lathectl::io {
+
+struct RunSettings {
+  double duration_s = 10.0;
+  double step_s = 1e-4;
+  double record_interval_s = 2e-3;
+  std::uint64_t seed = 1;
+};
+
+// A second run of the same scenario with something swapped, overlaid in the report.
+struct Comparison {
+  std::string label;
+  std::optional<sim::ControllerKind> controller;
+  std::optional<sim::RegulatorKind> regulator;
+};
+
+struct Scenario {
+  std::string file;         // where it came from (for messages and the summary)
+  std::string system;       // "A" (more systems follow)
+  std::string name;
+  std::string description;
+  RunSettings run;
+  sim::RigAConfig a;        // system A
+  std::optional<Comparison> compare;
+  std::vector<double> sweep_leak_estimate_factor;  // controller K_leak / true K_leak
+};
+
+Scenario parse_scenario(std::string_view text, const std::string& file_label,
+                        const MaterialLibrary& materials);
+Scenario load_scenario(const std::string& path, const MaterialLibrary& materials);
+
+std::string controller_kind_name(sim::ControllerKind k);
+std::string regulator_kind_name(sim::RegulatorKind k);
+
+}  // namespace lathectl::io

@@ -1,0 +1,127 @@
+#pragma once
+// Rig A: the hydraulic feed slide with pulsed flow regulation (seed 000), wired as in the seed's
+// figures 1 and 3:
+//
+//   ЗПУ (programmed feed, force set) ─┐
+//   sensor Д (U_D) ─→ adder 4 / amplifier У ─→ controller ─→ AIM: eccentric drive (ЭД, Р, 8) ─→ h
+//                                                        └→ FIM: converter ПЧ ─→ electromagnet ─→ f
+//   pump 7 + reducing valve РК (Δp) ─→ regulator 5 (h, f, Δt) ─→ damper 6 ─→ cylinder 3 ─→ slide 2
+//   slide travel, feed per revolution ─→ cutting process (Py, with disturbances) ─→ load on 3, Д
+//
+// The feed per revolution is the slide's travel over the last spindle revolution (chip
+// thickness), taken from a ring buffer of positions. The controller runs every
+// `controller_period_s`; the plant every step.
+
+#include <cstdint>
+#include <vector>
+
+#include "lathectl/control/pulse_feed_controller.hpp"
+#include "lathectl/cutting/cutting_model.hpp"
+#include "lathectl/cutting/disturbances.hpp"
+#include "lathectl/drives/eccentric_drive.hpp"
+#include "lathectl/hydraulics/feed_slide.hpp"
+#include "lathectl/hydraulics/pulse_regulator.hpp"
+#include "lathectl/sensors/inductive_sensor.hpp"
+#include "lathectl/sim/recorder.hpp"
+
+namespace lathectl::sim {
+
+enum class RegulatorKind { Pulsed, Throttle };
+enum class ControllerKind { None, Aim, Fim };
+
+struct SensorFault {
+  enum class Kind { NotFinite, Stuck, OutOfRange } kind = Kind::NotFinite;
+  double at_s = 0.0;
+  double duration_s = 1e300;
+};
+
+struct RigAConfig {
+  double spindle_rpm = 500.0;
+  double diameter_m = 0.06;
+  cutting::CuttingModel::Params cutting;
+  cutting::DisturbanceParams part;
+  RegulatorKind regulator_kind = RegulatorKind::Pulsed;
+  hydraulics::PulseRegulator::Params regulator;  // its orifice and obliteration serve the throttle
+  double pulse_width_s = 0.01;   // Δt
+  double frequency_Hz = 10.0;    // AIM / uncontrolled pulse frequency
+  double slot_m = 40e-6;         // FIM fixed slot
+  drives::EccentricDrive::Params eccentric;
+  hydraulics::FeedSlide::Params slide;
+  sensors::InductiveSensor::Params sensor;
+  ControllerKind controller_kind = ControllerKind::None;
+  control::PulseFeedController::Params controller;  // programmed feed, mode, limits, gains
+  double leak_estimate_factor = 1.0;  // controller's K_leak = factor × the plant's
+  bool compensate_compliance = true;  // finishing: add C·dp/dt (beyond the seed)
+  std::vector<SensorFault> faults;
+  double feed_window_s = 0.1;         // moving average of the recorded feed rate
+};
+
+class RigA {
+ public:
+  // Builds and checks the rig; throws std::invalid_argument on an inconsistent configuration or a
+  // step too coarse for the hydraulics (ω_h·dt, damper and chamber time constants).
+  void configure(const RigAConfig& cfg, double dt_s, double record_interval_s,
+                 double duration_s);
+  // One plant step of dt; records a row every record interval.
+  void step() noexcept;
+  void run() noexcept;  // to the configured duration
+
+  [[nodiscard]] const Recorder& recorder() const noexcept { return rec_; }
+  [[nodiscard]] double time() const noexcept { return t_; }
+  // Time the tool reached the first disturbance (step or hardness change), or -1.
+  [[nodiscard]] double first_disturbance_time() const noexcept { return t_disturbance_; }
+  [[nodiscard]] double nominal_force_N() const noexcept { return force_nominal_; }
+  // Actuator setting of the uncontrolled machine: slot [m] (pulsed), opening [m] (throttle).
+  [[nodiscard]] double fixed_actuator() const noexcept { return fixed_actuator_; }
+  [[nodiscard]] const control::PulseFeedController& controller() const noexcept { return ctl_; }
+  [[nodiscard]] const RigAConfig& config() const noexcept { return cfg_; }
+  [[nodiscard]] bool numerically_sound() const noexcept { return sound_; }
+
+ private:
+  double chip_feed_mm_per_rev() const noexcept;
+  double position_ago(std::size_t steps) const noexcept;
+  double sensor_sample(double u) noexcept;
+
+  RigAConfig cfg_{};
+  double dt_ = 1e-4;
+  double t_ = 0.0;
+  double duration_ = 0.0;
+  std::size_t step_ = 0;
+  std::size_t record_every_ = 1;
+  std::size_t control_every_ = 1;
+  double speed_m_per_min_ = 0.0;
+  double rev_per_s_ = 0.0;
+  double phi_ = 0.0;
+  double force_nominal_ = 0.0;
+  double fixed_actuator_ = 0.0;
+  double t_disturbance_ = -1.0;
+  double first_change_mm_ = 0.0;
+  bool sound_ = true;
+
+  cutting::CuttingModel cut_;
+  cutting::Disturbances dist_;
+  hydraulics::PulseRegulator reg_;
+  hydraulics::Throttle thr_;
+  drives::EccentricDrive ecc_;
+  hydraulics::FeedSlide slide_;
+  sensors::InductiveSensor sensor_;
+  control::PulseFeedController ctl_;
+  control::PulseFeedController::Output ctl_out_{};
+
+  std::vector<double> x_hist_;  // ring buffer of slide positions [m]
+  std::size_t hist_head_ = 0;
+  std::size_t rev_steps_ = 1;
+  std::size_t window_steps_ = 1;
+
+  double force_ = 0.0;
+  double depth_ = 0.0;
+  double sensor_u_ = 0.0;
+  double stuck_value_ = 0.0;
+  double flow_acc_ = 0.0;
+  double force_acc_ = 0.0;
+  std::size_t acc_n_ = 0;
+  double last_flow_ = 0.0;
+  Recorder rec_;
+};
+
+}  // namespace lathectl::sim

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Installs what lathectl needs to build, test and benchmark, from Debian 12's packages.
+# Idempotent: packages already present are skipped, so `make` can call it every time cheaply.
+set -euo pipefail
+
+pkgs=(
+  g++ make cmake ninja-build pkg-config
+  libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  clang libclang-rt-14-dev          # libFuzzer and sanitizer runtimes
+)
+if [ "${1:-}" = "--browser" ]; then
+  pkgs+=(chromium)                  # headless report rendering test
+fi
+
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+SUDO=""
+[ "$(id -u)" -ne 0 ] && SUDO="sudo"
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

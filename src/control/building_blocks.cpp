@@ -1,0 +1,87 @@
+#include "lathectl/control/building_blocks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace lathectl::control {
+
+void SignalMonitor::configure(const Params& p) {
+  if (!(p.min < p.max)) throw std::invalid_argument("signal monitor: min must be below max");
+  if (p.stuck_time_s < 0.0 || p.stuck_tolerance < 0.0)
+    throw std::invalid_argument("signal monitor: stuck time and tolerance must be ≥ 0");
+  p_ = p;
+  reset();
+}
+
+void SignalMonitor::reset() noexcept {
+  has_last_ = false;
+  unchanged_s_ = 0.0;
+}
+
+Reason SignalMonitor::check(double value, double dt) noexcept {
+  if (!std::isfinite(value)) return Reason::SensorNotFinite;
+  if (value < p_.min || value > p_.max) return Reason::SensorOutOfRange;
+  if (p_.stuck_time_s > 0.0) {
+    if (has_last_ && std::abs(value - last_) <= p_.stuck_tolerance) {
+      unchanged_s_ += dt;
+    } else {
+      unchanged_s_ = 0.0;
+    }
+    last_ = value;
+    has_last_ = true;
+    if (unchanged_s_ >= p_.stuck_time_s) return Reason::SensorStuck;
+  }
+  return Reason::None;
+}
+
+void PiRegulator::configure(const Params& p) {
+  if (p.out_min > p.out_max) throw std::invalid_argument("PI regulator: out_min above out_max");
+  if (p.kp < 0.0 || p.ti_s < 0.0) throw std::invalid_argument("PI regulator: negative gain");
+  p_ = p;
+  integral_ = 0.0;
+  out_ = std::clamp(0.0, p.out_min, p.out_max);
+}
+
+void PiRegulator::set_limits(double out_min, double out_max) noexcept {
+  p_.out_min = std::min(out_min, out_max);
+  p_.out_max = std::max(out_min, out_max);
+}
+
+void PiRegulator::preset(double output) noexcept {
+  integral_ = std::clamp(output, p_.out_min, p_.out_max);
+  out_ = integral_;
+}
+
+double PiRegulator::update(double error, double dt, Reason& limited) noexcept {
+  const double ki = p_.ti_s > 0.0 ? p_.kp / p_.ti_s : 0.0;
+  const double candidate_integral = integral_ + ki * error * dt;
+  const double raw = p_.kp * error + candidate_integral;
+  const double clamped = std::clamp(raw, p_.out_min, p_.out_max);
+  limited = Reason::None;
+  if (raw > p_.out_max) limited = Reason::OutputHigh;
+  if (raw < p_.out_min) limited = Reason::OutputLow;
+  if (limited == Reason::None) {
+    integral_ = candidate_integral;
+  } else {
+    // Back-calculation: the integrator holds what makes the output sit exactly at the limit.
+    integral_ = std::clamp(clamped - p_.kp * error, p_.out_min, p_.out_max);
+  }
+  out_ = clamped;
+  return out_;
+}
+
+void RateLimiter::configure(double rate_per_s) {
+  if (!(rate_per_s > 0.0)) throw std::invalid_argument("rate limiter: rate must be > 0");
+  rate_ = rate_per_s;
+}
+
+double RateLimiter::update(double target, double dt, bool& limited) noexcept {
+  const double step = rate_ * dt;
+  const double d = target - y_;
+  limited = std::abs(d) > step;
+  y_ += std::clamp(d, -step, step);
+  return y_;
+}
+
+}  // namespace lathectl::control

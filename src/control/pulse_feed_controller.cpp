@@ -1,0 +1,140 @@
+#include "lathectl/control/pulse_feed_controller.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace lathectl::control {
+
+void PulseFeedController::configure(const Params& p) {
+  auto need = [](bool ok, const char* what) {
+    if (!ok) throw std::invalid_argument(std::string("pulse feed controller: ") + what);
+  };
+  need(p.period_s > 0.0, "period must be > 0");
+  need(p.regulator_gain_per_m > 0.0, "regulator gain must be > 0");
+  need(p.pulse_width_s > 0.0, "pulse width must be > 0");
+  need(p.piston_area_m2 > 0.0, "piston area must be > 0");
+  need(p.leak_m3_per_s_Pa >= 0.0 && p.friction_N >= 0.0, "leakage and friction must be ≥ 0");
+  need(p.feed_m_per_s > 0.0, "programmed feed must be > 0");
+  need(p.sensor_V_per_N > 0.0, "sensor gain must be > 0");
+  need(p.force_filter_s >= 0.0, "force filter time must be ≥ 0");
+  need(p.compliance_m3_per_Pa >= 0.0 && p.rate_filter_s >= 0.0, "compliance and rate filter ≥ 0");
+  need(p.duty_max > 0.0 && p.duty_max <= 1.0, "duty_max must be in (0, 1]");
+  need(p.feed_min_fraction >= 0.0 && p.feed_min_fraction < 1.0, "feed_min_fraction in [0, 1)");
+  if (p.mode == Mode::Roughing) need(p.force_set_N > 0.0, "force setpoint must be > 0");
+  if (p.modulation == Modulation::Amplitude) {
+    need(p.frequency_Hz > 0.0 && p.frequency_Hz * p.pulse_width_s <= 1.0,
+         "AIM needs 0 < f·Δt ≤ 1");
+    need(p.slot_min_m >= 0.0 && p.slot_max_m > p.slot_min_m, "slot limits: 0 ≤ min < max");
+  } else {
+    need(p.slot_m > 0.0, "FIM slot must be > 0");
+    need(p.frequency_min_Hz >= 0.0 && p.frequency_max_Hz > p.frequency_min_Hz,
+         "frequency limits: 0 ≤ min < max");
+    need(p.frequency_ramp_Hz_per_s > 0.0, "converter ramp must be > 0");
+  }
+  p_ = p;
+  ka_ = p.regulator_gain_per_m * p.pulse_width_s * p.frequency_Hz;  // (2)
+  kf_ = p.regulator_gain_per_m * p.slot_m * p.pulse_width_s;        // (6)
+  filter_a_ = p.force_filter_s > 0.0 ? 1.0 - std::exp(-p.period_s / p.force_filter_s) : 1.0;
+  rate_a_ = p.rate_filter_s > 0.0 ? 1.0 - std::exp(-p.period_s / p.rate_filter_s) : 1.0;
+  monitor_.configure(p.sensor_monitor);
+  pi_.configure({p.kp, p.ti_s, p.feed_min_fraction, 1.0});
+  if (p.modulation == Modulation::Frequency) ramp_.configure(p.frequency_ramp_Hz_per_s);
+  start(0.0);
+}
+
+double PulseFeedController::actuator_for(double feed, double load_N, double load_rate) const noexcept {
+  const double q = feed * p_.piston_area_m2 +
+                   p_.leak_m3_per_s_Pa * (load_N + p_.friction_N) / p_.piston_area_m2 +  // (3)
+                   p_.compliance_m3_per_Pa * load_rate / p_.piston_area_m2;
+  return p_.modulation == Modulation::Amplitude ? q / ka_ : q / kf_;
+}
+
+void PulseFeedController::start(double force_N) noexcept {
+  force_ = force_N;
+  force_rate_ = 0.0;
+  pi_.preset(1.0);
+  monitor_.reset();
+  alarm_ = false;
+  alarm_reason_ = Reason::None;
+  const double a = actuator_for(p_.feed_m_per_s, force_N);
+  last_ = {};
+  last_.force_estimate_N = force_N;
+  last_.feed_cmd_m_per_s = p_.feed_m_per_s;
+  if (p_.modulation == Modulation::Amplitude) {
+    last_.slot_m = std::clamp(a, p_.slot_min_m, p_.slot_max_m);
+    last_.frequency_Hz = p_.frequency_Hz;
+  } else {
+    const double f_hi = std::min(p_.frequency_max_Hz, p_.duty_max / p_.pulse_width_s);
+    last_.frequency_Hz = std::clamp(a, p_.frequency_min_Hz, f_hi);
+    last_.slot_m = p_.slot_m;
+    ramp_.reset(last_.frequency_Hz);
+  }
+}
+
+void PulseFeedController::reset_alarm() noexcept {
+  alarm_ = false;
+  alarm_reason_ = Reason::None;
+  monitor_.reset();
+}
+
+Status PulseFeedController::update(const Input& in, Output& out) noexcept {
+  const Reason fault = monitor_.check(in.sensor_V, p_.period_s);
+  if (fault != Reason::None && !alarm_) {
+    alarm_ = true;
+    alarm_reason_ = fault;
+  }
+  if (alarm_) {
+    out = last_;
+    if (p_.mode == Mode::Roughing) {  // stop the feed: no flow into the cylinder
+      out.feed_cmd_m_per_s = 0.0;
+      if (p_.modulation == Modulation::Amplitude) out.slot_m = 0.0;
+      else out.frequency_Hz = 0.0;
+      if (p_.modulation == Modulation::Frequency) ramp_.reset(0.0);
+    }
+    out.reason = alarm_reason_;
+    out.alarm = true;
+    out.alarm_reason = alarm_reason_;
+    last_ = out;
+    return Status::Hold;
+  }
+
+  const double measured = (in.sensor_V - p_.sensor_offset_V) / p_.sensor_V_per_N;
+  const double previous = force_;
+  force_ += filter_a_ * (measured - force_);
+  force_rate_ += rate_a_ * ((force_ - previous) / p_.period_s - force_rate_);
+
+  Reason reason = Reason::None;
+  double u = 1.0;
+  if (p_.mode == Mode::Roughing) {
+    u = pi_.update((p_.force_set_N - force_) / p_.force_set_N, p_.period_s, reason);
+  }
+  const double feed = u * p_.feed_m_per_s;
+  const double rate = p_.mode == Mode::Finishing ? force_rate_ : 0.0;
+  const double a = actuator_for(feed, std::max(force_, 0.0), rate);
+
+  out.force_estimate_N = force_;
+  out.feed_cmd_m_per_s = feed;
+  out.alarm = false;
+  out.alarm_reason = Reason::None;
+  if (p_.modulation == Modulation::Amplitude) {
+    out.slot_m = std::clamp(a, p_.slot_min_m, p_.slot_max_m);
+    out.frequency_Hz = p_.frequency_Hz;
+    if (a > p_.slot_max_m && reason == Reason::None) reason = Reason::OutputHigh;
+    if (a < p_.slot_min_m && reason == Reason::None) reason = Reason::OutputLow;
+  } else {
+    const double f_hi = std::min(p_.frequency_max_Hz, p_.duty_max / p_.pulse_width_s);
+    const double f = std::clamp(a, p_.frequency_min_Hz, f_hi);
+    if (a > f_hi && reason == Reason::None) reason = Reason::OutputHigh;
+    if (a < p_.frequency_min_Hz && reason == Reason::None) reason = Reason::OutputLow;
+    bool ramped = false;
+    out.frequency_Hz = ramp_.update(f, p_.period_s, ramped);
+    if (ramped && reason == Reason::None) reason = Reason::RateLimited;
+    out.slot_m = p_.slot_m;
+  }
+  out.reason = reason;
+  last_ = out;
+  return reason == Reason::None ? Status::Ok : Status::Limited;
+}
+
+}  // namespace lathectl::control

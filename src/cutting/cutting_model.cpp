@@ -1,0 +1,103 @@
+#include "lathectl/cutting/cutting_model.hpp"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+namespace lathectl::cutting {
+
+namespace {
+double power_law(const PowerLaw& law, const CutState& c, double kp) noexcept {
+  return 10.0 * law.Cp * std::pow(c.depth_mm, law.x) * std::pow(c.feed_mm_per_rev, law.y) *
+         std::pow(c.speed_m_per_min, law.n) * kp;
+}
+double kienzle(const KienzleLaw& law, double b_mm, double h_mm) noexcept {
+  return law.k11_N_per_mm2 * b_mm * std::pow(h_mm, 1.0 - law.m);
+}
+double hardness_kp(double kmp_exponent, double strength_factor) noexcept {
+  return strength_factor == 1.0 ? 1.0 : std::pow(strength_factor, kmp_exponent);
+}
+}  // namespace
+
+void CuttingModel::configure(const Params& p) {
+  const Material& m = p.material;
+  if (!(m.strength > 0.0) || !(m.strength_base > 0.0))
+    throw std::invalid_argument("material '" + m.name + "': strength must be > 0");
+  if (p.form == ForceForm::Handbook && !(m.Pz.Cp > 0.0 && m.Py.Cp > 0.0 && m.Px.Cp > 0.0))
+    throw std::invalid_argument("material '" + m.name + "': handbook coefficients missing");
+  if (p.form == ForceForm::Kienzle &&
+      !(m.Fc.k11_N_per_mm2 > 0.0 && m.Fp.k11_N_per_mm2 > 0.0 && m.Ff.k11_N_per_mm2 > 0.0))
+    throw std::invalid_argument("material '" + m.name + "': Kienzle coefficients missing");
+  if (!(p.approach_angle_deg > 0.0 && p.approach_angle_deg <= 90.0))
+    throw std::invalid_argument("approach angle must be in (0, 90] degrees");
+  if (!(p.nose_radius_mm > 0.0)) throw std::invalid_argument("nose radius must be > 0");
+  p_ = p;
+  kmp_ = std::pow(m.strength / m.strength_base, m.kmp_exponent);
+  sin_kappa_ = std::sin(p.approach_angle_deg * std::numbers::pi / 180.0);
+}
+
+Forces CuttingModel::forces(const CutState& c) const noexcept {
+  if (!(c.depth_mm > 0.0) || !(c.feed_mm_per_rev > 0.0)) return {};
+  const double k = kmp_ * hardness_kp(p_.material.kmp_exponent, c.strength_factor) * c.wear_factor;
+  if (p_.form == ForceForm::Handbook) {
+    const double v = std::max(c.speed_m_per_min, 1.0);  // the power law has no meaning at V→0
+    const CutState cv{c.depth_mm, c.feed_mm_per_rev, v, 1.0, 1.0};
+    return {power_law(p_.material.Pz, cv, k), power_law(p_.material.Py, cv, k),
+            power_law(p_.material.Px, cv, k)};
+  }
+  const double b = c.depth_mm / sin_kappa_;
+  const double h = c.feed_mm_per_rev * sin_kappa_;
+  return {kienzle(p_.material.Fc, b, h) * k, kienzle(p_.material.Fp, b, h) * k,
+          kienzle(p_.material.Ff, b, h) * k};
+}
+
+double CuttingModel::radial_force(const CutState& c) const noexcept {
+  if (!(c.depth_mm > 0.0) || !(c.feed_mm_per_rev > 0.0)) return 0.0;
+  const double k = kmp_ * hardness_kp(p_.material.kmp_exponent, c.strength_factor) * c.wear_factor;
+  if (p_.form == ForceForm::Handbook) {
+    const CutState cv{c.depth_mm, c.feed_mm_per_rev, std::max(c.speed_m_per_min, 1.0), 1.0, 1.0};
+    return power_law(p_.material.Py, cv, k);
+  }
+  return kienzle(p_.material.Fp, c.depth_mm / sin_kappa_, c.feed_mm_per_rev * sin_kappa_) * k;
+}
+
+double CuttingModel::power_W(const Forces& f, double speed_m_per_min) const noexcept {
+  return f.Pz * speed_m_per_min / 60.0;
+}
+
+const ToolLifeRange& CuttingModel::life_range(double feed_mm_per_rev) const noexcept {
+  const int n = p_.material.tool_life_ranges;
+  for (int i = 0; i < n; ++i) {
+    const auto& r = p_.material.tool_life[static_cast<std::size_t>(i)];
+    if (feed_mm_per_rev <= r.feed_max_mm_per_rev) return r;
+  }
+  return p_.material.tool_life[static_cast<std::size_t>(n > 0 ? n - 1 : 0)];
+}
+
+double CuttingModel::tool_life_min(double speed_m_per_min, double feed_mm_per_rev,
+                                   double depth_mm) const noexcept {
+  if (p_.material.tool_life_ranges == 0 || !(speed_m_per_min > 0.0) ||
+      !(feed_mm_per_rev > 0.0) || !(depth_mm > 0.0))
+    return std::numeric_limits<double>::infinity();
+  const auto& r = life_range(feed_mm_per_rev);
+  const double ratio =
+      r.Cv / (speed_m_per_min * std::pow(depth_mm, r.xv) * std::pow(feed_mm_per_rev, r.yv));
+  return std::pow(ratio, 1.0 / r.m);
+}
+
+double CuttingModel::speed_for_life(double life_min, double feed_mm_per_rev,
+                                    double depth_mm) const noexcept {
+  if (p_.material.tool_life_ranges == 0 || !(life_min > 0.0)) return 0.0;
+  const auto& r = life_range(feed_mm_per_rev);
+  return r.Cv / (std::pow(life_min, r.m) * std::pow(depth_mm, r.xv) * std::pow(feed_mm_per_rev, r.yv));
+}
+
+double CuttingModel::roughness_Rz_um(double s) const noexcept {
+  return s * s / (8.0 * p_.nose_radius_mm) * 1000.0;
+}
+double CuttingModel::roughness_Ra_um(double s) const noexcept {
+  return s * s / (32.0 * p_.nose_radius_mm) * 1000.0;
+}
+
+}  // namespace lathectl::cutting

@@ -1,0 +1,87 @@
+#include "lathectl/cutting/disturbances.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace lathectl::cutting {
+
+namespace {
+void check_ascending(const std::vector<ProfilePoint>& pts, const char* what) {
+  for (std::size_t i = 1; i < pts.size(); ++i)
+    if (!(pts[i].at_mm > pts[i - 1].at_mm))
+      throw std::invalid_argument(std::string(what) + ": positions must be strictly ascending");
+}
+}  // namespace
+
+void Disturbances::configure(const DisturbanceParams& p) {
+  if (!(p.depth_mm >= 0.0)) throw std::invalid_argument("depth must be ≥ 0");
+  if (!(p.step_ramp_mm >= 0.0)) throw std::invalid_argument("step ramp must be ≥ 0");
+  if (!(p.random_sigma_mm >= 0.0) || !(p.random_correlation_mm > 0.0))
+    throw std::invalid_argument("random allowance: σ ≥ 0 and correlation length > 0 expected");
+  if (p.runout_mm < 0.0 || p.wear_VB0_mm < 0.0 || p.wear_rate_mm_per_min < 0.0 ||
+      p.wear_force_gain_per_mm < 0.0)
+    throw std::invalid_argument("runout and wear parameters must be ≥ 0");
+  check_ascending(p.depth_steps, "depth steps");
+  check_ascending(p.hardness, "hardness points");
+  for (const auto& h : p.hardness)
+    if (!(h.value > 0.0)) throw std::invalid_argument("hardness factor must be > 0");
+  p_ = p;
+  rng_.seed(p.seed);
+  normal_.reset();
+  random_mm_ = p.random_sigma_mm > 0.0 ? p.random_sigma_mm * normal_(rng_) : 0.0;
+  last_x_ = 0.0;
+}
+
+double Disturbances::depth_profile(double x) const noexcept {
+  double depth = p_.depth_mm;
+  for (const auto& s : p_.depth_steps) {
+    if (x <= s.at_mm) break;
+    const double ramp = p_.step_ramp_mm > 0.0 ? std::min((x - s.at_mm) / p_.step_ramp_mm, 1.0) : 1.0;
+    depth += (s.value - depth) * ramp;
+  }
+  return depth;
+}
+
+double Disturbances::strength_factor(double x) const noexcept {
+  const auto& h = p_.hardness;
+  if (h.empty()) return 1.0;
+  if (x <= h.front().at_mm) return h.front().value;
+  if (x >= h.back().at_mm) return h.back().value;
+  const auto it = std::upper_bound(h.begin(), h.end(), x,
+                                   [](double v, const ProfilePoint& p) { return v < p.at_mm; });
+  const auto& b = *it;
+  const auto& a = *(it - 1);
+  return a.value + (b.value - a.value) * (x - a.at_mm) / (b.at_mm - a.at_mm);
+}
+
+double Disturbances::first_change_mm() const noexcept {
+  double first = std::numeric_limits<double>::infinity();
+  if (!p_.depth_steps.empty()) first = p_.depth_steps.front().at_mm;
+  for (std::size_t i = 1; i < p_.hardness.size(); ++i)
+    if (p_.hardness[i].value != p_.hardness[i - 1].value) {
+      first = std::min(first, p_.hardness[i - 1].at_mm);
+      break;
+    }
+  return first;
+}
+
+LocalCut Disturbances::at(double x, double phi, double t_cut) noexcept {
+  if (p_.random_sigma_mm > 0.0) {
+    const double dx = std::abs(x - last_x_);
+    if (dx > 0.0) {
+      const double a = std::exp(-dx / p_.random_correlation_mm);
+      random_mm_ = random_mm_ * a + p_.random_sigma_mm * std::sqrt(1.0 - a * a) * normal_(rng_);
+    }
+  }
+  last_x_ = x;
+  LocalCut c;
+  c.depth_mm = std::max(depth_profile(x) + p_.runout_mm * std::sin(phi) + random_mm_, 0.0);
+  c.strength_factor = strength_factor(x);
+  c.flank_wear_mm = p_.wear_VB0_mm + p_.wear_rate_mm_per_min * t_cut / 60.0;
+  c.wear_factor = 1.0 + p_.wear_force_gain_per_mm * c.flank_wear_mm;
+  return c;
+}
+
+}  // namespace lathectl::cutting

@@ -1,0 +1,311 @@
+#include "lathectl/io/scenario.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+#include "lathectl/io/errors.hpp"
+#include "lathectl/io/toml_reader.hpp"
+
+namespace lathectl::io {
+
+namespace {
+constexpr double kMm = 1e-3;
+constexpr double kUm = 1e-6;
+constexpr double kMPa = 1e6;
+constexpr double kCm3 = 1e-6;
+
+using control::PulseFeedController;
+
+void read_run(TableReader& root, RunSettings& run) {
+  auto t = root.table("run", true);
+  run.duration_s = t->number("duration_s", {0.0, 86400.0, true, false});
+  run.step_s = t->number("step_s", {1e-7, 0.01, false, false}, 1e-4);
+  run.record_interval_s = t->number("record_interval_s", {1e-7, 10.0, false, false}, 2e-3);
+  if (run.record_interval_s < run.step_s) t->fail("record_interval_s", "must be ≥ step_s");
+  if (run.duration_s / run.step_s > 5e8) t->fail("step_s", "run would take more than 5e8 steps");
+  run.seed = static_cast<std::uint64_t>(t->integer("seed", 0, INT64_MAX, 1));
+  t->finish();
+}
+
+void read_cutting(TableReader& root, const MaterialLibrary& lib, sim::RigAConfig& a,
+                  std::uint64_t seed) {
+  auto m = root.table("machine", true);
+  a.spindle_rpm = m->number("spindle_rpm", {0.0, 20000.0, true, false});
+  m->finish();
+
+  auto mat = root.table("material", true);
+  const std::string name = mat->string("name");
+  const cutting::Material* found = lib.find(name);
+  if (!found) {
+    std::string known;
+    for (const auto& n : lib.names()) known += (known.empty() ? "" : ", ") + n;
+    mat->fail("name", "unknown material \"" + name + "\" (data/materials.toml has: " + known + ")");
+  }
+  a.cutting.material = *found;
+  a.cutting.form = mat->choice("force_model", {"handbook", "kienzle"}, "handbook") == "kienzle"
+                       ? cutting::ForceForm::Kienzle
+                       : cutting::ForceForm::Handbook;
+  mat->finish();
+
+  if (auto tool = root.table("tool")) {
+    a.cutting.nose_radius_mm = tool->number("nose_radius_mm", {0.0, 10.0, true, false}, 0.8);
+    a.cutting.approach_angle_deg = tool->number("approach_angle_deg", {0.0, 90.0, true, false}, 90.0);
+    tool->finish();
+  }
+
+  auto part = root.table("part", true);
+  a.diameter_m = part->number("diameter_mm", {0.0, 5000.0, true, false}) * kMm;
+  auto& d = a.part;
+  d.depth_mm = part->number("depth_mm", {0.0, 50.0, true, false});
+  d.step_ramp_mm = part->number("step_ramp_mm", Range::non_negative(), 0.5);
+  d.runout_mm = part->number("runout_mm", Range::closed(0, 20), 0.0);
+  d.random_sigma_mm = part->number("random_depth_sigma_mm", Range::closed(0, 10), 0.0);
+  d.random_correlation_mm = part->number("random_depth_correlation_mm", Range::positive(), 5.0);
+  for (auto& s : part->tables("depth_steps")) {
+    d.depth_steps.push_back({s.number("at_mm", Range::non_negative()),
+                             s.number("depth_mm", Range::closed(0, 50))});
+    s.finish();
+  }
+  for (auto& h : part->tables("hardness")) {
+    d.hardness.push_back({h.number("at_mm", Range::non_negative()),
+                          h.number("factor", {0.0, 10.0, true, false})});
+    h.finish();
+  }
+  for (std::size_t i = 1; i < d.depth_steps.size(); ++i)
+    if (!(d.depth_steps[i].at_mm > d.depth_steps[i - 1].at_mm))
+      part->fail("depth_steps", "at_mm must increase from step to step");
+  for (std::size_t i = 1; i < d.hardness.size(); ++i)
+    if (!(d.hardness[i].at_mm > d.hardness[i - 1].at_mm))
+      part->fail("hardness", "at_mm must increase from point to point");
+  if (auto w = part->table("wear")) {
+    d.wear_VB0_mm = w->number("initial_VB_mm", Range::closed(0, 2), 0.0);
+    d.wear_rate_mm_per_min = w->number("rate_mm_per_min", Range::closed(0, 1), 0.0);
+    d.wear_force_gain_per_mm = w->number("force_gain_per_mm", Range::closed(0, 20), 0.0);
+    w->finish();
+  }
+  d.seed = seed;
+  part->finish();
+}
+
+void read_regulator(TableReader& root, sim::RigAConfig& a) {
+  auto r = root.table("regulator", true);
+  a.regulator_kind = r->choice("type", {"pulsed", "throttle"}) == "throttle"
+                         ? sim::RegulatorKind::Throttle
+                         : sim::RegulatorKind::Pulsed;
+  auto& o = a.regulator.orifice;
+  o.spool_diameter_m = r->number("spool_diameter_mm", {0.0, 100.0, true, false}) * kMm;
+  o.discharge_coefficient = r->number("discharge_coefficient", {0.0, 1.0, true, false}, 0.65);
+  o.pressure_drop_Pa = r->number("pressure_drop_MPa", {0.0, 50.0, true, false}) * kMPa;
+  o.density_kg_per_m3 = r->number("oil_density_kg_per_m3", {500.0, 1500.0, false, false}, 870.0);
+  a.pulse_width_s = r->number("pulse_width_ms", {0.0, 10000.0, true, false}, 10.0) * 1e-3;
+  a.frequency_Hz = r->number("frequency_Hz", {0.0, 10000.0, true, false}, 10.0);
+  a.slot_m = r->number("slot_mm", {0.0, 10.0, true, false}, 0.04) * kMm;
+  a.regulator.max_slot_m = r->number("max_slot_mm", {0.0, 10.0, true, false}, 0.2) * kMm;
+  a.regulator.lap_m = r->number("overlap_mm", Range::closed(0, 5), 0.0) * kMm;
+  a.regulator.opening_time_s = r->number("opening_time_ms", Range::closed(0, 1000), 0.0) * 1e-3;
+  a.regulator.closing_time_s = r->number("closing_time_ms", Range::closed(0, 1000), 0.0) * 1e-3;
+  if (a.pulse_width_s * a.frequency_Hz > 1.0)
+    r->fail("pulse_width_ms", "pulse width × frequency exceeds 1 (pulse longer than period)");
+  if (a.slot_m > a.regulator.max_slot_m) r->fail("slot_mm", "must not exceed max_slot_mm");
+  if (auto ob = r->table("obliteration")) {
+    auto& p = a.regulator.obliteration;
+    p.layer_max_m = ob->number("layer_um", Range::closed(0, 100)) * kUm;
+    p.time_constant_s = ob->number("time_constant_min", {0.0, 1e4, true, false}) * 60.0;
+    p.critical_gap_m = ob->number("critical_gap_um", Range::closed(0, 1000), 20.0) * kUm;
+    ob->finish();
+  }
+  r->finish();
+}
+
+void read_eccentric(TableReader& root, sim::RigAConfig& a) {
+  auto& e = a.eccentric;
+  auto t = root.table("eccentric");
+  if (!t) {
+    drives::EccentricDrive::circular_profile(0.0, a.regulator.max_slot_m / 2.0, 91, e);
+    return;
+  }
+  auto profile = t->pairs("profile", Range::closed(0, 360), Range::closed(0, 10));
+  if (!profile.empty()) {
+    if (t->has("eccentricity_mm")) t->fail("eccentricity_mm", "give either profile or eccentricity_mm");
+    e.profile_angle_rad.clear();
+    e.profile_slot_m.clear();
+    for (const auto& [deg, mm] : profile) {
+      e.profile_angle_rad.push_back(deg * std::numbers::pi / 180.0);
+      e.profile_slot_m.push_back(mm * kMm);
+    }
+    for (std::size_t i = 1; i < profile.size(); ++i)
+      if (!(profile[i].first > profile[i - 1].first) || !(profile[i].second > profile[i - 1].second))
+        t->fail("profile", "angle and slot must both strictly increase (the profile is inverted)");
+    if (profile.size() < 2) t->fail("profile", "at least two points expected");
+  } else {
+    const double ecc = t->number("eccentricity_mm", {0.0, 10.0, true, false}, a.regulator.max_slot_m / 2e-3);
+    const double base = t->number("base_slot_mm", Range::closed(0, 10), 0.0);
+    drives::EccentricDrive::circular_profile(base * kMm, ecc * kMm, 91, e);
+  }
+  e.gear_ratio = t->number("gear_ratio", {0.0, 1e5, true, false}, 100.0);
+  e.motor_max_speed_rad_per_s =
+      t->number("motor_max_speed_rpm", {0.0, 1e5, true, false}, 3000.0) * 2.0 * std::numbers::pi / 60.0;
+  e.motor_time_constant_s = t->number("motor_time_constant_ms", Range::closed(0, 10000), 20.0) * 1e-3;
+  e.position_gain_per_s = t->number("position_gain_per_s", {0.0, 1e5, true, false}, 20.0);
+  t->finish();
+}
+
+void read_slide(TableReader& root, sim::RigAConfig& a) {
+  auto s = root.table("slide", true);
+  auto& p = a.slide;
+  p.piston_area_m2 = s->number("piston_area_cm2", {0.0, 1e4, true, false}) * 1e-4;
+  p.dead_volume_m3 = s->number("dead_volume_cm3", {0.0, 1e6, true, false}) * kCm3;
+  p.bulk_modulus_Pa = s->number("oil_bulk_modulus_MPa", {100.0, 1e5, false, false}, 1400.0) * kMPa;
+  // leakage given as flow per pressure: cm³/min per MPa
+  p.leak_m3_per_s_Pa = s->number("leak_cm3_per_min_per_MPa", Range::closed(0, 1e5), 0.0) * kCm3 / 60.0 / kMPa;
+  p.damper_capacitance_m3_per_Pa = s->number("damper_capacitance_cm3_per_MPa", Range::closed(0, 1e6), 0.0) * kCm3 / kMPa;
+  p.damper_resistance_Pa_s_per_m3 =
+      s->number("damper_resistance_MPa_s_per_cm3", Range::closed(0, 1e6), 0.0) * kMPa / kCm3;
+  if (p.damper_capacitance_m3_per_Pa > 0.0 && !(p.damper_resistance_Pa_s_per_m3 > 0.0))
+    s->fail("damper_resistance_MPa_s_per_cm3", "a damper needs a resistance > 0");
+  p.mass_kg = s->number("mass_kg", {0.0, 1e5, true, false});
+  p.coulomb_friction_N = s->number("coulomb_friction_N", Range::closed(0, 1e6), 0.0);
+  p.viscous_friction_N_s_per_m = s->number("viscous_friction_N_s_per_m", Range::closed(0, 1e9), 0.0);
+  s->finish();
+}
+
+void read_sensor(TableReader& root, sim::RigAConfig& a, std::uint64_t seed) {
+  auto s = root.table("sensor", true);
+  auto& p = a.sensor;
+  p.holder_stiffness_N_per_m = s->number("holder_stiffness_N_per_um", {0.0, 1e6, true, false}) * 1e6;
+  p.gain_V_per_m = s->number("gain_V_per_um", {0.0, 1e3, true, false}) * 1e6;
+  p.offset_V = s->number("offset_V", Range::closed(-100, 100), 0.0);
+  p.noise_V = s->number("noise_mV", Range::closed(0, 1e4), 0.0) * 1e-3;
+  p.time_constant_s = s->number("time_constant_ms", Range::closed(0, 1e4), 0.0) * 1e-3;
+  p.saturation_V = s->number("saturation_V", {0.0, 1000.0, true, false}, 10.0);
+  p.seed = seed ^ 0x9E3779B97F4A7C15ULL;
+  s->finish();
+}
+
+void read_controller(TableReader& root, sim::RigAConfig& a) {
+  auto c = root.table("controller", true);
+  const std::string kind = c->choice("type", {"none", "aim", "fim"});
+  a.controller_kind = kind == "aim" ? sim::ControllerKind::Aim
+                      : kind == "fim" ? sim::ControllerKind::Fim
+                                      : sim::ControllerKind::None;
+  auto& p = a.controller;
+  p.mode = c->choice("mode", {"finishing", "roughing"}, "finishing") == "roughing"
+               ? PulseFeedController::Mode::Roughing
+               : PulseFeedController::Mode::Finishing;
+  p.feed_m_per_s = c->number("feed_mm_per_min", {0.0, 1e5, true, false}) * kMm / 60.0;
+  if (p.mode == PulseFeedController::Mode::Roughing)
+    p.force_set_N = c->number("force_set_N", {0.0, 1e6, true, false});
+  p.period_s = c->number("period_ms", {0.0, 1000.0, true, false}, 1.0) * 1e-3;
+  a.leak_estimate_factor = c->number("leak_estimate_factor", Range::closed(0, 10), 1.0);
+  p.force_filter_s = c->number("force_filter_ms", Range::closed(0, 1e4), 5.0) * 1e-3;
+  a.compensate_compliance = c->boolean("compensate_compliance", true);
+  p.rate_filter_s = c->number("rate_filter_ms", Range::closed(0, 1e4), 20.0) * 1e-3;
+  p.kp = c->number("kp", Range::closed(0, 100), 0.3);
+  p.ti_s = c->number("ti_s", Range::closed(0, 100), 0.15);
+  p.feed_min_fraction = c->number("feed_min_fraction", {0.0, 1.0, false, true}, 0.05);
+  p.slot_min_m = c->number("slot_min_mm", Range::closed(0, 10), 0.0) * kMm;
+  p.slot_max_m = c->number("slot_max_mm", {0.0, 10.0, true, false}, a.regulator.max_slot_m / kMm) * kMm;
+  p.frequency_min_Hz = c->number("frequency_min_Hz", Range::closed(0, 1e4), 0.0);
+  p.frequency_max_Hz = c->number("frequency_max_Hz", {0.0, 1e4, true, false}, 50.0);
+  p.frequency_ramp_Hz_per_s = c->number("frequency_ramp_Hz_per_s", {0.0, 1e7, true, false}, 500.0);
+  p.duty_max = c->number("duty_max", {0.0, 1.0, true, false}, 0.9);
+  p.sensor_monitor.min = c->number("sensor_min_V", Range::any(), -0.5);
+  p.sensor_monitor.max = c->number("sensor_max_V", Range::any(), a.sensor.saturation_V + 0.5);
+  p.sensor_monitor.stuck_time_s = c->number("sensor_stuck_ms", Range::closed(0, 1e5), 50.0) * 1e-3;
+  p.sensor_monitor.stuck_tolerance = c->number("sensor_stuck_tolerance_V", Range::closed(0, 10), 0.0);
+  if (!(p.sensor_monitor.min < p.sensor_monitor.max)) c->fail("sensor_max_V", "must exceed sensor_min_V");
+  if (p.slot_min_m >= p.slot_max_m) c->fail("slot_max_mm", "must exceed slot_min_mm");
+  if (p.frequency_min_Hz >= p.frequency_max_Hz) c->fail("frequency_max_Hz", "must exceed frequency_min_Hz");
+  c->finish();
+}
+
+sim::ControllerKind controller_from(const std::string& s) {
+  return s == "aim" ? sim::ControllerKind::Aim : s == "fim" ? sim::ControllerKind::Fim : sim::ControllerKind::None;
+}
+}  // namespace
+
+std::string controller_kind_name(sim::ControllerKind k) {
+  switch (k) {
+    case sim::ControllerKind::Aim: return "AIM (amplitude-pulse)";
+    case sim::ControllerKind::Fim: return "FIM (frequency-pulse)";
+    case sim::ControllerKind::None: return "no control";
+  }
+  return "?";
+}
+std::string regulator_kind_name(sim::RegulatorKind k) {
+  return k == sim::RegulatorKind::Throttle ? "continuous throttle" : "pulsed regulator";
+}
+
+Scenario parse_scenario(std::string_view text, const std::string& label, const MaterialLibrary& lib) {
+  const TomlDocument doc = TomlDocument::parse(text, label);
+  TableReader root(doc.root(), label, "");
+  Scenario sc;
+  sc.file = label;
+  sc.system = root.choice("system", {"A"});
+  sc.name = root.string("name");
+  if (sc.name.empty()) root.fail("name", "must not be empty");
+  sc.description = root.string("description", "");
+  read_run(root, sc.run);
+  auto& a = sc.a;
+  read_cutting(root, lib, a, sc.run.seed);
+  read_regulator(root, a);
+  read_eccentric(root, a);
+  read_slide(root, a);
+  read_sensor(root, a, sc.run.seed);
+  read_controller(root, a);
+  if (auto m = root.table("metrics")) {
+    a.feed_window_s = m->number("feed_window_s", {0.0, 100.0, true, false}, 0.1);
+    m->finish();
+  }
+  if (auto cmp = root.table("compare")) {
+    Comparison c;
+    if (cmp->has("controller")) c.controller = controller_from(cmp->choice("controller", {"none", "aim", "fim"}));
+    if (cmp->has("regulator"))
+      c.regulator = cmp->choice("regulator", {"pulsed", "throttle"}) == "throttle"
+                        ? sim::RegulatorKind::Throttle
+                        : sim::RegulatorKind::Pulsed;
+    if (!c.controller && !c.regulator) cmp->fail("controller", "give controller and/or regulator to compare with");
+    c.label = cmp->string("label", "");
+    cmp->finish();
+    sc.compare = c;
+  }
+  if (auto sw = root.table("sweep")) {
+    sc.sweep_leak_estimate_factor = sw->numbers("leak_estimate_factor", Range::closed(0, 10), 1);
+    if (a.controller_kind == sim::ControllerKind::None)
+      sw->fail("leak_estimate_factor", "a sweep of the controller's K_leak needs a controller");
+    sw->finish();
+  }
+  for (auto& f : root.tables("fault")) {
+    sim::SensorFault sf;
+    const std::string k = f.choice("kind", {"nan", "stuck", "out_of_range"});
+    sf.kind = k == "nan" ? sim::SensorFault::Kind::NotFinite
+              : k == "stuck" ? sim::SensorFault::Kind::Stuck
+                             : sim::SensorFault::Kind::OutOfRange;
+    sf.at_s = f.number("at_s", Range::non_negative());
+    sf.duration_s = f.number("duration_s", Range::positive(), 1e300);
+    f.finish();
+    a.faults.push_back(sf);
+  }
+  root.finish();
+  // Cross-checks that need the whole scenario, reported against the key that decides them.
+  sim::RigA probe;
+  try {
+    probe.configure(a, sc.run.step_s, sc.run.record_interval_s, std::min(sc.run.duration_s, sc.run.step_s * 4));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(located(label, 0, 0, std::string("inconsistent scenario: ") + e.what()));
+  }
+  return sc;
+}
+
+Scenario load_scenario(const std::string& path, const MaterialLibrary& lib) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open scenario file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_scenario(ss.str(), path, lib);
+}
+
+}  // namespace lathectl::io

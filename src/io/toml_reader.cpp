@@ -1,0 +1,252 @@
+#include "lathectl/io/toml_reader.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#define TOML_EXCEPTIONS 1
+#include <toml++/toml.h>
+
+#include "lathectl/io/errors.hpp"
+
+namespace lathectl::io {
+
+namespace {
+std::string fmt_num(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+std::string type_name(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::table: return "a table";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a number";
+    case toml::node_type::boolean: return "a boolean";
+    default: return "a date/time";
+  }
+}
+}  // namespace
+
+bool Range::contains(double v) const noexcept {
+  if (!std::isfinite(v)) return false;
+  if (lo_open ? !(v > lo) : !(v >= lo)) return false;
+  if (hi_open ? !(v < hi) : !(v <= hi)) return false;
+  return true;
+}
+
+std::string Range::describe() const {
+  const bool has_lo = lo > -1e299;
+  const bool has_hi = hi < 1e299;
+  if (has_lo && has_hi)
+    return std::string(lo_open ? "(" : "[") + fmt_num(lo) + ", " + fmt_num(hi) + (hi_open ? ")" : "]");
+  if (has_lo) return std::string(lo_open ? "> " : "≥ ") + fmt_num(lo);
+  if (has_hi) return std::string(hi_open ? "< " : "≤ ") + fmt_num(hi);
+  return "finite";
+}
+
+TomlDocument TomlDocument::parse(std::string_view text, const std::string& file_label) {
+  TomlDocument d;
+  d.file_ = file_label;
+  try {
+    d.root_ = std::make_shared<toml::table>(toml::parse(text, file_label));
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw InputError(located(file_label, static_cast<int>(b.line), static_cast<int>(b.column),
+                             "TOML syntax error: " + std::string(e.description())));
+  }
+  return d;
+}
+
+TomlDocument TomlDocument::parse_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse(ss.str(), path);
+}
+
+TableReader::TableReader(const toml::table& table, std::string file, std::string prefix)
+    : table_(&table), file_(std::move(file)), prefix_(std::move(prefix)) {}
+
+std::string TableReader::full_key(std::string_view key) const {
+  return prefix_.empty() ? std::string(key) : prefix_ + "." + std::string(key);
+}
+
+int TableReader::line() const { return static_cast<int>(table_->source().begin.line); }
+
+void TableReader::fail(std::string_view key, const std::string& message) const {
+  const toml::node* n = table_->get(key);
+  const auto& src = n ? n->source().begin : table_->source().begin;
+  throw InputError(located(file_, static_cast<int>(src.line), static_cast<int>(src.column),
+                           "key '" + full_key(key) + "': " + message));
+}
+
+bool TableReader::has(std::string_view key) const { return table_->contains(key); }
+
+const toml::node* TableReader::get(std::string_view key) {
+  used_.emplace(key);
+  return table_->get(key);
+}
+
+double TableReader::number(std::string_view key, Range range, std::optional<double> fallback) {
+  const toml::node* n = get(key);
+  if (!n) {
+    if (fallback) return *fallback;
+    fail(key, "missing; expected a number " + range.describe());
+  }
+  double v = 0.0;
+  if (auto f = n->as_floating_point()) v = f->get();
+  else if (auto i = n->as_integer()) v = static_cast<double>(i->get());
+  else fail(key, "expected a number " + range.describe() + ", got " + type_name(*n));
+  if (!range.contains(v)) fail(key, "expected a number " + range.describe() + ", got " + fmt_num(v));
+  return v;
+}
+
+std::int64_t TableReader::integer(std::string_view key, std::int64_t lo, std::int64_t hi,
+                                  std::optional<std::int64_t> fallback) {
+  const toml::node* n = get(key);
+  if (!n) {
+    if (fallback) return *fallback;
+    fail(key, "missing; expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+  auto i = n->as_integer();
+  if (!i) fail(key, "expected an integer, got " + type_name(*n));
+  const std::int64_t v = i->get();
+  if (v < lo || v > hi)
+    fail(key, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                  "], got " + std::to_string(v));
+  return v;
+}
+
+bool TableReader::boolean(std::string_view key, std::optional<bool> fallback) {
+  const toml::node* n = get(key);
+  if (!n) {
+    if (fallback) return *fallback;
+    fail(key, "missing; expected true or false");
+  }
+  auto b = n->as_boolean();
+  if (!b) fail(key, "expected true or false, got " + type_name(*n));
+  return b->get();
+}
+
+std::string TableReader::string(std::string_view key, std::optional<std::string> fallback) {
+  const toml::node* n = get(key);
+  if (!n) {
+    if (fallback) return *fallback;
+    fail(key, "missing; expected a string");
+  }
+  auto s = n->as_string();
+  if (!s) fail(key, "expected a string, got " + type_name(*n));
+  return s->get();
+}
+
+std::string TableReader::choice(std::string_view key, const std::vector<std::string>& choices,
+                                std::optional<std::string> fallback) {
+  std::string list;
+  for (const auto& c : choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
+  if (!has(key) && !fallback) {
+    used_.emplace(key);
+    fail(key, "missing; expected one of " + list);
+  }
+  const std::string v = string(key, fallback);
+  for (const auto& c : choices)
+    if (c == v) return v;
+  fail(key, "expected one of " + list + ", got \"" + v + "\"");
+}
+
+std::vector<double> TableReader::numbers(std::string_view key, Range range, std::size_t min_count) {
+  const toml::node* n = get(key);
+  if (!n) {
+    if (min_count == 0) return {};
+    fail(key, "missing; expected an array of numbers");
+  }
+  auto a = n->as_array();
+  if (!a) fail(key, "expected an array of numbers, got " + type_name(*n));
+  std::vector<double> out;
+  for (const auto& e : *a) {
+    double v = 0.0;
+    if (auto f = e.as_floating_point()) v = f->get();
+    else if (auto i = e.as_integer()) v = static_cast<double>(i->get());
+    else fail(key, "expected an array of numbers, found " + type_name(e));
+    if (!range.contains(v))
+      fail(key, "array element " + fmt_num(v) + " outside " + range.describe());
+    out.push_back(v);
+  }
+  if (out.size() < min_count) fail(key, "expected at least " + std::to_string(min_count) + " numbers");
+  return out;
+}
+
+std::optional<TableReader> TableReader::table(std::string_view key, bool required) {
+  const toml::node* n = get(key);
+  if (!n) {
+    if (required) fail(key, "missing table");
+    return std::nullopt;
+  }
+  auto t = n->as_table();
+  if (!t) fail(key, "expected a table, got " + type_name(*n));
+  return TableReader(*t, file_, full_key(key));
+}
+
+std::vector<TableReader> TableReader::tables(std::string_view key) {
+  const toml::node* n = get(key);
+  std::vector<TableReader> out;
+  if (!n) return out;
+  auto a = n->as_array();
+  if (!a) fail(key, "expected an array of tables, got " + type_name(*n));
+  std::size_t i = 0;
+  for (const auto& e : *a) {
+    auto t = e.as_table();
+    if (!t) fail(key, "expected an array of tables, found " + type_name(e));
+    out.emplace_back(*t, file_, full_key(key) + "[" + std::to_string(i++) + "]");
+  }
+  return out;
+}
+
+std::vector<std::pair<double, double>> TableReader::pairs(std::string_view key, Range first,
+                                                          Range second) {
+  const toml::node* n = get(key);
+  std::vector<std::pair<double, double>> out;
+  if (!n) return out;
+  auto a = n->as_array();
+  if (!a) fail(key, "expected an array of [a, b] pairs, got " + type_name(*n));
+  for (const auto& e : *a) {
+    auto p = e.as_array();
+    if (!p || p->size() != 2) fail(key, "expected an array of [a, b] pairs");
+    double v[2] = {0, 0};
+    for (std::size_t k = 0; k < 2; ++k) {
+      const auto& x = *p->get(k);
+      if (auto f = x.as_floating_point()) v[k] = f->get();
+      else if (auto i = x.as_integer()) v[k] = static_cast<double>(i->get());
+      else fail(key, "expected numbers in the pairs");
+    }
+    if (!first.contains(v[0]) || !second.contains(v[1]))
+      fail(key, "pair [" + fmt_num(v[0]) + ", " + fmt_num(v[1]) + "] outside " + first.describe() +
+                    " × " + second.describe());
+    out.emplace_back(v[0], v[1]);
+  }
+  return out;
+}
+
+std::vector<std::string> TableReader::keys() const {
+  std::vector<std::string> out;
+  for (const auto& [k, v] : *table_) out.emplace_back(k.str());
+  return out;
+}
+
+void TableReader::finish() const {
+  for (const auto& [k, v] : *table_) {
+    if (used_.find(k.str()) == used_.end()) {
+      std::string known;
+      for (const auto& u : used_) known += (known.empty() ? "" : ", ") + u;
+      const auto& src = v.source().begin;
+      throw InputError(located(file_, static_cast<int>(src.line), static_cast<int>(src.column),
+                               "unknown key '" + full_key(k.str()) + "'" +
+                                   (known.empty() ? "" : " (known here: " + known + ")")));
+    }
+  }
+}
+
+}  // namespace lathectl::io

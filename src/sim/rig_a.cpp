@@ -1,0 +1,260 @@
+#include "lathectl/sim/rig_a.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace lathectl::sim {
+
+namespace {
+constexpr std::size_t kChannels = 17;
+
+std::vector<Channel> rig_a_channels() {
+  return {{"time_s", "s"},
+          {"travel_mm", "mm"},
+          {"feed_mm_per_min", "mm/min"},
+          {"feed_per_rev_mm", "mm/rev"},
+          {"force_Py_N", "N"},
+          {"force_estimate_N", "N"},
+          {"depth_mm", "mm"},
+          {"sensor_V", "V"},
+          {"slot_um", "µm"},
+          {"frequency_Hz", "Hz"},
+          {"flow_cm3_per_min", "cm³/min"},
+          {"leak_cm3_per_min", "cm³/min"},
+          {"cylinder_pressure_MPa", "MPa"},
+          {"reason_code", ""},
+          {"alarm", ""},
+          {"obliteration_layer_um", "µm"},
+          {"strength_factor", ""}};
+}
+constexpr double kM3sToCm3min = 1e6 * 60.0;
+}  // namespace
+
+void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, double duration) {
+  if (!(dt > 0.0) || !(record_interval >= dt) || !(duration > 0.0))
+    throw std::invalid_argument("run: need step > 0, record interval ≥ step, duration > 0");
+  if (cfg.regulator_kind == RegulatorKind::Throttle && cfg.controller_kind != ControllerKind::None)
+    throw std::invalid_argument("a continuous throttle has no pulse actuator: controller must be none");
+  if (!(cfg.spindle_rpm > 0.0) || !(cfg.diameter_m > 0.0))
+    throw std::invalid_argument("spindle speed and part diameter must be > 0");
+  if (!(cfg.pulse_width_s > 0.0) || !(cfg.frequency_Hz > 0.0) || !(cfg.slot_m > 0.0))
+    throw std::invalid_argument("pulse width, frequency and slot must be > 0");
+  cfg_ = cfg;
+  dt_ = dt;
+  duration_ = duration;
+  t_ = 0.0;
+  step_ = 0;
+  phi_ = 0.0;
+  t_disturbance_ = -1.0;
+  sound_ = true;
+  record_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(record_interval / dt)));
+
+  cut_.configure(cfg.cutting);
+  dist_.configure(cfg.part);
+  first_change_mm_ = dist_.first_change_mm();
+  rev_per_s_ = cfg.spindle_rpm / 60.0;
+  speed_m_per_min_ = std::numbers::pi * cfg.diameter_m * cfg.spindle_rpm;
+
+  const double feed = cfg.controller.feed_m_per_s;
+  if (!(feed > 0.0)) throw std::invalid_argument("programmed feed must be > 0");
+  const double s_rev = feed * 1000.0 / rev_per_s_;
+  const auto local0 = dist_.at(0.0, 0.0, 0.0);
+  dist_.configure(cfg.part);  // restart the random allowance from its seed
+  force_nominal_ = cut_.radial_force(
+      {dist_.depth_profile(0.0), s_rev, speed_m_per_min_, local0.strength_factor, local0.wear_factor});
+
+  slide_.configure(cfg.slide);
+  slide_.set_steady(feed, force_nominal_);
+  const double wh = slide_.hydraulic_omega();
+  if (wh * dt > 0.5)
+    throw std::invalid_argument("step_s " + std::to_string(dt) + " too coarse for the slide's hydraulic "
+                                "natural frequency " + std::to_string(wh / 2 / std::numbers::pi) +
+                                " Hz: use step_s ≤ " + std::to_string(0.5 / wh));
+  if (cfg.slide.damper_capacitance_m3_per_Pa > 0.0) {
+    const double tau_d = cfg.slide.damper_capacitance_m3_per_Pa * cfg.slide.damper_resistance_Pa_s_per_m3;
+    const double tau_c = cfg.slide.dead_volume_m3 / cfg.slide.bulk_modulus_Pa *
+                         cfg.slide.damper_resistance_Pa_s_per_m3;
+    if (dt > 0.5 * std::min(tau_d, tau_c))
+      throw std::invalid_argument("step_s too coarse for the damper: use step_s ≤ " +
+                                  std::to_string(0.5 * std::min(tau_d, tau_c)));
+  }
+
+  reg_.configure(cfg.regulator);
+  thr_.configure({cfg.regulator.orifice, cfg.regulator.obliteration});
+  sensor_.configure(cfg.sensor);
+  sensor_.set_steady(force_nominal_);
+
+  const double F = cfg.slide.piston_area_m2;
+  const double gain = cfg.regulator.orifice.gain_per_m();
+  const double q_needed =
+      feed * F + cfg.slide.leak_m3_per_s_Pa * (force_nominal_ + cfg.slide.coulomb_friction_N) / F;
+  fixed_actuator_ = cfg.regulator_kind == RegulatorKind::Throttle
+                        ? q_needed / gain
+                        : q_needed / (gain * cfg.pulse_width_s * cfg.frequency_Hz);
+
+  auto cp = cfg.controller;
+  cp.regulator_gain_per_m = gain;
+  cp.pulse_width_s = cfg.pulse_width_s;
+  cp.slot_m = cfg.slot_m;
+  cp.frequency_Hz = cfg.frequency_Hz;
+  cp.piston_area_m2 = F;
+  cp.leak_m3_per_s_Pa = cfg.slide.leak_m3_per_s_Pa * cfg.leak_estimate_factor;
+  cp.friction_N = cfg.slide.coulomb_friction_N;
+  if (cfg.compensate_compliance)
+    cp.compliance_m3_per_Pa = cfg.slide.damper_capacitance_m3_per_Pa +
+                              cfg.slide.dead_volume_m3 / cfg.slide.bulk_modulus_Pa;
+  cp.sensor_V_per_N = sensor_.volts_per_newton();
+  cp.sensor_offset_V = cfg.sensor.offset_V;
+  cp.modulation = cfg.controller_kind == ControllerKind::Fim
+                      ? control::PulseFeedController::Modulation::Frequency
+                      : control::PulseFeedController::Modulation::Amplitude;
+  if (cp.slot_max_m > cfg.regulator.max_slot_m) cp.slot_max_m = cfg.regulator.max_slot_m;
+  ctl_.configure(cp);
+  ctl_.start(force_nominal_);
+  ctl_out_ = {};
+  ctl_out_.slot_m = cfg.controller_kind == ControllerKind::Aim
+                        ? std::clamp(ctl_.actuator_for(feed, force_nominal_), cp.slot_min_m, cp.slot_max_m)
+                        : fixed_actuator_;
+  ctl_out_.frequency_Hz = cfg.controller_kind == ControllerKind::Fim
+                              ? ctl_.actuator_for(feed, force_nominal_)
+                              : cfg.frequency_Hz;
+  control_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cp.period_s / dt)));
+  if (cfg.controller_kind == ControllerKind::Aim) {
+    auto ep = cfg.eccentric;
+    ecc_.configure(ep);
+    ecc_.set_slot(ctl_out_.slot_m);
+  }
+
+  rev_steps_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(1.0 / rev_per_s_ / dt)));
+  window_steps_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cfg.feed_window_s / dt)));
+  x_hist_.assign(std::max(rev_steps_, window_steps_) + 1, 0.0);
+  hist_head_ = 0;
+  for (std::size_t k = 0; k < x_hist_.size(); ++k) {  // steady motion before t = 0
+    x_hist_[(x_hist_.size() - k) % x_hist_.size()] = -feed * dt * static_cast<double>(k);
+  }
+  force_ = force_nominal_;
+  depth_ = dist_.depth_profile(0.0);
+  sensor_u_ = cfg.sensor.offset_V + sensor_.volts_per_newton() * force_nominal_;
+  stuck_value_ = sensor_u_;
+  flow_acc_ = force_acc_ = 0.0;
+  acc_n_ = 0;
+  last_flow_ = q_needed;
+
+  const auto rows = static_cast<std::size_t>(duration / (dt * static_cast<double>(record_every_))) + 2;
+  rec_ = Recorder(rig_a_channels(), rows);
+}
+
+double RigA::position_ago(std::size_t steps) const noexcept {
+  const std::size_t n = x_hist_.size();
+  return x_hist_[(hist_head_ + n - steps % n) % n];
+}
+
+double RigA::chip_feed_mm_per_rev() const noexcept {
+  return std::max((slide_.state().x_m - position_ago(rev_steps_)) * 1000.0, 0.0);
+}
+
+double RigA::sensor_sample(double u) noexcept {
+  for (const auto& f : cfg_.faults) {
+    if (t_ < f.at_s || t_ >= f.at_s + f.duration_s) continue;
+    switch (f.kind) {
+      case SensorFault::Kind::NotFinite: return std::nan("");
+      case SensorFault::Kind::OutOfRange: return cfg_.sensor.saturation_V * 2.0 + 1.0;
+      case SensorFault::Kind::Stuck: return stuck_value_;
+    }
+  }
+  stuck_value_ = u;
+  return u;
+}
+
+void RigA::step() noexcept {
+  t_ += dt_;
+  ++step_;
+  phi_ += 2.0 * std::numbers::pi * rev_per_s_ * dt_;
+  if (phi_ > 2.0 * std::numbers::pi) phi_ -= 2.0 * std::numbers::pi;
+  const double x_mm = slide_.state().x_m * 1000.0;
+  if (t_disturbance_ < 0.0 && x_mm >= first_change_mm_) t_disturbance_ = t_;
+
+  const auto local = dist_.at(x_mm, phi_, t_);
+  depth_ = local.depth_mm;
+  force_ = cut_.radial_force({local.depth_mm, chip_feed_mm_per_rev(), speed_m_per_min_,
+                              local.strength_factor, local.wear_factor});
+  sensor_u_ = sensor_.step(dt_, force_);
+
+  if (cfg_.controller_kind != ControllerKind::None && step_ % control_every_ == 0) {
+    const control::PulseFeedController::Input in{sensor_sample(sensor_u_)};
+    (void)ctl_.update(in, ctl_out_);
+  }
+
+  double q = 0.0;
+  if (cfg_.regulator_kind == RegulatorKind::Throttle) {
+    q = thr_.step(dt_, fixed_actuator_);
+  } else {
+    double h = fixed_actuator_;
+    double f = cfg_.frequency_Hz;
+    if (cfg_.controller_kind == ControllerKind::Aim) {
+      ecc_.step(dt_, ctl_out_.slot_m);
+      h = ecc_.slot_m();
+      if (ctl_out_.alarm && ctl_out_.slot_m <= 0.0) f = 0.0;  // feed stop: valve held shut
+    } else if (cfg_.controller_kind == ControllerKind::Fim) {
+      h = cfg_.slot_m;
+      f = ctl_out_.frequency_Hz;
+    }
+    q = reg_.step(dt_, h, f, cfg_.pulse_width_s);
+  }
+  last_flow_ = q;
+  slide_.step(dt_, q, force_);
+
+  hist_head_ = (hist_head_ + 1) % x_hist_.size();
+  x_hist_[hist_head_] = slide_.state().x_m;
+
+  flow_acc_ += q;
+  force_acc_ += force_;
+  ++acc_n_;
+  if (!std::isfinite(slide_.state().v_m_per_s) || !std::isfinite(slide_.state().p_cyl_Pa))
+    sound_ = false;
+  if (step_ % record_every_ != 0) return;
+
+  const auto& s = slide_.state();
+  const double n = static_cast<double>(acc_n_);
+  const double feed_avg = (s.x_m - position_ago(window_steps_)) / (static_cast<double>(window_steps_) * dt_);
+  const double slot = cfg_.regulator_kind == RegulatorKind::Throttle ? fixed_actuator_
+                      : cfg_.controller_kind == ControllerKind::Aim ? ecc_.slot_m()
+                      : cfg_.controller_kind == ControllerKind::Fim ? cfg_.slot_m
+                                                                    : fixed_actuator_;
+  const double freq = cfg_.regulator_kind == RegulatorKind::Throttle ? 0.0
+                      : cfg_.controller_kind == ControllerKind::Fim ? ctl_out_.frequency_Hz
+                                                                    : cfg_.frequency_Hz;
+  const double estimate = (sensor_u_ - cfg_.sensor.offset_V) / sensor_.volts_per_newton();
+  const std::array<double, kChannels> row{
+      t_,
+      s.x_m * 1000.0,
+      feed_avg * 60000.0,
+      chip_feed_mm_per_rev(),
+      force_acc_ / n,
+      cfg_.controller_kind == ControllerKind::None ? estimate : ctl_out_.force_estimate_N,
+      depth_,
+      sensor_u_,
+      slot * 1e6,
+      freq,
+      flow_acc_ / n * kM3sToCm3min,
+      slide_.leak_flow() * kM3sToCm3min,
+      s.p_cyl_Pa * 1e-6,
+      static_cast<double>(ctl_out_.reason),
+      ctl_out_.alarm ? 1.0 : 0.0,
+      (cfg_.regulator_kind == RegulatorKind::Throttle ? thr_.layer_m() : 0.0) * 1e6,
+      dist_.strength_factor(x_mm)};
+  rec_.push_row(row);
+  flow_acc_ = force_acc_ = 0.0;
+  acc_n_ = 0;
+}
+
+void RigA::run() noexcept {
+  const auto steps = static_cast<std::size_t>(std::llround(duration_ / dt_));
+  for (std::size_t i = 0; i < steps; ++i) step();
+}
+
+}  // namespace lathectl::sim
