@@ -202,9 +202,9 @@ void read_controller(TableReader& root, sim::RigAConfig& a) {
   a.leak_estimate_factor = c->number("leak_estimate_factor", Range::closed(0, 10), 1.0);
   p.force_filter_s = c->number("force_filter_ms", Range::closed(0, 1e4), 5.0) * 1e-3;
   a.compensate_compliance = c->boolean("compensate_compliance", true);
-  p.rate_filter_s = c->number("rate_filter_ms", Range::closed(0, 1e4), 20.0) * 1e-3;
-  p.kp = c->number("kp", Range::closed(0, 100), 0.3);
-  p.ti_s = c->number("ti_s", Range::closed(0, 100), 0.15);
+  p.rate_filter_s = c->number("rate_filter_ms", Range::closed(0, 1e4), 100.0) * 1e-3;
+  p.kp = c->number("kp", Range::closed(0, 100), 3.0);
+  p.ti_s = c->number("ti_s", Range::closed(0, 100), 0.5);
   p.feed_min_fraction = c->number("feed_min_fraction", {0.0, 1.0, false, true}, 0.05);
   p.slot_min_m = c->number("slot_min_mm", Range::closed(0, 10), 0.0) * kMm;
   p.slot_max_m = c->number("slot_max_mm", {0.0, 10.0, true, false}, a.regulator.max_slot_m / kMm) * kMm;

@@ -121,4 +121,42 @@ std::vector<double> regulator_characteristic(const hydraulics::PulseRegulator::P
   return out;
 }
 
+SwitchingLimits regulator_switching_limits(const hydraulics::PulseRegulator::Params& p,
+                                           double slot_m, double f) {
+  auto flow_at = [&](double duty) {
+    return regulator_characteristic(p, slot_m, f, {duty / f}, 6).front();
+  };
+  SwitchingLimits lim;
+  double lo = 0.0, hi = 1.0;  // flow(lo) == 0, flow(hi) > 0
+  if (flow_at(1e-9) > 0.0) {
+    lo = 0.0;
+  } else {
+    for (int k = 0; k < 40; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (flow_at(mid) > 1e-18 ? hi : lo) = mid;
+    }
+  }
+  lim.dead_zone_duty = lo;
+  auto closes = [&](double duty) {
+    hydraulics::PulseRegulator reg;
+    reg.configure(p);
+    const double T = 1.0 / f;
+    const int n = 2000;
+    double y_min = 1e300;
+    for (int k = 0; k < 6 * n; ++k) {
+      (void)reg.step(T / n, slot_m, f, duty / f);
+      if (k >= 5 * n) y_min = std::min(y_min, reg.spool_position_m());
+    }
+    return y_min <= -p.lap_m + 1e-12;
+  };
+  lo = 0.0;
+  hi = 1.0;  // closes(lo), !closes(hi)
+  for (int k = 0; k < 30; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (closes(mid) ? lo : hi) = mid;
+  }
+  lim.saturation_duty = hi;
+  return lim;
+}
+
 }  // namespace lathectl::sim

@@ -131,7 +131,7 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
 
   rev_steps_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(1.0 / rev_per_s_ / dt)));
   window_steps_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cfg.feed_window_s / dt)));
-  x_hist_.assign(std::max(rev_steps_, window_steps_) + 1, 0.0);
+  x_hist_.assign(std::max(rev_steps_, 2 * window_steps_) + 1, 0.0);
   hist_head_ = 0;
   for (std::size_t k = 0; k < x_hist_.size(); ++k) {  // steady motion before t = 0
     x_hist_[(x_hist_.size() - k) % x_hist_.size()] = -feed * dt * static_cast<double>(k);
@@ -220,7 +220,7 @@ void RigA::step() noexcept {
 
   const auto& s = slide_.state();
   const double n = static_cast<double>(acc_n_);
-  const double feed_avg = (s.x_m - position_ago(window_steps_)) / (static_cast<double>(window_steps_) * dt_);
+
   const double slot = cfg_.regulator_kind == RegulatorKind::Throttle ? fixed_actuator_
                       : cfg_.controller_kind == ControllerKind::Aim ? ecc_.slot_m()
                       : cfg_.controller_kind == ControllerKind::Fim ? cfg_.slot_m
@@ -228,6 +228,15 @@ void RigA::step() noexcept {
   const double freq = cfg_.regulator_kind == RegulatorKind::Throttle ? 0.0
                       : cfg_.controller_kind == ControllerKind::Fim ? ctl_out_.frequency_Hz
                                                                     : cfg_.frequency_Hz;
+  // Feed averaged over a whole number of pulse periods close to the feed window, so that the
+  // pulse ripple cancels whatever the (FIM-varied) frequency.
+  std::size_t w = window_steps_;
+  if (freq > 0.0) {
+    const double periods = std::max(1.0, std::round(cfg_.feed_window_s * freq));
+    w = std::clamp<std::size_t>(static_cast<std::size_t>(std::llround(periods / freq / dt_)), 1,
+                                x_hist_.size() - 1);
+  }
+  const double feed_avg = (s.x_m - position_ago(w)) / (static_cast<double>(w) * dt_);
   const double estimate = (sensor_u_ - cfg_.sensor.offset_V) / sensor_.volts_per_newton();
   const std::array<double, kChannels> row{
       t_,

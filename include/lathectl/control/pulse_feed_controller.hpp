@@ -50,7 +50,7 @@ class PulseFeedController {
     // (C_d + V/B). While the load rises the oil is compressed and the slide stalls for a
     // moment whatever the leakage law; finishing adds C·dp/dt to the flow. 0 disables.
     double compliance_m3_per_Pa = 0.0;
-    double rate_filter_s = 0.02;        // low-pass on the force rate used by that term
+    double rate_filter_s = 0.1;         // low-pass on the force rate used by that term
     // Programming device (ЗПУ).
     double feed_m_per_s = 1e-3;         // programmed feed rate S_prog
     double force_set_N = 1000.0;        // roughing: force setpoint
@@ -68,8 +68,8 @@ class PulseFeedController {
     double frequency_ramp_Hz_per_s = 1e6;  // converter ramp
     // Roughing regulator (normalised: error as a fraction of force_set, output as a fraction
     // of the programmed feed).
-    double kp = 0.3;
-    double ti_s = 0.15;
+    double kp = 3.0;
+    double ti_s = 0.5;
     double feed_min_fraction = 0.05;
   };
 

@@ -40,6 +40,8 @@ class PulseRegulator {
   double step(double dt, double slot_m, double frequency_Hz, double pulse_width_s) noexcept;
 
   [[nodiscard]] double opening_m() const noexcept { return y_ > 0.0 ? y_ : 0.0; }
+  // Spool position past the lap edge [m]: −lap when fully closed, the slot when fully open.
+  [[nodiscard]] double spool_position_m() const noexcept { return y_; }
   [[nodiscard]] const Params& params() const noexcept { return p_; }
   // Ideal mean flow by seed formula (1).
   [[nodiscard]] double ideal_flow(double slot_m, double frequency_Hz, double pulse_width_s) const noexcept;

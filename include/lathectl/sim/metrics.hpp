@@ -58,4 +58,14 @@ std::vector<double> regulator_characteristic(const hydraulics::PulseRegulator::P
                                              const std::vector<double>& pulse_widths_s,
                                              int periods = 40);
 
+// Measured by bisection on the simulated regulator: the largest duty that gives no flow (dead
+// zone) and the smallest duty at which the spool no longer gets back to its closed position
+// between pulses (from there on the flow bends toward the continuous-opening value).
+struct SwitchingLimits {
+  double dead_zone_duty = 0.0;
+  double saturation_duty = 1.0;
+};
+SwitchingLimits regulator_switching_limits(const hydraulics::PulseRegulator::Params& p,
+                                           double slot_m, double frequency_Hz);
+
 }  // namespace lathectl::sim
