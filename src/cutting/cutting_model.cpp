@@ -33,6 +33,7 @@ void CuttingModel::configure(const Params& p) {
     throw std::invalid_argument("approach angle must be in (0, 90] degrees");
   if (!(p.nose_radius_mm > 0.0)) throw std::invalid_argument("nose radius must be > 0");
   p_ = p;
+  cached_speed_ = -1.0;
   kmp_ = std::pow(m.strength / m.strength_base, m.kmp_exponent);
   sin_kappa_ = std::sin(p.approach_angle_deg * std::numbers::pi / 180.0);
 }
@@ -56,8 +57,14 @@ double CuttingModel::radial_force(const CutState& c) const noexcept {
   if (!(c.depth_mm > 0.0) || !(c.feed_mm_per_rev > 0.0)) return 0.0;
   const double k = kmp_ * hardness_kp(p_.material.kmp_exponent, c.strength_factor) * c.wear_factor;
   if (p_.form == ForceForm::Handbook) {
-    const CutState cv{c.depth_mm, c.feed_mm_per_rev, std::max(c.speed_m_per_min, 1.0), 1.0, 1.0};
-    return power_law(p_.material.Py, cv, k);
+    const double v = std::max(c.speed_m_per_min, 1.0);
+    if (v != cached_speed_) {  // the speed changes far less often than depth and feed
+      cached_speed_ = v;
+      cached_speed_term_ = std::pow(v, p_.material.Py.n);
+    }
+    const auto& law = p_.material.Py;
+    return 10.0 * law.Cp * std::pow(c.depth_mm, law.x) * std::pow(c.feed_mm_per_rev, law.y) *
+           cached_speed_term_ * k;
   }
   return kienzle(p_.material.Fp, c.depth_mm / sin_kappa_, c.feed_mm_per_rev * sin_kappa_) * k;
 }

@@ -77,7 +77,8 @@ LocalCut Disturbances::at(double x, double phi, double t_cut) noexcept {
   }
   last_x_ = x;
   LocalCut c;
-  c.depth_mm = std::max(depth_profile(x) + p_.runout_mm * std::sin(phi) + random_mm_, 0.0);
+  const double runout = p_.runout_mm > 0.0 ? p_.runout_mm * std::sin(phi) : 0.0;
+  c.depth_mm = std::max(depth_profile(x) + runout + random_mm_, 0.0);
   c.strength_factor = strength_factor(x);
   c.flank_wear_mm = p_.wear_VB0_mm + p_.wear_rate_mm_per_min * t_cut / 60.0;
   c.wear_factor = 1.0 + p_.wear_force_gain_per_mm * c.flank_wear_mm;

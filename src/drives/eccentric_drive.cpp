@@ -41,6 +41,8 @@ void EccentricDrive::configure(const Params& p) {
       !(p.gear_ratio > 0.0) || !(p.motor_time_constant_s >= 0.0))
     throw std::invalid_argument("eccentric drive: gain, speed and ratio must be > 0");
   p_ = p;
+  last_dt_ = -1.0;
+  last_cmd_ = -1.0;
   set_slot(p.profile_slot_m.front());
 }
 
@@ -58,10 +60,18 @@ void EccentricDrive::set_slot(double s) noexcept {
 }
 
 void EccentricDrive::step(double dt, double slot_cmd) noexcept {
-  const double target = angle_of(slot_cmd);
+  if (slot_cmd != last_cmd_) {  // the command changes once per control period, not every step
+    last_cmd_ = slot_cmd;
+    target_ = angle_of(slot_cmd);
+  }
+  const double target = target_;
   const double w_cmd = std::clamp(p_.position_gain_per_s * (target - theta_) * p_.gear_ratio,
                                   -p_.motor_max_speed_rad_per_s, p_.motor_max_speed_rad_per_s);
-  const double a = p_.motor_time_constant_s > 0.0 ? std::exp(-dt / p_.motor_time_constant_s) : 0.0;
+  if (dt != last_dt_) {
+    last_dt_ = dt;
+    decay_ = p_.motor_time_constant_s > 0.0 ? std::exp(-dt / p_.motor_time_constant_s) : 0.0;
+  }
+  const double a = decay_;
   const double w_new = w_cmd + (omega_ - w_cmd) * a;
   theta_ += 0.5 * (omega_ + w_new) / p_.gear_ratio * dt;
   omega_ = w_new;

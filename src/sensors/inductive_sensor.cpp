@@ -15,6 +15,7 @@ void InductiveSensor::configure(const Params& p) {
   rng_.seed(p.seed);
   normal_.reset();
   u_ = p.offset_V;
+  last_dt_ = -1.0;
 }
 
 void InductiveSensor::set_steady(double force_N) noexcept {
@@ -23,8 +24,16 @@ void InductiveSensor::set_steady(double force_N) noexcept {
 
 double InductiveSensor::step(double dt, double force_N) noexcept {
   const double target = p_.offset_V + p_.gain_V_per_m * force_N / p_.holder_stiffness_N_per_m;
-  const double a = p_.time_constant_s > 0.0 ? std::exp(-dt / p_.time_constant_s) : 0.0;
+  if (dt != last_dt_) {
+    last_dt_ = dt;
+    decay_ = p_.time_constant_s > 0.0 ? std::exp(-dt / p_.time_constant_s) : 0.0;
+  }
+  const double a = decay_;
   u_ = target + (u_ - target) * a;
+  return std::clamp(u_, 0.0, p_.saturation_V);
+}
+
+double InductiveSensor::sample() noexcept {
   const double noise = p_.noise_V > 0.0 ? p_.noise_V * normal_(rng_) : 0.0;
   return std::clamp(u_ + noise, 0.0, p_.saturation_V);
 }

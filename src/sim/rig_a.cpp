@@ -129,6 +129,12 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
     ecc_.set_slot(ctl_out_.slot_m);
   }
 
+  constexpr double kMaxBufferSteps = 2e7;  // history buffers beyond this mean a nonsensical step
+  if (1.0 / rev_per_s_ / dt > kMaxBufferSteps || cfg.feed_window_s / dt > kMaxBufferSteps / 2)
+    throw std::invalid_argument("one spindle revolution or the feed window spans more than 2e7 steps: "
+                                "increase step_s or the spindle speed, or shorten feed_window_s");
+  if (duration / (dt * static_cast<double>(record_every_)) > 5e7)
+    throw std::invalid_argument("more than 5e7 recorded rows: increase record_interval_s");
   rev_steps_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(1.0 / rev_per_s_ / dt)));
   window_steps_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cfg.feed_window_s / dt)));
   x_hist_.assign(std::max(rev_steps_, 2 * window_steps_) + 1, 0.0);
@@ -182,9 +188,10 @@ void RigA::step() noexcept {
   depth_ = local.depth_mm;
   force_ = cut_.radial_force({local.depth_mm, chip_feed_mm_per_rev(), speed_m_per_min_,
                               local.strength_factor, local.wear_factor});
-  sensor_u_ = sensor_.step(dt_, force_);
+  (void)sensor_.step(dt_, force_);
 
   if (cfg_.controller_kind != ControllerKind::None && step_ % control_every_ == 0) {
+    sensor_u_ = sensor_.sample();
     const control::PulseFeedController::Input in{sensor_sample(sensor_u_)};
     (void)ctl_.update(in, ctl_out_);
   }
@@ -220,6 +227,7 @@ void RigA::step() noexcept {
 
   const auto& s = slide_.state();
   const double n = static_cast<double>(acc_n_);
+  if (cfg_.controller_kind == ControllerKind::None) sensor_u_ = sensor_.sample();
 
   const double slot = cfg_.regulator_kind == RegulatorKind::Throttle ? fixed_actuator_
                       : cfg_.controller_kind == ControllerKind::Aim ? ecc_.slot_m()

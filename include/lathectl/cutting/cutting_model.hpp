@@ -82,7 +82,8 @@ class CuttingModel {
 
   // Forces for one cutting state; zero when depth or feed is not positive (tool out of cut).
   [[nodiscard]] Forces forces(const CutState& c) const noexcept;
-  // Only the radial force (cheaper: one power law).
+  // Only the radial force (cheaper: one power law, V^n cached). Not thread-safe on a shared
+  // instance: each rig owns its model.
   [[nodiscard]] double radial_force(const CutState& c) const noexcept;
   // Cutting power Nc = Pz·V [W].
   [[nodiscard]] double power_W(const Forces& f, double speed_m_per_min) const noexcept;
@@ -102,6 +103,8 @@ class CuttingModel {
   Params p_{};
   double kmp_ = 1.0;
   double sin_kappa_ = 1.0;
+  mutable double cached_speed_ = -1.0;  // V^n of Py for the last V (radial_force hot path)
+  mutable double cached_speed_term_ = 1.0;
 };
 
 }  // namespace lathectl::cutting

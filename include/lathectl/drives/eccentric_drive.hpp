@@ -40,6 +40,10 @@ class EccentricDrive {
   double theta_ = 0.0;
   double omega_ = 0.0;  // motor speed
   double slot_ = 0.0;
+  double last_dt_ = -1.0;   // cache of e^(−dt/τ_m) for the last dt
+  double decay_ = 0.0;
+  double last_cmd_ = -1.0;  // cache of profile⁻¹ for the last command
+  double target_ = 0.0;
 };
 
 }  // namespace lathectl::drives

@@ -25,7 +25,11 @@ class InductiveSensor {
   };
   void configure(const Params& p);  // throws std::invalid_argument
   void set_steady(double force_N) noexcept;
-  double step(double dt, double force_N) noexcept;  // returns U_D [V]
+  // Advances the lag; returns the noiseless signal clamped to the range [V].
+  double step(double dt, double force_N) noexcept;
+  // One ADC sample of U_D: the signal plus a fresh noise sample, clamped to the range [V].
+  // Noise is drawn per sample (white at the sampling rate), not per simulation step.
+  double sample() noexcept;
   [[nodiscard]] double volts_per_newton() const noexcept {
     return p_.gain_V_per_m / p_.holder_stiffness_N_per_m;
   }
@@ -34,6 +38,8 @@ class InductiveSensor {
  private:
   Params p_{};
   double u_ = 0.0;
+  double last_dt_ = -1.0;  // cache of e^(−dt/τ_s)
+  double decay_ = 0.0;
   std::mt19937_64 rng_{1};
   std::normal_distribution<double> normal_{0.0, 1.0};
 };
