@@ -10,6 +10,7 @@
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/sim/rig_a.hpp"
+#include "support/sample_controller.hpp"
 
 using namespace lathectl;
 
@@ -29,34 +30,26 @@ void BM_RigA_60s(benchmark::State& state, const char* scenario) {
     benchmark::DoNotOptimize(rig.recorder().rows());
   }
   const double steps = duration / sc.run.step_s;
-  state.counters["sim_s_per_wall_s"] =
-      benchmark::Counter(duration * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
-  state.counters["steps_per_s"] =
-      benchmark::Counter(steps * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["sim_s_per_wall_s"] = benchmark::Counter(
+      duration * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["steps_per_s"] = benchmark::Counter(
+      steps * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
-BENCHMARK_CAPTURE(BM_RigA_60s, finishing_aim, "a_finishing_aim.toml")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_RigA_60s, finishing_fim, "a_finishing_fim.toml")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_RigA_60s, roughing_fim_all_disturbances, "a_roughing_fim.toml")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_RigA_60s, uncontrolled, "a_finishing_none.toml")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RigA_60s, finishing_aim, "a_finishing_aim.toml")
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RigA_60s, finishing_fim, "a_finishing_fim.toml")
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RigA_60s, roughing_fim_all_disturbances, "a_roughing_fim.toml")
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RigA_60s, uncontrolled, "a_finishing_none.toml")
+    ->Unit(benchmark::kMillisecond);
 
 void BM_PulseFeedController_Update(benchmark::State& state) {
-  control::PulseFeedController::Params p;
-  p.modulation = state.range(0) ? control::PulseFeedController::Modulation::Frequency
-                                : control::PulseFeedController::Modulation::Amplitude;
-  p.mode = state.range(1) ? control::PulseFeedController::Mode::Roughing
-                          : control::PulseFeedController::Mode::Finishing;
-  p.regulator_gain_per_m = 0.2;
-  p.pulse_width_s = 0.005;
-  p.frequency_Hz = 20;
-  p.slot_m = 40e-6;
-  p.piston_area_m2 = 8e-4;
-  p.leak_m3_per_s_Pa = 1e-12;
-  p.feed_m_per_s = 1e-3;
-  p.force_set_N = 200;
-  p.sensor_V_per_N = 5e-3;
-  p.slot_max_m = 1e-4;
-  p.compliance_m3_per_Pa = 5e-13;
-  p.sensor_monitor = {-0.5, 10.5, 0.05, 0.0};
+  const auto p = testing::sample_pulse_feed_params(
+      state.range(0) ? control::PulseFeedController::Modulation::Frequency
+                     : control::PulseFeedController::Modulation::Amplitude,
+      state.range(1) ? control::PulseFeedController::Mode::Roughing
+                     : control::PulseFeedController::Mode::Finishing);
   control::PulseFeedController c;
   c.configure(p);
   control::PulseFeedController::Output out;
@@ -68,7 +61,9 @@ void BM_PulseFeedController_Update(benchmark::State& state) {
     benchmark::DoNotOptimize(out);
   }
 }
-BENCHMARK(BM_PulseFeedController_Update)->ArgsProduct({{0, 1}, {0, 1}})->ArgNames({"fim", "roughing"});
+BENCHMARK(BM_PulseFeedController_Update)
+    ->ArgsProduct({{0, 1}, {0, 1}})
+    ->ArgNames({"fim", "roughing"});
 
 void BM_PulseRegulator_Step(benchmark::State& state) {
   hydraulics::PulseRegulator::Params p;

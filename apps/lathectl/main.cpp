@@ -2,7 +2,6 @@
 // design calculators. Exit codes: 0 success, 2 bad input (one clear message), 1 internal failure.
 
 #include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
@@ -35,7 +34,8 @@ int cmd_run(const std::string& scenario, const std::string& out) {
   const auto sc = io::load_scenario(scenario, lib);
   const auto result = io::run_scenario(sc);
   io::write_outputs(result, out);
-  std::cout << sc.name << ": " << result.headline << "\n  → " << (fs::path(out) / "report.html").string() << "\n";
+  std::cout << sc.name << ": " << result.headline << "\n  → "
+            << (fs::path(out) / "report.html").string() << "\n";
   return 0;
 }
 
@@ -85,14 +85,16 @@ int cmd_demo(const std::string& out, const std::string& dir) {
     if (!e.empty()) throw std::runtime_error(e);
   io::write_file_atomic(fs::path(out) / "index.html",
                         io::render_index_html("lathectl demo — example scenarios", entries));
-  std::cout << "demo: " << scenarios.size() << " scenarios → " << (fs::path(out) / "index.html").string() << "\n";
+  std::cout << "demo: " << scenarios.size() << " scenarios → "
+            << (fs::path(out) / "index.html").string() << "\n";
   return 0;
 }
 
 void print_value(bool json_first, const char* key, double si, const char* si_unit, double shop,
                  const char* shop_unit, bool last = false) {
   (void)json_first;
-  std::printf("  %-34s %14.6g %-10s %14.6g %s%s", key, si, si_unit, shop, shop_unit, last ? "\n" : "\n");
+  std::printf("  %-34s %14.6g %-10s %14.6g %s%s", key, si, si_unit, shop, shop_unit,
+              last ? "\n" : "\n");
 }
 
 }  // namespace
@@ -103,7 +105,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "lathectl 0.1.0");
 
   std::string scenario, out = "out";
-  auto* run = app.add_subcommand("run", "Run a scenario closed-loop and write summary.json, channels.csv, report.html");
+  auto* run = app.add_subcommand(
+      "run", "Run a scenario closed-loop and write summary.json, channels.csv, report.html");
   run->add_option("scenario", scenario, "scenario file (TOML)")->required();
   run->add_option("--out", out, "output directory")->capture_default_str();
 
@@ -111,7 +114,8 @@ int main(int argc, char** argv) {
   check->add_option("scenario", scenario, "scenario file (TOML)")->required();
 
   std::string demo_out = "demo-out", demo_dir = examples_dir();
-  auto* demo = app.add_subcommand("demo", "Run every example scenario and write an index.html linking the reports");
+  auto* demo = app.add_subcommand(
+      "demo", "Run every example scenario and write an index.html linking the reports");
   demo->add_option("--out", demo_out, "output directory")->capture_default_str();
   demo->add_option("--examples", demo_dir, "directory of example scenarios")->capture_default_str();
 
@@ -121,19 +125,37 @@ int main(int argc, char** argv) {
   double d_mm = 8, h_mm = 0.04, dp_MPa = 0.5, rho = 870, mu = 0.65, dt_ms = 10, T_ms = 0, f_Hz = 0,
          F_cm2 = 20, leak = 0, Py = 0, dPy = 0;
   bool as_json = false;
-  auto* preg = design->add_subcommand("pulse-regulator",
-                                      "Seed 000: Q (1), Ka (2), S (3), Δh (4), Kf (6), Δf and duty of a pulsed flow regulator");
-  preg->add_option("--d-mm", d_mm, "spool diameter d [mm]")->capture_default_str()->check(CLI::PositiveNumber);
-  preg->add_option("--h-mm", h_mm, "slot opening h [mm]")->capture_default_str()->check(CLI::PositiveNumber);
-  preg->add_option("--dp-MPa", dp_MPa, "pressure drop Δp across the regulator [MPa]")->capture_default_str()->check(CLI::PositiveNumber);
-  preg->add_option("--rho", rho, "oil density ρ [kg/m³]")->capture_default_str()->check(CLI::PositiveNumber);
-  preg->add_option("--mu", mu, "discharge coefficient μ")->capture_default_str()->check(CLI::Range(0.0, 1.0));
-  preg->add_option("--dt-ms", dt_ms, "pulse width Δt [ms]")->capture_default_str()->check(CLI::PositiveNumber);
+  auto* preg = design->add_subcommand(
+      "pulse-regulator",
+      "Seed 000: Q (1), Ka (2), S (3), Δh (4), Kf (6), Δf and duty of a pulsed flow regulator");
+  preg->add_option("--d-mm", d_mm, "spool diameter d [mm]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  preg->add_option("--h-mm", h_mm, "slot opening h [mm]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  preg->add_option("--dp-MPa", dp_MPa, "pressure drop Δp across the regulator [MPa]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  preg->add_option("--rho", rho, "oil density ρ [kg/m³]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  preg->add_option("--mu", mu, "discharge coefficient μ")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  preg->add_option("--dt-ms", dt_ms, "pulse width Δt [ms]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   auto* oT = preg->add_option("--T-ms", T_ms, "pulse period T [ms]")->check(CLI::PositiveNumber);
-  auto* of = preg->add_option("--f-Hz", f_Hz, "pulse frequency f [Hz] (instead of T)")->check(CLI::PositiveNumber);
+  auto* of = preg->add_option("--f-Hz", f_Hz, "pulse frequency f [Hz] (instead of T)")
+                 ->check(CLI::PositiveNumber);
   oT->excludes(of);
-  preg->add_option("--F-cm2", F_cm2, "effective piston area F [cm²]")->capture_default_str()->check(CLI::PositiveNumber);
-  preg->add_option("--leak", leak, "leakage K_leak [cm³/min per MPa]")->capture_default_str()->check(CLI::NonNegativeNumber);
+  preg->add_option("--F-cm2", F_cm2, "effective piston area F [cm²]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  preg->add_option("--leak", leak, "leakage K_leak [cm³/min per MPa]")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   preg->add_option("--Py", Py, "radial cutting force Py [N]")->capture_default_str();
   preg->add_option("--dPy", dPy, "force change ΔPy [N]")->capture_default_str();
   preg->add_flag("--json", as_json, "print JSON (SI and shop units)");
@@ -150,7 +172,8 @@ int main(int argc, char** argv) {
     if (*check) return cmd_check(scenario);
     if (*demo) return cmd_demo(demo_out, demo_dir);
     if (*preg) {
-      if (T_ms <= 0 && f_Hz <= 0) throw io::InputError("design pulse-regulator: give --T-ms or --f-Hz");
+      if (T_ms <= 0 && f_Hz <= 0)
+        throw io::InputError("design pulse-regulator: give --T-ms or --f-Hz");
       pr.spool_diameter_m = d_mm * 1e-3;
       pr.slot_m = h_mm * 1e-3;
       pr.pressure_drop_Pa = dp_MPa * 1e6;
@@ -170,25 +193,43 @@ int main(int argc, char** argv) {
       }
       if (as_json) {
         nlohmann::json j;
-        j["si"] = {{"Q_m3_per_s", r.flow_m3_per_s}, {"Ka_m2_per_s", r.ka_m2_per_s}, {"Kf_m3", r.kf_m3},
-                   {"S_m_per_s", r.feed_m_per_s}, {"S_no_leak_m_per_s", r.feed_no_leak_m_per_s},
-                   {"leak_m3_per_s", r.leak_m3_per_s}, {"dh_m", r.slot_change_m}, {"df_Hz", r.frequency_change_Hz},
-                   {"duty", r.duty}, {"f_Hz", r.frequency_Hz}};
-        j["shop"] = {{"Q_cm3_per_min", r.flow_m3_per_s * 6e7}, {"Ka_cm3_per_min_per_mm", r.ka_m2_per_s * 6e4},
-                     {"Kf_cm3_per_min_per_Hz", r.kf_m3 * 6e7}, {"S_mm_per_min", r.feed_m_per_s * 6e4},
-                     {"S_no_leak_mm_per_min", r.feed_no_leak_m_per_s * 6e4}, {"leak_cm3_per_min", r.leak_m3_per_s * 6e7},
-                     {"dh_um", r.slot_change_m * 1e6}, {"df_Hz", r.frequency_change_Hz}, {"duty_pct", r.duty * 100}};
+        j["si"] = {{"Q_m3_per_s", r.flow_m3_per_s},
+                   {"Ka_m2_per_s", r.ka_m2_per_s},
+                   {"Kf_m3", r.kf_m3},
+                   {"S_m_per_s", r.feed_m_per_s},
+                   {"S_no_leak_m_per_s", r.feed_no_leak_m_per_s},
+                   {"leak_m3_per_s", r.leak_m3_per_s},
+                   {"dh_m", r.slot_change_m},
+                   {"df_Hz", r.frequency_change_Hz},
+                   {"duty", r.duty},
+                   {"f_Hz", r.frequency_Hz}};
+        j["shop"] = {{"Q_cm3_per_min", r.flow_m3_per_s * 6e7},
+                     {"Ka_cm3_per_min_per_mm", r.ka_m2_per_s * 6e4},
+                     {"Kf_cm3_per_min_per_Hz", r.kf_m3 * 6e7},
+                     {"S_mm_per_min", r.feed_m_per_s * 6e4},
+                     {"S_no_leak_mm_per_min", r.feed_no_leak_m_per_s * 6e4},
+                     {"leak_cm3_per_min", r.leak_m3_per_s * 6e7},
+                     {"dh_um", r.slot_change_m * 1e6},
+                     {"df_Hz", r.frequency_change_Hz},
+                     {"duty_pct", r.duty * 100}};
         std::cout << j.dump(2) << "\n";
       } else {
-        std::printf("Pulsed flow regulator (seed 000)\n  %-34s %14s %-10s %14s %s\n", "", "SI", "", "shop", "");
-        print_value(false, "mean flow Q (1)", r.flow_m3_per_s, "m³/s", r.flow_m3_per_s * 6e7, "cm³/min");
-        print_value(false, "AIM gain Ka (2)", r.ka_m2_per_s, "m²/s", r.ka_m2_per_s * 6e4, "cm³/min per mm");
+        std::printf("Pulsed flow regulator (seed 000)\n  %-34s %14s %-10s %14s %s\n", "", "SI", "",
+                    "shop", "");
+        print_value(false, "mean flow Q (1)", r.flow_m3_per_s, "m³/s", r.flow_m3_per_s * 6e7,
+                    "cm³/min");
+        print_value(false, "AIM gain Ka (2)", r.ka_m2_per_s, "m²/s", r.ka_m2_per_s * 6e4,
+                    "cm³/min per mm");
         print_value(false, "FIM gain Kf (6)", r.kf_m3, "m³", r.kf_m3 * 6e7, "cm³/min per Hz");
-        print_value(false, "feed without leakage Q/F", r.feed_no_leak_m_per_s, "m/s", r.feed_no_leak_m_per_s * 6e4, "mm/min");
-        print_value(false, "leakage K_leak·Py/F", r.leak_m3_per_s, "m³/s", r.leak_m3_per_s * 6e7, "cm³/min");
+        print_value(false, "feed without leakage Q/F", r.feed_no_leak_m_per_s, "m/s",
+                    r.feed_no_leak_m_per_s * 6e4, "mm/min");
+        print_value(false, "leakage K_leak·Py/F", r.leak_m3_per_s, "m³/s", r.leak_m3_per_s * 6e7,
+                    "cm³/min");
         print_value(false, "feed S (3)", r.feed_m_per_s, "m/s", r.feed_m_per_s * 6e4, "mm/min");
-        print_value(false, "slot correction Δh (4)", r.slot_change_m, "m", r.slot_change_m * 1e6, "µm");
-        print_value(false, "frequency correction Δf", r.frequency_change_Hz, "Hz", r.frequency_change_Hz, "Hz");
+        print_value(false, "slot correction Δh (4)", r.slot_change_m, "m", r.slot_change_m * 1e6,
+                    "µm");
+        print_value(false, "frequency correction Δf", r.frequency_change_Hz, "Hz",
+                    r.frequency_change_Hz, "Hz");
         print_value(false, "duty Δt/T", r.duty, "", r.duty * 100, "%");
         print_value(false, "frequency f", r.frequency_Hz, "Hz", r.frequency_Hz, "Hz", true);
       }

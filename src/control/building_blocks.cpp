@@ -55,19 +55,18 @@ void PiRegulator::preset(double output) noexcept {
 
 double PiRegulator::update(double error, double dt, Reason& limited) noexcept {
   const double ki = p_.ti_s > 0.0 ? p_.kp / p_.ti_s : 0.0;
-  const double candidate_integral = integral_ + ki * error * dt;
-  const double raw = p_.kp * error + candidate_integral;
-  const double clamped = std::clamp(raw, p_.out_min, p_.out_max);
+  const double raw_before = p_.kp * error + integral_;
+  // Conditional integration (clamping): the integrator stops while the output sits on a limit
+  // and the error would push it further in, and it never leaves the output range itself. So a
+  // regulator parked on its limit leaves it exactly when the error changes sign.
+  const bool pushing_out =
+      (raw_before >= p_.out_max && error > 0.0) || (raw_before <= p_.out_min && error < 0.0);
+  if (!pushing_out) integral_ = std::clamp(integral_ + ki * error * dt, p_.out_min, p_.out_max);
+  const double raw = p_.kp * error + integral_;
   limited = Reason::None;
   if (raw > p_.out_max) limited = Reason::OutputHigh;
   if (raw < p_.out_min) limited = Reason::OutputLow;
-  if (limited == Reason::None) {
-    integral_ = candidate_integral;
-  } else {
-    // Back-calculation: the integrator holds what makes the output sit exactly at the limit.
-    integral_ = std::clamp(clamped - p_.kp * error, p_.out_min, p_.out_max);
-  }
-  out_ = clamped;
+  out_ = std::clamp(raw, p_.out_min, p_.out_max);
   return out_;
 }
 

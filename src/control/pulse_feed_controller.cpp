@@ -23,8 +23,7 @@ void PulseFeedController::configure(const Params& p) {
   need(p.feed_min_fraction >= 0.0 && p.feed_min_fraction < 1.0, "feed_min_fraction in [0, 1)");
   if (p.mode == Mode::Roughing) need(p.force_set_N > 0.0, "force setpoint must be > 0");
   if (p.modulation == Modulation::Amplitude) {
-    need(p.frequency_Hz > 0.0 && p.frequency_Hz * p.pulse_width_s <= 1.0,
-         "AIM needs 0 < f·Δt ≤ 1");
+    need(p.frequency_Hz > 0.0 && p.frequency_Hz * p.pulse_width_s <= 1.0, "AIM needs 0 < f·Δt ≤ 1");
     need(p.slot_min_m >= 0.0 && p.slot_max_m > p.slot_min_m, "slot limits: 0 ≤ min < max");
   } else {
     need(p.slot_m > 0.0, "FIM slot must be > 0");
@@ -33,6 +32,7 @@ void PulseFeedController::configure(const Params& p) {
     need(p.frequency_ramp_Hz_per_s > 0.0, "converter ramp must be > 0");
   }
   p_ = p;
+  configured_ = true;
   ka_ = p.regulator_gain_per_m * p.pulse_width_s * p.frequency_Hz;  // (2)
   kf_ = p.regulator_gain_per_m * p.slot_m * p.pulse_width_s;        // (6)
   filter_a_ = p.force_filter_s > 0.0 ? 1.0 - std::exp(-p.period_s / p.force_filter_s) : 1.0;
@@ -43,7 +43,8 @@ void PulseFeedController::configure(const Params& p) {
   start(0.0);
 }
 
-double PulseFeedController::actuator_for(double feed, double load_N, double load_rate) const noexcept {
+double PulseFeedController::actuator_for(double feed, double load_N,
+                                         double load_rate) const noexcept {
   const double q = feed * p_.piston_area_m2 +
                    p_.leak_m3_per_s_Pa * (load_N + p_.friction_N) / p_.piston_area_m2 +  // (3)
                    p_.compliance_m3_per_Pa * load_rate / p_.piston_area_m2;
@@ -79,6 +80,10 @@ void PulseFeedController::reset_alarm() noexcept {
 }
 
 Status PulseFeedController::update(const Input& in, Output& out) noexcept {
+  if (!configured_) {
+    out = {};
+    return Status::NotConfigured;
+  }
   const Reason fault = monitor_.check(in.sensor_V, p_.period_s);
   if (fault != Reason::None && !alarm_) {
     alarm_ = true;
@@ -88,8 +93,10 @@ Status PulseFeedController::update(const Input& in, Output& out) noexcept {
     out = last_;
     if (p_.mode == Mode::Roughing) {  // stop the feed: no flow into the cylinder
       out.feed_cmd_m_per_s = 0.0;
-      if (p_.modulation == Modulation::Amplitude) out.slot_m = 0.0;
-      else out.frequency_Hz = 0.0;
+      if (p_.modulation == Modulation::Amplitude)
+        out.slot_m = 0.0;
+      else
+        out.frequency_Hz = 0.0;
       if (p_.modulation == Modulation::Frequency) ramp_.reset(0.0);
     }
     out.reason = alarm_reason_;

@@ -84,8 +84,8 @@ const ToolLifeRange& CuttingModel::life_range(double feed_mm_per_rev) const noex
 
 double CuttingModel::tool_life_min(double speed_m_per_min, double feed_mm_per_rev,
                                    double depth_mm) const noexcept {
-  if (p_.material.tool_life_ranges == 0 || !(speed_m_per_min > 0.0) ||
-      !(feed_mm_per_rev > 0.0) || !(depth_mm > 0.0))
+  if (p_.material.tool_life_ranges == 0 || !(speed_m_per_min > 0.0) || !(feed_mm_per_rev > 0.0) ||
+      !(depth_mm > 0.0))
     return std::numeric_limits<double>::infinity();
   const auto& r = life_range(feed_mm_per_rev);
   const double ratio =
@@ -97,7 +97,8 @@ double CuttingModel::speed_for_life(double life_min, double feed_mm_per_rev,
                                     double depth_mm) const noexcept {
   if (p_.material.tool_life_ranges == 0 || !(life_min > 0.0)) return 0.0;
   const auto& r = life_range(feed_mm_per_rev);
-  return r.Cv / (std::pow(life_min, r.m) * std::pow(depth_mm, r.xv) * std::pow(feed_mm_per_rev, r.yv));
+  return r.Cv /
+         (std::pow(life_min, r.m) * std::pow(depth_mm, r.xv) * std::pow(feed_mm_per_rev, r.yv));
 }
 
 double CuttingModel::roughness_Rz_um(double s) const noexcept {

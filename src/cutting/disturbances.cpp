@@ -38,7 +38,8 @@ double Disturbances::depth_profile(double x) const noexcept {
   double depth = p_.depth_mm;
   for (const auto& s : p_.depth_steps) {
     if (x <= s.at_mm) break;
-    const double ramp = p_.step_ramp_mm > 0.0 ? std::min((x - s.at_mm) / p_.step_ramp_mm, 1.0) : 1.0;
+    const double ramp =
+        p_.step_ramp_mm > 0.0 ? std::min((x - s.at_mm) / p_.step_ramp_mm, 1.0) : 1.0;
     depth += (s.value - depth) * ramp;
   }
   return depth;

@@ -20,11 +20,14 @@ void FeedSlide::configure(const Params& p) {
 }
 
 void FeedSlide::set_steady(double v, double load_N) noexcept {
-  const double drive = load_N + p_.viscous_friction_N_s_per_m * v + (v > 0.0 ? p_.coulomb_friction_N : 0.0);
+  const double drive =
+      load_N + p_.viscous_friction_N_s_per_m * v + (v > 0.0 ? p_.coulomb_friction_N : 0.0);
   s_.v_m_per_s = v;
   s_.p_cyl_Pa = std::max(drive / p_.piston_area_m2, 0.0);
   const double q = p_.piston_area_m2 * v + p_.leak_m3_per_s_Pa * s_.p_cyl_Pa;
-  s_.p_damper_Pa = s_.p_cyl_Pa + (p_.damper_capacitance_m3_per_Pa > 0.0 ? q * p_.damper_resistance_Pa_s_per_m3 : 0.0);
+  s_.p_damper_Pa =
+      s_.p_cyl_Pa +
+      (p_.damper_capacitance_m3_per_Pa > 0.0 ? q * p_.damper_resistance_Pa_s_per_m3 : 0.0);
 }
 
 double FeedSlide::hydraulic_omega() const noexcept {

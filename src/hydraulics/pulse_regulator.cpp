@@ -19,7 +19,8 @@ double positive_area(double y0, double y1, double tau) noexcept {
 
 void check_orifice(const SlotOrifice& o) {
   if (!(o.spool_diameter_m > 0.0) || !(o.discharge_coefficient > 0.0) ||
-      !(o.discharge_coefficient <= 1.0) || !(o.pressure_drop_Pa > 0.0) || !(o.density_kg_per_m3 > 0.0))
+      !(o.discharge_coefficient <= 1.0) || !(o.pressure_drop_Pa > 0.0) ||
+      !(o.density_kg_per_m3 > 0.0))
     throw std::invalid_argument("orifice: d, Δp, ρ must be > 0 and 0 < μ ≤ 1");
 }
 }  // namespace

@@ -1,9 +1,10 @@
 #include "lathectl/io/output.hpp"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <fstream>
 #include <system_error>
-#include <unistd.h>
 
 namespace lathectl::io {
 

@@ -52,7 +52,8 @@ void read_cutting(TableReader& root, const MaterialLibrary& lib, sim::RigAConfig
 
   if (auto tool = root.table("tool")) {
     a.cutting.nose_radius_mm = tool->number("nose_radius_mm", {0.0, 10.0, true, false}, 0.8);
-    a.cutting.approach_angle_deg = tool->number("approach_angle_deg", {0.0, 90.0, true, false}, 90.0);
+    a.cutting.approach_angle_deg =
+        tool->number("approach_angle_deg", {0.0, 90.0, true, false}, 90.0);
     tool->finish();
   }
 
@@ -65,13 +66,13 @@ void read_cutting(TableReader& root, const MaterialLibrary& lib, sim::RigAConfig
   d.random_sigma_mm = part->number("random_depth_sigma_mm", Range::closed(0, 10), 0.0);
   d.random_correlation_mm = part->number("random_depth_correlation_mm", Range::positive(), 5.0);
   for (auto& s : part->tables("depth_steps")) {
-    d.depth_steps.push_back({s.number("at_mm", Range::non_negative()),
-                             s.number("depth_mm", Range::closed(0, 50))});
+    d.depth_steps.push_back(
+        {s.number("at_mm", Range::non_negative()), s.number("depth_mm", Range::closed(0, 50))});
     s.finish();
   }
   for (auto& h : part->tables("hardness")) {
-    d.hardness.push_back({h.number("at_mm", Range::non_negative()),
-                          h.number("factor", {0.0, 10.0, true, false})});
+    d.hardness.push_back(
+        {h.number("at_mm", Range::non_negative()), h.number("factor", {0.0, 10.0, true, false})});
     h.finish();
   }
   for (std::size_t i = 1; i < d.depth_steps.size(); ++i)
@@ -129,7 +130,8 @@ void read_eccentric(TableReader& root, sim::RigAConfig& a) {
   }
   auto profile = t->pairs("profile", Range::closed(0, 360), Range::closed(0, 10));
   if (!profile.empty()) {
-    if (t->has("eccentricity_mm")) t->fail("eccentricity_mm", "give either profile or eccentricity_mm");
+    if (t->has("eccentricity_mm"))
+      t->fail("eccentricity_mm", "give either profile or eccentricity_mm");
     e.profile_angle_rad.clear();
     e.profile_slot_m.clear();
     for (const auto& [deg, mm] : profile) {
@@ -137,18 +139,21 @@ void read_eccentric(TableReader& root, sim::RigAConfig& a) {
       e.profile_slot_m.push_back(mm * kMm);
     }
     for (std::size_t i = 1; i < profile.size(); ++i)
-      if (!(profile[i].first > profile[i - 1].first) || !(profile[i].second > profile[i - 1].second))
+      if (!(profile[i].first > profile[i - 1].first) ||
+          !(profile[i].second > profile[i - 1].second))
         t->fail("profile", "angle and slot must both strictly increase (the profile is inverted)");
     if (profile.size() < 2) t->fail("profile", "at least two points expected");
   } else {
-    const double ecc = t->number("eccentricity_mm", {0.0, 10.0, true, false}, a.regulator.max_slot_m / 2e-3);
+    const double ecc =
+        t->number("eccentricity_mm", {0.0, 10.0, true, false}, a.regulator.max_slot_m / 2e-3);
     const double base = t->number("base_slot_mm", Range::closed(0, 10), 0.0);
     drives::EccentricDrive::circular_profile(base * kMm, ecc * kMm, 91, e);
   }
   e.gear_ratio = t->number("gear_ratio", {0.0, 1e5, true, false}, 100.0);
-  e.motor_max_speed_rad_per_s =
-      t->number("motor_max_speed_rpm", {0.0, 1e5, true, false}, 3000.0) * 2.0 * std::numbers::pi / 60.0;
-  e.motor_time_constant_s = t->number("motor_time_constant_ms", Range::closed(0, 10000), 20.0) * 1e-3;
+  e.motor_max_speed_rad_per_s = t->number("motor_max_speed_rpm", {0.0, 1e5, true, false}, 3000.0) *
+                                2.0 * std::numbers::pi / 60.0;
+  e.motor_time_constant_s =
+      t->number("motor_time_constant_ms", Range::closed(0, 10000), 20.0) * 1e-3;
   e.position_gain_per_s = t->number("position_gain_per_s", {0.0, 1e5, true, false}, 20.0);
   t->finish();
 }
@@ -160,22 +165,26 @@ void read_slide(TableReader& root, sim::RigAConfig& a) {
   p.dead_volume_m3 = s->number("dead_volume_cm3", {0.0, 1e6, true, false}) * kCm3;
   p.bulk_modulus_Pa = s->number("oil_bulk_modulus_MPa", {100.0, 1e5, false, false}, 1400.0) * kMPa;
   // leakage given as flow per pressure: cm³/min per MPa
-  p.leak_m3_per_s_Pa = s->number("leak_cm3_per_min_per_MPa", Range::closed(0, 1e5), 0.0) * kCm3 / 60.0 / kMPa;
-  p.damper_capacitance_m3_per_Pa = s->number("damper_capacitance_cm3_per_MPa", Range::closed(0, 1e6), 0.0) * kCm3 / kMPa;
+  p.leak_m3_per_s_Pa =
+      s->number("leak_cm3_per_min_per_MPa", Range::closed(0, 1e5), 0.0) * kCm3 / 60.0 / kMPa;
+  p.damper_capacitance_m3_per_Pa =
+      s->number("damper_capacitance_cm3_per_MPa", Range::closed(0, 1e6), 0.0) * kCm3 / kMPa;
   p.damper_resistance_Pa_s_per_m3 =
       s->number("damper_resistance_MPa_s_per_cm3", Range::closed(0, 1e6), 0.0) * kMPa / kCm3;
   if (p.damper_capacitance_m3_per_Pa > 0.0 && !(p.damper_resistance_Pa_s_per_m3 > 0.0))
     s->fail("damper_resistance_MPa_s_per_cm3", "a damper needs a resistance > 0");
   p.mass_kg = s->number("mass_kg", {0.0, 1e5, true, false});
   p.coulomb_friction_N = s->number("coulomb_friction_N", Range::closed(0, 1e6), 0.0);
-  p.viscous_friction_N_s_per_m = s->number("viscous_friction_N_s_per_m", Range::closed(0, 1e9), 0.0);
+  p.viscous_friction_N_s_per_m =
+      s->number("viscous_friction_N_s_per_m", Range::closed(0, 1e9), 0.0);
   s->finish();
 }
 
 void read_sensor(TableReader& root, sim::RigAConfig& a, std::uint64_t seed) {
   auto s = root.table("sensor", true);
   auto& p = a.sensor;
-  p.holder_stiffness_N_per_m = s->number("holder_stiffness_N_per_um", {0.0, 1e6, true, false}) * 1e6;
+  p.holder_stiffness_N_per_m =
+      s->number("holder_stiffness_N_per_um", {0.0, 1e6, true, false}) * 1e6;
   p.gain_V_per_m = s->number("gain_V_per_um", {0.0, 1e3, true, false}) * 1e6;
   p.offset_V = s->number("offset_V", Range::closed(-100, 100), 0.0);
   p.noise_V = s->number("noise_mV", Range::closed(0, 1e4), 0.0) * 1e-3;
@@ -188,7 +197,7 @@ void read_sensor(TableReader& root, sim::RigAConfig& a, std::uint64_t seed) {
 void read_controller(TableReader& root, sim::RigAConfig& a) {
   auto c = root.table("controller", true);
   const std::string kind = c->choice("type", {"none", "aim", "fim"});
-  a.controller_kind = kind == "aim" ? sim::ControllerKind::Aim
+  a.controller_kind = kind == "aim"   ? sim::ControllerKind::Aim
                       : kind == "fim" ? sim::ControllerKind::Fim
                                       : sim::ControllerKind::None;
   auto& p = a.controller;
@@ -207,7 +216,8 @@ void read_controller(TableReader& root, sim::RigAConfig& a) {
   p.ti_s = c->number("ti_s", Range::closed(0, 100), 0.5);
   p.feed_min_fraction = c->number("feed_min_fraction", {0.0, 1.0, false, true}, 0.05);
   p.slot_min_m = c->number("slot_min_mm", Range::closed(0, 10), 0.0) * kMm;
-  p.slot_max_m = c->number("slot_max_mm", {0.0, 10.0, true, false}, a.regulator.max_slot_m / kMm) * kMm;
+  p.slot_max_m =
+      c->number("slot_max_mm", {0.0, 10.0, true, false}, a.regulator.max_slot_m / kMm) * kMm;
   p.frequency_min_Hz = c->number("frequency_min_Hz", Range::closed(0, 1e4), 0.0);
   p.frequency_max_Hz = c->number("frequency_max_Hz", {0.0, 1e4, true, false}, 50.0);
   p.frequency_ramp_Hz_per_s = c->number("frequency_ramp_Hz_per_s", {0.0, 1e7, true, false}, 500.0);
@@ -215,23 +225,31 @@ void read_controller(TableReader& root, sim::RigAConfig& a) {
   p.sensor_monitor.min = c->number("sensor_min_V", Range::any(), -0.5);
   p.sensor_monitor.max = c->number("sensor_max_V", Range::any(), a.sensor.saturation_V + 0.5);
   p.sensor_monitor.stuck_time_s = c->number("sensor_stuck_ms", Range::closed(0, 1e5), 50.0) * 1e-3;
-  p.sensor_monitor.stuck_tolerance = c->number("sensor_stuck_tolerance_V", Range::closed(0, 10), 0.0);
-  if (!(p.sensor_monitor.min < p.sensor_monitor.max)) c->fail("sensor_max_V", "must exceed sensor_min_V");
+  p.sensor_monitor.stuck_tolerance =
+      c->number("sensor_stuck_tolerance_V", Range::closed(0, 10), 0.0);
+  if (!(p.sensor_monitor.min < p.sensor_monitor.max))
+    c->fail("sensor_max_V", "must exceed sensor_min_V");
   if (p.slot_min_m >= p.slot_max_m) c->fail("slot_max_mm", "must exceed slot_min_mm");
-  if (p.frequency_min_Hz >= p.frequency_max_Hz) c->fail("frequency_max_Hz", "must exceed frequency_min_Hz");
+  if (p.frequency_min_Hz >= p.frequency_max_Hz)
+    c->fail("frequency_max_Hz", "must exceed frequency_min_Hz");
   c->finish();
 }
 
 sim::ControllerKind controller_from(const std::string& s) {
-  return s == "aim" ? sim::ControllerKind::Aim : s == "fim" ? sim::ControllerKind::Fim : sim::ControllerKind::None;
+  return s == "aim"   ? sim::ControllerKind::Aim
+         : s == "fim" ? sim::ControllerKind::Fim
+                      : sim::ControllerKind::None;
 }
 }  // namespace
 
 std::string controller_kind_name(sim::ControllerKind k) {
   switch (k) {
-    case sim::ControllerKind::Aim: return "AIM (amplitude-pulse)";
-    case sim::ControllerKind::Fim: return "FIM (frequency-pulse)";
-    case sim::ControllerKind::None: return "no control";
+    case sim::ControllerKind::Aim:
+      return "AIM (amplitude-pulse)";
+    case sim::ControllerKind::Fim:
+      return "FIM (frequency-pulse)";
+    case sim::ControllerKind::None:
+      return "no control";
   }
   return "?";
 }
@@ -239,7 +257,8 @@ std::string regulator_kind_name(sim::RegulatorKind k) {
   return k == sim::RegulatorKind::Throttle ? "continuous throttle" : "pulsed regulator";
 }
 
-Scenario parse_scenario(std::string_view text, const std::string& label, const MaterialLibrary& lib) {
+Scenario parse_scenario(std::string_view text, const std::string& label,
+                        const MaterialLibrary& lib) {
   const TomlDocument doc = TomlDocument::parse(text, label);
   TableReader root(doc.root(), label, "");
   Scenario sc;
@@ -262,12 +281,14 @@ Scenario parse_scenario(std::string_view text, const std::string& label, const M
   }
   if (auto cmp = root.table("compare")) {
     Comparison c;
-    if (cmp->has("controller")) c.controller = controller_from(cmp->choice("controller", {"none", "aim", "fim"}));
+    if (cmp->has("controller"))
+      c.controller = controller_from(cmp->choice("controller", {"none", "aim", "fim"}));
     if (cmp->has("regulator"))
       c.regulator = cmp->choice("regulator", {"pulsed", "throttle"}) == "throttle"
                         ? sim::RegulatorKind::Throttle
                         : sim::RegulatorKind::Pulsed;
-    if (!c.controller && !c.regulator) cmp->fail("controller", "give controller and/or regulator to compare with");
+    if (!c.controller && !c.regulator)
+      cmp->fail("controller", "give controller and/or regulator to compare with");
     c.label = cmp->string("label", "");
     cmp->finish();
     sc.compare = c;
@@ -281,7 +302,7 @@ Scenario parse_scenario(std::string_view text, const std::string& label, const M
   for (auto& f : root.tables("fault")) {
     sim::SensorFault sf;
     const std::string k = f.choice("kind", {"nan", "stuck", "out_of_range"});
-    sf.kind = k == "nan" ? sim::SensorFault::Kind::NotFinite
+    sf.kind = k == "nan"     ? sim::SensorFault::Kind::NotFinite
               : k == "stuck" ? sim::SensorFault::Kind::Stuck
                              : sim::SensorFault::Kind::OutOfRange;
     sf.at_s = f.number("at_s", Range::non_negative());
@@ -293,7 +314,8 @@ Scenario parse_scenario(std::string_view text, const std::string& label, const M
   // Cross-checks that need the whole scenario, reported against the key that decides them.
   sim::RigA probe;
   try {
-    probe.configure(a, sc.run.step_s, sc.run.record_interval_s, std::min(sc.run.duration_s, sc.run.step_s * 4));
+    probe.configure(a, sc.run.step_s, sc.run.record_interval_s,
+                    std::min(sc.run.duration_s, sc.run.step_s * 4));
   } catch (const std::invalid_argument& e) {
     throw InputError(located(label, 0, 0, std::string("inconsistent scenario: ") + e.what()));
   }

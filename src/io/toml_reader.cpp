@@ -19,13 +19,20 @@ std::string fmt_num(double v) {
 }
 std::string type_name(const toml::node& n) {
   switch (n.type()) {
-    case toml::node_type::table: return "a table";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a number";
-    case toml::node_type::boolean: return "a boolean";
-    default: return "a date/time";
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a number";
+    case toml::node_type::boolean:
+      return "a boolean";
+    default:
+      return "a date/time";
   }
 }
 }  // namespace
@@ -41,7 +48,8 @@ std::string Range::describe() const {
   const bool has_lo = lo > -1e299;
   const bool has_hi = hi < 1e299;
   if (has_lo && has_hi)
-    return std::string(lo_open ? "(" : "[") + fmt_num(lo) + ", " + fmt_num(hi) + (hi_open ? ")" : "]");
+    return std::string(lo_open ? "(" : "[") + fmt_num(lo) + ", " + fmt_num(hi) +
+           (hi_open ? ")" : "]");
   if (has_lo) return std::string(lo_open ? "> " : "≥ ") + fmt_num(lo);
   if (has_hi) return std::string(hi_open ? "< " : "≤ ") + fmt_num(hi);
   return "finite";
@@ -75,7 +83,9 @@ std::string TableReader::full_key(std::string_view key) const {
   return prefix_.empty() ? std::string(key) : prefix_ + "." + std::string(key);
 }
 
-int TableReader::line() const { return static_cast<int>(table_->source().begin.line); }
+int TableReader::line() const {
+  return static_cast<int>(table_->source().begin.line);
+}
 
 void TableReader::fail(std::string_view key, const std::string& message) const {
   const toml::node* n = table_->get(key);
@@ -84,7 +94,9 @@ void TableReader::fail(std::string_view key, const std::string& message) const {
                            "key '" + full_key(key) + "': " + message));
 }
 
-bool TableReader::has(std::string_view key) const { return table_->contains(key); }
+bool TableReader::has(std::string_view key) const {
+  return table_->contains(key);
+}
 
 const toml::node* TableReader::get(std::string_view key) {
   used_.emplace(key);
@@ -98,10 +110,14 @@ double TableReader::number(std::string_view key, Range range, std::optional<doub
     fail(key, "missing; expected a number " + range.describe());
   }
   double v = 0.0;
-  if (auto f = n->as_floating_point()) v = f->get();
-  else if (auto i = n->as_integer()) v = static_cast<double>(i->get());
-  else fail(key, "expected a number " + range.describe() + ", got " + type_name(*n));
-  if (!range.contains(v)) fail(key, "expected a number " + range.describe() + ", got " + fmt_num(v));
+  if (auto f = n->as_floating_point())
+    v = f->get();
+  else if (auto i = n->as_integer())
+    v = static_cast<double>(i->get());
+  else
+    fail(key, "expected a number " + range.describe() + ", got " + type_name(*n));
+  if (!range.contains(v))
+    fail(key, "expected a number " + range.describe() + ", got " + fmt_num(v));
   return v;
 }
 
@@ -110,7 +126,8 @@ std::int64_t TableReader::integer(std::string_view key, std::int64_t lo, std::in
   const toml::node* n = get(key);
   if (!n) {
     if (fallback) return *fallback;
-    fail(key, "missing; expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    fail(key, "missing; expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                  "]");
   }
   auto i = n->as_integer();
   if (!i) fail(key, "expected an integer, got " + type_name(*n));
@@ -168,14 +185,18 @@ std::vector<double> TableReader::numbers(std::string_view key, Range range, std:
   std::vector<double> out;
   for (const auto& e : *a) {
     double v = 0.0;
-    if (auto f = e.as_floating_point()) v = f->get();
-    else if (auto i = e.as_integer()) v = static_cast<double>(i->get());
-    else fail(key, "expected an array of numbers, found " + type_name(e));
+    if (auto f = e.as_floating_point())
+      v = f->get();
+    else if (auto i = e.as_integer())
+      v = static_cast<double>(i->get());
+    else
+      fail(key, "expected an array of numbers, found " + type_name(e));
     if (!range.contains(v))
       fail(key, "array element " + fmt_num(v) + " outside " + range.describe());
     out.push_back(v);
   }
-  if (out.size() < min_count) fail(key, "expected at least " + std::to_string(min_count) + " numbers");
+  if (out.size() < min_count)
+    fail(key, "expected at least " + std::to_string(min_count) + " numbers");
   return out;
 }
 
@@ -218,9 +239,12 @@ std::vector<std::pair<double, double>> TableReader::pairs(std::string_view key, 
     double v[2] = {0, 0};
     for (std::size_t k = 0; k < 2; ++k) {
       const auto& x = *p->get(k);
-      if (auto f = x.as_floating_point()) v[k] = f->get();
-      else if (auto i = x.as_integer()) v[k] = static_cast<double>(i->get());
-      else fail(key, "expected numbers in the pairs");
+      if (auto f = x.as_floating_point())
+        v[k] = f->get();
+      else if (auto i = x.as_integer())
+        v[k] = static_cast<double>(i->get());
+      else
+        fail(key, "expected numbers in the pairs");
     }
     if (!first.contains(v[0]) || !second.contains(v[1]))
       fail(key, "pair [" + fmt_num(v[0]) + ", " + fmt_num(v[1]) + "] outside " + first.describe() +

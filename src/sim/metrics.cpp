@@ -60,7 +60,8 @@ MetricsA compute_metrics_a(const RigA& rig) {
   for (std::size_t i = 0; i < t.size(); ++i)
     if (t[i] >= from) dev = std::max(dev, std::abs(feed[i] - ref));
   m.feed_rate_deviation_pct = 100.0 * dev / ref;
-  m.feed_rate_steady_deviation_pct = 100.0 * std::abs(mean_between(t, feed, 0.9 * T, T + 1.0) - ref) / ref;
+  m.feed_rate_steady_deviation_pct =
+      100.0 * std::abs(mean_between(t, feed, 0.9 * T, T + 1.0) - ref) / ref;
   const double early = mean_between(t, feed, 0.05 * T, 0.10 * T);
   m.feed_drift_pct = 100.0 * (mean_between(t, feed, 0.95 * T, T + 1.0) - early) / early;
 
@@ -94,7 +95,8 @@ MetricsA compute_metrics_a(const RigA& rig) {
     const bool was = i > 0 && alarm[i - 1] > 0.5;
     if (on && !was) {
       m.alarms.push_back({t[i], static_cast<int>(reason[i])});
-      if (std::isnan(m.first_alarm_delay_s) && t[i] >= first_fault) m.first_alarm_delay_s = t[i] - first_fault;
+      if (std::isnan(m.first_alarm_delay_s) && t[i] >= first_fault)
+        m.first_alarm_delay_s = t[i] - first_fault;
     }
   }
   return m;

@@ -26,7 +26,9 @@ std::size_t Recorder::index(const std::string& name) const {
   throw std::out_of_range("no recorded channel '" + name + "'");
 }
 
-std::span<const double> Recorder::column(const std::string& name) const { return column(index(name)); }
+std::span<const double> Recorder::column(const std::string& name) const {
+  return column(index(name));
+}
 
 std::span<const double> Recorder::column(std::size_t i) const noexcept {
   return {data_[i].data(), rows_};

@@ -38,7 +38,8 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
   if (!(dt > 0.0) || !(record_interval >= dt) || !(duration > 0.0))
     throw std::invalid_argument("run: need step > 0, record interval ≥ step, duration > 0");
   if (cfg.regulator_kind == RegulatorKind::Throttle && cfg.controller_kind != ControllerKind::None)
-    throw std::invalid_argument("a continuous throttle has no pulse actuator: controller must be none");
+    throw std::invalid_argument(
+        "a continuous throttle has no pulse actuator: controller must be none");
   if (!(cfg.spindle_rpm > 0.0) || !(cfg.diameter_m > 0.0))
     throw std::invalid_argument("spindle speed and part diameter must be > 0");
   if (!(cfg.pulse_width_s > 0.0) || !(cfg.frequency_Hz > 0.0) || !(cfg.slot_m > 0.0))
@@ -51,7 +52,8 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
   phi_ = 0.0;
   t_disturbance_ = -1.0;
   sound_ = true;
-  record_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(record_interval / dt)));
+  record_every_ =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(record_interval / dt)));
 
   cut_.configure(cfg.cutting);
   dist_.configure(cfg.part);
@@ -64,18 +66,21 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
   const double s_rev = feed * 1000.0 / rev_per_s_;
   const auto local0 = dist_.at(0.0, 0.0, 0.0);
   dist_.configure(cfg.part);  // restart the random allowance from its seed
-  force_nominal_ = cut_.radial_force(
-      {dist_.depth_profile(0.0), s_rev, speed_m_per_min_, local0.strength_factor, local0.wear_factor});
+  force_nominal_ = cut_.radial_force({dist_.depth_profile(0.0), s_rev, speed_m_per_min_,
+                                      local0.strength_factor, local0.wear_factor});
 
   slide_.configure(cfg.slide);
   slide_.set_steady(feed, force_nominal_);
   const double wh = slide_.hydraulic_omega();
   if (wh * dt > 0.5)
-    throw std::invalid_argument("step_s " + std::to_string(dt) + " too coarse for the slide's hydraulic "
-                                "natural frequency " + std::to_string(wh / 2 / std::numbers::pi) +
-                                " Hz: use step_s ≤ " + std::to_string(0.5 / wh));
+    throw std::invalid_argument("step_s " + std::to_string(dt) +
+                                " too coarse for the slide's hydraulic "
+                                "natural frequency " +
+                                std::to_string(wh / 2 / std::numbers::pi) + " Hz: use step_s ≤ " +
+                                std::to_string(0.5 / wh));
   if (cfg.slide.damper_capacitance_m3_per_Pa > 0.0) {
-    const double tau_d = cfg.slide.damper_capacitance_m3_per_Pa * cfg.slide.damper_resistance_Pa_s_per_m3;
+    const double tau_d =
+        cfg.slide.damper_capacitance_m3_per_Pa * cfg.slide.damper_resistance_Pa_s_per_m3;
     const double tau_c = cfg.slide.dead_volume_m3 / cfg.slide.bulk_modulus_Pa *
                          cfg.slide.damper_resistance_Pa_s_per_m3;
     if (dt > 0.5 * std::min(tau_d, tau_c))
@@ -90,8 +95,10 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
 
   const double F = cfg.slide.piston_area_m2;
   const double gain = cfg.regulator.orifice.gain_per_m();
-  const double q_needed =
-      feed * F + cfg.slide.leak_m3_per_s_Pa * (force_nominal_ + cfg.slide.coulomb_friction_N) / F;
+  // Friction at the programmed feed: Coulomb plus viscous (the setter's and controller's model).
+  const double friction =
+      cfg.slide.coulomb_friction_N + cfg.slide.viscous_friction_N_s_per_m * feed;
+  const double q_needed = feed * F + cfg.slide.leak_m3_per_s_Pa * (force_nominal_ + friction) / F;
   fixed_actuator_ = cfg.regulator_kind == RegulatorKind::Throttle
                         ? q_needed / gain
                         : q_needed / (gain * cfg.pulse_width_s * cfg.frequency_Hz);
@@ -103,7 +110,7 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
   cp.frequency_Hz = cfg.frequency_Hz;
   cp.piston_area_m2 = F;
   cp.leak_m3_per_s_Pa = cfg.slide.leak_m3_per_s_Pa * cfg.leak_estimate_factor;
-  cp.friction_N = cfg.slide.coulomb_friction_N;
+  cp.friction_N = friction;
   if (cfg.compensate_compliance)
     cp.compliance_m3_per_Pa = cfg.slide.damper_capacitance_m3_per_Pa +
                               cfg.slide.dead_volume_m3 / cfg.slide.bulk_modulus_Pa;
@@ -116,13 +123,15 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
   ctl_.configure(cp);
   ctl_.start(force_nominal_);
   ctl_out_ = {};
-  ctl_out_.slot_m = cfg.controller_kind == ControllerKind::Aim
-                        ? std::clamp(ctl_.actuator_for(feed, force_nominal_), cp.slot_min_m, cp.slot_max_m)
-                        : fixed_actuator_;
+  ctl_out_.slot_m =
+      cfg.controller_kind == ControllerKind::Aim
+          ? std::clamp(ctl_.actuator_for(feed, force_nominal_), cp.slot_min_m, cp.slot_max_m)
+          : fixed_actuator_;
   ctl_out_.frequency_Hz = cfg.controller_kind == ControllerKind::Fim
                               ? ctl_.actuator_for(feed, force_nominal_)
                               : cfg.frequency_Hz;
-  control_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cp.period_s / dt)));
+  control_every_ =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cp.period_s / dt)));
   if (cfg.controller_kind == ControllerKind::Aim) {
     auto ep = cfg.eccentric;
     ecc_.configure(ep);
@@ -131,12 +140,32 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
 
   constexpr double kMaxBufferSteps = 2e7;  // history buffers beyond this mean a nonsensical step
   if (1.0 / rev_per_s_ / dt > kMaxBufferSteps || cfg.feed_window_s / dt > kMaxBufferSteps / 2)
-    throw std::invalid_argument("one spindle revolution or the feed window spans more than 2e7 steps: "
-                                "increase step_s or the spindle speed, or shorten feed_window_s");
+    throw std::invalid_argument(
+        "one spindle revolution or the feed window spans more than 2e7 steps: "
+        "increase step_s or the spindle speed, or shorten feed_window_s");
   if (duration / (dt * static_cast<double>(record_every_)) > 5e7)
     throw std::invalid_argument("more than 5e7 recorded rows: increase record_interval_s");
-  rev_steps_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(1.0 / rev_per_s_ / dt)));
-  window_steps_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cfg.feed_window_s / dt)));
+  // Warm-up: the slide was already feeding before t = 0. Run regulator, damper and slide at the
+  // nominal load until the pulsed flow is periodic, then put the slide back at x = 0, so the
+  // run starts in the pulsing steady state rather than with a start-up surge.
+  {
+    const double warm_s = std::max(0.5, 10.0 / cfg.frequency_Hz);
+    const double h0 = cfg.controller_kind == ControllerKind::Fim ? cfg.slot_m : ctl_out_.slot_m;
+    const double f0 =
+        cfg.controller_kind == ControllerKind::Fim ? ctl_out_.frequency_Hz : cfg.frequency_Hz;
+    for (double tw = 0.0; tw < warm_s; tw += dt) {
+      const double q = cfg.regulator_kind == RegulatorKind::Throttle
+                           ? thr_.step(dt, fixed_actuator_)
+                           : reg_.step(dt, h0, f0, cfg.pulse_width_s);
+      slide_.step(dt, q, force_nominal_);
+    }
+    slide_.set_position(0.0);
+    thr_.configure({cfg.regulator.orifice, cfg.regulator.obliteration});  // no silting before t = 0
+  }
+  rev_steps_ =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(1.0 / rev_per_s_ / dt)));
+  window_steps_ =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cfg.feed_window_s / dt)));
   x_hist_.assign(std::max(rev_steps_, 2 * window_steps_) + 1, 0.0);
   hist_head_ = 0;
   for (std::size_t k = 0; k < x_hist_.size(); ++k) {  // steady motion before t = 0
@@ -150,7 +179,8 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
   acc_n_ = 0;
   last_flow_ = q_needed;
 
-  const auto rows = static_cast<std::size_t>(duration / (dt * static_cast<double>(record_every_))) + 2;
+  const auto rows =
+      static_cast<std::size_t>(duration / (dt * static_cast<double>(record_every_))) + 2;
   rec_ = Recorder(rig_a_channels(), rows);
 }
 
@@ -167,9 +197,12 @@ double RigA::sensor_sample(double u) noexcept {
   for (const auto& f : cfg_.faults) {
     if (t_ < f.at_s || t_ >= f.at_s + f.duration_s) continue;
     switch (f.kind) {
-      case SensorFault::Kind::NotFinite: return std::nan("");
-      case SensorFault::Kind::OutOfRange: return cfg_.sensor.saturation_V * 2.0 + 1.0;
-      case SensorFault::Kind::Stuck: return stuck_value_;
+      case SensorFault::Kind::NotFinite:
+        return std::nan("");
+      case SensorFault::Kind::OutOfRange:
+        return cfg_.sensor.saturation_V * 2.0 + 1.0;
+      case SensorFault::Kind::Stuck:
+        return stuck_value_;
     }
   }
   stuck_value_ = u;
@@ -230,12 +263,12 @@ void RigA::step() noexcept {
   if (cfg_.controller_kind == ControllerKind::None) sensor_u_ = sensor_.sample();
 
   const double slot = cfg_.regulator_kind == RegulatorKind::Throttle ? fixed_actuator_
-                      : cfg_.controller_kind == ControllerKind::Aim ? ecc_.slot_m()
-                      : cfg_.controller_kind == ControllerKind::Fim ? cfg_.slot_m
-                                                                    : fixed_actuator_;
+                      : cfg_.controller_kind == ControllerKind::Aim  ? ecc_.slot_m()
+                      : cfg_.controller_kind == ControllerKind::Fim  ? cfg_.slot_m
+                                                                     : fixed_actuator_;
   const double freq = cfg_.regulator_kind == RegulatorKind::Throttle ? 0.0
-                      : cfg_.controller_kind == ControllerKind::Fim ? ctl_out_.frequency_Hz
-                                                                    : cfg_.frequency_Hz;
+                      : cfg_.controller_kind == ControllerKind::Fim  ? ctl_out_.frequency_Hz
+                                                                     : cfg_.frequency_Hz;
   // Feed averaged over a whole number of pulse periods close to the feed window, so that the
   // pulse ripple cancels whatever the (FIM-varied) frequency.
   std::size_t w = window_steps_;

@@ -10,6 +10,7 @@
 #include <new>
 
 #include "lathectl/control/pulse_feed_controller.hpp"
+#include "support/sample_controller.hpp"
 
 namespace {
 std::atomic<long> g_allocations{0};
@@ -20,35 +21,32 @@ void* operator new(std::size_t n) {
   if (void* p = std::malloc(n ? n : 1)) return p;
   throw std::bad_alloc();
 }
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void* operator new[](std::size_t n) {
+  return operator new(n);
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  std::free(p);
+}
 
 using lathectl::control::PulseFeedController;
 
-static PulseFeedController::Params params(PulseFeedController::Modulation m, PulseFeedController::Mode mode) {
-  PulseFeedController::Params p;
-  p.modulation = m;
-  p.mode = mode;
-  p.regulator_gain_per_m = 0.2;
-  p.pulse_width_s = 0.005;
-  p.frequency_Hz = 20;
-  p.slot_m = 40e-6;
-  p.piston_area_m2 = 8e-4;
-  p.leak_m3_per_s_Pa = 1e-12;
-  p.feed_m_per_s = 1e-3;
-  p.force_set_N = 200;
-  p.sensor_V_per_N = 5e-3;
-  p.slot_max_m = 1e-4;
-  p.compliance_m3_per_Pa = 5e-13;
-  p.sensor_monitor = {-0.5, 10.5, 0.05, 0.0};
-  return p;
+static PulseFeedController::Params params(PulseFeedController::Modulation m,
+                                          PulseFeedController::Mode mode) {
+  return lathectl::testing::sample_pulse_feed_params(m, mode);
 }
 
 TEST(NoAlloc, PulseFeedControllerUpdateNeverAllocates) {
-  for (auto m : {PulseFeedController::Modulation::Amplitude, PulseFeedController::Modulation::Frequency})
+  for (auto m :
+       {PulseFeedController::Modulation::Amplitude, PulseFeedController::Modulation::Frequency})
     for (auto mode : {PulseFeedController::Mode::Finishing, PulseFeedController::Mode::Roughing}) {
       PulseFeedController c;
       c.configure(params(m, mode));  // may allocate

@@ -92,7 +92,7 @@ TEST(Disturbances, HardnessInterpolatedLinearly) {
   DisturbanceParams p;
   p.hardness = {{5.0, 1.0}, {15.0, 2.0}, {25.0, 1.5}};
   auto d = make(p);
-  EXPECT_DOUBLE_EQ(d.strength_factor(0.0), 1.0);   // before the first point: its value
+  EXPECT_DOUBLE_EQ(d.strength_factor(0.0), 1.0);  // before the first point: its value
   EXPECT_DOUBLE_EQ(d.strength_factor(5.0), 1.0);
   EXPECT_DOUBLE_EQ(d.strength_factor(10.0), 1.5);  // 1 + (2−1)·(10−5)/(15−5)
   EXPECT_DOUBLE_EQ(d.strength_factor(12.5), 1.75);
@@ -140,7 +140,8 @@ struct OuStats {
   double lag1 = 0.0;
 };
 
-OuStats sample_random_allowance(double sigma, double corr_len, double dx, int n, std::uint64_t seed) {
+OuStats sample_random_allowance(double sigma, double corr_len, double dx, int n,
+                                std::uint64_t seed) {
   DisturbanceParams p;
   p.depth_mm = 100.0;  // far from the zero clip: the random part is depth − 100 exactly
   p.random_sigma_mm = sigma;
@@ -148,7 +149,8 @@ OuStats sample_random_allowance(double sigma, double corr_len, double dx, int n,
   p.seed = seed;
   auto d = make(p);
   std::vector<double> r(static_cast<std::size_t>(n));
-  for (int k = 0; k < n; ++k) r[static_cast<std::size_t>(k)] = d.at(dx * k, 0.0, 0.0).depth_mm - 100.0;
+  for (int k = 0; k < n; ++k)
+    r[static_cast<std::size_t>(k)] = d.at(dx * k, 0.0, 0.0).depth_mm - 100.0;
   OuStats s;
   for (double v : r) s.mean += v;
   s.mean /= n;
@@ -217,7 +219,8 @@ TEST(Disturbances, SameSeedSameSequenceOtherSeedOtherSequence) {
   p.seed = 11;
   a.configure(p);
   auto fresh = make(p);
-  for (int k = 0; k < 50; ++k) EXPECT_EQ(a.at(0.37 * k, 0.0, 0.0).depth_mm, fresh.at(0.37 * k, 0.0, 0.0).depth_mm);
+  for (int k = 0; k < 50; ++k)
+    EXPECT_EQ(a.at(0.37 * k, 0.0, 0.0).depth_mm, fresh.at(0.37 * k, 0.0, 0.0).depth_mm);
 }
 
 TEST(Disturbances, ConfigureRejectsBadProfiles) {

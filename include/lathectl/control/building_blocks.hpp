@@ -14,9 +14,9 @@ namespace lathectl::control {
 class SignalMonitor {
  public:
   struct Params {
-    double min = -1e300;        // lowest valid value
-    double max = 1e300;         // highest valid value
-    double stuck_time_s = 0.0;  // unchanged this long → stuck; 0 disables the check
+    double min = -1e300;           // lowest valid value
+    double max = 1e300;            // highest valid value
+    double stuck_time_s = 0.0;     // unchanged this long → stuck; 0 disables the check
     double stuck_tolerance = 0.0;  // |Δ| at or below this counts as unchanged
   };
   void configure(const Params& p);  // throws std::invalid_argument on min ≥ max or negative times
@@ -31,16 +31,17 @@ class SignalMonitor {
   bool has_last_ = false;
 };
 
-// PI regulator with output limits and anti-windup by conditional integration with
-// back-calculation: while the output is clamped the integrator is pulled back so that it
-// leaves the limit as soon as the error changes sign (no windup, no overshoot from stored error).
+// PI regulator with output limits and anti-windup by conditional integration: while the output
+// is clamped and the error pushes further into the limit the integrator holds, and the
+// integrator itself stays inside the output range. The output leaves a limit when the error
+// changes sign — not earlier (no dip when the error merely shrinks), not later (no windup).
 class PiRegulator {
  public:
   struct Params {
-    double kp = 0.0;        // proportional gain [output/error]
-    double ti_s = 0.0;      // integral time [s]; 0 → P only
-    double out_min = 0.0;   // output lower limit
-    double out_max = 1.0;   // output upper limit
+    double kp = 0.0;       // proportional gain [output/error]
+    double ti_s = 0.0;     // integral time [s]; 0 → P only
+    double out_min = 0.0;  // output lower limit
+    double out_max = 1.0;  // output upper limit
   };
   void configure(const Params& p);  // throws on out_min > out_max, negative gains
   // One step; returns the clamped output. `limited` tells whether a limit was active.

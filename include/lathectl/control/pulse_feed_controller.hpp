@@ -37,7 +37,7 @@ class PulseFeedController {
   struct Params {
     Modulation modulation = Modulation::Amplitude;
     Mode mode = Mode::Finishing;
-    double period_s = 1e-3;             // control period: update() is called every period_s
+    double period_s = 1e-3;  // control period: update() is called every period_s
     // Design model of the regulator and slide (the controller's knowledge, may be off).
     double regulator_gain_per_m = 0.0;  // μπd·sqrt(2Δp/ρ) [m³/s per m of slot]
     double pulse_width_s = 0.01;        // Δt
@@ -45,19 +45,20 @@ class PulseFeedController {
     double frequency_Hz = 10.0;         // AIM: fixed pulse frequency 1/T
     double piston_area_m2 = 20e-4;      // F
     double leak_m3_per_s_Pa = 0.0;      // K_leak estimate
-    double friction_N = 0.0;            // friction estimate in the cylinder load
+    double friction_N =
+        0.0;  // friction estimate in the cylinder load (Coulomb + viscous at the feed)
     // Beyond the seed: oil volume taken up per pascal by the damper and the cylinder chamber
     // (C_d + V/B). While the load rises the oil is compressed and the slide stalls for a
     // moment whatever the leakage law; finishing adds C·dp/dt to the flow. 0 disables.
     double compliance_m3_per_Pa = 0.0;
-    double rate_filter_s = 0.1;         // low-pass on the force rate used by that term
+    double rate_filter_s = 0.1;  // low-pass on the force rate used by that term
     // Programming device (ЗПУ).
-    double feed_m_per_s = 1e-3;         // programmed feed rate S_prog
-    double force_set_N = 1000.0;        // roughing: force setpoint
+    double feed_m_per_s = 1e-3;   // programmed feed rate S_prog
+    double force_set_N = 1000.0;  // roughing: force setpoint
     // Sensor calibration and validity.
-    double sensor_V_per_N = 1e-3;       // K_UP
-    double sensor_offset_V = 0.0;       // U_0 at zero force
-    double force_filter_s = 0.0;        // low-pass on the force estimate
+    double sensor_V_per_N = 1e-3;  // K_UP
+    double sensor_offset_V = 0.0;  // U_0 at zero force
+    double force_filter_s = 0.0;   // low-pass on the force estimate
     SignalMonitor::Params sensor_monitor;
     // Actuator limits.
     double slot_min_m = 0.0;
@@ -78,9 +79,9 @@ class PulseFeedController {
   };
 
   struct Output {
-    double slot_m = 0.0;           // AIM command (FIM: the fixed slot)
-    double frequency_Hz = 0.0;     // FIM command (AIM: the fixed frequency); 0 = pulses off
-    double feed_cmd_m_per_s = 0.0; // feed the controller aims at
+    double slot_m = 0.0;            // AIM command (FIM: the fixed slot)
+    double frequency_Hz = 0.0;      // FIM command (AIM: the fixed frequency); 0 = pulses off
+    double feed_cmd_m_per_s = 0.0;  // feed the controller aims at
     double force_estimate_N = 0.0;
     Reason reason = Reason::None;  // why the output is what it is
     bool alarm = false;            // latched alarm
@@ -88,7 +89,8 @@ class PulseFeedController {
   };
 
   void configure(const Params& p);  // throws std::invalid_argument
-  // One control period. Never allocates, throws, locks or logs.
+  // One control period. Never allocates, throws, locks or logs. Before configure() it returns
+  // Status::NotConfigured with the valve shut (slot 0, frequency 0).
   [[nodiscard]] Status update(const Input& in, Output& out) noexcept;
   // Bumpless start from a known force (e.g. the first sensor sample).
   void start(double force_N) noexcept;
@@ -115,6 +117,7 @@ class PulseFeedController {
   Output last_{};
   bool alarm_ = false;
   Reason alarm_reason_ = Reason::None;
+  bool configured_ = false;
 };
 
 }  // namespace lathectl::control

@@ -20,29 +20,39 @@ enum class Status : std::uint8_t {
 // Why the output is what it is. Values are stable: they are written to channels.csv and HAL pins.
 enum class Reason : std::uint16_t {
   None = 0,
-  OutputHigh = 1,        // regulator output at its upper limit (e.g. programmed feed)
-  OutputLow = 2,         // regulator output at its lower limit
-  RateLimited = 3,       // output slew limited (motor speed, converter ramp)
-  SensorNotFinite = 10,  // sensor sample NaN or infinite
-  SensorOutOfRange = 11, // sensor sample outside its valid range
-  SensorStuck = 12,      // sensor sample unchanged for longer than allowed
-  Overload = 20,         // force above limit too long with feed already at minimum
-  ToolBreakage = 21,     // sudden force drop or spike
-  AirCut = 30,           // tool not in the cut
+  OutputHigh = 1,         // regulator output at its upper limit (e.g. programmed feed)
+  OutputLow = 2,          // regulator output at its lower limit
+  RateLimited = 3,        // output slew limited (motor speed, converter ramp)
+  SensorNotFinite = 10,   // sensor sample NaN or infinite
+  SensorOutOfRange = 11,  // sensor sample outside its valid range
+  SensorStuck = 12,       // sensor sample unchanged for longer than allowed
+  Overload = 20,          // force above limit too long with feed already at minimum
+  ToolBreakage = 21,      // sudden force drop or spike
+  AirCut = 30,            // tool not in the cut
 };
 
 constexpr std::string_view reason_name(Reason r) noexcept {
   switch (r) {
-    case Reason::None: return "none";
-    case Reason::OutputHigh: return "output_high";
-    case Reason::OutputLow: return "output_low";
-    case Reason::RateLimited: return "rate_limited";
-    case Reason::SensorNotFinite: return "sensor_not_finite";
-    case Reason::SensorOutOfRange: return "sensor_out_of_range";
-    case Reason::SensorStuck: return "sensor_stuck";
-    case Reason::Overload: return "overload";
-    case Reason::ToolBreakage: return "tool_breakage";
-    case Reason::AirCut: return "air_cut";
+    case Reason::None:
+      return "none";
+    case Reason::OutputHigh:
+      return "output_high";
+    case Reason::OutputLow:
+      return "output_low";
+    case Reason::RateLimited:
+      return "rate_limited";
+    case Reason::SensorNotFinite:
+      return "sensor_not_finite";
+    case Reason::SensorOutOfRange:
+      return "sensor_out_of_range";
+    case Reason::SensorStuck:
+      return "sensor_stuck";
+    case Reason::Overload:
+      return "overload";
+    case Reason::ToolBreakage:
+      return "tool_breakage";
+    case Reason::AirCut:
+      return "air_cut";
   }
   return "unknown";
 }

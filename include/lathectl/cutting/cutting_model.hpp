@@ -44,12 +44,12 @@ struct ToolLifeRange {  // extended Taylor law valid for feeds up to feed_max_mm
 struct Material {
   std::string name;
   std::string description;
-  std::string strength_basis;      // "sigma_b_MPa" or "HB"
-  double strength = 0.0;           // of this material, in strength_basis units
-  double strength_base = 0.0;      // the handbook coefficients' reference strength
-  double kmp_exponent = 0.0;       // Kmp = (strength/base)^exponent
-  PowerLaw Pz, Py, Px;             // handbook form
-  KienzleLaw Fc, Fp, Ff;           // Kienzle form
+  std::string strength_basis;                // "sigma_b_MPa" or "HB"
+  double strength = 0.0;                     // of this material, in strength_basis units
+  double strength_base = 0.0;                // the handbook coefficients' reference strength
+  double kmp_exponent = 0.0;                 // Kmp = (strength/base)^exponent
+  PowerLaw Pz, Py, Px;                       // handbook form
+  KienzleLaw Fc, Fp, Ff;                     // Kienzle form
   std::array<ToolLifeRange, 3> tool_life{};  // ascending feed ranges
   int tool_life_ranges = 0;
 };
@@ -63,11 +63,11 @@ struct Forces {
 };
 
 struct CutState {
-  double depth_mm = 0.0;            // t
-  double feed_mm_per_rev = 0.0;     // s
-  double speed_m_per_min = 0.0;     // V
-  double strength_factor = 1.0;     // local hardness / strength relative to the material's
-  double wear_factor = 1.0;         // force growth from flank wear (≥ 1)
+  double depth_mm = 0.0;         // t
+  double feed_mm_per_rev = 0.0;  // s
+  double speed_m_per_min = 0.0;  // V
+  double strength_factor = 1.0;  // local hardness / strength relative to the material's
+  double wear_factor = 1.0;      // force growth from flank wear (≥ 1)
 };
 
 class CuttingModel {

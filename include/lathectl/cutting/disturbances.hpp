@@ -25,16 +25,16 @@ struct ProfilePoint {
 };
 
 struct DisturbanceParams {
-  double depth_mm = 1.0;                   // nominal depth of cut (allowance)
-  std::vector<ProfilePoint> depth_steps;   // at_mm → new depth_mm, ascending
-  double step_ramp_mm = 0.5;               // travel over which a step is entered
-  double runout_mm = 0.0;                  // depth amplitude per revolution
-  double random_sigma_mm = 0.0;            // random allowance σ
-  double random_correlation_mm = 5.0;      // its correlation length
-  std::vector<ProfilePoint> hardness;      // at_mm → strength factor, ascending
-  double wear_VB0_mm = 0.0;                // initial flank wear
-  double wear_rate_mm_per_min = 0.0;       // flank wear growth per minute in cut
-  double wear_force_gain_per_mm = 0.0;     // force factor growth per mm of VB
+  double depth_mm = 1.0;                  // nominal depth of cut (allowance)
+  std::vector<ProfilePoint> depth_steps;  // at_mm → new depth_mm, ascending
+  double step_ramp_mm = 0.5;              // travel over which a step is entered
+  double runout_mm = 0.0;                 // depth amplitude per revolution
+  double random_sigma_mm = 0.0;           // random allowance σ
+  double random_correlation_mm = 5.0;     // its correlation length
+  std::vector<ProfilePoint> hardness;     // at_mm → strength factor, ascending
+  double wear_VB0_mm = 0.0;               // initial flank wear
+  double wear_rate_mm_per_min = 0.0;      // flank wear growth per minute in cut
+  double wear_force_gain_per_mm = 0.0;    // force factor growth per mm of VB
   std::uint64_t seed = 1;
 };
 

@@ -21,13 +21,13 @@ class EccentricDrive {
     std::vector<double> profile_slot_m;     // strictly ascending (invertible)
     double position_gain_per_s = 20.0;      // K_v: eccentric speed per rad of error
     double motor_max_speed_rad_per_s = 300.0;
-    double gear_ratio = 100.0;              // i: motor turns per eccentric turn
+    double gear_ratio = 100.0;  // i: motor turns per eccentric turn
     double motor_time_constant_s = 0.02;
   };
   // Circular eccentric profile with n points.
   static void circular_profile(double base_slot_m, double eccentricity_m, int n, Params& p);
 
-  void configure(const Params& p);  // throws std::invalid_argument
+  void configure(const Params& p);        // throws std::invalid_argument
   void set_slot(double slot_m) noexcept;  // place the eccentric at rest at this slot
   void step(double dt, double slot_cmd_m) noexcept;
   [[nodiscard]] double slot_m() const noexcept { return slot_; }
@@ -40,7 +40,7 @@ class EccentricDrive {
   double theta_ = 0.0;
   double omega_ = 0.0;  // motor speed
   double slot_ = 0.0;
-  double last_dt_ = -1.0;   // cache of e^(−dt/τ_m) for the last dt
+  double last_dt_ = -1.0;  // cache of e^(−dt/τ_m) for the last dt
   double decay_ = 0.0;
   double last_cmd_ = -1.0;  // cache of profile⁻¹ for the last command
   double target_ = 0.0;

@@ -22,15 +22,15 @@ namespace lathectl::hydraulics {
 class FeedSlide {
  public:
   struct Params {
-    double piston_area_m2 = 20e-4;          // F
-    double dead_volume_m3 = 100e-6;         // V_0: chamber and line volume at x = 0
-    double bulk_modulus_Pa = 1.4e9;         // B of the oil (1–1.7 GPa)
-    double leak_m3_per_s_Pa = 0.0;          // K_leak: q_leak = K_leak·p_c
-    double damper_capacitance_m3_per_Pa = 0.0;  // C_d; 0 = no damper (q_d = q_in)
-    double damper_resistance_Pa_s_per_m3 = 0.0; // R_d
-    double mass_kg = 50.0;                  // slide and tool
-    double coulomb_friction_N = 0.0;        // F_c
-    double viscous_friction_N_s_per_m = 0.0;  // b
+    double piston_area_m2 = 20e-4;               // F
+    double dead_volume_m3 = 100e-6;              // V_0: chamber and line volume at x = 0
+    double bulk_modulus_Pa = 1.4e9;              // B of the oil (1–1.7 GPa)
+    double leak_m3_per_s_Pa = 0.0;               // K_leak: q_leak = K_leak·p_c
+    double damper_capacitance_m3_per_Pa = 0.0;   // C_d; 0 = no damper (q_d = q_in)
+    double damper_resistance_Pa_s_per_m3 = 0.0;  // R_d
+    double mass_kg = 50.0;                       // slide and tool
+    double coulomb_friction_N = 0.0;             // F_c
+    double viscous_friction_N_s_per_m = 0.0;     // b
   };
   struct State {
     double p_damper_Pa = 0.0;
@@ -42,6 +42,8 @@ class FeedSlide {
   // Puts the slide in steady motion at velocity v under load: pressures balanced, no transient.
   void set_steady(double v_m_per_s, double load_N) noexcept;
   void step(double dt, double q_in_m3_per_s, double load_N) noexcept;
+  // Moves the origin of x without touching pressures or velocity (after a warm-up).
+  void set_position(double x_m) noexcept { s_.x_m = x_m; }
   [[nodiscard]] const State& state() const noexcept { return s_; }
   [[nodiscard]] const Params& params() const noexcept { return p_; }
   // Hydraulic natural frequency ω_h [rad/s] at the current volume.

@@ -8,10 +8,10 @@
 namespace lathectl::hydraulics {
 
 struct SlotOrifice {
-  double spool_diameter_m = 0.008;   // d
+  double spool_diameter_m = 0.008;      // d
   double discharge_coefficient = 0.65;  // μ
-  double pressure_drop_Pa = 0.5e6;   // Δp, held constant by the reducing valve
-  double density_kg_per_m3 = 870.0;  // ρ (mineral oil)
+  double pressure_drop_Pa = 0.5e6;      // Δp, held constant by the reducing valve
+  double density_kg_per_m3 = 870.0;     // ρ (mineral oil)
 
   // Flow per metre of slot opening [m³/s per m]: μ·π·d·sqrt(2Δp/ρ).
   [[nodiscard]] double gain_per_m() const noexcept {
@@ -29,14 +29,17 @@ struct SlotOrifice {
 // Layer thickness of a few µm and times of minutes, after Bashta, "Hydraulic drives of machine
 // tools" (obliteration of throttle gaps); the numbers are scenario parameters, not constants.
 struct ObliterationParams {
-  double layer_max_m = 0.0;       // δ_max per wall; 0 disables
-  double time_constant_s = 600.0; // τ
-  double critical_gap_m = 20e-6;  // gaps at or above this do not silt
+  double layer_max_m = 0.0;        // δ_max per wall; 0 disables
+  double time_constant_s = 600.0;  // τ
+  double critical_gap_m = 20e-6;   // gaps at or above this do not silt
 };
 
 class ObliterationLayer {
  public:
-  void configure(const ObliterationParams& p) noexcept { p_ = p; delta_ = 0.0; }
+  void configure(const ObliterationParams& p) noexcept {
+    p_ = p;
+    delta_ = 0.0;
+  }
   // Grows the layer over dt at opening h; returns the effective opening.
   double step(double dt, double h) noexcept {
     if (p_.layer_max_m <= 0.0) return h;

@@ -27,10 +27,10 @@ class PulseRegulator {
  public:
   struct Params {
     SlotOrifice orifice;
-    double max_slot_m = 0.2e-3;    // travel of the spool past the lap
-    double lap_m = 0.0;            // overlap to cross before the slot opens
-    double opening_time_s = 0.0;   // full travel (lap + max_slot) opening time; 0 = instantaneous
-    double closing_time_s = 0.0;   // full travel closing time; 0 = instantaneous
+    double max_slot_m = 0.2e-3;   // travel of the spool past the lap
+    double lap_m = 0.0;           // overlap to cross before the slot opens
+    double opening_time_s = 0.0;  // full travel (lap + max_slot) opening time; 0 = instantaneous
+    double closing_time_s = 0.0;  // full travel closing time; 0 = instantaneous
     ObliterationParams obliteration;
   };
   void configure(const Params& p);  // throws std::invalid_argument
@@ -44,7 +44,8 @@ class PulseRegulator {
   [[nodiscard]] double spool_position_m() const noexcept { return y_; }
   [[nodiscard]] const Params& params() const noexcept { return p_; }
   // Ideal mean flow by seed formula (1).
-  [[nodiscard]] double ideal_flow(double slot_m, double frequency_Hz, double pulse_width_s) const noexcept;
+  [[nodiscard]] double ideal_flow(double slot_m, double frequency_Hz,
+                                  double pulse_width_s) const noexcept;
   void reset() noexcept;
 
  private:
@@ -52,11 +53,11 @@ class PulseRegulator {
   double move(double target, double v, double tau) noexcept;
 
   Params p_{};
-  double gain_ = 0.0;     // K_o [m³/s per m]
-  double v_open_ = 0.0;   // spool speed opening [m/s]; +inf for instantaneous
+  double gain_ = 0.0;    // K_o [m³/s per m]
+  double v_open_ = 0.0;  // spool speed opening [m/s]; +inf for instantaneous
   double v_close_ = 0.0;
-  double phase_ = 0.0;    // position in the period, [0, 1)
-  double y_ = 0.0;        // spool opening past the lap edge [m]; −lap when fully closed
+  double phase_ = 0.0;  // position in the period, [0, 1)
+  double y_ = 0.0;      // spool opening past the lap edge [m]; −lap when fully closed
   ObliterationLayer layer_;
 };
 

@@ -15,7 +15,7 @@ std::string data_dir();
 class MaterialLibrary {
  public:
   static MaterialLibrary load(const std::string& path);  // throws InputError
-  static MaterialLibrary load_default();                  // data_dir()/materials.toml
+  static MaterialLibrary load_default();                 // data_dir()/materials.toml
   [[nodiscard]] const cutting::Material* find(const std::string& name) const;
   [[nodiscard]] std::vector<std::string> names() const;
 

@@ -9,23 +9,23 @@
 namespace lathectl::io {
 
 struct Series {
-  std::string name;        // legend text
-  std::vector<double> x;   // same length as y
+  std::string name;       // legend text
+  std::vector<double> x;  // same length as y
   std::vector<double> y;
-  std::string color;       // CSS colour; empty → from a default palette
-  bool dashed = false;     // dashed line (e.g. setpoints, formula curves)
-  bool points = false;     // draw markers instead of a line (e.g. measured points)
+  std::string color;    // CSS colour; empty → from a default palette
+  bool dashed = false;  // dashed line (e.g. setpoints, formula curves)
+  bool points = false;  // draw markers instead of a line (e.g. measured points)
 };
 
-struct Marker {             // vertical line on a time axis: an event, alarm or disturbance
+struct Marker {  // vertical line on a time axis: an event, alarm or disturbance
   double x = 0.0;
   std::string label;
 };
 
 struct Plot {
   std::string title;
-  std::string x_label;      // with unit, e.g. "time [s]"
-  std::string y_label;      // with unit
+  std::string x_label;  // with unit, e.g. "time [s]"
+  std::string y_label;  // with unit
   std::vector<Series> series;
   std::vector<Marker> markers;
 };
@@ -38,10 +38,10 @@ struct Table {
 
 struct Report {
   std::string title;
-  std::string subtitle;                 // scenario file, system
-  std::string description;              // free text (paragraphs separated by blank lines)
+  std::string subtitle;     // scenario file, system
+  std::string description;  // free text (paragraphs separated by blank lines)
   std::vector<std::pair<std::string, std::string>> metrics;  // name → formatted value
-  std::vector<std::string> notes;       // findings, each a short paragraph
+  std::vector<std::string> notes;                            // findings, each a short paragraph
   std::vector<Table> tables;
   std::vector<Plot> plots;
 };
@@ -52,8 +52,8 @@ std::string render_html(const Report& report, std::size_t max_points = 2000);
 
 struct IndexEntry {
   std::string title;
-  std::string href;      // relative link to the report
-  std::string summary;   // one line: the key numbers
+  std::string href;     // relative link to the report
+  std::string summary;  // one line: the key numbers
 };
 std::string render_index_html(const std::string& title, const std::vector<IndexEntry>& entries);
 

@@ -5,9 +5,8 @@
 
 #include <filesystem>
 #include <memory>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "lathectl/io/report.hpp"
 #include "lathectl/io/scenario.hpp"
@@ -15,11 +14,11 @@
 namespace lathectl::io {
 
 struct RunOutput {
-  nlohmann::json summary;                 // {"system", "scenario", "metrics", ...}
+  nlohmann::json summary;  // {"system", "scenario", "metrics", ...}
   std::string channels_csv;
-  std::string compare_csv;                // empty when no comparison
+  std::string compare_csv;  // empty when no comparison
   Report report;
-  std::string headline;                   // one line for the demo index
+  std::string headline;  // one line for the demo index
 };
 
 // Throws InputError (bad scenario) or std::runtime_error (numerical failure: NaN, divergence).

@@ -31,12 +31,12 @@ struct Comparison {
 };
 
 struct Scenario {
-  std::string file;         // where it came from (for messages and the summary)
-  std::string system;       // "A" (more systems follow)
+  std::string file;    // where it came from (for messages and the summary)
+  std::string system;  // "A" (more systems follow)
   std::string name;
   std::string description;
   RunSettings run;
-  sim::RigAConfig a;        // system A
+  sim::RigAConfig a;  // system A
   std::optional<Comparison> compare;
   std::vector<double> sweep_leak_estimate_factor;  // controller K_leak / true K_leak
 };

@@ -38,7 +38,8 @@ struct MetricsA {
   double force_final_error_pct = std::numeric_limits<double>::quiet_NaN();
   double first_disturbance_s = std::numeric_limits<double>::quiet_NaN();
   double flow_mean_cm3_per_min = 0.0;
-  double flow_formula_cm3_per_min = std::numeric_limits<double>::quiet_NaN();  // seed (1), fixed h,f
+  double flow_formula_cm3_per_min =
+      std::numeric_limits<double>::quiet_NaN();  // seed (1), fixed h,f
   double flow_formula_error_pct = std::numeric_limits<double>::quiet_NaN();
   std::vector<AlarmEvent> alarms;
   double first_alarm_delay_s = std::numeric_limits<double>::quiet_NaN();  // after the first fault

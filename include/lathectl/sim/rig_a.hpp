@@ -42,26 +42,25 @@ struct RigAConfig {
   cutting::DisturbanceParams part;
   RegulatorKind regulator_kind = RegulatorKind::Pulsed;
   hydraulics::PulseRegulator::Params regulator;  // its orifice and obliteration serve the throttle
-  double pulse_width_s = 0.01;   // Δt
-  double frequency_Hz = 10.0;    // AIM / uncontrolled pulse frequency
-  double slot_m = 40e-6;         // FIM fixed slot
+  double pulse_width_s = 0.01;                   // Δt
+  double frequency_Hz = 10.0;                    // AIM / uncontrolled pulse frequency
+  double slot_m = 40e-6;                         // FIM fixed slot
   drives::EccentricDrive::Params eccentric;
   hydraulics::FeedSlide::Params slide;
   sensors::InductiveSensor::Params sensor;
   ControllerKind controller_kind = ControllerKind::None;
   control::PulseFeedController::Params controller;  // programmed feed, mode, limits, gains
-  double leak_estimate_factor = 1.0;  // controller's K_leak = factor × the plant's
-  bool compensate_compliance = true;  // finishing: add C·dp/dt (beyond the seed)
+  double leak_estimate_factor = 1.0;                // controller's K_leak = factor × the plant's
+  bool compensate_compliance = true;                // finishing: add C·dp/dt (beyond the seed)
   std::vector<SensorFault> faults;
-  double feed_window_s = 0.1;         // moving average of the recorded feed rate
+  double feed_window_s = 0.1;  // moving average of the recorded feed rate
 };
 
 class RigA {
  public:
   // Builds and checks the rig; throws std::invalid_argument on an inconsistent configuration or a
   // step too coarse for the hydraulics (ω_h·dt, damper and chamber time constants).
-  void configure(const RigAConfig& cfg, double dt_s, double record_interval_s,
-                 double duration_s);
+  void configure(const RigAConfig& cfg, double dt_s, double record_interval_s, double duration_s);
   // One plant step of dt; records a row every record interval.
   void step() noexcept;
   void run() noexcept;  // to the configured duration

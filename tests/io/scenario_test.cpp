@@ -1,0 +1,264 @@
+// Scenario files (include/lathectl/io/scenario.hpp): every example parses; every kind of user
+// mistake is an InputError that names the file, the line and the full key (DESIGN.md, "Scenario
+// files and outputs").
+
+#include "lathectl/io/scenario.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "lathectl/io/errors.hpp"
+#include "lathectl/io/materials.hpp"
+
+namespace lathectl::io {
+namespace {
+
+const MaterialLibrary& library() {
+  static const MaterialLibrary lib =
+      MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
+  return lib;
+}
+
+std::string read(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+const std::string& finishing_text() {
+  static const std::string t = read(LATHECTL_SOURCE_DIR "/examples/scenarios/a_finishing_aim.toml");
+  return t;
+}
+
+// Replaces the one occurrence of `from` (it must occur exactly once).
+std::string edit(const std::string& from, const std::string& to) {
+  std::string t = finishing_text();
+  const auto pos = t.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  EXPECT_EQ(t.find(from, pos + 1), std::string::npos) << "ambiguous edit: " << from;
+  if (pos != std::string::npos) t.replace(pos, from.size(), to);
+  return t;
+}
+
+// 1-based line of the first occurrence of `needle` in `text`.
+int line_of(const std::string& text, const std::string& needle) {
+  const auto pos = text.find(needle);
+  EXPECT_NE(pos, std::string::npos) << needle;
+  return 1 +
+         static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(pos), '\n'));
+}
+
+// Parses `text` as "mem.toml" and returns the InputError message ("" if it did not throw).
+std::string error_of(const std::string& text) {
+  try {
+    (void)parse_scenario(text, "mem.toml", library());
+  } catch (const InputError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "not an InputError: " << e.what();
+    return e.what();
+  }
+  ADD_FAILURE() << "parse_scenario did not throw";
+  return "";
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+TEST(Scenario, EveryExampleParses) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(LATHECTL_SOURCE_DIR "/examples/scenarios"))
+    if (e.path().extension() == ".toml") files.push_back(e.path());
+  ASSERT_GE(files.size(), 10u);
+  for (const auto& f : files) {
+    SCOPED_TRACE(f.string());
+    Scenario sc;
+    ASSERT_NO_THROW(sc = load_scenario(f.string(), library()));
+    EXPECT_EQ(sc.system, "A");
+    EXPECT_EQ(sc.name, f.stem().string());  // each example is named after its file
+    EXPECT_EQ(sc.file, f.string());
+    EXPECT_GT(sc.run.duration_s, 0.0);
+  }
+}
+
+TEST(Scenario, ShopUnitsConvertedToSi) {
+  const Scenario sc = parse_scenario(finishing_text(), "mem.toml", library());
+  EXPECT_EQ(sc.file, "mem.toml");
+  EXPECT_EQ(sc.name, "a_finishing_aim");
+  EXPECT_DOUBLE_EQ(sc.run.duration_s, 12.0);
+  EXPECT_EQ(sc.run.seed, 11u);
+  EXPECT_DOUBLE_EQ(sc.a.spindle_rpm, 400.0);
+  EXPECT_DOUBLE_EQ(sc.a.diameter_m, 0.06);
+  EXPECT_EQ(sc.a.cutting.material.name, "steel_45");
+  EXPECT_DOUBLE_EQ(sc.a.part.depth_mm, 0.5);
+  ASSERT_EQ(sc.a.part.depth_steps.size(), 1u);
+  EXPECT_DOUBLE_EQ(sc.a.part.depth_steps[0].at_mm, 4.0);
+  EXPECT_DOUBLE_EQ(sc.a.part.depth_steps[0].value, 1.0);
+  EXPECT_DOUBLE_EQ(sc.a.regulator.orifice.spool_diameter_m, 5e-3);   // 5.0 mm
+  EXPECT_DOUBLE_EQ(sc.a.regulator.orifice.pressure_drop_Pa, 0.2e6);  // 0.2 MPa
+  EXPECT_DOUBLE_EQ(sc.a.pulse_width_s, 5e-3);                        // 5.0 ms
+  EXPECT_DOUBLE_EQ(sc.a.regulator.opening_time_s, 0.5e-3);
+  EXPECT_DOUBLE_EQ(sc.a.slide.piston_area_m2, 8e-4);    // 8 cm²
+  EXPECT_DOUBLE_EQ(sc.a.slide.dead_volume_m3, 60e-6);   // 60 cm³
+  EXPECT_DOUBLE_EQ(sc.a.slide.bulk_modulus_Pa, 1.4e9);  // 1400 MPa
+  // 50 cm³/min/MPa = 50e−6 m³ / 60 s / 1e6 Pa = 8.3333e−13 m³/(s·Pa).
+  EXPECT_NEAR(sc.a.slide.leak_m3_per_s_Pa, 50e-6 / 60.0 / 1e6, 1e-25);
+  // 0.5 cm³/MPa = 5e−13 m³/Pa; 0.06 MPa·s/cm³ = 6e10 Pa·s/m³.
+  EXPECT_NEAR(sc.a.slide.damper_capacitance_m3_per_Pa, 5e-13, 1e-25);
+  EXPECT_NEAR(sc.a.slide.damper_resistance_Pa_s_per_m3, 6e10, 1e-3);
+  EXPECT_NEAR(sc.a.sensor.holder_stiffness_N_per_m, 20e6, 1e-6);  // 20 N/µm
+  EXPECT_NEAR(sc.a.sensor.gain_V_per_m, 0.1e6, 1e-6);             // 0.1 V/µm
+  EXPECT_EQ(sc.a.controller_kind, sim::ControllerKind::Aim);
+  EXPECT_NEAR(sc.a.controller.feed_m_per_s, 1e-3, 1e-15);  // 60 mm/min
+  EXPECT_NEAR(sc.a.controller.force_filter_s, 0.02, 1e-15);
+  EXPECT_NEAR(sc.a.feed_window_s, 0.5, 1e-15);
+  ASSERT_TRUE(sc.compare.has_value());
+  EXPECT_EQ(sc.compare->controller, sim::ControllerKind::None);
+  EXPECT_EQ(sc.sweep_leak_estimate_factor, (std::vector<double>{0.5, 0.75, 1.0, 1.25, 1.5}));
+}
+
+TEST(Scenario, UnknownKeyNamesFileLineAndKey) {
+  const std::string t = edit("[slide]\n", "[slide]\nbogus = 1\n");
+  const std::string msg = error_of(t);
+  EXPECT_TRUE(contains(msg, "mem.toml:" + std::to_string(line_of(t, "bogus")) + ":")) << msg;
+  EXPECT_TRUE(contains(msg, "slide.bogus")) << msg;
+  EXPECT_TRUE(contains(msg, "unknown key")) << msg;
+}
+
+TEST(Scenario, UnknownKeyInArrayOfTables) {
+  const std::string t =
+      edit("{ at_mm = 4.0, depth_mm = 1.0 }", "{ at_mm = 4.0, depth_mm = 1.0, colour = \"red\" }");
+  const std::string msg = error_of(t);
+  EXPECT_TRUE(contains(msg, "mem.toml:" + std::to_string(line_of(t, "colour")) + ":")) << msg;
+  EXPECT_TRUE(contains(msg, "part.depth_steps[0].colour")) << msg;
+  EXPECT_TRUE(contains(msg, "unknown key")) << msg;
+}
+
+TEST(Scenario, MissingRequiredKey) {
+  const std::string t = edit("piston_area_cm2 = 8.0\n", "");
+  const std::string msg = error_of(t);
+  // The key is absent, so the message points at its table, [slide].
+  EXPECT_TRUE(contains(msg, "mem.toml:" + std::to_string(line_of(t, "[slide]")) + ":")) << msg;
+  EXPECT_TRUE(contains(msg, "slide.piston_area_cm2")) << msg;
+  EXPECT_TRUE(contains(msg, "missing")) << msg;
+}
+
+TEST(Scenario, MissingRequiredTable) {
+  std::string t = finishing_text();
+  const auto a = t.find("[sensor]");
+  const auto b = t.find("[controller]");
+  t.erase(a, b - a);
+  const std::string msg = error_of(t);
+  EXPECT_TRUE(contains(msg, "mem.toml")) << msg;
+  EXPECT_TRUE(contains(msg, "'sensor'")) << msg;
+  EXPECT_TRUE(contains(msg, "missing")) << msg;
+}
+
+TEST(Scenario, WrongType) {
+  const std::string t = edit("mass_kg = 60.0", "mass_kg = \"heavy\"");
+  const std::string msg = error_of(t);
+  EXPECT_TRUE(contains(msg, "mem.toml:" + std::to_string(line_of(t, "mass_kg")) + ":")) << msg;
+  EXPECT_TRUE(contains(msg, "slide.mass_kg")) << msg;
+  EXPECT_TRUE(contains(msg, "expected a number")) << msg;
+  EXPECT_TRUE(contains(msg, "a string")) << msg;
+}
+
+TEST(Scenario, OutOfRange) {
+  const std::string t = edit("mass_kg = 60.0", "mass_kg = -3");
+  const std::string msg = error_of(t);
+  EXPECT_TRUE(contains(msg, "mem.toml:" + std::to_string(line_of(t, "mass_kg")) + ":")) << msg;
+  EXPECT_TRUE(contains(msg, "slide.mass_kg")) << msg;
+  EXPECT_TRUE(contains(msg, "-3")) << msg;  // says what it got
+  EXPECT_TRUE(contains(msg, "expected a number")) << msg;
+}
+
+TEST(Scenario, OutOfRangeUpperBound) {
+  // discharge_coefficient must lie in (0, 1].
+  const std::string t = edit("discharge_coefficient = 0.65", "discharge_coefficient = 1.3");
+  const std::string msg = error_of(t);
+  EXPECT_TRUE(
+      contains(msg, "mem.toml:" + std::to_string(line_of(t, "discharge_coefficient")) + ":"))
+      << msg;
+  EXPECT_TRUE(contains(msg, "regulator.discharge_coefficient")) << msg;
+  EXPECT_TRUE(contains(msg, "(0, 1]")) << msg;
+}
+
+TEST(Scenario, UnknownMaterial) {
+  const std::string t = edit("name = \"steel_45\"", "name = \"unobtainium\"");
+  const std::string msg = error_of(t);
+  EXPECT_TRUE(contains(msg, "mem.toml:" + std::to_string(line_of(t, "unobtainium")) + ":")) << msg;
+  EXPECT_TRUE(contains(msg, "material.name")) << msg;
+  EXPECT_TRUE(contains(msg, "unknown material")) << msg;
+  EXPECT_TRUE(contains(msg, "steel_45")) << msg;  // lists what is known
+}
+
+TEST(Scenario, TomlSyntaxError) {
+  const std::string t = edit("mass_kg = 60.0", "mass_kg = = 60.0");
+  const std::string msg = error_of(t);
+  EXPECT_TRUE(contains(msg, "TOML syntax error")) << msg;
+  EXPECT_TRUE(contains(msg, "mem.toml:" + std::to_string(line_of(t, "mass_kg")) + ":")) << msg;
+}
+
+TEST(Scenario, DuplicateKeyIsASyntaxError) {
+  const std::string t = edit("mass_kg = 60.0", "mass_kg = 60.0\nmass_kg = 70.0");
+  const std::string msg = error_of(t);
+  EXPECT_TRUE(contains(msg, "TOML syntax error")) << msg;
+  EXPECT_TRUE(contains(msg, "mem.toml:" + std::to_string(line_of(t, "mass_kg = 70")) + ":")) << msg;
+}
+
+TEST(Scenario, BadEnumListsTheChoices) {
+  const std::string t = edit("type = \"aim\"", "type = \"magic\"");
+  const std::string msg = error_of(t);
+  EXPECT_TRUE(contains(msg, "mem.toml:" + std::to_string(line_of(t, "magic")) + ":")) << msg;
+  EXPECT_TRUE(contains(msg, "controller.type")) << msg;
+  EXPECT_TRUE(contains(msg, "\"none\", \"aim\", \"fim\"")) << msg;
+  EXPECT_TRUE(contains(msg, "magic")) << msg;
+}
+
+TEST(Scenario, DepthStepsMustAscend) {
+  const std::string t =
+      edit("depth_steps = [ { at_mm = 4.0, depth_mm = 1.0 } ]",
+           "depth_steps = [ { at_mm = 4.0, depth_mm = 1.0 }, { at_mm = 2.0, depth_mm = 0.7 } ]");
+  const std::string msg = error_of(t);
+  EXPECT_TRUE(contains(msg, "mem.toml:" + std::to_string(line_of(t, "depth_steps")) + ":")) << msg;
+  EXPECT_TRUE(contains(msg, "part.depth_steps")) << msg;
+}
+
+TEST(Scenario, PulseLongerThanPeriodRejected) {
+  // 20 Hz → T = 50 ms; a 60 ms pulse does not fit.
+  const std::string t = edit("pulse_width_ms = 5.0", "pulse_width_ms = 60.0");
+  const std::string msg = error_of(t);
+  EXPECT_TRUE(contains(msg, "mem.toml:" + std::to_string(line_of(t, "pulse_width_ms")) + ":"))
+      << msg;
+  EXPECT_TRUE(contains(msg, "regulator.pulse_width_ms")) << msg;
+}
+
+TEST(Scenario, StepTooCoarseForHydraulicsIsAnInputError) {
+  // ω_h = F·sqrt(B/(V·m)) = 8e−4·sqrt(1.4e9/(60e−6·60)) = 499 rad/s: ω_h·dt = 2.5 at dt = 5 ms,
+  // far beyond the rig's limit of 0.5. In range for the key, caught by the whole-scenario check.
+  const std::string t =
+      edit("step_s = 1e-4\nrecord_interval_s = 2e-3", "step_s = 5e-3\nrecord_interval_s = 1e-2");
+  const std::string msg = error_of(t);
+  EXPECT_TRUE(contains(msg, "mem.toml")) << msg;
+  EXPECT_TRUE(contains(msg, "step_s")) << msg;
+  EXPECT_TRUE(contains(msg, "too coarse")) << msg;
+}
+
+TEST(Scenario, MissingFileIsAnInputError) {
+  EXPECT_THROW(
+      (void)load_scenario(LATHECTL_SOURCE_DIR "/examples/scenarios/no_such_file.toml", library()),
+      InputError);
+}
+
+}  // namespace
+}  // namespace lathectl::io

@@ -1,0 +1,196 @@
+// Closed-loop checks of rig A (seed 000) on the example scenarios: the seed's claims measured in
+// simulation, and the uncontrolled slide's feed loss against the seed's own formula (3).
+// a_obliteration (1800 s of simulated time) is deliberately not run here.
+
+#include "lathectl/sim/rig_a.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "lathectl/io/materials.hpp"
+#include "lathectl/io/runner.hpp"
+#include "lathectl/io/scenario.hpp"
+#include "lathectl/sim/metrics.hpp"
+
+namespace lathectl::sim {
+namespace {
+
+const io::MaterialLibrary& library() {
+  static const io::MaterialLibrary lib =
+      io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
+  return lib;
+}
+
+io::Scenario scenario(const std::string& name) {
+  return io::load_scenario(LATHECTL_SOURCE_DIR "/examples/scenarios/" + name + ".toml", library());
+}
+
+void run_rig(const io::Scenario& sc, const RigAConfig& cfg, RigA& rig) {
+  rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
+  rig.run();
+  ASSERT_TRUE(rig.numerically_sound());
+}
+
+TEST(RigA, FinishingAimHoldsFeedFiveTimesBetterThanUncontrolled) {
+  const auto sc = scenario("a_finishing_aim");
+  const auto out = io::run_scenario(sc);
+  const auto& s = out.summary;
+  ASSERT_TRUE(s.contains("comparison"));
+  const double controlled = s["metrics"]["feed_rate_deviation_pct"].get<double>();
+  const double uncontrolled = s["comparison"]["metrics"]["feed_rate_deviation_pct"].get<double>();
+  // Seed claim 1 (finishing): the deviation under the force change is much smaller with control;
+  // "much" made concrete as at most a fifth.
+  EXPECT_GT(uncontrolled, 5.0);  // the disturbance really disturbs (≈ 12 %)
+  EXPECT_LE(controlled, 0.2 * uncontrolled) << controlled << " % vs " << uncontrolled << " %";
+  // The force did change: the allowance doubles, Py ∝ t^0.9 → ≈ ×1.87.
+  EXPECT_GT(s["metrics"]["force_peak_N"].get<double>(),
+            1.5 * s["metrics"]["force_nominal_N"].get<double>());
+  // Steady state: the controlled feed returns to its reference.
+  EXPECT_LT(s["metrics"]["feed_rate_steady_deviation_pct"].get<double>(),
+            0.2 * s["comparison"]["metrics"]["feed_rate_steady_deviation_pct"].get<double>());
+}
+
+TEST(RigA, UncontrolledFeedLossMatchesSeedFormula3) {
+  const auto sc = scenario("a_finishing_aim");
+  RigAConfig cfg = sc.a;
+  cfg.controller_kind = ControllerKind::None;
+  RigA rig;
+  run_rig(sc, cfg, rig);
+  const auto m = compute_metrics_a(rig);
+  const auto& rec = rig.recorder();
+  const auto t = rec.column("time_s");
+  const auto force = rec.column("force_Py_N");
+  const double T = t.back();
+  const double td = rig.first_disturbance_time();
+  ASSERT_GT(td, 1.0);
+  // ΔP: mean radial force over the last 10 % of the run (where the steady deviation is measured)
+  // minus the mean over the second before the disturbance (where S_ref is measured).
+  const double p_before = mean_between(t, force, td - 1.0, td);
+  const double p_after = mean_between(t, force, 0.9 * T, T + 1.0);
+  const double dP = p_after - p_before;
+  EXPECT_GT(dP, 50.0);
+  // Seed (3): S = Q/F − K_leak·Py/F² at constant Q, so ΔS = −K_leak·ΔPy/F².
+  const double F = sc.a.slide.piston_area_m2;
+  const double K = sc.a.slide.leak_m3_per_s_Pa;
+  const double dS_pct = 100.0 * (K * dP / (F * F)) / (m.feed_rate_reference_mm_per_min / 60000.0);
+  // With ΔPy ≈ 85 N: 8.333e−13·85/6.4e−7 = 1.1e−4 m/s = 6.6 mm/min of 58.5, ≈ 11 %.
+  EXPECT_NEAR(m.feed_rate_steady_deviation_pct, dS_pct, 0.15 * dS_pct)
+      << "simulated " << m.feed_rate_steady_deviation_pct << " %, formula (3) " << dS_pct << " %";
+  // Closer: the slide also has viscous friction b, whose load b·S falls with the feed, so
+  // ΔS = K·ΔPy/F² / (1 + K·b/F²); here K·b/F² = 8.333e−13·2e4/6.4e−7 = 0.026.
+  const double b = sc.a.slide.viscous_friction_N_s_per_m;
+  const double dS_visc_pct = dS_pct / (1.0 + K * b / (F * F));
+  EXPECT_NEAR(m.feed_rate_steady_deviation_pct, dS_visc_pct, 0.02 * dS_visc_pct);
+  // And it is a loss: the feed falls.
+  const auto feed = rec.column("feed_mm_per_min");
+  EXPECT_LT(mean_between(t, feed, 0.9 * T, T + 1.0), m.feed_rate_reference_mm_per_min);
+}
+
+// Regression (found by this test, fixed): The uncontrolled slot is "set once for
+// the programmed feed at the nominal force" (a_finishing_none.toml), but RigA::configure computes
+// it from q = S·F + K_leak·(P + F_c)/F without the viscous friction b·S (20000 N·s/m · 1 mm/s = 20
+// N here), and the controller's load model (friction_N = F_c only) leaves it out too. The slide
+// then runs 2.4–2.6 % below the programmed feed before any disturbance, with or without control
+// (a_regulator_flow: 58.61 mm/min for 60; the predicted shortfall is K_leak·b·S/F² = 2.6 %).
+TEST(RigA, UndisturbedSlideRunsAtProgrammedFeed) {
+  const auto sc = scenario("a_regulator_flow");
+  const auto out = io::run_scenario(sc);
+  const double programmed = out.summary["metrics"]["feed_rate_programmed_mm_per_min"].get<double>();
+  const double mean = out.summary["metrics"]["feed_rate_mean_mm_per_min"].get<double>();
+  EXPECT_NEAR(mean, programmed, 0.005 * programmed);
+}
+
+TEST(RigA, RoughingAimHoldsForceAtSetValue) {
+  const auto sc = scenario("a_roughing_aim");
+  const auto out = io::run_scenario(sc);
+  const auto& m = out.summary["metrics"];
+  // Seed claim 2: the force is brought back to its set value (355 N).
+  ASSERT_FALSE(m["force_final_error_pct"].is_null());
+  EXPECT_LE(std::abs(m["force_final_error_pct"].get<double>()), 5.0);
+  ASSERT_FALSE(m["force_settling_time_s"].is_null());  // null = never settled
+  EXPECT_TRUE(std::isfinite(m["force_settling_time_s"].get<double>()));
+  EXPECT_GT(m["force_settling_time_s"].get<double>(), 0.0);
+  // Without control the depth step drives Py ≈ (2.16)^0.9 ≈ 2× nominal.
+  const auto& c = out.summary["comparison"]["metrics"];
+  EXPECT_GE(c["force_peak_N"].get<double>(), 1.6 * c["force_nominal_N"].get<double>());
+  // With control the peak stays far below the uncontrolled one.
+  EXPECT_LT(m["force_peak_N"].get<double>(), 0.75 * c["force_peak_N"].get<double>());
+  // The controller reduced the feed to get there (it never feeds faster than programmed).
+  EXPECT_LT(m["feed_rate_mean_mm_per_min"].get<double>(),
+            m["feed_rate_programmed_mm_per_min"].get<double>());
+}
+
+TEST(RigA, RoughingAimNeverFeedsFasterThanProgrammed) {
+  const auto sc = scenario("a_roughing_aim");
+  RigA rig;
+  run_rig(sc, sc.a, rig);
+  const auto& rec = rig.recorder();
+  const auto feed = rec.column("feed_mm_per_min");
+  const auto t = rec.column("time_s");
+  const double programmed = sc.a.controller.feed_m_per_s * 60000.0;
+  // The recorded feed is averaged over whole pulse periods; allow 1 % for slide dynamics. The
+  // first 0.5 s are skipped, as compute_metrics_a skips them: the rig starts the pulse train
+  // "on" from the mean damper state and the feed overshoots by ~15 % for ~0.1 s (see report).
+  double peak = 0.0;
+  for (std::size_t i = 0; i < t.size(); ++i)
+    if (t[i] >= 0.5) peak = std::max(peak, feed[i]);
+  EXPECT_LE(peak, 1.01 * programmed);
+}
+
+TEST(RigA, SensorDropoutAlarmsWithinOnePeriodAndStopsFeed) {
+  const auto sc = scenario("a_sensor_dropout");
+  ASSERT_EQ(sc.a.faults.size(), 1u);
+  const double fault_at = sc.a.faults[0].at_s;
+  const auto out = io::run_scenario(sc);
+  const auto& m = out.summary["metrics"];
+  ASSERT_GE(m["alarms"].size(), 1u);
+  EXPECT_EQ(m["alarms"][0]["code"].get<int>(), 10);  // Reason::SensorNotFinite
+  EXPECT_EQ(m["alarms"][0]["reason"].get<std::string>(), "sensor_not_finite");
+  ASSERT_FALSE(m["first_alarm_delay_s"].is_null());
+  EXPECT_GE(m["first_alarm_delay_s"].get<double>(), 0.0);
+  EXPECT_LE(m["first_alarm_delay_s"].get<double>(), sc.a.controller.period_s + 1e-9);  // 1 ms
+  EXPECT_NEAR(m["alarms"][0]["time_s"].get<double>(), fault_at, sc.a.controller.period_s + 1e-9);
+
+  // The feed stops: the last recorded feed is below 1 % of the programmed one, and the alarm
+  // stays latched to the end.
+  RigA rig;
+  run_rig(sc, sc.a, rig);
+  const auto& rec = rig.recorder();
+  const auto feed = rec.column("feed_mm_per_min");
+  const auto alarm = rec.column("alarm");
+  const auto slot = rec.column("slot_um");
+  const double programmed = sc.a.controller.feed_m_per_s * 60000.0;
+  EXPECT_LT(std::abs(feed.back()), 0.01 * programmed) << feed.back();
+  EXPECT_EQ(alarm.back(), 1.0);
+  const auto t = rec.column("time_s");
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (t[i] < fault_at - 1e-9) {
+      ASSERT_EQ(alarm[i], 0.0) << t[i];
+    }
+    if (t[i] > fault_at + 1e-3) {
+      ASSERT_EQ(alarm[i], 1.0) << t[i];
+    }
+  }
+  // The eccentric drove the slot shut.
+  EXPECT_LT(slot.back(), 0.5);  // µm
+}
+
+TEST(RigA, RegulatorFlowMatchesFormula1) {
+  const auto sc = scenario("a_regulator_flow");
+  const auto out = io::run_scenario(sc);
+  const auto& m = out.summary["metrics"];
+  ASSERT_FALSE(m["flow_formula_error_pct"].is_null());
+  EXPECT_LT(std::abs(m["flow_formula_error_pct"].get<double>()), 1.0);
+  // Formula (1) at the rig's slot: μπd·h·sqrt(2Δp/ρ)·Δt/T in cm³/min.
+  RigA rig;
+  rig.configure(sc.a, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
+  const double q1 = sc.a.regulator.orifice.gain_per_m() * rig.fixed_actuator() *
+                    sc.a.pulse_width_s * sc.a.frequency_Hz * 6e7;
+  EXPECT_NEAR(m["flow_formula_cm3_per_min"].get<double>(), q1, 1e-9 * q1);
+}
+
+}  // namespace
+}  // namespace lathectl::sim
