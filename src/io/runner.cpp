@@ -328,8 +328,10 @@ RunOutput run_scenario(const Scenario& sc) {
   const auto smooth = [&](const Run& r, Series sr) {
     const auto t = r.rig.recorder().column("time_s");
     const double dt_rec = t.size() > 1 ? t[1] - t[0] : 1.0;
-    sr.y = sim::moving_average(
-        sr.y, static_cast<std::size_t>(std::max(1.0, sc.a.feed_window_s / dt_rec)));
+    const auto w = static_cast<std::size_t>(std::max(1.0, sc.a.feed_window_s / dt_rec));
+    sr.y = sim::moving_average(sr.y, w);
+    for (std::size_t i = 0; i + 1 < w && i < sr.y.size(); ++i)
+      sr.y[i] = std::nan("");  // partial window
     return sr;
   };
   flow.series.push_back(

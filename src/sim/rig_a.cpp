@@ -224,8 +224,8 @@ void RigA::step() noexcept {
   (void)sensor_.step(dt_, force_);
 
   if (cfg_.controller_kind != ControllerKind::None && step_ % control_every_ == 0) {
-    sensor_u_ = sensor_.sample();
-    const control::PulseFeedController::Input in{sensor_sample(sensor_u_)};
+    sensor_u_ = sensor_sample(sensor_.sample());  // what the controller sees, faults included
+    const control::PulseFeedController::Input in{sensor_u_};
     (void)ctl_.update(in, ctl_out_);
   }
 
