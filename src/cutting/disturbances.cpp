@@ -68,6 +68,11 @@ double Disturbances::first_change_mm() const noexcept {
   return first;
 }
 
+double Disturbances::wear_factor(double t_cut) const noexcept {
+  return 1.0 +
+         p_.wear_force_gain_per_mm * (p_.wear_VB0_mm + p_.wear_rate_mm_per_min * t_cut / 60.0);
+}
+
 LocalCut Disturbances::at(double x, double phi, double t_cut) noexcept {
   if (p_.random_sigma_mm > 0.0) {
     const double dx = std::abs(x - last_x_);
@@ -82,7 +87,7 @@ LocalCut Disturbances::at(double x, double phi, double t_cut) noexcept {
   c.depth_mm = std::max(depth_profile(x) + runout + random_mm_, 0.0);
   c.strength_factor = strength_factor(x);
   c.flank_wear_mm = p_.wear_VB0_mm + p_.wear_rate_mm_per_min * t_cut / 60.0;
-  c.wear_factor = 1.0 + p_.wear_force_gain_per_mm * c.flank_wear_mm;
+  c.wear_factor = wear_factor(t_cut);
   return c;
 }
 

@@ -64,10 +64,9 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
   const double feed = cfg.controller.feed_m_per_s;
   if (!(feed > 0.0)) throw std::invalid_argument("programmed feed must be > 0");
   const double s_rev = feed * 1000.0 / rev_per_s_;
-  const auto local0 = dist_.at(0.0, 0.0, 0.0);
-  dist_.configure(cfg.part);  // restart the random allowance from its seed
+  // Nominal force: the programmed feed on the deterministic part of the blank at its start.
   force_nominal_ = cut_.radial_force({dist_.depth_profile(0.0), s_rev, speed_m_per_min_,
-                                      local0.strength_factor, local0.wear_factor});
+                                      dist_.strength_factor(0.0), dist_.wear_factor(0.0)});
 
   slide_.configure(cfg.slide);
   slide_.set_steady(feed, force_nominal_);

@@ -53,6 +53,8 @@ class Disturbances {
   // Depth of the deterministic profile alone (no runout, no random part).
   [[nodiscard]] double depth_profile(double travel_mm) const noexcept;
   [[nodiscard]] double strength_factor(double travel_mm) const noexcept;
+  // Force factor of flank wear after t_cut seconds in cut.
+  [[nodiscard]] double wear_factor(double time_in_cut_s) const noexcept;
   // Travel of the first step or hardness change (where the first disturbance begins), or +inf.
   [[nodiscard]] double first_change_mm() const noexcept;
 

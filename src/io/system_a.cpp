@@ -1,0 +1,440 @@
+// System A (seed 000): runs a scenario, its comparison and its K_leak sweep, computes the
+// metrics and the claims they answer, and lays out the report.
+#include "lathectl/io/system_a.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "lathectl/control/types.hpp"
+#include "lathectl/io/errors.hpp"
+#include "lathectl/io/output.hpp"
+#include "lathectl/io/runner.hpp"
+#include "lathectl/sim/metrics.hpp"
+
+namespace lathectl::io {
+
+namespace {
+using nlohmann::json;
+using sim::ControllerKind;
+using sim::RegulatorKind;
+
+std::string fmt(double v, const char* f = "%.4g") {
+  if (std::isnan(v)) return "—";
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+json num(double v) {
+  return std::isfinite(v) ? json(v) : json(nullptr);
+}
+
+json metrics_json(const sim::MetricsA& m) {
+  json alarms = json::array();
+  for (const auto& a : m.alarms)
+    alarms.push_back(
+        {{"time_s", a.time_s},
+         {"code", a.code},
+         {"reason", std::string(control::reason_name(static_cast<control::Reason>(a.code)))}});
+  return {{"feed_rate_programmed_mm_per_min", num(m.feed_rate_programmed_mm_per_min)},
+          {"feed_rate_mean_mm_per_min", num(m.feed_rate_mean_mm_per_min)},
+          {"feed_rate_reference_mm_per_min", num(m.feed_rate_reference_mm_per_min)},
+          {"feed_rate_deviation_pct", num(m.feed_rate_deviation_pct)},
+          {"feed_rate_steady_deviation_pct", num(m.feed_rate_steady_deviation_pct)},
+          {"feed_drift_pct", num(m.feed_drift_pct)},
+          {"force_nominal_N", num(m.force_nominal_N)},
+          {"force_peak_N", num(m.force_peak_N)},
+          {"force_setpoint_N", num(m.force_setpoint_N)},
+          {"force_settling_time_s", num(m.force_settling_time_s)},
+          {"force_final_error_pct", num(m.force_final_error_pct)},
+          {"first_disturbance_s", num(m.first_disturbance_s)},
+          {"flow_mean_cm3_per_min", num(m.flow_mean_cm3_per_min)},
+          {"flow_formula_cm3_per_min", num(m.flow_formula_cm3_per_min)},
+          {"flow_formula_error_pct", num(m.flow_formula_error_pct)},
+          {"first_alarm_delay_s", num(m.first_alarm_delay_s)},
+          {"alarms", alarms}};
+}
+
+struct Run {
+  sim::RigA rig;
+  sim::MetricsA metrics;
+  std::string label;
+};
+
+std::string label_of(const sim::RigAConfig& a) {
+  if (a.regulator_kind == RegulatorKind::Throttle) return "continuous throttle";
+  return a.controller_kind == ControllerKind::None ? "pulsed, no control"
+                                                   : controller_kind_name(a.controller_kind);
+}
+
+void run_one(const Scenario& sc, const sim::RigAConfig& cfg, Run& r) {
+  try {
+    r.rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(sc.file + ": inconsistent scenario: " + e.what());
+  }
+  r.rig.run();
+  if (!r.rig.numerically_sound())
+    throw std::runtime_error(sc.file +
+                             ": the simulation diverged (NaN or infinite state); "
+                             "reduce run.step_s");
+  r.metrics = sim::compute_metrics_a(r.rig);
+  r.label = label_of(cfg);
+}
+
+std::vector<double> col(const sim::Recorder& rec, const char* name) {
+  const auto c = rec.column(name);
+  return {c.begin(), c.end()};
+}
+
+Series series(const Run& r, const char* channel, std::string name, std::string color,
+              bool dashed = false) {
+  Series s;
+  s.name = std::move(name);
+  s.x = col(r.rig.recorder(), "time_s");
+  s.y = col(r.rig.recorder(), channel);
+  s.color = std::move(color);
+  s.dashed = dashed;
+  return s;
+}
+
+Series constant(const Run& r, double value, std::string name) {
+  Series s;
+  const auto t = r.rig.recorder().column("time_s");
+  s.name = std::move(name);
+  s.x = {t.front(), t.back()};
+  s.y = {value, value};
+  s.color = "#555";
+  s.dashed = true;
+  return s;
+}
+
+std::vector<Marker> markers(const Run& r) {
+  std::vector<Marker> m;
+  if (!std::isnan(r.metrics.first_disturbance_s))
+    m.push_back({r.metrics.first_disturbance_s, "disturbance"});
+  for (const auto& f : r.rig.config().faults) m.push_back({f.at_s, "sensor fault"});
+  for (const auto& a : r.metrics.alarms)
+    m.push_back({a.time_s, "alarm: " + std::string(control::reason_name(
+                                           static_cast<control::Reason>(a.code)))});
+  return m;
+}
+
+constexpr const char* kMain = "#1f77b4";
+constexpr const char* kCmp = "#d62728";
+}  // namespace
+
+RunOutput run_system_a(const Scenario& sc) {
+  RunOutput out;
+  auto main = std::make_unique<Run>();
+  run_one(sc, sc.a, *main);
+  std::unique_ptr<Run> cmp;
+  if (sc.compare) {
+    auto c = sc.a;
+    if (sc.compare->controller) c.controller_kind = *sc.compare->controller;
+    if (sc.compare->regulator) c.regulator_kind = *sc.compare->regulator;
+    if (c.regulator_kind == RegulatorKind::Throttle) c.controller_kind = ControllerKind::None;
+    cmp = std::make_unique<Run>();
+    run_one(sc, c, *cmp);
+    if (!sc.compare->label.empty()) cmp->label = sc.compare->label;
+  }
+
+  // Sweep of the controller's leakage estimate: how the finishing benefit degrades.
+  json sweep = json::array();
+  Table sweep_table{"Controller K_leak estimate against the true K_leak",
+                    {"K_leak estimate / true", "feed deviation [%]", "steady deviation [%]",
+                     "ratio to uncontrolled"},
+                    {}};
+  Plot sweep_plot{"Feed deviation vs the controller's K_leak error",
+                  "K_leak estimate / true K_leak",
+                  "feed deviation [%]",
+                  {},
+                  {}};
+  if (!sc.sweep_leak_estimate_factor.empty()) {
+    Series dev{"max deviation (controlled)", {}, {}, kMain, false, true};
+    Series st{"steady deviation (controlled)", {}, {}, "#2ca02c", false, true};
+    const double base = cmp && cmp->rig.config().controller_kind == ControllerKind::None
+                            ? cmp->metrics.feed_rate_steady_deviation_pct
+                            : std::numeric_limits<double>::quiet_NaN();
+    for (const double f : sc.sweep_leak_estimate_factor) {
+      auto c = sc.a;
+      c.leak_estimate_factor = f;
+      Run r;
+      run_one(sc, c, r);
+      const double ratio = r.metrics.feed_rate_steady_deviation_pct / base;
+      sweep.push_back(
+          {{"leak_estimate_factor", f},
+           {"feed_rate_deviation_pct", num(r.metrics.feed_rate_deviation_pct)},
+           {"feed_rate_steady_deviation_pct", num(r.metrics.feed_rate_steady_deviation_pct)},
+           {"steady_ratio_to_uncontrolled", num(ratio)}});
+      sweep_table.rows.push_back({fmt(f), fmt(r.metrics.feed_rate_deviation_pct),
+                                  fmt(r.metrics.feed_rate_steady_deviation_pct),
+                                  fmt(ratio, "%.3f")});
+      dev.x.push_back(f);
+      dev.y.push_back(r.metrics.feed_rate_deviation_pct);
+      st.x.push_back(f);
+      st.y.push_back(r.metrics.feed_rate_steady_deviation_pct);
+    }
+    sweep_plot.series = {dev, st};
+    if (cmp) {
+      Series un{"uncontrolled steady deviation",
+                {sc.sweep_leak_estimate_factor.front(), sc.sweep_leak_estimate_factor.back()},
+                {base, base},
+                kCmp,
+                true,
+                false};
+      sweep_plot.series.push_back(un);
+    }
+  }
+
+  const auto& m = main->metrics;
+  json& s = out.summary;
+  s["system"] = sc.system;
+  s["scenario"] = sc.name;
+  s["file"] = sc.file;
+  s["label"] = main->label;
+  s["metrics"] = metrics_json(m);
+  if (cmp) s["comparison"] = {{"label", cmp->label}, {"metrics", metrics_json(cmp->metrics)}};
+  if (!sweep.empty()) s["sweep"] = sweep;
+
+  // Claims this run can answer, each with its number.
+  json claims = json::array();
+  std::vector<std::string> notes;
+  auto claim = [&](const std::string& text, double value, bool met) {
+    claims.push_back({{"claim", text}, {"value", num(value)}, {"met", met}});
+    notes.push_back(std::string(met ? "✔ " : "✘ ") + text + ": " + fmt(value));
+  };
+  const bool roughing = sc.a.controller.mode == control::PulseFeedController::Mode::Roughing;
+  if (cmp && sc.a.controller_kind != ControllerKind::None &&
+      cmp->rig.config().controller_kind == ControllerKind::None) {
+    if (!roughing) {
+      const double r2 = m.feed_rate_deviation_pct / cmp->metrics.feed_rate_deviation_pct;
+      claim(
+          "finishing: max feed deviation after the force change incl. the transient, controlled / "
+          "uncontrolled (≤ 0.2; " +
+              fmt(m.feed_rate_deviation_pct) + " % against " +
+              fmt(cmp->metrics.feed_rate_deviation_pct) + " %)",
+          r2, r2 <= 0.2);
+      const double r1 =
+          m.feed_rate_steady_deviation_pct / cmp->metrics.feed_rate_steady_deviation_pct;
+      claim(
+          "finishing: steady feed deviation after the force change, controlled / uncontrolled (≤ "
+          "0.2)",
+          r1, r1 <= 0.2);
+      s["metrics"]["feed_deviation_ratio_to_uncontrolled"] = num(r2);
+    } else {
+      claim("roughing: force within 5 % of its set value at the end (final error, %)",
+            m.force_final_error_pct, std::abs(m.force_final_error_pct) <= 5.0);
+      claim("roughing: force settling time after the disturbance [s]", m.force_settling_time_s,
+            !std::isnan(m.force_settling_time_s));
+      const double rise = cmp->metrics.force_peak_N / cmp->metrics.force_nominal_N;
+      notes.push_back("uncontrolled: force peak / nominal force = " + fmt(rise, "%.3f") + " (" +
+                      fmt(cmp->metrics.force_peak_N) + " N)");
+    }
+  }
+  if (cmp && cmp->rig.config().regulator_kind == RegulatorKind::Throttle) {
+    claim("obliteration: continuous throttle feed drift over the run, % (|drift| > 5)",
+          cmp->metrics.feed_drift_pct, std::abs(cmp->metrics.feed_drift_pct) > 5.0);
+    claim("obliteration: pulsed regulator feed drift over the run, % (|drift| < 1)",
+          m.feed_drift_pct, std::abs(m.feed_drift_pct) < 1.0);
+  }
+  if (!std::isnan(m.flow_formula_error_pct))
+    notes.push_back("mean flow " + fmt(m.flow_mean_cm3_per_min) + " cm³/min against formula (1) " +
+                    fmt(m.flow_formula_cm3_per_min) + " cm³/min: error " +
+                    fmt(m.flow_formula_error_pct, "%.3f") + " %");
+  if (!sc.a.faults.empty())
+    claim("sensor fault: alarm raised, delay after the fault [s]", m.first_alarm_delay_s,
+          !std::isnan(m.first_alarm_delay_s));
+  s["claims"] = claims;
+
+  // Report.
+  Report& rep = out.report;
+  rep.title = "System A — " + sc.name;
+  rep.subtitle = sc.file + " · " + main->label + (cmp ? " against " + cmp->label : "") + " · " +
+                 std::string(roughing ? "roughing" : "finishing") + " mode";
+  rep.description = sc.description;
+  auto add = [&](const std::string& k, double v, const char* f = "%.4g") {
+    rep.metrics.emplace_back(k, fmt(v, f));
+  };
+  add("programmed feed [mm/min]", m.feed_rate_programmed_mm_per_min);
+  add("mean feed [mm/min]", m.feed_rate_mean_mm_per_min);
+  add("feed deviation after disturbance [%]", m.feed_rate_deviation_pct);
+  add("steady feed deviation [%]", m.feed_rate_steady_deviation_pct);
+  add("feed drift over run [%]", m.feed_drift_pct);
+  add("nominal force Py [N]", m.force_nominal_N);
+  add("peak force Py [N]", m.force_peak_N);
+  if (roughing) {
+    add("force setpoint [N]", m.force_setpoint_N);
+    add("force settling time [s]", m.force_settling_time_s);
+    add("final force error [%]", m.force_final_error_pct);
+  }
+  add("mean regulator flow [cm³/min]", m.flow_mean_cm3_per_min);
+  if (cmp) {
+    rep.metrics.emplace_back("— comparison —", cmp->label);
+    add("feed deviation (comparison) [%]", cmp->metrics.feed_rate_deviation_pct);
+    add("steady feed deviation (comparison) [%]", cmp->metrics.feed_rate_steady_deviation_pct);
+    add("feed drift (comparison) [%]", cmp->metrics.feed_drift_pct);
+    add("peak force (comparison) [N]", cmp->metrics.force_peak_N);
+  }
+  for (const auto& a : m.alarms)
+    rep.metrics.emplace_back(
+        "alarm at " + fmt(a.time_s) + " s",
+        std::string(control::reason_name(static_cast<control::Reason>(a.code))) + " (code " +
+            std::to_string(a.code) + ")");
+  rep.notes = notes;
+  if (!sweep.empty()) rep.tables.push_back(sweep_table);
+
+  const auto mk = markers(*main);
+  Plot feed{"Feed rate (averaged over " + fmt(sc.a.feed_window_s * 1000) + " ms)",
+            "time [s]",
+            "feed [mm/min]",
+            {},
+            mk};
+  feed.series.push_back(series(*main, "feed_mm_per_min", main->label, kMain));
+  if (cmp) feed.series.push_back(series(*cmp, "feed_mm_per_min", cmp->label, kCmp));
+  feed.series.push_back(constant(*main, m.feed_rate_programmed_mm_per_min, "programmed"));
+  rep.plots.push_back(feed);
+
+  Plot force{"Radial cutting force Py", "time [s]", "force [N]", {}, mk};
+  force.series.push_back(series(*main, "force_Py_N", main->label, kMain));
+  if (cmp) force.series.push_back(series(*cmp, "force_Py_N", cmp->label, kCmp));
+  if (roughing) force.series.push_back(constant(*main, m.force_setpoint_N, "set force"));
+  rep.plots.push_back(force);
+
+  const bool fim = sc.a.controller_kind == ControllerKind::Fim;
+  const bool aim = sc.a.controller_kind == ControllerKind::Aim;
+  Plot act{fim   ? "Pulse frequency f (FIM actuator: converter)"
+           : aim ? "Regulator slot h (AIM actuator: eccentric)"
+                 : "Regulator slot h",
+           "time [s]",
+           fim ? "frequency [Hz]" : "slot [µm]",
+           {},
+           mk};
+  act.series.push_back(series(*main, fim ? "frequency_Hz" : "slot_um", main->label, kMain));
+  if (cmp && cmp->rig.config().regulator_kind == RegulatorKind::Pulsed)
+    act.series.push_back(series(*cmp, fim ? "frequency_Hz" : "slot_um", cmp->label, kCmp));
+  rep.plots.push_back(act);
+
+  Plot sens{"Inductive sensor signal U_D", "time [s]", "U_D [V]", {}, mk};
+  sens.series.push_back(series(*main, "sensor_V", main->label, kMain));
+  rep.plots.push_back(sens);
+
+  Plot flow{"Regulator flow (averaged over the feed window) and internal leakage",
+            "time [s]",
+            "flow [cm³/min]",
+            {},
+            mk};
+  const auto smooth = [&](const Run& r, Series sr) {
+    const auto t = r.rig.recorder().column("time_s");
+    const double dt_rec = t.size() > 1 ? t[1] - t[0] : 1.0;
+    const auto w = static_cast<std::size_t>(std::max(1.0, sc.a.feed_window_s / dt_rec));
+    sr.y = sim::moving_average(sr.y, w);
+    for (std::size_t i = 0; i + 1 < w && i < sr.y.size(); ++i)
+      sr.y[i] = std::nan("");  // partial window
+    return sr;
+  };
+  flow.series.push_back(
+      smooth(*main, series(*main, "flow_cm3_per_min", "regulator flow, " + main->label, kMain)));
+  flow.series.push_back(series(*main, "leak_cm3_per_min", "leakage, " + main->label, "#2ca02c"));
+  if (cmp)
+    flow.series.push_back(
+        smooth(*cmp, series(*cmp, "flow_cm3_per_min", "regulator flow, " + cmp->label, kCmp)));
+  rep.plots.push_back(flow);
+
+  Plot dist{"Disturbances: depth of cut and hardness (strength factor)",
+            "time [s]",
+            "depth [mm] / factor",
+            {},
+            mk};
+  dist.series.push_back(series(*main, "depth_mm", "depth [mm]", "#8c564b"));
+  dist.series.push_back(series(*main, "strength_factor", "strength factor", "#9467bd"));
+  rep.plots.push_back(dist);
+
+  if (cmp && cmp->rig.config().regulator_kind == RegulatorKind::Throttle) {
+    Plot ob{
+        "Obliteration layer in the continuous throttle", "time [s]", "layer per wall [µm]", {}, {}};
+    ob.series.push_back(series(*cmp, "obliteration_layer_um", cmp->label, kCmp));
+    rep.plots.push_back(ob);
+  }
+  if (!sweep.empty()) rep.plots.push_back(sweep_plot);
+
+  // Regulator characteristic: simulated mean flow against formula (1) over the duty range.
+  if (sc.a.regulator_kind == RegulatorKind::Pulsed) {
+    const double f = fim ? std::max(main->rig.controller().actuator_for(
+                                        sc.a.controller.feed_m_per_s, m.force_nominal_N),
+                                    1.0)
+                         : sc.a.frequency_Hz;
+    const double h = fim ? sc.a.slot_m : main->rig.fixed_actuator();
+    std::vector<double> widths, duty;
+    for (int k = 0; k <= 40; ++k) {
+      duty.push_back(k / 40.0);
+      widths.push_back(k / 40.0 / f);
+    }
+    auto ideal_p = sc.a.regulator;
+    ideal_p.opening_time_s = ideal_p.closing_time_s = ideal_p.lap_m = 0.0;
+    const auto q_real = sim::regulator_characteristic(sc.a.regulator, h, f, widths);
+    const auto q_ideal_sim = sim::regulator_characteristic(ideal_p, h, f, widths);
+    Plot ch{"Regulator characteristic at h = " + fmt(h * 1e6) + " µm, f = " + fmt(f) + " Hz",
+            "duty Δt/T",
+            "mean flow [cm³/min]",
+            {},
+            {}};
+    Series formula{"formula (1): μπd·h·√(2Δp/ρ)·Δt/T", duty, {}, "#555", true, false};
+    for (double d : duty) formula.y.push_back(sc.a.regulator.orifice.gain_per_m() * h * d * 6e7);
+    Series ideal{"simulated, instantaneous switching", duty, {}, "#2ca02c", false, true};
+    for (double q : q_ideal_sim) ideal.y.push_back(q * 6e7);
+    Series real{"simulated, opening " + fmt(sc.a.regulator.opening_time_s * 1e3) +
+                    " ms / closing " + fmt(sc.a.regulator.closing_time_s * 1e3) + " ms, overlap " +
+                    fmt(sc.a.regulator.lap_m * 1e6) + " µm",
+                duty,
+                {},
+                kMain,
+                false,
+                false};
+    for (double q : q_real) real.y.push_back(q * 6e7);
+    ch.series = {formula, ideal, real};
+    rep.plots.push_back(ch);
+    double worst = 0.0;
+    for (std::size_t k = 1; k < duty.size() - 1; ++k)
+      worst = std::max(
+          worst,
+          std::abs(q_ideal_sim[k] / (sc.a.regulator.orifice.gain_per_m() * h * duty[k]) - 1.0));
+    s["metrics"]["regulator_ideal_flow_max_error_pct"] = 100.0 * worst;
+    // Dead zone and saturation from the switching model, closed form against simulation:
+    //   no flow while Δt < lap/v_open;  full flow once T − Δt < (h + lap)/v_close.
+    const auto& rp = sc.a.regulator;
+    const double travel = rp.lap_m + rp.max_slot_m;
+    const double dead_theory = rp.opening_time_s * rp.lap_m / travel * f;
+    const double sat_theory = 1.0 - rp.closing_time_s * (h + rp.lap_m) / travel * f;
+    const auto lim = sim::regulator_switching_limits(rp, h, f);
+    const double dead_sim = lim.dead_zone_duty, sat_sim = lim.saturation_duty;
+    s["metrics"]["regulator_dead_zone_duty"] = dead_theory;
+    s["metrics"]["regulator_dead_zone_duty_simulated"] = dead_sim;
+    s["metrics"]["regulator_saturation_duty"] = sat_theory;
+    s["metrics"]["regulator_saturation_duty_simulated"] = sat_sim;
+    if (rp.opening_time_s > 0.0 || rp.closing_time_s > 0.0 || rp.lap_m > 0.0) {
+      notes.push_back("regulator dead zone: no flow below duty " + fmt(dead_theory, "%.3f") +
+                      " (closed form; simulated " + fmt(dead_sim, "%.5f") +
+                      "); the spool stops closing between pulses from duty " +
+                      fmt(sat_theory, "%.4f") + " (closed form; simulated " + fmt(sat_sim, "%.5f") +
+                      ")");
+      rep.notes = notes;
+    }
+  }
+
+  out.channels_csv = channels_csv(main->rig.recorder());
+  if (cmp) out.compare_csv = channels_csv(cmp->rig.recorder());
+  out.headline = main->label + (cmp ? " vs " + cmp->label : "") + ": feed dev " +
+                 fmt(m.feed_rate_deviation_pct) + " %, steady " +
+                 fmt(m.feed_rate_steady_deviation_pct) + " %, peak Py " + fmt(m.force_peak_N) +
+                 " N" + (roughing ? ", settle " + fmt(m.force_settling_time_s) + " s" : "") +
+                 (cmp && cmp->rig.config().regulator_kind == RegulatorKind::Throttle
+                      ? ", drift " + fmt(m.feed_drift_pct) + " % vs throttle " +
+                            fmt(cmp->metrics.feed_drift_pct) + " %"
+                      : "");
+  return out;
+}
+
+}  // namespace lathectl::io
