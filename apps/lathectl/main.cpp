@@ -4,15 +4,21 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <mutex>
+#include <optional>
+#include <string>
 #include <thread>
 #include <vector>
 
+#include "lathectl/design/adaptive_speed.hpp"
 #include "lathectl/design/pulse_regulator.hpp"
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/materials.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/report.hpp"
 #include "lathectl/io/runner.hpp"
@@ -97,6 +103,183 @@ void print_value(bool json_first, const char* key, double si, const char* si_uni
               last ? "\n" : "\n");
 }
 
+// `design adaptive-speed`: seed 004's V_opt and the handbook tool-life law, shop units.
+struct AdaptiveSpeedArgs {
+  std::optional<double> Vp, Sp, yv, S;  // V_opt group [m/min, mm/rev, -, mm/rev]
+  // Tool-life groups: Cv, m, xv [-], t [mm], s [mm/rev], V [m/min], T [min].
+  std::optional<double> Cv, m, xv, t, s, V, T;
+  std::optional<double> F, n;  // feed per revolution group [mm/min, rpm]
+  std::string material;
+  bool json = false;
+};
+
+// Extended-Taylor coefficients for one calculation: explicit options win; the rest come from the
+// material's tool-life range that contains the calculation's feed (as CuttingModel chooses it).
+struct TaylorCoefficients {
+  std::optional<double> Cv, m, xv, yv;
+  const cutting::ToolLifeRange* range = nullptr;  // the material range used, if any
+};
+
+const cutting::ToolLifeRange& life_range(const cutting::Material& mat, double feed_mm_per_rev) {
+  const auto n = static_cast<std::size_t>(mat.tool_life_ranges);
+  for (std::size_t i = 0; i < n; ++i)
+    if (feed_mm_per_rev <= mat.tool_life[i].feed_max_mm_per_rev) return mat.tool_life[i];
+  return mat.tool_life[n - 1];
+}
+
+TaylorCoefficients coefficients(const AdaptiveSpeedArgs& a, const cutting::Material* mat,
+                                std::optional<double> feed) {
+  TaylorCoefficients c{a.Cv, a.m, a.xv, a.yv, nullptr};
+  if (mat && feed) {
+    const auto& r = life_range(*mat, *feed);
+    const bool used = !c.Cv || !c.m || !c.xv || !c.yv;
+    if (!c.Cv) c.Cv = r.Cv;
+    if (!c.m) c.m = r.m;
+    if (!c.xv) c.xv = r.xv;
+    if (!c.yv) c.yv = r.yv;
+    if (used) c.range = &r;
+  }
+  return c;
+}
+
+// The options of a group that are still missing ("--yv", ...).
+std::string missing(std::initializer_list<std::pair<const std::optional<double>*, const char*>> l) {
+  std::string out;
+  for (const auto& [v, name] : l)
+    if (!v->has_value()) out += (out.empty() ? "" : " ") + std::string(name);
+  return out;
+}
+
+int cmd_adaptive_speed(const AdaptiveSpeedArgs& a) {
+  const std::string who = "design adaptive-speed: ";
+  io::MaterialLibrary lib;
+  const cutting::Material* mat = nullptr;
+  if (!a.material.empty()) {
+    lib = io::MaterialLibrary::load_default();
+    mat = lib.find(a.material);
+    if (!mat) {
+      std::string known;
+      for (const auto& nm : lib.names()) known += (known.empty() ? "" : ", ") + nm;
+      throw io::InputError(who + "unknown material '" + a.material + "' (known: " + known + ")");
+    }
+    if (mat->tool_life_ranges == 0)
+      throw io::InputError(who + "material '" + a.material + "' has no tool-life data");
+  }
+  const auto c_opt = coefficients(a, mat, a.S);  // V_opt: the range of the current feed
+  const auto c_life = coefficients(a, mat, a.s);
+  const char* yv_hint = mat ? "--yv" : "--yv (or --material)";
+  const std::string miss_opt =
+      missing({{&a.Vp, "--Vp"}, {&a.Sp, "--Sp"}, {&c_opt.yv, yv_hint}, {&a.S, "--S"}});
+  const std::string miss_taylor = missing({{&c_life.Cv, "--Cv"},
+                                           {&c_life.m, "--m"},
+                                           {&c_life.xv, "--xv"},
+                                           {&c_life.yv, "--yv"},
+                                           {&a.t, "--t"},
+                                           {&a.s, "--s"}});
+  const std::string miss_life = missing({{&a.V, "--V"}});
+  const std::string miss_speed = missing({{&a.T, "--T-target"}});
+  const std::string miss_feed = missing({{&a.F, "--F"}, {&a.n, "--n"}});
+  const bool do_opt = miss_opt.empty();
+  const bool do_life = miss_taylor.empty() && miss_life.empty();
+  const bool do_speed = miss_taylor.empty() && miss_speed.empty();
+  const bool do_feed = miss_feed.empty();
+  if (!do_opt && !do_life && !do_speed && !do_feed)
+    throw io::InputError(
+        who +
+        "nothing to compute; give a complete group: --Vp --Sp --yv --S (optimal speed "
+        "V_opt); --Cv --m --xv --yv --t --s --V (tool life T); --Cv --m --xv --yv --t --s "
+        "--T-target (speed for a target life); --F --n (feed per revolution); --material "
+        "NAME supplies --Cv --m --xv --yv");
+  // A group begun but not finished is skipped, and said so (on stderr: stdout stays JSON).
+  const bool taylor_begun = a.Cv || a.m || a.xv || a.t || a.s || a.V || a.T;
+  if (!do_opt && (a.Vp || a.Sp || a.S))
+    std::cerr << "note: V_opt not computed, missing " << miss_opt << "\n";
+  if (a.V && !do_life) std::cerr << "note: tool life not computed, missing " << miss_taylor << "\n";
+  if (a.T && !do_speed)
+    std::cerr << "note: speed for life not computed, missing " << miss_taylor << "\n";
+  if (taylor_begun && !a.V && !a.T)
+    std::cerr << "note: tool-life inputs given without --V or --T-target\n";
+  if (!do_feed && (a.F || a.n))
+    std::cerr << "note: feed per revolution not computed, missing " << miss_feed << "\n";
+
+  double v_opt = 0, life = 0, v_life = 0, feed = 0;
+  try {
+    if (do_opt) v_opt = design::optimal_speed(*a.Vp, *a.Sp, *c_opt.yv, *a.S);
+    if (do_life)
+      life = design::tool_life_min(*c_life.Cv, *c_life.m, *c_life.xv, *c_life.yv, *a.V, *a.t, *a.s);
+    if (do_speed)
+      v_life =
+          design::speed_for_life(*c_life.Cv, *c_life.m, *c_life.xv, *c_life.yv, *a.T, *a.t, *a.s);
+    if (do_feed) feed = design::feed_per_rev(*a.F, *a.n);
+  } catch (const std::invalid_argument& e) {
+    throw io::InputError(who + e.what());
+  }
+
+  if (a.json) {
+    nlohmann::json in = nlohmann::json::object();
+    const std::pair<const std::optional<double>*, const char*> keys[] = {
+        {&a.Vp, "Vp_m_per_min"}, {&a.Sp, "Sp_mm_per_rev"},
+        {&a.yv, "yv"},           {&a.S, "S_mm_per_rev"},
+        {&a.Cv, "Cv"},           {&a.m, "m"},
+        {&a.xv, "xv"},           {&a.t, "t_mm"},
+        {&a.s, "s_mm_per_rev"},  {&a.V, "V_m_per_min"},
+        {&a.T, "T_target_min"},  {&a.F, "F_mm_per_min"},
+        {&a.n, "n_rpm"}};
+    for (const auto& [v, k] : keys)
+      if (*v) in[k] = **v;
+    if (mat) in["material"] = mat->name;
+    auto coeffs = [&](const TaylorCoefficients& c, bool all) {
+      nlohmann::json j;
+      if (all)
+        j = {{"Cv", *c.Cv}, {"m", *c.m}, {"xv", *c.xv}, {"yv", *c.yv}};
+      else
+        j = {{"yv", *c.yv}};
+      if (c.range) {
+        j["material"] = mat->name;
+        j["range_feed_max_mm_per_rev"] = c.range->feed_max_mm_per_rev;
+      }
+      return j;
+    };
+    nlohmann::json res = nlohmann::json::object(), used = nlohmann::json::object();
+    if (do_opt) {
+      res["V_opt_m_per_min"] = v_opt;
+      used["V_opt"] = coeffs(c_opt, false);
+    }
+    if (do_life) res["tool_life_min"] = life;
+    if (do_speed) res["speed_for_life_m_per_min"] = v_life;
+    if (do_life || do_speed) used["tool_life"] = coeffs(c_life, true);
+    if (do_feed) res["feed_per_rev_mm_per_rev"] = feed;
+    nlohmann::json j;
+    j["inputs"] = in;
+    j["coefficients"] = used;
+    j["results"] = res;
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  auto row = [](const char* what, double v, const char* unit) {
+    std::printf("  %-46s %14.6g %s\n", what, v, unit);
+  };
+  auto source = [&](const TaylorCoefficients& c) {
+    if (!c.range) return std::string("options");
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%s, feed range <= %g mm/rev", mat->name.c_str(),
+                  c.range->feed_max_mm_per_rev);
+    return std::string(buf);
+  };
+  std::printf("Adaptive cutting speed (seed 004) and tool life (extended Taylor, handbook)\n");
+  if (do_opt) {
+    std::printf("  V_opt = V_p·(S_p/S)^yv with yv = %g (%s)\n", *c_opt.yv, source(c_opt).c_str());
+    row("optimal cutting speed V_opt", v_opt, "m/min");
+  }
+  if (do_life || do_speed)
+    std::printf("  V = Cv/(T^m·t^xv·s^yv) with Cv = %g, m = %g, xv = %g, yv = %g (%s)\n",
+                *c_life.Cv, *c_life.m, *c_life.xv, *c_life.yv, source(c_life).c_str());
+  if (do_life) row("tool life T at V", life, "min");
+  if (do_speed) row("speed V_T for the target life", v_life, "m/min");
+  if (do_feed) row("feed per revolution s = F/n", feed, "mm/rev");
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -160,6 +343,55 @@ int main(int argc, char** argv) {
   preg->add_option("--dPy", dPy, "force change ΔPy [N]")->capture_default_str();
   preg->add_flag("--json", as_json, "print JSON (SI and shop units)");
 
+  AdaptiveSpeedArgs asp;
+  auto* aspd = design->add_subcommand(
+      "adaptive-speed",
+      "Seed 004: optimal speed V_opt = V_p·(S_p/S)^yv; handbook tool life T and speed for a "
+      "life; feed per revolution. Each result is computed when its inputs are given");
+  double Vp = 0, Sp = 0, yv = 0, S = 0, Cv = 0, m = 0, xv = 0, t = 0, s = 0, V = 0, T = 0, F = 0,
+         n = 0;
+  struct Bound {
+    CLI::Option* opt;
+    double* value;
+    std::optional<double>* into;
+  };
+  std::vector<Bound> bound;
+  // One-line messages naming the bound ("--F: must be a number > 0, got -1").
+  auto bounded = [](bool allow_zero) {
+    return CLI::Validator(
+        [allow_zero](std::string& in) -> std::string {
+          char* end = nullptr;
+          const double v = std::strtod(in.c_str(), &end);
+          const bool ok = end != in.c_str() && *end == '\0' && std::isfinite(v) &&
+                          (allow_zero ? v >= 0.0 : v > 0.0);
+          if (ok) return {};
+          return std::string("must be a number ") + (allow_zero ? ">= 0" : "> 0") + ", got " + in;
+        },
+        allow_zero ? ">= 0" : "> 0");
+  };
+  const CLI::Validator positive = bounded(false), non_negative = bounded(true);
+  auto num = [&](const char* name, double& v, std::optional<double>& into, const char* help,
+                 const CLI::Validator& validator) {
+    bound.push_back({aspd->add_option(name, v, help)->check(validator), &v, &into});
+  };
+  num("--Vp", Vp, asp.Vp, "computed (planned) cutting speed V_p [m/min]", positive);
+  num("--Sp", Sp, asp.Sp, "computed (planned) feed S_p [mm/rev]", positive);
+  num("--yv", yv, asp.yv, "feed exponent y_v of the tool-life formula", non_negative);
+  num("--S", S, asp.S, "current feed S [mm/rev] (for V_opt)", positive);
+  num("--Cv", Cv, asp.Cv, "tool-life coefficient Cv", positive);
+  num("--m", m, asp.m, "tool-life exponent m", positive);
+  num("--xv", xv, asp.xv, "depth exponent x_v", non_negative);
+  num("--t", t, asp.t, "depth of cut t [mm]", positive);
+  num("--s", s, asp.s, "feed s [mm/rev] (for tool life and speed for life)", positive);
+  num("--V", V, asp.V, "cutting speed V [m/min] → tool life T [min]", positive);
+  num("--T-target", T, asp.T, "target tool life T [min] → speed for that life [m/min]", positive);
+  num("--F", F, asp.F, "feed rate F [mm/min] (with --n → feed per revolution)", positive);
+  num("--n", n, asp.n, "spindle speed n [rpm]", positive);
+  aspd->add_option("--material", asp.material,
+                   "material in data/materials.toml: Cv, m, xv, yv from its tool-life range "
+                   "containing the feed (--s; --S for V_opt); explicit options win");
+  aspd->add_flag("--json", asp.json, "print JSON (inputs, coefficients used, results)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -171,6 +403,11 @@ int main(int argc, char** argv) {
     if (*run) return cmd_run(scenario, out);
     if (*check) return cmd_check(scenario);
     if (*demo) return cmd_demo(demo_out, demo_dir);
+    if (*aspd) {
+      for (const auto& b : bound)
+        if (b.opt->count() > 0) *b.into = *b.value;
+      return cmd_adaptive_speed(asp);
+    }
     if (*preg) {
       if (T_ms <= 0 && f_Hz <= 0)
         throw io::InputError("design pulse-regulator: give --T-ms or --f-Hz");

@@ -73,7 +73,7 @@ double Disturbances::wear_factor(double t_cut) const noexcept {
          p_.wear_force_gain_per_mm * (p_.wear_VB0_mm + p_.wear_rate_mm_per_min * t_cut / 60.0);
 }
 
-LocalCut Disturbances::at(double x, double phi, double t_cut) noexcept {
+double Disturbances::random_allowance_mm(double x) noexcept {
   if (p_.random_sigma_mm > 0.0) {
     const double dx = std::abs(x - last_x_);
     if (dx > 0.0) {
@@ -82,6 +82,11 @@ LocalCut Disturbances::at(double x, double phi, double t_cut) noexcept {
     }
   }
   last_x_ = x;
+  return random_mm_;
+}
+
+LocalCut Disturbances::at(double x, double phi, double t_cut) noexcept {
+  (void)random_allowance_mm(x);
   LocalCut c;
   const double runout = p_.runout_mm > 0.0 ? p_.runout_mm * std::sin(phi) : 0.0;
   c.depth_mm = std::max(depth_profile(x) + runout + random_mm_, 0.0);

@@ -30,12 +30,8 @@ void read_run(TableReader& root, RunSettings& run) {
   t->finish();
 }
 
-void read_cutting(TableReader& root, const MaterialLibrary& lib, sim::RigAConfig& a,
-                  std::uint64_t seed) {
-  auto m = root.table("machine", true);
-  a.spindle_rpm = m->number("spindle_rpm", {0.0, 20000.0, true, false});
-  m->finish();
-
+void read_material_tool(TableReader& root, const MaterialLibrary& lib, cutting::CuttingModel::Params& cutting,
+                        cutting::DisturbanceParams* wear = nullptr) {
   auto mat = root.table("material", true);
   const std::string name = mat->string("name");
   const cutting::Material* found = lib.find(name);
@@ -44,18 +40,36 @@ void read_cutting(TableReader& root, const MaterialLibrary& lib, sim::RigAConfig
     for (const auto& n : lib.names()) known += (known.empty() ? "" : ", ") + n;
     mat->fail("name", "unknown material \"" + name + "\" (data/materials.toml has: " + known + ")");
   }
-  a.cutting.material = *found;
-  a.cutting.form = mat->choice("force_model", {"handbook", "kienzle"}, "handbook") == "kienzle"
+  cutting.material = *found;
+  cutting.form = mat->choice("force_model", {"handbook", "kienzle"}, "handbook") == "kienzle"
                        ? cutting::ForceForm::Kienzle
                        : cutting::ForceForm::Handbook;
   mat->finish();
 
   if (auto tool = root.table("tool")) {
-    a.cutting.nose_radius_mm = tool->number("nose_radius_mm", {0.0, 10.0, true, false}, 0.8);
-    a.cutting.approach_angle_deg =
+    cutting.nose_radius_mm = tool->number("nose_radius_mm", {0.0, 10.0, true, false}, 0.8);
+    cutting.approach_angle_deg =
         tool->number("approach_angle_deg", {0.0, 90.0, true, false}, 90.0);
+    if (wear) {
+      if (auto w = tool->table("wear")) {
+        wear->wear_VB0_mm = w->number("initial_VB_mm", Range::closed(0, 2), 0.0);
+        wear->wear_rate_mm_per_min = w->number("rate_mm_per_min", Range::closed(0, 1), 0.0);
+        wear->wear_force_gain_per_mm = w->number("force_gain_per_mm", Range::closed(0, 20), 0.0);
+        w->finish();
+      }
+    }
     tool->finish();
   }
+
+}
+
+void read_cutting(TableReader& root, const MaterialLibrary& lib, sim::RigAConfig& a,
+                  std::uint64_t seed) {
+  auto m = root.table("machine", true);
+  a.spindle_rpm = m->number("spindle_rpm", {0.0, 20000.0, true, false});
+  m->finish();
+
+  read_material_tool(root, lib, a.cutting);
 
   auto part = root.table("part", true);
   a.diameter_m = part->number("diameter_mm", {0.0, 5000.0, true, false}) * kMm;
@@ -235,6 +249,169 @@ void read_controller(TableReader& root, sim::RigAConfig& a) {
   c->finish();
 }
 
+
+using Mode = control::AdaptiveFeedController::Mode;
+
+Mode mode_from(const std::string& s) {
+  return s == "fixed" ? Mode::Fixed : s == "force_feed" ? Mode::ForceFeed : Mode::ForceFeedSpeed;
+}
+const std::vector<std::string> kModes{"fixed", "force_feed", "force_speed"};
+
+std::vector<sim::SensorFault> read_faults(TableReader& root) {
+  std::vector<sim::SensorFault> out;
+  for (auto& f : root.tables("fault")) {
+    sim::SensorFault sf;
+    const std::string k = f.choice("kind", {"nan", "stuck", "out_of_range"});
+    sf.kind = k == "nan" ? sim::SensorFault::Kind::NotFinite
+              : k == "stuck" ? sim::SensorFault::Kind::Stuck
+                             : sim::SensorFault::Kind::OutOfRange;
+    sf.at_s = f.number("at_s", Range::non_negative());
+    sf.duration_s = f.number("duration_s", Range::positive(), 1e300);
+    f.finish();
+    out.push_back(sf);
+  }
+  return out;
+}
+
+void read_system_e(TableReader& root, const MaterialLibrary& lib, Scenario& sc) {
+  auto& e = sc.e;
+  read_material_tool(root, lib, e.cutting, &e.disturbances);
+
+  auto st = root.table("stock", true);
+  for (auto& b : st->tables("blank")) {
+    e.stock.blank_diameter_mm.push_back(
+        {b.number("at_mm", Range::any()), b.number("diameter_mm", {0.0, 5000.0, true, false})});
+    b.finish();
+  }
+  if (e.stock.blank_diameter_mm.empty()) st->fail("blank", "at least one {at_mm, diameter_mm} point");
+  for (std::size_t i = 1; i < e.stock.blank_diameter_mm.size(); ++i)
+    if (!(e.stock.blank_diameter_mm[i].at_mm > e.stock.blank_diameter_mm[i - 1].at_mm))
+      st->fail("blank", "at_mm must increase from point to point");
+  e.stock.eccentricity_mm = st->number("eccentricity_mm", Range::closed(0, 50), 0.0);
+  for (auto& p : st->tables("passes")) {
+    cutting::Pass k;
+    k.z_start_mm = p.number("z_start_mm", Range::any());
+    k.z_end_mm = p.number("z_end_mm", Range::any());
+    k.diameter_mm = p.number("diameter_mm", {0.0, 5000.0, true, false});
+    if (!(k.z_end_mm > k.z_start_mm)) p.fail("z_end_mm", "must exceed z_start_mm");
+    p.finish();
+    e.stock.passes.push_back(k);
+  }
+  if (e.stock.passes.empty()) st->fail("passes", "at least one pass {z_start_mm, z_end_mm, diameter_mm}");
+  for (auto& h : st->tables("hardness")) {
+    e.disturbances.hardness.push_back({h.number("at_mm", Range::any()), h.number("factor", {0.0, 10.0, true, false})});
+    h.finish();
+  }
+  for (std::size_t i = 1; i < e.disturbances.hardness.size(); ++i)
+    if (!(e.disturbances.hardness[i].at_mm > e.disturbances.hardness[i - 1].at_mm))
+      st->fail("hardness", "at_mm must increase from point to point");
+  e.disturbances.random_sigma_mm = st->number("random_depth_sigma_mm", Range::closed(0, 10), 0.0);
+  e.disturbances.random_correlation_mm = st->number("random_depth_correlation_mm", Range::positive(), 20.0);
+  e.disturbances.seed = sc.run.seed;
+  e.approach_mm = st->number("approach_mm", Range::closed(0, 1000), 2.0);
+  st->finish();
+
+  auto ax = root.table("feed_axis", true);
+  e.axis.time_constant_s = ax->number("time_constant_ms", {0.0, 1000.0, true, false}, 10.0) * 1e-3;
+  e.rapid_m_per_s = ax->number("rapid_mm_per_min", {0.0, 1e6, true, false}, 6000.0) / 60000.0;
+  e.axis.max_velocity_m_per_s = e.rapid_m_per_s;
+  e.axis.max_acceleration_m_per_s2 = ax->number("max_acceleration_m_per_s2", {0.0, 1000.0, true, false}, 2.0);
+  e.axis.encoder_resolution_m = ax->number("encoder_resolution_um", {0.0, 1000.0, true, false}, 1.0) * 1e-6;
+  e.axis.velocity_window_s = ax->number("velocity_window_ms", {0.0, 10000.0, true, false}, 20.0) * 1e-3;
+  ax->finish();
+
+  auto sp = root.table("spindle", true);
+  auto& s = e.spindle;
+  s.inertia_kg_m2 = sp->number("inertia_kg_m2", {0.0, 1e4, true, false});
+  s.viscous_N_m_s = sp->number("viscous_N_m_s", Range::closed(0, 1e4), 0.01);
+  s.max_torque_N_m = sp->number("max_torque_N_m", {0.0, 1e6, true, false});
+  s.max_power_W = sp->number("max_power_kW", {0.0, 1e4, true, false}) * 1e3;
+  s.efficiency = sp->number("efficiency", {0.0, 1.0, true, false}, 0.85);
+  s.idle_p0_W = sp->number("idle_p0_W", Range::closed(0, 1e6), 0.0);
+  s.idle_p1_W_per_rpm = sp->number("idle_p1_W_per_rpm", Range::closed(0, 1e3), 0.0);
+  s.idle_p2_W_per_rpm2 = sp->number("idle_p2_W_per_rpm2", Range::closed(0, 10), 0.0);
+  s.kp_N_m_s = sp->number("kp_N_m_s", {0.0, 1e6, true, false}, 20.0);
+  s.ti_s = sp->number("ti_s", {0.0, 100.0, true, false}, 0.05);
+  s.max_accel_rpm_per_s = sp->number("max_accel_rpm_per_s", {0.0, 1e6, true, false}, 2000.0);
+  s.min_rpm = sp->number("min_rpm", {0.0, 1e5, true, false}, 10.0);
+  s.max_rpm = sp->number("max_rpm", {0.0, 1e5, true, false}, 4000.0);
+  if (!(s.max_rpm > s.min_rpm)) sp->fail("max_rpm", "must exceed min_rpm");
+  sp->finish();
+
+  auto se = root.table("sensor", true);
+  const std::string param = se->choice("parameter", {"Pz", "Py", "power"});
+  e.force_parameter = param == "Pz" ? sim::ForceParameter::Pz
+                      : param == "Py" ? sim::ForceParameter::Py
+                                      : sim::ForceParameter::Power;
+  const bool power = e.force_parameter == sim::ForceParameter::Power;
+  e.force_sensor.time_constant_s = se->number("time_constant_ms", Range::closed(0, 1e4), 2.0) * 1e-3;
+  e.force_sensor.noise_sigma = se->number(power ? "noise_W" : "noise_N", Range::closed(0, 1e6), 0.0);
+  e.force_sensor.range = se->number(power ? "range_W" : "range_N", {0.0, 1e9, true, false}, 1e5);
+  e.force_sensor.seed = sc.run.seed ^ 0x51ED2701ULL;
+  e.power_meter.time_constant_s = se->number("power_meter_time_constant_ms", Range::closed(0, 1e4), 20.0) * 1e-3;
+  e.power_meter.noise_sigma = se->number("power_meter_noise_W", Range::closed(0, 1e6), 0.0);
+  e.power_meter.range = 1e9;
+  e.power_meter.seed = sc.run.seed ^ 0xB0B0B0B0ULL;
+  se->finish();
+
+  auto c = root.table("controller", true);
+  auto& p = e.controller;
+  p.mode = mode_from(c->choice("type", kModes));
+  p.force_limit = power ? c->number("cut_power_limit_kW", {0.0, 1e4, true, false}) * 1e3
+                        : c->number("force_limit_N", {0.0, 1e7, true, false});
+  e.worst_case_feed = c->boolean("worst_case_feed", false);
+  p.feed_min_mm_per_rev = c->number("feed_min_mm_per_rev", {0.0, 10.0, true, false}, 0.05);
+  p.feed_max_mm_per_rev = c->number("feed_max_mm_per_rev", {0.0, 10.0, true, false}, 0.8);
+  if (!(p.feed_max_mm_per_rev > p.feed_min_mm_per_rev)) c->fail("feed_max_mm_per_rev", "must exceed feed_min_mm_per_rev");
+  p.feed_programmed_mm_per_rev = e.worst_case_feed
+                                     ? c->number("feed_mm_per_rev", {0.0, 10.0, true, false}, p.feed_min_mm_per_rev)
+                                     : c->number("feed_mm_per_rev", {0.0, 10.0, true, false});
+  if (!e.worst_case_feed &&
+      (p.feed_programmed_mm_per_rev < p.feed_min_mm_per_rev || p.feed_programmed_mm_per_rev > p.feed_max_mm_per_rev))
+    c->fail("feed_mm_per_rev", "must lie in [feed_min_mm_per_rev, feed_max_mm_per_rev]");
+  p.allow_above_programmed = c->boolean("allow_above_programmed", false);
+  p.air_feed_mm_per_rev = c->number("air_feed_mm_per_rev", {0.0, 10.0, true, false}, p.feed_programmed_mm_per_rev);
+  p.speed_programmed_m_per_min = c->number("speed_m_per_min", {0.0, 2000.0, true, false});
+  p.feed_planned_mm_per_rev = c->number("planned_feed_mm_per_rev", {0.0, 10.0, true, false}, p.feed_programmed_mm_per_rev);
+  e.planned_depth_mm = c->number("planned_depth_mm", {0.0, 50.0, true, false});
+  {
+    // y_v defaults to the material's tool-life exponent for the planned feed.
+    double yv = 0.2;
+    const auto& m = e.cutting.material;
+    for (int i = 0; i < m.tool_life_ranges; ++i)
+      if (p.feed_planned_mm_per_rev <= m.tool_life[static_cast<std::size_t>(i)].feed_max_mm_per_rev) {
+        yv = m.tool_life[static_cast<std::size_t>(i)].yv;
+        break;
+      }
+    p.y_v = c->number("y_v", Range::closed(0, 1.5), yv);
+  }
+  p.period_s = c->number("period_ms", {0.0, 1000.0, true, false}, 2.0) * 1e-3;
+  p.kp = c->number("kp", Range::closed(0, 100), 0.5);
+  p.ti_s = c->number("ti_s", Range::closed(0, 100), 0.1);
+  p.feed_rate_limit_per_s = c->number("feed_rate_limit_per_s", {0.0, 1e3, true, false}, 2.0);
+  p.speed_rate_limit_m_per_min_per_s = c->number("speed_rate_limit_m_per_min_per_s", {0.0, 1e5, true, false}, 100.0);
+  p.air_threshold = c->number("air_threshold", {0.0, 0.5, true, true}, 0.1);
+  p.air_time_s = c->number("air_time_ms", Range::closed(0, 1e4), 50.0) * 1e-3;
+  p.overload_margin = c->number("overload_margin", Range::closed(0, 10), 0.3);
+  p.overload_time_s = c->number("overload_time_ms", Range::closed(0, 1e5), 200.0) * 1e-3;
+  p.breakage_spike = c->number("breakage_spike", {1.0, 100.0, true, false}, 2.5);
+  p.breakage_drop_window_s = c->number("breakage_drop_window_ms", Range::closed(0, 1e4), 10.0) * 1e-3;
+  p.rpm_min = s.min_rpm;
+  p.rpm_max = s.max_rpm;
+  p.cut_power_max_W = c->number("cut_power_max_kW", {0.0, 1e4, true, false}, 0.9 * s.max_power_W * s.efficiency / 1e3) * 1e3;
+  p.sensor_monitor.min = c->number("sensor_min", Range::any(), -0.2 * p.force_limit);
+  p.sensor_monitor.max = c->number("sensor_max", Range::any(), e.force_sensor.range);
+  p.sensor_monitor.stuck_time_s = c->number("sensor_stuck_ms", Range::closed(0, 1e5), 100.0) * 1e-3;
+  if (!(p.sensor_monitor.min < p.sensor_monitor.max)) c->fail("sensor_max", "must exceed sensor_min");
+  c->finish();
+
+  if (auto cmp = root.table("compare")) {
+    for (const auto& n : cmp->choices("controllers", kModes)) sc.compare_modes.push_back(mode_from(n));
+    cmp->finish();
+  }
+  e.faults = read_faults(root);
+}
+
 sim::ControllerKind controller_from(const std::string& s) {
   return s == "aim"   ? sim::ControllerKind::Aim
          : s == "fim" ? sim::ControllerKind::Fim
@@ -253,6 +430,15 @@ std::string controller_kind_name(sim::ControllerKind k) {
   }
   return "?";
 }
+std::string adaptive_mode_name(control::AdaptiveFeedController::Mode m) {
+  switch (m) {
+    case control::AdaptiveFeedController::Mode::Fixed: return "fixed feed and speed";
+    case control::AdaptiveFeedController::Mode::ForceFeed: return "force by feed (prior art)";
+    case control::AdaptiveFeedController::Mode::ForceFeedSpeed: return "force by feed + speed law (seed 004)";
+  }
+  return "?";
+}
+
 std::string regulator_kind_name(sim::RegulatorKind k) {
   return k == sim::RegulatorKind::Throttle ? "continuous throttle" : "pulsed regulator";
 }
@@ -263,11 +449,22 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
   TableReader root(doc.root(), label, "");
   Scenario sc;
   sc.file = label;
-  sc.system = root.choice("system", {"A"});
+  sc.system = root.choice("system", {"A", "E"});
   sc.name = root.string("name");
   if (sc.name.empty()) root.fail("name", "must not be empty");
   sc.description = root.string("description", "");
   read_run(root, sc.run);
+  if (sc.system == "E") {
+    read_system_e(root, lib, sc);
+    root.finish();
+    sim::RigE probe;
+    try {
+      probe.configure(sc.e, sc.run.step_s, sc.run.record_interval_s, sc.run.step_s * 4);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(located(label, 0, 0, std::string("inconsistent scenario: ") + e.what()));
+    }
+    return sc;
+  }
   auto& a = sc.a;
   read_cutting(root, lib, a, sc.run.seed);
   read_regulator(root, a);
@@ -299,17 +496,7 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
       sw->fail("leak_estimate_factor", "a sweep of the controller's K_leak needs a controller");
     sw->finish();
   }
-  for (auto& f : root.tables("fault")) {
-    sim::SensorFault sf;
-    const std::string k = f.choice("kind", {"nan", "stuck", "out_of_range"});
-    sf.kind = k == "nan"     ? sim::SensorFault::Kind::NotFinite
-              : k == "stuck" ? sim::SensorFault::Kind::Stuck
-                             : sim::SensorFault::Kind::OutOfRange;
-    sf.at_s = f.number("at_s", Range::non_negative());
-    sf.duration_s = f.number("duration_s", Range::positive(), 1e300);
-    f.finish();
-    a.faults.push_back(sf);
-  }
+  a.faults = read_faults(root);
   root.finish();
   // Cross-checks that need the whole scenario, reported against the key that decides them.
   sim::RigA probe;

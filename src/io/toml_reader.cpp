@@ -1,5 +1,6 @@
 #include "lathectl/io/toml_reader.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -197,6 +198,26 @@ std::vector<double> TableReader::numbers(std::string_view key, Range range, std:
   }
   if (out.size() < min_count)
     fail(key, "expected at least " + std::to_string(min_count) + " numbers");
+  return out;
+}
+
+std::vector<std::string> TableReader::choices(std::string_view key,
+                                              const std::vector<std::string>& allowed) {
+  std::string list;
+  for (const auto& c : allowed) list += (list.empty() ? "\"" : ", \"") + c + "\"";
+  const toml::node* n = get(key);
+  if (!n) fail(key, "missing; expected an array of " + list);
+  auto a = n->as_array();
+  if (!a || a->empty()) fail(key, "expected a non-empty array of " + list);
+  std::vector<std::string> out;
+  for (const auto& e : *a) {
+    auto str = e.as_string();
+    if (!str) fail(key, "expected strings, one of " + list);
+    const std::string v = str->get();
+    if (std::find(allowed.begin(), allowed.end(), v) == allowed.end())
+      fail(key, "expected each of " + list + ", got \"" + v + "\"");
+    out.push_back(v);
+  }
   return out;
 }
 

@@ -14,7 +14,7 @@ expect_rc() {  # expected_rc description command...
 }
 
 # --help on every command
-for c in "" run check demo design "design pulse-regulator"; do
+for c in "" run check demo design "design pulse-regulator" "design adaptive-speed"; do
   expect_rc 0 "--help for '$c'" $bin $c --help
 done
 # every example validates
@@ -61,6 +61,56 @@ j = json.load(open(sys.argv[1]))
 assert abs(j["si"]["Q_m3_per_s"] / 4.4308e-6 - 1) < 1e-3, j["si"]["Q_m3_per_s"]
 assert abs(j["shop"]["duty_pct"] - 20) < 1e-9
 PY
+
+# design adaptive-speed (seed 004 and the handbook tool-life law), JSON against hand-worked values:
+# V_opt = V_p·(S_p/S)^yv = 150·(0.3/0.15)^0.35 = 150·2^0.35 = 150·e^(0.35·0.693147)
+#       = 150·e^0.242601 = 150·1.274561 = 191.184 m/min
+expect_rc 0 "adaptive-speed V_opt" $bin design adaptive-speed --Vp 150 --Sp 0.3 --yv 0.35 --S 0.15 --json
+python3 - "$work/out.txt" <<'PY' || bad "adaptive-speed V_opt json: $(cat "$work/out.txt")"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert abs(j["results"]["V_opt_m_per_min"] - 191.184) < 1e-3, j["results"]
+assert j["inputs"]["Vp_m_per_min"] == 150 and j["inputs"]["S_mm_per_rev"] == 0.15, j["inputs"]
+assert set(j["results"]) == {"V_opt_m_per_min"}, j["results"]  # only the complete group
+PY
+# Handbook (Kosilova & Meshcheryakov, vol. 2, table 17), steel 45, T15K6, s <= 0.7 mm/rev:
+# Cv = 350, xv = 0.15, yv = 0.35, m = 0.2; t = 3 mm, s = 0.5 mm/rev, T = 60 min:
+# V = 350/(60^0.2·3^0.15·0.5^0.35) = 350/(2.267933·1.179148·0.784584) = 350/2.098157 = 166.813 m/min;
+# back: T at V = 166.813 is 60 min (60.0001); s = F/n = 150/1000 = 0.15 mm/rev.
+expect_rc 0 "adaptive-speed tool life" $bin design adaptive-speed --Cv 350 --m 0.2 --xv 0.15 --yv 0.35 \
+  --t 3 --s 0.5 --T-target 60 --V 166.813 --F 150 --n 1000 --json
+python3 - "$work/out.txt" <<'PY' || bad "adaptive-speed tool-life json: $(cat "$work/out.txt")"
+import json, sys
+r = json.load(open(sys.argv[1]))["results"]
+assert abs(r["speed_for_life_m_per_min"] - 166.813) < 1e-3, r
+assert abs(r["tool_life_min"] / 60 - 1) < 1e-4, r
+assert abs(r["feed_per_rev_mm_per_rev"] - 0.15) < 1e-12, r
+assert "V_opt_m_per_min" not in r
+PY
+# The same from the material file: steel_45's range s <= 0.7 holds Cv = 350, m = 0.2, xv = 0.15,
+# yv = 0.35 → 166.813 m/min. V_opt at S = 0.2 uses the range s <= 0.3 (yv = 0.20):
+# 150·(0.3/0.2)^0.2 = 150·1.5^0.2 = 150·e^(0.2·0.405465) = 150·1.084472 = 162.671 m/min.
+expect_rc 0 "adaptive-speed material" $bin design adaptive-speed --material steel_45 --t 3 --s 0.5 \
+  --T-target 60 --Vp 150 --Sp 0.3 --S 0.2 --json
+python3 - "$work/out.txt" <<'PY' || bad "adaptive-speed material json: $(cat "$work/out.txt")"
+import json, sys
+j = json.load(open(sys.argv[1]))
+r, c = j["results"], j["coefficients"]
+assert abs(r["speed_for_life_m_per_min"] - 166.813) < 1e-3, r
+assert abs(r["V_opt_m_per_min"] - 162.671) < 1e-3, r
+assert c["tool_life"]["Cv"] == 350 and c["tool_life"]["range_feed_max_mm_per_rev"] == 0.7, c
+assert c["V_opt"]["yv"] == 0.2 and j["inputs"]["material"] == "steel_45", j
+PY
+expect_rc 0 "adaptive-speed table" $bin design adaptive-speed --F 150 --n 1000
+grep -q "feed per revolution.* 0.15 mm/rev" "$work/out.txt" || bad "adaptive-speed table: $(cat "$work/out.txt")"
+# missing or bad inputs: exit 2, one line
+expect_rc 2 "adaptive-speed without inputs" $bin design adaptive-speed
+grep -q "nothing to compute.*--Vp --Sp --yv --S.*--T-target.*--F --n" "$work/err.txt" || bad "adaptive-speed groups message: $(cat "$work/err.txt")"
+[ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "adaptive-speed error message is not one line"
+expect_rc 2 "adaptive-speed incomplete group" $bin design adaptive-speed --Vp 150 --Sp 0.3 --S 0.15 --json
+expect_rc 2 "adaptive-speed unknown material" $bin design adaptive-speed --material unobtainium --t 3 --s 0.5 --T-target 60
+grep -q "unknown material 'unobtainium'" "$work/err.txt" || bad "unknown-material message: $(cat "$work/err.txt")"
+expect_rc 2 "adaptive-speed negative feed rate" $bin design adaptive-speed --F -150 --n 1000
 
 echo "cli: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -28,7 +28,11 @@ enum class Reason : std::uint16_t {
   SensorStuck = 12,       // sensor sample unchanged for longer than allowed
   Overload = 20,          // force above limit too long with feed already at minimum
   ToolBreakage = 21,      // sudden force drop or spike
-  AirCut = 30,            // tool not in the cut
+  AirCut = 30,            // tool not in the cut: air feed
+  Engaged = 31,           // tool entered the cut: feed dropped to the programmed value, PI preset
+  NotInFeedBlock = 32,    // rapid / non-cutting block: adaptive control inactive
+  SpindleSpeedLimit = 40, // speed command clamped to the spindle's range
+  SpindlePowerLimit = 41, // speed command reduced to respect the spindle's power
 };
 
 constexpr std::string_view reason_name(Reason r) noexcept {
@@ -53,6 +57,14 @@ constexpr std::string_view reason_name(Reason r) noexcept {
       return "tool_breakage";
     case Reason::AirCut:
       return "air_cut";
+    case Reason::Engaged:
+      return "engaged";
+    case Reason::NotInFeedBlock:
+      return "not_in_feed_block";
+    case Reason::SpindleSpeedLimit:
+      return "spindle_speed_limit";
+    case Reason::SpindlePowerLimit:
+      return "spindle_power_limit";
   }
   return "unknown";
 }

@@ -48,6 +48,8 @@ struct LocalCut {
 class Disturbances {
  public:
   void configure(const DisturbanceParams& p);  // throws std::invalid_argument
+  // Advances the random allowance (OU process) to travel x and returns it [mm].
+  double random_allowance_mm(double travel_mm) noexcept;
   // Advances the random allowance to travel x (monotone or not) and evaluates the local cut.
   LocalCut at(double travel_mm, double spindle_angle_rad, double time_in_cut_s) noexcept;
   // Depth of the deterministic profile alone (no runout, no random part).

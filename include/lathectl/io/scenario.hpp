@@ -13,6 +13,7 @@
 
 #include "lathectl/io/materials.hpp"
 #include "lathectl/sim/rig_a.hpp"
+#include "lathectl/sim/rig_e.hpp"
 
 namespace lathectl::io {
 
@@ -37,6 +38,8 @@ struct Scenario {
   std::string description;
   RunSettings run;
   sim::RigAConfig a;  // system A
+  sim::RigEConfig e;  // system E
+  std::vector<control::AdaptiveFeedController::Mode> compare_modes;  // system E: overlaid runs
   std::optional<Comparison> compare;
   std::vector<double> sweep_leak_estimate_factor;  // controller K_leak / true K_leak
 };
@@ -47,5 +50,6 @@ Scenario load_scenario(const std::string& path, const MaterialLibrary& materials
 
 std::string controller_kind_name(sim::ControllerKind k);
 std::string regulator_kind_name(sim::RegulatorKind k);
+std::string adaptive_mode_name(control::AdaptiveFeedController::Mode m);
 
 }  // namespace lathectl::io

@@ -62,6 +62,8 @@ class TableReader {
   std::string choice(std::string_view key, const std::vector<std::string>& choices,
                      std::optional<std::string> fallback = std::nullopt);
   std::vector<double> numbers(std::string_view key, Range range, std::size_t min_count = 0);
+  // A non-empty array of strings, each one of `choices`.
+  std::vector<std::string> choices(std::string_view key, const std::vector<std::string>& choices);
   std::optional<TableReader> table(std::string_view key, bool required = false);
   // Array of tables: [[key]] or key = [ {..}, {..} ].
   std::vector<TableReader> tables(std::string_view key);

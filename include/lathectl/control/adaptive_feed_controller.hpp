@@ -1,0 +1,131 @@
+#pragma once
+// Adaptive lathe control of seed 004 and its prior art, in one structure (drawing numbers):
+//
+//   force setter 6 ─→ comparator 5 ←─ sensor 4 (force parameter: Pz, Py or cutting power)
+//        → feed regulator 7 (PI on the normalised error, anti-windup) → limiter 8:
+//          s_min ≤ s ≤ s_max (setters 9, 10), s = F/n from feed-rate sensor 12 and speed
+//          sensor 13 (computer 11) → feed drive 1, as a feed-rate command s·n
+//   seed 004 adds: divider 14 (S_p / S_cur), power block 16 (^y_v), multiplier 17 (× V_p):
+//          V_opt = V_p · (S_p / S_cur)^{y_v}
+//        → comparator 19 ←─ cutting-speed sensor 20 → spindle regulator: n = n_meas·V_cmd/V_meas
+//          (the current diameter from sensors 20 and 13), clamped to the spindle's speed range
+//          and to its power: V_cmd ≤ V_meas · P_max / P_cut.
+//
+// Modes: Fixed (programmed feed and speed, the baseline), ForceFeed (prior art: force held by
+// feed, speed constant), ForceFeedSpeed (seed 004: plus the speed law).
+//
+// What a machinist demands of a real one, beyond the drawing:
+//   - air-cut detection: force below air_threshold·limit for air_time_s → air feed (may exceed
+//     the programmed feed: "feed up in air"); on contact (force above the threshold) the feed
+//     drops at once to the entry feed and the PI is preset there, then rises at its rate limit
+//     (bumpless engagement: the first revolution's chip already carries the air feed);
+//   - outside feed blocks (rapids) the controller is inactive and restarts bumpless;
+//   - feed never above the programmed value in cut unless allow_above_programmed;
+//   - rate limits on feed per revolution and on cutting speed;
+//   - overload alarm: force above (1 + overload_margin)·limit for overload_time_s while the feed
+//     is already at s_min → feed hold;
+//   - tool-breakage alarm: force spike above breakage_spike·limit, or a drop from above half the
+//     limit to below the air threshold within breakage_drop_window_s inside a feed block →
+//     feed hold;
+//   - sensor lost, stuck, NaN or out of range → feed hold, alarm, reason code;
+//   - every limit, hold or alarm sets a Reason; alarms latch until reset_alarm().
+// Real-time: configure() validates and may throw; update() never allocates, throws, locks or logs.
+
+#include "lathectl/control/building_blocks.hpp"
+#include "lathectl/control/types.hpp"
+
+namespace lathectl::control {
+
+class AdaptiveFeedController {
+ public:
+  enum class Mode { Fixed, ForceFeed, ForceFeedSpeed };
+
+  struct Params {
+    Mode mode = Mode::ForceFeedSpeed;
+    double period_s = 0.002;                 // control period
+    double force_limit = 1000.0;             // setter 6, in the sensor's unit (N or W)
+    double feed_programmed_mm_per_rev = 0.4; // programmed feed (fixed mode's feed)
+    double feed_min_mm_per_rev = 0.05;       // setter 10
+    double feed_max_mm_per_rev = 0.6;        // setter 9
+    bool allow_above_programmed = false;
+    double air_feed_mm_per_rev = 0.4;        // feed while in air
+    double entry_feed_mm_per_rev = 0.05;     // feed the tool drops to on contact (bumpless entry)
+    double speed_programmed_m_per_min = 150.0;  // V_p, setter 18 (fixed and prior art: V)
+    double feed_planned_mm_per_rev = 0.4;    // S_p, setter 15
+    double y_v = 0.35;                       // exponent of feed in the tool-life formula
+    // Beyond the seed: also correct the speed for the depth of cut, V·(t_p/t̂)^{x_v}, with t̂
+    // estimated from the force by the design model F = C·t^x·s^y·V^n (only for a force sensor).
+    // The seed's law keeps tool life at plan only at the planned depth; this keeps it for any
+    // depth. Off (seed law) when depth_exponent_xv = 0.
+    double depth_exponent_xv = 0.0;          // x_v of the tool-life formula; 0 = seed law
+    double depth_planned_mm = 3.0;           // t_p
+    double force_model_C = 0.0;              // F = C·t^x·s^y·V^n (N; mm, mm/rev, m/min)
+    double force_model_x = 1.0;
+    double force_model_y = 0.75;
+    double force_model_n = -0.15;
+    double rpm_min = 10.0;
+    double rpm_max = 4000.0;
+    double cut_power_max_W = 1e9;            // spindle power available for cutting
+    double kp = 0.5;                         // PI on (limit − force)/limit → feed [fraction of programmed]
+    double ti_s = 0.1;
+    double feed_rate_limit_per_s = 2.0;      // max |ds/dt| as a fraction of the programmed feed per s
+    double speed_rate_limit_m_per_min_per_s = 200.0;
+    double air_threshold = 0.1;              // fraction of force_limit
+    double air_time_s = 0.05;
+    double overload_margin = 0.3;
+    double overload_time_s = 0.2;
+    double breakage_spike = 2.5;             // fraction of force_limit
+    double breakage_drop_window_s = 0.01;
+    SignalMonitor::Params sensor_monitor;
+  };
+
+  struct Input {
+    double force = 0.0;                  // sensor 4 (N or W)
+    double feed_rate_mm_per_min = 0.0;   // sensor 12
+    double rpm = 0.0;                    // sensor 13
+    double speed_m_per_min = 0.0;        // sensor 20 (V = π·D·n)
+    double cut_power_W = 0.0;            // spindle power minus idle power at this speed
+    bool feed_block = true;              // a cutting (G1) block is active
+  };
+
+  struct Output {
+    double feed_per_rev_mm = 0.0;        // commanded feed per revolution (0 on feed hold)
+    double feed_rate_mm_per_min = 0.0;   // to the feed drive: s·n_meas
+    double speed_m_per_min = 0.0;        // commanded cutting speed
+    double rpm = 0.0;                    // to the spindle drive
+    double speed_opt_m_per_min = 0.0;    // V_opt by seed 004 (for the record)
+    double depth_estimate_mm = 0.0;      // t̂ (depth-corrected law only)
+    bool in_cut = false;
+    bool feed_hold = false;
+    Reason reason = Reason::None;        // why the output is what it is
+    bool alarm = false;
+    Reason alarm_reason = Reason::None;
+  };
+
+  void configure(const Params& p);  // throws std::invalid_argument
+  // One control period. Never allocates, throws, locks or logs. Before configure(): feed hold,
+  // Status::NotConfigured.
+  [[nodiscard]] Status update(const Input& in, Output& out) noexcept;
+  void reset_alarm() noexcept;
+  [[nodiscard]] const Params& params() const noexcept { return p_; }
+
+ private:
+  double feed_ceiling() const noexcept;
+  Params p_{};
+  bool configured_ = false;
+  SignalMonitor monitor_;
+  PiRegulator pi_;
+  RateLimiter feed_ramp_;
+  RateLimiter speed_ramp_;
+  bool in_cut_ = false;
+  bool was_block_ = false;
+  double below_air_s_ = 0.0;
+  double over_s_ = 0.0;
+  double high_since_s_ = 1e9;   // time since the force was last above half the limit
+  bool alarm_ = false;
+  Reason alarm_reason_ = Reason::None;
+  double held_rpm_ = 0.0;
+  double depth_estimate_ = 0.0;
+};
+
+}  // namespace lathectl::control

@@ -1,0 +1,53 @@
+#pragma once
+// Spindle drive (system E, drive 2 with speed sensor 13), and its electrical power draw (the
+// power sensor of seeds 001 and 004).
+//
+//   J·dω/dt = T_m − T_cut − b·ω                         mechanics (ω [rad/s])
+//   T_m = clamp(PI(ω_cmd − ω), −T_lim(ω), T_lim(ω))     speed loop, anti-windup
+//   T_lim(ω) = min(T_max, P_max / max(|ω|, ω_base))     torque limit and constant-power range
+//   P_el = T_m·ω / η + P_idle(n)                        electrical power drawn [W]
+//   P_idle(n) = p0 + p1·n + p2·n²                       speed-dependent idle losses (n in rpm)
+// Integration: semi-implicit Euler on ω (the viscous term implicit). The speed command is
+// rate-limited by `max_accel_rpm_per_s` (the drive's ramp).
+
+namespace lathectl::drives {
+
+class SpindleDrive {
+ public:
+  struct Params {
+    double inertia_kg_m2 = 0.5;           // J (spindle, chuck, part) reduced to the spindle
+    double viscous_N_m_s = 0.01;          // b
+    double max_torque_N_m = 400.0;        // T_max
+    double max_power_W = 15000.0;         // P_max (mechanical, at the spindle)
+    double efficiency = 0.85;             // η of motor + transmission
+    double idle_p0_W = 300.0;             // P_idle(n) = p0 + p1·n + p2·n²
+    double idle_p1_W_per_rpm = 0.3;
+    double idle_p2_W_per_rpm2 = 1e-4;
+    double kp_N_m_s = 20.0;               // speed-loop proportional gain [N·m per rad/s]
+    double ti_s = 0.05;                   // speed-loop integral time
+    double max_accel_rpm_per_s = 2000.0;  // command ramp
+    double min_rpm = 10.0;
+    double max_rpm = 4000.0;
+  };
+  void configure(const Params& p);  // throws std::invalid_argument
+  void reset(double rpm) noexcept;  // steady at rpm, no load
+  // One step with the commanded speed [rpm] and the cutting torque [N·m].
+  void step(double dt, double rpm_cmd, double load_torque_N_m) noexcept;
+  [[nodiscard]] double rpm() const noexcept;
+  [[nodiscard]] double omega() const noexcept { return w_; }
+  [[nodiscard]] double motor_torque_N_m() const noexcept { return tm_; }
+  [[nodiscard]] double electrical_power_W() const noexcept;
+  [[nodiscard]] double idle_power_W(double rpm) const noexcept;
+  [[nodiscard]] bool torque_limited() const noexcept { return limited_; }
+  [[nodiscard]] const Params& params() const noexcept { return p_; }
+
+ private:
+  Params p_{};
+  double w_ = 0.0;        // rad/s
+  double w_cmd_ = 0.0;    // ramped command, rad/s
+  double integral_ = 0.0; // N·m
+  double tm_ = 0.0;
+  bool limited_ = false;
+};
+
+}  // namespace lathectl::drives

@@ -1,0 +1,12 @@
+#pragma once
+// System E's study: the scenario's run and the controllers it is compared with, metrics,
+// claims (force held, productivity order, tool life against plan, sensor faults), report.
+
+#include "lathectl/io/runner.hpp"
+#include "lathectl/io/scenario.hpp"
+
+namespace lathectl::io {
+
+RunOutput run_system_e(const Scenario& sc);
+
+}  // namespace lathectl::io

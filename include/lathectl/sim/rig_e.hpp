@@ -1,0 +1,128 @@
+#pragma once
+// Rig E: adaptive control of a CNC lathe (seed 004), wired as in its drawing:
+//
+//   setters 6 (force), 9/10 (s_max, s_min), 15 (S_p), 18 (V_p) ─→ controller (comparators 5, 19,
+//   regulator 7, limiter 8, computer 11, divider 14, power block 16, multiplier 17)
+//   ─→ feed drive 1 (servo axis, encoder = sensor 12) and spindle drive 2 (speed sensor 13)
+//   ─→ cutting process 3 (stock, passes, eccentricity, hardness, random allowance, wear)
+//   ─→ force-parameter sensor 4 (dynamometer Pz or Py, or cutting power from the spindle's
+//      power meter minus its idle power), cutting-speed sensor 20 (V = π·D·n)
+//
+// Chip thickness is the axial travel over the last revolution (not the instantaneous feed), so
+// feed changes reach the force over one revolution, and entering material builds the chip up
+// over the first revolution — as in a real cut.
+// The part is roughed pass by pass; between passes the axis returns at rapid traverse outside
+// a feed block. Tool life is accounted by Palmgren–Miner: ∫ dt / T(V, s, t), T from the
+// material's extended Taylor law; productivity as cycle time and material removed.
+
+#include <cstdint>
+#include <vector>
+
+#include "lathectl/control/adaptive_feed_controller.hpp"
+#include "lathectl/cutting/cutting_model.hpp"
+#include "lathectl/cutting/disturbances.hpp"
+#include "lathectl/cutting/stock.hpp"
+#include "lathectl/drives/feed_axis.hpp"
+#include "lathectl/drives/spindle_drive.hpp"
+#include "lathectl/sensors/force_sensor.hpp"
+#include "lathectl/sim/recorder.hpp"
+#include "lathectl/sim/rig_a.hpp"  // SensorFault
+
+namespace lathectl::sim {
+
+enum class ForceParameter { Pz, Py, Power };
+
+struct RigEConfig {
+  cutting::CuttingModel::Params cutting;
+  cutting::StockParams stock;
+  cutting::DisturbanceParams disturbances;  // random allowance, hardness, wear (no depth steps)
+  drives::FeedAxis::Params axis;
+  drives::SpindleDrive::Params spindle;
+  ForceParameter force_parameter = ForceParameter::Pz;
+  sensors::LaggedNoisySensor::Params force_sensor;  // in N (dynamometer) or W (power)
+  sensors::LaggedNoisySensor::Params power_meter;   // spindle electrical power [W]
+  control::AdaptiveFeedController::Params controller;
+  bool worst_case_feed = false;  // fixed mode: programmed feed so the worst case meets the limit
+  double planned_depth_mm = 2.0; // depth at which V_p, S_p give the planned tool life
+  double approach_mm = 2.0;      // air travel before each pass
+  double rapid_m_per_s = 0.1;
+  std::vector<SensorFault> faults;
+};
+
+class RigE {
+ public:
+  // Throws std::invalid_argument on an inconsistent configuration.
+  void configure(const RigEConfig& cfg, double dt_s, double record_interval_s, double max_duration_s);
+  void run() noexcept;  // until the last pass ends or max_duration_s
+  [[nodiscard]] bool step() noexcept;  // false when finished
+
+  [[nodiscard]] const Recorder& recorder() const noexcept { return rec_; }
+  [[nodiscard]] const RigEConfig& config() const noexcept { return cfg_; }
+  [[nodiscard]] bool finished() const noexcept { return pass_ >= cfg_.stock.passes.size(); }
+  [[nodiscard]] double cycle_time_s() const noexcept { return t_; }
+  [[nodiscard]] double time_in_cut_s() const noexcept { return t_cut_; }
+  [[nodiscard]] double tool_life_used() const noexcept { return life_used_; }
+  [[nodiscard]] double tool_life_planned_min() const noexcept { return life_plan_min_; }
+  [[nodiscard]] double material_removed_cm3() const noexcept { return removed_mm3_ / 1000.0; }
+  [[nodiscard]] double programmed_feed() const noexcept { return ctl_.params().feed_programmed_mm_per_rev; }
+  [[nodiscard]] double force_limit() const noexcept { return ctl_.params().force_limit; }
+  [[nodiscard]] bool numerically_sound() const noexcept { return sound_; }
+  // Time the controller first held the feed (feed command 0), or −1; exact, not recorded.
+  [[nodiscard]] double first_feed_hold_s() const noexcept { return first_hold_s_; }
+  // Worst-case feed: the largest s whose worst-case force parameter stays at the limit.
+  [[nodiscard]] static double worst_case_feed(const RigEConfig& cfg, const cutting::CuttingModel& cut,
+                                              const cutting::Stock& stock);
+
+ private:
+  double force_parameter(const cutting::Forces& f, double speed_m_per_min) const noexcept;
+  // Uncut chip thickness [mm]: the axial travel over the last spindle revolution, from where
+  // the tool met material in this pass (so the first revolution builds the chip up).
+  double chip_thickness_mm(double z_mm) noexcept;
+  double faulted(double value) noexcept;
+
+  RigEConfig cfg_{};
+  double dt_ = 5e-4;
+  double t_ = 0.0;
+  double max_t_ = 0.0;
+  std::size_t step_ = 0;
+  std::size_t record_every_ = 1;
+  std::size_t control_every_ = 1;
+  std::size_t pass_ = 0;
+  bool in_block_ = false;
+  double phi_ = 0.0;
+  double t_cut_ = 0.0;
+  double life_used_ = 0.0;
+  double life_plan_min_ = 0.0;
+  double removed_mm3_ = 0.0;
+  double stuck_value_ = 0.0;
+  double force_seen_ = 0.0;
+  bool sound_ = true;
+  double first_hold_s_ = -1.0;
+  double theta_ = 0.0;                // cumulative spindle angle [rad]
+  std::vector<double> hist_theta_;    // ring buffer: angle and axial position per step
+  std::vector<double> hist_z_;
+  std::size_t head_ = 0;
+  std::size_t tail_ = 0;
+  std::size_t count_ = 0;
+  double z_contact_mm_ = 0.0;
+  bool contact_ = false;
+  cutting::CuttingModel cut_;
+  cutting::Stock stock_;
+  cutting::Disturbances dist_;
+  drives::FeedAxis axis_;
+  drives::SpindleDrive spindle_;
+  sensors::LaggedNoisySensor force_sensor_;
+  sensors::LaggedNoisySensor power_meter_;
+  control::AdaptiveFeedController ctl_;
+  control::AdaptiveFeedController::Output out_{};
+  // accumulators over a record interval
+  double acc_param_ = 0.0;
+  double acc_pz_ = 0.0;
+  double acc_py_ = 0.0;
+  double acc_depth_ = 0.0;
+  double acc_power_ = 0.0;
+  std::size_t acc_n_ = 0;
+  Recorder rec_;
+};
+
+}  // namespace lathectl::sim

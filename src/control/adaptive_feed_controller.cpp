@@ -1,0 +1,212 @@
+#include "lathectl/control/adaptive_feed_controller.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace lathectl::control {
+
+void AdaptiveFeedController::configure(const Params& p) {
+  auto need = [](bool ok, const char* what) {
+    if (!ok) throw std::invalid_argument(std::string("adaptive controller: ") + what);
+  };
+  need(p.period_s > 0.0, "period must be > 0");
+  need(p.force_limit > 0.0, "force limit must be > 0");
+  need(p.feed_min_mm_per_rev > 0.0 && p.feed_min_mm_per_rev < p.feed_max_mm_per_rev,
+       "feed limits: 0 < s_min < s_max");
+  need(p.feed_programmed_mm_per_rev >= p.feed_min_mm_per_rev &&
+           p.feed_programmed_mm_per_rev <= p.feed_max_mm_per_rev,
+       "programmed feed must lie in [s_min, s_max]");
+  need(p.air_feed_mm_per_rev > 0.0, "air feed must be > 0");
+  need(p.entry_feed_mm_per_rev >= p.feed_min_mm_per_rev, "entry feed must be ≥ s_min");
+  need(p.depth_exponent_xv >= 0.0 && p.depth_planned_mm > 0.0, "x_v ≥ 0 and planned depth > 0");
+  need(p.depth_exponent_xv == 0.0 || (p.force_model_C > 0.0 && p.force_model_x > 0.0),
+       "the depth-corrected speed law needs the force model (C > 0, x > 0)");
+  need(p.speed_programmed_m_per_min > 0.0 && p.feed_planned_mm_per_rev > 0.0,
+       "planned speed V_p and feed S_p must be > 0");
+  need(p.y_v >= 0.0 && p.y_v < 2.0, "y_v must be in [0, 2)");
+  need(p.rpm_min > 0.0 && p.rpm_max > p.rpm_min, "spindle range: 0 < min < max");
+  need(p.cut_power_max_W > 0.0, "cutting power limit must be > 0");
+  need(p.kp >= 0.0 && p.ti_s >= 0.0, "PI gains must be ≥ 0");
+  need(p.feed_rate_limit_per_s > 0.0 && p.speed_rate_limit_m_per_min_per_s > 0.0,
+       "rate limits must be > 0");
+  need(p.air_threshold > 0.0 && p.air_threshold < 0.5, "air threshold in (0, 0.5)");
+  need(p.air_time_s >= 0.0 && p.overload_time_s >= 0.0 && p.breakage_drop_window_s >= 0.0,
+       "times must be ≥ 0");
+  need(p.overload_margin >= 0.0 && p.breakage_spike > 1.0, "overload margin ≥ 0, spike > 1");
+  p_ = p;
+  monitor_.configure(p.sensor_monitor);
+  const double s_prog = p.feed_programmed_mm_per_rev;
+  pi_.configure({p.kp * s_prog, p.ti_s, p.feed_min_mm_per_rev, feed_ceiling()});
+  feed_ramp_.configure(p.feed_rate_limit_per_s * s_prog);
+  speed_ramp_.configure(p.speed_rate_limit_m_per_min_per_s);
+  feed_ramp_.reset(s_prog);
+  speed_ramp_.reset(p.speed_programmed_m_per_min);
+  pi_.preset(s_prog);
+  in_cut_ = false;
+  was_block_ = false;
+  below_air_s_ = over_s_ = 0.0;
+  high_since_s_ = 1e9;
+  alarm_ = false;
+  alarm_reason_ = Reason::None;
+  held_rpm_ = 0.0;
+  depth_estimate_ = p.depth_planned_mm;
+  configured_ = true;
+}
+
+double AdaptiveFeedController::feed_ceiling() const noexcept {
+  return p_.allow_above_programmed ? p_.feed_max_mm_per_rev
+                                   : std::min(p_.feed_max_mm_per_rev, p_.feed_programmed_mm_per_rev);
+}
+
+void AdaptiveFeedController::reset_alarm() noexcept {
+  alarm_ = false;
+  alarm_reason_ = Reason::None;
+  monitor_.reset();
+  over_s_ = 0.0;
+  high_since_s_ = 1e9;
+}
+
+Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
+  if (!configured_) {
+    out = {};
+    out.feed_hold = true;
+    return Status::NotConfigured;
+  }
+  const double dt = p_.period_s;
+  const double limit = p_.force_limit;
+  const double s_prog = p_.feed_programmed_mm_per_rev;
+  const bool adaptive = p_.mode != Mode::Fixed;
+  Reason reason = Reason::None;
+
+  // Monitoring: sensor validity, breakage, overload. The fixed baseline has no sensor.
+  auto raise = [&](Reason r) {
+    if (!alarm_) {
+      alarm_ = true;
+      alarm_reason_ = r;
+    }
+  };
+  if (adaptive) {
+    const Reason fault = monitor_.check(in.force, dt);
+    if (fault != Reason::None) raise(fault);
+  }
+  const bool sensor_ok = std::isfinite(in.force);
+
+  if (!in.feed_block) {  // rapid: inactive, restart bumpless at the next feed block
+    in_cut_ = false;
+    below_air_s_ = over_s_ = 0.0;
+    high_since_s_ = 1e9;
+    pi_.preset(s_prog);
+    feed_ramp_.reset(s_prog);
+    reason = Reason::NotInFeedBlock;
+  } else if (adaptive && sensor_ok && !alarm_) {
+    const double air = p_.air_threshold * limit;
+    if (in.force > air) {
+      if (!in_cut_) {  // contact: drop to the entry feed at once, preset the PI there
+        in_cut_ = true;
+        const double entry = std::min({feed_ramp_.value(), s_prog, p_.entry_feed_mm_per_rev});
+        pi_.preset(entry);
+        feed_ramp_.reset(entry);
+        reason = Reason::Engaged;
+      }
+      below_air_s_ = 0.0;
+    } else if (in_cut_) {
+      below_air_s_ += dt;
+      if (below_air_s_ >= p_.air_time_s) in_cut_ = false;
+    }
+    // Breakage: a spike, or a collapse from a loaded cut to nothing within a few ms.
+    if (in.force > p_.breakage_spike * limit) raise(Reason::ToolBreakage);
+    high_since_s_ = in.force > 0.5 * limit ? 0.0 : high_since_s_ + dt;
+    if (in.force < air && high_since_s_ <= p_.breakage_drop_window_s) raise(Reason::ToolBreakage);
+    // Overload: above the limit too long although the feed is already at its minimum.
+    const bool at_min = feed_ramp_.value() <= p_.feed_min_mm_per_rev * (1.0 + 1e-9);
+    over_s_ = (in.force > (1.0 + p_.overload_margin) * limit && at_min) ? over_s_ + dt : 0.0;
+    if (over_s_ >= p_.overload_time_s && p_.overload_time_s > 0.0) raise(Reason::Overload);
+  }
+  was_block_ = in.feed_block;
+
+  // Feed per revolution.
+  double s = s_prog;
+  if (in.feed_block && adaptive && !alarm_) {
+    double target = s_prog;
+    if (in_cut_) {
+      Reason lim = Reason::None;
+      target = pi_.update((limit - in.force) / limit, dt, lim);
+      if (reason == Reason::None) reason = lim;
+    } else {
+      target = std::min(p_.air_feed_mm_per_rev, p_.feed_max_mm_per_rev);
+      if (reason == Reason::None) reason = Reason::AirCut;
+    }
+    if (target < feed_ramp_.value()) {
+      feed_ramp_.reset(target);  // decreases are never delayed: they protect the tool
+    } else {
+      bool ramped = false;
+      (void)feed_ramp_.update(target, dt, ramped);
+      if (ramped && reason == Reason::None) reason = Reason::RateLimited;
+    }
+    s = feed_ramp_.value();
+  }
+
+  // Cutting speed.
+  double v_opt = p_.speed_programmed_m_per_min;
+  double v_target = p_.speed_programmed_m_per_min;
+  if (p_.mode == Mode::ForceFeedSpeed) {
+    if (in_cut_ && in.rpm > 0.0 && in.feed_rate_mm_per_min > 0.0) {
+      const double s_cur = std::clamp(in.feed_rate_mm_per_min / in.rpm, p_.feed_min_mm_per_rev,
+                                      p_.feed_max_mm_per_rev);  // computer 11
+      v_opt = p_.speed_programmed_m_per_min * std::pow(p_.feed_planned_mm_per_rev / s_cur, p_.y_v);
+      if (p_.depth_exponent_xv > 0.0 && in.force > 0.0 && in.speed_m_per_min > 0.0) {
+        const double t_hat = std::pow(in.force / (p_.force_model_C * std::pow(s_cur, p_.force_model_y) *
+                                                  std::pow(in.speed_m_per_min, p_.force_model_n)),
+                                      1.0 / p_.force_model_x);
+        depth_estimate_ = std::clamp(t_hat, 0.05 * p_.depth_planned_mm, 20.0 * p_.depth_planned_mm);
+        v_opt *= std::pow(p_.depth_planned_mm / depth_estimate_, p_.depth_exponent_xv);
+      }
+    }
+    v_target = v_opt;
+    if (in.cut_power_W > 0.0 && in.speed_m_per_min > 0.0) {
+      const double v_power = in.speed_m_per_min * p_.cut_power_max_W / in.cut_power_W;
+      if (v_power < v_target) {
+        v_target = v_power;
+        if (reason == Reason::None) reason = Reason::SpindlePowerLimit;
+      }
+    }
+  }
+  bool ramped = false;
+  const double v_cmd = speed_ramp_.update(v_target, dt, ramped);
+
+  // Spindle speed from the current diameter seen by sensors 20 and 13.
+  double rpm = held_rpm_;
+  if (in.speed_m_per_min > 0.0 && in.rpm > 0.0) rpm = in.rpm * v_cmd / in.speed_m_per_min;
+  if (rpm > p_.rpm_max || rpm < p_.rpm_min) {
+    rpm = std::clamp(rpm, p_.rpm_min, p_.rpm_max);
+    if (reason == Reason::None) reason = Reason::SpindleSpeedLimit;
+  }
+
+  out.in_cut = in_cut_;
+  out.speed_opt_m_per_min = v_opt;
+  out.depth_estimate_mm = depth_estimate_;
+  out.speed_m_per_min = v_cmd;
+  if (alarm_) {
+    out.feed_per_rev_mm = 0.0;
+    out.feed_rate_mm_per_min = 0.0;
+    out.feed_hold = true;
+    out.rpm = held_rpm_ > 0.0 ? held_rpm_ : rpm;  // the spindle keeps turning: retract safely
+    out.alarm = true;
+    out.alarm_reason = alarm_reason_;
+    out.reason = alarm_reason_;
+    return Status::Hold;
+  }
+  held_rpm_ = rpm;
+  out.feed_per_rev_mm = s;
+  out.feed_rate_mm_per_min = s * std::max(in.rpm, 0.0);
+  out.rpm = rpm;
+  out.feed_hold = false;
+  out.alarm = false;
+  out.alarm_reason = Reason::None;
+  out.reason = reason;
+  return reason == Reason::None || reason == Reason::Engaged ? Status::Ok : Status::Limited;
+}
+
+}  // namespace lathectl::control

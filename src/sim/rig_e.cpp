@@ -1,0 +1,292 @@
+#include "lathectl/sim/rig_e.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace lathectl::sim {
+
+namespace {
+constexpr std::size_t kChannels = 22;
+std::vector<Channel> rig_e_channels() {
+  return {{"time_s", "s"},
+          {"z_mm", "mm"},
+          {"pass", ""},
+          {"depth_mm", "mm"},
+          {"feed_per_rev_mm", "mm/rev"},
+          {"feed_rate_mm_per_min", "mm/min"},
+          {"force_parameter", "N or W"},
+          {"force_parameter_true", "N or W"},
+          {"force_Pz_N", "N"},
+          {"force_Py_N", "N"},
+          {"cut_power_kW", "kW"},
+          {"spindle_power_kW", "kW"},
+          {"spindle_rpm", "rpm"},
+          {"speed_m_per_min", "m/min"},
+          {"speed_opt_m_per_min", "m/min"},
+          {"feed_cmd_mm_per_rev", "mm/rev"},
+          {"tool_life_used", ""},
+          {"strength_factor", ""},
+          {"reason_code", ""},
+          {"alarm", ""},
+          {"feed_hold", ""},
+          {"in_cut", ""}};
+}
+}  // namespace
+
+double RigE::worst_case_feed(const RigEConfig& cfg, const cutting::CuttingModel& cut,
+                             const cutting::Stock& stock) {
+  const auto& d = cfg.disturbances;
+  double hard = 1.0;
+  for (const auto& h : d.hardness) hard = std::max(hard, h.value);
+  const double t_max = stock.max_depth_mm() + 3.0 * d.random_sigma_mm;
+  const double wear = 1.0 + d.wear_force_gain_per_mm * d.wear_VB0_mm;
+  const double v = cfg.controller.speed_programmed_m_per_min;
+  auto param = [&](double s) {
+    const auto f = cut.forces({t_max, s, v, hard, wear});
+    switch (cfg.force_parameter) {
+      case ForceParameter::Pz: return f.Pz;
+      case ForceParameter::Py: return f.Py;
+      case ForceParameter::Power: return cut.power_W(f, v);
+    }
+    return f.Pz;
+  };
+  double lo = cfg.controller.feed_min_mm_per_rev, hi = cfg.controller.feed_max_mm_per_rev;
+  if (param(lo) > cfg.controller.force_limit) return lo;
+  if (param(hi) <= cfg.controller.force_limit) return hi;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (param(mid) > cfg.controller.force_limit ? hi : lo) = mid;
+  }
+  return lo;
+}
+
+void RigE::configure(const RigEConfig& cfg, double dt, double record_interval, double max_duration) {
+  if (!(dt > 0.0) || !(record_interval >= dt) || !(max_duration > 0.0))
+    throw std::invalid_argument("run: need step > 0, record interval ≥ step, duration > 0");
+  if (max_duration / record_interval > 5e7)
+    throw std::invalid_argument("more than 5e7 recorded rows: increase record_interval_s");
+  cfg_ = cfg;
+  dt_ = dt;
+  max_t_ = max_duration;
+  t_ = t_cut_ = life_used_ = removed_mm3_ = 0.0;
+  step_ = 0;
+  pass_ = 0;
+  phi_ = 0.0;
+  sound_ = true;
+  first_hold_s_ = -1.0;
+  record_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(record_interval / dt)));
+  cut_.configure(cfg.cutting);
+  stock_.configure(cfg.stock);
+  auto dp = cfg.disturbances;
+  dp.depth_steps.clear();
+  dp.runout_mm = 0.0;
+  dist_.configure(dp);
+
+  auto cp = cfg.controller;
+  if (cfg.worst_case_feed) {
+    cp.feed_programmed_mm_per_rev = worst_case_feed(cfg, cut_, stock_);
+    cp.feed_min_mm_per_rev = std::min(cp.feed_min_mm_per_rev, cp.feed_programmed_mm_per_rev);
+  }
+  cp.air_feed_mm_per_rev = std::max(cp.air_feed_mm_per_rev, 1e-6);
+  ctl_.configure(cp);
+  control_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cp.period_s / dt)));
+  life_plan_min_ = cut_.tool_life_min(cp.speed_programmed_m_per_min, cp.feed_planned_mm_per_rev,
+                                      cfg.planned_depth_mm);
+
+  axis_.configure(cfg.axis, dt);
+  const auto& first = cfg.stock.passes.front();
+  axis_.reset((first.z_start_mm - cfg.approach_mm) * 1e-3, 0.0);
+  spindle_.configure(cfg.spindle);
+  const double d0 = stock_.surface_diameter_mm(0, first.z_start_mm);
+  const double rpm0 = std::clamp(cp.speed_programmed_m_per_min * 1000.0 / (std::numbers::pi * d0),
+                                 cfg.spindle.min_rpm, cfg.spindle.max_rpm);
+  spindle_.reset(rpm0);
+  force_sensor_.configure(cfg.force_sensor);
+  force_sensor_.reset(0.0);
+  const double rev_steps = 60.0 / cfg.spindle.min_rpm / dt;
+  if (rev_steps > 2e7)
+    throw std::invalid_argument("one revolution at the spindle's min_rpm spans more than 2e7 steps");
+  const auto hist = static_cast<std::size_t>(rev_steps) + 8;
+  hist_theta_.assign(hist, 0.0);
+  hist_z_.assign(hist, 0.0);
+  head_ = tail_ = count_ = 0;
+  theta_ = 0.0;
+  contact_ = false;
+  power_meter_.configure(cfg.power_meter);
+  power_meter_.reset(spindle_.electrical_power_W());
+  out_ = {};
+  out_.rpm = rpm0;
+  out_.feed_per_rev_mm = cp.feed_programmed_mm_per_rev;
+  out_.speed_m_per_min = cp.speed_programmed_m_per_min;
+  in_block_ = true;
+  stuck_value_ = force_seen_ = 0.0;
+  acc_param_ = acc_pz_ = acc_py_ = acc_depth_ = acc_power_ = 0.0;
+  acc_n_ = 0;
+  rec_ = Recorder(rig_e_channels(),
+                  static_cast<std::size_t>(max_duration / (dt * static_cast<double>(record_every_))) + 2);
+}
+
+double RigE::force_parameter(const cutting::Forces& f, double v) const noexcept {
+  switch (cfg_.force_parameter) {
+    case ForceParameter::Pz: return f.Pz;
+    case ForceParameter::Py: return f.Py;
+    case ForceParameter::Power: return cut_.power_W(f, v);
+  }
+  return f.Pz;
+}
+
+double RigE::chip_thickness_mm(double z_mm) noexcept {
+  const std::size_t n = hist_theta_.size();
+  head_ = (head_ + 1) % n;
+  hist_theta_[head_] = theta_;
+  hist_z_[head_] = z_mm;
+  if (count_ < n) ++count_;
+  const double target = theta_ - 2.0 * std::numbers::pi;
+  if (count_ < 2 || hist_theta_[(head_ + n - (count_ - 1)) % n] > target) {
+    tail_ = (head_ + n - (count_ - 1)) % n;  // less than one revolution recorded yet
+    return 0.0;
+  }
+  while (hist_theta_[(tail_ + 1) % n] <= target) tail_ = (tail_ + 1) % n;
+  const std::size_t next = (tail_ + 1) % n;
+  const double span = hist_theta_[next] - hist_theta_[tail_];
+  const double w = span > 0.0 ? (target - hist_theta_[tail_]) / span : 0.0;
+  double z_back = hist_z_[tail_] + w * (hist_z_[next] - hist_z_[tail_]);
+  if (contact_) z_back = std::max(z_back, z_contact_mm_);
+  return std::max(z_mm - z_back, 0.0);
+}
+
+double RigE::faulted(double value) noexcept {
+  for (const auto& f : cfg_.faults) {
+    if (t_ < f.at_s || t_ >= f.at_s + f.duration_s) continue;
+    switch (f.kind) {
+      case SensorFault::Kind::NotFinite: return std::nan("");
+      case SensorFault::Kind::OutOfRange: return cfg_.force_sensor.range * 2.0 + 1.0;
+      case SensorFault::Kind::Stuck: return stuck_value_;
+    }
+  }
+  stuck_value_ = value;
+  return value;
+}
+
+bool RigE::step() noexcept {
+  if (finished() || t_ >= max_t_) return false;
+  t_ += dt_;
+  ++step_;
+  const double rpm = spindle_.rpm();
+  phi_ = std::fmod(phi_ + spindle_.omega() * dt_, 2.0 * std::numbers::pi);
+  const auto& pass = cfg_.stock.passes[pass_];
+  const double z_mm = axis_.position_m() * 1000.0;
+
+  // Program: the feed block of this pass ends at its z_end; then a rapid to the next start.
+  if (in_block_ && z_mm >= pass.z_end_mm) in_block_ = false;
+  if (!in_block_) {
+    if (pass_ + 1 >= cfg_.stock.passes.size()) {
+      pass_ = cfg_.stock.passes.size();  // done
+      return false;
+    }
+    if (z_mm <= cfg_.stock.passes[pass_ + 1].z_start_mm - cfg_.approach_mm) {
+      ++pass_;
+      in_block_ = true;
+    }
+  }
+
+  // Cutting process.
+  theta_ += spindle_.omega() * dt_;
+  double depth = in_block_ ? stock_.depth_mm(pass_, z_mm, phi_) : 0.0;
+  if (depth > 0.0) depth = std::max(depth + dist_.random_allowance_mm(z_mm), 0.0);
+  if (depth > 0.0 && !contact_) {
+    contact_ = true;  // the tool meets material: the chip builds up from here
+    z_contact_mm_ = z_mm;
+  } else if (!in_block_ || stock_.depth_mm(pass_, z_mm, 0.5 * std::numbers::pi) <= 0.0) {
+    contact_ = false;  // out of material (between passes, or past the stock)
+  }
+  const double s = chip_thickness_mm(z_mm);
+  const double d_surface = stock_.surface_diameter_mm(pass_, z_mm);
+  const double v = std::numbers::pi * d_surface * rpm / 1000.0;  // sensor 20 [m/min]
+  const double strength = dist_.strength_factor(z_mm);
+  cutting::Forces f{};
+  if (depth > 0.0 && s > 0.0) {
+    f = cut_.forces({depth, s, v, strength, dist_.wear_factor(t_cut_)});
+    t_cut_ += dt_;
+    life_used_ += dt_ / (60.0 * cut_.tool_life_min(v, s, depth));
+    removed_mm3_ += depth * s * (rpm / 60.0) * std::numbers::pi * (d_surface - depth) * dt_;
+  }
+  const double cut_power = cut_.power_W(f, v);
+  const double torque = f.Pz * 0.5 * (d_surface - depth) * 1e-3;
+  spindle_.step(dt_, out_.rpm, torque);
+  const double true_param = force_parameter(f, v);
+  power_meter_.step(dt_, spindle_.electrical_power_W());
+  if (cfg_.force_parameter != ForceParameter::Power) force_sensor_.step(dt_, true_param);
+
+  if (step_ % control_every_ == 0) {
+    const double p_cut_est = power_meter_.sample() - spindle_.idle_power_W(spindle_.rpm());
+    // Sensor 4: the dynamometer, or the power meter minus the idle power at this speed.
+    const double measured =
+        cfg_.force_parameter == ForceParameter::Power ? p_cut_est : force_sensor_.sample();
+    force_seen_ = faulted(measured);
+    control::AdaptiveFeedController::Input in;
+    in.force = force_seen_;
+    in.feed_rate_mm_per_min = axis_.measured_velocity_m_per_s() * 60000.0;
+    in.rpm = spindle_.rpm();
+    in.speed_m_per_min = std::numbers::pi * d_surface * spindle_.rpm() / 1000.0;
+    in.cut_power_W = std::max(p_cut_est, 0.0);
+    in.feed_block = in_block_;
+    (void)ctl_.update(in, out_);
+    if (out_.feed_hold && first_hold_s_ < 0.0) first_hold_s_ = t_;
+  }
+  double v_cmd = 0.0;
+  if (!in_block_) {
+    v_cmd = -cfg_.rapid_m_per_s;
+  } else if (!out_.feed_hold) {
+    v_cmd = out_.feed_per_rev_mm * 1e-3 * spindle_.rpm() / 60.0;
+  }
+  axis_.step(v_cmd);
+
+  acc_param_ += true_param;
+  acc_pz_ += f.Pz;
+  acc_py_ += f.Py;
+  acc_depth_ += depth;
+  acc_power_ += cut_power;
+  ++acc_n_;
+  if (!std::isfinite(spindle_.omega()) || !std::isfinite(axis_.position_m())) sound_ = false;
+  if (step_ % record_every_ == 0) {
+    const double n = static_cast<double>(acc_n_);
+    const std::array<double, kChannels> row{
+        t_,
+        z_mm,
+        static_cast<double>(pass_),
+        acc_depth_ / n,
+        s,
+        axis_.measured_velocity_m_per_s() * 60000.0,
+        force_seen_,
+        acc_param_ / n,
+        acc_pz_ / n,
+        acc_py_ / n,
+        acc_power_ / n * 1e-3,
+        spindle_.electrical_power_W() * 1e-3,
+        spindle_.rpm(),
+        v,
+        out_.speed_opt_m_per_min,
+        out_.feed_per_rev_mm,
+        life_used_,
+        strength,
+        static_cast<double>(out_.reason),
+        out_.alarm ? 1.0 : 0.0,
+        out_.feed_hold ? 1.0 : 0.0,
+        out_.in_cut ? 1.0 : 0.0};
+    rec_.push_row(row);
+    acc_param_ = acc_pz_ = acc_py_ = acc_depth_ = acc_power_ = 0.0;
+    acc_n_ = 0;
+  }
+  return true;
+}
+
+void RigE::run() noexcept {
+  while (step()) {
+  }
+}
+
+}  // namespace lathectl::sim
