@@ -26,7 +26,9 @@ void AdaptiveFeedController::configure(const Params& p) {
   need(p.speed_programmed_m_per_min > 0.0 && p.feed_planned_mm_per_rev > 0.0,
        "planned speed V_p and feed S_p must be > 0");
   need(p.y_v >= 0.0 && p.y_v < 2.0, "y_v must be in [0, 2)");
+  need(p.speed_law_filter_s >= 0.0, "speed-law filter time must be ≥ 0");
   need(p.rpm_min > 0.0 && p.rpm_max > p.rpm_min, "spindle range: 0 < min < max");
+  need(60.0 / p.rpm_min / p.period_s < 1e7, "one revolution at rpm_min spans more than 1e7 periods");
   need(p.cut_power_max_W > 0.0, "cutting power limit must be > 0");
   need(p.kp >= 0.0 && p.ti_s >= 0.0, "PI gains must be ≥ 0");
   need(p.feed_rate_limit_per_s > 0.0 && p.speed_rate_limit_m_per_min_per_s > 0.0,
@@ -52,6 +54,12 @@ void AdaptiveFeedController::configure(const Params& p) {
   alarm_reason_ = Reason::None;
   held_rpm_ = 0.0;
   depth_estimate_ = p.depth_planned_mm;
+  speed_filter_a_ = p.speed_law_filter_s > 0.0 ? 1.0 - std::exp(-p.period_s / p.speed_law_filter_s) : 1.0;
+  s_cur_filtered_ = p.feed_planned_mm_per_rev;
+  // one revolution at the lowest speed, in control periods (allocated here, never in update())
+  prefix_.assign(static_cast<std::size_t>(std::ceil(60.0 / p.rpm_min / p.period_s)) + 2, 0.0);
+  prefix_head_ = prefix_count_ = 0;
+  prefix_sum_ = 0.0;
   configured_ = true;
 }
 
@@ -126,13 +134,30 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
   }
   was_block_ = in.feed_block;
 
+  // The regulated force: the mean over the last revolution (or the raw sample).
+  double regulated = in.force;
+  if (sensor_ok) {
+    const std::size_t n = prefix_.size();
+    prefix_sum_ += in.force;
+    prefix_head_ = (prefix_head_ + 1) % n;
+    prefix_[prefix_head_] = prefix_sum_;
+    if (prefix_count_ < n - 1) ++prefix_count_;
+    if (p_.average_per_revolution && in.rpm > 0.0) {
+      const auto w = std::clamp<std::size_t>(
+          static_cast<std::size_t>(std::llround(60.0 / in.rpm / dt)), 1, prefix_count_ > 0 ? prefix_count_ : 1);
+      if (prefix_count_ >= 1)
+        regulated = (prefix_sum_ - prefix_[(prefix_head_ + n - w) % n]) / static_cast<double>(w);
+    }
+  }
+  if (!in.feed_block || !in_cut_) prefix_count_ = 0;  // a new cut starts a new average
+
   // Feed per revolution.
   double s = s_prog;
   if (in.feed_block && adaptive && !alarm_) {
     double target = s_prog;
     if (in_cut_) {
       Reason lim = Reason::None;
-      target = pi_.update((limit - in.force) / limit, dt, lim);
+      target = pi_.update((limit - regulated) / limit, dt, lim);
       if (reason == Reason::None) reason = lim;
     } else {
       target = std::min(p_.air_feed_mm_per_rev, p_.feed_max_mm_per_rev);
@@ -143,7 +168,11 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     } else {
       bool ramped = false;
       (void)feed_ramp_.update(target, dt, ramped);
-      if (ramped && reason == Reason::None) reason = Reason::RateLimited;
+      if (ramped) {
+        // Tracking anti-windup: the PI must not store what the ramp did not let through.
+        if (in_cut_) pi_.preset(feed_ramp_.value());
+        if (reason == Reason::None) reason = Reason::RateLimited;
+      }
     }
     s = feed_ramp_.value();
   }
@@ -153,11 +182,13 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
   double v_target = p_.speed_programmed_m_per_min;
   if (p_.mode == Mode::ForceFeedSpeed) {
     if (in_cut_ && in.rpm > 0.0 && in.feed_rate_mm_per_min > 0.0) {
-      const double s_cur = std::clamp(in.feed_rate_mm_per_min / in.rpm, p_.feed_min_mm_per_rev,
-                                      p_.feed_max_mm_per_rev);  // computer 11
+      const double s_meas = std::clamp(in.feed_rate_mm_per_min / in.rpm, p_.feed_min_mm_per_rev,
+                                       p_.feed_max_mm_per_rev);  // computer 11
+      s_cur_filtered_ += speed_filter_a_ * (s_meas - s_cur_filtered_);
+      const double s_cur = s_cur_filtered_;
       v_opt = p_.speed_programmed_m_per_min * std::pow(p_.feed_planned_mm_per_rev / s_cur, p_.y_v);
-      if (p_.depth_exponent_xv > 0.0 && in.force > 0.0 && in.speed_m_per_min > 0.0) {
-        const double t_hat = std::pow(in.force / (p_.force_model_C * std::pow(s_cur, p_.force_model_y) *
+      if (p_.depth_exponent_xv > 0.0 && regulated > 0.0 && in.speed_m_per_min > 0.0) {
+        const double t_hat = std::pow(regulated / (p_.force_model_C * std::pow(s_cur, p_.force_model_y) *
                                                   std::pow(in.speed_m_per_min, p_.force_model_n)),
                                       1.0 / p_.force_model_x);
         depth_estimate_ = std::clamp(t_hat, 0.05 * p_.depth_planned_mm, 20.0 * p_.depth_planned_mm);

@@ -385,10 +385,30 @@ void read_system_e(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
       }
     p.y_v = c->number("y_v", Range::closed(0, 1.5), yv);
   }
+  p.speed_law_filter_s = c->number("speed_law_filter_s", Range::closed(0, 100), 1.0);
+  if (c->choice("speed_law", {"seed", "depth_corrected"}, "seed") == "depth_corrected") {
+    if (power) c->fail("speed_law", "the depth-corrected law estimates depth from a force; use a Pz or Py sensor");
+    const auto& m = e.cutting.material;
+    double xv = 0.15;
+    for (int i = 0; i < m.tool_life_ranges; ++i)
+      if (p.feed_planned_mm_per_rev <= m.tool_life[static_cast<std::size_t>(i)].feed_max_mm_per_rev) {
+        xv = m.tool_life[static_cast<std::size_t>(i)].xv;
+        break;
+      }
+    p.depth_exponent_xv = xv;
+    p.depth_planned_mm = e.planned_depth_mm;
+    // The design model: the handbook law of the measured component at the material's nominal
+    // strength (the controller cannot know the local hardness; it shows up in t̂).
+    const auto& law = e.force_parameter == sim::ForceParameter::Pz ? m.Pz : m.Py;
+    p.force_model_C = 10.0 * law.Cp * std::pow(m.strength / m.strength_base, m.kmp_exponent);
+    p.force_model_x = law.x;
+    p.force_model_y = law.y;
+    p.force_model_n = law.n;
+  }
   p.period_s = c->number("period_ms", {0.0, 1000.0, true, false}, 2.0) * 1e-3;
   p.kp = c->number("kp", Range::closed(0, 100), 0.5);
   p.ti_s = c->number("ti_s", Range::closed(0, 100), 0.1);
-  p.feed_rate_limit_per_s = c->number("feed_rate_limit_per_s", {0.0, 1e3, true, false}, 2.0);
+  p.feed_rate_limit_per_s = c->number("feed_rate_limit_per_s", {0.0, 1e3, true, false}, 0.5);
   p.speed_rate_limit_m_per_min_per_s = c->number("speed_rate_limit_m_per_min_per_s", {0.0, 1e5, true, false}, 100.0);
   p.air_threshold = c->number("air_threshold", {0.0, 0.5, true, true}, 0.1);
   p.air_time_s = c->number("air_time_ms", Range::closed(0, 1e4), 50.0) * 1e-3;

@@ -232,7 +232,12 @@ bool RigE::step() noexcept {
     in.feed_rate_mm_per_min = axis_.measured_velocity_m_per_s() * 60000.0;
     in.rpm = spindle_.rpm();
     in.speed_m_per_min = std::numbers::pi * d_surface * spindle_.rpm() / 1000.0;
-    in.cut_power_W = std::max(p_cut_est, 0.0);
+    // Cutting power for the speed's power limit: from the dynamometer's Pz when there is one
+    // (the spindle's meter also carries the power that accelerates the spindle, which would
+    // make a power-limited speed loop hunt), else the meter minus the idle power.
+    in.cut_power_W = cfg_.force_parameter == ForceParameter::Pz && std::isfinite(force_seen_)
+                         ? std::max(force_seen_, 0.0) * in.speed_m_per_min / 60.0
+                         : std::max(p_cut_est, 0.0);
     in.feed_block = in_block_;
     (void)ctl_.update(in, out_);
     if (out_.feed_hold && first_hold_s_ < 0.0) first_hold_s_ = t_;

@@ -31,6 +31,8 @@
 //   - every limit, hold or alarm sets a Reason; alarms latch until reset_alarm().
 // Real-time: configure() validates and may throw; update() never allocates, throws, locks or logs.
 
+#include <vector>
+
 #include "lathectl/control/building_blocks.hpp"
 #include "lathectl/control/types.hpp"
 
@@ -53,6 +55,9 @@ class AdaptiveFeedController {
     double speed_programmed_m_per_min = 150.0;  // V_p, setter 18 (fixed and prior art: V)
     double feed_planned_mm_per_rev = 0.4;    // S_p, setter 15
     double y_v = 0.35;                       // exponent of feed in the tool-life formula
+    // Low-pass on S_cur = F/n (computer 11) before the speed law. Unfiltered, a spindle speed-up
+    // lowers the measured F/n (the feed axis lags), which raises V_opt again: the loop hunts.
+    double speed_law_filter_s = 1.0;
     // Beyond the seed: also correct the speed for the depth of cut, V·(t_p/t̂)^{x_v}, with t̂
     // estimated from the force by the design model F = C·t^x·s^y·V^n (only for a force sensor).
     // The seed's law keeps tool life at plan only at the planned depth; this keeps it for any
@@ -68,7 +73,7 @@ class AdaptiveFeedController {
     double cut_power_max_W = 1e9;            // spindle power available for cutting
     double kp = 0.5;                         // PI on (limit − force)/limit → feed [fraction of programmed]
     double ti_s = 0.1;
-    double feed_rate_limit_per_s = 2.0;      // max |ds/dt| as a fraction of the programmed feed per s
+    double feed_rate_limit_per_s = 0.5;      // max |ds/dt| as a fraction of the programmed feed per s
     double speed_rate_limit_m_per_min_per_s = 200.0;
     double air_threshold = 0.1;              // fraction of force_limit
     double air_time_s = 0.05;
@@ -76,6 +81,11 @@ class AdaptiveFeedController {
     double overload_time_s = 0.2;
     double breakage_spike = 2.5;             // fraction of force_limit
     double breakage_drop_window_s = 0.01;
+    // Regulate the force averaged over one spindle revolution (window from the measured speed):
+    // the feed reaches the chip only over a revolution, so within-revolution swings (runout of
+    // an eccentric blank) are not the feed's to fight. Contact, air and breakage use the raw
+    // signal.
+    bool average_per_revolution = true;
     SignalMonitor::Params sensor_monitor;
   };
 
@@ -126,6 +136,12 @@ class AdaptiveFeedController {
   Reason alarm_reason_ = Reason::None;
   double held_rpm_ = 0.0;
   double depth_estimate_ = 0.0;
+  double s_cur_filtered_ = 0.0;
+  double speed_filter_a_ = 1.0;
+  std::vector<double> prefix_;  // ring of cumulative force sums (per-revolution mean)
+  std::size_t prefix_head_ = 0;
+  std::size_t prefix_count_ = 0;
+  double prefix_sum_ = 0.0;
 };
 
 }  // namespace lathectl::control
