@@ -6,10 +6,12 @@
 
 #include <cmath>
 
+#include "lathectl/control/adaptive_feed_controller.hpp"
 #include "lathectl/control/pulse_feed_controller.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/sim/rig_a.hpp"
+#include "lathectl/sim/rig_e.hpp"
 #include "support/sample_controller.hpp"
 
 using namespace lathectl;
@@ -43,6 +45,49 @@ BENCHMARK_CAPTURE(BM_RigA_60s, roughing_fim_all_disturbances, "a_roughing_fim.to
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_RigA_60s, uncontrolled, "a_finishing_none.toml")
     ->Unit(benchmark::kMillisecond);
+
+// System E: one whole part (the issue's target: a 5-minute part in < 0.5 s of wall time).
+void BM_RigE_Part(benchmark::State& state, const char* scenario) {
+  const auto sc = load(scenario);
+  double cycle = 0.0;
+  for (auto _ : state) {
+    sim::RigE rig;
+    rig.configure(sc.e, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
+    rig.run();
+    cycle = rig.cycle_time_s();
+    benchmark::DoNotOptimize(rig.recorder().rows());
+  }
+  state.counters["part_cycle_s"] = cycle;
+  state.counters["sim_s_per_wall_s"] = benchmark::Counter(
+      cycle * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK_CAPTURE(BM_RigE_Part, seed004, "e_stepped_seed004.toml")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RigE_Part, fixed_worst_case, "e_stepped_fixed.toml")
+    ->Unit(benchmark::kMillisecond);
+
+void BM_AdaptiveFeedController_Update(benchmark::State& state) {
+  control::AdaptiveFeedController::Params p;
+  p.mode = static_cast<control::AdaptiveFeedController::Mode>(state.range(0));
+  p.force_limit = 2500.0;
+  p.feed_programmed_mm_per_rev = 0.5;
+  p.sensor_monitor = {-500.0, 20000.0, 0.1, 0.0};
+  control::AdaptiveFeedController c;
+  c.configure(p);
+  control::AdaptiveFeedController::Output out;
+  double k = 0.0;
+  for (auto _ : state) {
+    control::AdaptiveFeedController::Input in;
+    in.force = 2400.0 + 200.0 * std::sin(k);
+    in.feed_rate_mm_per_min = 150.0;
+    in.rpm = 600.0;
+    in.speed_m_per_min = 160.0;
+    in.cut_power_W = 6000.0;
+    k += 0.01;
+    benchmark::DoNotOptimize(c.update(in, out));
+    benchmark::DoNotOptimize(out);
+  }
+}
+BENCHMARK(BM_AdaptiveFeedController_Update)->Arg(0)->Arg(1)->Arg(2)->ArgName("mode");
 
 void BM_PulseFeedController_Update(benchmark::State& state) {
   const auto p = testing::sample_pulse_feed_params(

@@ -28,7 +28,8 @@ void AdaptiveFeedController::configure(const Params& p) {
   need(p.y_v >= 0.0 && p.y_v < 2.0, "y_v must be in [0, 2)");
   need(p.speed_law_filter_s >= 0.0, "speed-law filter time must be ≥ 0");
   need(p.rpm_min > 0.0 && p.rpm_max > p.rpm_min, "spindle range: 0 < min < max");
-  need(60.0 / p.rpm_min / p.period_s < 1e7, "one revolution at rpm_min spans more than 1e7 periods");
+  need(60.0 / p.rpm_min / p.period_s < 1e7,
+       "one revolution at rpm_min spans more than 1e7 periods");
   need(p.cut_power_max_W > 0.0, "cutting power limit must be > 0");
   need(p.kp >= 0.0 && p.ti_s >= 0.0, "PI gains must be ≥ 0");
   need(p.feed_rate_limit_per_s > 0.0 && p.speed_rate_limit_m_per_min_per_s > 0.0,
@@ -54,7 +55,8 @@ void AdaptiveFeedController::configure(const Params& p) {
   alarm_reason_ = Reason::None;
   held_rpm_ = 0.0;
   depth_estimate_ = p.depth_planned_mm;
-  speed_filter_a_ = p.speed_law_filter_s > 0.0 ? 1.0 - std::exp(-p.period_s / p.speed_law_filter_s) : 1.0;
+  speed_filter_a_ =
+      p.speed_law_filter_s > 0.0 ? 1.0 - std::exp(-p.period_s / p.speed_law_filter_s) : 1.0;
   s_cur_filtered_ = p.feed_planned_mm_per_rev;
   // one revolution at the lowest speed, in control periods (allocated here, never in update())
   prefix_.assign(static_cast<std::size_t>(std::ceil(60.0 / p.rpm_min / p.period_s)) + 2, 0.0);
@@ -64,8 +66,9 @@ void AdaptiveFeedController::configure(const Params& p) {
 }
 
 double AdaptiveFeedController::feed_ceiling() const noexcept {
-  return p_.allow_above_programmed ? p_.feed_max_mm_per_rev
-                                   : std::min(p_.feed_max_mm_per_rev, p_.feed_programmed_mm_per_rev);
+  return p_.allow_above_programmed
+             ? p_.feed_max_mm_per_rev
+             : std::min(p_.feed_max_mm_per_rev, p_.feed_programmed_mm_per_rev);
 }
 
 void AdaptiveFeedController::reset_alarm() noexcept {
@@ -143,8 +146,9 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     prefix_[prefix_head_] = prefix_sum_;
     if (prefix_count_ < n - 1) ++prefix_count_;
     if (p_.average_per_revolution && in.rpm > 0.0) {
-      const auto w = std::clamp<std::size_t>(
-          static_cast<std::size_t>(std::llround(60.0 / in.rpm / dt)), 1, prefix_count_ > 0 ? prefix_count_ : 1);
+      const auto w =
+          std::clamp<std::size_t>(static_cast<std::size_t>(std::llround(60.0 / in.rpm / dt)), 1,
+                                  prefix_count_ > 0 ? prefix_count_ : 1);
       if (prefix_count_ >= 1)
         regulated = (prefix_sum_ - prefix_[(prefix_head_ + n - w) % n]) / static_cast<double>(w);
     }
@@ -188,9 +192,10 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
       const double s_cur = s_cur_filtered_;
       v_opt = p_.speed_programmed_m_per_min * std::pow(p_.feed_planned_mm_per_rev / s_cur, p_.y_v);
       if (p_.depth_exponent_xv > 0.0 && regulated > 0.0 && in.speed_m_per_min > 0.0) {
-        const double t_hat = std::pow(regulated / (p_.force_model_C * std::pow(s_cur, p_.force_model_y) *
-                                                  std::pow(in.speed_m_per_min, p_.force_model_n)),
-                                      1.0 / p_.force_model_x);
+        const double t_hat =
+            std::pow(regulated / (p_.force_model_C * std::pow(s_cur, p_.force_model_y) *
+                                  std::pow(in.speed_m_per_min, p_.force_model_n)),
+                     1.0 / p_.force_model_x);
         depth_estimate_ = std::clamp(t_hat, 0.05 * p_.depth_planned_mm, 20.0 * p_.depth_planned_mm);
         v_opt *= std::pow(p_.depth_planned_mm / depth_estimate_, p_.depth_exponent_xv);
       }

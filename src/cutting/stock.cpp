@@ -80,7 +80,8 @@ double Stock::volume_to_remove_cm3() const noexcept {
     for (int i = 0; i < n; ++i) {
       const double z = q.z_start_mm + (i + 0.5) * dz;
       const double d0 = surface_diameter_mm(k, z);
-      if (d0 > q.diameter_mm) v += std::numbers::pi / 4.0 * (d0 * d0 - q.diameter_mm * q.diameter_mm) * dz;
+      if (d0 > q.diameter_mm)
+        v += std::numbers::pi / 4.0 * (d0 * d0 - q.diameter_mm * q.diameter_mm) * dz;
     }
   }
   return v / 1000.0;

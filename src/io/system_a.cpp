@@ -11,6 +11,7 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/runner.hpp"
+#include "lathectl/io/study.hpp"
 #include "lathectl/sim/metrics.hpp"
 
 namespace lathectl::io {
@@ -20,17 +21,6 @@ using nlohmann::json;
 using sim::ControllerKind;
 using sim::RegulatorKind;
 
-std::string fmt(double v, const char* f = "%.4g") {
-  if (std::isnan(v)) return "—";
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-
-json num(double v) {
-  return std::isfinite(v) ? json(v) : json(nullptr);
-}
-
 json metrics_json(const sim::MetricsA& m) {
   json alarms = json::array();
   for (const auto& a : m.alarms)
@@ -38,22 +28,22 @@ json metrics_json(const sim::MetricsA& m) {
         {{"time_s", a.time_s},
          {"code", a.code},
          {"reason", std::string(control::reason_name(static_cast<control::Reason>(a.code)))}});
-  return {{"feed_rate_programmed_mm_per_min", num(m.feed_rate_programmed_mm_per_min)},
-          {"feed_rate_mean_mm_per_min", num(m.feed_rate_mean_mm_per_min)},
-          {"feed_rate_reference_mm_per_min", num(m.feed_rate_reference_mm_per_min)},
-          {"feed_rate_deviation_pct", num(m.feed_rate_deviation_pct)},
-          {"feed_rate_steady_deviation_pct", num(m.feed_rate_steady_deviation_pct)},
-          {"feed_drift_pct", num(m.feed_drift_pct)},
-          {"force_nominal_N", num(m.force_nominal_N)},
-          {"force_peak_N", num(m.force_peak_N)},
-          {"force_setpoint_N", num(m.force_setpoint_N)},
-          {"force_settling_time_s", num(m.force_settling_time_s)},
-          {"force_final_error_pct", num(m.force_final_error_pct)},
-          {"first_disturbance_s", num(m.first_disturbance_s)},
-          {"flow_mean_cm3_per_min", num(m.flow_mean_cm3_per_min)},
-          {"flow_formula_cm3_per_min", num(m.flow_formula_cm3_per_min)},
-          {"flow_formula_error_pct", num(m.flow_formula_error_pct)},
-          {"first_alarm_delay_s", num(m.first_alarm_delay_s)},
+  return {{"feed_rate_programmed_mm_per_min", json_number(m.feed_rate_programmed_mm_per_min)},
+          {"feed_rate_mean_mm_per_min", json_number(m.feed_rate_mean_mm_per_min)},
+          {"feed_rate_reference_mm_per_min", json_number(m.feed_rate_reference_mm_per_min)},
+          {"feed_rate_deviation_pct", json_number(m.feed_rate_deviation_pct)},
+          {"feed_rate_steady_deviation_pct", json_number(m.feed_rate_steady_deviation_pct)},
+          {"feed_drift_pct", json_number(m.feed_drift_pct)},
+          {"force_nominal_N", json_number(m.force_nominal_N)},
+          {"force_peak_N", json_number(m.force_peak_N)},
+          {"force_setpoint_N", json_number(m.force_setpoint_N)},
+          {"force_settling_time_s", json_number(m.force_settling_time_s)},
+          {"force_final_error_pct", json_number(m.force_final_error_pct)},
+          {"first_disturbance_s", json_number(m.first_disturbance_s)},
+          {"flow_mean_cm3_per_min", json_number(m.flow_mean_cm3_per_min)},
+          {"flow_formula_cm3_per_min", json_number(m.flow_formula_cm3_per_min)},
+          {"flow_formula_error_pct", json_number(m.flow_formula_error_pct)},
+          {"first_alarm_delay_s", json_number(m.first_alarm_delay_s)},
           {"alarms", alarms}};
 }
 
@@ -84,17 +74,12 @@ void run_one(const Scenario& sc, const sim::RigAConfig& cfg, Run& r) {
   r.label = label_of(cfg);
 }
 
-std::vector<double> col(const sim::Recorder& rec, const char* name) {
-  const auto c = rec.column(name);
-  return {c.begin(), c.end()};
-}
-
 Series series(const Run& r, const char* channel, std::string name, std::string color,
               bool dashed = false) {
   Series s;
   s.name = std::move(name);
-  s.x = col(r.rig.recorder(), "time_s");
-  s.y = col(r.rig.recorder(), channel);
+  s.x = column(r.rig.recorder(), "time_s");
+  s.y = column(r.rig.recorder(), channel);
   s.color = std::move(color);
   s.dashed = dashed;
   return s;
@@ -164,11 +149,11 @@ RunOutput run_system_a(const Scenario& sc) {
       Run r;
       run_one(sc, c, r);
       const double ratio = r.metrics.feed_rate_steady_deviation_pct / base;
-      sweep.push_back(
-          {{"leak_estimate_factor", f},
-           {"feed_rate_deviation_pct", num(r.metrics.feed_rate_deviation_pct)},
-           {"feed_rate_steady_deviation_pct", num(r.metrics.feed_rate_steady_deviation_pct)},
-           {"steady_ratio_to_uncontrolled", num(ratio)}});
+      sweep.push_back({{"leak_estimate_factor", f},
+                       {"feed_rate_deviation_pct", json_number(r.metrics.feed_rate_deviation_pct)},
+                       {"feed_rate_steady_deviation_pct",
+                        json_number(r.metrics.feed_rate_steady_deviation_pct)},
+                       {"steady_ratio_to_uncontrolled", json_number(ratio)}});
       sweep_table.rows.push_back({fmt(f), fmt(r.metrics.feed_rate_deviation_pct),
                                   fmt(r.metrics.feed_rate_steady_deviation_pct),
                                   fmt(ratio, "%.3f")});
@@ -200,11 +185,9 @@ RunOutput run_system_a(const Scenario& sc) {
   if (!sweep.empty()) s["sweep"] = sweep;
 
   // Claims this run can answer, each with its number.
-  json claims = json::array();
-  std::vector<std::string> notes;
+  Claims claims;
   auto claim = [&](const std::string& text, double value, bool met) {
-    claims.push_back({{"claim", text}, {"value", num(value)}, {"met", met}});
-    notes.push_back(std::string(met ? "✔ " : "✘ ") + text + ": " + fmt(value));
+    claims.add(text, value, met);
   };
   const bool roughing = sc.a.controller.mode == control::PulseFeedController::Mode::Roughing;
   if (cmp && sc.a.controller_kind != ControllerKind::None &&
@@ -223,15 +206,15 @@ RunOutput run_system_a(const Scenario& sc) {
           "finishing: steady feed deviation after the force change, controlled / uncontrolled (≤ "
           "0.2)",
           r1, r1 <= 0.2);
-      s["metrics"]["feed_deviation_ratio_to_uncontrolled"] = num(r2);
+      s["metrics"]["feed_deviation_ratio_to_uncontrolled"] = json_number(r2);
     } else {
       claim("roughing: force within 5 % of its set value at the end (final error, %)",
             m.force_final_error_pct, std::abs(m.force_final_error_pct) <= 5.0);
       claim("roughing: force settling time after the disturbance [s]", m.force_settling_time_s,
             !std::isnan(m.force_settling_time_s));
       const double rise = cmp->metrics.force_peak_N / cmp->metrics.force_nominal_N;
-      notes.push_back("uncontrolled: force peak / nominal force = " + fmt(rise, "%.3f") + " (" +
-                      fmt(cmp->metrics.force_peak_N) + " N)");
+      claims.note("uncontrolled: force peak / nominal force = " + fmt(rise, "%.3f") + " (" +
+                  fmt(cmp->metrics.force_peak_N) + " N)");
     }
   }
   if (cmp && cmp->rig.config().regulator_kind == RegulatorKind::Throttle) {
@@ -241,13 +224,13 @@ RunOutput run_system_a(const Scenario& sc) {
           m.feed_drift_pct, std::abs(m.feed_drift_pct) < 1.0);
   }
   if (!std::isnan(m.flow_formula_error_pct))
-    notes.push_back("mean flow " + fmt(m.flow_mean_cm3_per_min) + " cm³/min against formula (1) " +
-                    fmt(m.flow_formula_cm3_per_min) + " cm³/min: error " +
-                    fmt(m.flow_formula_error_pct, "%.3f") + " %");
+    claims.note("mean flow " + fmt(m.flow_mean_cm3_per_min) + " cm³/min against formula (1) " +
+                fmt(m.flow_formula_cm3_per_min) + " cm³/min: error " +
+                fmt(m.flow_formula_error_pct, "%.3f") + " %");
   if (!sc.a.faults.empty())
     claim("sensor fault: alarm raised, delay after the fault [s]", m.first_alarm_delay_s,
           !std::isnan(m.first_alarm_delay_s));
-  s["claims"] = claims;
+  s["claims"] = claims.json();
 
   // Report.
   Report& rep = out.report;
@@ -283,7 +266,7 @@ RunOutput run_system_a(const Scenario& sc) {
         "alarm at " + fmt(a.time_s) + " s",
         std::string(control::reason_name(static_cast<control::Reason>(a.code))) + " (code " +
             std::to_string(a.code) + ")");
-  rep.notes = notes;
+  rep.notes = claims.notes();
   if (!sweep.empty()) rep.tables.push_back(sweep_table);
 
   const auto mk = markers(*main);
@@ -415,12 +398,11 @@ RunOutput run_system_a(const Scenario& sc) {
     s["metrics"]["regulator_saturation_duty"] = sat_theory;
     s["metrics"]["regulator_saturation_duty_simulated"] = sat_sim;
     if (rp.opening_time_s > 0.0 || rp.closing_time_s > 0.0 || rp.lap_m > 0.0) {
-      notes.push_back("regulator dead zone: no flow below duty " + fmt(dead_theory, "%.3f") +
-                      " (closed form; simulated " + fmt(dead_sim, "%.5f") +
-                      "); the spool stops closing between pulses from duty " +
-                      fmt(sat_theory, "%.4f") + " (closed form; simulated " + fmt(sat_sim, "%.5f") +
-                      ")");
-      rep.notes = notes;
+      claims.note("regulator dead zone: no flow below duty " + fmt(dead_theory, "%.3f") +
+                  " (closed form; simulated " + fmt(dead_sim, "%.5f") +
+                  "); the spool stops closing between pulses from duty " + fmt(sat_theory, "%.4f") +
+                  " (closed form; simulated " + fmt(sat_sim, "%.5f") + ")");
+      rep.notes = claims.notes();
     }
   }
 

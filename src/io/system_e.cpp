@@ -9,6 +9,7 @@
 #include "lathectl/control/types.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
+#include "lathectl/io/study.hpp"
 #include "lathectl/sim/metrics_e.hpp"
 
 namespace lathectl::io {
@@ -16,14 +17,6 @@ namespace lathectl::io {
 namespace {
 using nlohmann::json;
 using Mode = control::AdaptiveFeedController::Mode;
-
-std::string fmt(double v, const char* f = "%.4g") {
-  if (std::isnan(v)) return "—";
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-json num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 struct Run {
   sim::RigE rig;
@@ -43,58 +36,48 @@ void run_one(const Scenario& sc, sim::RigEConfig cfg, Mode mode, bool as_compari
   }
   r.rig.run();
   if (!r.rig.numerically_sound())
-    throw std::runtime_error(sc.file + ": the simulation diverged (NaN or infinite state); reduce run.step_s");
+    throw std::runtime_error(
+        sc.file + ": the simulation diverged (NaN or infinite state); reduce run.step_s");
   r.m = sim::compute_metrics_e(r.rig);
   r.mode = mode;
   r.label = adaptive_mode_name(mode);
 }
 
-json alarms_json(const std::vector<sim::AlarmEvent>& alarms) {
-  json a = json::array();
-  for (const auto& e : alarms)
-    a.push_back({{"time_s", e.time_s},
-                 {"code", e.code},
-                 {"reason", std::string(control::reason_name(static_cast<control::Reason>(e.code)))}});
-  return a;
-}
-
 json metrics_json(const Run& r, const std::string& unit) {
   const auto& m = r.m;
   return {{"finished", m.finished},
-          {"cycle_time_s", num(m.cycle_time_s)},
-          {"time_in_cut_s", num(m.time_in_cut_s)},
+          {"cycle_time_s", json_number(m.cycle_time_s)},
+          {"time_in_cut_s", json_number(m.time_in_cut_s)},
           {"force_parameter_unit", unit},
-          {"force_limit_N", num(m.force_limit)},
-          {"force_peak_N", num(m.force_peak)},
-          {"force_peak_rev_mean_N", num(m.force_peak_rev_mean)},
-          {"force_overshoot_pct", num(m.force_overshoot_pct)},
-          {"force_within_5pct_fraction", num(m.force_within_5pct_fraction)},
-          {"force_mean_steady_N", num(m.force_mean_steady)},
-          {"force_Pz_peak_N", num(m.force_Pz_peak_N)},
-          {"tool_life_used_fraction", num(m.tool_life_used_fraction)},
-          {"tool_life_plan_fraction", num(m.tool_life_plan_fraction)},
-          {"tool_life_used_to_plan", num(m.tool_life_used_fraction / m.tool_life_plan_fraction)},
-          {"tool_life_planned_min", num(m.tool_life_planned_min)},
-          {"material_removed_cm3", num(m.material_removed_cm3)},
-          {"mrr_cm3_per_min", num(m.mrr_cm3_per_min)},
-          {"feed_mean_mm_per_rev", num(m.feed_mean_mm_per_rev)},
-          {"feed_programmed_mm_per_rev", num(m.feed_programmed_mm_per_rev)},
-          {"speed_mean_m_per_min", num(m.speed_mean_m_per_min)},
-          {"spindle_power_peak_kW", num(m.spindle_power_peak_kW)},
-          {"first_alarm_delay_s", num(m.first_alarm_delay_s)},
-          {"feed_hold_delay_s", num(m.feed_hold_delay_s)},
+          {"force_limit_N", json_number(m.force_limit)},
+          {"force_peak_N", json_number(m.force_peak)},
+          {"force_peak_rev_mean_N", json_number(m.force_peak_rev_mean)},
+          {"force_overshoot_pct", json_number(m.force_overshoot_pct)},
+          {"force_within_5pct_fraction", json_number(m.force_within_5pct_fraction)},
+          {"force_mean_steady_N", json_number(m.force_mean_steady)},
+          {"force_Pz_peak_N", json_number(m.force_Pz_peak_N)},
+          {"tool_life_used_fraction", json_number(m.tool_life_used_fraction)},
+          {"tool_life_plan_fraction", json_number(m.tool_life_plan_fraction)},
+          {"tool_life_used_to_plan",
+           json_number(m.tool_life_used_fraction / m.tool_life_plan_fraction)},
+          {"tool_life_planned_min", json_number(m.tool_life_planned_min)},
+          {"material_removed_cm3", json_number(m.material_removed_cm3)},
+          {"mrr_cm3_per_min", json_number(m.mrr_cm3_per_min)},
+          {"feed_mean_mm_per_rev", json_number(m.feed_mean_mm_per_rev)},
+          {"feed_programmed_mm_per_rev", json_number(m.feed_programmed_mm_per_rev)},
+          {"speed_mean_m_per_min", json_number(m.speed_mean_m_per_min)},
+          {"spindle_power_peak_kW", json_number(m.spindle_power_peak_kW)},
+          {"first_alarm_delay_s", json_number(m.first_alarm_delay_s)},
+          {"feed_hold_delay_s", json_number(m.feed_hold_delay_s)},
           {"alarms", alarms_json(m.alarms)}};
-}
-
-std::vector<double> col(const sim::Recorder& rec, const char* name) {
-  const auto c = rec.column(name);
-  return {c.begin(), c.end()};
 }
 
 constexpr const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd"};
 
 Series series(const Run& r, const char* channel, const std::string& name, const char* color) {
-  return Series{name, col(r.rig.recorder(), "time_s"), col(r.rig.recorder(), channel), color, false, false};
+  return Series{
+      name, column(r.rig.recorder(), "time_s"), column(r.rig.recorder(), channel), color, false,
+      false};
 }
 Series per_rev(const Run& r, const char* channel, const std::string& name, const char* color) {
   Series s = series(r, channel, name, color);
@@ -105,7 +88,8 @@ Series per_rev(const Run& r, const char* channel, const std::string& name, const
   std::size_t lo = 0;
   for (std::size_t i = 0; i < s.y.size(); ++i) {
     acc += s.y[i];
-    const auto w = static_cast<std::size_t>(std::max(1.0, std::round(60.0 / std::max(rpm[i], 1.0) / dt)));
+    const auto w =
+        static_cast<std::size_t>(std::max(1.0, std::round(60.0 / std::max(rpm[i], 1.0) / dt)));
     while (i + 1 - lo > w) acc -= s.y[lo++];
     out[i] = acc / static_cast<double>(i + 1 - lo);
   }
@@ -130,7 +114,9 @@ RunOutput run_system_e(const Scenario& sc) {
   const Run& main = *runs.front();
   const bool power = sc.e.force_parameter == sim::ForceParameter::Power;
   const std::string unit = power ? "W" : "N";
-  const std::string pname = power ? "cutting power" : (sc.e.force_parameter == sim::ForceParameter::Pz ? "force Pz" : "force Py");
+  const std::string pname =
+      power ? "cutting power"
+            : (sc.e.force_parameter == sim::ForceParameter::Pz ? "force Pz" : "force Py");
 
   json& s = out.summary;
   s["system"] = sc.system;
@@ -143,47 +129,56 @@ RunOutput run_system_e(const Scenario& sc) {
     cmp.push_back({{"label", runs[i]->label}, {"metrics", metrics_json(*runs[i], unit)}});
   if (!cmp.empty()) s["comparisons"] = cmp;
 
-  json claims = json::array();
-  std::vector<std::string> notes;
+  Claims claims;
   auto claim = [&](const std::string& text, double value, bool met) {
-    claims.push_back({{"claim", text}, {"value", num(value)}, {"met", met}});
-    notes.push_back(std::string(met ? "✔ " : "✘ ") + text + ": " + fmt(value));
+    claims.add(text, value, met);
   };
   const Run* by_mode[3] = {nullptr, nullptr, nullptr};
   for (const auto& r : runs) by_mode[static_cast<int>(r->mode)] = r.get();
   for (const auto& r : runs) {
-    if (!r->m.finished) notes.push_back("✘ " + r->label + ": the part was not finished within run.duration_s");
+    if (!r->m.finished)
+      claims.note("✘ " + r->label + ": the part was not finished within run.duration_s");
     if (r->mode == Mode::Fixed || !sc.e.faults.empty()) continue;
-    claim(r->label + ": share of steady cutting with the per-revolution " + pname + " within 5 % of its limit (≥ 0.95)",
+    claim(r->label + ": share of steady cutting with the per-revolution " + pname +
+              " within 5 % of its limit (≥ 0.95)",
           r->m.force_within_5pct_fraction, r->m.force_within_5pct_fraction >= 0.95);
-    claim(r->label + ": largest per-revolution " + pname + " above its limit, % (≤ 15)", r->m.force_overshoot_pct,
-          r->m.force_overshoot_pct <= 15.0);
+    claim(r->label + ": largest per-revolution " + pname + " above its limit, % (≤ 15)",
+          r->m.force_overshoot_pct, r->m.force_overshoot_pct <= 15.0);
   }
   if (by_mode[0] && by_mode[1] && by_mode[2]) {
-    const double c0 = by_mode[0]->m.cycle_time_s, c1 = by_mode[1]->m.cycle_time_s, c2 = by_mode[2]->m.cycle_time_s;
-    claim("productivity: cycle time seed 004 < prior art < fixed (" + fmt(c2) + " s < " + fmt(c1) + " s < " + fmt(c0) +
-              " s); seed 004 / prior art",
+    const double c0 = by_mode[0]->m.cycle_time_s, c1 = by_mode[1]->m.cycle_time_s,
+                 c2 = by_mode[2]->m.cycle_time_s;
+    claim("productivity: cycle time seed 004 < prior art < fixed (" + fmt(c2) + " s < " + fmt(c1) +
+              " s < " + fmt(c0) + " s); seed 004 / prior art",
           c2 / c1, c2 < c1 && c1 < c0);
   }
   if (by_mode[2] && sc.e.faults.empty()) {
-    const double ratio = by_mode[2]->m.tool_life_used_fraction / by_mode[2]->m.tool_life_plan_fraction;
-    claim("seed 004: tool-life consumption against plan (∫dt/T over time-in-cut/T_plan), within 15 %", ratio,
-          std::abs(ratio - 1.0) <= 0.15);
+    const double ratio =
+        by_mode[2]->m.tool_life_used_fraction / by_mode[2]->m.tool_life_plan_fraction;
+    claim(
+        "seed 004: tool-life consumption against plan (∫dt/T over time-in-cut/T_plan), within 15 %",
+        ratio, std::abs(ratio - 1.0) <= 0.15);
   }
   if (!sc.e.faults.empty()) {
     claim("sensor fault: feed held, delay after the fault [s] (≤ one control period " +
               fmt(sc.e.controller.period_s) + " s)",
           main.m.feed_hold_delay_s, main.m.feed_hold_delay_s <= sc.e.controller.period_s + 1e-9);
     claim("sensor fault: alarm raised with a reason code (code)",
-          main.m.alarms.empty() ? std::nan("") : static_cast<double>(main.m.alarms.front().code), !main.m.alarms.empty());
+          main.m.alarms.empty() ? std::nan("") : static_cast<double>(main.m.alarms.front().code),
+          !main.m.alarms.empty());
   }
-  s["claims"] = claims;
+  s["claims"] = claims.json();
 
   Report& rep = out.report;
   rep.title = "System E — " + sc.name;
-  rep.subtitle = sc.file + " · " + main.label + (runs.size() > 1 ? " against " + std::to_string(runs.size() - 1) + " other controller(s)" : "");
+  rep.subtitle =
+      sc.file + " · " + main.label +
+      (runs.size() > 1 ? " against " + std::to_string(runs.size() - 1) + " other controller(s)"
+                       : "");
   rep.description = sc.description;
-  auto add = [&](const std::string& k, double v, const char* f = "%.4g") { rep.metrics.emplace_back(k, fmt(v, f)); };
+  auto add = [&](const std::string& k, double v, const char* f = "%.4g") {
+    rep.metrics.emplace_back(k, fmt(v, f));
+  };
   add("cycle time [s]", main.m.cycle_time_s);
   add("time in cut [s]", main.m.time_in_cut_s);
   add(pname + " limit [" + unit + "]", main.m.force_limit);
@@ -200,56 +195,109 @@ RunOutput run_system_e(const Scenario& sc) {
   add("mean cutting speed in cut [m/min]", main.m.speed_mean_m_per_min);
   add("peak spindle power [kW]", main.m.spindle_power_peak_kW);
   for (const auto& a : main.m.alarms)
-    rep.metrics.emplace_back("alarm at " + fmt(a.time_s) + " s", std::string(control::reason_name(static_cast<control::Reason>(a.code))) +
-                                                                  " (code " + std::to_string(a.code) + ")");
-  rep.notes = notes;
+    rep.metrics.emplace_back(
+        "alarm at " + fmt(a.time_s) + " s",
+        std::string(control::reason_name(static_cast<control::Reason>(a.code))) + " (code " +
+            std::to_string(a.code) + ")");
+  rep.notes = claims.notes();
 
-  Table t{"Controllers on this part", {"controller", "cycle time [s]", "feed [mm/rev]", "speed [m/min]", "tool life used", "plan for time in cut", "used / plan", "peak per-rev " + pname, "steady within 5 %"}, {}};
+  auto short_name = [](Mode m) {
+    return m == Mode::Fixed       ? std::string("fixed")
+           : m == Mode::ForceFeed ? std::string("prior art")
+                                  : std::string("seed 004");
+  };
+  Table t{"Controllers on this part",
+          {"controller", "cycle [s]", "feed [mm/rev]", "V [m/min]", "life used", "plan",
+           "used/plan", "peak F_rev [" + unit + "]", "within 5 %"},
+          {}};
   for (const auto& r : runs)
-    t.rows.push_back({r->label + (r->mode == Mode::Fixed && r.get() != &main ? " (worst-case feed " + fmt(r->m.feed_programmed_mm_per_rev, "%.3f") + ")" : ""),
-                      fmt(r->m.cycle_time_s, "%.1f"), fmt(r->m.feed_mean_mm_per_rev, "%.3f"), fmt(r->m.speed_mean_m_per_min, "%.1f"),
-                      fmt(r->m.tool_life_used_fraction, "%.4f"), fmt(r->m.tool_life_plan_fraction, "%.4f"),
-                      fmt(r->m.tool_life_used_fraction / r->m.tool_life_plan_fraction, "%.3f"), fmt(r->m.force_peak_rev_mean, "%.0f"),
-                      fmt(r->m.force_within_5pct_fraction, "%.3f")});
+    t.rows.push_back(
+        {short_name(r->mode) + (r->mode == Mode::Fixed
+                                    ? " (s = " + fmt(r->m.feed_programmed_mm_per_rev, "%.3f") + ")"
+                                    : ""),
+         fmt(r->m.cycle_time_s, "%.1f"), fmt(r->m.feed_mean_mm_per_rev, "%.3f"),
+         fmt(r->m.speed_mean_m_per_min, "%.1f"), fmt(r->m.tool_life_used_fraction, "%.4f"),
+         fmt(r->m.tool_life_plan_fraction, "%.4f"),
+         fmt(r->m.tool_life_used_fraction / r->m.tool_life_plan_fraction, "%.3f"),
+         fmt(r->m.force_peak_rev_mean, "%.0f"), fmt(r->m.force_within_5pct_fraction, "%.3f")});
   rep.tables.push_back(t);
 
-  // Reason-code timeline of the main run: every change, with its interval.
+  // Decisions of the main run, by reason code: how long each held, how often, first and last.
   {
-    Table rt{"Decisions of the main run (reason codes)", {"from [s]", "to [s]", "reason", "code"}, {}};
+    Table rt{"Decisions of the main run (reason codes, from the recorded timeline)",
+             {"reason", "code", "total time [s]", "episodes", "first at [s]", "last at [s]"},
+             {}};
     const auto tt = main.rig.recorder().column("time_s");
     const auto rc = main.rig.recorder().column("reason_code");
-    std::size_t start = 0;
-    for (std::size_t i = 1; i <= rc.size(); ++i) {
-      if (i == rc.size() || rc[i] != rc[start]) {
-        if (rt.rows.size() < 60 && rc[start] != 0.0)
-          rt.rows.push_back({fmt(tt[start], "%.2f"), fmt(tt[i - 1], "%.2f"),
-                             std::string(control::reason_name(static_cast<control::Reason>(static_cast<int>(rc[start])))),
-                             fmt(rc[start], "%.0f")});
-        start = i;
+    const double dt_rec = tt.size() > 1 ? tt[1] - tt[0] : 0.0;
+    struct Acc {
+      double total = 0, first = -1, last = -1;
+      int episodes = 0;
+    };
+    std::vector<std::pair<int, Acc>> acc;
+    for (std::size_t i = 0; i < rc.size(); ++i) {
+      const int code = static_cast<int>(rc[i]);
+      if (code == 0) continue;
+      auto it =
+          std::find_if(acc.begin(), acc.end(), [&](const auto& a) { return a.first == code; });
+      if (it == acc.end()) {
+        acc.push_back({code, {}});
+        it = acc.end() - 1;
       }
+      it->second.total += dt_rec;
+      if (it->second.first < 0) it->second.first = tt[i];
+      it->second.last = tt[i];
+      if (i == 0 || static_cast<int>(rc[i - 1]) != code) ++it->second.episodes;
     }
+    std::sort(acc.begin(), acc.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [code, a] : acc)
+      rt.rows.push_back({std::string(control::reason_name(static_cast<control::Reason>(code))),
+                         std::to_string(code), fmt(a.total, "%.2f"), std::to_string(a.episodes),
+                         fmt(a.first, "%.2f"), fmt(a.last, "%.2f")});
     if (!rt.rows.empty()) rep.tables.push_back(rt);
   }
 
   std::vector<Marker> mk;
   for (const auto& f : sc.e.faults) mk.push_back({f.at_s, "sensor fault"});
-  for (const auto& a : main.m.alarms) mk.push_back({a.time_s, "alarm: " + std::string(control::reason_name(static_cast<control::Reason>(a.code)))});
-  const double t_end = std::max_element(runs.begin(), runs.end(), [](const auto& a, const auto& b) { return a->m.cycle_time_s < b->m.cycle_time_s; })->get()->m.cycle_time_s;
+  for (const auto& a : main.m.alarms)
+    mk.push_back({a.time_s, "alarm: " + std::string(control::reason_name(
+                                            static_cast<control::Reason>(a.code)))});
+  const double t_end = std::max_element(runs.begin(), runs.end(),
+                                        [](const auto& a, const auto& b) {
+                                          return a->m.cycle_time_s < b->m.cycle_time_s;
+                                        })
+                           ->get()
+                           ->m.cycle_time_s;
 
-  Plot force{"Per-revolution " + pname + " (the feed's reach) and its limit", "time [s]", pname + " [" + unit + "]", {}, mk};
-  for (std::size_t i = 0; i < runs.size(); ++i) force.series.push_back(per_rev(*runs[i], "force_parameter_true", runs[i]->label, kColors[i % 4]));
+  Plot force{"Per-revolution " + pname + " (the feed's reach) and its limit",
+             "time [s]",
+             pname + " [" + unit + "]",
+             {},
+             mk};
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    force.series.push_back(
+        per_rev(*runs[i], "force_parameter_true", runs[i]->label, kColors[i % 4]));
   force.series.push_back(constant(0, t_end, main.m.force_limit, "limit"));
   rep.plots.push_back(force);
-  Plot raw{pname + " within the revolution (runout of the eccentric blank), main run", "time [s]", pname + " [" + unit + "]", {}, mk};
+  Plot raw{pname + " within the revolution (runout of the eccentric blank), main run",
+           "time [s]",
+           pname + " [" + unit + "]",
+           {},
+           mk};
   raw.series.push_back(series(main, "force_parameter_true", "true", kColors[0]));
-  if (!sc.e.faults.empty() || true) raw.series.push_back(series(main, "force_parameter", "as the controller saw it (sensor 4)", "#aaa"));
+  raw.series.push_back(
+      series(main, "force_parameter", "as the controller saw it (sensor 4)", "#aaa"));
   raw.series.push_back(constant(0, main.m.cycle_time_s, main.m.force_limit, "limit"));
   rep.plots.push_back(raw);
   Plot feed{"Feed per revolution (chip thickness)", "time [s]", "feed [mm/rev]", {}, mk};
-  for (std::size_t i = 0; i < runs.size(); ++i) feed.series.push_back(series(*runs[i], "feed_per_rev_mm", runs[i]->label, kColors[i % 4]));
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    feed.series.push_back(series(*runs[i], "feed_per_rev_mm", runs[i]->label, kColors[i % 4]));
   rep.plots.push_back(feed);
-  Plot speed{"Cutting speed V (sensor 20) and seed 004's V_opt", "time [s]", "speed [m/min]", {}, mk};
-  for (std::size_t i = 0; i < runs.size(); ++i) speed.series.push_back(series(*runs[i], "speed_m_per_min", runs[i]->label, kColors[i % 4]));
+  Plot speed{
+      "Cutting speed V (sensor 20) and seed 004's V_opt", "time [s]", "speed [m/min]", {}, mk};
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    speed.series.push_back(series(*runs[i], "speed_m_per_min", runs[i]->label, kColors[i % 4]));
   if (main.mode == Mode::ForceFeedSpeed) {
     Series vo = series(main, "speed_opt_m_per_min", "V_opt, " + main.label, kColors[0]);
     vo.dashed = true;
@@ -257,25 +305,38 @@ RunOutput run_system_e(const Scenario& sc) {
   }
   rep.plots.push_back(speed);
   Plot pw{"Spindle electrical power", "time [s]", "power [kW]", {}, mk};
-  for (std::size_t i = 0; i < runs.size(); ++i) pw.series.push_back(series(*runs[i], "spindle_power_kW", runs[i]->label, kColors[i % 4]));
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    pw.series.push_back(series(*runs[i], "spindle_power_kW", runs[i]->label, kColors[i % 4]));
   rep.plots.push_back(pw);
   Plot life{"Tool life used (∫ dt/T)", "time [s]", "share of one edge", {}, mk};
-  for (std::size_t i = 0; i < runs.size(); ++i) life.series.push_back(series(*runs[i], "tool_life_used", runs[i]->label, kColors[i % 4]));
-  life.series.push_back(Series{"plan: t / T_plan", {0, t_end}, {0, t_end / 60.0 / main.m.tool_life_planned_min}, "#555", true, false});
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    life.series.push_back(series(*runs[i], "tool_life_used", runs[i]->label, kColors[i % 4]));
+  life.series.push_back(Series{"plan: t / T_plan",
+                               {0, t_end},
+                               {0, t_end / 60.0 / main.m.tool_life_planned_min},
+                               "#555",
+                               true,
+                               false});
   rep.plots.push_back(life);
-  Plot dist{"What the tool meets: depth of cut and hardness (main run)", "time [s]", "depth [mm] / factor", {}, mk};
+  Plot dist{"What the tool meets: depth of cut and hardness (main run)",
+            "time [s]",
+            "depth [mm] / factor",
+            {},
+            mk};
   dist.series.push_back(series(main, "depth_mm", "depth [mm]", "#8c564b"));
   dist.series.push_back(series(main, "strength_factor", "strength factor", "#9467bd"));
   rep.plots.push_back(dist);
-  Plot reason{"Reason code timeline (main run): 1 output high, 2 low, 3 rate, 1x sensor, 20 overload, 21 breakage, 30 air, 31 engaged, 32 rapid, 40/41 spindle", "time [s]", "code", {}, mk};
+  Plot reason{
+      "Reason code timeline, main run (codes in the decisions table)", "time [s]", "code", {}, mk};
   reason.series.push_back(series(main, "reason_code", "reason code", "#444"));
   rep.plots.push_back(reason);
 
   out.channels_csv = channels_csv(main.rig.recorder());
   if (runs.size() > 1) out.compare_csv = channels_csv(runs[1]->rig.recorder());
-  out.headline = main.label + ": cycle " + fmt(main.m.cycle_time_s, "%.1f") + " s, tool life used " +
-                 fmt(main.m.tool_life_used_fraction, "%.4f") + " (plan " + fmt(main.m.tool_life_plan_fraction, "%.4f") +
-                 "), peak per-rev " + pname + " " + fmt(main.m.force_peak_rev_mean, "%.0f") + " " + unit;
+  out.headline = main.label + ": cycle " + fmt(main.m.cycle_time_s, "%.1f") +
+                 " s, tool life used " + fmt(main.m.tool_life_used_fraction, "%.4f") + " (plan " +
+                 fmt(main.m.tool_life_plan_fraction, "%.4f") + "), peak per-rev " + pname + " " +
+                 fmt(main.m.force_peak_rev_mean, "%.0f") + " " + unit;
   for (std::size_t i = 1; i < runs.size(); ++i)
     out.headline += "; " + runs[i]->label + " " + fmt(runs[i]->m.cycle_time_s, "%.1f") + " s";
   return out;

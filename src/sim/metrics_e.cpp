@@ -41,7 +41,8 @@ MetricsE compute_metrics_e(const RigE& rig, double settle_s) {
     std::vector<double> cum(f.size() + 1, 0.0);
     for (std::size_t i = 0; i < f.size(); ++i) cum[i + 1] = cum[i] + f[i];
     for (std::size_t i = 0; i < f.size(); ++i) {
-      const auto w = static_cast<std::size_t>(std::max(1.0, std::round(60.0 / std::max(rpm[i], 1.0) / dt_rec)));
+      const auto w = static_cast<std::size_t>(
+          std::max(1.0, std::round(60.0 / std::max(rpm[i], 1.0) / dt_rec)));
       const std::size_t lo = i + 1 >= w ? i + 1 - w : 0;
       f_rev[i] = (cum[i + 1] - cum[lo]) / static_cast<double>(i + 1 - lo);
     }
@@ -49,7 +50,8 @@ MetricsE compute_metrics_e(const RigE& rig, double settle_s) {
   const double limit = m.force_limit;
   const double ceiling = cfg.controller.allow_above_programmed ? cfg.controller.feed_max_mm_per_rev
                                                                : m.feed_programmed_mm_per_rev;
-  double contact_t = -1e9, steady_n = 0, within_n = 0, steady_sum = 0, cut_n = 0, s_sum = 0, v_sum = 0;
+  double contact_t = -1e9, steady_n = 0, within_n = 0, steady_sum = 0, cut_n = 0, s_sum = 0,
+         v_sum = 0;
   bool was_cutting = false;
   for (std::size_t i = 0; i < t.size(); ++i) {
     const bool cutting = depth[i] > 0.0 && s[i] > 0.0;
@@ -63,8 +65,10 @@ MetricsE compute_metrics_e(const RigE& rig, double settle_s) {
     s_sum += s[i];
     v_sum += v[i];
     // the first revolution after contact builds the chip: its mean is not a cut's mean yet
-    if (t[i] - contact_t > 60.0 / std::max(rpm[i], 1.0)) m.force_peak_rev_mean = std::max(m.force_peak_rev_mean, f_rev[i]);
-    const bool regulating = s_cmd[i] < ceiling * 0.995 && s_cmd[i] > cfg.controller.feed_min_mm_per_rev * 1.005;
+    if (t[i] - contact_t > 60.0 / std::max(rpm[i], 1.0))
+      m.force_peak_rev_mean = std::max(m.force_peak_rev_mean, f_rev[i]);
+    const bool regulating =
+        s_cmd[i] < ceiling * 0.995 && s_cmd[i] > cfg.controller.feed_min_mm_per_rev * 1.005;
     if (in_cut[i] > 0.5 && regulating && t[i] - contact_t >= settle_s && hold[i] < 0.5) {
       ++steady_n;
       steady_sum += f_rev[i];
@@ -88,7 +92,8 @@ MetricsE compute_metrics_e(const RigE& rig, double settle_s) {
     const bool was = i > 0 && alarm[i - 1] > 0.5;
     if (on && !was) {
       m.alarms.push_back({t[i], static_cast<int>(reason[i])});
-      if (std::isnan(m.first_alarm_delay_s) && t[i] >= first_fault) m.first_alarm_delay_s = t[i] - first_fault;
+      if (std::isnan(m.first_alarm_delay_s) && t[i] >= first_fault)
+        m.first_alarm_delay_s = t[i] - first_fault;
     }
   }
   if (std::isfinite(first_fault) && rig.first_feed_hold_s() >= first_fault)

@@ -47,9 +47,12 @@ double RigE::worst_case_feed(const RigEConfig& cfg, const cutting::CuttingModel&
   auto param = [&](double s) {
     const auto f = cut.forces({t_max, s, v, hard, wear});
     switch (cfg.force_parameter) {
-      case ForceParameter::Pz: return f.Pz;
-      case ForceParameter::Py: return f.Py;
-      case ForceParameter::Power: return cut.power_W(f, v);
+      case ForceParameter::Pz:
+        return f.Pz;
+      case ForceParameter::Py:
+        return f.Py;
+      case ForceParameter::Power:
+        return cut.power_W(f, v);
     }
     return f.Pz;
   };
@@ -63,7 +66,8 @@ double RigE::worst_case_feed(const RigEConfig& cfg, const cutting::CuttingModel&
   return lo;
 }
 
-void RigE::configure(const RigEConfig& cfg, double dt, double record_interval, double max_duration) {
+void RigE::configure(const RigEConfig& cfg, double dt, double record_interval,
+                     double max_duration) {
   if (!(dt > 0.0) || !(record_interval >= dt) || !(max_duration > 0.0))
     throw std::invalid_argument("run: need step > 0, record interval ≥ step, duration > 0");
   if (max_duration / record_interval > 5e7)
@@ -77,7 +81,8 @@ void RigE::configure(const RigEConfig& cfg, double dt, double record_interval, d
   phi_ = 0.0;
   sound_ = true;
   first_hold_s_ = -1.0;
-  record_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(record_interval / dt)));
+  record_every_ =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(record_interval / dt)));
   cut_.configure(cfg.cutting);
   stock_.configure(cfg.stock);
   auto dp = cfg.disturbances;
@@ -92,7 +97,8 @@ void RigE::configure(const RigEConfig& cfg, double dt, double record_interval, d
   }
   cp.air_feed_mm_per_rev = std::max(cp.air_feed_mm_per_rev, 1e-6);
   ctl_.configure(cp);
-  control_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cp.period_s / dt)));
+  control_every_ =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cp.period_s / dt)));
   life_plan_min_ = cut_.tool_life_min(cp.speed_programmed_m_per_min, cp.feed_planned_mm_per_rev,
                                       cfg.planned_depth_mm);
 
@@ -108,7 +114,8 @@ void RigE::configure(const RigEConfig& cfg, double dt, double record_interval, d
   force_sensor_.reset(0.0);
   const double rev_steps = 60.0 / cfg.spindle.min_rpm / dt;
   if (rev_steps > 2e7)
-    throw std::invalid_argument("one revolution at the spindle's min_rpm spans more than 2e7 steps");
+    throw std::invalid_argument(
+        "one revolution at the spindle's min_rpm spans more than 2e7 steps");
   const auto hist = static_cast<std::size_t>(rev_steps) + 8;
   hist_theta_.assign(hist, 0.0);
   hist_z_.assign(hist, 0.0);
@@ -125,15 +132,19 @@ void RigE::configure(const RigEConfig& cfg, double dt, double record_interval, d
   stuck_value_ = force_seen_ = 0.0;
   acc_param_ = acc_pz_ = acc_py_ = acc_depth_ = acc_power_ = 0.0;
   acc_n_ = 0;
-  rec_ = Recorder(rig_e_channels(),
-                  static_cast<std::size_t>(max_duration / (dt * static_cast<double>(record_every_))) + 2);
+  rec_ = Recorder(
+      rig_e_channels(),
+      static_cast<std::size_t>(max_duration / (dt * static_cast<double>(record_every_))) + 2);
 }
 
 double RigE::force_parameter(const cutting::Forces& f, double v) const noexcept {
   switch (cfg_.force_parameter) {
-    case ForceParameter::Pz: return f.Pz;
-    case ForceParameter::Py: return f.Py;
-    case ForceParameter::Power: return cut_.power_W(f, v);
+    case ForceParameter::Pz:
+      return f.Pz;
+    case ForceParameter::Py:
+      return f.Py;
+    case ForceParameter::Power:
+      return cut_.power_W(f, v);
   }
   return f.Pz;
 }
@@ -162,9 +173,12 @@ double RigE::faulted(double value) noexcept {
   for (const auto& f : cfg_.faults) {
     if (t_ < f.at_s || t_ >= f.at_s + f.duration_s) continue;
     switch (f.kind) {
-      case SensorFault::Kind::NotFinite: return std::nan("");
-      case SensorFault::Kind::OutOfRange: return cfg_.force_sensor.range * 2.0 + 1.0;
-      case SensorFault::Kind::Stuck: return stuck_value_;
+      case SensorFault::Kind::NotFinite:
+        return std::nan("");
+      case SensorFault::Kind::OutOfRange:
+        return cfg_.force_sensor.range * 2.0 + 1.0;
+      case SensorFault::Kind::Stuck:
+        return stuck_value_;
     }
   }
   stuck_value_ = value;
@@ -259,29 +273,28 @@ bool RigE::step() noexcept {
   if (!std::isfinite(spindle_.omega()) || !std::isfinite(axis_.position_m())) sound_ = false;
   if (step_ % record_every_ == 0) {
     const double n = static_cast<double>(acc_n_);
-    const std::array<double, kChannels> row{
-        t_,
-        z_mm,
-        static_cast<double>(pass_),
-        acc_depth_ / n,
-        s,
-        axis_.measured_velocity_m_per_s() * 60000.0,
-        force_seen_,
-        acc_param_ / n,
-        acc_pz_ / n,
-        acc_py_ / n,
-        acc_power_ / n * 1e-3,
-        spindle_.electrical_power_W() * 1e-3,
-        spindle_.rpm(),
-        v,
-        out_.speed_opt_m_per_min,
-        out_.feed_per_rev_mm,
-        life_used_,
-        strength,
-        static_cast<double>(out_.reason),
-        out_.alarm ? 1.0 : 0.0,
-        out_.feed_hold ? 1.0 : 0.0,
-        out_.in_cut ? 1.0 : 0.0};
+    const std::array<double, kChannels> row{t_,
+                                            z_mm,
+                                            static_cast<double>(pass_),
+                                            acc_depth_ / n,
+                                            s,
+                                            axis_.measured_velocity_m_per_s() * 60000.0,
+                                            force_seen_,
+                                            acc_param_ / n,
+                                            acc_pz_ / n,
+                                            acc_py_ / n,
+                                            acc_power_ / n * 1e-3,
+                                            spindle_.electrical_power_W() * 1e-3,
+                                            spindle_.rpm(),
+                                            v,
+                                            out_.speed_opt_m_per_min,
+                                            out_.feed_per_rev_mm,
+                                            life_used_,
+                                            strength,
+                                            static_cast<double>(out_.reason),
+                                            out_.alarm ? 1.0 : 0.0,
+                                            out_.feed_hold ? 1.0 : 0.0,
+                                            out_.in_cut ? 1.0 : 0.0};
     rec_.push_row(row);
     acc_param_ = acc_pz_ = acc_py_ = acc_depth_ = acc_power_ = 0.0;
     acc_n_ = 0;

@@ -44,17 +44,17 @@ class AdaptiveFeedController {
 
   struct Params {
     Mode mode = Mode::ForceFeedSpeed;
-    double period_s = 0.002;                 // control period
-    double force_limit = 1000.0;             // setter 6, in the sensor's unit (N or W)
-    double feed_programmed_mm_per_rev = 0.4; // programmed feed (fixed mode's feed)
-    double feed_min_mm_per_rev = 0.05;       // setter 10
-    double feed_max_mm_per_rev = 0.6;        // setter 9
+    double period_s = 0.002;                  // control period
+    double force_limit = 1000.0;              // setter 6, in the sensor's unit (N or W)
+    double feed_programmed_mm_per_rev = 0.4;  // programmed feed (fixed mode's feed)
+    double feed_min_mm_per_rev = 0.05;        // setter 10
+    double feed_max_mm_per_rev = 0.6;         // setter 9
     bool allow_above_programmed = false;
-    double air_feed_mm_per_rev = 0.4;        // feed while in air
-    double entry_feed_mm_per_rev = 0.05;     // feed the tool drops to on contact (bumpless entry)
+    double air_feed_mm_per_rev = 0.4;     // feed while in air
+    double entry_feed_mm_per_rev = 0.05;  // feed the tool drops to on contact (bumpless entry)
     double speed_programmed_m_per_min = 150.0;  // V_p, setter 18 (fixed and prior art: V)
-    double feed_planned_mm_per_rev = 0.4;    // S_p, setter 15
-    double y_v = 0.35;                       // exponent of feed in the tool-life formula
+    double feed_planned_mm_per_rev = 0.4;       // S_p, setter 15
+    double y_v = 0.35;                          // exponent of feed in the tool-life formula
     // Low-pass on S_cur = F/n (computer 11) before the speed law. Unfiltered, a spindle speed-up
     // lowers the measured F/n (the feed axis lags), which raises V_opt again: the loop hunts.
     double speed_law_filter_s = 1.0;
@@ -62,24 +62,24 @@ class AdaptiveFeedController {
     // estimated from the force by the design model F = C·t^x·s^y·V^n (only for a force sensor).
     // The seed's law keeps tool life at plan only at the planned depth; this keeps it for any
     // depth. Off (seed law) when depth_exponent_xv = 0.
-    double depth_exponent_xv = 0.0;          // x_v of the tool-life formula; 0 = seed law
-    double depth_planned_mm = 3.0;           // t_p
-    double force_model_C = 0.0;              // F = C·t^x·s^y·V^n (N; mm, mm/rev, m/min)
+    double depth_exponent_xv = 0.0;  // x_v of the tool-life formula; 0 = seed law
+    double depth_planned_mm = 3.0;   // t_p
+    double force_model_C = 0.0;      // F = C·t^x·s^y·V^n (N; mm, mm/rev, m/min)
     double force_model_x = 1.0;
     double force_model_y = 0.75;
     double force_model_n = -0.15;
     double rpm_min = 10.0;
     double rpm_max = 4000.0;
-    double cut_power_max_W = 1e9;            // spindle power available for cutting
-    double kp = 0.5;                         // PI on (limit − force)/limit → feed [fraction of programmed]
+    double cut_power_max_W = 1e9;  // spindle power available for cutting
+    double kp = 0.5;  // PI on (limit − force)/limit → feed [fraction of programmed]
     double ti_s = 0.1;
-    double feed_rate_limit_per_s = 0.5;      // max |ds/dt| as a fraction of the programmed feed per s
+    double feed_rate_limit_per_s = 0.5;  // max |ds/dt| as a fraction of the programmed feed per s
     double speed_rate_limit_m_per_min_per_s = 200.0;
-    double air_threshold = 0.1;              // fraction of force_limit
+    double air_threshold = 0.1;  // fraction of force_limit
     double air_time_s = 0.05;
     double overload_margin = 0.3;
     double overload_time_s = 0.2;
-    double breakage_spike = 2.5;             // fraction of force_limit
+    double breakage_spike = 2.5;  // fraction of force_limit
     double breakage_drop_window_s = 0.01;
     // Regulate the force averaged over one spindle revolution (window from the measured speed):
     // the feed reaches the chip only over a revolution, so within-revolution swings (runout of
@@ -90,24 +90,24 @@ class AdaptiveFeedController {
   };
 
   struct Input {
-    double force = 0.0;                  // sensor 4 (N or W)
-    double feed_rate_mm_per_min = 0.0;   // sensor 12
-    double rpm = 0.0;                    // sensor 13
-    double speed_m_per_min = 0.0;        // sensor 20 (V = π·D·n)
-    double cut_power_W = 0.0;            // spindle power minus idle power at this speed
-    bool feed_block = true;              // a cutting (G1) block is active
+    double force = 0.0;                 // sensor 4 (N or W)
+    double feed_rate_mm_per_min = 0.0;  // sensor 12
+    double rpm = 0.0;                   // sensor 13
+    double speed_m_per_min = 0.0;       // sensor 20 (V = π·D·n)
+    double cut_power_W = 0.0;           // spindle power minus idle power at this speed
+    bool feed_block = true;             // a cutting (G1) block is active
   };
 
   struct Output {
-    double feed_per_rev_mm = 0.0;        // commanded feed per revolution (0 on feed hold)
-    double feed_rate_mm_per_min = 0.0;   // to the feed drive: s·n_meas
-    double speed_m_per_min = 0.0;        // commanded cutting speed
-    double rpm = 0.0;                    // to the spindle drive
-    double speed_opt_m_per_min = 0.0;    // V_opt by seed 004 (for the record)
-    double depth_estimate_mm = 0.0;      // t̂ (depth-corrected law only)
+    double feed_per_rev_mm = 0.0;       // commanded feed per revolution (0 on feed hold)
+    double feed_rate_mm_per_min = 0.0;  // to the feed drive: s·n_meas
+    double speed_m_per_min = 0.0;       // commanded cutting speed
+    double rpm = 0.0;                   // to the spindle drive
+    double speed_opt_m_per_min = 0.0;   // V_opt by seed 004 (for the record)
+    double depth_estimate_mm = 0.0;     // t̂ (depth-corrected law only)
     bool in_cut = false;
     bool feed_hold = false;
-    Reason reason = Reason::None;        // why the output is what it is
+    Reason reason = Reason::None;  // why the output is what it is
     bool alarm = false;
     Reason alarm_reason = Reason::None;
   };
@@ -131,7 +131,7 @@ class AdaptiveFeedController {
   bool was_block_ = false;
   double below_air_s_ = 0.0;
   double over_s_ = 0.0;
-  double high_since_s_ = 1e9;   // time since the force was last above half the limit
+  double high_since_s_ = 1e9;  // time since the force was last above half the limit
   bool alarm_ = false;
   Reason alarm_reason_ = Reason::None;
   double held_rpm_ = 0.0;

@@ -20,19 +20,19 @@ enum class Status : std::uint8_t {
 // Why the output is what it is. Values are stable: they are written to channels.csv and HAL pins.
 enum class Reason : std::uint16_t {
   None = 0,
-  OutputHigh = 1,         // regulator output at its upper limit (e.g. programmed feed)
-  OutputLow = 2,          // regulator output at its lower limit
-  RateLimited = 3,        // output slew limited (motor speed, converter ramp)
-  SensorNotFinite = 10,   // sensor sample NaN or infinite
-  SensorOutOfRange = 11,  // sensor sample outside its valid range
-  SensorStuck = 12,       // sensor sample unchanged for longer than allowed
-  Overload = 20,          // force above limit too long with feed already at minimum
-  ToolBreakage = 21,      // sudden force drop or spike
-  AirCut = 30,            // tool not in the cut: air feed
-  Engaged = 31,           // tool entered the cut: feed dropped to the programmed value, PI preset
-  NotInFeedBlock = 32,    // rapid / non-cutting block: adaptive control inactive
-  SpindleSpeedLimit = 40, // speed command clamped to the spindle's range
-  SpindlePowerLimit = 41, // speed command reduced to respect the spindle's power
+  OutputHigh = 1,          // regulator output at its upper limit (e.g. programmed feed)
+  OutputLow = 2,           // regulator output at its lower limit
+  RateLimited = 3,         // output slew limited (motor speed, converter ramp)
+  SensorNotFinite = 10,    // sensor sample NaN or infinite
+  SensorOutOfRange = 11,   // sensor sample outside its valid range
+  SensorStuck = 12,        // sensor sample unchanged for longer than allowed
+  Overload = 20,           // force above limit too long with feed already at minimum
+  ToolBreakage = 21,       // sudden force drop or spike
+  AirCut = 30,             // tool not in the cut: air feed
+  Engaged = 31,            // tool entered the cut: feed dropped to the programmed value, PI preset
+  NotInFeedBlock = 32,     // rapid / non-cutting block: adaptive control inactive
+  SpindleSpeedLimit = 40,  // speed command clamped to the spindle's range
+  SpindlePowerLimit = 41,  // speed command reduced to respect the spindle's power
 };
 
 constexpr std::string_view reason_name(Reason r) noexcept {

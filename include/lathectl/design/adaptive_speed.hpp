@@ -11,10 +11,10 @@ namespace lathectl::design {
 // Throws std::invalid_argument on non-positive inputs.
 double optimal_speed(double V_p_m_per_min, double S_p_mm_per_rev, double y_v,
                      double S_cur_mm_per_rev);
-double tool_life_min(double Cv, double m, double xv, double yv, double V_m_per_min,
-                     double depth_mm, double feed_mm_per_rev);
-double speed_for_life(double Cv, double m, double xv, double yv, double life_min,
-                      double depth_mm, double feed_mm_per_rev);
+double tool_life_min(double Cv, double m, double xv, double yv, double V_m_per_min, double depth_mm,
+                     double feed_mm_per_rev);
+double speed_for_life(double Cv, double m, double xv, double yv, double life_min, double depth_mm,
+                      double feed_mm_per_rev);
 double feed_per_rev(double feed_rate_mm_per_min, double spindle_rpm);
 
 }  // namespace lathectl::design

@@ -18,11 +18,11 @@ namespace lathectl::drives {
 class FeedAxis {
  public:
   struct Params {
-    double time_constant_s = 0.01;          // τ_v: velocity-loop lag (bandwidth 1/(2πτ_v))
-    double max_velocity_m_per_s = 0.1;      // v_max (rapid traverse)
-    double max_acceleration_m_per_s2 = 2.0; // a_max
+    double time_constant_s = 0.01;           // τ_v: velocity-loop lag (bandwidth 1/(2πτ_v))
+    double max_velocity_m_per_s = 0.1;       // v_max (rapid traverse)
+    double max_acceleration_m_per_s2 = 2.0;  // a_max
     double encoder_resolution_m = 1e-6;
-    double velocity_window_s = 0.01;        // window of the measured velocity
+    double velocity_window_s = 0.01;  // window of the measured velocity
   };
   // Allocates the encoder history for steps of dt; throws std::invalid_argument.
   void configure(const Params& p, double dt_s);

@@ -15,12 +15,12 @@ namespace lathectl::drives {
 class SpindleDrive {
  public:
   struct Params {
-    double inertia_kg_m2 = 0.5;           // J (spindle, chuck, part) reduced to the spindle
-    double viscous_N_m_s = 0.01;          // b
-    double max_torque_N_m = 400.0;        // T_max
-    double max_power_W = 15000.0;         // P_max (mechanical, at the spindle)
-    double efficiency = 0.85;             // η of motor + transmission
-    double idle_p0_W = 300.0;             // P_idle(n) = p0 + p1·n + p2·n²
+    double inertia_kg_m2 = 0.5;     // J (spindle, chuck, part) reduced to the spindle
+    double viscous_N_m_s = 0.01;    // b
+    double max_torque_N_m = 400.0;  // T_max
+    double max_power_W = 15000.0;   // P_max (mechanical, at the spindle)
+    double efficiency = 0.85;       // η of motor + transmission
+    double idle_p0_W = 300.0;       // P_idle(n) = p0 + p1·n + p2·n²
     double idle_p1_W_per_rpm = 0.3;
     double idle_p2_W_per_rpm2 = 1e-4;
     double kp_N_m_s = 20.0;               // speed-loop proportional gain [N·m per rad/s]
@@ -43,9 +43,9 @@ class SpindleDrive {
 
  private:
   Params p_{};
-  double w_ = 0.0;        // rad/s
-  double w_cmd_ = 0.0;    // ramped command, rad/s
-  double integral_ = 0.0; // N·m
+  double w_ = 0.0;         // rad/s
+  double w_cmd_ = 0.0;     // ramped command, rad/s
+  double integral_ = 0.0;  // N·m
   double tm_ = 0.0;
   bool limited_ = false;
 };

@@ -37,8 +37,8 @@ struct Scenario {
   std::string name;
   std::string description;
   RunSettings run;
-  sim::RigAConfig a;  // system A
-  sim::RigEConfig e;  // system E
+  sim::RigAConfig a;                                                 // system A
+  sim::RigEConfig e;                                                 // system E
   std::vector<control::AdaptiveFeedController::Mode> compare_modes;  // system E: overlaid runs
   std::optional<Comparison> compare;
   std::vector<double> sweep_leak_estimate_factor;  // controller K_leak / true K_leak

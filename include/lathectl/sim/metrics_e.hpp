@@ -24,9 +24,9 @@ struct MetricsE {
   double cycle_time_s = 0.0;
   double time_in_cut_s = 0.0;
   double force_limit = 0.0;
-  double force_peak = 0.0;              // raw (record-interval mean) peak of the true parameter
-  double force_peak_rev_mean = 0.0;     // peak of the per-revolution mean
-  double force_overshoot_pct = 0.0;     // of the per-revolution mean
+  double force_peak = 0.0;           // raw (record-interval mean) peak of the true parameter
+  double force_peak_rev_mean = 0.0;  // peak of the per-revolution mean
+  double force_overshoot_pct = 0.0;  // of the per-revolution mean
   double force_within_5pct_fraction = std::numeric_limits<double>::quiet_NaN();
   double force_mean_steady = std::numeric_limits<double>::quiet_NaN();
   double force_Pz_peak_N = 0.0;
@@ -35,8 +35,8 @@ struct MetricsE {
   double tool_life_planned_min = 0.0;
   double material_removed_cm3 = 0.0;
   double mrr_cm3_per_min = 0.0;
-  double feed_mean_mm_per_rev = 0.0;    // in cut
-  double speed_mean_m_per_min = 0.0;    // in cut
+  double feed_mean_mm_per_rev = 0.0;  // in cut
+  double speed_mean_m_per_min = 0.0;  // in cut
   double feed_programmed_mm_per_rev = 0.0;
   double spindle_power_peak_kW = 0.0;
   std::vector<AlarmEvent> alarms;

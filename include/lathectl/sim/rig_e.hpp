@@ -42,9 +42,9 @@ struct RigEConfig {
   sensors::LaggedNoisySensor::Params force_sensor;  // in N (dynamometer) or W (power)
   sensors::LaggedNoisySensor::Params power_meter;   // spindle electrical power [W]
   control::AdaptiveFeedController::Params controller;
-  bool worst_case_feed = false;  // fixed mode: programmed feed so the worst case meets the limit
-  double planned_depth_mm = 2.0; // depth at which V_p, S_p give the planned tool life
-  double approach_mm = 2.0;      // air travel before each pass
+  bool worst_case_feed = false;   // fixed mode: programmed feed so the worst case meets the limit
+  double planned_depth_mm = 2.0;  // depth at which V_p, S_p give the planned tool life
+  double approach_mm = 2.0;       // air travel before each pass
   double rapid_m_per_s = 0.1;
   std::vector<SensorFault> faults;
 };
@@ -52,8 +52,9 @@ struct RigEConfig {
 class RigE {
  public:
   // Throws std::invalid_argument on an inconsistent configuration.
-  void configure(const RigEConfig& cfg, double dt_s, double record_interval_s, double max_duration_s);
-  void run() noexcept;  // until the last pass ends or max_duration_s
+  void configure(const RigEConfig& cfg, double dt_s, double record_interval_s,
+                 double max_duration_s);
+  void run() noexcept;                 // until the last pass ends or max_duration_s
   [[nodiscard]] bool step() noexcept;  // false when finished
 
   [[nodiscard]] const Recorder& recorder() const noexcept { return rec_; }
@@ -64,13 +65,16 @@ class RigE {
   [[nodiscard]] double tool_life_used() const noexcept { return life_used_; }
   [[nodiscard]] double tool_life_planned_min() const noexcept { return life_plan_min_; }
   [[nodiscard]] double material_removed_cm3() const noexcept { return removed_mm3_ / 1000.0; }
-  [[nodiscard]] double programmed_feed() const noexcept { return ctl_.params().feed_programmed_mm_per_rev; }
+  [[nodiscard]] double programmed_feed() const noexcept {
+    return ctl_.params().feed_programmed_mm_per_rev;
+  }
   [[nodiscard]] double force_limit() const noexcept { return ctl_.params().force_limit; }
   [[nodiscard]] bool numerically_sound() const noexcept { return sound_; }
   // Time the controller first held the feed (feed command 0), or −1; exact, not recorded.
   [[nodiscard]] double first_feed_hold_s() const noexcept { return first_hold_s_; }
   // Worst-case feed: the largest s whose worst-case force parameter stays at the limit.
-  [[nodiscard]] static double worst_case_feed(const RigEConfig& cfg, const cutting::CuttingModel& cut,
+  [[nodiscard]] static double worst_case_feed(const RigEConfig& cfg,
+                                              const cutting::CuttingModel& cut,
                                               const cutting::Stock& stock);
 
  private:
@@ -98,8 +102,8 @@ class RigE {
   double force_seen_ = 0.0;
   bool sound_ = true;
   double first_hold_s_ = -1.0;
-  double theta_ = 0.0;                // cumulative spindle angle [rad]
-  std::vector<double> hist_theta_;    // ring buffer: angle and axial position per step
+  double theta_ = 0.0;              // cumulative spindle angle [rad]
+  std::vector<double> hist_theta_;  // ring buffer: angle and axial position per step
   std::vector<double> hist_z_;
   std::size_t head_ = 0;
   std::size_t tail_ = 0;

@@ -1,0 +1,37 @@
+#pragma once
+// Small pieces every system's study (system_a.cpp, system_e.cpp, ...) uses to turn runs into a
+// summary and a report: number formatting, JSON numbers without NaN, recorded columns, alarm
+// lists, and the claims list (each claim with its number and whether it was met).
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "lathectl/sim/metrics.hpp"
+#include "lathectl/sim/recorder.hpp"
+
+namespace lathectl::io {
+
+// printf-style number, "—" for NaN.
+std::string fmt(double v, const char* format = "%.4g");
+// A JSON number, or null when not finite (JSON has no NaN).
+nlohmann::json json_number(double v);
+// A copy of one recorded channel.
+std::vector<double> column(const sim::Recorder& rec, const char* name);
+// [{time_s, code, reason}, ...]
+nlohmann::json alarms_json(const std::vector<sim::AlarmEvent>& alarms);
+
+// Claims a run answers: the JSON list for summary.json and the report's notes, kept together.
+class Claims {
+ public:
+  void add(const std::string& text, double value, bool met);
+  void note(const std::string& text) { notes_.push_back(text); }
+  [[nodiscard]] const nlohmann::json& json() const { return json_; }
+  [[nodiscard]] const std::vector<std::string>& notes() const { return notes_; }
+
+ private:
+  nlohmann::json json_ = nlohmann::json::array();
+  std::vector<std::string> notes_;
+};
+
+}  // namespace lathectl::io

@@ -1,0 +1,41 @@
+#include "lathectl/io/study.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "lathectl/control/types.hpp"
+
+namespace lathectl::io {
+
+std::string fmt(double v, const char* format) {
+  if (std::isnan(v)) return "—";
+  char b[64];
+  std::snprintf(b, sizeof b, format, v);
+  return b;
+}
+
+nlohmann::json json_number(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
+std::vector<double> column(const sim::Recorder& rec, const char* name) {
+  const auto c = rec.column(name);
+  return {c.begin(), c.end()};
+}
+
+nlohmann::json alarms_json(const std::vector<sim::AlarmEvent>& alarms) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const auto& e : alarms)
+    a.push_back(
+        {{"time_s", e.time_s},
+         {"code", e.code},
+         {"reason", std::string(control::reason_name(static_cast<control::Reason>(e.code)))}});
+  return a;
+}
+
+void Claims::add(const std::string& text, double value, bool met) {
+  json_.push_back({{"claim", text}, {"value", json_number(value)}, {"met", met}});
+  notes_.push_back(std::string(met ? "✔ " : "✘ ") + text + ": " + fmt(value));
+}
+
+}  // namespace lathectl::io
