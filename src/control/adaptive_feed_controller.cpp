@@ -38,6 +38,10 @@ void AdaptiveFeedController::configure(const Params& p) {
   need(p.air_time_s >= 0.0 && p.overload_time_s >= 0.0 && p.breakage_drop_window_s >= 0.0,
        "times must be ≥ 0");
   need(p.overload_margin >= 0.0 && p.breakage_spike > 1.0, "overload margin ≥ 0, spike > 1");
+  {
+    SignalMonitor probe;  // validate before any state changes: a throw leaves the old setup intact
+    probe.configure(p.sensor_monitor);
+  }
   p_ = p;
   monitor_.configure(p.sensor_monitor);
   const double s_prog = p.feed_programmed_mm_per_rev;
@@ -73,6 +77,8 @@ double AdaptiveFeedController::feed_ceiling() const noexcept {
 
 void AdaptiveFeedController::reset_alarm() noexcept {
   alarm_ = false;
+  prefix_count_ = 0;
+  prefix_sum_ = 0.0;
   alarm_reason_ = Reason::None;
   monitor_.reset();
   over_s_ = 0.0;
@@ -98,11 +104,13 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
       alarm_reason_ = r;
     }
   };
+  Reason fault = Reason::None;
   if (adaptive) {
-    const Reason fault = monitor_.check(in.force, dt);
+    fault = monitor_.check(in.force, dt);
     if (fault != Reason::None) raise(fault);
   }
-  const bool sensor_ok = std::isfinite(in.force);
+  // Only samples the monitor accepts reach the regulation or its running average.
+  const bool sensor_ok = std::isfinite(in.force) && fault == Reason::None;
 
   if (!in.feed_block) {  // rapid: inactive, restart bumpless at the next feed block
     in_cut_ = false;
@@ -229,6 +237,10 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     out.feed_rate_mm_per_min = 0.0;
     out.feed_hold = true;
     out.rpm = held_rpm_ > 0.0 ? held_rpm_ : rpm;  // the spindle keeps turning: retract safely
+    // Hold the speed command with the spindle: restart from here, bumpless, after reset_alarm().
+    if (in.rpm > 0.0 && in.speed_m_per_min > 0.0)
+      speed_ramp_.reset(in.speed_m_per_min * out.rpm / in.rpm);
+    out.speed_m_per_min = speed_ramp_.value();
     out.alarm = true;
     out.alarm_reason = alarm_reason_;
     out.reason = alarm_reason_;

@@ -64,8 +64,9 @@ double PiRegulator::update(double error, double dt, Reason& limited) noexcept {
   if (!pushing_out) integral_ = std::clamp(integral_ + ki * error * dt, p_.out_min, p_.out_max);
   const double raw = p_.kp * error + integral_;
   limited = Reason::None;
-  if (raw > p_.out_max) limited = Reason::OutputHigh;
-  if (raw < p_.out_min) limited = Reason::OutputLow;
+  // On the limit counts as limited, consistently with the integrator's hold above.
+  if (raw >= p_.out_max) limited = Reason::OutputHigh;
+  if (raw <= p_.out_min) limited = Reason::OutputLow;
   out_ = std::clamp(raw, p_.out_min, p_.out_max);
   return out_;
 }

@@ -35,8 +35,13 @@ double Stock::blank_diameter_mm(double z) const noexcept {
 }
 
 bool Stock::blank_surface(std::size_t pass, double z) const noexcept {
+  // The blank's eccentric surface survives wherever no earlier pass reached below its lowest
+  // point (a pass that cut only air, or only the high side, leaves it).
+  const double lowest = blank_diameter_mm(z) - 2.0 * p_.eccentricity_mm;
   for (std::size_t j = 0; j < pass && j < p_.passes.size(); ++j)
-    if (z >= p_.passes[j].z_start_mm && z <= p_.passes[j].z_end_mm) return false;
+    if (z >= p_.passes[j].z_start_mm && z <= p_.passes[j].z_end_mm &&
+        p_.passes[j].diameter_mm < lowest)
+      return false;
   return true;
 }
 
@@ -48,13 +53,17 @@ double Stock::surface_diameter_mm(std::size_t pass, double z) const noexcept {
   return d;
 }
 
+// Radius of the surface in front of pass k at angle φ: the eccentric blank, cut down to each
+// earlier pass's radius where that pass reached (exact for partly cut, interrupted surfaces).
 double Stock::depth_mm(std::size_t pass, double z, double phi) const noexcept {
   if (pass >= p_.passes.size()) return 0.0;
   const auto& k = p_.passes[pass];
   if (z < k.z_start_mm || z > k.z_end_mm) return 0.0;
-  double t = 0.5 * (surface_diameter_mm(pass, z) - k.diameter_mm);
-  if (p_.eccentricity_mm > 0.0 && blank_surface(pass, z)) t += p_.eccentricity_mm * std::sin(phi);
-  return std::max(t, 0.0);
+  double r = 0.5 * blank_diameter_mm(z) + p_.eccentricity_mm * std::sin(phi);
+  for (std::size_t j = 0; j < pass; ++j)
+    if (z >= p_.passes[j].z_start_mm && z <= p_.passes[j].z_end_mm)
+      r = std::min(r, 0.5 * p_.passes[j].diameter_mm);
+  return std::max(r - 0.5 * k.diameter_mm, 0.0);
 }
 
 double Stock::max_depth_mm() const noexcept {
@@ -63,9 +72,7 @@ double Stock::max_depth_mm() const noexcept {
     const auto& q = p_.passes[k];
     for (int i = 0; i <= 400; ++i) {
       const double z = q.z_start_mm + (q.z_end_mm - q.z_start_mm) * i / 400.0;
-      double t = 0.5 * (surface_diameter_mm(k, z) - q.diameter_mm);
-      if (blank_surface(k, z)) t += p_.eccentricity_mm;
-      m = std::max(m, t);
+      m = std::max(m, depth_mm(k, z, 0.5 * std::numbers::pi));  // the blank's high side
     }
   }
   return m;
