@@ -268,7 +268,8 @@ int cmd_adaptive_speed(const AdaptiveSpeedArgs& a) {
   };
   std::printf("Adaptive cutting speed (seed 004) and tool life (extended Taylor, handbook)\n");
   if (do_opt) {
-    std::printf("  V_opt = V_p·(S_p/S)^yv with yv = %g (%s)\n", *c_opt.yv, source(c_opt).c_str());
+    std::printf("  V_opt = V_p·(S_p/S)^yv with yv = %g (%s)\n", *c_opt.yv,
+                a.yv ? "options" : source(c_opt).c_str());
     row("optimal cutting speed V_opt", v_opt, "m/min");
   }
   if (do_life || do_speed)
