@@ -12,6 +12,7 @@
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/sim/rig_a.hpp"
 #include "lathectl/sim/rig_e.hpp"
+#include "lathectl/sim/gauging.hpp"
 #include "support/sample_controller.hpp"
 
 using namespace lathectl;
@@ -64,6 +65,36 @@ void BM_RigE_Part(benchmark::State& state, const char* scenario) {
 BENCHMARK_CAPTURE(BM_RigE_Part, seed004, "e_stepped_seed004.toml")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_RigE_Part, fixed_worst_case, "e_stepped_fixed.toml")
     ->Unit(benchmark::kMillisecond);
+
+// System D: 10^5 parts by the linearised model (target < 2 s), one part by the full
+// electromechanical model (target < 50 ms).
+void BM_Gauging_LinearMonteCarlo(benchmark::State& state) {
+  const auto sc = load("d_gauging.toml");
+  sensors::VibroContactGauge g;
+  g.configure(sc.d.transducer, sc.run.step_s);
+  const sim::LinearGauge lg{g.signal_gain_V_per_m(), g.free_amplitude_m(), sc.d.transducer.filter_time_constant_s};
+  const double th = sim::threshold_23(lg, sc.d.process);
+  for (auto _ : state) {
+    auto r = sim::monte_carlo_linear(sc.d.process, lg, th, static_cast<std::size_t>(state.range(0)), 7,
+                                     static_cast<unsigned>(state.range(1)));
+    benchmark::DoNotOptimize(r.data());
+  }
+}
+BENCHMARK(BM_Gauging_LinearMonteCarlo)->Args({100000, 0})->Args({100000, 1})->ArgNames({"parts", "threads"})->Unit(benchmark::kMillisecond);
+
+void BM_Gauging_FullModelPart(benchmark::State& state) {
+  const auto sc = load("d_gauging.toml");
+  sensors::VibroContactGauge g;
+  g.configure(sc.d.transducer, sc.run.step_s);
+  const sim::LinearGauge lg{g.signal_gain_V_per_m(), g.free_amplitude_m(), sc.d.transducer.filter_time_constant_s};
+  const double th = sim::threshold_23(lg, sc.d.process);
+  std::uint64_t seed = 1;
+  for (auto _ : state) {
+    auto r = sim::machine_part_full(sc.d.process, sc.d.transducer, sc.run.step_s, th, seed++);
+    benchmark::DoNotOptimize(r);
+  }
+}
+BENCHMARK(BM_Gauging_FullModelPart)->Unit(benchmark::kMillisecond);
 
 void BM_AdaptiveFeedController_Update(benchmark::State& state) {
   control::AdaptiveFeedController::Params p;

@@ -3,12 +3,14 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/system_a.hpp"
+#include "lathectl/io/system_d.hpp"
 #include "lathectl/io/system_e.hpp"
 
 namespace lathectl::io {
 
 RunOutput run_scenario(const Scenario& sc) {
   if (sc.system == "A") return run_system_a(sc);
+  if (sc.system == "D") return run_system_d(sc);
   if (sc.system == "E") return run_system_e(sc);
   throw InputError(sc.file + ": system '" + sc.system + "' is not implemented");
 }

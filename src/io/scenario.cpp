@@ -454,6 +454,51 @@ void read_system_e(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
   e.faults = read_faults(root);
 }
 
+
+void read_system_d(TableReader& root, Scenario& sc) {
+  auto& d = sc.d;
+  auto pr = root.table("process", true);
+  d.process.allowance_m = pr->number("allowance_um", {0.0, 1e5, true, false}) * 1e-6;
+  d.process.removal_m_per_s = pr->number("removal_um_per_s", {0.0, 1e5, true, false}) * 1e-6;
+  d.process.target_m = pr->number("target_um", Range::any()) * 1e-6;
+  if (!(d.process.target_m < d.process.allowance_m)) pr->fail("target_um", "must be below allowance_um");
+  const double sigma = pr->number("noise_sigma_um", Range::closed(0, 1e4), 0.0) * 1e-6;
+  d.process.noise_variance_m2 = sigma * sigma;
+  d.process.noise_beta_per_s = pr->number("noise_beta_per_s", {0.0, 1e6, true, false}, 5.0);
+  d.process.relay_response_s = pr->number("relay_response_ms", Range::closed(0, 1e4), 20.0) * 1e-3;
+  d.tolerance_m = pr->number("tolerance_um", {0.0, 1e5, true, false}) * 1e-6;
+  pr->finish();
+
+  auto tr = root.table("transducer", true);
+  auto& t = d.transducer;
+  t.supply_V = tr->number("supply_V", {0.0, 1e4, true, false});
+  t.supply_Hz = tr->number("supply_Hz", {0.0, 1e5, true, false});
+  t.coil_turns = tr->number("coil_turns", {0.0, 1e7, true, false});
+  t.coil_resistance_ohm = tr->number("coil_resistance_ohm", {0.0, 1e7, true, false});
+  t.coil_inductance_H = tr->number("coil_inductance_H", {0.0, 1e4, true, false});
+  t.force_coefficient_N_per_Wb2 = tr->number("force_coefficient_N_per_Wb2", {0.0, 1e20, true, false});
+  t.probe_mass_kg = tr->number("probe_mass_g", {0.0, 1e6, true, false}) * 1e-3;
+  t.probe_damping_N_s_per_m = tr->number("probe_damping_N_s_per_m", Range::closed(0, 1e6));
+  t.probe_stiffness_N_per_m = tr->number("probe_stiffness_N_per_mm", {0.0, 1e9, true, false}) * 1e3;
+  t.contact_stiffness_N_per_m = tr->number("contact_stiffness_N_per_mm", {0.0, 1e9, true, false}, 1000.0) * 1e3;
+  t.contact_damping_N_s_per_m = tr->number("contact_damping_N_s_per_m", Range::closed(0, 1e6), 5.0);
+  t.generator_V_per_m_per_s = tr->number("generator_V_per_m_per_s", {0.0, 1e6, true, false});
+  t.generator_time_constant_s = tr->number("generator_time_constant_ms", Range::closed(0, 1e4), 0.2) * 1e-3;
+  t.filter_time_constant_s = tr->number("filter_time_constant_ms", {0.0, 1e6, true, false}) * 1e-3;
+  tr->finish();
+
+  if (auto g = root.table("gauge")) {
+    d.threshold = g->choice("threshold", {"seed", "calibrated", "given"}, "calibrated");
+    if (d.threshold == "given") d.threshold_V = g->number("threshold_V", Range::any());
+    g->finish();
+  }
+  if (auto mc = root.table("monte_carlo")) {
+    d.parts = static_cast<std::size_t>(mc->integer("parts", 1, 10000000, 100000));
+    d.full_parts = static_cast<std::size_t>(mc->integer("full_parts", 0, 10000, 8));
+    mc->finish();
+  }
+}
+
 sim::ControllerKind controller_from(const std::string& s) {
   return s == "aim"   ? sim::ControllerKind::Aim
          : s == "fim" ? sim::ControllerKind::Fim
@@ -494,11 +539,22 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
   TableReader root(doc.root(), label, "");
   Scenario sc;
   sc.file = label;
-  sc.system = root.choice("system", {"A", "E"});
+  sc.system = root.choice("system", {"A", "D", "E"});
   sc.name = root.string("name");
   if (sc.name.empty()) root.fail("name", "must not be empty");
   sc.description = root.string("description", "");
   read_run(root, sc.run);
+  if (sc.system == "D") {
+    read_system_d(root, sc);
+    root.finish();
+    try {
+      sensors::VibroContactGauge probe;
+      probe.configure(sc.d.transducer, sc.run.step_s);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(located(label, 0, 0, std::string("inconsistent scenario: ") + e.what()));
+    }
+    return sc;
+  }
   if (sc.system == "E") {
     read_system_e(root, lib, sc);
     root.finish();

@@ -1,0 +1,81 @@
+#pragma once
+// In-process gauging (system D): the part's controlled size x(t) = m_x − a·t, the disturbance
+// ξ(t) (Ornstein–Uhlenbeck: variance D, R(τ) = D·e^{−β|τ|}) that the gauge sees on top of it,
+// the gauge (full electromechanical or linearised), the relay with its threshold and response
+// time, and the machine that stops removing material on the relay's command.
+//
+// Linearised part, exactly at any step: S = S_det + ε, S_det(t) = K·(A − m_x + a·(t − T_f)) (the
+// filter's ramp response after its lag, (21)), and (ξ, ε) the 2-D Gauss–Markov system
+//   dξ = −β·ξ·dt + sqrt(2βD)·dW,   T_f·ε' + ε = −K·ξ
+// advanced by its exact transition Φ(h) with noise covariance Q = P − Φ·P·Φᵀ, P its stationary
+// covariance (Var ε = D·K²/(1 + βT_f), seed (25); Cov(ξ, ε) = −K·D/(1 + βT_f)). A part is
+// simulated from a few correlation times before its expected trip, starting from the
+// stationary distribution (exact, since the noise is stationary and the lag long settled).
+// The relay trips at the first upward crossing of S_th (interpolated between steps); removal
+// stops t_r later. The finished size is the true size then: ξ disturbs the measurement, not
+// the part.
+
+#include <cstdint>
+#include <vector>
+
+#include "lathectl/sensors/vibro_contact_gauge.hpp"
+#include "lathectl/sim/recorder.hpp"
+
+namespace lathectl::sim {
+
+struct GaugingProcess {
+  double allowance_m = 200e-6;       // m_x
+  double removal_m_per_s = 20e-6;    // a
+  double target_m = 50e-6;           // x_k
+  double noise_variance_m2 = 4e-12;  // D
+  double noise_beta_per_s = 5.0;     // β
+  double relay_response_s = 0.02;    // t_r
+};
+
+struct LinearGauge {
+  double gain_V_per_m = 0.0;   // K
+  double intercept_m = 0.0;    // B0/q1 (A0 in the seed's approximation)
+  double filter_s = 0.1;       // T_f
+};
+
+// Threshold (23).
+double threshold_23(const LinearGauge& g, const GaugingProcess& p);
+
+struct PartResult {
+  double trip_s = 0.0;      // relay trips (NaN if never within the run)
+  double stop_s = 0.0;      // removal stops
+  double finished_m = 0.0;  // true x when removal stopped
+};
+
+// Linearised Monte Carlo: N parts, each with its own stream (seed, part index), on `threads`
+// threads (0 = all cores). Results in part order: reproducible whatever the thread count.
+std::vector<PartResult> monte_carlo_linear(const GaugingProcess& p, const LinearGauge& g,
+                                           double threshold_V, std::size_t parts,
+                                           std::uint64_t seed, unsigned threads = 0);
+
+// Samples of the filter-output noise ε, n apart by `spacing_s`, from one long exact path:
+// for checking (25) by Monte Carlo.
+std::vector<double> filter_noise_samples(const GaugingProcess& p, const LinearGauge& g,
+                                         std::size_t n, double spacing_s, std::uint64_t seed);
+
+// Full electromechanical model for one part: x(t) + ξ(t) moves the contact surface; the relay
+// acts on the simulated S(t). Optionally records (time, x, S, probe z) every `record_every`.
+PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContactGauge::Params& gp,
+                             double step_s, double threshold_V, std::uint64_t seed,
+                             Recorder* rec = nullptr, std::size_t record_every = 50,
+                             double max_time_s = 0.0);
+
+// Full model, static calibration at fixed x (no removal, no noise): the settled mean of S and
+// its ripple (half the peak-to-peak left by the filter on the rectified signal).
+struct SignalLevel {
+  double mean_V = 0.0;
+  double ripple_V = 0.0;
+};
+SignalLevel full_model_signal(const sensors::VibroContactGauge::Params& gp, double step_s, double x_m,
+                              double settle_s = 0.8, double average_s = 0.4);
+inline double full_model_mean_signal(const sensors::VibroContactGauge::Params& gp, double step_s, double x_m,
+                                     double settle_s = 0.8, double average_s = 0.4) {
+  return full_model_signal(gp, step_s, x_m, settle_s, average_s).mean_V;
+}
+
+}  // namespace lathectl::sim
