@@ -10,9 +10,9 @@
 #include "lathectl/control/pulse_feed_controller.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "lathectl/sim/gauging.hpp"
 #include "lathectl/sim/rig_a.hpp"
 #include "lathectl/sim/rig_e.hpp"
-#include "lathectl/sim/gauging.hpp"
 #include "support/sample_controller.hpp"
 
 using namespace lathectl;
@@ -72,21 +72,27 @@ void BM_Gauging_LinearMonteCarlo(benchmark::State& state) {
   const auto sc = load("d_gauging.toml");
   sensors::VibroContactGauge g;
   g.configure(sc.d.transducer, sc.run.step_s);
-  const sim::LinearGauge lg{g.signal_gain_V_per_m(), g.free_amplitude_m(), sc.d.transducer.filter_time_constant_s};
+  const sim::LinearGauge lg{g.signal_gain_V_per_m(), g.free_amplitude_m(),
+                            sc.d.transducer.filter_time_constant_s};
   const double th = sim::threshold_23(lg, sc.d.process);
   for (auto _ : state) {
-    auto r = sim::monte_carlo_linear(sc.d.process, lg, th, static_cast<std::size_t>(state.range(0)), 7,
-                                     static_cast<unsigned>(state.range(1)));
+    auto r = sim::monte_carlo_linear(sc.d.process, lg, th, static_cast<std::size_t>(state.range(0)),
+                                     7, static_cast<unsigned>(state.range(1)));
     benchmark::DoNotOptimize(r.data());
   }
 }
-BENCHMARK(BM_Gauging_LinearMonteCarlo)->Args({100000, 0})->Args({100000, 1})->ArgNames({"parts", "threads"})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Gauging_LinearMonteCarlo)
+    ->Args({100000, 0})
+    ->Args({100000, 1})
+    ->ArgNames({"parts", "threads"})
+    ->Unit(benchmark::kMillisecond);
 
 void BM_Gauging_FullModelPart(benchmark::State& state) {
   const auto sc = load("d_gauging.toml");
   sensors::VibroContactGauge g;
   g.configure(sc.d.transducer, sc.run.step_s);
-  const sim::LinearGauge lg{g.signal_gain_V_per_m(), g.free_amplitude_m(), sc.d.transducer.filter_time_constant_s};
+  const sim::LinearGauge lg{g.signal_gain_V_per_m(), g.free_amplitude_m(),
+                            sc.d.transducer.filter_time_constant_s};
   const double th = sim::threshold_23(lg, sc.d.process);
   std::uint64_t seed = 1;
   for (auto _ : state) {

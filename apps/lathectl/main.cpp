@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -17,6 +18,7 @@
 
 #include "lathectl/design/adaptive_speed.hpp"
 #include "lathectl/design/pulse_regulator.hpp"
+#include "lathectl/design/vibro_gauge.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/output.hpp"
@@ -281,6 +283,150 @@ int cmd_adaptive_speed(const AdaptiveSpeedArgs& a) {
   return 0;
 }
 
+// `design gauge`: seed 003's linearised vibro-contact gauging, (20)-(25), options in shop units.
+struct GaugeArgs {
+  double supply_V = 24.0, supply_Hz = 50.0, coil_turns = 1000.0, coil_ohm = 50.0, coil_H = 0.5;
+  double force_coeff = 2.11e8;  // N/Wb²
+  double probe_mass_g = 20.0;
+  double probe_damping = 1.382;  // N·s/m
+  double probe_stiffness_N_per_mm = 9.554;
+  double generator = 50.0;  // V per m/s
+  double generator_ms = 0.2, filter_ms = 100.0, relay_ms = 20.0;
+  double allowance_um = 250.0;         // m_x
+  double removal_um_per_s = 20.0;      // a
+  double target_um = 100.0;            // x_k
+  double noise_sigma_um = 2.0;         // sqrt(D)
+  double noise_beta = 5.0;             // β [1/s]
+  std::optional<double> tolerance_um;  // ± tolerance → Cp
+  bool json = false;
+};
+
+int cmd_gauge(const GaugeArgs& a) {
+  const std::string who = "design gauge: ";
+  design::GaugeInput in;
+  in.supply_V = a.supply_V;
+  in.supply_Hz = a.supply_Hz;
+  in.coil_turns = a.coil_turns;
+  in.coil_resistance_ohm = a.coil_ohm;
+  in.coil_inductance_H = a.coil_H;
+  in.force_coefficient_N_per_Wb2 = a.force_coeff;
+  in.probe_mass_kg = a.probe_mass_g * 1e-3;
+  in.probe_damping_N_s_per_m = a.probe_damping;
+  in.probe_stiffness_N_per_m = a.probe_stiffness_N_per_mm * 1e3;
+  in.generator_V_per_m_per_s = a.generator;
+  in.generator_time_constant_s = a.generator_ms * 1e-3;
+  in.filter_time_constant_s = a.filter_ms * 1e-3;
+  in.relay_response_s = a.relay_ms * 1e-3;
+  in.allowance_m = a.allowance_um * 1e-6;
+  in.removal_m_per_s = a.removal_um_per_s * 1e-6;
+  in.target_m = a.target_um * 1e-6;
+  in.noise_variance_m2 = a.noise_sigma_um * a.noise_sigma_um * 1e-12;
+  in.noise_beta_per_s = a.noise_beta;
+  if (!(a.target_um < a.allowance_um)) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf,
+                  "--target-um (%g) must be below --allowance-um (%g): nothing to remove",
+                  a.target_um, a.allowance_um);
+    throw io::InputError(who + buf);
+  }
+  design::GaugeResult r;
+  try {
+    r = design::gauge(in);
+  } catch (const std::invalid_argument& e) {
+    throw io::InputError(who + e.what());
+  }
+  if (!(r.threshold_V > 0.0)) {
+    char buf[256];
+    std::snprintf(
+        buf, sizeof buf,
+        "no usable threshold: S_th = %.4g V <= 0, since x_k + a·(T_f + t_r) = %.4g µm "
+        "reaches the free amplitude A0 = %.4g µm",
+        r.threshold_V,
+        (in.target_m + in.removal_m_per_s * (in.filter_time_constant_s + in.relay_response_s)) *
+            1e6,
+        r.free_amplitude_m * 1e6);
+    throw io::InputError(who + buf);
+  }
+  if (in.allowance_m > r.free_amplitude_m)
+    std::cerr << "note: allowance " << a.allowance_um
+              << " µm exceeds the largest measurable A0 = " << r.free_amplitude_m * 1e6
+              << " µm; the gauge reads nothing until x < A0\n";
+  const double sigma_y = std::sqrt(r.noise_variance_V2);
+  const bool has_tol = a.tolerance_um.has_value();
+  const double tol_m = has_tol ? *a.tolerance_um * 1e-6 : 0.0;
+  const double cp = has_tol ? (r.size_sigma_m > 0.0 ? 2.0 * tol_m / (6.0 * r.size_sigma_m)
+                                                    : std::numeric_limits<double>::infinity())
+                            : 0.0;
+  if (a.json) {
+    nlohmann::json j;
+    j["inputs"] = {{"supply_V", a.supply_V},
+                   {"supply_Hz", a.supply_Hz},
+                   {"coil_turns", a.coil_turns},
+                   {"coil_ohm", a.coil_ohm},
+                   {"coil_H", a.coil_H},
+                   {"force_coeff_N_per_Wb2", a.force_coeff},
+                   {"probe_mass_g", a.probe_mass_g},
+                   {"probe_damping_N_s_per_m", a.probe_damping},
+                   {"probe_stiffness_N_per_mm", a.probe_stiffness_N_per_mm},
+                   {"generator_V_per_m_per_s", a.generator},
+                   {"generator_ms", a.generator_ms},
+                   {"filter_ms", a.filter_ms},
+                   {"relay_ms", a.relay_ms},
+                   {"allowance_um", a.allowance_um},
+                   {"removal_um_per_s", a.removal_um_per_s},
+                   {"target_um", a.target_um},
+                   {"noise_sigma_um", a.noise_sigma_um},
+                   {"noise_beta_per_s", a.noise_beta}};
+    if (has_tol) j["inputs"]["tolerance_um"] = *a.tolerance_um;
+    j["si"] = {{"A0_m", r.free_amplitude_m},
+               {"static_offset_m", r.static_offset_m},
+               {"K_V_per_m", r.signal_gain_V_per_m},
+               {"intercept_m", r.intercept_m},
+               {"S_target_V", r.signal_at_target_V},
+               {"S_th_V", r.threshold_V},
+               {"t_k_s", r.end_time_s},
+               {"D_y_V2", r.noise_variance_V2},
+               {"sigma_y_V", sigma_y},
+               {"sigma_x_m", r.size_sigma_m}};
+    j["shop"] = {{"A0_um", r.free_amplitude_m * 1e6},
+                 {"static_offset_um", r.static_offset_m * 1e6},
+                 {"K_mV_per_um", r.signal_gain_V_per_m * 1e-3},
+                 {"intercept_um", r.intercept_m * 1e6},
+                 {"S_target_V", r.signal_at_target_V},
+                 {"S_th_V", r.threshold_V},
+                 {"t_k_s", r.end_time_s},
+                 {"D_y_V2", r.noise_variance_V2},
+                 {"sigma_y_mV", sigma_y * 1e3},
+                 {"sigma_x_um", r.size_sigma_m * 1e6}};
+    if (has_tol) {
+      // Cp is unbounded without noise: JSON has no infinity, so null.
+      const nlohmann::json cpj = std::isfinite(cp) ? nlohmann::json(cp) : nlohmann::json(nullptr);
+      j["si"]["Cp"] = cpj;
+      j["shop"]["Cp"] = cpj;
+    }
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::printf(
+      "Vibro-contact in-process gauge (seed 003, linearised (20)-(25))\n  %-34s %14s %-10s %14s "
+      "%s\n",
+      "", "SI", "", "shop", "");
+  print_value(false, "free amplitude A0 (max allowance)", r.free_amplitude_m, "m",
+              r.free_amplitude_m * 1e6, "µm");
+  print_value(false, "static probe offset", r.static_offset_m, "m", r.static_offset_m * 1e6, "µm");
+  print_value(false, "signal gain K", r.signal_gain_V_per_m, "V/m", r.signal_gain_V_per_m * 1e-3,
+              "mV/µm");
+  print_value(false, "intercept B0/q1 (20)", r.intercept_m, "m", r.intercept_m * 1e6, "µm");
+  print_value(false, "signal at target K·(A0 − x_k)", r.signal_at_target_V, "V",
+              r.signal_at_target_V, "V");
+  print_value(false, "threshold S_th (23)", r.threshold_V, "V", r.threshold_V, "V");
+  print_value(false, "end of cut t_k (22)", r.end_time_s, "s", r.end_time_s, "s");
+  print_value(false, "signal noise D_y (25)", r.noise_variance_V2, "V²", r.noise_variance_V2, "V²");
+  print_value(false, "signal noise σ_y = sqrt(D_y)", sigma_y, "V", sigma_y * 1e3, "mV");
+  print_value(false, "size scatter σ_x", r.size_sigma_m, "m", r.size_sigma_m * 1e6, "µm");
+  if (has_tol) print_value(false, "Cp = 2·tol/(6·σ_x)", cp, "", cp, "");
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -393,9 +539,49 @@ int main(int argc, char** argv) {
                    "containing the feed (--s; --S for V_opt); explicit options win");
   aspd->add_flag("--json", asp.json, "print JSON (inputs, coefficients used, results)");
 
+  GaugeArgs ga;
+  auto* gauge = design->add_subcommand(
+      "gauge",
+      "Seed 003: vibro-contact in-process gauge — free amplitude A0, gain K, threshold S_th (23), "
+      "end time t_k (22), filtered noise D_y (25), size scatter σ_x and Cp");
+  auto gopt = [&](const char* name, double& v, const char* help, const CLI::Validator& validator) {
+    gauge->add_option(name, v, help)->capture_default_str()->check(validator);
+  };
+  gopt("--supply-V", ga.supply_V, "electromagnet supply amplitude V [V]", positive);
+  gopt("--supply-Hz", ga.supply_Hz, "supply frequency ω/2π [Hz] (the probe runs at 2ω)", positive);
+  gopt("--coil-turns", ga.coil_turns, "electromagnet coil turns W", positive);
+  gopt("--coil-ohm", ga.coil_ohm, "coil resistance r [Ω]", positive);
+  gopt("--coil-H", ga.coil_H, "coil inductance L [H]", positive);
+  gopt("--force-coeff", ga.force_coeff, "magnet force coefficient a, F = a·Φ² [N/Wb²]", positive);
+  gopt("--probe-mass-g", ga.probe_mass_g, "probe mass M [g]", positive);
+  gopt("--probe-damping", ga.probe_damping, "probe damping h [N·s/m]", non_negative);
+  gopt("--probe-stiffness-N-per-mm", ga.probe_stiffness_N_per_mm, "probe spring stiffness k [N/mm]",
+       positive);
+  gopt("--generator", ga.generator, "sensor-generator constant K_g [V per m/s]", positive);
+  gopt("--generator-ms", ga.generator_ms, "generator time constant T_g [ms]", non_negative);
+  gopt("--filter-ms", ga.filter_ms, "smoothing filter time constant T_f [ms]", positive);
+  gopt("--relay-ms", ga.relay_ms, "relay/command response time t_r [ms]", non_negative);
+  gopt("--allowance-um", ga.allowance_um, "controlled allowance at the start m_x [µm]", positive);
+  gopt("--removal-um-per-s", ga.removal_um_per_s, "removal rate a [µm/s]", positive);
+  gopt("--target-um", ga.target_um, "final controlled size x_k [µm]", non_negative);
+  gopt("--noise-sigma-um", ga.noise_sigma_um, "disturbance σ = sqrt(D) [µm]", non_negative);
+  gopt("--noise-beta", ga.noise_beta, "disturbance correlation decay β, R = D·e^(−β|τ|) [1/s]",
+       non_negative);
+  double gauge_tol_um = 0;
+  auto* gauge_tol = gauge
+                        ->add_option("--tolerance-um", gauge_tol_um,
+                                     "± size tolerance [µm] → also Cp = 2·tol/(6·σ_x)")
+                        ->check(positive);
+  gauge->add_flag("--json", ga.json, "print JSON (inputs, SI and shop units)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    // `design gauge`: a bad option is bad input like any other, one line naming the command.
+    if (e.get_exit_code() != 0 && gauge->parsed() > 0) {
+      std::cerr << "error: design gauge: " << e.what() << "\n";
+      return 2;
+    }
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
   }
@@ -408,6 +594,10 @@ int main(int argc, char** argv) {
       for (const auto& b : bound)
         if (b.opt->count() > 0) *b.into = *b.value;
       return cmd_adaptive_speed(asp);
+    }
+    if (*gauge) {
+      if (gauge_tol->count() > 0) ga.tolerance_um = gauge_tol_um;
+      return cmd_gauge(ga);
     }
     if (*preg) {
       if (T_ms <= 0 && f_Hz <= 0)

@@ -454,14 +454,14 @@ void read_system_e(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
   e.faults = read_faults(root);
 }
 
-
 void read_system_d(TableReader& root, Scenario& sc) {
   auto& d = sc.d;
   auto pr = root.table("process", true);
   d.process.allowance_m = pr->number("allowance_um", {0.0, 1e5, true, false}) * 1e-6;
   d.process.removal_m_per_s = pr->number("removal_um_per_s", {0.0, 1e5, true, false}) * 1e-6;
   d.process.target_m = pr->number("target_um", Range::any()) * 1e-6;
-  if (!(d.process.target_m < d.process.allowance_m)) pr->fail("target_um", "must be below allowance_um");
+  if (!(d.process.target_m < d.process.allowance_m))
+    pr->fail("target_um", "must be below allowance_um");
   const double sigma = pr->number("noise_sigma_um", Range::closed(0, 1e4), 0.0) * 1e-6;
   d.process.noise_variance_m2 = sigma * sigma;
   d.process.noise_beta_per_s = pr->number("noise_beta_per_s", {0.0, 1e6, true, false}, 5.0);
@@ -476,14 +476,17 @@ void read_system_d(TableReader& root, Scenario& sc) {
   t.coil_turns = tr->number("coil_turns", {0.0, 1e7, true, false});
   t.coil_resistance_ohm = tr->number("coil_resistance_ohm", {0.0, 1e7, true, false});
   t.coil_inductance_H = tr->number("coil_inductance_H", {0.0, 1e4, true, false});
-  t.force_coefficient_N_per_Wb2 = tr->number("force_coefficient_N_per_Wb2", {0.0, 1e20, true, false});
+  t.force_coefficient_N_per_Wb2 =
+      tr->number("force_coefficient_N_per_Wb2", {0.0, 1e20, true, false});
   t.probe_mass_kg = tr->number("probe_mass_g", {0.0, 1e6, true, false}) * 1e-3;
   t.probe_damping_N_s_per_m = tr->number("probe_damping_N_s_per_m", Range::closed(0, 1e6));
   t.probe_stiffness_N_per_m = tr->number("probe_stiffness_N_per_mm", {0.0, 1e9, true, false}) * 1e3;
-  t.contact_stiffness_N_per_m = tr->number("contact_stiffness_N_per_mm", {0.0, 1e9, true, false}, 1000.0) * 1e3;
+  t.contact_stiffness_N_per_m =
+      tr->number("contact_stiffness_N_per_mm", {0.0, 1e9, true, false}, 1000.0) * 1e3;
   t.contact_damping_N_s_per_m = tr->number("contact_damping_N_s_per_m", Range::closed(0, 1e6), 5.0);
   t.generator_V_per_m_per_s = tr->number("generator_V_per_m_per_s", {0.0, 1e6, true, false});
-  t.generator_time_constant_s = tr->number("generator_time_constant_ms", Range::closed(0, 1e4), 0.2) * 1e-3;
+  t.generator_time_constant_s =
+      tr->number("generator_time_constant_ms", Range::closed(0, 1e4), 0.2) * 1e-3;
   t.filter_time_constant_s = tr->number("filter_time_constant_ms", {0.0, 1e6, true, false}) * 1e-3;
   tr->finish();
 

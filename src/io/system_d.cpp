@@ -63,7 +63,8 @@ RunOutput run_system_d(const Scenario& sc) {
   const auto& p = d.process;
   if (p.allowance_m > A0)
     throw InputError(sc.file + ": process.allowance_um " + fmt(p.allowance_m * kUm) +
-                     " exceeds the largest allowance this transducer can measure, A0 = " + fmt(A0 * kUm) + " µm");
+                     " exceeds the largest allowance this transducer can measure, A0 = " +
+                     fmt(A0 * kUm) + " µm");
   const double settle = std::max(0.8, 8.0 * d.transducer.filter_time_constant_s);
 
   // 1. Calibration: the full model's settled mean signal against x, and the seed's line.
@@ -75,18 +76,21 @@ RunOutput run_system_d(const Scenario& sc) {
     const unsigned n = std::max(1u, std::thread::hardware_concurrency());
     for (unsigned k = 0; k < n; ++k)
       pool.emplace_back([&, k] {
-        for (std::size_t i = k; i < xs.size(); i += n) sig[i] = sim::full_model_mean_signal(d.transducer, dt, xs[i], settle);
+        for (std::size_t i = k; i < xs.size(); i += n)
+          sig[i] = sim::full_model_mean_signal(d.transducer, dt, xs[i], settle);
       });
     for (auto& t : pool) t.join();
   }
   s_full = sig;
   const sim::LinearGauge seed_line{K, A0, d.transducer.filter_time_constant_s};
   // Local calibration around where the relay trips: x_k + a·(T_f + t_r) ± 20 µm.
-  const double x_trip = p.target_m + p.removal_m_per_s * (d.transducer.filter_time_constant_s + p.relay_response_s);
+  const double x_trip =
+      p.target_m + p.removal_m_per_s * (d.transducer.filter_time_constant_s + p.relay_response_s);
   std::vector<double> cx, cs;
   for (int i = -2; i <= 2; ++i) cx.push_back(x_trip + 10e-6 * i);
   cs.resize(cx.size());
-  for (std::size_t i = 0; i < cx.size(); ++i) cs[i] = sim::full_model_mean_signal(d.transducer, dt, cx[i], settle);
+  for (std::size_t i = 0; i < cx.size(); ++i)
+    cs[i] = sim::full_model_mean_signal(d.transducer, dt, cx[i], settle);
   const auto [c0, c1] = fit_line(cx, cs);
   const sim::LinearGauge cal_line{-c1, c0 / -c1, d.transducer.filter_time_constant_s};
   const sim::LinearGauge& line = d.threshold == "seed" ? seed_line : cal_line;
@@ -98,9 +102,11 @@ RunOutput run_system_d(const Scenario& sc) {
   // 2. One full-model part without noise against the linear prediction (inside the range).
   auto quiet = p;
   quiet.noise_variance_m2 = 0.0;
-  sim::Recorder rec({{"time_s", "s"}, {"x_um", "µm"}, {"x_seen_um", "µm"}, {"signal_V", "V"}, {"probe_um", "µm"}},
-                    static_cast<std::size_t>(sc.run.duration_s / dt / 50.0) + 16);
-  const auto full = sim::machine_part_full(quiet, d.transducer, dt, s_th, sc.run.seed, &rec, 50, sc.run.duration_s);
+  sim::Recorder rec(
+      {{"time_s", "s"}, {"x_um", "µm"}, {"x_seen_um", "µm"}, {"signal_V", "V"}, {"probe_um", "µm"}},
+      static_cast<std::size_t>(sc.run.duration_s / dt / 50.0) + 16);
+  const auto full = sim::machine_part_full(quiet, d.transducer, dt, s_th, sc.run.seed, &rec, 50,
+                                           sc.run.duration_s);
   const double trip_lin = linear_trip(p, line, s_th);
   const double full_err_um = (full.finished_m - p.target_m) * kUm;
 
@@ -128,18 +134,24 @@ RunOutput run_system_d(const Scenario& sc) {
     c.proc.target_m = 0.02 * A0;
     cases.push_back(c);
   }
-  Table outside{"Full model against the linearised formulas (no noise; threshold (23) with the seed's A0 and K)",
-                {"case", "trip (22)+(23) [s]", "trip, full model [s]", "finished − target, full [µm]"}, {}};
+  Table outside{
+      "Full model against the linearised formulas (no noise; threshold (23) with the seed's A0 and "
+      "K)",
+      {"case", "trip (22)+(23) [s]", "trip, full model [s]", "finished − target, full [µm]"},
+      {}};
   json cases_json = json::array();
   for (const auto& c : cases) {
     const sim::LinearGauge lg{K, A0, c.tp.filter_time_constant_s};
     const double th = sim::threshold_23(lg, c.proc);
     const double t_lin = linear_trip(c.proc, lg, th);
-    const double horizon = 3.0 * (c.proc.allowance_m - c.proc.target_m) / c.proc.removal_m_per_s + 20.0 * c.tp.filter_time_constant_s + 1.0;
+    const double horizon = 3.0 * (c.proc.allowance_m - c.proc.target_m) / c.proc.removal_m_per_s +
+                           20.0 * c.tp.filter_time_constant_s + 1.0;
     const auto r = sim::machine_part_full(c.proc, c.tp, dt, th, sc.run.seed, nullptr, 50, horizon);
     const double err = (r.finished_m - c.proc.target_m) * kUm;
     outside.rows.push_back({c.name, fmt(t_lin, "%.3f"), fmt(r.trip_s, "%.3f"), fmt(err, "%.2f")});
-    cases_json.push_back({{"case", c.name}, {"trip_linear_s", json_number(t_lin)}, {"trip_full_s", json_number(r.trip_s)},
+    cases_json.push_back({{"case", c.name},
+                          {"trip_linear_s", json_number(t_lin)},
+                          {"trip_full_s", json_number(r.trip_s)},
                           {"finished_error_um", json_number(err)}});
   }
 
@@ -149,15 +161,21 @@ RunOutput run_system_d(const Scenario& sc) {
   sizes.reserve(parts.size());
   std::size_t never = 0;
   for (const auto& r : parts) {
-    if (std::isnan(r.trip_s)) ++never;
-    else sizes.push_back(r.finished_m);
+    if (std::isnan(r.trip_s))
+      ++never;
+    else
+      sizes.push_back(r.finished_m);
   }
-  if (sizes.size() < 2) throw std::runtime_error(sc.file + ": the relay never tripped in the Monte Carlo: check the threshold");
+  if (sizes.size() < 2)
+    throw std::runtime_error(sc.file +
+                             ": the relay never tripped in the Monte Carlo: check the threshold");
   const Stats st = stats(sizes);
-  const double pred_sigma = std::sqrt(p.noise_variance_m2 / (1.0 + p.noise_beta_per_s * line.filter_s));
+  const double pred_sigma =
+      std::sqrt(p.noise_variance_m2 / (1.0 + p.noise_beta_per_s * line.filter_s));
   const double usl = p.target_m + d.tolerance_m, lsl = p.target_m - d.tolerance_m;
   const double cp = st.sigma > 0.0 ? (usl - lsl) / (6.0 * st.sigma) : INFINITY;
-  const double cpk = st.sigma > 0.0 ? std::min(usl - st.mean, st.mean - lsl) / (3.0 * st.sigma) : INFINITY;
+  const double cpk =
+      st.sigma > 0.0 ? std::min(usl - st.mean, st.mean - lsl) / (3.0 * st.sigma) : INFINITY;
   const double se = st.sigma / std::sqrt(static_cast<double>(sizes.size()));
 
   // 5. Seed (25) by Monte Carlo: filter-output noise, 1e5 samples far enough apart.
@@ -177,8 +195,9 @@ RunOutput run_system_d(const Scenario& sc) {
     for (unsigned k = 0; k < n; ++k)
       pool.emplace_back([&, k] {
         for (std::size_t i = k; i < full_sizes.size(); i += n)
-          full_sizes[i] = sim::machine_part_full(p, d.transducer, dt, s_th, sc.run.seed * 7919 + i, nullptr, 50,
-                                                 sc.run.duration_s).finished_m;
+          full_sizes[i] = sim::machine_part_full(p, d.transducer, dt, s_th, sc.run.seed * 7919 + i,
+                                                 nullptr, 50, sc.run.duration_s)
+                              .finished_m;
       });
     for (auto& t : pool) t.join();
   }
@@ -212,46 +231,61 @@ RunOutput run_system_d(const Scenario& sc) {
                   {"linear_trip_time_s", json_number(trip_lin)},
                   {"full_finished_error_um", json_number(full_err_um)},
                   {"full_mc_parts", full_sizes.size()},
-                  {"full_mc_mean_error_um", json_number(full_sizes.empty() ? NAN : (fst.mean - p.target_m) * kUm)},
+                  {"full_mc_mean_error_um",
+                   json_number(full_sizes.empty() ? NAN : (fst.mean - p.target_m) * kUm)},
                   {"full_mc_sigma_um", json_number(full_sizes.size() > 1 ? fst.sigma * kUm : NAN)}};
   s["outside_range"] = cases_json;
 
   Claims claims;
-  claims.add("(25): Monte Carlo σ of the filter-output noise / predicted (1e5 samples; within 3 %)", noise_sigma / noise_pred,
-             std::abs(noise_sigma / noise_pred - 1.0) <= 0.03);
-  claims.add("σ of finished size / sqrt(D/(1+βT_f))", st.sigma / pred_sigma, std::abs(st.sigma / pred_sigma - 1.0) <= 0.05);
+  claims.add("(25): Monte Carlo σ of the filter-output noise / predicted (1e5 samples; within 3 %)",
+             noise_sigma / noise_pred, std::abs(noise_sigma / noise_pred - 1.0) <= 0.03);
+  claims.add("σ of finished size / sqrt(D/(1+βT_f))", st.sigma / pred_sigma,
+             std::abs(st.sigma / pred_sigma - 1.0) <= 0.05);
   const double bias_in_se = (st.mean - p.target_m) / se;
-  claims.add("threshold (23): mean finished size − target, in standard errors σ/√N (|·| ≤ 1)", bias_in_se, std::abs(bias_in_se) <= 1.0);
+  claims.add("threshold (23): mean finished size − target, in standard errors σ/√N (|·| ≤ 1)",
+             bias_in_se, std::abs(bias_in_se) <= 1.0);
   // Stated tolerance, fixed before looking: a tenth of the part's tolerance half-width.
   const double tol_full_um = 0.1 * d.tolerance_m * kUm;
-  claims.add("inside the range: full-model part (no noise) finished − target [µm] (|·| ≤ " + fmt(tol_full_um) +
-                 ", a tenth of the tolerance)",
+  claims.add("inside the range: full-model part (no noise) finished − target [µm] (|·| ≤ " +
+                 fmt(tol_full_um) + ", a tenth of the tolerance)",
              full_err_um, std::abs(full_err_um) <= tol_full_um);
   const double tol_trip_s = tol_full_um * 1e-6 / p.removal_m_per_s;
-  claims.add("inside the range: full-model trip time − linear (22)+(23) [s] (|·| ≤ " + fmt(tol_trip_s) +
-                 ": the same tenth in time)",
+  claims.add("inside the range: full-model trip time − linear (22)+(23) [s] (|·| ≤ " +
+                 fmt(tol_trip_s) + ": the same tenth in time)",
              full.trip_s - trip_lin, std::abs(full.trip_s - trip_lin) <= tol_trip_s);
-  claims.note("Filter ripple on the signal at the trip point: ±" + fmt(level_at_trip.ripple_V * 1e3) + " mV (±" +
+  claims.note("Filter ripple on the signal at the trip point: ±" +
+              fmt(level_at_trip.ripple_V * 1e3) + " mV (±" +
               fmt(level_at_trip.ripple_V / cal_line.gain_V_per_m * kUm) +
-              " µm of size). The relay trips on its crest, early by up to that; the linearised model, which "
-              "has no ripple, cannot show it, and raising the threshold by it over-corrects (the probe's own "
+              " µm of size). The relay trips on its crest, early by up to that; the linearised "
+              "model, which "
+              "has no ripple, cannot show it, and raising the threshold by it over-corrects (the "
+              "probe's own "
               "amplitude lag works the other way). A longer or higher-order filter is the remedy.");
-  claims.note("Mean filtered signal at the trip point x = " + fmt(x_trip * kUm) + " µm: full model " + fmt(s_full_at_trip) +
-              " V, the seed's K·(A0 − x) " + fmt(K * (A0 - x_trip)) + " V (" + fmt(seed_signal_dev_pct, "%.2f") +
-              " %); the local calibration gives K = " + fmt(cal_line.gain_V_per_m * 1e-3) + " mV/µm (seed: " + fmt(K * 1e-3) +
-              "), intercept " + fmt(cal_line.intercept_m * kUm) + " µm (seed: A0 = " + fmt(A0 * kUm) + ").");
+  claims.note("Mean filtered signal at the trip point x = " + fmt(x_trip * kUm) +
+              " µm: full model " + fmt(s_full_at_trip) + " V, the seed's K·(A0 − x) " +
+              fmt(K * (A0 - x_trip)) + " V (" + fmt(seed_signal_dev_pct, "%.2f") +
+              " %); the local calibration gives K = " + fmt(cal_line.gain_V_per_m * 1e-3) +
+              " mV/µm (seed: " + fmt(K * 1e-3) + "), intercept " + fmt(cal_line.intercept_m * kUm) +
+              " µm (seed: A0 = " + fmt(A0 * kUm) + ").");
   if (std::abs(bias_in_se) > 1.0)
-    claims.note("The relay trips at the first upward crossing of S_th; with noise the first crossing comes early on "
-                "average, so (23), which places the mean crossing, leaves the part slightly large: a first-passage "
-                "bias of " + fmt((st.mean - p.target_m) * kUm, "%.4f") + " µm here (" + fmt(bias_in_se, "%.1f") +
-                " standard errors of the mean, " + fmt(100.0 * (st.mean - p.target_m) / st.sigma, "%.2f") + " % of σ).");
+    claims.note(
+        "The relay trips at the first upward crossing of S_th; with noise the first crossing comes "
+        "early on "
+        "average, so (23), which places the mean crossing, leaves the part slightly large: a "
+        "first-passage "
+        "bias of " +
+        fmt((st.mean - p.target_m) * kUm, "%.4f") + " µm here (" + fmt(bias_in_se, "%.1f") +
+        " standard errors of the mean, " + fmt(100.0 * (st.mean - p.target_m) / st.sigma, "%.2f") +
+        " % of σ).");
   s["claims"] = claims.json();
 
   Report& rep = out.report;
   rep.title = "System D — " + sc.name;
   rep.subtitle = sc.file + " · vibro-contact in-process gauging, threshold: " + d.threshold;
   rep.description = sc.description;
-  auto add = [&](const std::string& k, double v, const char* f = "%.4g") { rep.metrics.emplace_back(k, fmt(v, f)); };
+  auto add = [&](const std::string& k, double v, const char* f = "%.4g") {
+    rep.metrics.emplace_back(k, fmt(v, f));
+  };
   add("parts (linearised Monte Carlo)", static_cast<double>(sizes.size()), "%.0f");
   add("mean finished size − target [µm]", (st.mean - p.target_m) * kUm);
   add("σ of finished size [µm]", st.sigma * kUm);
@@ -286,7 +320,12 @@ RunOutput run_system_d(const Scenario& sc) {
       const int b = static_cast<int>((v - lo) / w);
       if (b >= 0 && b < bins) counts[static_cast<std::size_t>(b)] += 1.0;
     }
-    Series hist{"finished sizes (" + std::to_string(sizes.size()) + " parts)", {}, {}, "#1f77b4", false, false};
+    Series hist{"finished sizes (" + std::to_string(sizes.size()) + " parts)",
+                {},
+                {},
+                "#1f77b4",
+                false,
+                false};
     for (int b = 0; b < bins; ++b) {
       hist.x.push_back((lo + b * w) * kUm);
       hist.y.push_back(counts[static_cast<std::size_t>(b)]);
@@ -298,9 +337,13 @@ RunOutput run_system_d(const Scenario& sc) {
       const double x = lo + (hi - lo) * k / 200.0;
       const double z = (x - p.target_m) / pred_sigma;
       normal.x.push_back(x * kUm);
-      normal.y.push_back(static_cast<double>(sizes.size()) * w / (pred_sigma * std::sqrt(2.0 * std::numbers::pi)) * std::exp(-0.5 * z * z));
+      normal.y.push_back(static_cast<double>(sizes.size()) * w /
+                         (pred_sigma * std::sqrt(2.0 * std::numbers::pi)) * std::exp(-0.5 * z * z));
     }
-    Plot h{"Finished sizes: the controlled part x at the end of cut", "x [µm]", "parts per bin", {hist, normal},
+    Plot h{"Finished sizes: the controlled part x at the end of cut",
+           "x [µm]",
+           "parts per bin",
+           {hist, normal},
            {{p.target_m * kUm, "target"}, {lsl * kUm, "LSL"}, {usl * kUm, "USL"}}};
     rep.plots.push_back(h);
   }
@@ -311,33 +354,57 @@ RunOutput run_system_d(const Scenario& sc) {
       full_s.y.push_back(s_full[i]);
     }
     Series seed_s{"seed (20): K·(A0 − x)", {0.0, A0 * kUm}, {K * A0, 0.0}, "#d62728", true, false};
-    Series cal_s{"calibrated at the trip point", {0.0, A0 * kUm}, {cal_line.gain_V_per_m * cal_line.intercept_m,
-                                                                   cal_line.gain_V_per_m * (cal_line.intercept_m - A0)},
-                 "#2ca02c", true, false};
-    rep.plots.push_back(Plot{"Mean filtered signal against the controlled size x", "x [µm]", "S [V]", {full_s, seed_s, cal_s},
+    Series cal_s{"calibrated at the trip point",
+                 {0.0, A0 * kUm},
+                 {cal_line.gain_V_per_m * cal_line.intercept_m,
+                  cal_line.gain_V_per_m * (cal_line.intercept_m - A0)},
+                 "#2ca02c",
+                 true,
+                 false};
+    rep.plots.push_back(Plot{"Mean filtered signal against the controlled size x",
+                             "x [µm]",
+                             "S [V]",
+                             {full_s, seed_s, cal_s},
                              {{x_trip * kUm, "trip point"}, {A0 * kUm, "A0"}}});
   }
   {
-    Series sig_s{"S(t), full model", column(rec, "time_s"), column(rec, "signal_V"), "#1f77b4", false, false};
+    Series sig_s{"S(t), full model",
+                 column(rec, "time_s"),
+                 column(rec, "signal_V"),
+                 "#1f77b4",
+                 false,
+                 false};
     Series th{"threshold S_th", {0.0, sc.run.duration_s}, {s_th, s_th}, "#555", true, false};
-    rep.plots.push_back(Plot{"One part, full model without noise: filtered signal", "time [s]", "S [V]", {sig_s, th},
+    rep.plots.push_back(Plot{"One part, full model without noise: filtered signal",
+                             "time [s]",
+                             "S [V]",
+                             {sig_s, th},
                              {{full.trip_s, "relay trips"}, {full.stop_s, "cut ends"}}});
     Series xx{"x(t)", column(rec, "time_s"), column(rec, "x_um"), "#8c564b", false, false};
-    Series tg{"target", {0.0, sc.run.duration_s}, {p.target_m * kUm, p.target_m * kUm}, "#555", true, false};
-    rep.plots.push_back(Plot{"One part: the controlled size x(t)", "time [s]", "x [µm]", {xx, tg}, {{full.stop_s, "cut ends"}}});
+    Series tg{
+        "target", {0.0, sc.run.duration_s}, {p.target_m * kUm, p.target_m * kUm}, "#555", true,
+        false};
+    rep.plots.push_back(Plot{"One part: the controlled size x(t)",
+                             "time [s]",
+                             "x [µm]",
+                             {xx, tg},
+                             {{full.stop_s, "cut ends"}}});
   }
 
   std::string csv = "part,trip_s,stop_s,finished_um\n";
   for (std::size_t i = 0; i < parts.size(); ++i) {
     char b[128];
-    std::snprintf(b, sizeof b, "%zu,%.9g,%.9g,%.9g\n", i, parts[i].trip_s, parts[i].stop_s, parts[i].finished_m * kUm);
+    std::snprintf(b, sizeof b, "%zu,%.9g,%.9g,%.9g\n", i, parts[i].trip_s, parts[i].stop_s,
+                  parts[i].finished_m * kUm);
     csv += b;
   }
   out.channels_csv = csv;
   out.compare_csv = channels_csv(rec);
-  out.headline = std::to_string(sizes.size()) + " parts: mean error " + fmt((st.mean - p.target_m) * kUm, "%.4f") +
-                 " µm, σ " + fmt(st.sigma * kUm, "%.3f") + " µm (predicted " + fmt(pred_sigma * kUm, "%.3f") + "), Cpk " +
-                 fmt(cpk, "%.2f") + "; full model " + fmt(full_err_um, "%.2f") + " µm off";
+  out.headline = std::to_string(sizes.size()) + " parts: mean error " +
+                 fmt((st.mean - p.target_m) * kUm, "%.4f") + " µm, σ " +
+                 fmt(st.sigma * kUm, "%.3f") + " µm (predicted " + fmt(pred_sigma * kUm, "%.3f") +
+                 "), Cpk " + fmt(cpk, "%.2f") + "; full model " + fmt(full_err_um, "%.2f") +
+                 " µm off";
   return out;
 }
 

@@ -9,7 +9,8 @@ namespace lathectl::sensors {
 
 void VibroContactGauge::configure(const Params& p, double dt) {
   auto pos = [](double v, const char* what) {
-    if (!(v > 0.0) || !std::isfinite(v)) throw std::invalid_argument(std::string("vibro-contact gauge: ") + what + " must be > 0");
+    if (!(v > 0.0) || !std::isfinite(v))
+      throw std::invalid_argument(std::string("vibro-contact gauge: ") + what + " must be > 0");
   };
   pos(p.supply_V, "supply voltage");
   pos(p.supply_Hz, "supply frequency");
@@ -23,32 +24,45 @@ void VibroContactGauge::configure(const Params& p, double dt) {
   pos(p.generator_V_per_m_per_s, "generator constant");
   pos(p.filter_time_constant_s, "filter time constant");
   pos(dt, "step");
-  if (p.probe_damping_N_s_per_m < 0.0 || p.contact_damping_N_s_per_m < 0.0 || p.generator_time_constant_s < 0.0)
+  if (p.probe_damping_N_s_per_m < 0.0 || p.contact_damping_N_s_per_m < 0.0 ||
+      p.generator_time_constant_s < 0.0)
     throw std::invalid_argument("vibro-contact gauge: damping and time constants must be ≥ 0");
   const double wc = std::sqrt(p.contact_stiffness_N_per_m / p.probe_mass_kg);
   if (wc * dt > 0.5)
-    throw std::invalid_argument("vibro-contact gauge: step too coarse for the contact stiffness (use step_s ≤ " +
-                                std::to_string(0.5 / wc) + ")");
+    throw std::invalid_argument(
+        "vibro-contact gauge: step too coarse for the contact stiffness (use step_s ≤ " +
+        std::to_string(0.5 / wc) + ")");
   const double w = 2.0 * std::numbers::pi * p.supply_Hz;
-  if (w * dt > 0.05) throw std::invalid_argument("vibro-contact gauge: step too coarse for the supply frequency");
+  if (w * dt > 0.05)
+    throw std::invalid_argument("vibro-contact gauge: step too coarse for the supply frequency");
   p_ = p;
   dt_ = dt;
   omega_ = w;
+  const Steady st = steady(p);
+  a0_ = st.free_amplitude_m;
+  z_eq_ = st.static_offset_m;
+  gain_ = st.signal_gain_V_per_m;
+  const double L = p.coil_inductance_H, r = p.coil_resistance_ohm;
+  coil_decay_ = std::exp(-dt * r / L);
+  gen_decay_ =
+      p.generator_time_constant_s > 0.0 ? std::exp(-dt / p.generator_time_constant_s) : 0.0;
+  filt_decay_ = std::exp(-dt / p.filter_time_constant_s);
+  reset();
+}
+
+VibroContactGauge::Steady VibroContactGauge::steady(const Params& p) noexcept {
+  const double w = 2.0 * std::numbers::pi * p.supply_Hz;
   const double L = p.coil_inductance_H, r = p.coil_resistance_ohm;
   const double i_m = p.supply_V / std::sqrt(r * r + w * w * L * L);
   const double phi_m = L * i_m / p.coil_turns;
   const double f_dc = p.force_coefficient_N_per_Wb2 * phi_m * phi_m / 2.0;
   const double f_2w = f_dc;  // a·Φ_m²·sin² = a·Φ_m²/2·(1 − cos 2(ωt−θ))
   const double w2 = 2.0 * w;
-  const std::complex<double> z_mech(p.probe_stiffness_N_per_m - p.probe_mass_kg * w2 * w2, p.probe_damping_N_s_per_m * w2);
-  a0_ = f_2w / std::abs(z_mech);
-  z_eq_ = f_dc / p.probe_stiffness_N_per_m;
-  gain_ = 2.0 / std::numbers::pi * p.generator_V_per_m_per_s * w2 /
-          std::sqrt(1.0 + std::pow(w2 * p.generator_time_constant_s, 2));
-  coil_decay_ = std::exp(-dt * r / L);
-  gen_decay_ = p.generator_time_constant_s > 0.0 ? std::exp(-dt / p.generator_time_constant_s) : 0.0;
-  filt_decay_ = std::exp(-dt / p.filter_time_constant_s);
-  reset();
+  const std::complex<double> z_mech(p.probe_stiffness_N_per_m - p.probe_mass_kg * w2 * w2,
+                                    p.probe_damping_N_s_per_m * w2);
+  return {f_2w / std::abs(z_mech), f_dc / p.probe_stiffness_N_per_m,
+          2.0 / std::numbers::pi * p.generator_V_per_m_per_s * w2 /
+              std::sqrt(1.0 + std::pow(w2 * p.generator_time_constant_s, 2))};
 }
 
 void VibroContactGauge::reset() noexcept {
@@ -60,13 +74,15 @@ void VibroContactGauge::reset() noexcept {
   i_ = i_m * std::sin(-theta);
   // Φ² = Φ_m² sin²(ωt − θ) = Φ_m²/2 (1 − cos(2ωt − 2θ)); the probe follows −cos(2ωt − 2θ − ψ).
   const double w2 = 2.0 * w;
-  const double psi = std::atan2(p_.probe_damping_N_s_per_m * w2, p_.probe_stiffness_N_per_m - p_.probe_mass_kg * w2 * w2);
+  const double psi = std::atan2(p_.probe_damping_N_s_per_m * w2,
+                                p_.probe_stiffness_N_per_m - p_.probe_mass_kg * w2 * w2);
   const double ph = -2.0 * theta - psi;
   z_ = z_eq_ - a0_ * std::cos(ph);
   v_ = a0_ * w2 * std::sin(ph);
   const double tg = p_.generator_time_constant_s;
   const double gen_phase = std::atan(w2 * tg);
-  u_ = p_.generator_V_per_m_per_s * a0_ * w2 / std::sqrt(1.0 + w2 * w2 * tg * tg) * std::sin(ph - gen_phase);
+  u_ = p_.generator_V_per_m_per_s * a0_ * w2 / std::sqrt(1.0 + w2 * w2 * tg * tg) *
+       std::sin(ph - gen_phase);
   s_ = gain_ * a0_;
 }
 

@@ -14,8 +14,8 @@ namespace {
 
 // Exact transition of (ξ, ε) over h and the Cholesky factor of its noise covariance.
 struct Transition {
-  double f11, f21, f22;  // Φ = [[f11, 0], [f21, f22]]
-  double l11, l21, l22;  // Q = L·Lᵀ
+  double f11, f21, f22;         // Φ = [[f11, 0], [f21, f22]]
+  double l11, l21, l22;         // Q = L·Lᵀ
   double var_xi, cov, var_eps;  // stationary P
 };
 
@@ -32,7 +32,8 @@ Transition transition(const GaugingProcess& p, const LinearGauge& g, double h) {
   // Q = P − Φ P Φᵀ
   const double q11 = t.var_xi - t.f11 * t.f11 * t.var_xi;
   const double q21 = t.cov - (t.f21 * t.var_xi * t.f11 + t.f22 * t.cov * t.f11);
-  const double phip22 = t.f21 * t.f21 * t.var_xi + 2.0 * t.f21 * t.f22 * t.cov + t.f22 * t.f22 * t.var_eps;
+  const double phip22 =
+      t.f21 * t.f21 * t.var_xi + 2.0 * t.f21 * t.f22 * t.cov + t.f22 * t.f22 * t.var_eps;
   const double q22 = t.var_eps - phip22;
   t.l11 = q11 > 0.0 ? std::sqrt(q11) : 0.0;
   t.l21 = t.l11 > 0.0 ? q21 / t.l11 : 0.0;
@@ -51,14 +52,16 @@ Stationary stationary(const Transition& t) {
   return s;
 }
 
-PartResult one_linear_part(const GaugingProcess& p, const LinearGauge& g, double s_th, const Transition& tr,
-                           const Stationary& st, double h, std::mt19937_64& rng) {
+PartResult one_linear_part(const GaugingProcess& p, const LinearGauge& g, double s_th,
+                           const Transition& tr, const Stationary& st, double h,
+                           std::mt19937_64& rng) {
   std::normal_distribution<double> n01(0.0, 1.0);
   const double K = g.gain_V_per_m, a = p.removal_m_per_s;
   auto s_det = [&](double t) { return K * (g.intercept_m - p.allowance_m + a * (t - g.filter_s)); };
   // Expected trip: s_det(t*) = S_th; start well before it (noise and lag long settled).
   const double t_star = (s_th / K - g.intercept_m + p.allowance_m) / a + g.filter_s;
-  const double corr = std::max(g.filter_s, p.noise_beta_per_s > 0.0 ? 1.0 / p.noise_beta_per_s : 0.0);
+  const double corr =
+      std::max(g.filter_s, p.noise_beta_per_s > 0.0 ? 1.0 / p.noise_beta_per_s : 0.0);
   const double sigma_t = std::sqrt(tr.var_eps) / (K * a);
   // Start where the threshold is ≥ 6σ away (a crossing before it has probability < 1e-9) and
   // at least one correlation time back.
@@ -92,15 +95,18 @@ PartResult one_linear_part(const GaugingProcess& p, const LinearGauge& g, double
 }  // namespace
 
 double threshold_23(const LinearGauge& g, const GaugingProcess& p) {
-  return g.gain_V_per_m * (g.intercept_m - p.target_m - p.removal_m_per_s * (g.filter_s + p.relay_response_s));
+  return g.gain_V_per_m *
+         (g.intercept_m - p.target_m - p.removal_m_per_s * (g.filter_s + p.relay_response_s));
 }
 
-std::vector<PartResult> monte_carlo_linear(const GaugingProcess& p, const LinearGauge& g, double s_th,
-                                           std::size_t parts, std::uint64_t seed, unsigned threads) {
+std::vector<PartResult> monte_carlo_linear(const GaugingProcess& p, const LinearGauge& g,
+                                           double s_th, std::size_t parts, std::uint64_t seed,
+                                           unsigned threads) {
   std::vector<PartResult> out(parts);
   // Step: a twentieth of the shorter of the filter lag and the noise correlation time; the
   // transition is exact, the step only sets how finely the crossing is interpolated.
-  const double corr = std::min(g.filter_s, p.noise_beta_per_s > 0.0 ? 1.0 / p.noise_beta_per_s : g.filter_s);
+  const double corr =
+      std::min(g.filter_s, p.noise_beta_per_s > 0.0 ? 1.0 / p.noise_beta_per_s : g.filter_s);
   const double h = corr / 20.0;
   const Transition tr = transition(p, g, h);
   const Stationary st = stationary(tr);
@@ -124,8 +130,8 @@ std::vector<PartResult> monte_carlo_linear(const GaugingProcess& p, const Linear
   return out;
 }
 
-std::vector<double> filter_noise_samples(const GaugingProcess& p, const LinearGauge& g, std::size_t n,
-                                         double spacing_s, std::uint64_t seed) {
+std::vector<double> filter_noise_samples(const GaugingProcess& p, const LinearGauge& g,
+                                         std::size_t n, double spacing_s, std::uint64_t seed) {
   const Transition tr = transition(p, g, spacing_s);
   const Stationary st = stationary(tr);
   std::mt19937_64 rng(seed);
@@ -144,9 +150,9 @@ std::vector<double> filter_noise_samples(const GaugingProcess& p, const LinearGa
   return out;
 }
 
-PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContactGauge::Params& gp, double dt,
-                             double s_th, std::uint64_t seed, Recorder* rec, std::size_t record_every,
-                             double max_time_s) {
+PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContactGauge::Params& gp,
+                             double dt, double s_th, std::uint64_t seed, Recorder* rec,
+                             std::size_t record_every, double max_time_s) {
   sensors::VibroContactGauge g;
   g.configure(gp, dt);
   std::mt19937_64 rng(seed);
@@ -156,7 +162,8 @@ PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContac
   double xi = std::sqrt(p.noise_variance_m2) * n01(rng);
   const double a = p.removal_m_per_s;
   const double t_expected = a > 0.0 ? (p.allowance_m - p.target_m) / a : 1.0;
-  const double t_max = max_time_s > 0.0 ? max_time_s : 2.0 * t_expected + 10.0 * gp.filter_time_constant_s + 1.0;
+  const double t_max =
+      max_time_s > 0.0 ? max_time_s : 2.0 * t_expected + 10.0 * gp.filter_time_constant_s + 1.0;
   PartResult r;
   r.trip_s = r.stop_s = std::numeric_limits<double>::quiet_NaN();
   double stop = std::numeric_limits<double>::infinity();
@@ -187,8 +194,8 @@ PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContac
   return r;
 }
 
-SignalLevel full_model_signal(const sensors::VibroContactGauge::Params& gp, double dt, double x, double settle_s,
-                              double average_s) {
+SignalLevel full_model_signal(const sensors::VibroContactGauge::Params& gp, double dt, double x,
+                              double settle_s, double average_s) {
   sensors::VibroContactGauge g;
   g.configure(gp, dt);
   const auto n_settle = static_cast<std::size_t>(settle_s / dt);

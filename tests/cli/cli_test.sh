@@ -14,7 +14,7 @@ expect_rc() {  # expected_rc description command...
 }
 
 # --help on every command
-for c in "" run check demo design "design pulse-regulator" "design adaptive-speed"; do
+for c in "" run check demo design "design pulse-regulator" "design adaptive-speed" "design gauge"; do
   expect_rc 0 "--help for '$c'" $bin $c --help
 done
 # every example validates
@@ -111,6 +111,65 @@ expect_rc 2 "adaptive-speed incomplete group" $bin design adaptive-speed --Vp 15
 expect_rc 2 "adaptive-speed unknown material" $bin design adaptive-speed --material unobtainium --t 3 --s 0.5 --T-target 60
 grep -q "unknown material 'unobtainium'" "$work/err.txt" || bad "unknown-material message: $(cat "$work/err.txt")"
 expect_rc 2 "adaptive-speed negative feed rate" $bin design adaptive-speed --F -150 --n 1000
+
+# design gauge (seed 003, linearised vibro-contact gauging). Defaults: 24 V, 50 Hz, K_g = 50 V/(m/s),
+# T_g = 0.2 ms, T_f = 100 ms, t_r = 20 ms, m_x = 250 µm, a = 20 µm/s, x_k = 100 µm, σ = 2 µm, β = 5.
+# K = (2/π)·K_g·2ω/sqrt(1 + (2ω·T_g)²), 2ω = 4π·50 = 628.3185 rad/s:
+#   (2/π)·50·628.3185 = 20000.00; 2ω·T_g = 0.1256637, squared 0.0157914; sqrt(1.0157914) = 1.0078648
+#   K = 20000/1.0078648 = 19843.93 V/m = 19.84393 mV/µm
+# S_th (23) = K·(A0 − x_k − a·(T_f + t_r)), checked with the printed A0 and K; a·(T_f + t_r) = 2.4 µm.
+# σ_x = 2/sqrt(1 + 5·0.1) = 1.632993 µm; Cp = 2·10/(6·1.632993) = 2.041241; t_k = 150/20 = 7.5 s.
+expect_rc 0 "design gauge json" $bin design gauge --tolerance-um 10 --json
+python3 - "$work/out.txt" <<'PY' || bad "design gauge json values: $(cat "$work/out.txt")"
+import json, sys
+j = json.load(open(sys.argv[1]))
+si, shop = j["si"], j["shop"]
+assert abs(si["K_V_per_m"] / 19843.93 - 1) < 1e-6, si
+assert abs(shop["K_mV_per_um"] - 19.84393) < 1e-5, shop
+A0, K = shop["A0_um"], shop["K_mV_per_um"]
+assert 250 < A0 < 350 and abs(si["A0_m"] * 1e6 - A0) < 1e-9, (A0, si)
+assert abs(shop["S_th_V"] - K * 1e-3 * (A0 - 100 - 20 * (0.1 + 0.02))) < 1e-9, shop
+assert abs(si["S_th_V"] - shop["S_th_V"]) < 1e-12
+assert abs(shop["S_target_V"] - K * 1e-3 * (A0 - 100)) < 1e-9, shop
+assert abs(shop["t_k_s"] - 7.5) < 1e-9, shop
+assert abs(shop["sigma_x_um"] - 1.632993) < 1e-6, shop
+assert abs(shop["sigma_y_mV"] - K * shop["sigma_x_um"]) < 1e-9, shop
+assert abs(si["D_y_V2"] - si["sigma_y_V"] ** 2) < 1e-15, si
+assert abs(si["D_y_V2"] - 4e-12 * si["K_V_per_m"] ** 2 / 1.5) < 1e-12, si
+assert abs(shop["Cp"] - 2.041241) < 1e-6 and si["Cp"] == shop["Cp"], shop
+assert j["inputs"]["allowance_um"] == 250 and j["inputs"]["tolerance_um"] == 10, j["inputs"]
+PY
+# the shop-unit options reach the formulas: T_f = 50 ms, relay 0, a = 10 µm/s → S_th = K·(A0 − x_k − 0.5 µm)
+expect_rc 0 "design gauge options" $bin design gauge --filter-ms 50 --relay-ms 0 --removal-um-per-s 10 \
+  --target-um 80 --noise-sigma-um 3 --noise-beta 10 --json
+python3 - "$work/out.txt" <<'PY' || bad "design gauge options json: $(cat "$work/out.txt")"
+import json, sys
+shop = json.load(open(sys.argv[1]))["shop"]
+A0, K = shop["A0_um"], shop["K_mV_per_um"]
+assert abs(shop["S_th_V"] - K * 1e-3 * (A0 - 80 - 0.5)) < 1e-9, shop
+assert abs(shop["t_k_s"] - 17.0) < 1e-9, shop  # (250 − 80)/10
+assert abs(shop["sigma_x_um"] - 3 / 1.5 ** 0.5) < 1e-9, shop  # 1 + β·T_f = 1.5 again
+assert "Cp" not in shop
+PY
+expect_rc 0 "design gauge table" $bin design gauge --tolerance-um 10
+for row in "free amplitude A0" "signal gain K .* 19.8439 mV/µm" "threshold S_th (23)" \
+           "end of cut t_k (22) .* 7.5 s" "signal noise D_y (25)" "size scatter σ_x .* 1.63299 µm" \
+           "Cp = 2·tol/(6·σ_x) .* 2.04124"; do
+  grep -q "$row" "$work/out.txt" || bad "design gauge table lacks '$row': $(cat "$work/out.txt")"
+done
+# bad input: exit 2, one line
+expect_rc 2 "design gauge target above allowance" $bin design gauge --target-um 300
+grep -q "target-um.*allowance-um" "$work/err.txt" || bad "gauge target message: $(cat "$work/err.txt")"
+[ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "gauge error message is not one line"
+expect_rc 2 "design gauge no threshold left" $bin design gauge --allowance-um 400 --target-um 297
+grep -q "S_th.*A0" "$work/err.txt" || bad "gauge threshold message: $(cat "$work/err.txt")"
+[ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "gauge threshold message is not one line"
+expect_rc 2 "design gauge negative mass" $bin design gauge --probe-mass-g -1
+grep -q "^error: design gauge: --probe-mass-g" "$work/err.txt" || bad "gauge mass message: $(cat "$work/err.txt")"
+[ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "gauge option message is not one line"
+expect_rc 2 "design gauge not a number" $bin design gauge --filter-ms fast
+[ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "gauge non-number message is not one line"
+expect_rc 2 "design gauge zero tolerance" $bin design gauge --tolerance-um 0
 
 echo "cli: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

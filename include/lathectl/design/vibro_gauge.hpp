@@ -10,8 +10,8 @@
 //                          S_th = K·(A0 − x_k − a·(T_f + t_r))               (23)
 //   noise through the filter, ξ with R(τ) = D·e^{−β|τ|}:
 //                          D_y = D·K² / (1 + β·T_f)                          (25)
-//   size scatter (a threshold crossing converts signal noise to size by 1/K): σ_x = sqrt(D/(1+βT_f))
-//   largest allowance it can measure: A0.
+//   size scatter (a threshold crossing converts signal noise to size by 1/K): σ_x =
+//   sqrt(D/(1+βT_f)) largest allowance it can measure: A0.
 // The full model (sensors/vibro_contact_gauge.hpp) shows where these hold.
 
 namespace lathectl::design {
@@ -32,15 +32,15 @@ struct GaugeInput {
 };
 
 struct GaugeResult {
-  double free_amplitude_m = 0.0;      // A0 = the largest measurable allowance
-  double signal_gain_V_per_m = 0.0;   // K
-  double intercept_m = 0.0;           // B0/q1 (= A0 here)
-  double signal_at_target_V = 0.0;    // K·(A0 − x_k)
-  double threshold_V = 0.0;           // (23)
-  double end_time_s = 0.0;            // (22)
-  double noise_variance_V2 = 0.0;     // D_y (25)
-  double size_sigma_m = 0.0;          // σ_x
-  double static_offset_m = 0.0;       // DC deflection of the probe
+  double free_amplitude_m = 0.0;     // A0 = the largest measurable allowance
+  double signal_gain_V_per_m = 0.0;  // K
+  double intercept_m = 0.0;          // B0/q1 (= A0 here)
+  double signal_at_target_V = 0.0;   // K·(A0 − x_k)
+  double threshold_V = 0.0;          // (23)
+  double end_time_s = 0.0;           // (22)
+  double noise_variance_V2 = 0.0;    // D_y (25)
+  double size_sigma_m = 0.0;         // σ_x
+  double static_offset_m = 0.0;      // DC deflection of the probe
 };
 
 // Throws std::invalid_argument naming the bad input.

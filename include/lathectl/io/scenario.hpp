@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "lathectl/io/materials.hpp"
-#include "lathectl/sim/rig_a.hpp"
 #include "lathectl/sim/gauging.hpp"
+#include "lathectl/sim/rig_a.hpp"
 #include "lathectl/sim/rig_e.hpp"
 
 namespace lathectl::io {
@@ -38,18 +38,18 @@ struct Scenario {
   std::string name;
   std::string description;
   RunSettings run;
-  sim::RigAConfig a;                                                 // system A
-  sim::RigEConfig e;                                                 // system E
+  sim::RigAConfig a;  // system A
+  sim::RigEConfig e;  // system E
   // system D
   struct Gauging {
     sim::GaugingProcess process;
     sensors::VibroContactGauge::Params transducer;
-    double tolerance_m = 10e-6;          // ± about the target
+    double tolerance_m = 10e-6;            // ± about the target
     std::string threshold = "calibrated";  // "seed" (23 with A0, K) or "calibrated" (23 with the
-                                         // full model's local line) or "given"
-    double threshold_V = 0.0;            // when "given"
-    std::size_t parts = 100000;          // linearised Monte Carlo
-    std::size_t full_parts = 8;          // full-model Monte Carlo
+                                           // full model's local line) or "given"
+    double threshold_V = 0.0;              // when "given"
+    std::size_t parts = 100000;            // linearised Monte Carlo
+    std::size_t full_parts = 8;            // full-model Monte Carlo
   } d;
   std::vector<control::AdaptiveFeedController::Mode> compare_modes;  // system E: overlaid runs
   std::optional<Comparison> compare;

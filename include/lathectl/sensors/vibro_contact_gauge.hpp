@@ -25,22 +25,29 @@ namespace lathectl::sensors {
 class VibroContactGauge {
  public:
   struct Params {
-    double supply_V = 24.0;                 // V (amplitude)
-    double supply_Hz = 50.0;                // ω/2π; the probe is driven at 2ω
-    double coil_turns = 1000.0;             // W
-    double coil_resistance_ohm = 50.0;      // r
-    double coil_inductance_H = 0.5;         // L
+    double supply_V = 24.0;                    // V (amplitude)
+    double supply_Hz = 50.0;                   // ω/2π; the probe is driven at 2ω
+    double coil_turns = 1000.0;                // W
+    double coil_resistance_ohm = 50.0;         // r
+    double coil_inductance_H = 0.5;            // L
     double force_coefficient_N_per_Wb2 = 2e8;  // a_f
-    double probe_mass_kg = 0.02;            // M
-    double probe_damping_N_s_per_m = 1.4;   // h
-    double probe_stiffness_N_per_m = 9500;  // k
-    double contact_stiffness_N_per_m = 1e6; // k_c
-    double contact_damping_N_s_per_m = 5.0; // c_c
-    double generator_V_per_m_per_s = 50.0;  // K_g
-    double generator_time_constant_s = 2e-4;  // T_g
-    double filter_time_constant_s = 0.1;    // T_f
+    double probe_mass_kg = 0.02;               // M
+    double probe_damping_N_s_per_m = 1.4;      // h
+    double probe_stiffness_N_per_m = 9500;     // k
+    double contact_stiffness_N_per_m = 1e6;    // k_c
+    double contact_damping_N_s_per_m = 5.0;    // c_c
+    double generator_V_per_m_per_s = 50.0;     // K_g
+    double generator_time_constant_s = 2e-4;   // T_g
+    double filter_time_constant_s = 0.1;       // T_f
   };
   void configure(const Params& p, double dt_s);  // throws std::invalid_argument
+  // The closed forms alone, without a simulation step (for the design calculator).
+  struct Steady {
+    double free_amplitude_m;     // A0
+    double static_offset_m;      // DC deflection F_dc/k
+    double signal_gain_V_per_m;  // K
+  };
+  static Steady steady(const Params& p) noexcept;
   // Starts in the free steady oscillation (no contact) so no start-up transient is simulated.
   void reset() noexcept;
   // One step with the controlled part of the size x [m] (x ≤ 0: no contact). Returns S [V].

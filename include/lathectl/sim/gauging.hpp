@@ -33,9 +33,9 @@ struct GaugingProcess {
 };
 
 struct LinearGauge {
-  double gain_V_per_m = 0.0;   // K
-  double intercept_m = 0.0;    // B0/q1 (A0 in the seed's approximation)
-  double filter_s = 0.1;       // T_f
+  double gain_V_per_m = 0.0;  // K
+  double intercept_m = 0.0;   // B0/q1 (A0 in the seed's approximation)
+  double filter_s = 0.1;      // T_f
 };
 
 // Threshold (23).
@@ -71,10 +71,10 @@ struct SignalLevel {
   double mean_V = 0.0;
   double ripple_V = 0.0;
 };
-SignalLevel full_model_signal(const sensors::VibroContactGauge::Params& gp, double step_s, double x_m,
-                              double settle_s = 0.8, double average_s = 0.4);
-inline double full_model_mean_signal(const sensors::VibroContactGauge::Params& gp, double step_s, double x_m,
-                                     double settle_s = 0.8, double average_s = 0.4) {
+SignalLevel full_model_signal(const sensors::VibroContactGauge::Params& gp, double step_s,
+                              double x_m, double settle_s = 0.8, double average_s = 0.4);
+inline double full_model_mean_signal(const sensors::VibroContactGauge::Params& gp, double step_s,
+                                     double x_m, double settle_s = 0.8, double average_s = 0.4) {
   return full_model_signal(gp, step_s, x_m, settle_s, average_s).mean_V;
 }
 
