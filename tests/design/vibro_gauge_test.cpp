@@ -168,8 +168,8 @@ TEST(DesignVibroGauge, InvalidInputsThrow) {
   EXPECT_NO_THROW(gauge(GaugeInput{}));
 }
 
-// Regression (found by this test, fixed; src/design/vibro_gauge.cpp), disabled until fixed: gauge()
-// configures the full transducer model with a dummy step 1e−3/(2π·f·20) and a dummy contact
+// Regression (found by this test, fixed; src/design/vibro_gauge.cpp): gauge() used to
+// configure the full transducer model with a dummy step 1e−3/(2π·f·20) and a dummy contact
 // stiffness of 1 N/m so its step checks pass, but the contact check dt·sqrt(k_c/M) ≤ 0.5 depends on
 // M as well as f. With a slow supply and a light probe (here f = 1e−3 Hz, M = 0.2 g: dt = 7.96e−3
 // s, dt·sqrt(1/2e−4) = 0.56) the formulas, which need no step, are refused with "step too coarse
