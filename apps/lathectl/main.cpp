@@ -19,6 +19,7 @@
 #include "lathectl/design/adaptive_speed.hpp"
 #include "lathectl/design/pulse_regulator.hpp"
 #include "lathectl/design/vibro_gauge.hpp"
+#include "lathectl/hydraulics/tracer.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/output.hpp"
@@ -41,7 +42,12 @@ int cmd_run(const std::string& scenario, const std::string& out) {
   const auto lib = io::MaterialLibrary::load_default();
   const auto sc = io::load_scenario(scenario, lib);
   const auto result = io::run_scenario(sc);
-  io::write_outputs(result, out);
+  try {
+    io::write_outputs(result, out);
+  } catch (const std::filesystem::filesystem_error& e) {
+    throw io::InputError("--out " + out + ": cannot write the results there (" +
+                         e.code().message() + ")");
+  }
   std::cout << sc.name << ": " << result.headline << "\n  → "
             << (fs::path(out) / "report.html").string() << "\n";
   return 0;
@@ -427,6 +433,115 @@ int cmd_gauge(const GaugeArgs& a) {
   if (has_tol) print_value(false, "Cp = 2·tol/(6·σ_x)", cp, "", cp, "");
   return 0;
 }
+
+// `design tracer`: seed 002's linearised one-coordinate hydraulic tracer slide, shop units.
+struct TracerArgs {
+  double E0_N_per_mm = 2000.0;   // stiffness ∂P/∂h per mm of spool opening
+  double C0_per_s = 20.0;        // velocity gain ∂V/∂h
+  double mass_kg = 100.0;        // M
+  double lever = 3.0;            // i
+  double P0_N = 500.0;           // cutting + dry friction
+  double beta_deg = 45.0;        // guide inclination β
+  double alpha_deg = 30.0;       // cone angle α
+  double feed_mm_per_rev = 0.3;  // s
+  double rpm = 600.0;            // n
+  bool json = false;
+};
+
+int cmd_tracer(const TracerArgs& a) {
+  const std::string who = "design tracer: ";
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  char buf[200];
+  if (!(a.beta_deg > 0.0 && a.beta_deg <= 90.0)) {
+    std::snprintf(buf, sizeof buf, "--beta-deg must be in (0, 90], got %g", a.beta_deg);
+    throw io::InputError(who + buf);
+  }
+  if (!(a.alpha_deg <= 90.0)) {
+    std::snprintf(buf, sizeof buf, "--alpha-deg must be <= 90 (a template y(x)), got %g",
+                  a.alpha_deg);
+    throw io::InputError(who + buf);
+  }
+  if (!(a.alpha_deg + a.beta_deg < 180.0) || !(a.alpha_deg > -a.beta_deg)) {
+    std::snprintf(buf, sizeof buf,
+                  "the slide cannot follow this cone: need -β < α < 180° - β, got α = %g°, "
+                  "β = %g°",
+                  a.alpha_deg, a.beta_deg);
+    throw io::InputError(who + buf);
+  }
+  hydraulics::TracerLinear t;
+  t.E0_N_per_m = a.E0_N_per_mm * 1e3;
+  t.C0_per_s = a.C0_per_s;
+  t.mass_kg = a.mass_kg;
+  t.lever_ratio = a.lever;
+  t.P0_N = a.P0_N;
+  const double al = a.alpha_deg * kDeg, be = a.beta_deg * kDeg;
+  const double v_pr = a.feed_mm_per_rev * a.rpm / 60.0 * 1e-3;  // m/s
+  const double v_t = v_pr * std::sin(al) / std::sin(al + be);   // m/s along the slide
+  const double q_ss = t.steady_lag_m(v_t);                      // m along the slide
+  const double q_static = t.static_offset_m();
+  const double q_dyn = q_ss - q_static;  // v_T/(C0·i)
+  const double zeta = t.zeta(), wn = t.omega_n(), fn = wn / (2.0 * 3.14159265358979323846);
+  const auto tr = t.transient(0.0, v_t, v_t);
+  if (!std::isfinite(q_ss) || !std::isfinite(tr.peak_m) || !std::isfinite(tr.settling_s))
+    throw io::InputError(who + "the inputs give no finite result");
+  if (a.json) {
+    nlohmann::json j;
+    j["inputs"] = {{"E0_N_per_mm", a.E0_N_per_mm},
+                   {"C0_per_s", a.C0_per_s},
+                   {"M_kg", a.mass_kg},
+                   {"i", a.lever},
+                   {"P0_N", a.P0_N},
+                   {"beta_deg", a.beta_deg},
+                   {"alpha_deg", a.alpha_deg},
+                   {"s_mm_per_rev", a.feed_mm_per_rev},
+                   {"n_rpm", a.rpm}};
+    j["si"] = {{"V_pr_m_per_s", v_pr},
+               {"v_T_m_per_s", v_t},
+               {"q_ss_m", q_ss},
+               {"q_ss_axial_m", q_ss * std::cos(be)},
+               {"q_ss_radial_m", q_ss * std::sin(be)},
+               {"q_static_m", q_static},
+               {"q_dynamic_m", q_dyn},
+               {"zeta", zeta},
+               {"omega_n_rad_per_s", wn},
+               {"f_n_Hz", fn},
+               {"aperiodic", t.aperiodic()},
+               {"transient_peak_lag_m", tr.peak_m},
+               {"settling_time_s", tr.settling_s}};
+    j["shop"] = {{"V_pr_mm_per_min", v_pr * 6e4},
+                 {"v_T_mm_per_min", v_t * 6e4},
+                 {"q_ss_um", q_ss * 1e6},
+                 {"q_ss_axial_um", q_ss * std::cos(be) * 1e6},
+                 {"q_ss_radial_um", q_ss * std::sin(be) * 1e6},
+                 {"q_static_um", q_static * 1e6},
+                 {"q_dynamic_um", q_dyn * 1e6},
+                 {"zeta", zeta},
+                 {"f_n_Hz", fn},
+                 {"aperiodic", t.aperiodic()},
+                 {"transient_peak_lag_um", tr.peak_m * 1e6},
+                 {"settling_time_ms", tr.settling_s * 1e3}};
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::printf(
+      "Hydraulic tracer slide, linearised (seed 002, (8)-(9))\n  %-34s %14s %-10s %14s %s\n", "",
+      "SI", "", "shop", "");
+  print_value(false, "carriage feed V_pr = s·n/60", v_pr, "m/s", v_pr * 6e4, "mm/min");
+  print_value(false, "slide rate v_T on the cone", v_t, "m/s", v_t * 6e4, "mm/min");
+  print_value(false, "steady lag q_ss (along slide)", q_ss, "m", q_ss * 1e6, "µm");
+  print_value(false, "  axial component q·cos β", q_ss * std::cos(be), "m",
+              q_ss * std::cos(be) * 1e6, "µm");
+  print_value(false, "  radial component q·sin β", q_ss * std::sin(be), "m",
+              q_ss * std::sin(be) * 1e6, "µm");
+  print_value(false, "  static part P0/(E0·i)", q_static, "m", q_static * 1e6, "µm");
+  print_value(false, "  dynamic part v_T/(C0·i)", q_dyn, "m", q_dyn * 1e6, "µm");
+  print_value(false, "damping ratio ζ", zeta, "", zeta, "");
+  print_value(false, "natural frequency ω_n/2π", fn, "Hz", fn, "Hz");
+  std::printf("  %-34s %14s\n", "aperiodic (ζ ≥ 1)", t.aperiodic() ? "yes" : "no");
+  print_value(false, "peak dynamic lag, cylinder→cone", tr.peak_m, "m", tr.peak_m * 1e6, "µm");
+  print_value(false, "settling time (2 %)", tr.settling_s, "s", tr.settling_s * 1e3, "ms", true);
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -574,12 +689,37 @@ int main(int argc, char** argv) {
                         ->check(positive);
   gauge->add_flag("--json", ga.json, "print JSON (inputs, SI and shop units)");
 
+  TracerArgs ta;
+  auto* tracer = design->add_subcommand(
+      "tracer",
+      "Seed 002: linearised hydraulic tracer slide — steady lag on a cone (P0/E0 + v_T/C0)/i, "
+      "damping ratio, natural frequency, transient lag and settling at a cylinder→cone change");
+  auto topt = [&](const char* name, double& v, const char* help, const CLI::Validator& validator) {
+    tracer->add_option(name, v, help)->capture_default_str()->check(validator);
+  };
+  topt("--E0", ta.E0_N_per_mm, "stiffness E0 = ∂P/∂h [N per mm of spool opening]", positive);
+  topt("--C0", ta.C0_per_s, "velocity gain C0 = ∂V/∂h [1/s]", positive);
+  topt("--M", ta.mass_kg, "reduced moving mass M [kg]", positive);
+  topt("--i", ta.lever, "lever ratio i (spool opening per stylus deflection)", positive);
+  topt("--P0", ta.P0_N, "cutting + dry friction force P0 [N]", non_negative);
+  tracer->add_option("--beta-deg", ta.beta_deg, "guide inclination β to the axis [deg]")
+      ->capture_default_str();
+  tracer->add_option("--alpha-deg", ta.alpha_deg, "template cone angle α [deg]")
+      ->capture_default_str();
+  topt("--s", ta.feed_mm_per_rev, "feed s [mm/rev]", positive);
+  topt("--n", ta.rpm, "spindle speed n [rpm]", positive);
+  tracer->add_flag("--json", ta.json, "print JSON (inputs, SI and shop units)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     // `design gauge`: a bad option is bad input like any other, one line naming the command.
     if (e.get_exit_code() != 0 && gauge->parsed() > 0) {
       std::cerr << "error: design gauge: " << e.what() << "\n";
+      return 2;
+    }
+    if (e.get_exit_code() != 0 && tracer->parsed() > 0) {
+      std::cerr << "error: design tracer: " << e.what() << "\n";
       return 2;
     }
     const int code = app.exit(e);
@@ -595,6 +735,7 @@ int main(int argc, char** argv) {
         if (b.opt->count() > 0) *b.into = *b.value;
       return cmd_adaptive_speed(asp);
     }
+    if (*tracer) return cmd_tracer(ta);
     if (*gauge) {
       if (gauge_tol->count() > 0) ga.tolerance_um = gauge_tol_um;
       return cmd_gauge(ga);

@@ -3,6 +3,7 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/system_a.hpp"
+#include "lathectl/io/system_c.hpp"
 #include "lathectl/io/system_d.hpp"
 #include "lathectl/io/system_e.hpp"
 
@@ -10,6 +11,7 @@ namespace lathectl::io {
 
 RunOutput run_scenario(const Scenario& sc) {
   if (sc.system == "A") return run_system_a(sc);
+  if (sc.system == "C") return run_system_c(sc);
   if (sc.system == "D") return run_system_d(sc);
   if (sc.system == "E") return run_system_e(sc);
   throw InputError(sc.file + ": system '" + sc.system + "' is not implemented");

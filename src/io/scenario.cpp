@@ -454,6 +454,120 @@ void read_system_e(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
   e.faults = read_faults(root);
 }
 
+void read_system_c(TableReader& root, const MaterialLibrary& lib, Scenario& sc) {
+  auto& c = sc.c;
+  auto m = root.table("machine", true);
+  c.feed_m_per_rev = m->number("feed_mm_per_rev", {0.0, 10.0, true, false}) * 1e-3;
+  c.spindle_rpm = m->number("spindle_rpm", {0.0, 2e4, true, false});
+  m->finish();
+
+  auto sl = root.table("slide", true);
+  c.beta_rad = sl->number("guide_angle_deg", {0.0, 90.0, true, false}) * std::numbers::pi / 180.0;
+  c.linear.lever_ratio = sl->number("lever_ratio", {0.0, 1e3, true, false});
+  c.linear.mass_kg = sl->number("mass_kg", {0.0, 1e5, true, false});
+  sl->finish();
+
+  auto tp = root.table("template", true);
+  double x = tp->number("start_x_mm", Range::any(), 0.0) * 1e-3;
+  double y = 0.5e-3 * tp->number("start_diameter_mm", {0.0, 1e4, true, false});
+  c.profile.add_point(x, y);
+  for (auto& f : tp->tables("features")) {
+    const std::string kind = f.choice("type", {"line", "cone", "step", "arc"});
+    sim::TracerFeature feat{kind, x, x};
+    if (kind == "line") {
+      x += f.number("length_mm", {0.0, 1e4, true, false}) * 1e-3;
+      c.profile.add_point(x, y);
+    } else if (kind == "cone") {
+      const double len = f.number("length_mm", {0.0, 1e4, true, false}) * 1e-3;
+      const double ang =
+          f.number("angle_deg", {-89.0, 89.0, false, false}) * std::numbers::pi / 180.0;
+      if (ang <= -c.beta_rad || ang + c.beta_rad >= std::numbers::pi)
+        f.fail("angle_deg", "the slide cannot follow a cone with α ≤ −β or α + β ≥ 180°");
+      x += len;
+      y += len * std::tan(ang);
+      c.profile.add_point(x, y);
+    } else if (kind == "step") {
+      const double hgt = f.number("height_mm", {-1e3, 1e3, false, false}) * 1e-3;
+      if (hgt < 0.0)
+        f.fail("height_mm", "a backward-inclined slide cannot follow a step down (α = −90° < −β)");
+      y += hgt;
+      c.profile.add_point(x, y);
+    } else {  // arc: circle of the given radius through the current point and (x+len, y+h), convex
+      const double len = f.number("length_mm", {0.0, 1e4, true, false}) * 1e-3;
+      const double hgt = f.number("height_mm", {-1e3, 1e3, false, false}) * 1e-3;
+      const double r = f.number("radius_mm", {0.0, 1e5, true, false}) * 1e-3;
+      const double chord = std::hypot(len, hgt);
+      if (r < 0.5 * chord) f.fail("radius_mm", "smaller than half the chord: no such arc");
+      const double mx = x + 0.5 * len, my = y + 0.5 * hgt;
+      const double dist = std::sqrt(r * r - 0.25 * chord * chord);
+      // centre on the inner side (below the chord): a convex arc
+      const double nx = hgt / chord, ny = -len / chord;
+      const double cx = mx + dist * nx, cy = my + dist * ny;
+      const double a0 = std::atan2(y - cy, x - cx), a1 = std::atan2(y + hgt - cy, x + len - cx);
+      for (int k = 1; k <= 40; ++k) {
+        const double ak = a0 + (a1 - a0) * k / 40.0;
+        c.profile.add_point(std::max(cx + r * std::cos(ak), c.profile.xs().back()),
+                            cy + r * std::sin(ak));
+      }
+      x += len;
+      y += hgt;
+    }
+    feat.x_end_m = x;
+    f.finish();
+    c.features.push_back(feat);
+  }
+  if (c.features.empty())
+    tp->fail("features", "at least one feature {type = line | cone | step | arc, ...}");
+  tp->finish();
+
+  const std::string model = root.table("model", true)->choice("type", {"linear", "nonlinear"});
+  c.nonlinear = model == "nonlinear";
+  {
+    auto mt = root.table("model", true);
+    (void)mt->choice("type", {"linear", "nonlinear"});
+    sc.c_compare = mt->has("compare") ? mt->choice("compare", {"linear", "nonlinear"}) : "";
+    mt->finish();
+  }
+  if (auto li = root.table("linear")) {
+    c.linear.E0_N_per_m = li->number("E0_N_per_mm", {0.0, 1e9, true, false}) * 1e3;
+    c.linear.C0_per_s = li->number("C0_per_s", {0.0, 1e6, true, false});
+    c.linear.P0_N = li->number("P0_N", Range::closed(0, 1e6));
+    li->finish();
+  } else if (!c.nonlinear) {
+    root.fail("linear", "a linear model needs [linear] E0_N_per_mm, C0_per_s, P0_N");
+  }
+  if (auto sv = root.table("servo")) {
+    c.supply_Pa = sv->number("supply_MPa", {0.0, 100.0, true, false}) * 1e6;
+    c.discharge_coefficient = sv->number("discharge_coefficient", {0.0, 1.0, true, false}, 0.65);
+    c.area_gradient_m = sv->number("port_width_mm", {0.0, 1e3, true, false}) * 1e-3;
+    c.density_kg_per_m3 = sv->number("oil_density_kg_per_m3", {500.0, 1500.0, false, false}, 870.0);
+    c.overlap_m = sv->number("overlap_um", Range::closed(0, 1e4), 0.0) * 1e-6;
+    c.clearance_leak_m3_per_s_Pa =
+        sv->number("clearance_leak_cm3_per_min_per_MPa", {0.0, 1e6, true, false}) * 1e-6 / 60.0 /
+        1e6;
+    c.piston_area_m2 = sv->number("piston_area_cm2", {0.0, 1e4, true, false}) * 1e-4;
+    c.total_volume_m3 = sv->number("volume_cm3", {0.0, 1e6, true, false}) * 1e-6;
+    c.bulk_modulus_Pa = sv->number("bulk_modulus_MPa", {100.0, 1e5, false, false}, 1400.0) * 1e6;
+    sv->finish();
+  } else if (c.nonlinear || sc.c_compare == "nonlinear") {
+    root.fail("servo", "the nonlinear model needs [servo]");
+  }
+  if (auto fr = root.table("friction")) {
+    c.coulomb_N = fr->number("coulomb_N", Range::closed(0, 1e6), 0.0);
+    c.static_N = fr->number("static_N", Range::closed(0, 1e6), c.coulomb_N);
+    if (c.static_N < c.coulomb_N) fr->fail("static_N", "must be ≥ coulomb_N (falling friction)");
+    c.stribeck_velocity_m_per_s =
+        fr->number("stribeck_velocity_mm_per_s", {0.0, 1e4, true, false}, 0.1) * 1e-3;
+    c.viscous_N_s_per_m = fr->number("viscous_N_s_per_m", Range::closed(0, 1e9), 0.0);
+    fr->finish();
+  }
+  if (auto cu = root.table("cutting")) {
+    read_material_tool(root, lib, c.cutting);
+    c.blank_diameter_m = cu->number("blank_diameter_mm", {0.0, 1e4, true, false}) * 1e-3;
+    cu->finish();
+  }
+}
+
 void read_system_d(TableReader& root, Scenario& sc) {
   auto& d = sc.d;
   auto pr = root.table("process", true);
@@ -542,11 +656,22 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
   TableReader root(doc.root(), label, "");
   Scenario sc;
   sc.file = label;
-  sc.system = root.choice("system", {"A", "D", "E"});
+  sc.system = root.choice("system", {"A", "C", "D", "E"});
   sc.name = root.string("name");
   if (sc.name.empty()) root.fail("name", "must not be empty");
   sc.description = root.string("description", "");
   read_run(root, sc.run);
+  if (sc.system == "C") {
+    read_system_c(root, lib, sc);
+    root.finish();
+    try {
+      sim::RigC probe;
+      probe.configure(sc.c, sc.run.step_s, sc.run.record_interval_s);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(located(label, 0, 0, std::string("inconsistent scenario: ") + e.what()));
+    }
+    return sc;
+  }
   if (sc.system == "D") {
     read_system_d(root, sc);
     root.finish();

@@ -14,7 +14,7 @@ expect_rc() {  # expected_rc description command...
 }
 
 # --help on every command
-for c in "" run check demo design "design pulse-regulator" "design adaptive-speed" "design gauge"; do
+for c in "" run check demo design "design pulse-regulator" "design adaptive-speed" "design gauge" "design tracer"; do
   expect_rc 0 "--help for '$c'" $bin $c --help
 done
 # every example validates
@@ -170,6 +170,65 @@ grep -q "^error: design gauge: --probe-mass-g" "$work/err.txt" || bad "gauge mas
 expect_rc 2 "design gauge not a number" $bin design gauge --filter-ms fast
 [ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "gauge non-number message is not one line"
 expect_rc 2 "design gauge zero tolerance" $bin design gauge --tolerance-um 0
+
+# design tracer (seed 002, linearised tracer slide). E0 = 2000 N/mm = 2e6 N/m, C0 = 20 1/s,
+# M = 100 kg, i = 3, P0 = 500 N, β = 45°, α = 30°, s = 0.3 mm/rev, n = 600 rpm:
+#   V_pr = 0.3·600/60 = 3 mm/s = 180 mm/min
+#   v_T = 3·sin 30°/sin 75° = 1.5/0.9659258 = 1.5529143 mm/s = 93.17486 mm/min
+#   P0/E0 = 500/2000 = 0.25 mm = 250 µm;  v_T/C0 = 1.5529143/20 mm = 77.64571 µm
+#   q_ss = (250 + 77.64571)/3 = 109.21524 µm; axial = radial = 109.21524·cos 45° = 77.22684 µm
+#   static P0/(E0·i) = 250/3 = 83.33333 µm; dynamic v_T/(C0·i) = 25.88190 µm
+#   ζ = sqrt(2e6/(100·3))/(2·20) = sqrt(6666.667)/40 = 81.64966/40 = 2.041241 → aperiodic
+#   ω_n = sqrt(3·2e6/100) = sqrt(60000) = 244.94897 rad/s → f_n = 38.98484 Hz
+#   cylinder→cone, aperiodic: no overshoot, peak dynamic lag = 25.88190 µm. Roots
+#   λ = −ω_n(ζ ∓ sqrt(ζ² − 1)) = −64.11011, −935.88989 1/s; with q(0) = 0, q̇(0) = v_T = 60·q_dyn:
+#   slow coefficient c1 = (60 − 935.88989)/(935.88989 − 64.11011)·q_dyn = −1.0047146·q_dyn,
+#   2 % band: τ = ln(1.0047146/0.02)/64.11011 = 61.094 ms (the scan samples it: ±0.1 %)
+expect_rc 0 "design tracer json" $bin design tracer --E0 2000 --C0 20 --M 100 --i 3 --P0 500 \
+  --beta-deg 45 --alpha-deg 30 --s 0.3 --n 600 --json
+python3 - "$work/out.txt" <<'PY' || bad "design tracer json values: $(cat "$work/out.txt")"
+import json, sys
+j = json.load(open(sys.argv[1]))
+si, shop, inp = j["si"], j["shop"], j["inputs"]
+def near(a, b, rel=1e-6): assert abs(a / b - 1) < rel, (a, b)
+near(shop["V_pr_mm_per_min"], 180); near(si["V_pr_m_per_s"], 3e-3)
+near(shop["v_T_mm_per_min"], 93.17486); near(si["v_T_m_per_s"], 1.5529143e-3)
+near(shop["q_ss_um"], 109.21524); near(si["q_ss_m"], 109.21524e-6)
+near(shop["q_ss_axial_um"], 77.22684); near(shop["q_ss_radial_um"], 77.22684)
+near(shop["q_static_um"], 83.33333); near(shop["q_dynamic_um"], 25.88190)
+near(shop["zeta"], 2.041241); near(si["zeta"], 2.041241)
+near(si["omega_n_rad_per_s"], 244.94897); near(shop["f_n_Hz"], 38.98484)
+assert si["aperiodic"] is True and shop["aperiodic"] is True
+near(shop["transient_peak_lag_um"], 25.88190)
+near(shop["settling_time_ms"], 61.094, 1e-3); near(si["settling_time_s"], 61.094e-3, 1e-3)
+assert inp == {"E0_N_per_mm": 2000, "C0_per_s": 20, "M_kg": 100, "i": 3, "P0_N": 500,
+               "beta_deg": 45, "alpha_deg": 30, "s_mm_per_rev": 0.3, "n_rpm": 600}, inp
+PY
+# underdamped (C0 = 60 1/s → ζ = 0.680414 < 1): not aperiodic, and the peak overshoots v_T/(C0·i)
+expect_rc 0 "design tracer underdamped" $bin design tracer --C0 60 --json
+python3 - "$work/out.txt" <<'PY' || bad "design tracer underdamped json: $(cat "$work/out.txt")"
+import json, sys
+shop = json.load(open(sys.argv[1]))["shop"]
+assert abs(shop["zeta"] - 2.041241 / 3) < 1e-6 and shop["aperiodic"] is False, shop
+assert shop["transient_peak_lag_um"] > shop["q_dynamic_um"] * 1.01, shop
+PY
+expect_rc 0 "design tracer table" $bin design tracer
+for row in "steady lag q_ss (along slide) .* 109.215 µm" "damping ratio ζ .* 2.04124" \
+           "natural frequency ω_n/2π .* 38.9848 Hz" "aperiodic (ζ ≥ 1) .* yes"; do
+  grep -q "$row" "$work/out.txt" || bad "design tracer table lacks '$row': $(cat "$work/out.txt")"
+done
+# bad input: exit 2, one line naming the command
+expect_rc 2 "design tracer cannot follow" $bin design tracer --alpha-deg -50 --beta-deg 45
+grep -q "^error: design tracer: the slide cannot follow" "$work/err.txt" || bad "tracer follow message: $(cat "$work/err.txt")"
+[ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "tracer error message is not one line"
+expect_rc 2 "design tracer alpha+beta >= 180" $bin design tracer --alpha-deg 90 --beta-deg 90
+expect_rc 2 "design tracer negative mass" $bin design tracer --M -1
+grep -q "^error: design tracer: --M" "$work/err.txt" || bad "tracer mass message: $(cat "$work/err.txt")"
+[ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "tracer option message is not one line"
+expect_rc 2 "design tracer not a number" $bin design tracer --E0 stiff
+[ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "tracer non-number message is not one line"
+expect_rc 2 "design tracer zero feed" $bin design tracer --s 0
+expect_rc 2 "design tracer beta out of range" $bin design tracer --beta-deg 0
 
 echo "cli: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

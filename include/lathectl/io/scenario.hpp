@@ -14,6 +14,7 @@
 #include "lathectl/io/materials.hpp"
 #include "lathectl/sim/gauging.hpp"
 #include "lathectl/sim/rig_a.hpp"
+#include "lathectl/sim/rig_c.hpp"
 #include "lathectl/sim/rig_e.hpp"
 
 namespace lathectl::io {
@@ -38,8 +39,10 @@ struct Scenario {
   std::string name;
   std::string description;
   RunSettings run;
-  sim::RigAConfig a;  // system A
-  sim::RigEConfig e;  // system E
+  sim::RigAConfig a;      // system A
+  sim::RigEConfig e;      // system E
+  sim::RigCConfig c;      // system C
+  std::string c_compare;  // system C: "", "linear" or "nonlinear" overlaid
   // system D
   struct Gauging {
     sim::GaugingProcess process;
