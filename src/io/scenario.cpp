@@ -1,6 +1,8 @@
 #include "lathectl/io/scenario.hpp"
 
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -468,9 +470,35 @@ void read_system_c(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
   sl->finish();
 
   auto tp = root.table("template", true);
-  double x = tp->number("start_x_mm", Range::any(), 0.0) * 1e-3;
-  double y = 0.5e-3 * tp->number("start_diameter_mm", {0.0, 1e4, true, false});
-  c.profile.add_point(x, y);
+  if (tp->has("csv")) {  // points x_mm,diameter_mm, one per line, relative to the scenario file
+    if (tp->has("features")) tp->fail("csv", "give either csv or features");
+    const std::string rel = tp->string("csv");
+    const auto path = (std::filesystem::path(sc.file).parent_path() / rel).string();
+    std::ifstream in(path);
+    if (!in) tp->fail("csv", "cannot open " + path);
+    std::string line;
+    int n = 0;
+    while (std::getline(in, line)) {
+      ++n;
+      if (line.empty() || line[0] == '#' || std::isalpha(static_cast<unsigned char>(line[0])))
+        continue;
+      double xm = 0.0, dm = 0.0;
+      char comma = 0;
+      std::istringstream ls(line);
+      if (!(ls >> xm >> comma >> dm) || comma != ',' || !std::isfinite(xm) || !(dm > 0.0))
+        throw InputError(located(path, n, 0, "expected 'x_mm,diameter_mm' with a diameter > 0"));
+      if (!c.profile.xs().empty() && xm * 1e-3 < c.profile.xs().back())
+        throw InputError(located(path, n, 0, "x_mm must not decrease"));
+      c.profile.add_point(xm * 1e-3, 0.5e-3 * dm);
+    }
+    if (c.profile.xs().size() < 2) tp->fail("csv", "at least two points expected in " + path);
+    c.features.push_back({"csv", c.profile.xs().front(), c.profile.xs().back()});
+    tp->finish();
+  }
+  double x = tp->has("csv") ? 0.0 : tp->number("start_x_mm", Range::any(), 0.0) * 1e-3;
+  double y =
+      tp->has("csv") ? 0.0 : 0.5e-3 * tp->number("start_diameter_mm", {0.0, 1e4, true, false});
+  if (!tp->has("csv")) c.profile.add_point(x, y);
   for (auto& f : tp->tables("features")) {
     const std::string kind = f.choice("type", {"line", "cone", "step", "arc"});
     sim::TracerFeature feat{kind, x, x};

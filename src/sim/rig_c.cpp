@@ -189,10 +189,15 @@ void RigC::run() noexcept {
     const double reach = s_ + q_static_;  // setup: the tool cuts the template on the first cylinder
     const double tx = x_c - reach * cb, ty = y0_ + reach * sb;
     // δy at equal x is undefined across a vertical shoulder: masked within ±0.5 mm of one.
+    // Also masked where the template is steeper than 80° (a blend running into a shoulder).
     bool near_step = false;
-    for (std::size_t i = 1; i < c.profile.xs().size(); ++i)
-      if (c.profile.xs()[i] == c.profile.xs()[i - 1] && std::abs(tx - c.profile.xs()[i]) < 0.5e-3)
+    for (std::size_t i = 1; i < c.profile.xs().size(); ++i) {
+      const double sx = c.profile.xs()[i] - c.profile.xs()[i - 1];
+      const double sy = std::abs(c.profile.ys()[i] - c.profile.ys()[i - 1]);
+      const bool steep = sx <= 0.0 || sy > sx * std::tan(80.0 * std::numbers::pi / 180.0);
+      if (steep && tx > c.profile.xs()[i - 1] - 0.5e-3 && tx < c.profile.xs()[i] + 0.5e-3)
         near_step = true;
+    }
     const double ty_t = near_step ? std::nan("") : c.profile.y_at(tx);
     // δx at equal y where the template under the tool slopes by more than 10° (or at a shoulder).
     const double slope = (c.profile.y_at(tx + 1e-5) - c.profile.y_at(tx - 1e-5)) / 2e-5;
