@@ -474,6 +474,9 @@ void read_system_c(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
     if (tp->has("features")) tp->fail("csv", "give either csv or features");
     const std::string rel = tp->string("csv");
     const auto path = (std::filesystem::path(sc.file).parent_path() / rel).string();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec) || std::filesystem::file_size(path, ec) > (16u << 20))
+      tp->fail("csv", "expected a regular file of at most 16 MiB: " + path);
     std::ifstream in(path);
     if (!in) tp->fail("csv", "cannot open " + path);
     std::string line;
