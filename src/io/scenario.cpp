@@ -475,7 +475,8 @@ void read_system_c(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
     const std::string rel = tp->string("csv");
     const auto path = (std::filesystem::path(sc.file).parent_path() / rel).string();
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec) || std::filesystem::file_size(path, ec) > (16u << 20))
+    if (!std::filesystem::is_regular_file(path, ec) ||
+        std::filesystem::file_size(path, ec) > (16u << 20))
       tp->fail("csv", "expected a regular file of at most 16 MiB: " + path);
     std::ifstream in(path);
     if (!in) tp->fail("csv", "cannot open " + path);
@@ -551,11 +552,9 @@ void read_system_c(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
     tp->fail("features", "at least one feature {type = line | cone | step | arc, ...}");
   tp->finish();
 
-  const std::string model = root.table("model", true)->choice("type", {"linear", "nonlinear"});
-  c.nonlinear = model == "nonlinear";
   {
     auto mt = root.table("model", true);
-    (void)mt->choice("type", {"linear", "nonlinear"});
+    c.nonlinear = mt->choice("type", {"linear", "nonlinear"}) == "nonlinear";
     sc.c_compare = mt->has("compare") ? mt->choice("compare", {"linear", "nonlinear"}) : "";
     mt->finish();
   }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <span>
 #include <stdexcept>
 
 #include "lathectl/io/errors.hpp"
