@@ -5,9 +5,11 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "lathectl/control/adaptive_feed_controller.hpp"
 #include "lathectl/control/pulse_feed_controller.hpp"
+#include "lathectl/dynamics/lobes.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/sim/gauging.hpp"
@@ -101,6 +103,34 @@ void BM_Gauging_FullModelPart(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Gauging_FullModelPart)->Unit(benchmark::kMillisecond);
+
+// System B, layer 1: lobes over 1000 speeds by the frequency domain (target < 50 ms), the
+// semi-discretization limit at one speed (a 200-speed chart is 200 of these), 10 s of
+// time-domain chatter at 50 steps per vibration period (target < 0.5 s).
+dynamics::ChatterSystem bench_sdof() {
+  dynamics::ChatterSystem s;
+  s.kf_N_per_m2 = 1e9;
+  s.modes = {{2.26e8, 0.012, 250.0, 30.0 * std::numbers::pi / 180.0}};
+  return s;
+}
+void BM_Lobes_FrequencyDomain(benchmark::State& state) {
+  const auto s = bench_sdof();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(dynamics::frequency_domain_lobes(s, 2000, 14000, 40, 1000));
+}
+BENCHMARK(BM_Lobes_FrequencyDomain)->Unit(benchmark::kMillisecond);
+void BM_Lobes_SemiDiscretizationOneSpeed(benchmark::State& state) {
+  const auto s = bench_sdof();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(dynamics::sd_limit_depth(s, 9500.0, 0.03, 20, 1e-2));
+}
+BENCHMARK(BM_Lobes_SemiDiscretizationOneSpeed)->Unit(benchmark::kMillisecond);
+void BM_Chatter_TimeDomain10s(benchmark::State& state) {
+  const auto s = bench_sdof();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(dynamics::time_domain(s, 5500.0, 7e-3, 1e-4, 10.0, 50));
+}
+BENCHMARK(BM_Chatter_TimeDomain10s)->Unit(benchmark::kMillisecond);
 
 void BM_AdaptiveFeedController_Update(benchmark::State& state) {
   control::AdaptiveFeedController::Params p;

@@ -21,6 +21,7 @@
 #include "lathectl/design/vibro_gauge.hpp"
 #include "lathectl/hydraulics/tracer.hpp"
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/lobes_command.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/report.hpp"
@@ -564,6 +565,13 @@ int main(int argc, char** argv) {
   demo->add_option("--out", demo_out, "output directory")->capture_default_str();
   demo->add_option("--examples", demo_dir, "directory of example scenarios")->capture_default_str();
 
+  std::string lobes_file, lobes_out = "lobes-out";
+  auto* lobes = app.add_subcommand(
+      "lobes", "Stability lobes of a chatter model (frequency domain and semi-discretization)");
+  lobes->add_option("machine", lobes_file, "machine file (TOML): [cutting], [[mode]], [speed]")
+      ->required();
+  lobes->add_option("--out", lobes_out, "output directory")->capture_default_str();
+
   auto* design = app.add_subcommand("design", "Design calculators from the papers' formulas");
   design->require_subcommand(1);
   design::PulseRegulatorInput pr;
@@ -730,6 +738,15 @@ int main(int argc, char** argv) {
     if (*run) return cmd_run(scenario, out);
     if (*check) return cmd_check(scenario);
     if (*demo) return cmd_demo(demo_out, demo_dir);
+    if (*lobes) {
+      const auto in = io::load_lobes_input(lobes_file);
+      const auto j = io::run_lobes(in, lobes_out);
+      std::cout << "critical depth " << j["critical_depth_mm"].get<double>() << " mm at "
+                << j["chatter_frequency_Hz"].get<double>() << " Hz; " << j["lobes"].size()
+                << " lobes → " << (std::filesystem::path(lobes_out) / "lobes.html").string()
+                << "\n";
+      return 0;
+    }
     if (*aspd) {
       for (const auto& b : bound)
         if (b.opt->count() > 0) *b.into = *b.value;

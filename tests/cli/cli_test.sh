@@ -14,7 +14,7 @@ expect_rc() {  # expected_rc description command...
 }
 
 # --help on every command
-for c in "" run check demo design "design pulse-regulator" "design adaptive-speed" "design gauge" "design tracer"; do
+for c in "" run check demo lobes design "design pulse-regulator" "design adaptive-speed" "design gauge" "design tracer"; do
   expect_rc 0 "--help for '$c'" $bin $c --help
 done
 # every example validates
@@ -229,6 +229,19 @@ expect_rc 2 "design tracer not a number" $bin design tracer --E0 stiff
 [ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "tracer non-number message is not one line"
 expect_rc 2 "design tracer zero feed" $bin design tracer --s 0
 expect_rc 2 "design tracer beta out of range" $bin design tracer --beta-deg 0
+
+# stability lobes: the SDOF example against its closed form 2kζ(1+ζ)/(K_f cos²θ) = 7.3188 mm
+expect_rc 0 "lobes" $bin lobes "$src/examples/machines/b_sdof.toml" --out "$work/lobes"
+python3 - "$work/lobes/lobes.json" <<'PY' || bad "lobes.json"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert abs(j["critical_depth_mm"] / 7.318784 - 1) < 1e-4, j["critical_depth_mm"]
+assert all(k in j["lobes"][0] for k in ("N", "min_speed_rpm", "depth_mm"))
+assert j["semi_discretization_max_rel_difference"] < 0.03, j["semi_discretization_max_rel_difference"]
+PY
+for f in lobes.csv lobes.html; do [ -s "$work/lobes/$f" ] || bad "missing $f"; done
+printf '[cutting]\nkf_N_per_mm2 = 1000\n[speed]\nmin_rpm = 1\nmax_rpm = 2\n' > "$work/nomode.toml"
+expect_rc 2 "lobes without a mode" $bin lobes "$work/nomode.toml" --out "$work/never"
 
 echo "cli: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -1,0 +1,77 @@
+#pragma once
+// Regenerative chatter in turning with one delay (the previous revolution), and its stability
+// lobes, two independent ways (system B, layer 1).
+//
+// Modes m = 1..M, each with stiffness k_m, damping ratio ζ_m, natural frequency ω_m and direction
+// at θ_m to the chip thickness; the oriented FRF in the chip-thickness direction
+//   Φ(jω) = Σ cos²θ_m / (k_m·(1 − r_m² + 2jζ_m·r_m)),  r_m = ω/ω_m.
+// Chip thickness h = h0 − [y(t) − y(t − τ)], force F = K_f·b·h, τ = 60/n.
+// Frequency domain (Tlusty, Tobias; Altintas, "Manufacturing Automation", ch. 3):
+//   b_lim(ω) = −1/(2·K_f·Re Φ(jω))  where Re Φ < 0,
+//   ε = 3π + 2·atan2(Im Φ, Re Φ),  n = 60·ω/(2π) / (N + ε/2π),  N = 0, 1, 2, ...
+//   (from e^{−jωτ} = −Φ*/Φ, which makes b real). SDOF closed form: the minimum
+//   b_crit = 2k·ζ(1+ζ)/(K_f·cos²θ) at ω = ω_n·√(1+2ζ).
+// Semi-discretization (Insperger & Stépán, Int. J. Numer. Meth. Engng 61 (2004) 117–141):
+//   ẋ = A·x + K_f·b·B·(x(t − τ) − x(t)) in modal state x = [q; q̇]; over steps Δt = τ/m the
+//   delayed state is linearly interpolated and the rest integrated exactly (matrix exponential);
+//   the stability of the map z_{i+1} = D·z_i (z = [x_i, x_{i−1}, ..., x_{i−m}]) is the
+//   spectral radius of D < 1. The limit depth at a speed is found by bisection on b.
+
+#include <string>
+#include <vector>
+
+namespace lathectl::dynamics {
+
+struct Mode {
+  double stiffness_N_per_m = 1e7;
+  double damping_ratio = 0.02;
+  double natural_frequency_Hz = 500.0;
+  double angle_rad = 0.0;  // to the chip-thickness direction
+};
+
+struct ChatterSystem {
+  std::vector<Mode> modes;
+  double kf_N_per_m2 = 1e9;  // K_f along the chip thickness [N/m²]
+};
+
+struct LobePoint {
+  double speed_rpm = 0.0;
+  double depth_m = 0.0;
+  double chatter_Hz = 0.0;
+};
+
+struct Lobe {
+  int N = 0;
+  std::vector<LobePoint> points;  // ascending chatter frequency
+  LobePoint minimum;              // lowest depth on this lobe
+};
+
+struct FrequencyDomainResult {
+  double critical_depth_m = 0.0;  // absolute stability limit
+  double critical_chatter_Hz = 0.0;
+  std::vector<Lobe> lobes;
+};
+
+// Throws std::invalid_argument on an empty or invalid system.
+FrequencyDomainResult frequency_domain_lobes(const ChatterSystem& sys, double min_rpm,
+                                             double max_rpm, int max_lobes = 40,
+                                             int frequency_points = 4000);
+// Limit depth at one speed from the lobes (lower envelope of all lobes at that speed).
+double envelope_depth(const FrequencyDomainResult& fd, double speed_rpm);
+
+// Semi-discretization: stable at (speed, depth)?  and the limit depth at a speed by bisection.
+double spectral_radius_sd(const ChatterSystem& sys, double speed_rpm, double depth_m, int m = 30);
+double sd_limit_depth(const ChatterSystem& sys, double speed_rpm, double depth_hi_m, int m = 30,
+                      double rel_tol = 1e-3);
+
+// Time domain, one delay, the tool leaving the cut when h < 0: returns the vibration amplitude
+// (max |y| over a window) at the start and at the end, from a small initial disturbance.
+struct TimeDomainResult {
+  double amplitude_early_m = 0.0;
+  double amplitude_late_m = 0.0;
+  bool grew = false;
+};
+TimeDomainResult time_domain(const ChatterSystem& sys, double speed_rpm, double depth_m,
+                             double feed_m, double duration_s, int steps_per_period = 100);
+
+}  // namespace lathectl::dynamics
