@@ -39,6 +39,15 @@ std::string examples_dir() {
   return LATHECTL_INSTALLED_EXAMPLES_DIR;
 }
 
+// The description's first sentence, or its first words up to about 140 characters.
+std::string first_sentence(const std::string& d) {
+  const auto dot = d.find(". ");
+  if (dot != std::string::npos && dot < 180) return d.substr(0, dot + 1);
+  if (d.size() <= 160) return d;
+  const auto cut = d.rfind(' ', 140);
+  return d.substr(0, cut == std::string::npos ? 140 : cut) + " …";
+}
+
 int cmd_run(const std::string& scenario, const std::string& out) {
   const auto lib = io::MaterialLibrary::load_default();
   const auto sc = io::load_scenario(scenario, lib);
@@ -83,7 +92,7 @@ int cmd_demo(const std::string& out, const std::string& dir) {
         const auto r = io::run_scenario(scenarios[i]);
         const fs::path sub = fs::path(out) / scenarios[i].name;
         io::write_outputs(r, sub);
-        entries[i] = {scenarios[i].name + " — " + scenarios[i].description.substr(0, 120),
+        entries[i] = {scenarios[i].name + " — " + first_sentence(scenarios[i].description),
                       scenarios[i].name + "/report.html", r.headline};
         std::lock_guard lock(print);
         std::cout << "  " << scenarios[i].name << ": " << r.headline << "\n";
