@@ -20,11 +20,12 @@ demo: build
 	./$(BUILD)/lathectl demo --out demo-out
 	@echo "open demo-out/index.html"
 
+# The fuzz smoke runs first so that ctest's summary line closes the output.
 test: deps-browser
+	@bash scripts/fuzz-smoke.sh $(FUZZ_SECONDS)
 	@cmake --preset default >/dev/null
 	@cmake --build --preset default -j $(JOBS)
 	ctest --preset default -j $(JOBS)
-	@bash scripts/fuzz-smoke.sh $(FUZZ_SECONDS)
 
 test-asan: deps
 	@cmake --preset asan >/dev/null
