@@ -56,8 +56,7 @@ double RigC::target(double x_c) const noexcept {
   return hydraulics::slide_target(cfg_.profile, x_c, y0_, cfg_.beta_rad, s_lo_, s_hi_);
 }
 
-double RigC::load_N(double y_tool, double v) const noexcept {
-  (void)v;
+double RigC::load_N(double y_tool) const noexcept {
   if (cfg_.blank_diameter_m <= 0.0) return cfg_.linear.P0_N;
   const double depth_mm = (0.5 * cfg_.blank_diameter_m - y_tool) * 1e3;
   if (depth_mm <= 0.0) return 0.0;
@@ -105,7 +104,7 @@ void RigC::configure(const RigCConfig& cfg, double dt, double record_interval) {
     q_static_ = lin.static_offset_m();
   } else {
     const double A = cfg.piston_area_m2;
-    const double load = load_N(y0_, 0.0) + cfg.coulomb_N;
+    const double load = load_N(y0_) + cfg.coulomb_N;
     p_ = load / A;
     const double kq = cfg.discharge_coefficient * cfg.area_gradient_m *
                       std::sqrt(std::max(cfg.supply_Pa - p_, 0.0) / cfg.density_kg_per_m3);
@@ -159,7 +158,7 @@ void RigC::run() noexcept {
           c.discharge_coefficient * c.area_gradient_m * he * std::sqrt(dp / c.density_kg_per_m3) -
           c.clearance_leak_m3_per_s_Pa * p_;
       const double y_tool = y0_ + (s_ + q_static_) * sb;
-      load = load_N(y_tool, v_);
+      load = load_N(y_tool);
       // Slide with Stribeck friction and stiction.
       const double drive = c.piston_area_m2 * p_ - load;
       double v = v_;

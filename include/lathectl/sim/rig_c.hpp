@@ -68,7 +68,7 @@ class RigC {
 
  private:
   double target(double x_c) const noexcept;
-  double load_N(double y_tool_m, double v) const noexcept;
+  double load_N(double y_tool_m) const noexcept;  // cutting force along the slide
   RigCConfig cfg_{};
   double dt_ = 1e-4, t_ = 0.0, t_end_ = 0.0, v_pr_ = 0.0, y0_ = 0.0, x0_ = 0.0;
   double s_ = 0.0, v_ = 0.0, p_ = 0.0, q_static_ = 0.0;
