@@ -88,18 +88,26 @@ MetricsA compute_metrics_a(const RigA& rig) {
     }
   }
 
+  m.alarms = alarm_onsets(t, alarm, reason, cfg.faults, m.first_alarm_delay_s);
+  return m;
+}
+
+std::vector<AlarmEvent> alarm_onsets(std::span<const double> t, std::span<const double> alarm,
+                                     std::span<const double> reason,
+                                     const std::vector<SensorFault>& faults,
+                                     double& first_delay_s) {
   double first_fault = std::numeric_limits<double>::infinity();
-  for (const auto& f : cfg.faults) first_fault = std::min(first_fault, f.at_s);
+  for (const auto& f : faults) first_fault = std::min(first_fault, f.at_s);
+  first_delay_s = std::numeric_limits<double>::quiet_NaN();
+  std::vector<AlarmEvent> out;
   for (std::size_t i = 0; i < t.size(); ++i) {
     const bool on = alarm[i] > 0.5;
     const bool was = i > 0 && alarm[i - 1] > 0.5;
-    if (on && !was) {
-      m.alarms.push_back({t[i], static_cast<int>(reason[i])});
-      if (std::isnan(m.first_alarm_delay_s) && t[i] >= first_fault)
-        m.first_alarm_delay_s = t[i] - first_fault;
-    }
+    if (!on || was) continue;
+    out.push_back({t[i], static_cast<int>(reason[i])});
+    if (std::isnan(first_delay_s) && t[i] >= first_fault) first_delay_s = t[i] - first_fault;
   }
-  return m;
+  return out;
 }
 
 std::vector<double> regulator_characteristic(const hydraulics::PulseRegulator::Params& p,

@@ -85,17 +85,9 @@ MetricsE compute_metrics_e(const RigE& rig, double settle_s) {
     m.speed_mean_m_per_min = v_sum / cut_n;
   }
 
+  m.alarms = alarm_onsets(t, alarm, reason, cfg.faults, m.first_alarm_delay_s);
   double first_fault = std::numeric_limits<double>::infinity();
   for (const auto& fl : cfg.faults) first_fault = std::min(first_fault, fl.at_s);
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    const bool on = alarm[i] > 0.5;
-    const bool was = i > 0 && alarm[i - 1] > 0.5;
-    if (on && !was) {
-      m.alarms.push_back({t[i], static_cast<int>(reason[i])});
-      if (std::isnan(m.first_alarm_delay_s) && t[i] >= first_fault)
-        m.first_alarm_delay_s = t[i] - first_fault;
-    }
-  }
   if (std::isfinite(first_fault) && rig.first_feed_hold_s() >= first_fault)
     m.feed_hold_delay_s = rig.first_feed_hold_s() - first_fault;
   return m;

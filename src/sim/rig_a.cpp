@@ -173,7 +173,7 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
   force_ = force_nominal_;
   depth_ = dist_.depth_profile(0.0);
   sensor_u_ = cfg.sensor.offset_V + sensor_.volts_per_newton() * force_nominal_;
-  stuck_value_ = sensor_u_;
+  faults_.reset(sensor_u_);
   flow_acc_ = force_acc_ = 0.0;
   acc_n_ = 0;
   last_flow_ = q_needed;
@@ -192,22 +192,6 @@ double RigA::chip_feed_mm_per_rev() const noexcept {
   return std::max((slide_.state().x_m - position_ago(rev_steps_)) * 1000.0, 0.0);
 }
 
-double RigA::sensor_sample(double u) noexcept {
-  for (const auto& f : cfg_.faults) {
-    if (t_ < f.at_s || t_ >= f.at_s + f.duration_s) continue;
-    switch (f.kind) {
-      case SensorFault::Kind::NotFinite:
-        return std::nan("");
-      case SensorFault::Kind::OutOfRange:
-        return cfg_.sensor.saturation_V * 2.0 + 1.0;
-      case SensorFault::Kind::Stuck:
-        return stuck_value_;
-    }
-  }
-  stuck_value_ = u;
-  return u;
-}
-
 void RigA::step() noexcept {
   t_ += dt_;
   ++step_;
@@ -223,7 +207,9 @@ void RigA::step() noexcept {
   (void)sensor_.step(dt_, force_);
 
   if (cfg_.controller_kind != ControllerKind::None && step_ % control_every_ == 0) {
-    sensor_u_ = sensor_sample(sensor_.sample());  // what the controller sees, faults included
+    sensor_u_ = faults_.apply(
+        cfg_.faults, t_, sensor_.sample(),
+        cfg_.sensor.saturation_V * 2.0 + 1.0);  // what the controller sees, faults included
     const control::PulseFeedController::Input in{sensor_u_};
     (void)ctl_.update(in, ctl_out_);
   }

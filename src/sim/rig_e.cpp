@@ -129,7 +129,8 @@ void RigE::configure(const RigEConfig& cfg, double dt, double record_interval,
   out_.feed_per_rev_mm = cp.feed_programmed_mm_per_rev;
   out_.speed_m_per_min = cp.speed_programmed_m_per_min;
   in_block_ = true;
-  stuck_value_ = force_seen_ = 0.0;
+  force_seen_ = 0.0;
+  faults_.reset(0.0);
   acc_param_ = acc_pz_ = acc_py_ = acc_depth_ = acc_power_ = 0.0;
   acc_n_ = 0;
   rec_ = Recorder(
@@ -167,22 +168,6 @@ double RigE::chip_thickness_mm(double z_mm) noexcept {
   double z_back = hist_z_[tail_] + w * (hist_z_[next] - hist_z_[tail_]);
   if (contact_) z_back = std::max(z_back, z_contact_mm_);
   return std::max(z_mm - z_back, 0.0);
-}
-
-double RigE::faulted(double value) noexcept {
-  for (const auto& f : cfg_.faults) {
-    if (t_ < f.at_s || t_ >= f.at_s + f.duration_s) continue;
-    switch (f.kind) {
-      case SensorFault::Kind::NotFinite:
-        return std::nan("");
-      case SensorFault::Kind::OutOfRange:
-        return cfg_.force_sensor.range * 2.0 + 1.0;
-      case SensorFault::Kind::Stuck:
-        return stuck_value_;
-    }
-  }
-  stuck_value_ = value;
-  return value;
 }
 
 bool RigE::step() noexcept {
@@ -240,7 +225,7 @@ bool RigE::step() noexcept {
     // Sensor 4: the dynamometer, or the power meter minus the idle power at this speed.
     const double measured =
         cfg_.force_parameter == ForceParameter::Power ? p_cut_est : force_sensor_.sample();
-    force_seen_ = faulted(measured);
+    force_seen_ = faults_.apply(cfg_.faults, t_, measured, cfg_.force_sensor.range * 2.0 + 1.0);
     control::AdaptiveFeedController::Input in;
     in.force = force_seen_;
     in.feed_rate_mm_per_min = axis_.measured_velocity_m_per_s() * 60000.0;

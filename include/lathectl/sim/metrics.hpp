@@ -47,6 +47,12 @@ struct MetricsA {
 
 MetricsA compute_metrics_a(const RigA& rig);
 
+// Alarm onsets (0 → 1 on the alarm channel) with their reason codes, and the delay of the first
+// onset after the first injected fault (NaN if none). Shared by every system's metrics.
+std::vector<AlarmEvent> alarm_onsets(std::span<const double> t, std::span<const double> alarm,
+                                     std::span<const double> reason,
+                                     const std::vector<SensorFault>& faults, double& first_delay_s);
+
 // Centered-free trailing moving average over `window` samples.
 std::vector<double> moving_average(std::span<const double> x, std::size_t window);
 // Mean of x over samples whose time lies in [t0, t1).

@@ -22,18 +22,13 @@
 #include "lathectl/hydraulics/feed_slide.hpp"
 #include "lathectl/hydraulics/pulse_regulator.hpp"
 #include "lathectl/sensors/inductive_sensor.hpp"
+#include "lathectl/sim/faults.hpp"
 #include "lathectl/sim/recorder.hpp"
 
 namespace lathectl::sim {
 
 enum class RegulatorKind { Pulsed, Throttle };
 enum class ControllerKind { None, Aim, Fim };
-
-struct SensorFault {
-  enum class Kind { NotFinite, Stuck, OutOfRange } kind = Kind::NotFinite;
-  double at_s = 0.0;
-  double duration_s = 1e300;
-};
 
 struct RigAConfig {
   double spindle_rpm = 500.0;
@@ -79,7 +74,6 @@ class RigA {
  private:
   double chip_feed_mm_per_rev() const noexcept;
   double position_ago(std::size_t steps) const noexcept;
-  double sensor_sample(double u) noexcept;
 
   RigAConfig cfg_{};
   double dt_ = 1e-4;
@@ -115,7 +109,7 @@ class RigA {
   double force_ = 0.0;
   double depth_ = 0.0;
   double sensor_u_ = 0.0;
-  double stuck_value_ = 0.0;
+  FaultInjector faults_;
   double flow_acc_ = 0.0;
   double force_acc_ = 0.0;
   std::size_t acc_n_ = 0;

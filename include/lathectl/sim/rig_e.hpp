@@ -25,8 +25,8 @@
 #include "lathectl/drives/feed_axis.hpp"
 #include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/sensors/force_sensor.hpp"
+#include "lathectl/sim/faults.hpp"
 #include "lathectl/sim/recorder.hpp"
-#include "lathectl/sim/rig_a.hpp"  // SensorFault
 
 namespace lathectl::sim {
 
@@ -82,7 +82,6 @@ class RigE {
   // Uncut chip thickness [mm]: the axial travel over the last spindle revolution, from where
   // the tool met material in this pass (so the first revolution builds the chip up).
   double chip_thickness_mm(double z_mm) noexcept;
-  double faulted(double value) noexcept;
 
   RigEConfig cfg_{};
   double dt_ = 5e-4;
@@ -98,7 +97,7 @@ class RigE {
   double life_used_ = 0.0;
   double life_plan_min_ = 0.0;
   double removed_mm3_ = 0.0;
-  double stuck_value_ = 0.0;
+  FaultInjector faults_;
   double force_seen_ = 0.0;
   bool sound_ = true;
   double first_hold_s_ = -1.0;
