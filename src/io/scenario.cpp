@@ -536,10 +536,17 @@ void read_system_c(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
       const double nx = hgt / chord, ny = -len / chord;
       const double cx = mx + dist * nx, cy = my + dist * ny;
       const double a0 = std::atan2(y - cy, x - cx), a1 = std::atan2(y + hgt - cy, x + len - cx);
+      double prev_x = x;
       for (int k = 1; k <= 40; ++k) {
         const double ak = a0 + (a1 - a0) * k / 40.0;
-        c.profile.add_point(std::max(cx + r * std::cos(ak), c.profile.xs().back()),
-                            cy + r * std::sin(ak));
+        const double px = cx + r * std::cos(ak);
+        // The template is y(x): the arc must not run backward nor past its own end in x.
+        if (px < prev_x - 1e-12 || px > x + len + 1e-12)
+          f.fail("radius_mm",
+                 "this arc would run backward in x (the template must be a function of x): "
+                 "give a larger radius or a longer length");
+        prev_x = std::max(px, prev_x);
+        c.profile.add_point(prev_x, cy + r * std::sin(ak));
       }
       x += len;
       y += hgt;
@@ -692,7 +699,11 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
   sc.description = root.string("description", "");
   read_run(root, sc.run);
   if (sc.system == "C") {
-    read_system_c(root, lib, sc);
+    try {
+      read_system_c(root, lib, sc);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(located(label, 0, 0, std::string("inconsistent template: ") + e.what()));
+    }
     root.finish();
     try {
       sim::RigC probe;

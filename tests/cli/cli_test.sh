@@ -243,5 +243,8 @@ for f in lobes.csv lobes.html; do [ -s "$work/lobes/$f" ] || bad "missing $f"; d
 printf '[cutting]\nkf_N_per_mm2 = 1000\n[speed]\nmin_rpm = 1\nmax_rpm = 2\n' > "$work/nomode.toml"
 expect_rc 2 "lobes without a mode" $bin lobes "$work/nomode.toml" --out "$work/never"
 
+# inputs the fuzzer once crashed on: each must be a clean input error now
+for f in "$src"/tests/cli/fuzz_regressions/*.toml; do expect_rc 2 "fuzz regression $(basename "$f")" $bin check "$f"; done
+
 echo "cli: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
