@@ -68,15 +68,19 @@ BENCHMARK_CAPTURE(BM_RigE_Part, seed004, "e_stepped_seed004.toml")->Unit(benchma
 BENCHMARK_CAPTURE(BM_RigE_Part, fixed_worst_case, "e_stepped_fixed.toml")
     ->Unit(benchmark::kMillisecond);
 
+// The seed's linearisation (A0, K) of a gauging scenario's transducer and its threshold (23).
+std::pair<sim::LinearGauge, double> seed_line(const io::Scenario& sc) {
+  const auto st = sensors::VibroContactGauge::steady(sc.d.transducer);
+  const sim::LinearGauge lg{st.signal_gain_V_per_m, st.free_amplitude_m,
+                            sc.d.transducer.filter_time_constant_s};
+  return {lg, sim::threshold_23(lg, sc.d.process)};
+}
+
 // System D: 10^5 parts by the linearised model (target < 2 s), one part by the full
 // electromechanical model (target < 50 ms).
 void BM_Gauging_LinearMonteCarlo(benchmark::State& state) {
   const auto sc = load("d_gauging.toml");
-  sensors::VibroContactGauge g;
-  g.configure(sc.d.transducer, sc.run.step_s);
-  const sim::LinearGauge lg{g.signal_gain_V_per_m(), g.free_amplitude_m(),
-                            sc.d.transducer.filter_time_constant_s};
-  const double th = sim::threshold_23(lg, sc.d.process);
+  const auto [lg, th] = seed_line(sc);
   for (auto _ : state) {
     auto r = sim::monte_carlo_linear(sc.d.process, lg, th, static_cast<std::size_t>(state.range(0)),
                                      7, static_cast<unsigned>(state.range(1)));
@@ -91,11 +95,7 @@ BENCHMARK(BM_Gauging_LinearMonteCarlo)
 
 void BM_Gauging_FullModelPart(benchmark::State& state) {
   const auto sc = load("d_gauging.toml");
-  sensors::VibroContactGauge g;
-  g.configure(sc.d.transducer, sc.run.step_s);
-  const sim::LinearGauge lg{g.signal_gain_V_per_m(), g.free_amplitude_m(),
-                            sc.d.transducer.filter_time_constant_s};
-  const double th = sim::threshold_23(lg, sc.d.process);
+  const auto [lg, th] = seed_line(sc);
   std::uint64_t seed = 1;
   for (auto _ : state) {
     auto r = sim::machine_part_full(sc.d.process, sc.d.transducer, sc.run.step_s, th, seed++);

@@ -5,6 +5,8 @@
 #include <numbers>
 #include <vector>
 
+#include "lathectl/dynamics/rk4.hpp"
+
 namespace lathectl::dynamics {
 
 QuenchResult van_der_pol_forced(double eps, double W, double E, double duration, double seed) {
@@ -18,14 +20,7 @@ QuenchResult van_der_pol_forced(double eps, double W, double E, double duration,
   // Two windows: the run's second quarter and its last quarter.
   std::vector<double> ts1, xs1, ts2, xs2;
   for (std::size_t k = 0; k < steps; ++k) {
-    const double k1x = v, k1v = f(t, x, v);
-    const double k2x = v + 0.5 * dt * k1v,
-                 k2v = f(t + 0.5 * dt, x + 0.5 * dt * k1x, v + 0.5 * dt * k1v);
-    const double k3x = v + 0.5 * dt * k2v,
-                 k3v = f(t + 0.5 * dt, x + 0.5 * dt * k2x, v + 0.5 * dt * k2v);
-    const double k4x = v + dt * k3v, k4v = f(t + dt, x + dt * k3x, v + dt * k3v);
-    x += dt / 6.0 * (k1x + 2 * k2x + 2 * k3x + k4x);
-    v += dt / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v);
+    rk4_step(f, t, dt, x, v);
     t += dt;
     if (4 * k >= steps && 4 * k < 2 * steps) {
       ts1.push_back(t);

@@ -7,6 +7,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "lathectl/dynamics/rk4.hpp"
+
 namespace lathectl::sim {
 
 namespace {
@@ -137,15 +139,7 @@ void RigC::run() noexcept {
         return (l.E0_N_per_m / l.mass_kg) * (l.lever_ratio * (st - s) - l.P0_N / l.E0_N_per_m) -
                l.E0_N_per_m / (l.mass_kg * l.C0_per_s) * v;
       };
-      const double h = dt_;
-      const double k1s = v_, k1v = acc(t0, s_, v_);
-      const double k2s = v_ + 0.5 * h * k1v,
-                   k2v = acc(t0 + 0.5 * h, s_ + 0.5 * h * k1s, v_ + 0.5 * h * k1v);
-      const double k3s = v_ + 0.5 * h * k2v,
-                   k3v = acc(t0 + 0.5 * h, s_ + 0.5 * h * k2s, v_ + 0.5 * h * k2v);
-      const double k4s = v_ + h * k3v, k4v = acc(t0 + h, s_ + h * k3s, v_ + h * k3v);
-      s_ += h / 6.0 * (k1s + 2 * k2s + 2 * k3s + k4s);
-      v_ += h / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v);
+      dynamics::rk4_step(acc, t0, dt_, s_, v_);
     } else {
       const double x_c = x0_ + v_pr_ * t0;
       const double h_spool = l.lever_ratio * (target(x_c) - s_);
