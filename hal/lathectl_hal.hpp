@@ -1,0 +1,121 @@
+#pragma once
+// What every lathectl HAL component shares: the RTAPI/HAL C headers, pin and parameter export
+// that throws on failure (so rtapi_app_main has one error path), module-parameter parsing, the
+// system-E scenario loader, and the update-time meter.
+//
+// A component is one .cpp in hal/ plus one line in hal/CMakeLists.txt. Its rtapi_app_main
+// configures everything (reads files, allocates, may throw — caught there, reported with
+// rtapi_print_msg, and the load fails); its realtime function never allocates, throws or logs.
+
+extern "C" {
+#include <hal.h>
+#include <rtapi.h>
+#include <rtapi_app.h>
+}
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+#include "lathectl/io/materials.hpp"
+#include "lathectl/io/scenario.hpp"
+
+namespace lathectl::hal {
+
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+inline void check(int rc, const std::string& what) {
+  if (rc < 0) throw Error(what + " failed (" + std::to_string(rc) + ")");
+}
+
+// Pins: `prefix.name`. Storage for the pointers must come from hal_malloc().
+inline void pin(hal_float_t** p, hal_pin_dir_t dir, int comp, const char* prefix,
+                const char* name) {
+  check(hal_pin_float_newf(dir, p, comp, "%s.%s", prefix, name), std::string("pin ") + name);
+  **p = 0.0;
+}
+inline void pin(hal_bit_t** p, hal_pin_dir_t dir, int comp, const char* prefix, const char* name) {
+  check(hal_pin_bit_newf(dir, p, comp, "%s.%s", prefix, name), std::string("pin ") + name);
+  **p = 0;
+}
+inline void pin(hal_s32_t** p, hal_pin_dir_t dir, int comp, const char* prefix, const char* name) {
+  check(hal_pin_s32_newf(dir, p, comp, "%s.%s", prefix, name), std::string("pin ") + name);
+  **p = 0;
+}
+inline void param(hal_float_t* p, hal_param_dir_t dir, int comp, const char* prefix,
+                  const char* name, double value) {
+  check(hal_param_float_newf(dir, p, comp, "%s.%s", prefix, name),
+        std::string("parameter ") + name);
+  *p = value;
+}
+
+// A module parameter holding a number (RTAPI has no floating-point module parameters).
+inline double number_param(const char* text, const char* key, double fallback) {
+  if (text == nullptr || *text == '\0') return fallback;
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text, &end);
+  if (end == text || *end != '\0' || errno != 0 || !std::isfinite(v))
+    throw Error(std::string("module parameter ") + key + "=" + text + ": expected a number");
+  return v;
+}
+
+// The system-E scenario named by the `scenario=` module parameter (errors name file, line, key).
+inline io::Scenario load_system_e(const char* path) {
+  if (path == nullptr || *path == '\0')
+    throw Error("module parameter scenario=PATH (a system-E scenario file) is required");
+  const auto lib = io::MaterialLibrary::load_default();
+  auto sc = io::load_scenario(path, lib);
+  if (sc.system != "E")
+    throw Error(std::string(path) + ": system = \"" + sc.system +
+                "\", these components need a system-E scenario");
+  return sc;
+}
+
+// Wall time of one call with the monotonic clock; the worst case since load (or reset).
+class UpdateTimer {
+ public:
+  void start() noexcept { t0_ = std::chrono::steady_clock::now(); }
+  std::int32_t stop() noexcept {
+    const auto ns =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0_)
+            .count();
+    last_ = static_cast<std::int32_t>(std::min<long long>(ns, INT32_MAX));
+    if (last_ > max_) max_ = last_;
+    return last_;
+  }
+  [[nodiscard]] std::int32_t max() const noexcept { return max_; }
+  void reset() noexcept { max_ = 0; }
+
+ private:
+  std::chrono::steady_clock::time_point t0_{};
+  std::int32_t last_ = 0;
+  std::int32_t max_ = 0;
+};
+
+// rtapi_app_main's body: run `setup`, report any exception as one line, fail the load.
+template <class Setup>
+int guarded_load(const char* comp_name, int comp_id, Setup&& setup) noexcept {
+  try {
+    setup();
+  } catch (const std::exception& e) {
+    rtapi_print_msg(RTAPI_MSG_ERR, "%s: %s\n", comp_name, e.what());
+    hal_exit(comp_id);
+    return -EINVAL;
+  } catch (...) {
+    rtapi_print_msg(RTAPI_MSG_ERR, "%s: unknown error while loading\n", comp_name);
+    hal_exit(comp_id);
+    return -EINVAL;
+  }
+  hal_ready(comp_id);
+  return 0;
+}
+
+}  // namespace lathectl::hal

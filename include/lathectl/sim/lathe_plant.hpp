@@ -1,0 +1,98 @@
+#pragma once
+// Cutting process of a lathe driven by the tool's actual path — the plant of a CNC's simulated
+// machine (the LinuxCNC component lathectl_plant). Rig E follows the scenario's passes; here the
+// NC program moves the tool wherever it likes, so the workpiece is a surface of revolution that
+// the tool cuts down as it goes:
+//
+//   workpiece: radius R(z) on a grid of `cell_mm` along the part, from the scenario's blank
+//              (z from its first to its last point; no material outside)
+//   tool:      a round nose of radius r_n whose lowest point is the controlled point (x, z):
+//              edge(z') = x + r_n − sqrt(r_n² − (z' − z)²),  |z' − z| ≤ r_n
+//   each step: R(z') ← min(R(z'), edge(z')); the removed cross-section ΔA = Σ ΔR·dz  [mm²]
+//   chip:      over the last spindle revolution (360 angle bins): A_rev = Σ ΔA, path travel
+//              ℓ_rev = Σ |Δ(x, z)|;  feed per revolution s = ℓ_rev, depth t = A_rev / s
+//              (longitudinal turning: s axial, t radial; facing: s radial, t axial; in steady
+//              state A_rev = t·s exactly, and the first revolution builds the chip up as in rig E)
+//   disturbances of the scenario: eccentric blank t + e·sin φ while the tool is on the blank
+//              surface, random allowance (OU in z), hardness K(z), wear from the time in cut
+//   forces:    the cutting model at (t, s, V = π·2(x + t)·n/1000, K, wear); Nc = Pz·V
+//   sensor:    the scenario's force sensor (lag, noise, range) on Pz, Py or Nc; the scenario's
+//              [[fault]] times count from the tool's first contact with the stock
+//
+// Coordinates: the scenario's stock runs along z_stock = z_origin − z_machine [mm] (the part's
+// face at machine z = z_origin, the part toward −z as on a lathe); x is the radius [mm].
+// Real-time: configure() allocates the grid and may throw; step() never allocates or throws.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "lathectl/cutting/cutting_model.hpp"
+#include "lathectl/cutting/disturbances.hpp"
+#include "lathectl/cutting/stock.hpp"
+#include "lathectl/sensors/force_sensor.hpp"
+#include "lathectl/sim/faults.hpp"
+#include "lathectl/sim/rig_e.hpp"
+
+namespace lathectl::sim {
+
+class LathePlant {
+ public:
+  struct Params {
+    double cell_mm = 0.01;       // workpiece grid along z
+    double z_origin_mm = 0.0;    // machine z of the stock's z = 0
+    double nose_radius_mm = -1;  // < 0: the scenario's tool nose radius
+  };
+  struct Input {
+    double x_mm = 0.0;  // tool radius (machine x)
+    double z_mm = 0.0;  // machine z
+    double rpm = 0.0;   // actual spindle speed (sign ignored)
+  };
+  struct Output {
+    double force_measured = 0.0;   // the sensor's sample of the force parameter (N or W)
+    double force_parameter = 0.0;  // its true value
+    double Pz_N = 0.0;
+    double Py_N = 0.0;
+    double cut_power_W = 0.0;
+    double depth_mm = 0.0;         // t (with runout and random allowance)
+    double feed_per_rev_mm = 0.0;  // s
+    double speed_m_per_min = 0.0;  // V
+    double strength_factor = 1.0;
+    bool in_contact = false;
+    double time_in_cut_s = 0.0;
+  };
+
+  // Throws std::invalid_argument on a stock the grid cannot hold.
+  void configure(const RigEConfig& cfg, const Params& p);
+  // Advances by dt_s. Never allocates, throws or logs.
+  void step(const Input& in, double dt_s, Output& out) noexcept;
+  // Radius of the workpiece at stock z [mm] (0 outside the stock).
+  [[nodiscard]] double radius_mm(double z_stock_mm) const noexcept;
+
+ private:
+  static constexpr std::size_t kBins = 360;
+  RigEConfig cfg_{};
+  Params p_{};
+  double r_nose_ = 0.8;
+  double z0_ = 0.0;  // stock z of the first cell
+  std::vector<double> r_;
+  std::vector<double> r_blank_low_;  // lowest point of the eccentric blank per cell
+  cutting::CuttingModel cut_;
+  cutting::Stock stock_;
+  cutting::Disturbances dist_;
+  sensors::LaggedNoisySensor sensor_;
+  FaultInjector faults_;
+  std::array<double, kBins> bin_area_{};
+  std::array<double, kBins> bin_travel_{};
+  double area_rev_ = 0.0;
+  double travel_rev_ = 0.0;
+  double theta_ = 0.0;  // spindle angle [rev], cumulative
+  std::size_t bin_ = 0;
+  double last_x_ = 0.0;
+  double last_z_ = 0.0;
+  bool has_last_ = false;
+  double t_cut_ = 0.0;
+  double t_since_contact_ = -1.0;
+};
+
+}  // namespace lathectl::sim

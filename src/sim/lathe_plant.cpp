@@ -1,0 +1,151 @@
+#include "lathectl/sim/lathe_plant.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace lathectl::sim {
+
+void LathePlant::configure(const RigEConfig& cfg, const Params& p) {
+  if (!(p.cell_mm > 0.0)) throw std::invalid_argument("lathe plant: cell_mm must be > 0");
+  const auto& blank = cfg.stock.blank_diameter_mm;
+  if (blank.size() < 2)
+    throw std::invalid_argument(
+        "lathe plant: the blank needs at least two points (its extent along z)");
+  const double r_nose = p.nose_radius_mm < 0.0 ? cfg.cutting.nose_radius_mm : p.nose_radius_mm;
+  if (!(r_nose > 0.0) || r_nose > 50.0)
+    throw std::invalid_argument("lathe plant: nose radius must be in (0, 50] mm");
+  const double length = blank.back().at_mm - blank.front().at_mm;
+  const double cells = length / p.cell_mm;
+  if (cells > 5e7)
+    throw std::invalid_argument("lathe plant: more than 5e7 grid cells (" + std::to_string(cells) +
+                                "); raise cell_mm or shorten the stock");
+  cut_.configure(cfg.cutting);
+  stock_.configure(cfg.stock);
+  auto dp = cfg.disturbances;
+  dp.depth_steps.clear();  // allowance variation comes from the blank's shape here
+  dp.runout_mm = 0.0;      // and runout from its eccentricity
+  dist_.configure(dp);
+  sensor_.configure(cfg.force_sensor);
+  cfg_ = cfg;
+  p_ = p;
+  r_nose_ = r_nose;
+  z0_ = blank.front().at_mm;
+  const auto n = static_cast<std::size_t>(std::ceil(cells)) + 1;
+  r_.assign(n, 0.0);
+  r_blank_low_.assign(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double z = z0_ + static_cast<double>(i) * p.cell_mm;
+    r_[i] = 0.5 * stock_.blank_diameter_mm(z);
+    r_blank_low_[i] = r_[i] - cfg.stock.eccentricity_mm;
+  }
+  sensor_.reset(0.0);
+  faults_.reset(0.0);
+  bin_area_.fill(0.0);
+  bin_travel_.fill(0.0);
+  area_rev_ = travel_rev_ = theta_ = 0.0;
+  bin_ = 0;
+  has_last_ = false;
+  t_cut_ = 0.0;
+  t_since_contact_ = -1.0;
+}
+
+double LathePlant::radius_mm(double z) const noexcept {
+  const double u = (z - z0_) / p_.cell_mm;
+  if (u < 0.0 || u > static_cast<double>(r_.size() - 1)) return 0.0;
+  return r_[static_cast<std::size_t>(std::lround(u))];
+}
+
+void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
+  const double x = in.x_mm;
+  const double z = p_.z_origin_mm - in.z_mm;  // stock coordinate
+  const double rpm = std::abs(in.rpm);
+
+  // Spindle angle: open the bins the revolution has moved into (they drop the oldest chip).
+  const double turns = rpm / 60.0 * dt;
+  const double before = theta_;
+  theta_ += turns;
+  const auto crossed = static_cast<std::size_t>(std::floor(theta_ * kBins)) -
+                       static_cast<std::size_t>(std::floor(before * kBins));
+  for (std::size_t k = 0; k < std::min(crossed, kBins); ++k) {
+    bin_ = (bin_ + 1) % kBins;
+    bin_area_[bin_] = 0.0;
+    bin_travel_[bin_] = 0.0;
+  }
+  if (theta_ > 1e6) theta_ -= 1e6;  // keep the angle's fraction precise
+
+  // Material the nose removes this step.
+  double removed = 0.0;
+  bool on_blank = false;
+  const double u_lo = (z - r_nose_ - z0_) / p_.cell_mm;
+  const double u_hi = (z + r_nose_ - z0_) / p_.cell_mm;
+  const double last = static_cast<double>(r_.size() - 1);
+  if (std::isfinite(x) && std::isfinite(z) && u_hi >= 0.0 && u_lo <= last) {
+    const auto i0 = static_cast<std::size_t>(std::ceil(std::max(u_lo, 0.0)));
+    const auto i1 = static_cast<std::size_t>(std::floor(std::min(u_hi, last)));
+    for (std::size_t i = i0; i <= i1; ++i) {
+      const double dz = z0_ + static_cast<double>(i) * p_.cell_mm - z;
+      const double edge = x + r_nose_ - std::sqrt(std::max(r_nose_ * r_nose_ - dz * dz, 0.0));
+      if (edge < r_[i]) {
+        if (r_[i] > r_blank_low_[i]) on_blank = true;
+        removed += (r_[i] - std::max(edge, 0.0)) * p_.cell_mm;
+        r_[i] = std::max(edge, 0.0);
+      }
+    }
+  }
+  const double travel = has_last_ ? std::hypot(x - last_x_, z - last_z_) : 0.0;
+  if (std::isfinite(travel)) {
+    last_x_ = x;
+    last_z_ = z;
+    has_last_ = true;
+  }
+  bin_area_[bin_] += removed;
+  bin_travel_[bin_] += std::isfinite(travel) ? travel : 0.0;
+  area_rev_ = travel_rev_ = 0.0;
+  for (std::size_t k = 0; k < kBins; ++k) {
+    area_rev_ += bin_area_[k];
+    travel_rev_ += bin_travel_[k];
+  }
+
+  // Chip of the last revolution and its force.
+  const double s = travel_rev_;
+  double t = s > 1e-4 && removed > 0.0 ? area_rev_ / s : 0.0;
+  const double phi = 2.0 * std::numbers::pi * (theta_ - std::floor(theta_));
+  if (t > 0.0) {
+    if (on_blank) t += cfg_.stock.eccentricity_mm * std::sin(phi);
+    t = std::max(t + dist_.random_allowance_mm(z), 0.0);
+  }
+  const double v = std::numbers::pi * 2.0 * (x + t) * rpm / 1000.0;
+  const double strength = dist_.strength_factor(z);
+  cutting::Forces f{};
+  if (t > 0.0 && s > 0.0 && v > 0.0) {
+    f = cut_.forces({t, s, v, strength, dist_.wear_factor(t_cut_)});
+    t_cut_ += dt;
+    if (t_since_contact_ < 0.0) t_since_contact_ = 0.0;
+  }
+  if (t_since_contact_ >= 0.0) t_since_contact_ += dt;
+  const double power = cut_.power_W(f, v);
+  double param = f.Pz;
+  if (cfg_.force_parameter == ForceParameter::Py) param = f.Py;
+  if (cfg_.force_parameter == ForceParameter::Power) param = power;
+  sensor_.step(dt, param);
+  const double sample = sensor_.sample();
+  out.force_measured = t_since_contact_ >= 0.0
+                           ? faults_.apply(cfg_.faults, t_since_contact_, sample,
+                                           cfg_.force_sensor.range * 2.0 + 1.0)
+                           : sample;
+  out.force_parameter = param;
+  out.Pz_N = f.Pz;
+  out.Py_N = f.Py;
+  out.cut_power_W = power;
+  out.depth_mm = t;
+  out.feed_per_rev_mm = s;
+  out.speed_m_per_min = v;
+  out.strength_factor = strength;
+  out.in_contact = t > 0.0;
+  out.time_in_cut_s = t_cut_;
+}
+
+}  // namespace lathectl::sim
