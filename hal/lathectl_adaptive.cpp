@@ -40,6 +40,8 @@ struct Pins {
   hal_float_t* requested_vel;
   hal_s32_t* motion_type;
   hal_float_t* x_pos;
+  hal_float_t* cutting_speed;
+  hal_bit_t* per_rev;
   hal_bit_t* enable;
   hal_bit_t* reset;
   // outputs
@@ -119,14 +121,20 @@ void update(void*, long period_ns) {
     in.force = force;
     in.rpm = rpm;
     in.feed_rate_mm_per_min = std::abs(*p.current_vel) * 60.0;
-    in.speed_m_per_min = 3.14159265358979323846 * 2.0 * std::abs(*p.x_pos) * rpm / 1000.0;
+    // Sensor 20: a measured cutting speed when one is wired, else π·D·n at the tool's diameter.
+    const double v_meas = *p.cutting_speed;
+    in.speed_m_per_min =
+        v_meas > 0.0 ? v_meas : 3.14159265358979323846 * 2.0 * std::abs(*p.x_pos) * rpm / 1000.0;
     in.cut_power_W = std::max(force, 0.0) * in.speed_m_per_min / 60.0;
     in.feed_block = enabled && (*p.motion_type == 2 || *p.motion_type == 3);
     (void)s.ctl.update(in, s.out);
     const auto& o = s.out;
     double factor = 1.0;
     if (in.feed_block) {
-      const double prog_per_rev = rpm > 0.0 ? std::abs(*p.requested_vel) * 60.0 / rpm : 0.0;
+      // The program's feed per revolution: motion reports the F word itself under G95, a
+      // velocity [mm/s] under G94.
+      const double req = std::abs(*p.requested_vel);
+      const double prog_per_rev = *p.per_rev ? req : rpm > 0.0 ? req * 60.0 / rpm : 0.0;
       factor = o.feed_hold          ? 0.0
                : prog_per_rev > 0.0 ? std::clamp(o.feed_per_rev_mm / prog_per_rev, 0.0, 1.0)
                                     : 1.0;
@@ -177,6 +185,8 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.requested_vel, HAL_IN, comp_id, kPrefix, "requested-vel");
     pin(&p.motion_type, HAL_IN, comp_id, kPrefix, "motion-type");
     pin(&p.x_pos, HAL_IN, comp_id, kPrefix, "x-pos");
+    pin(&p.cutting_speed, HAL_IN, comp_id, kPrefix, "cutting-speed");
+    pin(&p.per_rev, HAL_IN, comp_id, kPrefix, "feed-per-rev-mode");
     pin(&p.enable, HAL_IN, comp_id, kPrefix, "enable");
     pin(&p.reset, HAL_IN, comp_id, kPrefix, "reset");
     pin(&p.adaptive_feed, HAL_OUT, comp_id, kPrefix, "adaptive-feed");

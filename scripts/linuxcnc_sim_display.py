@@ -1,0 +1,185 @@
+#!/usr/bin/python3
+"""The "display" of a headless LinuxCNC session started by scripts/linuxcnc-sim.
+
+LinuxCNC starts it (the INI's [DISPLAY]DISPLAY) once HAL is up and stops the session when it
+exits, returning its exit code. It brings the machine out of estop, turns it on, homes it, runs
+the program, records the HAL signals with halsampler (the config's sampler.0), and writes
+signals.csv and summary.json into $LATHECTL_SIM_OUT. A latched controller alarm holds the feed
+(motion.feed-inhibit): the run then aborts the program after a second of hold, as an operator
+would, and reports the alarm.
+"""
+
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+import hal
+import linuxcnc
+
+# Recorded channels: sampler.0.pin.N in lathectl.hal's order.
+CHANNELS = [
+    ("x_mm", float), ("z_mm", float), ("spindle_rpm", float), ("current_vel_mm_per_s", float),
+    ("requested_vel_mm_per_s", float), ("adaptive_feed", float), ("motion_type", int),
+    ("force", float), ("force_true", float), ("depth_mm", float),
+    ("feed_per_rev_mm", float), ("feed_per_rev_cmd_mm", float), ("cutting_speed_m_per_min", float),
+    ("spindle_rpm_cmd", float), ("feed_hold", int), ("alarm", int),
+    ("reason", int), ("alarm_reason", int), ("in_cut", int), ("program_line", int),
+    ("update_ns", int),
+]
+# control/types.hpp's Reason codes (stable: written to HAL pins and CSV).
+REASONS = {0: "none", 1: "output_high", 2: "output_low", 3: "rate_limited",
+           10: "sensor_not_finite", 11: "sensor_out_of_range", 12: "sensor_stuck",
+           20: "overload", 21: "tool_breakage", 30: "air_cut", 31: "engaged",
+           32: "not_in_feed_block", 40: "spindle_speed_limit", 41: "spindle_power_limit"}
+
+
+def fail(msg):
+    print("linuxcnc_sim_display: " + msg, file=sys.stderr)
+    sys.exit(1)
+
+
+def wait(pred, timeout, what, stat):
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        stat.poll()
+        if pred(stat):
+            return
+        time.sleep(0.02)
+    fail("timed out waiting for " + what)
+
+
+def main():
+    program = os.environ["LATHECTL_SIM_PROGRAM"]
+    out_dir = os.environ["LATHECTL_SIM_OUT"]
+    timeout_s = float(os.environ.get("LATHECTL_SIM_TIMEOUT_S", "600"))
+    period_s = 1e-3  # [EMCMOT]SERVO_PERIOD of the sample config
+    stat, cmd, err = linuxcnc.stat(), linuxcnc.command(), linuxcnc.error_channel()
+    me = hal.component("lathectl-sim-display")  # hal.set_p/get_value need a component
+    me.ready()
+    wait(lambda s: s.task_state is not None, 20, "task", stat)
+    errors = []
+
+    def drain():
+        while True:
+            e = err.poll()
+            if not e:
+                return
+            kind, text = e
+            if kind in (linuxcnc.NML_ERROR, linuxcnc.OPERATOR_ERROR):
+                errors.append(text)
+
+    cmd.state(linuxcnc.STATE_ESTOP_RESET)
+    cmd.state(linuxcnc.STATE_ON)
+    wait(lambda s: s.task_state == linuxcnc.STATE_ON, 10, "machine on", stat)
+    cmd.mode(linuxcnc.MODE_MANUAL)
+    cmd.wait_complete()
+    cmd.teleop_enable(0)
+    cmd.home(-1)
+    wait(lambda s: all(s.homed[j] for j in range(s.joints)), 20, "homing", stat)
+    cmd.mode(linuxcnc.MODE_AUTO)
+    cmd.wait_complete()
+    cmd.program_open(program)
+    cmd.wait_complete()
+    drain()
+    if errors:
+        fail("opening the program: " + "; ".join(errors))
+
+    csv_raw = os.path.join(out_dir, "signals.raw")
+    with open(csv_raw, "w") as raw:
+        sampler = subprocess.Popen(["halsampler", "-t"], stdout=raw)
+        hal.set_p("sampler.0.enable", "1")
+        t0 = time.monotonic()
+        cmd.auto(linuxcnc.AUTO_RUN, 0)
+        wait(lambda s: s.interp_state != linuxcnc.INTERP_IDLE, 10, "program start", stat)
+        hold_since = None
+        aborted = False
+        while True:
+            stat.poll()
+            drain()
+            if stat.interp_state == linuxcnc.INTERP_IDLE and stat.queue == 0:
+                break
+            if hal.get_value("lathectl-adaptive.feed-hold"):
+                hold_since = hold_since or time.monotonic()
+                if time.monotonic() - hold_since > 1.0:
+                    cmd.abort()
+                    cmd.wait_complete()
+                    aborted = True
+                    break
+            if time.monotonic() - t0 > timeout_s:
+                cmd.abort()
+                fail("program still running after %g s (--timeout)" % timeout_s)
+            time.sleep(0.01)
+        wall_s = time.monotonic() - t0
+        time.sleep(0.1)
+        hal.set_p("sampler.0.enable", "0")
+        time.sleep(0.3)  # let halsampler drain the FIFO
+        sampler.terminate()
+        sampler.wait()
+        overruns = int(hal.get_value("sampler.0.overruns"))
+        update_ns_max = int(hal.get_value("lathectl-adaptive.update-ns-max"))
+        plant_ns_max = int(hal.get_value("lathectl-plant.update-ns-max"))
+        force_limit = float(hal.get_value("lathectl-adaptive.force-limit"))
+    drain()
+    cmd.state(linuxcnc.STATE_OFF)
+
+    rows = []
+    with open(csv_raw) as raw:
+        for line in raw:
+            f = line.split()
+            if len(f) != len(CHANNELS) + 1:
+                continue
+            rows.append([int(f[0])] + [conv(v) if conv is int else float(v)
+                                       for (name, conv), v in zip(CHANNELS, f[1:])])
+    os.remove(csv_raw)
+    if not rows:
+        fail("nothing recorded")
+    n0 = rows[0][0]
+    tmp = os.path.join(out_dir, "signals.csv.tmp")
+    with open(tmp, "w", newline="") as fcsv:
+        w = csv.writer(fcsv)
+        w.writerow(["time_s"] + [c for c, _ in CHANNELS])
+        for r in rows:
+            w.writerow(["%.3f" % ((r[0] - n0) * period_s)] + r[1:])
+    os.replace(tmp, os.path.join(out_dir, "signals.csv"))
+
+    idx = {c: i + 1 for i, (c, _) in enumerate(CHANNELS)}
+    finite = [r[idx["force_true"]] for r in rows if math.isfinite(r[idx["force_true"]])]
+    feed_rows = [r for r in rows if r[idx["motion_type"]] in (2, 3)]
+    alarms, last = [], 0
+    for r in rows:
+        a = r[idx["alarm_reason"]]
+        if r[idx["alarm"]] and a != last:
+            alarms.append({"time_s": round((r[0] - n0) * period_s, 3), "reason_code": a,
+                           "reason": REASONS.get(a, "unknown")})
+        last = a if r[idx["alarm"]] else 0
+    summary = {
+        "program": program,
+        "scenario": os.environ.get("LATHECTL_SIM_SCENARIO", ""),
+        "finished": not aborted and not errors,
+        "aborted_on_feed_hold": aborted,
+        "errors": errors,
+        "cycle_time_s": round(len(rows) * period_s, 3),
+        "wall_time_s": round(wall_s, 3),
+        "samples": len(rows),
+        "sampler_overruns": overruns,
+        "force_peak_N": max(finite) if finite else 0.0,
+        "force_limit_N": force_limit,
+        "adaptive_feed_min": min(r[idx["adaptive_feed"]] for r in feed_rows) if feed_rows else 1.0,
+        "alarms": alarms,
+        "update_ns_max_adaptive": update_ns_max,
+        "update_ns_max_plant": plant_ns_max,
+    }
+    tmp = os.path.join(out_dir, "summary.json.tmp")
+    with open(tmp, "w") as fj:
+        json.dump(summary, fj, indent=2)
+        fj.write("\n")
+    os.replace(tmp, os.path.join(out_dir, "summary.json"))
+    sys.exit(0 if not errors else 1)
+
+
+if __name__ == "__main__":
+    main()
