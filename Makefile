@@ -4,13 +4,16 @@ BUILD := build/$(PRESET)
 JOBS ?= $(shell nproc)
 FUZZ_SECONDS ?= 20
 
-.PHONY: deps deps-browser build demo test test-asan bench fuzz format install-check clean
+.PHONY: deps deps-browser deps-test build demo test test-asan bench fuzz format install-check clean
 
 deps:
 	@bash scripts/install-deps.sh
 
 deps-browser:
 	@bash scripts/install-deps.sh --browser
+
+deps-test:
+	@bash scripts/install-deps.sh --browser --linuxcnc
 
 build: deps
 	@cmake --preset $(PRESET) >/dev/null
@@ -21,9 +24,9 @@ demo: build
 	@echo "open demo-out/index.html"
 
 # The fuzz smoke runs first so that ctest's summary line closes the output.
-test: deps-browser
+test: deps-test
 	@bash scripts/fuzz-smoke.sh $(FUZZ_SECONDS)
-	@cmake --preset default >/dev/null
+	@cmake --preset default -DLATHECTL_HAL=ON >/dev/null
 	@cmake --build --preset default -j $(JOBS)
 	ctest --preset default -j $(JOBS)
 

@@ -76,6 +76,11 @@ struct State {
   long every = 0;  // thread periods per control period (0: not yet known)
   long count = 0;
   bool last_reset = false;
+  // motion.requested-vel turns to the next block's value one period before motion.motion-type
+  // does (seen at a G1 → G0 change: for one period the rapid's 80 mm/s read as the G95 feed);
+  // a value is used once it has held for one thread period.
+  double req_prev = 0.0;
+  double req_stable = 0.0;
 };
 
 int comp_id = -1;
@@ -112,6 +117,9 @@ void update(void*, long period_ns) {
   if (*p.reset && !s.last_reset) s.ctl.reset_alarm();
   s.last_reset = *p.reset;
   const double rpm_prog = *p.rpm_programmed;
+  const double req_now = std::abs(*p.requested_vel);
+  if (req_now == s.req_prev) s.req_stable = req_now;
+  s.req_prev = req_now;
   if (s.count++ % s.every == 0) {
     timer.start();
     const bool enabled = *p.enable;
@@ -133,7 +141,7 @@ void update(void*, long period_ns) {
     if (in.feed_block) {
       // The program's feed per revolution: motion reports the F word itself under G95, a
       // velocity [mm/s] under G94.
-      const double req = std::abs(*p.requested_vel);
+      const double req = s.req_stable;
       const double prog_per_rev = *p.per_rev ? req : rpm > 0.0 ? req * 60.0 / rpm : 0.0;
       factor = o.feed_hold          ? 0.0
                : prog_per_rev > 0.0 ? std::clamp(o.feed_per_rev_mm / prog_per_rev, 0.0, 1.0)

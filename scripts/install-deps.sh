@@ -9,9 +9,15 @@ pkgs=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev          # libFuzzer and sanitizer runtimes
 )
-if [ "${1:-}" = "--browser" ]; then
-  pkgs+=(chromium)                  # headless report rendering test
-fi
+for opt in "$@"; do
+  case "$opt" in
+    --browser) pkgs+=(chromium) ;;  # headless report rendering test
+    # HAL components and the simulated LinuxCNC session; without --no-install-recommends
+    # linuxcnc-uspace would pull in a realtime kernel.
+    --linuxcnc) pkgs+=(linuxcnc-uspace linuxcnc-uspace-dev) ;;
+    *) echo "install-deps: unknown option $opt (--browser, --linuxcnc)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${pkgs[@]}"; do

@@ -1,0 +1,319 @@
+#!/usr/bin/python3
+"""halrun-level tests of the lathectl HAL components, the way LinuxCNC tests its own components:
+a streamer feeds the stimulus into the component on a 1 ms thread, a sampler records its
+outputs in the same period, and the recording is checked against what the component must do.
+
+  halrun_test.py adaptive SOURCE_DIR WORK_DIR   controller: feed by force, limits, sensor loss
+  halrun_test.py plant SOURCE_DIR WORK_DIR      plant: handbook force of a straight turn
+  halrun_test.py bad_input SOURCE_DIR WORK_DIR  bad scenario / module parameters fail the load
+  halrun_test.py timing SOURCE_DIR WORK_DIR [SECONDS]
+                                                worst-case update() time over a long session
+"""
+
+import json
+import math
+import os
+import subprocess
+import sys
+import tomllib
+
+PERIOD_S = 1e-3
+FAILS = []
+
+
+def check(cond, what):
+    print(("ok   " if cond else "FAIL ") + what)
+    if not cond:
+        FAILS.append(what)
+
+
+def env():
+    e = dict(os.environ)
+    if os.getuid() == 0:  # rtapi refuses root: run its realtime side as 'nobody'
+        e.setdefault("RTAPI_UID", "65534")
+        e.setdefault("RTAPI_FIFO_PATH", "/tmp/.rtapi_fifo")
+    return e
+
+
+def halrun(hal_text, work, name, timeout=120):
+    path = os.path.join(work, name + ".hal")
+    with open(path, "w") as f:
+        f.write(hal_text)
+    p = subprocess.run(["halrun", "-f", path], cwd=work, env=env(), capture_output=True,
+                       text=True, timeout=timeout)
+    log = "\n".join(l for l in (p.stdout + p.stderr).splitlines() if "fallback_uid" not in l)
+    if p.returncode != 0:
+        subprocess.run(["halrun", "-U"], env=env(), capture_output=True)
+    return p.returncode, log
+
+
+def stream_session(work, name, loads, stim_cfg, stim_rows, stim_pins, out_cfg, out_pins,
+                   extra=""):
+    """streamer → component(s) → sampler on one 1 ms thread; returns the sampled rows."""
+    n = len(stim_rows)
+    stim = os.path.join(work, name + "-stimulus.txt")
+    out = os.path.join(work, name + "-sampled.txt")
+    with open(stim, "w") as f:
+        for r in stim_rows:
+            f.write(" ".join(str(v) for v in r) + "\n")
+    hal = ["loadrt threads name1=t period1=%d" % int(PERIOD_S * 1e9),
+           "loadrt streamer depth=%d cfg=%s" % (n + 16, stim_cfg),
+           "loadrt sampler depth=%d cfg=%s" % (n + 16, out_cfg)]
+    hal += ["loadrt " + l for l in loads]
+    hal += ["addf streamer.0 t"] + ["addf %s t" % l.split()[0].replace("_", "-") for l in loads]
+    hal += ["addf sampler.0 t"]
+    for i, p in enumerate(stim_pins):
+        hal.append("net stim%d streamer.0.pin.%d => %s" % (i, i, p))
+    for i, p in enumerate(out_pins):
+        hal.append("net out%d %s => sampler.0.pin.%d" % (i, p, i))
+    hal.append(extra)
+    hal += ["loadusr -w halstreamer %s" % stim, "start",
+            "loadusr -w halsampler -n %d %s" % (n, out), "stop"]
+    rc, log = halrun("\n".join(hal) + "\n", work, name)
+    if rc != 0:
+        print(log)
+        check(False, name + ": halrun session ran")
+        return []
+    rows = [[float(v) for v in l.split()] for l in open(out)]
+    check(len(rows) == n, "%s: %d samples recorded (expected %d)" % (name, len(rows), n))
+    return rows
+
+
+def scenario_path(src):
+    return os.path.join(src, "examples/linuxcnc/step_allowance.toml")
+
+
+def test_adaptive(src, work):
+    sc = tomllib.load(open(scenario_path(src), "rb"))
+    c = sc["controller"]
+    limit, s_prog = c["force_limit_N"], c["feed_mm_per_rev"]
+    rpm, x = 1200.0, 18.0
+    rows = []
+    # phases [s): rapid, cut below the limit, above it, below again, sensor lost (NaN)
+    for k in range(4000):
+        t = k * PERIOD_S
+        noise = 8.0 * math.sin(0.7 * k) + 5.0 * math.sin(0.13 * k)  # a live sensor
+        if t < 0.2:
+            mtype, force = 1, noise
+        elif t < 2.4:
+            mtype, force = 2, 0.65 * limit + noise
+        elif t < 3.2:
+            mtype, force = 2, 1.2 * limit + noise
+        elif t < 3.5:
+            mtype, force = 2, 0.65 * limit + noise
+        else:
+            mtype, force = 2, float("nan")
+        cur_vel = s_prog * rpm / 60.0
+        rows.append([force, rpm, rpm, s_prog, cur_vel, x, mtype])
+    stim_pins = ["lathectl-adaptive.force", "lathectl-adaptive.spindle-rpm",
+                 "lathectl-adaptive.spindle-rpm-programmed", "lathectl-adaptive.requested-vel",
+                 "lathectl-adaptive.current-vel", "lathectl-adaptive.x-pos",
+                 "lathectl-adaptive.motion-type"]
+    out_pins = ["lathectl-adaptive.adaptive-feed", "lathectl-adaptive.feed-per-rev",
+                "lathectl-adaptive.feed-hold", "lathectl-adaptive.alarm",
+                "lathectl-adaptive.alarm-reason", "lathectl-adaptive.reason",
+                "lathectl-adaptive.spindle-speed-out", "lathectl-adaptive.update-ns",
+                "lathectl-adaptive.period-error"]
+    extra = ("setp lathectl-adaptive.enable 1\n"
+             "setp lathectl-adaptive.feed-per-rev-mode 1\n")
+    got = stream_session(work, "adaptive", ["lathectl_adaptive scenario=" + scenario_path(src)],
+                         "ffffffs", rows, stim_pins, "ffbbssfsb", out_pins, extra)
+    if not got:
+        return
+    af = [r[0] for r in got]
+    spr = [r[1] for r in got]
+    hold = [int(r[2]) for r in got]
+    alarm = [int(r[3]) for r in got]
+    areason = [int(r[4]) for r in got]
+    reason = [int(r[5]) for r in got]
+    rpm_out = [r[6] for r in got]
+    ns = [int(r[7]) for r in got]
+    at = lambda t: int(round(t / PERIOD_S))
+    check(not any(int(r[8]) for r in got), "thread period divides the control period")
+    check(all(0.0 <= v <= 1.0 for v in af), "adaptive-feed stays in [0, 1] (never reverses)")
+    check(af[at(0.1)] == 1.0 and reason[at(0.1)] == 32,
+          "rapid: adaptive-feed 1, reason not_in_feed_block (got %g, %d)" % (af[at(0.1)],
+                                                                          reason[at(0.1)]))
+    entry = min(spr[at(0.2):at(0.204)])
+    one_step = c.get("feed_rate_limit_per_s", 0.5) * s_prog * c["period_ms"] * 1e-3
+    check(entry <= c.get("feed_min_mm_per_rev", 0.05) + one_step + 1e-9,
+          "contact: the feed drops to the entry feed at once, then ramps (%g mm/rev)" % entry)
+    check(abs(af[at(2.39)] - 1.0) < 1e-6 and abs(spr[at(2.39)] - s_prog) < 1e-9,
+          "below the limit: the feed returns to the programmed %g mm/rev (adaptive-feed %g)" %
+          (s_prog, af[at(2.39)]))
+    rising = spr[at(0.5)] < spr[at(1.0)] < spr[at(1.5)]
+    slope = (spr[at(1.5)] - spr[at(1.0)]) / 0.5
+    check(rising and abs(slope - c.get("feed_rate_limit_per_s", 0.5) * s_prog) < 0.01 * s_prog,
+          "rise at the rate limit: %.4f mm/rev/s" % slope)
+    drop = spr[at(3.19)]
+    check(drop < 0.7 * s_prog and af[at(3.19)] < 0.7,
+          "above the limit: the PI lowers the feed (%.3f mm/rev, adaptive-feed %.3f)" %
+          (drop, af[at(3.19)]))
+    check(all(spr[at(t + 0.002)] <= spr[at(t)] + 1e-12 for t in [2.45, 2.6, 2.8, 3.0]),
+          "above the limit the feed never rises")
+    check(spr[at(3.49)] > drop, "below the limit again: the feed recovers (%.3f → %.3f)" %
+          (drop, spr[at(3.49)]))
+    check(not any(hold[:at(3.5)]) and not any(alarm[:at(3.5)]), "no hold or alarm before the fault")
+    first = next((i for i in range(at(3.5), len(hold)) if hold[i]), None)
+    check(first is not None and first - at(3.5) <= 2,
+          "sensor NaN: feed hold within one control period (%s ms)" %
+          (None if first is None else first - at(3.5)))
+    check(all(hold[at(3.51):]) and all(alarm[at(3.51):]) and all(v == 0.0 for v in af[at(3.51):]),
+          "the hold latches: adaptive-feed 0, alarm on")
+    check(areason[-1] == 10, "alarm reason sensor_not_finite (10), got %d" % areason[-1])
+    check(rpm_out[-1] > 0.0, "the spindle keeps turning during the hold (%.0f rpm)" % rpm_out[-1])
+    print("adaptive update(): max %d ns over %d calls" % (max(ns), len(ns)))
+
+
+def handbook_pz(src, sc, t, s, v):
+    mats = tomllib.load(open(os.path.join(src, "data/materials.toml"), "rb"))
+    m = mats[sc["material"]["name"]]
+    kmp = (m["strength"] / m["strength_base"]) ** m["kmp_exponent"]
+    law = m["Pz"]
+    return 10.0 * law["Cp"] * t ** law["x"] * s ** law["y"] * v ** law["n"] * kmp
+
+
+def test_plant(src, work):
+    sc = tomllib.load(open(scenario_path(src), "rb"))
+    rpm, s, x = 1000.0, 0.3, 18.0
+    vz = s * rpm / 60.0  # mm/s toward -z
+    rows = []
+    n = int(25.0 / vz / PERIOD_S)  # from z = +2 to z = -23: 2 mm depth, then the 4 mm collar
+    for k in range(n):
+        rows.append([x, 2.0 - vz * k * PERIOD_S, rpm])
+    got = stream_session(work, "plant", ["lathectl_plant scenario=" + scenario_path(src)], "fff",
+                         rows, ["lathectl-plant.x-pos", "lathectl-plant.z-pos",
+                                "lathectl-plant.spindle-rpm"], "fffffbs",
+                         ["lathectl-plant.pz", "lathectl-plant.depth",
+                          "lathectl-plant.feed-per-rev", "lathectl-plant.cutting-speed",
+                          "lathectl-plant.force", "lathectl-plant.in-contact",
+                          "lathectl-plant.update-ns"])
+    if not got:
+        return
+    z_at = lambda i: rows[i][1]
+    def mean(col, z_hi, z_lo):
+        v = [r[col] for i, r in enumerate(got) if z_lo <= z_at(i) <= z_hi]
+        return sum(v) / len(v)
+    check(not any(int(r[5]) for i, r in enumerate(got) if z_at(i) > 0.8),
+          "no force before the nose reaches the face")
+    for (z_hi, z_lo, t, d) in [(-5.0, -12.0, 2.0, 40.0), (-18.0, -22.0, 4.0, 44.0)]:
+        depth, feed, speed = mean(1, z_hi, z_lo), mean(2, z_hi, z_lo), mean(3, z_hi, z_lo)
+        pz = mean(0, z_hi, z_lo)
+        v = math.pi * d * rpm / 1000.0
+        want = handbook_pz(src, sc, t, s, v)
+        check(abs(depth - t) < 0.005 * t, "z %g..%g: depth %.4f mm (cut %g)" % (z_hi, z_lo, depth, t))
+        check(abs(feed - s) < 0.005 * s, "z %g..%g: feed %.4f mm/rev (%g)" % (z_hi, z_lo, feed, s))
+        check(abs(speed - v) < 0.005 * v, "z %g..%g: V %.2f m/min (%.2f)" % (z_hi, z_lo, speed, v))
+        check(abs(pz - want) < 0.01 * want,
+              "z %g..%g: Pz %.1f N against the handbook's 10·Cp·t^x·s^y·V^n·Kmp = %.1f N" %
+              (z_hi, z_lo, pz, want))
+    noisy = [r[4] - r[0] for i, r in enumerate(got) if -12.0 <= z_at(i) <= -5.0]
+    sd = math.sqrt(sum(e * e for e in noisy) / len(noisy))
+    sigma = sc["sensor"].get("noise_N", 0.0)
+    check(abs(sd - sigma) < 0.2 * sigma + 2.0, "sensor noise σ %.1f N (scenario %g N)" % (sd, sigma))
+    print("plant update(): max %d ns over %d calls" % (max(int(r[6]) for r in got), len(got)))
+
+
+def test_bad_input(src, work):
+    bad = os.path.join(work, "bad.toml")
+    text = open(scenario_path(src)).read().replace("force_limit_N = 1600.0", "force_limit_N = -5.0")
+    with open(bad, "w") as f:
+        f.write(text)
+    line = next(i + 1 for i, l in enumerate(text.splitlines()) if l.startswith("force_limit_N"))
+    cases = [
+        ("lathectl_adaptive scenario=" + bad, ["bad.toml:%d" % line, "force_limit_N"]),
+        ("lathectl_plant scenario=" + bad, ["bad.toml:%d" % line, "force_limit_N"]),
+        ("lathectl_adaptive", ["scenario=PATH", "required"]),
+        ("lathectl_plant scenario=/nonexistent/x.toml", ["/nonexistent/x.toml", "cannot open"]),
+        ("lathectl_plant scenario=%s z_origin_mm=abc" % scenario_path(src),
+         ["z_origin_mm=abc", "expected a number"]),
+        ("lathectl_plant scenario=%s" % os.path.join(src, "examples/scenarios/a_finishing_aim.toml"),
+         ["system-E"]),
+    ]
+    for load, words in cases:
+        # The realtime master must be up (threads) for the module's own message to reach us.
+        rc, log = halrun("loadrt threads name1=t period1=1000000\nloadrt %s\n" % load, work, "bad")
+        check(rc != 0 and all(w in log for w in words),
+              "load fails with a clear message: loadrt %s → %s" %
+              (load.replace(src, "SRC").replace(work, "WORK"),
+               next((l for l in log.splitlines() if l.startswith("lathectl_")), "(none)")))
+    # A control period that is not a whole number of thread periods holds the feed.
+    rc, log = halrun("loadrt threads name1=t period1=300000\n"
+                     "loadrt lathectl_adaptive scenario=%s\naddf lathectl-adaptive t\nstart\n"
+                     "loadusr -w sleep 0.1\nshow pin lathectl-adaptive.period-error\n"
+                     "show pin lathectl-adaptive.feed-hold\n" % scenario_path(src), work, "period")
+    check(rc == 0 and "TRUE  lathectl-adaptive.period-error" in log
+          and "TRUE  lathectl-adaptive.feed-hold" in log,
+          "0.3 ms thread for a 2 ms control period: period-error and feed hold")
+
+
+def test_timing(src, work, seconds):
+    """Both components on a 1 ms thread fed by a siggen-driven cut for SECONDS; reports the
+    worst update() time (monotonic clock inside the component)."""
+    hal = """loadrt threads name1=t period1=1000000
+loadrt siggen names=wave
+loadrt lathectl_plant scenario={sc}
+loadrt lathectl_adaptive scenario={sc}
+addf wave.update t
+addf lathectl-plant t
+addf lathectl-adaptive t
+setp wave.frequency 0.02
+setp wave.amplitude 25
+setp wave.offset -20
+setp lathectl-plant.x-pos 18
+setp lathectl-plant.spindle-rpm 1000
+net z wave.triangle => lathectl-plant.z-pos
+net f lathectl-plant.force => lathectl-adaptive.force
+setp lathectl-adaptive.spindle-rpm 1000
+setp lathectl-adaptive.spindle-rpm-programmed 1000
+setp lathectl-adaptive.requested-vel 0.3
+setp lathectl-adaptive.feed-per-rev-mode 1
+setp lathectl-adaptive.x-pos 18
+setp lathectl-adaptive.motion-type 2
+setp lathectl-adaptive.enable 1
+start
+loadusr -w sleep {secs}
+show pin lathectl-adaptive.update-ns-max
+show pin lathectl-plant.update-ns-max
+show pin lathectl-adaptive.alarm
+""".format(sc=scenario_path(src), secs=seconds)
+    rc, log = halrun(hal, work, "timing", timeout=seconds + 120)
+    vals = {}
+    for l in log.splitlines():
+        f = l.split()
+        if len(f) == 5 and f[4].endswith("update-ns-max"):
+            vals[f[4]] = int(f[3])
+    a = vals.get("lathectl-adaptive.update-ns-max", -1)
+    p = vals.get("lathectl-plant.update-ns-max", -1)
+    check(rc == 0 and 0 < a < 1_000_000 and 0 < p < 1_000_000,
+          "worst update() over %g s (%d calls): adaptive %d ns, plant %d ns (< 1 ms period)" %
+          (seconds, int(seconds / PERIOD_S), a, p))
+    with open(os.path.join(work, "timing.json"), "w") as f:
+        json.dump({"seconds": seconds, "adaptive_update_ns_max": a, "plant_update_ns_max": p}, f)
+
+
+def main():
+    if len(sys.argv) < 4:
+        print(__doc__)
+        sys.exit(2)
+    what, src, work = sys.argv[1], os.path.abspath(sys.argv[2]), os.path.abspath(sys.argv[3])
+    os.makedirs(work, exist_ok=True)
+    os.chmod(work, 0o777)  # the realtime side runs as RTAPI_UID and writes the sampler file
+    if what == "adaptive":
+        test_adaptive(src, work)
+    elif what == "plant":
+        test_plant(src, work)
+    elif what == "bad_input":
+        test_bad_input(src, work)
+    elif what == "timing":
+        test_timing(src, work, float(sys.argv[4]) if len(sys.argv) > 4 else 10.0)
+    else:
+        print(__doc__)
+        sys.exit(2)
+    if FAILS:
+        print("%d check(s) failed" % len(FAILS))
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,127 @@
+#!/usr/bin/python3
+"""Full LinuxCNC session: the sample config headless (scripts/linuxcnc-sim), homing, a straight
+turn over an allowance step with M52 P1, lathectl_plant and lathectl_adaptive in HAL. Asserts
+from the recorded HAL signals that
+
+  - where the allowance grows (the 44 mm collar) the force is held at its limit by lowering
+    motion.adaptive-feed,
+  - where it falls again the feed returns to the program's (adaptive-feed 1),
+  - an injected sensor fault (NaN) holds the feed (feed-inhibit, adaptive-feed 0, motion stops)
+    with a latched alarm sensor_not_finite, the spindle still turning.
+
+  linuxcnc_session_test.py SOURCE_DIR WORK_DIR
+"""
+
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+import tomllib
+
+FAILS = []
+
+
+def check(cond, what):
+    print(("ok   " if cond else "FAIL ") + what)
+    if not cond:
+        FAILS.append(what)
+
+
+def run(src, work, scenario, name):
+    out = os.path.join(work, name)
+    p = subprocess.run([os.path.join(src, "scripts/linuxcnc-sim"),
+                        os.path.join(src, "examples/linuxcnc/step_allowance.ngc"),
+                        os.path.join(src, "examples/linuxcnc", scenario), "--out", out,
+                        "--timeout", "120"], capture_output=True, text=True, timeout=300)
+    if p.returncode != 0:
+        print(p.stdout + p.stderr)
+        check(False, name + ": linuxcnc-sim ran")
+        return None, None
+    summary = json.load(open(os.path.join(out, "summary.json")))
+    rows = []
+    with open(os.path.join(out, "signals.csv")) as f:
+        for r in csv.DictReader(f):
+            rows.append({k: float(v) for k, v in r.items()})
+    return summary, rows
+
+
+def mean(v):
+    return sum(v) / len(v) if v else float("nan")
+
+
+def in_feed(rows, z_hi, z_lo):
+    return [r for r in rows if r["motion_type"] == 2 and z_lo <= r["z_mm"] <= z_hi]
+
+
+def main():
+    src, work = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+    os.makedirs(work, exist_ok=True)
+    sc = tomllib.load(open(os.path.join(src, "examples/linuxcnc/step_allowance.toml"), "rb"))
+    limit = sc["controller"]["force_limit_N"]
+
+    summary, rows = run(src, work, "step_allowance.toml", "step")
+    if summary:
+        check(summary["finished"] and not summary["errors"] and not summary["alarms"],
+              "step: program finished, no errors, no alarms (%s)" % summary["alarms"])
+        check(summary["sampler_overruns"] == 0, "step: recording complete (no sampler overruns)")
+        check(summary["force_limit_N"] == limit, "step: the component runs the scenario's limit")
+        before = in_feed(rows, -9.0, -14.0)    # 2 mm depth, below the limit, ramp done
+        collar = in_feed(rows, -19.0, -29.0)   # 4 mm depth, after the entry transient
+        after = in_feed(rows, -38.0, -48.0)    # 2 mm again
+        f_before = mean([r["force_true"] for r in before])
+        f_collar = mean([r["force_true"] for r in collar])
+        f_after = mean([r["force_true"] for r in after])
+        af_collar = mean([r["adaptive_feed"] for r in collar])
+        check(f_before < 0.8 * limit and min(r["adaptive_feed"] for r in before) > 0.999,
+              "2 mm before the collar: force %.0f N < limit, adaptive-feed 1" % f_before)
+        check(abs(f_collar - limit) < 0.03 * limit,
+              "collar (allowance grows): force held at %.0f N (limit %.0f N, ±3 %%)" %
+              (f_collar, limit))
+        check(max(r["force_true"] for r in collar) < 1.10 * limit,
+              "collar: force never more than 10 %% over the limit after entry (peak %.0f N)" %
+              max(r["force_true"] for r in collar))
+        check(af_collar < 0.8, "collar: by lowering motion.adaptive-feed (mean %.3f)" % af_collar)
+        check(min(r["adaptive_feed"] for r in after) > 0.999 and f_after < 0.8 * limit,
+              "after the collar (allowance falls): adaptive-feed back to 1, force %.0f N" % f_after)
+        peak = summary["force_peak_N"]
+        print("step: force peak %.0f N at the collar's entry (the 2 mm step arrives within one "
+              "revolution); cycle %.2f s; adaptive-feed min %.3f" %
+              (peak, summary["cycle_time_s"], summary["adaptive_feed_min"]))
+
+    summary, rows = run(src, work, "step_allowance_sensor_fault.toml", "fault")
+    if summary:
+        check(summary["aborted_on_feed_hold"], "fault: the program was held (and then aborted)")
+        check([a["reason"] for a in summary["alarms"]] == ["sensor_not_finite"],
+              "fault: one alarm, sensor_not_finite (%s)" % summary["alarms"])
+        nan_i = next((i for i, r in enumerate(rows) if math.isnan(r["force"])), None)
+        hold_i = next((i for i, r in enumerate(rows) if r["feed_hold"] == 1), None)
+        check(nan_i is not None and hold_i is not None and 0 <= hold_i - nan_i <= 2,
+              "fault: feed hold %s ms after the first NaN sample" %
+              (None if nan_i is None or hold_i is None else hold_i - nan_i))
+        if hold_i is not None:
+            held = rows[hold_i:]
+            check(all(r["adaptive_feed"] == 0.0 and r["alarm"] == 1 and r["alarm_reason"] == 10
+                      for r in held), "fault: adaptive-feed 0, alarm latched, reason 10 after")
+            stop = next((i for i, r in enumerate(held) if abs(r["current_vel_mm_per_s"]) < 1e-9),
+                        None)
+            check(stop is not None and stop <= 100,
+                  "fault: motion stopped %s ms after the hold" % stop)
+            if stop is not None:
+                # the simulated joints' position feedback trails the commanded stop by 3 periods
+                z = [r["z_mm"] for r in held[stop + 10:] if r["motion_type"] == 2]
+                check(len(z) > 500 and max(z) - min(z) < 1e-6,
+                      "fault: the tool stays put while held (%.1f µm travelled after the hold)" %
+                      (1000.0 * abs(held[stop + 10]["z_mm"] - held[0]["z_mm"])))
+            check(all(r["spindle_rpm"] > 100.0 for r in held[:500]),
+                  "fault: the spindle keeps turning during the hold")
+            check(held[0]["z_mm"] < -15.5, "fault: it happened inside the collar (z %.2f)" %
+                  held[0]["z_mm"])
+    if FAILS:
+        print("%d check(s) failed" % len(FAILS))
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()
