@@ -5,11 +5,12 @@
 //   loadrt lathectl_plant scenario=PATH [z_origin_mm=0] [cell_mm=0.01]
 //   addf lathectl-plant servo-thread
 //
-// Pins (prefix lathectl-plant.): in x-pos, z-pos [mm], spindle-rpm; out force (the sensor's
+// Pins (prefix lathectl-plant.): in x-pos, z-pos [mm], spindle-rpm, enable; out force (the sensor's
 // sample, N or W), force-true, pz, py [N], cut-power [W], depth [mm], feed-per-rev [mm/rev],
 // cutting-speed [m/min], strength-factor, in-contact, time-in-cut [s], update-ns,
 // update-ns-max [ns]. See lathectl_plant(9).
 
+#include <cmath>
 #include <memory>
 
 #include "lathectl/sim/lathe_plant.hpp"
@@ -36,6 +37,7 @@ struct Pins {
   hal_float_t* x_pos;
   hal_float_t* z_pos;
   hal_float_t* rpm;
+  hal_bit_t* enable;
   hal_float_t* force;
   hal_float_t* force_true;
   hal_float_t* pz;
@@ -59,8 +61,11 @@ lathectl::hal::UpdateTimer timer;
 void update(void*, long period_ns) {
   timer.start();
   lathectl::sim::LathePlant::Input in;
-  in.x_mm = *pins->x_pos;
-  in.z_mm = *pins->z_pos;
+  // Disabled (e.g. before homing, positions mean nothing): no position, nothing is cut; the
+  // sensor keeps reading (noise), as a live dynamometer does.
+  const bool on = *pins->enable;
+  in.x_mm = on ? *pins->x_pos : std::nan("");
+  in.z_mm = on ? *pins->z_pos : std::nan("");
   in.rpm = *pins->rpm;
   lathectl::sim::LathePlant::Output out;
   plant->step(in, static_cast<double>(period_ns) * 1e-9, out);
@@ -97,6 +102,7 @@ extern "C" int rtapi_app_main(void) {
     pin(&pins->x_pos, HAL_IN, comp_id, kPrefix, "x-pos");
     pin(&pins->z_pos, HAL_IN, comp_id, kPrefix, "z-pos");
     pin(&pins->rpm, HAL_IN, comp_id, kPrefix, "spindle-rpm");
+    pin(&pins->enable, HAL_IN, comp_id, kPrefix, "enable");
     pin(&pins->force, HAL_OUT, comp_id, kPrefix, "force");
     pin(&pins->force_true, HAL_OUT, comp_id, kPrefix, "force-true");
     pin(&pins->pz, HAL_OUT, comp_id, kPrefix, "pz");

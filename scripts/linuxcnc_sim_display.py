@@ -149,6 +149,9 @@ def main():
     idx = {c: i + 1 for i, (c, _) in enumerate(CHANNELS)}
     finite = [r[idx["force_true"]] for r in rows if math.isfinite(r[idx["force_true"]])]
     feed_rows = [r for r in rows if r[idx["motion_type"]] in (2, 3)]
+    feed_forces = [r[idx["force_true"]] for r in feed_rows if math.isfinite(r[idx["force_true"]])]
+    # Rapids through material: the adaptive feed does not act on them (motion-type 1).
+    rapid_cut = [r for r in rows if r[idx["motion_type"]] == 1 and r[idx["force_true"]] > 0.0]
     alarms, last = [], 0
     for r in rows:
         a = r[idx["alarm_reason"]]
@@ -167,7 +170,10 @@ def main():
         "samples": len(rows),
         "sampler_overruns": overruns,
         "force_peak_N": max(finite) if finite else 0.0,
+        "force_peak_in_feed_N": max(feed_forces) if feed_forces else 0.0,
         "force_limit_N": force_limit,
+        "rapid_in_material_s": round(len(rapid_cut) * period_s, 3),
+        "force_peak_in_rapid_N": max((r[idx["force_true"]] for r in rapid_cut), default=0.0),
         "adaptive_feed_min": min(r[idx["adaptive_feed"]] for r in feed_rows) if feed_rows else 1.0,
         "alarms": alarms,
         "update_ns_max_adaptive": update_ns_max,

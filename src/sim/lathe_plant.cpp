@@ -95,14 +95,17 @@ void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
       }
     }
   }
-  const double travel = has_last_ ? std::hypot(x - last_x_, z - last_z_) : 0.0;
-  if (std::isfinite(travel)) {
+  double travel = 0.0;
+  if (std::isfinite(x) && std::isfinite(z)) {
+    if (has_last_) travel = std::hypot(x - last_x_, z - last_z_);
     last_x_ = x;
     last_z_ = z;
     has_last_ = true;
+  } else {
+    has_last_ = false;  // no position: the path restarts where the next one is
   }
   bin_area_[bin_] += removed;
-  bin_travel_[bin_] += std::isfinite(travel) ? travel : 0.0;
+  bin_travel_[bin_] += travel;
   area_rev_ = travel_rev_ = 0.0;
   for (std::size_t k = 0; k < kBins; ++k) {
     area_rev_ += bin_area_[k];

@@ -187,7 +187,7 @@ def test_plant(src, work):
                          ["lathectl-plant.pz", "lathectl-plant.depth",
                           "lathectl-plant.feed-per-rev", "lathectl-plant.cutting-speed",
                           "lathectl-plant.force", "lathectl-plant.in-contact",
-                          "lathectl-plant.update-ns"])
+                          "lathectl-plant.update-ns"], "setp lathectl-plant.enable 1\n")
     if not got:
         return
     z_at = lambda i: rows[i][1]
@@ -261,6 +261,7 @@ setp wave.frequency 0.02
 setp wave.amplitude 25
 setp wave.offset -20
 setp lathectl-plant.x-pos 18
+setp lathectl-plant.enable 1
 setp lathectl-plant.spindle-rpm 1000
 net z wave.triangle => lathectl-plant.z-pos
 net f lathectl-plant.force => lathectl-adaptive.force

@@ -9,7 +9,16 @@ from the recorded HAL signals that
   - an injected sensor fault (NaN) holds the feed (feed-inhibit, adaptive-feed 0, motion stops)
     with a latched alarm sensor_not_finite, the spindle still turning.
 
-  linuxcnc_session_test.py SOURCE_DIR WORK_DIR
+and that the same scenario in `lathectl run` (rig E: the same controller object code, its own
+feed-axis and spindle models and a point-tool stock model) gives the same response:
+
+  steady force means within 1 % of the limit, feed per revolution within 2 %, spindle speed
+  within 1 %, time over the pass within 2 %; the collar's entry peak within 5 %, located
+  within the nose radius + 0.2 mm (the round nose meets the shoulder r_n earlier than the
+  rig's point tool), and the force settled within 5 % of the limit in the same travel after
+  the peak ± 0.2 mm.
+
+  linuxcnc_session_test.py SOURCE_DIR WORK_DIR [LATHECTL_BINARY]
 """
 
 import csv
@@ -55,6 +64,65 @@ def in_feed(rows, z_hi, z_lo):
     return [r for r in rows if r["motion_type"] == 2 and z_lo <= r["z_mm"] <= z_hi]
 
 
+def compare_with_rig(src, work, lathectl, lcnc, limit, nose_mm):
+    """LinuxCNC's recording against `lathectl run` of the same scenario, along the stock z."""
+    out = os.path.join(work, "rig")
+    p = subprocess.run([lathectl, "run", os.path.join(src, "examples/linuxcnc/step_allowance.toml"),
+                        "--out", out], capture_output=True, text=True, timeout=300)
+    if p.returncode != 0:
+        print(p.stdout + p.stderr)
+        check(False, "rig: lathectl run ran")
+        return
+    rig = []
+    with open(os.path.join(out, "channels.csv")) as f:
+        for r in csv.DictReader(f):
+            r = {k: float(v) for k, v in r.items()}
+            if r["pass"] == 0:
+                rig.append(r)
+    cut = [dict(r, zs=-r["z_mm"]) for r in lcnc if r["motion_type"] == 2]
+    a_of = lambda lo, hi: [r for r in cut if lo <= r["zs"] <= hi]
+    b_of = lambda lo, hi: [r for r in rig if lo <= r["z_mm"] <= hi]
+    report = {}
+    for name, lo, hi in [("before", 9.0, 14.0), ("collar", 19.0, 29.0), ("after", 38.0, 48.0)]:
+        a, b = a_of(lo, hi), b_of(lo, hi)
+        fa, fb = mean([r["force_true"] for r in a]), mean([r["force_parameter_true"] for r in b])
+        sa, sb = mean([r["feed_per_rev_cmd_mm"] for r in a]), mean([r["feed_cmd_mm_per_rev"] for r in b])
+        na, nb = mean([r["spindle_rpm"] for r in a]), mean([r["spindle_rpm"] for r in b])
+        report[name] = {"force_N": [fa, fb], "feed_mm_per_rev": [sa, sb], "rpm": [na, nb]}
+        check(abs(fa - fb) < 0.01 * limit,
+              "rig vs LinuxCNC, %s: force %.1f / %.1f N (±1 %% of the limit)" % (name, fb, fa))
+        check(abs(sa - sb) < 0.02 * sb,
+              "rig vs LinuxCNC, %s: feed %.4f / %.4f mm/rev (±2 %%)" % (name, sb, sa))
+        check(abs(na - nb) < 0.01 * nb,
+              "rig vs LinuxCNC, %s: spindle %.1f / %.1f rpm (±1 %%)" % (name, nb, na))
+    ta = [r["time_s"] for r in cut if 0.0 <= r["zs"] <= 50.0]
+    tb = [r["time_s"] for r in rig if 0.0 <= r["z_mm"] <= 50.0]
+    da, db = ta[-1] - ta[0], tb[-1] - tb[0]
+    report["pass_time_s"] = [da, db]
+    check(abs(da - db) < 0.02 * db, "rig vs LinuxCNC: pass time %.2f / %.2f s (±2 %%)" % (db, da))
+    a, b = a_of(13.0, 20.0), b_of(13.0, 20.0)
+    pa = max(a, key=lambda r: r["force_true"])
+    pb = max(b, key=lambda r: r["force_parameter_true"])
+    report["peak_N"] = [pa["force_true"], pb["force_parameter_true"]]
+    report["peak_at_mm"] = [pa["zs"], pb["z_mm"]]
+    check(abs(pa["force_true"] - pb["force_parameter_true"]) < 0.05 * pb["force_parameter_true"],
+          "rig vs LinuxCNC: collar entry peak %.0f / %.0f N (±5 %%)" %
+          (pb["force_parameter_true"], pa["force_true"]))
+    check(0.0 <= pb["z_mm"] - pa["zs"] <= nose_mm + 0.2,
+          "rig vs LinuxCNC: peak at z %.2f / %.2f mm (the nose meets the shoulder %.1f mm early)" %
+          (pb["z_mm"], pa["zs"], nose_mm))
+    settle_a = next(r["zs"] for r in a if r["zs"] > pa["zs"] and
+                    abs(r["force_true"] - limit) < 0.05 * limit) - pa["zs"]
+    settle_b = next(r["z_mm"] for r in b if r["z_mm"] > pb["z_mm"] and
+                    abs(r["force_parameter_true"] - limit) < 0.05 * limit) - pb["z_mm"]
+    report["settle_mm"] = [settle_a, settle_b]
+    check(abs(settle_a - settle_b) < 0.2,
+          "rig vs LinuxCNC: back within 5 %% of the limit %.2f / %.2f mm after the peak" %
+          (settle_b, settle_a))
+    with open(os.path.join(work, "comparison.json"), "w") as f:
+        json.dump({"columns": ["linuxcnc", "rig"], **report}, f, indent=2)
+
+
 def main():
     src, work = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
     os.makedirs(work, exist_ok=True)
@@ -86,6 +154,8 @@ def main():
         check(min(r["adaptive_feed"] for r in after) > 0.999 and f_after < 0.8 * limit,
               "after the collar (allowance falls): adaptive-feed back to 1, force %.0f N" % f_after)
         peak = summary["force_peak_N"]
+        if len(sys.argv) > 3:
+            compare_with_rig(src, work, sys.argv[3], rows, limit, sc["tool"]["nose_radius_mm"])
         print("step: force peak %.0f N at the collar's entry (the 2 mm step arrives within one "
               "revolution); cycle %.2f s; adaptive-feed min %.3f" %
               (peak, summary["cycle_time_s"], summary["adaptive_feed_min"]))

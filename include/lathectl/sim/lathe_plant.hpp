@@ -43,7 +43,7 @@ class LathePlant {
     double z_origin_mm = 0.0;    // machine z of the stock's z = 0
     double nose_radius_mm = -1;  // < 0: the scenario's tool nose radius
   };
-  struct Input {
+  struct Input {        // x or z not finite: no position (e.g. not homed) — nothing is cut
     double x_mm = 0.0;  // tool radius (machine x)
     double z_mm = 0.0;  // machine z
     double rpm = 0.0;   // actual spindle speed (sign ignored)
