@@ -13,6 +13,7 @@ import csv
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import time
@@ -30,11 +31,16 @@ CHANNELS = [
     ("reason", int), ("alarm_reason", int), ("in_cut", int), ("program_line", int),
     ("update_ns", int),
 ]
-# control/types.hpp's Reason codes (stable: written to HAL pins and CSV).
-REASONS = {0: "none", 1: "output_high", 2: "output_low", 3: "rate_limited",
-           10: "sensor_not_finite", 11: "sensor_out_of_range", 12: "sensor_stuck",
-           20: "overload", 21: "tool_breakage", 30: "air_cut", 31: "engaged",
-           32: "not_in_feed_block", 40: "spindle_speed_limit", 41: "spindle_power_limit"}
+
+
+def reason_names():
+    """Reason code → name, read from control/types.hpp (the one definition of both)."""
+    text = open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "include",
+                             "lathectl", "control", "types.hpp")).read()
+    enum = text[text.index("enum class Reason"):]
+    codes = dict(re.findall(r"^\s*(\w+)\s*=\s*(\d+),", enum[:enum.index("};")], re.M))
+    names = dict(re.findall(r"case Reason::(\w+):\s*return \"(\w+)\";", text))
+    return {int(v): names.get(k, k) for k, v in codes.items()}
 
 
 def fail(msg):
@@ -156,9 +162,10 @@ def main():
     for r in rows:
         a = r[idx["alarm_reason"]]
         if r[idx["alarm"]] and a != last:
-            alarms.append({"time_s": round((r[0] - n0) * period_s, 3), "reason_code": a,
-                           "reason": REASONS.get(a, "unknown")})
+            alarms.append({"time_s": round((r[0] - n0) * period_s, 3), "reason_code": a})
         last = a if r[idx["alarm"]] else 0
+    for a in alarms:
+        a["reason"] = reason_names().get(a["reason_code"], "unknown")
     summary = {
         "program": program,
         "scenario": os.environ.get("LATHECTL_SIM_SCENARIO", ""),

@@ -248,23 +248,32 @@ def test_bad_input(src, work):
 
 
 def test_timing(src, work, seconds):
-    """Both components on a 1 ms thread fed by a siggen-driven cut for SECONDS; reports the
-    worst update() time (monotonic clock inside the component)."""
+    """Both components on a 1 ms thread for SECONDS, the tool going back and forth through the
+    bar (a siggen triangle in z); every period's update() time (monotonic clock inside the
+    component) is sampled. On a kernel without PREEMPT_RT the wall time includes preemption by
+    other processes, so the maximum says more about the machine than about the code: the median
+    is asserted (the code's cost), the tail is reported."""
+    n = int(seconds / PERIOD_S)
+    out = os.path.join(work, "timing-sampled.txt")
     hal = """loadrt threads name1=t period1=1000000
 loadrt siggen names=wave
 loadrt lathectl_plant scenario={sc}
 loadrt lathectl_adaptive scenario={sc}
+loadrt sampler depth=65536 cfg=ss
 addf wave.update t
 addf lathectl-plant t
 addf lathectl-adaptive t
+addf sampler.0 t
 setp wave.frequency 0.02
 setp wave.amplitude 25
 setp wave.offset -20
 setp lathectl-plant.x-pos 18
-setp lathectl-plant.enable 1
 setp lathectl-plant.spindle-rpm 1000
+setp lathectl-plant.enable 1
 net z wave.triangle => lathectl-plant.z-pos
 net f lathectl-plant.force => lathectl-adaptive.force
+net a lathectl-adaptive.update-ns => sampler.0.pin.0
+net p lathectl-plant.update-ns => sampler.0.pin.1
 setp lathectl-adaptive.spindle-rpm 1000
 setp lathectl-adaptive.spindle-rpm-programmed 1000
 setp lathectl-adaptive.requested-vel 0.3
@@ -273,24 +282,37 @@ setp lathectl-adaptive.x-pos 18
 setp lathectl-adaptive.motion-type 2
 setp lathectl-adaptive.enable 1
 start
-loadusr -w sleep {secs}
+loadusr -w halsampler -n {n} {out}
 show pin lathectl-adaptive.update-ns-max
 show pin lathectl-plant.update-ns-max
-show pin lathectl-adaptive.alarm
-""".format(sc=scenario_path(src), secs=seconds)
+""".format(sc=scenario_path(src), n=n, out=out)
     rc, log = halrun(hal, work, "timing", timeout=seconds + 120)
     vals = {}
     for l in log.splitlines():
         f = l.split()
         if len(f) == 5 and f[4].endswith("update-ns-max"):
             vals[f[4]] = int(f[3])
-    a = vals.get("lathectl-adaptive.update-ns-max", -1)
-    p = vals.get("lathectl-plant.update-ns-max", -1)
-    check(rc == 0 and 0 < a < 1_000_000 and 0 < p < 1_000_000,
-          "worst update() over %g s (%d calls): adaptive %d ns, plant %d ns (< 1 ms period)" %
-          (seconds, int(seconds / PERIOD_S), a, p))
+    a_max = vals.get("lathectl-adaptive.update-ns-max", -1)
+    p_max = vals.get("lathectl-plant.update-ns-max", -1)
+    rows = [l.split() for l in open(out)] if rc == 0 else []
+    check(rc == 0 and len(rows) == n, "timing session ran, %d periods sampled" % len(rows))
+    if not rows:
+        return
+    # The adaptive controller runs every 2nd period (2 ms control period): its pin holds the last.
+    a = sorted(int(r[0]) for r in rows[1::2])
+    p = sorted(int(r[1]) for r in rows)
+    q = lambda v, x: v[min(len(v) - 1, int(x * len(v)))]
+    stats = {"seconds": seconds,
+             "adaptive_ns": {"p50": q(a, 0.5), "p99": q(a, 0.99), "p999": q(a, 0.999),
+                             "max": a_max},
+             "plant_ns": {"p50": q(p, 0.5), "p99": q(p, 0.99), "p999": q(p, 0.999),
+                          "max": p_max}}
+    print(json.dumps(stats))
+    check(stats["adaptive_ns"]["p50"] < 20000 and stats["plant_ns"]["p50"] < 50000,
+          "median update(): adaptive %d ns, plant %d ns" % (stats["adaptive_ns"]["p50"],
+                                                             stats["plant_ns"]["p50"]))
     with open(os.path.join(work, "timing.json"), "w") as f:
-        json.dump({"seconds": seconds, "adaptive_update_ns_max": a, "plant_update_ns_max": p}, f)
+        json.dump(stats, f, indent=2)
 
 
 def main():
