@@ -1,6 +1,7 @@
 // Proves that controllers do not allocate in update(): global operator new is replaced by a
 // counting version (as Drake's LimitMalloc does) and thousands of update() calls must leave the
-// count at zero — including through sensor faults and alarm paths.
+// count at zero — including through sensor faults and alarm paths. The same for the lathe plant
+// that LinuxCNC's servo thread steps.
 
 #include <gtest/gtest.h>
 
@@ -12,6 +13,9 @@
 
 #include "lathectl/control/adaptive_feed_controller.hpp"
 #include "lathectl/control/pulse_feed_controller.hpp"
+#include "lathectl/io/materials.hpp"
+#include "lathectl/io/scenario.hpp"
+#include "lathectl/sim/lathe_plant.hpp"
 #include "support/sample_controller.hpp"
 
 namespace {
@@ -130,4 +134,22 @@ TEST(NoAlloc, AdaptiveFeedControllerUpdateNeverAllocates) {
           EXPECT_FALSE(out.alarm);
         }
       }
+}
+
+// The LinuxCNC plant component's model runs in the servo thread too.
+TEST(NoAlloc, LathePlantStepNeverAllocates) {
+  const auto lib = lathectl::io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
+  auto sc = lathectl::io::load_scenario(
+      LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance_sensor_fault.toml", lib);
+  lathectl::sim::LathePlant plant;
+  plant.configure(sc.e, {});  // may allocate
+  lathectl::sim::LathePlant::Output out;
+  const long before = g_allocations.load();
+  for (int k = 0; k < 20000; ++k) {  // 20 s: air, cut, the collar, the sensor fault, unhomed
+    lathectl::sim::LathePlant::Input in{18.0, 2.0 - 0.005 * k, 1000.0};
+    if (k > 19000) in.x_mm = std::nan("");
+    plant.step(in, 1e-3, out);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_GT(out.time_in_cut_s, 10.0);
 }
