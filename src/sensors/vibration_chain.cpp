@@ -85,6 +85,7 @@ void PowerSensor::configure(const Params& p, double dt) {
   meter_.reset(0.0);
   measured_ = idle_ = cutting_ = idle_rpm_ = avg_ = 0.0;
   was_idle_ = false;
+  started_ = false;
 }
 
 double PowerSensor::table(double rpm) const noexcept {
@@ -99,6 +100,8 @@ double PowerSensor::table(double rpm) const noexcept {
 }
 
 void PowerSensor::update(double motor_power_W, double rpm, bool idle_block) noexcept {
+  if (!started_) meter_.reset(motor_power_W);  // the meter was on before the program started
+  started_ = true;
   meter_.step(dt_, motor_power_W);
   measured_ = std::round(meter_.sample() / p_.adc_lsb_W) * p_.adc_lsb_W;
   if (idle_block) {

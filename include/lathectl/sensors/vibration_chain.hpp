@@ -85,6 +85,7 @@ class PowerSensor {
   double measured_ = 0.0, idle_ = 0.0, cutting_ = 0.0, idle_rpm_ = 0.0;
   double avg_ = 0.0;  // running average over the idle block
   bool was_idle_ = false;
+  bool started_ = false;
 };
 
 }  // namespace lathectl::sensors
