@@ -200,7 +200,11 @@ Status ModulatedFeedController::update(const Input& in, Output& out) noexcept {
     if (!gen_.plan().active() && in.programmed.active()) gen_.start(in.programmed);
     out.plan = gen_.plan();
     out.engaged = out.plan.active();
-    if (out.engaged) out.feed_mm_per_min[t] = gen_.advance(step);
+    if (out.engaged) {
+      out.feed_mm_per_min[t] = gen_.advance(step);
+      out.omega_m_rad_per_s = 2.0 * std::numbers::pi * (out.plan.time_mean_feed() / 60.0) /
+                              out.plan.cycle_length_mm();
+    }
     out.reason = Reason::ModulationProgrammed;
     return Status::Ok;
   }

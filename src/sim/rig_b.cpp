@@ -93,6 +93,9 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
                            : 0;
   require(lag_revs <= 200, "tool2_lag_mm is more than 200 revolutions of feed");
   ring_cells_ = cells_per_rev_ * static_cast<std::size_t>(lag_revs + 2);
+  require(ring_cells_ <= 4'000'000,
+          "the surface memory (revolutions × steps per revolution) exceeds 4e6 cells: raise the "
+          "step, the speed, or shorten tool2_lag_mm");
   const std::size_t n_rings = cfg.setup == TwinSetup::DepthDivision ? 2 : 1;
   rings_.assign(n_rings, Ring{std::vector<double>(ring_cells_, 0.0),
                               std::vector<double>(ring_cells_, cfg.z_start_mm)});
@@ -160,8 +163,9 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
   const double cut_time = (cfg.z_end_mm - cfg.z_start_mm + cfg.approach_mm + cfg.tool2_lag_mm) /
                           (cfg.feed_mm_per_rev * cfg.rpm / 60.0);
   max_t_ = std::min(max_duration, cfg.idle_block_s + 1.5 * cut_time + 1.0);
-  rec_ = Recorder(rig_b_channels(),
-                  static_cast<std::size_t>(max_t_ / (dt * static_cast<double>(record_every_))) + 2);
+  const double rows = max_t_ / (dt * static_cast<double>(record_every_)) + 2.0;
+  require(rows <= 5e6, "more than 5e6 recorded rows: raise run.record_interval_s");
+  rec_ = Recorder(rig_b_channels(), static_cast<std::size_t>(rows));
 }
 
 void RigB::update_modes() noexcept {
