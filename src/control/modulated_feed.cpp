@@ -202,8 +202,8 @@ Status ModulatedFeedController::update(const Input& in, Output& out) noexcept {
     out.engaged = out.plan.active();
     if (out.engaged) {
       out.feed_mm_per_min[t] = gen_.advance(step);
-      out.omega_m_rad_per_s = 2.0 * std::numbers::pi * (out.plan.time_mean_feed() / 60.0) /
-                              out.plan.cycle_length_mm();
+      out.omega_m_rad_per_s =
+          2.0 * std::numbers::pi * (out.plan.time_mean_feed() / 60.0) / out.plan.cycle_length_mm();
     }
     out.reason = Reason::ModulationProgrammed;
     return Status::Ok;

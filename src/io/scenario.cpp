@@ -9,8 +9,8 @@
 #include <stdexcept>
 
 #include "lathectl/io/errors.hpp"
-#include "lathectl/sim/rig_b.hpp"
 #include "lathectl/io/toml_reader.hpp"
+#include "lathectl/sim/rig_b.hpp"
 
 namespace lathectl::io {
 
@@ -45,11 +45,11 @@ void read_material_tool(TableReader& root, const MaterialLibrary& lib,
     mat->fail("name", "unknown material \"" + name + "\" (data/materials.toml has: " + known + ")");
   }
   cutting.material = *found;
-  cutting.form = (kienzle_only ? mat->choice("force_model", {"kienzle"}, "kienzle")
-                               : mat->choice("force_model", {"handbook", "kienzle"}, "handbook")) ==
-                         "kienzle"
-                     ? cutting::ForceForm::Kienzle
-                     : cutting::ForceForm::Handbook;
+  cutting.form =
+      (kienzle_only ? mat->choice("force_model", {"kienzle"}, "kienzle")
+                    : mat->choice("force_model", {"handbook", "kienzle"}, "handbook")) == "kienzle"
+          ? cutting::ForceForm::Kienzle
+          : cutting::ForceForm::Handbook;
   mat->finish();
 
   if (auto tool = root.table("tool")) {
@@ -332,7 +332,8 @@ void read_system_b(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
   b.z_start_mm = c->number("z_start_mm", {0.0, 1e5, true, false});
   b.z_end_mm = c->number("z_end_mm", {0.0, 1e5, true, false});
   if (!(b.z_end_mm > b.z_start_mm)) c->fail("z_end_mm", "must exceed z_start_mm");
-  if (!(b.z_end_mm < b.part.length_m / kMm)) c->fail("z_end_mm", "must lie before the tailstock centre (part.length_mm)");
+  if (!(b.z_end_mm < b.part.length_m / kMm))
+    c->fail("z_end_mm", "must lie before the tailstock centre (part.length_mm)");
   b.approach_mm = c->number("approach_mm", Range::closed(0, 100), 1.0);
   b.idle_block_s = c->number("idle_block_s", Range::closed(0, 100), 0.5);
   b.feed_drive_bandwidth_Hz = c->number("feed_drive_bandwidth_Hz", {0.0, 1e4, true, false}, 30.0);
@@ -385,9 +386,11 @@ void read_system_b(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
   const auto& fp = b.cutting.material.Fp;
   const auto& fc = b.cutting.material.Fc;
   // Defaults from the Kienzle law at the programmed chip: F ∝ S^(1−m_p), F_p/F_c.
-  const double h = b.setup == sim::TwinSetup::FeedDivision ? 0.5 * b.feed_mm_per_rev : b.feed_mm_per_rev;
+  const double h =
+      b.setup == sim::TwinSetup::FeedDivision ? 0.5 * b.feed_mm_per_rev : b.feed_mm_per_rev;
   m.force_feed_exponent = 1.0 - fp.m;
-  m.radial_force_ratio = fp.k11_N_per_mm2 * std::pow(h, 1.0 - fp.m) / (fc.k11_N_per_mm2 * std::pow(h, 1.0 - fc.m));
+  m.radial_force_ratio =
+      fp.k11_N_per_mm2 * std::pow(h, 1.0 - fp.m) / (fc.k11_N_per_mm2 * std::pow(h, 1.0 - fc.m));
   m.part_mass_kg = sim::RigB::modal_mass_kg(b.part, 0.5 * (b.z_start_mm + b.z_end_mm) * kMm);
   b.source = control::ModulationSource::None;
   if (auto md = root.table("modulation")) {
@@ -401,8 +404,10 @@ void read_system_b(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
       md->fail("turret", "a single-tool set-up has only the right turret");
     m.coefficient = md->number("coefficient", {0.0, 100.0, true, false}, 1.41);
     m.part_mass_kg = md->number("part_mass_kg", {0.0, 1e6, true, false}, m.part_mass_kg);
-    m.radial_force_ratio = md->number("radial_force_ratio", {0.0, 10.0, true, false}, m.radial_force_ratio);
-    m.force_feed_exponent = md->number("force_feed_exponent", {0.0, 1.5, true, true}, m.force_feed_exponent);
+    m.radial_force_ratio =
+        md->number("radial_force_ratio", {0.0, 10.0, true, false}, m.radial_force_ratio);
+    m.force_feed_exponent =
+        md->number("force_feed_exponent", {0.0, 1.5, true, true}, m.force_feed_exponent);
     m.modulation_frequency_Hz = md->number("modulation_frequency_Hz", {0.0, 1e4, true, false}, 2.0);
     m.drive_bandwidth_Hz = b.feed_drive_bandwidth_Hz;
     m.n_s = static_cast<int>(md->integer("n_s", 1, 1000, 5));

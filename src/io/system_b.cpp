@@ -1,13 +1,13 @@
 #include "lathectl/io/system_b.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <numbers>
 #include <stdexcept>
-#include <atomic>
-#include <mutex>
 #include <thread>
 
 #include "lathectl/dynamics/beam.hpp"
@@ -27,9 +27,9 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 struct Run {
   sim::RigB rig;
   std::string label;
-  double vibration_um = 0.0;   // chatter band: peak |y_highpass|
-  double forced_um = 0.0;      // below the band: half the swing of y − y_highpass
-  double chatter_Hz = kNaN;    // zero crossings of y_highpass
+  double vibration_um = 0.0;         // chatter band: peak |y_highpass|
+  double forced_um = 0.0;            // below the band: half the swing of y − y_highpass
+  double chatter_Hz = kNaN;          // zero crossings of y_highpass
   double feed_mean[2] = {0.0, 0.0};  // per turret over the cut [mm/min]
   double cut_power_W = 0.0, cut_power_measured_W = 0.0;
   double one_out_share = 0.0;  // share of the window with one turret out of the cut
@@ -100,7 +100,8 @@ void run_one(const Scenario& sc, const sim::RigBConfig& cfg, Run& r) {
   }
   r.rig.run();
   if (!r.rig.numerically_sound())
-    throw std::runtime_error(sc.file + ": the simulation diverged (|y| > 50 mm); reduce run.step_s");
+    throw std::runtime_error(sc.file +
+                             ": the simulation diverged (|y| > 50 mm); reduce run.step_s");
   measure(r, cfg.setup != sim::TwinSetup::Single);
 }
 
@@ -209,7 +210,8 @@ RunOutput run_system_b(const Scenario& sc) {
   for (int k = 0; k <= 10; ++k) {
     const double x = b.z_start_mm + (b.z_end_mm - b.z_start_mm) * k / 10.0;
     const Limits l = linear_limits(b, x);
-    const double key = twin && b.setup == sim::TwinSetup::FeedDivision ? l.twin_feed : l.single_feed;
+    const double key =
+        twin && b.setup == sim::TwinSetup::FeedDivision ? l.twin_feed : l.single_feed;
     const double best =
         twin && b.setup == sim::TwinSetup::FeedDivision ? lim.twin_feed : lim.single_feed;
     if (std::isnan(best) || key < best) {
@@ -250,7 +252,8 @@ RunOutput run_system_b(const Scenario& sc) {
         {"omega_m_Hz", mo.omega_m_rad_per_s / (2.0 * std::numbers::pi)},
         {"turret", t == 0 ? "right" : "left"},
         {"engaged", mo.engaged},
-        {"engaged_at_s", json_number(main.rig.engaged_at_s() >= 0 ? main.rig.engaged_at_s() : kNaN)},
+        {"engaged_at_s",
+         json_number(main.rig.engaged_at_s() >= 0 ? main.rig.engaged_at_s() : kNaN)},
         {"force_amplitude_required_N", mo.force_amplitude_required_N},
         {"force_amplitude_planned_N", mo.force_amplitude_planned_N},
         {"reason", std::string(control::reason_name(mo.reason))}}},
@@ -258,10 +261,10 @@ RunOutput run_system_b(const Scenario& sc) {
        {{"programmed", s_prog},
         {"right", main.feed_mean[0]},
         {"left", twin ? json_number(main.feed_mean[1]) : json(nullptr)}}},
-      {"cutting_power_W",
-       {{"true", main.cut_power_W}, {"measured", main.cut_power_measured_W}}},
+      {"cutting_power_W", {{"true", main.cut_power_W}, {"measured", main.cut_power_measured_W}}},
       {"one_turret_out_of_cut_share",
-       {{"with", main.one_out_share}, {"without", off ? json_number(off->one_out_share) : json(nullptr)}}},
+       {{"with", main.one_out_share},
+        {"without", off ? json_number(off->one_out_share) : json(nullptr)}}},
       {"linear_limits",
        {{"at_mm", lim_x},
         {"single_tool_feed_mm_per_rev", json_number(lim.single_feed)},
@@ -291,8 +294,8 @@ RunOutput run_system_b(const Scenario& sc) {
                off->vibration_um, off->vibration_um > dead_zone_um);
   if (modulated && off) {
     const double ratio = off->vibration_um / std::max(main.vibration_um, 1e-9);
-    claims.add("with " + main.label + ": vibration below the dead zone or reduced ≥ 5× (ratio)", ratio,
-               main.vibration_um < dead_zone_um || ratio >= 5.0);
+    claims.add("with " + main.label + ": vibration below the dead zone or reduced ≥ 5× (ratio)",
+               ratio, main.vibration_um < dead_zone_um || ratio >= 5.0);
   }
   if (modulated) {
     const double fr = main.feed_mean[t] / s_prog;
@@ -307,39 +310,44 @@ RunOutput run_system_b(const Scenario& sc) {
                mo.force_amplitude_planned_N >= mo.force_amplitude_required_N * (1.0 - 1e-3));
     if (mo.force_amplitude_planned_N < mo.force_amplitude_required_N)
       claims.note(
-          "The quenching condition asks for a force swing of " + fmt(mo.force_amplitude_required_N) +
-          " N against the measured a0; feed modulation between S_min and S_max can swing the radial "
-          "force by " + fmt(mo.force_amplitude_planned_N) +
+          "The quenching condition asks for a force swing of " +
+          fmt(mo.force_amplitude_required_N) +
+          " N against the measured a0; feed modulation between S_min and S_max can swing the "
+          "radial "
+          "force by " +
+          fmt(mo.force_amplitude_planned_N) +
           " N at most. A forced vibration of the size the condition wants (≈ a0) would itself be "
           "as large as the chatter: asynchronous quenching is not what a feed drive can do on this "
           "part.");
   }
-  claims.note("Van der Pol check: forced amplitude at which a small self-excited oscillation stops "
-              "growing, measured " +
-              fmt(vdp_B / 2.0, "%.4f") + "·a0; averaging theory a0/√2 = 0.7071·a0; the seed asks " +
-              fmt(b.module.coefficient) + "·a0 (a " + fmt(b.module.coefficient * std::numbers::sqrt2, "%.2f") +
-              "× margin).");
+  claims.note(
+      "Van der Pol check: forced amplitude at which a small self-excited oscillation stops "
+      "growing, measured " +
+      fmt(vdp_B / 2.0, "%.4f") + "·a0; averaging theory a0/√2 = 0.7071·a0; the seed asks " +
+      fmt(b.module.coefficient) + "·a0 (a " +
+      fmt(b.module.coefficient * std::numbers::sqrt2, "%.2f") + "× margin).");
   if (b.setup == sim::TwinSetup::FeedDivision)
     claims.note("Linear limits at z = " + fmt(lim_x) + " mm, " + fmt(b.rpm) +
                 " rpm: feed division chatters above s = " + fmt(lim.twin_feed, "%.3f") +
                 " mm/rev (each tool s/2 of the surface the other left half a turn earlier); one "
                 "tool alone above s = " +
-                fmt(lim.single_feed, "%.3f") + " mm/rev. Programmed s = " +
-                fmt(b.feed_mm_per_rev, "%.3f") + " mm/rev.");
+                fmt(lim.single_feed, "%.3f") +
+                " mm/rev. Programmed s = " + fmt(b.feed_mm_per_rev, "%.3f") + " mm/rev.");
   else
     claims.note("Linear limit at z = " + fmt(lim_x) + " mm, " + fmt(b.rpm) +
                 " rpm, one tool's own regeneration: s = " + fmt(lim.single_feed, "%.3f") +
                 " mm/rev; programmed s = " + fmt(b.feed_mm_per_rev, "%.3f") + " mm/rev.");
   if (modulated && twin)
-    claims.note("With modulation one turret was out of the cut for " +
-                fmt(100.0 * main.one_out_share, "%.0f") + " % of the steady window (without: " +
-                (off ? fmt(100.0 * off->one_out_share, "%.0f") : std::string("—")) +
-                " %): the modulated turret falls behind or runs ahead of the other by more than half "
-                "the feed per revolution, the other takes the whole chip, and the summed "
-                "regenerative gain drops from 2·g(s/2) to g(s) = 2^−(1−m)·2·g(s/2). Its price: the "
-                "radial forces no longer balance — forced deflection " +
-                fmt(main.forced_um) + " µm with, " + (off ? fmt(off->forced_um) : std::string("—")) +
-                " µm without.");
+    claims.note(
+        "With modulation one turret was out of the cut for " +
+        fmt(100.0 * main.one_out_share, "%.0f") + " % of the steady window (without: " +
+        (off ? fmt(100.0 * off->one_out_share, "%.0f") : std::string("—")) +
+        " %): the modulated turret falls behind or runs ahead of the other by more than half "
+        "the feed per revolution, the other takes the whole chip, and the summed "
+        "regenerative gain drops from 2·g(s/2) to g(s) = 2^−(1−m)·2·g(s/2). Its price: the "
+        "radial forces no longer balance — forced deflection " +
+        fmt(main.forced_um) + " µm with, " + (off ? fmt(off->forced_um) : std::string("—")) +
+        " µm without.");
   s["claims"] = claims.json();
 
   Report& rep = out.report;
@@ -347,7 +355,7 @@ RunOutput run_system_b(const Scenario& sc) {
   rep.subtitle = sc.file + " · " + main.label +
                  (b.setup == sim::TwinSetup::FeedDivision    ? " · feed division"
                   : b.setup == sim::TwinSetup::DepthDivision ? " · depth division"
-                                                              : " · one tool");
+                                                             : " · one tool");
   rep.description = sc.description;
   auto add = [&](const std::string& k, double v, const char* f = "%.4g") {
     rep.metrics.emplace_back(k, fmt(v, f));
@@ -374,9 +382,10 @@ RunOutput run_system_b(const Scenario& sc) {
 
   const char* colors[] = {"#d62728", "#1f77b4"};
   auto series = [&](const Run& r, const char* col, const std::string& name, const char* color,
-                     bool dashed = false) {
-    return Series{name, column(r.rig.recorder(), "time_s"), column(r.rig.recorder(), col),
-                  color, dashed, false};
+                    bool dashed = false) {
+    return Series{
+        name, column(r.rig.recorder(), "time_s"), column(r.rig.recorder(), col), color, dashed,
+        false};
   };
   {
     Plot p{"Part displacement at the tool", "time [s]", "y [µm]", {}, {}};
@@ -387,8 +396,11 @@ RunOutput run_system_b(const Scenario& sc) {
     rep.plots.push_back(p);
   }
   {
-    Plot p{"Chatter band (high-pass " + fmt(b.vibration.highpass_Hz) + " Hz)", "time [s]",
-           "y_hp [µm]", {}, {}};
+    Plot p{"Chatter band (high-pass " + fmt(b.vibration.highpass_Hz) + " Hz)",
+           "time [s]",
+           "y_hp [µm]",
+           {},
+           {}};
     if (off && off != &main)
       p.series.push_back(series(*off, "y_highpass_um", "no modulation", colors[0]));
     p.series.push_back(series(main, "y_highpass_um", main.label, colors[1]));
@@ -405,8 +417,11 @@ RunOutput run_system_b(const Scenario& sc) {
     rep.plots.push_back(c);
   }
   {
-    Plot p{"Measurement chain: a0 (ADC 19) and ω_d (detector 20)", "time [s]", "a0 [µm] / f [Hz]",
-           {}, {}};
+    Plot p{"Measurement chain: a0 (ADC 19) and ω_d (detector 20)",
+           "time [s]",
+           "a0 [µm] / f [Hz]",
+           {},
+           {}};
     const Run& r = off && off != &main ? *off : main;
     p.series.push_back(series(r, "a0_um", "a0 [µm], " + r.label, "#ff7f0e"));
     p.series.push_back(series(r, "omega_d_Hz", "ω_d/2π [Hz], " + r.label, "#8c564b", true));
@@ -419,10 +434,14 @@ RunOutput run_system_b(const Scenario& sc) {
     rep.plots.push_back(p);
   }
   if (!sweep.empty()) {
-    Plot p{"Steady vibration against the programmed feed", "feed [mm/rev]", "vibration [µm]", {}, {}};
-    Series s0{"no modulation", {}, {}, colors[0], false, true}, s1{main.label, {}, {}, colors[1], false, true};
-    Table tb{"Sweep over the feed", {"feed [mm/rev]", "no modulation [µm]", main.label + " [µm]",
-                                     "ratio", "mean feed / programmed"}, {}};
+    Plot p{
+        "Steady vibration against the programmed feed", "feed [mm/rev]", "vibration [µm]", {}, {}};
+    Series s0{"no modulation", {}, {}, colors[0], false, true},
+        s1{main.label, {}, {}, colors[1], false, true};
+    Table tb{"Sweep over the feed",
+             {"feed [mm/rev]", "no modulation [µm]", main.label + " [µm]", "ratio",
+              "mean feed / programmed"},
+             {}};
     for (const auto& q : sweep) {
       s0.x.push_back(q->feed);
       s0.y.push_back(q->off.vibration_um);
@@ -430,10 +449,11 @@ RunOutput run_system_b(const Scenario& sc) {
         s1.x.push_back(q->feed);
         s1.y.push_back(q->on.vibration_um);
       }
-      tb.rows.push_back({fmt(q->feed, "%.3f"), fmt(q->off.vibration_um, "%.3g"),
-                         modulated ? fmt(q->on.vibration_um, "%.3g") : "—",
-                         modulated ? fmt(q->off.vibration_um / std::max(q->on.vibration_um, 1e-9), "%.3g") : "—",
-                         modulated ? fmt(q->on.feed_mean[t] / (q->feed * b.rpm), "%.3f") : "—"});
+      tb.rows.push_back(
+          {fmt(q->feed, "%.3f"), fmt(q->off.vibration_um, "%.3g"),
+           modulated ? fmt(q->on.vibration_um, "%.3g") : "—",
+           modulated ? fmt(q->off.vibration_um / std::max(q->on.vibration_um, 1e-9), "%.3g") : "—",
+           modulated ? fmt(q->on.feed_mean[t] / (q->feed * b.rpm), "%.3f") : "—"});
     }
     p.series.push_back(s0);
     if (modulated) p.series.push_back(s1);
@@ -445,11 +465,11 @@ RunOutput run_system_b(const Scenario& sc) {
 
   out.channels_csv = channels_csv(main.rig.recorder());
   if (off && off != &main) out.compare_csv = channels_csv(off->rig.recorder());
-  out.headline = (off ? "no modulation " + fmt(off->vibration_um, "%.3g") + " µm" : std::string()) +
-                 (modulated ? (off ? "; " : "") + main.label + " " + fmt(main.vibration_um, "%.3g") +
-                                  " µm, mean feed " + fmt(main.feed_mean[t] / s_prog, "%.3f") +
-                                  "× programmed"
-                            : std::string());
+  out.headline =
+      (off ? "no modulation " + fmt(off->vibration_um, "%.3g") + " µm" : std::string()) +
+      (modulated ? (off ? "; " : "") + main.label + " " + fmt(main.vibration_um, "%.3g") +
+                       " µm, mean feed " + fmt(main.feed_mean[t] / s_prog, "%.3f") + "× programmed"
+                 : std::string());
   return out;
 }
 

@@ -243,6 +243,28 @@ for f in lobes.csv lobes.html; do [ -s "$work/lobes/$f" ] || bad "missing $f"; d
 printf '[cutting]\nkf_N_per_mm2 = 1000\n[speed]\nmin_rpm = 1\nmax_rpm = 2\n' > "$work/nomode.toml"
 expect_rc 2 "lobes without a mode" $bin lobes "$work/nomode.toml" --out "$work/never"
 
+# system B: the twin-turret example answers its claims, with the summary's required shape
+expect_rc 0 "run b_twin_feed_division" $bin run "$src/examples/scenarios/b_twin_feed_division.toml" --out "$work/twin"
+python3 - "$work/twin/summary.json" <<'PY' || bad "system B summary.json"
+import json, sys
+s = json.load(open(sys.argv[1]))
+m = s["metrics"]
+assert s["system"] == "B"
+v = m["vibration_amplitude_um"]
+assert v["without"] > 5.0 and (v["with"] < 5.0 or v["without"] / v["with"] >= 5.0), v
+assert abs(m["chatter_frequency_Hz"] / m["linear_limits"]["chatter_Hz"] - 1) < 0.05, m["chatter_frequency_Hz"]
+for k in ("S_min_mm_per_min", "dS_mm_per_min", "dl_mm", "n_s"):
+    assert k in m["modulation"], k
+assert abs(round(m["modulation"]["dS_mm_per_min"] / 0.1) * 0.1 - m["modulation"]["dS_mm_per_min"]) < 1e-9
+f = m["mean_feed_mm_per_min"]
+assert abs(f["right"] / f["programmed"] - 1) < 0.1, f
+assert m["cutting_power_W"]["measured"] > 0
+assert m["linear_limits"]["feed_division_feed_mm_per_rev"] < 0.14 < m["linear_limits"]["single_tool_feed_mm_per_rev"]
+PY
+sed 's/^setup = "feed_division"/setup = "twin"/' "$src/examples/scenarios/b_twin_feed_division.toml" > "$work/bad_b.toml"
+expect_rc 2 "system B bad set-up" $bin check "$work/bad_b.toml"
+grep -q "bad_b.toml:[0-9]*:[0-9]*: key 'cut.setup'" "$work/err.txt" || bad "system B message: $(cat "$work/err.txt")"
+
 # inputs the fuzzer once crashed on: each must be a clean input error now
 for f in "$src"/tests/cli/fuzz_regressions/*.toml; do expect_rc 2 "fuzz regression $(basename "$f")" $bin check "$f"; done
 

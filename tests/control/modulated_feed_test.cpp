@@ -74,13 +74,18 @@ TEST(ModulatedFeedController, PlanMeetsTheQuenchingConditionAndTheSeedsQuanta) {
   bool limited = true;
   const double wd = kTwoPi * 230.0;
   // Small a0: the condition can be met inside the limits.
-  const ModulationPlan plan = m.plan_for(0.05e-6, wd, 1000.0, 100.0, 100.0, 800.0, wm, req, got, limited);
+  const ModulationPlan plan =
+      m.plan_for(0.05e-6, wd, 1000.0, 100.0, 100.0, 800.0, wm, req, got, limited);
   EXPECT_FALSE(limited);
   EXPECT_NEAR(req, 1.41 * 0.05e-6 * 3.0 * std::abs(wd * wd - wm * wm), 1e-9);
   EXPECT_GE(got, req * (1.0 - 1e-3));
   // A_P from the force: F = 0.3·1000 W/(100/60 m/s) = 180 N, F ∝ S^0.51.
   const double f = 180.0;
-  EXPECT_NEAR(got, 0.5 * f * (std::pow(plan.s_max_mm_per_min() / 100.0, 0.51) - std::pow(plan.s_min_mm_per_min / 100.0, 0.51)), 1e-9);
+  EXPECT_NEAR(got,
+              0.5 * f *
+                  (std::pow(plan.s_max_mm_per_min() / 100.0, 0.51) -
+                   std::pow(plan.s_min_mm_per_min / 100.0, 0.51)),
+              1e-9);
   EXPECT_NEAR(std::remainder(plan.ds_mm_per_min, 0.1), 0.0, 1e-9);
   EXPECT_NEAR(std::remainder(plan.s_min_mm_per_min, 0.1), 0.0, 1e-9);
   EXPECT_NEAR(std::remainder(plan.dl_mm, 0.001), 0.0, 1e-12);
@@ -116,7 +121,8 @@ TEST(ModulatedFeedController, StaysOutOfEntrainmentBands) {
     bool limited = false;
     (void)m.plan_for(1e-6, kTwoPi * fd, 1000.0, 100.0, 3000.0, 800.0, wm, req, got, limited);
     for (double r : {1.0 / 3.0, 0.5, 1.0, 2.0, 3.0})
-      EXPECT_FALSE(wm / kTwoPi > 0.85 * r * fd && wm / kTwoPi < 1.15 * r * fd) << wanted << " " << r;
+      EXPECT_FALSE(wm / kTwoPi > 0.85 * r * fd && wm / kTwoPi < 1.15 * r * fd)
+          << wanted << " " << r;
   }
 }
 
