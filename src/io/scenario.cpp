@@ -327,8 +327,8 @@ void read_system_b(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
   b.rpm = c->number("rpm", {1.0, 1e5, false, false});
   b.overlap = c->number("overlap", Range::closed(0, 1), 1.0);
   b.tool2_lag_mm = c->number("tool2_lag_mm", Range::closed(0, 1000), 0.0);
-  if (b.setup != sim::TwinSetup::DepthDivision && c->has("tool2_lag_mm") && b.tool2_lag_mm > 0.0)
-    c->fail("tool2_lag_mm", "only for depth_division");
+  if (b.setup == sim::TwinSetup::Single && b.tool2_lag_mm > 0.0)
+    c->fail("tool2_lag_mm", "a single-tool set-up has no second tool");
   b.z_start_mm = c->number("z_start_mm", {0.0, 1e5, true, false});
   b.z_end_mm = c->number("z_end_mm", {0.0, 1e5, true, false});
   if (!(b.z_end_mm > b.z_start_mm)) c->fail("z_end_mm", "must exceed z_start_mm");

@@ -29,6 +29,7 @@ struct Run {
   std::string label;
   double vibration_um = 0.0;         // chatter band: peak |y_highpass|
   double forced_um = 0.0;            // below the band: half the swing of y − y_highpass
+  double static_um = 0.0;            // mean y: the bending by unbalanced radial forces
   double chatter_Hz = kNaN;          // zero crossings of y_highpass
   double feed_mean[2] = {0.0, 0.0};  // per turret over the cut [mm/min]
   double cut_power_W = 0.0, cut_power_measured_W = 0.0;
@@ -44,7 +45,7 @@ void measure(Run& r, bool twin) {
   const double start = r.rig.cut_start_s(), end = t.empty() ? 0.0 : t[t.size() - 1];
   r.t0 = start + 0.7 * (end - start);
   r.t1 = end - 0.05;
-  double lo = 1e300, hi = -1e300, p = 0.0, pm = 0.0, n = 0.0, out = 0.0;
+  double lo = 1e300, hi = -1e300, p = 0.0, pm = 0.0, n = 0.0, out = 0.0, ys = 0.0;
   const auto c1 = rec.column("chip1_mm"), c2 = rec.column("chip2_mm");
   const auto pw = rec.column("cut_power_W"), pwm = rec.column("cut_power_measured_W");
   std::size_t first = t.size(), last = 0;
@@ -57,11 +58,13 @@ void measure(Run& r, bool twin) {
     hi = std::max(hi, y[i] - yh[i]);
     p += pw[i];
     pm += pwm[i];
+    ys += y[i];
     n += 1.0;
     if (twin && ((c1[i] == 0.0) != (c2[i] == 0.0))) out += 1.0;
   }
   if (n > 0.0) {
     r.forced_um = 0.5 * (hi - lo);
+    r.static_um = ys / n;
     r.cut_power_W = p / n;
     r.cut_power_measured_W = pm / n;
     r.one_out_share = out / n;
@@ -238,10 +241,15 @@ RunOutput run_system_b(const Scenario& sc) {
   if (!modulated) vib = {{"without", json_number(main.vibration_um)}};
   json forced = {{"with", json_number(main.forced_um)}};
   if (off) forced["without"] = json_number(off->forced_um);
+  if (!modulated) forced = {{"without", json_number(main.forced_um)}};
+  json bent = {{"with", json_number(main.static_um)}};
+  if (off) bent["without"] = json_number(off->static_um);
+  if (!modulated) bent = {{"without", json_number(main.static_um)}};
   const Run& chat = off ? *off : main;
   s["metrics"] = {
       {"vibration_amplitude_um", vib},
       {"forced_deflection_um", forced},
+      {"static_deflection_um", bent},
       {"chatter_frequency_Hz", json_number(chat.chatter_Hz)},
       {"modulation",
        {{"S_min_mm_per_min", mo.plan.s_min_mm_per_min},
@@ -263,8 +271,9 @@ RunOutput run_system_b(const Scenario& sc) {
         {"left", twin ? json_number(main.feed_mean[1]) : json(nullptr)}}},
       {"cutting_power_W", {{"true", main.cut_power_W}, {"measured", main.cut_power_measured_W}}},
       {"one_turret_out_of_cut_share",
-       {{"with", main.one_out_share},
-        {"without", off ? json_number(off->one_out_share) : json(nullptr)}}},
+       modulated ? json{{"with", main.one_out_share},
+                        {"without", off ? json_number(off->one_out_share) : json(nullptr)}}
+                 : json{{"without", main.one_out_share}}},
       {"linear_limits",
        {{"at_mm", lim_x},
         {"single_tool_feed_mm_per_rev", json_number(lim.single_feed)},
@@ -288,10 +297,15 @@ RunOutput run_system_b(const Scenario& sc) {
   }
 
   Claims claims;
-  if (off)
+  if (compared)
     claims.add("without modulation the part chatters: steady vibration [µm] above the dead zone (" +
                    fmt(dead_zone_um) + " µm)",
                off->vibration_um, off->vibration_um > dead_zone_um);
+  else if (!modulated)
+    claims.note("No modulation in this scenario: steady vibration " +
+                fmt(main.vibration_um, "%.3g") + " µm against the dead zone of " +
+                fmt(dead_zone_um) + " µm — the part " +
+                (main.vibration_um > dead_zone_um ? "chatters." : "does not chatter."));
   if (modulated && off) {
     const double ratio = off->vibration_um / std::max(main.vibration_um, 1e-9);
     claims.add("with " + main.label + ": vibration below the dead zone or reduced ≥ 5× (ratio)",
@@ -345,9 +359,11 @@ RunOutput run_system_b(const Scenario& sc) {
         " %): the modulated turret falls behind or runs ahead of the other by more than half "
         "the feed per revolution, the other takes the whole chip, and the summed "
         "regenerative gain drops from 2·g(s/2) to g(s) = 2^−(1−m)·2·g(s/2). Its price: the "
-        "radial forces no longer balance — forced deflection " +
-        fmt(main.forced_um) + " µm with, " + (off ? fmt(off->forced_um) : std::string("—")) +
-        " µm without.");
+        "radial forces no longer balance — mean deflection " +
+        fmt(main.static_um) + " µm with, " + (off ? fmt(off->static_um) : std::string("—")) +
+        " µm without (a diameter error of twice that), swinging ±" + fmt(main.forced_um) +
+        " µm with the modulation. A fixed axial offset of the turrets by more than s/2 does the "
+        "same without any modulation (b_twin_offset).");
   s["claims"] = claims.json();
 
   Report& rep = out.report;
@@ -375,7 +391,8 @@ RunOutput run_system_b(const Scenario& sc) {
     add("A_P required [N]", mo.force_amplitude_required_N);
     add("A_P planned [N]", mo.force_amplitude_planned_N);
   }
-  add("forced deflection with [µm]", main.forced_um);
+  add("forced deflection (below the chatter band) [µm]", main.forced_um);
+  add("static deflection (mean y) [µm]", main.static_um);
   add("cutting power (true) [W]", main.cut_power_W);
   add("cutting power measured N_c [W]", main.cut_power_measured_W);
   rep.notes = claims.notes();

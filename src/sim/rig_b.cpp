@@ -113,6 +113,7 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
     tl.z_lag_rev = 1.0;
   }
   if (cfg.setup == TwinSetup::FeedDivision) {
+    tools_[1].z0_mm -= cfg.tool2_lag_mm;  // a set-up offset: the chips become s/2 ∓ lag
     // One shared layer. In cumulative material-angle cells tool 2 (at π) finds tool 1's pass
     // of half a turn ago in the cell it is at (lag 0); tool 1 finds tool 2's one turn of cells
     // back (lag 1).

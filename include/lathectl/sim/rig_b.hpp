@@ -56,7 +56,8 @@ struct RigBConfig {
   double feed_mm_per_rev = 0.25;    // programmed: S = s·n for each turret
   double rpm = 800.0;
   double overlap = 1.0;       // μ
-  double tool2_lag_mm = 0.0;  // depth division: axial lag of tool 2
+  double tool2_lag_mm = 0.0;  // axial lag of tool 2 (depth division: the layer's trail; feed
+                              // division: a set-up offset, chips s/2 + lag and s/2 − lag)
   double z_start_mm = 100.0;  // from the left centre
   double z_end_mm = 400.0;
   double approach_mm = 1.0;
