@@ -125,6 +125,14 @@ void BM_Lobes_SemiDiscretizationOneSpeed(benchmark::State& state) {
     benchmark::DoNotOptimize(dynamics::sd_limit_depth(s, 9500.0, 0.03, 20, 1e-2));
 }
 BENCHMARK(BM_Lobes_SemiDiscretizationOneSpeed)->Unit(benchmark::kMillisecond);
+// The SD stability chart, 200 speeds × 100 depths (0..30 mm) over 2000–14000 rpm, cubic SD at
+// 10 steps per vibration period (m = 20..75), on every hardware thread (target < 5 s).
+void BM_Lobes_SdChart200x100(benchmark::State& state) {
+  const auto s = bench_sdof();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(dynamics::sd_stability_chart(s, 2000, 14000, 200, 0.03, 100));
+}
+BENCHMARK(BM_Lobes_SdChart200x100)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 void BM_Chatter_TimeDomain10s(benchmark::State& state) {
   const auto s = bench_sdof();
   for (auto _ : state)

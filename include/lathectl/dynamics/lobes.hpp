@@ -12,11 +12,14 @@
 //   (from e^{−jωτ} = −Φ*/Φ, which makes b real). SDOF closed form: the minimum
 //   b_crit = 2k·ζ(1+ζ)/(K_f·cos²θ) at ω = ω_n·√(1+2ζ).
 // Semi-discretization (Insperger & Stépán, Int. J. Numer. Meth. Engng 61 (2004) 117–141):
-//   ẋ = A·x + K_f·b·B·(x(t − τ) − x(t)) in modal state x = [q; q̇]; over steps Δt = τ/m the
-//   delayed state is linearly interpolated and the rest integrated exactly (matrix exponential);
-//   the stability of the map z_{i+1} = D·z_i (z = [x_i, x_{i−1}, ..., x_{i−m}]) is the
-//   spectral radius of D < 1. The limit depth at a speed is found by bisection on b.
+//   ẋ = A·x + K_f·b·u·(y(t − τ) − y(t)) in modal state x = [q; q̇], y = vᵀx the displacement
+//   along the chip thickness; over steps Δt = τ/m the delayed y is linearly interpolated and the
+//   rest integrated exactly (matrix exponential); the map z_{i+1} = D·z_i with
+//   z = [x_i, y_{i−1}, ..., y_{i−m}] (the force is rank one, so only y needs a history) is
+//   stable when the spectral radius of D < 1. The limit depth at a speed is found by bisection
+//   on b; a speed × depth chart evaluates the spectral radius on a grid.
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -63,6 +66,42 @@ double envelope_depth(const FrequencyDomainResult& fd, double speed_rpm);
 double spectral_radius_sd(const ChatterSystem& sys, double speed_rpm, double depth_m, int m = 30);
 double sd_limit_depth(const ChatterSystem& sys, double speed_rpm, double depth_hi_m, int m = 30,
                       double rel_tol = 1e-3);
+
+// Semi-discretization stability chart: the spectral radius of the SD map on a speed × depth grid
+// (ρ < 1 stable), and the boundary it implies. Steps per delay at speed n:
+//   m = clamp(⌈(60/n)·f_max·steps_per_period⌉, min_steps, max_steps),
+// f_max the highest mode frequency. The delayed displacement is interpolated by a cubic through
+// four history points (higher-order SD), whose error falls as Δt⁴ where the classic linear one
+// falls as Δt²: on the SDOF example at 10 steps per period the chart boundary is within 0.9 %
+// of the frequency-domain envelope (mean 0.2 %), where linear interpolation needs 30 steps per
+// period (and 18× the time) for 1.5 %. At least min_steps per delay resolve the delay itself.
+// Per cell: one (2·modes + 4)² matrix exponential (the current-state force is integrated
+// exactly, so it depends on the depth) and one eigenvalue solve of size 2·modes + m + 1, which
+// dominates; speeds are shared among threads.
+struct SdChartOptions {
+  int steps_per_period = 10;    // per period of the highest mode frequency
+  int min_steps = 20;           // per delay (one revolution)
+  int max_steps = 400;          // cap on m (cost grows as (2·modes + m)³)
+  int interpolation_order = 3;  // of the delayed displacement: 1 (linear) or 3 (cubic)
+  unsigned threads = 0;         // 0: one per hardware thread
+};
+struct SdChart {
+  std::vector<double> speed_rpm;         // n_speeds, min..max inclusive
+  std::vector<double> depth_m;           // n_depths, 0..max inclusive
+  std::vector<int> steps;                // m used at each speed
+  std::vector<double> spectral_radius;   // row-major [speed][depth]
+  std::vector<double> boundary_depth_m;  // per speed: lowest depth where ρ reaches 1, linear in ρ
+                                         // between grid depths; +inf if ρ < 1 on the whole grid
+  [[nodiscard]] double radius(std::size_t i_speed, std::size_t i_depth) const {
+    return spectral_radius[i_speed * depth_m.size() + i_depth];
+  }
+};
+// Throws std::invalid_argument on a bad system or grid. Runs on options.threads threads.
+SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_rpm, int n_speeds,
+                           double max_depth_m, int n_depths, const SdChartOptions& options = {});
+// The m the chart uses at a speed.
+int sd_steps_per_delay(const ChatterSystem& sys, double speed_rpm,
+                       const SdChartOptions& options = {});
 
 // Time domain, one delay, the tool leaving the cut when h < 0: returns the vibration amplitude
 // (max |y| over a window) at the start and at the end, from a small initial disturbance.
