@@ -143,10 +143,24 @@ SdModel sd_model(const ChatterSystem& sys) {
   return s;
 }
 
-int sd_steps(const ChatterSystem& sys, double rpm, const SdChartOptions& o) {
-  double f_max = 0.0;
-  for (const auto& md : sys.modes) f_max = std::max(f_max, md.natural_frequency_Hz);
-  const double per_delay = std::ceil(60.0 / rpm * f_max * o.steps_per_period);
+// The frequency the steps must resolve: the highest among the modes that can chatter on the
+// chart, i.e. whose own limit 2kζ(1+ζ)/(K_f·cos²θ) is below twice its top depth (a stiff high
+// mode of a slender part would otherwise set m ten times larger for nothing).
+double sd_reference_Hz(const ChatterSystem& sys, double max_depth_m) {
+  double f_ref = 0.0, f_lowest_limit = 0.0, lowest_limit = std::numeric_limits<double>::infinity();
+  for (const auto& md : sys.modes) {
+    const double c2 = std::cos(md.angle_rad) * std::cos(md.angle_rad);
+    const double limit = 2.0 * md.stiffness_N_per_m * md.damping_ratio * (1.0 + md.damping_ratio) /
+                         (sys.kf_N_per_m2 * c2);
+    if (limit <= 2.0 * max_depth_m) f_ref = std::max(f_ref, md.natural_frequency_Hz);
+    if (limit < lowest_limit) lowest_limit = limit, f_lowest_limit = md.natural_frequency_Hz;
+  }
+  return f_ref > 0.0 ? f_ref : f_lowest_limit;
+}
+
+int sd_steps(const ChatterSystem& sys, double rpm, double max_depth_m, const SdChartOptions& o) {
+  const double per_delay =
+      std::ceil(60.0 / rpm * sd_reference_Hz(sys, max_depth_m) * o.steps_per_period);
   return static_cast<int>(std::clamp(per_delay, static_cast<double>(o.min_steps),
                                      static_cast<double>(std::max(o.min_steps, o.max_steps))));
 }
@@ -215,9 +229,10 @@ double spectral_radius_sd(const ChatterSystem& sys, double n, double b, int m) {
   return spectral_radius(D, es);
 }
 
-int sd_steps_per_delay(const ChatterSystem& sys, double speed_rpm, const SdChartOptions& o) {
+int sd_steps_per_delay(const ChatterSystem& sys, double speed_rpm, double max_depth_m,
+                       const SdChartOptions& o) {
   check(sys);
-  return sd_steps(sys, speed_rpm, o);
+  return sd_steps(sys, speed_rpm, max_depth_m, o);
 }
 
 SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_rpm, int n_speeds,
@@ -238,7 +253,7 @@ SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_
   for (std::size_t i = 0; i < ns; ++i) {
     c.speed_rpm[i] =
         min_rpm + (max_rpm - min_rpm) * static_cast<double>(i) / static_cast<double>(ns - 1);
-    c.steps[i] = sd_steps(sys, c.speed_rpm[i], o);
+    c.steps[i] = sd_steps(sys, c.speed_rpm[i], max_depth_m, o);
   }
   for (std::size_t j = 0; j < nd; ++j)
     c.depth_m[j] = max_depth_m * static_cast<double>(j) / static_cast<double>(nd - 1);

@@ -88,7 +88,7 @@ TEST(SdChart, CellEqualsSinglePointSpectralRadius) {
     for (std::size_t j = 0; j < 4; ++j)
       EXPECT_NEAR(c.radius(i, j), spectral_radius_sd(s, c.speed_rpm[i], c.depth_m[j], c.steps[i]),
                   1e-12);
-  EXPECT_EQ(c.steps[0], sd_steps_per_delay(s, 5000, o));
+  EXPECT_EQ(c.steps[0], sd_steps_per_delay(s, 5000, 0.012, o));
 }
 
 // The chart boundary against the frequency-domain envelope, speed by speed, over the whole

@@ -69,17 +69,18 @@ double sd_limit_depth(const ChatterSystem& sys, double speed_rpm, double depth_h
 
 // Semi-discretization stability chart: the spectral radius of the SD map on a speed × depth grid
 // (ρ < 1 stable), and the boundary it implies. Steps per delay at speed n:
-//   m = clamp(⌈(60/n)·f_max·steps_per_period⌉, min_steps, max_steps),
-// f_max the highest mode frequency. The delayed displacement is interpolated by a cubic through
-// four history points (higher-order SD), whose error falls as Δt⁴ where the classic linear one
-// falls as Δt²: on the SDOF example at 10 steps per period the chart boundary is within 0.9 %
-// of the frequency-domain envelope (mean 0.2 %), where linear interpolation needs 30 steps per
-// period (and 18× the time) for 1.5 %. At least min_steps per delay resolve the delay itself.
-// Per cell: one (2·modes + 4)² matrix exponential (the current-state force is integrated
+//   m = clamp(⌈(60/n)·f_ref·steps_per_period⌉, min_steps, max_steps),
+// f_ref the highest frequency among the modes that can chatter on the chart (own SDOF limit
+// 2kζ(1+ζ)/(K_f·cos²θ) below twice the chart's top depth). The delayed displacement is interpolated
+// by a cubic through four history points (higher-order SD), whose error falls as Δt⁴ where the
+// classic linear one falls as Δt²: on the SDOF example at 10 steps per period the chart boundary is
+// within 0.9 % of the frequency-domain envelope (mean 0.2 %), where linear interpolation needs 30
+// steps per period (and 18× the time) for 1.5 %. At least min_steps per delay resolve the delay
+// itself. Per cell: one (2·modes + 4)² matrix exponential (the current-state force is integrated
 // exactly, so it depends on the depth) and one eigenvalue solve of size 2·modes + m + 1, which
 // dominates; speeds are shared among threads.
 struct SdChartOptions {
-  int steps_per_period = 10;    // per period of the highest mode frequency
+  int steps_per_period = 10;    // per period of f_ref (above)
   int min_steps = 20;           // per delay (one revolution)
   int max_steps = 400;          // cap on m (cost grows as (2·modes + m)³)
   int interpolation_order = 3;  // of the delayed displacement: 1 (linear) or 3 (cubic)
@@ -99,8 +100,8 @@ struct SdChart {
 // Throws std::invalid_argument on a bad system or grid. Runs on options.threads threads.
 SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_rpm, int n_speeds,
                            double max_depth_m, int n_depths, const SdChartOptions& options = {});
-// The m the chart uses at a speed.
-int sd_steps_per_delay(const ChatterSystem& sys, double speed_rpm,
+// The m a chart up to max_depth_m uses at a speed.
+int sd_steps_per_delay(const ChatterSystem& sys, double speed_rpm, double max_depth_m,
                        const SdChartOptions& options = {});
 
 // Time domain, one delay, the tool leaving the cut when h < 0: returns the vibration amplitude
