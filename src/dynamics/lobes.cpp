@@ -175,7 +175,7 @@ int sd_steps(const ChatterSystem& sys, double rpm, double max_depth_m, const SdC
 // The map z_{i+1} = D·z_i, z = [x_i; y_{i−1}; ...; y_{i−h}] (h = m, or m + 1 for order 3).
 void sd_map(const SdModel& s, double kb, double dt, int m, int order, Eigen::MatrixXd& D) {
   const Eigen::Index d = s.A.rows();
-  const int lo = order == 3 ? -1 : 0;
+  const int lo = -((order - 1) / 2);
   const int n_nodes = order + 1;
   const Eigen::Index h = m - lo;  // history length
   Eigen::MatrixXd big = Eigen::MatrixXd::Zero(d + n_nodes, d + n_nodes);
@@ -240,9 +240,10 @@ SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_
   check(sys);
   if (!(min_rpm > 0.0) || !(max_rpm > min_rpm) || n_speeds < 2 || n_depths < 2 ||
       !(max_depth_m > 0.0) || o.steps_per_period < 1 || o.min_steps < 3 ||
-      (o.interpolation_order != 1 && o.interpolation_order != 3))
+      (o.interpolation_order != 1 && o.interpolation_order != 3 && o.interpolation_order != 5))
     throw std::invalid_argument(
-        "SD chart: 0 < min < max speed, ≥ 2 speeds and depths, max depth > 0, m ≥ 2");
+        "SD chart: 0 < min < max speed, ≥ 2 speeds and depths, max depth > 0, ≥ 1 step per "
+        "period, ≥ 3 steps per delay, interpolation order 1 or 3");
   SdChart c;
   const auto ns = static_cast<std::size_t>(n_speeds), nd = static_cast<std::size_t>(n_depths);
   c.speed_rpm.resize(ns);
@@ -258,13 +259,13 @@ SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_
   for (std::size_t j = 0; j < nd; ++j)
     c.depth_m[j] = max_depth_m * static_cast<double>(j) / static_cast<double>(nd - 1);
   const SdModel model = sd_model(sys);
-  // The cost per speed grows as (d + m)³ and m as 1/speed: hand out the slow speeds first.
+  // The cost per speed grows as (d + m)³ and m as 1/speed: the speeds ascend, so the slow ones
+  // are handed out first and the cheap ones fill the gaps at the end.
   std::atomic<std::size_t> next{0};
   auto work = [&] {
     Eigen::MatrixXd D;
     Eigen::EigenSolver<Eigen::MatrixXd> es;
-    for (std::size_t k = next++; k < ns; k = next++) {
-      const std::size_t i = c.speed_rpm.front() < c.speed_rpm.back() ? k : ns - 1 - k;
+    for (std::size_t i = next++; i < ns; i = next++) {
       const int m = c.steps[i];
       const double dt = 60.0 / c.speed_rpm[i] / m;
       for (std::size_t j = 0; j < nd; ++j) {

@@ -77,7 +77,7 @@ LobesInput read_lobes_input(const TomlDocument& doc) {
     if (in.chart_speeds == 1) l->fail("chart_speeds", "expected 0 (no chart) or at least 2");
     if (in.chart_depths == 1) l->fail("chart_depths", "expected 0 (no chart) or at least 2");
     in.chart_max_depth_m = l->number("chart_max_depth_mm", {0.0, 1e4, true, false}, 0.0) * 1e-3;
-    in.chart_steps_per_period = static_cast<int>(l->integer("chart_steps_per_period", 2, 100, 10));
+    in.chart_steps_per_period = static_cast<int>(l->integer("chart_steps_per_period", 2, 100, 7));
     l->finish();
   }
   root.finish();
@@ -223,7 +223,7 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
                      {"max_depth_mm", chart->depth_m.back() * 1e3},
                      {"steps_per_delay_min", *m_lo},
                      {"steps_per_delay_max", *m_hi},
-                     {"interpolation_order", 3},
+                     {"interpolation_order", dynamics::SdChartOptions{}.interpolation_order},
                      {"boundary_depth_mm", boundary},
                      {"compared_speeds", chart_compared},
                      {"max_rel_difference_vs_frequency_domain", chart_worst}};

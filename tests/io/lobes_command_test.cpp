@@ -54,7 +54,7 @@ TEST(LobesInput, ChartStepsFollowTheChatteringMode) {
   const auto sys = io::lobes_system_at(in, 0.25);
   const double f1 = sys.modes[0].natural_frequency_Hz;
   EXPECT_EQ(dynamics::sd_steps_per_delay(sys, 1200.0, 0.27e-3),
-            static_cast<int>(std::ceil(0.05 * f1 * 10.0)));
+            static_cast<int>(std::ceil(0.05 * f1 * dynamics::SdChartOptions{}.steps_per_period)));
 }
 
 TEST(LobesInput, LocatedErrors) {

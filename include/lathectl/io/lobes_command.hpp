@@ -13,7 +13,7 @@
 //   [speed]   min_rpm, max_rpm
 //   [lobes]   (optional) max_lobes (40), sd_speeds (40, bisection check points), chart_speeds
 //             (200), chart_depths (100), chart_max_depth_mm (4 × the absolute limit),
-//             chart_steps_per_period (10; 0 speeds or depths: no chart)
+//             chart_steps_per_period (7; 0 speeds or depths: no chart)
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -43,7 +43,7 @@ struct LobesInput {
   int sd_speeds = 40;
   int chart_speeds = 200, chart_depths = 100;
   double chart_max_depth_m = 0.0;  // 0: 4 × the absolute limit
-  int chart_steps_per_period = 10;
+  int chart_steps_per_period = 7;
 };
 
 LobesInput load_lobes_input(const std::string& path);  // throws InputError
