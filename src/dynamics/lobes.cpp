@@ -343,14 +343,13 @@ TimeDomainResult time_domain(const ChatterSystem& sys, double n, double b, doubl
     double y = 0.0;
     for (std::size_t i = 0; i < M; ++i) y += c[i] * q[i];
     const double y_tau = surface[head];
-    double h = h0 - y + y_tau;
+    const double h = h0 - y + y_tau;
     double f = 0.0;
     if (h > 0.0) {
       f = sys.kf_N_per_m2 * b * h;
       surface[head] = y;
     } else {
       surface[head] = y_tau + h0;  // not cut: the old surface, one feed further on
-      h = 0.0;
     }
     head = (head + 1) % per_rev;
     for (std::size_t i = 0; i < M; ++i) {  // semi-implicit Euler per mode
