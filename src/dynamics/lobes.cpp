@@ -220,11 +220,12 @@ double spectral_radius(const Eigen::MatrixXd& D, Eigen::EigenSolver<Eigen::Matri
 }
 }  // namespace
 
-double spectral_radius_sd(const ChatterSystem& sys, double n, double b, int m) {
+double spectral_radius_sd(const ChatterSystem& sys, double n, double b, int m, int order) {
   check(sys);
-  if (!(n > 0.0) || m < 2) throw std::invalid_argument("semi-discretization: speed > 0, m ≥ 2");
+  if (!(n > 0.0) || (order != 1 && order != 3 && order != 5) || m < 2 + (order - 1) / 2)
+    throw std::invalid_argument("semi-discretization: speed > 0, order 1, 3 or 5, m ≥ 2 + order/2");
   Eigen::MatrixXd D;
-  sd_map(sd_model(sys), sys.kf_N_per_m2 * b, 60.0 / n / m, m, 1, D);
+  sd_map(sd_model(sys), sys.kf_N_per_m2 * b, 60.0 / n / m, m, order, D);
   Eigen::EigenSolver<Eigen::MatrixXd> es(D.rows());
   return spectral_radius(D, es);
 }
@@ -299,12 +300,14 @@ SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_
   return c;
 }
 
-double sd_limit_depth(const ChatterSystem& sys, double n, double b_hi, int m, double rel_tol) {
+double sd_limit_depth(const ChatterSystem& sys, double n, double b_hi, int m, double rel_tol,
+                      int order) {
   double lo = 0.0, hi = b_hi;
-  if (spectral_radius_sd(sys, n, hi, m) < 1.0) return std::numeric_limits<double>::infinity();
+  if (spectral_radius_sd(sys, n, hi, m, order) < 1.0)
+    return std::numeric_limits<double>::infinity();
   while (hi - lo > rel_tol * hi) {
     const double mid = 0.5 * (lo + hi);
-    (spectral_radius_sd(sys, n, mid, m) < 1.0 ? lo : hi) = mid;
+    (spectral_radius_sd(sys, n, mid, m, order) < 1.0 ? lo : hi) = mid;
   }
   return 0.5 * (lo + hi);
 }

@@ -111,10 +111,9 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
   using nlohmann::json;
   const auto fd = dynamics::frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm, in.max_lobes,
                                                    kFrequencyPoints);
-  double f_max = 0.0;
-  for (const auto& m : in.system.modes) f_max = std::max(f_max, m.natural_frequency_Hz);
 
-  // Semi-discretization at sd_speeds speeds, in parallel; ≥ 20 steps per vibration period.
+  // Semi-discretization at sd_speeds speeds by bisection, in parallel, with the chart's scheme
+  // (quintic interpolation, 7 steps per period of the modes that can chatter below `hi`).
   std::vector<double> sd_speed(static_cast<std::size_t>(in.sd_speeds)), sd_depth(sd_speed.size()),
       fd_depth(sd_speed.size());
   for (std::size_t k = 0; k < sd_speed.size(); ++k) {
@@ -128,11 +127,12 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
     for (unsigned w = 0; w < n; ++w)
       pool.emplace_back([&, w] {
         for (std::size_t k = w; k < sd_speed.size(); k += n) {
-          const double tau = 60.0 / sd_speed[k];
-          const int m = std::clamp(static_cast<int>(std::ceil(tau * f_max * 20.0)), 20, 160);
           const double hi =
               std::isfinite(fd_depth[k]) ? 3.0 * fd_depth[k] : 100.0 * fd.critical_depth_m;
-          sd_depth[k] = dynamics::sd_limit_depth(in.system, sd_speed[k], hi, m, 1e-3);
+          const dynamics::SdChartOptions o;
+          const int m = dynamics::sd_steps_per_delay(in.system, sd_speed[k], hi, o);
+          sd_depth[k] =
+              dynamics::sd_limit_depth(in.system, sd_speed[k], hi, m, 1e-3, o.interpolation_order);
         }
       });
     for (auto& t : pool) t.join();

@@ -76,19 +76,22 @@ TEST(Lobes, InvalidSystemsAreRejected) {
   EXPECT_THROW(frequency_domain_lobes(s, 1000, 2000), std::invalid_argument);
 }
 
-// The chart's cell equals the single-point spectral radius when both use the same scheme (linear
-// interpolation, the same m): one assembly of the SD map, two entry points.
+// The chart's cell equals the single-point spectral radius when both use the same scheme (the
+// same interpolation, the same m): one assembly of the SD map, two entry points.
 TEST(SdChart, CellEqualsSinglePointSpectralRadius) {
   const auto s = sdof();
-  SdChartOptions o;
-  o.interpolation_order = 1;
-  o.threads = 2;
-  const auto c = sd_stability_chart(s, 5000, 9000, 3, 0.012, 4, o);
-  for (std::size_t i = 0; i < 3; ++i)
-    for (std::size_t j = 0; j < 4; ++j)
-      EXPECT_NEAR(c.radius(i, j), spectral_radius_sd(s, c.speed_rpm[i], c.depth_m[j], c.steps[i]),
-                  1e-12);
-  EXPECT_EQ(c.steps[0], sd_steps_per_delay(s, 5000, 0.012, o));
+  for (int order : {1, 5}) {
+    SdChartOptions o;
+    o.interpolation_order = order;
+    o.threads = 2;
+    const auto c = sd_stability_chart(s, 5000, 9000, 3, 0.012, 4, o);
+    for (std::size_t i = 0; i < 3; ++i)
+      for (std::size_t j = 0; j < 4; ++j)
+        EXPECT_NEAR(c.radius(i, j),
+                    spectral_radius_sd(s, c.speed_rpm[i], c.depth_m[j], c.steps[i], order), 1e-12);
+    EXPECT_EQ(c.steps[0], sd_steps_per_delay(s, 5000, 0.012, o));
+  }
+  EXPECT_THROW(spectral_radius_sd(s, 5000, 0.01, 30, 2), std::invalid_argument);
 }
 
 // The chart boundary against the frequency-domain envelope, speed by speed, over the whole

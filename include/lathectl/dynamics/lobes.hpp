@@ -63,9 +63,12 @@ FrequencyDomainResult frequency_domain_lobes(const ChatterSystem& sys, double mi
 double envelope_depth(const FrequencyDomainResult& fd, double speed_rpm);
 
 // Semi-discretization: stable at (speed, depth)?  and the limit depth at a speed by bisection.
-double spectral_radius_sd(const ChatterSystem& sys, double speed_rpm, double depth_m, int m = 30);
+// interpolation_order: of the delayed displacement, 1 (the classic first-order SD), 3 or 5
+// (see SdChartOptions below).
+double spectral_radius_sd(const ChatterSystem& sys, double speed_rpm, double depth_m, int m = 30,
+                          int interpolation_order = 1);
 double sd_limit_depth(const ChatterSystem& sys, double speed_rpm, double depth_hi_m, int m = 30,
-                      double rel_tol = 1e-3);
+                      double rel_tol = 1e-3, int interpolation_order = 1);
 
 // Semi-discretization stability chart: the spectral radius of the SD map on a speed × depth grid
 // (ρ < 1 stable), and the boundary it implies. Steps per delay at speed n:
