@@ -107,7 +107,7 @@ void BM_Gauging_FullModelPart(benchmark::State& state) {
 BENCHMARK(BM_Gauging_FullModelPart)->Unit(benchmark::kMillisecond);
 
 // System B, layer 1: lobes over 1000 speeds by the frequency domain (target < 50 ms), the
-// semi-discretization limit at one speed (a 200-speed chart is 200 of these), 10 s of
+// semi-discretization limit at one speed by bisection, the SD chart (below), 10 s of
 // time-domain chatter at 50 steps per vibration period (target < 0.5 s).
 dynamics::ChatterSystem bench_sdof() {
   dynamics::ChatterSystem s;
@@ -127,6 +127,15 @@ void BM_Lobes_SemiDiscretizationOneSpeed(benchmark::State& state) {
     benchmark::DoNotOptimize(dynamics::sd_limit_depth(s, 9500.0, 0.03, 20, 1e-2));
 }
 BENCHMARK(BM_Lobes_SemiDiscretizationOneSpeed)->Unit(benchmark::kMillisecond);
+// The SD stability chart, 200 speeds × 100 depths (0..30 mm) over 2000–14000 rpm, SD with
+// quintic interpolation at 7 steps per vibration period (m = 20..53), on every hardware thread
+// (target < 5 s).
+void BM_Lobes_SdChart200x100(benchmark::State& state) {
+  const auto s = bench_sdof();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(dynamics::sd_stability_chart(s, 2000, 14000, 200, 0.03, 100));
+}
+BENCHMARK(BM_Lobes_SdChart200x100)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 void BM_Chatter_TimeDomain10s(benchmark::State& state) {
   const auto s = bench_sdof();
   for (auto _ : state)
