@@ -119,11 +119,11 @@ std::string source_name(control::ModulationSource s) {
 struct Limits {
   double single_feed = kNaN, twin_feed = kNaN, chatter_Hz = kNaN;
 };
-Limits linear_limits(const sim::RigBConfig& b, double x_mm) {
+Limits linear_limits(const sim::RigBConfig& b, double x_mm, double rpm, int points = 20000) {
   const auto modes = dynamics::beam_modes_at(b.part, x_mm * 1e-3, b.modes);
   double f_max = 0.0;
   for (const auto& m : modes) f_max = std::max(f_max, m.natural_frequency_Hz);
-  const double tau = 60.0 / b.rpm;
+  const double tau = 60.0 / rpm;
   const auto& fp = b.cutting.material.Fp;
   const double sk = std::sin(b.cutting.approach_angle_deg * std::numbers::pi / 180.0);
   // dF_p/dt per tool at chip s: k_p/sin κ·(s·sin κ)^(1−m) [N/mm] → per metre.
@@ -131,12 +131,14 @@ Limits linear_limits(const sim::RigBConfig& b, double x_mm) {
     return std::pow(g / (fp.k11_N_per_mm2 * 1e3 / sk), 1.0 / (1.0 - fp.m)) / sk;
   };
   Limits l;
-  const auto one = dynamics::critical_gain(modes, tau, b.overlap, 5.0, 2.5 * f_max, 20000);
-  l.single_feed = chip_for_gain(one.gain_N_per_m / std::max(b.overlap, 1e-9));
+  // The overlap μ is the coupling c of the delayed term; the gain is each tool's dF_p/db.
+  const auto one = dynamics::critical_gain(modes, tau, b.overlap, 5.0, 2.5 * f_max, points);
+  l.single_feed = chip_for_gain(one.gain_N_per_m);
   l.chatter_Hz = one.chatter_Hz;
   if (b.setup == sim::TwinSetup::FeedDivision) {
-    const auto two = dynamics::critical_gain(modes, 0.5 * tau, -b.overlap, 5.0, 2.5 * f_max, 20000);
-    l.twin_feed = 2.0 * chip_for_gain(0.5 * two.gain_N_per_m / std::max(b.overlap, 1e-9));
+    const auto two =
+        dynamics::critical_gain(modes, 0.5 * tau, -b.overlap, 5.0, 2.5 * f_max, points);
+    l.twin_feed = 2.0 * chip_for_gain(0.5 * two.gain_N_per_m);
     l.chatter_Hz = two.chatter_Hz;
   }
   return l;
@@ -212,7 +214,7 @@ RunOutput run_system_b(const Scenario& sc) {
   double lim_x = b.z_start_mm;
   for (int k = 0; k <= 10; ++k) {
     const double x = b.z_start_mm + (b.z_end_mm - b.z_start_mm) * k / 10.0;
-    const Limits l = linear_limits(b, x);
+    const Limits l = linear_limits(b, x, b.rpm);
     const double key =
         twin && b.setup == sim::TwinSetup::FeedDivision ? l.twin_feed : l.single_feed;
     const double best =
@@ -448,6 +450,32 @@ RunOutput run_system_b(const Scenario& sc) {
     Plot p{"Cutting power: true and measured (N_m − N_idle)", "time [s]", "power [W]", {}, {}};
     p.series.push_back(series(main, "cut_power_W", "true", "#555"));
     p.series.push_back(series(main, "cut_power_measured_W", "measured N_c", "#17becf"));
+    rep.plots.push_back(p);
+  }
+  {
+    // The machine's own stability chart at the softest position of the cut: the feed per
+    // revolution above which the regenerative loop is unstable, against the spindle speed.
+    Plot p{"Stability limits at z = " + fmt(lim_x) + " mm (linear, the set-up's delay equation)",
+           "spindle speed [rpm]",
+           "feed per revolution [mm/rev]",
+           {},
+           {}};
+    Series one{"one tool (τ, +μ)", {}, {}, "#1f77b4", false, false};
+    Series two{"feed division (τ/2, −μ)", {}, {}, "#d62728", false, false};
+    for (int k = 0; k <= 160; ++k) {
+      const double n = b.rpm * (0.7 + 0.6 * k / 160.0);
+      const Limits l = linear_limits(b, lim_x, n, 6000);
+      one.x.push_back(n);
+      one.y.push_back(l.single_feed);
+      if (std::isfinite(l.twin_feed)) {
+        two.x.push_back(n);
+        two.y.push_back(l.twin_feed);
+      }
+    }
+    p.series.push_back(one);
+    if (!two.x.empty()) p.series.push_back(two);
+    p.series.push_back({"programmed", {b.rpm}, {b.feed_mm_per_rev}, "#000", false, true});
+    p.markers.push_back({b.rpm, "programmed speed"});
     rep.plots.push_back(p);
   }
   if (!sweep.empty()) {
