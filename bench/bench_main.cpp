@@ -8,12 +8,14 @@
 #include <numbers>
 
 #include "lathectl/control/adaptive_feed_controller.hpp"
+#include "lathectl/control/modulated_feed.hpp"
 #include "lathectl/control/pulse_feed_controller.hpp"
 #include "lathectl/dynamics/lobes.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/sim/gauging.hpp"
 #include "lathectl/sim/rig_a.hpp"
+#include "lathectl/sim/rig_b.hpp"
 #include "lathectl/sim/rig_e.hpp"
 #include "support/sample_controller.hpp"
 
@@ -105,7 +107,7 @@ void BM_Gauging_FullModelPart(benchmark::State& state) {
 BENCHMARK(BM_Gauging_FullModelPart)->Unit(benchmark::kMillisecond);
 
 // System B, layer 1: lobes over 1000 speeds by the frequency domain (target < 50 ms), the
-// semi-discretization limit at one speed (a 200-speed chart is 200 of these), 10 s of
+// semi-discretization limit at one speed by bisection, the SD chart (below), 10 s of
 // time-domain chatter at 50 steps per vibration period (target < 0.5 s).
 dynamics::ChatterSystem bench_sdof() {
   dynamics::ChatterSystem s;
@@ -125,6 +127,15 @@ void BM_Lobes_SemiDiscretizationOneSpeed(benchmark::State& state) {
     benchmark::DoNotOptimize(dynamics::sd_limit_depth(s, 9500.0, 0.03, 20, 1e-2));
 }
 BENCHMARK(BM_Lobes_SemiDiscretizationOneSpeed)->Unit(benchmark::kMillisecond);
+// The SD stability chart, 200 speeds × 100 depths (0..30 mm) over 2000–14000 rpm, SD with
+// quintic interpolation at 7 steps per vibration period (m = 20..53), on every hardware thread
+// (target < 5 s).
+void BM_Lobes_SdChart200x100(benchmark::State& state) {
+  const auto s = bench_sdof();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(dynamics::sd_stability_chart(s, 2000, 14000, 200, 0.03, 100));
+}
+BENCHMARK(BM_Lobes_SdChart200x100)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 void BM_Chatter_TimeDomain10s(benchmark::State& state) {
   const auto s = bench_sdof();
   for (auto _ : state)
@@ -200,4 +211,40 @@ void BM_CuttingModel_RadialForce(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_CuttingModel_RadialForce);
+
+// System B rig: 10 s of twin-turret chatter (feed division, two modes following the tool, the
+// measurement chain and the module running) at 2e-5 s = 220 steps per 227 Hz vibration period
+// (target: 10 s at ≥ 50 steps per period in < 0.5 s).
+void BM_RigB_TwinTurret10s(benchmark::State& state) {
+  auto sc = load("b_twin_feed_division.toml");
+  sc.b.z_end_mm = sc.b.z_start_mm + sc.b.feed_mm_per_rev * sc.b.rpm / 60.0 * 10.0;
+  sc.b.idle_block_s = 0.0;
+  for (auto _ : state) {
+    sim::RigB rig;
+    rig.configure(sc.b, sc.run.step_s, sc.run.record_interval_s, 12.0);
+    rig.run();
+    benchmark::DoNotOptimize(rig.recorder().rows());
+  }
+  state.counters["steps_per_period"] = 1.0 / (227.0 * sc.run.step_s);
+}
+BENCHMARK(BM_RigB_TwinTurret10s)->Unit(benchmark::kMillisecond);
+
+void BM_ModulatedFeedController_Update(benchmark::State& state) {
+  control::ModulatedFeedController m;
+  m.configure({});
+  control::ModulatedFeedController::Input in;
+  in.a0_m = 10e-6;
+  in.omega_d_rad_per_s = 2.0 * std::numbers::pi * 227.0;
+  in.cut_power_W = 500.0;
+  in.speed_m_per_min = 100.0;
+  in.rpm = 800.0;
+  in.feed_programmed_mm_per_min[0] = in.feed_programmed_mm_per_min[1] = 100.0;
+  in.feed_block = true;
+  control::ModulatedFeedController::Output out;
+  for (auto _ : state) {
+    in.path_mm[0] += 1.6e-3;
+    benchmark::DoNotOptimize(m.update(in, out));
+  }
+}
+BENCHMARK(BM_ModulatedFeedController_Update);
 }  // namespace

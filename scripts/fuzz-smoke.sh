@@ -7,10 +7,11 @@ cd "$(dirname "$0")/.."
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j "$(nproc)" >/dev/null
 work=build/fuzz/corpus
-mkdir -p "$work/scenario" "$work/materials"
+mkdir -p "$work/scenario" "$work/materials" "$work/lobes"
 cp examples/scenarios/*.toml "$work/scenario/"
 cp data/materials.toml "$work/materials/"
-for target in scenario materials; do
+cp examples/machines/*.toml "$work/lobes/"
+for target in scenario materials lobes; do
   echo "fuzz: ${target}_fuzz for ${SECONDS_PER_TARGET} s"
   ./build/fuzz/fuzz/${target}_fuzz -max_total_time="$SECONDS_PER_TARGET" -max_len=16384 \
     -timeout=10 -rss_limit_mb=4096 -print_final_stats=0 "$work/$target" \

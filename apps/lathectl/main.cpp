@@ -577,7 +577,9 @@ int main(int argc, char** argv) {
   std::string lobes_file, lobes_out = "lobes-out";
   auto* lobes = app.add_subcommand(
       "lobes", "Stability lobes of a chatter model (frequency domain and semi-discretization)");
-  lobes->add_option("machine", lobes_file, "machine file (TOML): [cutting], [[mode]], [speed]")
+  lobes
+      ->add_option("machine", lobes_file,
+                   "machine file (TOML): [cutting], [[mode]] and/or [part], [speed], [lobes]")
       ->required();
   lobes->add_option("--out", lobes_out, "output directory")->capture_default_str();
 

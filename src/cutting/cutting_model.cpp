@@ -47,10 +47,14 @@ Forces CuttingModel::forces(const CutState& c) const noexcept {
     return {power_law(p_.material.Pz, cv, k), power_law(p_.material.Py, cv, k),
             power_law(p_.material.Px, cv, k)};
   }
+  // The Kienzle constants are the material's own (data/materials.toml gives them per grade):
+  // Kmp, the handbook's strength correction to its reference grade, does not apply; the local
+  // hardness and wear factors do.
+  const double kk = k / kmp_;
   const double b = c.depth_mm / sin_kappa_;
   const double h = c.feed_mm_per_rev * sin_kappa_;
-  return {kienzle(p_.material.Fc, b, h) * k, kienzle(p_.material.Fp, b, h) * k,
-          kienzle(p_.material.Ff, b, h) * k};
+  return {kienzle(p_.material.Fc, b, h) * kk, kienzle(p_.material.Fp, b, h) * kk,
+          kienzle(p_.material.Ff, b, h) * kk};
 }
 
 double CuttingModel::radial_force(const CutState& c) const noexcept {
@@ -66,7 +70,8 @@ double CuttingModel::radial_force(const CutState& c) const noexcept {
     return 10.0 * law.Cp * std::pow(c.depth_mm, law.x) * std::pow(c.feed_mm_per_rev, law.y) *
            cached_speed_term_ * k;
   }
-  return kienzle(p_.material.Fp, c.depth_mm / sin_kappa_, c.feed_mm_per_rev * sin_kappa_) * k;
+  return kienzle(p_.material.Fp, c.depth_mm / sin_kappa_, c.feed_mm_per_rev * sin_kappa_) * k /
+         kmp_;
 }
 
 double CuttingModel::power_W(const Forces& f, double speed_m_per_min) const noexcept {

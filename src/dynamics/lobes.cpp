@@ -3,11 +3,14 @@
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <complex>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
+#include <string>
+#include <thread>
 #include <unsupported/Eigen/MatrixFunctions>
 
 namespace lathectl::dynamics {
@@ -112,51 +115,199 @@ double envelope_depth(const FrequencyDomainResult& fd, double n) {
   return best;
 }
 
-double spectral_radius_sd(const ChatterSystem& sys, double n, double b, int m) {
-  check(sys);
+namespace {
+// The chatter model in modal state x = [q; q̇] (d = 2M): ẋ = A·x + K_f·b·u·(y(t − τ) − y(t)),
+// y = vᵀx the displacement along the chip thickness. The regenerative force acts through the
+// rank-one u·vᵀ, so the history the map must carry is the scalar y, not the whole state: the SD
+// map has dimension d + m instead of d·(m + 1) (Insperger & Stépán 2004 use the same reduction
+// for their turning example).
+struct SdModel {
+  Eigen::MatrixXd A;
+  Eigen::VectorXd u, v;
+};
+
+SdModel sd_model(const ChatterSystem& sys) {
   const auto M = static_cast<Eigen::Index>(sys.modes.size());
   const Eigen::Index d = 2 * M;
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(d, d), B = Eigen::MatrixXd::Zero(d, d);
+  SdModel s{Eigen::MatrixXd::Zero(d, d), Eigen::VectorXd::Zero(d), Eigen::VectorXd::Zero(d)};
   for (Eigen::Index i = 0; i < M; ++i) {
     const auto& md = sys.modes[static_cast<std::size_t>(i)];
     const double wn = 2.0 * kPi * md.natural_frequency_Hz;
     const double mass = md.stiffness_N_per_m / (wn * wn);
-    A(i, M + i) = 1.0;
-    A(M + i, i) = -wn * wn;
-    A(M + i, M + i) = -2.0 * md.damping_ratio * wn;
-    for (Eigen::Index j = 0; j < M; ++j)  // force along the chip thickness from y = Σ c_j q_j
-      B(M + i, j) = std::cos(md.angle_rad) *
-                    std::cos(sys.modes[static_cast<std::size_t>(j)].angle_rad) / mass;
+    s.A(i, M + i) = 1.0;
+    s.A(M + i, i) = -wn * wn;
+    s.A(M + i, M + i) = -2.0 * md.damping_ratio * wn;
+    s.u(M + i) = std::cos(md.angle_rad) / mass;
+    s.v(i) = std::cos(md.angle_rad);
   }
-  const double tau = 60.0 / n, dt = tau / m, kb = sys.kf_N_per_m2 * b;
-  const Eigen::MatrixXd Ab = A - kb * B;  // ẋ = Ab·x + kb·B·x(t − τ)
-  // exp of [[Ab, I, 0], [0, 0, I], [0, 0, 0]]·dt → e^{Ab dt}, Φ0 = ∫e^{As}ds, ∫e^{As}(dt − s)ds
-  Eigen::MatrixXd big = Eigen::MatrixXd::Zero(3 * d, 3 * d);
-  big.block(0, 0, d, d) = Ab * dt;
-  big.block(0, d, d, d) = Eigen::MatrixXd::Identity(d, d) * dt;
-  big.block(d, 2 * d, d, d) = Eigen::MatrixXd::Identity(d, d) * dt;
-  const Eigen::MatrixXd E = big.exp();
-  const Eigen::MatrixXd P0 = E.block(0, 0, d, d);
-  const Eigen::MatrixXd Phi0 = E.block(0, d, d, d);                  // ∫0^dt e^{As} ds
-  const Eigen::MatrixXd Phi1 = dt * Phi0 - E.block(0, 2 * d, d, d);  // ∫ e^{As}·s ds
-  const Eigen::MatrixXd Rm = (Phi1 / dt) * (kb * B);                 // coefficient of x_{i−m}
-  const Eigen::MatrixXd Rm1 = (Phi0 - Phi1 / dt) * (kb * B);         // coefficient of x_{i−m+1}
-  const Eigen::Index n_z = d * (m + 1);
-  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n_z, n_z);
-  D.block(0, 0, d, d) = P0;
-  D.block(0, d * (m - 1), d, d) += Rm1;
-  D.block(0, d * m, d, d) += Rm;
-  for (int k = 1; k <= m; ++k) D.block(d * k, d * (k - 1), d, d) = Eigen::MatrixXd::Identity(d, d);
-  Eigen::EigenSolver<Eigen::MatrixXd> es(D, false);
-  return es.eigenvalues().cwiseAbs().maxCoeff();
+  return s;
 }
 
-double sd_limit_depth(const ChatterSystem& sys, double n, double b_hi, int m, double rel_tol) {
+// The frequency the steps must resolve: the highest among the modes that can chatter on the
+// chart, i.e. whose own limit 2kζ(1+ζ)/(K_f·cos²θ) is below twice its top depth (a stiff high
+// mode of a slender part would otherwise set m ten times larger for nothing).
+double sd_reference_Hz(const ChatterSystem& sys, double max_depth_m) {
+  double f_ref = 0.0, f_lowest_limit = 0.0, lowest_limit = std::numeric_limits<double>::infinity();
+  for (const auto& md : sys.modes) {
+    const double c2 = std::cos(md.angle_rad) * std::cos(md.angle_rad);
+    const double limit = 2.0 * md.stiffness_N_per_m * md.damping_ratio * (1.0 + md.damping_ratio) /
+                         (sys.kf_N_per_m2 * c2);
+    if (limit <= 2.0 * max_depth_m) f_ref = std::max(f_ref, md.natural_frequency_Hz);
+    if (limit < lowest_limit) lowest_limit = limit, f_lowest_limit = md.natural_frequency_Hz;
+  }
+  return f_ref > 0.0 ? f_ref : f_lowest_limit;
+}
+
+int sd_steps(const ChatterSystem& sys, double rpm, double max_depth_m, const SdChartOptions& o) {
+  const double per_delay =
+      std::ceil(60.0 / rpm * sd_reference_Hz(sys, max_depth_m) * o.steps_per_period);
+  return static_cast<int>(std::clamp(per_delay, static_cast<double>(o.min_steps),
+                                     static_cast<double>(std::max(o.min_steps, o.max_steps))));
+}
+
+// One SD step Δt = τ/m: the delayed y is a Lagrange polynomial through the history points
+// y_{i−m+σ}, σ ∈ nodes (order 1: σ = 0, 1, the classic first-order SD; order 3: σ = −1..2,
+// Insperger, Stépán & Turi, J. Sound Vib. 313 (2008) 334–341), the rest is integrated exactly:
+//   x_{i+1} = P·x_i + Σ_σ g_σ·y_{i−m+σ},  P = e^{(A − kb·u·vᵀ)Δt}.
+// The exponential of [[X·Δt, kb·u·Δt, 0..], [0, N·Δt]] (N the shift on a chain of p + 1
+// integrators) holds P and K_k = ∫₀^Δt e^{X(Δt−s)}·kb·u·s^k/k! ds, k = 0..p, from which
+// ∫ e^{X(Δt−s)}·kb·u·(s/Δt)^k ds = k!·K_k/Δt^k weigh the Lagrange basis' monomials.
+// The map z_{i+1} = D·z_i, z = [x_i; y_{i−1}; ...; y_{i−h}] (h = m, or m + 1 for order 3).
+void sd_map(const SdModel& s, double kb, double dt, int m, int order, Eigen::MatrixXd& D) {
+  const Eigen::Index d = s.A.rows();
+  const int lo = -((order - 1) / 2);
+  const int n_nodes = order + 1;
+  const Eigen::Index h = m - lo;  // history length
+  Eigen::MatrixXd big = Eigen::MatrixXd::Zero(d + n_nodes, d + n_nodes);
+  big.topLeftCorner(d, d) = (s.A - kb * s.u * s.v.transpose()) * dt;
+  big.block(0, d, d, 1) = kb * dt * s.u;
+  for (Eigen::Index k = 0; k + 1 < n_nodes; ++k) big(d + k, d + k + 1) = dt;
+  const Eigen::MatrixXd E = big.exp();
+  std::vector<Eigen::VectorXd> J;  // ∫ e^{X(Δt−s)}·kb·u·(s/Δt)^k ds
+  double scale = 1.0;              // k!/Δt^k
+  for (int k = 0; k < n_nodes; ++k) {
+    if (k > 0) scale *= k / dt;
+    J.push_back(scale * E.block(0, d + k, d, 1));
+  }
+  const Eigen::Index n = d + h;
+  D.setZero(n, n);
+  D.topLeftCorner(d, d) = E.topLeftCorner(d, d);
+  for (int a = 0; a < n_nodes; ++a) {  // Lagrange basis polynomial of node σ_a, as monomials
+    std::vector<double> c{1.0};
+    const int sa = lo + a;
+    for (int b = 0; b < n_nodes; ++b) {
+      if (b == a) continue;
+      const int sb = lo + b;
+      std::vector<double> next(c.size() + 1, 0.0);
+      for (std::size_t p = 0; p < c.size(); ++p) {
+        next[p + 1] += c[p] / (sa - sb);
+        next[p] -= c[p] * sb / (sa - sb);
+      }
+      c = next;
+    }
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(d);
+    for (std::size_t p = 0; p < c.size(); ++p) g += c[p] * J[p];
+    D.block(0, d + m - sa - 1, d, 1) += g;  // y_{i−j} sits at d + j − 1, j = m − σ
+  }
+  D.block(d, 0, 1, d) = s.v.transpose();
+  for (Eigen::Index k = 1; k < h; ++k) D(d + k, d + k - 1) = 1.0;
+}
+
+double spectral_radius(const Eigen::MatrixXd& D, Eigen::EigenSolver<Eigen::MatrixXd>& es) {
+  es.compute(D, false);
+  if (es.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
+  return es.eigenvalues().cwiseAbs().maxCoeff();
+}
+}  // namespace
+
+double spectral_radius_sd(const ChatterSystem& sys, double n, double b, int m, int order) {
+  check(sys);
+  if (!(n > 0.0) || (order != 1 && order != 3 && order != 5) || m < 2 + (order - 1) / 2)
+    throw std::invalid_argument("semi-discretization: speed > 0, order 1, 3 or 5, m ≥ 2 + order/2");
+  Eigen::MatrixXd D;
+  sd_map(sd_model(sys), sys.kf_N_per_m2 * b, 60.0 / n / m, m, order, D);
+  Eigen::EigenSolver<Eigen::MatrixXd> es(D.rows());
+  return spectral_radius(D, es);
+}
+
+int sd_steps_per_delay(const ChatterSystem& sys, double speed_rpm, double max_depth_m,
+                       const SdChartOptions& o) {
+  check(sys);
+  return sd_steps(sys, speed_rpm, max_depth_m, o);
+}
+
+SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_rpm, int n_speeds,
+                           double max_depth_m, int n_depths, const SdChartOptions& o) {
+  check(sys);
+  if (!(min_rpm > 0.0) || !(max_rpm > min_rpm) || n_speeds < 2 || n_depths < 2 ||
+      !(max_depth_m > 0.0) || o.steps_per_period < 1 || o.min_steps < 3 ||
+      (o.interpolation_order != 1 && o.interpolation_order != 3 && o.interpolation_order != 5))
+    throw std::invalid_argument(
+        "SD chart: 0 < min < max speed, ≥ 2 speeds and depths, max depth > 0, ≥ 1 step per "
+        "period, ≥ 3 steps per delay, interpolation order 1 or 3");
+  SdChart c;
+  const auto ns = static_cast<std::size_t>(n_speeds), nd = static_cast<std::size_t>(n_depths);
+  c.speed_rpm.resize(ns);
+  c.depth_m.resize(nd);
+  c.steps.resize(ns);
+  c.spectral_radius.assign(ns * nd, 0.0);
+  c.boundary_depth_m.assign(ns, std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < ns; ++i) {
+    c.speed_rpm[i] =
+        min_rpm + (max_rpm - min_rpm) * static_cast<double>(i) / static_cast<double>(ns - 1);
+    c.steps[i] = sd_steps(sys, c.speed_rpm[i], max_depth_m, o);
+  }
+  for (std::size_t j = 0; j < nd; ++j)
+    c.depth_m[j] = max_depth_m * static_cast<double>(j) / static_cast<double>(nd - 1);
+  const SdModel model = sd_model(sys);
+  // The cost per speed grows as (d + m)³ and m as 1/speed: the speeds ascend, so the slow ones
+  // are handed out first and the cheap ones fill the gaps at the end.
+  std::atomic<std::size_t> next{0};
+  auto work = [&] {
+    Eigen::MatrixXd D;
+    Eigen::EigenSolver<Eigen::MatrixXd> es;
+    for (std::size_t i = next++; i < ns; i = next++) {
+      const int m = c.steps[i];
+      const double dt = 60.0 / c.speed_rpm[i] / m;
+      for (std::size_t j = 0; j < nd; ++j) {
+        sd_map(model, sys.kf_N_per_m2 * c.depth_m[j], dt, m, o.interpolation_order, D);
+        c.spectral_radius[i * nd + j] = spectral_radius(D, es);
+      }
+    }
+  };
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  const unsigned n_threads =
+      std::min<unsigned>(o.threads > 0 ? o.threads : hw, static_cast<unsigned>(ns));
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < n_threads; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  for (std::size_t i = 0; i < ns; ++i) {
+    for (std::size_t j = 0; j < nd; ++j) {
+      const double r = c.radius(i, j);
+      if (!std::isfinite(r))
+        throw std::runtime_error("SD chart: the eigenvalue solver failed at " +
+                                 std::to_string(c.speed_rpm[i]) + " rpm");
+    }
+    for (std::size_t j = 1; j < nd; ++j) {
+      const double r0 = c.radius(i, j - 1), r1 = c.radius(i, j);
+      if (r1 < 1.0) continue;
+      const double t = r0 < 1.0 ? (1.0 - r0) / (r1 - r0) : 0.0;
+      c.boundary_depth_m[i] = c.depth_m[j - 1] + t * (c.depth_m[j] - c.depth_m[j - 1]);
+      break;
+    }
+  }
+  return c;
+}
+
+double sd_limit_depth(const ChatterSystem& sys, double n, double b_hi, int m, double rel_tol,
+                      int order) {
   double lo = 0.0, hi = b_hi;
-  if (spectral_radius_sd(sys, n, hi, m) < 1.0) return std::numeric_limits<double>::infinity();
+  if (spectral_radius_sd(sys, n, hi, m, order) < 1.0)
+    return std::numeric_limits<double>::infinity();
   while (hi - lo > rel_tol * hi) {
     const double mid = 0.5 * (lo + hi);
-    (spectral_radius_sd(sys, n, mid, m) < 1.0 ? lo : hi) = mid;
+    (spectral_radius_sd(sys, n, mid, m, order) < 1.0 ? lo : hi) = mid;
   }
   return 0.5 * (lo + hi);
 }
@@ -195,14 +346,13 @@ TimeDomainResult time_domain(const ChatterSystem& sys, double n, double b, doubl
     double y = 0.0;
     for (std::size_t i = 0; i < M; ++i) y += c[i] * q[i];
     const double y_tau = surface[head];
-    double h = h0 - y + y_tau;
+    const double h = h0 - y + y_tau;
     double f = 0.0;
     if (h > 0.0) {
       f = sys.kf_N_per_m2 * b * h;
       surface[head] = y;
     } else {
       surface[head] = y_tau + h0;  // not cut: the old surface, one feed further on
-      h = 0.0;
     }
     head = (head + 1) % per_rev;
     for (std::size_t i = 0; i < M; ++i) {  // semi-implicit Euler per mode

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <numbers>
+#include <optional>
 #include <thread>
 
 #include "lathectl/io/errors.hpp"
@@ -13,8 +16,21 @@
 
 namespace lathectl::io {
 
+namespace {
+LobesInput read_lobes_input(const TomlDocument& doc);
+}  // namespace
+
 LobesInput load_lobes_input(const std::string& path) {
-  const TomlDocument doc = TomlDocument::parse_file(path);
+  return read_lobes_input(TomlDocument::parse_file(path));
+}
+
+LobesInput parse_lobes_input(std::string_view text, const std::string& file_label) {
+  return read_lobes_input(TomlDocument::parse(text, file_label));
+}
+
+namespace {
+LobesInput read_lobes_input(const TomlDocument& doc) {
+  const std::string& path = doc.file();
   TableReader root(doc.root(), path, "");
   LobesInput in;
   auto c = root.table("cutting", true);
@@ -27,9 +43,27 @@ LobesInput load_lobes_input(const std::string& path) {
     md.natural_frequency_Hz = m.number("natural_frequency_Hz", {0.0, 1e6, true, false});
     md.angle_rad = m.number("angle_deg", Range::closed(-90, 90), 0.0) * std::numbers::pi / 180.0;
     m.finish();
-    in.system.modes.push_back(md);
+    in.tool_modes.push_back(md);
   }
-  if (in.system.modes.empty()) root.fail("mode", "at least one [[mode]] expected");
+  if (auto p = root.table("part")) {
+    LobesPart part;
+    auto& b = part.beam;
+    b.length_m = p->number("length_mm", {0.0, 1e5, true, false}) * 1e-3;
+    b.diameter_m = p->number("diameter_mm", {0.0, 1e4, true, false}) * 1e-3;
+    b.youngs_modulus_Pa = p->number("youngs_modulus_GPa", {0.0, 1e4, true, false}) * 1e9;
+    b.density_kg_per_m3 = p->number("density_kg_per_m3", {0.0, 1e5, true, false});
+    b.damping_ratio = p->number("damping_ratio", {0.0, 1.0, true, true});
+    b.angle_rad = p->number("angle_deg", Range::closed(-90, 90), 0.0) * std::numbers::pi / 180.0;
+    part.modes = static_cast<int>(p->integer("modes", 1, 50, 3));
+    const double L_mm = b.length_m * 1e3;
+    const Range inside{0.0, L_mm, true, true};  // between the centres
+    part.position_m = p->number("position_mm", inside) * 1e-3;
+    for (double x : p->numbers("positions_mm", inside)) part.positions_m.push_back(x * 1e-3);
+    p->finish();
+    in.part = part;
+  }
+  if (in.tool_modes.empty() && !in.part)
+    root.fail("mode", "at least one [[mode]] or a [part] expected");
   auto s = root.table("speed", true);
   in.min_rpm = s->number("min_rpm", {0.0, 1e6, true, false});
   in.max_rpm = s->number("max_rpm", {0.0, 1e6, true, false});
@@ -38,20 +72,48 @@ LobesInput load_lobes_input(const std::string& path) {
   if (auto l = root.table("lobes")) {
     in.max_lobes = static_cast<int>(l->integer("max_lobes", 1, 500, 40));
     in.sd_speeds = static_cast<int>(l->integer("sd_speeds", 0, 2000, 40));
+    in.chart_speeds = static_cast<int>(l->integer("chart_speeds", 0, 2000, 200));
+    in.chart_depths = static_cast<int>(l->integer("chart_depths", 0, 2000, 100));
+    if (in.chart_speeds == 1) l->fail("chart_speeds", "expected 0 (no chart) or at least 2");
+    if (in.chart_depths == 1) l->fail("chart_depths", "expected 0 (no chart) or at least 2");
+    in.chart_max_depth_m = l->number("chart_max_depth_mm", {0.0, 1e4, true, false}, 0.0) * 1e-3;
+    in.chart_steps_per_period = static_cast<int>(l->integer("chart_steps_per_period", 2, 100, 7));
     l->finish();
   }
   root.finish();
+  in.system = lobes_system_at(in, in.part ? in.part->position_m : 0.0);
   return in;
 }
+}  // namespace
+
+dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m) {
+  dynamics::ChatterSystem sys;
+  sys.kf_N_per_m2 = in.system.kf_N_per_m2;
+  if (in.part) sys.modes = dynamics::beam_modes_at(in.part->beam, x_m, in.part->modes);
+  sys.modes.insert(sys.modes.end(), in.tool_modes.begin(), in.tool_modes.end());
+  return sys;
+}
+
+namespace {
+// Frequency grid of the lobes, 0.5·f_min..2·f_max: dense lobes (a slender part at low speed, a
+// stiff tool mode far above) need ~0.1 Hz near each mode, or the envelope overshoots at the
+// lobe crossings by tens of per cent (measured on examples/machines/b_part.toml).
+constexpr int kFrequencyPoints = 40000;
+
+std::string csv_row(double a, double b) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%.6g,%.9g\n", a, b);
+  return buf;
+}
+}  // namespace
 
 nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_dir) {
   using nlohmann::json;
-  const auto fd =
-      dynamics::frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm, in.max_lobes, 4000);
-  double f_max = 0.0;
-  for (const auto& m : in.system.modes) f_max = std::max(f_max, m.natural_frequency_Hz);
+  const auto fd = dynamics::frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm, in.max_lobes,
+                                                   kFrequencyPoints);
 
-  // Semi-discretization at sd_speeds speeds, in parallel; ≥ 20 steps per vibration period.
+  // Semi-discretization at sd_speeds speeds by bisection, in parallel, with the chart's scheme
+  // (quintic interpolation, 7 steps per period of the modes that can chatter below `hi`).
   std::vector<double> sd_speed(static_cast<std::size_t>(in.sd_speeds)), sd_depth(sd_speed.size()),
       fd_depth(sd_speed.size());
   for (std::size_t k = 0; k < sd_speed.size(); ++k) {
@@ -65,11 +127,12 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
     for (unsigned w = 0; w < n; ++w)
       pool.emplace_back([&, w] {
         for (std::size_t k = w; k < sd_speed.size(); k += n) {
-          const double tau = 60.0 / sd_speed[k];
-          const int m = std::clamp(static_cast<int>(std::ceil(tau * f_max * 20.0)), 20, 160);
           const double hi =
               std::isfinite(fd_depth[k]) ? 3.0 * fd_depth[k] : 100.0 * fd.critical_depth_m;
-          sd_depth[k] = dynamics::sd_limit_depth(in.system, sd_speed[k], hi, m, 1e-3);
+          const dynamics::SdChartOptions o;
+          const int m = dynamics::sd_steps_per_delay(in.system, sd_speed[k], hi, o);
+          sd_depth[k] =
+              dynamics::sd_limit_depth(in.system, sd_speed[k], hi, m, 1e-3, o.interpolation_order);
         }
       });
     for (auto& t : pool) t.join();
@@ -79,9 +142,54 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
     if (std::isfinite(sd_depth[k]) && std::isfinite(fd_depth[k]))
       worst = std::max(worst, std::abs(sd_depth[k] / fd_depth[k] - 1.0));
 
+  // The SD stability chart: spectral radius on a speed × depth grid, and its ρ = 1 boundary
+  // against the frequency-domain envelope where that lies inside the chart.
+  std::optional<dynamics::SdChart> chart;
+  double chart_worst = 0.0;
+  int chart_compared = 0;
+  if (in.chart_speeds >= 2 && in.chart_depths >= 2 && std::isfinite(fd.critical_depth_m)) {
+    dynamics::SdChartOptions o;
+    o.steps_per_period = in.chart_steps_per_period;
+    const double top =
+        in.chart_max_depth_m > 0.0 ? in.chart_max_depth_m : 4.0 * fd.critical_depth_m;
+    chart = dynamics::sd_stability_chart(in.system, in.min_rpm, in.max_rpm, in.chart_speeds, top,
+                                         in.chart_depths, o);
+    for (std::size_t i = 0; i < chart->speed_rpm.size(); ++i) {
+      const double b_fd = dynamics::envelope_depth(fd, chart->speed_rpm[i]);
+      const double b_sd = chart->boundary_depth_m[i];
+      if (!std::isfinite(b_fd) || !std::isfinite(b_sd) || b_fd > 0.98 * top) continue;
+      chart_worst = std::max(chart_worst, std::abs(b_sd / b_fd - 1.0));
+      ++chart_compared;
+    }
+  }
+
+  // The critical depth along the part, frequency domain at each position.
+  struct AlongPart {
+    double x_m, critical_m, chatter_Hz, lowest_in_range_m, f1_Hz, k_static;
+  };
+  std::vector<AlongPart> along;
+  if (in.part)
+    for (double x : in.part->positions_m) {
+      const auto sys = lobes_system_at(in, x);
+      const auto r = dynamics::frequency_domain_lobes(sys, in.min_rpm, in.max_rpm, in.max_lobes,
+                                                      kFrequencyPoints);
+      double lowest = std::numeric_limits<double>::infinity();
+      for (const auto& l : r.lobes) lowest = std::min(lowest, l.minimum.depth_m);
+      along.push_back({x, r.critical_depth_m, r.critical_chatter_Hz, lowest,
+                       dynamics::beam_modes_at(in.part->beam, x, 1)[0].natural_frequency_Hz,
+                       dynamics::beam_static_stiffness(in.part->beam, x)});
+    }
+
   json j;
   j["critical_depth_mm"] = fd.critical_depth_m * 1e3;
   j["chatter_frequency_Hz"] = fd.critical_chatter_Hz;
+  json modes = json::array();
+  for (const auto& m : in.system.modes)
+    modes.push_back({{"stiffness_N_per_m", m.stiffness_N_per_m},
+                     {"damping_ratio", m.damping_ratio},
+                     {"natural_frequency_Hz", m.natural_frequency_Hz},
+                     {"angle_deg", m.angle_rad * 180.0 / std::numbers::pi}});
+  j["modes_at_tool"] = modes;
   if (in.system.modes.size() == 1) {
     const auto& m = in.system.modes[0];
     const double c2 = std::cos(m.angle_rad) * std::cos(m.angle_rad);
@@ -104,35 +212,94 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
                   {"frequency_domain_depth_mm", json_number(fd_depth[k] * 1e3)}});
   j["semi_discretization"] = sd;
   j["semi_discretization_max_rel_difference"] = worst;
+  if (chart) {
+    json boundary = json::array();
+    for (double b : chart->boundary_depth_m) boundary.push_back(json_number(b * 1e3));
+    const auto [m_lo, m_hi] = std::minmax_element(chart->steps.begin(), chart->steps.end());
+    j["sd_chart"] = {{"speeds", chart->speed_rpm.size()},
+                     {"depths", chart->depth_m.size()},
+                     {"min_rpm", in.min_rpm},
+                     {"max_rpm", in.max_rpm},
+                     {"max_depth_mm", chart->depth_m.back() * 1e3},
+                     {"steps_per_delay_min", *m_lo},
+                     {"steps_per_delay_max", *m_hi},
+                     {"interpolation_order", dynamics::SdChartOptions{}.interpolation_order},
+                     {"boundary_depth_mm", boundary},
+                     {"compared_speeds", chart_compared},
+                     {"max_rel_difference_vs_frequency_domain", chart_worst}};
+  }
+  if (in.part) {
+    const auto& b = in.part->beam;
+    json pos = json::array();
+    for (const auto& a : along)
+      pos.push_back({{"position_mm", a.x_m * 1e3},
+                     {"critical_depth_mm", a.critical_m * 1e3},
+                     {"chatter_frequency_Hz", a.chatter_Hz},
+                     {"lowest_depth_in_speed_range_mm", json_number(a.lowest_in_range_m * 1e3)},
+                     {"first_mode_Hz", a.f1_Hz},
+                     {"static_stiffness_N_per_m", a.k_static}});
+    j["part"] = {
+        {"length_mm", b.length_m * 1e3},
+        {"diameter_mm", b.diameter_m * 1e3},
+        {"position_mm", in.part->position_m * 1e3},
+        {"modes", in.part->modes},
+        {"static_stiffness_N_per_m", dynamics::beam_static_stiffness(b, in.part->position_m)},
+        {"along_part", pos}};
+  }
 
-  // CSV: the frequency-domain envelope on a fine speed grid, and the SD points.
+  // CSV: the frequency-domain envelope on a fine speed grid, the SD points, the SD chart (its
+  // boundary, then every cell) and the critical depth along the part.
   std::string csv = "speed_rpm,frequency_domain_depth_mm\n";
   Series env{"frequency domain: lower envelope", {}, {}, "#1f77b4", false, false};
   for (int k = 0; k <= 1000; ++k) {
     const double n = in.min_rpm + (in.max_rpm - in.min_rpm) * k / 1000.0;
     const double b = dynamics::envelope_depth(fd, n);
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "%.6g,%.9g\n", n, b * 1e3);
-    csv += buf;
+    csv += csv_row(n, b * 1e3);
     env.x.push_back(n);
     env.y.push_back(std::isfinite(b) ? b * 1e3 : std::nan(""));
   }
   csv += "\nspeed_rpm,semi_discretization_depth_mm\n";
-  Series sdp{"semi-discretization", {}, {}, "#d62728", false, true};
+  Series sdp{"semi-discretization (bisection)", {}, {}, "#d62728", false, true};
   for (std::size_t k = 0; k < sd_speed.size(); ++k) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "%.6g,%.9g\n", sd_speed[k], sd_depth[k] * 1e3);
-    csv += buf;
+    csv += csv_row(sd_speed[k], sd_depth[k] * 1e3);
     sdp.x.push_back(sd_speed[k]);
     sdp.y.push_back(std::isfinite(sd_depth[k]) ? sd_depth[k] * 1e3 : std::nan(""));
   }
+  Series sdc{"semi-discretization chart: ρ = 1", {}, {}, "#2ca02c", true, false};
+  if (chart) {
+    csv += "\nspeed_rpm,sd_chart_boundary_depth_mm\n";
+    for (std::size_t i = 0; i < chart->speed_rpm.size(); ++i) {
+      const double b = chart->boundary_depth_m[i];
+      csv += csv_row(chart->speed_rpm[i], b * 1e3);
+      sdc.x.push_back(chart->speed_rpm[i]);
+      sdc.y.push_back(std::isfinite(b) ? b * 1e3 : std::nan(""));
+    }
+    csv += "\nspeed_rpm,depth_mm,spectral_radius\n";
+    for (std::size_t i = 0; i < chart->speed_rpm.size(); ++i)
+      for (std::size_t k = 0; k < chart->depth_m.size(); ++k) {
+        char buf[128];
+        std::snprintf(buf, sizeof buf, "%.6g,%.6g,%.9g\n", chart->speed_rpm[i],
+                      chart->depth_m[k] * 1e3, chart->radius(i, k));
+        csv += buf;
+      }
+  }
+  if (!along.empty()) {
+    csv += "\nposition_mm,critical_depth_mm\n";
+    for (const auto& a : along) csv += csv_row(a.x_m * 1e3, a.critical_m * 1e3);
+  }
+
   Report rep;
   rep.title = "Stability lobes";
   rep.subtitle = std::to_string(in.system.modes.size()) +
                  " mode(s), K_f = " + fmt(in.system.kf_N_per_m2 * 1e-6) + " N/mm²";
+  if (in.part)
+    rep.subtitle += "; part Ø" + fmt(in.part->beam.diameter_m * 1e3) + " × " +
+                    fmt(in.part->beam.length_m * 1e3) + " mm between centres, tool at " +
+                    fmt(in.part->position_m * 1e3) + " mm";
   rep.description =
       "Frequency-domain lobes (Tlusty/Tobias/Altintas) and, independently, semi-discretization "
-      "(Insperger–Stépán). "
+      "(Insperger–Stépán): limit depths by bisection at a few speeds, and the spectral radius of "
+      "the SD map on a speed × depth grid, whose ρ = 1 contour is the chart's boundary. "
       "Below the envelope the cut is stable; the lobe minima are the absolute stability limit.";
   rep.metrics.emplace_back("absolute stability limit [mm]", fmt(fd.critical_depth_m * 1e3));
   rep.metrics.emplace_back("chatter frequency there [Hz]", fmt(fd.critical_chatter_Hz));
@@ -141,18 +308,38 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
                              fmt(j["closed_form_sdof"]["depth_mm"].get<double>()));
   rep.metrics.emplace_back("semi-discretization vs frequency domain, max relative difference",
                            fmt(worst, "%.3g"));
+  if (chart)
+    rep.metrics.emplace_back("SD chart (" + std::to_string(chart->speed_rpm.size()) + " × " +
+                                 std::to_string(chart->depth_m.size()) +
+                                 ") boundary vs frequency domain, max "
+                                 "relative difference over " +
+                                 std::to_string(chart_compared) + " speeds",
+                             fmt(chart_worst, "%.3g"));
   Table t{"Lobes", {"N", "speed at the minimum [rpm]", "depth [mm]", "chatter [Hz]"}, {}};
   for (const auto& l : fd.lobes)
     t.rows.push_back({std::to_string(l.N), fmt(l.minimum.speed_rpm, "%.1f"),
                       fmt(l.minimum.depth_m * 1e3), fmt(l.minimum.chatter_Hz)});
   rep.tables.push_back(t);
-  double ymax = 0.0;
-  for (double y : env.y)
-    if (std::isfinite(y)) ymax = std::max(ymax, y);
   Plot p{
       "Stability lobe diagram", "spindle speed [rpm]", "limit depth of cut [mm]", {env, sdp}, {}};
-  (void)ymax;
+  if (chart) p.series.push_back(sdc);
   rep.plots.push_back(p);
+  if (!along.empty()) {
+    Table ta{"Critical depth along the part",
+             {"position [mm]", "absolute limit [mm]", "chatter [Hz]",
+              "lowest in the speed range [mm]", "first mode [Hz]", "static stiffness [N/µm]"},
+             {}};
+    Series crit{"absolute stability limit", {}, {}, "#9467bd", false, false};
+    for (const auto& a : along) {
+      ta.rows.push_back({fmt(a.x_m * 1e3), fmt(a.critical_m * 1e3), fmt(a.chatter_Hz),
+                         fmt(a.lowest_in_range_m * 1e3), fmt(a.f1_Hz), fmt(a.k_static * 1e-6)});
+      crit.x.push_back(a.x_m * 1e3);
+      crit.y.push_back(a.critical_m * 1e3);
+    }
+    rep.tables.push_back(ta);
+    rep.plots.push_back(
+        {"Critical depth along the part", "position [mm]", "depth of cut [mm]", {crit}, {}});
+  }
 
   std::filesystem::create_directories(out_dir);
   write_file_atomic(out_dir / "lobes.csv", csv);

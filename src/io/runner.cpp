@@ -3,6 +3,7 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/system_a.hpp"
+#include "lathectl/io/system_b.hpp"
 #include "lathectl/io/system_c.hpp"
 #include "lathectl/io/system_d.hpp"
 #include "lathectl/io/system_e.hpp"
@@ -11,6 +12,7 @@ namespace lathectl::io {
 
 RunOutput run_scenario(const Scenario& sc) {
   if (sc.system == "A") return run_system_a(sc);
+  if (sc.system == "B") return run_system_b(sc);
   if (sc.system == "C") return run_system_c(sc);
   if (sc.system == "D") return run_system_d(sc);
   if (sc.system == "E") return run_system_e(sc);

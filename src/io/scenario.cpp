@@ -10,6 +10,7 @@
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/toml_reader.hpp"
+#include "lathectl/sim/rig_b.hpp"
 
 namespace lathectl::io {
 
@@ -34,7 +35,7 @@ void read_run(TableReader& root, RunSettings& run) {
 
 void read_material_tool(TableReader& root, const MaterialLibrary& lib,
                         cutting::CuttingModel::Params& cutting,
-                        cutting::DisturbanceParams* wear = nullptr) {
+                        cutting::DisturbanceParams* wear = nullptr, bool kienzle_only = false) {
   auto mat = root.table("material", true);
   const std::string name = mat->string("name");
   const cutting::Material* found = lib.find(name);
@@ -44,9 +45,11 @@ void read_material_tool(TableReader& root, const MaterialLibrary& lib,
     mat->fail("name", "unknown material \"" + name + "\" (data/materials.toml has: " + known + ")");
   }
   cutting.material = *found;
-  cutting.form = mat->choice("force_model", {"handbook", "kienzle"}, "handbook") == "kienzle"
-                     ? cutting::ForceForm::Kienzle
-                     : cutting::ForceForm::Handbook;
+  cutting.form =
+      (kienzle_only ? mat->choice("force_model", {"kienzle"}, "kienzle")
+                    : mat->choice("force_model", {"handbook", "kienzle"}, "handbook")) == "kienzle"
+          ? cutting::ForceForm::Kienzle
+          : cutting::ForceForm::Handbook;
   mat->finish();
 
   if (auto tool = root.table("tool")) {
@@ -273,6 +276,170 @@ std::vector<sim::SensorFault> read_faults(TableReader& root) {
   return out;
 }
 
+// The spindle drive (systems B and E). With `defaults`, every key is optional and keeps the
+// value already in `s`.
+void read_spindle(TableReader& sp, drives::SpindleDrive::Params& s, bool defaults) {
+  auto opt = [&](double v) { return defaults ? std::optional<double>(v) : std::nullopt; };
+  s.inertia_kg_m2 = sp.number("inertia_kg_m2", {0.0, 1e4, true, false}, opt(s.inertia_kg_m2));
+  s.viscous_N_m_s = sp.number("viscous_N_m_s", Range::closed(0, 1e4), 0.01);
+  s.max_torque_N_m = sp.number("max_torque_N_m", {0.0, 1e6, true, false}, opt(s.max_torque_N_m));
+  s.max_power_W =
+      sp.number("max_power_kW", {0.0, 1e4, true, false}, opt(s.max_power_W * 1e-3)) * 1e3;
+  s.efficiency = sp.number("efficiency", {0.0, 1.0, true, false}, 0.85);
+  s.idle_p0_W = sp.number("idle_p0_W", Range::closed(0, 1e6), defaults ? s.idle_p0_W : 0.0);
+  s.idle_p1_W_per_rpm =
+      sp.number("idle_p1_W_per_rpm", Range::closed(0, 1e3), defaults ? s.idle_p1_W_per_rpm : 0.0);
+  s.idle_p2_W_per_rpm2 =
+      sp.number("idle_p2_W_per_rpm2", Range::closed(0, 10), defaults ? s.idle_p2_W_per_rpm2 : 0.0);
+  s.kp_N_m_s = sp.number("kp_N_m_s", {0.0, 1e6, true, false}, 20.0);
+  s.ti_s = sp.number("ti_s", {0.0, 100.0, true, false}, 0.05);
+  s.max_accel_rpm_per_s = sp.number("max_accel_rpm_per_s", {0.0, 1e6, true, false}, 2000.0);
+  s.min_rpm = sp.number("min_rpm", {0.0, 1e5, true, false}, 10.0);
+  s.max_rpm = sp.number("max_rpm", {0.0, 1e5, true, false}, 4000.0);
+  if (!(s.max_rpm > s.min_rpm)) sp.fail("max_rpm", "must exceed min_rpm");
+  sp.finish();
+}
+
+// System B: the twin-turret rig, its measurement chain and the CNC module.
+void read_system_b(TableReader& root, const MaterialLibrary& lib, Scenario& sc) {
+  auto& b = sc.b;
+  auto pt = root.table("part", true);
+  b.part.length_m = pt->number("length_mm", {0.0, 1e5, true, false}) * kMm;
+  b.part.diameter_m = pt->number("diameter_mm", {0.0, 1e4, true, false}) * kMm;
+  b.part.youngs_modulus_Pa = pt->number("youngs_modulus_GPa", {0.0, 1e4, true, false}, 210.0) * 1e9;
+  b.part.density_kg_per_m3 = pt->number("density_kg_per_m3", {0.0, 1e5, true, false}, 7850.0);
+  b.part.damping_ratio = pt->number("damping_ratio", {0.0, 1.0, true, true});
+  b.modes = static_cast<int>(pt->integer("modes", 1, 6, 2));
+  pt->finish();
+  // The regenerative gain is dF/db at the chip: the Kienzle form (handbook laws have t^x, x ≠ 1).
+  read_material_tool(root, lib, b.cutting, nullptr, true);
+
+  auto c = root.table("cut", true);
+  const std::string setup = c->choice("setup", {"single", "feed_division", "depth_division"});
+  b.setup = setup == "single"          ? sim::TwinSetup::Single
+            : setup == "feed_division" ? sim::TwinSetup::FeedDivision
+                                       : sim::TwinSetup::DepthDivision;
+  const auto depth = c->numbers("depth_mm", {0.0, 50.0, true, false}, 1);
+  if (depth.size() > 2) c->fail("depth_mm", "one depth, or one per turret [right, left]");
+  b.depth_mm[0] = depth[0];
+  b.depth_mm[1] = depth.size() > 1 ? depth[1] : depth[0];
+  b.feed_mm_per_rev = c->number("feed_mm_per_rev", {0.0, 10.0, true, false});
+  b.rpm = c->number("rpm", {1.0, 1e5, false, false});
+  b.overlap = c->number("overlap", Range::closed(0, 1), 1.0);
+  b.tool2_lag_mm = c->number("tool2_lag_mm", Range::closed(0, 1000), 0.0);
+  if (b.setup == sim::TwinSetup::Single && b.tool2_lag_mm > 0.0)
+    c->fail("tool2_lag_mm", "a single-tool set-up has no second tool");
+  b.z_start_mm = c->number("z_start_mm", {0.0, 1e5, true, false});
+  b.z_end_mm = c->number("z_end_mm", {0.0, 1e5, true, false});
+  if (!(b.z_end_mm > b.z_start_mm)) c->fail("z_end_mm", "must exceed z_start_mm");
+  if (!(b.z_end_mm < b.part.length_m / kMm))
+    c->fail("z_end_mm", "must lie before the tailstock centre (part.length_mm)");
+  b.approach_mm = c->number("approach_mm", Range::closed(0, 100), 1.0);
+  b.idle_block_s = c->number("idle_block_s", Range::closed(0, 100), 0.5);
+  b.feed_drive_bandwidth_Hz = c->number("feed_drive_bandwidth_Hz", {0.0, 1e4, true, false}, 30.0);
+  b.initial_disturbance_um = c->number("initial_disturbance_um", Range::closed(0, 1000), 1.0);
+  c->finish();
+  if ((b.z_end_mm - b.z_start_mm) / (b.feed_mm_per_rev * b.rpm / 60.0) > sc.run.duration_s)
+    root.fail("run", "run.duration_s is shorter than the cut (z_end − z_start at feed·rpm)");
+
+  b.spindle.inertia_kg_m2 = 0.2;
+  b.spindle.max_torque_N_m = 300.0;
+  b.spindle.max_power_W = 11000.0;
+  b.spindle.max_rpm = 4000.0;
+  if (auto sp = root.table("spindle")) read_spindle(*sp, b.spindle, true);
+  if (!(b.rpm >= b.spindle.min_rpm && b.rpm <= b.spindle.max_rpm))
+    root.fail("cut", "cut.rpm must lie within the spindle's [min_rpm, max_rpm]");
+
+  auto& v = b.vibration;
+  if (auto vs = root.table("vibration_sensor")) {
+    v.highpass_Hz = vs->number("highpass_Hz", {0.0, 1e4, true, false}, 40.0);
+    v.noise_m = vs->number("noise_um", Range::closed(0, 1000), 0.2) * kUm;
+    v.dead_zone_m = vs->number("dead_zone_um", Range::closed(0, 1e4), 5.0) * kUm;
+    v.amplitude_gate_s = vs->number("amplitude_gate_ms", {0.0, 1e5, true, false}, 50.0) * 1e-3;
+    v.frequency_gate_s = vs->number("frequency_gate_ms", {0.0, 1e5, true, false}, 100.0) * 1e-3;
+    v.adc_lsb_m = vs->number("adc_lsb_um", {0.0, 1e3, true, false}, 1.0) * kUm;
+    vs->finish();
+  }
+  v.seed = static_cast<unsigned>(sc.run.seed ^ 0x5EED01ULL);
+  auto& pw = b.power;
+  pw.meter.seed = sc.run.seed ^ 0xB0B0B0B0ULL;
+  if (auto ps = root.table("power_sensor")) {
+    pw.meter.time_constant_s = ps->number("time_constant_ms", Range::closed(0, 1e4), 50.0) * 1e-3;
+    pw.meter.noise_sigma = ps->number("noise_W", Range::closed(0, 1e6), 5.0);
+    pw.adc_lsb_W = ps->number("adc_lsb_W", {0.0, 1e4, true, false}, 1.0);
+    pw.idle_average_s = ps->number("idle_average_ms", {0.0, 1e5, true, false}, 200.0) * 1e-3;
+    if (ps->choice("idle", {"stored", "table"}, "stored") == "table") {
+      // Beyond the seed: the idle law of the spindle tabulated at these speeds (measured on the
+      // machine once, at commissioning).
+      pw.idle_table_rpm = ps->numbers("idle_table_rpm", {0.0, 1e5, true, false}, 2);
+      for (std::size_t i = 1; i < pw.idle_table_rpm.size(); ++i)
+        if (!(pw.idle_table_rpm[i] > pw.idle_table_rpm[i - 1]))
+          ps->fail("idle_table_rpm", "speeds must ascend");
+      for (double n : pw.idle_table_rpm)
+        pw.idle_table_W.push_back(b.spindle.idle_p0_W + b.spindle.idle_p1_W_per_rpm * n +
+                                  b.spindle.idle_p2_W_per_rpm2 * n * n);
+    }
+    ps->finish();
+  }
+
+  auto& m = b.module;
+  const auto& fp = b.cutting.material.Fp;
+  const auto& fc = b.cutting.material.Fc;
+  // Defaults from the Kienzle law at the programmed chip: F ∝ S^(1−m_p), F_p/F_c.
+  const double h =
+      b.setup == sim::TwinSetup::FeedDivision ? 0.5 * b.feed_mm_per_rev : b.feed_mm_per_rev;
+  m.force_feed_exponent = 1.0 - fp.m;
+  m.radial_force_ratio =
+      fp.k11_N_per_mm2 * std::pow(h, 1.0 - fp.m) / (fc.k11_N_per_mm2 * std::pow(h, 1.0 - fc.m));
+  m.part_mass_kg = sim::RigB::modal_mass_kg(b.part, 0.5 * (b.z_start_mm + b.z_end_mm) * kMm);
+  b.source = control::ModulationSource::None;
+  if (auto md = root.table("modulation")) {
+    const std::string src = md->choice("source", {"automatic", "programmed", "none"});
+    b.source = src == "automatic"    ? control::ModulationSource::Automatic
+               : src == "programmed" ? control::ModulationSource::Programmed
+                                     : control::ModulationSource::None;
+    b.turret = md->choice("turret", {"right", "left"}, "right") == "left" ? control::Turret::Left
+                                                                          : control::Turret::Right;
+    if (b.setup == sim::TwinSetup::Single && b.turret == control::Turret::Left)
+      md->fail("turret", "a single-tool set-up has only the right turret");
+    m.coefficient = md->number("coefficient", {0.0, 100.0, true, false}, 1.41);
+    m.part_mass_kg = md->number("part_mass_kg", {0.0, 1e6, true, false}, m.part_mass_kg);
+    m.radial_force_ratio =
+        md->number("radial_force_ratio", {0.0, 10.0, true, false}, m.radial_force_ratio);
+    m.force_feed_exponent =
+        md->number("force_feed_exponent", {0.0, 1.5, true, true}, m.force_feed_exponent);
+    m.modulation_frequency_Hz = md->number("modulation_frequency_Hz", {0.0, 1e4, true, false}, 2.0);
+    m.drive_bandwidth_Hz = b.feed_drive_bandwidth_Hz;
+    m.n_s = static_cast<int>(md->integer("n_s", 1, 1000, 5));
+    m.resolution_mm = md->number("resolution_um", {0.0, 1e4, true, false}, 1.0) * kUm / kMm;
+    m.s_min_fraction = md->number("s_min_fraction", {0.0, 1.0, true, true}, 0.2);
+    m.s_max_fraction = md->number("s_max_fraction", {1.0, 100.0, true, false}, 2.0);
+    m.engage_time_s = md->number("engage_time_ms", Range::closed(0, 1e5), 50.0) * 1e-3;
+    m.replan_period_s = md->number("replan_period_s", {0.0, 1e4, true, false}, 0.5);
+    m.release_below_dead_zone = md->boolean("release_below_dead_zone", false);
+    m.release_time_s = md->number("release_time_ms", Range::closed(0, 1e5), 200.0) * 1e-3;
+    m.desync_fraction = md->number("desync_fraction", Range::closed(0, 100), 0.0);
+    if (b.source == control::ModulationSource::Programmed) {
+      b.programmed.s_min_mm_per_min = md->number("S_min_mm_per_min", {0.0, 1e5, true, false});
+      b.programmed.ds_mm_per_min = md->number("dS_mm_per_min", {0.0, 1e5, true, false});
+      if (std::abs(std::remainder(b.programmed.ds_mm_per_min, 0.1)) > 1e-9)
+        md->fail("dS_mm_per_min", "must be a multiple of 0.1 mm/min (the seed's feed quantum)");
+      b.programmed.dl_mm = md->number("dl_mm", {0.0, 1e4, true, false});
+      const double units = b.programmed.dl_mm / m.resolution_mm;
+      if (std::abs(units - std::round(units)) > 1e-6)
+        md->fail("dl_mm", "must be a multiple of the resolution (modulation.resolution_um)");
+      b.programmed.n_s = m.n_s;
+    }
+    md->finish();
+  }
+  if (auto st = root.table("study")) {
+    sc.b_compare = st->boolean("compare_without_modulation", true);
+    sc.b_sweep_feed = st->numbers("sweep_feed_mm_per_rev", {0.0, 10.0, true, false});
+    if (sc.b_sweep_feed.size() > 40) st->fail("sweep_feed_mm_per_rev", "at most 40 feeds");
+    st->finish();
+  }
+}
+
 void read_system_e(TableReader& root, const MaterialLibrary& lib, Scenario& sc) {
   auto& e = sc.e;
   read_material_tool(root, lib, e.cutting, &e.disturbances);
@@ -327,23 +494,11 @@ void read_system_e(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
       ax->number("velocity_window_ms", {0.0, 10000.0, true, false}, 20.0) * 1e-3;
   ax->finish();
 
-  auto sp = root.table("spindle", true);
-  auto& s = e.spindle;
-  s.inertia_kg_m2 = sp->number("inertia_kg_m2", {0.0, 1e4, true, false});
-  s.viscous_N_m_s = sp->number("viscous_N_m_s", Range::closed(0, 1e4), 0.01);
-  s.max_torque_N_m = sp->number("max_torque_N_m", {0.0, 1e6, true, false});
-  s.max_power_W = sp->number("max_power_kW", {0.0, 1e4, true, false}) * 1e3;
-  s.efficiency = sp->number("efficiency", {0.0, 1.0, true, false}, 0.85);
-  s.idle_p0_W = sp->number("idle_p0_W", Range::closed(0, 1e6), 0.0);
-  s.idle_p1_W_per_rpm = sp->number("idle_p1_W_per_rpm", Range::closed(0, 1e3), 0.0);
-  s.idle_p2_W_per_rpm2 = sp->number("idle_p2_W_per_rpm2", Range::closed(0, 10), 0.0);
-  s.kp_N_m_s = sp->number("kp_N_m_s", {0.0, 1e6, true, false}, 20.0);
-  s.ti_s = sp->number("ti_s", {0.0, 100.0, true, false}, 0.05);
-  s.max_accel_rpm_per_s = sp->number("max_accel_rpm_per_s", {0.0, 1e6, true, false}, 2000.0);
-  s.min_rpm = sp->number("min_rpm", {0.0, 1e5, true, false}, 10.0);
-  s.max_rpm = sp->number("max_rpm", {0.0, 1e5, true, false}, 4000.0);
-  if (!(s.max_rpm > s.min_rpm)) sp->fail("max_rpm", "must exceed min_rpm");
-  sp->finish();
+  {
+    auto sp = root.table("spindle", true);
+    read_spindle(*sp, e.spindle, false);
+  }
+  const auto& s = e.spindle;
 
   auto se = root.table("sensor", true);
   const std::string param = se->choice("parameter", {"Pz", "Py", "power"});
@@ -693,7 +848,7 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
   TableReader root(doc.root(), label, "");
   Scenario sc;
   sc.file = label;
-  sc.system = root.choice("system", {"A", "C", "D", "E"});
+  sc.system = root.choice("system", {"A", "B", "C", "D", "E"});
   sc.name = root.string("name");
   if (sc.name.empty()) root.fail("name", "must not be empty");
   sc.description = root.string("description", "");
@@ -708,6 +863,21 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
     try {
       sim::RigC probe;
       probe.configure(sc.c, sc.run.step_s, sc.run.record_interval_s);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(located(label, 0, 0, std::string("inconsistent scenario: ") + e.what()));
+    }
+    return sc;
+  }
+  if (sc.system == "B") {
+    try {
+      read_system_b(root, lib, sc);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(located(label, 0, 0, std::string("inconsistent part: ") + e.what()));
+    }
+    root.finish();
+    try {
+      sim::RigB probe;
+      probe.configure(sc.b, sc.run.step_s, sc.run.record_interval_s, sc.run.step_s * 4);
     } catch (const std::invalid_argument& e) {
       throw InputError(located(label, 0, 0, std::string("inconsistent scenario: ") + e.what()));
     }

@@ -12,10 +12,12 @@
 #include <new>
 
 #include "lathectl/control/adaptive_feed_controller.hpp"
+#include "lathectl/control/modulated_feed.hpp"
 #include "lathectl/control/pulse_feed_controller.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/sim/lathe_plant.hpp"
+#include "lathectl/sensors/vibration_chain.hpp"
 #include "support/sample_controller.hpp"
 
 namespace {
@@ -152,4 +154,48 @@ TEST(NoAlloc, LathePlantStepNeverAllocates) {
   }
   EXPECT_EQ(g_allocations.load() - before, 0);
   EXPECT_GT(out.time_in_cut_s, 10.0);
+// Seed 001's module and its measurement chain through every path: below the dead zone, engaging,
+// re-planning as the vibration grows, the limited plan, the turret flag changing (a new block),
+// the programmed variant, no power, the end of the block.
+TEST(NoAlloc, ModulatedFeedControllerAndVibrationChainNeverAllocate) {
+  using namespace lathectl::control;
+  using lathectl::sensors::PowerSensor;
+  using lathectl::sensors::VibrationChain;
+  ModulatedFeedController::Params p;
+  p.desync_fraction = 1.0;
+  ModulatedFeedController m;
+  m.configure(p);
+  VibrationChain chain;
+  chain.configure({});
+  PowerSensor power;
+  PowerSensor::Params pp;
+  pp.idle_table_rpm = {100.0, 1000.0, 3000.0};
+  pp.idle_table_W = {300.0, 500.0, 1500.0};
+  power.configure(pp, 1e-3);
+  ModulatedFeedController::Output out;
+  ModulatedFeedController::Input in;
+  in.feed_programmed_mm_per_min[0] = in.feed_programmed_mm_per_min[1] = 100.0;
+  in.speed_m_per_min = 100.0;
+  in.rpm = 800.0;
+  int engaged = 0;
+  const long before = g_allocations.load();
+  for (int k = 0; k < 40000; ++k) {
+    const double amp = k < 5000 ? 1e-6 : (k < 20000 ? 1e-5 * (1.0 + k / 5000.0) : 50e-6);
+    for (int s = 0; s < 10; ++s)
+      chain.update(amp * std::sin(2.0 * 3.14159265 * 230.0 * (k * 10 + s) * 1e-4));
+    power.update(2000.0 + 100.0 * std::sin(k * 0.01), 800.0, k < 1000);
+    in.a0_m = chain.a0_m();
+    in.omega_d_rad_per_s = chain.omega_d();
+    in.cut_power_W = k % 7000 < 100 ? 0.0 : power.cutting_W();
+    in.feed_block = k % 9000 > 50;
+    in.turret = (k / 9000) % 2 ? Turret::Left : Turret::Right;
+    in.source = k > 30000 ? ModulationSource::Programmed : ModulationSource::Automatic;
+    in.programmed = {50.0, 10.0, 0.05, 4};
+    in.path_mm[0] += 100.0 / 60.0 * 1e-3;
+    in.path_mm[1] += 100.0 / 60.0 * 1e-3;
+    (void)m.update(in, out);
+    engaged += out.engaged;
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0) << "update() allocated";
+  EXPECT_GT(engaged, 1000);
 }

@@ -171,6 +171,18 @@ TEST(CuttingModel, KienzleAtNinetyDegrees) {
   EXPECT_NEAR(f.Pz, 1222.6, 0.05);
 }
 
+// The Kienzle constants in data/materials.toml are per grade (40Kh: k1.1 = 1940, 357 N/mm²), so
+// the handbook's strength correction Kmp = (980/750)^0.75 = 1.222 must not multiply them again.
+TEST(CuttingModel, KienzleUsesTheGradesOwnConstants) {
+  const auto cm = model("steel_40Kh", ForceForm::Kienzle, 90.0);
+  const Forces f = cm.forces(kRef);
+  EXPECT_NEAR(f.Pz, 1940.0 * 2.0 * std::pow(0.3, 0.74), 1e-9);
+  EXPECT_NEAR(f.Py, 357.0 * 2.0 * std::pow(0.3, 0.51), 1e-9);
+  EXPECT_NEAR(cm.radial_force(kRef), f.Py, 1e-9);
+  // The handbook form still carries Kmp (its coefficients are for σв = 750 MPa).
+  EXPECT_GT(model("steel_40Kh", ForceForm::Handbook, 90.0).kmp(), 1.2);
+}
+
 TEST(CuttingModel, KienzleAtFortyFiveDegrees) {
   const auto cm = model("steel_45", ForceForm::Kienzle, 45.0);
   const Forces f = cm.forces(kRef);

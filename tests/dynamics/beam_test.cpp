@@ -46,3 +46,19 @@ TEST(Beam, ChatterLimitDependsOnPosition) {
   const auto b = frequency_domain_lobes(near, 500, 5000, 40, 4000);
   EXPECT_LT(a.critical_depth_m, 0.2 * b.critical_depth_m);
 }
+
+// Along the part with its first mode alone, the absolute limit follows the SDOF closed form with
+// the stiffness seen at the tool: b(x) = 2·k1·ζ(1+ζ)/(K_f·sin²(πx/L)) (Altintas, eq. 3.30, with
+// the modal stiffness of mode 1, k1 = ρAL/2·ω1²), i.e. 1/sin²(πx/L) times the mid-span value.
+TEST(Beam, ChatterLimitAlongThePartFollowsTheModeShape) {
+  const BeamPart part;
+  const double kf = 2e9, zeta = part.damping_ratio;
+  const double k1 = beam_modes_at(part, 0.25, 1)[0].stiffness_N_per_m;
+  for (double x : {0.02, 0.1, 0.25, 0.4}) {
+    const ChatterSystem sys{beam_modes_at(part, x, 1), kf};
+    const auto fd = frequency_domain_lobes(sys, 500, 5000, 60, 4000);
+    const double s = std::sin(std::numbers::pi * x / part.length_m);
+    EXPECT_NEAR(fd.critical_depth_m / (2.0 * k1 * zeta * (1.0 + zeta) / (kf * s * s)), 1.0, 1e-6)
+        << "x = " << x;
+  }
+}

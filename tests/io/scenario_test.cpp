@@ -84,7 +84,8 @@ TEST(Scenario, EveryExampleParses) {
     SCOPED_TRACE(f.string());
     Scenario sc;
     ASSERT_NO_THROW(sc = load_scenario(f.string(), library()));
-    EXPECT_TRUE(sc.system == "A" || sc.system == "C" || sc.system == "D" || sc.system == "E")
+    EXPECT_TRUE(sc.system == "A" || sc.system == "B" || sc.system == "C" || sc.system == "D" ||
+                sc.system == "E")
         << sc.system;
     EXPECT_EQ(sc.name, f.stem().string());  // each example is named after its file
     EXPECT_EQ(sc.file, f.string());
@@ -259,6 +260,92 @@ TEST(Scenario, MissingFileIsAnInputError) {
   EXPECT_THROW(
       (void)load_scenario(LATHECTL_SOURCE_DIR "/examples/scenarios/no_such_file.toml", library()),
       InputError);
+}
+
+}  // namespace
+}  // namespace lathectl::io
+
+namespace lathectl::io {
+namespace {
+
+std::string twin_text() {
+  std::ifstream in(LATHECTL_SOURCE_DIR "/examples/scenarios/b_twin_feed_division.toml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string b_error(const std::string& from, const std::string& to) {
+  std::string t = twin_text();
+  const auto at = t.find(from);
+  if (at == std::string::npos) return "pattern not found: " + from;
+  t.replace(at, from.size(), to);
+  try {
+    (void)parse_scenario(t, "b.toml", library());
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ScenarioB, ShopUnitsAndDefaultsFromTheMaterial) {
+  const Scenario sc = parse_scenario(twin_text(), "b.toml", library());
+  EXPECT_EQ(sc.system, "B");
+  EXPECT_DOUBLE_EQ(sc.b.part.length_m, 0.6);
+  EXPECT_DOUBLE_EQ(sc.b.part.youngs_modulus_Pa, 210e9);
+  EXPECT_EQ(sc.b.setup, sim::TwinSetup::FeedDivision);
+  EXPECT_EQ(sc.b.cutting.form, cutting::ForceForm::Kienzle);
+  EXPECT_DOUBLE_EQ(sc.b.vibration.dead_zone_m, 5e-6);
+  EXPECT_EQ(sc.b.source, control::ModulationSource::Automatic);
+  // F ∝ S^(1−m_p), F_p/F_c at each tool's chip s/2 = 0.07 mm (40Kh: 357·h^0.51 / 1940·h^0.74).
+  EXPECT_DOUBLE_EQ(sc.b.module.force_feed_exponent, 0.51);
+  EXPECT_NEAR(sc.b.module.radial_force_ratio,
+              357.0 * std::pow(0.07, 0.51) / (1940.0 * std::pow(0.07, 0.74)), 1e-12);
+  // m_d: the first mode's mass seen at the middle of the cut (285 mm of 600): ρAL/2 / sin².
+  const double modal = 7850.0 * std::numbers::pi * 0.02 * 0.02 * 0.6 / 2.0;
+  EXPECT_NEAR(sc.b.module.part_mass_kg,
+              modal / std::pow(std::sin(std::numbers::pi * 285.0 / 600.0), 2), 1e-9);
+  ASSERT_EQ(sc.b_sweep_feed.size(), 8u);
+}
+
+TEST(ScenarioB, BadInputNamesTheKey) {
+  EXPECT_TRUE(
+      contains(b_error("setup = \"feed_division\"", "setup = \"triple\""), "key 'cut.setup'"));
+  EXPECT_TRUE(contains(b_error("z_end_mm = 320", "z_end_mm = 700"), "key 'cut.z_end_mm'"));
+  EXPECT_TRUE(contains(b_error("force_model = \"kienzle\"", "force_model = \"handbook\""),
+                       "key 'material.force_model'"));
+  EXPECT_TRUE(
+      contains(b_error("turret = \"right\"", "turret = \"middle\""), "key 'modulation.turret'"));
+  EXPECT_TRUE(contains(b_error("dead_zone_um = 5", "dead_zone_um = -5"),
+                       "key 'vibration_sensor.dead_zone_um'"));
+  EXPECT_TRUE(contains(b_error("modes = 2", "modes = 9"), "key 'part.modes'"));
+  EXPECT_TRUE(
+      contains(b_error("n_s = 5", "n_s = 5\nspeeed = 1"), "unknown key 'modulation.speeed'"));
+  EXPECT_TRUE(contains(b_error("depth_mm = [0.5, 0.5]", "depth_mm = [0.5, 0.5, 0.5]"),
+                       "key 'cut.depth_mm'"));
+  EXPECT_TRUE(contains(b_error("duration_s = 60", "duration_s = 10"), "run"));
+}
+
+TEST(ScenarioB, ProgrammedParametersObeyTheSeedsQuanta) {
+  std::string t = twin_text();
+  const std::string from = "source = \"automatic\"";
+  t.replace(t.find(from), from.size(),
+            "source = \"programmed\"\nS_min_mm_per_min = 50\ndS_mm_per_min = 36.05\ndl_mm = 0.1");
+  try {
+    (void)parse_scenario(t, "b.toml", library());
+    ADD_FAILURE() << "ΔS = 36.05 accepted";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(contains(e.what(), "key 'modulation.dS_mm_per_min'")) << e.what();
+  }
+  t = twin_text();
+  t.replace(t.find(from), from.size(),
+            "source = \"programmed\"\nS_min_mm_per_min = 50\ndS_mm_per_min = 36\ndl_mm = 0.0005");
+  try {
+    (void)parse_scenario(t, "b.toml", library());
+    ADD_FAILURE() << "Δl = 0.5 µm accepted with a 1 µm resolution";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(contains(e.what(), "key 'modulation.dl_mm'")) << e.what();
+  }
 }
 
 }  // namespace

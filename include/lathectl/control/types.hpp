@@ -33,6 +33,11 @@ enum class Reason : std::uint16_t {
   NotInFeedBlock = 32,     // rapid / non-cutting block: adaptive control inactive
   SpindleSpeedLimit = 40,  // speed command clamped to the spindle's range
   SpindlePowerLimit = 41,  // speed command reduced to respect the spindle's power
+  ModulationEngaged = 50,     // vibration above the dead zone: modulated feed formed and running
+  ModulationReleased = 51,    // modulation stopped (below the dead zone, or the block ended)
+  ModulationLimited = 52,     // the quenching condition needs more span than the limits allow
+  ModulationProgrammed = 53,  // the NC block's own (S_min, ΔS, Δl, n_s) are running
+  ModulationNoForce = 54,     // vibration seen but no cutting power/speed to size A_P: no plan
 };
 
 constexpr std::string_view reason_name(Reason r) noexcept {
@@ -65,6 +70,16 @@ constexpr std::string_view reason_name(Reason r) noexcept {
       return "spindle_speed_limit";
     case Reason::SpindlePowerLimit:
       return "spindle_power_limit";
+    case Reason::ModulationEngaged:
+      return "modulation_engaged";
+    case Reason::ModulationReleased:
+      return "modulation_released";
+    case Reason::ModulationLimited:
+      return "modulation_limited";
+    case Reason::ModulationProgrammed:
+      return "modulation_programmed";
+    case Reason::ModulationNoForce:
+      return "modulation_no_force";
   }
   return "unknown";
 }

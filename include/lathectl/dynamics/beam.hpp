@@ -21,6 +21,16 @@ struct BeamPart {
   double angle_rad = 0.0;       // mode direction to the chip thickness
 };
 
+// Mode j (1-based) seen at x_c: its equivalent stiffness and mass there, and the shape value
+// φ_j(x_c) (for rescaling modal coordinates as the tool moves). No checks, no allocation: for
+// rigs that recompute it as the cutting position moves (validate the part with beam_modes_at).
+struct BeamModeAt {
+  Mode mode;
+  double mass_kg = 0.0;
+  double shape = 0.0;
+};
+BeamModeAt beam_mode_at(const BeamPart& part, double x_c_m, int j) noexcept;
+
 // The first `n_modes` modes as seen at the cutting position x_c (0 < x_c < L).
 std::vector<Mode> beam_modes_at(const BeamPart& part, double x_c_m, int n_modes = 3);
 // Static stiffness at x_c (point load on a pinned-pinned beam): 3EIL/(x²(L−x)²).

@@ -12,11 +12,14 @@
 //   (from e^{−jωτ} = −Φ*/Φ, which makes b real). SDOF closed form: the minimum
 //   b_crit = 2k·ζ(1+ζ)/(K_f·cos²θ) at ω = ω_n·√(1+2ζ).
 // Semi-discretization (Insperger & Stépán, Int. J. Numer. Meth. Engng 61 (2004) 117–141):
-//   ẋ = A·x + K_f·b·B·(x(t − τ) − x(t)) in modal state x = [q; q̇]; over steps Δt = τ/m the
-//   delayed state is linearly interpolated and the rest integrated exactly (matrix exponential);
-//   the stability of the map z_{i+1} = D·z_i (z = [x_i, x_{i−1}, ..., x_{i−m}]) is the
-//   spectral radius of D < 1. The limit depth at a speed is found by bisection on b.
+//   ẋ = A·x + K_f·b·u·(y(t − τ) − y(t)) in modal state x = [q; q̇], y = vᵀx the displacement
+//   along the chip thickness; over steps Δt = τ/m the delayed y is linearly interpolated and the
+//   rest integrated exactly (matrix exponential); the map z_{i+1} = D·z_i with
+//   z = [x_i, y_{i−1}, ..., y_{i−m}] (the force is rank one, so only y needs a history) is
+//   stable when the spectral radius of D < 1. The limit depth at a speed is found by bisection
+//   on b; a speed × depth chart evaluates the spectral radius on a grid.
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -60,9 +63,51 @@ FrequencyDomainResult frequency_domain_lobes(const ChatterSystem& sys, double mi
 double envelope_depth(const FrequencyDomainResult& fd, double speed_rpm);
 
 // Semi-discretization: stable at (speed, depth)?  and the limit depth at a speed by bisection.
-double spectral_radius_sd(const ChatterSystem& sys, double speed_rpm, double depth_m, int m = 30);
+// interpolation_order: of the delayed displacement, 1 (the classic first-order SD), 3 or 5
+// (see SdChartOptions below).
+double spectral_radius_sd(const ChatterSystem& sys, double speed_rpm, double depth_m, int m = 30,
+                          int interpolation_order = 1);
 double sd_limit_depth(const ChatterSystem& sys, double speed_rpm, double depth_hi_m, int m = 30,
-                      double rel_tol = 1e-3);
+                      double rel_tol = 1e-3, int interpolation_order = 1);
+
+// Semi-discretization stability chart: the spectral radius of the SD map on a speed × depth grid
+// (ρ < 1 stable), and the boundary it implies. Steps per delay at speed n:
+//   m = clamp(⌈(60/n)·f_ref·steps_per_period⌉, min_steps, max_steps),
+// f_ref the highest frequency among the modes that can chatter on the chart (own SDOF limit
+// 2kζ(1+ζ)/(K_f·cos²θ) below twice the chart's top depth). The delayed displacement is
+// interpolated by a Lagrange polynomial through order + 1 history points (higher-order SD); the
+// error falls as Δt^(order+1). Measured on the SDOF example, 200 speeds × 100 depths (0..30 mm),
+// chart boundary against the frequency-domain envelope: linear at 30 steps per period, worst
+// 1.5 %; cubic at 10, worst 0.9 % (mean 0.2 %); quintic at 7, worst 0.55 % (mean 0.08 %) in
+// about 1/20 of the linear one's time and half the cubic's. At least min_steps per delay
+// resolve the delay itself.
+// Per cell: one (2·modes + order + 1)² matrix exponential (the current-state force is
+// integrated exactly, so it depends on the depth) and one eigenvalue solve of size
+// 2·modes + m + (order − 1)/2, which dominates; speeds are shared among threads.
+struct SdChartOptions {
+  int steps_per_period = 7;     // per period of f_ref (above)
+  int min_steps = 20;           // per delay (one revolution)
+  int max_steps = 400;          // cap on m (cost grows as (2·modes + m)³)
+  int interpolation_order = 5;  // of the delayed displacement: 1, 3 or 5 (quintic)
+  unsigned threads = 0;         // 0: one per hardware thread
+};
+struct SdChart {
+  std::vector<double> speed_rpm;         // n_speeds, min..max inclusive
+  std::vector<double> depth_m;           // n_depths, 0..max inclusive
+  std::vector<int> steps;                // m used at each speed
+  std::vector<double> spectral_radius;   // row-major [speed][depth]
+  std::vector<double> boundary_depth_m;  // per speed: lowest depth where ρ reaches 1, linear in ρ
+                                         // between grid depths; +inf if ρ < 1 on the whole grid
+  [[nodiscard]] double radius(std::size_t i_speed, std::size_t i_depth) const {
+    return spectral_radius[i_speed * depth_m.size() + i_depth];
+  }
+};
+// Throws std::invalid_argument on a bad system or grid. Runs on options.threads threads.
+SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_rpm, int n_speeds,
+                           double max_depth_m, int n_depths, const SdChartOptions& options = {});
+// The m a chart up to max_depth_m uses at a speed.
+int sd_steps_per_delay(const ChatterSystem& sys, double speed_rpm, double max_depth_m,
+                       const SdChartOptions& options = {});
 
 // Time domain, one delay, the tool leaving the cut when h < 0: returns the vibration amplitude
 // (max |y| over a window) at the start and at the end, from a small initial disturbance.

@@ -1,28 +1,56 @@
 #pragma once
 // `lathectl lobes MACHINE.toml --out DIR`: stability lobes of a machine's chatter model, by the
-// frequency domain and, independently, by semi-discretization; writes lobes.json, lobes.csv and
+// frequency domain and, independently, by semi-discretization (limit depths at sd_speeds speeds
+// by bisection, and a speed × depth spectral-radius chart); writes lobes.json, lobes.csv and
 // lobes.html. The machine file:
 //   [cutting] kf_N_per_mm2                       cutting-force coefficient along the chip thickness
 //   [[mode]]  stiffness_N_per_m, damping_ratio, natural_frequency_Hz, angle_deg
+//             (machine and tool modes; optional when [part] is given, then added to its modes)
+//   [part]    (optional) the slender part between centres, a pinned-pinned Euler–Bernoulli beam
+//             (dynamics/beam.hpp): length_mm, diameter_mm, youngs_modulus_GPa,
+//             density_kg_per_m3, damping_ratio, angle_deg (0), modes (3), position_mm (where the
+//             lobes are computed), positions_mm (optional: the critical depth along the part)
 //   [speed]   min_rpm, max_rpm
-//   [lobes]   (optional) max_lobes, sd_speeds (semi-discretization check points)
+//   [lobes]   (optional) max_lobes (40), sd_speeds (40, bisection check points), chart_speeds
+//             (200), chart_depths (100), chart_max_depth_mm (4 × the absolute limit),
+//             chart_steps_per_period (7; 0 speeds or depths: no chart)
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
+#include "lathectl/dynamics/beam.hpp"
 #include "lathectl/dynamics/lobes.hpp"
 
 namespace lathectl::io {
 
+struct LobesPart {
+  dynamics::BeamPart beam;
+  int modes = 3;
+  double position_m = 0.25;         // cutting position (from the headstock centre)
+  std::vector<double> positions_m;  // critical depth along the part at these positions
+};
+
 struct LobesInput {
-  dynamics::ChatterSystem system;
+  dynamics::ChatterSystem system;          // every mode at the cutting position
+  std::vector<dynamics::Mode> tool_modes;  // the [[mode]]s alone
+  std::optional<LobesPart> part;
   double min_rpm = 1000.0, max_rpm = 10000.0;
   int max_lobes = 40;
   int sd_speeds = 40;
+  int chart_speeds = 200, chart_depths = 100;
+  double chart_max_depth_m = 0.0;  // 0: 4 × the absolute limit
+  int chart_steps_per_period = 7;
 };
 
 LobesInput load_lobes_input(const std::string& path);  // throws InputError
+// The same from text (file_label names it in error messages); throws InputError.
+LobesInput parse_lobes_input(std::string_view text, const std::string& file_label);
+// The modes seen at the tool with the cutting position at x_m: the part's plus the tool's.
+dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m);
 // Computes and writes the outputs; returns lobes.json's content.
 nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_dir);
 

@@ -14,6 +14,7 @@
 #include "lathectl/io/materials.hpp"
 #include "lathectl/sim/gauging.hpp"
 #include "lathectl/sim/rig_a.hpp"
+#include "lathectl/sim/rig_b.hpp"
 #include "lathectl/sim/rig_c.hpp"
 #include "lathectl/sim/rig_e.hpp"
 
@@ -42,6 +43,9 @@ struct Scenario {
   sim::RigAConfig a;      // system A
   sim::RigEConfig e;      // system E
   sim::RigCConfig c;      // system C
+  sim::RigBConfig b;      // system B
+  bool b_compare = true;  // system B: also run without modulation
+  std::vector<double> b_sweep_feed;  // system B: feeds for the with/without sweep
   std::string c_compare;  // system C: "", "linear" or "nonlinear" overlaid
   // system D
   struct Gauging {

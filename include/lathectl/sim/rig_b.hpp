@@ -1,0 +1,114 @@
+#pragma once
+// Rig B: a twin-turret lathe turning a slender part between centres (seed 001), closed-loop with
+// the measurement chain and the CNC's modulated-feed module.
+//
+// Plant: dynamics::TwinTurretCut (the part, its modes along the cut, regeneration per layer, the
+// tools leaving the cut, one tool / feed division / depth division).
+// Feed drives: first-order velocity lag (bandwidth) on each turret's feed-rate command.
+// Spindle: drives::SpindleDrive (speed loop, cutting torque Σ F_c·D/2, electrical power with
+// speed-dependent idle losses). The NC program: an idle block (spindle at speed, no cut: the
+// idle power is stored), then one cutting block from z_start to z_end.
+// Measurement: VibrationChain on y; PowerSensor on the spindle's electrical power.
+
+#include <cstdint>
+#include <vector>
+
+#include "lathectl/control/modulated_feed.hpp"
+#include "lathectl/cutting/cutting_model.hpp"
+#include "lathectl/drives/spindle_drive.hpp"
+#include "lathectl/dynamics/beam.hpp"
+#include "lathectl/dynamics/twin_turret.hpp"
+#include "lathectl/sensors/vibration_chain.hpp"
+#include "lathectl/sim/recorder.hpp"
+
+namespace lathectl::sim {
+
+using TwinSetup = dynamics::TwinSetup;
+
+struct RigBConfig {
+  dynamics::BeamPart part;
+  int modes = 2;
+  cutting::CuttingModel::Params cutting;  // Kienzle form
+  TwinSetup setup = TwinSetup::FeedDivision;
+  double depth_mm[2] = {0.5, 0.5};  // t0 per tool
+  double feed_mm_per_rev = 0.25;    // programmed: S = s·n for each turret
+  double rpm = 800.0;
+  double overlap = 1.0;       // μ
+  double tool2_lag_mm = 0.0;  // axial lag of tool 2 (depth division: the layer's trail; feed
+                              // division: a set-up offset, chips s/2 + lag and s/2 − lag)
+  double z_start_mm = 100.0;  // from the left centre
+  double z_end_mm = 400.0;
+  double approach_mm = 1.0;
+  double idle_block_s = 0.5;
+  double feed_drive_bandwidth_Hz = 30.0;
+  drives::SpindleDrive::Params spindle;
+  sensors::VibrationChain::Params vibration;
+  sensors::PowerSensor::Params power;
+  control::ModulatedFeedController::Params module;
+  control::ModulationSource source = control::ModulationSource::Automatic;
+  control::Turret turret = control::Turret::Right;
+  control::ModulationPlan programmed{};
+  double initial_disturbance_um = 1.0;  // part displacement at the start of the cut
+  // The modes follow the tool along the part (true), or stay at z_start (for checks against
+  // the stability charts at one position).
+  bool modes_follow_tool = true;
+};
+
+class RigB {
+ public:
+  // dt_s: integration step; record_interval_s: recorder row interval.
+  void configure(const RigBConfig& cfg, double dt_s, double record_interval_s,
+                 double max_duration_s);
+  void run() noexcept;
+  [[nodiscard]] bool step() noexcept;  // false when the cut is finished
+
+  [[nodiscard]] const Recorder& recorder() const noexcept { return rec_; }
+  [[nodiscard]] const RigBConfig& config() const noexcept { return cfg_; }
+  [[nodiscard]] double time_s() const noexcept { return t_; }
+  [[nodiscard]] double cut_start_s() const noexcept { return t_cut_start_; }
+  [[nodiscard]] bool numerically_sound() const noexcept { return process_.sound(); }
+  [[nodiscard]] double engaged_at_s() const noexcept { return engaged_at_; }
+  [[nodiscard]] const control::ModulatedFeedController::Output& module_output() const noexcept {
+    return mod_out_;
+  }
+  // The part's modal mass at x_c for the first mode (the m_d a user would enter).
+  [[nodiscard]] static double modal_mass_kg(const dynamics::BeamPart& part, double x_c_m);
+  [[nodiscard]] double programmed_feed_mm_per_min() const noexcept {
+    return cfg_.feed_mm_per_rev * cfg_.rpm;
+  }
+
+ private:
+  struct Turret {  // a feed drive and its slide
+    double z_mm = 0.0;
+    double z0_mm = 0.0;
+    double v_mm_per_min = 0.0;
+    double cmd_mm_per_min = 0.0;
+  };
+
+  RigBConfig cfg_{};
+  double dt_ = 2e-5;
+  double t_ = 0.0;
+  double max_t_ = 0.0;
+  std::size_t step_ = 0;
+  std::size_t record_every_ = 1;
+  std::size_t chain_every_ = 1;
+  std::size_t control_every_ = 1;
+  bool done_ = false;
+  double t_cut_start_ = -1.0;
+  double engaged_at_ = -1.0;
+  double theta_ = 0.0;  // cumulative spindle angle
+  Turret turrets_[2];
+  int n_tools_ = 1;
+  dynamics::TwinTurretCut process_;
+  // Noise-free high-pass of y for the metrics (same cut-off as the sensor's).
+  double hb0_ = 1, hb1_ = 0, hb2_ = 0, ha1_ = 0, ha2_ = 0, hx1_ = 0, hx2_ = 0, hy1_ = 0, hy2_ = 0;
+  double y_hp_ = 0.0;
+  drives::SpindleDrive spindle_;
+  sensors::VibrationChain chain_;
+  sensors::PowerSensor power_;
+  control::ModulatedFeedController module_;
+  control::ModulatedFeedController::Output mod_out_{};
+  Recorder rec_;
+};
+
+}  // namespace lathectl::sim

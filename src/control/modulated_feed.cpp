@@ -1,0 +1,259 @@
+#include "lathectl/control/modulated_feed.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace lathectl::control {
+
+namespace {
+
+int level_of(int segment, int n_s) noexcept {
+  return segment <= n_s ? segment : 2 * n_s - segment;
+}
+
+// Time-mean feed of a staircase with the given levels (harmonic mean over equal path lengths).
+double harmonic_mean(double s_min, double ds, int n_s) noexcept {
+  double inv = 0.0;
+  for (int j = 0; j < 2 * n_s; ++j) inv += 1.0 / (s_min + level_of(j, n_s) * ds);
+  return 2.0 * n_s / inv;
+}
+
+// S_min giving a time-mean feed of s_p for a span D = n_s·ΔS (bisection; the mean rises with
+// S_min). Returns a negative value when even S_min = s_p − D/2... cannot reach it (never: the
+// harmonic mean ≤ the arithmetic one, so S_min ∈ [s_p − D, s_p]).
+double s_min_for_mean(double s_p, double span, int n_s) noexcept {
+  const double ds = span / n_s;
+  double lo = std::max(1e-9, s_p - span), hi = s_p;
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (harmonic_mean(mid, ds, n_s) < s_p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+}  // namespace
+
+double ModulationPlan::time_mean_feed() const noexcept {
+  if (!active()) return s_min_mm_per_min;
+  return harmonic_mean(s_min_mm_per_min, ds_mm_per_min, n_s);
+}
+
+double ModulationPlan::offset_swing_mm(double s_other) const noexcept {
+  if (!active()) return 0.0;
+  double c = 0.0, lo = 0.0, hi = 0.0;
+  for (int j = 0; j < 2 * n_s; ++j) {
+    c += dl_mm * (1.0 - s_other / (s_min_mm_per_min + level_of(j, n_s) * ds_mm_per_min));
+    lo = std::min(lo, c);
+    hi = std::max(hi, c);
+  }
+  return hi - lo;
+}
+
+void ModulatedFeedGenerator::start(const ModulationPlan& plan) noexcept {
+  plan_ = plan;
+  segment_ = 0;
+  in_segment_mm_ = 0.0;
+}
+
+double ModulatedFeedGenerator::feed() const noexcept {
+  return plan_.s_min_mm_per_min + level_of(segment_, plan_.n_s) * plan_.ds_mm_per_min;
+}
+
+double ModulatedFeedGenerator::advance(double path_mm) noexcept {
+  if (!plan_.active()) return plan_.s_min_mm_per_min;
+  in_segment_mm_ += std::max(0.0, path_mm);
+  // A long step may cross several segments (bounded: at most one cycle's worth of loops).
+  for (int guard = 0; in_segment_mm_ >= plan_.dl_mm && guard < 2 * plan_.n_s; ++guard) {
+    in_segment_mm_ -= plan_.dl_mm;
+    segment_ = (segment_ + 1) % (2 * plan_.n_s);
+  }
+  if (in_segment_mm_ >= plan_.dl_mm) in_segment_mm_ = std::fmod(in_segment_mm_, plan_.dl_mm);
+  return feed();
+}
+
+void ModulatedFeedController::configure(const Params& p) {
+  auto require = [](bool ok, const char* what) {
+    if (!ok) throw std::invalid_argument(std::string("modulated feed: ") + what);
+  };
+  require(p.period_s > 0.0, "period_s must be positive");
+  require(p.coefficient > 0.0, "coefficient must be positive");
+  require(p.part_mass_kg > 0.0, "part_mass_kg must be positive");
+  require(p.radial_force_ratio > 0.0, "radial_force_ratio must be positive");
+  require(p.force_feed_exponent > 0.0 && p.force_feed_exponent <= 1.5,
+          "force_feed_exponent must be in (0, 1.5]");
+  require(p.modulation_frequency_Hz > 0.0, "modulation_frequency_Hz must be positive");
+  require(p.drive_bandwidth_Hz > 0.0, "drive_bandwidth_Hz must be positive");
+  require(p.n_s >= 1 && p.n_s <= 1000, "n_s must be in 1..1000");
+  require(p.ds_quantum_mm_per_min > 0.0, "ds_quantum_mm_per_min must be positive");
+  require(p.resolution_mm > 0.0, "resolution_mm must be positive");
+  require(p.s_min_fraction > 0.0 && p.s_min_fraction < 1.0, "s_min_fraction must be in (0, 1)");
+  require(p.s_max_fraction > 1.0, "s_max_fraction must exceed 1");
+  require(p.engage_time_s >= 0.0 && p.release_time_s >= 0.0 && p.replan_period_s > 0.0,
+          "engage/release/replan times must be non-negative (replan positive)");
+  p_ = p;
+  configured_ = true;
+  gen_.stop();
+  engaged_ = false;
+  was_block_ = false;
+}
+
+ModulationPlan ModulatedFeedController::plan_for(double a0, double omega_d, double cut_power_W,
+                                                 double speed_m_per_min, double s_p, double rpm,
+                                                 double& omega_m, double& required_N,
+                                                 double& planned_N, bool& limited) const noexcept {
+  using std::numbers::pi;
+  limited = false;
+  ModulationPlan plan{};
+  plan.n_s = p_.n_s;
+  // ω_m: the wanted frequency, below a quarter of the drives' bandwidth, and out of the
+  // entrainment bands around ω_d·{1/3, 1/2, 1, 2, 3} (±15 %): if inside one, go below it.
+  double f_m = std::min(p_.modulation_frequency_Hz, 0.25 * p_.drive_bandwidth_Hz);
+  const double f_d = omega_d / (2.0 * pi);
+  for (double ratio : {3.0, 2.0, 1.0, 0.5, 1.0 / 3.0}) {
+    const double c = ratio * f_d;
+    if (f_m > 0.85 * c && f_m < 1.15 * c) f_m = 0.8 * c;
+  }
+  // Δl from the cycle length at the programmed feed, in whole resolution units (≥ 1).
+  auto set_dl = [&](double dl) {
+    plan.dl_mm = std::max(1.0, std::ceil(dl / p_.resolution_mm - 1e-9)) * p_.resolution_mm;
+    omega_m = 2.0 * pi * (s_p / 60.0) / plan.cycle_length_mm();
+    required_N =
+        p_.coefficient * a0 * p_.part_mass_kg * std::abs(omega_d * omega_d - omega_m * omega_m);
+  };
+  set_dl(s_p / 60.0 / f_m / (2.0 * p_.n_s));
+  // Force along the vibration from the cutting power: F = r·N_c/V.
+  const double force = p_.radial_force_ratio * cut_power_W / (speed_m_per_min / 60.0);
+  const double e = p_.force_feed_exponent;
+  auto amplitude = [&](double s_min, double s_max) {
+    return 0.5 * force * (std::pow(s_max / s_p, e) - std::pow(s_min / s_p, e));
+  };
+  // Largest span the limits allow: S_min ≥ f_min·S_p and S_max ≤ f_max·S_p with the mean kept.
+  auto within = [&](double span) {
+    const double lo = s_min_for_mean(s_p, span, p_.n_s);
+    return lo >= p_.s_min_fraction * s_p && lo + span <= p_.s_max_fraction * s_p;
+  };
+  double span_max = 0.0, hi = (p_.s_max_fraction - p_.s_min_fraction) * s_p;
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (span_max + hi);
+    (within(mid) ? span_max : hi) = mid;
+  }
+  // Smallest span meeting the quenching condition (A_P rises with the span).
+  double span = 0.0;
+  const double s_lo_max = s_min_for_mean(s_p, span_max, p_.n_s);
+  if (amplitude(s_lo_max, s_lo_max + span_max) < required_N) {
+    span = span_max;
+    limited = true;
+  } else {
+    double lo = 0.0, up = span_max;
+    for (int it = 0; it < 60; ++it) {
+      const double mid = 0.5 * (lo + up);
+      const double s = s_min_for_mean(s_p, mid, p_.n_s);
+      (amplitude(s, s + mid) < required_N ? lo : up) = mid;
+    }
+    span = up;
+  }
+  // ΔS in whole quanta (rounded up so the condition still holds, down if that breaks a limit).
+  const double q = p_.ds_quantum_mm_per_min;
+  plan.ds_mm_per_min = std::max(q, std::ceil(span / p_.n_s / q - 1e-9) * q);
+  if (!within(plan.ds_mm_per_min * p_.n_s) && plan.ds_mm_per_min > q)
+    plan.ds_mm_per_min = std::max(q, std::floor(span_max / p_.n_s / q) * q);
+  const double full = plan.ds_mm_per_min * p_.n_s;
+  plan.s_min_mm_per_min = std::max(q, std::round(s_min_for_mean(s_p, full, p_.n_s) / q) * q);
+  // Desynchronise the turrets (feed division): lengthen Δl until the offset swing reaches
+  // desync_fraction · s. The swing is proportional to Δl.
+  if (p_.desync_fraction > 0.0 && rpm > 0.0) {
+    const double swing = plan.offset_swing_mm(s_p);
+    const double wanted = p_.desync_fraction * s_p / rpm;
+    if (swing > 0.0 && swing < wanted) set_dl(plan.dl_mm * wanted / swing);
+  }
+  planned_N = amplitude(plan.s_min_mm_per_min, plan.s_max_mm_per_min());
+  if (planned_N < required_N * (1.0 - 1e-3)) limited = true;  // (quantisation of S_min)
+  return plan;
+}
+
+Status ModulatedFeedController::update(const Input& in, Output& out) noexcept {
+  out = Output{};
+  if (!configured_) return Status::NotConfigured;
+  const int t = static_cast<int>(in.turret);
+  for (int k = 0; k < 2; ++k) out.feed_mm_per_min[k] = in.feed_programmed_mm_per_min[k];
+
+  // A new block (or the turret flag changed): modulation ends, the staircase restarts.
+  const bool new_block = in.feed_block && (!was_block_ || in.turret != turret_);
+  if (!in.feed_block || new_block) {
+    if (engaged_) out.reason = Reason::ModulationReleased;
+    engaged_ = false;
+    gen_.stop();
+    above_s_ = below_s_ = 0.0;
+    a0_planned_ = 0.0;
+  }
+  was_block_ = in.feed_block;
+  turret_ = in.turret;
+  if (!in.feed_block) return Status::Ok;
+  const double step = new_block ? 0.0 : in.path_mm[t] - last_path_[t];
+  last_path_[0] = in.path_mm[0];
+  last_path_[1] = in.path_mm[1];
+  const double s_p = in.feed_programmed_mm_per_min[t];
+
+  if (in.source == ModulationSource::Programmed) {
+    if (!gen_.plan().active() && in.programmed.active()) gen_.start(in.programmed);
+    out.plan = gen_.plan();
+    out.engaged = out.plan.active();
+    if (out.engaged) {
+      out.feed_mm_per_min[t] = gen_.advance(step);
+      out.omega_m_rad_per_s =
+          2.0 * std::numbers::pi * (out.plan.time_mean_feed() / 60.0) / out.plan.cycle_length_mm();
+    }
+    out.reason = Reason::ModulationProgrammed;
+    return Status::Ok;
+  }
+  if (in.source == ModulationSource::None) return Status::Ok;
+
+  // Automatic: a0 = 0 and ω_d = 0 below the amplifier's dead zone.
+  const bool vibrating = in.a0_m > 0.0 && in.omega_d_rad_per_s > 0.0 && std::isfinite(in.a0_m) &&
+                         std::isfinite(in.omega_d_rad_per_s);
+  above_s_ = vibrating ? above_s_ + p_.period_s : 0.0;
+  below_s_ = vibrating ? 0.0 : below_s_ + p_.period_s;
+  since_plan_s_ += p_.period_s;
+
+  if (engaged_ && p_.release_below_dead_zone && below_s_ >= p_.release_time_s) {
+    engaged_ = false;
+    gen_.stop();
+    a0_planned_ = 0.0;
+    out.reason = Reason::ModulationReleased;
+    return Status::Ok;
+  }
+  const bool want_plan =
+      vibrating && above_s_ >= p_.engage_time_s &&
+      (!engaged_ || (since_plan_s_ >= p_.replan_period_s && in.a0_m > a0_planned_));
+  if (want_plan) {
+    if (!(in.cut_power_W > 0.0) || !(in.speed_m_per_min > 0.0) || !(s_p > 0.0)) {
+      out.reason = Reason::ModulationNoForce;
+    } else {
+      const double a0 = std::max(in.a0_m, a0_planned_);
+      const ModulationPlan plan =
+          plan_for(a0, in.omega_d_rad_per_s, in.cut_power_W, in.speed_m_per_min, s_p, in.rpm,
+                   omega_m_, required_N_, planned_N_, limited_);
+      gen_.start(plan);
+      engaged_ = true;
+      a0_planned_ = a0;
+      since_plan_s_ = 0.0;
+      out.reason = Reason::ModulationEngaged;
+    }
+  }
+  if (engaged_) {
+    out.feed_mm_per_min[t] = gen_.advance(step);
+    out.plan = gen_.plan();
+    out.engaged = true;
+    out.omega_m_rad_per_s = omega_m_;
+    out.force_amplitude_required_N = required_N_;
+    out.force_amplitude_planned_N = planned_N_;
+    if (out.reason == Reason::None)
+      out.reason = limited_ ? Reason::ModulationLimited : Reason::ModulationEngaged;
+    return limited_ ? Status::Limited : Status::Ok;
+  }
+  return Status::Ok;
+}
+
+}  // namespace lathectl::control

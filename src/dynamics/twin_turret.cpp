@@ -1,0 +1,193 @@
+#include "lathectl/dynamics/twin_turret.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace lathectl::dynamics {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+void require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("twin-turret cut: " + what);
+}
+}  // namespace
+
+void TwinTurretCut::configure(const Params& p, double dt) {
+  require(dt > 0.0, "the step must be positive");
+  require(p.modes >= 1 && p.modes <= kMaxModes, "modes must be in 1..6");
+  const double L_mm = p.part.length_m * 1e3;
+  require(p.z_start_mm > 0.0 && p.z_start_mm < L_mm,
+          "the material must start between the centres: 0 < z_start < length");
+  (void)beam_modes_at(p.part, p.z_start_mm * 1e-3, p.modes);  // validates the part
+  require(p.part.damping_ratio < 1.0, "the part's damping ratio must be below 1");
+  require(p.rpm_nominal > 0.0 && p.feed_mm_per_rev > 0.0, "rpm and feed must be positive");
+  require(p.depth_mm[0] >= 0.0 && p.depth_mm[1] >= 0.0, "depths must be non-negative");
+  require(p.overlap >= 0.0 && p.overlap <= 1.0, "overlap must be in [0, 1]");
+  require(p.tool2_lag_mm >= 0.0, "tool2_lag must be non-negative");
+  p_ = p;
+  p_.cutting.form = cutting::ForceForm::Kienzle;
+  cut_.configure(p_.cutting);
+  dt_ = dt;
+  sound_ = true;
+
+  const double tau = 60.0 / p.rpm_nominal;
+  cells_per_rev_ = std::max<std::size_t>(64, static_cast<std::size_t>(std::lround(tau / dt)));
+  const int lag_revs = p.setup == TwinSetup::DepthDivision
+                           ? static_cast<int>(std::lround(p.tool2_lag_mm / p.feed_mm_per_rev))
+                           : 0;
+  require(lag_revs <= 200, "tool2_lag_mm is more than 200 revolutions of feed");
+  require(static_cast<double>(cells_per_rev_) * (lag_revs + 2) <= 4e6,
+          "the surface memory (revolutions × steps per revolution) exceeds 4e6 cells: raise the "
+          "step, the speed, or shorten tool2_lag_mm");
+  ring_cells_ = cells_per_rev_ * static_cast<std::size_t>(lag_revs + 2);
+  const std::size_t n_rings = p.setup == TwinSetup::DepthDivision ? 2 : 1;
+  rings_.assign(n_rings, Ring{std::vector<double>(ring_cells_, 0.0),
+                              std::vector<double>(ring_cells_, p.z_start_mm)});
+
+  n_tools_ = p.setup == TwinSetup::Single ? 1 : 2;
+  for (int i = 0; i < 2; ++i) {
+    Edge& e = edges_[i];
+    e = Edge{};
+    e.sigma = i == 0 ? 1.0 : -1.0;
+    e.alpha = i == 0 ? 0.0 : kPi;
+    e.t0_mm = p.depth_mm[i];
+    e.d_weight = p.overlap;
+  }
+  if (p.setup == TwinSetup::FeedDivision) {
+    // One shared layer. In cumulative material-angle cells tool 2 (at π) finds tool 1's pass
+    // of half a turn ago in the cell it is at (lag 0); tool 1 finds tool 2's one turn of cells
+    // back (lag 1).
+    edges_[1].d_lag_rev = 0.0;
+    edges_[1].z_lag_rev = 0.0;
+  }
+  if (p.setup == TwinSetup::DepthDivision) {
+    Edge& e2 = edges_[1];
+    e2.write_ring = 1;
+    e2.d_ring = 0;
+    e2.d_lag_rev = lag_revs;
+    e2.d_weight = 1.0;
+  }
+  for (Edge& e : edges_)
+    e.last_cell = static_cast<long long>(
+        std::floor(-e.alpha / (2.0 * kPi) * static_cast<double>(cells_per_rev_)));
+
+  for (int j = 0; j < kMaxModes; ++j) q_[j] = qd_[j] = shape_[j] = 0.0;
+  modes_at_mm_ = -1e9;
+  update_modes(p.z_start_mm);
+  q_[0] = p.initial_disturbance_um * 1e-6;
+  y_ = q_[0];
+}
+
+void TwinTurretCut::update_modes(double x) noexcept {
+  const double L = p_.part.length_m * 1e3;
+  const double x_mm = std::clamp(p_.modes_follow_tool ? x : p_.z_start_mm, 1.0, L - 1.0);
+  if (std::abs(x_mm - modes_at_mm_) < 0.5) return;
+  modes_at_mm_ = x_mm;
+  for (int j = 0; j < p_.modes; ++j) {
+    const BeamModeAt bm = beam_mode_at(p_.part, x_mm * 1e-3, j + 1);
+    // Keep the physical modal amplitude: q = η·φ(x_c).
+    if (shape_[j] != 0.0) {
+      const double r = bm.shape / shape_[j];
+      q_[j] *= r;
+      qd_[j] *= r;
+    }
+    shape_[j] = bm.shape;
+    const double wn = 2.0 * kPi * bm.mode.natural_frequency_Hz;
+    const double z = bm.mode.damping_ratio;
+    const double wd = wn * std::sqrt(1.0 - z * z);
+    const double s = z * wn;
+    const double e = std::exp(-s * dt_), c = std::cos(wd * dt_), sn = std::sin(wd * dt_);
+    phi11_[j] = e * (c + s / wd * sn);
+    phi12_[j] = e * sn / wd;
+    phi21_[j] = -wn * wn * phi12_[j];
+    phi22_[j] = e * (c - s / wd * sn);
+    g1_[j] = (1.0 - phi11_[j]) / bm.mode.stiffness_N_per_m;
+    g2_[j] = phi12_[j] / bm.mass_kg;
+  }
+}
+
+double TwinTurretCut::read(const std::vector<double>& v, double cell) const noexcept {
+  const double fl = std::floor(cell);
+  const auto m = static_cast<long long>(ring_cells_);
+  const long long i = ((static_cast<long long>(fl) % m) + m) % m;
+  const double f = cell - fl;
+  return v[static_cast<std::size_t>(i)] * (1.0 - f) + v[static_cast<std::size_t>((i + 1) % m)] * f;
+}
+
+void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept {
+  const double n_rev = static_cast<double>(cells_per_rev_);
+  const double cell = (theta - e.alpha) / (2.0 * kPi) * n_rev;
+  // A lag of 0 revolutions reads what was written half a turn ago at this material angle (the
+  // other turret's pass): read one cell ahead, past what this tool itself wrote last step.
+  auto at = [&](double lag_rev) { return cell - lag_rev * n_rev + (lag_rev == 0.0 ? 1.0 : 0.0); };
+  Ring& w = rings_[e.write_ring];
+  const double d_read = read(rings_[e.d_ring].d, at(e.d_lag_rev));
+  const double z_read = read(w.z, at(e.z_lag_rev));
+  e.b_mm = e.t0_mm + (e.sigma * y_ + e.d_weight * d_read) * 1e3;
+  e.s_mm = z_mm - z_read;
+  e.cutting = e.b_mm > 0.0 && e.s_mm > 0.0;
+  if (e.cutting) {
+    const double v = kPi * p_.part.diameter_m * rpm;  // m/min
+    const cutting::Forces f = cut_.forces({e.b_mm, e.s_mm, v, 1.0, 1.0});
+    e.fc = f.Pz;
+    e.fp = f.Py;
+  } else {
+    e.fc = e.fp = 0.0;
+  }
+  // Write the cells swept since the last step: the new surface where the tool cut; where it did
+  // not, the surface it met is carried forward (from the cell it reads its chip from; with a lag
+  // of 0 that is this cell, which keeps the other turret's surface).
+  const auto m = static_cast<long long>(ring_cells_);
+  const auto back = static_cast<long long>(e.z_lag_rev) * static_cast<long long>(cells_per_rev_);
+  const auto now = static_cast<long long>(std::floor(cell));
+  // A stopped or reversed spindle writes nothing; a jump of more than a revolution is clipped.
+  const long long from = std::max(e.last_cell + 1, now - m + 1);
+  for (long long c = from; c <= now; ++c) {
+    const auto i = static_cast<std::size_t>(((c % m) + m) % m);
+    if (e.cutting) {
+      w.d[i] = -e.sigma * y_;
+      w.z[i] = z_mm;
+    } else if (back > 0) {
+      const auto q = static_cast<std::size_t>((((c - back) % m) + m) % m);
+      w.d[i] = w.d[q];
+      w.z[i] = w.z[q];
+    }
+  }
+  if (now > e.last_cell) e.last_cell = now;
+}
+
+void TwinTurretCut::step(double theta, double rpm, const double z_mm[2]) noexcept {
+  update_modes(z_mm[0]);
+  double fy = 0.0;
+  for (int i = 0; i < n_tools_; ++i) {
+    cut(edges_[i], theta, rpm, z_mm[i]);
+    fy -= edges_[i].sigma * edges_[i].fp;
+  }
+  y_ = 0.0;
+  for (int j = 0; j < p_.modes; ++j) {
+    const double q = phi11_[j] * q_[j] + phi12_[j] * qd_[j] + g1_[j] * fy;
+    const double qd = phi21_[j] * q_[j] + phi22_[j] * qd_[j] + g2_[j] * fy;
+    q_[j] = q;
+    qd_[j] = qd;
+    y_ += q;
+  }
+  if (!std::isfinite(y_) || std::abs(y_) > 0.05) sound_ = false;
+}
+
+double TwinTurretCut::torque_N_m() const noexcept {
+  double t = 0.0;
+  for (int i = 0; i < n_tools_; ++i) t += edges_[i].fc * 0.5 * p_.part.diameter_m;
+  return t;
+}
+
+double TwinTurretCut::power_W(double rpm) const noexcept {
+  const double v = kPi * p_.part.diameter_m * rpm / 60.0;  // m/s
+  double p = 0.0;
+  for (int i = 0; i < n_tools_; ++i) p += edges_[i].fc * v;
+  return p;
+}
+
+}  // namespace lathectl::dynamics

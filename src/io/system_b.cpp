@@ -1,0 +1,521 @@
+#include "lathectl/io/system_b.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <numbers>
+#include <stdexcept>
+#include <thread>
+
+#include "lathectl/dynamics/beam.hpp"
+#include "lathectl/dynamics/delayed_coupling.hpp"
+#include "lathectl/dynamics/van_der_pol.hpp"
+#include "lathectl/io/errors.hpp"
+#include "lathectl/io/output.hpp"
+#include "lathectl/io/study.hpp"
+
+namespace lathectl::io {
+
+namespace {
+using nlohmann::json;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// What one run of the rig answers, measured over the last 30 % of the cut (the steady state).
+struct Run {
+  sim::RigB rig;
+  std::string label;
+  double vibration_um = 0.0;         // chatter band: peak |y_highpass|
+  double forced_um = 0.0;            // below the band: half the swing of y − y_highpass
+  double static_um = 0.0;            // mean y: the bending by unbalanced radial forces
+  double chatter_Hz = kNaN;          // zero crossings of y_highpass
+  double feed_mean[2] = {0.0, 0.0};  // per turret over the cut [mm/min]
+  double cut_power_W = 0.0, cut_power_measured_W = 0.0;
+  double one_out_share = 0.0;  // share of the window with one turret out of the cut
+  double t0 = 0.0, t1 = 0.0;   // the window
+};
+
+void measure(Run& r, bool twin) {
+  const auto& rec = r.rig.recorder();
+  const auto t = rec.column("time_s");
+  const auto y = rec.column("y_um");
+  const auto yh = rec.column("y_highpass_um");
+  const double start = r.rig.cut_start_s(), end = t.empty() ? 0.0 : t[t.size() - 1];
+  r.t0 = start + 0.7 * (end - start);
+  r.t1 = end - 0.05;
+  double lo = 1e300, hi = -1e300, p = 0.0, pm = 0.0, n = 0.0, out = 0.0, ys = 0.0;
+  const auto c1 = rec.column("chip1_mm"), c2 = rec.column("chip2_mm");
+  const auto pw = rec.column("cut_power_W"), pwm = rec.column("cut_power_measured_W");
+  std::size_t first = t.size(), last = 0;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (t[i] < r.t0 || t[i] > r.t1) continue;
+    first = std::min(first, i);
+    last = i;
+    r.vibration_um = std::max(r.vibration_um, std::abs(yh[i]));
+    lo = std::min(lo, y[i] - yh[i]);
+    hi = std::max(hi, y[i] - yh[i]);
+    p += pw[i];
+    pm += pwm[i];
+    ys += y[i];
+    n += 1.0;
+    if (twin && ((c1[i] == 0.0) != (c2[i] == 0.0))) out += 1.0;
+  }
+  if (n > 0.0) {
+    r.forced_um = 0.5 * (hi - lo);
+    r.static_um = ys / n;
+    r.cut_power_W = p / n;
+    r.cut_power_measured_W = pm / n;
+    r.one_out_share = out / n;
+    // Chatter frequency: crossings of ±20 % of the amplitude (hysteresis), over the window.
+    int sign = 0, crossings = 0;
+    double tc0 = kNaN, tc1 = kNaN;
+    for (std::size_t i = first; i <= last; ++i) {
+      const double h = 0.2 * r.vibration_um;
+      const int s = yh[i] > h ? 1 : (yh[i] < -h ? -1 : 0);
+      if (s != 0 && s != sign) {
+        if (sign != 0) {
+          ++crossings;
+          if (std::isnan(tc0)) tc0 = t[i];
+          tc1 = t[i];
+        }
+        sign = s;
+      }
+    }
+    if (crossings > 4) r.chatter_Hz = (crossings - 1) / (2.0 * (tc1 - tc0));
+  }
+  const auto z1 = rec.column("z1_mm"), z2 = rec.column("z2_mm");
+  std::size_t k0 = 0;
+  while (k0 < t.size() && t[k0] < start) ++k0;
+  if (k0 + 1 < t.size()) {
+    const double dt = t[t.size() - 1] - t[k0];
+    r.feed_mean[0] = (z1[z1.size() - 1] - z1[k0]) / dt * 60.0;
+    r.feed_mean[1] = (z2[z2.size() - 1] - z2[k0]) / dt * 60.0;
+  }
+}
+
+void run_one(const Scenario& sc, const sim::RigBConfig& cfg, Run& r) {
+  try {
+    r.rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(sc.file + ": inconsistent scenario: " + e.what());
+  }
+  r.rig.run();
+  if (!r.rig.numerically_sound())
+    throw std::runtime_error(sc.file +
+                             ": the simulation diverged (|y| > 50 mm); reduce run.step_s");
+  measure(r, cfg.setup != sim::TwinSetup::Single);
+}
+
+std::string source_name(control::ModulationSource s) {
+  return s == control::ModulationSource::Automatic    ? "automatic module"
+         : s == control::ModulationSource::Programmed ? "programmed modulation"
+                                                      : "no modulation";
+}
+
+// The linear limits of the loops at a cutting position, as chip per revolution at the program's
+// speed: one tool (τ, +μ) and twin turrets in feed division (τ/2, −μ, gains added).
+struct Limits {
+  double single_feed = kNaN, twin_feed = kNaN, chatter_Hz = kNaN;
+};
+Limits linear_limits(const sim::RigBConfig& b, double x_mm, double rpm, int points = 20000) {
+  const auto modes = dynamics::beam_modes_at(b.part, x_mm * 1e-3, b.modes);
+  double f_max = 0.0;
+  for (const auto& m : modes) f_max = std::max(f_max, m.natural_frequency_Hz);
+  const double tau = 60.0 / rpm;
+  const auto& fp = b.cutting.material.Fp;
+  const double sk = std::sin(b.cutting.approach_angle_deg * std::numbers::pi / 180.0);
+  // dF_p/dt per tool at chip s: k_p/sin κ·(s·sin κ)^(1−m) [N/mm] → per metre.
+  auto chip_for_gain = [&](double g) {
+    return std::pow(g / (fp.k11_N_per_mm2 * 1e3 / sk), 1.0 / (1.0 - fp.m)) / sk;
+  };
+  Limits l;
+  // The overlap μ is the coupling c of the delayed term; the gain is each tool's dF_p/db.
+  const auto one = dynamics::critical_gain(modes, tau, b.overlap, 5.0, 2.5 * f_max, points);
+  l.single_feed = chip_for_gain(one.gain_N_per_m);
+  l.chatter_Hz = one.chatter_Hz;
+  if (b.setup == sim::TwinSetup::FeedDivision) {
+    const auto two =
+        dynamics::critical_gain(modes, 0.5 * tau, -b.overlap, 5.0, 2.5 * f_max, points);
+    l.twin_feed = 2.0 * chip_for_gain(0.5 * two.gain_N_per_m);
+    l.chatter_Hz = two.chatter_Hz;
+  }
+  return l;
+}
+
+}  // namespace
+
+RunOutput run_system_b(const Scenario& sc) {
+  const sim::RigBConfig& b = sc.b;
+  const bool twin = b.setup != sim::TwinSetup::Single;
+  const bool modulated = b.source != control::ModulationSource::None;
+  auto with = std::make_unique<Run>();
+  auto without = std::make_unique<Run>();
+  with->label = source_name(b.source);
+  without->label = "no modulation";
+  {
+    sim::RigBConfig off = b;
+    off.source = control::ModulationSource::None;
+    std::thread th;
+    if (modulated && sc.b_compare) th = std::thread([&] { run_one(sc, off, *without); });
+    std::exception_ptr err;
+    try {
+      run_one(sc, b, *with);
+    } catch (...) {
+      err = std::current_exception();
+    }
+    if (th.joinable()) th.join();
+    if (err) std::rethrow_exception(err);
+  }
+  const bool compared = modulated && sc.b_compare;
+  const Run& main = *with;
+  const Run* off = compared ? without.get() : (modulated ? nullptr : with.get());
+
+  // Sweep over feeds: with and without, in parallel on the machine's cores.
+  struct SweepPoint {
+    double feed = 0.0;
+    Run on, off;
+  };
+  std::vector<std::unique_ptr<SweepPoint>> sweep;
+  for (double f : sc.b_sweep_feed) {
+    sweep.push_back(std::make_unique<SweepPoint>());
+    sweep.back()->feed = f;
+  }
+  if (!sweep.empty()) {
+    const std::size_t jobs = 2 * sweep.size();
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr err;
+    std::mutex err_mutex;
+    auto worker = [&] {
+      for (std::size_t j; (j = next++) < jobs;) {
+        SweepPoint& p = *sweep[j / 2];
+        sim::RigBConfig c = b;
+        c.feed_mm_per_rev = p.feed;
+        if (j % 2 == 1) c.source = control::ModulationSource::None;
+        if (c.source == control::ModulationSource::None && j % 2 == 0 && !modulated) continue;
+        try {
+          run_one(sc, c, j % 2 ? p.off : p.on);
+        } catch (...) {
+          const std::lock_guard<std::mutex> lock(err_mutex);
+          if (!err) err = std::current_exception();
+        }
+      }
+    };
+    std::vector<std::thread> pool;
+    const unsigned n = std::max(1u, std::min(4u, std::thread::hardware_concurrency()));
+    for (unsigned i = 0; i < n; ++i) pool.emplace_back(worker);
+    for (auto& th : pool) th.join();
+    if (err) std::rethrow_exception(err);
+  }
+
+  // Linear limits at the softest position of the cut (the modes follow the tool).
+  Limits lim;
+  double lim_x = b.z_start_mm;
+  for (int k = 0; k <= 10; ++k) {
+    const double x = b.z_start_mm + (b.z_end_mm - b.z_start_mm) * k / 10.0;
+    const Limits l = linear_limits(b, x, b.rpm);
+    const double key =
+        twin && b.setup == sim::TwinSetup::FeedDivision ? l.twin_feed : l.single_feed;
+    const double best =
+        twin && b.setup == sim::TwinSetup::FeedDivision ? lim.twin_feed : lim.single_feed;
+    if (std::isnan(best) || key < best) {
+      lim = l;
+      lim_x = x;
+    }
+  }
+  // Van der Pol: the measured quenching threshold against averaging theory and the seed.
+  const double vdp_B = dynamics::quenching_threshold(0.1, 5.0);  // a0 = 2
+
+  const double s_prog = b.feed_mm_per_rev * b.rpm;  // mm/min per turret
+  const double dead_zone_um = b.vibration.dead_zone_m * 1e6;
+  const auto& mo = main.rig.module_output();
+  const int t = static_cast<int>(b.turret);
+
+  RunOutput out;
+  json& s = out.summary;
+  s["system"] = sc.system;
+  s["scenario"] = sc.name;
+  s["file"] = sc.file;
+  s["label"] = main.label;
+  json vib = {{"with", json_number(main.vibration_um)}};
+  if (off) vib["without"] = json_number(off->vibration_um);
+  if (!modulated) vib = {{"without", json_number(main.vibration_um)}};
+  json forced = {{"with", json_number(main.forced_um)}};
+  if (off) forced["without"] = json_number(off->forced_um);
+  if (!modulated) forced = {{"without", json_number(main.forced_um)}};
+  json bent = {{"with", json_number(main.static_um)}};
+  if (off) bent["without"] = json_number(off->static_um);
+  if (!modulated) bent = {{"without", json_number(main.static_um)}};
+  const Run& chat = off ? *off : main;
+  s["metrics"] = {
+      {"vibration_amplitude_um", vib},
+      {"forced_deflection_um", forced},
+      {"static_deflection_um", bent},
+      {"chatter_frequency_Hz", json_number(chat.chatter_Hz)},
+      {"modulation",
+       {{"S_min_mm_per_min", mo.plan.s_min_mm_per_min},
+        {"dS_mm_per_min", mo.plan.ds_mm_per_min},
+        {"dl_mm", mo.plan.dl_mm},
+        {"n_s", mo.plan.n_s},
+        {"S_max_mm_per_min", mo.plan.active() ? mo.plan.s_max_mm_per_min() : 0.0},
+        {"omega_m_Hz", mo.omega_m_rad_per_s / (2.0 * std::numbers::pi)},
+        {"turret", t == 0 ? "right" : "left"},
+        {"engaged", mo.engaged},
+        {"engaged_at_s",
+         json_number(main.rig.engaged_at_s() >= 0 ? main.rig.engaged_at_s() : kNaN)},
+        {"force_amplitude_required_N", mo.force_amplitude_required_N},
+        {"force_amplitude_planned_N", mo.force_amplitude_planned_N},
+        {"reason", std::string(control::reason_name(mo.reason))}}},
+      {"mean_feed_mm_per_min",
+       {{"programmed", s_prog},
+        {"right", main.feed_mean[0]},
+        {"left", twin ? json_number(main.feed_mean[1]) : json(nullptr)}}},
+      {"cutting_power_W", {{"true", main.cut_power_W}, {"measured", main.cut_power_measured_W}}},
+      {"one_turret_out_of_cut_share",
+       modulated ? json{{"with", main.one_out_share},
+                        {"without", off ? json_number(off->one_out_share) : json(nullptr)}}
+                 : json{{"without", main.one_out_share}}},
+      {"linear_limits",
+       {{"at_mm", lim_x},
+        {"single_tool_feed_mm_per_rev", json_number(lim.single_feed)},
+        {"feed_division_feed_mm_per_rev", json_number(lim.twin_feed)},
+        {"chatter_Hz", json_number(lim.chatter_Hz)},
+        {"programmed_feed_mm_per_rev", b.feed_mm_per_rev}}},
+      {"quenching_check",
+       {{"van_der_pol_threshold_B_over_a0", vdp_B / 2.0},
+        {"averaging_theory", 1.0 / std::numbers::sqrt2},
+        {"seed_coefficient", b.module.coefficient}}}};
+  if (!sweep.empty()) {
+    json sw = json::array();
+    for (const auto& p : sweep)
+      sw.push_back({{"feed_mm_per_rev", p->feed},
+                    {"without_um", p->off.vibration_um},
+                    {"with_um", json_number(modulated ? p->on.vibration_um : kNaN)},
+                    {"mean_feed_ratio", modulated && p->feed > 0
+                                            ? json_number(p->on.feed_mean[t] / (p->feed * b.rpm))
+                                            : json(nullptr)}});
+    s["metrics"]["sweep"] = sw;
+  }
+
+  Claims claims;
+  if (compared)
+    claims.add("without modulation the part chatters: steady vibration [µm] above the dead zone (" +
+                   fmt(dead_zone_um) + " µm)",
+               off->vibration_um, off->vibration_um > dead_zone_um);
+  else if (!modulated)
+    claims.note("No modulation in this scenario: steady vibration " +
+                fmt(main.vibration_um, "%.3g") + " µm against the dead zone of " +
+                fmt(dead_zone_um) + " µm — the part " +
+                (main.vibration_um > dead_zone_um ? "chatters." : "does not chatter."));
+  if (modulated && off) {
+    const double ratio = off->vibration_um / std::max(main.vibration_um, 1e-9);
+    claims.add("with " + main.label + ": vibration below the dead zone or reduced ≥ 5× (ratio)",
+               ratio, main.vibration_um < dead_zone_um || ratio >= 5.0);
+  }
+  if (modulated) {
+    const double fr = main.feed_mean[t] / s_prog;
+    claims.add("mean feed of the modulated turret / programmed (within 10 %)", fr,
+               std::abs(fr - 1.0) <= 0.1);
+  }
+  if (b.source == control::ModulationSource::Automatic && mo.engaged) {
+    claims.add("quenching condition: planned A_P / required c·a0·m_d·|ω_d² − ω_m²| (" +
+                   fmt(mo.force_amplitude_planned_N) + " N of " +
+                   fmt(mo.force_amplitude_required_N) + " N)",
+               mo.force_amplitude_planned_N / std::max(mo.force_amplitude_required_N, 1e-12),
+               mo.force_amplitude_planned_N >= mo.force_amplitude_required_N * (1.0 - 1e-3));
+    if (mo.force_amplitude_planned_N < mo.force_amplitude_required_N)
+      claims.note(
+          "The quenching condition asks for a force swing of " +
+          fmt(mo.force_amplitude_required_N) +
+          " N against the measured a0; feed modulation between S_min and S_max can swing the "
+          "radial "
+          "force by " +
+          fmt(mo.force_amplitude_planned_N) +
+          " N at most. A forced vibration of the size the condition wants (≈ a0) would itself be "
+          "as large as the chatter: asynchronous quenching is not what a feed drive can do on this "
+          "part.");
+  }
+  claims.note(
+      "Van der Pol check: forced amplitude at which a small self-excited oscillation stops "
+      "growing, measured " +
+      fmt(vdp_B / 2.0, "%.4f") + "·a0; averaging theory a0/√2 = 0.7071·a0; the seed asks " +
+      fmt(b.module.coefficient) + "·a0 (a " +
+      fmt(b.module.coefficient * std::numbers::sqrt2, "%.2f") + "× margin).");
+  if (b.setup == sim::TwinSetup::FeedDivision)
+    claims.note("Linear limits at z = " + fmt(lim_x) + " mm, " + fmt(b.rpm) +
+                " rpm: feed division chatters above s = " + fmt(lim.twin_feed, "%.3f") +
+                " mm/rev (each tool s/2 of the surface the other left half a turn earlier); one "
+                "tool alone above s = " +
+                fmt(lim.single_feed, "%.3f") +
+                " mm/rev. Programmed s = " + fmt(b.feed_mm_per_rev, "%.3f") + " mm/rev.");
+  else
+    claims.note("Linear limit at z = " + fmt(lim_x) + " mm, " + fmt(b.rpm) +
+                " rpm, one tool's own regeneration: s = " + fmt(lim.single_feed, "%.3f") +
+                " mm/rev; programmed s = " + fmt(b.feed_mm_per_rev, "%.3f") + " mm/rev.");
+  if (modulated && twin)
+    claims.note(
+        "With modulation one turret was out of the cut for " +
+        fmt(100.0 * main.one_out_share, "%.0f") + " % of the steady window (without: " +
+        (off ? fmt(100.0 * off->one_out_share, "%.0f") : std::string("—")) +
+        " %): the modulated turret falls behind or runs ahead of the other by more than half "
+        "the feed per revolution, the other takes the whole chip, and the summed "
+        "regenerative gain drops from 2·g(s/2) to g(s) = 2^−(1−m)·2·g(s/2). Its price: the "
+        "radial forces no longer balance — mean deflection " +
+        fmt(main.static_um) + " µm with, " + (off ? fmt(off->static_um) : std::string("—")) +
+        " µm without (a diameter error of twice that), swinging ±" + fmt(main.forced_um) +
+        " µm with the modulation. A fixed axial offset of the turrets by more than s/2 does the "
+        "same without any modulation (b_twin_offset).");
+  s["claims"] = claims.json();
+
+  Report& rep = out.report;
+  rep.title = "System B — " + sc.name;
+  rep.subtitle = sc.file + " · " + main.label +
+                 (b.setup == sim::TwinSetup::FeedDivision    ? " · feed division"
+                  : b.setup == sim::TwinSetup::DepthDivision ? " · depth division"
+                                                             : " · one tool");
+  rep.description = sc.description;
+  auto add = [&](const std::string& k, double v, const char* f = "%.4g") {
+    rep.metrics.emplace_back(k, fmt(v, f));
+  };
+  if (off) add("vibration, no modulation [µm]", off->vibration_um);
+  if (modulated) add("vibration, " + main.label + " [µm]", main.vibration_um);
+  add("dead zone [µm]", dead_zone_um);
+  add("chatter frequency [Hz]", chat.chatter_Hz);
+  add("programmed feed per turret [mm/min]", s_prog);
+  if (modulated) {
+    add("mean feed, modulated turret [mm/min]", main.feed_mean[t]);
+    add("S_min [mm/min]", mo.plan.s_min_mm_per_min);
+    add("ΔS [mm/min]", mo.plan.ds_mm_per_min);
+    add("Δl [mm]", mo.plan.dl_mm);
+    add("n_s", mo.plan.n_s, "%.0f");
+    add("ω_m/2π [Hz]", mo.omega_m_rad_per_s / (2.0 * std::numbers::pi));
+    add("A_P required [N]", mo.force_amplitude_required_N);
+    add("A_P planned [N]", mo.force_amplitude_planned_N);
+  }
+  add("forced deflection (below the chatter band) [µm]", main.forced_um);
+  add("static deflection (mean y) [µm]", main.static_um);
+  add("cutting power (true) [W]", main.cut_power_W);
+  add("cutting power measured N_c [W]", main.cut_power_measured_W);
+  rep.notes = claims.notes();
+
+  const char* colors[] = {"#d62728", "#1f77b4"};
+  auto series = [&](const Run& r, const char* col, const std::string& name, const char* color,
+                    bool dashed = false) {
+    return Series{
+        name, column(r.rig.recorder(), "time_s"), column(r.rig.recorder(), col), color, dashed,
+        false};
+  };
+  {
+    Plot p{"Part displacement at the tool", "time [s]", "y [µm]", {}, {}};
+    if (off && off != &main) p.series.push_back(series(*off, "y_um", "no modulation", colors[0]));
+    p.series.push_back(series(main, "y_um", main.label, colors[1]));
+    if (main.rig.engaged_at_s() >= 0.0) p.markers.push_back({main.rig.engaged_at_s(), "engaged"});
+    p.markers.push_back({main.t0, "steady window"});
+    rep.plots.push_back(p);
+  }
+  {
+    Plot p{"Chatter band (high-pass " + fmt(b.vibration.highpass_Hz) + " Hz)",
+           "time [s]",
+           "y_hp [µm]",
+           {},
+           {}};
+    if (off && off != &main)
+      p.series.push_back(series(*off, "y_highpass_um", "no modulation", colors[0]));
+    p.series.push_back(series(main, "y_highpass_um", main.label, colors[1]));
+    rep.plots.push_back(p);
+  }
+  if (modulated) {
+    Plot p{"Feed rates (" + main.label + ")", "time [s]", "feed [mm/min]", {}, {}};
+    p.series.push_back(series(main, "feed1_mm_per_min", "right turret", "#2ca02c"));
+    if (twin) p.series.push_back(series(main, "feed2_mm_per_min", "left turret", "#9467bd"));
+    rep.plots.push_back(p);
+    Plot c{"Chip per tool (" + main.label + ")", "time [s]", "chip [mm]", {}, {}};
+    c.series.push_back(series(main, "chip1_mm", "right", "#2ca02c"));
+    if (twin) c.series.push_back(series(main, "chip2_mm", "left", "#9467bd"));
+    rep.plots.push_back(c);
+  }
+  {
+    Plot p{"Measurement chain: a0 (ADC 19) and ω_d (detector 20)",
+           "time [s]",
+           "a0 [µm] / f [Hz]",
+           {},
+           {}};
+    const Run& r = off && off != &main ? *off : main;
+    p.series.push_back(series(r, "a0_um", "a0 [µm], " + r.label, "#ff7f0e"));
+    p.series.push_back(series(r, "omega_d_Hz", "ω_d/2π [Hz], " + r.label, "#8c564b", true));
+    rep.plots.push_back(p);
+  }
+  {
+    Plot p{"Cutting power: true and measured (N_m − N_idle)", "time [s]", "power [W]", {}, {}};
+    p.series.push_back(series(main, "cut_power_W", "true", "#555"));
+    p.series.push_back(series(main, "cut_power_measured_W", "measured N_c", "#17becf"));
+    rep.plots.push_back(p);
+  }
+  {
+    // The machine's own stability chart at the softest position of the cut: the feed per
+    // revolution above which the regenerative loop is unstable, against the spindle speed.
+    Plot p{"Stability limits at z = " + fmt(lim_x) + " mm (linear, the set-up's delay equation)",
+           "spindle speed [rpm]",
+           "feed per revolution [mm/rev]",
+           {},
+           {}};
+    Series one{"one tool (τ, +μ)", {}, {}, "#1f77b4", false, false};
+    Series two{"feed division (τ/2, −μ)", {}, {}, "#d62728", false, false};
+    for (int k = 0; k <= 160; ++k) {
+      const double n = b.rpm * (0.7 + 0.6 * k / 160.0);
+      const Limits l = linear_limits(b, lim_x, n, 6000);
+      one.x.push_back(n);
+      one.y.push_back(l.single_feed);
+      if (std::isfinite(l.twin_feed)) {
+        two.x.push_back(n);
+        two.y.push_back(l.twin_feed);
+      }
+    }
+    p.series.push_back(one);
+    if (!two.x.empty()) p.series.push_back(two);
+    p.series.push_back({"programmed", {b.rpm}, {b.feed_mm_per_rev}, "#000", false, true});
+    p.markers.push_back({b.rpm, "programmed speed"});
+    rep.plots.push_back(p);
+  }
+  if (!sweep.empty()) {
+    Plot p{
+        "Steady vibration against the programmed feed", "feed [mm/rev]", "vibration [µm]", {}, {}};
+    Series s0{"no modulation", {}, {}, colors[0], false, true},
+        s1{main.label, {}, {}, colors[1], false, true};
+    Table tb{"Sweep over the feed",
+             {"feed [mm/rev]", "no modulation [µm]", main.label + " [µm]", "ratio",
+              "mean feed / programmed"},
+             {}};
+    for (const auto& q : sweep) {
+      s0.x.push_back(q->feed);
+      s0.y.push_back(q->off.vibration_um);
+      if (modulated) {
+        s1.x.push_back(q->feed);
+        s1.y.push_back(q->on.vibration_um);
+      }
+      tb.rows.push_back(
+          {fmt(q->feed, "%.3f"), fmt(q->off.vibration_um, "%.3g"),
+           modulated ? fmt(q->on.vibration_um, "%.3g") : "—",
+           modulated ? fmt(q->off.vibration_um / std::max(q->on.vibration_um, 1e-9), "%.3g") : "—",
+           modulated ? fmt(q->on.feed_mean[t] / (q->feed * b.rpm), "%.3f") : "—"});
+    }
+    p.series.push_back(s0);
+    if (modulated) p.series.push_back(s1);
+    if (std::isfinite(lim.twin_feed)) p.markers.push_back({lim.twin_feed, "feed-division limit"});
+    if (std::isfinite(lim.single_feed)) p.markers.push_back({lim.single_feed, "one-tool limit"});
+    rep.plots.push_back(p);
+    rep.tables.push_back(tb);
+  }
+
+  out.channels_csv = channels_csv(main.rig.recorder());
+  if (off && off != &main) out.compare_csv = channels_csv(off->rig.recorder());
+  out.headline =
+      (off ? "no modulation " + fmt(off->vibration_um, "%.3g") + " µm" : std::string()) +
+      (modulated ? (off ? "; " : "") + main.label + " " + fmt(main.vibration_um, "%.3g") +
+                       " µm, mean feed " + fmt(main.feed_mean[t] / s_prog, "%.3f") + "× programmed"
+                 : std::string());
+  return out;
+}
+
+}  // namespace lathectl::io

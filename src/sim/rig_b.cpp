@@ -1,0 +1,224 @@
+#include "lathectl/sim/rig_b.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace lathectl::sim {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+std::vector<Channel> rig_b_channels() {
+  return {{"time_s", "s"},
+          {"z1_mm", "mm"},
+          {"z2_mm", "mm"},
+          {"y_um", "um"},
+          {"y_highpass_um", "um"},
+          {"a0_um", "um"},
+          {"omega_d_Hz", "Hz"},
+          {"feed1_mm_per_min", "mm/min"},
+          {"feed2_mm_per_min", "mm/min"},
+          {"feed1_cmd_mm_per_min", "mm/min"},
+          {"feed2_cmd_mm_per_min", "mm/min"},
+          {"chip1_mm", "mm"},
+          {"chip2_mm", "mm"},
+          {"depth1_mm", "mm"},
+          {"depth2_mm", "mm"},
+          {"radial1_N", "N"},
+          {"radial2_N", "N"},
+          {"cut_power_W", "W"},
+          {"cut_power_measured_W", "W"},
+          {"spindle_power_W", "W"},
+          {"spindle_rpm", "rpm"},
+          {"engaged", ""},
+          {"reason_code", ""},
+          {"S_min_mm_per_min", "mm/min"},
+          {"dS_mm_per_min", "mm/min"},
+          {"dl_mm", "mm"},
+          {"n_s", ""}};
+}
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("rig B: " + what);
+}
+
+}  // namespace
+
+double RigB::modal_mass_kg(const dynamics::BeamPart& part, double x_c_m) {
+  (void)dynamics::beam_modes_at(part, x_c_m, 1);  // validates
+  return dynamics::beam_mode_at(part, x_c_m, 1).mass_kg;
+}
+
+void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
+                     double max_duration) {
+  require(dt > 0.0 && record_interval >= dt && max_duration > 0.0,
+          "dt, record interval and duration must be positive (record interval ≥ dt)");
+  const double L_mm = cfg.part.length_m * 1e3;
+  require(cfg.z_end_mm < L_mm && cfg.z_end_mm > cfg.z_start_mm,
+          "the cut must run between the centres: 0 < z_start < z_end < length");
+  require(cfg.approach_mm >= 0.0 && cfg.idle_block_s >= 0.0,
+          "approach and idle block must be non-negative");
+  require(cfg.feed_drive_bandwidth_Hz > 0.0, "feed drive bandwidth must be positive");
+  cfg_ = cfg;
+  dt_ = dt;
+  max_t_ = max_duration;
+  t_ = 0.0;
+  step_ = 0;
+  done_ = false;
+  t_cut_start_ = engaged_at_ = -1.0;
+  theta_ = 0.0;
+  record_every_ =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(record_interval / dt)));
+  chain_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1e-4 / dt)));
+  control_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1e-3 / dt)));
+
+  dynamics::TwinTurretCut::Params pp;
+  pp.part = cfg.part;
+  pp.modes = cfg.modes;
+  pp.cutting = cfg.cutting;
+  pp.setup = cfg.setup;
+  pp.depth_mm[0] = cfg.depth_mm[0];
+  pp.depth_mm[1] = cfg.depth_mm[1];
+  pp.overlap = cfg.overlap;
+  pp.tool2_lag_mm = cfg.tool2_lag_mm;
+  pp.z_start_mm = cfg.z_start_mm;
+  pp.modes_follow_tool = cfg.modes_follow_tool;
+  pp.initial_disturbance_um = cfg.initial_disturbance_um;
+  pp.rpm_nominal = cfg.rpm;
+  pp.feed_mm_per_rev = cfg.feed_mm_per_rev;
+  process_.configure(pp, dt);
+  n_tools_ = process_.tools();
+  for (int i = 0; i < 2; ++i) {
+    turrets_[i] = Turret{};
+    turrets_[i].z0_mm = cfg.z_start_mm - cfg.approach_mm;
+  }
+  if (cfg.setup != TwinSetup::Single) turrets_[1].z0_mm -= cfg.tool2_lag_mm;
+  for (Turret& tu : turrets_) tu.z_mm = tu.z0_mm;
+
+  cfg_.vibration.sample_period_s = dt * static_cast<double>(chain_every_);
+  chain_.configure(cfg_.vibration);
+  const double hp = cfg_.vibration.highpass_Hz;
+  const double k = std::tan(kPi * hp * dt);
+  const double nq = 1.0 / (1.0 + std::numbers::sqrt2 * k + k * k);
+  hb0_ = nq;
+  hb1_ = -2.0 * nq;
+  hb2_ = nq;
+  ha1_ = 2.0 * (k * k - 1.0) * nq;
+  ha2_ = (1.0 - std::numbers::sqrt2 * k + k * k) * nq;
+  hx1_ = hx2_ = hy1_ = hy2_ = y_hp_ = 0.0;
+
+  spindle_.configure(cfg.spindle);
+  spindle_.reset(cfg.rpm);
+  power_.configure(cfg.power, dt * static_cast<double>(control_every_));
+  auto mp = cfg.module;
+  mp.period_s = dt * static_cast<double>(control_every_);
+  module_.configure(mp);
+  mod_out_ = {};
+  const double cut_time = (cfg.z_end_mm - cfg.z_start_mm + cfg.approach_mm + cfg.tool2_lag_mm) /
+                          (cfg.feed_mm_per_rev * cfg.rpm / 60.0);
+  max_t_ = std::min(max_duration, cfg.idle_block_s + 1.5 * cut_time + 1.0);
+  const double rows = max_t_ / (dt * static_cast<double>(record_every_)) + 2.0;
+  require(rows <= 5e6, "more than 5e6 recorded rows: raise run.record_interval_s");
+  rec_ = Recorder(rig_b_channels(), static_cast<std::size_t>(rows));
+}
+
+bool RigB::step() noexcept {
+  if (done_ || t_ >= max_t_ || !process_.sound()) return false;
+  const bool idle_block = t_ < cfg_.idle_block_s;
+  const bool feed_block = !idle_block;
+  if (feed_block && t_cut_start_ < 0.0) t_cut_start_ = t_;
+
+  if (step_ % control_every_ == 0) {
+    const double rpm = spindle_.rpm();
+    power_.update(spindle_.electrical_power_W(), rpm, idle_block);
+    control::ModulatedFeedController::Input in;
+    in.a0_m = chain_.a0_m();
+    in.omega_d_rad_per_s = chain_.omega_d();
+    in.cut_power_W = power_.cutting_W();
+    in.speed_m_per_min = kPi * cfg_.part.diameter_m * rpm;
+    in.rpm = rpm;
+    const double s_prog = cfg_.feed_mm_per_rev * cfg_.rpm;
+    in.feed_programmed_mm_per_min[0] = s_prog;
+    in.feed_programmed_mm_per_min[1] = n_tools_ == 2 ? s_prog : 0.0;
+    in.path_mm[0] = turrets_[0].z_mm - turrets_[0].z0_mm;
+    in.path_mm[1] = turrets_[1].z_mm - turrets_[1].z0_mm;
+    in.feed_block = feed_block;
+    in.source = cfg_.source;
+    in.turret = cfg_.turret;
+    in.programmed = cfg_.programmed;
+    (void)module_.update(in, mod_out_);
+    if (mod_out_.engaged && engaged_at_ < 0.0) engaged_at_ = t_;
+    for (int i = 0; i < 2; ++i)
+      turrets_[i].cmd_mm_per_min = feed_block && i < n_tools_ ? mod_out_.feed_mm_per_min[i] : 0.0;
+  }
+
+  // Feed drives, spindle, cutting position.
+  const double a = 1.0 - std::exp(-2.0 * kPi * cfg_.feed_drive_bandwidth_Hz * dt_);
+  for (int i = 0; i < n_tools_; ++i) {
+    Turret& tu = turrets_[i];
+    tu.v_mm_per_min += a * (tu.cmd_mm_per_min - tu.v_mm_per_min);
+    tu.z_mm += tu.v_mm_per_min / 60.0 * dt_;
+  }
+  spindle_.step(dt_, cfg_.rpm, process_.torque_N_m());
+  theta_ += spindle_.omega() * dt_;
+  // Cutting at each edge, then the part's response to the radial forces.
+  const double z[2] = {turrets_[0].z_mm, turrets_[1].z_mm};
+  process_.step(theta_, spindle_.rpm(), z);
+  const double y = process_.y_m();
+  const double yh = hb0_ * y + hb1_ * hx1_ + hb2_ * hx2_ - ha1_ * hy1_ - ha2_ * hy2_;
+  hx2_ = hx1_;
+  hx1_ = y;
+  hy2_ = hy1_;
+  hy1_ = yh;
+  y_hp_ = yh;
+  if (step_ % chain_every_ == 0) chain_.update(y);
+
+  if (step_ % record_every_ == 0) {
+    const double cut_power = process_.power_W(spindle_.rpm());
+    const auto& pl = mod_out_.plan;
+    const double row[] = {t_,
+                          turrets_[0].z_mm,
+                          turrets_[1].z_mm,
+                          y * 1e6,
+                          y_hp_ * 1e6,
+                          chain_.a0_m() * 1e6,
+                          chain_.omega_d() / (2.0 * kPi),
+                          turrets_[0].v_mm_per_min,
+                          turrets_[1].v_mm_per_min,
+                          turrets_[0].cmd_mm_per_min,
+                          turrets_[1].cmd_mm_per_min,
+                          process_.cutting(0) ? process_.chip_mm(0) : 0.0,
+                          n_tools_ > 1 && process_.cutting(1) ? process_.chip_mm(1) : 0.0,
+                          process_.cutting(0) ? process_.depth_mm(0) : 0.0,
+                          n_tools_ > 1 && process_.cutting(1) ? process_.depth_mm(1) : 0.0,
+                          process_.radial_N(0),
+                          n_tools_ > 1 ? process_.radial_N(1) : 0.0,
+                          cut_power,
+                          power_.cutting_W(),
+                          spindle_.electrical_power_W(),
+                          spindle_.rpm(),
+                          mod_out_.engaged ? 1.0 : 0.0,
+                          static_cast<double>(mod_out_.reason),
+                          pl.s_min_mm_per_min,
+                          pl.ds_mm_per_min,
+                          pl.dl_mm,
+                          static_cast<double>(pl.n_s)};
+    rec_.push_row(row);
+  }
+  t_ += dt_;
+  ++step_;
+  if (turrets_[0].z_mm >= cfg_.z_end_mm && (n_tools_ == 1 || turrets_[1].z_mm >= cfg_.z_end_mm))
+    done_ = true;
+  return !done_;
+}
+
+void RigB::run() noexcept {
+  while (step()) {
+  }
+}
+
+}  // namespace lathectl::sim
