@@ -67,17 +67,20 @@ inline double number_param(const char* text, const char* key, double fallback) {
   return v;
 }
 
-// The system-E scenario named by the `scenario=` module parameter (errors name file, line, key).
-inline io::Scenario load_system_e(const char* path) {
+// The scenario of `system` named by the `scenario=` module parameter (errors name file, line,
+// key).
+inline io::Scenario load_system(const char* path, const std::string& system) {
   if (path == nullptr || *path == '\0')
-    throw Error("module parameter scenario=PATH (a system-E scenario file) is required");
+    throw Error("module parameter scenario=PATH (a system-" + system +
+                " scenario file) is required");
   const auto lib = io::MaterialLibrary::load_default();
   auto sc = io::load_scenario(path, lib);
-  if (sc.system != "E")
-    throw Error(std::string(path) + ": system = \"" + sc.system +
-                "\", these components need a system-E scenario");
+  if (sc.system != system)
+    throw Error(std::string(path) + ": system = \"" + sc.system + "\", this component needs a system-" +
+                system + " scenario");
   return sc;
 }
+inline io::Scenario load_system_e(const char* path) { return load_system(path, "E"); }
 
 // Wall time of one call with the monotonic clock; the worst case since load (or reset).
 class UpdateTimer {

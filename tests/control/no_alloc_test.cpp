@@ -154,6 +154,8 @@ TEST(NoAlloc, LathePlantStepNeverAllocates) {
   }
   EXPECT_EQ(g_allocations.load() - before, 0);
   EXPECT_GT(out.time_in_cut_s, 10.0);
+}
+
 // Seed 001's module and its measurement chain through every path: below the dead zone, engaging,
 // re-planning as the vibration grows, the limited plan, the turret flag changing (a new block),
 // the programmed variant, no power, the end of the block.

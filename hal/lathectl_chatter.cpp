@@ -1,0 +1,195 @@
+// lathectl_chatter — system B's cutting process as a HAL component: the slender part between
+// centres, its modes at the tool, regeneration and the tool leaving the cut
+// (dynamics::TwinTurretCut, one tool: LinuxCNC's lathe has one tool path), with the hardware of
+// seed 001's measurement chain — vibration sensor 16, amplifier 17 with its dead zone, amplitude
+// detector (ADC 19) and frequency detector 20 (sensors::VibrationChain) — and the main motor's
+// electrical power (cutting power / efficiency + the spindle's speed-dependent idle losses).
+//
+//   loadrt lathectl_chatter scenario=PATH [z_origin_mm=0] [period_ns=1000000]
+//   addf lathectl-chatter servo-thread
+//
+// Chatter at a few hundred hertz cannot be stepped at the servo period, so each call advances
+// the process in sub-steps of the scenario's run.step_s, the axis position and spindle angle
+// interpolated linearly between the previous call's and this one's. The part coordinate is
+// z_part = z_origin_mm − z (the tool feeds toward −Z, into increasing z_part).
+// Pins, parameters and units: lathectl_chatter(9).
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numbers>
+
+#include "lathectl/dynamics/twin_turret.hpp"
+#include "lathectl/sensors/vibration_chain.hpp"
+#include "lathectl_hal.hpp"
+
+MODULE_AUTHOR("lathectl");
+MODULE_DESCRIPTION("lathectl system-B chatter plant (slender part, regeneration) for LinuxCNC");
+MODULE_LICENSE("GPL");
+
+static char* scenario = nullptr;
+RTAPI_MP_STRING(scenario, "system-B scenario file (TOML): part, material, cut, sensors");
+static char* z_origin_mm = nullptr;
+RTAPI_MP_STRING(z_origin_mm, "machine z [mm] of the part's z = 0 (the part lies toward -z)");
+static char* period_ns = nullptr;
+RTAPI_MP_STRING(period_ns, "period of the thread this runs in [ns], default 1000000");
+
+namespace {
+
+constexpr const char* kName = "lathectl_chatter";
+constexpr const char* kPrefix = "lathectl-chatter";
+
+struct Pins {
+  hal_float_t* z_pos;
+  hal_float_t* revs;  // spindle position in revolutions (spindle.0.revs)
+  hal_float_t* rpm;
+  hal_bit_t* enable;
+  hal_float_t* vibration;  // µm, the part's displacement at the tool
+  hal_float_t* a0;         // µm, ADC 19
+  hal_float_t* omega_d;    // Hz, detector 20
+  hal_float_t* radial;
+  hal_float_t* tangential;
+  hal_float_t* cut_power;
+  hal_float_t* spindle_power;
+  hal_float_t* chip;
+  hal_float_t* depth;
+  hal_bit_t* contact;
+  hal_bit_t* period_error;
+  hal_bit_t* diverged;
+  hal_s32_t* update_ns;
+  hal_s32_t* update_ns_max;
+};
+
+struct State {
+  lathectl::dynamics::TwinTurretCut cut;
+  lathectl::sensors::VibrationChain chain;
+  double z_origin = 0.0;
+  long period = 1000000;
+  int substeps = 50;
+  int chain_every = 1;
+  long count = 0;
+  bool started = false;
+  double last_z = 0.0, last_revs = 0.0;
+  double efficiency = 0.85, p0 = 0.0, p1 = 0.0, p2 = 0.0;
+};
+
+int comp_id = -1;
+Pins* pins = nullptr;
+std::unique_ptr<State> st;
+lathectl::hal::UpdateTimer timer;
+
+void update(void*, long period) {
+  timer.start();
+  Pins& p = *pins;
+  State& s = *st;
+  if (period != s.period) {  // the sub-step was sized for another thread
+    *p.period_error = 1;
+    *p.update_ns = timer.stop();
+    return;
+  }
+  const double z = *p.enable ? s.z_origin - *p.z_pos : -1e9;  // disabled: far from the part
+  const double revs = *p.revs;
+  if (!s.started) {
+    s.last_z = z;
+    s.last_revs = revs;
+    s.started = true;
+  }
+  const double rpm = std::abs(*p.rpm);
+  for (int k = 1; k <= s.substeps; ++k) {
+    const double f = static_cast<double>(k) / s.substeps;
+    const double zk = s.last_z + f * (z - s.last_z);
+    const double theta = 2.0 * std::numbers::pi * (s.last_revs + f * (revs - s.last_revs));
+    const double zz[2] = {zk, zk};
+    s.cut.step(theta, rpm, zz);
+    if (s.count++ % s.chain_every == 0) s.chain.update(s.cut.y_m());
+  }
+  s.last_z = z;
+  s.last_revs = revs;
+  const double pc = s.cut.power_W(rpm);
+  *p.vibration = s.cut.y_m() * 1e6;
+  *p.a0 = s.chain.a0_m() * 1e6;
+  *p.omega_d = s.chain.omega_d() / (2.0 * std::numbers::pi);
+  *p.radial = s.cut.radial_N(0);
+  *p.tangential = s.cut.tangential_N(0);
+  *p.cut_power = pc;
+  *p.spindle_power = pc / s.efficiency + s.p0 + s.p1 * rpm + s.p2 * rpm * rpm;
+  *p.chip = s.cut.cutting(0) ? s.cut.chip_mm(0) : 0.0;
+  *p.depth = s.cut.cutting(0) ? s.cut.depth_mm(0) : 0.0;
+  *p.contact = s.cut.cutting(0);
+  *p.diverged = !s.cut.sound();
+  *p.update_ns = timer.stop();
+  *p.update_ns_max = timer.max();
+}
+
+}  // namespace
+
+extern "C" int rtapi_app_main(void) {
+  comp_id = hal_init(kName);
+  if (comp_id < 0) return comp_id;
+  return lathectl::hal::guarded_load(kName, comp_id, [] {
+    using lathectl::hal::pin;
+    const auto sc = lathectl::hal::load_system(scenario, "B");
+    const auto& b = sc.b;
+    if (b.setup != lathectl::dynamics::TwinSetup::Single)
+      throw lathectl::hal::Error(std::string(scenario) +
+                                 ": cut.setup must be \"single\" (LinuxCNC's lathe has one tool "
+                                 "path)");
+    auto state = std::make_unique<State>();
+    state->z_origin = lathectl::hal::number_param(z_origin_mm, "z_origin_mm", 0.0);
+    const double period = lathectl::hal::number_param(period_ns, "period_ns", 1e6);
+    if (!(period >= 1e4 && period <= 1e8))
+      throw lathectl::hal::Error("module parameter period_ns: expected 1e4 … 1e8");
+    state->period = std::lround(period);
+    state->substeps = std::max(1, static_cast<int>(std::lround(period * 1e-9 / sc.run.step_s)));
+    const double dt = period * 1e-9 / state->substeps;
+    lathectl::dynamics::TwinTurretCut::Params pp;
+    pp.part = b.part;
+    pp.modes = b.modes;
+    pp.cutting = b.cutting;
+    pp.setup = b.setup;
+    pp.depth_mm[0] = pp.depth_mm[1] = b.depth_mm[0];
+    pp.overlap = b.overlap;
+    pp.z_start_mm = b.z_start_mm;
+    pp.initial_disturbance_um = b.initial_disturbance_um;
+    pp.rpm_nominal = b.rpm;
+    pp.feed_mm_per_rev = b.feed_mm_per_rev;
+    state->cut.configure(pp, dt);
+    state->chain_every = std::max(1, static_cast<int>(std::lround(1e-4 / dt)));
+    auto vib = b.vibration;
+    vib.sample_period_s = dt * state->chain_every;
+    state->chain.configure(vib);
+    state->efficiency = b.spindle.efficiency;
+    state->p0 = b.spindle.idle_p0_W;
+    state->p1 = b.spindle.idle_p1_W_per_rpm;
+    state->p2 = b.spindle.idle_p2_W_per_rpm2;
+    pins = static_cast<Pins*>(hal_malloc(sizeof(Pins)));
+    if (pins == nullptr) throw lathectl::hal::Error("hal_malloc failed");
+    Pins& p = *pins;
+    pin(&p.z_pos, HAL_IN, comp_id, kPrefix, "z-pos");
+    pin(&p.revs, HAL_IN, comp_id, kPrefix, "spindle-revs");
+    pin(&p.rpm, HAL_IN, comp_id, kPrefix, "spindle-rpm");
+    pin(&p.enable, HAL_IN, comp_id, kPrefix, "enable");
+    pin(&p.vibration, HAL_OUT, comp_id, kPrefix, "vibration-um");
+    pin(&p.a0, HAL_OUT, comp_id, kPrefix, "a0-um");
+    pin(&p.omega_d, HAL_OUT, comp_id, kPrefix, "omega-d-Hz");
+    pin(&p.radial, HAL_OUT, comp_id, kPrefix, "radial-force");
+    pin(&p.tangential, HAL_OUT, comp_id, kPrefix, "tangential-force");
+    pin(&p.cut_power, HAL_OUT, comp_id, kPrefix, "cut-power");
+    pin(&p.spindle_power, HAL_OUT, comp_id, kPrefix, "spindle-power");
+    pin(&p.chip, HAL_OUT, comp_id, kPrefix, "chip");
+    pin(&p.depth, HAL_OUT, comp_id, kPrefix, "depth");
+    pin(&p.contact, HAL_OUT, comp_id, kPrefix, "in-contact");
+    pin(&p.period_error, HAL_OUT, comp_id, kPrefix, "period-error");
+    pin(&p.diverged, HAL_OUT, comp_id, kPrefix, "diverged");
+    pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
+    pin(&p.update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
+    st = std::move(state);
+    lathectl::hal::check(hal_export_funct(kPrefix, update, nullptr, 1, 0, comp_id),
+                         "hal_export_funct");
+  });
+}
+
+extern "C" void rtapi_app_exit(void) {
+  hal_exit(comp_id);
+  st.reset();
+}

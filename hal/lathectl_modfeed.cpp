@@ -1,0 +1,238 @@
+// lathectl_modfeed — seed 001's CNC module as a realtime HAL component: vibration control by
+// modulated feed. A thin wrapper: the law is control::ModulatedFeedController (the staircase
+// S_min → S_max = S_min + n_s·ΔS in steps of ΔS per path length Δl, sized by the quenching
+// condition A_P ≥ c·a0·m_d·|ω_d² − ω_m²|), and the idle-power compensation is
+// sensors::PowerSensor (switch 12, compensator 13, adder 14) — the objects the simulator links.
+//
+//   loadrt lathectl_modfeed scenario=PATH [ceiling=2]
+//   addf lathectl-modfeed servo-thread
+//
+// Inputs: a0 and ω_d from the vibration chain's detectors (lathectl_chatter, or the machine's
+// own ADC channels), the main motor's electrical power, the spindle speed, the NC block's flags
+// (idle block, turret, source) and, for the programmed variant, its (S_min, ΔS, Δl, n_s).
+// Output: motion.adaptive-feed. LinuxCNC clips that factor to ≤ 1, and the staircase must rise
+// above the mean feed, so the program's F word is the ceiling: the mean feed the module keeps
+// is F/ceiling, and the factor is S(t)/F ∈ (0, 1] (1/ceiling while not modulating). Write F at
+// `ceiling` times the feed you want. Never negative (a negative factor runs the path backward).
+// Pins, parameters and units: lathectl_modfeed(9).
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numbers>
+
+#include "lathectl/control/modulated_feed.hpp"
+#include "lathectl/sensors/vibration_chain.hpp"
+#include "lathectl_hal.hpp"
+
+MODULE_AUTHOR("lathectl");
+MODULE_DESCRIPTION("lathectl seed-001 modulated-feed module (vibration control) for LinuxCNC");
+MODULE_LICENSE("GPL");
+
+static char* scenario = nullptr;
+RTAPI_MP_STRING(scenario, "system-B scenario file (TOML) whose [modulation] sets the module");
+static char* ceiling = nullptr;
+RTAPI_MP_STRING(ceiling, "the program's F over the mean feed to keep (≥ 1), default 2");
+
+namespace {
+
+using lathectl::control::ModulatedFeedController;
+using lathectl::control::ModulationSource;
+using lathectl::control::Turret;
+constexpr const char* kName = "lathectl_modfeed";
+constexpr const char* kPrefix = "lathectl-modfeed";
+
+struct Pins {
+  // inputs
+  hal_float_t* a0;            // µm
+  hal_float_t* omega_d;       // Hz
+  hal_float_t* power;         // W, main motor's electrical power
+  hal_float_t* rpm;
+  hal_float_t* x_pos;         // mm, radius: V = 2π·|x|·n
+  hal_float_t* requested_vel; // mm/s (G94) or the F word (G95)
+  hal_float_t* current_vel;   // mm/s along the path
+  hal_s32_t* motion_type;
+  hal_bit_t* per_rev;
+  hal_bit_t* idle_block;
+  hal_bit_t* turret_left;
+  hal_s32_t* source;          // 0 none, 1 programmed, 2 automatic
+  hal_float_t* prog_s_min;    // mm/min
+  hal_float_t* prog_ds;       // mm/min
+  hal_float_t* prog_dl;       // mm
+  hal_s32_t* prog_n_s;
+  hal_bit_t* enable;
+  hal_bit_t* reset_max;
+  // outputs
+  hal_float_t* adaptive_feed;
+  hal_float_t* feed;          // mm/min, the modulated feed of the flagged turret
+  hal_float_t* cut_power;     // W, N_c
+  hal_bit_t* engaged;
+  hal_s32_t* reason;
+  hal_float_t* s_min;
+  hal_float_t* ds;
+  hal_float_t* dl;
+  hal_s32_t* n_s;
+  hal_float_t* omega_m;       // Hz
+  hal_float_t* ap_required;   // N
+  hal_float_t* ap_planned;    // N
+  hal_bit_t* period_error;
+  hal_s32_t* update_ns;
+  hal_s32_t* update_ns_max;
+  // parameters
+  hal_float_t ceiling;
+  hal_float_t coefficient;
+  hal_float_t part_mass;
+};
+
+struct State {
+  ModulatedFeedController module;
+  ModulatedFeedController::Output out{};
+  lathectl::sensors::PowerSensor power;
+  long every = 0;
+  long count = 0;
+  double period_s = 1e-3;
+  double path = 0.0;  // mm travelled along the path in feed blocks
+};
+
+int comp_id = -1;
+Pins* pins = nullptr;
+std::unique_ptr<State> st;
+lathectl::hal::UpdateTimer timer;
+
+void update(void*, long period_ns) {
+  Pins& p = *pins;
+  State& s = *st;
+  const double dt = static_cast<double>(period_ns) * 1e-9;
+  if (s.every == 0) {  // the module's period must be a whole number of thread periods
+    const double ratio = s.module.params().period_s / dt;
+    const long k = std::lround(ratio);
+    s.every = (k < 1 || std::abs(ratio - static_cast<double>(k)) > 0.01 * ratio) ? -1 : k;
+    *p.period_error = s.every < 0;
+  }
+  if (*p.reset_max) timer.reset();
+  const double ceil = std::max(1.0, static_cast<double>(p.ceiling));
+  if (s.every < 0 || !*p.enable) {
+    *p.adaptive_feed = 1.0 / ceil;
+    *p.engaged = 0;
+    *p.update_ns_max = timer.max();
+    return;
+  }
+  const bool feed_block = *p.motion_type == 2 || *p.motion_type == 3;
+  s.path += feed_block ? std::abs(*p.current_vel) * dt : 0.0;
+  if (s.count++ % s.every != 0) return;
+  timer.start();
+  const double rpm = std::abs(*p.rpm);
+  s.power.update(*p.power, rpm, *p.idle_block);
+  ModulatedFeedController::Input in;
+  in.a0_m = std::max(0.0, static_cast<double>(*p.a0)) * 1e-6;
+  in.omega_d_rad_per_s = std::max(0.0, static_cast<double>(*p.omega_d)) * 2.0 * std::numbers::pi;
+  in.cut_power_W = s.power.cutting_W();
+  in.speed_m_per_min = 2.0 * std::numbers::pi * std::abs(*p.x_pos) * rpm / 1000.0;
+  in.rpm = rpm;
+  // The program's F is the ceiling; the mean feed to keep is F/ceiling [mm/min].
+  const double req = std::abs(*p.requested_vel);
+  const double f_prog = *p.per_rev ? req * rpm : req * 60.0;
+  const double mean = f_prog / ceil;
+  const int t = *p.turret_left ? 1 : 0;
+  in.feed_programmed_mm_per_min[0] = in.feed_programmed_mm_per_min[1] = mean;
+  in.path_mm[t] = s.path;
+  in.feed_block = feed_block && mean > 0.0;
+  const int src = *p.source;
+  in.source = src == 1   ? ModulationSource::Programmed
+              : src == 2 ? ModulationSource::Automatic
+                         : ModulationSource::None;
+  in.turret = t ? Turret::Left : Turret::Right;
+  in.programmed = {*p.prog_s_min, *p.prog_ds, *p.prog_dl, *p.prog_n_s};
+  (void)s.module.update(in, s.out);
+  const auto& o = s.out;
+  const double feed = o.feed_mm_per_min[t];
+  *p.feed = feed;
+  *p.adaptive_feed = f_prog > 0.0 ? std::clamp(feed / f_prog, 0.0, 1.0) : 1.0 / ceil;
+  *p.cut_power = in.cut_power_W;
+  *p.engaged = o.engaged;
+  *p.reason = static_cast<std::int32_t>(o.reason);
+  *p.s_min = o.plan.s_min_mm_per_min;
+  *p.ds = o.plan.ds_mm_per_min;
+  *p.dl = o.plan.dl_mm;
+  *p.n_s = o.plan.n_s;
+  *p.omega_m = o.omega_m_rad_per_s / (2.0 * std::numbers::pi);
+  *p.ap_required = o.force_amplitude_required_N;
+  *p.ap_planned = o.force_amplitude_planned_N;
+  *p.update_ns = timer.stop();
+  *p.update_ns_max = timer.max();
+}
+
+}  // namespace
+
+extern "C" int rtapi_app_main(void) {
+  comp_id = hal_init(kName);
+  if (comp_id < 0) return comp_id;
+  return lathectl::hal::guarded_load(kName, comp_id, [] {
+    using lathectl::hal::param;
+    using lathectl::hal::pin;
+    const auto sc = lathectl::hal::load_system(scenario, "B");
+    const double c = lathectl::hal::number_param(ceiling, "ceiling", 2.0);
+    if (!(c >= 1.0 && c <= 100.0))
+      throw lathectl::hal::Error("module parameter ceiling: expected 1 … 100");
+    auto state = std::make_unique<State>();
+    auto mp = sc.b.module;
+    mp.period_s = 1e-3;
+    // The staircase may not rise above the program's F (LinuxCNC clips the factor at 1).
+    mp.s_max_fraction = std::min(mp.s_max_fraction, c);
+    if (!(mp.s_max_fraction > 1.0))
+      throw lathectl::hal::Error("ceiling must exceed 1 for the staircase to rise above the mean");
+    state->module.configure(mp);
+    state->power.configure(sc.b.power, mp.period_s);
+    pins = static_cast<Pins*>(hal_malloc(sizeof(Pins)));
+    if (pins == nullptr) throw lathectl::hal::Error("hal_malloc failed");
+    Pins& p = *pins;
+    pin(&p.a0, HAL_IN, comp_id, kPrefix, "a0-um");
+    pin(&p.omega_d, HAL_IN, comp_id, kPrefix, "omega-d-Hz");
+    pin(&p.power, HAL_IN, comp_id, kPrefix, "spindle-power");
+    pin(&p.rpm, HAL_IN, comp_id, kPrefix, "spindle-rpm");
+    pin(&p.x_pos, HAL_IN, comp_id, kPrefix, "x-pos");
+    pin(&p.requested_vel, HAL_IN, comp_id, kPrefix, "requested-vel");
+    pin(&p.current_vel, HAL_IN, comp_id, kPrefix, "current-vel");
+    pin(&p.motion_type, HAL_IN, comp_id, kPrefix, "motion-type");
+    pin(&p.per_rev, HAL_IN, comp_id, kPrefix, "feed-per-rev-mode");
+    pin(&p.idle_block, HAL_IN, comp_id, kPrefix, "idle-block");
+    pin(&p.turret_left, HAL_IN, comp_id, kPrefix, "turret-left");
+    pin(&p.source, HAL_IN, comp_id, kPrefix, "source");
+    pin(&p.prog_s_min, HAL_IN, comp_id, kPrefix, "prog-s-min");
+    pin(&p.prog_ds, HAL_IN, comp_id, kPrefix, "prog-ds");
+    pin(&p.prog_dl, HAL_IN, comp_id, kPrefix, "prog-dl");
+    pin(&p.prog_n_s, HAL_IN, comp_id, kPrefix, "prog-n-s");
+    pin(&p.enable, HAL_IN, comp_id, kPrefix, "enable");
+    pin(&p.reset_max, HAL_IN, comp_id, kPrefix, "reset-max");
+    pin(&p.adaptive_feed, HAL_OUT, comp_id, kPrefix, "adaptive-feed");
+    pin(&p.feed, HAL_OUT, comp_id, kPrefix, "feed");
+    pin(&p.cut_power, HAL_OUT, comp_id, kPrefix, "cut-power");
+    pin(&p.engaged, HAL_OUT, comp_id, kPrefix, "engaged");
+    pin(&p.reason, HAL_OUT, comp_id, kPrefix, "reason");
+    pin(&p.s_min, HAL_OUT, comp_id, kPrefix, "s-min");
+    pin(&p.ds, HAL_OUT, comp_id, kPrefix, "ds");
+    pin(&p.dl, HAL_OUT, comp_id, kPrefix, "dl");
+    pin(&p.n_s, HAL_OUT, comp_id, kPrefix, "n-s");
+    pin(&p.omega_m, HAL_OUT, comp_id, kPrefix, "omega-m-Hz");
+    pin(&p.ap_required, HAL_OUT, comp_id, kPrefix, "ap-required");
+    pin(&p.ap_planned, HAL_OUT, comp_id, kPrefix, "ap-planned");
+    pin(&p.period_error, HAL_OUT, comp_id, kPrefix, "period-error");
+    pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
+    pin(&p.update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
+    *p.adaptive_feed = 1.0 / c;
+    *p.source = static_cast<std::int32_t>(sc.b.source);
+    *p.turret_left = sc.b.turret == Turret::Left;
+    *p.enable = 1;
+    param(&p.ceiling, HAL_RO, comp_id, kPrefix, "ceiling", c);
+    param(&p.coefficient, HAL_RO, comp_id, kPrefix, "coefficient", mp.coefficient);
+    param(&p.part_mass, HAL_RO, comp_id, kPrefix, "part-mass", mp.part_mass_kg);
+    st = std::move(state);
+    lathectl::hal::check(hal_export_funct(kPrefix, update, nullptr, 1, 0, comp_id),
+                         "hal_export_funct");
+  });
+}
+
+extern "C" void rtapi_app_exit(void) {
+  hal_exit(comp_id);
+  st.reset();
+}
