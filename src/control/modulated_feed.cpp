@@ -57,6 +57,18 @@ void ModulatedFeedGenerator::start(const ModulationPlan& plan) noexcept {
   in_segment_mm_ = 0.0;
 }
 
+void ModulatedFeedGenerator::retune(const ModulationPlan& plan) noexcept {
+  if (!plan_.active() || !plan.active()) {
+    start(plan);
+    return;
+  }
+  const double fraction = in_segment_mm_ / plan_.dl_mm;
+  const double phase = static_cast<double>(segment_) / (2.0 * plan_.n_s);
+  plan_ = plan;
+  segment_ = std::min(2 * plan.n_s - 1, static_cast<int>(phase * 2.0 * plan.n_s));
+  in_segment_mm_ = fraction * plan.dl_mm;
+}
+
 double ModulatedFeedGenerator::feed() const noexcept {
   return plan_.s_min_mm_per_min + level_of(segment_, plan_.n_s) * plan_.ds_mm_per_min;
 }
@@ -235,7 +247,10 @@ Status ModulatedFeedController::update(const Input& in, Output& out) noexcept {
       const ModulationPlan plan =
           plan_for(a0, in.omega_d_rad_per_s, in.cut_power_W, in.speed_m_per_min, s_p, in.rpm,
                    omega_m_, required_N_, planned_N_, limited_);
-      gen_.start(plan);
+      if (engaged_)
+        gen_.retune(plan);
+      else
+        gen_.start(plan);
       engaged_ = true;
       a0_planned_ = a0;
       since_plan_s_ = 0.0;

@@ -260,3 +260,21 @@ TEST(ModulatedFeedController, UnconfiguredAndBadParameters) {
 
 }  // namespace
 }  // namespace lathectl::control
+
+namespace lathectl::control {
+namespace {
+TEST(ModulatedFeedGenerator, RetuningKeepsThePhase) {
+  ModulatedFeedGenerator g;
+  g.start({100.0, 10.0, 0.5, 4});
+  (void)g.advance(2.6);  // segment 5 (levels 0..4 up, then 3), 0.1 mm into it
+  ASSERT_EQ(g.segment(), 5);
+  g.retune({80.0, 20.0, 1.0, 4});
+  EXPECT_EQ(g.segment(), 5);
+  EXPECT_DOUBLE_EQ(g.feed(), 80.0 + 3 * 20.0);
+  (void)g.advance(0.79);  // 0.2 + 0.79 < 1.0: still in segment 5
+  EXPECT_EQ(g.segment(), 5);
+  (void)g.advance(0.02);
+  EXPECT_EQ(g.segment(), 6);
+}
+}  // namespace
+}  // namespace lathectl::control

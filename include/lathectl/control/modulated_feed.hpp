@@ -70,6 +70,9 @@ struct ModulationPlan {
 class ModulatedFeedGenerator {
  public:
   void start(const ModulationPlan& plan) noexcept;
+  // A new plan without losing the cycle's phase (the same segment, the same fraction of it):
+  // restarting at S_min on every re-plan would over-weight the low levels and drag the mean.
+  void retune(const ModulationPlan& plan) noexcept;
   void stop() noexcept { plan_ = {}; }
   // Advance by the path travelled since the last call [mm]; returns the feed command [mm/min].
   double advance(double path_mm) noexcept;
