@@ -1,0 +1,211 @@
+#!/usr/bin/python3
+"""halrun-level tests of system B's HAL components (lathectl_modfeed, lathectl_chatter), with the
+streamer → component → sampler pattern of halrun_test.py.
+
+  modfeed_test.py stream SOURCE_DIR WORK_DIR       the module against a stimulus: idle-power
+                                                    compensation, dead zone, engagement, the
+                                                    seed's quanta, the programmed variant
+  modfeed_test.py loop SOURCE_DIR WORK_DIR         the chatter plant and the module in a closed HAL
+                                                    loop (the path integrated from the adaptive
+                                                    feed), compared with `lathectl run`
+  modfeed_test.py bad_input SOURCE_DIR WORK_DIR    bad scenarios and module parameters
+"""
+
+import json
+import os
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import halrun_test as H  # noqa: E402  (check, halrun, stream_session, FAILS)
+
+SCENARIO = "examples/linuxcnc/b_chatter_single.toml"
+IDLE_W = 300 + 0.3 * 820 + 1e-4 * 820 ** 2  # the scenario's spindle idle law at 820 rpm
+
+
+def near_multiple(v, q, tol=1e-6):
+    return abs(v / q - round(v / q)) < tol
+
+
+def test_stream(src, work):
+    sc = os.path.join(src, SCENARIO)
+    mean = 0.30 * 820  # mm/min: the feed to keep
+    F = 2.0 * mean / 60.0  # the program's F at the ceiling (2), mm/s
+    rows = []
+    for k in range(6000):
+        t = k * 1e-3
+        idle = t < 0.5
+        vib = t >= 2.0
+        rows.append([20.0 if vib else 0.0, 227.0 if vib else 0.0,
+                     IDLE_W + (0.0 if idle else 1000.0 / 0.85), 820.0, 20.0, F,
+                     0.0 if idle else mean / 60.0, 0 if idle else 2, 1 if idle else 0])
+    stim = ["lathectl-modfeed.a0-um", "lathectl-modfeed.omega-d-Hz",
+            "lathectl-modfeed.spindle-power", "lathectl-modfeed.spindle-rpm",
+            "lathectl-modfeed.x-pos", "lathectl-modfeed.requested-vel",
+            "lathectl-modfeed.current-vel", "lathectl-modfeed.motion-type",
+            "lathectl-modfeed.idle-block"]
+    outs = ["lathectl-modfeed.adaptive-feed", "lathectl-modfeed.feed", "lathectl-modfeed.cut-power",
+            "lathectl-modfeed.engaged", "lathectl-modfeed.reason", "lathectl-modfeed.s-min",
+            "lathectl-modfeed.ds", "lathectl-modfeed.dl", "lathectl-modfeed.n-s"]
+    got = H.stream_session(work, "modfeed", ["lathectl_modfeed scenario=" + sc], "fffffffsb", rows,
+                           stim, "fffbsfffs", outs)
+    if not got:
+        return
+    before = [r for i, r in enumerate(got) if 1000 <= i < 2000]
+    H.check(all(abs(r[0] - 0.5) < 1e-9 and r[3] == 0 for r in before),
+            "below the dead zone (a0 = 0): not engaged, adaptive-feed = 1/ceiling = 0.5")
+    nc = sum(r[2] for r in before) / len(before)
+    H.check(abs(nc - 1000 / 0.85) < 10.0,
+            "idle power stored at the idle block, N_c = N_m − N_idle = %.1f W (expected %.1f)"
+            % (nc, 1000 / 0.85))
+    after = [r for i, r in enumerate(got) if i >= 2300]
+    H.check(all(r[3] == 1 for r in after), "engaged once a0 and ω_d come above the dead zone")
+    H.check(all(int(r[4]) in (50, 52) for r in after),
+            "reason code modulation_engaged (50) or modulation_limited (52)")
+    last = after[-1]
+    s_min, ds, dl, n_s = last[5], last[6], last[7], int(last[8])
+    H.check(ds > 0 and near_multiple(ds, 0.1), "ΔS = %.1f mm/min, a multiple of 0.1" % ds)
+    H.check(dl > 0 and near_multiple(dl, 0.001), "Δl = %.3f mm, a multiple of the 1 µm resolution" % dl)
+    levels = {round(s_min + k * ds, 6) for k in range(n_s + 1)}
+    feeds = {round(r[1], 6) for r in after}
+    H.check(feeds <= levels and len(feeds) == n_s + 1,
+            "the feed walks the staircase S_min + k·ΔS, k = 0…%d: %s" % (n_s, sorted(feeds)))
+    H.check(all(abs(r[0] - r[1] / (2.0 * mean)) < 1e-9 and 0 < r[0] <= 1.0 for r in after),
+            "adaptive-feed = S/F in (0, 1]")
+
+    # The programmed variant: the NC block's parameters, whatever the vibration.
+    prog = {"source": 1, "prog-s-min": 150.0, "prog-ds": 25.0, "prog-dl": 0.2, "prog-n-s": 4}
+    extra = "\n".join("setp lathectl-modfeed.%s %s" % (k, v) for k, v in prog.items())
+    got = H.stream_session(work, "modfeed-prog", ["lathectl_modfeed scenario=" + sc], "fffffffsb",
+                           rows, stim, "fffbsfffs", outs, extra)
+    if got:
+        cut = [r for i, r in enumerate(got) if i >= 600]
+        feeds = sorted({round(r[1], 6) for r in cut})
+        H.check(feeds == [150.0, 175.0, 200.0, 225.0, 250.0],
+                "programmed (150, 25, 0.2, 4): levels %s" % feeds)
+        H.check(all(int(r[4]) == 53 for r in cut), "reason code modulation_programmed (53)")
+
+
+def test_loop(src, work):
+    """Closed loop in HAL: path speed = F·adaptive-feed (mult2), the path integrated (integ), the
+    machine z = −path + z0 (scale), the spindle angle integrated from its speed; the chatter plant
+    reads z and the angle, the module reads the plant's detectors and power."""
+    sc_path = os.path.join(src, SCENARIO)
+    n = 10000
+    F = 2.0 * 0.30 * 820 / 60.0
+    rows = [[0.0 if k < 500 else F, 0 if k < 500 else 2, 1 if k < 500 else 0] for k in range(n)]
+    hal = """
+loadrt mult2
+loadrt integ count=2
+loadrt scale
+addf mult2.0 t
+addf integ.0 t
+addf integ.1 t
+addf scale.0 t
+setp scale.0.gain -1
+setp scale.0.offset -279
+net stim0 lathectl-modfeed.requested-vel
+net af lathectl-modfeed.adaptive-feed => mult2.0.in1
+net speed mult2.0.out => integ.0.in lathectl-modfeed.current-vel
+net path integ.0.out => scale.0.in
+net zpos scale.0.out => lathectl-chatter.z-pos
+net revs-rate integ.1.in
+sets revs-rate %.6f
+net revs integ.1.out => lathectl-chatter.spindle-revs
+net rpm lathectl-chatter.spindle-rpm lathectl-modfeed.spindle-rpm
+sets rpm 820
+net xpos lathectl-modfeed.x-pos
+sets xpos 20
+setp lathectl-chatter.enable 1
+net a0 lathectl-chatter.a0-um => lathectl-modfeed.a0-um
+net wd lathectl-chatter.omega-d-Hz => lathectl-modfeed.omega-d-Hz
+net pw lathectl-chatter.spindle-power => lathectl-modfeed.spindle-power
+""" % (820 / 60.0)
+    outs = ["lathectl-chatter.vibration-um", "lathectl-chatter.a0-um", "lathectl-chatter.omega-d-Hz",
+            "lathectl-modfeed.adaptive-feed", "lathectl-modfeed.engaged", "lathectl-modfeed.reason",
+            "integ.0.out", "lathectl-modfeed.s-min", "lathectl-modfeed.ds", "lathectl-modfeed.dl",
+            "lathectl-modfeed.n-s", "lathectl-chatter.in-contact"]
+    # The streamer's pins 1 and 2 are wired by stream_session's stim_pins.
+    got = H.stream_session(work, "loop",
+                           ["lathectl_chatter scenario=%s z_origin_mm=0" % sc_path,
+                            "lathectl_modfeed scenario=%s" % sc_path],
+                           "fsb", rows, ["mult2.0.in0", "lathectl-modfeed.motion-type",
+                                         "lathectl-modfeed.idle-block"],
+                           "ffffbsffffsb", outs, hal)
+    if not got:
+        return
+    # The same scenario in the simulator.
+    out = os.path.join(work, "rig")
+    subprocess.run([os.environ.get("LATHECTL", "lathectl"), "run", sc_path, "--out", out],
+                   check=False, capture_output=True)
+    rig = json.load(open(os.path.join(out, "summary.json")))["metrics"] if os.path.exists(
+        os.path.join(out, "summary.json")) else None
+    contact = [i for i, r in enumerate(got) if r[11] == 1]
+    H.check(len(contact) > 0, "the tool reaches the part")
+    a0max = max(r[1] for r in got)
+    H.check(a0max > 5.0, "the part chatters in the HAL loop: a0 up to %.0f µm" % a0max)
+    engaged = [i for i, r in enumerate(got) if r[4] == 1]
+    H.check(len(engaged) > 0, "the module engages")
+    if not engaged or not contact:
+        return
+    t_eng = (engaged[0] - contact[0]) * 1e-3
+    wd = [r[2] for r in got[engaged[0]:] if r[2] > 0]
+    fd = sum(wd) / len(wd) if wd else 0.0
+    H.check(all(int(r[5]) in (50, 52) for r in got[engaged[0]:]), "reason codes 50/52 while engaged")
+    # Time-mean path speed after engagement, over whole staircase cycles: the program's mean.
+    i0 = engaged[0] + 100
+    dt = (n - 1 - i0) * 1e-3
+    mean_speed = (got[-1][6] - got[i0][6]) / dt * 60.0
+    H.check(abs(mean_speed / (0.30 * 820) - 1.0) < 0.1,
+            "mean feed while modulating %.1f mm/min = %.3f × the program's mean" %
+            (mean_speed, mean_speed / (0.30 * 820)))
+    summary = {"engaged_after_contact_s": t_eng, "chatter_Hz": fd, "a0_max_um": a0max,
+               "S_min": got[-1][7], "dS": got[-1][8], "dl": got[-1][9], "n_s": got[-1][10],
+               "mean_feed_mm_per_min": mean_speed}
+    if rig:
+        m = rig["modulation"]
+        summary["rig"] = {"engaged_at_s": m["engaged_at_s"], "chatter_Hz": rig["chatter_frequency_Hz"],
+                          "S_min": m["S_min_mm_per_min"], "dS": m["dS_mm_per_min"], "dl": m["dl_mm"]}
+        # The rig's clock starts with its 0.5 s idle block; contact comes ~0.25 s into the cut.
+        H.check(abs(fd - rig["chatter_frequency_Hz"]) < 10.0,
+                "chatter frequency HAL %.0f Hz, rig %.0f Hz (detector resolution 5 Hz)" %
+                (fd, rig["chatter_frequency_Hz"]))
+    with open(os.path.join(work, "loop.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+    print(json.dumps(summary, indent=2))
+
+
+def test_bad_input(src, work):
+    sc = os.path.join(src, SCENARIO)
+    twin = os.path.join(src, "examples/scenarios/b_twin_feed_division.toml")
+    e = os.path.join(src, "examples/linuxcnc/step_allowance.toml")
+    cases = [
+        ("lathectl_modfeed scenario=" + e, ["system-B"]),
+        ("lathectl_modfeed scenario=%s ceiling=0.5" % sc, ["ceiling"]),
+        ("lathectl_modfeed", ["scenario=PATH", "required"]),
+        ("lathectl_chatter scenario=" + twin, ["single"]),
+        ("lathectl_chatter scenario=%s period_ns=12" % sc, ["period_ns"]),
+    ]
+    for load, words in cases:
+        rc, log = H.halrun("loadrt threads name1=t period1=1000000\nloadrt %s\n" % load, work, "bad")
+        H.check(rc != 0 and all(w in log for w in words),
+                "load fails with a clear message: loadrt %s → %s" %
+                (load.replace(src, "SRC"),
+                 next((l for l in log.splitlines() if l.startswith("lathectl_")), "(none)")))
+
+
+def main():
+    if len(sys.argv) < 4:
+        print(__doc__)
+        sys.exit(2)
+    what, src, work = sys.argv[1], os.path.abspath(sys.argv[2]), os.path.abspath(sys.argv[3])
+    os.makedirs(work, exist_ok=True)
+    os.chmod(work, 0o777)
+    {"stream": test_stream, "loop": test_loop, "bad_input": test_bad_input}[what](src, work)
+    if H.FAILS:
+        print("%d check(s) failed" % len(H.FAILS))
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()
