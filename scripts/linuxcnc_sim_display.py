@@ -167,7 +167,7 @@ def main():
     for a in alarms:
         a["reason"] = reason_names().get(a["reason_code"], "unknown")
     summary = {
-        "program": program,
+        "program": os.environ.get("LATHECTL_SIM_SOURCE", program),
         "scenario": os.environ.get("LATHECTL_SIM_SCENARIO", ""),
         "finished": not aborted and not errors,
         "aborted_on_feed_hold": aborted,

@@ -167,9 +167,10 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
   double s = s_prog;
   if (in.feed_block && adaptive && !alarm_) {
     double target = s_prog;
+    const double error = (limit - regulated) / limit;
     if (in_cut_) {
       Reason lim = Reason::None;
-      target = pi_.update((limit - regulated) / limit, dt, lim);
+      target = pi_.update(error, dt, lim);
       if (reason == Reason::None) reason = lim;
     } else {
       target = std::min(p_.air_feed_mm_per_rev, p_.feed_max_mm_per_rev);
@@ -181,8 +182,12 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
       bool ramped = false;
       (void)feed_ramp_.update(target, dt, ramped);
       if (ramped) {
-        // Tracking anti-windup: the PI must not store what the ramp did not let through.
-        if (in_cut_) pi_.preset(feed_ramp_.value());
+        // Tracking anti-windup: the PI must not store what the ramp did not let through — only
+        // while the error drives the integrator up. With the force above the limit but falling,
+        // the target rises through the shrinking P term alone; a preset there (output at zero
+        // error) dropped the next output by kp·|error|, and the feed ratcheted down to s_min in
+        // steps of a few percent (found in LinuxCNC runs at an allowance step).
+        if (in_cut_ && error > 0.0) pi_.preset(feed_ramp_.value());
         if (reason == Reason::None) reason = Reason::RateLimited;
       }
     }

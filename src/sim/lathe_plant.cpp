@@ -63,18 +63,11 @@ void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
   const double z = p_.z_origin_mm - in.z_mm;  // stock coordinate
   const double rpm = std::abs(in.rpm);
 
-  // Spindle angle: open the bins the revolution has moved into (they drop the oldest chip).
+  // Spindle angle of this step, in bins: [a0, a1).
   const double turns = rpm / 60.0 * dt;
-  const double before = theta_;
+  const double a0 = theta_ * static_cast<double>(kBins);
   theta_ += turns;
-  const auto crossed = static_cast<std::size_t>(std::floor(theta_ * kBins)) -
-                       static_cast<std::size_t>(std::floor(before * kBins));
-  for (std::size_t k = 0; k < std::min(crossed, kBins); ++k) {
-    bin_ = (bin_ + 1) % kBins;
-    bin_area_[bin_] = 0.0;
-    bin_travel_[bin_] = 0.0;
-  }
-  if (theta_ > 1e6) theta_ -= 1e6;  // keep the angle's fraction precise
+  const double a1 = theta_ * static_cast<double>(kBins);
 
   // Material the nose removes this step.
   double removed = 0.0;
@@ -104,12 +97,43 @@ void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
   } else {
     has_last_ = false;  // no position: the path restarts where the next one is
   }
-  bin_area_[bin_] += removed;
-  bin_travel_[bin_] += travel;
+  // Spread this step's chip and travel over the bins it swept, opening (emptying) each bin it
+  // enters: putting a whole step into one bin made the window one revolution plus about half a
+  // step long — s came out 1 % high at 1200 rpm and 1 ms, 2.5 % at 3000 rpm.
+  if (a1 - a0 >= static_cast<double>(kBins)) {  // a revolution or more per step
+    bin_area_.fill(removed / (a1 - a0));
+    bin_travel_.fill(travel / (a1 - a0));
+  } else if (a1 > a0) {
+    double pos = a0;
+    while (pos < a1) {
+      const double edge = std::floor(pos) + 1.0;
+      const double end = std::min(edge, a1);
+      const double w = (end - pos) / (a1 - a0);
+      bin_area_[bin_] += removed * w;
+      bin_travel_[bin_] += travel * w;
+      if (end == edge) {
+        bin_ = (bin_ + 1) % kBins;
+        bin_area_[bin_] = 0.0;
+        bin_travel_[bin_] = 0.0;
+      }
+      pos = end;
+    }
+  } else {  // spindle stopped: the chip accumulates
+    bin_area_[bin_] += removed;
+    bin_travel_[bin_] += travel;
+  }
+  if (theta_ > 1e6) theta_ -= 1e6;  // keep the angle's fraction precise (1e6·kBins bins: whole)
+  // The bins hold the last kBins − 1 bins and the filled part of the current one.
+  const double covered =
+      (static_cast<double>(kBins) - 1.0 + (a1 - std::floor(a1))) / static_cast<double>(kBins);
   area_rev_ = travel_rev_ = 0.0;
   for (std::size_t k = 0; k < kBins; ++k) {
     area_rev_ += bin_area_[k];
     travel_rev_ += bin_travel_[k];
+  }
+  if (a1 > a0 && a1 - a0 < static_cast<double>(kBins)) {
+    area_rev_ /= covered;
+    travel_rev_ /= covered;
   }
 
   // Chip of the last revolution and its force.

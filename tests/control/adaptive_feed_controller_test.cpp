@@ -174,6 +174,27 @@ TEST(AdaptiveFeedController, AirFeedThenEntryFeedOnContactThenRateLimitedRise) {
   EXPECT_LT(out.feed_per_rev_mm, kProg - 50.0 * step);
 }
 
+// Regression (found in LinuxCNC runs at an allowance step): with the force above the limit but
+// falling, the PI target rises through its shrinking P term while the ramp holds it back. The
+// ramp's anti-windup preset must not then drop the next output by kp·|e| (a ratchet to s_min):
+// between periods the feed may fall only by the integral action ki·|e|·dt.
+TEST(AdaptiveFeedController, FallingOverloadDoesNotRatchetTheFeedDown) {
+  Ctl c = make(base());
+  Ctl::Output out;
+  (void)run(c, sample(800.0), 2000, out);  // in cut below the limit: at the programmed feed
+  ASSERT_NEAR(out.feed_per_rev_mm, kProg, 1e-9);
+  (void)c.update(sample(1500.0), out);  // allowance step: the feed drops at once
+  const double ki = 0.5 * kProg / 0.1;
+  double prev = out.feed_per_rev_mm;
+  for (int k = 1; k <= 80; ++k) {
+    const double f = 1500.0 - 5.0 * k;  // falls to 1100 N, always above the limit
+    (void)c.update(sample(f), out);
+    EXPECT_GE(out.feed_per_rev_mm, prev - ki * (f - kLimit) / kLimit * kDt - 1e-12) << k;
+    prev = out.feed_per_rev_mm;
+  }
+  EXPECT_GT(out.feed_per_rev_mm, kMin + 0.1);
+}
+
 TEST(AdaptiveFeedController, EntryFeedIsCappedByTheProgrammedFeed) {
   auto p = base();
   p.entry_feed_mm_per_rev = 0.55;  // above the programmed 0.4

@@ -40,6 +40,31 @@ LathePlant::Output move(LathePlant& p, double x0, double z0, double x1, double z
   return out;
 }
 
+// Mean outputs over the last revolution of a move (a sample depends on where the window's ends
+// fall between the grid's cells; the mean does not).
+struct RevMean {
+  double depth = 0, feed = 0, speed = 0, pz = 0, power = 0;
+};
+RevMean move_mean(LathePlant& p, double x, double z0, double z1, double rpm, double feed) {
+  const double dt = 1e-3;
+  const double v = feed * rpm / 60.0;
+  const auto n = static_cast<int>(std::abs(z1 - z0) / v / dt);
+  const auto rev = static_cast<int>(60.0 / rpm / dt);
+  RevMean m;
+  LathePlant::Output out;
+  for (int k = 1; k <= n; ++k) {
+    p.step({x, z0 + (z1 - z0) * k / n, rpm}, dt, out);
+    if (k > n - rev) {
+      m.depth += out.depth_mm / rev;
+      m.feed += out.feed_per_rev_mm / rev;
+      m.speed += out.speed_m_per_min / rev;
+      m.pz += out.Pz_N / rev;
+      m.power += out.cut_power_W / rev;
+    }
+  }
+  return m;
+}
+
 double handbook_pz(const RigEConfig& c, double t, double s, double v) {
   cutting::CuttingModel m;
   m.configure(c.cutting);
@@ -51,16 +76,28 @@ TEST(LathePlant, SteadyTurningGivesTheHandbookForceAtTheUncutDiameter) {
   LathePlant p;
   p.configure(c, {});
   // 40 mm bar to 36 mm (t = 2) at 0.25 mm/rev, 800 rpm, from z = +2 to z = -12.
-  const auto out = move(p, 18.0, 2.0, 18.0, -12.0, 800.0, 0.25);
-  EXPECT_NEAR(out.depth_mm, 2.0, 1e-3);
-  EXPECT_NEAR(out.feed_per_rev_mm, 0.25, 1e-3);
+  const auto m = move_mean(p, 18.0, 2.0, -12.0, 800.0, 0.25);
+  EXPECT_NEAR(m.depth, 2.0, 1e-3);
+  EXPECT_NEAR(m.feed, 0.25, 1e-4);
   const double v = std::numbers::pi * 40.0 * 800.0 / 1000.0;
-  EXPECT_NEAR(out.speed_m_per_min, v, 0.01);
-  EXPECT_NEAR(out.Pz_N, handbook_pz(c, 2.0, 0.25, v), 2e-3 * out.Pz_N);
-  EXPECT_NEAR(out.cut_power_W, out.Pz_N * v / 60.0, 1e-6 * out.cut_power_W);
-  EXPECT_TRUE(out.in_contact);
+  EXPECT_NEAR(m.speed, v, 0.01);
+  EXPECT_NEAR(m.pz, handbook_pz(c, 2.0, 0.25, v), 2e-3 * m.pz);
+  EXPECT_NEAR(m.power, m.pz * v / 60.0, 2e-3 * m.power);
   EXPECT_NEAR(p.radius_mm(10.0), 18.0, 1e-9);  // cut to the tool's radius
   EXPECT_NEAR(p.radius_mm(20.0), 22.0, 1e-9);  // the collar, not reached yet
+}
+
+// The chip window is one revolution whatever the step: at 3000 rpm a 1 ms step is 18° of the
+// spindle, and the feed per revolution must still be the path travelled in one turn.
+TEST(LathePlant, FeedPerRevolutionIsExactAtHighSpeed) {
+  const auto c = config();
+  for (double rpm : {300.0, 1222.0, 3000.0}) {
+    LathePlant p;
+    p.configure(c, {});
+    const auto m = move_mean(p, 18.0, 2.0, -12.0, rpm, 0.3);
+    EXPECT_NEAR(m.feed, 0.3, 3e-4) << rpm;
+    EXPECT_NEAR(m.depth, 2.0, 2e-3) << rpm;
+  }
 }
 
 TEST(LathePlant, FirstRevolutionBuildsTheChipUp) {
