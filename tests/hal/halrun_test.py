@@ -48,8 +48,9 @@ def halrun(hal_text, work, name, timeout=120):
 
 
 def stream_session(work, name, loads, stim_cfg, stim_rows, stim_pins, out_cfg, out_pins,
-                   extra=""):
-    """streamer → component(s) → sampler on one 1 ms thread; returns the sampled rows."""
+                   extra="", pre=""):
+    """streamer → component(s) → sampler on one 1 ms thread; returns the sampled rows. `pre` is
+    HAL text run after the loads and before the nets (more components to wire), `extra` after."""
     n = len(stim_rows)
     stim = os.path.join(work, name + "-stimulus.txt")
     out = os.path.join(work, name + "-sampled.txt")
@@ -60,6 +61,7 @@ def stream_session(work, name, loads, stim_cfg, stim_rows, stim_pins, out_cfg, o
            "loadrt streamer depth=%d cfg=%s" % (n + 16, stim_cfg),
            "loadrt sampler depth=%d cfg=%s" % (n + 16, out_cfg)]
     hal += ["loadrt " + l for l in loads]
+    hal.append(pre)
     hal += ["addf streamer.0 t"] + ["addf %s t" % l.split()[0].replace("_", "-") for l in loads]
     hal += ["addf sampler.0 t"]
     for i, p in enumerate(stim_pins):

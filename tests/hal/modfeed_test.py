@@ -70,7 +70,8 @@ def test_stream(src, work):
     feeds = {round(r[1], 6) for r in after}
     H.check(feeds <= levels and len(feeds) == n_s + 1,
             "the feed walks the staircase S_min + k·ΔS, k = 0…%d: %s" % (n_s, sorted(feeds)))
-    H.check(all(abs(r[0] - r[1] / (2.0 * mean)) < 1e-9 and 0 < r[0] <= 1.0 for r in after),
+    # (the sampler prints six significant digits)
+    H.check(all(abs(r[0] - r[1] / (2.0 * mean)) < 1e-5 and 0 < r[0] <= 1.0 for r in after),
             "adaptive-feed = S/F in (0, 1]")
 
     # The programmed variant: the NC block's parameters, whatever the vibration.
@@ -94,7 +95,7 @@ def test_loop(src, work):
     n = 10000
     F = 2.0 * 0.30 * 820 / 60.0
     rows = [[0.0 if k < 500 else F, 0 if k < 500 else 2, 1 if k < 500 else 0] for k in range(n)]
-    hal = """
+    pre = """
 loadrt mult2
 loadrt integ count=2
 loadrt scale
@@ -102,12 +103,16 @@ addf mult2.0 t
 addf integ.0 t
 addf integ.1 t
 addf scale.0 t
+"""
+    # Signals out0…out11 are the sampled pins below (stream_session names them); the loop joins
+    # them.
+    hal = """
 setp scale.0.gain -1
 setp scale.0.offset -279
-net stim0 lathectl-modfeed.requested-vel
-net af lathectl-modfeed.adaptive-feed => mult2.0.in1
+net stim0 mult2.0.in0
+net out3 mult2.0.in1
 net speed mult2.0.out => integ.0.in lathectl-modfeed.current-vel
-net path integ.0.out => scale.0.in
+net out6 scale.0.in
 net zpos scale.0.out => lathectl-chatter.z-pos
 net revs-rate integ.1.in
 sets revs-rate %.6f
@@ -117,21 +122,23 @@ sets rpm 820
 net xpos lathectl-modfeed.x-pos
 sets xpos 20
 setp lathectl-chatter.enable 1
-net a0 lathectl-chatter.a0-um => lathectl-modfeed.a0-um
-net wd lathectl-chatter.omega-d-Hz => lathectl-modfeed.omega-d-Hz
+net out1 lathectl-modfeed.a0-um
+net out2 lathectl-modfeed.omega-d-Hz
 net pw lathectl-chatter.spindle-power => lathectl-modfeed.spindle-power
 """ % (820 / 60.0)
     outs = ["lathectl-chatter.vibration-um", "lathectl-chatter.a0-um", "lathectl-chatter.omega-d-Hz",
             "lathectl-modfeed.adaptive-feed", "lathectl-modfeed.engaged", "lathectl-modfeed.reason",
             "integ.0.out", "lathectl-modfeed.s-min", "lathectl-modfeed.ds", "lathectl-modfeed.dl",
-            "lathectl-modfeed.n-s", "lathectl-chatter.in-contact"]
-    # The streamer's pins 1 and 2 are wired by stream_session's stim_pins.
+            "lathectl-modfeed.n-s", "lathectl-chatter.in-contact", "lathectl-chatter.update-ns",
+            "lathectl-modfeed.update-ns"]
+    # The streamer's pins are wired by stream_session's stim_pins; `extra` adds mult2 to pin 0's
+    # signal.
     got = H.stream_session(work, "loop",
                            ["lathectl_chatter scenario=%s z_origin_mm=0" % sc_path,
                             "lathectl_modfeed scenario=%s" % sc_path],
-                           "fsb", rows, ["mult2.0.in0", "lathectl-modfeed.motion-type",
+                           "fsb", rows, ["lathectl-modfeed.requested-vel", "lathectl-modfeed.motion-type",
                                          "lathectl-modfeed.idle-block"],
-                           "ffffbsffffsb", outs, hal)
+                           "ffffbsffffsbss", outs, hal, pre)
     if not got:
         return
     # The same scenario in the simulator.
@@ -159,14 +166,30 @@ net pw lathectl-chatter.spindle-power => lathectl-modfeed.spindle-power
     H.check(abs(mean_speed / (0.30 * 820) - 1.0) < 0.1,
             "mean feed while modulating %.1f mm/min = %.3f × the program's mean" %
             (mean_speed, mean_speed / (0.30 * 820)))
-    summary = {"engaged_after_contact_s": t_eng, "chatter_Hz": fd, "a0_max_um": a0max,
+    def stats(col):
+        v = sorted(r[col] for r in got)
+        return {"median_ns": v[len(v) // 2], "p99_9_ns": v[int(0.999 * (len(v) - 1))],
+                "max_ns": v[-1]}
+
+    summary = {"update_chatter": stats(12), "update_modfeed": stats(13),
+               "engaged_after_contact_s": t_eng, "chatter_Hz": fd, "a0_max_um": a0max,
                "S_min": got[-1][7], "dS": got[-1][8], "dl": got[-1][9], "n_s": got[-1][10],
                "mean_feed_mm_per_min": mean_speed}
     if rig:
         m = rig["modulation"]
         summary["rig"] = {"engaged_at_s": m["engaged_at_s"], "chatter_Hz": rig["chatter_frequency_Hz"],
                           "S_min": m["S_min_mm_per_min"], "dS": m["dS_mm_per_min"], "dl": m["dl_mm"]}
-        # The rig's clock starts with its 0.5 s idle block; contact comes ~0.25 s into the cut.
+        # The rig's clock starts with its idle block; the tool then travels approach_mm (1 mm) at
+        # the programmed feed before it touches the part.
+        rig_after_contact = m["engaged_at_s"] - 0.5 - 1.0 / (0.30 * 820 / 60.0)
+        summary["rig"]["engaged_after_contact_s"] = rig_after_contact
+        H.check(abs(t_eng - rig_after_contact) < 0.05,
+                "engaged %.3f s after contact in LinuxCNC's HAL, %.3f s in lathectl run" %
+                (t_eng, rig_after_contact))
+        H.check((got[-1][7], got[-1][8], round(got[-1][9], 6)) ==
+                (m["S_min_mm_per_min"], m["dS_mm_per_min"], round(m["dl_mm"], 6)),
+                "the same plan in HAL and in lathectl run: S_min %.1f, ΔS %.1f, Δl %.3f" %
+                (got[-1][7], got[-1][8], got[-1][9]))
         H.check(abs(fd - rig["chatter_frequency_Hz"]) < 10.0,
                 "chatter frequency HAL %.0f Hz, rig %.0f Hz (detector resolution 5 Hz)" %
                 (fd, rig["chatter_frequency_Hz"]))
