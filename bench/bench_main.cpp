@@ -247,4 +247,18 @@ void BM_ModulatedFeedController_Update(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_ModulatedFeedController_Update);
+// The module's re-plan (quenching condition, mean-keeping S_min, quanta) runs inside update()
+// when a0 grows: its cost bounds the real-time worst case.
+void BM_ModulatedFeedController_Plan(benchmark::State& state) {
+  control::ModulatedFeedController m;
+  m.configure({});
+  double wm = 0, req = 0, got = 0, a0 = 1e-5;
+  bool lim = false;
+  for (auto _ : state) {
+    a0 = a0 > 1e-4 ? 1e-5 : a0 * 1.01;
+    benchmark::DoNotOptimize(m.plan_for(a0, 2.0 * std::numbers::pi * 230.0, 1000.0, 100.0, 246.0,
+                                        820.0, wm, req, got, lim));
+  }
+}
+BENCHMARK(BM_ModulatedFeedController_Plan)->Unit(benchmark::kMicrosecond);
 }  // namespace

@@ -20,17 +20,27 @@ double harmonic_mean(double s_min, double ds, int n_s) noexcept {
   return 2.0 * n_s / inv;
 }
 
-// S_min giving a time-mean feed of s_p for a span D = n_s·ΔS (bisection; the mean rises with
-// S_min). Returns a negative value when even S_min = s_p − D/2... cannot reach it (never: the
-// harmonic mean ≤ the arithmetic one, so S_min ∈ [s_p − D, s_p]).
+// S_min giving a time-mean feed of s_p for a span D = n_s·ΔS: the root of
+//   f(x) = Σ_j 1/(x + k_j·ΔS) − 2n_s/s_p,
+// convex and decreasing in x. Newton's method from x₀ = s_p − D/2 (there the harmonic mean is
+// below the arithmetic one, so f(x₀) ≥ 0) climbs to the root without overshooting; a few steps
+// reach machine precision. (It runs in the real-time path when the module re-plans.)
 double s_min_for_mean(double s_p, double span, int n_s) noexcept {
   const double ds = span / n_s;
-  double lo = std::max(1e-9, s_p - span), hi = s_p;
-  for (int it = 0; it < 60; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (harmonic_mean(mid, ds, n_s) < s_p ? lo : hi) = mid;
+  const double target = 2.0 * n_s / s_p;
+  double x = std::max(1e-9, s_p - 0.5 * span);
+  for (int it = 0; it < 30; ++it) {
+    double f = -target, df = 0.0;
+    for (int j = 0; j < 2 * n_s; ++j) {
+      const double inv = 1.0 / (x + level_of(j, n_s) * ds);
+      f += inv;
+      df -= inv * inv;
+    }
+    const double step = f / df;  // ≤ 0 while f ≥ 0
+    x -= step;
+    if (std::abs(step) <= 1e-13 * x) break;
   }
-  return 0.5 * (lo + hi);
+  return x;
 }
 
 }  // namespace
@@ -147,7 +157,7 @@ ModulationPlan ModulatedFeedController::plan_for(double a0, double omega_d, doub
     return lo >= p_.s_min_fraction * s_p && lo + span <= p_.s_max_fraction * s_p;
   };
   double span_max = 0.0, hi = (p_.s_max_fraction - p_.s_min_fraction) * s_p;
-  for (int it = 0; it < 60; ++it) {
+  for (int it = 0; it < 45; ++it) {
     const double mid = 0.5 * (span_max + hi);
     (within(mid) ? span_max : hi) = mid;
   }
@@ -159,7 +169,7 @@ ModulationPlan ModulatedFeedController::plan_for(double a0, double omega_d, doub
     limited = true;
   } else {
     double lo = 0.0, up = span_max;
-    for (int it = 0; it < 60; ++it) {
+    for (int it = 0; it < 45; ++it) {
       const double mid = 0.5 * (lo + up);
       const double s = s_min_for_mean(s_p, mid, p_.n_s);
       (amplitude(s, s + mid) < required_N ? lo : up) = mid;

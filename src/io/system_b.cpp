@@ -37,7 +37,8 @@ struct Run {
   double t0 = 0.0, t1 = 0.0;   // the window
 };
 
-void measure(Run& r, bool twin) {
+// The chatter frequency only when the vibration is above the dead zone (else it is noise).
+void measure(Run& r, bool twin, double dead_zone_um) {
   const auto& rec = r.rig.recorder();
   const auto t = rec.column("time_s");
   const auto y = rec.column("y_um");
@@ -83,7 +84,7 @@ void measure(Run& r, bool twin) {
         sign = s;
       }
     }
-    if (crossings > 4) r.chatter_Hz = (crossings - 1) / (2.0 * (tc1 - tc0));
+    if (crossings > 4 && r.vibration_um > dead_zone_um) r.chatter_Hz = (crossings - 1) / (2.0 * (tc1 - tc0));
   }
   const auto z1 = rec.column("z1_mm"), z2 = rec.column("z2_mm");
   std::size_t k0 = 0;
@@ -105,7 +106,7 @@ void run_one(const Scenario& sc, const sim::RigBConfig& cfg, Run& r) {
   if (!r.rig.numerically_sound())
     throw std::runtime_error(sc.file +
                              ": the simulation diverged (|y| > 50 mm); reduce run.step_s");
-  measure(r, cfg.setup != sim::TwinSetup::Single);
+  measure(r, cfg.setup != sim::TwinSetup::Single, cfg.vibration.dead_zone_m * 1e6);
 }
 
 std::string source_name(control::ModulationSource s) {
