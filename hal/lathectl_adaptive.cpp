@@ -183,8 +183,7 @@ extern "C" int rtapi_app_main(void) {
     state->ctl.configure(sc.e.controller);
     state->speed_law = sc.e.controller.mode == AdaptiveFeedController::Mode::ForceFeedSpeed;
     const auto& c = sc.e.controller;
-    pins = static_cast<Pins*>(hal_malloc(sizeof(Pins)));
-    if (pins == nullptr) throw lathectl::hal::Error("hal_malloc failed");
+    pins = lathectl::hal::allocate_pins<Pins>();
     Pins& p = *pins;
     pin(&p.force, HAL_IN, comp_id, kPrefix, "force");
     pin(&p.rpm, HAL_IN, comp_id, kPrefix, "spindle-rpm");
@@ -223,8 +222,7 @@ extern "C" int rtapi_app_main(void) {
           c.speed_programmed_m_per_min);
     param(&p.control_period, HAL_RO, comp_id, kPrefix, "control-period", c.period_s);
     st = std::move(state);
-    lathectl::hal::check(hal_export_funct(kPrefix, update, nullptr, 1, 0, comp_id),
-                         "hal_export_funct");
+    lathectl::hal::export_update(kPrefix, update, comp_id);
   });
 }
 

@@ -162,8 +162,7 @@ extern "C" int rtapi_app_main(void) {
     state->p0 = b.spindle.idle_p0_W;
     state->p1 = b.spindle.idle_p1_W_per_rpm;
     state->p2 = b.spindle.idle_p2_W_per_rpm2;
-    pins = static_cast<Pins*>(hal_malloc(sizeof(Pins)));
-    if (pins == nullptr) throw lathectl::hal::Error("hal_malloc failed");
+    pins = lathectl::hal::allocate_pins<Pins>();
     Pins& p = *pins;
     pin(&p.z_pos, HAL_IN, comp_id, kPrefix, "z-pos");
     pin(&p.revs, HAL_IN, comp_id, kPrefix, "spindle-revs");
@@ -184,8 +183,7 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
     pin(&p.update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
     st = std::move(state);
-    lathectl::hal::check(hal_export_funct(kPrefix, update, nullptr, 1, 0, comp_id),
-                         "hal_export_funct");
+    lathectl::hal::export_update(kPrefix, update, comp_id);
   });
 }
 

@@ -56,6 +56,19 @@ inline void param(hal_float_t* p, hal_param_dir_t dir, int comp, const char* pre
   *p = value;
 }
 
+// The component's pin block, in HAL's shared memory (pins must live there).
+template <class Pins>
+Pins* allocate_pins() {
+  auto* p = static_cast<Pins*>(hal_malloc(sizeof(Pins)));
+  if (p == nullptr) throw Error("hal_malloc failed");
+  return p;
+}
+
+// The realtime function `prefix` (uses floating point, not reentrant).
+inline void export_update(const char* prefix, void (*fn)(void*, long), int comp_id) {
+  check(hal_export_funct(prefix, fn, nullptr, 1, 0, comp_id), "hal_export_funct");
+}
+
 // A module parameter holding a number (RTAPI has no floating-point module parameters).
 inline double number_param(const char* text, const char* key, double fallback) {
   if (text == nullptr || *text == '\0') return fallback;
@@ -76,11 +89,13 @@ inline io::Scenario load_system(const char* path, const std::string& system) {
   const auto lib = io::MaterialLibrary::load_default();
   auto sc = io::load_scenario(path, lib);
   if (sc.system != system)
-    throw Error(std::string(path) + ": system = \"" + sc.system + "\", this component needs a system-" +
-                system + " scenario");
+    throw Error(std::string(path) + ": system = \"" + sc.system +
+                "\", this component needs a system-" + system + " scenario");
   return sc;
 }
-inline io::Scenario load_system_e(const char* path) { return load_system(path, "E"); }
+inline io::Scenario load_system_e(const char* path) {
+  return load_system(path, "E");
+}
 
 // Wall time of one call with the monotonic clock; the worst case since load (or reset).
 class UpdateTimer {

@@ -44,37 +44,37 @@ constexpr const char* kPrefix = "lathectl-modfeed";
 
 struct Pins {
   // inputs
-  hal_float_t* a0;            // µm
-  hal_float_t* omega_d;       // Hz
-  hal_float_t* power;         // W, main motor's electrical power
+  hal_float_t* a0;       // µm
+  hal_float_t* omega_d;  // Hz
+  hal_float_t* power;    // W, main motor's electrical power
   hal_float_t* rpm;
-  hal_float_t* x_pos;         // mm, radius: V = 2π·|x|·n
-  hal_float_t* requested_vel; // mm/s (G94) or the F word (G95)
-  hal_float_t* current_vel;   // mm/s along the path
+  hal_float_t* x_pos;          // mm, radius: V = 2π·|x|·n
+  hal_float_t* requested_vel;  // mm/s (G94) or the F word (G95)
+  hal_float_t* current_vel;    // mm/s along the path
   hal_s32_t* motion_type;
   hal_bit_t* per_rev;
   hal_bit_t* idle_block;
   hal_bit_t* turret_left;
-  hal_s32_t* source;          // 0 none, 1 programmed, 2 automatic
-  hal_float_t* prog_s_min;    // mm/min
-  hal_float_t* prog_ds;       // mm/min
-  hal_float_t* prog_dl;       // mm
+  hal_s32_t* source;        // 0 none, 1 programmed, 2 automatic
+  hal_float_t* prog_s_min;  // mm/min
+  hal_float_t* prog_ds;     // mm/min
+  hal_float_t* prog_dl;     // mm
   hal_s32_t* prog_n_s;
   hal_bit_t* enable;
   hal_bit_t* reset_max;
   // outputs
   hal_float_t* adaptive_feed;
-  hal_float_t* feed;          // mm/min, the modulated feed of the flagged turret
-  hal_float_t* cut_power;     // W, N_c
+  hal_float_t* feed;       // mm/min, the modulated feed of the flagged turret
+  hal_float_t* cut_power;  // W, N_c
   hal_bit_t* engaged;
   hal_s32_t* reason;
   hal_float_t* s_min;
   hal_float_t* ds;
   hal_float_t* dl;
   hal_s32_t* n_s;
-  hal_float_t* omega_m;       // Hz
-  hal_float_t* ap_required;   // N
-  hal_float_t* ap_planned;    // N
+  hal_float_t* omega_m;      // Hz
+  hal_float_t* ap_required;  // N
+  hal_float_t* ap_planned;   // N
   hal_bit_t* period_error;
   hal_s32_t* update_ns;
   hal_s32_t* update_ns_max;
@@ -183,8 +183,7 @@ extern "C" int rtapi_app_main(void) {
       throw lathectl::hal::Error("ceiling must exceed 1 for the staircase to rise above the mean");
     state->module.configure(mp);
     state->power.configure(sc.b.power, mp.period_s);
-    pins = static_cast<Pins*>(hal_malloc(sizeof(Pins)));
-    if (pins == nullptr) throw lathectl::hal::Error("hal_malloc failed");
+    pins = lathectl::hal::allocate_pins<Pins>();
     Pins& p = *pins;
     pin(&p.a0, HAL_IN, comp_id, kPrefix, "a0-um");
     pin(&p.omega_d, HAL_IN, comp_id, kPrefix, "omega-d-Hz");
@@ -227,8 +226,7 @@ extern "C" int rtapi_app_main(void) {
     param(&p.coefficient, HAL_RO, comp_id, kPrefix, "coefficient", mp.coefficient);
     param(&p.part_mass, HAL_RO, comp_id, kPrefix, "part-mass", mp.part_mass_kg);
     st = std::move(state);
-    lathectl::hal::check(hal_export_funct(kPrefix, update, nullptr, 1, 0, comp_id),
-                         "hal_export_funct");
+    lathectl::hal::export_update(kPrefix, update, comp_id);
   });
 }
 

@@ -97,8 +97,7 @@ extern "C" int rtapi_app_main(void) {
     p.cell_mm = lathectl::hal::number_param(cell_mm, "cell_mm", 0.01);
     auto model = std::make_unique<lathectl::sim::LathePlant>();
     model->configure(sc.e, p);
-    pins = static_cast<Pins*>(hal_malloc(sizeof(Pins)));
-    if (pins == nullptr) throw lathectl::hal::Error("hal_malloc failed");
+    pins = lathectl::hal::allocate_pins<Pins>();
     pin(&pins->x_pos, HAL_IN, comp_id, kPrefix, "x-pos");
     pin(&pins->z_pos, HAL_IN, comp_id, kPrefix, "z-pos");
     pin(&pins->rpm, HAL_IN, comp_id, kPrefix, "spindle-rpm");
@@ -117,8 +116,7 @@ extern "C" int rtapi_app_main(void) {
     pin(&pins->update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
     pin(&pins->update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
     plant = std::move(model);
-    lathectl::hal::check(hal_export_funct(kPrefix, update, nullptr, 1, 0, comp_id),
-                         "hal_export_funct");
+    lathectl::hal::export_update(kPrefix, update, comp_id);
   });
 }
 

@@ -60,16 +60,7 @@ std::string label_of(const sim::RigAConfig& a) {
 }
 
 void run_one(const Scenario& sc, const sim::RigAConfig& cfg, Run& r) {
-  try {
-    r.rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(sc.file + ": inconsistent scenario: " + e.what());
-  }
-  r.rig.run();
-  if (!r.rig.numerically_sound())
-    throw std::runtime_error(sc.file +
-                             ": the simulation diverged (NaN or infinite state); "
-                             "reduce run.step_s");
+  configure_and_run(sc, r.rig, cfg);
   r.metrics = sim::compute_metrics_a(r.rig);
   r.label = label_of(cfg);
 }

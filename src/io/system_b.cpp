@@ -84,7 +84,8 @@ void measure(Run& r, bool twin, double dead_zone_um) {
         sign = s;
       }
     }
-    if (crossings > 4 && r.vibration_um > dead_zone_um) r.chatter_Hz = (crossings - 1) / (2.0 * (tc1 - tc0));
+    if (crossings > 4 && r.vibration_um > dead_zone_um)
+      r.chatter_Hz = (crossings - 1) / (2.0 * (tc1 - tc0));
   }
   const auto z1 = rec.column("z1_mm"), z2 = rec.column("z2_mm");
   std::size_t k0 = 0;
@@ -97,15 +98,7 @@ void measure(Run& r, bool twin, double dead_zone_um) {
 }
 
 void run_one(const Scenario& sc, const sim::RigBConfig& cfg, Run& r) {
-  try {
-    r.rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(sc.file + ": inconsistent scenario: " + e.what());
-  }
-  r.rig.run();
-  if (!r.rig.numerically_sound())
-    throw std::runtime_error(sc.file +
-                             ": the simulation diverged (|y| > 50 mm); reduce run.step_s");
+  configure_and_run(sc, r.rig, cfg, "|y| > 50 mm");
   measure(r, cfg.setup != sim::TwinSetup::Single, cfg.vibration.dead_zone_m * 1e6);
 }
 

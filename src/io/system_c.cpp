@@ -32,14 +32,7 @@ double nan_max_abs(std::span<const double> v, std::span<const double> x, double 
 
 void run_one(const Scenario& sc, sim::RigCConfig cfg, bool nonlinear, Run& r) {
   cfg.nonlinear = nonlinear;
-  try {
-    r.rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(sc.file + ": inconsistent scenario: " + e.what());
-  }
-  r.rig.run();
-  if (!r.rig.numerically_sound())
-    throw std::runtime_error(sc.file + ": the simulation diverged; reduce run.step_s");
+  configure_and_run(sc, r.rig, cfg);
   r.label = nonlinear ? "nonlinear servo" : "linear model (8)-(9)";
   const auto& rec = r.rig.recorder();
   const auto tx = rec.column("tool_x_mm");

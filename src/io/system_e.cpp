@@ -29,15 +29,7 @@ void run_one(const Scenario& sc, sim::RigEConfig cfg, Mode mode, bool as_compari
   cfg.controller.mode = mode;
   // The baseline must be set for the worst case to avoid overload: that is what makes it slow.
   if (mode == Mode::Fixed && as_comparison) cfg.worst_case_feed = true;
-  try {
-    r.rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(sc.file + ": inconsistent scenario: " + e.what());
-  }
-  r.rig.run();
-  if (!r.rig.numerically_sound())
-    throw std::runtime_error(
-        sc.file + ": the simulation diverged (NaN or infinite state); reduce run.step_s");
+  configure_and_run(sc, r.rig, cfg);
   r.m = sim::compute_metrics_e(r.rig);
   r.mode = mode;
   r.label = adaptive_mode_name(mode);

@@ -6,8 +6,10 @@
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 
+#include "lathectl/io/errors.hpp"
 #include "lathectl/io/report.hpp"
 #include "lathectl/io/scenario.hpp"
 
@@ -24,5 +26,25 @@ struct RunOutput {
 // Throws InputError (bad scenario) or std::runtime_error (numerical failure: NaN, divergence).
 RunOutput run_scenario(const Scenario& sc);
 void write_outputs(const RunOutput& out, const std::filesystem::path& dir);
+
+// Configures a rig with the scenario's run settings and runs it to the end. A configuration the
+// rig rejects is the scenario's fault (InputError); a divergence is a numerical failure
+// (std::runtime_error). Every system's study runs its rigs through this.
+template <class Rig, class Config>
+void configure_and_run(const Scenario& sc, Rig& rig, const Config& cfg,
+                       const std::string& divergence = "NaN or infinite state") {
+  try {
+    if constexpr (requires { rig.configure(cfg, 0.0, 0.0, 0.0); })
+      rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
+    else
+      rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(sc.file + ": inconsistent scenario: " + e.what());
+  }
+  rig.run();
+  if (!rig.numerically_sound())
+    throw std::runtime_error(sc.file + ": the simulation diverged (" + divergence +
+                             "); reduce run.step_s");
+}
 
 }  // namespace lathectl::io
