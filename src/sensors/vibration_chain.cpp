@@ -14,6 +14,27 @@ void require(bool ok, const std::string& what) {
 }
 }  // namespace
 
+void HighPass2::configure(double cutoff_Hz, double dt) noexcept {
+  const double k = std::tan(std::numbers::pi * cutoff_Hz * dt);
+  const double q = std::numbers::sqrt2;
+  const double norm = 1.0 / (1.0 + q * k + k * k);
+  b0_ = norm;
+  b1_ = -2.0 * norm;
+  b2_ = norm;
+  a1_ = 2.0 * (k * k - 1.0) * norm;
+  a2_ = (1.0 - q * k + k * k) * norm;
+  x1_ = x2_ = y1_ = y2_ = 0.0;
+}
+
+double HighPass2::step(double x) noexcept {
+  const double y = b0_ * x + b1_ * x1_ + b2_ * x2_ - a1_ * y1_ - a2_ * y2_;
+  x2_ = x1_;
+  x1_ = x;
+  y2_ = y1_;
+  y1_ = y;
+  return y;
+}
+
 void VibrationChain::configure(const Params& p) {
   require(p.sample_period_s > 0.0, "vibration chain: sample_period_s must be positive");
   require(p.highpass_Hz > 0.0 && p.highpass_Hz < 0.25 / p.sample_period_s,
@@ -24,27 +45,14 @@ void VibrationChain::configure(const Params& p) {
           "vibration chain: gates must be at least one sample");
   p_ = p;
   rng_.seed(p.seed);
-  // Bilinear (prewarped) second-order Butterworth high-pass.
-  const double k = std::tan(std::numbers::pi * p.highpass_Hz * p.sample_period_s);
-  const double q = std::numbers::sqrt2;
-  const double norm = 1.0 / (1.0 + q * k + k * k);
-  b0_ = norm;
-  b1_ = -2.0 * norm;
-  b2_ = norm;
-  a1_ = 2.0 * (k * k - 1.0) * norm;
-  a2_ = (1.0 - q * k + k * k) * norm;
-  x1_ = x2_ = y1_ = y2_ = 0.0;
+  highpass_.configure(p.highpass_Hz, p.sample_period_s);
   hp_y_ = amp_ = peak_ = a_timer_ = a0_ = f_timer_ = omega_d_ = 0.0;
   crossings_ = sign_ = 0;
 }
 
 void VibrationChain::update(double x) noexcept {
   x += p_.noise_m * noise_(rng_);
-  const double y = b0_ * x + b1_ * x1_ + b2_ * x2_ - a1_ * y1_ - a2_ * y2_;
-  x2_ = x1_;
-  x1_ = x;
-  y2_ = y1_;
-  y1_ = y;
+  const double y = highpass_.step(x);
   hp_y_ = y;
   amp_ = std::abs(y) < p_.dead_zone_m ? 0.0 : y;
 

@@ -101,15 +101,8 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
 
   cfg_.vibration.sample_period_s = dt * static_cast<double>(chain_every_);
   chain_.configure(cfg_.vibration);
-  const double hp = cfg_.vibration.highpass_Hz;
-  const double k = std::tan(kPi * hp * dt);
-  const double nq = 1.0 / (1.0 + std::numbers::sqrt2 * k + k * k);
-  hb0_ = nq;
-  hb1_ = -2.0 * nq;
-  hb2_ = nq;
-  ha1_ = 2.0 * (k * k - 1.0) * nq;
-  ha2_ = (1.0 - std::numbers::sqrt2 * k + k * k) * nq;
-  hx1_ = hx2_ = hy1_ = hy2_ = y_hp_ = 0.0;
+  highpass_.configure(cfg_.vibration.highpass_Hz, dt);
+  y_hp_ = 0.0;
 
   spindle_.configure(cfg.spindle);
   spindle_.reset(cfg.rpm);
@@ -169,12 +162,7 @@ bool RigB::step() noexcept {
   const double z[2] = {turrets_[0].z_mm, turrets_[1].z_mm};
   process_.step(theta_, spindle_.rpm(), z);
   const double y = process_.y_m();
-  const double yh = hb0_ * y + hb1_ * hx1_ + hb2_ * hx2_ - ha1_ * hy1_ - ha2_ * hy2_;
-  hx2_ = hx1_;
-  hx1_ = y;
-  hy2_ = hy1_;
-  hy1_ = yh;
-  y_hp_ = yh;
+  y_hp_ = highpass_.step(y);
   if (step_ % chain_every_ == 0) chain_.update(y);
 
   if (step_ % record_every_ == 0) {

@@ -27,6 +27,17 @@
 
 namespace lathectl::sensors {
 
+// Second-order Butterworth high-pass, bilinear transform prewarped at the cut-off.
+class HighPass2 {
+ public:
+  void configure(double cutoff_Hz, double sample_period_s) noexcept;
+  double step(double x) noexcept;
+
+ private:
+  double b0_ = 1, b1_ = 0, b2_ = 0, a1_ = 0, a2_ = 0;
+  double x1_ = 0, x2_ = 0, y1_ = 0, y2_ = 0;
+};
+
 class VibrationChain {
  public:
   struct Params {
@@ -51,8 +62,7 @@ class VibrationChain {
   Params p_{};
   std::mt19937_64 rng_{1};
   std::normal_distribution<double> noise_{0.0, 1.0};
-  double b0_ = 1, b1_ = 0, b2_ = 0, a1_ = 0, a2_ = 0;  // biquad
-  double x1_ = 0, x2_ = 0, y1_ = 0, y2_ = 0;
+  HighPass2 highpass_;
   double hp_y_ = 0.0, amp_ = 0.0;
   double peak_ = 0.0, a_timer_ = 0.0, a0_ = 0.0;
   int crossings_ = 0, sign_ = 0;

@@ -101,7 +101,7 @@ class RigB {
   int n_tools_ = 1;
   dynamics::TwinTurretCut process_;
   // Noise-free high-pass of y for the metrics (same cut-off as the sensor's).
-  double hb0_ = 1, hb1_ = 0, hb2_ = 0, ha1_ = 0, ha2_ = 0, hx1_ = 0, hx2_ = 0, hy1_ = 0, hy2_ = 0;
+  sensors::HighPass2 highpass_;
   double y_hp_ = 0.0;
   drives::SpindleDrive spindle_;
   sensors::VibrationChain chain_;
