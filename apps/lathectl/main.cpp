@@ -558,15 +558,27 @@ int main(int argc, char** argv) {
   CLI::App app{"lathectl — automatic and adaptive lathe control: simulate, design, deploy"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "lathectl 0.1.0");
+  // Where the seed, formula and block numbers of the help texts are explained (subcommands
+  // inherit the footer; the ones with a page of their own name it).
+  const auto doc = [](const std::string& page) {
+    return "docs/" + page + " in the lathectl sources (installed: /usr/share/doc/lathectl/docs/" +
+           page + ")";
+  };
+  app.footer(
+      "Seed numbers (000–004), formula numbers such as (23) and block numbers such as \"sensor "
+      "4\" refer to the five original documents, explained in " +
+      doc("README.md") + ".");
 
   std::string scenario, out = "out";
   auto* run = app.add_subcommand(
       "run", "Run a scenario closed-loop and write summary.json, channels.csv, report.html");
   run->add_option("scenario", scenario, "scenario file (TOML)")->required();
   run->add_option("--out", out, "output directory")->capture_default_str();
+  run->footer("Scenario files: " + doc("scenario-reference.md") + ".");
 
   auto* check = app.add_subcommand("check", "Validate a scenario file without running it");
   check->add_option("scenario", scenario, "scenario file (TOML)")->required();
+  check->footer("Scenario files: " + doc("scenario-reference.md") + ".");
 
   std::string demo_out = "demo-out", demo_dir = examples_dir();
   auto* demo = app.add_subcommand(
@@ -582,6 +594,7 @@ int main(int argc, char** argv) {
                    "machine file (TOML): [cutting], [[mode]] and/or [part], [speed], [lobes]")
       ->required();
   lobes->add_option("--out", lobes_out, "output directory")->capture_default_str();
+  lobes->footer("Machine files: " + doc("machine-file-reference.md") + ".");
 
   auto* design = app.add_subcommand("design", "Design calculators from the papers' formulas");
   design->require_subcommand(1);
@@ -592,6 +605,7 @@ int main(int argc, char** argv) {
   auto* preg = design->add_subcommand(
       "pulse-regulator",
       "Seed 000: Q (1), Ka (2), S (3), Δh (4), Kf (6), Δf and duty of a pulsed flow regulator");
+  preg->footer("Seed 000 and its formulas (1)-(7): " + doc("system-a-pulse-feed.md") + ".");
   preg->add_option("--d-mm", d_mm, "spool diameter d [mm]")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
@@ -629,6 +643,8 @@ int main(int argc, char** argv) {
       "adaptive-speed",
       "Seed 004: optimal speed V_opt = V_p·(S_p/S)^yv; handbook tool life T and speed for a "
       "life; feed per revolution. Each result is computed when its inputs are given");
+  aspd->footer("Seed 004 and V_opt: " + doc("system-e-adaptive.md") + "; materials: " +
+               doc("materials-reference.md") + ".");
   double Vp = 0, Sp = 0, yv = 0, S = 0, Cv = 0, m = 0, xv = 0, t = 0, s = 0, V = 0, T = 0, F = 0,
          n = 0;
   struct Bound {
@@ -678,6 +694,7 @@ int main(int argc, char** argv) {
       "gauge",
       "Seed 003: vibro-contact in-process gauge — free amplitude A0, gain K, threshold S_th (23), "
       "end time t_k (22), filtered noise D_y (25), size scatter σ_x and Cp");
+  gauge->footer("Seed 003 and its formulas (20)-(25): " + doc("system-d-gauging.md") + ".");
   auto gopt = [&](const char* name, double& v, const char* help, const CLI::Validator& validator) {
     gauge->add_option(name, v, help)->capture_default_str()->check(validator);
   };
@@ -713,6 +730,7 @@ int main(int argc, char** argv) {
       "tracer",
       "Seed 002: linearised hydraulic tracer slide — steady lag on a cone (P0/E0 + v_T/C0)/i, "
       "damping ratio, natural frequency, transient lag and settling at a cylinder→cone change");
+  tracer->footer("Seed 002 and its formulas (8)-(9): " + doc("system-c-tracer.md") + ".");
   auto topt = [&](const char* name, double& v, const char* help, const CLI::Validator& validator) {
     tracer->add_option(name, v, help)->capture_default_str()->check(validator);
   };

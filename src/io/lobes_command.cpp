@@ -290,6 +290,7 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
 
   Report rep;
   rep.title = "Stability lobes";
+  rep.doc_page = "system-b-chatter.md";  // the lobes are system B's chatter model
   rep.subtitle = std::to_string(in.system.modes.size()) +
                  " mode(s), K_f = " + fmt(in.system.kf_N_per_m2 * 1e-6) + " N/mm²";
   if (in.part)

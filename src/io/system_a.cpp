@@ -226,6 +226,7 @@ RunOutput run_system_a(const Scenario& sc) {
   // Report.
   Report& rep = out.report;
   rep.title = "System A — " + sc.name;
+  rep.doc_page = "system-a-pulse-feed.md";
   rep.subtitle = sc.file + " · " + main->label + (cmp ? " against " + cmp->label : "") + " · " +
                  std::string(roughing ? "roughing" : "finishing") + " mode";
   rep.description = sc.description;

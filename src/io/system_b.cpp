@@ -364,6 +364,7 @@ RunOutput run_system_b(const Scenario& sc) {
 
   Report& rep = out.report;
   rep.title = "System B — " + sc.name;
+  rep.doc_page = "system-b-chatter.md";
   rep.subtitle = sc.file + " · " + main.label +
                  (b.setup == sim::TwinSetup::FeedDivision    ? " · feed division"
                   : b.setup == sim::TwinSetup::DepthDivision ? " · depth division"

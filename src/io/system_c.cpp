@@ -193,6 +193,7 @@ RunOutput run_system_c(const Scenario& sc) {
 
   Report& rep = out.report;
   rep.title = "System C — " + sc.name;
+  rep.doc_page = "system-c-tracer.md";
   rep.subtitle =
       sc.file + " · " + main.label + (runs.size() > 1 ? " against " + runs[1]->label : "");
   rep.description = sc.description;

@@ -281,6 +281,7 @@ RunOutput run_system_d(const Scenario& sc) {
 
   Report& rep = out.report;
   rep.title = "System D — " + sc.name;
+  rep.doc_page = "system-d-gauging.md";
   rep.subtitle = sc.file + " · vibro-contact in-process gauging, threshold: " + d.threshold;
   rep.description = sc.description;
   auto add = [&](const std::string& k, double v, const char* f = "%.4g") {

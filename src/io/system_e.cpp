@@ -163,6 +163,7 @@ RunOutput run_system_e(const Scenario& sc) {
 
   Report& rep = out.report;
   rep.title = "System E — " + sc.name;
+  rep.doc_page = "system-e-adaptive.md";
   rep.subtitle =
       sc.file + " · " + main.label +
       (runs.size() > 1 ? " against " + std::to_string(runs.size() - 1) + " other controller(s)"

@@ -1,5 +1,5 @@
-// Cutting model against the handbook formulas worked by hand (SPEC.md, "Common cutting-process
-// model"; Kosilova & Meshcheryakov vol. 2, tables 17 and 22) and against the Kienzle form.
+// Cutting model against the handbook formulas worked by hand (docs/materials-reference.md;
+// Kosilova & Meshcheryakov vol. 2, tables 17 and 22) and against the Kienzle form.
 
 #include "lathectl/cutting/cutting_model.hpp"
 
@@ -36,7 +36,7 @@ constexpr CutState kRef{2.0, 0.3, 100.0, 1.0, 1.0};  // t = 2 mm, s = 0.3 mm/rev
 TEST(CuttingModel, MaterialFileHoldsTheHandbookCoefficients) {
   const Material* m = library().find("steel_45");
   ASSERT_NE(m, nullptr);
-  // SPEC: Pz Cp=300 x=1 y=0.75 n=-0.15; Py 243/0.9/0.6/-0.3; Px 339/1/0.5/-0.4.
+  // Handbook, steel 45: Pz Cp=300 x=1 y=0.75 n=-0.15; Py 243/0.9/0.6/-0.3; Px 339/1/0.5/-0.4.
   EXPECT_DOUBLE_EQ(m->Pz.Cp, 300.0);
   EXPECT_DOUBLE_EQ(m->Pz.y, 0.75);
   EXPECT_DOUBLE_EQ(m->Py.Cp, 243.0);
@@ -234,7 +234,7 @@ TEST(CuttingModel, ToolLifeFeedRangesPickTheRightCv) {
   auto v = [&](double cv, double yv, double s) {
     return cv / (std::pow(T, 0.2) * std::pow(t, 0.15) * std::pow(s, yv));
   };
-  // SPEC: s ≤ 0.3: Cv=420, yv=0.2; 0.3–0.7: Cv=350, yv=0.35; > 0.7: Cv=340, yv=0.45.
+  // Handbook, steel 45: s ≤ 0.3: Cv=420, yv=0.2; 0.3–0.7: Cv=350, yv=0.35; > 0.7: Cv=340, yv=0.45.
   EXPECT_NEAR(cm.speed_for_life(T, 0.1, t), v(420.0, 0.20, 0.1), 1e-9);
   EXPECT_NEAR(cm.speed_for_life(T, 0.3, t), v(420.0, 0.20, 0.3), 1e-9);  // boundary: first range
   EXPECT_NEAR(cm.speed_for_life(T, 0.31, t), v(350.0, 0.35, 0.31), 1e-9);

@@ -26,7 +26,7 @@
 // away from ω_d/3, ω_d/2, ω_d, 2ω_d, 3ω_d (entrainment instead of quenching; see
 // dynamics/van_der_pol.hpp).
 //
-// Beyond the seed — desynchronising the turrets (found in rig B, see the closing note of issue 4):
+// Beyond the seed — desynchronising the turrets (found in rig B; see docs/system-b-chatter.md, findings):
 // in feed division both tools share the feed, each cutting s/2 of the surface the other left
 // half a revolution earlier; their regenerative gains add, g(s/2) + g(s/2) with g ∝ h^(1−m).
 // Modulating one turret makes the axial offset between them swing by

@@ -44,6 +44,9 @@ struct Report {
   std::vector<std::string> notes;                            // findings, each a short paragraph
   std::vector<Table> tables;
   std::vector<Plot> plots;
+  // Page of docs/ that explains the seed, formula and block numbers the report cites (e.g.
+  // "system-d-gauging.md"); the footer names it, in the sources and installed. Empty: the index.
+  std::string doc_page;
 };
 
 // Renders the report as one HTML document. Series longer than max_points are decimated by
