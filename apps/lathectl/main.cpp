@@ -643,8 +643,8 @@ int main(int argc, char** argv) {
       "adaptive-speed",
       "Seed 004: optimal speed V_opt = V_p·(S_p/S)^yv; handbook tool life T and speed for a "
       "life; feed per revolution. Each result is computed when its inputs are given");
-  aspd->footer("Seed 004 and V_opt: " + doc("system-e-adaptive.md") + "; materials: " +
-               doc("materials-reference.md") + ".");
+  aspd->footer("Seed 004 and V_opt: " + doc("system-e-adaptive.md") +
+               "; materials: " + doc("materials-reference.md") + ".");
   double Vp = 0, Sp = 0, yv = 0, S = 0, Cv = 0, m = 0, xv = 0, t = 0, s = 0, V = 0, T = 0, F = 0,
          n = 0;
   struct Bound {
