@@ -578,10 +578,10 @@ TEST(AdaptiveFeedController, PerRevolutionRegulationRecoversAfterHugeOutOfRangeG
 // 0) the speed law is skipped, so the ramp walks to V_p. At reset_alarm() the rpm command jumps in
 // one period from the held 600·V_opt/V (V_opt = 150·2^0.35 = 190.6: 762 rpm) to 600·V_p/V = 600 rpm
 // (measured: −165 rpm, 21 %, in one period), a step the speed rate limit (200 m/min/s → 1.6 rpm per
-// period here) exists to prevent (bumpless start and rate limits: docs/system-e-adaptive.md). Meanwhile
-// out.speed_m_per_min already reports V_p while out.rpm is held at V_opt's speed. Expected: the
-// ramp is held (or re-seeded from the held command) while the output is held, so the restart is
-// bumpless.
+// period here) exists to prevent (bumpless start and rate limits: docs/system-e-adaptive.md).
+// Meanwhile out.speed_m_per_min already reports V_p while out.rpm is held at V_opt's speed.
+// Expected: the ramp is held (or re-seeded from the held command) while the output is held, so the
+// restart is bumpless.
 TEST(AdaptiveFeedController, SpindleCommandIsBumplessAcrossAlarmReset) {
   auto p = with_monitor(Mode::ForceFeedSpeed);
   p.sensor_monitor.stuck_time_s = 0.0;

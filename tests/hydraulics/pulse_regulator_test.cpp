@@ -1,6 +1,6 @@
 // Pulsed flow regulator 5 of seed 000 against formula (1) Q = μπd·h·sqrt(2Δp/ρ)·Δt/T, the
-// switching model (dead zone from the overlap) and the obliteration model (docs/system-a-pulse-feed.md:
-// the document's advantages 4 and 5).
+// switching model (dead zone from the overlap) and the obliteration model
+// (docs/system-a-pulse-feed.md: the document's advantages 4 and 5).
 
 #include "lathectl/hydraulics/pulse_regulator.hpp"
 

@@ -26,9 +26,9 @@
 // away from ω_d/3, ω_d/2, ω_d, 2ω_d, 3ω_d (entrainment instead of quenching; see
 // dynamics/van_der_pol.hpp).
 //
-// Beyond the seed — desynchronising the turrets (found in rig B; see docs/system-b-chatter.md, findings):
-// in feed division both tools share the feed, each cutting s/2 of the surface the other left
-// half a revolution earlier; their regenerative gains add, g(s/2) + g(s/2) with g ∝ h^(1−m).
+// Beyond the seed — desynchronising the turrets (found in rig B; see docs/system-b-chatter.md,
+// findings): in feed division both tools share the feed, each cutting s/2 of the surface the other
+// left half a revolution earlier; their regenerative gains add, g(s/2) + g(s/2) with g ∝ h^(1−m).
 // Modulating one turret makes the axial offset between them swing by
 //   δ_pp = Δl · (max − min over the cycle of Σ_j (1 − S_p/S_j))   (exact for the staircase)
 // and while |δ| > s/2 one tool cuts air and the other takes the whole chip: gain g(s), a factor
