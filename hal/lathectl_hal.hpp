@@ -17,7 +17,9 @@ extern "C" {
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -80,13 +82,47 @@ inline double number_param(const char* text, const char* key, double fallback) {
   return v;
 }
 
+// The uid the realtime side opens files as. rtapi_app is setuid root and keeps its real and
+// effective uid 0; only its filesystem uid is the calling user's (or RTAPI_UID's when LinuxCNC was
+// started by root), so access(2) would answer for root: read the fsuid (4th Uid field) instead.
+inline long file_uid() {
+  std::FILE* f = std::fopen("/proc/self/status", "r");
+  if (f == nullptr) return -1;
+  char line[256];
+  long uid[4] = {-1, -1, -1, -1};
+  while (std::fgets(line, sizeof line, f) != nullptr)
+    if (std::sscanf(line, "Uid: %ld %ld %ld %ld", &uid[0], &uid[1], &uid[2], &uid[3]) == 4) break;
+  std::fclose(f);
+  return uid[3];
+}
+
+// Fails with one line naming the file, what it is for and why the realtime side cannot read it.
+// A file under a home directory only its owner may enter (Debian's 0700 homes) is unreadable when
+// LinuxCNC runs as root, because rtapi then reads files as RTAPI_UID (e.g. 65534, nobody).
+inline void require_readable(const std::string& path, const char* what) {
+  std::FILE* f = std::fopen(path.c_str(), "r");
+  if (f != nullptr) {
+    std::fclose(f);
+    return;
+  }
+  const int err = errno;
+  std::string msg = std::string("cannot read ") + what + " " + path + ": " + std::strerror(err);
+  if (err == EACCES)
+    msg += " (the realtime side reads files as uid " + std::to_string(file_uid()) +
+           "; make the file readable to that user, or stage a copy with lathectl-rt-stage)";
+  throw Error(msg);
+}
+
 // The scenario of `system` named by the `scenario=` module parameter (errors name file, line,
 // key).
 inline io::Scenario load_system(const char* path, const std::string& system) {
   if (path == nullptr || *path == '\0')
     throw Error("module parameter scenario=PATH (a system-" + system +
                 " scenario file) is required");
-  const auto lib = io::MaterialLibrary::load_default();
+  require_readable(path, "scenario");
+  const std::string materials = io::data_dir() + "/materials.toml";
+  require_readable(materials, "material library");
+  const auto lib = io::MaterialLibrary::load(materials);
   auto sc = io::load_scenario(path, lib);
   if (sc.system != system)
     throw Error(std::string(path) + ": system = \"" + sc.system +

@@ -11,7 +11,10 @@ namespace lathectl::io {
 std::string data_dir() {
   if (const char* env = std::getenv("LATHECTL_DATA_DIR"); env && *env) return env;
   namespace fs = std::filesystem;
-  if (fs::exists(fs::path(LATHECTL_DATA_DIR) / "materials.toml")) return LATHECTL_DATA_DIR;
+  // The error_code form: a source tree under a home only its owner may enter (the realtime side
+  // of LinuxCNC reads as another uid) is "not there", not an exception.
+  std::error_code ec;
+  if (fs::exists(fs::path(LATHECTL_DATA_DIR) / "materials.toml", ec)) return LATHECTL_DATA_DIR;
   return LATHECTL_INSTALLED_DATA_DIR;
 }
 

@@ -10,9 +10,11 @@ outputs in the same period, and the recording is checked against what the compon
                                                 worst-case update() time over a long session
 """
 
+import atexit
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tomllib
@@ -27,12 +29,47 @@ def check(cond, what):
         FAILS.append(what)
 
 
+RT_ENV = {}    # LATHECTL_DATA_DIR: the material library the components read
+RT_PATHS = {}  # a file → where the realtime side reads it
+RT_DIRS = []   # staging directories to remove at exit
+
+
 def env():
     e = dict(os.environ)
     if os.getuid() == 0:  # rtapi refuses root: run its realtime side as 'nobody'
         e.setdefault("RTAPI_UID", "65534")
         e.setdefault("RTAPI_FIFO_PATH", "/tmp/.rtapi_fifo")
+    e.update(RT_ENV)
     return e
+
+
+def _stage(src, path):
+    out = subprocess.run([os.path.join(src, "scripts/lathectl-rt-stage"), "--owner",
+                          str(os.getpid()), path], env=env(), capture_output=True, text=True)
+    if out.returncode != 0:
+        raise SystemExit("lathectl-rt-stage %s: %s" % (path, out.stderr.strip()))
+    lines = out.stdout.splitlines()
+    if lines[0] != "-":
+        RT_DIRS.append(lines[0])
+    return lines[1]
+
+
+def rt_path(src, path):
+    """Where the components' realtime side reads `path` (scripts/lathectl-rt-stage): under root
+    it reads as RTAPI_UID, which cannot enter a checkout in a 0700 home, so it gets a copy; the
+    material library of SOURCE_DIR is staged with the first file (LATHECTL_DATA_DIR)."""
+    if not RT_ENV:
+        mats = _stage(src, os.path.join(src, "data/materials.toml"))
+        RT_ENV["LATHECTL_DATA_DIR"] = os.path.dirname(mats)
+    if path not in RT_PATHS:
+        RT_PATHS[path] = _stage(src, path)
+    return RT_PATHS[path]
+
+
+@atexit.register
+def _unstage():
+    for d in RT_DIRS:
+        shutil.rmtree(d, ignore_errors=True)
 
 
 def halrun(hal_text, work, name, timeout=120):
@@ -85,6 +122,10 @@ def scenario_path(src):
     return os.path.join(src, "examples/linuxcnc/step_allowance.toml")
 
 
+def rt_scenario(src):
+    return rt_path(src, scenario_path(src))
+
+
 def test_adaptive(src, work):
     sc = tomllib.load(open(scenario_path(src), "rb"))
     c = sc["controller"]
@@ -118,7 +159,7 @@ def test_adaptive(src, work):
                 "lathectl-adaptive.period-error"]
     extra = ("setp lathectl-adaptive.enable 1\n"
              "setp lathectl-adaptive.feed-per-rev-mode 1\n")
-    got = stream_session(work, "adaptive", ["lathectl_adaptive scenario=" + scenario_path(src)],
+    got = stream_session(work, "adaptive", ["lathectl_adaptive scenario=" + rt_scenario(src)],
                          "ffffffs", rows, stim_pins, "ffbbssfsb", out_pins, extra)
     if not got:
         return
@@ -183,7 +224,7 @@ def test_plant(src, work):
     n = int(25.0 / vz / PERIOD_S)  # from z = +2 to z = -23: 2 mm depth, then the 4 mm collar
     for k in range(n):
         rows.append([x, 2.0 - vz * k * PERIOD_S, rpm])
-    got = stream_session(work, "plant", ["lathectl_plant scenario=" + scenario_path(src)], "fff",
+    got = stream_session(work, "plant", ["lathectl_plant scenario=" + rt_scenario(src)], "fff",
                          rows, ["lathectl-plant.x-pos", "lathectl-plant.z-pos",
                                 "lathectl-plant.spindle-rpm"], "fffffbs",
                          ["lathectl-plant.pz", "lathectl-plant.depth",
@@ -222,28 +263,55 @@ def test_bad_input(src, work):
     with open(bad, "w") as f:
         f.write(text)
     line = next(i + 1 for i, l in enumerate(text.splitlines()) if l.startswith("force_limit_N"))
+    bad = rt_path(src, bad)
+    aim = rt_path(src, os.path.join(src, "examples/scenarios/a_finishing_aim.toml"))
     cases = [
         ("lathectl_adaptive scenario=" + bad, ["bad.toml:%d" % line, "force_limit_N"]),
         ("lathectl_plant scenario=" + bad, ["bad.toml:%d" % line, "force_limit_N"]),
         ("lathectl_adaptive", ["scenario=PATH", "required"]),
-        ("lathectl_plant scenario=/nonexistent/x.toml", ["/nonexistent/x.toml", "cannot open"]),
-        ("lathectl_plant scenario=%s z_origin_mm=abc" % scenario_path(src),
+        ("lathectl_plant scenario=/nonexistent/x.toml",
+         ["cannot read scenario /nonexistent/x.toml: No such file"]),
+        ("lathectl_plant scenario=%s z_origin_mm=abc" % rt_scenario(src),
          ["z_origin_mm=abc", "expected a number"]),
-        ("lathectl_plant scenario=%s" % os.path.join(src, "examples/scenarios/a_finishing_aim.toml"),
-         ["system-E"]),
+        ("lathectl_plant scenario=%s" % aim, ["system-E"]),
     ]
+    if os.getuid() == 0:
+        # Not staged: a scenario in a directory only root may enter, the situation of a checkout
+        # in root's 0700 home. The realtime side reads as RTAPI_UID and must say so.
+        private = os.path.join(work, "private")
+        os.makedirs(private, exist_ok=True)
+        os.chmod(private, 0o700)
+        hidden = os.path.join(private, "step_allowance.toml")
+        shutil.copy(scenario_path(src), hidden)
+        cases.append(("lathectl_adaptive scenario=" + hidden,
+                      ["cannot read scenario " + hidden + ": Permission denied",
+                       "uid " + env()["RTAPI_UID"]]))
     for load, words in cases:
-        # The realtime master must be up (threads) for the module's own message to reach us.
         rc, log = halrun("loadrt threads name1=t period1=1000000\nloadrt %s\n" % load, work, "bad")
         check(rc != 0 and all(w in log for w in words),
               "load fails with a clear message: loadrt %s → %s" %
               (load.replace(src, "SRC").replace(work, "WORK"),
                next((l for l in log.splitlines() if l.startswith("lathectl_")), "(none)")))
+    # The component is the session's first load (the realtime master starts with it): its one
+    # line still reaches the output.
+    rc, log = halrun("loadrt lathectl_adaptive scenario=%s\n" % bad, work, "first")
+    said = [l for l in log.splitlines() if l.startswith("lathectl_adaptive: ") and "bad.toml" in l]
+    check(rc != 0 and len(said) == 1 and "force_limit_N" in said[0],
+          "first load of a session fails with one line naming file, line and key: %s" %
+          (said[0] if said else "(none)"))
+    # The material library unreadable: the line names it.
+    saved = RT_ENV["LATHECTL_DATA_DIR"]
+    RT_ENV["LATHECTL_DATA_DIR"] = "/nonexistent-lathectl-data"
+    rc, log = halrun("loadrt threads name1=t period1=1000000\nloadrt lathectl_plant scenario=%s\n"
+                     % rt_scenario(src), work, "bad")
+    RT_ENV["LATHECTL_DATA_DIR"] = saved
+    check(rc != 0 and "cannot read material library /nonexistent-lathectl-data/materials.toml"
+          in log, "missing material library: the load fails naming it")
     # A control period that is not a whole number of thread periods holds the feed.
     rc, log = halrun("loadrt threads name1=t period1=300000\n"
                      "loadrt lathectl_adaptive scenario=%s\naddf lathectl-adaptive t\nstart\n"
                      "loadusr -w sleep 0.1\nshow pin lathectl-adaptive.period-error\n"
-                     "show pin lathectl-adaptive.feed-hold\n" % scenario_path(src), work, "period")
+                     "show pin lathectl-adaptive.feed-hold\n" % rt_scenario(src), work, "period")
     check(rc == 0 and "TRUE  lathectl-adaptive.period-error" in log
           and "TRUE  lathectl-adaptive.feed-hold" in log,
           "0.3 ms thread for a 2 ms control period: period-error and feed hold")
@@ -287,7 +355,7 @@ start
 loadusr -w halsampler -n {n} {out}
 show pin lathectl-adaptive.update-ns-max
 show pin lathectl-plant.update-ns-max
-""".format(sc=scenario_path(src), n=n, out=out)
+""".format(sc=rt_scenario(src), n=n, out=out)
     rc, log = halrun(hal, work, "timing", timeout=seconds + 120)
     vals = {}
     for l in log.splitlines():

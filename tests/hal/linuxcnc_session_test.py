@@ -188,9 +188,31 @@ def main():
                   "fault: the spindle keeps turning during the hold")
             check(held[0]["z_mm"] < -15.5, "fault: it happened inside the collar (z %.2f)" %
                   held[0]["z_mm"])
+    bad_scenario(src, work)
     if FAILS:
         print("%d check(s) failed" % len(FAILS))
         sys.exit(1)
+
+
+def bad_scenario(src, work):
+    """A scenario error in a LinuxCNC session: the run fails and the user is told the file (their
+    path, not the copy staged for the realtime side), line and key in one line."""
+    text = open(os.path.join(src, "examples/linuxcnc/step_allowance.toml")).read()
+    bad = os.path.join(work, "bad_limit.toml")
+    with open(bad, "w") as f:
+        f.write(text.replace("force_limit_N = 1600.0", "force_limit_N = -5.0"))
+    line = next(i + 1 for i, l in enumerate(text.splitlines()) if l.startswith("force_limit_N"))
+    p = subprocess.run([os.path.join(src, "scripts/linuxcnc-sim"),
+                        os.path.join(src, "examples/linuxcnc/step_allowance.ngc"), bad, "--out",
+                        os.path.join(work, "bad"), "--timeout", "60"],
+                       capture_output=True, text=True, timeout=120)
+    said = [l for l in p.stderr.splitlines() if l.startswith("lathectl_plant: ")]
+    check(p.returncode != 0 and said and
+          said[0].startswith("lathectl_plant: %s:%d:" % (bad, line)) and "force_limit_N" in said[0],
+          "bad scenario: linuxcnc-sim fails with the component's line: %s" %
+          (said[0] if said else p.stderr.strip()[-300:]))
+    log = open(os.path.join(work, "bad", "linuxcnc.log")).read()
+    check("force_limit_N" in log, "bad scenario: LinuxCNC's log has the component's line")
 
 
 if __name__ == "__main__":

@@ -28,7 +28,7 @@ def near_multiple(v, q, tol=1e-6):
 
 
 def test_stream(src, work):
-    sc = os.path.join(src, SCENARIO)
+    sc = H.rt_path(src, os.path.join(src, SCENARIO))
     mean = 0.30 * 820  # mm/min: the feed to keep
     F = 2.0 * mean / 60.0  # the program's F at the ceiling (2), mm/s
     rows = []
@@ -92,6 +92,7 @@ def test_loop(src, work):
     machine z = −path + z0 (scale), the spindle angle integrated from its speed; the chatter plant
     reads z and the angle, the module reads the plant's detectors and power."""
     sc_path = os.path.join(src, SCENARIO)
+    rt_sc = H.rt_path(src, sc_path)
     n = 10000
     F = 2.0 * 0.30 * 820 / 60.0
     rows = [[0.0 if k < 500 else F, 0 if k < 500 else 2, 1 if k < 500 else 0] for k in range(n)]
@@ -134,8 +135,8 @@ net pw lathectl-chatter.spindle-power => lathectl-modfeed.spindle-power
     # The streamer's pins are wired by stream_session's stim_pins; `extra` adds mult2 to pin 0's
     # signal.
     got = H.stream_session(work, "loop",
-                           ["lathectl_chatter scenario=%s z_origin_mm=0" % sc_path,
-                            "lathectl_modfeed scenario=%s" % sc_path],
+                           ["lathectl_chatter scenario=%s z_origin_mm=0" % rt_sc,
+                            "lathectl_modfeed scenario=%s" % rt_sc],
                            "fsb", rows, ["lathectl-modfeed.requested-vel", "lathectl-modfeed.motion-type",
                                          "lathectl-modfeed.idle-block"],
                            "ffffbsffffsbss", outs, hal, pre)
@@ -199,9 +200,9 @@ net pw lathectl-chatter.spindle-power => lathectl-modfeed.spindle-power
 
 
 def test_bad_input(src, work):
-    sc = os.path.join(src, SCENARIO)
-    twin = os.path.join(src, "examples/scenarios/b_twin_feed_division.toml")
-    e = os.path.join(src, "examples/linuxcnc/step_allowance.toml")
+    sc = H.rt_path(src, os.path.join(src, SCENARIO))
+    twin = H.rt_path(src, os.path.join(src, "examples/scenarios/b_twin_feed_division.toml"))
+    e = H.rt_path(src, os.path.join(src, "examples/linuxcnc/step_allowance.toml"))
     cases = [
         ("lathectl_modfeed scenario=" + e, ["system-B"]),
         ("lathectl_modfeed scenario=%s ceiling=0.5" % sc, ["ceiling"]),
