@@ -245,6 +245,7 @@ void read_controller(TableReader& root, sim::RigAConfig& a) {
   p.sensor_monitor.stuck_time_s = c->number("sensor_stuck_ms", Range::closed(0, 1e5), 50.0) * 1e-3;
   p.sensor_monitor.stuck_tolerance =
       c->number("sensor_stuck_tolerance_V", Range::closed(0, 10), 0.0);
+  p.sensor_monitor.noise_sigma = a.sensor.noise_V;  // scale of the suspect (frozen) check
   if (!(p.sensor_monitor.min < p.sensor_monitor.max))
     c->fail("sensor_max_V", "must exceed sensor_min_V");
   if (p.slot_min_m >= p.slot_max_m) c->fail("slot_max_mm", "must exceed slot_min_mm");
@@ -599,6 +600,7 @@ void read_system_e(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
   p.sensor_monitor.min = c->number("sensor_min", Range::any(), -0.2 * p.force_limit);
   p.sensor_monitor.max = c->number("sensor_max", Range::any(), e.force_sensor.range);
   p.sensor_monitor.stuck_time_s = c->number("sensor_stuck_ms", Range::closed(0, 1e5), 100.0) * 1e-3;
+  p.sensor_monitor.noise_sigma = e.force_sensor.noise_sigma;  // scale of the suspect check
   if (!(p.sensor_monitor.min < p.sensor_monitor.max))
     c->fail("sensor_max", "must exceed sensor_min");
   c->finish();
