@@ -390,7 +390,8 @@ TEST(ScenarioE, EntryFeedBelowFeedMinNamesLineAndKey) {
   EXPECT_TRUE(contains(msg, "mem.toml:" + std::to_string(line_of(text, "entry_feed_mm_per_rev")) + ":"))
       << msg;
   EXPECT_TRUE(contains(msg, "controller.entry_feed_mm_per_rev")) << msg;
-  EXPECT_TRUE(contains(msg, "feed_min_mm_per_rev")) << msg;
+  EXPECT_TRUE(contains(msg, "must lie in [feed_min_mm_per_rev, feed_max_mm_per_rev] = [0.1, 0.8]"))
+      << msg;
 }
 
 }  // namespace
