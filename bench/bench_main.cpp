@@ -249,9 +249,12 @@ void BM_ModulatedFeedController_Update(benchmark::State& state) {
 BENCHMARK(BM_ModulatedFeedController_Update);
 // The module's re-plan (quenching condition, mean-keeping S_min, quanta) runs inside update()
 // when a0 grows: its cost bounds the real-time worst case.
+// Arg: n_s (the scenario accepts 1..1000).
 void BM_ModulatedFeedController_Plan(benchmark::State& state) {
   control::ModulatedFeedController m;
-  m.configure({});
+  control::ModulatedFeedController::Params mp;
+  mp.n_s = static_cast<int>(state.range(0));
+  m.configure(mp);
   double wm = 0, req = 0, got = 0, a0 = 1e-5;
   bool lim = false;
   for (auto _ : state) {
@@ -260,5 +263,5 @@ void BM_ModulatedFeedController_Plan(benchmark::State& state) {
                                         820.0, wm, req, got, lim));
   }
 }
-BENCHMARK(BM_ModulatedFeedController_Plan)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ModulatedFeedController_Plan)->Arg(5)->Arg(50)->Arg(1000)->Unit(benchmark::kMicrosecond);
 }  // namespace

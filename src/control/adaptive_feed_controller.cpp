@@ -43,7 +43,11 @@ void AdaptiveFeedController::configure(const Params& p) {
     probe.configure(p.sensor_monitor);
   }
   p_ = p;
-  monitor_.configure(p.sensor_monitor);
+  {
+    auto mp = p.sensor_monitor;  // the monitor samples once per control period
+    if (mp.period_s == 0.0) mp.period_s = p.period_s;
+    monitor_.configure(mp);
+  }
   const double s_prog = p.feed_programmed_mm_per_rev;
   pi_.configure({p.kp * s_prog, p.ti_s, p.feed_min_mm_per_rev, feed_ceiling()});
   feed_ramp_.configure(p.feed_rate_limit_per_s * s_prog);
@@ -105,9 +109,15 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     }
   };
   Reason fault = Reason::None;
+  bool suspect = false;
   if (adaptive) {
-    fault = monitor_.check(in.force, dt);
+    // A constant reading is legitimate with the tool in air (a zero-suppressed dynamometer reads
+    // exactly 0 there) and in rapids: the stuck timer runs only while the controller acts on
+    // the force in a cut — in cut, or a reading above the air threshold.
+    const bool armed = in.feed_block && (in_cut_ || in.force > p_.air_threshold * limit);
+    fault = monitor_.check(in.force, dt, armed);
     if (fault != Reason::None) raise(fault);
+    suspect = monitor_.suspect();
   }
   // Only samples the monitor accepts reach the regulation or its running average.
   const bool sensor_ok = std::isfinite(in.force) && fault == Reason::None;
@@ -168,6 +178,7 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
   if (in.feed_block && adaptive && !alarm_) {
     double target = s_prog;
     const double error = (limit - regulated) / limit;
+    const PiRegulator pi_before = pi_;
     if (in_cut_) {
       Reason lim = Reason::None;
       target = pi_.update(error, dt, lim);
@@ -175,6 +186,13 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     } else {
       target = std::min(p_.air_feed_mm_per_rev, p_.feed_max_mm_per_rev);
       if (reason == Reason::None) reason = Reason::AirCut;
+    }
+    if (suspect && target > feed_ramp_.value()) {
+      // A frozen reading never drives the feed up: hold, with the PI frozen (no windup, and no
+      // preset, which would drop the next output by kp·|error| and ratchet the feed down).
+      target = feed_ramp_.value();
+      pi_ = pi_before;
+      reason = Reason::SensorSuspect;
     }
     if (target < feed_ramp_.value()) {
       feed_ramp_.reset(target);  // decreases are never delayed: they protect the tool

@@ -8,25 +8,43 @@ namespace lathectl::control {
 
 void SignalMonitor::configure(const Params& p) {
   if (!(p.min < p.max)) throw std::invalid_argument("signal monitor: min must be below max");
-  if (p.stuck_time_s < 0.0 || p.stuck_tolerance < 0.0)
-    throw std::invalid_argument("signal monitor: stuck time and tolerance must be ≥ 0");
+  if (p.stuck_time_s < 0.0 || p.stuck_tolerance < 0.0 || p.noise_sigma < 0.0 || p.period_s < 0.0)
+    throw std::invalid_argument(
+        "signal monitor: stuck time, tolerance, noise and period must be ≥ 0");
   p_ = p;
+  suspect_n_ = suspect_samples_for(p);
   reset();
+}
+
+int SignalMonitor::suspect_samples_for(const Params& p) noexcept {
+  if (!(p.stuck_time_s > 0.0) || !(p.period_s > 0.0)) return 0;
+  const double stuck_n = std::max(1.0, std::floor(p.stuck_time_s / p.period_s));
+  double n = 2.0;
+  if (p.noise_sigma > 0.0 && p.stuck_tolerance > 0.0) {
+    const double prob = std::erf(p.stuck_tolerance / (2.0 * p.noise_sigma));
+    n = prob >= 1.0 ? stuck_n : std::max(2.0, std::ceil(std::log(1e-6) / std::log(prob)));
+  } else if (!(p.noise_sigma > 0.0) && p.stuck_tolerance > 0.0) {
+    n = 2.0;  // noise-free: any repeat within the tolerance is the signal standing still
+  }
+  return static_cast<int>(std::min(n, stuck_n));
 }
 
 void SignalMonitor::reset() noexcept {
   has_last_ = false;
   unchanged_s_ = 0.0;
+  repeats_ = 0;
 }
 
-Reason SignalMonitor::check(double value, double dt) noexcept {
+Reason SignalMonitor::check(double value, double dt, bool armed) noexcept {
   if (!std::isfinite(value)) return Reason::SensorNotFinite;
   if (value < p_.min || value > p_.max) return Reason::SensorOutOfRange;
   if (p_.stuck_time_s > 0.0) {
     if (has_last_ && std::abs(value - last_) <= p_.stuck_tolerance) {
-      unchanged_s_ += dt;
+      unchanged_s_ = armed ? unchanged_s_ + dt : 0.0;
+      if (repeats_ < 1000000) ++repeats_;
     } else {
       unchanged_s_ = 0.0;
+      repeats_ = 0;
     }
     last_ = value;
     has_last_ = true;

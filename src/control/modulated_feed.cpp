@@ -13,30 +13,99 @@ int level_of(int segment, int n_s) noexcept {
   return segment <= n_s ? segment : 2 * n_s - segment;
 }
 
+// Sums over the staircase's 2n_s segments, levels x + k_j·d: k = 0 and k = n_s once, 1 .. n_s−1
+// twice. Up to kDirectMax increments they are summed term by term; above, in closed form by
+// the digamma function ψ and its derivative ψ₁ (Σ_{k=1}^{n−1} 1/(x + k·d) = (ψ(a+n) − ψ(a+1))/d,
+// Σ 1/(x + k·d)² = (ψ₁(a+1) − ψ₁(a+n))/d², a = x/d), so a re-plan costs the same at n_s = 1000
+// as at n_s = 40 (it runs inside update()).
+constexpr int kDirectMax = 32;
+
+// ψ(y) − ln(y) and ψ₁(y) after shifting y to ≥ 10 by the recurrences ψ(y) = ψ(y+1) − 1/y,
+// ψ₁(y) = ψ₁(y+1) + 1/y²; asymptotic series to y^−10 / y^−11 (error < 1e-15 at y ≥ 10).
+struct Shifted {
+  double y = 0.0;       // the shifted argument
+  double psi_r = 0.0;   // ψ(y₀) = ln(y) + psi_r
+  double psi1 = 0.0;    // ψ₁(y₀)
+};
+Shifted shifted(double y) noexcept {
+  Shifted s;
+  double r = 0.0, r1 = 0.0;
+  while (y < 10.0) {
+    r -= 1.0 / y;
+    r1 += 1.0 / (y * y);
+    y += 1.0;
+  }
+  const double iy = 1.0 / y, f = iy * iy;
+  s.y = y;
+  s.psi_r = r - 0.5 * iy -
+            f * (1.0 / 12 - f * (1.0 / 120 - f * (1.0 / 252 - f * (1.0 / 240 - f / 132))));
+  s.psi1 = r1 + iy + 0.5 * f +
+           iy * f * (1.0 / 6 - f * (1.0 / 30 - f * (1.0 / 42 - f * (1.0 / 30 - f * 5.0 / 66))));
+  return s;
+}
+
+// Σ_{k=1}^{n−1} 1/(x + k·d) and Σ_{k=1}^{n−1} 1/(x + k·d)² (n > kDirectMax), d > 0.
+void inner_sums(double x, double d, int n, double& s1, double& s2) noexcept {
+  const double a = x / d;
+  const Shifted lo = shifted(a + 1.0), hi = shifted(a + n);
+  // ψ(hi) − ψ(lo) with the logarithms' difference taken as log1p (no cancellation when a ≫ n).
+  s1 = (std::log1p((hi.y - lo.y) / lo.y) + hi.psi_r - lo.psi_r) / d;
+  s2 = (lo.psi1 - hi.psi1) / (d * d);
+}
+
+// Σ_{k=k0}^{k1} 1/(x + k·d) = (ψ(a + k1 + 1) − ψ(a + k0))/d, a = x/d, d > 0 (0 if k1 < k0).
+double partial_sum(double x, double d, int k0, int k1) noexcept {
+  if (k1 < k0) return 0.0;
+  if (k1 - k0 < kDirectMax) {
+    double s = 0.0;
+    for (int k = k0; k <= k1; ++k) s += 1.0 / (x + k * d);
+    return s;
+  }
+  const double a = x / d;
+  const Shifted lo = shifted(a + k0), hi = shifted(a + k1 + 1.0);
+  return (std::log1p((hi.y - lo.y) / lo.y) + hi.psi_r - lo.psi_r) / d;
+}
+
+// start + Σ_j 1/(x + k_j·d) and, if wanted, Σ_j 1/(x + k_j·d)² over one cycle.
+double staircase_sum(double x, double d, int n_s, double start,
+                     double* squares = nullptr) noexcept {
+  double s1 = start, s2 = 0.0;
+  if (n_s <= kDirectMax || !(d > 0.0)) {
+    for (int j = 0; j < 2 * n_s; ++j) {
+      const double inv = 1.0 / (x + level_of(j, n_s) * d);
+      s1 += inv;
+      s2 += inv * inv;
+    }
+  } else {
+    double i1 = 0.0, i2 = 0.0;
+    inner_sums(x, d, n_s, i1, i2);
+    const double e0 = 1.0 / x, en = 1.0 / (x + n_s * d);
+    s1 = start + e0 + en + 2.0 * i1;
+    s2 = e0 * e0 + en * en + 2.0 * i2;
+  }
+  if (squares) *squares = s2;
+  return s1;
+}
+
 // Time-mean feed of a staircase with the given levels (harmonic mean over equal path lengths).
 double harmonic_mean(double s_min, double ds, int n_s) noexcept {
-  double inv = 0.0;
-  for (int j = 0; j < 2 * n_s; ++j) inv += 1.0 / (s_min + level_of(j, n_s) * ds);
-  return 2.0 * n_s / inv;
+  return 2.0 * n_s / staircase_sum(s_min, ds, n_s, 0.0);
 }
 
 // S_min giving a time-mean feed of s_p for a span D = n_s·ΔS: the root of
 //   f(x) = Σ_j 1/(x + k_j·ΔS) − 2n_s/s_p,
 // convex and decreasing in x. Newton's method from x₀ = s_p − D/2 (there the harmonic mean is
 // below the arithmetic one, so f(x₀) ≥ 0) climbs to the root without overshooting; a few steps
-// reach machine precision. (It runs in the real-time path when the module re-plans.)
+// reach machine precision. (It runs in the real-time path when the module re-plans; each step
+// costs O(1) in n_s, see staircase_sum.)
 double s_min_for_mean(double s_p, double span, int n_s) noexcept {
   const double ds = span / n_s;
   const double target = 2.0 * n_s / s_p;
   double x = std::max(1e-9, s_p - 0.5 * span);
   for (int it = 0; it < 30; ++it) {
-    double f = -target, df = 0.0;
-    for (int j = 0; j < 2 * n_s; ++j) {
-      const double inv = 1.0 / (x + level_of(j, n_s) * ds);
-      f += inv;
-      df -= inv * inv;
-    }
-    const double step = f / df;  // ≤ 0 while f ≥ 0
+    double sq = 0.0;
+    const double f = staircase_sum(x, ds, n_s, -target, &sq);
+    const double step = f / -sq;  // ≤ 0 while f ≥ 0
     x -= step;
     if (std::abs(step) <= 1e-13 * x) break;
   }
@@ -52,6 +121,27 @@ double ModulationPlan::time_mean_feed() const noexcept {
 
 double ModulationPlan::offset_swing_mm(double s_other) const noexcept {
   if (!active()) return 0.0;
+  const double x = s_min_mm_per_min, d = ds_mm_per_min;
+  if (n_s > kDirectMax && d > 0.0) {
+    // The increments dl·(1 − s_other/S_k) are negative below s_other and positive above, so the
+    // running offset falls, rises through the top of the staircase and falls again: its extremes
+    // are after the ascent's low levels (minimum), after the descent's high levels (maximum),
+    // and at the cycle's ends. Partial sums in closed form (partial_sum), O(1) in n_s.
+    const int n = n_s;
+    const double k_star = (s_other - x) / d;  // levels below this run slower than s_other
+    auto up = [&](int J) { return J <= 0 ? 0.0 : dl_mm * (J - s_other * partial_sum(x, d, 0, J - 1)); };
+    const double top = up(n + 1);
+    auto down = [&](int m) {
+      return m <= 0 ? top : top + dl_mm * (m - s_other * partial_sum(x, d, n - m, n - 1));
+    };
+    const int j_min = static_cast<int>(std::clamp(std::ceil(k_star), 0.0, static_cast<double>(n + 1)));
+    const int m_max =
+        static_cast<int>(std::clamp(n - 1 - std::floor(k_star), 0.0, static_cast<double>(n - 1)));
+    const double end = down(n - 1);
+    const double lo = std::min({0.0, up(j_min), end});
+    const double hi = std::max({0.0, top, down(m_max), end});
+    return hi - lo;
+  }
   double c = 0.0, lo = 0.0, hi = 0.0;
   for (int j = 0; j < 2 * n_s; ++j) {
     c += dl_mm * (1.0 - s_other / (s_min_mm_per_min + level_of(j, n_s) * ds_mm_per_min));

@@ -37,7 +37,11 @@ void PulseFeedController::configure(const Params& p) {
   kf_ = p.regulator_gain_per_m * p.slot_m * p.pulse_width_s;        // (6)
   filter_a_ = p.force_filter_s > 0.0 ? 1.0 - std::exp(-p.period_s / p.force_filter_s) : 1.0;
   rate_a_ = p.rate_filter_s > 0.0 ? 1.0 - std::exp(-p.period_s / p.rate_filter_s) : 1.0;
-  monitor_.configure(p.sensor_monitor);
+  {
+    auto mp = p.sensor_monitor;  // the monitor samples once per control period
+    if (mp.period_s == 0.0) mp.period_s = p.period_s;
+    monitor_.configure(mp);
+  }
   pi_.configure({p.kp, p.ti_s, p.feed_min_fraction, 1.0});
   if (p.modulation == Modulation::Frequency) ramp_.configure(p.frequency_ramp_Hz_per_s);
   start(0.0);
@@ -112,9 +116,19 @@ Status PulseFeedController::update(const Input& in, Output& out) noexcept {
   force_rate_ += rate_a_ * ((force_ - previous) / p_.period_s - force_rate_);
 
   Reason reason = Reason::None;
+  // A frozen reading (suspect, see SignalMonitor) never drives the feed up: the regulator and
+  // the actuator may hold or fall, not rise, until the reading moves again.
+  const bool suspect = monitor_.suspect();
   double u = 1.0;
   if (p_.mode == Mode::Roughing) {
+    const PiRegulator before = pi_;
+    const double u_prev = pi_.output();
     u = pi_.update((p_.force_set_N - force_) / p_.force_set_N, p_.period_s, reason);
+    if (suspect && u > u_prev) {  // freeze the regulator: no rise, and no windup meanwhile
+      pi_ = before;
+      u = u_prev;
+      reason = Reason::SensorSuspect;
+    }
   }
   const double feed = u * p_.feed_m_per_s;
   const double rate = p_.mode == Mode::Finishing ? force_rate_ : 0.0;
@@ -127,11 +141,19 @@ Status PulseFeedController::update(const Input& in, Output& out) noexcept {
   if (p_.modulation == Modulation::Amplitude) {
     out.slot_m = std::clamp(a, p_.slot_min_m, p_.slot_max_m);
     out.frequency_Hz = p_.frequency_Hz;
+    if (suspect && out.slot_m > last_.slot_m) {
+      out.slot_m = last_.slot_m;
+      reason = Reason::SensorSuspect;
+    }
     if (a > p_.slot_max_m && reason == Reason::None) reason = Reason::OutputHigh;
     if (a < p_.slot_min_m && reason == Reason::None) reason = Reason::OutputLow;
   } else {
     const double f_hi = std::min(p_.frequency_max_Hz, p_.duty_max / p_.pulse_width_s);
-    const double f = std::clamp(a, p_.frequency_min_Hz, f_hi);
+    double f = std::clamp(a, p_.frequency_min_Hz, f_hi);
+    if (suspect && f > last_.frequency_Hz) {
+      f = last_.frequency_Hz;
+      reason = Reason::SensorSuspect;
+    }
     if (a > f_hi && reason == Reason::None) reason = Reason::OutputHigh;
     if (a < p_.frequency_min_Hz && reason == Reason::None) reason = Reason::OutputLow;
     bool ramped = false;

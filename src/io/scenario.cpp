@@ -1,5 +1,6 @@
 #include "lathectl/io/scenario.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -15,6 +16,13 @@
 namespace lathectl::io {
 
 namespace {
+
+// A number as a user wrote it (shortest form, no trailing zeros).
+std::string fmt_number(double v) {
+  std::ostringstream ss;
+  ss << v;
+  return ss.str();
+}
 constexpr double kMm = 1e-3;
 constexpr double kUm = 1e-6;
 constexpr double kMPa = 1e6;
@@ -245,6 +253,7 @@ void read_controller(TableReader& root, sim::RigAConfig& a) {
   p.sensor_monitor.stuck_time_s = c->number("sensor_stuck_ms", Range::closed(0, 1e5), 50.0) * 1e-3;
   p.sensor_monitor.stuck_tolerance =
       c->number("sensor_stuck_tolerance_V", Range::closed(0, 10), 0.0);
+  p.sensor_monitor.noise_sigma = a.sensor.noise_V;  // scale of the suspect (frozen) check
   if (!(p.sensor_monitor.min < p.sensor_monitor.max))
     c->fail("sensor_max_V", "must exceed sensor_min_V");
   if (p.slot_min_m >= p.slot_max_m) c->fail("slot_max_mm", "must exceed slot_min_mm");
@@ -539,6 +548,17 @@ void read_system_e(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
   p.allow_above_programmed = c->boolean("allow_above_programmed", false);
   p.air_feed_mm_per_rev =
       c->number("air_feed_mm_per_rev", {0.0, 10.0, true, false}, p.feed_programmed_mm_per_rev);
+  // Entry feed: what the feed drops to at contact before the PI takes over. Default
+  // max(0.05 mm/rev, s_min): a light chip for the first revolution, never below the limiter's
+  // floor (the controller would reject it). Checked here so the error names this key.
+  p.entry_feed_mm_per_rev = c->number("entry_feed_mm_per_rev", {0.0, 10.0, true, false},
+                                      std::max(0.05, p.feed_min_mm_per_rev));
+  if (p.entry_feed_mm_per_rev < p.feed_min_mm_per_rev ||
+      p.entry_feed_mm_per_rev > p.feed_max_mm_per_rev)
+    c->fail("entry_feed_mm_per_rev",
+            "must lie in [feed_min_mm_per_rev, feed_max_mm_per_rev] = [" +
+                fmt_number(p.feed_min_mm_per_rev) + ", " + fmt_number(p.feed_max_mm_per_rev) +
+                "], got " + fmt_number(p.entry_feed_mm_per_rev));
   p.speed_programmed_m_per_min = c->number("speed_m_per_min", {0.0, 2000.0, true, false});
   p.feed_planned_mm_per_rev =
       c->number("planned_feed_mm_per_rev", {0.0, 10.0, true, false}, p.feed_programmed_mm_per_rev);
@@ -599,6 +619,7 @@ void read_system_e(TableReader& root, const MaterialLibrary& lib, Scenario& sc) 
   p.sensor_monitor.min = c->number("sensor_min", Range::any(), -0.2 * p.force_limit);
   p.sensor_monitor.max = c->number("sensor_max", Range::any(), e.force_sensor.range);
   p.sensor_monitor.stuck_time_s = c->number("sensor_stuck_ms", Range::closed(0, 1e5), 100.0) * 1e-3;
+  p.sensor_monitor.noise_sigma = e.force_sensor.noise_sigma;  // scale of the suspect check
   if (!(p.sensor_monitor.min < p.sensor_monitor.max))
     c->fail("sensor_max", "must exceed sensor_min");
   c->finish();

@@ -44,6 +44,8 @@ json metrics_json(const sim::MetricsA& m) {
           {"flow_formula_cm3_per_min", json_number(m.flow_formula_cm3_per_min)},
           {"flow_formula_error_pct", json_number(m.flow_formula_error_pct)},
           {"first_alarm_delay_s", json_number(m.first_alarm_delay_s)},
+          {"volume_balance_pct", json_number(m.volume_balance_pct)},
+          {"volume_conservation_error_pct", json_number(m.volume_conservation_error_pct)},
           {"alarms", alarms}};
 }
 
@@ -246,6 +248,7 @@ RunOutput run_system_a(const Scenario& sc) {
     add("final force error [%]", m.force_final_error_pct);
   }
   add("mean regulator flow [cm³/min]", m.flow_mean_cm3_per_min);
+  add("travel not explained by net inflow [% of delivered oil]", m.volume_balance_pct);
   if (cmp) {
     rep.metrics.emplace_back("— comparison —", cmp->label);
     add("feed deviation (comparison) [%]", cmp->metrics.feed_rate_deviation_pct);

@@ -32,6 +32,11 @@ MetricsA compute_metrics_a(const RigA& rig) {
   const auto& rec = rig.recorder();
   const auto& cfg = rig.config();
   MetricsA m;
+  {
+    const auto vb = rig.volume_balance();
+    m.volume_balance_pct = vb.travel_unexplained_pct;
+    m.volume_conservation_error_pct = vb.conservation_error_pct;
+  }
   const auto t = rec.column("time_s");
   const auto feed = rec.column("feed_mm_per_min");
   const auto force = rec.column("force_Py_N");

@@ -159,6 +159,9 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
       slide_.step(dt, q, force_nominal_);
     }
     slide_.set_position(0.0);
+    slide_.reset_volume_ledger();
+    damper_volume0_ = slide_.damper_volume();
+    void0_ = slide_.state().void_m3;
     thr_.configure({cfg.regulator.orifice, cfg.regulator.obliteration});  // no silting before t = 0
   }
   rev_steps_ =
@@ -285,6 +288,22 @@ void RigA::step() noexcept {
   rec_.push_row(row);
   flow_acc_ = force_acc_ = 0.0;
   acc_n_ = 0;
+}
+
+RigA::VolumeBalance RigA::volume_balance() const noexcept {
+  VolumeBalance b;
+  const auto& l = slide_.ledger();
+  b.delivered_m3 = l.delivered_m3;
+  b.leaked_m3 = l.leaked_m3;
+  b.swept_m3 = cfg_.slide.piston_area_m2 * slide_.state().x_m;  // x = 0 at t = 0
+  b.stored_m3 = l.compressed_m3 + (slide_.damper_volume() - damper_volume0_) -
+                (slide_.state().void_m3 - void0_);
+  if (b.delivered_m3 > 0.0) {
+    const double net = b.delivered_m3 - b.leaked_m3;
+    b.travel_unexplained_pct = 100.0 * std::abs(net - b.swept_m3) / b.delivered_m3;
+    b.conservation_error_pct = 100.0 * std::abs(net - b.swept_m3 - b.stored_m3) / b.delivered_m3;
+  }
+  return b;
 }
 
 void RigA::run() noexcept {

@@ -7,6 +7,12 @@
 
 #include <gtest/gtest.h>
 
+#include <vector>
+
+#include <chrono>
+
+#include <algorithm>
+
 #include <cmath>
 #include <numbers>
 
@@ -276,5 +282,72 @@ TEST(ModulatedFeedGenerator, RetuningKeepsThePhase) {
   (void)g.advance(0.02);
   EXPECT_EQ(g.segment(), 6);
 }
+// Re-plan cost bounded in n_s (issue "Results a user can trust", finding 4). Above 32 increments
+// the staircase sums are taken in closed form (digamma): check them against term-by-term sums,
+// then the re-plan's time at the largest n_s the scenarios accept.
+double brute_time_mean(const ModulationPlan& p) {
+  double inv = 0.0;
+  for (int j = 0; j < 2 * p.n_s; ++j) {
+    const int k = j <= p.n_s ? j : 2 * p.n_s - j;
+    inv += 1.0 / (p.s_min_mm_per_min + k * p.ds_mm_per_min);
+  }
+  return 2.0 * p.n_s / inv;
+}
+double brute_swing(const ModulationPlan& p, double s_other) {
+  double c = 0.0, lo = 0.0, hi = 0.0;
+  for (int j = 0; j < 2 * p.n_s; ++j) {
+    const int k = j <= p.n_s ? j : 2 * p.n_s - j;
+    c += p.dl_mm * (1.0 - s_other / (p.s_min_mm_per_min + k * p.ds_mm_per_min));
+    lo = std::min(lo, c);
+    hi = std::max(hi, c);
+  }
+  return hi - lo;
+}
+
+TEST(ModulationPlan, ClosedFormSumsMatchTermByTerm) {
+  for (int n : {33, 50, 200, 1000}) {
+    for (double s_min : {0.1, 3.0, 80.0, 240.0}) {
+      for (double ds : {0.1, 1.3, 20.0}) {
+        const ModulationPlan p{s_min, ds, 0.01, n};
+        const double want = brute_time_mean(p);
+        EXPECT_NEAR(p.time_mean_feed(), want, 1e-12 * want) << n << " " << s_min << " " << ds;
+        for (double s_other : {0.5 * s_min, want, s_min + 0.5 * n * ds, s_min + 2.0 * n * ds}) {
+          const double sw = brute_swing(p, s_other);
+          EXPECT_NEAR(p.offset_swing_mm(s_other), sw, 1e-10 * std::max(sw, 1e-3))
+              << n << " " << s_min << " " << ds << " " << s_other;
+        }
+      }
+    }
+  }
+}
+
+TEST(ModulatedFeedController, ReplanAtLargestNsKeepsTheMeanAndFitsAServoPeriod) {
+  for (int n : {5, 50, 1000}) {
+    ModulatedFeedController m;
+    ModulatedFeedController::Params p;
+    p.n_s = n;
+    m.configure(p);
+    double wm = 0, req = 0, got = 0;
+    bool lim = false;
+    const auto plan =
+        m.plan_for(2e-5, 2.0 * std::numbers::pi * 230.0, 1000.0, 100.0, 246.0, 820.0, wm, req, got, lim);
+    ASSERT_TRUE(plan.active()) << n;
+    // Mean kept to the quanta (S_min rounded to 0.1 mm/min moves the mean by ≤ 0.05).
+    EXPECT_NEAR(plan.time_mean_feed(), 246.0, 0.06) << n;
+    // Median of 21 re-plans well inside a 1 ms servo period (was ≈ 1.2 ms at n_s = 1000).
+    std::vector<double> us;
+    for (int r = 0; r < 21; ++r) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto q = m.plan_for(2e-5 * (1.0 + 0.01 * r), 2.0 * std::numbers::pi * 230.0, 1000.0,
+                                100.0, 246.0, 820.0, wm, req, got, lim);
+      const auto t1 = std::chrono::steady_clock::now();
+      ASSERT_TRUE(q.active());
+      us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+    }
+    std::nth_element(us.begin(), us.begin() + 10, us.end());
+    EXPECT_LT(us[10], 150.0) << "n_s = " << n << ": median re-plan " << us[10] << " µs";
+  }
+}
+
 }  // namespace
 }  // namespace lathectl::control

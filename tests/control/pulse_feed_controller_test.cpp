@@ -466,5 +466,72 @@ TEST(PulseFeedController, ActuatorForInvertsSeedFormula3) {
   }
 }
 
+// A frozen reading never drives the feed up (issue "Results a user can trust", finding 2). In
+// roughing with a filtered force estimate, a reading frozen above the set force but below the
+// estimate lets the estimate fall toward it and the PI's P term rise: before the fix the slot
+// opened for the 50 ms until the stuck alarm. Now, from the third equal sample on (suspect: two
+// unchanged comparisons, the rule for tolerance 0), the slot only holds or closes, on every
+// sample, and the alarm still latches at the stuck time.
+TEST(PulseFeedController, FrozenReadingNeverOpensTheSlot) {
+  auto p = params(Ctl::Modulation::Amplitude, Ctl::Mode::Roughing);
+  p.force_filter_s = 0.02;
+  p.sensor_monitor.stuck_time_s = 0.05;
+  p.sensor_monitor.stuck_tolerance = 0.0;
+  auto c = make(p, 200.0);
+  Ctl::Output out;
+  // A live, noisy overload: 230 N ± 0.3 N for 0.2 s — the PI closes the slot part-way
+  // (u = 1 − 6·0.15·0.2 − 3·0.15 ≈ 0.37, off its 0.05 floor).
+  for (int k = 0; k < 200; ++k)
+    ASSERT_EQ(c.update(at_force(230.0 + ((k % 2) ? 0.3 : -0.3)), out), Status::Ok) << k;
+  // The sensor freezes at 210 N (still above the 200 N set force): the filtered estimate falls
+  // toward it and the P term rises by 3·0.1 over ~20 ms.
+  double last_slot = out.slot_m;
+  int alarm_at = -1, suspect = 0;
+  for (int k = 0; k < 100; ++k) {
+    const Status s = c.update(at_force(210.0), out);
+    if (k >= 2) ASSERT_LE(out.slot_m, last_slot) << "frozen sample " << k;
+    if (out.reason == Reason::SensorSuspect) ++suspect;
+    if (s == Status::Hold && alarm_at < 0) alarm_at = k;
+    last_slot = out.slot_m;
+  }
+  EXPECT_GT(suspect, 10);
+  EXPECT_GE(alarm_at, 49);
+  EXPECT_LE(alarm_at, 52);
+  EXPECT_EQ(out.alarm_reason, Reason::SensorStuck);
+}
+
+// A live sensor is not affected: noise that never repeats exactly gives no suspect state, and
+// the slot opens again as the force falls below the set value.
+TEST(PulseFeedController, LiveNoisySensorIsNeverSuspect) {
+  auto p = params(Ctl::Modulation::Amplitude, Ctl::Mode::Roughing);
+  p.force_filter_s = 0.02;
+  p.sensor_monitor.stuck_time_s = 0.05;
+  auto c = make(p, 200.0);
+  Ctl::Output out;
+  for (int k = 0; k < 200; ++k) (void)c.update(at_force(300.0 + ((k % 2) ? 0.3 : -0.3)), out);
+  const double closed = out.slot_m;
+  for (int k = 0; k < 500; ++k) {
+    (void)c.update(at_force(150.0 + 0.3 * std::sin(0.7 * k)), out);
+    ASSERT_NE(out.reason, Reason::SensorSuspect) << k;
+  }
+  EXPECT_GT(out.slot_m, closed);
+}
+
+// The suspect count follows the sensor's scale: P(|Δ| ≤ tol) = erf(tol/(2σ)) = p, N the least
+// count with p^N ≤ 1e-6 (≥ 2, ≤ the stuck time's count).
+TEST(SignalMonitor, SuspectCountFromNoiseAndTolerance) {
+  SignalMonitor::Params m;
+  m.stuck_time_s = 0.05;
+  m.period_s = 1e-3;
+  EXPECT_EQ(SignalMonitor::suspect_samples_for(m), 2);  // tol 0: an exact repeat
+  m.noise_sigma = 5e-3;
+  m.stuck_tolerance = 1e-3;  // p = erf(0.1) = 0.11246: N = ceil(ln 1e-6 / ln p) = ceil(6.317) = 7
+  EXPECT_EQ(SignalMonitor::suspect_samples_for(m), 7);
+  m.stuck_tolerance = 0.1;  // p = erf(10) ≈ 1: capped at the stuck count, 50
+  EXPECT_EQ(SignalMonitor::suspect_samples_for(m), 50);
+  m.stuck_time_s = 0.0;  // check off
+  EXPECT_EQ(SignalMonitor::suspect_samples_for(m), 0);
+}
+
 }  // namespace
 }  // namespace lathectl::control

@@ -348,5 +348,51 @@ TEST(ScenarioB, ProgrammedParametersObeyTheSeedsQuanta) {
   }
 }
 
+// System E's entry feed (issue "Results a user can trust", finding 3): a scenario key, default
+// max(0.05 mm/rev, feed_min), checked against the feed limits with an error at the key. Before,
+// the entry feed was fixed at 0.05 and any feed_min above it failed with "inconsistent scenario:
+// adaptive controller: entry feed must be ≥ s_min" — no line, no key.
+const std::string& seed004_text() {
+  static const std::string t =
+      read(LATHECTL_SOURCE_DIR "/examples/scenarios/e_stepped_seed004.toml");
+  return t;
+}
+
+std::string edit_e(const std::string& from, const std::string& to) {
+  std::string t = seed004_text();
+  const auto pos = t.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  if (pos != std::string::npos) t.replace(pos, from.size(), to);
+  return t;
+}
+
+TEST(ScenarioE, FeedMinAboveOldEntryFeedRunsWithEntryAtFeedMin) {
+  const auto sc = parse_scenario(edit_e("feed_min_mm_per_rev = 0.05", "feed_min_mm_per_rev = 0.1"),
+                                 "mem.toml", library());
+  EXPECT_DOUBLE_EQ(sc.e.controller.feed_min_mm_per_rev, 0.1);
+  EXPECT_DOUBLE_EQ(sc.e.controller.entry_feed_mm_per_rev, 0.1);
+  // The examples keep their 0.05.
+  const auto ex = parse_scenario(seed004_text(), "mem.toml", library());
+  EXPECT_DOUBLE_EQ(ex.e.controller.entry_feed_mm_per_rev, 0.05);
+}
+
+TEST(ScenarioE, EntryFeedIsAKey) {
+  const auto sc = parse_scenario(
+      edit_e("feed_min_mm_per_rev = 0.05", "feed_min_mm_per_rev = 0.05\nentry_feed_mm_per_rev = 0.12"),
+      "mem.toml", library());
+  EXPECT_DOUBLE_EQ(sc.e.controller.entry_feed_mm_per_rev, 0.12);
+}
+
+TEST(ScenarioE, EntryFeedBelowFeedMinNamesLineAndKey) {
+  const std::string text = edit_e("feed_min_mm_per_rev = 0.05",
+                                  "feed_min_mm_per_rev = 0.1\nentry_feed_mm_per_rev = 0.08");
+  const std::string msg = error_of(text);
+  EXPECT_TRUE(contains(msg, "mem.toml:" + std::to_string(line_of(text, "entry_feed_mm_per_rev")) + ":"))
+      << msg;
+  EXPECT_TRUE(contains(msg, "controller.entry_feed_mm_per_rev")) << msg;
+  EXPECT_TRUE(contains(msg, "must lie in [feed_min_mm_per_rev, feed_max_mm_per_rev] = [0.1, 0.8]"))
+      << msg;
+}
+
 }  // namespace
 }  // namespace lathectl::io

@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -327,6 +329,87 @@ TEST(RigE, SteppedFixedUsesWorstCaseFeedAndStaysBelowLimit) {
     ASSERT_NEAR(cmd[i], s_wc, 1e-8) << i;  // channels.csv keeps 9 significant digits
     ASSERT_EQ(hold[i], 0.0) << i;
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// A frozen reading never drives the feed up (issue "Results a user can trust", finding 2): the
+// dynamometer of e_sensor_dropout freezes mid-cut at its last sample (above the 2500 N limit in
+// the finding: 2673 N) instead of going NaN. Before the fix the per-revolution mean fell toward
+// the frozen value, the PI's P term rose, and the feed went up for 100 ms until the stuck alarm.
+
+std::string text_of(const std::string& name) {
+  std::ifstream in(LATHECTL_SOURCE_DIR "/examples/scenarios/" + name + ".toml", std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string replaced(std::string t, const std::string& from, const std::string& to) {
+  const auto pos = t.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  if (pos != std::string::npos) t.replace(pos, from.size(), to);
+  return t;
+}
+
+struct EdRun {
+  io::Scenario sc;
+  io::RunOutput out;
+  Columns ch;
+};
+
+EdRun run_text(const std::string& text, const std::string& label, bool channels = true) {
+  EdRun r;
+  r.sc = io::parse_scenario(text, label, library());
+  r.out = io::run_scenario(r.sc);
+  if (channels) r.ch = parse_csv(r.out.channels_csv);
+  return r;
+}
+
+TEST(RigE, FrozenReadingAboveTheLimitNeverRaisesTheFeed) {
+  const auto r = run_text(replaced(text_of("e_sensor_dropout"), "kind = \"nan\"", "kind = \"stuck\""),
+                          "e_stuck.toml");
+  const double fault_at = r.sc.e.faults.at(0).at_s;
+  const double period = r.sc.e.controller.period_s;
+  const auto& t = r.ch.at("time_s");
+  const auto& cmd = r.ch.at("feed_cmd_mm_per_rev");
+  const auto& alarm = r.ch.at("alarm");
+  const auto& force = r.ch.at("force_parameter");
+  // The frozen value: what the controller saw from the fault on (above the limit here).
+  double frozen = std::nan("");
+  double alarm_at = std::nan("");
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    if (t[i] < fault_at + 1e-9) continue;
+    if (std::isnan(frozen)) frozen = force[i];
+    if (std::isnan(alarm_at) && alarm[i] > 0.5) alarm_at = t[i];
+    // From the third equal sample on (suspect after 2 unchanged comparisons) the feed only holds
+    // or falls — on every recorded row to the alarm and after it.
+    if (t[i] >= fault_at + 2.0 * period + 1e-9) {
+      ASSERT_LE(cmd[i], cmd[i - 1] + 1e-12) << "t = " << t[i] << " s";
+    }
+  }
+  EXPECT_GT(frozen, r.sc.e.controller.force_limit) << "the fault should freeze an overload";
+  ASSERT_FALSE(std::isnan(alarm_at));
+  // The alarm still latches at the configured stuck time (100 ms), reason sensor_stuck.
+  EXPECT_NEAR(alarm_at - fault_at, r.sc.e.controller.sensor_monitor.stuck_time_s,
+              r.sc.run.record_interval_s + 2.0 * period + 1e-9);
+  const auto& m = r.out.summary["metrics"];
+  ASSERT_GE(m["alarms"].size(), 1u);
+  EXPECT_EQ(m["alarms"][0]["reason"].get<std::string>(), "sensor_stuck");
+}
+
+// A zero-suppressed dynamometer reads exactly 0 in air (noise_N = 0): that is air, not a stuck
+// sensor. Before the fix the monitor latched sensor_stuck at 0.1 s, before the first contact,
+// and held the feed for the whole run: nothing was cut.
+TEST(RigE, ExactZeroInAirIsAirNotAStuckSensor) {
+  const auto r = run_text(replaced(text_of("e_stepped_prior_art"), "noise_N = 20.0", "noise_N = 0.0"),
+                          "e_zero_in_air.toml", false);
+  const auto& m = r.out.summary["metrics"];
+  EXPECT_EQ(m["alarms"].size(), 0u) << m["alarms"].dump();
+  const auto& noisy = result("e_stepped_prior_art").out.summary["metrics"];
+  // The part gets cut: the same stock removed as with the noisy sensor (to 1 %).
+  EXPECT_NEAR(m["material_removed_cm3"].get<double>(), noisy["material_removed_cm3"].get<double>(),
+              0.01 * noisy["material_removed_cm3"].get<double>());
+  EXPECT_GT(m["material_removed_cm3"].get<double>(), 0.0);
 }
 
 }  // namespace

@@ -28,6 +28,15 @@
 //     limit to below the air threshold within breakage_drop_window_s inside a feed block →
 //     feed hold;
 //   - sensor lost, stuck, NaN or out of range → feed hold, alarm, reason code;
+//   - a frozen reading never drives the feed up: after SignalMonitor's suspect count of
+//     unchanged samples (2 for a continuous noisy reading: three equal samples, 4 ms at 2 ms)
+//     the feed holds or falls (reason SensorSuspect), long before the stuck alarm
+//     (sensor_stuck_ms, 100 ms by default);
+//   - a constant reading at or below the air threshold with the tool out of the cut is air (a
+//     zero-suppressed dynamometer reads exactly 0 there), not a stuck sensor: the stuck timer runs
+//     only in a cut or above the air threshold, never in rapids. While such a reading stays
+//     constant the feed is not raised either (no feed-up in air on a signal that cannot show the
+//     contact; the programmed feed holds), and the first contact moves the reading;
 //   - every limit, hold or alarm sets a Reason; alarms latch until reset_alarm().
 // Real-time: configure() validates and may throw; update() never allocates, throws, locks or logs.
 

@@ -11,6 +11,20 @@ namespace lathectl::control {
 
 // Checks one sensor sample: finite, inside [min, max], and not frozen (a real sensor with noise
 // never repeats the same value for long; a stuck ADC or broken wire does).
+//
+// Two levels for a frozen signal:
+//   suspect — the last `suspect_samples()` comparisons were all unchanged (|Δ| ≤ tolerance).
+//     Cheap to be wrong about (the controller only stops raising its output), so it comes early;
+//   stuck   — unchanged for stuck_time_s: latched alarm, feed hold.
+// The suspect count is set by the sensor's own scale, the chance that a live sensor repeats:
+// with white noise σ between samples, Δ ~ N(0, 2σ²), so P(|Δ| ≤ tol) = erf(tol/(2σ)) = p and a
+// live sensor looks suspect with probability p^N. N is the smallest count with p^N ≤ 1e-6,
+// at least 2 (three equal samples) and at most the stuck time's count. A quantised ADC is the
+// same formula with tol = its LSB (an exact repeat of a code: give the LSB as the tolerance).
+// Noise-free (σ = 0) or tol = 0 on a continuous reading (p = 0): N = 2.
+// `armed = false` (the caller knows the reading may legitimately be constant, e.g. a zero-
+// suppressed dynamometer reading exactly 0 with the tool in air) keeps the stuck timer at 0;
+// the suspect state still applies.
 class SignalMonitor {
  public:
   struct Params {
@@ -18,16 +32,27 @@ class SignalMonitor {
     double max = 1e300;            // highest valid value
     double stuck_time_s = 0.0;     // unchanged this long → stuck; 0 disables the check
     double stuck_tolerance = 0.0;  // |Δ| at or below this counts as unchanged
+    double noise_sigma = 0.0;      // the sensor's noise σ between samples (sets suspect_samples)
+    double period_s = 0.0;         // sample period (> 0 enables the suspect state)
   };
   void configure(const Params& p);  // throws std::invalid_argument on min ≥ max or negative times
   // Returns Reason::None when the sample is usable, else the fault. dt in s.
-  [[nodiscard]] Reason check(double value, double dt) noexcept;
+  [[nodiscard]] Reason check(double value, double dt, bool armed = true) noexcept;
   void reset() noexcept;
+  // The reading has not changed for suspect_samples() comparisons: do not act on it upward.
+  [[nodiscard]] bool suspect() const noexcept {
+    return suspect_n_ > 0 && repeats_ >= suspect_n_;
+  }
+  [[nodiscard]] int suspect_samples() const noexcept { return suspect_n_; }
+  // Samples needed for the suspect state (rule above); 0 when the check is off.
+  [[nodiscard]] static int suspect_samples_for(const Params& p) noexcept;
 
  private:
   Params p_{};
   double last_ = 0.0;
   double unchanged_s_ = 0.0;
+  int repeats_ = 0;
+  int suspect_n_ = 0;
   bool has_last_ = false;
 };
 

@@ -20,6 +20,10 @@
 // Sensor faults (NaN, out of range, stuck): alarm latched with its reason code; in finishing the
 // actuator is frozen at its last value, in roughing the feed is stopped (h = 0 / f = 0) — the
 // tool must not be driven blind into a growing force. reset_alarm() clears it.
+// Before the stuck alarm, a reading unchanged for SignalMonitor's suspect count (set by the
+// sensor's noise and the stuck tolerance; 2 comparisons with tolerance 0) is suspect: the PI
+// and the actuator may hold or fall, not rise (reason SensorSuspect) — a frozen reading never
+// drives the feed up.
 //
 // Real-time: configure() validates and may throw; update() never allocates, throws, locks or
 // logs.

@@ -26,6 +26,7 @@ enum class Reason : std::uint16_t {
   SensorNotFinite = 10,    // sensor sample NaN or infinite
   SensorOutOfRange = 11,   // sensor sample outside its valid range
   SensorStuck = 12,        // sensor sample unchanged for longer than allowed
+  SensorSuspect = 13,      // sensor sample unchanged for a few samples: output held, not raised
   Overload = 20,           // force above limit too long with feed already at minimum
   ToolBreakage = 21,       // sudden force drop or spike
   AirCut = 30,             // tool not in the cut: air feed
@@ -56,6 +57,8 @@ constexpr std::string_view reason_name(Reason r) noexcept {
       return "sensor_out_of_range";
     case Reason::SensorStuck:
       return "sensor_stuck";
+    case Reason::SensorSuspect:
+      return "sensor_suspect";
     case Reason::Overload:
       return "overload";
     case Reason::ToolBreakage:

@@ -12,6 +12,23 @@
 //     m · dv/dt = F·p_c − P_load − b·v − F_c·sgn(v)         (Coulomb with stiction)
 // In steady motion this gives seed (3): S = Q/F − K_leak·P/F² (with P = P_load + friction).
 //
+// Cavitation (the oil cannot carry tension). When the slide runs ahead of the inflow — its own
+// momentum after a pulse, with little damping and no damper — the chamber pressure falls to the
+// cavitation pressure p_cav (taken as 0 gauge, the level the rest of the model treats as tank)
+// and the oil column separates: the motion opens a void (vapour and released air) of volume
+// V_void ≥ 0 instead of pulling the pressure below p_cav:
+//   V_void > 0:  p_c = p_cav = 0,   dV_void/dt = F·v − q_d       (no leakage at p_c = 0)
+//   V_void = 0:  the chamber equation above, p_c ≥ 0
+// A step that would take p_c below 0 turns the deficit into void, V_void = −p_c·V_c/B; net inflow
+// must refill the void before the pressure rises again (the rest of the step's inflow
+// compresses the oil: p_c = B·(excess)/V_c). So the oil volume is conserved: with the stored
+// volume W = ∫V_c·dp_c/B of the compressed oil and C_d·p_d in the damper,
+//   ∫(q_in − q_leak) dt = F·Δx + ΔW + C_d·Δp_d − ΔV_void          (exact, step by step)
+// The earlier model clamped the pressure at 0 and forgot the void: the oil the slide
+// "sucked" past the inflow appeared from nothing, and a light, undamped slide (no damper,
+// b = 2000 N·s/m, system A) travelled 48.5 mm/min on (Q − q_leak)/F = 40.3 mm/min.
+// The damper cannot deliver oil it does not hold: q_d ≤ q_in + C_d·p_d/dt (p_d ≥ 0).
+//
 // Integration: semi-implicit (symplectic) Euler — velocity first with the old pressure, then
 // pressures with the new velocity — stable for ω_h·dt < 2, ω_h = F·sqrt(B/(V_c·m)). The rig
 // checks the step against ω_h at configure. Stiction: if the velocity would cross zero and the
@@ -37,6 +54,14 @@ class FeedSlide {
     double p_cyl_Pa = 0.0;
     double x_m = 0.0;
     double v_m_per_s = 0.0;
+    double void_m3 = 0.0;  // V_void: cavitated (empty) volume in the chamber, p_cyl = 0 while > 0
+  };
+  // Oil delivered and leaked since configure() or reset_volume_ledger() [m³], and the storage
+  // terms of the balance (see the header comment).
+  struct VolumeLedger {
+    double delivered_m3 = 0.0;  // ∫q_in dt
+    double leaked_m3 = 0.0;     // ∫K_leak·p_c dt
+    double compressed_m3 = 0.0; // W = ∫V_c·dp_c/B since the reset
   };
   void configure(const Params& p);  // throws std::invalid_argument
   // Puts the slide in steady motion at velocity v under load: pressures balanced, no transient.
@@ -49,10 +74,17 @@ class FeedSlide {
   // Hydraulic natural frequency ω_h [rad/s] at the current volume.
   [[nodiscard]] double hydraulic_omega() const noexcept;
   [[nodiscard]] double leak_flow() const noexcept { return p_.leak_m3_per_s_Pa * s_.p_cyl_Pa; }
+  // Oil in the damper, C_d·p_d [m³].
+  [[nodiscard]] double damper_volume() const noexcept {
+    return p_.damper_capacitance_m3_per_Pa * s_.p_damper_Pa;
+  }
+  [[nodiscard]] const VolumeLedger& ledger() const noexcept { return ledger_; }
+  void reset_volume_ledger() noexcept { ledger_ = {}; }
 
  private:
   Params p_{};
   State s_{};
+  VolumeLedger ledger_{};
 };
 
 }  // namespace lathectl::hydraulics

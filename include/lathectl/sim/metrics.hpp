@@ -43,6 +43,10 @@ struct MetricsA {
   double flow_formula_error_pct = std::numeric_limits<double>::quiet_NaN();
   std::vector<AlarmEvent> alarms;
   double first_alarm_delay_s = std::numeric_limits<double>::quiet_NaN();  // after the first fault
+  // Oil balance (RigA::volume_balance): travel not explained by the net inflow, and oil the
+  // model made or lost, both as % of the delivered volume.
+  double volume_balance_pct = 0.0;
+  double volume_conservation_error_pct = 0.0;
 };
 
 MetricsA compute_metrics_a(const RigA& rig);

@@ -70,6 +70,20 @@ class RigA {
   [[nodiscard]] const control::PulseFeedController& controller() const noexcept { return ctl_; }
   [[nodiscard]] const RigAConfig& config() const noexcept { return cfg_; }
   [[nodiscard]] bool numerically_sound() const noexcept { return sound_; }
+  // Oil balance of the slide since t = 0 (see hydraulics/feed_slide.hpp):
+  //   delivered − leaked = swept + stored, stored = ΔW + C_d·Δp_d − ΔV_void.
+  struct VolumeBalance {
+    double delivered_m3 = 0.0;  // ∫q_in dt
+    double leaked_m3 = 0.0;     // ∫K_leak·p_c dt
+    double swept_m3 = 0.0;      // F·Δx
+    double stored_m3 = 0.0;     // compressed oil + damper − void, change since t = 0
+    // |delivered − leaked − swept| / delivered [%]: travel the net inflow does not explain
+    // (includes the bounded storage terms).
+    double travel_unexplained_pct = 0.0;
+    // |delivered − leaked − swept − stored| / delivered [%]: oil made or lost by the model.
+    double conservation_error_pct = 0.0;
+  };
+  [[nodiscard]] VolumeBalance volume_balance() const noexcept;
 
  private:
   double chip_feed_mm_per_rev() const noexcept;
@@ -114,6 +128,8 @@ class RigA {
   double force_acc_ = 0.0;
   std::size_t acc_n_ = 0;
   double last_flow_ = 0.0;
+  double damper_volume0_ = 0.0;  // storage at t = 0, for the volume balance
+  double void0_ = 0.0;
   Recorder rec_;
 };
 
