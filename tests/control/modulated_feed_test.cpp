@@ -9,7 +9,6 @@
 
 #include <vector>
 
-#include <chrono>
 
 #include <algorithm>
 
@@ -321,7 +320,7 @@ TEST(ModulationPlan, ClosedFormSumsMatchTermByTerm) {
   }
 }
 
-TEST(ModulatedFeedController, ReplanAtLargestNsKeepsTheMeanAndFitsAServoPeriod) {
+TEST(ModulatedFeedController, ReplanAtLargestNsKeepsTheMean) {
   for (int n : {5, 50, 1000}) {
     ModulatedFeedController m;
     ModulatedFeedController::Params p;
@@ -334,18 +333,7 @@ TEST(ModulatedFeedController, ReplanAtLargestNsKeepsTheMeanAndFitsAServoPeriod) 
     ASSERT_TRUE(plan.active()) << n;
     // Mean kept to the quanta (S_min rounded to 0.1 mm/min moves the mean by ≤ 0.05).
     EXPECT_NEAR(plan.time_mean_feed(), 246.0, 0.06) << n;
-    // Median of 21 re-plans well inside a 1 ms servo period (was ≈ 1.2 ms at n_s = 1000).
-    std::vector<double> us;
-    for (int r = 0; r < 21; ++r) {
-      const auto t0 = std::chrono::steady_clock::now();
-      const auto q = m.plan_for(2e-5 * (1.0 + 0.01 * r), 2.0 * std::numbers::pi * 230.0, 1000.0,
-                                100.0, 246.0, 820.0, wm, req, got, lim);
-      const auto t1 = std::chrono::steady_clock::now();
-      ASSERT_TRUE(q.active());
-      us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
-    }
-    std::nth_element(us.begin(), us.begin() + 10, us.end());
-    EXPECT_LT(us[10], 150.0) << "n_s = " << n << ": median re-plan " << us[10] << " µs";
+    // Its cost over n_s is measured in bench/ (BM_ModulatedFeedController_Plan), not timed here.
   }
 }
 
