@@ -4,7 +4,7 @@ BUILD := build/$(PRESET)
 JOBS ?= $(shell nproc)
 FUZZ_SECONDS ?= 20
 
-.PHONY: deps deps-browser deps-test build demo test test-asan bench fuzz format install-check clean
+.PHONY: deps deps-browser deps-test build demo test test-asan bench fuzz format install-check package clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -40,6 +40,21 @@ bench: build
 
 fuzz: deps
 	@bash scripts/fuzz-smoke.sh 600
+
+# The Debian packages lathectl and lathectl-linuxcnc → build/package/*.deb: a Release build with
+# the HAL components, Debian's hardening flags (dpkg-buildflags), installed under /usr; then lintian
+# (fails on errors; warnings are listed in README.md).
+PKG_FLAGS = -DCMAKE_CXX_FLAGS="$$(dpkg-buildflags --get CXXFLAGS) $$(dpkg-buildflags --get CPPFLAGS)" \
+            -DCMAKE_EXE_LINKER_FLAGS="$$(dpkg-buildflags --get LDFLAGS)" \
+            -DCMAKE_MODULE_LINKER_FLAGS="$$(dpkg-buildflags --get LDFLAGS)"
+package:
+	@bash scripts/install-deps.sh --linuxcnc --package
+	@cmake --preset package $(PKG_FLAGS) >/dev/null
+	@cmake --build --preset package -j $(JOBS)
+	rm -f build/package/*.deb
+	cd build/package && cpack
+	lintian --fail-on error build/package/*.deb
+	@ls -l build/package/*.deb
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')

@@ -15,7 +15,9 @@ for opt in "$@"; do
     # HAL components and the simulated LinuxCNC session; without --no-install-recommends
     # linuxcnc-uspace would pull in a realtime kernel.
     --linuxcnc) pkgs+=(linuxcnc-uspace linuxcnc-uspace-dev) ;;
-    *) echo "install-deps: unknown option $opt (--browser, --linuxcnc)" >&2; exit 2 ;;
+    # make package: CPack's dependency detection (dpkg-shlibdeps, file) and lintian.
+    --package) pkgs+=(dpkg-dev file lintian) ;;
+    *) echo "install-deps: unknown option $opt (--browser, --linuxcnc, --package)" >&2; exit 2 ;;
   esac
 done
 

@@ -21,22 +21,26 @@
 #include "lathectl/design/vibro_gauge.hpp"
 #include "lathectl/hydraulics/tracer.hpp"
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/install_paths.hpp"
 #include "lathectl/io/lobes_command.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/report.hpp"
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "lathectl_version.hpp"
 
 namespace fs = std::filesystem;
 using namespace lathectl;
 
 namespace {
 
+// The example scenarios: the installed ones for an installed program, the source tree's for a
+// build-tree program, $LATHECTL_EXAMPLES_DIR over both.
 std::string examples_dir() {
-  if (const char* env = std::getenv("LATHECTL_EXAMPLES_DIR"); env && *env) return env;
-  if (fs::exists(LATHECTL_EXAMPLES_DIR)) return LATHECTL_EXAMPLES_DIR;
-  return LATHECTL_INSTALLED_EXAMPLES_DIR;
+  return io::locate_tree(
+      "LATHECTL_EXAMPLES_DIR",
+      {LATHECTL_EXAMPLES_DIR, LATHECTL_EXAMPLES_SUBDIR, LATHECTL_INSTALLED_EXAMPLES_DIR}, "");
 }
 
 // The description's first sentence, or its first words up to about 140 characters.
@@ -71,13 +75,30 @@ int cmd_check(const std::string& scenario) {
   return 0;
 }
 
-int cmd_demo(const std::string& out, const std::string& dir) {
+int cmd_demo(const std::string& out, const std::string& dir, const std::vector<std::string>& only) {
   const auto lib = io::MaterialLibrary::load_default();
   std::vector<fs::path> files;
-  for (const auto& e : fs::directory_iterator(dir))
-    if (e.path().extension() == ".toml") files.push_back(e.path());
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (it->path().extension() == ".toml") files.push_back(it->path());
+  if (ec) throw io::InputError("--examples " + dir + ": " + ec.message());
   std::sort(files.begin(), files.end());
   if (files.empty()) throw io::InputError(dir + ": no example scenarios (*.toml) found");
+  if (!only.empty()) {
+    std::vector<fs::path> chosen;
+    for (const auto& name : only) {
+      const auto it = std::find_if(files.begin(), files.end(),
+                                   [&](const fs::path& f) { return f.stem() == name; });
+      if (it == files.end()) {
+        std::string known;
+        for (const auto& f : files) known += (known.empty() ? "" : ", ") + f.stem().string();
+        throw io::InputError("demo: no example '" + name + "' in " + dir + " (known: " + known +
+                             ")");
+      }
+      if (std::find(chosen.begin(), chosen.end(), *it) == chosen.end()) chosen.push_back(*it);
+    }
+    files = std::move(chosen);
+  }
   // Parse all first: nothing runs on a half-read example set.
   std::vector<io::Scenario> scenarios;
   for (const auto& f : files) scenarios.push_back(io::load_scenario(f.string(), lib));
@@ -557,7 +578,8 @@ int cmd_tracer(const TracerArgs& a) {
 int main(int argc, char** argv) {
   CLI::App app{"lathectl — automatic and adaptive lathe control: simulate, design, deploy"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "lathectl 0.1.0");
+  app.set_version_flag("--version", std::string("lathectl ") + LATHECTL_VERSION + " (commit " +
+                                        LATHECTL_GIT_COMMIT + ")");
   // Where the seed, formula and block numbers of the help texts are explained (subcommands
   // inherit the footer; the ones with a page of their own name it).
   const auto doc = [](const std::string& page) {
@@ -585,6 +607,9 @@ int main(int argc, char** argv) {
       "demo", "Run every example scenario and write an index.html linking the reports");
   demo->add_option("--out", demo_out, "output directory")->capture_default_str();
   demo->add_option("--examples", demo_dir, "directory of example scenarios")->capture_default_str();
+  std::vector<std::string> demo_only;
+  demo->add_option("names", demo_only,
+                   "run only these examples (file names without .toml; default: all)");
 
   std::string lobes_file, lobes_out = "lobes-out";
   auto* lobes = app.add_subcommand(
@@ -766,7 +791,7 @@ int main(int argc, char** argv) {
   try {
     if (*run) return cmd_run(scenario, out);
     if (*check) return cmd_check(scenario);
-    if (*demo) return cmd_demo(demo_out, demo_dir);
+    if (*demo) return cmd_demo(demo_out, demo_dir, demo_only);
     if (*lobes) {
       const auto in = io::load_lobes_input(lobes_file);
       const auto j = io::run_lobes(in, lobes_out);

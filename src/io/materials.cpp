@@ -1,21 +1,17 @@
 #include "lathectl/io/materials.hpp"
 
-#include <cstdlib>
 #include <filesystem>
 
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/install_paths.hpp"
 #include "lathectl/io/toml_reader.hpp"
 
 namespace lathectl::io {
 
 std::string data_dir() {
-  if (const char* env = std::getenv("LATHECTL_DATA_DIR"); env && *env) return env;
-  namespace fs = std::filesystem;
-  // The error_code form: a source tree under a home only its owner may enter (the realtime side
-  // of LinuxCNC reads as another uid) is "not there", not an exception.
-  std::error_code ec;
-  if (fs::exists(fs::path(LATHECTL_DATA_DIR) / "materials.toml", ec)) return LATHECTL_DATA_DIR;
-  return LATHECTL_INSTALLED_DATA_DIR;
+  return locate_tree("LATHECTL_DATA_DIR",
+                     {LATHECTL_DATA_DIR, LATHECTL_DATA_SUBDIR, LATHECTL_INSTALLED_DATA_DIR},
+                     "materials.toml");
 }
 
 namespace {

@@ -36,6 +36,18 @@ grep -q "syntax.toml:[0-9]*:[0-9]*: TOML syntax error" "$work/err.txt" || bad "s
 expect_rc 2 "unknown subcommand" $bin frobnicate
 expect_rc 2 "design without period" $bin design pulse-regulator --d-mm 8
 
+# --version: the project's version and the commit it was built from
+expect_rc 0 "--version" $bin --version
+grep -Eq '^lathectl [0-9]+\.[0-9]+\.[0-9]+ \(commit ([0-9a-f]{7,}(-dirty)?|unknown)\)$' "$work/out.txt" ||
+  bad "--version: $(cat "$work/out.txt")"
+# demo: an unknown example name and a missing examples directory are bad input, one line each
+expect_rc 2 "demo unknown example" $bin demo no_such_example --out "$work/never"
+grep -q "no example 'no_such_example' in .*(known: .*a_finishing_aim" "$work/err.txt" || bad "demo name message: $(cat "$work/err.txt")"
+[ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "demo name message is not one line"
+expect_rc 2 "demo missing examples dir" $bin demo --examples "$work/no_such_dir" --out "$work/never"
+grep -q "no_such_dir" "$work/err.txt" || bad "demo examples-dir message: $(cat "$work/err.txt")"
+[ ! -e "$work/never" ] || bad "a failed demo left an output directory behind"
+
 # a run writes the three outputs, with the summary's required shape
 expect_rc 0 "run a_roughing_aim" $bin run "$src/examples/scenarios/a_roughing_aim.toml" --out "$work/rough"
 for f in summary.json channels.csv channels_compare.csv report.html; do [ -s "$work/rough/$f" ] || bad "missing $f"; done

@@ -8,8 +8,8 @@
 
 namespace lathectl::io {
 
-// Directory of the data files: $LATHECTL_DATA_DIR, else the source tree's data/, else the
-// installed share/lathectl.
+// Directory of the data files: $LATHECTL_DATA_DIR, else share/lathectl of an installed program,
+// else the source tree's data/ (see locate_tree in install_paths.hpp).
 std::string data_dir();
 
 class MaterialLibrary {

@@ -1,0 +1,34 @@
+#pragma once
+// Where the running program finds the project's file trees (data/, the examples): the program's
+// own location decides, so an installed binary uses its installed files even when the source tree
+// it was built from is still on the machine, and a build-tree binary uses the source tree.
+
+#include <filesystem>
+#include <string>
+
+namespace lathectl::io {
+
+// One file tree in its two homes.
+struct TreeLocations {
+  std::string source;         // in the source tree (absolute)
+  std::string installed_rel;  // relative to an install prefix, e.g. "share/lathectl"
+  std::string installed;      // under the configured install prefix (absolute)
+};
+
+// The executable of this process (/proc/self/exe resolved), or empty when unknown.
+[[nodiscard]] std::filesystem::path self_executable();
+
+// The directory of `tree` for the running program, `probe` a file that must exist in it ("" to
+// require only the directory), in this order:
+//  1. $env_var when set and non-empty;
+//  2. <prefix>/installed_rel when the executable is <prefix>/<dir>/<name> (an installed program,
+//     e.g. /usr/bin/lathectl or LinuxCNC's /usr/bin/rtapi_app: its own prefix's files);
+//  3. the source tree when the executable lies in this project's build tree;
+//  4. the configured install location when it holds the probe;
+//  5. the source tree when it holds the probe (a build's HAL modules copied into LinuxCNC);
+//  6. the configured install location (the error that follows names it).
+// Never throws on unreadable directories (they count as absent).
+[[nodiscard]] std::string locate_tree(const char* env_var, const TreeLocations& tree,
+                                      const std::string& probe);
+
+}  // namespace lathectl::io

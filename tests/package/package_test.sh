@@ -1,0 +1,211 @@
+#!/usr/bin/env bash
+# The .deb packages, used from their installed files only. Builds them from this build tree
+# (cpack), checks their metadata and contents, installs them — dpkg -i as root (or with
+# passwordless sudo), purged again on exit whatever happens; otherwise dpkg -x into a scratch
+# root — and, from a directory outside the source tree with no LATHECTL_* variables, runs
+# lathectl --version, one demo example, lobes on an installed machine file, and (installed only)
+# a halrun session loading the installed lathectl_adaptive on an installed scenario and a headless
+# LinuxCNC session (lathectl-linuxcnc-sim) on the installed sample configuration.
+# Usage: package_test.sh BUILD_DIR SOURCE_DIR WORK_DIR
+# Exit 77 (skipped) when the packages cannot be installed here (not root, no sudo: after the
+# scratch-root checks pass) or lathectl is already installed from elsewhere (left alone).
+set -uo pipefail
+build=$(cd "$1" && pwd) src=$(cd "$2" && pwd) work=$3
+fail() { echo "FAIL: $*" >&2; exit 1; }
+# dpkg, waiting (up to 2 min) while another apt/dpkg holds its lock.
+dpkg_locked() {
+  local log=$1 i; shift
+  for i in $(seq 60); do
+    $SUDO dpkg "$@" > "$log" 2>&1 && return 0
+    grep -q "lock" "$log" || return 1
+    sleep 2
+  done
+  return 1
+}
+while read -r v; do unset "$v"; done < <(env | sed -n 's/^\(LATHECTL[A-Za-z0-9_]*\)=.*/\1/p')
+
+rm -rf "$work"; mkdir -p "$work"; work=$(cd "$work" && pwd)
+command -v dpkg-shlibdeps >/dev/null ||
+  { echo "SKIP: dpkg-shlibdeps missing (bash scripts/install-deps.sh --package)"; exit 77; }
+
+# --- build the packages from the already-built tree
+t0=$(date +%s)
+cpack --config "$build/CPackConfig.cmake" -B "$work/dist" > "$work/cpack.log" 2>&1 ||
+  { tail -n 20 "$work/cpack.log" >&2; fail "cpack failed (log: $work/cpack.log)"; }
+echo "cpack: $(( $(date +%s) - t0 )) s"
+shopt -s nullglob
+cli=("$work"/dist/lathectl_*_amd64.deb) lcnc=("$work"/dist/lathectl-linuxcnc_*_amd64.deb)
+[ ${#cli[@]} -eq 1 ] || fail "expected one lathectl_*_amd64.deb in $work/dist, got: $(ls "$work/dist")"
+cli=${cli[0]}
+hal=0
+[ -f "$build/hal/lathectl_adaptive.so" ] && hal=1
+if [ $hal -eq 1 ]; then
+  [ ${#lcnc[@]} -eq 1 ] || fail "HAL build but no lathectl-linuxcnc_*_amd64.deb"
+  lcnc=${lcnc[0]}
+fi
+
+# --- metadata: versions, dependencies, contents
+version=$(dpkg-deb -f "$cli" Version)
+upstream=${version%-*}
+deps=$(dpkg-deb -f "$cli" Depends)
+echo "lathectl $version: Depends: $deps"
+grep -q "libc6" <<<"$deps" || fail "lathectl: no shlibdeps dependencies ($deps)"
+grep -qi "linuxcnc" <<<"$deps" && fail "lathectl must not depend on LinuxCNC ($deps)"
+dpkg-deb -c "$cli" > "$work/lathectl.contents"
+for f in ./usr/bin/lathectl ./usr/share/lathectl/materials.toml \
+         ./usr/share/lathectl/examples/scenarios/c_csv_template.toml \
+         ./usr/share/lathectl/examples/scenarios/templates/blended_shaft.csv \
+         ./usr/share/lathectl/examples/machines/b_sdof.toml \
+         ./usr/share/lathectl/examples/linuxcnc/step_allowance.toml \
+         ./usr/share/man/man1/lathectl.1.gz ./usr/share/doc/lathectl/copyright \
+         ./usr/share/doc/lathectl/changelog.Debian.gz ./usr/share/doc/lathectl/README.md; do
+  grep -q " $f\$" "$work/lathectl.contents" || fail "lathectl: $f missing"
+done
+grep -Eq '\.a$|/include/|/cmake/|\.so$' "$work/lathectl.contents" &&
+  fail "lathectl ships development or HAL files: $(grep -E '\.a$|/include/|/cmake/|\.so$' "$work/lathectl.contents")"
+grep -Ev '^(-rw-r--r--|-rwxr-xr-x|drwxr-xr-x) root/root ' "$work/lathectl.contents" &&
+  fail "lathectl: files not 0644/0755 root/root"
+if [ $hal -eq 1 ]; then
+  ldeps=$(dpkg-deb -f "$lcnc" Depends)
+  echo "lathectl-linuxcnc $(dpkg-deb -f "$lcnc" Version): Depends: $ldeps"
+  grep -q "linuxcnc-uspace" <<<"$ldeps" || fail "lathectl-linuxcnc: no linuxcnc-uspace dependency"
+  grep -q "lathectl (= $version)" <<<"$ldeps" || fail "lathectl-linuxcnc: no lathectl (= $version)"
+  dpkg-deb -c "$lcnc" > "$work/lathectl-linuxcnc.contents"
+  for f in ./usr/lib/linuxcnc/modules/lathectl_adaptive.so ./usr/lib/linuxcnc/modules/lathectl_plant.so \
+           ./usr/lib/linuxcnc/modules/lathectl_modfeed.so ./usr/lib/linuxcnc/modules/lathectl_chatter.so \
+           ./usr/share/man/man9/lathectl_adaptive.9.gz ./usr/bin/lathectl-linuxcnc-sim \
+           ./usr/share/lathectl/scripts/linuxcnc_sim_display.py \
+           ./usr/share/doc/linuxcnc/examples/sample-configs/sim/lathectl/lathectl-lathe.ini \
+           ./usr/share/doc/lathectl-linuxcnc/copyright; do
+    grep -q " $f\$" "$work/lathectl-linuxcnc.contents" || fail "lathectl-linuxcnc: $f missing"
+  done
+  grep -Ev '^(-rw-r--r--|-rwxr-xr-x|drwxr-xr-x) root/root ' "$work/lathectl-linuxcnc.contents" &&
+    fail "lathectl-linuxcnc: files not 0644/0755 root/root"
+fi
+
+# --- install: dpkg -i (root or passwordless sudo) or dpkg -x into a scratch root
+SUDO=""
+mode=install
+if [ "$(id -u)" -ne 0 ]; then
+  if sudo -n true 2>/dev/null; then SUDO="sudo -n"; else mode=extract; fi
+fi
+run=$(mktemp -d /tmp/lathectl-package-test.XXXXXX)  # the working directory: outside the source tree
+marker=/var/tmp/lathectl-package-test.installed      # a killed run's leftovers are ours to remove
+cleanup() {
+  if [ "$mode" = install ] && [ -e "$marker" ]; then
+    dpkg_locked "$work/purge.log" --purge lathectl-linuxcnc lathectl ||
+      echo "cleanup: dpkg --purge failed (log: $work/purge.log)" >&2
+    # The packaged modules are gone: put the build's back for the HAL tests that follow.
+    [ $hal -eq 1 ] && bash "$src/scripts/install-hal-modules.sh" "$build" >/dev/null
+    $SUDO rm -f "$marker"
+  fi
+  rm -rf "$run"
+}
+trap cleanup EXIT
+
+if [ "$mode" = install ]; then
+  if dpkg-query -W -f='${Status}\n' lathectl lathectl-linuxcnc 2>/dev/null | grep -q "ok installed" &&
+     [ ! -e "$marker" ]; then
+    echo "SKIP: lathectl is installed on this machine (not by this test); leaving it alone"
+    exit 77
+  fi
+  $SUDO touch "$marker"
+  pkgs=("$cli")
+  [ $hal -eq 1 ] && pkgs+=("$lcnc")
+  dpkg_locked "$work/dpkg-i.log" -i "${pkgs[@]}" ||
+    { cat "$work/dpkg-i.log" >&2; fail "dpkg -i failed"; }
+  root=""
+  [ "$(dpkg-query -W -f='${Version}' lathectl)" = "$version" ] || fail "lathectl $version not installed"
+  [ "$(dpkg -S /usr/bin/lathectl | cut -d: -f1)" = lathectl ] || fail "/usr/bin/lathectl not from lathectl"
+else
+  root=$work/root
+  for d in "$cli" ${lcnc:+"$lcnc"}; do dpkg -x "$d" "$root" || fail "dpkg -x $d"; done
+fi
+bin=$root/usr/bin/lathectl
+share=$root/usr/share/lathectl
+cd "$run" || fail "cd $run"
+echo "mode: $mode, running $bin in $run"
+
+# --- the program, from its installed files
+out=$("$bin" --version) || fail "--version exit $?"
+[[ "$out" =~ ^lathectl\ ${upstream//./\\.}\ \(commit\ ([0-9a-f]{7,}(-dirty)?|unknown)\)$ ]] ||
+  fail "--version: '$out' (expected 'lathectl $upstream (commit <hash>)')"
+echo "$out"
+# The installed program's default examples are the installed ones, not the source tree's.
+"$bin" demo --help > help.txt 2>&1 || fail "demo --help"
+grep -q -- "$share/examples/scenarios" help.txt ||
+  fail "demo's default examples are not $share/examples/scenarios: $(grep -- --examples help.txt)"
+# One example (a C scenario: it reads templates/*.csv relative to itself).
+"$bin" demo c_csv_template --out demo > demo.log 2>&1 || { cat demo.log >&2; fail "demo c_csv_template"; }
+[ -s demo/index.html ] && [ -s demo/c_csv_template/report.html ] || fail "demo wrote no report"
+grep -q "demo: 1 scenarios" demo.log || fail "demo did not run exactly one example: $(cat demo.log)"
+"$bin" demo no_such_example --out demo2 > bad.log 2>&1; rc=$?
+[ $rc -eq 2 ] && grep -q "no example 'no_such_example'" bad.log || fail "demo bad name: exit $rc, $(cat bad.log)"
+"$bin" lobes "$share/examples/machines/b_sdof.toml" --out lobes > lobes.log 2>&1 ||
+  { cat lobes.log >&2; fail "lobes b_sdof.toml"; }
+[ -s lobes/lobes.json ] || fail "lobes wrote no lobes.json"
+"$bin" design adaptive-speed --material steel_45 --Vp 120 --Sp 0.3 --S 0.4 > design.log 2>&1 ||
+  { cat design.log >&2; fail "design adaptive-speed --material steel_45 (the installed materials.toml)"; }
+zcat "$root/usr/share/man/man1/lathectl.1.gz" | grep -q '^\.TH LATHECTL 1' || fail "lathectl(1)"
+echo "CLI from installed files: ok"
+
+if [ $hal -eq 1 ]; then
+  cfg=$root/usr/share/doc/linuxcnc/examples/sample-configs/sim/lathectl/lathectl-lathe.ini
+  scen=$(sed -n 's/^SCENARIO = //p' "$cfg")
+  [ "$scen" = /usr/share/lathectl/examples/linuxcnc/step_allowance.toml ] ||
+    fail "sample config SCENARIO = '$scen'"
+  [ -f "$root$scen" ] || fail "sample config's scenario $scen not installed"
+  "$root/usr/bin/lathectl-linuxcnc-sim" "$run/none.ngc" > sim.log 2>&1; rc=$?
+  [ $rc -eq 2 ] && grep -q "none.ngc: no such program" sim.log ||
+    fail "lathectl-linuxcnc-sim (exit $rc): $(cat sim.log)"
+fi
+
+if [ "$mode" = extract ]; then
+  echo "SKIP: HAL session needs the packages installed (root or passwordless sudo); scratch-root checks passed"
+  exit 77
+fi
+
+if [ $hal -eq 1 ]; then
+  [ "$(dpkg -S /usr/lib/linuxcnc/modules/lathectl_adaptive.so | cut -d: -f1)" = lathectl-linuxcnc ] ||
+    fail "lathectl_adaptive.so is not the package's"
+  # One realtime environment per machine: wait for another checkout's LinuxCNC/halrun session.
+  for _ in $(seq 60); do pgrep -x rtapi_app >/dev/null || break; sleep 2; done
+  pgrep -x rtapi_app >/dev/null && fail "realtime busy for 2 min (another LinuxCNC or halrun session: halrun -U?)"
+  cat > session.hal <<EOF
+loadrt lathectl_adaptive scenario=/usr/share/lathectl/examples/linuxcnc/step_allowance.toml
+loadrt threads name1=servo period1=1000000
+addf lathectl-adaptive servo
+start
+loadusr -w sleep 0.2
+show pin lathectl-adaptive
+stop
+EOF
+  if [ "$(id -u)" -eq 0 ]; then
+    export RTAPI_UID=${RTAPI_UID:-65534} RTAPI_FIFO_PATH=${RTAPI_FIFO_PATH:-/tmp/.rtapi_fifo}
+  fi
+  timeout 120 halrun -f session.hal > halrun.log 2>&1; rc=$?
+  if [ $rc -ne 0 ]; then
+    halrun -U >/dev/null 2>&1
+    grep -v fallback_uid halrun.log | tail -n 20 >&2
+    fail "halrun with the installed lathectl_adaptive: exit $rc"
+  fi
+  grep -Eq "lathectl-adaptive\.adaptive-feed" halrun.log || fail "no lathectl-adaptive pins: $(cat halrun.log)"
+  grep -Eq "^ +[0-9]+ +s32 +OUT +[1-9][0-9]* +lathectl-adaptive\.update-ns" halrun.log ||
+    fail "lathectl-adaptive never ran: $(grep update-ns halrun.log)"
+  echo "halrun with the installed lathectl_adaptive: ok"
+  # A LinuxCNC session on the installed config, display script, default scenario and program.
+  grep -q "^PROGRAM_PREFIX = /usr/share/lathectl/examples/linuxcnc$" "$cfg" || fail "sample config PROGRAM_PREFIX"
+  t0=$(date +%s)
+  for _ in $(seq 60); do pgrep -x rtapi_app >/dev/null || break; sleep 2; done
+  lathectl-linuxcnc-sim /usr/share/lathectl/examples/linuxcnc/step_allowance.ngc --out sim \
+    > sim.log 2>&1 || { tail -n 30 sim.log >&2; fail "lathectl-linuxcnc-sim step_allowance.ngc"; }
+  python3 - sim/summary.json <<'PY' || fail "lathectl-linuxcnc-sim: $(cat sim/summary.json)"
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert s["finished"] and not s["errors"] and not s["alarms"], s
+assert s["scenario"] == "/usr/share/lathectl/examples/linuxcnc/step_allowance.toml", s["scenario"]
+assert 0 < s["adaptive_feed_min"] < 1 and s["samples"] > 1000, s
+PY
+  echo "lathectl-linuxcnc-sim on the installed files: ok ($(( $(date +%s) - t0 )) s)"
+fi
+echo "package test: ok"
