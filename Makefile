@@ -13,7 +13,7 @@ deps-browser:
 	@bash scripts/install-deps.sh --browser
 
 deps-test:
-	@bash scripts/install-deps.sh --browser --linuxcnc
+	@bash scripts/install-deps.sh --browser --linuxcnc --package
 
 build: deps
 	@cmake --preset $(PRESET) >/dev/null
