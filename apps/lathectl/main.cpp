@@ -55,6 +55,7 @@ std::string first_sentence(const std::string& d) {
 int cmd_run(const std::string& scenario, const std::string& out) {
   const auto lib = io::MaterialLibrary::load_default();
   const auto sc = io::load_scenario(scenario, lib);
+  io::prepare_output_dir(out, "--out");  // before the simulation, not after it
   const auto result = io::run_scenario(sc);
   try {
     io::write_outputs(result, out);
@@ -79,6 +80,7 @@ int cmd_demo(const std::string& out, const std::string& dir, const std::vector<s
   const auto lib = io::MaterialLibrary::load_default();
   std::vector<fs::path> files;
   std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw io::InputError("--examples " + dir + ": not a directory");
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
     if (it->path().extension() == ".toml") files.push_back(it->path());
   if (ec) throw io::InputError("--examples " + dir + ": " + ec.message());
@@ -102,6 +104,7 @@ int cmd_demo(const std::string& out, const std::string& dir, const std::vector<s
   // Parse all first: nothing runs on a half-read example set.
   std::vector<io::Scenario> scenarios;
   for (const auto& f : files) scenarios.push_back(io::load_scenario(f.string(), lib));
+  io::prepare_output_dir(out, "--out", false);
 
   std::vector<io::IndexEntry> entries(scenarios.size());
   std::vector<std::string> errors(scenarios.size());
@@ -573,6 +576,52 @@ int cmd_tracer(const TracerArgs& a) {
   print_value(false, "settling time (2 %)", tr.settling_s, "s", tr.settling_s * 1e3, "ms", true);
   return 0;
 }
+
+// One line for a command-line error CLI11 reports: the command it concerns, an unknown command
+// named with the ones there are, a rejected value as "--flag VALUE: expected ... (what it is)".
+std::string command_line_error(const CLI::App& app, const CLI::ParseError& e, int argc,
+                               char** argv) {
+  const CLI::App* cur = &app;
+  std::vector<std::string> path;
+  while (!cur->get_subcommands().empty()) {
+    cur = cur->get_subcommands().front();
+    path.push_back(cur->get_name());
+  }
+  std::string where;
+  for (const auto& p : path) where += (where.empty() ? "" : " ") + p;
+  std::string known;
+  for (const auto* sub : cur->get_subcommands([](const CLI::App*) { return true; }))
+    known += (known.empty() ? "" : ", ") + sub->get_name();
+  if (!known.empty() && cur->get_subcommands().empty() && cur->get_require_subcommand_min() > 0) {
+    // The first word that is neither an option nor the command path so far.
+    std::size_t matched = 0;
+    for (int i = 1; i < argc; ++i) {
+      const std::string w = argv[i];
+      if (w.empty() || w[0] == '-') continue;
+      if (matched < path.size() && w == path[matched]) {
+        ++matched;
+        continue;
+      }
+      return "unknown command '" + (where.empty() ? w : where + " " + w) + "' (" + known + ")";
+    }
+    return (where.empty() ? "" : where + ": ") + "a command is required (" + known + ")";
+  }
+  std::string msg = e.what();
+  if (dynamic_cast<const CLI::ValidationError*>(&e) && !msg.empty() && msg[0] == '-') {
+    // "--d-mm: nan: expected ..." → "--d-mm nan: expected ... (spool diameter d)"
+    const auto colon = msg.find(": ");
+    const std::string name = msg.substr(0, colon);
+    if (colon != std::string::npos) msg = name + " " + msg.substr(colon + 2);
+    if (const CLI::Option* opt = cur->get_option_no_throw(name)) {
+      std::string what = opt->get_description();
+      what = what.substr(0, what.find(" ["));
+      if (!what.empty()) msg += " (" + what + ")";
+    }
+  }
+  for (auto& c : msg)
+    if (c == '\n') c = ' ';
+  return (where.empty() ? "" : where + ": ") + msg;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -623,6 +672,25 @@ int main(int argc, char** argv) {
 
   auto* design = app.add_subcommand("design", "Design calculators from the papers' formulas");
   design->require_subcommand(1);
+  // Number checks of every option: "VALUE: expected a finite number > 0"; the error handler
+  // below makes the one line "--d-mm nan: expected a finite number > 0 (spool diameter d)".
+  auto bounded = [](double lo, bool lo_open, double hi, const char* bound) {
+    return CLI::Validator(
+        [=](std::string& in) -> std::string {
+          char* end = nullptr;
+          const double v = std::strtod(in.c_str(), &end);
+          const bool ok = end != in.c_str() && *end == '\0' && std::isfinite(v) &&
+                          (lo_open ? v > lo : v >= lo) && v <= hi;
+          if (ok) return {};
+          return in + ": expected a finite number" + (*bound ? std::string(" ") + bound : "");
+        },
+        *bound ? bound : "finite");
+  };
+  const double kInf = std::numeric_limits<double>::infinity();
+  const CLI::Validator positive = bounded(0.0, true, kInf, "> 0"),
+                       non_negative = bounded(0.0, false, kInf, ">= 0"),
+                       finite = bounded(-kInf, false, kInf, ""),
+                       coefficient = bounded(0.0, true, 1.0, "in (0, 1]");
   design::PulseRegulatorInput pr;
   double d_mm = 8, h_mm = 0.04, dp_MPa = 0.5, rho = 870, mu = 0.65, dt_ms = 10, T_ms = 0, f_Hz = 0,
          F_cm2 = 20, leak = 0, Py = 0, dPy = 0;
@@ -633,34 +701,34 @@ int main(int argc, char** argv) {
   preg->footer("Seed 000 and its formulas (1)-(7): " + doc("system-a-pulse-feed.md") + ".");
   preg->add_option("--d-mm", d_mm, "spool diameter d [mm]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   preg->add_option("--h-mm", h_mm, "slot opening h [mm]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   preg->add_option("--dp-MPa", dp_MPa, "pressure drop Δp across the regulator [MPa]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   preg->add_option("--rho", rho, "oil density ρ [kg/m³]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   preg->add_option("--mu", mu, "discharge coefficient μ")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(coefficient);
   preg->add_option("--dt-ms", dt_ms, "pulse width Δt [ms]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  auto* oT = preg->add_option("--T-ms", T_ms, "pulse period T [ms]")->check(CLI::PositiveNumber);
+      ->check(positive);
+  auto* oT = preg->add_option("--T-ms", T_ms, "pulse period T [ms]")->check(positive);
   auto* of = preg->add_option("--f-Hz", f_Hz, "pulse frequency f [Hz] (instead of T)")
-                 ->check(CLI::PositiveNumber);
+                 ->check(positive);
   oT->excludes(of);
   preg->add_option("--F-cm2", F_cm2, "effective piston area F [cm²]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   preg->add_option("--leak", leak, "leakage K_leak [cm³/min per MPa]")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
-  preg->add_option("--Py", Py, "radial cutting force Py [N]")->capture_default_str();
-  preg->add_option("--dPy", dPy, "force change ΔPy [N]")->capture_default_str();
+      ->check(non_negative);
+  preg->add_option("--Py", Py, "radial cutting force Py [N]")->capture_default_str()->check(finite);
+  preg->add_option("--dPy", dPy, "force change ΔPy [N]")->capture_default_str()->check(finite);
   preg->add_flag("--json", as_json, "print JSON (SI and shop units)");
 
   AdaptiveSpeedArgs asp;
@@ -678,20 +746,6 @@ int main(int argc, char** argv) {
     std::optional<double>* into;
   };
   std::vector<Bound> bound;
-  // One-line messages naming the bound ("--F: must be a number > 0, got -1").
-  auto bounded = [](bool allow_zero) {
-    return CLI::Validator(
-        [allow_zero](std::string& in) -> std::string {
-          char* end = nullptr;
-          const double v = std::strtod(in.c_str(), &end);
-          const bool ok = end != in.c_str() && *end == '\0' && std::isfinite(v) &&
-                          (allow_zero ? v >= 0.0 : v > 0.0);
-          if (ok) return {};
-          return std::string("must be a number ") + (allow_zero ? ">= 0" : "> 0") + ", got " + in;
-        },
-        allow_zero ? ">= 0" : "> 0");
-  };
-  const CLI::Validator positive = bounded(false), non_negative = bounded(true);
   auto num = [&](const char* name, double& v, std::optional<double>& into, const char* help,
                  const CLI::Validator& validator) {
     bound.push_back({aspd->add_option(name, v, help)->check(validator), &v, &into});
@@ -765,9 +819,11 @@ int main(int argc, char** argv) {
   topt("--i", ta.lever, "lever ratio i (spool opening per stylus deflection)", positive);
   topt("--P0", ta.P0_N, "cutting + dry friction force P0 [N]", non_negative);
   tracer->add_option("--beta-deg", ta.beta_deg, "guide inclination β to the axis [deg]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(finite);
   tracer->add_option("--alpha-deg", ta.alpha_deg, "template cone angle α [deg]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(finite);
   topt("--s", ta.feed_mm_per_rev, "feed s [mm/rev]", positive);
   topt("--n", ta.rpm, "spindle speed n [rpm]", positive);
   tracer->add_flag("--json", ta.json, "print JSON (inputs, SI and shop units)");
@@ -775,17 +831,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    // `design gauge`: a bad option is bad input like any other, one line naming the command.
-    if (e.get_exit_code() != 0 && gauge->parsed() > 0) {
-      std::cerr << "error: design gauge: " << e.what() << "\n";
-      return 2;
-    }
-    if (e.get_exit_code() != 0 && tracer->parsed() > 0) {
-      std::cerr << "error: design tracer: " << e.what() << "\n";
-      return 2;
-    }
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // A bad command line is bad input like any other: one line naming the command and the flag.
+    std::cerr << "error: " << command_line_error(app, e, argc, argv) << "\n";
+    return 2;
   }
 
   try {
@@ -794,6 +843,7 @@ int main(int argc, char** argv) {
     if (*demo) return cmd_demo(demo_out, demo_dir, demo_only);
     if (*lobes) {
       const auto in = io::load_lobes_input(lobes_file);
+      io::prepare_output_dir(lobes_out, "--out", false);
       const auto j = io::run_lobes(in, lobes_out);
       std::cout << "critical depth " << j["critical_depth_mm"].get<double>() << " mm at "
                 << j["chatter_frequency_Hz"].get<double>() << " Hz; " << j["lobes"].size()

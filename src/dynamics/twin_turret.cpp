@@ -1,5 +1,7 @@
 #include "lathectl/dynamics/twin_turret.hpp"
 
+#include "lathectl/sim/config_error.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -38,10 +40,13 @@ void TwinTurretCut::configure(const Params& p, double dt) {
   const int lag_revs = p.setup == TwinSetup::DepthDivision
                            ? static_cast<int>(std::lround(p.tool2_lag_mm / p.feed_mm_per_rev))
                            : 0;
-  require(lag_revs <= 200, "tool2_lag_mm is more than 200 revolutions of feed");
-  require(static_cast<double>(cells_per_rev_) * (lag_revs + 2) <= 4e6,
-          "the surface memory (revolutions × steps per revolution) exceeds 4e6 cells: raise the "
-          "step, the speed, or shorten tool2_lag_mm");
+  if (lag_revs > 200)
+    throw sim::ConfigError("cut.tool2_lag_mm", "tool2_lag_mm is more than 200 revolutions of feed");
+  if (!(static_cast<double>(cells_per_rev_) * (lag_revs + 2) <= 4e6))
+    throw sim::ConfigError(
+        "run.step_s",
+        "the surface memory (revolutions × steps per revolution) exceeds 4e6 cells: raise the "
+        "step, the speed, or shorten tool2_lag_mm");
   ring_cells_ = cells_per_rev_ * static_cast<std::size_t>(lag_revs + 2);
   const std::size_t n_rings = p.setup == TwinSetup::DepthDivision ? 2 : 1;
   rings_.assign(n_rings, Ring{std::vector<double>(ring_cells_, 0.0),

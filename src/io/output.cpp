@@ -1,14 +1,115 @@
 #include "lathectl/io/output.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <signal.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <system_error>
 
+#include "lathectl/io/errors.hpp"
+
 namespace lathectl::io {
 
+namespace fs = std::filesystem;
+
+namespace {
+
+// Test-only fault point: LATHECTL_TEST_KILL_AT=<point> kills the process there with SIGKILL, as a
+// kill -9 or a power cut would, so the tests can check what a kill leaves behind.
+void fault_point(const std::string& point) {
+  const char* at = std::getenv("LATHECTL_TEST_KILL_AT");
+  if (at && point == at) ::raise(SIGKILL);
+}
+
+// The pid a temporary's name ends with ("x.tmp.123", "out.tmp-123", "out.old-123"), or 0.
+long temporary_pid(const std::string& name, bool& is_staging) {
+  for (const char* tag : {".tmp.", ".tmp-", ".old-", ".lathectl-probe-"}) {
+    const auto at = name.rfind(tag);
+    if (at == std::string::npos) continue;
+    const std::string digits = name.substr(at + std::strlen(tag));
+    if (digits.empty() || digits.size() > 9 ||
+        digits.find_first_not_of("0123456789") != std::string::npos)
+      continue;
+    is_staging = std::strcmp(tag, ".tmp.") != 0;
+    return std::strtol(digits.c_str(), nullptr, 10);
+  }
+  return 0;
+}
+
+bool process_alive(long pid) {
+  if (pid == static_cast<long>(::getpid())) return true;
+  return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
+}
+
+// Result files written by lathectl before sets carried the marker.
+bool legacy_result_name(const std::string& n) {
+  return n == "summary.json" || n == "channels.csv" || n == "channels_compare.csv" ||
+         n == "report.html";
+}
+
+// `dir` may be replaced as a whole: it carries the marker, is empty, or holds only result files
+// (and temporaries) of an older lathectl.
+bool replaceable_output_set(const fs::path& dir) {
+  std::error_code ec;
+  if (fs::exists(dir / kOutputMarker, ec)) return true;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string n = e.path().filename().string();
+    bool staging = false;
+    std::error_code ec2;
+    if (!e.is_regular_file(ec2)) return false;
+    if (!legacy_result_name(n) && temporary_pid(n, staging) == 0) return false;
+  }
+  return !ec;
+}
+
+fs::path normalized(const fs::path& dir) {
+  fs::path d = dir.lexically_normal();
+  if (d.has_filename()) return d;
+  return d.parent_path();  // "out/" → "out"
+}
+
+fs::path parent_of(const fs::path& dir) {
+  return dir.has_parent_path() ? dir.parent_path() : fs::path(".");
+}
+
+void write_plain(const fs::path& path, const std::string& content) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw fs::filesystem_error("cannot write", path, std::error_code(errno, std::generic_category()));
+  out.write(content.data(), static_cast<std::streamsize>(content.size()));
+  out.flush();
+  if (!out) throw fs::filesystem_error("write failed", path, std::make_error_code(std::errc::io_error));
+}
+
+}  // namespace
+
+void remove_dead_temporaries(const fs::path& dir) {
+  std::error_code ec;
+  std::vector<fs::path> dead;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    bool staging = false;
+    const long pid = temporary_pid(e.path().filename().string(), staging);
+    if (pid <= 0 || process_alive(pid)) continue;
+    std::error_code ec2;
+    if (e.is_directory(ec2)) {
+      // Only our own staging directories: marked, or empty (killed before the marker).
+      if (!staging) continue;
+      if (!fs::exists(e.path() / kOutputMarker, ec2) && !fs::is_empty(e.path(), ec2)) continue;
+    } else if (!e.is_regular_file(ec2)) {
+      continue;
+    }
+    dead.push_back(e.path());
+  }
+  for (const auto& p : dead) fs::remove_all(p, ec);
+}
+
 void write_file_atomic(const std::filesystem::path& path, const std::string& content) {
+  remove_dead_temporaries(parent_of(path));
   const auto tmp = path.string() + ".tmp." + std::to_string(::getpid());
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
@@ -22,6 +123,80 @@ void write_file_atomic(const std::filesystem::path& path, const std::string& con
     }
   }
   std::filesystem::rename(tmp, path);
+}
+
+void prepare_output_dir(const fs::path& dir_in, const std::string& flag, bool whole_set) {
+  const fs::path dir = normalized(dir_in);
+  const std::string label = flag + " " + dir_in.string();
+  std::error_code ec;
+  const auto st = fs::status(dir, ec);
+  if (fs::exists(st)) {
+    if (!fs::is_directory(st)) throw InputError(label + ": not a directory");
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+      throw InputError(label + ": not writable (" + std::strerror(errno) + ")");
+    remove_dead_temporaries(dir);
+    if (whole_set && !replaceable_output_set(dir))
+      throw InputError(label + ": exists and holds files that are not lathectl results (no " +
+                       kOutputMarker + "); choose a new or empty directory");
+  }
+  // The set is staged beside `dir` and renamed into place: the parent (or, where it does not
+  // exist yet, its nearest existing ancestor) must take a new directory. Try one.
+  fs::path anc = parent_of(dir);
+  while (!fs::exists(anc, ec) && anc.has_parent_path() && anc != anc.parent_path())
+    anc = anc.parent_path();
+  if (fs::exists(anc, ec) && !fs::is_directory(anc, ec))
+    throw InputError(label + ": " + anc.string() + " is not a directory");
+  if (fs::is_directory(anc, ec)) remove_dead_temporaries(anc);
+  const fs::path probe = anc / (".lathectl-probe-" + std::to_string(::getpid()));
+  if (::mkdir(probe.c_str(), 0700) != 0)
+    throw InputError(label + ": cannot create a directory in " + anc.string() + " (" +
+                     std::strerror(errno) + ")");
+  ::rmdir(probe.c_str());
+}
+
+void write_output_set(const fs::path& dir_in,
+                      const std::vector<std::pair<std::string, std::string>>& files) {
+  const fs::path dir = normalized(dir_in);
+  const fs::path parent = parent_of(dir);
+  fs::create_directories(parent);
+  remove_dead_temporaries(parent);
+  std::error_code ec;
+  const bool replace = fs::exists(dir, ec);
+  if (replace && (!fs::is_directory(dir, ec) || !replaceable_output_set(dir)))
+    throw InputError(dir_in.string() + ": exists and is not a lathectl output directory; not "
+                                       "replacing it");
+  const std::string pid = std::to_string(::getpid());
+  const fs::path stage = parent / (dir.filename().string() + ".tmp-" + pid);
+  fs::remove_all(stage);
+  fs::create_directory(stage);
+  try {
+    write_plain(stage / kOutputMarker, "lathectl output set\n");
+    for (const auto& [name, content] : files) {
+      write_plain(stage / name, content);
+      fault_point(name);
+    }
+    if (!replace) {
+      fs::rename(stage, dir);
+      fault_point("swapped");
+      return;
+    }
+    if (::renameat2(AT_FDCWD, stage.c_str(), AT_FDCWD, dir.c_str(), RENAME_EXCHANGE) == 0) {
+      fault_point("swapped");
+      fs::remove_all(stage);  // now the old set
+      return;
+    }
+    if (errno != EINVAL && errno != ENOSYS)
+      throw fs::filesystem_error("cannot replace", dir, std::error_code(errno, std::generic_category()));
+    // No atomic exchange on this file system: move the old set aside, then the new one in.
+    const fs::path old = parent / (dir.filename().string() + ".old-" + pid);
+    fs::rename(dir, old);
+    fs::rename(stage, dir);
+    fault_point("swapped");
+    fs::remove_all(old);
+  } catch (...) {
+    fs::remove_all(stage, ec);
+    throw;
+  }
 }
 
 std::string channels_csv(const sim::Recorder& rec) {

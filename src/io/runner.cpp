@@ -19,12 +19,15 @@ RunOutput run_scenario(const Scenario& sc) {
   throw InputError(sc.file + ": system '" + sc.system + "' is not implemented");
 }
 
+// One set, appearing as a whole (see write_output_set): never a new channels.csv beside an old
+// summary.json.
 void write_outputs(const RunOutput& out, const std::filesystem::path& dir) {
-  std::filesystem::create_directories(dir);
-  write_file_atomic(dir / "channels.csv", out.channels_csv);
-  if (!out.compare_csv.empty()) write_file_atomic(dir / "channels_compare.csv", out.compare_csv);
-  write_file_atomic(dir / "report.html", render_html(out.report));
-  write_file_atomic(dir / "summary.json", out.summary.dump(2) + "\n");
+  std::vector<std::pair<std::string, std::string>> files;
+  files.emplace_back("channels.csv", out.channels_csv);
+  if (!out.compare_csv.empty()) files.emplace_back("channels_compare.csv", out.compare_csv);
+  files.emplace_back("report.html", render_html(out.report));
+  files.emplace_back("summary.json", out.summary.dump(2) + "\n");
+  write_output_set(dir, files);
 }
 
 }  // namespace lathectl::io

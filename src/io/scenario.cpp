@@ -11,6 +11,7 @@
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/toml_reader.hpp"
+#include "lathectl/sim/config_error.hpp"
 #include "lathectl/sim/rig_b.hpp"
 
 namespace lathectl::io {
@@ -866,9 +867,11 @@ std::string regulator_kind_name(sim::RegulatorKind k) {
 Scenario parse_scenario(std::string_view text, const std::string& label,
                         const MaterialLibrary& lib) {
   const TomlDocument doc = TomlDocument::parse(text, label);
-  TableReader root(doc.root(), label, "");
+  auto keys = std::make_shared<KeyLocations>(label);
+  TableReader root(doc.root(), label, "", keys);
   Scenario sc;
   sc.file = label;
+  sc.keys = keys;
   sc.system = root.choice("system", {"A", "B", "C", "D", "E"});
   sc.name = root.string("name");
   if (sc.name.empty()) root.fail("name", "must not be empty");
@@ -878,14 +881,14 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
     try {
       read_system_c(root, lib, sc);
     } catch (const std::invalid_argument& e) {
-      throw InputError(located(label, 0, 0, std::string("inconsistent template: ") + e.what()));
+      throw_at_key(sc, e, "template");
     }
     root.finish();
     try {
       sim::RigC probe;
       probe.configure(sc.c, sc.run.step_s, sc.run.record_interval_s);
     } catch (const std::invalid_argument& e) {
-      throw InputError(located(label, 0, 0, std::string("inconsistent scenario: ") + e.what()));
+      throw_at_key(sc, e);
     }
     return sc;
   }
@@ -893,26 +896,32 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
     try {
       read_system_b(root, lib, sc);
     } catch (const std::invalid_argument& e) {
-      throw InputError(located(label, 0, 0, std::string("inconsistent part: ") + e.what()));
+      throw_at_key(sc, e, "part");
     }
     root.finish();
     try {
       sim::RigB probe;
       probe.configure(sc.b, sc.run.step_s, sc.run.record_interval_s, sc.run.step_s * 4);
     } catch (const std::invalid_argument& e) {
-      throw InputError(located(label, 0, 0, std::string("inconsistent scenario: ") + e.what()));
+      throw_at_key(sc, e);
     }
     return sc;
   }
   if (sc.system == "D") {
     read_system_d(root, sc);
     root.finish();
+    sensors::VibroContactGauge probe;
     try {
-      sensors::VibroContactGauge probe;
       probe.configure(sc.d.transducer, sc.run.step_s);
     } catch (const std::invalid_argument& e) {
-      throw InputError(located(label, 0, 0, std::string("inconsistent scenario: ") + e.what()));
+      throw_at_key(sc, e, "transducer");
     }
+    // The transducer reads nothing above its free amplitude: found here, not after a run.
+    if (sc.d.process.allowance_m > probe.free_amplitude_m())
+      keys->fail("process.allowance_um",
+                 fmt_number(sc.d.process.allowance_m * 1e6) +
+                     " µm exceeds the largest allowance this transducer can measure, A0 = " +
+                     fmt_number(probe.free_amplitude_m() * 1e6) + " µm");
     return sc;
   }
   if (sc.system == "E") {
@@ -922,7 +931,7 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
     try {
       probe.configure(sc.e, sc.run.step_s, sc.run.record_interval_s, sc.run.step_s * 4);
     } catch (const std::invalid_argument& e) {
-      throw InputError(located(label, 0, 0, std::string("inconsistent scenario: ") + e.what()));
+      throw_at_key(sc, e);
     }
     return sc;
   }
@@ -965,12 +974,23 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
     probe.configure(a, sc.run.step_s, sc.run.record_interval_s,
                     std::min(sc.run.duration_s, sc.run.step_s * 4));
   } catch (const std::invalid_argument& e) {
-    throw InputError(located(label, 0, 0, std::string("inconsistent scenario: ") + e.what()));
+    throw_at_key(sc, e);
   }
   return sc;
 }
 
+void throw_at_key(const Scenario& sc, const std::invalid_argument& e,
+                  const std::string& fallback_key) {
+  const auto* keyed = dynamic_cast<const sim::ConfigError*>(&e);
+  const std::string key = keyed ? keyed->key() : fallback_key;
+  if (sc.keys && !key.empty()) sc.keys->fail(key, e.what());
+  throw InputError(located(sc.file, 0, 0, std::string("inconsistent scenario: ") + e.what()));
+}
+
 Scenario load_scenario(const std::string& path, const MaterialLibrary& lib) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(path + ": is a directory, expected a scenario file (.toml)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open scenario file");
   std::ostringstream ss;

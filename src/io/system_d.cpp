@@ -1,5 +1,7 @@
 #include "lathectl/io/system_d.hpp"
 
+#include "lathectl/sim/config_error.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -57,14 +59,16 @@ RunOutput run_system_d(const Scenario& sc) {
   try {
     gauge.configure(d.transducer, dt);
   } catch (const std::invalid_argument& e) {
-    throw InputError(sc.file + ": inconsistent scenario: " + e.what());
+    throw_at_key(sc, e, "transducer");
   }
   const double A0 = gauge.free_amplitude_m(), K = gauge.signal_gain_V_per_m();
   const auto& p = d.process;
   if (p.allowance_m > A0)
-    throw InputError(sc.file + ": process.allowance_um " + fmt(p.allowance_m * kUm) +
-                     " exceeds the largest allowance this transducer can measure, A0 = " +
-                     fmt(A0 * kUm) + " µm");
+    throw_at_key(sc, sim::ConfigError("process.allowance_um",
+                                      fmt(p.allowance_m * kUm) +
+                                          " µm exceeds the largest allowance this transducer "
+                                          "can measure, A0 = " +
+                                          fmt(A0 * kUm) + " µm"));
   const double settle = std::max(0.8, 8.0 * d.transducer.filter_time_constant_s);
 
   // 1. Calibration: the full model's settled mean signal against x, and the seed's line.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -70,6 +71,9 @@ TomlDocument TomlDocument::parse(std::string_view text, const std::string& file_
 }
 
 TomlDocument TomlDocument::parse_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(path + ": is a directory, expected a TOML file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open file");
   std::ostringstream ss;
@@ -77,8 +81,12 @@ TomlDocument TomlDocument::parse_file(const std::string& path) {
   return parse(ss.str(), path);
 }
 
-TableReader::TableReader(const toml::table& table, std::string file, std::string prefix)
-    : table_(&table), file_(std::move(file)), prefix_(std::move(prefix)) {}
+TableReader::TableReader(const toml::table& table, std::string file, std::string prefix,
+                         std::shared_ptr<KeyLocations> locations)
+    : table_(&table),
+      file_(std::move(file)),
+      prefix_(std::move(prefix)),
+      locations_(std::move(locations)) {}
 
 std::string TableReader::full_key(std::string_view key) const {
   return prefix_.empty() ? std::string(key) : prefix_ + "." + std::string(key);
@@ -101,7 +109,12 @@ bool TableReader::has(std::string_view key) const {
 
 const toml::node* TableReader::get(std::string_view key) {
   used_.emplace(key);
-  return table_->get(key);
+  const toml::node* n = table_->get(key);
+  if (n && locations_) {
+    const auto& src = n->source().begin;
+    locations_->record(full_key(key), static_cast<int>(src.line), static_cast<int>(src.column));
+  }
+  return n;
 }
 
 double TableReader::number(std::string_view key, Range range, std::optional<double> fallback) {
@@ -229,7 +242,7 @@ std::optional<TableReader> TableReader::table(std::string_view key, bool require
   }
   auto t = n->as_table();
   if (!t) fail(key, "expected a table, got " + type_name(*n));
-  return TableReader(*t, file_, full_key(key));
+  return TableReader(*t, file_, full_key(key), locations_);
 }
 
 std::vector<TableReader> TableReader::tables(std::string_view key) {
@@ -242,7 +255,12 @@ std::vector<TableReader> TableReader::tables(std::string_view key) {
   for (const auto& e : *a) {
     auto t = e.as_table();
     if (!t) fail(key, "expected an array of tables, found " + type_name(e));
-    out.emplace_back(*t, file_, full_key(key) + "[" + std::to_string(i++) + "]");
+    const std::string name = full_key(key) + "[" + std::to_string(i++) + "]";
+    if (locations_) {
+      const auto& src = t->source().begin;
+      locations_->record(name, static_cast<int>(src.line), static_cast<int>(src.column));
+    }
+    out.emplace_back(*t, file_, name, locations_);
   }
   return out;
 }

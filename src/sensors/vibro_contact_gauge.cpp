@@ -1,5 +1,7 @@
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
 
+#include "lathectl/sim/config_error.hpp"
+
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -29,12 +31,16 @@ void VibroContactGauge::configure(const Params& p, double dt) {
     throw std::invalid_argument("vibro-contact gauge: damping and time constants must be ≥ 0");
   const double wc = std::sqrt(p.contact_stiffness_N_per_m / p.probe_mass_kg);
   if (wc * dt > 0.5)
-    throw std::invalid_argument(
+    throw sim::ConfigError(
+        "run.step_s",
         "vibro-contact gauge: step too coarse for the contact stiffness (use step_s ≤ " +
         std::to_string(0.5 / wc) + ")");
   const double w = 2.0 * std::numbers::pi * p.supply_Hz;
   if (w * dt > 0.05)
-    throw std::invalid_argument("vibro-contact gauge: step too coarse for the supply frequency");
+    throw sim::ConfigError("run.step_s",
+                           "vibro-contact gauge: step too coarse for the supply frequency (use "
+                           "step_s ≤ " +
+                               std::to_string(0.05 / w) + ")");
   p_ = p;
   dt_ = dt;
   omega_ = w;

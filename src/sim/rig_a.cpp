@@ -1,5 +1,7 @@
 #include "lathectl/sim/rig_a.hpp"
 
+#include "lathectl/sim/config_error.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -38,8 +40,8 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
   if (!(dt > 0.0) || !(record_interval >= dt) || !(duration > 0.0))
     throw std::invalid_argument("run: need step > 0, record interval ≥ step, duration > 0");
   if (cfg.regulator_kind == RegulatorKind::Throttle && cfg.controller_kind != ControllerKind::None)
-    throw std::invalid_argument(
-        "a continuous throttle has no pulse actuator: controller must be none");
+    throw ConfigError("controller.type",
+                      "a continuous throttle has no pulse actuator: controller must be none");
   if (!(cfg.spindle_rpm > 0.0) || !(cfg.diameter_m > 0.0))
     throw std::invalid_argument("spindle speed and part diameter must be > 0");
   if (!(cfg.pulse_width_s > 0.0) || !(cfg.frequency_Hz > 0.0) || !(cfg.slot_m > 0.0))
@@ -55,24 +57,24 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
   record_every_ =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(record_interval / dt)));
 
-  cut_.configure(cfg.cutting);
-  dist_.configure(cfg.part);
+  configure_as("material", [&] { cut_.configure(cfg.cutting); });
+  configure_as("part", [&] { dist_.configure(cfg.part); });
   first_change_mm_ = dist_.first_change_mm();
   rev_per_s_ = cfg.spindle_rpm / 60.0;
   speed_m_per_min_ = std::numbers::pi * cfg.diameter_m * cfg.spindle_rpm;
 
   const double feed = cfg.controller.feed_m_per_s;
-  if (!(feed > 0.0)) throw std::invalid_argument("programmed feed must be > 0");
+  if (!(feed > 0.0)) throw ConfigError("controller.feed_mm_per_min", "must be > 0");
   const double s_rev = feed * 1000.0 / rev_per_s_;
   // Nominal force: the programmed feed on the deterministic part of the blank at its start.
   force_nominal_ = cut_.radial_force({dist_.depth_profile(0.0), s_rev, speed_m_per_min_,
                                       dist_.strength_factor(0.0), dist_.wear_factor(0.0)});
 
-  slide_.configure(cfg.slide);
+  configure_as("slide", [&] { slide_.configure(cfg.slide); });
   slide_.set_steady(feed, force_nominal_);
   const double wh = slide_.hydraulic_omega();
   if (wh * dt > 0.5)
-    throw std::invalid_argument("step_s " + std::to_string(dt) +
+    throw ConfigError("run.step_s", "step_s " + std::to_string(dt) +
                                 " too coarse for the slide's hydraulic "
                                 "natural frequency " +
                                 std::to_string(wh / 2 / std::numbers::pi) + " Hz: use step_s ≤ " +
@@ -83,13 +85,15 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
     const double tau_c = cfg.slide.dead_volume_m3 / cfg.slide.bulk_modulus_Pa *
                          cfg.slide.damper_resistance_Pa_s_per_m3;
     if (dt > 0.5 * std::min(tau_d, tau_c))
-      throw std::invalid_argument("step_s too coarse for the damper: use step_s ≤ " +
+      throw ConfigError("run.step_s", "step_s too coarse for the damper: use step_s ≤ " +
                                   std::to_string(0.5 * std::min(tau_d, tau_c)));
   }
 
-  reg_.configure(cfg.regulator);
-  thr_.configure({cfg.regulator.orifice, cfg.regulator.obliteration});
-  sensor_.configure(cfg.sensor);
+  configure_as("regulator", [&] {
+    reg_.configure(cfg.regulator);
+    thr_.configure({cfg.regulator.orifice, cfg.regulator.obliteration});
+  });
+  configure_as("sensor", [&] { sensor_.configure(cfg.sensor); });
   sensor_.set_steady(force_nominal_);
 
   const double F = cfg.slide.piston_area_m2;
@@ -119,7 +123,7 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
                       ? control::PulseFeedController::Modulation::Frequency
                       : control::PulseFeedController::Modulation::Amplitude;
   if (cp.slot_max_m > cfg.regulator.max_slot_m) cp.slot_max_m = cfg.regulator.max_slot_m;
-  ctl_.configure(cp);
+  configure_as("controller", [&] { ctl_.configure(cp); });
   ctl_.start(force_nominal_);
   ctl_out_ = {};
   ctl_out_.slot_m =
@@ -133,17 +137,19 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cp.period_s / dt)));
   if (cfg.controller_kind == ControllerKind::Aim) {
     auto ep = cfg.eccentric;
-    ecc_.configure(ep);
+    configure_as("eccentric", [&] { ecc_.configure(ep); });
     ecc_.set_slot(ctl_out_.slot_m);
   }
 
   constexpr double kMaxBufferSteps = 2e7;  // history buffers beyond this mean a nonsensical step
   if (1.0 / rev_per_s_ / dt > kMaxBufferSteps || cfg.feed_window_s / dt > kMaxBufferSteps / 2)
-    throw std::invalid_argument(
+    throw ConfigError(
+        1.0 / rev_per_s_ / dt > kMaxBufferSteps ? "run.step_s" : "metrics.feed_window_s",
         "one spindle revolution or the feed window spans more than 2e7 steps: "
         "increase step_s or the spindle speed, or shorten feed_window_s");
   if (duration / (dt * static_cast<double>(record_every_)) > 5e7)
-    throw std::invalid_argument("more than 5e7 recorded rows: increase record_interval_s");
+    throw ConfigError("run.record_interval_s",
+                      "more than 5e7 recorded rows: increase record_interval_s");
   // Warm-up: the slide was already feeding before t = 0. Run regulator, damper and slide at the
   // nominal load until the pulsed flow is periodic, then put the slide back at x = 0, so the
   // run starts in the pulsing steady state rather than with a start-up surge.

@@ -1,5 +1,7 @@
 #include "lathectl/sim/rig_b.hpp"
 
+#include "lathectl/sim/config_error.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -42,10 +44,6 @@ std::vector<Channel> rig_b_channels() {
           {"n_s", ""}};
 }
 
-void require(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument("rig B: " + what);
-}
-
 }  // namespace
 
 double RigB::modal_mass_kg(const dynamics::BeamPart& part, double x_c_m) {
@@ -55,14 +53,17 @@ double RigB::modal_mass_kg(const dynamics::BeamPart& part, double x_c_m) {
 
 void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
                      double max_duration) {
-  require(dt > 0.0 && record_interval >= dt && max_duration > 0.0,
-          "dt, record interval and duration must be positive (record interval ≥ dt)");
+  if (!(dt > 0.0 && record_interval >= dt && max_duration > 0.0))
+    throw ConfigError("run.record_interval_s",
+                      "dt, record interval and duration must be positive (record interval ≥ dt)");
   const double L_mm = cfg.part.length_m * 1e3;
-  require(cfg.z_end_mm < L_mm && cfg.z_end_mm > cfg.z_start_mm,
-          "the cut must run between the centres: 0 < z_start < z_end < length");
-  require(cfg.approach_mm >= 0.0 && cfg.idle_block_s >= 0.0,
-          "approach and idle block must be non-negative");
-  require(cfg.feed_drive_bandwidth_Hz > 0.0, "feed drive bandwidth must be positive");
+  if (!(cfg.z_end_mm < L_mm && cfg.z_end_mm > cfg.z_start_mm))
+    throw ConfigError("cut.z_end_mm",
+                      "the cut must run between the centres: 0 < z_start < z_end < length");
+  if (!(cfg.approach_mm >= 0.0 && cfg.idle_block_s >= 0.0))
+    throw ConfigError("cut", "approach and idle block must be non-negative");
+  if (!(cfg.feed_drive_bandwidth_Hz > 0.0))
+    throw ConfigError("cut.feed_drive_bandwidth_Hz", "feed drive bandwidth must be positive");
   cfg_ = cfg;
   dt_ = dt;
   max_t_ = max_duration;
@@ -90,7 +91,7 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
   pp.initial_disturbance_um = cfg.initial_disturbance_um;
   pp.rpm_nominal = cfg.rpm;
   pp.feed_mm_per_rev = cfg.feed_mm_per_rev;
-  process_.configure(pp, dt);
+  configure_as("cut", [&] { process_.configure(pp, dt); });
   n_tools_ = process_.tools();
   for (int i = 0; i < 2; ++i) {
     turrets_[i] = Turret{};
@@ -100,22 +101,27 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
   for (Turret& tu : turrets_) tu.z_mm = tu.z0_mm;
 
   cfg_.vibration.sample_period_s = dt * static_cast<double>(chain_every_);
-  chain_.configure(cfg_.vibration);
-  highpass_.configure(cfg_.vibration.highpass_Hz, dt);
+  configure_as("vibration_sensor", [&] {
+    chain_.configure(cfg_.vibration);
+    highpass_.configure(cfg_.vibration.highpass_Hz, dt);
+  });
   y_hp_ = 0.0;
 
-  spindle_.configure(cfg.spindle);
+  configure_as("spindle", [&] { spindle_.configure(cfg.spindle); });
   spindle_.reset(cfg.rpm);
-  power_.configure(cfg.power, dt * static_cast<double>(control_every_));
+  configure_as("power_sensor",
+               [&] { power_.configure(cfg.power, dt * static_cast<double>(control_every_)); });
   auto mp = cfg.module;
   mp.period_s = dt * static_cast<double>(control_every_);
-  module_.configure(mp);
+  configure_as("modulation", [&] { module_.configure(mp); });
   mod_out_ = {};
   const double cut_time = (cfg.z_end_mm - cfg.z_start_mm + cfg.approach_mm + cfg.tool2_lag_mm) /
                           (cfg.feed_mm_per_rev * cfg.rpm / 60.0);
   max_t_ = std::min(max_duration, cfg.idle_block_s + 1.5 * cut_time + 1.0);
   const double rows = max_t_ / (dt * static_cast<double>(record_every_)) + 2.0;
-  require(rows <= 5e6, "more than 5e6 recorded rows: raise run.record_interval_s");
+  if (!(rows <= 5e6))
+    throw ConfigError("run.record_interval_s",
+                      "more than 5e6 recorded rows: raise run.record_interval_s");
   rec_ = Recorder(rig_b_channels(), static_cast<std::size_t>(rows));
 }
 

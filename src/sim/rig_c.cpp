@@ -1,5 +1,7 @@
 #include "lathectl/sim/rig_c.hpp"
 
+#include "lathectl/sim/config_error.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -69,19 +71,19 @@ double RigC::load_N(double y_tool) const noexcept {
 }
 
 void RigC::configure(const RigCConfig& cfg, double dt, double record_interval) {
-  if (cfg.profile.xs().size() < 2) throw std::invalid_argument("template: at least two points");
+  if (cfg.profile.xs().size() < 2) throw ConfigError("template", "at least two points");
   if (!(cfg.beta_rad > 0.0 && cfg.beta_rad < std::numbers::pi / 2.0 + 1e-9))
-    throw std::invalid_argument("guide angle β must be in (0, 90°]");
+    throw ConfigError("slide.guide_angle_deg", "guide angle β must be in (0, 90°]");
   if (!(cfg.feed_m_per_rev > 0.0) || !(cfg.spindle_rpm > 0.0))
-    throw std::invalid_argument("feed and speed must be > 0");
+    throw ConfigError("machine", "feed and speed must be > 0");
   const auto& l = cfg.linear;
   if (!(l.E0_N_per_m > 0.0 && l.C0_per_s > 0.0 && l.mass_kg > 0.0 && l.lever_ratio > 0.0) ||
       l.P0_N < 0.0)
-    throw std::invalid_argument("tracer: E0, C0, M, i must be > 0 and P0 ≥ 0");
+    throw ConfigError("linear", "tracer: E0, C0, M, i must be > 0 and P0 ≥ 0");
   if (!(dt > 0.0) || record_interval < dt)
-    throw std::invalid_argument("step > 0 and record interval ≥ step");
+    throw ConfigError("run.record_interval_s", "step > 0 and record interval ≥ step");
   cfg_ = cfg;
-  if (cfg.blank_diameter_m > 0.0) cut_.configure(cfg.cutting);
+  if (cfg.blank_diameter_m > 0.0) configure_as("material", [&] { cut_.configure(cfg.cutting); });
   dt_ = dt;
   record_every_ =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(record_interval / dt)));
@@ -99,7 +101,9 @@ void RigC::configure(const RigCConfig& cfg, double dt, double record_interval) {
   s_hi_ = span;
   const auto lin = linearisation();
   if (lin.omega_n() * dt > 0.2)
-    throw std::invalid_argument("step too coarse for the slide's natural frequency");
+    throw ConfigError("run.step_s", "step too coarse for the slide's natural frequency (" +
+                        std::to_string(lin.omega_n() / (2.0 * std::numbers::pi)) +
+                        " Hz): use step_s ≤ " + std::to_string(0.2 / lin.omega_n()));
   t_ = 0.0;
   sound_ = true;
   if (!cfg.nonlinear) {
@@ -117,7 +121,8 @@ void RigC::configure(const RigCConfig& cfg, double dt, double record_interval) {
     const double fluid_w =
         std::sqrt(4.0 * cfg.bulk_modulus_Pa * A * A / (cfg.total_volume_m3 * l.mass_kg));
     if (fluid_w * dt > 0.2)
-      throw std::invalid_argument("step too coarse for the hydraulic natural frequency");
+      throw ConfigError("run.step_s", "step too coarse for the hydraulic natural frequency: use step_s ≤ " +
+                        std::to_string(0.2 / fluid_w));
   }
   s_ = target(x0_) - q_static_;
   v_ = 0.0;

@@ -1,5 +1,7 @@
 #include "lathectl/sim/rig_e.hpp"
 
+#include "lathectl/sim/config_error.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -69,9 +71,11 @@ double RigE::worst_case_feed(const RigEConfig& cfg, const cutting::CuttingModel&
 void RigE::configure(const RigEConfig& cfg, double dt, double record_interval,
                      double max_duration) {
   if (!(dt > 0.0) || !(record_interval >= dt) || !(max_duration > 0.0))
-    throw std::invalid_argument("run: need step > 0, record interval ≥ step, duration > 0");
+    throw ConfigError("run.record_interval_s",
+                      "need step > 0, record interval ≥ step, duration > 0");
   if (max_duration / record_interval > 5e7)
-    throw std::invalid_argument("more than 5e7 recorded rows: increase record_interval_s");
+    throw ConfigError("run.record_interval_s",
+                      "more than 5e7 recorded rows: increase record_interval_s");
   cfg_ = cfg;
   dt_ = dt;
   max_t_ = max_duration;
@@ -83,12 +87,12 @@ void RigE::configure(const RigEConfig& cfg, double dt, double record_interval,
   first_hold_s_ = -1.0;
   record_every_ =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(record_interval / dt)));
-  cut_.configure(cfg.cutting);
-  stock_.configure(cfg.stock);
+  configure_as("material", [&] { cut_.configure(cfg.cutting); });
+  configure_as("stock", [&] { stock_.configure(cfg.stock); });
   auto dp = cfg.disturbances;
   dp.depth_steps.clear();
   dp.runout_mm = 0.0;
-  dist_.configure(dp);
+  configure_as("stock", [&] { dist_.configure(dp); });
 
   auto cp = cfg.controller;
   if (cfg.worst_case_feed) {
@@ -96,33 +100,33 @@ void RigE::configure(const RigEConfig& cfg, double dt, double record_interval,
     cp.feed_min_mm_per_rev = std::min(cp.feed_min_mm_per_rev, cp.feed_programmed_mm_per_rev);
   }
   cp.air_feed_mm_per_rev = std::max(cp.air_feed_mm_per_rev, 1e-6);
-  ctl_.configure(cp);
+  configure_as("controller", [&] { ctl_.configure(cp); });
   control_every_ =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cp.period_s / dt)));
   life_plan_min_ = cut_.tool_life_min(cp.speed_programmed_m_per_min, cp.feed_planned_mm_per_rev,
                                       cfg.planned_depth_mm);
 
-  axis_.configure(cfg.axis, dt);
+  configure_as("feed_axis", [&] { axis_.configure(cfg.axis, dt); });
   const auto& first = cfg.stock.passes.front();
   axis_.reset((first.z_start_mm - cfg.approach_mm) * 1e-3, 0.0);
-  spindle_.configure(cfg.spindle);
+  configure_as("spindle", [&] { spindle_.configure(cfg.spindle); });
   const double d0 = stock_.surface_diameter_mm(0, first.z_start_mm);
   const double rpm0 = std::clamp(cp.speed_programmed_m_per_min * 1000.0 / (std::numbers::pi * d0),
                                  cfg.spindle.min_rpm, cfg.spindle.max_rpm);
   spindle_.reset(rpm0);
-  force_sensor_.configure(cfg.force_sensor);
+  configure_as("sensor", [&] { force_sensor_.configure(cfg.force_sensor); });
   force_sensor_.reset(0.0);
   const double rev_steps = 60.0 / cfg.spindle.min_rpm / dt;
   if (rev_steps > 2e7)
-    throw std::invalid_argument(
-        "one revolution at the spindle's min_rpm spans more than 2e7 steps");
+    throw ConfigError("run.step_s",
+                      "one revolution at the spindle's min_rpm spans more than 2e7 steps");
   const auto hist = static_cast<std::size_t>(rev_steps) + 8;
   hist_theta_.assign(hist, 0.0);
   hist_z_.assign(hist, 0.0);
   head_ = tail_ = count_ = 0;
   theta_ = 0.0;
   contact_ = false;
-  power_meter_.configure(cfg.power_meter);
+  configure_as("sensor", [&] { power_meter_.configure(cfg.power_meter); });
   power_meter_.reset(spindle_.electrical_power_W());
   out_ = {};
   out_.rpm = rpm0;

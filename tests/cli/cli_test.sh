@@ -333,6 +333,96 @@ sed 's/^setup = "feed_division"/setup = "twin"/' "$src/examples/scenarios/b_twin
 expect_rc 2 "system B bad set-up" $bin check "$work/bad_b.toml"
 grep -q "bad_b.toml:[0-9]*:[0-9]*: key 'cut.setup'" "$work/err.txt" || bad "system B message: $(cat "$work/err.txt")"
 
+# --- Failures said in one line, at the key or flag that decides them ---------------------------
+one_line() { [ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "$1: not one line: $(cat "$work/err.txt")"; }
+scn="$src/examples/scenarios"
+# cross-field (rig) checks: file:line:col and the deciding key, not "inconsistent scenario"
+sed -e 's/^step_s = .*/step_s = 0.01/' -e 's/^record_interval_s = .*/record_interval_s = 0.01/' "$scn/a_finishing_aim.toml" > "$work/coarse_a.toml"
+sed -e 's/^step_s = .*/step_s = 0.005/' -e 's/^record_interval_s = .*/record_interval_s = 0.005/' "$scn/c_dead_zone.toml" > "$work/coarse_c.toml"
+sed -e 's/^step_s = .*/step_s = 1e-3\nrecord_interval_s = 1e-3/' "$scn/d_gauging.toml" > "$work/coarse_d.toml"
+sed -e '/^\[regulator\]/,/^\[/ s/^type = "pulsed"/type = "throttle"/' "$scn/a_finishing_aim.toml" > "$work/throttle_aim.toml"
+for c in "coarse_a.toml:9:[0-9]*: key 'run.step_s': step_s .* too coarse" \
+         "coarse_c.toml:7:[0-9]*: key 'run.step_s': step too coarse" \
+         "coarse_d.toml:12:[0-9]*: key 'run.step_s': vibro-contact gauge: step too coarse" \
+         "throttle_aim.toml:66:[0-9]*: key 'controller.type': a continuous throttle"; do
+  f=${c%%:*}
+  expect_rc 2 "cross-field $f" $bin check "$work/$f"
+  grep -q "^error: $work/$c" "$work/err.txt" || bad "cross-field $f: $(cat "$work/err.txt")"
+  grep -q "inconsistent" "$work/err.txt" && bad "cross-field $f still 'inconsistent': $(cat "$work/err.txt")"
+  one_line "cross-field $f"
+done
+# command line: one line, the command and the flag named
+expect_rc 2 "unknown command" $bin frobnicate
+grep -qx "error: unknown command 'frobnicate' (run, check, demo, lobes, design)" "$work/err.txt" || bad "unknown command: $(cat "$work/err.txt")"
+one_line "unknown command"
+expect_rc 2 "unknown design command" $bin design frob
+grep -qx "error: unknown command 'design frob' (pulse-regulator, adaptive-speed, gauge, tracer)" "$work/err.txt" || bad "unknown design command: $(cat "$work/err.txt")"
+expect_rc 2 "no command" $bin
+one_line "no command"
+expect_rc 2 "run without scenario" $bin run
+grep -qx "error: run: scenario is required" "$work/err.txt" || bad "run without scenario: $(cat "$work/err.txt")"
+expect_rc 2 "unknown option" $bin check x.toml --bogus
+one_line "unknown option"
+expect_rc 2 "--d-mm nan" $bin design pulse-regulator --d-mm nan --T-ms 50
+grep -qx "error: design pulse-regulator: --d-mm nan: expected a finite number > 0 (spool diameter d)" "$work/err.txt" || bad "--d-mm nan: $(cat "$work/err.txt")"
+expect_rc 2 "--Py nan" $bin design pulse-regulator --T-ms 50 --Py nan
+grep -q "^error: design pulse-regulator: --Py nan: expected a finite number (radial cutting force Py)$" "$work/err.txt" || bad "--Py nan: $(cat "$work/err.txt")"
+expect_rc 2 "run a directory" $bin run "$scn" --out "$work/never"
+grep -qx "error: $scn: is a directory, expected a scenario file (.toml)" "$work/err.txt" || bad "run directory: $(cat "$work/err.txt")"
+# --out problems: found before the simulation, exit 2, one line naming the flag and the path
+# (a file, and a directory of someone else's files: never the source tree, should a bug write there)
+echo text > "$work/afile"; mkdir -p "$work/precious"; echo keep > "$work/precious/notes.txt"
+for o in /proc/x "$work/afile" "$work/precious"; do
+  for c in "run $scn/b_twin_feed_division.toml" "lobes $src/examples/machines/b_sdof.toml" "demo"; do
+    [ "$o" != "$work/precious" ] || [ "${c%% *}" = run ] || continue  # only a run's set replaces a whole directory
+    t0=$(date +%s%N)
+    expect_rc 2 "$c --out $o" $bin $c --out "$o"
+    ms=$(( ($(date +%s%N) - t0) / 1000000 ))
+    grep -q "^error: --out $o: " "$work/err.txt" || bad "$c --out $o: $(cat "$work/err.txt")"
+    one_line "$c --out $o"
+    [ "$ms" -lt 3000 ] || bad "$c --out $o: found after ${ms} ms (after the simulation?)"
+  done
+done
+expect_rc 2 "--out a foreign directory" $bin run "$scn/a_roughing_aim.toml" --out "$work/precious"
+[ "$(cat "$work/precious/notes.txt")" = keep ] && [ "$(ls -A "$work/precious")" = notes.txt ] || bad "a foreign --out directory was touched"
+if [ "$(id -u)" -ne 0 ]; then  # root writes anywhere
+  mkdir -p "$work/ro"; chmod 555 "$work/ro"
+  expect_rc 2 "--out not writable" $bin run "$scn/a_roughing_aim.toml" --out "$work/ro/x"
+  grep -q "^error: --out $work/ro/x: " "$work/err.txt" || bad "unwritable --out: $(cat "$work/err.txt")"
+  chmod 755 "$work/ro"
+fi
+
+# --- A run's output set appears as a whole; a kill never leaves a mix, nor temporaries --------
+same_set() {  # dir ref: every file of dir equals ref's, and they hold the same names
+  diff -r "$1" "$2" >/dev/null 2>&1
+}
+$bin run "$scn/a_roughing_aim.toml" --out "$work/refA" >/dev/null 2>&1 || bad "refA run"
+$bin run "$scn/a_finishing_aim.toml" --out "$work/refB" >/dev/null 2>&1 || bad "refB run"
+same_set "$work/refA" "$work/refB" && bad "the two reference sets do not differ"
+for point in channels.csv report.html summary.json swapped; do
+  rm -rf "$work/set" "$work"/set.*; cp -r "$work/refA" "$work/set"
+  (LATHECTL_TEST_KILL_AT=$point exec $bin run "$scn/a_finishing_aim.toml" --out "$work/set" >/dev/null 2>&1)
+  rc=$?; [ "$rc" -eq 137 ] || bad "kill at $point: exit $rc, expected 137 (SIGKILL)"
+  if [ "$point" = swapped ]; then same_set "$work/set" "$work/refB" || bad "kill after the swap: not the new set"
+  else same_set "$work/set" "$work/refA" || bad "kill at $point: the old set is not intact: $(diff -rq "$work/set" "$work/refA")"; fi
+  # a dead run's 2 MB temporary inside the set, as older versions left them
+  deadpid=$(sh -c 'echo $$'); head -c 2000000 /dev/zero > "$work/set/channels.csv.tmp.$deadpid"
+  expect_rc 0 "run after a kill at $point" $bin run "$scn/a_roughing_aim.toml" --out "$work/set"
+  same_set "$work/set" "$work/refA" || bad "after a kill at $point: the next run's set is not whole: $(diff -rq "$work/set" "$work/refA")"
+  left=$(ls -A "$work" | grep -E '^set\.(tmp|old)-'; ls -A "$work/set" | grep -E '\.tmp[.-]')
+  [ -z "$left" ] || bad "after a kill at $point: temporaries left: $left"
+done
+# a real kill -9 at random moments of runs writing into the same directory: old or new, never mixed
+rm -rf "$work/set" "$work"/set.*; cp -r "$work/refA" "$work/set"
+for delay in 0.05 0.1 0.15 0.2 0.25 0.3 0.35 0.4; do
+  $bin run "$scn/a_finishing_aim.toml" --out "$work/set" >/dev/null 2>&1 & p=$!
+  sleep $delay; kill -9 $p 2>/dev/null; wait $p 2>/dev/null
+  if [ -e "$work/set" ]; then same_set "$work/set" "$work/refA" || same_set "$work/set" "$work/refB" || bad "kill -9 after ${delay}s: a mixed set: $(diff -rq "$work/set" "$work/refA")"; fi
+  $bin run "$scn/a_roughing_aim.toml" --out "$work/set" >/dev/null 2>&1 || bad "run after kill -9"
+done
+left=$(ls -A "$work" | grep -E '^set\.(tmp|old)-'; ls -A "$work/set" | grep -E '\.tmp[.-]')
+[ -z "$left" ] || bad "after kill -9: temporaries left: $left"
+
 # inputs the fuzzer once crashed on: each must be a clean input error now
 for f in "$src"/tests/cli/fuzz_regressions/*.toml; do expect_rc 2 "fuzz regression $(basename "$f")" $bin check "$f"; done
 

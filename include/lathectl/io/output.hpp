@@ -1,9 +1,14 @@
 #pragma once
-// Result files. Every write is atomic: the content goes to a temporary file in the same
+// Result files. Every write is atomic: a single file goes to a temporary file in the same
 // directory, which is then renamed over the target, so an interrupted run leaves no half file.
+// A run's set of files (summary.json, channels.csv, report.html, ...) appears as a whole: it is
+// written into a fresh staging directory beside the output directory, which then takes the
+// output directory's place in one rename, so a reader never sees new files beside old ones.
 
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "lathectl/sim/recorder.hpp"
 
@@ -11,5 +16,29 @@ namespace lathectl::io {
 
 void write_file_atomic(const std::filesystem::path& path, const std::string& content);
 std::string channels_csv(const sim::Recorder& rec);
+
+// Marks a directory as a lathectl output set (written first into every set): only a directory
+// that has it, is empty, or holds nothing but result files of an older lathectl is replaced.
+inline constexpr const char* kOutputMarker = ".lathectl-output";
+
+// Checks, before anything runs, that `dir` can receive results: it is a directory or can be
+// created, and is writable; with `whole_set` (a run's set, replaced as a whole) an existing `dir`
+// must also be empty or a lathectl output set. Removes temporaries that dead runs left beside it
+// and in it. Throws InputError "FLAG DIR: ..." (one line).
+void prepare_output_dir(const std::filesystem::path& dir, const std::string& flag,
+                        bool whole_set = true);
+
+// Writes `files` (name, content) as one set replacing `dir` as a whole: staged in
+// DIR.tmp-<pid>/ beside it, then swapped into place (renameat2 RENAME_EXCHANGE, or two renames
+// where the file system lacks it) and the old set removed. A kill leaves either the old set or the
+// new one at `dir` (with the two-rename fallback, at worst no set), never a mix; its staging
+// directory is removed by the next prepare_output_dir / write_output_set beside it.
+void write_output_set(const std::filesystem::path& dir,
+                      const std::vector<std::pair<std::string, std::string>>& files);
+
+// Removes, in `dir`, what runs that are no longer alive left behind: NAME.tmp.<pid> files
+// (write_file_atomic) and NAME.tmp-<pid> / NAME.old-<pid> staging directories (only ones that are
+// empty or carry the output marker). A live process's temporaries are left alone.
+void remove_dead_temporaries(const std::filesystem::path& dir);
 
 }  // namespace lathectl::io

@@ -39,7 +39,7 @@ void configure_and_run(const Scenario& sc, Rig& rig, const Config& cfg,
     else
       rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s);
   } catch (const std::invalid_argument& e) {
-    throw InputError(sc.file + ": inconsistent scenario: " + e.what());
+    throw_at_key(sc, e);
   }
   rig.run();
   if (!rig.numerically_sound())

@@ -6,11 +6,14 @@
 // or throws.
 
 #include <cstdint>
+#include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/sim/gauging.hpp"
 #include "lathectl/sim/rig_a.hpp"
@@ -36,6 +39,7 @@ struct Comparison {
 
 struct Scenario {
   std::string file;    // where it came from (for messages and the summary)
+  std::shared_ptr<const KeyLocations> keys;  // where the file wrote each key (for messages)
   std::string system;  // "A" (more systems follow)
   std::string name;
   std::string description;
@@ -66,6 +70,12 @@ struct Scenario {
 Scenario parse_scenario(std::string_view text, const std::string& file_label,
                         const MaterialLibrary& materials);
 Scenario load_scenario(const std::string& path, const MaterialLibrary& materials);
+
+// A rig's (or a model's) rejection of a parsed scenario, as the InputError a user reads: a
+// sim::ConfigError at the key it names, any other std::invalid_argument at `fallback_key` (a
+// table whose settings it checks) or, without one, at the file.
+[[noreturn]] void throw_at_key(const Scenario& sc, const std::invalid_argument& e,
+                               const std::string& fallback_key = "");
 
 std::string controller_kind_name(sim::ControllerKind k);
 std::string regulator_kind_name(sim::RegulatorKind k);

@@ -20,6 +20,8 @@ class node;
 
 namespace lathectl::io {
 
+class KeyLocations;
+
 // Accepted interval of a number; open ends exclude the bound.
 struct Range {
   double lo = -1e300;
@@ -50,7 +52,9 @@ class TomlDocument {
 
 class TableReader {
  public:
-  TableReader(const toml::table& table, std::string file, std::string prefix);
+  // `locations`, when given, records where every key read (and every table) was written.
+  TableReader(const toml::table& table, std::string file, std::string prefix,
+              std::shared_ptr<KeyLocations> locations = nullptr);
 
   [[nodiscard]] bool has(std::string_view key) const;
   double number(std::string_view key, Range range, std::optional<double> fallback = std::nullopt);
@@ -86,6 +90,7 @@ class TableReader {
   std::string file_;
   std::string prefix_;
   std::set<std::string, std::less<>> used_;
+  std::shared_ptr<KeyLocations> locations_;
 };
 
 }  // namespace lathectl::io
