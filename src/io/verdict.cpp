@@ -21,7 +21,9 @@ bool not_finished(const json& metrics) {
 }  // namespace
 
 std::string claim_name(const std::string& text) {
-  const auto p = text.find(" (");
+  // After the run's label ("force by feed (prior art): …"), up to the claim's own bracket.
+  const auto colon = text.find(": ");
+  const auto p = text.find(" (", colon == std::string::npos ? 0 : colon);
   return p == std::string::npos ? text : text.substr(0, p);
 }
 

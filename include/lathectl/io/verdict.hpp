@@ -34,7 +34,7 @@ struct Verdict {
 // summary["metrics"]["finished"] and those of summary["comparisons"][i]["metrics"].
 Verdict verdict_of(const nlohmann::json& summary);
 
-// A claim's text up to its first " (" — the name it goes by on a console line.
+// A claim's text up to its first " (" after the run's label and colon — its console-line name.
 std::string claim_name(const std::string& text);
 
 }  // namespace lathectl::io
