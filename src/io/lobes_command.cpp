@@ -106,7 +106,8 @@ LobesInput read_lobes_input(const TomlDocument& doc) {
   }
   root.finish();
   in.system = lobes_system_at(in, in.part ? in.part->position_m : 0.0);
-  const int needed = lobes_needed(in);
+  // Never fewer than the former fixed default of 40: existing machine files keep their rows.
+  const int needed = std::max(40, lobes_needed(in));
   if (max_lobes && *max_lobes < needed)
     l->fail("max_lobes", "must be at least " + std::to_string(needed) + " for the lobes to reach min_rpm = " +
                              fmt(in.min_rpm) + " (60·f/min_rpm at the chatter frequency; lobes "
@@ -263,17 +264,26 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
   // lobes listed at a range edge rather than at a minimum.
   json warnings = json::array();
   {
-    int undefined = 0;
+    int undefined = 0, inner = 0;
     double lo = 0.0, hi = 0.0;
+    std::string ends;
     for (int k = 0; k <= 1000; ++k) {
       const double n = in.min_rpm + (in.max_rpm - in.min_rpm) * k / 1000.0;
       if (std::isfinite(dynamics::envelope_depth(fd, n))) continue;
-      if (undefined++ == 0) lo = n;
+      ++undefined;
+      if (k == 0 || k == 1000) {
+        ends += (ends.empty() ? "" : " and ") + fmt(n, "%.0f");
+        continue;
+      }
+      if (inner++ == 0) lo = n;
       hi = n;
     }
     j["envelope_undefined_speeds"] = undefined;
-    if (undefined > 0)
-      warnings.push_back("no lobe reaches " + std::to_string(undefined) +
+    if (!ends.empty())
+      warnings.push_back("the envelope is undefined exactly at the range's end " + ends +
+                         " rpm (inf in lobes.csv): the lobes' grid points lie inside the range");
+    if (inner > 0)
+      warnings.push_back("no lobe reaches " + std::to_string(inner) +
                          " of the 1001 envelope speeds between " + fmt(lo, "%.0f") + " and " +
                          fmt(hi, "%.0f") + " rpm (inf in lobes.csv): no limit is known there");
     const int edge = static_cast<int>(fd.lobes.size()) - inside;
