@@ -1,5 +1,6 @@
 // lathectl — command-line front end: run scenarios, validate them, run the demo, and the papers'
-// design calculators. Exit codes: 0 success, 2 bad input (one clear message), 1 internal failure.
+// design calculators. Exit codes: 0 success, 1 internal failure, 2 bad input (one clear message),
+// 3 `--strict` and a claim not met, an alarm raised or a part not finished.
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -25,6 +26,7 @@
 #include "lathectl/io/lobes_command.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/output.hpp"
+#include "lathectl/io/progress.hpp"
 #include "lathectl/io/report.hpp"
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
@@ -52,20 +54,43 @@ std::string first_sentence(const std::string& d) {
   return d.substr(0, cut == std::string::npos ? 140 : cut) + " …";
 }
 
-int cmd_run(const std::string& scenario, const std::string& out) {
+constexpr int kStrictFailure = 3;  // --strict: a claim not met, an alarm or an unfinished part
+
+// The demo index's entry for a run: ✔/✘ and a link to each unmet claim in its report.
+io::IndexEntry index_entry(const io::Scenario& sc, const io::RunOutput& r) {
+  io::IndexEntry e;
+  e.title = sc.name + " — " + first_sentence(sc.description);
+  e.href = sc.name + "/report.html";
+  e.summary = r.headline;
+  e.status = r.verdict.ok() ? 1 : -1;
+  e.verdict = r.verdict.line(false);
+  for (const auto& u : r.verdict.unmet)
+    e.problems.push_back({"✘ " + u.text, e.href + "#claim-" + std::to_string(u.index)});
+  for (const auto& a : r.verdict.alarms) e.problems.push_back({"alarm: " + a, e.href + "#verdict"});
+  for (const auto& l : r.verdict.unfinished)
+    e.problems.push_back({"part not finished: " + l, e.href + "#verdict"});
+  return e;
+}
+
+int cmd_run(const std::string& scenario, const std::string& out, bool strict) {
   const auto lib = io::MaterialLibrary::load_default();
   const auto sc = io::load_scenario(scenario, lib);
   io::prepare_output_dir(out, "--out");  // before the simulation, not after it
-  const auto result = io::run_scenario(sc);
+  io::RunOutput result;
+  {
+    io::Progress progress("run " + sc.name);
+    io::ProgressScope scope(progress);
+    result = io::run_scenario(sc);
+  }
   try {
     io::write_outputs(result, out);
   } catch (const std::filesystem::filesystem_error& e) {
     throw io::InputError("--out " + out + ": cannot write the results there (" +
                          e.code().message() + ")");
   }
-  std::cout << sc.name << ": " << result.headline << "\n  → "
+  std::cout << sc.name << ": " << result.headline << " — " << result.verdict.line() << "\n  → "
             << (fs::path(out) / "report.html").string() << "\n";
-  return 0;
+  return strict && !result.verdict.ok() ? kStrictFailure : 0;
 }
 
 int cmd_check(const std::string& scenario) {
@@ -76,7 +101,8 @@ int cmd_check(const std::string& scenario) {
   return 0;
 }
 
-int cmd_demo(const std::string& out, const std::string& dir, const std::vector<std::string>& only) {
+int cmd_demo(const std::string& out, const std::string& dir, const std::vector<std::string>& only,
+             bool strict) {
   const auto lib = io::MaterialLibrary::load_default();
   std::vector<fs::path> files;
   std::error_code ec;
@@ -108,34 +134,47 @@ int cmd_demo(const std::string& out, const std::string& dir, const std::vector<s
 
   std::vector<io::IndexEntry> entries(scenarios.size());
   std::vector<std::string> errors(scenarios.size());
-  std::atomic<std::size_t> next{0};
-  std::mutex print;
+  std::vector<char> failed(scenarios.size(), 0);
+  std::atomic<std::size_t> next{0}, done{0};
+  io::Progress progress("demo");
   auto worker = [&] {
     for (std::size_t i; (i = next++) < scenarios.size();) {
       try {
         const auto r = io::run_scenario(scenarios[i]);
         const fs::path sub = fs::path(out) / scenarios[i].name;
         io::write_outputs(r, sub);
-        entries[i] = {scenarios[i].name + " — " + first_sentence(scenarios[i].description),
-                      scenarios[i].name + "/report.html", r.headline};
-        std::lock_guard lock(print);
-        std::cout << "  " << scenarios[i].name << ": " << r.headline << "\n";
+        entries[i] = index_entry(scenarios[i], r);
+        failed[i] = r.verdict.ok() ? 0 : 1;
+        progress.print_above([&] {
+          std::cout << "  " << scenarios[i].name << ": " << r.headline << " — "
+                    << r.verdict.line() << std::endl;
+        });
       } catch (const std::exception& e) {
         errors[i] = e.what();
       }
+      const std::size_t k = ++done;
+      progress.update(static_cast<double>(k) / static_cast<double>(scenarios.size()),
+                      std::to_string(k) + " of " + std::to_string(scenarios.size()) +
+                          " scenarios");
     }
   };
   const unsigned n = std::max(1u, std::min(std::thread::hardware_concurrency(), 8u));
   std::vector<std::thread> pool;
   for (unsigned k = 0; k < n; ++k) pool.emplace_back(worker);
   for (auto& t : pool) t.join();
+  progress.finish();
   for (const auto& e : errors)
     if (!e.empty()) throw std::runtime_error(e);
   io::write_file_atomic(fs::path(out) / "index.html",
                         io::render_index_html("lathectl demo — example scenarios", entries));
-  std::cout << "demo: " << scenarios.size() << " scenarios → "
-            << (fs::path(out) / "index.html").string() << "\n";
-  return 0;
+  std::string which;
+  std::size_t n_failed = 0;
+  for (std::size_t i = 0; i < scenarios.size(); ++i)
+    if (failed[i]) which += (n_failed++ ? ", " : "") + scenarios[i].name;
+  std::cout << "demo: " << scenarios.size() << " scenarios, " << n_failed
+            << " with unmet claims, alarms or unfinished parts" << (n_failed ? " (" + which + ")" : "")
+            << " → " << (fs::path(out) / "index.html").string() << "\n";
+  return strict && n_failed > 0 ? kStrictFailure : 0;
 }
 
 void print_value(bool json_first, const char* key, double si, const char* si_unit, double shop,
@@ -636,6 +675,9 @@ int main(int argc, char** argv) {
            page + ")";
   };
   app.footer(
+      "Exit codes: 0 success; 1 internal failure; 2 bad input (one message naming file, line and "
+      "key); 3 with --strict (run, demo): a claim not met, an alarm raised or a part not "
+      "finished.\n"
       "Seed numbers (000–004), formula numbers such as (23) and block numbers such as \"sensor "
       "4\" refer to the five original documents, explained in " +
       doc("README.md") + ".");
@@ -645,6 +687,10 @@ int main(int argc, char** argv) {
       "run", "Run a scenario closed-loop and write summary.json, channels.csv, report.html");
   run->add_option("scenario", scenario, "scenario file (TOML)")->required();
   run->add_option("--out", out, "output directory")->capture_default_str();
+  bool strict = false;
+  run->add_flag("--strict", strict,
+                "exit 3 when a claim is not met, an alarm fired (expected or not) or the part was "
+                "not finished");
   run->footer("Scenario files: " + doc("scenario-reference.md") + ".");
 
   auto* check = app.add_subcommand("check", "Validate a scenario file without running it");
@@ -659,6 +705,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> demo_only;
   demo->add_option("names", demo_only,
                    "run only these examples (file names without .toml; default: all)");
+  demo->add_flag("--strict", strict,
+                 "exit 3 when any scenario has a claim not met, an alarm or an unfinished part");
 
   std::string lobes_file, lobes_out = "lobes-out";
   auto* lobes = app.add_subcommand(
@@ -838,17 +886,23 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*run) return cmd_run(scenario, out);
+    if (*run) return cmd_run(scenario, out, strict);
     if (*check) return cmd_check(scenario);
-    if (*demo) return cmd_demo(demo_out, demo_dir, demo_only);
+    if (*demo) return cmd_demo(demo_out, demo_dir, demo_only, strict);
     if (*lobes) {
       const auto in = io::load_lobes_input(lobes_file);
       io::prepare_output_dir(lobes_out, "--out", false);
-      const auto j = io::run_lobes(in, lobes_out);
+      nlohmann::json j;
+      {
+        io::Progress progress("lobes");
+        j = io::run_lobes(in, lobes_out, &progress);
+      }
+      for (const auto& w : j["warnings"]) std::cerr << "warning: " << w.get<std::string>() << "\n";
       std::cout << "critical depth " << j["critical_depth_mm"].get<double>() << " mm at "
                 << j["chatter_frequency_Hz"].get<double>() << " Hz; " << j["lobes"].size()
-                << " lobes → " << (std::filesystem::path(lobes_out) / "lobes.html").string()
-                << "\n";
+                << " lobes (" << j["lobes_with_minimum_in_range"].get<int>()
+                << " with their minimum inside the speed range) → "
+                << (std::filesystem::path(lobes_out) / "lobes.html").string() << "\n";
       return 0;
     }
     if (*aspd) {

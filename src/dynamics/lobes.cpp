@@ -56,6 +56,7 @@ FrequencyDomainResult frequency_domain_lobes(const ChatterSystem& sys, double mi
     r.lobes[static_cast<std::size_t>(N)].minimum.depth_m = std::numeric_limits<double>::infinity();
   }
   const double w0 = 2.0 * kPi * 0.5 * f_lo, w1 = 2.0 * kPi * 2.0 * f_hi;
+  std::vector<std::vector<int>> grid(static_cast<std::size_t>(max_lobes));  // k of each point
   for (int k = 0; k <= points; ++k) {
     const double w = w0 + (w1 - w0) * k / points;
     const auto phi = oriented_frf(sys, w);
@@ -67,12 +68,19 @@ FrequencyDomainResult frequency_domain_lobes(const ChatterSystem& sys, double mi
     }
     double eps = std::fmod(3.0 * kPi + 2.0 * std::atan2(phi.imag(), phi.real()), 2.0 * kPi);
     if (eps <= 0.0) eps += 2.0 * kPi;
-    for (int N = 0; N < max_lobes; ++N) {
+    // Only the lobes whose speed 60ω/(ε + 2πN) can fall in the range (the rest is skipped
+    // unvisited, so a large max_lobes costs nothing); the exact test below decides.
+    const double n_lo = std::floor((60.0 * w / max_rpm - eps) / (2.0 * kPi)) - 1.0;
+    const double n_hi = std::ceil((60.0 * w / min_rpm - eps) / (2.0 * kPi)) + 1.0;
+    const int N0 = static_cast<int>(std::clamp(n_lo, 0.0, static_cast<double>(max_lobes)));
+    const int N1 = static_cast<int>(std::clamp(n_hi, -1.0, static_cast<double>(max_lobes - 1)));
+    for (int N = N0; N <= N1; ++N) {
       const double n = 60.0 * w / (eps + 2.0 * kPi * N);
       if (n < min_rpm || n > max_rpm) continue;
       auto& lobe = r.lobes[static_cast<std::size_t>(N)];
       const LobePoint p{n, b, w / (2.0 * kPi)};
       lobe.points.push_back(p);
+      grid[static_cast<std::size_t>(N)].push_back(k);
       if (b < lobe.minimum.depth_m) lobe.minimum = p;
     }
   }
@@ -95,6 +103,14 @@ FrequencyDomainResult frequency_domain_lobes(const ChatterSystem& sys, double mi
       r.critical_depth_m = depth(w);
       r.critical_chatter_Hz = w / (2.0 * kPi);
     }
+  }
+  for (std::size_t N = 0; N < r.lobes.size(); ++N) {
+    auto& lobe = r.lobes[N];
+    const auto& ks = grid[N];
+    std::size_t i = 0;
+    while (i < lobe.points.size() && lobe.points[i].depth_m != lobe.minimum.depth_m) ++i;
+    lobe.minimum_inside = i > 0 && i + 1 < lobe.points.size() && ks[i - 1] + 1 == ks[i] &&
+                          ks[i + 1] == ks[i] + 1;
   }
   r.lobes.erase(std::remove_if(r.lobes.begin(), r.lobes.end(),
                                [](const Lobe& l) { return l.points.empty(); }),
@@ -262,7 +278,7 @@ SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_
   const SdModel model = sd_model(sys);
   // The cost per speed grows as (d + m)³ and m as 1/speed: the speeds ascend, so the slow ones
   // are handed out first and the cheap ones fill the gaps at the end.
-  std::atomic<std::size_t> next{0};
+  std::atomic<std::size_t> next{0}, finished{0};
   auto work = [&] {
     Eigen::MatrixXd D;
     Eigen::EigenSolver<Eigen::MatrixXd> es;
@@ -273,6 +289,8 @@ SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_
         sd_map(model, sys.kf_N_per_m2 * c.depth_m[j], dt, m, o.interpolation_order, D);
         c.spectral_radius[i * nd + j] = spectral_radius(D, es);
       }
+      const std::size_t k = ++finished;
+      if (o.on_speed_done) o.on_speed_done(k, ns);
     }
   };
   const unsigned hw = std::max(1u, std::thread::hardware_concurrency());

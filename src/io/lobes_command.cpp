@@ -5,11 +5,13 @@
 #include <cstdio>
 #include <limits>
 #include <numbers>
+#include <atomic>
 #include <optional>
 #include <thread>
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
+#include "lathectl/io/progress.hpp"
 #include "lathectl/io/report.hpp"
 #include "lathectl/io/study.hpp"
 #include "lathectl/io/toml_reader.hpp"
@@ -29,6 +31,26 @@ LobesInput parse_lobes_input(std::string_view text, const std::string& file_labe
 }
 
 namespace {
+// The chatter frequency f_n·√(1+2ζ) of the highest mode that can chatter (see lobes_needed).
+double reference_Hz(const dynamics::ChatterSystem& sys) {
+  double lowest = std::numeric_limits<double>::infinity();
+  auto limit = [&](const dynamics::Mode& m) {
+    const double c2 = std::max(std::cos(m.angle_rad) * std::cos(m.angle_rad), 1e-12);
+    return 2.0 * m.stiffness_N_per_m * m.damping_ratio * (1.0 + m.damping_ratio) / c2;
+  };
+  for (const auto& m : sys.modes) lowest = std::min(lowest, limit(m));
+  double f = 0.0;
+  for (const auto& m : sys.modes)
+    if (limit(m) <= 3.0 * lowest)
+      f = std::max(f, m.natural_frequency_Hz * std::sqrt(1.0 + 2.0 * m.damping_ratio));
+  return f;
+}
+double lobes_reference_Hz(const LobesInput& in) {
+  double f = reference_Hz(in.system);
+  if (in.part)
+    for (double x : in.part->positions_m) f = std::max(f, reference_Hz(lobes_system_at(in, x)));
+  return f;
+}
 LobesInput read_lobes_input(const TomlDocument& doc) {
   const std::string& path = doc.file();
   TableReader root(doc.root(), path, "");
@@ -69,8 +91,10 @@ LobesInput read_lobes_input(const TomlDocument& doc) {
   in.max_rpm = s->number("max_rpm", {0.0, 1e6, true, false});
   if (!(in.max_rpm > in.min_rpm)) s->fail("max_rpm", "must exceed min_rpm");
   s->finish();
-  if (auto l = root.table("lobes")) {
-    in.max_lobes = static_cast<int>(l->integer("max_lobes", 1, 500, 40));
+  std::optional<TableReader> l = root.table("lobes");
+  std::optional<int> max_lobes;
+  if (l) {
+    if (l->has("max_lobes")) max_lobes = static_cast<int>(l->integer("max_lobes", 1, 5000));
     in.sd_speeds = static_cast<int>(l->integer("sd_speeds", 0, 2000, 40));
     in.chart_speeds = static_cast<int>(l->integer("chart_speeds", 0, 2000, 200));
     in.chart_depths = static_cast<int>(l->integer("chart_depths", 0, 2000, 100));
@@ -82,9 +106,21 @@ LobesInput read_lobes_input(const TomlDocument& doc) {
   }
   root.finish();
   in.system = lobes_system_at(in, in.part ? in.part->position_m : 0.0);
+  // Never fewer than the former fixed default of 40: existing machine files keep their rows.
+  const int needed = std::max(40, lobes_needed(in));
+  if (max_lobes && *max_lobes < needed)
+    l->fail("max_lobes", "must be at least " + std::to_string(needed) + " for the lobes to reach min_rpm = " +
+                             fmt(in.min_rpm) + " (60·f/min_rpm at the chatter frequency; lobes "
+                             "below " + fmt(60.0 * lobes_reference_Hz(in) / *max_lobes, "%.0f") +
+                             " rpm would be missing); leave it out for that default");
+  in.max_lobes = max_lobes ? *max_lobes : needed;
   return in;
 }
 }  // namespace
+
+int lobes_needed(const LobesInput& in) {
+  return static_cast<int>(std::ceil(60.0 * lobes_reference_Hz(in) / in.min_rpm)) + 2;
+}
 
 dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m) {
   dynamics::ChatterSystem sys;
@@ -107,8 +143,19 @@ std::string csv_row(double a, double b) {
 }
 }  // namespace
 
-nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_dir) {
+nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_dir,
+                         Progress* progress) {
   using nlohmann::json;
+  // Progress: the bisection speeds, then the chart's speeds (each speed about as costly).
+  const double total_work =
+      static_cast<double>(in.sd_speeds) +
+      (in.chart_speeds >= 2 && in.chart_depths >= 2 ? static_cast<double>(in.chart_speeds) : 0.0);
+  std::atomic<std::size_t> work_done{0};
+  auto tick = [&](const char* phase) {
+    const std::size_t k = ++work_done;
+    if (progress && total_work > 0)
+      progress->update(static_cast<double>(k) / total_work, phase);
+  };
   const auto fd = dynamics::frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm, in.max_lobes,
                                                    kFrequencyPoints);
 
@@ -133,6 +180,7 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
           const int m = dynamics::sd_steps_per_delay(in.system, sd_speed[k], hi, o);
           sd_depth[k] =
               dynamics::sd_limit_depth(in.system, sd_speed[k], hi, m, 1e-3, o.interpolation_order);
+          tick("semi-discretization limits");
         }
       });
     for (auto& t : pool) t.join();
@@ -150,6 +198,7 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
   if (in.chart_speeds >= 2 && in.chart_depths >= 2 && std::isfinite(fd.critical_depth_m)) {
     dynamics::SdChartOptions o;
     o.steps_per_period = in.chart_steps_per_period;
+    o.on_speed_done = [&](std::size_t, std::size_t) { tick("semi-discretization chart"); };
     const double top =
         in.chart_max_depth_m > 0.0 ? in.chart_max_depth_m : 4.0 * fd.critical_depth_m;
     chart = dynamics::sd_stability_chart(in.system, in.min_rpm, in.max_rpm, in.chart_speeds, top,
@@ -199,12 +248,51 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
         {"chatter_frequency_Hz", m.natural_frequency_Hz * std::sqrt(1.0 + 2.0 * m.damping_ratio)}};
   }
   json lobes = json::array();
-  for (const auto& l : fd.lobes)
+  int inside = 0;
+  for (const auto& l : fd.lobes) {
+    inside += l.minimum_inside ? 1 : 0;
     lobes.push_back({{"N", l.N},
                      {"min_speed_rpm", l.minimum.speed_rpm},
                      {"depth_mm", l.minimum.depth_m * 1e3},
-                     {"chatter_frequency_Hz", l.minimum.chatter_Hz}});
+                     {"chatter_frequency_Hz", l.minimum.chatter_Hz},
+                     {"minimum_inside_range", l.minimum_inside}});
+  }
   j["lobes"] = lobes;
+  j["max_lobes"] = in.max_lobes;
+  j["lobes_with_minimum_in_range"] = inside;
+  // What the envelope cannot say, said: speeds no lobe reaches (written as inf in lobes.csv) and
+  // lobes listed at a range edge rather than at a minimum.
+  json warnings = json::array();
+  {
+    int undefined = 0, inner = 0;
+    double lo = 0.0, hi = 0.0;
+    std::string ends;
+    for (int k = 0; k <= 1000; ++k) {
+      const double n = in.min_rpm + (in.max_rpm - in.min_rpm) * k / 1000.0;
+      if (std::isfinite(dynamics::envelope_depth(fd, n))) continue;
+      ++undefined;
+      if (k == 0 || k == 1000) {
+        ends += (ends.empty() ? "" : " and ") + fmt(n, "%.0f");
+        continue;
+      }
+      if (inner++ == 0) lo = n;
+      hi = n;
+    }
+    j["envelope_undefined_speeds"] = undefined;
+    if (!ends.empty())
+      warnings.push_back("the envelope is undefined exactly at the range's end " + ends +
+                         " rpm (inf in lobes.csv): the lobes' grid points lie inside the range");
+    if (inner > 0)
+      warnings.push_back("no lobe reaches " + std::to_string(inner) +
+                         " of the 1001 envelope speeds between " + fmt(lo, "%.0f") + " and " +
+                         fmt(hi, "%.0f") + " rpm (inf in lobes.csv): no limit is known there");
+    const int edge = static_cast<int>(fd.lobes.size()) - inside;
+    if (edge > 0)
+      warnings.push_back(std::to_string(edge) +
+                         " lobe(s) have their minimum outside the speed range; their rows give the "
+                         "lowest point at the range's edge, marked \"edge\", not a minimum");
+  }
+  j["warnings"] = warnings;
   json sd = json::array();
   for (std::size_t k = 0; k < sd_speed.size(); ++k)
     sd.push_back({{"speed_rpm", sd_speed[k]},
@@ -316,11 +404,15 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
                                  "relative difference over " +
                                  std::to_string(chart_compared) + " speeds",
                              fmt(chart_worst, "%.3g"));
-  Table t{"Lobes", {"N", "speed at the minimum [rpm]", "depth [mm]", "chatter [Hz]"}, {}};
+  Table t{"Lobes (max_lobes " + std::to_string(in.max_lobes) + ")",
+          {"N", "speed at the minimum [rpm]", "depth [mm]", "chatter [Hz]", "minimum"},
+          {}};
   for (const auto& l : fd.lobes)
     t.rows.push_back({std::to_string(l.N), fmt(l.minimum.speed_rpm, "%.1f"),
-                      fmt(l.minimum.depth_m * 1e3), fmt(l.minimum.chatter_Hz)});
+                      fmt(l.minimum.depth_m * 1e3), fmt(l.minimum.chatter_Hz),
+                      l.minimum_inside ? "inside the range" : "edge: lowest in range, not a minimum"});
   rep.tables.push_back(t);
+  for (const auto& w : warnings) rep.notes.push_back("⚠ " + w.get<std::string>());
   Plot p{
       "Stability lobe diagram", "spindle speed [rpm]", "limit depth of cut [mm]", {env, sdp}, {}};
   if (chart) p.series.push_back(sdc);

@@ -567,6 +567,14 @@ ul.index a { font-weight: 600; color: #0b57d0; text-decoration: none; }
 ul.index a:hover { text-decoration: underline; }
 ul.index .summary { display: block; color: #59636e; font-size: 14px;
   font-variant-numeric: tabular-nums; }
+section.verdict.ok { border-color: #16a34a; }
+section.verdict.bad { border-color: #dc2626; }
+.verdict .mark, ul.index .mark { font-weight: 700; }
+.ok .mark, ul.index .ok { color: #16a34a; }
+.bad .mark, ul.index .bad { color: #dc2626; }
+ul.index ul.problems { margin: 4px 0 0; padding-left: 20px; font-size: 14px; }
+ul.index ul.problems a { font-weight: 400; }
+li:target { background: #fff3c4; }
 footer { color: #8c959f; font-size: 12px; margin-top: 24px; }
 @media print { body { background: #fff; } section { break-inside: avoid; } }
 )css";
@@ -694,6 +702,23 @@ std::string render_html(const Report& report, std::size_t max_points) {
     out += "</section>\n";
   }
 
+  if (!report.verdict.empty()) {
+    out += std::string("<section class=\"verdict ") + (report.verdict_ok ? "ok" : "bad") +
+           "\" id=\"verdict\">\n<h2>Verdict</h2>\n<p class=\"mark\">" + escape(report.verdict) +
+           "</p>\n";
+    if (!report.verdict_items.empty()) {
+      out += "<ul class=\"notes\">\n";
+      for (const auto& it : report.verdict_items) {
+        out += "<li>";
+        out += it.href.empty() ? escape(it.text)
+                               : "<a href=\"" + escape(it.href) + "\">" + escape(it.text) + "</a>";
+        out += "</li>\n";
+      }
+      out += "</ul>\n";
+    }
+    out += "</section>\n";
+  }
+
   if (!report.metrics.empty()) {
     out += "<section class=\"metrics\">\n<h2>Metrics</h2>\n<div class=\"table-wrap\">";
     out += "<table class=\"metrics\">\n<thead><tr><th>Metric</th><th>Value</th></tr></thead>\n";
@@ -706,7 +731,11 @@ std::string render_html(const Report& report, std::size_t max_points) {
 
   if (!report.notes.empty()) {
     out += "<section class=\"notes\">\n<h2>Notes</h2>\n<ul class=\"notes\">\n";
-    for (const std::string& n : report.notes) out += "<li>" + escape(n) + "</li>\n";
+    for (std::size_t i = 0; i < report.notes.size(); ++i) {
+      const bool id = i < report.note_ids.size() && !report.note_ids[i].empty();
+      out += id ? "<li id=\"" + escape(report.note_ids[i]) + "\">" : std::string("<li>");
+      out += escape(report.notes[i]) + "</li>\n";
+    }
     out += "</ul>\n</section>\n";
   }
 
@@ -734,8 +763,25 @@ std::string render_index_html(const std::string& title, const std::vector<IndexE
     out += "<ul class=\"index\">\n";
     for (const IndexEntry& e : entries) {
       const std::string& label = e.title.empty() ? e.href : e.title;
-      out += "<li><a href=\"" + escape(e.href) + "\">" + escape(label) + "</a>";
+      out += "<li>";
+      if (e.status != 0)
+        out += std::string("<span class=\"mark ") + (e.status > 0 ? "ok\">✔" : "bad\">✘") +
+               "</span> ";
+      out += "<a href=\"" + escape(e.href) + "\">" + escape(label) + "</a>";
       if (!e.summary.empty()) out += "<span class=\"summary\">" + escape(e.summary) + "</span>";
+      if (!e.verdict.empty())
+        out += std::string("<span class=\"summary ") + (e.status < 0 ? "bad" : "ok") + "\">" +
+               escape(e.verdict) + "</span>";
+      if (!e.problems.empty()) {
+        out += "<ul class=\"problems\">\n";
+        for (const auto& p : e.problems) {
+          out += "<li>";
+          out += p.href.empty() ? escape(p.text)
+                                : "<a href=\"" + escape(p.href) + "\">" + escape(p.text) + "</a>";
+          out += "</li>\n";
+        }
+        out += "</ul>\n";
+      }
       out += "</li>\n";
     }
     out += "</ul>\n";

@@ -10,13 +10,30 @@
 
 namespace lathectl::io {
 
-RunOutput run_scenario(const Scenario& sc) {
+namespace {
+RunOutput run_system(const Scenario& sc) {
   if (sc.system == "A") return run_system_a(sc);
   if (sc.system == "B") return run_system_b(sc);
   if (sc.system == "C") return run_system_c(sc);
   if (sc.system == "D") return run_system_d(sc);
   if (sc.system == "E") return run_system_e(sc);
   throw InputError(sc.file + ": system '" + sc.system + "' is not implemented");
+}
+}  // namespace
+
+RunOutput run_scenario(const Scenario& sc) {
+  RunOutput out = run_system(sc);
+  out.verdict = verdict_of(out.summary);
+  out.summary["verdict"] = out.verdict.json();
+  Report& rep = out.report;
+  rep.verdict = out.verdict.line(false);
+  rep.verdict_ok = out.verdict.ok();
+  for (const auto& u : out.verdict.unmet)
+    rep.verdict_items.push_back({"✘ " + u.text, "#claim-" + std::to_string(u.index)});
+  for (const auto& a : out.verdict.alarms) rep.verdict_items.push_back({"alarm: " + a, ""});
+  for (const auto& l : out.verdict.unfinished)
+    rep.verdict_items.push_back({"part not finished within run.duration_s: " + l, ""});
+  return out;
 }
 
 // One set, appearing as a whole (see write_output_set): never a new channels.csv beside an old

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/study.hpp"
 #include "lathectl/io/toml_reader.hpp"
 #include "lathectl/sim/config_error.hpp"
 #include "lathectl/sim/rig_b.hpp"
@@ -900,6 +901,13 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
     }
     root.finish();
     try {
+      // Like A, C, D and E: refuse a step too coarse for the dynamics (here the chatter).
+      double f_Hz = 0.0;
+      const double max_step = sim::RigB::max_step_s(sc.b, &f_Hz);
+      if (sc.run.step_s > max_step)
+        root.table("run", true)->fail("step_s", "too coarse for the part's chatter near " +
+                                                    fmt(f_Hz, "%.0f") + " Hz (ω·dt ≤ 0.2): use "
+                                                    "step_s ≤ " + fmt(max_step, "%.3g") + " s");
       sim::RigB probe;
       probe.configure(sc.b, sc.run.step_s, sc.run.record_interval_s, sc.run.step_s * 4);
     } catch (const std::invalid_argument& e) {

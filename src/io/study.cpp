@@ -34,6 +34,7 @@ nlohmann::json alarms_json(const std::vector<sim::AlarmEvent>& alarms) {
 }
 
 void Claims::add(const std::string& text, double value, bool met) {
+  ids_.push_back("claim-" + std::to_string(json_.size()));
   json_.push_back({{"claim", text}, {"value", json_number(value)}, {"met", met}});
   notes_.push_back(std::string(met ? "✔ " : "✘ ") + text + ": " + fmt(value));
 }

@@ -262,6 +262,7 @@ RunOutput run_system_a(const Scenario& sc) {
         std::string(control::reason_name(static_cast<control::Reason>(a.code))) + " (code " +
             std::to_string(a.code) + ")");
   rep.notes = claims.notes();
+  rep.note_ids = claims.note_ids();
   if (!sweep.empty()) rep.tables.push_back(sweep_table);
 
   const auto mk = markers(*main);
@@ -398,6 +399,7 @@ RunOutput run_system_a(const Scenario& sc) {
                   "); the spool stops closing between pulses from duty " + fmt(sat_theory, "%.4f") +
                   " (closed form; simulated " + fmt(sat_sim, "%.5f") + ")");
       rep.notes = claims.notes();
+  rep.note_ids = claims.note_ids();
     }
   }
 

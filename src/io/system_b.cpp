@@ -393,6 +393,7 @@ RunOutput run_system_b(const Scenario& sc) {
   add("cutting power (true) [W]", main.cut_power_W);
   add("cutting power measured N_c [W]", main.cut_power_measured_W);
   rep.notes = claims.notes();
+  rep.note_ids = claims.note_ids();
 
   const char* colors[] = {"#d62728", "#1f77b4"};
   auto series = [&](const Run& r, const char* col, const std::string& name, const char* color,

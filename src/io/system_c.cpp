@@ -216,6 +216,7 @@ RunOutput run_system_c(const Scenario& sc) {
     add("max |δy|, " + runs[1]->label + " [µm]", runs[1]->max_dy_um);
   }
   rep.notes = claims.notes();
+  rep.note_ids = claims.note_ids();
   for (const auto& r : runs) {
     Table t{"Errors per feature — " + r->label,
             {"feature", "from [mm]", "to [mm]", "max |δx| [µm]", "max |δy| [µm]", "waviness [µm]"},

@@ -312,6 +312,7 @@ RunOutput run_system_d(const Scenario& sc) {
     if (full_sizes.size() > 1) add("full-model parts: σ [µm]", fst.sigma * kUm);
   }
   rep.notes = claims.notes();
+  rep.note_ids = claims.note_ids();
   rep.tables.push_back(outside);
 
   // Histogram of finished sizes with the normal law of the linear theory and the tolerance.

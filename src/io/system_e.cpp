@@ -131,18 +131,28 @@ RunOutput run_system_e(const Scenario& sc) {
     if (!r->m.finished)
       claims.note("✘ " + r->label + ": the part was not finished within run.duration_s");
     if (r->mode == Mode::Fixed || !sc.e.faults.empty()) continue;
+    // A part never cut holds no force at its limit and so cannot keep it: these claims are not
+    // met (no number), however far below the limit a force of zero is.
+    const bool cut = r->m.time_in_cut_s > 0.0;
+    if (!cut)
+      claims.note("✘ " + r->label +
+                  ": the tool never cut the part, so the force claims below do not apply");
+    const double nan = std::nan("");
     claim(r->label + ": share of steady cutting with the per-revolution " + pname +
               " within 5 % of its limit (≥ 0.95)",
-          r->m.force_within_5pct_fraction, r->m.force_within_5pct_fraction >= 0.95);
+          cut ? r->m.force_within_5pct_fraction : nan,
+          cut && r->m.force_within_5pct_fraction >= 0.95);
     claim(r->label + ": largest per-revolution " + pname + " above its limit, % (≤ 15)",
-          r->m.force_overshoot_pct, r->m.force_overshoot_pct <= 15.0);
+          cut ? r->m.force_overshoot_pct : nan, cut && r->m.force_overshoot_pct <= 15.0);
   }
   if (by_mode[0] && by_mode[1] && by_mode[2]) {
     const double c0 = by_mode[0]->m.cycle_time_s, c1 = by_mode[1]->m.cycle_time_s,
                  c2 = by_mode[2]->m.cycle_time_s;
     claim("productivity: cycle time seed 004 < prior art < fixed (" + fmt(c2) + " s < " + fmt(c1) +
               " s < " + fmt(c0) + " s); seed 004 / prior art",
-          c2 / c1, c2 < c1 && c1 < c0);
+          c2 / c1,
+          c2 < c1 && c1 < c0 && by_mode[0]->m.finished && by_mode[1]->m.finished &&
+              by_mode[2]->m.finished);
   }
   if (by_mode[2] && sc.e.faults.empty()) {
     const double ratio =
@@ -193,6 +203,7 @@ RunOutput run_system_e(const Scenario& sc) {
         std::string(control::reason_name(static_cast<control::Reason>(a.code))) + " (code " +
             std::to_string(a.code) + ")");
   rep.notes = claims.notes();
+  rep.note_ids = claims.note_ids();
 
   auto short_name = [](Mode m) {
     return m == Mode::Fixed       ? std::string("fixed")

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -51,6 +52,41 @@ double RigB::modal_mass_kg(const dynamics::BeamPart& part, double x_c_m) {
   return dynamics::beam_mode_at(part, x_c_m, 1).mass_kg;
 }
 
+double RigB::max_step_s(const RigBConfig& cfg, double* f_Hz) {
+  const double L_mm = cfg.part.length_m * 1e3;
+  require(cfg.z_end_mm < L_mm && cfg.z_end_mm > cfg.z_start_mm,
+          "the cut must run between the centres: 0 < z_start < z_end < length");
+  require(cfg.modes >= 1 && cfg.modes <= dynamics::TwinTurretCut::kMaxModes,
+          "modes must be in 1..6");
+  (void)dynamics::beam_modes_at(cfg.part, cfg.z_start_mm * 1e-3, cfg.modes);  // validates
+  // Process stiffness: the radial force per metre of depth (Kienzle: linear in the depth) at the
+  // whole programmed feed per tool (an upper bound for feed division's half chips).
+  auto cp = cfg.cutting;
+  cp.form = cutting::ForceForm::Kienzle;
+  cutting::CuttingModel model;
+  model.configure(cp);
+  const double v = kPi * cfg.part.diameter_m * cfg.rpm;
+  const int tools = cfg.setup == TwinSetup::Single ? 1 : 2;
+  const double k_p =
+      tools * model.forces({1.0, cfg.feed_mm_per_rev, v, 1.0, 1.0}).Py / 1e-3;  // N/m
+  const double z0 = cfg.z_start_mm, z1 = cfg.modes_follow_tool ? cfg.z_end_mm : cfg.z_start_mm;
+  double f_ref = 0.0;
+  for (int j = 1; j <= cfg.modes; ++j) {
+    double k_min = std::numeric_limits<double>::infinity();
+    dynamics::BeamModeAt bm{};
+    for (int i = 0; i <= 64; ++i) {
+      const double x_mm = std::clamp(z0 + (z1 - z0) * i / 64.0, 1.0, L_mm - 1.0);
+      bm = dynamics::beam_mode_at(cfg.part, x_mm * 1e-3, j);
+      if (bm.shape != 0.0) k_min = std::min(k_min, bm.mode.stiffness_N_per_m);
+    }
+    const double z = bm.mode.damping_ratio;
+    if (j > 1 && 2.0 * k_min * z * (1.0 + z) > 4.0 * k_p) continue;
+    f_ref = std::max(f_ref, bm.mode.natural_frequency_Hz * std::sqrt(1.0 + 2.0 * z));
+  }
+  if (f_Hz) *f_Hz = f_ref;
+  return 0.2 / (2.0 * kPi * f_ref);
+}
+
 void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
                      double max_duration) {
   if (!(dt > 0.0 && record_interval >= dt && max_duration > 0.0))
@@ -60,6 +96,15 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
   if (!(cfg.z_end_mm < L_mm && cfg.z_end_mm > cfg.z_start_mm))
     throw ConfigError("cut.z_end_mm",
                       "the cut must run between the centres: 0 < z_start < z_end < length");
+  {
+    double f = 0.0;
+    const double lim = max_step_s(cfg, &f);
+    if (!(dt <= lim))
+      throw ConfigError("run.step_s", "step " + std::to_string(dt) +
+                                          " s too coarse for the part's chatter near " +
+                                          std::to_string(f) + " Hz: use a step ≤ " +
+                                          std::to_string(lim) + " s");
+  }
   if (!(cfg.approach_mm >= 0.0 && cfg.idle_block_s >= 0.0))
     throw ConfigError("cut", "approach and idle block must be non-negative");
   if (!(cfg.feed_drive_bandwidth_Hz > 0.0))

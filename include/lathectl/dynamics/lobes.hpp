@@ -20,6 +20,7 @@
 //   on b; a speed × depth chart evaluates the spectral radius on a grid.
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -46,7 +47,11 @@ struct LobePoint {
 struct Lobe {
   int N = 0;
   std::vector<LobePoint> points;  // ascending chatter frequency
-  LobePoint minimum;              // lowest depth on this lobe
+  LobePoint minimum;              // lowest depth on this lobe within the speed range
+  // The minimum lies inside the speed range (its grid neighbours on both sides are on the lobe
+  // in range). False: the lobe leaves the range while still falling, and `minimum` is only the
+  // lowest point at the range's edge, not the lobe's minimum.
+  bool minimum_inside = true;
 };
 
 struct FrequencyDomainResult {
@@ -90,6 +95,8 @@ struct SdChartOptions {
   int max_steps = 400;          // cap on m (cost grows as (2·modes + m)³)
   int interpolation_order = 5;  // of the delayed displacement: 1, 3 or 5 (quintic)
   unsigned threads = 0;         // 0: one per hardware thread
+  // Called (from any worker thread, so it must be thread-safe) each time a speed is done.
+  std::function<void(std::size_t done, std::size_t total)> on_speed_done;
 };
 struct SdChart {
   std::vector<double> speed_rpm;         // n_speeds, min..max inclusive

@@ -11,7 +11,8 @@
 //             density_kg_per_m3, damping_ratio, angle_deg (0), modes (3), position_mm (where the
 //             lobes are computed), positions_mm (optional: the critical depth along the part)
 //   [speed]   min_rpm, max_rpm
-//   [lobes]   (optional) max_lobes (40), sd_speeds (40, bisection check points), chart_speeds
+//   [lobes]   (optional) max_lobes (default: lobes_needed, enough to reach min_rpm; a smaller
+//             value is an error naming the key), sd_speeds (40, bisection check points), chart_speeds
 //             (200), chart_depths (100), chart_max_depth_mm (4 × the absolute limit),
 //             chart_steps_per_period (7; 0 speeds or depths: no chart)
 
@@ -39,7 +40,7 @@ struct LobesInput {
   std::vector<dynamics::Mode> tool_modes;  // the [[mode]]s alone
   std::optional<LobesPart> part;
   double min_rpm = 1000.0, max_rpm = 10000.0;
-  int max_lobes = 40;
+  int max_lobes = 40;  // set by the reader: [lobes] max_lobes, or lobes_needed()
   int sd_speeds = 40;
   int chart_speeds = 200, chart_depths = 100;
   double chart_max_depth_m = 0.0;  // 0: 4 × the absolute limit
@@ -51,7 +52,15 @@ LobesInput load_lobes_input(const std::string& path);  // throws InputError
 LobesInput parse_lobes_input(std::string_view text, const std::string& file_label);
 // The modes seen at the tool with the cutting position at x_m: the part's plus the tool's.
 dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m);
-// Computes and writes the outputs; returns lobes.json's content.
-nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_dir);
+// The lobes N = 0, 1, ... needed for the frequency-domain envelope to reach min_rpm: lobe N lies
+// near 60·f_c/(N + ε/2π), so N up to ⌈60·f_c/min_rpm⌉ (+ 2 for the phase ε and the lobes' width),
+// f_c = f_n·√(1+2ζ) of the highest mode that can chatter — one whose SDOF limit is within 3× the
+// lowest mode's (a stiff mode far above cannot lower the envelope), at every position.
+int lobes_needed(const LobesInput& in);
+// Computes and writes the outputs; returns lobes.json's content, with "warnings" (speeds where
+// no lobe reaches, lobes whose minimum lies outside the speed range). progress: optional.
+class Progress;
+nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_dir,
+                         Progress* progress = nullptr);
 
 }  // namespace lathectl::io

@@ -42,6 +42,17 @@ struct Report {
   std::string description;  // free text (paragraphs separated by blank lines)
   std::vector<std::pair<std::string, std::string>> metrics;  // name → formatted value
   std::vector<std::string> notes;                            // findings, each a short paragraph
+  // Parallel to notes (may be shorter): an id for the note's <li>, e.g. "claim-3", "" for none.
+  std::vector<std::string> note_ids;
+  // The run's verdict, shown first: a headline ("✔ 5 of 5 claims met" / "✘ …") and what went
+  // wrong, each item linking to its note when it has one (href "#claim-3"). Empty: no section.
+  struct VerdictItem {
+    std::string text;
+    std::string href;
+  };
+  std::string verdict;
+  bool verdict_ok = true;
+  std::vector<VerdictItem> verdict_items;
   std::vector<Table> tables;
   std::vector<Plot> plots;
   // Page of docs/ that explains the seed, formula and block numbers the report cites (e.g.
@@ -57,6 +68,14 @@ struct IndexEntry {
   std::string title;
   std::string href;     // relative link to the report
   std::string summary;  // one line: the key numbers
+  // Verdict: 0 none shown, 1 all claims met and no alarm (✔), -1 something went wrong (✘).
+  int status = 0;
+  std::string verdict;  // "✘ 2 of 5 claims not met · alarm …"
+  struct Problem {
+    std::string text;
+    std::string href;  // e.g. "a/report.html#claim-3"; empty: no link
+  };
+  std::vector<Problem> problems;
 };
 std::string render_index_html(const std::string& title, const std::vector<IndexEntry>& entries);
 

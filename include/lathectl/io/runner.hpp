@@ -3,6 +3,7 @@
 // runs), computes the metrics that answer its system's claims, and writes summary.json,
 // channels.csv (and channels_compare.csv) and report.html into an output directory.
 
+#include <concepts>
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -10,8 +11,10 @@
 #include <string>
 
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/progress.hpp"
 #include "lathectl/io/report.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "lathectl/io/verdict.hpp"
 
 namespace lathectl::io {
 
@@ -21,9 +24,11 @@ struct RunOutput {
   std::string compare_csv;  // empty when no comparison
   Report report;
   std::string headline;  // one line for the demo index
+  Verdict verdict;       // unmet claims, alarms, unfinished parts (also summary["verdict"])
 };
 
 // Throws InputError (bad scenario) or std::runtime_error (numerical failure: NaN, divergence).
+// The verdict is filled in, added to the summary and shown at the top of the report.
 RunOutput run_scenario(const Scenario& sc);
 void write_outputs(const RunOutput& out, const std::filesystem::path& dir);
 
@@ -41,7 +46,26 @@ void configure_and_run(const Scenario& sc, Rig& rig, const Config& cfg,
   } catch (const std::invalid_argument& e) {
     throw_at_key(sc, e);
   }
-  rig.run();
+  Progress* progress = ProgressScope::current();
+  if constexpr (requires { { rig.step() } -> std::same_as<bool>; }) {
+    if (progress && progress->enabled()) {  // the same steps as rig.run(), reported as they go
+      const std::string what = "simulation " + std::to_string(ProgressScope::next_simulation());
+      std::size_t n = 0;
+      while (rig.step())
+        if (++n % 16384 == 0) {
+          double t = 0.0;
+          if constexpr (requires { rig.time_s(); }) t = rig.time_s();
+          if constexpr (requires { rig.cycle_time_s(); }) t = rig.cycle_time_s();
+          progress->update(t / sc.run.duration_s, what);
+        }
+    } else {
+      rig.run();
+    }
+  } else {
+    if (progress) progress->update(0.0, "simulation " +
+                                            std::to_string(ProgressScope::next_simulation()));
+    rig.run();
+  }
   if (!rig.numerically_sound())
     throw std::runtime_error(sc.file + ": the simulation diverged (" + divergence +
                              "); reduce run.step_s");

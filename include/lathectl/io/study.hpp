@@ -25,13 +25,20 @@ nlohmann::json alarms_json(const std::vector<sim::AlarmEvent>& alarms);
 class Claims {
  public:
   void add(const std::string& text, double value, bool met);
-  void note(const std::string& text) { notes_.push_back(text); }
+  void note(const std::string& text) {
+    notes_.push_back(text);
+    ids_.emplace_back();
+  }
   [[nodiscard]] const nlohmann::json& json() const { return json_; }
   [[nodiscard]] const std::vector<std::string>& notes() const { return notes_; }
+  // Parallel to notes(): "claim-<i>" for the i-th claim (its index in json()), "" for a note;
+  // the report's anchors, which the demo's index links to.
+  [[nodiscard]] const std::vector<std::string>& note_ids() const { return ids_; }
 
  private:
   nlohmann::json json_ = nlohmann::json::array();
   std::vector<std::string> notes_;
+  std::vector<std::string> ids_;
 };
 
 }  // namespace lathectl::io

@@ -71,6 +71,12 @@ class RigB {
   [[nodiscard]] const control::ModulatedFeedController::Output& module_output() const noexcept {
     return mod_out_;
   }
+  // The coarsest step the cut can be simulated with: ω·dt ≤ 0.2 (as system C's slide) at the
+  // chatter frequency f_n·√(1+2ζ) of the highest part mode that can chatter in this cut — one
+  // whose SDOF limit 2k(x)ζ(1+ζ) is below 4× the process stiffness Σ∂P_y/∂b of the tools, with
+  // k(x) its least modal stiffness over the cut. Stiffer modes are integrated exactly and cannot
+  // regenerate, so they do not bind the step. f_Hz (optional) receives that chatter frequency.
+  [[nodiscard]] static double max_step_s(const RigBConfig& cfg, double* f_Hz = nullptr);
   // The part's modal mass at x_c for the first mode (the m_d a user would enter).
   [[nodiscard]] static double modal_mass_kg(const dynamics::BeamPart& part, double x_c_m);
   [[nodiscard]] double programmed_feed_mm_per_min() const noexcept {
