@@ -54,10 +54,11 @@ double RigB::modal_mass_kg(const dynamics::BeamPart& part, double x_c_m) {
 
 double RigB::max_step_s(const RigBConfig& cfg, double* f_Hz) {
   const double L_mm = cfg.part.length_m * 1e3;
-  require(cfg.z_end_mm < L_mm && cfg.z_end_mm > cfg.z_start_mm,
-          "the cut must run between the centres: 0 < z_start < z_end < length");
-  require(cfg.modes >= 1 && cfg.modes <= dynamics::TwinTurretCut::kMaxModes,
-          "modes must be in 1..6");
+  if (!(cfg.z_end_mm < L_mm && cfg.z_end_mm > cfg.z_start_mm))
+    throw ConfigError("cut.z_end_mm",
+                      "the cut must run between the centres: 0 < z_start < z_end < length");
+  if (!(cfg.modes >= 1 && cfg.modes <= dynamics::TwinTurretCut::kMaxModes))
+    throw ConfigError("part.modes", "modes must be in 1..6");
   (void)dynamics::beam_modes_at(cfg.part, cfg.z_start_mm * 1e-3, cfg.modes);  // validates
   // Process stiffness: the radial force per metre of depth (Kienzle: linear in the depth) at the
   // whole programmed feed per tool (an upper bound for feed division's half chips).
