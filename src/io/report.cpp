@@ -52,6 +52,19 @@ std::string escape(std::string_view s) {
   return out;
 }
 
+// <ul class="cls"> of the links (each a plain item when it has no href); nothing when empty.
+void link_list(std::string& out, const std::vector<Link>& links, const char* cls) {
+  if (links.empty()) return;
+  out += std::string("<ul class=\"") + cls + "\">\n";
+  for (const auto& l : links) {
+    out += "<li>";
+    out += l.href.empty() ? escape(l.text)
+                          : "<a href=\"" + escape(l.href) + "\">" + escape(l.text) + "</a>";
+    out += "</li>\n";
+  }
+  out += "</ul>\n";
+}
+
 // Locale-independent (std::to_chars), unlike printf, so a program that calls setlocale() cannot
 // turn the decimal point of an SVG coordinate into a comma.
 std::string fixed(double v, int decimals) {
@@ -706,16 +719,7 @@ std::string render_html(const Report& report, std::size_t max_points) {
     out += std::string("<section class=\"verdict ") + (report.verdict_ok ? "ok" : "bad") +
            "\" id=\"verdict\">\n<h2>Verdict</h2>\n<p class=\"mark\">" + escape(report.verdict) +
            "</p>\n";
-    if (!report.verdict_items.empty()) {
-      out += "<ul class=\"notes\">\n";
-      for (const auto& it : report.verdict_items) {
-        out += "<li>";
-        out += it.href.empty() ? escape(it.text)
-                               : "<a href=\"" + escape(it.href) + "\">" + escape(it.text) + "</a>";
-        out += "</li>\n";
-      }
-      out += "</ul>\n";
-    }
+    link_list(out, report.verdict_items, "notes");
     out += "</section>\n";
   }
 
@@ -772,16 +776,7 @@ std::string render_index_html(const std::string& title, const std::vector<IndexE
       if (!e.verdict.empty())
         out += std::string("<span class=\"summary ") + (e.status < 0 ? "bad" : "ok") + "\">" +
                escape(e.verdict) + "</span>";
-      if (!e.problems.empty()) {
-        out += "<ul class=\"problems\">\n";
-        for (const auto& p : e.problems) {
-          out += "<li>";
-          out += p.href.empty() ? escape(p.text)
-                                : "<a href=\"" + escape(p.href) + "\">" + escape(p.text) + "</a>";
-          out += "</li>\n";
-        }
-        out += "</ul>\n";
-      }
+      link_list(out, e.problems, "problems");
       out += "</li>\n";
     }
     out += "</ul>\n";

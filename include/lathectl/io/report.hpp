@@ -36,6 +36,12 @@ struct Table {
   std::vector<std::vector<std::string>> rows;
 };
 
+// A line of text that links somewhere (href empty: plain text).
+struct Link {
+  std::string text;
+  std::string href;
+};
+
 struct Report {
   std::string title;
   std::string subtitle;     // scenario file, system
@@ -46,13 +52,9 @@ struct Report {
   std::vector<std::string> note_ids;
   // The run's verdict, shown first: a headline ("✔ 5 of 5 claims met" / "✘ …") and what went
   // wrong, each item linking to its note when it has one (href "#claim-3"). Empty: no section.
-  struct VerdictItem {
-    std::string text;
-    std::string href;
-  };
   std::string verdict;
   bool verdict_ok = true;
-  std::vector<VerdictItem> verdict_items;
+  std::vector<Link> verdict_items;
   std::vector<Table> tables;
   std::vector<Plot> plots;
   // Page of docs/ that explains the seed, formula and block numbers the report cites (e.g.
@@ -71,11 +73,7 @@ struct IndexEntry {
   // Verdict: 0 none shown, 1 all claims met and no alarm (✔), -1 something went wrong (✘).
   int status = 0;
   std::string verdict;  // "✘ 2 of 5 claims not met · alarm …"
-  struct Problem {
-    std::string text;
-    std::string href;  // e.g. "a/report.html#claim-3"; empty: no link
-  };
-  std::vector<Problem> problems;
+  std::vector<Link> problems;  // href e.g. "a/report.html#claim-3"
 };
 std::string render_index_html(const std::string& title, const std::vector<IndexEntry>& entries);
 
