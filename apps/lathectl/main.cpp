@@ -891,7 +891,7 @@ int main(int argc, char** argv) {
     if (*demo) return cmd_demo(demo_out, demo_dir, demo_only, strict);
     if (*lobes) {
       const auto in = io::load_lobes_input(lobes_file);
-      io::prepare_output_dir(lobes_out, "--out", false);
+      io::prepare_output_dir(lobes_out, "--out");
       nlohmann::json j;
       {
         io::Progress progress("lobes");

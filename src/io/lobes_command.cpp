@@ -434,10 +434,10 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
         {"Critical depth along the part", "position [mm]", "depth of cut [mm]", {crit}, {}});
   }
 
-  std::filesystem::create_directories(out_dir);
-  write_file_atomic(out_dir / "lobes.csv", csv);
-  write_file_atomic(out_dir / "lobes.html", render_html(rep));
-  write_file_atomic(out_dir / "lobes.json", j.dump(2) + "\n");
+  // One set: lobes.json never stands beside another machine's lobes.csv.
+  write_output_set(out_dir, {{"lobes.csv", csv},
+                             {"lobes.html", render_html(rep)},
+                             {"lobes.json", j.dump(2) + "\n"}});
   return j;
 }
 

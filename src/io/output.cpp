@@ -50,7 +50,7 @@ bool process_alive(long pid) {
 // Result files written by lathectl before sets carried the marker.
 bool legacy_result_name(const std::string& n) {
   return n == "summary.json" || n == "channels.csv" || n == "channels_compare.csv" ||
-         n == "report.html";
+         n == "report.html" || n == "lobes.csv" || n == "lobes.html" || n == "lobes.json";
 }
 
 // `dir` may be replaced as a whole: it carries the marker, is empty, or holds only result files

@@ -385,6 +385,14 @@ for o in /proc/x "$work/afile" "$work/precious"; do
 done
 expect_rc 2 "--out a foreign directory" $bin run "$scn/a_roughing_aim.toml" --out "$work/precious"
 [ "$(cat "$work/precious/notes.txt")" = keep ] && [ "$(ls -A "$work/precious")" = notes.txt ] || bad "a foreign --out directory was touched"
+# lobes writes its set (lobes.json/csv/html) as a whole too: the same foreign directory is refused
+# untouched, and a second machine's lobes replace the first's whole (one marker, three files).
+expect_rc 2 "lobes --out a foreign directory" $bin lobes "$src/examples/machines/b_sdof.toml" --out "$work/precious"
+[ "$(ls -A "$work/precious")" = notes.txt ] || bad "lobes touched a foreign --out directory"
+expect_rc 0 "lobes over a lobes set" $bin lobes "$src/examples/machines/b_two_mode.toml" --out "$work/lobes"
+[ "$(ls -A "$work/lobes" | sort | tr '\n' ' ')" = ".lathectl-output lobes.csv lobes.html lobes.json " ] ||
+  bad "lobes set after a second run: $(ls -A "$work/lobes" | tr '\n' ' ')"
+grep -q '"critical_depth_mm": 7.18' "$work/lobes/lobes.json" || bad "the second machine's lobes.json replaced the first's"
 if [ "$(id -u)" -ne 0 ]; then  # root writes anywhere
   mkdir -p "$work/ro"; chmod 555 "$work/ro"
   expect_rc 2 "--out not writable" $bin run "$scn/a_roughing_aim.toml" --out "$work/ro/x"
