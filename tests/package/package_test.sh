@@ -12,6 +12,9 @@
 set -uo pipefail
 build=$(cd "$1" && pwd) src=$(cd "$2" && pwd) work=$3
 fail() { echo "FAIL: $*" >&2; exit 1; }
+# A live rtapi_app (LinuxCNC's realtime script's own test: an exited one waiting to be reaped, a
+# zombie, does not hold the realtime environment).
+rt_running() { ps -C rtapi_app -o stat= | grep -qv '^Z'; }
 # dpkg, waiting (up to 2 min) while another apt/dpkg holds its lock.
 dpkg_locked() {
   local log=$1 i; shift
@@ -169,8 +172,8 @@ if [ $hal -eq 1 ]; then
   [ "$(dpkg -S /usr/lib/linuxcnc/modules/lathectl_adaptive.so | cut -d: -f1)" = lathectl-linuxcnc ] ||
     fail "lathectl_adaptive.so is not the package's"
   # One realtime environment per machine: wait for another checkout's LinuxCNC/halrun session.
-  for _ in $(seq 60); do pgrep -x rtapi_app >/dev/null || break; sleep 2; done
-  pgrep -x rtapi_app >/dev/null && fail "realtime busy for 2 min (another LinuxCNC or halrun session: halrun -U?)"
+  for _ in $(seq 60); do rt_running || break; sleep 2; done
+  rt_running && fail "realtime busy for 2 min (another LinuxCNC or halrun session: halrun -U?)"
   cat > session.hal <<EOF
 loadrt lathectl_adaptive scenario=/usr/share/lathectl/examples/linuxcnc/step_allowance.toml
 loadrt threads name1=servo period1=1000000
@@ -196,7 +199,7 @@ EOF
   # A LinuxCNC session on the installed config, display script, default scenario and program.
   grep -q "^PROGRAM_PREFIX = /usr/share/lathectl/examples/linuxcnc$" "$cfg" || fail "sample config PROGRAM_PREFIX"
   t0=$(date +%s)
-  for _ in $(seq 60); do pgrep -x rtapi_app >/dev/null || break; sleep 2; done
+  for _ in $(seq 60); do rt_running || break; sleep 2; done
   lathectl-linuxcnc-sim /usr/share/lathectl/examples/linuxcnc/step_allowance.ngc --out sim \
     > sim.log 2>&1 || { tail -n 30 sim.log >&2; fail "lathectl-linuxcnc-sim step_allowance.ngc"; }
   python3 - sim/summary.json <<'PY' || fail "lathectl-linuxcnc-sim: $(cat sim/summary.json)"
