@@ -1,6 +1,7 @@
 // Cutting model against the handbook formulas worked by hand (docs/materials-reference.md;
 // Kosilova & Meshcheryakov vol. 2, tables 17 and 22) and against the Kienzle form.
 
+#include "support/library.hpp"
 #include "lathectl/cutting/cutting_model.hpp"
 
 #include <gtest/gtest.h>
@@ -16,11 +17,7 @@
 namespace lathectl::cutting {
 namespace {
 
-const io::MaterialLibrary& library() {
-  static const io::MaterialLibrary lib =
-      io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
-  return lib;
-}
+using lathectl::test::library;
 
 CuttingModel model(const std::string& material, ForceForm form = ForceForm::Handbook,
                    double kappa_deg = 90.0, double nose_radius_mm = 0.8) {

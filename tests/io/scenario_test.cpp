@@ -2,6 +2,7 @@
 // mistake is an InputError that names the file, the line and the full key (DESIGN.md, "Scenario
 // files and outputs").
 
+#include "support/library.hpp"
 #include "lathectl/io/scenario.hpp"
 
 #include <gtest/gtest.h>
@@ -20,11 +21,7 @@
 namespace lathectl::io {
 namespace {
 
-const MaterialLibrary& library() {
-  static const MaterialLibrary lib =
-      MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
-  return lib;
-}
+using lathectl::test::library;
 
 std::string read(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

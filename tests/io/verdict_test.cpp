@@ -3,6 +3,7 @@
 // anchor per claim and in the demo index; and the silent successes it replaced: an E part never
 // cut got ✔ for "overshoot −100 %", B ran a step of 5 ms against a 228 Hz chatter, and `lobes`
 // stopped at N = 39 on a 650 Hz mode from 500 rpm, leaving inf below ~1000 rpm.
+#include "support/library.hpp"
 #include "lathectl/io/verdict.hpp"
 
 #include <gtest/gtest.h>
@@ -25,11 +26,7 @@ using namespace lathectl;
 using namespace lathectl::io;
 
 namespace {
-const MaterialLibrary& library() {
-  static const MaterialLibrary lib =
-      MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
-  return lib;
-}
+using lathectl::test::library;
 std::string example(const std::string& name) {
   std::ifstream in(LATHECTL_SOURCE_DIR "/examples/scenarios/" + name);
   std::stringstream ss;

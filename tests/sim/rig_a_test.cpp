@@ -2,6 +2,7 @@
 // simulation, and the uncontrolled slide's feed loss against the seed's own formula (3).
 // a_obliteration (1800 s of simulated time) is deliberately not run here.
 
+#include "support/library.hpp"
 #include "lathectl/sim/rig_a.hpp"
 
 #include <gtest/gtest.h>
@@ -22,11 +23,7 @@
 namespace lathectl::sim {
 namespace {
 
-const io::MaterialLibrary& library() {
-  static const io::MaterialLibrary lib =
-      io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
-  return lib;
-}
+using lathectl::test::library;
 
 io::Scenario scenario(const std::string& name) {
   return io::load_scenario(LATHECTL_SOURCE_DIR "/examples/scenarios/" + name + ".toml", library());

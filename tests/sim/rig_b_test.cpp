@@ -7,6 +7,7 @@
 //   - the static deflection of a pinned-pinned beam under a point load, 3EIL/(x²(L−x)²), at two
 //     cutting positions (stiffness varies along the part);
 //   - the feed split of feed division (each tool s/2) and the tool leaving the cut at chatter.
+#include "support/library.hpp"
 #include "lathectl/sim/rig_b.hpp"
 
 #include <gtest/gtest.h>
@@ -23,11 +24,7 @@
 namespace lathectl::sim {
 namespace {
 
-const io::MaterialLibrary& library() {
-  static const io::MaterialLibrary lib =
-      io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
-  return lib;
-}
+using lathectl::test::library;
 
 RigBConfig base(TwinSetup setup) {
   RigBConfig c;

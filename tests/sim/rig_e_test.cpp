@@ -5,6 +5,7 @@
 // ∫ dt/T(V, s, t) from the recorded channels, the fixed baseline's worst-case feed).
 // Each scenario runs once (≈ 0.05–0.6 s), in one TEST per scenario.
 
+#include "support/library.hpp"
 #include "lathectl/sim/rig_e.hpp"
 
 #include <gtest/gtest.h>
@@ -30,11 +31,7 @@ namespace {
 
 using Mode = control::AdaptiveFeedController::Mode;
 
-const io::MaterialLibrary& library() {
-  static const io::MaterialLibrary lib =
-      io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
-  return lib;
-}
+using lathectl::test::library;
 
 // The main run's recorded channels, parsed back from channels.csv.
 using Columns = std::map<std::string, std::vector<double>>;
