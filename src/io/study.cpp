@@ -33,6 +33,47 @@ nlohmann::json alarms_json(const std::vector<sim::AlarmEvent>& alarms) {
   return a;
 }
 
+const char* compare_symbol(Compare c) {
+  switch (c) {
+    case Compare::AtMost:
+      return "≤";
+    case Compare::Below:
+      return "<";
+    case Compare::AtLeast:
+      return "≥";
+    case Compare::Above:
+      return ">";
+    case Compare::Within:
+      return "|·| ≤";
+  }
+  return "?";
+}
+
+bool Claims::check(const std::string& text, double value, Compare cmp, double threshold) {
+  bool met = false;
+  switch (cmp) {
+    case Compare::AtMost:
+      met = value <= threshold;
+      break;
+    case Compare::Below:
+      met = value < threshold;
+      break;
+    case Compare::AtLeast:
+      met = value >= threshold;
+      break;
+    case Compare::Above:
+      met = value > threshold;
+      break;
+    case Compare::Within:
+      met = std::abs(value) <= threshold;
+      break;
+  }
+  add(text, value, met);
+  json_.back()["threshold"] = json_number(threshold);
+  json_.back()["comparison"] = compare_symbol(cmp);
+  return met;
+}
+
 void Claims::add(const std::string& text, double value, bool met) {
   ids_.push_back("claim-" + std::to_string(json_.size()));
   json_.push_back({{"claim", text}, {"value", json_number(value)}, {"met", met}});

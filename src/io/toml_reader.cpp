@@ -37,6 +37,19 @@ std::string type_name(const toml::node& n) {
       return "a date/time";
   }
 }
+// A value inside `r` for a required key while describing (the reference never shows it).
+double neutral(const Range& r) {
+  const bool has_lo = r.lo > -1e299, has_hi = r.hi < 1e299;
+  if (has_lo && has_hi) return r.lo_open || r.hi_open ? 0.5 * (r.lo + r.hi) : r.lo;
+  if (has_lo) return r.lo_open ? r.lo + 1.0 : r.lo;
+  if (has_hi) return r.hi_open ? r.hi - 1.0 : r.hi;
+  return 0.0;
+}
+std::string quoted_list(const std::vector<std::string>& choices) {
+  std::string list;
+  for (const auto& c : choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
+  return list;
+}
 }  // namespace
 
 bool Range::contains(double v) const noexcept {
@@ -88,15 +101,100 @@ TableReader::TableReader(const toml::table& table, std::string file, std::string
       prefix_(std::move(prefix)),
       locations_(std::move(locations)) {}
 
+TableReader TableReader::describing(std::string prefix, std::shared_ptr<ParamLog> log) {
+  TableReader r;
+  r.file_ = "(reference)";
+  r.prefix_ = std::move(prefix);
+  r.log_ = std::move(log);
+  return r;
+}
+
+void TableReader::log(std::string_view key, std::string kind, std::string range,
+                      std::string fallback, bool required, std::string_view doc,
+                      std::string value) const {
+  if (!log_) return;
+  const std::string k = full_key(key);
+  for (auto& r : *log_)
+    if (r.key == k) {  // read twice (a default that depends on it): keep the described row
+      if (r.doc.empty()) r.doc = doc;
+      return;
+    }
+  log_->push_back({k, std::move(kind), std::move(range), std::move(fallback), required,
+                   std::string(doc), std::move(value)});
+}
+
+void TableReader::check(bool ok, std::string_view key, const std::string& message) const {
+  if (ok) return;
+  if (is_describing()) {
+    if (log_)
+      for (auto& r : *log_)
+        if (r.key == full_key(key)) {
+          r.doc += (r.doc.empty() ? "" : "; ") + message;
+          return;
+        }
+    return;
+  }
+  fail(key, message);
+}
+
+void TableReader::read(const Param& p, double& field) {
+  const double shop = field / p.scale;
+  const double v = number(p.key, p.range, shop);
+  log(p.key, "number", p.range.describe(), fmt_num(shop), false, p.doc, fmt_num(v));
+  if (has(p.key)) field = v * p.scale;  // absent: the default's exact bits, not ÷ and × scale
+}
+
+void TableReader::require(const Param& p, double& field) {
+  const double v = number(p.key, p.range);
+  log(p.key, "number", p.range.describe(), "", true, p.doc, fmt_num(v));
+  field = v * p.scale;
+}
+
+void TableReader::read(const Param& p, bool& field) {
+  const bool v = boolean(p.key, field);
+  log(p.key, "boolean", "true or false", field ? "true" : "false", false, p.doc,
+      v ? "true" : "false");
+  field = v;
+}
+
+void TableReader::read(const Param& p, int& field) {
+  const auto lo = static_cast<std::int64_t>(std::ceil(std::max(p.range.lo, -2147483648.0)));
+  const auto hi = static_cast<std::int64_t>(std::floor(std::min(p.range.hi, 2147483647.0)));
+  const auto v = integer(p.key, lo, hi, field);
+  log(p.key, "integer", p.range.describe(), std::to_string(field), false, p.doc,
+      std::to_string(v));
+  field = static_cast<int>(v);
+}
+
+void TableReader::read(const Param& p, std::size_t& field) {
+  const auto lo = static_cast<std::int64_t>(std::ceil(std::max(p.range.lo, 0.0)));
+  const auto hi = static_cast<std::int64_t>(std::floor(std::min(p.range.hi, 9.2e18)));
+  const auto v = integer(p.key, lo, hi, static_cast<std::int64_t>(field));
+  log(p.key, "integer", p.range.describe(), std::to_string(field), false, p.doc,
+      std::to_string(v));
+  field = static_cast<std::size_t>(v);
+}
+
+std::string TableReader::pick(const Param& p, const std::vector<std::string>& choices,
+                              std::optional<std::string> fallback) {
+  std::string v = choice(p.key, choices, fallback);
+  log(p.key, "string", "one of " + quoted_list(choices), fallback ? "\"" + *fallback + "\"" : "",
+      !fallback, p.doc, v);
+  return v;
+}
+
 std::string TableReader::full_key(std::string_view key) const {
   return prefix_.empty() ? std::string(key) : prefix_ + "." + std::string(key);
 }
 
 int TableReader::line() const {
+  if (is_describing()) return 0;
   return static_cast<int>(table_->source().begin.line);
 }
 
 void TableReader::fail(std::string_view key, const std::string& message) const {
+  if (is_describing())  // a reader that fails on defaults: use check() for cross-field rules
+    throw InputError("describing '" + full_key(key) + "': " + message);
   const toml::node* n = table_->get(key);
   const auto& src = n ? n->source().begin : table_->source().begin;
   throw InputError(located(file_, static_cast<int>(src.line), static_cast<int>(src.column),
@@ -104,11 +202,13 @@ void TableReader::fail(std::string_view key, const std::string& message) const {
 }
 
 bool TableReader::has(std::string_view key) const {
+  if (is_describing()) return false;
   return table_->contains(key);
 }
 
 const toml::node* TableReader::get(std::string_view key) {
   used_.emplace(key);
+  if (is_describing()) return nullptr;
   const toml::node* n = table_->get(key);
   if (n && locations_) {
     const auto& src = n->source().begin;
@@ -121,6 +221,10 @@ double TableReader::number(std::string_view key, Range range, std::optional<doub
   const toml::node* n = get(key);
   if (!n) {
     if (fallback) return *fallback;
+    if (is_describing()) {
+      log(key, "number", range.describe(), "", true, "", "");
+      return neutral(range);
+    }
     fail(key, "missing; expected a number " + range.describe());
   }
   double v = 0.0;
@@ -140,6 +244,11 @@ std::int64_t TableReader::integer(std::string_view key, std::int64_t lo, std::in
   const toml::node* n = get(key);
   if (!n) {
     if (fallback) return *fallback;
+    if (is_describing()) {
+      log(key, "integer", "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]", "", true, "",
+          "");
+      return lo;
+    }
     fail(key, "missing; expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
                   "]");
   }
@@ -156,6 +265,7 @@ bool TableReader::boolean(std::string_view key, std::optional<bool> fallback) {
   const toml::node* n = get(key);
   if (!n) {
     if (fallback) return *fallback;
+    if (is_describing()) return false;
     fail(key, "missing; expected true or false");
   }
   auto b = n->as_boolean();
@@ -167,6 +277,10 @@ std::string TableReader::string(std::string_view key, std::optional<std::string>
   const toml::node* n = get(key);
   if (!n) {
     if (fallback) return *fallback;
+    if (is_describing()) {
+      log(key, "string", "", "", true, "", "");
+      return "";
+    }
     fail(key, "missing; expected a string");
   }
   auto s = n->as_string();
@@ -176,8 +290,12 @@ std::string TableReader::string(std::string_view key, std::optional<std::string>
 
 std::string TableReader::choice(std::string_view key, const std::vector<std::string>& choices,
                                 std::optional<std::string> fallback) {
-  std::string list;
-  for (const auto& c : choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
+  const std::string list = quoted_list(choices);
+  if (is_describing()) {
+    used_.emplace(key);
+    log(key, "string", "one of " + list, fallback ? "\"" + *fallback + "\"" : "", !fallback, "", "");
+    return fallback ? *fallback : choices.front();
+  }
   if (!has(key) && !fallback) {
     used_.emplace(key);
     fail(key, "missing; expected one of " + list);
@@ -190,6 +308,10 @@ std::string TableReader::choice(std::string_view key, const std::vector<std::str
 
 std::vector<double> TableReader::numbers(std::string_view key, Range range, std::size_t min_count) {
   const toml::node* n = get(key);
+  if (is_describing()) {
+    log(key, "array of numbers", range.describe(), min_count ? "" : "[]", min_count > 0, "", "");
+    return std::vector<double>(min_count, neutral(range));
+  }
   if (!n) {
     if (min_count == 0) return {};
     fail(key, "missing; expected an array of numbers");
@@ -216,9 +338,12 @@ std::vector<double> TableReader::numbers(std::string_view key, Range range, std:
 
 std::vector<std::string> TableReader::choices(std::string_view key,
                                               const std::vector<std::string>& allowed) {
-  std::string list;
-  for (const auto& c : allowed) list += (list.empty() ? "\"" : ", \"") + c + "\"";
+  const std::string list = quoted_list(allowed);
   const toml::node* n = get(key);
+  if (is_describing()) {
+    log(key, "array of strings", "each one of " + list, "", true, "", "");
+    return {allowed.front()};
+  }
   if (!n) fail(key, "missing; expected an array of " + list);
   auto a = n->as_array();
   if (!a || a->empty()) fail(key, "expected a non-empty array of " + list);
@@ -236,18 +361,29 @@ std::vector<std::string> TableReader::choices(std::string_view key,
 
 std::optional<TableReader> TableReader::table(std::string_view key, bool required) {
   const toml::node* n = get(key);
+  if (is_describing()) {
+    log(key, "table", "", required ? "" : "absent", required, "", "");
+    return describing(full_key(key), log_);
+  }
   if (!n) {
     if (required) fail(key, "missing table");
     return std::nullopt;
   }
   auto t = n->as_table();
   if (!t) fail(key, "expected a table, got " + type_name(*n));
-  return TableReader(*t, file_, full_key(key), locations_);
+  TableReader child(*t, file_, full_key(key), locations_);
+  child.log_ = log_;
+  return child;
 }
 
 std::vector<TableReader> TableReader::tables(std::string_view key) {
   const toml::node* n = get(key);
   std::vector<TableReader> out;
+  if (is_describing()) {
+    log(key, "array of tables", "", "none", false, "", "");
+    out.push_back(describing(full_key(key) + "[]", log_));
+    return out;
+  }
   if (!n) return out;
   auto a = n->as_array();
   if (!a) fail(key, "expected an array of tables, got " + type_name(*n));
@@ -261,6 +397,7 @@ std::vector<TableReader> TableReader::tables(std::string_view key) {
       locations_->record(name, static_cast<int>(src.line), static_cast<int>(src.column));
     }
     out.emplace_back(*t, file_, name, locations_);
+    out.back().log_ = log_;
   }
   return out;
 }
@@ -269,6 +406,7 @@ std::vector<std::pair<double, double>> TableReader::pairs(std::string_view key, 
                                                           Range second) {
   const toml::node* n = get(key);
   std::vector<std::pair<double, double>> out;
+  if (is_describing()) log(key, "array of [a, b]", first.describe() + " × " + second.describe(), "[]", false, "", "");
   if (!n) return out;
   auto a = n->as_array();
   if (!a) fail(key, "expected an array of [a, b] pairs, got " + type_name(*n));
@@ -295,11 +433,13 @@ std::vector<std::pair<double, double>> TableReader::pairs(std::string_view key, 
 
 std::vector<std::string> TableReader::keys() const {
   std::vector<std::string> out;
+  if (is_describing()) return out;
   for (const auto& [k, v] : *table_) out.emplace_back(k.str());
   return out;
 }
 
 void TableReader::finish() const {
+  if (is_describing()) return;
   for (const auto& [k, v] : *table_) {
     if (used_.find(k.str()) == used_.end()) {
       std::string known;

@@ -15,6 +15,7 @@
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
+#include "lathectl/io/toml_reader.hpp"
 #include "lathectl/sim/gauging.hpp"
 #include "lathectl/sim/rig_a.hpp"
 #include "lathectl/sim/rig_b.hpp"
@@ -37,13 +38,61 @@ struct Comparison {
   std::optional<sim::RegulatorKind> regulator;
 };
 
+// A system's own settings (its folder's settings.hpp), held by the Scenario. Derive from
+// SettingsOf<YourSettings>; the scenario copies them with the rest.
+struct SystemSettings {
+  virtual ~SystemSettings() = default;
+  [[nodiscard]] virtual std::unique_ptr<SystemSettings> clone() const = 0;
+};
+template <class Derived>
+struct SettingsOf : SystemSettings {
+  [[nodiscard]] std::unique_ptr<SystemSettings> clone() const override {
+    return std::make_unique<Derived>(static_cast<const Derived&>(*this));
+  }
+};
+// An owning, copyable slot (a copy clones).
+class SettingsSlot {
+ public:
+  SettingsSlot() = default;
+  SettingsSlot(const SettingsSlot& o) : p_(o.p_ ? o.p_->clone() : nullptr) {}
+  SettingsSlot& operator=(const SettingsSlot& o) {
+    if (this != &o) p_ = o.p_ ? o.p_->clone() : nullptr;
+    return *this;
+  }
+  SettingsSlot(SettingsSlot&&) noexcept = default;
+  SettingsSlot& operator=(SettingsSlot&&) noexcept = default;
+  ~SettingsSlot() = default;
+  void reset(std::unique_ptr<SystemSettings> p) { p_ = std::move(p); }
+  [[nodiscard]] SystemSettings* get() const { return p_.get(); }
+
+ private:
+  std::unique_ptr<SystemSettings> p_;
+};
+
 struct Scenario {
   std::string file;    // where it came from (for messages and the summary)
   std::shared_ptr<const KeyLocations> keys;  // where the file wrote each key (for messages)
-  std::string system;  // "A" (more systems follow)
+  std::string system;  // "A" … "E" (systems/registry.cpp)
   std::string name;
   std::string description;
   RunSettings run;
+  std::shared_ptr<const ParamLog> params;  // every key read, with its value (the report's table)
+  SettingsSlot settings;                   // the system's own (get<T>())
+
+  // The system's settings as its type; a logic_error if the scenario is another system's.
+  template <class T>
+  [[nodiscard]] const T& get() const {
+    return const_cast<Scenario*>(this)->get<T>();
+  }
+  template <class T>
+  [[nodiscard]] T& get() {
+    auto* p = dynamic_cast<T*>(settings.get());
+    if (!p) throw std::logic_error(file + ": the scenario holds another system's settings");
+    return *p;
+  }
+
+  // --- Transitional (issue 12): per-system fields still read by src/io/scenario_legacy.cpp.
+  //     Each moves into its system's folder (systems/<x>/settings.hpp) and leaves here.
   sim::RigAConfig a;      // system A
   sim::RigEConfig e;      // system E
   sim::RigCConfig c;      // system C
@@ -67,9 +116,34 @@ struct Scenario {
   std::vector<double> sweep_leak_estimate_factor;  // controller K_leak / true K_leak
 };
 
+// How one system reads its part of a scenario file. The common part (system, name, description,
+// [run]) is read first; `read` reads the system's tables from `root` and returns its settings
+// (it may also fill the Scenario's common fields); every key left unread is then an error; last,
+// `validate` (optional) makes the cross-checks that need the whole scenario, typically by
+// configuring the system's rig once (throw_at_key turns its rejection into the user's error).
+struct Section {
+  std::string_view system;  // "E"
+  std::unique_ptr<SystemSettings> (*read)(TableReader& root, Scenario& sc,
+                                          const MaterialLibrary& lib) = nullptr;
+  void (*validate)(const Scenario& sc) = nullptr;
+};
+
+// A scenario of any system (systems/registry.cpp knows them all).
 Scenario parse_scenario(std::string_view text, const std::string& file_label,
                         const MaterialLibrary& materials);
 Scenario load_scenario(const std::string& path, const MaterialLibrary& materials);
+// A scenario of one system only (what a HAL component links: its own section reader, no other).
+Scenario parse_scenario(std::string_view text, const std::string& file_label,
+                        const MaterialLibrary& materials, const Section& section);
+Scenario load_scenario(const std::string& path, const MaterialLibrary& materials,
+                       const Section& section);
+// The general form: the file's `system` must be one of `sections`.
+Scenario parse_scenario(std::string_view text, const std::string& file_label,
+                        const MaterialLibrary& materials, const std::vector<const Section*>& sections);
+// The text of a scenario file (InputError when it is a directory or cannot be read).
+std::string read_scenario_text(const std::string& path);
+// The reference of a system's keys: its section reader run in describe mode (common part first).
+ParamLog describe_section(const Section& section, const MaterialLibrary& materials);
 
 // A rig's (or a model's) rejection of a parsed scenario, as the InputError a user reads: a
 // sim::ConfigError at the key it names, any other std::invalid_argument at `fallback_key` (a

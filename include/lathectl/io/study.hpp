@@ -22,8 +22,17 @@ std::vector<double> column(const sim::Recorder& rec, const char* name);
 nlohmann::json alarms_json(const std::vector<sim::AlarmEvent>& alarms);
 
 // Claims a run answers: the JSON list for summary.json and the report's notes, kept together.
+// How a claim's value is judged against its threshold.
+enum class Compare { AtMost, Below, AtLeast, Above, Within };  // ≤ < ≥ > |v| ≤
+const char* compare_symbol(Compare c);
+
 class Claims {
  public:
+  // A claim with its threshold as data: met = value <cmp> threshold, and summary.json carries
+  // {claim, value, threshold, comparison, met}, so the text, the report and a test that reads the
+  // summary cannot disagree on the number. Returns met.
+  bool check(const std::string& text, double value, Compare cmp, double threshold);
+  // A claim judged by more than one number (met given): prefer check() where one threshold does.
   void add(const std::string& text, double value, bool met);
   void note(const std::string& text) {
     notes_.push_back(text);

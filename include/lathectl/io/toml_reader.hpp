@@ -28,13 +28,44 @@ struct Range {
   double hi = 1e300;
   bool lo_open = false;
   bool hi_open = false;
-  static Range positive() { return {0.0, 1e300, true, false}; }
-  static Range non_negative() { return {0.0, 1e300, false, false}; }
-  static Range closed(double a, double b) { return {a, b, false, false}; }
-  static Range any() { return {}; }
+  static constexpr Range positive() { return {0.0, 1e300, true, false}; }
+  static constexpr Range non_negative() { return {0.0, 1e300, false, false}; }
+  static constexpr Range closed(double a, double b) { return {a, b, false, false}; }
+  static constexpr Range above(double a) { return {a, 1e300, true, false}; }  // (a, ∞)
+  static constexpr Range any() { return {}; }
   [[nodiscard]] bool contains(double v) const noexcept;
   [[nodiscard]] std::string describe() const;
 };
+
+// One parameter, described once: its key (the file's unit is in the name: _mm, _MPa, _ms, ...),
+// the range accepted in that unit, one line of meaning, and the factor from the file's unit to the
+// settings struct's (SI, mostly). Its default is the settings struct's own initial value, so the
+// C++ API, the scenario reader and the generated reference (docs/scenario-reference.md) cannot
+// disagree: TableReader::read leaves the field as it is when the key is absent.
+//
+// Why this shape: a section reader stays a short, ordinary function (nested structs, derived
+// defaults and cross-checks read as code), while every key it reads goes through one call that
+// carries the whole description. Run in describe mode (TableReader::describing), the same function
+// yields the reference tables; run on a file, it yields the effective settings a report shows.
+struct Param {
+  std::string_view key;
+  Range range = {};
+  std::string_view doc = {};
+  double scale = 1.0;  // value in the file × scale = value in the struct
+};
+
+// What a reader read (or, describing, would read): one row of the reference or of the effective
+// settings. `value` and `fallback` are in the file's unit; `fallback` is empty for a required key.
+struct ParamRecord {
+  std::string key;    // full key, e.g. "controller.force_limit_N"
+  std::string kind;   // "number", "integer", "boolean", "string", "one of ...", "table", ...
+  std::string range;  // Range::describe() or the choices
+  std::string fallback;
+  bool required = false;
+  std::string doc;
+  std::string value;  // as read (empty when describing)
+};
+using ParamLog = std::vector<ParamRecord>;
 
 // A parsed TOML document that owns its tree.
 class TomlDocument {
@@ -55,6 +86,28 @@ class TableReader {
   // `locations`, when given, records where every key read (and every table) was written.
   TableReader(const toml::table& table, std::string file, std::string prefix,
               std::shared_ptr<KeyLocations> locations = nullptr);
+  // A reader of no file that records every key it is asked for into `log` and answers with the
+  // caller's default (or, for a required key, a value inside its range): running a section reader
+  // on it lists that section's keys for the reference. check() never fails while describing.
+  static TableReader describing(std::string prefix, std::shared_ptr<ParamLog> log);
+  [[nodiscard]] bool is_describing() const { return table_ == nullptr; }
+  // Every key read from now on is also recorded (value as written, or the default) into `log`.
+  void record_into(std::shared_ptr<ParamLog> log) { log_ = std::move(log); }
+
+  // The described way to read a key (see Param): absent → `field` keeps its value (the struct's
+  // default); present → checked against p.range, times p.scale, stored.
+  void read(const Param& p, double& field);
+  void read(const Param& p, bool& field);
+  void read(const Param& p, int& field);
+  void read(const Param& p, std::size_t& field);
+  // The same for a key without a default.
+  void require(const Param& p, double& field);
+  // A string that must be one of `choices`; absent → `fallback` (or required when none).
+  std::string pick(const Param& p, const std::vector<std::string>& choices,
+                   std::optional<std::string> fallback = std::nullopt);
+  // A cross-field rule at `key`: fails with `message` unless `ok`; describing, it records the
+  // rule beside the key instead.
+  void check(bool ok, std::string_view key, const std::string& message) const;
 
   [[nodiscard]] bool has(std::string_view key) const;
   double number(std::string_view key, Range range, std::optional<double> fallback = std::nullopt);
@@ -85,12 +138,16 @@ class TableReader {
   [[noreturn]] void fail(std::string_view key, const std::string& message) const;
 
  private:
+  TableReader() = default;
   const toml::node* get(std::string_view key);
-  const toml::table* table_;
+  void log(std::string_view key, std::string kind, std::string range, std::string fallback,
+           bool required, std::string_view doc, std::string value) const;
+  const toml::table* table_ = nullptr;  // null when describing
   std::string file_;
   std::string prefix_;
   std::set<std::string, std::less<>> used_;
   std::shared_ptr<KeyLocations> locations_;
+  std::shared_ptr<ParamLog> log_;
 };
 
 }  // namespace lathectl::io

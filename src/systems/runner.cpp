@@ -2,22 +2,15 @@
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
-#include "lathectl/io/system_a.hpp"
-#include "lathectl/io/system_b.hpp"
-#include "lathectl/io/system_c.hpp"
-#include "lathectl/io/system_d.hpp"
-#include "lathectl/io/system_e.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl::io {
 
 namespace {
 RunOutput run_system(const Scenario& sc) {
-  if (sc.system == "A") return run_system_a(sc);
-  if (sc.system == "B") return run_system_b(sc);
-  if (sc.system == "C") return run_system_c(sc);
-  if (sc.system == "D") return run_system_d(sc);
-  if (sc.system == "E") return run_system_e(sc);
-  throw InputError(sc.file + ": system '" + sc.system + "' is not implemented");
+  const systems::System* s = systems::find(sc.system);
+  if (!s) throw InputError(sc.file + ": system '" + sc.system + "' is not implemented");
+  return s->run(sc);
 }
 }  // namespace
 

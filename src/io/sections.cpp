@@ -1,0 +1,111 @@
+#include "lathectl/io/sections.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace lathectl::io {
+
+void read_run(TableReader& root, RunSettings& run) {
+  auto t = root.table("run", true);
+  t->require({"duration_s", {0.0, 86400.0, true, false},
+              "run length (A, D's longest full-model part); in B and E an upper limit (B stops "
+              "after its cut, E after its last pass); C runs the whole template regardless"},
+             run.duration_s);
+  t->read({"step_s", Range::closed(1e-7, 0.01), "fixed integration step"}, run.step_s);
+  t->read({"record_interval_s", Range::closed(1e-7, 10.0), "interval of the recorded channels"},
+          run.record_interval_s);
+  t->check(run.record_interval_s >= run.step_s, "record_interval_s", "must be ≥ step_s");
+  t->check(run.duration_s / run.step_s <= 5e8, "step_s", "run would take more than 5e8 steps");
+  t->read({"seed", Range::closed(0, 9.2e18),
+           "seeds every random source (noise, random allowance); the same seed gives the same run"},
+          run.seed);
+  t->finish();
+}
+
+void read_material_tool(TableReader& root, const MaterialLibrary& lib,
+                        cutting::CuttingModel::Params& cutting, cutting::DisturbanceParams* wear,
+                        bool kienzle_only) {
+  auto mat = root.table("material", true);
+  const std::string name = mat->string("name");
+  const cutting::Material* found = lib.find(name);
+  if (!found && mat->is_describing() && !lib.names().empty()) found = lib.find(lib.names().front());
+  if (!found) {
+    std::string known;
+    for (const auto& n : lib.names()) known += (known.empty() ? "" : ", ") + n;
+    mat->fail("name", "unknown material \"" + name + "\" (data/materials.toml has: " + known + ")");
+  }
+  cutting.material = *found;
+  cutting.form =
+      (kienzle_only ? mat->choice("force_model", {"kienzle"}, "kienzle")
+                    : mat->choice("force_model", {"handbook", "kienzle"}, "handbook")) == "kienzle"
+          ? cutting::ForceForm::Kienzle
+          : cutting::ForceForm::Handbook;
+  mat->finish();
+
+  if (auto tool = root.table("tool")) {
+    cutting.nose_radius_mm = tool->number("nose_radius_mm", {0.0, 10.0, true, false}, 0.8);
+    cutting.approach_angle_deg = tool->number("approach_angle_deg", {0.0, 90.0, true, false}, 90.0);
+    if (wear) {
+      if (auto w = tool->table("wear")) {
+        wear->wear_VB0_mm = w->number("initial_VB_mm", Range::closed(0, 2), 0.0);
+        wear->wear_rate_mm_per_min = w->number("rate_mm_per_min", Range::closed(0, 1), 0.0);
+        wear->wear_force_gain_per_mm = w->number("force_gain_per_mm", Range::closed(0, 20), 0.0);
+        w->finish();
+      }
+    }
+    tool->finish();
+  }
+}
+
+std::vector<sim::SensorFault> read_faults(TableReader& root) {
+  std::vector<sim::SensorFault> out;
+  for (auto& f : root.tables("fault")) {
+    sim::SensorFault sf;
+    const std::string k = f.choice("kind", {"nan", "stuck", "out_of_range"});
+    sf.kind = k == "nan"     ? sim::SensorFault::Kind::NotFinite
+              : k == "stuck" ? sim::SensorFault::Kind::Stuck
+                             : sim::SensorFault::Kind::OutOfRange;
+    sf.at_s = f.number("at_s", Range::non_negative());
+    sf.duration_s = f.number("duration_s", Range::positive(), 1e300);
+    f.finish();
+    out.push_back(sf);
+  }
+  return out;
+}
+
+// The spindle drive (systems B and E). With `defaults`, every key is optional and keeps the
+// value already in `s`.
+void read_spindle(TableReader& sp, drives::SpindleDrive::Params& s, bool defaults) {
+  using P = Param;
+  const P inertia{"inertia_kg_m2", Range::positive(),
+                  "J: spindle, chuck and part reduced to the spindle"};
+  const P torque{"max_torque_N_m", Range::positive(), "T_max of the drive"};
+  const P power{"max_power_kW", Range::positive(), "P_max, mechanical, at the spindle", 1e3};
+  if (defaults) {
+    sp.read(inertia, s.inertia_kg_m2);
+    sp.read(torque, s.max_torque_N_m);
+    sp.read(power, s.max_power_W);
+  } else {
+    sp.require(inertia, s.inertia_kg_m2);
+    sp.require(torque, s.max_torque_N_m);
+    sp.require(power, s.max_power_W);
+  }
+  sp.read({"viscous_N_m_s", Range::closed(0, 1e4), "b, viscous friction"}, s.viscous_N_m_s);
+  sp.read({"efficiency", {0.0, 1.0, true, false}, "η of motor and transmission"}, s.efficiency);
+  sp.read({"idle_p0_W", Range::closed(0, 1e6), "idle power P_idle(n) = p0 + p1·n + p2·n²: p0"},
+          s.idle_p0_W);
+  sp.read({"idle_p1_W_per_rpm", Range::closed(0, 1e3), "idle power: p1"}, s.idle_p1_W_per_rpm);
+  sp.read({"idle_p2_W_per_rpm2", Range::closed(0, 10), "idle power: p2"}, s.idle_p2_W_per_rpm2);
+  sp.read({"kp_N_m_s", Range::positive(), "speed loop: proportional gain, N·m per rad/s"},
+          s.kp_N_m_s);
+  sp.read({"ti_s", Range::positive(), "speed loop: integral time"}, s.ti_s);
+  sp.read({"max_accel_rpm_per_s", Range::positive(), "speed command ramp"},
+          s.max_accel_rpm_per_s);
+  sp.read({"min_rpm", Range::positive(), "lowest speed the drive holds"}, s.min_rpm);
+  sp.read({"max_rpm", Range::positive(), "highest speed"}, s.max_rpm);
+  sp.check(s.max_rpm > s.min_rpm, "max_rpm", "must exceed min_rpm");
+  sp.finish();
+}
+
+}  // namespace lathectl::io
