@@ -70,6 +70,49 @@ std::string Range::describe() const {
   return "finite";
 }
 
+std::string unit_of_key(std::string_view key) {
+  struct Token {
+    std::string_view in, out;
+  };
+  static constexpr Token kUnits[] = {
+      {"mm", "mm"},   {"um", "µm"},   {"m", "m"},       {"m2", "m²"},     {"m3", "m³"},
+      {"cm2", "cm²"}, {"cm3", "cm³"}, {"s", "s"},       {"ms", "ms"},     {"min", "min"},
+      {"Hz", "Hz"},   {"N", "N"},     {"kN", "kN"},     {"W", "W"},       {"kW", "kW"},
+      {"V", "V"},     {"mV", "mV"},   {"Pa", "Pa"},     {"MPa", "MPa"},   {"GPa", "GPa"},
+      {"deg", "°"},   {"rpm", "rpm"}, {"rpm2", "rpm²"}, {"rev", "rev"},   {"kg", "kg"},
+      {"g", "g"},     {"J", "J"},     {"A", "A"},       {"percent", "%"}, {"per", "/"}};
+  auto unit = [&](std::string_view t) -> std::string_view {
+    for (const auto& u : kUnits)
+      if (u.in == t) return u.out;
+    return {};
+  };
+  // The first '_' after which every token is a unit (and the name before it is a word).
+  for (std::size_t i = key.find('_'); i != std::string_view::npos; i = key.find('_', i + 1)) {
+    if (i < 2) continue;  // "n_s" is a count, not seconds
+    std::string out;
+    bool all = true, after_per = true;
+    for (std::size_t a = i + 1; a <= key.size();) {
+      std::size_t b = key.find('_', a);
+      if (b == std::string_view::npos) b = key.size();
+      const auto u = unit(key.substr(a, b - a));
+      if (u.empty()) {
+        all = false;
+        break;
+      }
+      if (u == "/") {
+        out += out.empty() ? "1/" : "/";
+        after_per = true;
+      } else {
+        out += (after_per ? "" : "·") + std::string(u);
+        after_per = false;
+      }
+      a = b + 1;
+    }
+    if (all && !after_per) return out;
+  }
+  return "";
+}
+
 TomlDocument TomlDocument::parse(std::string_view text, const std::string& file_label) {
   TomlDocument d;
   d.file_ = file_label;

@@ -1,7 +1,11 @@
 #include "lathectl/io/runner.hpp"
 
+#include <cstdlib>
+
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
+#include "lathectl/io/study.hpp"
+#include "lathectl/io/toml_reader.hpp"
 #include "systems/registry.hpp"
 
 namespace lathectl::io {
@@ -12,10 +16,40 @@ RunOutput run_system(const Scenario& sc) {
   if (!s) throw InputError(sc.file + ": system '" + sc.system + "' is not implemented");
   return s->run(sc);
 }
+
+
+// Every key the scenario's reader read (defaults included), in the file's units: summary.json's
+// "settings" and the report's last table, so a user sees what a run really used.
+void add_settings(const Scenario& sc, RunOutput& out) {
+  if (!sc.params || sc.params->empty()) return;
+  nlohmann::json js = nlohmann::json::object();
+  Table t{"Settings: every key the run used (defaults included), in the file's units",
+          {"key", "value", "unit", "default", "meaning"},
+          {}};
+  for (const auto& p : *sc.params) {
+    if (p.kind == "table" || p.kind == "array of tables") continue;
+    char* end = nullptr;
+    const double v = std::strtod(p.value.c_str(), &end);
+    const bool numeric = !p.value.empty() && end && *end == '\0' && p.kind != "string";
+    if (p.kind == "boolean")
+      js[p.key] = p.value == "true";
+    else if (numeric && p.kind == "integer")
+      js[p.key] = static_cast<long long>(v);
+    else if (numeric)
+      js[p.key] = json_number(v);
+    else
+      js[p.key] = p.value;
+    t.rows.push_back({p.key, p.value, unit_of_key(p.key.substr(p.key.rfind('.') + 1)),
+                      p.required ? "required" : p.fallback, p.doc});
+  }
+  out.summary["settings"] = std::move(js);
+  out.report.tables.push_back(std::move(t));
+}
 }  // namespace
 
 RunOutput run_scenario(const Scenario& sc) {
   RunOutput out = run_system(sc);
+  add_settings(sc, out);
   out.verdict = verdict_of(out.summary);
   out.summary["verdict"] = out.verdict.json();
   Report& rep = out.report;

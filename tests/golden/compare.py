@@ -3,9 +3,10 @@
 
 tests/golden/summaries/<example>.json is each example's summary.json and tests/golden/lobes/<m>.json
 each machine file's lobes.json, as main produced them before the layout changed (commit ca4acb7).
-A run now must give the same document: the same keys and exactly the same numbers. Two things may
-differ: "file" (where the scenario was read from) and keys the golden copy does not have inside a
-claim or the verdict (new structured fields such as a claim's threshold and comparison).
+A run now must give the same document: the same keys and exactly the same numbers. Three things may
+differ: "file" (where the scenario was read from), keys the golden copy does not have inside a
+claim or the verdict (new structured fields such as a claim's threshold and comparison), and the
+new top-level "settings" (every key the run used).
 A deliberate change of a number updates the golden file in the same commit, saying why.
 
 usage: compare.py GOLDEN_DIR NEW_DIR [NAME_PATTERN]   (NEW_DIR/<name>/<file>.json)
@@ -16,6 +17,7 @@ import sys
 from pathlib import Path
 
 ADDITIVE = ("claims", "verdict")  # objects below these may gain keys
+NEW_TOP = ("settings",)  # new top-level keys (every key the run used, issue 12)
 
 
 def diff(old, new, path, additive, out):
@@ -32,7 +34,7 @@ def diff(old, new, path, additive, out):
                 diff(v, new[k], f"{path}/{k}", additive or k in ADDITIVE, out)
         if not additive:
             for k in new:
-                if k not in old:
+                if k not in old and not (path == "" and k in NEW_TOP):
                     out.append(f"{path}/{k}: new key")
     elif isinstance(old, list):
         if not isinstance(new, list) or len(new) != len(old):

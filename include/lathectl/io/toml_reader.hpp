@@ -67,6 +67,10 @@ struct ParamRecord {
 };
 using ParamLog = std::vector<ParamRecord>;
 
+// The unit a key carries in its name, as a person writes it: "feed_mm_per_rev" → "mm/rev",
+// "holder_stiffness_N_per_um" → "N/µm", "inertia_kg_m2" → "kg·m²", "damping_ratio" → "".
+std::string unit_of_key(std::string_view key);
+
 // A parsed TOML document that owns its tree.
 class TomlDocument {
  public:
