@@ -154,10 +154,13 @@ TEST(AdaptiveFeedController, AirFeedThenEntryFeedOnContactThenRateLimitedRise) {
     EXPECT_LE(out.feed_per_rev_mm, kProg + 1e-12) << k;
     // The ramp is the binding limit; once P + I would already exceed the ceiling the PI's own
     // OutputHigh takes precedence (first reason set wins).
-    if (out.feed_per_rev_mm < kProg - 1e-9)
+    if (out.feed_per_rev_mm < kProg - 1e-9) {
       EXPECT_TRUE(out.reason == Reason::RateLimited || out.reason == Reason::OutputHigh)
           << k << " " << rn(out.reason);
-    if (k < 10) EXPECT_EQ(rn(out.reason), rn(Reason::RateLimited)) << k;
+    }
+    if (k < 10) {
+      EXPECT_EQ(rn(out.reason), rn(Reason::RateLimited)) << k;
+    }
     if (steps_to_top < 0 && out.feed_per_rev_mm >= kProg - 1e-12) steps_to_top = k + 1;
     prev = out.feed_per_rev_mm;
   }
@@ -529,7 +532,7 @@ INSTANTIATE_TEST_SUITE_P(AdaptiveFeedController, SensorFaults,
                                                      Reason::SensorNotFinite},
                                            FaultCase{"above", 6000.0, Reason::SensorOutOfRange},
                                            FaultCase{"below", -200.0, Reason::SensorOutOfRange}),
-                         [](const auto& info) { return std::string(info.param.name); });
+                         [](const auto& p) { return std::string(p.param.name); });
 
 // Static plant F = k·s around a sensor glitch: one sample of `glitch` at period 3000 (an
 // out-of-range alarm), reset_alarm() at 3100, then 6900 more periods. Returns the final force.
@@ -543,7 +546,9 @@ double force_after_glitch_and_reset(bool per_rev, double glitch) {
   double force = 0.0;
   for (int i = 0; i < 10000; ++i) {
     (void)c.update(sample(i == 3000 ? glitch : force), out);
-    if (i == 3000) EXPECT_EQ(rn(out.alarm_reason), rn(Reason::SensorOutOfRange));
+    if (i == 3000) {
+      EXPECT_EQ(rn(out.alarm_reason), rn(Reason::SensorOutOfRange));
+    }
     if (i == 3100) c.reset_alarm();
     force = k * out.feed_per_rev_mm;
   }
@@ -657,7 +662,9 @@ TEST(AdaptiveFeedController, OverloadOnlyWhenFeedAlreadyAtMinimum) {
       break;
     }
     if (t_at_min < 0.0 && out.feed_per_rev_mm <= kMin * (1.0 + 1e-9)) t_at_min = t;
-    if (t < 0.5) EXPECT_GT(out.feed_per_rev_mm, kMin) << t;
+    if (t < 0.5) {
+      EXPECT_GT(out.feed_per_rev_mm, kMin) << t;
+    }
   }
   ASSERT_GT(t_at_min, 0.5);
   ASSERT_GT(t_alarm, 0.0);

@@ -38,7 +38,9 @@ TEST(ModulatedFeedGenerator, WalksTheStaircaseUpAndDownByPath) {
         time_min += 0.01 / f;
         path_sum += 0.01;
       }
-      if (k == 25) EXPECT_DOUBLE_EQ(f, expected[seg]) << seg;
+      if (k == 25) {
+        EXPECT_DOUBLE_EQ(f, expected[seg]) << seg;
+      }
     }
   }
   // Time-mean feed over one cycle = harmonic mean of the levels.

@@ -489,7 +489,9 @@ TEST(PulseFeedController, FrozenReadingNeverOpensTheSlot) {
   int alarm_at = -1, suspect = 0;
   for (int k = 0; k < 100; ++k) {
     const Status s = c.update(at_force(210.0), out);
-    if (k >= 2) ASSERT_LE(out.slot_m, last_slot) << "frozen sample " << k;
+    if (k >= 2) {
+      ASSERT_LE(out.slot_m, last_slot) << "frozen sample " << k;
+    }
     if (out.reason == Reason::SensorSuspect) ++suspect;
     if (s == Status::Hold && alarm_at < 0) alarm_at = k;
     last_slot = out.slot_m;

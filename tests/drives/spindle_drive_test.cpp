@@ -136,7 +136,9 @@ TEST(SpindleDrive, CommandRampLimitsAcceleration) {
   for (int k = 1; k <= 4000; ++k) {
     d.step(kDt, 1000.0, 0.0);
     const double t = k * kDt;
-    if (t >= 0.15) ASSERT_NEAR(d.rpm(), 200.0 + 2000.0 * t, 5.0) << "t = " << t;
+    if (t >= 0.15) {
+      ASSERT_NEAR(d.rpm(), 200.0 + 2000.0 * t, 5.0) << "t = " << t;
+    }
   }
   run(d, 1.0, 1000.0, 0.0);
   EXPECT_NEAR(d.rpm(), 1000.0, 0.01);

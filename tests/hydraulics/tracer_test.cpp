@@ -87,7 +87,7 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"underdamped_cone_to_cyl", 60.0, kV / (60.0 * 3.0), -kV, 0.0},
                       Case{"critical_step", 0.0, 50e-6, 0.0, 0.0},
                       Case{"overdamped_cone_to_cyl", 20.0, kV / (20.0 * 3.0), -kV, 0.0}),
-    [](const auto& info) { return std::string(info.param.name); });
+    [](const auto& p) { return std::string(p.param.name); });
 
 TEST(TracerLinear, CriticalBranchIsContinuousWithItsNeighbours) {
   // ζ = 1 takes the (A + Bτ)e^{λτ} branch; ζ = 1 ± 1e-6 the two-root one: they must agree.

@@ -337,8 +337,9 @@ TEST(Report, SeriesStylesLegendAndMarkers) {
 
 TEST(Report, IndexLinksToEveryReport) {
   const std::string html = render_index_html(
-      "All <runs>", {{"Rig A step", "rig_a/report.html", "overshoot 4.2 % · settling 0.18 s"},
-                     {"Rig B & C", "rig b/report.html?x=1&y=2", "alarm at 6.5 s"}});
+      "All <runs>",
+      {{"Rig A step", "rig_a/report.html", "overshoot 4.2 % · settling 0.18 s", 0, "", {}},
+       {"Rig B & C", "rig b/report.html?x=1&y=2", "alarm at 6.5 s", 0, "", {}}});
   EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0U);
   EXPECT_NE(html.find("<h1>All &lt;runs&gt;</h1>"), std::string::npos);
   EXPECT_NE(html.find("<a href=\"rig_a/report.html\">Rig A step</a>"), std::string::npos);

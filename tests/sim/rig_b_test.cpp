@@ -57,11 +57,6 @@ double peak(const RigB& rig, double t0, double t1) {
   return m;
 }
 
-// Kienzle radial gain dF_p/db at chip h (κ = 90°): k_p·h^(1−m_p) [N/m].
-double gain(double h_mm) {
-  const auto& fp = library().find("steel_40Kh")->Fp;
-  return fp.k11_N_per_mm2 * 1e3 * std::pow(h_mm, 1.0 - fp.m);
-}
 double chip_for_gain(double g) {
   const auto& fp = library().find("steel_40Kh")->Fp;
   return std::pow(g / (fp.k11_N_per_mm2 * 1e3), 1.0 / (1.0 - fp.m));

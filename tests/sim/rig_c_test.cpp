@@ -114,9 +114,9 @@ TEST_P(RigCCone, SteadyProfileErrorOnTheCone) {
 INSTANTIATE_TEST_SUITE_P(Tracer, RigCCone,
                          ::testing::Values(Angles{15, 45}, Angles{30, 45}, Angles{60, 45},
                                            Angles{15, 60}, Angles{30, 60}, Angles{60, 60}),
-                         [](const auto& info) {
-                           return "alpha" + std::to_string(static_cast<int>(info.param.alpha_deg)) +
-                                  "_beta" + std::to_string(static_cast<int>(info.param.beta_deg));
+                         [](const auto& p) {
+                           return "alpha" + std::to_string(static_cast<int>(p.param.alpha_deg)) +
+                                  "_beta" + std::to_string(static_cast<int>(p.param.beta_deg));
                          });
 
 }  // namespace
