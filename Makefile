@@ -25,7 +25,7 @@ demo: build
 
 # The fuzz smoke runs first so that ctest's summary line closes the output.
 test: deps-test
-	@bash scripts/fuzz-smoke.sh $(FUZZ_SECONDS)
+	@LATHECTL_WERROR=ON bash scripts/fuzz-smoke.sh $(FUZZ_SECONDS)
 	@cmake --preset default -DLATHECTL_HAL=ON -DLATHECTL_WERROR=ON >/dev/null
 	@cmake --build --preset default -j $(JOBS)
 	ctest --preset default -j $(JOBS)

@@ -4,7 +4,7 @@
 set -euo pipefail
 SECONDS_PER_TARGET=${1:-20}
 cd "$(dirname "$0")/.."
-cmake --preset fuzz >/dev/null
+cmake --preset fuzz -DLATHECTL_WERROR="${LATHECTL_WERROR:-OFF}" >/dev/null
 cmake --build --preset fuzz -j "$(nproc)" >/dev/null
 work=build/fuzz/corpus
 mkdir -p "$work/scenario" "$work/materials" "$work/lobes"
