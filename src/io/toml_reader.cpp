@@ -158,26 +158,26 @@ void TableReader::log(std::string_view key, std::string kind, std::string range,
   if (!log_) return;
   const std::string k = full_key(key);
   for (auto& r : *log_)
-    if (r.key == k) {  // read twice (a default that depends on it): keep the described row
+    if (r.key == k) {  // read twice, or documented after reading: complete the first row
       if (r.doc.empty()) r.doc = doc;
+      if (r.kind.empty()) r.kind = std::move(kind);
       return;
     }
   log_->push_back({k, std::move(kind), std::move(range), std::move(fallback), required,
-                   std::string(doc), std::move(value)});
+                   std::string(doc), std::move(value), {}});
 }
 
 void TableReader::check(bool ok, std::string_view key, const std::string& message) const {
-  if (ok) return;
-  if (is_describing()) {
+  if (is_describing()) {  // every rule goes into the reference, whatever the neutral values say
     if (log_)
       for (auto& r : *log_)
         if (r.key == full_key(key)) {
-          r.doc += (r.doc.empty() ? "" : "; ") + message;
+          r.rules += (r.rules.empty() ? "" : "; ") + message;
           return;
         }
     return;
   }
-  fail(key, message);
+  if (!ok) fail(key, message);
 }
 
 void TableReader::read(const Param& p, double& field) {
@@ -260,7 +260,7 @@ const toml::node* TableReader::get(std::string_view key) {
   return n;
 }
 
-double TableReader::number(std::string_view key, Range range, std::optional<double> fallback) {
+double TableReader::number_value(std::string_view key, Range range, std::optional<double> fallback) {
   const toml::node* n = get(key);
   if (!n) {
     if (fallback) return *fallback;
@@ -282,7 +282,7 @@ double TableReader::number(std::string_view key, Range range, std::optional<doub
   return v;
 }
 
-std::int64_t TableReader::integer(std::string_view key, std::int64_t lo, std::int64_t hi,
+std::int64_t TableReader::integer_value(std::string_view key, std::int64_t lo, std::int64_t hi,
                                   std::optional<std::int64_t> fallback) {
   const toml::node* n = get(key);
   if (!n) {
@@ -304,7 +304,7 @@ std::int64_t TableReader::integer(std::string_view key, std::int64_t lo, std::in
   return v;
 }
 
-bool TableReader::boolean(std::string_view key, std::optional<bool> fallback) {
+bool TableReader::boolean_value(std::string_view key, std::optional<bool> fallback) {
   const toml::node* n = get(key);
   if (!n) {
     if (fallback) return *fallback;
@@ -316,7 +316,7 @@ bool TableReader::boolean(std::string_view key, std::optional<bool> fallback) {
   return b->get();
 }
 
-std::string TableReader::string(std::string_view key, std::optional<std::string> fallback) {
+std::string TableReader::string_value(std::string_view key, std::optional<std::string> fallback) {
   const toml::node* n = get(key);
   if (!n) {
     if (fallback) return *fallback;
@@ -331,7 +331,7 @@ std::string TableReader::string(std::string_view key, std::optional<std::string>
   return s->get();
 }
 
-std::string TableReader::choice(std::string_view key, const std::vector<std::string>& choices,
+std::string TableReader::choice_value(std::string_view key, const std::vector<std::string>& choices,
                                 std::optional<std::string> fallback) {
   const std::string list = quoted_list(choices);
   if (is_describing()) {
@@ -343,10 +343,57 @@ std::string TableReader::choice(std::string_view key, const std::vector<std::str
     used_.emplace(key);
     fail(key, "missing; expected one of " + list);
   }
-  const std::string v = string(key, fallback);
+  if (!has(key) && fallback) {  // an optional choice may default to "" (none)
+    used_.emplace(key);
+    return *fallback;
+  }
+  const std::string v = string_value(key, fallback);
   for (const auto& c : choices)
     if (c == v) return v;
   fail(key, "expected one of " + list + ", got \"" + v + "\"");
+}
+
+// The public getters: the value, and a row of the log (in both modes).
+double TableReader::number(std::string_view key, Range range, std::optional<double> fallback) {
+  const double v = number_value(key, range, fallback);
+  log(key, "number", range.describe(), fallback ? fmt_num(*fallback) : "", !fallback, "",
+      is_describing() ? "" : fmt_num(v));
+  return v;
+}
+
+std::int64_t TableReader::integer(std::string_view key, std::int64_t lo, std::int64_t hi,
+                                  std::optional<std::int64_t> fallback) {
+  const std::int64_t v = integer_value(key, lo, hi, fallback);
+  log(key, "integer", "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]",
+      fallback ? std::to_string(*fallback) : "", !fallback, "",
+      is_describing() ? "" : std::to_string(v));
+  return v;
+}
+
+bool TableReader::boolean(std::string_view key, std::optional<bool> fallback) {
+  const bool v = boolean_value(key, fallback);
+  log(key, "boolean", "true or false", fallback ? (*fallback ? "true" : "false") : "", !fallback,
+      "", is_describing() ? "" : (v ? "true" : "false"));
+  return v;
+}
+
+std::string TableReader::string(std::string_view key, std::optional<std::string> fallback) {
+  std::string v = string_value(key, fallback);
+  log(key, "string", "", fallback ? "\"" + *fallback + "\"" : "", !fallback, "",
+      is_describing() ? "" : v);
+  return v;
+}
+
+std::string TableReader::choice(std::string_view key, const std::vector<std::string>& choices,
+                                std::optional<std::string> fallback) {
+  std::string v = choice_value(key, choices, fallback);
+  log(key, "string", "one of " + quoted_list(choices), fallback ? "\"" + *fallback + "\"" : "",
+      !fallback, "", is_describing() ? "" : v);
+  return v;
+}
+
+void TableReader::document(std::string_view key, std::string_view doc) const {
+  log(key, "", "", "", false, doc, "");
 }
 
 std::vector<double> TableReader::numbers(std::string_view key, Range range, std::size_t min_count) {

@@ -64,6 +64,7 @@ struct ParamRecord {
   bool required = false;
   std::string doc;
   std::string value;  // as read (empty when describing)
+  std::string rules;  // cross-field rules (check()), for the reference
 };
 using ParamLog = std::vector<ParamRecord>;
 
@@ -110,8 +111,11 @@ class TableReader {
   std::string pick(const Param& p, const std::vector<std::string>& choices,
                    std::optional<std::string> fallback = std::nullopt);
   // A cross-field rule at `key`: fails with `message` unless `ok`; describing, it records the
-  // rule beside the key instead.
+  // rule beside the key instead (always: the reference lists every rule).
   void check(bool ok, std::string_view key, const std::string& message) const;
+  // The one line of meaning of a key read with a plain getter (a table, an array of tables, a
+  // string, pairs, ...): call it beside the read.
+  void document(std::string_view key, std::string_view doc) const;
 
   [[nodiscard]] bool has(std::string_view key) const;
   double number(std::string_view key, Range range, std::optional<double> fallback = std::nullopt);
@@ -144,6 +148,13 @@ class TableReader {
  private:
   TableReader() = default;
   const toml::node* get(std::string_view key);
+  double number_value(std::string_view key, Range range, std::optional<double> fallback);
+  std::int64_t integer_value(std::string_view key, std::int64_t lo, std::int64_t hi,
+                             std::optional<std::int64_t> fallback);
+  bool boolean_value(std::string_view key, std::optional<bool> fallback);
+  std::string string_value(std::string_view key, std::optional<std::string> fallback);
+  std::string choice_value(std::string_view key, const std::vector<std::string>& choices,
+                           std::optional<std::string> fallback);
   void log(std::string_view key, std::string kind, std::string range, std::string fallback,
            bool required, std::string_view doc, std::string value) const;
   const toml::table* table_ = nullptr;  // null when describing
