@@ -346,7 +346,7 @@ void read_options(TableReader& root, Settings& st) {
     doc(root, "sweep", "reruns with the controller's K_leak estimate off by factors");
     st.sweep_leak_estimate_factor = sw->numbers("leak_estimate_factor", Range::closed(0, 10), 1);
     doc(*sw, "leak_estimate_factor",
-        "reruns with the controller's K_leak off by these factors; needs a controller");
+        "reruns with the controller's K_leak off by these factors");
     sw->check(a.controller_kind != sim::ControllerKind::None, "leak_estimate_factor",
               "a sweep of the controller's K_leak needs a controller");
     sw->finish();
