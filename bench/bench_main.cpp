@@ -14,10 +14,11 @@
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/sim/gauging.hpp"
-#include "lathectl/sim/rig_a.hpp"
 #include "lathectl/sim/rig_b.hpp"
 #include "lathectl/sim/rig_e.hpp"
 #include "support/sample_controller.hpp"
+#include "systems/a_pulse_feed/rig.hpp"
+#include "systems/a_pulse_feed/settings.hpp"
 
 using namespace lathectl;
 
@@ -32,7 +33,8 @@ void BM_RigA_60s(benchmark::State& state, const char* scenario) {
   const double duration = 60.0;
   for (auto _ : state) {
     sim::RigA rig;
-    rig.configure(sc.a, sc.run.step_s, sc.run.record_interval_s, duration);
+    rig.configure(sc.get<systems::a_pulse_feed::Settings>().rig, sc.run.step_s,
+                  sc.run.record_interval_s, duration);
     rig.run();
     benchmark::DoNotOptimize(rig.recorder().rows());
   }

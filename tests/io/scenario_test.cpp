@@ -17,6 +17,7 @@
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
+#include "systems/a_pulse_feed/settings.hpp"
 
 namespace lathectl::io {
 namespace {
@@ -96,34 +97,36 @@ TEST(Scenario, ShopUnitsConvertedToSi) {
   EXPECT_EQ(sc.name, "a_finishing_aim");
   EXPECT_DOUBLE_EQ(sc.run.duration_s, 12.0);
   EXPECT_EQ(sc.run.seed, 11u);
-  EXPECT_DOUBLE_EQ(sc.a.spindle_rpm, 400.0);
-  EXPECT_DOUBLE_EQ(sc.a.diameter_m, 0.06);
-  EXPECT_EQ(sc.a.cutting.material.name, "steel_45");
-  EXPECT_DOUBLE_EQ(sc.a.part.depth_mm, 0.5);
-  ASSERT_EQ(sc.a.part.depth_steps.size(), 1u);
-  EXPECT_DOUBLE_EQ(sc.a.part.depth_steps[0].at_mm, 4.0);
-  EXPECT_DOUBLE_EQ(sc.a.part.depth_steps[0].value, 1.0);
-  EXPECT_DOUBLE_EQ(sc.a.regulator.orifice.spool_diameter_m, 5e-3);   // 5.0 mm
-  EXPECT_DOUBLE_EQ(sc.a.regulator.orifice.pressure_drop_Pa, 0.2e6);  // 0.2 MPa
-  EXPECT_DOUBLE_EQ(sc.a.pulse_width_s, 5e-3);                        // 5.0 ms
-  EXPECT_DOUBLE_EQ(sc.a.regulator.opening_time_s, 0.5e-3);
-  EXPECT_DOUBLE_EQ(sc.a.slide.piston_area_m2, 8e-4);    // 8 cm²
-  EXPECT_DOUBLE_EQ(sc.a.slide.dead_volume_m3, 60e-6);   // 60 cm³
-  EXPECT_DOUBLE_EQ(sc.a.slide.bulk_modulus_Pa, 1.4e9);  // 1400 MPa
+  const auto& st = sc.get<systems::a_pulse_feed::Settings>();
+  const auto& a = st.rig;
+  EXPECT_DOUBLE_EQ(a.spindle_rpm, 400.0);
+  EXPECT_DOUBLE_EQ(a.diameter_m, 0.06);
+  EXPECT_EQ(a.cutting.material.name, "steel_45");
+  EXPECT_DOUBLE_EQ(a.part.depth_mm, 0.5);
+  ASSERT_EQ(a.part.depth_steps.size(), 1u);
+  EXPECT_DOUBLE_EQ(a.part.depth_steps[0].at_mm, 4.0);
+  EXPECT_DOUBLE_EQ(a.part.depth_steps[0].value, 1.0);
+  EXPECT_DOUBLE_EQ(a.regulator.orifice.spool_diameter_m, 5e-3);   // 5.0 mm
+  EXPECT_DOUBLE_EQ(a.regulator.orifice.pressure_drop_Pa, 0.2e6);  // 0.2 MPa
+  EXPECT_DOUBLE_EQ(a.pulse_width_s, 5e-3);                        // 5.0 ms
+  EXPECT_DOUBLE_EQ(a.regulator.opening_time_s, 0.5e-3);
+  EXPECT_DOUBLE_EQ(a.slide.piston_area_m2, 8e-4);    // 8 cm²
+  EXPECT_DOUBLE_EQ(a.slide.dead_volume_m3, 60e-6);   // 60 cm³
+  EXPECT_DOUBLE_EQ(a.slide.bulk_modulus_Pa, 1.4e9);  // 1400 MPa
   // 50 cm³/min/MPa = 50e−6 m³ / 60 s / 1e6 Pa = 8.3333e−13 m³/(s·Pa).
-  EXPECT_NEAR(sc.a.slide.leak_m3_per_s_Pa, 50e-6 / 60.0 / 1e6, 1e-25);
+  EXPECT_NEAR(a.slide.leak_m3_per_s_Pa, 50e-6 / 60.0 / 1e6, 1e-25);
   // 0.5 cm³/MPa = 5e−13 m³/Pa; 0.06 MPa·s/cm³ = 6e10 Pa·s/m³.
-  EXPECT_NEAR(sc.a.slide.damper_capacitance_m3_per_Pa, 5e-13, 1e-25);
-  EXPECT_NEAR(sc.a.slide.damper_resistance_Pa_s_per_m3, 6e10, 1e-3);
-  EXPECT_NEAR(sc.a.sensor.holder_stiffness_N_per_m, 20e6, 1e-6);  // 20 N/µm
-  EXPECT_NEAR(sc.a.sensor.gain_V_per_m, 0.1e6, 1e-6);             // 0.1 V/µm
-  EXPECT_EQ(sc.a.controller_kind, sim::ControllerKind::Aim);
-  EXPECT_NEAR(sc.a.controller.feed_m_per_s, 1e-3, 1e-15);  // 60 mm/min
-  EXPECT_NEAR(sc.a.controller.force_filter_s, 0.02, 1e-15);
-  EXPECT_NEAR(sc.a.feed_window_s, 0.5, 1e-15);
-  ASSERT_TRUE(sc.compare.has_value());
-  EXPECT_EQ(sc.compare->controller, sim::ControllerKind::None);
-  EXPECT_EQ(sc.sweep_leak_estimate_factor, (std::vector<double>{0.5, 0.75, 1.0, 1.25, 1.5}));
+  EXPECT_NEAR(a.slide.damper_capacitance_m3_per_Pa, 5e-13, 1e-25);
+  EXPECT_NEAR(a.slide.damper_resistance_Pa_s_per_m3, 6e10, 1e-3);
+  EXPECT_NEAR(a.sensor.holder_stiffness_N_per_m, 20e6, 1e-6);  // 20 N/µm
+  EXPECT_NEAR(a.sensor.gain_V_per_m, 0.1e6, 1e-6);             // 0.1 V/µm
+  EXPECT_EQ(a.controller_kind, sim::ControllerKind::Aim);
+  EXPECT_NEAR(a.controller.feed_m_per_s, 1e-3, 1e-15);  // 60 mm/min
+  EXPECT_NEAR(a.controller.force_filter_s, 0.02, 1e-15);
+  EXPECT_NEAR(a.feed_window_s, 0.5, 1e-15);
+  ASSERT_TRUE(st.compare.has_value());
+  EXPECT_EQ(st.compare->controller, sim::ControllerKind::None);
+  EXPECT_EQ(st.sweep_leak_estimate_factor, (std::vector<double>{0.5, 0.75, 1.0, 1.25, 1.5}));
 }
 
 TEST(Scenario, UnknownKeyNamesFileLineAndKey) {

@@ -12,7 +12,7 @@
 // of β (here V_pr = 3 mm/s, C0·i = 60: δx = 50 µm; δy = −13.397, −28.868, −86.603 µm at α = 15, 30,
 // 60°).
 
-#include "lathectl/sim/rig_c.hpp"
+#include "systems/c_tracer/rig.hpp"
 
 #include <gtest/gtest.h>
 

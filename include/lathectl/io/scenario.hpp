@@ -17,9 +17,7 @@
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/toml_reader.hpp"
 #include "lathectl/sim/gauging.hpp"
-#include "lathectl/sim/rig_a.hpp"
 #include "lathectl/sim/rig_b.hpp"
-#include "lathectl/sim/rig_c.hpp"
 #include "lathectl/sim/rig_e.hpp"
 
 namespace lathectl::io {
@@ -29,13 +27,6 @@ struct RunSettings {
   double step_s = 1e-4;
   double record_interval_s = 2e-3;
   std::uint64_t seed = 1;
-};
-
-// A second run of the same scenario with something swapped, overlaid in the report.
-struct Comparison {
-  std::string label;
-  std::optional<sim::ControllerKind> controller;
-  std::optional<sim::RegulatorKind> regulator;
 };
 
 // A system's own settings (its folder's settings.hpp), held by the Scenario. Derive from
@@ -93,13 +84,10 @@ struct Scenario {
 
   // --- Transitional (issue 12): per-system fields still read by src/io/scenario_legacy.cpp.
   //     Each moves into its system's folder (systems/<x>/settings.hpp) and leaves here.
-  sim::RigAConfig a;      // system A
   sim::RigEConfig e;      // system E
-  sim::RigCConfig c;      // system C
   sim::RigBConfig b;      // system B
   bool b_compare = true;  // system B: also run without modulation
   std::vector<double> b_sweep_feed;  // system B: feeds for the with/without sweep
-  std::string c_compare;  // system C: "", "linear" or "nonlinear" overlaid
   // system D
   struct Gauging {
     sim::GaugingProcess process;
@@ -112,8 +100,6 @@ struct Scenario {
     std::size_t full_parts = 8;            // full-model Monte Carlo
   } d;
   std::vector<control::AdaptiveFeedController::Mode> compare_modes;  // system E: overlaid runs
-  std::optional<Comparison> compare;
-  std::vector<double> sweep_leak_estimate_factor;  // controller K_leak / true K_leak
 };
 
 // How one system reads its part of a scenario file. The common part (system, name, description,
@@ -151,8 +137,6 @@ ParamLog describe_section(const Section& section, const MaterialLibrary& materia
 [[noreturn]] void throw_at_key(const Scenario& sc, const std::invalid_argument& e,
                                const std::string& fallback_key = "");
 
-std::string controller_kind_name(sim::ControllerKind k);
-std::string regulator_kind_name(sim::RegulatorKind k);
 std::string adaptive_mode_name(control::AdaptiveFeedController::Mode m);
 
 }  // namespace lathectl::io

@@ -4,8 +4,8 @@
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
 
-namespace lathectl::io {
+namespace lathectl::systems::a_pulse_feed {
 
-RunOutput run_system_a(const Scenario& sc);
+io::RunOutput run(const io::Scenario& sc);
 
-}  // namespace lathectl::io
+}  // namespace lathectl::systems::a_pulse_feed

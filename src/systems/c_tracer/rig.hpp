@@ -1,5 +1,5 @@
 #pragma once
-// Rig C: a template copied onto the part by the one-coordinate hydraulic tracer slide (seed 002).
+// Rig C (systems/c_tracer): a template copied onto the part by the one-coordinate hydraulic tracer slide (seed 002).
 //
 //   carriage x_c = x_start + V_pr·t ─→ template under the stylus ─→ deflection h_s = s_T − s
 //   ─→ spool h = i·h_s ─→ linear model (seed (8)-(9)), or the nonlinear servo:
@@ -45,10 +45,12 @@ struct RigCConfig {
   double piston_area_m2 = 20e-4;
   double total_volume_m3 = 200e-6;
   double bulk_modulus_Pa = 1.4e9;
-  double coulomb_N = 200.0;
-  double static_N = 200.0;
+  // Friction: none unless [friction] gives it (the scenario reader's defaults; before issue 12 a
+  // scenario without the table got 200 N, 200 N and 2000 N·s/m, one with an empty table zeros).
+  double coulomb_N = 0.0;
+  double static_N = 0.0;  // ≥ coulomb_N; the reader's default is coulomb_N
   double stribeck_velocity_m_per_s = 1e-4;
-  double viscous_N_s_per_m = 2000.0;
+  double viscous_N_s_per_m = 0.0;
   // cutting (nonlinear model); blank diameter ≤ 0 → constant load P0 = linear.P0_N instead
   cutting::CuttingModel::Params cutting;
   double blank_diameter_m = 0.0;

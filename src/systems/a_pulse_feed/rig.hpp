@@ -1,5 +1,5 @@
 #pragma once
-// Rig A: the hydraulic feed slide with pulsed flow regulation (seed 000), wired as in the seed's
+// Rig A (systems/a_pulse_feed): the hydraulic feed slide with pulsed flow regulation (seed 000), wired as in the seed's
 // figures 1 and 3:
 //
 //   ЗПУ (programmed feed, force set) ─┐
@@ -13,6 +13,7 @@
 // `controller_period_s`; the plant every step.
 
 #include <cstdint>
+#include <numbers>
 #include <vector>
 
 #include "lathectl/control/pulse_feed_controller.hpp"
@@ -40,11 +41,21 @@ struct RigAConfig {
   double pulse_width_s = 0.01;                   // Δt
   double frequency_Hz = 10.0;                    // AIM / uncontrolled pulse frequency
   double slot_m = 40e-6;                         // FIM fixed slot
-  drives::EccentricDrive::Params eccentric;
+  // The scenario reader's defaults, where they differ from the drive's and controller's own:
+  // a 3000 rpm eccentric motor, a 5 ms force filter, a 500 Hz/s converter ramp, a plausible sensor
+  // range from −0.5 V to saturation + 0.5 V and a 50 ms stuck check (issue 12: one default).
+  drives::EccentricDrive::Params eccentric = [] {
+    drives::EccentricDrive::Params p;
+    p.motor_max_speed_rad_per_s = 3000.0 * 2.0 * std::numbers::pi / 60.0;
+    return p;
+  }();
   hydraulics::FeedSlide::Params slide;
   sensors::InductiveSensor::Params sensor;
   ControllerKind controller_kind = ControllerKind::None;
-  control::PulseFeedController::Params controller;  // programmed feed, mode, limits, gains
+  control::PulseFeedController::Params controller{  // programmed feed, mode, limits, gains
+      .force_filter_s = 5e-3,
+      .sensor_monitor = {.min = -0.5, .max = 10.5, .stuck_time_s = 50e-3},
+      .frequency_ramp_Hz_per_s = 500.0};
   double leak_estimate_factor = 1.0;                // controller's K_leak = factor × the plant's
   bool compensate_compliance = true;                // finishing: add C·dp/dt (beyond the seed)
   std::vector<SensorFault> faults;

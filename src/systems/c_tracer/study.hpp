@@ -5,8 +5,8 @@
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
 
-namespace lathectl::io {
+namespace lathectl::systems::c_tracer {
 
-RunOutput run_system_c(const Scenario& sc);
+io::RunOutput run(const io::Scenario& sc);
 
-}  // namespace lathectl::io
+}  // namespace lathectl::systems::c_tracer

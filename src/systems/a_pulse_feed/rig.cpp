@@ -1,4 +1,4 @@
-#include "lathectl/sim/rig_a.hpp"
+#include "systems/a_pulse_feed/rig.hpp"
 
 #include "lathectl/sim/config_error.hpp"
 

@@ -1,6 +1,6 @@
 // System A (seed 000): runs a scenario, its comparison and its K_leak sweep, computes the
 // metrics and the claims they answer, and lays out the report.
-#include "lathectl/io/system_a.hpp"
+#include "systems/a_pulse_feed/study.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,11 +12,13 @@
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/study.hpp"
-#include "lathectl/sim/metrics.hpp"
+#include "systems/a_pulse_feed/metrics.hpp"
+#include "systems/a_pulse_feed/settings.hpp"
 
-namespace lathectl::io {
+namespace lathectl::systems::a_pulse_feed {
 
 namespace {
+using namespace io;
 using nlohmann::json;
 using sim::ControllerKind;
 using sim::RegulatorKind;
@@ -61,7 +63,7 @@ std::string label_of(const sim::RigAConfig& a) {
                                                    : controller_kind_name(a.controller_kind);
 }
 
-void run_one(const Scenario& sc, const sim::RigAConfig& cfg, Run& r) {
+void run_one(const io::Scenario& sc, const sim::RigAConfig& cfg, Run& r) {
   configure_and_run(sc, r.rig, cfg);
   r.metrics = sim::compute_metrics_a(r.rig);
   r.label = label_of(cfg);
@@ -104,19 +106,21 @@ constexpr const char* kMain = "#1f77b4";
 constexpr const char* kCmp = "#d62728";
 }  // namespace
 
-RunOutput run_system_a(const Scenario& sc) {
+io::RunOutput run(const io::Scenario& sc) {
+  using namespace io;
+  const Settings& settings = sc.get<Settings>();
   RunOutput out;
   auto main = std::make_unique<Run>();
-  run_one(sc, sc.a, *main);
+  run_one(sc, settings.rig, *main);
   std::unique_ptr<Run> cmp;
-  if (sc.compare) {
-    auto c = sc.a;
-    if (sc.compare->controller) c.controller_kind = *sc.compare->controller;
-    if (sc.compare->regulator) c.regulator_kind = *sc.compare->regulator;
+  if (settings.compare) {
+    auto c = settings.rig;
+    if (settings.compare->controller) c.controller_kind = *settings.compare->controller;
+    if (settings.compare->regulator) c.regulator_kind = *settings.compare->regulator;
     if (c.regulator_kind == RegulatorKind::Throttle) c.controller_kind = ControllerKind::None;
     cmp = std::make_unique<Run>();
     run_one(sc, c, *cmp);
-    if (!sc.compare->label.empty()) cmp->label = sc.compare->label;
+    if (!settings.compare->label.empty()) cmp->label = settings.compare->label;
   }
 
   // Sweep of the controller's leakage estimate: how the finishing benefit degrades.
@@ -130,14 +134,14 @@ RunOutput run_system_a(const Scenario& sc) {
                   "feed deviation [%]",
                   {},
                   {}};
-  if (!sc.sweep_leak_estimate_factor.empty()) {
+  if (!settings.sweep_leak_estimate_factor.empty()) {
     Series dev{"max deviation (controlled)", {}, {}, kMain, false, true};
     Series st{"steady deviation (controlled)", {}, {}, "#2ca02c", false, true};
     const double base = cmp && cmp->rig.config().controller_kind == ControllerKind::None
                             ? cmp->metrics.feed_rate_steady_deviation_pct
                             : std::numeric_limits<double>::quiet_NaN();
-    for (const double f : sc.sweep_leak_estimate_factor) {
-      auto c = sc.a;
+    for (const double f : settings.sweep_leak_estimate_factor) {
+      auto c = settings.rig;
       c.leak_estimate_factor = f;
       Run r;
       run_one(sc, c, r);
@@ -158,7 +162,7 @@ RunOutput run_system_a(const Scenario& sc) {
     sweep_plot.series = {dev, st};
     if (cmp) {
       Series un{"uncontrolled steady deviation",
-                {sc.sweep_leak_estimate_factor.front(), sc.sweep_leak_estimate_factor.back()},
+                {settings.sweep_leak_estimate_factor.front(), settings.sweep_leak_estimate_factor.back()},
                 {base, base},
                 kCmp,
                 true,
@@ -179,50 +183,48 @@ RunOutput run_system_a(const Scenario& sc) {
 
   // Claims this run can answer, each with its number.
   Claims claims;
-  auto claim = [&](const std::string& text, double value, bool met) {
-    claims.add(text, value, met);
-  };
-  const bool roughing = sc.a.controller.mode == control::PulseFeedController::Mode::Roughing;
-  if (cmp && sc.a.controller_kind != ControllerKind::None &&
+  const bool roughing = settings.rig.controller.mode == control::PulseFeedController::Mode::Roughing;
+  if (cmp && settings.rig.controller_kind != ControllerKind::None &&
       cmp->rig.config().controller_kind == ControllerKind::None) {
     if (!roughing) {
       const double r2 = m.feed_rate_deviation_pct / cmp->metrics.feed_rate_deviation_pct;
-      claim(
+      claims.check(
           "finishing: max feed deviation after the force change incl. the transient, controlled / "
           "uncontrolled (≤ 0.2; " +
               fmt(m.feed_rate_deviation_pct) + " % against " +
               fmt(cmp->metrics.feed_rate_deviation_pct) + " %)",
-          r2, r2 <= 0.2);
+          r2, Compare::AtMost, 0.2);
       const double r1 =
           m.feed_rate_steady_deviation_pct / cmp->metrics.feed_rate_steady_deviation_pct;
-      claim(
+      claims.check(
           "finishing: steady feed deviation after the force change, controlled / uncontrolled (≤ "
           "0.2)",
-          r1, r1 <= 0.2);
+          r1, Compare::AtMost, 0.2);
       s["metrics"]["feed_deviation_ratio_to_uncontrolled"] = json_number(r2);
     } else {
-      claim("roughing: force within 5 % of its set value at the end (final error, %)",
-            m.force_final_error_pct, std::abs(m.force_final_error_pct) <= 5.0);
-      claim("roughing: force settling time after the disturbance [s]", m.force_settling_time_s,
-            !std::isnan(m.force_settling_time_s));
+      claims.check("roughing: force within 5 % of its set value at the end (final error, %)",
+                   m.force_final_error_pct, Compare::Within, 5.0);
+      claims.add("roughing: force settling time after the disturbance [s]",
+                 m.force_settling_time_s, !std::isnan(m.force_settling_time_s));
       const double rise = cmp->metrics.force_peak_N / cmp->metrics.force_nominal_N;
       claims.note("uncontrolled: force peak / nominal force = " + fmt(rise, "%.3f") + " (" +
                   fmt(cmp->metrics.force_peak_N) + " N)");
     }
   }
   if (cmp && cmp->rig.config().regulator_kind == RegulatorKind::Throttle) {
-    claim("obliteration: continuous throttle feed drift over the run, % (|drift| > 5)",
-          cmp->metrics.feed_drift_pct, std::abs(cmp->metrics.feed_drift_pct) > 5.0);
-    claim("obliteration: pulsed regulator feed drift over the run, % (|drift| < 1)",
-          m.feed_drift_pct, std::abs(m.feed_drift_pct) < 1.0);
+    // |drift| > 5 has no one-threshold form (Compare has no |·| >): judged here.
+    claims.add("obliteration: continuous throttle feed drift over the run, % (|drift| > 5)",
+               cmp->metrics.feed_drift_pct, std::abs(cmp->metrics.feed_drift_pct) > 5.0);
+    claims.check("obliteration: pulsed regulator feed drift over the run, % (|drift| < 1)",
+                 m.feed_drift_pct, Compare::Within, 1.0);
   }
   if (!std::isnan(m.flow_formula_error_pct))
     claims.note("mean flow " + fmt(m.flow_mean_cm3_per_min) + " cm³/min against formula (1) " +
                 fmt(m.flow_formula_cm3_per_min) + " cm³/min: error " +
                 fmt(m.flow_formula_error_pct, "%.3f") + " %");
-  if (!sc.a.faults.empty())
-    claim("sensor fault: alarm raised, delay after the fault [s]", m.first_alarm_delay_s,
-          !std::isnan(m.first_alarm_delay_s));
+  if (!settings.rig.faults.empty())
+    claims.add("sensor fault: alarm raised, delay after the fault [s]", m.first_alarm_delay_s,
+               !std::isnan(m.first_alarm_delay_s));
   s["claims"] = claims.json();
 
   // Report.
@@ -266,7 +268,7 @@ RunOutput run_system_a(const Scenario& sc) {
   if (!sweep.empty()) rep.tables.push_back(sweep_table);
 
   const auto mk = markers(*main);
-  Plot feed{"Feed rate (averaged over " + fmt(sc.a.feed_window_s * 1000) + " ms)",
+  Plot feed{"Feed rate (averaged over " + fmt(settings.rig.feed_window_s * 1000) + " ms)",
             "time [s]",
             "feed [mm/min]",
             {},
@@ -282,8 +284,8 @@ RunOutput run_system_a(const Scenario& sc) {
   if (roughing) force.series.push_back(constant(*main, m.force_setpoint_N, "set force"));
   rep.plots.push_back(force);
 
-  const bool fim = sc.a.controller_kind == ControllerKind::Fim;
-  const bool aim = sc.a.controller_kind == ControllerKind::Aim;
+  const bool fim = settings.rig.controller_kind == ControllerKind::Fim;
+  const bool aim = settings.rig.controller_kind == ControllerKind::Aim;
   Plot act{fim   ? "Pulse frequency f (FIM actuator: converter)"
            : aim ? "Regulator slot h (AIM actuator: eccentric)"
                  : "Regulator slot h",
@@ -308,7 +310,7 @@ RunOutput run_system_a(const Scenario& sc) {
   const auto smooth = [&](const Run& r, Series sr) {
     const auto t = r.rig.recorder().column("time_s");
     const double dt_rec = t.size() > 1 ? t[1] - t[0] : 1.0;
-    const auto w = static_cast<std::size_t>(std::max(1.0, sc.a.feed_window_s / dt_rec));
+    const auto w = static_cast<std::size_t>(std::max(1.0, settings.rig.feed_window_s / dt_rec));
     sr.y = sim::moving_average(sr.y, w);
     for (std::size_t i = 0; i + 1 < w && i < sr.y.size(); ++i)
       sr.y[i] = std::nan("");  // partial window
@@ -340,20 +342,20 @@ RunOutput run_system_a(const Scenario& sc) {
   if (!sweep.empty()) rep.plots.push_back(sweep_plot);
 
   // Regulator characteristic: simulated mean flow against formula (1) over the duty range.
-  if (sc.a.regulator_kind == RegulatorKind::Pulsed) {
+  if (settings.rig.regulator_kind == RegulatorKind::Pulsed) {
     const double f = fim ? std::max(main->rig.controller().actuator_for(
-                                        sc.a.controller.feed_m_per_s, m.force_nominal_N),
+                                        settings.rig.controller.feed_m_per_s, m.force_nominal_N),
                                     1.0)
-                         : sc.a.frequency_Hz;
-    const double h = fim ? sc.a.slot_m : main->rig.fixed_actuator();
+                         : settings.rig.frequency_Hz;
+    const double h = fim ? settings.rig.slot_m : main->rig.fixed_actuator();
     std::vector<double> widths, duty;
     for (int k = 0; k <= 40; ++k) {
       duty.push_back(k / 40.0);
       widths.push_back(k / 40.0 / f);
     }
-    auto ideal_p = sc.a.regulator;
+    auto ideal_p = settings.rig.regulator;
     ideal_p.opening_time_s = ideal_p.closing_time_s = ideal_p.lap_m = 0.0;
-    const auto q_real = sim::regulator_characteristic(sc.a.regulator, h, f, widths);
+    const auto q_real = sim::regulator_characteristic(settings.rig.regulator, h, f, widths);
     const auto q_ideal_sim = sim::regulator_characteristic(ideal_p, h, f, widths);
     Plot ch{"Regulator characteristic at h = " + fmt(h * 1e6) + " µm, f = " + fmt(f) + " Hz",
             "duty Δt/T",
@@ -361,12 +363,12 @@ RunOutput run_system_a(const Scenario& sc) {
             {},
             {}};
     Series formula{"formula (1): μπd·h·√(2Δp/ρ)·Δt/T", duty, {}, "#555", true, false};
-    for (double d : duty) formula.y.push_back(sc.a.regulator.orifice.gain_per_m() * h * d * 6e7);
+    for (double d : duty) formula.y.push_back(settings.rig.regulator.orifice.gain_per_m() * h * d * 6e7);
     Series ideal{"simulated, instantaneous switching", duty, {}, "#2ca02c", false, true};
     for (double q : q_ideal_sim) ideal.y.push_back(q * 6e7);
-    Series real{"simulated, opening " + fmt(sc.a.regulator.opening_time_s * 1e3) +
-                    " ms / closing " + fmt(sc.a.regulator.closing_time_s * 1e3) + " ms, overlap " +
-                    fmt(sc.a.regulator.lap_m * 1e6) + " µm",
+    Series real{"simulated, opening " + fmt(settings.rig.regulator.opening_time_s * 1e3) +
+                    " ms / closing " + fmt(settings.rig.regulator.closing_time_s * 1e3) + " ms, overlap " +
+                    fmt(settings.rig.regulator.lap_m * 1e6) + " µm",
                 duty,
                 {},
                 kMain,
@@ -379,11 +381,11 @@ RunOutput run_system_a(const Scenario& sc) {
     for (std::size_t k = 1; k < duty.size() - 1; ++k)
       worst = std::max(
           worst,
-          std::abs(q_ideal_sim[k] / (sc.a.regulator.orifice.gain_per_m() * h * duty[k]) - 1.0));
+          std::abs(q_ideal_sim[k] / (settings.rig.regulator.orifice.gain_per_m() * h * duty[k]) - 1.0));
     s["metrics"]["regulator_ideal_flow_max_error_pct"] = 100.0 * worst;
     // Dead zone and saturation from the switching model, closed form against simulation:
     //   no flow while Δt < lap/v_open;  full flow once T − Δt < (h + lap)/v_close.
-    const auto& rp = sc.a.regulator;
+    const auto& rp = settings.rig.regulator;
     const double travel = rp.lap_m + rp.max_slot_m;
     const double dead_theory = rp.opening_time_s * rp.lap_m / travel * f;
     const double sat_theory = 1.0 - rp.closing_time_s * (h + rp.lap_m) / travel * f;
@@ -399,7 +401,7 @@ RunOutput run_system_a(const Scenario& sc) {
                   "); the spool stops closing between pulses from duty " + fmt(sat_theory, "%.4f") +
                   " (closed form; simulated " + fmt(sat_sim, "%.5f") + ")");
       rep.notes = claims.notes();
-  rep.note_ids = claims.note_ids();
+      rep.note_ids = claims.note_ids();
     }
   }
 
@@ -416,4 +418,4 @@ RunOutput run_system_a(const Scenario& sc) {
   return out;
 }
 
-}  // namespace lathectl::io
+}  // namespace lathectl::systems::a_pulse_feed

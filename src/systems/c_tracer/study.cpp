@@ -1,4 +1,4 @@
-#include "lathectl/io/system_c.hpp"
+#include "systems/c_tracer/study.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,10 +10,12 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
+#include "systems/c_tracer/settings.hpp"
 
-namespace lathectl::io {
+namespace lathectl::systems::c_tracer {
 
 namespace {
+using namespace io;
 using nlohmann::json;
 
 struct Run {
@@ -30,7 +32,7 @@ double nan_max_abs(std::span<const double> v, std::span<const double> x, double 
   return m;
 }
 
-void run_one(const Scenario& sc, sim::RigCConfig cfg, bool nonlinear, Run& r) {
+void run_one(const io::Scenario& sc, sim::RigCConfig cfg, bool nonlinear, Run& r) {
   cfg.nonlinear = nonlinear;
   configure_and_run(sc, r.rig, cfg);
   r.label = nonlinear ? "nonlinear servo" : "linear model (8)-(9)";
@@ -88,20 +90,22 @@ void run_one(const Scenario& sc, sim::RigCConfig cfg, bool nonlinear, Run& r) {
 }
 }  // namespace
 
-RunOutput run_system_c(const Scenario& sc) {
+io::RunOutput run(const io::Scenario& sc) {
+  using namespace io;
+  const Settings& st = sc.get<Settings>();
   std::vector<std::unique_ptr<Run>> runs;
   runs.push_back(std::make_unique<Run>());
-  run_one(sc, sc.c, sc.c.nonlinear, *runs.back());
-  if (!sc.c_compare.empty() && (sc.c_compare == "nonlinear") != sc.c.nonlinear) {
-    auto cfg = sc.c;
-    if (sc.c.nonlinear) {  // compare with the nonlinear servo's own linearisation
+  run_one(sc, st.rig, st.rig.nonlinear, *runs.back());
+  if (!st.compare.empty() && (st.compare == "nonlinear") != st.rig.nonlinear) {
+    auto cfg = st.rig;
+    if (st.rig.nonlinear) {  // compare with the nonlinear servo's own linearisation
       cfg.linear = runs.front()->rig.linearisation();
       cfg.linear.P0_N =
-          sc.c.coulomb_N +
-          (sc.c.blank_diameter_m > 0.0 ? runs.front()->rig.recorder().column("load_N")[0] : 0.0);
+          st.rig.coulomb_N +
+          (st.rig.blank_diameter_m > 0.0 ? runs.front()->rig.recorder().column("load_N")[0] : 0.0);
     }
     runs.push_back(std::make_unique<Run>());
-    run_one(sc, cfg, sc.c_compare == "nonlinear", *runs.back());
+    run_one(sc, cfg, st.compare == "nonlinear", *runs.back());
   }
   const Run& main = *runs.front();
   const auto lin = main.rig.linearisation();
@@ -109,15 +113,15 @@ RunOutput run_system_c(const Scenario& sc) {
 
   // The first cone's closed-form steady lag (on the linear(ised) model).
   double alpha = std::nan("");
-  for (const auto& f : sc.c.features)
+  for (const auto& f : st.rig.features)
     if (f.kind == "cone") {
-      const double y0 = sc.c.profile.y_at(f.x_start_m + 1e-12),
-                   y1 = sc.c.profile.y_at(f.x_end_m - 1e-12);
+      const double y0 = st.rig.profile.y_at(f.x_start_m + 1e-12),
+                   y1 = st.rig.profile.y_at(f.x_end_m - 1e-12);
       alpha = std::atan2(y1 - y0, f.x_end_m - f.x_start_m);
       break;
     }
   const double v_t =
-      std::isnan(alpha) ? 0.0 : v_pr * std::sin(alpha) / std::sin(alpha + sc.c.beta_rad);
+      std::isnan(alpha) ? 0.0 : v_pr * std::sin(alpha) / std::sin(alpha + st.rig.beta_rad);
   const double q_dyn = v_t / (lin.C0_per_s * lin.lever_ratio);  // the part beyond the setup offset
   const auto tr = lin.transient(0.0, v_t, v_t);
 
@@ -149,7 +153,7 @@ RunOutput run_system_c(const Scenario& sc) {
     s["comparison"] = {{"label", runs[1]->label}, {"metrics", metrics(*runs[1])}};
 
   Claims claims;
-  if (!std::isnan(alpha) && !sc.c.nonlinear) {
+  if (!std::isnan(alpha) && !st.rig.nonlinear) {
     // Steady error on the cone = (P0/E0 + V_k/C0)/i; with the setup on the first cylinder the
     // P0/E0 part is tuned out, leaving V_k/(C0·i).
     claims.add("linear: steady lag on the first cone, simulated / (V_k/C0)/i",
@@ -157,24 +161,24 @@ RunOutput run_system_c(const Scenario& sc) {
                std::abs(main.steady_lag_um / (q_dyn * 1e6) - 1.0) < 1e-3);
   }
   if (runs.size() > 1) {
-    const Run& nl = sc.c.nonlinear ? main : *runs[1];
-    const Run& li = sc.c.nonlinear ? *runs[1] : main;
+    const Run& nl = st.rig.nonlinear ? main : *runs[1];
+    const Run& li = st.rig.nonlinear ? *runs[1] : main;
     claims.note(
         "Cone waviness (peak-to-peak δy over each cone's second half): nonlinear " +
         fmt(nl.waviness_um) + " µm, linear " + fmt(li.waviness_um, "%.3g") + " µm" +
         (nl.waviness_um > 5.0 * std::max(li.waviness_um, 0.01)
              ? " — the falling friction makes the slide stick and slip; the linear model cannot."
              : "."));
-    if (sc.c.static_N > sc.c.coulomb_N)
+    if (st.rig.static_N > st.rig.coulomb_N)
       claims.add(
           "falling friction: cone waviness nonlinear / linear model (stick-slip the linearisation "
           "misses: > 5 and > 1 µm)",
           nl.waviness_um / std::max(li.waviness_um, 1e-3),
           nl.waviness_um > 1.0 && nl.waviness_um > 5.0 * li.waviness_um);
-    if (sc.c.overlap_m > 0.0 && !std::isnan(alpha)) {
+    if (st.rig.overlap_m > 0.0 && !std::isnan(alpha)) {
       // An extra lag u/i along d shows as δy = −(u/i)·sin(α+β)/cos α at equal x.
-      const double expect = sc.c.overlap_m / sc.c.linear.lever_ratio *
-                            std::sin(alpha + sc.c.beta_rad) / std::cos(alpha) * 1e6;
+      const double expect = st.rig.overlap_m / st.rig.linear.lever_ratio *
+                            std::sin(alpha + st.rig.beta_rad) / std::cos(alpha) * 1e6;
       claims.add("dead zone: extra |δy| on the slow cone against (u/i)·sin(α+β)/cos α = " +
                      fmt(expect) + " µm (ratio)",
                  (nl.max_dy_um - li.max_dy_um) / expect,
@@ -233,7 +237,7 @@ RunOutput run_system_c(const Scenario& sc) {
   // Profiles with the error magnified so it shows at the scale of the part.
   {
     double ymin = 1e300, ymax = -1e300;
-    for (double y : sc.c.profile.ys()) {
+    for (double y : st.rig.profile.ys()) {
       ymin = std::min(ymin, y);
       ymax = std::max(ymax, y);
     }
@@ -246,9 +250,9 @@ RunOutput run_system_c(const Scenario& sc) {
             {},
             {}};
     Series tpl{"template", {}, {}, "#555", true, false};
-    for (std::size_t i = 0; i < sc.c.profile.xs().size(); ++i) {
-      tpl.x.push_back(sc.c.profile.xs()[i] * 1e3);
-      tpl.y.push_back(sc.c.profile.ys()[i] * 1e3);
+    for (std::size_t i = 0; i < st.rig.profile.xs().size(); ++i) {
+      tpl.x.push_back(st.rig.profile.xs()[i] * 1e3);
+      tpl.y.push_back(st.rig.profile.ys()[i] * 1e3);
     }
     pp.series.push_back(tpl);
     for (std::size_t j = 0; j < runs.size(); ++j) {
@@ -263,7 +267,7 @@ RunOutput run_system_c(const Scenario& sc) {
       for (std::size_t i = 0; i < part.y.size(); ++i) part.y[i] += k * dy[i] * 1e-3;
       pp.series.push_back(part);
     }
-    for (const auto& f : sc.c.features) pp.markers.push_back({f.x_start_m * 1e3, f.kind});
+    for (const auto& f : st.rig.features) pp.markers.push_back({f.x_start_m * 1e3, f.kind});
     rep.plots.push_back(pp);
   }
   Plot pdy{"Radial error δy(x) at equal x", "x [mm]", "δy [µm]", {}, {}};
@@ -285,7 +289,7 @@ RunOutput run_system_c(const Scenario& sc) {
     pv.series.push_back({runs[j]->label, column(rec, "time_s"), column(rec, "slide_speed_mm_per_s"),
                          colors[j % 2], false, false});
   }
-  for (const auto& f : sc.c.features) {
+  for (const auto& f : st.rig.features) {
     pdy.markers.push_back({f.x_start_m * 1e3, f.kind});
     pdx.markers.push_back({f.x_start_m * 1e3, f.kind});
   }
@@ -303,4 +307,4 @@ RunOutput run_system_c(const Scenario& sc) {
   return out;
 }
 
-}  // namespace lathectl::io
+}  // namespace lathectl::systems::c_tracer

@@ -1,4 +1,4 @@
-#include "lathectl/sim/rig_c.hpp"
+#include "systems/c_tracer/rig.hpp"
 
 #include "lathectl/sim/config_error.hpp"
 

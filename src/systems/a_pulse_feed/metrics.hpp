@@ -1,0 +1,66 @@
+#pragma once
+// Metrics that answer system A's claims, computed from a finished run's recorded channels.
+// Definitions (also in the README):
+//   t_d        time the tool reaches the first disturbance (depth step or hardness change)
+//   S_ref      mean feed rate over the second before t_d (the feed the disturbance disturbs)
+//   feed_rate_deviation_pct         max |S(t) − S_ref| / S_ref after t_d, S the feed averaged
+//                                   over the scenario's feed window (pulse ripple removed)
+//   feed_rate_steady_deviation_pct  |mean S over the last 10 % of the run − S_ref| / S_ref
+//   force_settling_time_s           from t_d until the per-revolution mean force stays within
+//                                   5 % of the set force (NaN when it never does)
+//   feed_drift_pct                  mean S over the last 5 % of the run against 5–10 %
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "lathectl/sim/metrics.hpp"
+#include "systems/a_pulse_feed/rig.hpp"
+
+namespace lathectl::sim {
+
+struct MetricsA {
+  double feed_rate_programmed_mm_per_min = 0.0;
+  double feed_rate_mean_mm_per_min = 0.0;
+  double feed_rate_reference_mm_per_min = 0.0;
+  double feed_rate_deviation_pct = 0.0;
+  double feed_rate_steady_deviation_pct = 0.0;
+  double feed_drift_pct = 0.0;
+  double force_nominal_N = 0.0;
+  double force_peak_N = 0.0;
+  double force_setpoint_N = std::numeric_limits<double>::quiet_NaN();
+  double force_settling_time_s = std::numeric_limits<double>::quiet_NaN();
+  double force_final_error_pct = std::numeric_limits<double>::quiet_NaN();
+  double first_disturbance_s = std::numeric_limits<double>::quiet_NaN();
+  double flow_mean_cm3_per_min = 0.0;
+  double flow_formula_cm3_per_min =
+      std::numeric_limits<double>::quiet_NaN();  // seed (1), fixed h,f
+  double flow_formula_error_pct = std::numeric_limits<double>::quiet_NaN();
+  std::vector<AlarmEvent> alarms;
+  double first_alarm_delay_s = std::numeric_limits<double>::quiet_NaN();  // after the first fault
+  // Oil balance (RigA::volume_balance): travel not explained by the net inflow, and oil the
+  // model made or lost, both as % of the delivered volume.
+  double volume_balance_pct = 0.0;
+  double volume_conservation_error_pct = 0.0;
+};
+
+MetricsA compute_metrics_a(const RigA& rig);
+
+// Simulated mean flow of a pulsed regulator at slot h and frequency f for each pulse width,
+// over `periods` periods (the first discarded). Validates (1) and shows switching effects.
+std::vector<double> regulator_characteristic(const hydraulics::PulseRegulator::Params& p,
+                                             double slot_m, double frequency_Hz,
+                                             const std::vector<double>& pulse_widths_s,
+                                             int periods = 40);
+
+// Measured by bisection on the simulated regulator: the largest duty that gives no flow (dead
+// zone) and the smallest duty at which the spool no longer gets back to its closed position
+// between pulses (from there on the flow bends toward the continuous-opening value).
+struct SwitchingLimits {
+  double dead_zone_duty = 0.0;
+  double saturation_duty = 1.0;
+};
+SwitchingLimits regulator_switching_limits(const hydraulics::PulseRegulator::Params& p,
+                                           double slot_m, double frequency_Hz);
+
+}  // namespace lathectl::sim

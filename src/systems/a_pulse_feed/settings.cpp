@@ -1,0 +1,392 @@
+// System A's section reader: every key once, with its range, one line of meaning (the notes of
+// docs/scenario-reference.md) and its shop → SI factor; absent keys keep Settings' defaults.
+#include "systems/a_pulse_feed/settings.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "lathectl/io/sections.hpp"
+#include "lathectl/io/toml_reader.hpp"
+
+namespace lathectl::systems::a_pulse_feed {
+
+namespace {
+using control::PulseFeedController;
+using io::Param;
+using io::Range;
+using io::TableReader;
+
+constexpr double kMm = 1e-3;
+constexpr double kUm = 1e-6;
+constexpr double kMs = 1e-3;
+constexpr double kMPa = 1e6;
+constexpr double kCm3 = 1e-6;
+
+// Tables, arrays of tables and free strings have no Param: their line of meaning is attached to
+// the reference row while describing (check() records a message there; reading a file, it passes).
+void doc(const TableReader& t, std::string_view key, const std::string& text) {
+  t.check(!t.is_describing(), key, text);
+}
+
+// An optional choice without a default value: "" when absent (a choice's fallback must be one of
+// its choices, so an absent key is not asked for; describing, it is listed with fallback "").
+std::string pick_optional(TableReader& t, const io::Param& p,
+                          const std::vector<std::string>& choices) {
+  if (!t.has(p.key) && !t.is_describing()) return "";
+  return t.pick(p, choices, "");
+}
+
+void read_cutting(TableReader& root, const io::MaterialLibrary& lib, sim::RigAConfig& a,
+                  std::uint64_t seed) {
+  auto m = root.table("machine", true);
+  doc(root, "machine", "the lathe's spindle");
+  m->require({"spindle_rpm", {0.0, 20000.0, true, false}, "spindle speed n"}, a.spindle_rpm);
+  m->finish();
+
+  io::read_material_tool(root, lib, a.cutting);
+
+  auto part = root.table("part", true);
+  doc(root, "part", "the part and its disturbances along the slide's travel");
+  part->require({"diameter_mm", {0.0, 5000.0, true, false}, "sets the cutting speed", kMm},
+                a.diameter_m);
+  auto& d = a.part;
+  part->require({"depth_mm", {0.0, 50.0, true, false}, "depth of cut at the start"}, d.depth_mm);
+  part->read({"step_ramp_mm", Range::non_negative(), "travel over which a step is entered"},
+             d.step_ramp_mm);
+  part->read({"runout_mm", Range::closed(0, 20), "depth amplitude once per revolution"},
+             d.runout_mm);
+  part->read({"random_depth_sigma_mm", Range::closed(0, 10), "random allowance σ"},
+             d.random_sigma_mm);
+  part->read({"random_depth_correlation_mm", Range::positive(),
+              "correlation length of the random allowance"},
+             d.random_correlation_mm);
+  for (auto& s : part->tables("depth_steps")) {
+    cutting::ProfilePoint pt{};
+    s.require({"at_mm", Range::non_negative(), "travel where the step starts"}, pt.at_mm);
+    s.require({"depth_mm", Range::closed(0, 50), "depth of cut after the step"}, pt.value);
+    s.finish();
+    d.depth_steps.push_back(pt);
+  }
+  doc(*part, "depth_steps", "depth steps {at_mm, depth_mm}; at_mm strictly increasing");
+  for (auto& h : part->tables("hardness")) {
+    cutting::ProfilePoint pt{};
+    h.require({"at_mm", Range::non_negative(), "travel of the hardness point"}, pt.at_mm);
+    h.require({"factor",
+               {0.0, 10.0, true, false},
+               "multiplies the material's strength (force × factor^kmp_exponent)"},
+              pt.value);
+    h.finish();
+    d.hardness.push_back(pt);
+  }
+  doc(*part, "hardness",
+      "hardness points {at_mm, factor}, interpolated; at_mm strictly increasing");
+  for (std::size_t i = 1; i < d.depth_steps.size(); ++i)
+    part->check(d.depth_steps[i].at_mm > d.depth_steps[i - 1].at_mm, "depth_steps",
+                "at_mm must increase from step to step");
+  for (std::size_t i = 1; i < d.hardness.size(); ++i)
+    part->check(d.hardness[i].at_mm > d.hardness[i - 1].at_mm, "hardness",
+                "at_mm must increase from point to point");
+  if (auto w = part->table("wear")) {
+    doc(*part, "wear", "tool flank wear; the force factor is 1 + force_gain_per_mm·VB");
+    w->read({"initial_VB_mm", Range::closed(0, 2), "flank wear VB at the start"}, d.wear_VB0_mm);
+    w->read({"rate_mm_per_min", Range::closed(0, 1), "VB growth per minute in cut"},
+            d.wear_rate_mm_per_min);
+    w->read({"force_gain_per_mm", Range::closed(0, 20), "force factor growth per mm of VB"},
+            d.wear_force_gain_per_mm);
+    w->finish();
+  }
+  d.seed = seed;
+  part->finish();
+}
+
+void read_regulator(TableReader& root, sim::RigAConfig& a) {
+  auto r = root.table("regulator", true);
+  doc(root, "regulator", "discrete regulator 5, or the continuous throttle");
+  a.regulator_kind =
+      r->pick({"type", {}, "the pulsed regulator of the seed, or a continuous throttle"},
+              {"pulsed", "throttle"}) == "throttle"
+          ? sim::RegulatorKind::Throttle
+          : sim::RegulatorKind::Pulsed;
+  auto& o = a.regulator.orifice;
+  r->require({"spool_diameter_mm", {0.0, 100.0, true, false}, "d", kMm}, o.spool_diameter_m);
+  r->read({"discharge_coefficient", {0.0, 1.0, true, false}, "μ"}, o.discharge_coefficient);
+  r->require(
+      {"pressure_drop_MPa", {0.0, 50.0, true, false}, "Δp, held by the reducing valve РК", kMPa},
+      o.pressure_drop_Pa);
+  r->read({"oil_density_kg_per_m3", Range::closed(500, 1500), "ρ"}, o.density_kg_per_m3);
+  r->read({"pulse_width_ms", {0.0, 10000.0, true, false}, "Δt", kMs}, a.pulse_width_s);
+  r->read({"frequency_Hz", {0.0, 10000.0, true, false}, "1/T: fixed with AIM and without control"},
+          a.frequency_Hz);
+  r->read({"slot_mm", {0.0, 10.0, true, false}, "the fixed h of FIM", kMm}, a.slot_m);
+  r->read({"max_slot_mm", {0.0, 10.0, true, false}, "largest opening", kMm},
+          a.regulator.max_slot_m);
+  r->read({"overlap_mm", Range::closed(0, 5), "spool overlap: no flow below it", kMm},
+          a.regulator.lap_m);
+  r->read({"opening_time_ms", Range::closed(0, 1000), "valve opening time (full travel)", kMs},
+          a.regulator.opening_time_s);
+  r->read({"closing_time_ms", Range::closed(0, 1000), "valve closing time (full travel)", kMs},
+          a.regulator.closing_time_s);
+  r->check(a.pulse_width_s * a.frequency_Hz <= 1.0, "pulse_width_ms",
+           "pulse width × frequency exceeds 1 (pulse longer than period)");
+  r->check(a.slot_m <= a.regulator.max_slot_m, "slot_mm", "must not exceed max_slot_mm");
+  if (auto ob = r->table("obliteration")) {
+    doc(*r, "obliteration",
+        "silting: below the critical gap a layer grows toward layer_um; a wider opening clears it");
+    auto& p = a.regulator.obliteration;
+    ob->require({"layer_um", Range::closed(0, 100), "layer per wall it grows toward", kUm},
+                p.layer_max_m);
+    ob->require({"time_constant_min", {0.0, 1e4, true, false}, "growth time constant", 60.0},
+                p.time_constant_s);
+    ob->read(
+        {"critical_gap_um", Range::closed(0, 1000), "openings at or above it do not silt", kUm},
+        p.critical_gap_m);
+    ob->finish();
+  }
+  r->finish();
+}
+
+void read_eccentric(TableReader& root, sim::RigAConfig& a) {
+  auto& e = a.eccentric;
+  auto t = root.table("eccentric");
+  if (!t) {  // a circular profile from 0 to max_slot_mm, the drive's defaults
+    drives::EccentricDrive::circular_profile(0.0, a.regulator.max_slot_m / 2.0, 91, e);
+    return;
+  }
+  doc(root, "eccentric", "AIM actuator ЭД, Р and 8: a circular eccentric or a profile");
+  auto profile = t->pairs("profile", Range::closed(0, 360), Range::closed(0, 10));
+  doc(*t, "profile",
+      "[[deg, mm], …]: ≥ 2 points, both columns strictly increasing; not with eccentricity_mm");
+  if (!profile.empty()) {
+    t->check(!t->has("eccentricity_mm"), "eccentricity_mm",
+             "give either profile or eccentricity_mm");
+    e.profile_angle_rad.clear();
+    e.profile_slot_m.clear();
+    for (const auto& [deg, mm] : profile) {
+      e.profile_angle_rad.push_back(deg * std::numbers::pi / 180.0);
+      e.profile_slot_m.push_back(mm * kMm);
+    }
+    for (std::size_t i = 1; i < profile.size(); ++i)
+      t->check(profile[i].first > profile[i - 1].first && profile[i].second > profile[i - 1].second,
+               "profile", "angle and slot must both strictly increase (the profile is inverted)");
+    t->check(profile.size() >= 2, "profile", "at least two points expected");
+  } else {
+    // Shop units here: the circular profile is built from them (default: max_slot_mm / 2).
+    double ecc_mm = a.regulator.max_slot_m / 2e-3;
+    double base_mm = 0.0;
+    t->read(
+        {"eccentricity_mm", {0.0, 10.0, true, false}, "circular profile (default max_slot_mm/2)"},
+        ecc_mm);
+    t->read({"base_slot_mm", Range::closed(0, 10), "slot at angle 0 (circular profile)"}, base_mm);
+    drives::EccentricDrive::circular_profile(base_mm * kMm, ecc_mm * kMm, 91, e);
+  }
+  t->read({"gear_ratio", {0.0, 1e5, true, false}, "motor turns per eccentric turn"}, e.gear_ratio);
+  t->read({"motor_max_speed_rpm",
+           {0.0, 1e5, true, false},
+           "motor speed limit",
+           2.0 * std::numbers::pi / 60.0},
+          e.motor_max_speed_rad_per_s);
+  t->read({"motor_time_constant_ms", Range::closed(0, 10000), "motor time constant", kMs},
+          e.motor_time_constant_s);
+  t->read({"position_gain_per_s", {0.0, 1e5, true, false}, "K_v: eccentric speed per rad of error"},
+          e.position_gain_per_s);
+  t->finish();
+}
+
+void read_slide(TableReader& root, sim::RigAConfig& a) {
+  auto s = root.table("slide", true);
+  doc(root, "slide", "slide 2, cylinder 3 and damper 6");
+  auto& p = a.slide;
+  s->require({"piston_area_cm2", {0.0, 1e4, true, false}, "F", 1e-4}, p.piston_area_m2);
+  s->require({"dead_volume_cm3", {0.0, 1e6, true, false}, "chamber and line volume at x = 0", kCm3},
+             p.dead_volume_m3);
+  s->read({"oil_bulk_modulus_MPa", Range::closed(100, 1e5), "B of the oil", kMPa},
+          p.bulk_modulus_Pa);
+  // Converted as before the described reader (× cm³ ÷ 60 ÷ MPa, not × one factor): the same bits.
+  double leak = p.leak_m3_per_s_Pa / (kCm3 / 60.0 / kMPa);
+  s->read({"leak_cm3_per_min_per_MPa", Range::closed(0, 1e5), "K_leak: q_leak = K_leak·p_cylinder"},
+          leak);
+  if (s->has("leak_cm3_per_min_per_MPa")) p.leak_m3_per_s_Pa = leak * kCm3 / 60.0 / kMPa;
+  s->read(
+      {"damper_capacitance_cm3_per_MPa", Range::closed(0, 1e6), "0 means no damper", kCm3 / kMPa},
+      p.damper_capacitance_m3_per_Pa);
+  s->read({"damper_resistance_MPa_s_per_cm3", Range::closed(0, 1e6),
+           "must be > 0 when there is a damper", kMPa / kCm3},
+          p.damper_resistance_Pa_s_per_m3);
+  s->check(!(p.damper_capacitance_m3_per_Pa > 0.0) || p.damper_resistance_Pa_s_per_m3 > 0.0,
+           "damper_resistance_MPa_s_per_cm3", "a damper needs a resistance > 0");
+  s->require({"mass_kg", {0.0, 1e5, true, false}, "slide and tool"}, p.mass_kg);
+  s->read({"coulomb_friction_N", Range::closed(0, 1e6), "with stiction"}, p.coulomb_friction_N);
+  s->read({"viscous_friction_N_s_per_m", Range::closed(0, 1e9), "viscous friction b"},
+          p.viscous_friction_N_s_per_m);
+  s->finish();
+}
+
+void read_sensor(TableReader& root, sim::RigAConfig& a, std::uint64_t seed) {
+  auto s = root.table("sensor", true);
+  doc(root, "sensor", "inductive sensor Д");
+  auto& p = a.sensor;
+  s->require({"holder_stiffness_N_per_um", {0.0, 1e6, true, false}, "δ = Py/k", 1e6},
+             p.holder_stiffness_N_per_m);
+  s->require({"gain_V_per_um", {0.0, 1e3, true, false}, "U_D rises with Py", 1e6}, p.gain_V_per_m);
+  s->read({"offset_V", Range::closed(-100, 100), "U_D at zero force"}, p.offset_V);
+  s->read({"noise_mV", Range::closed(0, 1e4), "σ per sample", 1e-3}, p.noise_V);
+  s->read({"time_constant_ms", Range::closed(0, 1e4), "sensor lag τ_s", kMs}, p.time_constant_s);
+  s->read({"saturation_V", {0.0, 1000.0, true, false}, "the output is clamped to [0, saturation]"},
+          p.saturation_V);
+  p.seed = seed ^ 0x9E3779B97F4A7C15ULL;
+  s->finish();
+}
+
+void read_controller(TableReader& root, sim::RigAConfig& a) {
+  auto c = root.table("controller", true);
+  doc(root, "controller",
+      "read even with type = \"none\" (then it only matters for [compare] and [sweep])");
+  const std::string kind =
+      c->pick({"type", {}, "no control, AIM (amplitude-pulse) or FIM (frequency-pulse)"},
+              {"none", "aim", "fim"});
+  a.controller_kind = kind == "aim"   ? sim::ControllerKind::Aim
+                      : kind == "fim" ? sim::ControllerKind::Fim
+                                      : sim::ControllerKind::None;
+  auto& p = a.controller;
+  p.mode = c->pick({"mode", {}, "finishing holds the feed, roughing the force"},
+                   {"finishing", "roughing"}, "finishing") == "roughing"
+               ? PulseFeedController::Mode::Roughing
+               : PulseFeedController::Mode::Finishing;
+  c->require(
+      {"feed_mm_per_min", {0.0, 1e5, true, false}, "programmed feed, from the ЗПУ", kMm / 60.0},
+      p.feed_m_per_s);
+  if (p.mode == PulseFeedController::Mode::Roughing || c->is_describing())
+    c->require({"force_set_N",
+                {0.0, 1e6, true, false},
+                "roughing only, and required there; an unknown key in finishing"},
+               p.force_set_N);
+  c->read({"period_ms", {0.0, 1000.0, true, false}, "control period", kMs}, p.period_s);
+  c->read({"leak_estimate_factor", Range::closed(0, 10),
+           "the controller's K_leak as a multiple of the plant's"},
+          a.leak_estimate_factor);
+  c->read({"force_filter_ms", Range::closed(0, 1e4), "low-pass on the force estimate", kMs},
+          p.force_filter_s);
+  c->read({"compensate_compliance", {}, "finishing: add C·dP̂/dt/F (beyond the seed)"},
+          a.compensate_compliance);
+  c->read({"rate_filter_ms", Range::closed(0, 1e4), "low-pass on the force rate of that term", kMs},
+          p.rate_filter_s);
+  c->read({"kp", Range::closed(0, 100), "roughing PI: gain"}, p.kp);
+  c->read({"ti_s", Range::closed(0, 100), "roughing PI: integral time"}, p.ti_s);
+  c->read({"feed_min_fraction",
+           {0.0, 1.0, false, true},
+           "roughing: lowest feed as a fraction of the programmed feed"},
+          p.feed_min_fraction);
+  c->read({"slot_min_mm", Range::closed(0, 10), "AIM: smallest slot", kMm}, p.slot_min_m);
+  p.slot_max_m = a.regulator.max_slot_m;
+  c->read({"slot_max_mm", {0.0, 10.0, true, false}, "AIM: largest slot (default max_slot_mm)", kMm},
+          p.slot_max_m);
+  c->read({"frequency_min_Hz", Range::closed(0, 1e4), "FIM: lowest frequency"}, p.frequency_min_Hz);
+  c->read({"frequency_max_Hz", {0.0, 1e4, true, false}, "FIM: highest frequency"},
+          p.frequency_max_Hz);
+  c->read({"frequency_ramp_Hz_per_s", {0.0, 1e7, true, false}, "converter ПЧ ramp"},
+          p.frequency_ramp_Hz_per_s);
+  c->read({"duty_max", {0.0, 1.0, true, false}, "f·Δt limit"}, p.duty_max);
+  auto& mon = p.sensor_monitor;
+  c->read({"sensor_min_V", Range::any(), "plausible sensor range: lowest"}, mon.min);
+  mon.max = a.sensor.saturation_V + 0.5;
+  c->read({"sensor_max_V", Range::any(),
+           "plausible sensor range: highest (default saturation_V + 0.5)"},
+          mon.max);
+  c->read({"sensor_stuck_ms", Range::closed(0, 1e5), "unchanged this long: stuck", kMs},
+          mon.stuck_time_s);
+  c->read(
+      {"sensor_stuck_tolerance_V", Range::closed(0, 10), "a change at or below it counts as none"},
+      mon.stuck_tolerance);
+  mon.noise_sigma = a.sensor.noise_V;  // scale of the suspect (frozen) check
+  c->check(mon.min < mon.max, "sensor_max_V", "must exceed sensor_min_V");
+  c->check(p.slot_min_m < p.slot_max_m, "slot_max_mm", "must exceed slot_min_mm");
+  c->check(p.frequency_min_Hz < p.frequency_max_Hz, "frequency_max_Hz",
+           "must exceed frequency_min_Hz");
+  c->finish();
+}
+
+sim::ControllerKind controller_from(const std::string& s) {
+  return s == "aim"   ? sim::ControllerKind::Aim
+         : s == "fim" ? sim::ControllerKind::Fim
+                      : sim::ControllerKind::None;
+}
+
+void read_options(TableReader& root, Settings& st) {
+  auto& a = st.rig;
+  if (auto m = root.table("metrics")) {
+    doc(root, "metrics", "how the metrics are taken");
+    m->read({"feed_window_s",
+             {0.0, 100.0, true, false},
+             "window of the reported feed rate, rounded to whole pulse periods"},
+            a.feed_window_s);
+    m->finish();
+  }
+  if (auto cmp = root.table("compare")) {
+    doc(root, "compare", "a second run with another controller and/or regulator, overlaid");
+    Comparison c;
+    const std::string ctl = pick_optional(
+        *cmp, {"controller", {}, "a second run with this controller, overlaid in the report"},
+        {"none", "aim", "fim"});
+    if (!ctl.empty()) c.controller = controller_from(ctl);
+    const std::string reg = pick_optional(
+        *cmp, {"regulator", {}, "… or with this regulator; give at least one of the two"},
+        {"pulsed", "throttle"});
+    if (!reg.empty())
+      c.regulator = reg == "throttle" ? sim::RegulatorKind::Throttle : sim::RegulatorKind::Pulsed;
+    cmp->check(c.controller || c.regulator, "controller",
+               "give controller and/or regulator to compare with");
+    c.label = cmp->string("label", "");
+    doc(*cmp, "label", "the second run's name in the report (default: its controller)");
+    cmp->finish();
+    st.compare = c;
+  }
+  if (auto sw = root.table("sweep")) {
+    doc(root, "sweep", "reruns with the controller's K_leak estimate off by factors");
+    st.sweep_leak_estimate_factor = sw->numbers("leak_estimate_factor", Range::closed(0, 10), 1);
+    doc(*sw, "leak_estimate_factor",
+        "reruns with the controller's K_leak off by these factors");
+    sw->check(a.controller_kind != sim::ControllerKind::None, "leak_estimate_factor",
+              "a sweep of the controller's K_leak needs a controller");
+    sw->finish();
+  }
+  a.faults = io::read_faults(root);
+  doc(root, "fault", "sensor faults to inject");
+}
+
+}  // namespace
+
+std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenario& sc,
+                                                  const io::MaterialLibrary& lib) {
+  auto st = std::make_unique<Settings>();
+  auto& a = st->rig;
+  read_cutting(root, lib, a, sc.run.seed);
+  read_regulator(root, a);
+  read_eccentric(root, a);
+  read_slide(root, a);
+  read_sensor(root, a, sc.run.seed);
+  read_controller(root, a);
+  read_options(root, *st);
+  return st;
+}
+
+const io::Section kReadSection{"A", &read_settings, nullptr};
+
+std::string controller_kind_name(sim::ControllerKind k) {
+  switch (k) {
+    case sim::ControllerKind::Aim:
+      return "AIM (amplitude-pulse)";
+    case sim::ControllerKind::Fim:
+      return "FIM (frequency-pulse)";
+    case sim::ControllerKind::None:
+      return "no control";
+  }
+  return "?";
+}
+
+std::string regulator_kind_name(sim::RegulatorKind k) {
+  return k == sim::RegulatorKind::Throttle ? "continuous throttle" : "pulsed regulator";
+}
+
+}  // namespace lathectl::systems::a_pulse_feed

@@ -1,0 +1,23 @@
+// System C's registry entry: its reader, and the cross-checks that need the whole scenario (the
+// rig configured once as a probe, its rejection reported at the key it names).
+#include <stdexcept>
+
+#include "systems/c_tracer/rig.hpp"
+#include "systems/c_tracer/settings.hpp"
+
+namespace lathectl::systems::c_tracer {
+
+namespace {
+void validate(const io::Scenario& sc) {
+  sim::RigC probe;
+  try {
+    probe.configure(sc.get<Settings>().rig, sc.run.step_s, sc.run.record_interval_s);
+  } catch (const std::invalid_argument& e) {
+    io::throw_at_key(sc, e);
+  }
+}
+}  // namespace
+
+const io::Section kSection{"C", &read_settings, &validate};
+
+}  // namespace lathectl::systems::c_tracer

@@ -1,0 +1,28 @@
+#pragma once
+// System C (seed 002), the hydraulic tracer: its settings, as a scenario file gives them
+// ([machine], [slide], [template], [model], [linear], [servo], [friction], [cutting];
+// docs/scenario-reference.md). The defaults are the member initialisers (sim::RigCConfig): the
+// reader keeps them for an absent key.
+
+#include <memory>
+#include <string>
+
+#include "lathectl/io/scenario.hpp"
+#include "systems/c_tracer/rig.hpp"
+
+namespace lathectl::systems::c_tracer {
+
+struct Settings : io::SettingsOf<Settings> {
+  sim::RigCConfig rig;
+  std::string compare;  // [model] compare: "", "linear" or "nonlinear", a second run overlaid
+};
+
+// Reads C's tables into Settings (the common part, [run], is read before).
+std::unique_ptr<io::SystemSettings> read_settings(io::TableReader& root, io::Scenario& sc,
+                                                  const io::MaterialLibrary& lib);
+// The section reader alone (no rig probe).
+extern const io::Section kReadSection;
+// Reader and validation (the rig configured once as a probe): the registry's entry.
+extern const io::Section kSection;
+
+}  // namespace lathectl::systems::c_tracer
