@@ -139,17 +139,23 @@ std::set<std::string> common_keys(const std::vector<Described>& all) {
   return common;
 }
 
+// The common part alone: a section that reads nothing more, its `system` row naming them all.
+io::ParamLog common_log() {
+  constexpr io::Section kNothing{
+      "A", [](io::TableReader&, io::Scenario&,
+              const io::MaterialLibrary&) -> std::unique_ptr<io::SystemSettings> { return {}; }};
+  auto log = io::describe_section(kNothing, io::MaterialLibrary::load_default());
+  std::string ids;
+  for (const auto& s : systems::all()) ids += (ids.empty() ? "\"" : ", \"") + std::string(s.id) + "\"";
+  for (auto& r : log)
+    if (r.key == "system") r.range = "one of " + ids;
+  return log;
+}
+
 std::string scenario_reference(const std::string& name) {
+  if (name == "common") return tables_markdown(common_log(), {});
   const auto all = describe_all();
   const auto common = common_keys(all);
-  const auto described = std::find_if(all.begin(), all.end(),
-                                      [](const Described& d) { return d.error.empty(); });
-  const io::ParamLog none;
-  const io::ParamLog& some = described == all.end() ? none : described->log;
-  std::set<std::string> not_common;
-  for (const auto& r : some)
-    if (!common.count(r.key)) not_common.insert(r.key);
-  if (name == "common") return tables_markdown(some, not_common);
   std::string out;
   for (const auto& d : all) {
     if (!name.empty() && d.system->id != name) continue;
@@ -166,7 +172,7 @@ std::string scenario_reference(const std::string& name) {
     for (const auto& s : systems::all()) known += ", " + std::string(s.id);
     throw io::InputError("reference scenario: no system '" + name + "' (common" + known + ")");
   }
-  if (name.empty()) out = "## Common tables\n\n" + tables_markdown(some, not_common) + out;
+  if (name.empty()) out = "## Common tables\n\n" + tables_markdown(common_log(), {}) + out;
   return out;
 }
 
