@@ -23,6 +23,7 @@ struct Args {  // shop units, as the flags; none has a default
   Opt Vp, Sp, yv, S;           // V_opt group [m/min, mm/rev, -, mm/rev]
   Opt Cv, m, xv, t, s, V, T;  // tool-life groups: Cv, m, xv [-], t [mm], s [mm/rev], V, T
   Opt F, n;                    // feed per revolution group [mm/min, rpm]
+  Opt D;                       // workpiece diameter [mm] → spindle speed for V_opt
   std::string material;
   bool json = false;
 };
@@ -45,14 +46,17 @@ const Input<Args> kInputs[] = {
     {"--F", {"F_mm_per_min", kPos, "feed rate F"}, "mm/min", &Args::F,
      "(with --n → feed per revolution)"},
     {"--n", {"n_rpm", kPos, "spindle speed n"}, "rpm", &Args::n},
+    {"--D-mm", {"D_mm", kPos, "workpiece diameter D"}, "mm", &Args::D,
+     "(with V_opt → its spindle speed)"},
 };
 
 struct Result {
-  Opt v_opt, life, v_life, feed;
+  Opt v_opt, n_opt, life, v_life, feed;
 };
 // Shop units only (the handbook's), under "results" in the JSON.
 const Output<Result> kOutputs[] = {
     {"optimal cutting speed V_opt", "", "", "V_opt_m_per_min", "m/min", 1, &Result::v_opt},
+    {"spindle speed n = 1000·V_opt/(π·D)", "", "", "n_opt_rpm", "rpm", 1, &Result::n_opt},
     {"tool life T at V", "", "", "tool_life_min", "min", 1, &Result::life},
     {"speed V_T for the target life", "", "", "speed_for_life_m_per_min", "m/min", 1,
      &Result::v_life},
@@ -149,6 +153,7 @@ int compute(const Args& a) {
   Result r;
   try {
     if (do_opt) r.v_opt = design::optimal_speed(*a.Vp, *a.Sp, *c_opt.yv, *a.S);
+    if (r.v_opt && a.D) r.n_opt = 1000.0 * *r.v_opt / (3.14159265358979323846 * *a.D);
     if (do_life)
       r.life =
           design::tool_life_min(*c_life.Cv, *c_life.m, *c_life.xv, *c_life.yv, *a.V, *a.t, *a.s);
@@ -202,10 +207,11 @@ int compute(const Args& a) {
     std::printf("  V_opt = V_p·(S_p/S)^yv with yv = %g (%s)\n", *c_opt.yv,
                 a.yv ? "options" : source(c_opt).c_str());
   row(kOutputs[0]);
+  row(kOutputs[1]);
   if (do_life || do_speed)
     std::printf("  V = Cv/(T^m·t^xv·s^yv) with Cv = %g, m = %g, xv = %g, yv = %g (%s)\n",
                 *c_life.Cv, *c_life.m, *c_life.xv, *c_life.yv, source(c_life).c_str());
-  for (std::size_t k = 1; k < std::size(kOutputs); ++k) row(kOutputs[k]);
+  for (std::size_t k = 2; k < std::size(kOutputs); ++k) row(kOutputs[k]);
   return 0;
 }
 

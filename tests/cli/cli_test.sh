@@ -85,6 +85,14 @@ assert abs(j["results"]["V_opt_m_per_min"] - 191.184) < 1e-3, j["results"]
 assert j["inputs"]["Vp_m_per_min"] == 150 and j["inputs"]["S_mm_per_rev"] == 0.15, j["inputs"]
 assert set(j["results"]) == {"V_opt_m_per_min"}, j["results"]  # only the complete group
 PY
+# the spindle speed for V_opt on a Ø80 mm part: n = 1000·191.184/(π·80) = 191184/251.3274 = 760.697 rpm
+expect_rc 0 "adaptive-speed spindle speed" $bin design adaptive-speed --Vp 150 --Sp 0.3 --yv 0.35 --S 0.15 --D-mm 80 --json
+python3 - "$work/out.txt" <<'PY' || bad "adaptive-speed spindle speed json: $(cat "$work/out.txt")"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert abs(j["results"]["n_opt_rpm"] - 760.697) < 1e-3, j["results"]
+assert j["inputs"]["D_mm"] == 80, j["inputs"]
+PY
 # Handbook (Kosilova & Meshcheryakov, vol. 2, table 17), steel 45, T15K6, s <= 0.7 mm/rev:
 # Cv = 350, xv = 0.15, yv = 0.35, m = 0.2; t = 3 mm, s = 0.5 mm/rev, T = 60 min:
 # V = 350/(60^0.2·3^0.15·0.5^0.35) = 350/(2.267933·1.179148·0.784584) = 350/2.098157 = 166.813 m/min;
