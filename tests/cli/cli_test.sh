@@ -439,6 +439,24 @@ done
 left=$(ls -A "$work" | grep -E '^set\.(tmp|old)-'; ls -A "$work/set" | grep -E '\.tmp[.-]')
 [ -z "$left" ] || bad "after kill -9: temporaries left: $left"
 
+# reference: the tables generated from the one description of each key and calculator input
+expect_rc 0 "reference design tracer" $bin reference design tracer
+grep -q '^| `--E0` | `E0_N_per_mm` | N per mm of spool opening | > 0 | 2000 | stiffness E0' "$work/out.txt" || bad "reference design tracer: $(head -5 "$work/out.txt")"
+grep -q '^| settling time (2 %) | `settling_time_s` \[s\] | `settling_time_ms` \[ms\] |$' "$work/out.txt" || bad "reference design tracer outputs: $(cat "$work/out.txt")"
+expect_rc 0 "reference scenario common" $bin reference scenario common
+grep -q '^| `step_s` | number | s | \[1e-07, 0.01\] | 0.0001 | fixed integration step |$' "$work/out.txt" || bad "reference scenario common: $(cat "$work/out.txt")"
+expect_rc 2 "reference unknown system" $bin reference scenario Z
+grep -qx "error: reference scenario: no system 'Z' (common, A, B, C, D, E)" "$work/err.txt" || bad "reference unknown system: $(cat "$work/err.txt")"
+expect_rc 2 "reference unknown calculator" $bin reference design lathe
+# a stale generated block is found, named, and --update brings it back
+mkdir -p "$work/docs"; cp "$src"/docs/*.md "$work/docs/"
+sed -i 's/| `--E0` | `E0_N_per_mm` |/| `--E0` | `E0_stale` |/' "$work/docs/system-c-tracer.md"
+expect_rc 1 "reference --check stale" $bin reference --check "$work/docs"
+grep -q "system-c-tracer.md: generated block 'lathectl reference design tracer' is out of date" "$work/out.txt" || bad "stale block message: $(cat "$work/out.txt")"
+grep -q "^run: lathectl reference --update $work/docs$" "$work/out.txt" || bad "stale block: no update command: $(cat "$work/out.txt")"
+expect_rc 0 "reference --update" $bin reference --update "$work/docs"
+diff -r "$src/docs" "$work/docs" >/dev/null || bad "reference --update did not restore the block: $(diff -r "$src/docs" "$work/docs" | head -5)"
+
 # inputs the fuzzer once crashed on: each must be a clean input error now
 for f in "$src"/tests/cli/fuzz_regressions/*.toml; do expect_rc 2 "fuzz regression $(basename "$f")" $bin check "$f"; done
 
