@@ -14,7 +14,7 @@ expect_rc() {  # expected_rc description command...
 }
 
 # --help on every command
-for c in "" run check demo lobes design "design pulse-regulator" "design adaptive-speed" "design gauge" "design tracer"; do
+for c in "" run check demo lobes design reference "design pulse-regulator" "design adaptive-speed" "design gauge" "design tracer"; do
   expect_rc 0 "--help for '$c'" $bin $c --help
 done
 # every example validates
@@ -84,6 +84,14 @@ j = json.load(open(sys.argv[1]))
 assert abs(j["results"]["V_opt_m_per_min"] - 191.184) < 1e-3, j["results"]
 assert j["inputs"]["Vp_m_per_min"] == 150 and j["inputs"]["S_mm_per_rev"] == 0.15, j["inputs"]
 assert set(j["results"]) == {"V_opt_m_per_min"}, j["results"]  # only the complete group
+PY
+# the spindle speed for V_opt on a Ø80 mm part: n = 1000·191.184/(π·80) = 191184/251.3274 = 760.697 rpm
+expect_rc 0 "adaptive-speed spindle speed" $bin design adaptive-speed --Vp 150 --Sp 0.3 --yv 0.35 --S 0.15 --D-mm 80 --json
+python3 - "$work/out.txt" <<'PY' || bad "adaptive-speed spindle speed json: $(cat "$work/out.txt")"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert abs(j["results"]["n_opt_rpm"] - 760.697) < 1e-3, j["results"]
+assert j["inputs"]["D_mm"] == 80, j["inputs"]
 PY
 # Handbook (Kosilova & Meshcheryakov, vol. 2, table 17), steel 45, T15K6, s <= 0.7 mm/rev:
 # Cv = 350, xv = 0.15, yv = 0.35, m = 0.2; t = 3 mm, s = 0.5 mm/rev, T = 60 min:
@@ -353,7 +361,7 @@ for c in "coarse_a.toml:9:[0-9]*: key 'run.step_s': step_s .* too coarse" \
 done
 # command line: one line, the command and the flag named
 expect_rc 2 "unknown command" $bin frobnicate
-grep -qx "error: unknown command 'frobnicate' (run, check, demo, lobes, design)" "$work/err.txt" || bad "unknown command: $(cat "$work/err.txt")"
+grep -qx "error: unknown command 'frobnicate' (run, check, demo, lobes, design, reference)" "$work/err.txt" || bad "unknown command: $(cat "$work/err.txt")"
 one_line "unknown command"
 expect_rc 2 "unknown design command" $bin design frob
 grep -qx "error: unknown command 'design frob' (pulse-regulator, adaptive-speed, gauge, tracer)" "$work/err.txt" || bad "unknown design command: $(cat "$work/err.txt")"
@@ -430,6 +438,24 @@ for delay in 0.05 0.1 0.15 0.2 0.25 0.3 0.35 0.4; do
 done
 left=$(ls -A "$work" | grep -E '^set\.(tmp|old)-'; ls -A "$work/set" | grep -E '\.tmp[.-]')
 [ -z "$left" ] || bad "after kill -9: temporaries left: $left"
+
+# reference: the tables generated from the one description of each key and calculator input
+expect_rc 0 "reference design tracer" $bin reference design tracer
+grep -q '^| `--E0` | `E0_N_per_mm` | N per mm of spool opening | > 0 | 2000 | stiffness E0' "$work/out.txt" || bad "reference design tracer: $(head -5 "$work/out.txt")"
+grep -q '^| settling time (2 %) | `settling_time_s` \[s\] | `settling_time_ms` \[ms\] |$' "$work/out.txt" || bad "reference design tracer outputs: $(cat "$work/out.txt")"
+expect_rc 0 "reference scenario common" $bin reference scenario common
+grep -q '^| `step_s` | number | s | \[1e-07, 0.01\] | 0.0001 | fixed integration step |$' "$work/out.txt" || bad "reference scenario common: $(cat "$work/out.txt")"
+expect_rc 2 "reference unknown system" $bin reference scenario Z
+grep -qx "error: reference scenario: no system 'Z' (common, A, B, C, D, E)" "$work/err.txt" || bad "reference unknown system: $(cat "$work/err.txt")"
+expect_rc 2 "reference unknown calculator" $bin reference design lathe
+# a stale generated block is found, named, and --update brings it back
+mkdir -p "$work/docs"; cp "$src"/docs/*.md "$work/docs/"
+sed -i 's/| `--E0` | `E0_N_per_mm` |/| `--E0` | `E0_stale` |/' "$work/docs/system-c-tracer.md"
+expect_rc 1 "reference --check stale" $bin reference --check "$work/docs"
+grep -q "system-c-tracer.md: generated block 'lathectl reference design tracer' is out of date" "$work/out.txt" || bad "stale block message: $(cat "$work/out.txt")"
+grep -q "^run: lathectl reference --update $work/docs$" "$work/out.txt" || bad "stale block: no update command: $(cat "$work/out.txt")"
+expect_rc 0 "reference --update" $bin reference --update "$work/docs"
+diff -r "$src/docs" "$work/docs" >/dev/null || bad "reference --update did not restore the block: $(diff -r "$src/docs" "$work/docs" | head -5)"
 
 # inputs the fuzzer once crashed on: each must be a clean input error now
 for f in "$src"/tests/cli/fuzz_regressions/*.toml; do expect_rc 2 "fuzz regression $(basename "$f")" $bin check "$f"; done

@@ -82,8 +82,8 @@ done
 while IFS= read -r line; do
   n=$(grep -oiE 'seed 00[0-9]' <<<"$line" | head -n 1 | grep -oE '00[0-9]')
   p=$(page_of_seed "$n")
-  [ -n "$p" ] && check_numbers "$p" "apps/lathectl/main.cpp ('${line:0:60}…')" "$line"
-done < <(grep -iE 'seed 00[0-9]' apps/lathectl/main.cpp | grep -vE '^\s*//')
+  [ -n "$p" ] && check_numbers "$p" "apps/lathectl ('${line:0:60}…')" "$line"
+done < <(grep -hiE 'seed 00[0-9]' apps/lathectl/*.cpp | grep -vE '^\s*//')
 
 # 4b. Block numbers named in reports, --help and man pages are named in docs/.
 blocks='(sensor|ADC|setter|detector|amplifier|block|comparator|divider|multiplier|compensator|switch|adder|regulator|eccentric|limiter|computer|electromagnet|probe|filter|rectifier|generator) [0-9]+'
@@ -100,7 +100,7 @@ done
 # 6. The built program.
 if [ -n "$bin" ]; then
   work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
-  for c in "" run check demo lobes design "design pulse-regulator" "design adaptive-speed" \
+  for c in "" run check demo lobes design reference "design pulse-regulator" "design adaptive-speed" \
       "design gauge" "design tracer"; do
     # shellcheck disable=SC2086
     h=$("$bin" $c --help 2>&1)

@@ -1,0 +1,51 @@
+#pragma once
+// What the commands of lathectl share: how each adds itself to the program, where the docs are,
+// and the exit codes. main.cpp parses the command line and runs the command chosen.
+// Exit codes: 0 success, 1 internal failure, 2 bad input (one clear message), 3 `--strict` and a
+// claim not met, an alarm raised or a part not finished.
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace lathectl::cli {
+
+constexpr int kBadInput = 2;
+constexpr int kStrictFailure = 3;  // --strict: a claim not met, an alarm or an unfinished part
+
+// A command: its (sub)command and what it does once the command line is parsed and chosen.
+struct Command {
+  CLI::App* app;
+  std::function<int()> run;
+};
+using Commands = std::vector<Command>;
+
+// "docs/PAGE in the lathectl sources (installed: /usr/share/doc/lathectl/docs/PAGE)".
+std::string doc(const std::string& page);
+
+// One line for a command-line error CLI11 reports: the command it concerns, an unknown command
+// named with the ones there are, a rejected value as "--flag VALUE: expected ... (what it is)".
+std::string command_line_error(const CLI::App& app, const CLI::ParseError& e, int argc,
+                               char** argv);
+
+// The commands, one file each.
+void add_run(CLI::App& app, Commands& out);
+void add_check(CLI::App& app, Commands& out);
+void add_demo(CLI::App& app, Commands& out);
+void add_lobes(CLI::App& app, Commands& out);
+void add_design(CLI::App& app, Commands& out);
+void add_reference(CLI::App& app, Commands& out);
+
+// The design calculators (design_<name>.cpp each; design.cpp lists them): the subcommand, and
+// the inputs and outputs as Markdown for `lathectl reference design`.
+struct Calculator {
+  const char* name;         // "pulse-regulator"
+  const char* description;  // the --help line and the reference's heading text
+  void (*add)(CLI::App& sub, Commands& out);  // options and action of the subcommand `name`
+  std::string (*reference)();
+};
+extern const Calculator kPulseRegulator, kAdaptiveSpeed, kGauge, kTracer;
+const std::vector<const Calculator*>& calculators();
+
+}  // namespace lathectl::cli

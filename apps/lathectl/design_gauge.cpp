@@ -1,0 +1,183 @@
+// `lathectl design gauge`: seed 003's linearised vibro-contact gauging, (20)-(25)
+// (design/vibro_gauge.hpp). Every input and output is one row below.
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+
+#include "calculator.hpp"
+#include "cli.hpp"
+#include "lathectl/design/vibro_gauge.hpp"
+#include "lathectl/io/errors.hpp"
+
+namespace lathectl::cli {
+namespace {
+
+using io::Range;
+
+struct Args {  // shop units, as the flags; the initial values are the defaults
+  double supply_V = 24.0, supply_Hz = 50.0, coil_turns = 1000.0, coil_ohm = 50.0, coil_H = 0.5;
+  double force_coeff_N_per_Wb2 = 2.11e8;
+  double probe_mass_g = 20.0;
+  double probe_damping_N_s_per_m = 1.382;
+  double probe_stiffness_N_per_mm = 9.554;
+  double generator_V_per_m_per_s = 50.0;
+  double generator_ms = 0.2, filter_ms = 100.0, relay_ms = 20.0;
+  double allowance_um = 250.0, removal_um_per_s = 20.0, target_um = 100.0;
+  double noise_sigma_um = 2.0, noise_beta_per_s = 5.0;
+  std::optional<double> tolerance_um;
+  bool json = false;
+};
+
+const Range kPos = Range::positive(), kNonNeg = Range::non_negative();
+const Input<Args> kInputs[] = {
+    {"--supply-V", {"supply_V", kPos, "electromagnet supply amplitude V"}, "V", &Args::supply_V},
+    {"--supply-Hz", {"supply_Hz", kPos, "supply frequency ω/2π"}, "Hz", &Args::supply_Hz,
+     "(the probe runs at 2ω)"},
+    {"--coil-turns", {"coil_turns", kPos, "electromagnet coil turns W"}, "", &Args::coil_turns},
+    {"--coil-ohm", {"coil_ohm", kPos, "coil resistance r"}, "Ω", &Args::coil_ohm},
+    {"--coil-H", {"coil_H", kPos, "coil inductance L"}, "H", &Args::coil_H},
+    {"--force-coeff", {"force_coeff_N_per_Wb2", kPos, "magnet force coefficient a, F = a·Φ²"},
+     "N/Wb²", &Args::force_coeff_N_per_Wb2},
+    {"--probe-mass-g", {"probe_mass_g", kPos, "probe mass M"}, "g", &Args::probe_mass_g},
+    {"--probe-damping", {"probe_damping_N_s_per_m", kNonNeg, "probe damping h"}, "N·s/m",
+     &Args::probe_damping_N_s_per_m},
+    {"--probe-stiffness-N-per-mm",
+     {"probe_stiffness_N_per_mm", kPos, "probe spring stiffness k"}, "N/mm",
+     &Args::probe_stiffness_N_per_mm},
+    {"--generator", {"generator_V_per_m_per_s", kPos, "sensor-generator constant K_g"},
+     "V per m/s", &Args::generator_V_per_m_per_s},
+    {"--generator-ms", {"generator_ms", kNonNeg, "generator time constant T_g"}, "ms",
+     &Args::generator_ms},
+    {"--filter-ms", {"filter_ms", kPos, "smoothing filter time constant T_f"}, "ms",
+     &Args::filter_ms},
+    {"--relay-ms", {"relay_ms", kNonNeg, "relay/command response time t_r"}, "ms",
+     &Args::relay_ms},
+    {"--allowance-um", {"allowance_um", kPos, "controlled allowance at the start m_x"}, "µm",
+     &Args::allowance_um},
+    {"--removal-um-per-s", {"removal_um_per_s", kPos, "removal rate a"}, "µm/s",
+     &Args::removal_um_per_s},
+    {"--target-um", {"target_um", kNonNeg, "final controlled size x_k"}, "µm", &Args::target_um},
+    {"--noise-sigma-um", {"noise_sigma_um", kNonNeg, "disturbance σ = sqrt(D)"}, "µm",
+     &Args::noise_sigma_um},
+    {"--noise-beta",
+     {"noise_beta_per_s", kNonNeg, "disturbance correlation decay β, R = D·e^(−β|τ|)"}, "1/s",
+     &Args::noise_beta_per_s},
+    {"--tolerance-um", {"tolerance_um", kPos, "± size tolerance"}, "µm", &Args::tolerance_um,
+     "→ also Cp = 2·tol/(6·σ_x)"},
+};
+
+struct Result : design::GaugeResult {
+  double sigma_y_V = 0.0;     // sqrt(D_y)
+  std::optional<double> Cp;  // with a tolerance
+};
+const Output<Result> kOutputs[] = {
+    {"free amplitude A0 (max allowance)", "A0_m", "m", "A0_um", "µm", 1e6,
+     &Result::free_amplitude_m},
+    {"static probe offset", "static_offset_m", "m", "static_offset_um", "µm", 1e6,
+     &Result::static_offset_m},
+    {"signal gain K", "K_V_per_m", "V/m", "K_mV_per_um", "mV/µm", 1e-3,
+     &Result::signal_gain_V_per_m},
+    {"intercept B0/q1 (20)", "intercept_m", "m", "intercept_um", "µm", 1e6, &Result::intercept_m},
+    {"signal at target K·(A0 − x_k)", "S_target_V", "V", "S_target_V", "V", 1,
+     &Result::signal_at_target_V},
+    {"threshold S_th (23)", "S_th_V", "V", "S_th_V", "V", 1, &Result::threshold_V},
+    {"end of cut t_k (22)", "t_k_s", "s", "t_k_s", "s", 1, &Result::end_time_s},
+    {"signal noise D_y (25)", "D_y_V2", "V²", "D_y_V2", "V²", 1, &Result::noise_variance_V2},
+    {"signal noise σ_y = sqrt(D_y)", "sigma_y_V", "V", "sigma_y_mV", "mV", 1e3, &Result::sigma_y_V},
+    {"size scatter σ_x", "sigma_x_m", "m", "sigma_x_um", "µm", 1e6, &Result::size_sigma_m},
+    {"Cp = 2·tol/(6·σ_x)", "Cp", "", "Cp", "", 1, &Result::Cp},
+};
+
+int compute(const Args& a) {
+  const std::string who = "design gauge: ";
+  design::GaugeInput in;
+  in.supply_V = a.supply_V;
+  in.supply_Hz = a.supply_Hz;
+  in.coil_turns = a.coil_turns;
+  in.coil_resistance_ohm = a.coil_ohm;
+  in.coil_inductance_H = a.coil_H;
+  in.force_coefficient_N_per_Wb2 = a.force_coeff_N_per_Wb2;
+  in.probe_mass_kg = a.probe_mass_g * 1e-3;
+  in.probe_damping_N_s_per_m = a.probe_damping_N_s_per_m;
+  in.probe_stiffness_N_per_m = a.probe_stiffness_N_per_mm * 1e3;
+  in.generator_V_per_m_per_s = a.generator_V_per_m_per_s;
+  in.generator_time_constant_s = a.generator_ms * 1e-3;
+  in.filter_time_constant_s = a.filter_ms * 1e-3;
+  in.relay_response_s = a.relay_ms * 1e-3;
+  in.allowance_m = a.allowance_um * 1e-6;
+  in.removal_m_per_s = a.removal_um_per_s * 1e-6;
+  in.target_m = a.target_um * 1e-6;
+  in.noise_variance_m2 = a.noise_sigma_um * a.noise_sigma_um * 1e-12;
+  in.noise_beta_per_s = a.noise_beta_per_s;
+  char buf[256];
+  if (!(a.target_um < a.allowance_um)) {
+    std::snprintf(buf, sizeof buf,
+                  "--target-um (%g) must be below --allowance-um (%g): nothing to remove",
+                  a.target_um, a.allowance_um);
+    throw io::InputError(who + buf);
+  }
+  Result r;
+  try {
+    static_cast<design::GaugeResult&>(r) = design::gauge(in);
+  } catch (const std::invalid_argument& e) {
+    throw io::InputError(who + e.what());
+  }
+  if (!(r.threshold_V > 0.0)) {
+    std::snprintf(
+        buf, sizeof buf,
+        "no usable threshold: S_th = %.4g V <= 0, since x_k + a·(T_f + t_r) = %.4g µm "
+        "reaches the free amplitude A0 = %.4g µm",
+        r.threshold_V,
+        (in.target_m + in.removal_m_per_s * (in.filter_time_constant_s + in.relay_response_s)) *
+            1e6,
+        r.free_amplitude_m * 1e6);
+    throw io::InputError(who + buf);
+  }
+  if (in.allowance_m > r.free_amplitude_m)
+    std::cerr << "note: allowance " << a.allowance_um
+              << " µm exceeds the largest measurable A0 = " << r.free_amplitude_m * 1e6
+              << " µm; the gauge reads nothing until x < A0\n";
+  r.sigma_y_V = std::sqrt(r.noise_variance_V2);
+  if (a.tolerance_um)  // unbounded without noise (JSON null)
+    r.Cp = r.size_sigma_m > 0.0 ? 2.0 * *a.tolerance_um * 1e-6 / (6.0 * r.size_sigma_m)
+                                : std::numeric_limits<double>::infinity();
+  if (a.json) {
+    nlohmann::json j;
+    j["inputs"] = inputs_json<Args>(a, kInputs);
+    outputs_json<Result>(j, r, kOutputs);
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  print_header("Vibro-contact in-process gauge (seed 003, linearised (20)-(25))");
+  print_outputs<Result>(r, kOutputs);
+  return 0;
+}
+
+void add(CLI::App& sub, Commands& out) {
+  auto a = std::make_shared<Args>();
+  sub.footer("Seed 003 and its formulas (20)-(25): " + doc("system-d-gauging.md") + ".");
+  auto bound = add_inputs<Args>(sub, *a, kInputs);
+  sub.add_flag("--json", a->json, "print JSON (inputs, SI and shop units)");
+  out.push_back({&sub, [a, bound] {
+                   bound->apply(*a);
+                   return compute(*a);
+                 }});
+}
+
+std::string reference() {
+  return "Inputs:\n\n" + inputs_markdown<Args>(kInputs) + "\nResults (`--json`: `si` and " +
+         "`shop`):\n\n" + outputs_markdown<Result>(kOutputs);
+}
+
+}  // namespace
+
+const Calculator kGauge{
+    "gauge",
+    "Seed 003: vibro-contact in-process gauge — free amplitude A0, gain K, threshold S_th (23), "
+    "end time t_k (22), filtered noise D_y (25), size scatter σ_x and Cp",
+    &add, &reference};
+
+}  // namespace lathectl::cli

@@ -1,0 +1,117 @@
+// `lathectl design pulse-regulator`: seed 000's pulsed flow regulator, formulas (1)-(7)
+// (design/pulse_regulator.hpp). Every input and output is one row below.
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+
+#include "calculator.hpp"
+#include "cli.hpp"
+#include "lathectl/design/pulse_regulator.hpp"
+#include "lathectl/io/errors.hpp"
+
+namespace lathectl::cli {
+namespace {
+
+using io::Range;
+
+struct Args {  // shop units, as the flags; the initial values are the defaults
+  double d_mm = 8, h_mm = 0.04, dp_MPa = 0.5, rho_kg_per_m3 = 870, mu = 0.65, dt_ms = 10;
+  std::optional<double> T_ms, f_Hz;
+  double F_cm2 = 20, leak_cm3_per_min_per_MPa = 0, Py_N = 0, dPy_N = 0;
+  bool json = false;
+};
+
+const Input<Args> kInputs[] = {
+    {"--d-mm", {"d_mm", Range::positive(), "spool diameter d"}, "mm", &Args::d_mm},
+    {"--h-mm", {"h_mm", Range::positive(), "slot opening h"}, "mm", &Args::h_mm},
+    {"--dp-MPa", {"dp_MPa", Range::positive(), "pressure drop Δp across the regulator"}, "MPa",
+     &Args::dp_MPa},
+    {"--rho", {"rho_kg_per_m3", Range::positive(), "oil density ρ"}, "kg/m³",
+     &Args::rho_kg_per_m3},
+    {"--mu", {"mu", Range{0.0, 1.0, true, false}, "discharge coefficient μ"}, "", &Args::mu},
+    {"--dt-ms", {"dt_ms", Range::positive(), "pulse width Δt"}, "ms", &Args::dt_ms},
+    {"--T-ms", {"T_ms", Range::positive(), "pulse period T"}, "ms", &Args::T_ms},
+    {"--f-Hz", {"f_Hz", Range::positive(), "pulse frequency f"}, "Hz", &Args::f_Hz,
+     "(instead of T)"},
+    {"--F-cm2", {"F_cm2", Range::positive(), "effective piston area F"}, "cm²", &Args::F_cm2},
+    {"--leak", {"leak_cm3_per_min_per_MPa", Range::non_negative(), "leakage K_leak"},
+     "cm³/min per MPa", &Args::leak_cm3_per_min_per_MPa},
+    {"--Py", {"Py_N", Range::any(), "radial cutting force Py"}, "N", &Args::Py_N},
+    {"--dPy", {"dPy_N", Range::any(), "force change ΔPy"}, "N", &Args::dPy_N},
+};
+
+using R = design::PulseRegulatorResult;
+const Output<R> kOutputs[] = {
+    {"mean flow Q (1)", "Q_m3_per_s", "m³/s", "Q_cm3_per_min", "cm³/min", 6e7, &R::flow_m3_per_s},
+    {"AIM gain Ka (2)", "Ka_m2_per_s", "m²/s", "Ka_cm3_per_min_per_mm", "cm³/min per mm", 6e4,
+     &R::ka_m2_per_s},
+    {"FIM gain Kf (6)", "Kf_m3", "m³", "Kf_cm3_per_min_per_Hz", "cm³/min per Hz", 6e7, &R::kf_m3},
+    {"feed without leakage Q/F", "S_no_leak_m_per_s", "m/s", "S_no_leak_mm_per_min", "mm/min",
+     6e4, &R::feed_no_leak_m_per_s},
+    {"leakage K_leak·Py/F", "leak_m3_per_s", "m³/s", "leak_cm3_per_min", "cm³/min", 6e7,
+     &R::leak_m3_per_s},
+    {"feed S (3)", "S_m_per_s", "m/s", "S_mm_per_min", "mm/min", 6e4, &R::feed_m_per_s},
+    {"slot correction Δh (4)", "dh_m", "m", "dh_um", "µm", 1e6, &R::slot_change_m},
+    {"frequency correction Δf", "df_Hz", "Hz", "df_Hz", "Hz", 1, &R::frequency_change_Hz},
+    {"duty Δt/T", "duty", "", "duty_pct", "%", 100, &R::duty},
+    {"frequency f", "f_Hz", "Hz", "", "Hz", 1, &R::frequency_Hz},
+};
+
+int compute(const Args& a) {
+  if (!a.T_ms && !a.f_Hz) throw io::InputError("design pulse-regulator: give --T-ms or --f-Hz");
+  design::PulseRegulatorInput in;
+  in.spool_diameter_m = a.d_mm * 1e-3;
+  in.slot_m = a.h_mm * 1e-3;
+  in.pressure_drop_Pa = a.dp_MPa * 1e6;
+  in.density_kg_per_m3 = a.rho_kg_per_m3;
+  in.discharge_coefficient = a.mu;
+  in.pulse_width_s = a.dt_ms * 1e-3;
+  in.period_s = a.T_ms ? *a.T_ms * 1e-3 : 1.0 / *a.f_Hz;
+  in.piston_area_m2 = a.F_cm2 * 1e-4;
+  in.leak_m3_per_s_Pa = a.leak_cm3_per_min_per_MPa * 1e-6 / 60.0 / 1e6;
+  in.force_N = a.Py_N;
+  in.force_change_N = a.dPy_N;
+  R r;
+  try {
+    r = design::pulse_regulator(in);
+  } catch (const std::invalid_argument& e) {
+    throw io::InputError(std::string("design pulse-regulator: ") + e.what());
+  }
+  if (a.json) {
+    nlohmann::json j;
+    j["inputs"] = inputs_json<Args>(a, kInputs);
+    outputs_json<R>(j, r, kOutputs);
+    std::cout << j.dump(2) << "\n";
+  } else {
+    print_header("Pulsed flow regulator (seed 000)");
+    print_outputs<R>(r, kOutputs);
+  }
+  return 0;
+}
+
+void add(CLI::App& sub, Commands& out) {
+  auto a = std::make_shared<Args>();
+  sub.footer("Seed 000 and its formulas (1)-(7): " + doc("system-a-pulse-feed.md") + ".");
+  auto bound = add_inputs<Args>(sub, *a, kInputs);
+  bound->option("--T-ms")->excludes(bound->option("--f-Hz"));
+  sub.add_flag("--json", a->json, "print JSON (SI and shop units)");
+  out.push_back({&sub, [a, bound] {
+                   bound->apply(*a);
+                   return compute(*a);
+                 }});
+}
+
+std::string reference() {
+  return "Inputs:\n\n" + inputs_markdown<Args>(kInputs) + "\nResults (`--json`: `si` and " +
+         "`shop`):\n\n" + outputs_markdown<R>(kOutputs);
+}
+
+}  // namespace
+
+const Calculator kPulseRegulator{
+    "pulse-regulator",
+    "Seed 000: Q (1), Ka (2), S (3), Δh (4), Kf (6), Δf and duty of a pulsed flow regulator", &add,
+    &reference};
+
+}  // namespace lathectl::cli

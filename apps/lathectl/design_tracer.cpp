@@ -1,0 +1,138 @@
+// `lathectl design tracer`: seed 002's linearised one-coordinate hydraulic tracer slide, (8)-(9)
+// (hydraulics/tracer.hpp). Every input and output is one row below.
+#include <cmath>
+#include <iostream>
+#include <memory>
+
+#include "calculator.hpp"
+#include "cli.hpp"
+#include "lathectl/hydraulics/tracer.hpp"
+#include "lathectl/io/errors.hpp"
+
+namespace lathectl::cli {
+namespace {
+
+using io::Range;
+
+struct Args {  // shop units, as the flags; the initial values are the defaults
+  double E0_N_per_mm = 2000.0, C0_per_s = 20.0, M_kg = 100.0, i = 3.0, P0_N = 500.0;
+  double beta_deg = 45.0, alpha_deg = 30.0, s_mm_per_rev = 0.3, n_rpm = 600.0;
+  bool json = false;
+};
+
+const Range kPos = Range::positive();
+const Input<Args> kInputs[] = {
+    {"--E0", {"E0_N_per_mm", kPos, "stiffness E0 = ∂P/∂h"}, "N per mm of spool opening",
+     &Args::E0_N_per_mm},
+    {"--C0", {"C0_per_s", kPos, "velocity gain C0 = ∂V/∂h"}, "1/s", &Args::C0_per_s},
+    {"--M", {"M_kg", kPos, "reduced moving mass M"}, "kg", &Args::M_kg},
+    {"--i", {"i", kPos, "lever ratio i (spool opening per stylus deflection)"}, "", &Args::i},
+    {"--P0", {"P0_N", Range::non_negative(), "cutting + dry friction force P0"}, "N", &Args::P0_N},
+    {"--beta-deg", {"beta_deg", Range{0.0, 90.0, true, false}, "guide inclination β to the axis"},
+     "deg", &Args::beta_deg},
+    {"--alpha-deg", {"alpha_deg", Range{-1e300, 90.0, false, false}, "template cone angle α"},
+     "deg", &Args::alpha_deg, "(≤ 90: a template y(x))"},
+    {"--s", {"s_mm_per_rev", kPos, "feed s"}, "mm/rev", &Args::s_mm_per_rev},
+    {"--n", {"n_rpm", kPos, "spindle speed n"}, "rpm", &Args::n_rpm},
+};
+
+struct Result {
+  double v_pr = 0, v_t = 0, q_ss = 0, q_axial = 0, q_radial = 0, q_static = 0, q_dynamic = 0;
+  double zeta = 0, omega_n = 0, f_n = 0, peak = 0, settling = 0;
+  bool aperiodic = false;
+};
+const Output<Result> kOutputs[] = {
+    {"carriage feed V_pr = s·n/60", "V_pr_m_per_s", "m/s", "V_pr_mm_per_min", "mm/min", 6e4,
+     &Result::v_pr},
+    {"slide rate v_T on the cone", "v_T_m_per_s", "m/s", "v_T_mm_per_min", "mm/min", 6e4,
+     &Result::v_t},
+    {"steady lag q_ss (along slide)", "q_ss_m", "m", "q_ss_um", "µm", 1e6, &Result::q_ss},
+    {"  axial component q·cos β", "q_ss_axial_m", "m", "q_ss_axial_um", "µm", 1e6,
+     &Result::q_axial},
+    {"  radial component q·sin β", "q_ss_radial_m", "m", "q_ss_radial_um", "µm", 1e6,
+     &Result::q_radial},
+    {"  static part P0/(E0·i)", "q_static_m", "m", "q_static_um", "µm", 1e6, &Result::q_static},
+    {"  dynamic part v_T/(C0·i)", "q_dynamic_m", "m", "q_dynamic_um", "µm", 1e6,
+     &Result::q_dynamic},
+    {"damping ratio ζ", "zeta", "", "zeta", "", 1, &Result::zeta},
+    {"natural frequency ω_n", "omega_n_rad_per_s", "rad/s", "", "rad/s", 1, &Result::omega_n},
+    {"natural frequency ω_n/2π", "f_n_Hz", "Hz", "f_n_Hz", "Hz", 1, &Result::f_n},
+    {"aperiodic (ζ ≥ 1)", "aperiodic", "", "aperiodic", "", 1, &Result::aperiodic},
+    {"peak dynamic lag, cylinder→cone", "transient_peak_lag_m", "m", "transient_peak_lag_um", "µm",
+     1e6, &Result::peak},
+    {"settling time (2 %)", "settling_time_s", "s", "settling_time_ms", "ms", 1e3,
+     &Result::settling},
+};
+
+int compute(const Args& a) {
+  const std::string who = "design tracer: ";
+  constexpr double kPi = 3.14159265358979323846, kDeg = kPi / 180.0;
+  if (!(a.alpha_deg + a.beta_deg < 180.0) || !(a.alpha_deg > -a.beta_deg)) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "the slide cannot follow this cone: need -β < α < 180° - β, got α = %g°, "
+                  "β = %g°",
+                  a.alpha_deg, a.beta_deg);
+    throw io::InputError(who + buf);
+  }
+  hydraulics::TracerLinear t;
+  t.E0_N_per_m = a.E0_N_per_mm * 1e3;
+  t.C0_per_s = a.C0_per_s;
+  t.mass_kg = a.M_kg;
+  t.lever_ratio = a.i;
+  t.P0_N = a.P0_N;
+  const double al = a.alpha_deg * kDeg, be = a.beta_deg * kDeg;
+  Result r;
+  r.v_pr = a.s_mm_per_rev * a.n_rpm / 60.0 * 1e-3;      // m/s
+  r.v_t = r.v_pr * std::sin(al) / std::sin(al + be);  // m/s along the slide
+  r.q_ss = t.steady_lag_m(r.v_t);                      // m along the slide
+  r.q_axial = r.q_ss * std::cos(be);
+  r.q_radial = r.q_ss * std::sin(be);
+  r.q_static = t.static_offset_m();
+  r.q_dynamic = r.q_ss - r.q_static;  // v_T/(C0·i)
+  r.zeta = t.zeta();
+  r.omega_n = t.omega_n();
+  r.f_n = r.omega_n / (2.0 * kPi);
+  r.aperiodic = t.aperiodic();
+  const auto tr = t.transient(0.0, r.v_t, r.v_t);
+  r.peak = tr.peak_m;
+  r.settling = tr.settling_s;
+  if (!std::isfinite(r.q_ss) || !std::isfinite(r.peak) || !std::isfinite(r.settling))
+    throw io::InputError(who + "the inputs give no finite result");
+  if (a.json) {
+    nlohmann::json j;
+    j["inputs"] = inputs_json<Args>(a, kInputs);
+    outputs_json<Result>(j, r, kOutputs);
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  print_header("Hydraulic tracer slide, linearised (seed 002, (8)-(9))");
+  print_outputs<Result>(r, kOutputs);
+  return 0;
+}
+
+void add(CLI::App& sub, Commands& out) {
+  auto a = std::make_shared<Args>();
+  sub.footer("Seed 002 and its formulas (8)-(9): " + doc("system-c-tracer.md") + ".");
+  auto bound = add_inputs<Args>(sub, *a, kInputs);
+  sub.add_flag("--json", a->json, "print JSON (inputs, SI and shop units)");
+  out.push_back({&sub, [a, bound] {
+                   bound->apply(*a);
+                   return compute(*a);
+                 }});
+}
+
+std::string reference() {
+  return "Inputs:\n\n" + inputs_markdown<Args>(kInputs) + "\nResults (`--json`: `si` and " +
+         "`shop`):\n\n" + outputs_markdown<Result>(kOutputs);
+}
+
+}  // namespace
+
+const Calculator kTracer{
+    "tracer",
+    "Seed 002: linearised hydraulic tracer slide — steady lag on a cone (P0/E0 + v_T/C0)/i, "
+    "damping ratio, natural frequency, transient lag and settling at a cylinder→cone change",
+    &add, &reference};
+
+}  // namespace lathectl::cli
