@@ -54,8 +54,11 @@ const io::ParamRecord* row(const io::ParamLog& log, const std::string& key) {
 TEST(SystemASettings, EveryKeyIsDescribed) {
   io::ParamLog log;
   ASSERT_NO_THROW(log = io::describe_section(systems::a_pulse_feed::kSection, library()));
-  for (const auto& r : log)
-    if (!shared_key(r.key)) EXPECT_FALSE(r.doc.empty()) << r.key;
+  for (const auto& r : log) {
+    if (!shared_key(r.key)) {
+      EXPECT_FALSE(r.doc.empty()) << r.key;
+    }
+  }
   // Keys read only in some cases are listed too, with the defaults the settings carry.
   for (const char* k : {"controller.force_set_N", "eccentric.profile", "eccentric.eccentricity_mm",
                         "compare.controller", "compare.regulator", "sweep.leak_estimate_factor",
@@ -110,8 +113,11 @@ TEST(SystemASettings, ReadSectionSkipsTheRigProbe) {
 TEST(SystemCSettings, EveryKeyIsDescribed) {
   io::ParamLog log;
   ASSERT_NO_THROW(log = io::describe_section(systems::c_tracer::kSection, library()));
-  for (const auto& r : log)
-    if (!shared_key(r.key)) EXPECT_FALSE(r.doc.empty()) << r.key;
+  for (const auto& r : log) {
+    if (!shared_key(r.key)) {
+      EXPECT_FALSE(r.doc.empty()) << r.key;
+    }
+  }
   for (const char* k : {"template.csv", "template.features[].type", "template.features[].angle_deg",
                         "template.features[].radius_mm", "template.features[].height_mm",
                         "model.compare", "servo.clearance_leak_cm3_per_min_per_MPa",
