@@ -23,7 +23,7 @@
 #include "lathectl/hydraulics/tracer.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/install_paths.hpp"
-#include "lathectl/io/lobes_command.hpp"
+#include "systems/b_chatter/lobes.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/progress.hpp"
@@ -890,12 +890,12 @@ int main(int argc, char** argv) {
     if (*check) return cmd_check(scenario);
     if (*demo) return cmd_demo(demo_out, demo_dir, demo_only, strict);
     if (*lobes) {
-      const auto in = io::load_lobes_input(lobes_file);
+      const auto in = b_chatter::load_lobes_input(lobes_file);
       io::prepare_output_dir(lobes_out, "--out");
       nlohmann::json j;
       {
         io::Progress progress("lobes");
-        j = io::run_lobes(in, lobes_out, &progress);
+        j = b_chatter::run_lobes(in, lobes_out, &progress);
       }
       for (const auto& w : j["warnings"]) std::cerr << "warning: " << w.get<std::string>() << "\n";
       std::cout << "critical depth " << j["critical_depth_mm"].get<double>() << " mm at "

@@ -17,6 +17,7 @@
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
+#include "systems/b_chatter/settings.hpp"
 
 namespace lathectl::io {
 namespace {
@@ -288,21 +289,23 @@ std::string b_error(const std::string& from, const std::string& to) {
 TEST(ScenarioB, ShopUnitsAndDefaultsFromTheMaterial) {
   const Scenario sc = parse_scenario(twin_text(), "b.toml", library());
   EXPECT_EQ(sc.system, "B");
-  EXPECT_DOUBLE_EQ(sc.b.part.length_m, 0.6);
-  EXPECT_DOUBLE_EQ(sc.b.part.youngs_modulus_Pa, 210e9);
-  EXPECT_EQ(sc.b.setup, sim::TwinSetup::FeedDivision);
-  EXPECT_EQ(sc.b.cutting.form, cutting::ForceForm::Kienzle);
-  EXPECT_DOUBLE_EQ(sc.b.vibration.dead_zone_m, 5e-6);
-  EXPECT_EQ(sc.b.source, control::ModulationSource::Automatic);
+  const auto& settings = sc.get<b_chatter::Settings>();
+  const sim::RigBConfig& b = settings.rig;
+  EXPECT_DOUBLE_EQ(b.part.length_m, 0.6);
+  EXPECT_DOUBLE_EQ(b.part.youngs_modulus_Pa, 210e9);
+  EXPECT_EQ(b.setup, sim::TwinSetup::FeedDivision);
+  EXPECT_EQ(b.cutting.form, cutting::ForceForm::Kienzle);
+  EXPECT_DOUBLE_EQ(b.vibration.dead_zone_m, 5e-6);
+  EXPECT_EQ(b.source, control::ModulationSource::Automatic);
   // F ∝ S^(1−m_p), F_p/F_c at each tool's chip s/2 = 0.07 mm (40Kh: 357·h^0.51 / 1940·h^0.74).
-  EXPECT_DOUBLE_EQ(sc.b.module.force_feed_exponent, 0.51);
-  EXPECT_NEAR(sc.b.module.radial_force_ratio,
+  EXPECT_DOUBLE_EQ(b.module.force_feed_exponent, 0.51);
+  EXPECT_NEAR(b.module.radial_force_ratio,
               357.0 * std::pow(0.07, 0.51) / (1940.0 * std::pow(0.07, 0.74)), 1e-12);
   // m_d: the first mode's mass seen at the middle of the cut (285 mm of 600): ρAL/2 / sin².
   const double modal = 7850.0 * std::numbers::pi * 0.02 * 0.02 * 0.6 / 2.0;
-  EXPECT_NEAR(sc.b.module.part_mass_kg,
+  EXPECT_NEAR(b.module.part_mass_kg,
               modal / std::pow(std::sin(std::numbers::pi * 285.0 / 600.0), 2), 1e-9);
-  ASSERT_EQ(sc.b_sweep_feed.size(), 8u);
+  ASSERT_EQ(settings.sweep_feed_mm_per_rev.size(), 8u);
 }
 
 TEST(ScenarioB, BadInputNamesTheKey) {

@@ -16,9 +16,7 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/toml_reader.hpp"
-#include "lathectl/sim/gauging.hpp"
 #include "lathectl/sim/rig_a.hpp"
-#include "lathectl/sim/rig_b.hpp"
 #include "lathectl/sim/rig_c.hpp"
 #include "lathectl/sim/rig_e.hpp"
 
@@ -96,21 +94,7 @@ struct Scenario {
   sim::RigAConfig a;      // system A
   sim::RigEConfig e;      // system E
   sim::RigCConfig c;      // system C
-  sim::RigBConfig b;      // system B
-  bool b_compare = true;  // system B: also run without modulation
-  std::vector<double> b_sweep_feed;  // system B: feeds for the with/without sweep
   std::string c_compare;  // system C: "", "linear" or "nonlinear" overlaid
-  // system D
-  struct Gauging {
-    sim::GaugingProcess process;
-    sensors::VibroContactGauge::Params transducer;
-    double tolerance_m = 10e-6;            // ± about the target
-    std::string threshold = "calibrated";  // "seed" (23 with A0, K) or "calibrated" (23 with the
-                                           // full model's local line) or "given"
-    double threshold_V = 0.0;              // when "given"
-    std::size_t parts = 100000;            // linearised Monte Carlo
-    std::size_t full_parts = 8;            // full-model Monte Carlo
-  } d;
   std::vector<control::AdaptiveFeedController::Mode> compare_modes;  // system E: overlaid runs
   std::optional<Comparison> compare;
   std::vector<double> sweep_leak_estimate_factor;  // controller K_leak / true K_leak
