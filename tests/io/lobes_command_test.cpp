@@ -77,3 +77,14 @@ TEST(LobesInput, LocatedErrors) {
   EXPECT_NE(message(kHead + kTool + "[lobes]\nchart_depths = 1\n").find("'lobes.chart_depths'"),
             std::string::npos);
 }
+
+TEST(LobesInput, EveryKeyOfTheMachineFileIsDescribed) {
+  const auto rows = b_chatter::describe_machine_file();
+  std::size_t keys = 0;
+  for (const auto& r : rows) {
+    if (r.kind == "table" || r.kind == "array of tables") continue;
+    ++keys;
+    EXPECT_FALSE(r.doc.empty()) << r.key;
+  }
+  EXPECT_EQ(keys, 22u);  // cutting 1, mode 4, part 9, speed 2, lobes 6
+}

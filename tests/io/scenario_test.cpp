@@ -18,6 +18,7 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
 #include "systems/b_chatter/settings.hpp"
+#include "systems/d_gauging/settings.hpp"
 
 namespace lathectl::io {
 namespace {
@@ -346,6 +347,47 @@ TEST(ScenarioB, ProgrammedParametersObeyTheSeedsQuanta) {
   } catch (const InputError& e) {
     EXPECT_TRUE(contains(e.what(), "key 'modulation.dl_mm'")) << e.what();
   }
+}
+
+// The keys a system's own tables read, each described once (settings.cpp): the reference lists
+// them with a doc, including the ones only some choices read (the programmed modulation, the idle
+// table, a given threshold).
+std::vector<ParamRecord> own_rows(const Section& section, const std::vector<std::string>& tables) {
+  std::vector<ParamRecord> out;
+  for (const auto& r : describe_section(section, library()))
+    for (const auto& t : tables)
+      if (r.key.rfind(t + ".", 0) == 0 && r.kind != "table") out.push_back(r);
+  return out;
+}
+bool described(const std::vector<ParamRecord>& rows, const std::string& key) {
+  for (const auto& r : rows)
+    if (r.key == key) return !r.doc.empty();
+  return false;
+}
+
+TEST(ScenarioB, EveryKeyOfItsTablesIsDescribed) {
+  const auto rows = own_rows(b_chatter::kSection, {"part", "cut", "vibration_sensor",
+                                                   "power_sensor", "modulation", "study"});
+  EXPECT_EQ(rows.size(), 51u);  // part 6, cut 12, sensors 6 + 6, modulation 19, study 2
+  for (const auto& r : rows) EXPECT_FALSE(r.doc.empty()) << r.key;
+  for (const char* k : {"modulation.S_min_mm_per_min", "modulation.dl_mm",
+                        "power_sensor.idle_table_rpm", "study.sweep_feed_mm_per_rev"})
+    EXPECT_TRUE(described(rows, k)) << k;
+  // The defaults shown are the settings' own, in the file's units.
+  for (const auto& r : rows) {
+    if (r.key == "vibration_sensor.dead_zone_um") EXPECT_EQ(r.fallback, "5");
+    if (r.key == "modulation.engage_time_ms") EXPECT_EQ(r.fallback, "50");
+  }
+}
+
+TEST(ScenarioD, EveryKeyOfItsTablesIsDescribed) {
+  const auto rows =
+      own_rows(d_gauging::kSection, {"process", "transducer", "gauge", "monte_carlo"});
+  EXPECT_EQ(rows.size(), 25u);  // process 7, transducer 14, gauge 2, monte_carlo 2
+  for (const auto& r : rows) EXPECT_FALSE(r.doc.empty()) << r.key;
+  EXPECT_TRUE(described(rows, "gauge.threshold_V"));
+  for (const auto& r : rows)
+    if (r.key == "process.noise_sigma_um") EXPECT_EQ(r.fallback, "0");
 }
 
 // System E's entry feed (issue "Results a user can trust", finding 3): a scenario key, default

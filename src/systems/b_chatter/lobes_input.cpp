@@ -86,11 +86,13 @@ void read_part(TableReader& p, LobesInput& in) {
   p.read({"modes", Range::closed(1, 50), "bending modes (at most 6 in a system-B scenario)"},
          part.modes);
   const Range inside{0.0, b.length_m * 1e3, true, true};  // between the centres
-  p.require({"position_mm", inside,
-             "where the lobes are computed, from the headstock (left) centre", 1e-3},
-            part.position_m);
+  p.require(
+      {"position_mm", inside,
+       "where the lobes are computed, from the headstock (left) centre; in (0, length_mm)", 1e-3},
+      part.position_m);
   part.positions_m = p.numbers(
-      {"positions_mm", inside, "the critical depth along the part at these positions", 1e-3});
+      {"positions_mm", inside,
+       "the critical depth along the part at these positions, each in (0, length_mm)", 1e-3});
   p.finish();
   in.part = part;
 }

@@ -137,6 +137,7 @@ void read_power(TableReader& ps, sensors::PowerSensor::Params& pw,
 // The module's defaults derived from the cut: F ∝ S^(1−m_p) and F_p/F_c from the Kienzle law at
 // the programmed chip, and the part's modal mass at the middle of the cut.
 void derive_module_defaults(const TableReader& root, sim::RigBConfig& b) {
+  if (root.is_describing()) return;  // the reference shows the struct's, not a neutral cut's
   auto& m = b.module;
   const auto& fp = b.cutting.material.Fp;
   const auto& fc = b.cutting.material.Fc;
@@ -145,8 +146,7 @@ void derive_module_defaults(const TableReader& root, sim::RigBConfig& b) {
   m.force_feed_exponent = 1.0 - fp.m;
   m.radial_force_ratio =
       fp.k11_N_per_mm2 * std::pow(h, 1.0 - fp.m) / (fc.k11_N_per_mm2 * std::pow(h, 1.0 - fc.m));
-  if (!root.is_describing())  // the describing reader's neutral cut lies outside its part
-    m.part_mass_kg = sim::RigB::modal_mass_kg(b.part, 0.5 * (b.z_start_mm + b.z_end_mm) * kMm);
+  m.part_mass_kg = sim::RigB::modal_mass_kg(b.part, 0.5 * (b.z_start_mm + b.z_end_mm) * kMm);
 }
 
 // [modulation]: the CNC's modulated-feed module (or a programmed modulation).

@@ -50,7 +50,8 @@ io::RunOutput run(const io::Scenario& sc) {
   without->label = "no modulation";
   const bool compared = modulated && settings.compare;
   {
-    // The run as programmed and, to compare, the same without modulation: side by side.
+    // The run as programmed and, to compare, the same without modulation: side by side (the one
+    // on the calling thread moves its progress line; both are as long).
     sim::RigBConfig off = b;
     off.source = control::ModulationSource::None;
     sim::parallel_for(
