@@ -2,20 +2,9 @@
 // `lathectl lobes MACHINE.toml --out DIR`: stability lobes of a machine's chatter model (system
 // B's), by the frequency domain and, independently, by semi-discretization (limit depths at
 // sd_speeds speeds by bisection, and a speed × depth spectral-radius chart); writes lobes.json,
-// lobes.csv and lobes.html. The machine file (read in lobes_input.cpp, every key described there;
-// docs/machine-file-reference.md):
-//   [cutting] kf_N_per_mm2                       cutting-force coefficient along the chip thickness
-//   [[mode]]  stiffness_N_per_m, damping_ratio, natural_frequency_Hz, angle_deg
-//             (machine and tool modes; optional when [part] is given, then added to its modes)
-//   [part]    (optional) the slender part between centres, a pinned-pinned Euler–Bernoulli beam
-//             (dynamics/beam.hpp): length_mm, diameter_mm, youngs_modulus_GPa,
-//             density_kg_per_m3, damping_ratio, angle_deg (0), modes (3), position_mm (where the
-//             lobes are computed), positions_mm (optional: the critical depth along the part)
-//   [speed]   min_rpm, max_rpm
-//   [lobes]   (optional) max_lobes (default: lobes_needed, enough to reach min_rpm; a smaller
-//             value is an error naming the key), sd_speeds (40, bisection check points),
-//             chart_speeds (200), chart_depths (100), chart_max_depth_mm (4 × the absolute limit),
-//             chart_steps_per_period (7; 0 speeds or depths: no chart)
+// lobes.csv and lobes.html. The machine file — [cutting], [[mode]] and/or [part] (a slender part
+// between centres, dynamics/beam.hpp), [speed], optional [lobes] — is read in lobes_input.cpp,
+// where each key is described once (describe_machine_file; docs/machine-file-reference.md).
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
