@@ -13,12 +13,14 @@
 #include "lathectl/dynamics/lobes.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
-#include "lathectl/sim/gauging.hpp"
-#include "lathectl/sim/rig_b.hpp"
 #include "lathectl/sim/rig_e.hpp"
 #include "support/sample_controller.hpp"
 #include "systems/a_pulse_feed/rig.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
+#include "systems/b_chatter/rig.hpp"
+#include "systems/b_chatter/settings.hpp"
+#include "systems/d_gauging/gauging.hpp"
+#include "systems/d_gauging/settings.hpp"
 
 using namespace lathectl;
 
@@ -74,10 +76,11 @@ BENCHMARK_CAPTURE(BM_RigE_Part, fixed_worst_case, "e_stepped_fixed.toml")
 
 // The seed's linearisation (A0, K) of a gauging scenario's transducer and its threshold (23).
 std::pair<sim::LinearGauge, double> seed_line(const io::Scenario& sc) {
-  const auto st = sensors::VibroContactGauge::steady(sc.d.transducer);
+  const auto& d = sc.get<d_gauging::Settings>();
+  const auto st = sensors::VibroContactGauge::steady(d.transducer);
   const sim::LinearGauge lg{st.signal_gain_V_per_m, st.free_amplitude_m,
-                            sc.d.transducer.filter_time_constant_s};
-  return {lg, sim::threshold_23(lg, sc.d.process)};
+                            d.transducer.filter_time_constant_s};
+  return {lg, sim::threshold_23(lg, d.process)};
 }
 
 // System D: 10^5 parts by the linearised model (target < 2 s), one part by the full
@@ -86,8 +89,9 @@ void BM_Gauging_LinearMonteCarlo(benchmark::State& state) {
   const auto sc = load("d_gauging.toml");
   const auto [lg, th] = seed_line(sc);
   for (auto _ : state) {
-    auto r = sim::monte_carlo_linear(sc.d.process, lg, th, static_cast<std::size_t>(state.range(0)),
-                                     7, static_cast<unsigned>(state.range(1)));
+    auto r = sim::monte_carlo_linear(sc.get<d_gauging::Settings>().process, lg, th,
+                                     static_cast<std::size_t>(state.range(0)), 7,
+                                     static_cast<unsigned>(state.range(1)));
     benchmark::DoNotOptimize(r.data());
   }
 }
@@ -100,9 +104,10 @@ BENCHMARK(BM_Gauging_LinearMonteCarlo)
 void BM_Gauging_FullModelPart(benchmark::State& state) {
   const auto sc = load("d_gauging.toml");
   const auto [lg, th] = seed_line(sc);
+  const auto& d = sc.get<d_gauging::Settings>();
   std::uint64_t seed = 1;
   for (auto _ : state) {
-    auto r = sim::machine_part_full(sc.d.process, sc.d.transducer, sc.run.step_s, th, seed++);
+    auto r = sim::machine_part_full(d.process, d.transducer, sc.run.step_s, th, seed++);
     benchmark::DoNotOptimize(r);
   }
 }
@@ -218,12 +223,13 @@ BENCHMARK(BM_CuttingModel_RadialForce);
 // measurement chain and the module running) at 2e-5 s = 220 steps per 227 Hz vibration period
 // (target: 10 s at ≥ 50 steps per period in < 0.5 s).
 void BM_RigB_TwinTurret10s(benchmark::State& state) {
-  auto sc = load("b_twin_feed_division.toml");
-  sc.b.z_end_mm = sc.b.z_start_mm + sc.b.feed_mm_per_rev * sc.b.rpm / 60.0 * 10.0;
-  sc.b.idle_block_s = 0.0;
+  const auto sc = load("b_twin_feed_division.toml");
+  auto b = sc.get<b_chatter::Settings>().rig;
+  b.z_end_mm = b.z_start_mm + b.feed_mm_per_rev * b.rpm / 60.0 * 10.0;
+  b.idle_block_s = 0.0;
   for (auto _ : state) {
     sim::RigB rig;
-    rig.configure(sc.b, sc.run.step_s, sc.run.record_interval_s, 12.0);
+    rig.configure(b, sc.run.step_s, sc.run.record_interval_s, 12.0);
     rig.run();
     benchmark::DoNotOptimize(rig.recorder().rows());
   }

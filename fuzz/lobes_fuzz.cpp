@@ -6,12 +6,12 @@
 #include <string_view>
 
 #include "lathectl/io/errors.hpp"
-#include "lathectl/io/lobes_command.hpp"
+#include "systems/b_chatter/lobes.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   try {
-    const auto in = lathectl::io::parse_lobes_input(text, "fuzz.toml");
+    const auto in = lathectl::b_chatter::parse_lobes_input(text, "fuzz.toml");
     if (in.system.modes.empty() || !(in.system.kf_N_per_m2 > 0.0) || !(in.max_rpm > in.min_rpm))
       std::abort();  // a parsed machine is complete
     for (const auto& m : in.system.modes)

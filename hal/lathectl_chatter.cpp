@@ -19,9 +19,11 @@
 #include <memory>
 #include <numbers>
 
+#include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/dynamics/twin_turret.hpp"
 #include "lathectl/sensors/vibration_chain.hpp"
 #include "lathectl_hal.hpp"
+#include "systems/b_chatter/settings.hpp"
 
 MODULE_AUTHOR("lathectl");
 MODULE_DESCRIPTION("lathectl system-B chatter plant (slender part, regeneration) for LinuxCNC");
@@ -70,7 +72,7 @@ struct State {
   long count = 0;
   bool started = false;
   double last_z = 0.0, last_revs = 0.0;
-  double efficiency = 0.85, p0 = 0.0, p1 = 0.0, p2 = 0.0;
+  lathectl::drives::SpindleDrive::Params spindle;  // efficiency and idle law
 };
 
 int comp_id = -1;
@@ -112,7 +114,7 @@ void update(void*, long period) {
   *p.radial = s.cut.radial_N(0);
   *p.tangential = s.cut.tangential_N(0);
   *p.cut_power = pc;
-  *p.spindle_power = pc / s.efficiency + s.p0 + s.p1 * rpm + s.p2 * rpm * rpm;
+  *p.spindle_power = pc / s.spindle.efficiency + lathectl::drives::idle_power_W(s.spindle, rpm);
   *p.chip = s.cut.cutting(0) ? s.cut.chip_mm(0) : 0.0;
   *p.depth = s.cut.cutting(0) ? s.cut.depth_mm(0) : 0.0;
   *p.contact = s.cut.cutting(0);
@@ -128,8 +130,8 @@ extern "C" int rtapi_app_main(void) {
   if (comp_id < 0) return comp_id;
   return lathectl::hal::guarded_load(kName, comp_id, [] {
     using lathectl::hal::pin;
-    const auto sc = lathectl::hal::load_system(scenario, "B");
-    const auto& b = sc.b;
+    const auto sc = lathectl::hal::load_system(scenario, lathectl::b_chatter::kReadSection);
+    const auto& b = sc.get<lathectl::b_chatter::Settings>().rig;
     if (b.setup != lathectl::dynamics::TwinSetup::Single)
       throw lathectl::hal::Error(std::string(scenario) +
                                  ": cut.setup must be \"single\" (LinuxCNC's lathe has one tool "
@@ -158,10 +160,7 @@ extern "C" int rtapi_app_main(void) {
     auto vib = b.vibration;
     vib.sample_period_s = dt * state->chain_every;
     state->chain.configure(vib);
-    state->efficiency = b.spindle.efficiency;
-    state->p0 = b.spindle.idle_p0_W;
-    state->p1 = b.spindle.idle_p1_W_per_rpm;
-    state->p2 = b.spindle.idle_p2_W_per_rpm2;
+    state->spindle = b.spindle;
     pins = lathectl::hal::allocate_pins<Pins>();
     Pins& p = *pins;
     pin(&p.z_pos, HAL_IN, comp_id, kPrefix, "z-pos");

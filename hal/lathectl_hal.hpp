@@ -129,6 +129,28 @@ inline io::Scenario load_system(const char* path, const std::string& system) {
                 "\", this component needs a system-" + system + " scenario");
   return sc;
 }
+// The same with the system's own section reader only (what a component that links no other
+// system's code calls): a file of another system is refused naming both.
+inline io::Scenario load_system(const char* path, const io::Section& section) {
+  const std::string system(section.system);
+  if (path == nullptr || *path == '\0')
+    throw Error("module parameter scenario=PATH (a system-" + system +
+                " scenario file) is required");
+  require_readable(path, "scenario");
+  const std::string materials = io::data_dir() + "/materials.toml";
+  require_readable(materials, "material library");
+  const auto lib = io::MaterialLibrary::load(materials);
+  const std::string text = io::read_scenario_text(path);
+  {
+    const auto doc = io::TomlDocument::parse(text, path);
+    io::TableReader root(doc.root(), path, "");
+    const std::string found = root.has("system") ? root.string("system") : "";
+    if (!found.empty() && found != system)
+      throw Error(std::string(path) + ": system = \"" + found +
+                  "\", this component needs a system-" + system + " scenario");
+  }
+  return io::parse_scenario(text, path, lib, section);
+}
 inline io::Scenario load_system_e(const char* path) {
   return load_system(path, "E");
 }

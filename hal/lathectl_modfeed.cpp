@@ -24,6 +24,7 @@
 #include "lathectl/control/modulated_feed.hpp"
 #include "lathectl/sensors/vibration_chain.hpp"
 #include "lathectl_hal.hpp"
+#include "systems/b_chatter/settings.hpp"
 
 MODULE_AUTHOR("lathectl");
 MODULE_DESCRIPTION("lathectl seed-001 modulated-feed module (vibration control) for LinuxCNC");
@@ -170,19 +171,20 @@ extern "C" int rtapi_app_main(void) {
   return lathectl::hal::guarded_load(kName, comp_id, [] {
     using lathectl::hal::param;
     using lathectl::hal::pin;
-    const auto sc = lathectl::hal::load_system(scenario, "B");
+    const auto sc = lathectl::hal::load_system(scenario, lathectl::b_chatter::kReadSection);
+    const auto& b = sc.get<lathectl::b_chatter::Settings>().rig;
     const double c = lathectl::hal::number_param(ceiling, "ceiling", 2.0);
     if (!(c >= 1.0 && c <= 100.0))
       throw lathectl::hal::Error("module parameter ceiling: expected 1 … 100");
     auto state = std::make_unique<State>();
-    auto mp = sc.b.module;
+    auto mp = b.module;
     mp.period_s = 1e-3;
     // The staircase may not rise above the program's F (LinuxCNC clips the factor at 1).
     mp.s_max_fraction = std::min(mp.s_max_fraction, c);
     if (!(mp.s_max_fraction > 1.0))
       throw lathectl::hal::Error("ceiling must exceed 1 for the staircase to rise above the mean");
     state->module.configure(mp);
-    state->power.configure(sc.b.power, mp.period_s);
+    state->power.configure(b.power, mp.period_s);
     pins = lathectl::hal::allocate_pins<Pins>();
     Pins& p = *pins;
     pin(&p.a0, HAL_IN, comp_id, kPrefix, "a0-um");
@@ -219,8 +221,8 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
     pin(&p.update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
     *p.adaptive_feed = 1.0 / c;
-    *p.source = static_cast<std::int32_t>(sc.b.source);
-    *p.turret_left = sc.b.turret == Turret::Left;
+    *p.source = static_cast<std::int32_t>(b.source);
+    *p.turret_left = b.turret == Turret::Left;
     *p.enable = 1;
     param(&p.ceiling, HAL_RO, comp_id, kPrefix, "ceiling", c);
     param(&p.coefficient, HAL_RO, comp_id, kPrefix, "coefficient", mp.coefficient);

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "cli.hpp"
-#include "lathectl/io/lobes_command.hpp"
+#include "systems/b_chatter/lobes.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/progress.hpp"
 
@@ -13,12 +13,12 @@ namespace lathectl::cli {
 namespace {
 
 int lobes(const std::string& file, const std::string& out) {
-  const auto in = io::load_lobes_input(file);
+  const auto in = b_chatter::load_lobes_input(file);
   io::prepare_output_dir(out, "--out");
   nlohmann::json j;
   {
     io::Progress progress("lobes");
-    j = io::run_lobes(in, out, &progress);
+    j = b_chatter::run_lobes(in, out, &progress);
   }
   for (const auto& w : j["warnings"]) std::cerr << "warning: " << w.get<std::string>() << "\n";
   std::cout << "critical depth " << j["critical_depth_mm"].get<double>() << " mm at "

@@ -193,6 +193,17 @@ void TableReader::require(const Param& p, double& field) {
   field = v * p.scale;
 }
 
+std::vector<double> TableReader::numbers(const Param& p, std::size_t min_count) {
+  std::vector<double> v = numbers(p.key, p.range, min_count);
+  std::string shown;
+  for (double x : v) shown += (shown.empty() ? "" : ", ") + fmt_num(x);
+  log(p.key, "array of numbers", p.range.describe(), min_count ? "" : "[]", min_count > 0, p.doc,
+      "[" + shown + "]");
+  if (p.scale != 1.0)
+    for (double& x : v) x *= p.scale;
+  return v;
+}
+
 void TableReader::read(const Param& p, bool& field) {
   const bool v = boolean(p.key, field);
   log(p.key, "boolean", "true or false", field ? "true" : "false", false, p.doc,

@@ -3,32 +3,31 @@
 #include <array>
 
 #include "lathectl/io/errors.hpp"
-#include "lathectl/io/system_b.hpp"
-#include "lathectl/io/system_d.hpp"
 #include "lathectl/io/system_e.hpp"
 #include "../io/scenario_legacy.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
 #include "systems/a_pulse_feed/study.hpp"
+#include "systems/b_chatter/settings.hpp"
+#include "systems/b_chatter/study.hpp"
 #include "systems/c_tracer/settings.hpp"
 #include "systems/c_tracer/study.hpp"
+#include "systems/d_gauging/settings.hpp"
+#include "systems/d_gauging/study.hpp"
 
 namespace lathectl::systems {
 
 namespace {
 // Transitional (issue 12): systems whose section reader is still src/io/scenario_legacy.cpp.
-constexpr io::Section kLegacyB{"B", &io::read_legacy};
-constexpr io::Section kLegacyD{"D", &io::read_legacy};
 constexpr io::Section kLegacyE{"E", &io::read_legacy};
 
 const std::array<System, 5> kSystems{{
-    {"A", "a_pulse_feed", "hydraulic feed slide with pulse regulation (seed 000)", &a_pulse_feed::kSection,
-     &a_pulse_feed::run},
-    {"B", "b_chatter", "twin-turret chatter and modulated feed (seed 001)", &kLegacyB,
-     &io::run_system_b},
-    {"C", "c_tracer", "hydraulic copying slide (seed 002)", &c_tracer::kSection,
-     &c_tracer::run},
-    {"D", "d_gauging", "vibro-contact in-process gauging (seed 003)", &kLegacyD,
-     &io::run_system_d},
+    {"A", "a_pulse_feed", "hydraulic feed slide with pulse regulation (seed 000)",
+     &a_pulse_feed::kSection, &a_pulse_feed::run},
+    {"B", "b_chatter", "twin-turret chatter and modulated feed (seed 001)", &b_chatter::kSection,
+     &b_chatter::run},
+    {"C", "c_tracer", "hydraulic copying slide (seed 002)", &c_tracer::kSection, &c_tracer::run},
+    {"D", "d_gauging", "vibro-contact in-process gauging (seed 003)", &d_gauging::kSection,
+     &d_gauging::run},
     {"E", "e_adaptive", "adaptive control of force by feed and speed (seed 004)", &kLegacyE,
      &io::run_system_e},
 }};

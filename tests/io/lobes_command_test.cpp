@@ -1,7 +1,5 @@
-// The lobes machine file (include/lathectl/io/lobes_command.hpp): [[mode]]s alone as before, a
+// The lobes machine file (src/systems/b_chatter/lobes.hpp): [[mode]]s alone as before, a
 // [part] between centres with or without tool modes, and located errors.
-#include "lathectl/io/lobes_command.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +7,7 @@
 
 #include "lathectl/dynamics/beam.hpp"
 #include "lathectl/io/errors.hpp"
+#include "systems/b_chatter/lobes.hpp"
 
 using namespace lathectl;
 
@@ -23,7 +22,7 @@ const std::string kTool =
 }  // namespace
 
 TEST(LobesInput, ModesAloneAsBefore) {
-  const auto in = io::parse_lobes_input(kHead + kTool, "m.toml");
+  const auto in = b_chatter::parse_lobes_input(kHead + kTool, "m.toml");
   ASSERT_EQ(in.system.modes.size(), 1u);
   EXPECT_FALSE(in.part.has_value());
   EXPECT_DOUBLE_EQ(in.system.modes[0].natural_frequency_Hz, 800.0);
@@ -35,7 +34,7 @@ TEST(LobesInput, ModesAloneAsBefore) {
 // The part's modes at the cutting position come first, the tool's are added: the relative
 // tool–part displacement is the sum of both receptances.
 TEST(LobesInput, PartAndToolModesAtTheCuttingPosition) {
-  const auto in = io::parse_lobes_input(kHead + kPart + kTool, "m.toml");
+  const auto in = b_chatter::parse_lobes_input(kHead + kPart + kTool, "m.toml");
   ASSERT_TRUE(in.part.has_value());
   EXPECT_EQ(in.part->modes, 3);
   EXPECT_DOUBLE_EQ(in.part->beam.youngs_modulus_Pa, 210e9);
@@ -44,14 +43,14 @@ TEST(LobesInput, PartAndToolModesAtTheCuttingPosition) {
   for (std::size_t i = 0; i < beam.size(); ++i)
     EXPECT_DOUBLE_EQ(in.system.modes[i].stiffness_N_per_m, beam[i].stiffness_N_per_m);
   EXPECT_DOUBLE_EQ(in.system.modes.back().stiffness_N_per_m, 5e7);
-  const auto mid = io::lobes_system_at(in, 0.25);
+  const auto mid = b_chatter::lobes_system_at(in, 0.25);
   EXPECT_EQ(mid.modes.size(), 3u);  // mode 2 has a node mid-span
 }
 
 // The SD chart resolves the mode that can chatter, not the part's stiff third mode at 9·f1.
 TEST(LobesInput, ChartStepsFollowTheChatteringMode) {
-  auto in = io::parse_lobes_input(kHead + kPart, "m.toml");
-  const auto sys = io::lobes_system_at(in, 0.25);
+  auto in = b_chatter::parse_lobes_input(kHead + kPart, "m.toml");
+  const auto sys = b_chatter::lobes_system_at(in, 0.25);
   const double f1 = sys.modes[0].natural_frequency_Hz;
   EXPECT_EQ(dynamics::sd_steps_per_delay(sys, 1200.0, 0.27e-3),
             static_cast<int>(std::ceil(0.05 * f1 * dynamics::SdChartOptions{}.steps_per_period)));
@@ -60,7 +59,7 @@ TEST(LobesInput, ChartStepsFollowTheChatteringMode) {
 TEST(LobesInput, LocatedErrors) {
   auto message = [](const std::string& text) {
     try {
-      (void)io::parse_lobes_input(text, "m.toml");
+      (void)b_chatter::parse_lobes_input(text, "m.toml");
     } catch (const io::InputError& e) {
       return std::string(e.what());
     }
@@ -77,4 +76,15 @@ TEST(LobesInput, LocatedErrors) {
             std::string::npos);
   EXPECT_NE(message(kHead + kTool + "[lobes]\nchart_depths = 1\n").find("'lobes.chart_depths'"),
             std::string::npos);
+}
+
+TEST(LobesInput, EveryKeyOfTheMachineFileIsDescribed) {
+  const auto rows = b_chatter::describe_machine_file();
+  std::size_t keys = 0;
+  for (const auto& r : rows) {
+    if (r.kind == "table" || r.kind == "array of tables") continue;
+    ++keys;
+    EXPECT_FALSE(r.doc.empty()) << r.key;
+  }
+  EXPECT_EQ(keys, 22u);  // cutting 1, mode 4, part 9, speed 2, lobes 6
 }

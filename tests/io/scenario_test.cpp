@@ -18,6 +18,8 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
+#include "systems/b_chatter/settings.hpp"
+#include "systems/d_gauging/settings.hpp"
 
 namespace lathectl::io {
 namespace {
@@ -291,21 +293,23 @@ std::string b_error(const std::string& from, const std::string& to) {
 TEST(ScenarioB, ShopUnitsAndDefaultsFromTheMaterial) {
   const Scenario sc = parse_scenario(twin_text(), "b.toml", library());
   EXPECT_EQ(sc.system, "B");
-  EXPECT_DOUBLE_EQ(sc.b.part.length_m, 0.6);
-  EXPECT_DOUBLE_EQ(sc.b.part.youngs_modulus_Pa, 210e9);
-  EXPECT_EQ(sc.b.setup, sim::TwinSetup::FeedDivision);
-  EXPECT_EQ(sc.b.cutting.form, cutting::ForceForm::Kienzle);
-  EXPECT_DOUBLE_EQ(sc.b.vibration.dead_zone_m, 5e-6);
-  EXPECT_EQ(sc.b.source, control::ModulationSource::Automatic);
+  const auto& settings = sc.get<b_chatter::Settings>();
+  const sim::RigBConfig& b = settings.rig;
+  EXPECT_DOUBLE_EQ(b.part.length_m, 0.6);
+  EXPECT_DOUBLE_EQ(b.part.youngs_modulus_Pa, 210e9);
+  EXPECT_EQ(b.setup, sim::TwinSetup::FeedDivision);
+  EXPECT_EQ(b.cutting.form, cutting::ForceForm::Kienzle);
+  EXPECT_DOUBLE_EQ(b.vibration.dead_zone_m, 5e-6);
+  EXPECT_EQ(b.source, control::ModulationSource::Automatic);
   // F ∝ S^(1−m_p), F_p/F_c at each tool's chip s/2 = 0.07 mm (40Kh: 357·h^0.51 / 1940·h^0.74).
-  EXPECT_DOUBLE_EQ(sc.b.module.force_feed_exponent, 0.51);
-  EXPECT_NEAR(sc.b.module.radial_force_ratio,
+  EXPECT_DOUBLE_EQ(b.module.force_feed_exponent, 0.51);
+  EXPECT_NEAR(b.module.radial_force_ratio,
               357.0 * std::pow(0.07, 0.51) / (1940.0 * std::pow(0.07, 0.74)), 1e-12);
   // m_d: the first mode's mass seen at the middle of the cut (285 mm of 600): ρAL/2 / sin².
   const double modal = 7850.0 * std::numbers::pi * 0.02 * 0.02 * 0.6 / 2.0;
-  EXPECT_NEAR(sc.b.module.part_mass_kg,
+  EXPECT_NEAR(b.module.part_mass_kg,
               modal / std::pow(std::sin(std::numbers::pi * 285.0 / 600.0), 2), 1e-9);
-  ASSERT_EQ(sc.b_sweep_feed.size(), 8u);
+  ASSERT_EQ(settings.sweep_feed_mm_per_rev.size(), 8u);
 }
 
 TEST(ScenarioB, BadInputNamesTheKey) {
@@ -346,6 +350,47 @@ TEST(ScenarioB, ProgrammedParametersObeyTheSeedsQuanta) {
   } catch (const InputError& e) {
     EXPECT_TRUE(contains(e.what(), "key 'modulation.dl_mm'")) << e.what();
   }
+}
+
+// The keys a system's own tables read, each described once (settings.cpp): the reference lists
+// them with a doc, including the ones only some choices read (the programmed modulation, the idle
+// table, a given threshold).
+std::vector<ParamRecord> own_rows(const Section& section, const std::vector<std::string>& tables) {
+  std::vector<ParamRecord> out;
+  for (const auto& r : describe_section(section, library()))
+    for (const auto& t : tables)
+      if (r.key.rfind(t + ".", 0) == 0 && r.kind != "table") out.push_back(r);
+  return out;
+}
+bool described(const std::vector<ParamRecord>& rows, const std::string& key) {
+  for (const auto& r : rows)
+    if (r.key == key) return !r.doc.empty();
+  return false;
+}
+
+TEST(ScenarioB, EveryKeyOfItsTablesIsDescribed) {
+  const auto rows = own_rows(b_chatter::kSection, {"part", "cut", "vibration_sensor",
+                                                   "power_sensor", "modulation", "study"});
+  EXPECT_EQ(rows.size(), 51u);  // part 6, cut 12, sensors 6 + 6, modulation 19, study 2
+  for (const auto& r : rows) EXPECT_FALSE(r.doc.empty()) << r.key;
+  for (const char* k : {"modulation.S_min_mm_per_min", "modulation.dl_mm",
+                        "power_sensor.idle_table_rpm", "study.sweep_feed_mm_per_rev"})
+    EXPECT_TRUE(described(rows, k)) << k;
+  // The defaults shown are the settings' own, in the file's units.
+  for (const auto& r : rows) {
+    if (r.key == "vibration_sensor.dead_zone_um") EXPECT_EQ(r.fallback, "5");
+    if (r.key == "modulation.engage_time_ms") EXPECT_EQ(r.fallback, "50");
+  }
+}
+
+TEST(ScenarioD, EveryKeyOfItsTablesIsDescribed) {
+  const auto rows =
+      own_rows(d_gauging::kSection, {"process", "transducer", "gauge", "monte_carlo"});
+  EXPECT_EQ(rows.size(), 25u);  // process 7, transducer 14, gauge 2, monte_carlo 2
+  for (const auto& r : rows) EXPECT_FALSE(r.doc.empty()) << r.key;
+  EXPECT_TRUE(described(rows, "gauge.threshold_V"));
+  for (const auto& r : rows)
+    if (r.key == "process.noise_sigma_um") EXPECT_EQ(r.fallback, "0");
 }
 
 // System E's entry feed (issue "Results a user can trust", finding 3): a scenario key, default

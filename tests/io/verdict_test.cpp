@@ -15,15 +15,19 @@
 #include <string>
 
 #include "lathectl/io/errors.hpp"
-#include "lathectl/io/lobes_command.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/report.hpp"
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
-#include "lathectl/sim/rig_b.hpp"
+#include "systems/b_chatter/lobes.hpp"
+#include "systems/b_chatter/rig.hpp"
+#include "systems/b_chatter/settings.hpp"
 
 using namespace lathectl;
 using namespace lathectl::io;
+using lathectl::b_chatter::lobes_needed;
+using lathectl::b_chatter::LobesInput;
+using lathectl::b_chatter::parse_lobes_input;
 
 namespace {
 using lathectl::test::library;
@@ -115,7 +119,7 @@ TEST(Verdict, BRefusesAStepTooCoarseForItsChatter) {
   const std::string good = example("b_twin_feed_division.toml");
   const Scenario sc = parse_scenario(good, "b.toml", library());
   double f = 0.0;
-  const double lim = sim::RigB::max_step_s(sc.b, &f);
+  const double lim = sim::RigB::max_step_s(sc.get<b_chatter::Settings>().rig, &f);
   // The 600 × 40 mm part's first mode, 226 Hz, chatters near f·√(1+2ζ); ω·dt ≤ 0.2.
   EXPECT_NEAR(f, 227.6, 1.0);
   EXPECT_NEAR(lim, 0.2 / (2 * M_PI * f), 1e-12);

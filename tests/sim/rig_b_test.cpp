@@ -8,7 +8,7 @@
 //     cutting positions (stiffness varies along the part);
 //   - the feed split of feed division (each tool s/2) and the tool leaving the cut at chatter.
 #include "support/library.hpp"
-#include "lathectl/sim/rig_b.hpp"
+#include "systems/b_chatter/rig.hpp"
 
 #include <gtest/gtest.h>
 

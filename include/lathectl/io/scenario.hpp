@@ -16,8 +16,6 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/toml_reader.hpp"
-#include "lathectl/sim/gauging.hpp"
-#include "lathectl/sim/rig_b.hpp"
 #include "lathectl/sim/rig_e.hpp"
 
 namespace lathectl::io {
@@ -85,20 +83,6 @@ struct Scenario {
   // --- Transitional (issue 12): per-system fields still read by src/io/scenario_legacy.cpp.
   //     Each moves into its system's folder (systems/<x>/settings.hpp) and leaves here.
   sim::RigEConfig e;      // system E
-  sim::RigBConfig b;      // system B
-  bool b_compare = true;  // system B: also run without modulation
-  std::vector<double> b_sweep_feed;  // system B: feeds for the with/without sweep
-  // system D
-  struct Gauging {
-    sim::GaugingProcess process;
-    sensors::VibroContactGauge::Params transducer;
-    double tolerance_m = 10e-6;            // ± about the target
-    std::string threshold = "calibrated";  // "seed" (23 with A0, K) or "calibrated" (23 with the
-                                           // full model's local line) or "given"
-    double threshold_V = 0.0;              // when "given"
-    std::size_t parts = 100000;            // linearised Monte Carlo
-    std::size_t full_parts = 8;            // full-model Monte Carlo
-  } d;
   std::vector<control::AdaptiveFeedController::Mode> compare_modes;  // system E: overlaid runs
 };
 

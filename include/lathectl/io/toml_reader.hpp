@@ -107,6 +107,9 @@ class TableReader {
   void read(const Param& p, std::size_t& field);
   // The same for a key without a default.
   void require(const Param& p, double& field);
+  // An array of numbers, each in p.range, times p.scale; absent → empty (or, with min_count > 0,
+  // required).
+  std::vector<double> numbers(const Param& p, std::size_t min_count = 0);
   // A string that must be one of `choices`; absent → `fallback` (or required when none).
   std::string pick(const Param& p, const std::vector<std::string>& choices,
                    std::optional<std::string> fallback = std::nullopt);

@@ -1,22 +1,29 @@
-#include "lathectl/io/system_d.hpp"
-
-#include "lathectl/sim/config_error.hpp"
+#include "systems/d_gauging/study.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <stdexcept>
-#include <thread>
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
-#include "lathectl/sim/gauging.hpp"
+#include "lathectl/sim/config_error.hpp"
+#include "lathectl/sim/parallel.hpp"
+#include "systems/d_gauging/gauging.hpp"
+#include "systems/d_gauging/settings.hpp"
 
-namespace lathectl::io {
+namespace lathectl::d_gauging {
 
 namespace {
+using io::Claims;
+using io::Compare;
+using io::fmt;
+using io::json_number;
+using io::Plot;
+using io::Series;
+using io::Table;
 using nlohmann::json;
 constexpr double kUm = 1e6;
 
@@ -52,39 +59,32 @@ double linear_trip(const sim::GaugingProcess& p, const sim::LinearGauge& g, doub
 }
 }  // namespace
 
-RunOutput run_system_d(const Scenario& sc) {
-  const auto& d = sc.d;
+io::RunOutput run(const io::Scenario& sc) {
+  const auto& d = sc.get<Settings>();
   const double dt = sc.run.step_s;
   sensors::VibroContactGauge gauge;
   try {
     gauge.configure(d.transducer, dt);
   } catch (const std::invalid_argument& e) {
-    throw_at_key(sc, e, "transducer");
+    io::throw_at_key(sc, e, "transducer");
   }
   const double A0 = gauge.free_amplitude_m(), K = gauge.signal_gain_V_per_m();
   const auto& p = d.process;
   if (p.allowance_m > A0)
-    throw_at_key(sc, sim::ConfigError("process.allowance_um",
-                                      fmt(p.allowance_m * kUm) +
-                                          " µm exceeds the largest allowance this transducer "
-                                          "can measure, A0 = " +
-                                          fmt(A0 * kUm) + " µm"));
+    io::throw_at_key(sc, sim::ConfigError("process.allowance_um",
+                                          fmt(p.allowance_m * kUm) +
+                                              " µm exceeds the largest allowance this transducer "
+                                              "can measure, A0 = " +
+                                              fmt(A0 * kUm) + " µm"));
   const double settle = std::max(0.8, 8.0 * d.transducer.filter_time_constant_s);
 
   // 1. Calibration: the full model's settled mean signal against x, and the seed's line.
   std::vector<double> xs, s_full;
   for (int i = 0; i <= 16; ++i) xs.push_back(A0 * (-0.05 + 1.0 * i / 16.0));
   std::vector<double> sig(xs.size());
-  {
-    std::vector<std::thread> pool;
-    const unsigned n = std::max(1u, std::thread::hardware_concurrency());
-    for (unsigned k = 0; k < n; ++k)
-      pool.emplace_back([&, k] {
-        for (std::size_t i = k; i < xs.size(); i += n)
-          sig[i] = sim::full_model_mean_signal(d.transducer, dt, xs[i], settle);
-      });
-    for (auto& t : pool) t.join();
-  }
+  sim::parallel_for(xs.size(), [&](std::size_t i) {
+    sig[i] = sim::full_model_mean_signal(d.transducer, dt, xs[i], settle);
+  });
   s_full = sig;
   const sim::LinearGauge seed_line{K, A0, d.transducer.filter_time_constant_s};
   // Local calibration around where the relay trips: x_k + a·(T_f + t_r) ± 20 µm.
@@ -193,21 +193,14 @@ RunOutput run_system_d(const Scenario& sc) {
 
   // 6. A few full-model parts with noise, on all cores.
   std::vector<double> full_sizes(d.full_parts, 0.0);
-  {
-    std::vector<std::thread> pool;
-    const unsigned n = std::max(1u, std::thread::hardware_concurrency());
-    for (unsigned k = 0; k < n; ++k)
-      pool.emplace_back([&, k] {
-        for (std::size_t i = k; i < full_sizes.size(); i += n)
-          full_sizes[i] = sim::machine_part_full(p, d.transducer, dt, s_th, sc.run.seed * 7919 + i,
-                                                 nullptr, 50, sc.run.duration_s)
-                              .finished_m;
-      });
-    for (auto& t : pool) t.join();
-  }
+  sim::parallel_for(full_sizes.size(), [&](std::size_t i) {  // part i: its own seed
+    full_sizes[i] = sim::machine_part_full(p, d.transducer, dt, s_th, sc.run.seed * 7919 + i,
+                                           nullptr, 50, sc.run.duration_s)
+                        .finished_m;
+  });
   const Stats fst = full_sizes.size() > 1 ? stats(full_sizes) : Stats{};
 
-  RunOutput out;
+  io::RunOutput out;
   json& s = out.summary;
   s["system"] = sc.system;
   s["scenario"] = sc.name;
@@ -246,17 +239,17 @@ RunOutput run_system_d(const Scenario& sc) {
   claims.add("σ of finished size / sqrt(D/(1+βT_f))", st.sigma / pred_sigma,
              std::abs(st.sigma / pred_sigma - 1.0) <= 0.05);
   const double bias_in_se = (st.mean - p.target_m) / se;
-  claims.add("threshold (23): mean finished size − target, in standard errors σ/√N (|·| ≤ 1)",
-             bias_in_se, std::abs(bias_in_se) <= 1.0);
+  claims.check("threshold (23): mean finished size − target, in standard errors σ/√N (|·| ≤ 1)",
+               bias_in_se, Compare::Within, 1.0);
   // Stated tolerance, fixed before looking: a tenth of the part's tolerance half-width.
   const double tol_full_um = 0.1 * d.tolerance_m * kUm;
-  claims.add("inside the range: full-model part (no noise) finished − target [µm] (|·| ≤ " +
-                 fmt(tol_full_um) + ", a tenth of the tolerance)",
-             full_err_um, std::abs(full_err_um) <= tol_full_um);
+  claims.check("inside the range: full-model part (no noise) finished − target [µm] (|·| ≤ " +
+                   fmt(tol_full_um) + ", a tenth of the tolerance)",
+               full_err_um, Compare::Within, tol_full_um);
   const double tol_trip_s = tol_full_um * 1e-6 / p.removal_m_per_s;
-  claims.add("inside the range: full-model trip time − linear (22)+(23) [s] (|·| ≤ " +
-                 fmt(tol_trip_s) + ": the same tenth in time)",
-             full.trip_s - trip_lin, std::abs(full.trip_s - trip_lin) <= tol_trip_s);
+  claims.check("inside the range: full-model trip time − linear (22)+(23) [s] (|·| ≤ " +
+                   fmt(tol_trip_s) + ": the same tenth in time)",
+               full.trip_s - trip_lin, Compare::Within, tol_trip_s);
   claims.note("Filter ripple on the signal at the trip point: ±" +
               fmt(level_at_trip.ripple_V * 1e3) + " mV (±" +
               fmt(level_at_trip.ripple_V / cal_line.gain_V_per_m * kUm) +
@@ -283,7 +276,7 @@ RunOutput run_system_d(const Scenario& sc) {
         " % of σ).");
   s["claims"] = claims.json();
 
-  Report& rep = out.report;
+  io::Report& rep = out.report;
   rep.title = "System D — " + sc.name;
   rep.doc_page = "system-d-gauging.md";
   rep.subtitle = sc.file + " · vibro-contact in-process gauging, threshold: " + d.threshold;
@@ -375,8 +368,8 @@ RunOutput run_system_d(const Scenario& sc) {
   }
   {
     Series sig_s{"S(t), full model",
-                 column(rec, "time_s"),
-                 column(rec, "signal_V"),
+                 io::column(rec, "time_s"),
+                 io::column(rec, "signal_V"),
                  "#1f77b4",
                  false,
                  false};
@@ -386,7 +379,7 @@ RunOutput run_system_d(const Scenario& sc) {
                              "S [V]",
                              {sig_s, th},
                              {{full.trip_s, "relay trips"}, {full.stop_s, "cut ends"}}});
-    Series xx{"x(t)", column(rec, "time_s"), column(rec, "x_um"), "#8c564b", false, false};
+    Series xx{"x(t)", io::column(rec, "time_s"), io::column(rec, "x_um"), "#8c564b", false, false};
     Series tg{
         "target", {0.0, sc.run.duration_s}, {p.target_m * kUm, p.target_m * kUm}, "#555", true,
         false};
@@ -405,7 +398,7 @@ RunOutput run_system_d(const Scenario& sc) {
     csv += b;
   }
   out.channels_csv = csv;
-  out.compare_csv = channels_csv(rec);
+  out.compare_csv = io::channels_csv(rec);
   out.headline = std::to_string(sizes.size()) + " parts: mean error " +
                  fmt((st.mean - p.target_m) * kUm, "%.4f") + " µm, σ " +
                  fmt(st.sigma * kUm, "%.3f") + " µm (predicted " + fmt(pred_sigma * kUm, "%.3f") +
@@ -414,4 +407,4 @@ RunOutput run_system_d(const Scenario& sc) {
   return out;
 }
 
-}  // namespace lathectl::io
+}  // namespace lathectl::d_gauging

@@ -1,12 +1,12 @@
-#include "lathectl/sim/gauging.hpp"
+#include "systems/d_gauging/gauging.hpp"
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <random>
-#include <thread>
+
+#include "lathectl/sim/parallel.hpp"
 
 namespace lathectl::sim {
 
@@ -110,23 +110,17 @@ std::vector<PartResult> monte_carlo_linear(const GaugingProcess& p, const Linear
   const double h = corr / 20.0;
   const Transition tr = transition(p, g, h);
   const Stationary st = stationary(tr);
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  std::atomic<std::size_t> next{0};
+  // In chunks of parts (a part is short); part i has its own stream whatever thread runs it.
   constexpr std::size_t kChunk = 1024;
-  auto work = [&] {
-    for (;;) {
-      const std::size_t begin = next.fetch_add(kChunk);
-      if (begin >= parts) return;
-      for (std::size_t i = begin; i < std::min(parts, begin + kChunk); ++i) {
-        std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + i);  // one stream per part
-        out[i] = one_linear_part(p, g, s_th, tr, st, h, rng);
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned k = 1; k < threads; ++k) pool.emplace_back(work);
-  work();
-  for (auto& th : pool) th.join();
+  sim::parallel_for(
+      (parts + kChunk - 1) / kChunk,
+      [&](std::size_t c) {
+        for (std::size_t i = c * kChunk; i < std::min(parts, (c + 1) * kChunk); ++i) {
+          std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + i);  // one stream per part
+          out[i] = one_linear_part(p, g, s_th, tr, st, h, rng);
+        }
+      },
+      threads);
   return out;
 }
 

@@ -1,6 +1,4 @@
-#include "lathectl/sim/rig_b.hpp"
-
-#include "lathectl/sim/config_error.hpp"
+#include "systems/b_chatter/rig.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,6 +6,8 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+
+#include "lathectl/sim/config_error.hpp"
 
 namespace lathectl::sim {
 
@@ -46,11 +46,6 @@ std::vector<Channel> rig_b_channels() {
 }
 
 }  // namespace
-
-double RigB::modal_mass_kg(const dynamics::BeamPart& part, double x_c_m) {
-  (void)dynamics::beam_modes_at(part, x_c_m, 1);  // validates
-  return dynamics::beam_mode_at(part, x_c_m, 1).mass_kg;
-}
 
 double RigB::max_step_s(const RigBConfig& cfg, double* f_Hz) {
   const double L_mm = cfg.part.length_m * 1e3;

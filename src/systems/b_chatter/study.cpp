@@ -1,104 +1,33 @@
-#include "lathectl/io/system_b.hpp"
+#include "systems/b_chatter/study.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <limits>
 #include <memory>
-#include <mutex>
 #include <numbers>
-#include <stdexcept>
 #include <thread>
 
-#include "lathectl/dynamics/beam.hpp"
-#include "lathectl/dynamics/delayed_coupling.hpp"
 #include "lathectl/dynamics/van_der_pol.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
+#include "lathectl/sim/parallel.hpp"
+#include "systems/b_chatter/metrics.hpp"
+#include "systems/b_chatter/settings.hpp"
 
-namespace lathectl::io {
+namespace lathectl::b_chatter {
 
 namespace {
+using io::Claims;
+using io::Compare;
+using io::fmt;
+using io::json_number;
+using io::Plot;
+using io::Series;
+using io::Table;
 using nlohmann::json;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// What one run of the rig answers, measured over the last 30 % of the cut (the steady state).
-struct Run {
-  sim::RigB rig;
-  std::string label;
-  double vibration_um = 0.0;         // chatter band: peak |y_highpass|
-  double forced_um = 0.0;            // below the band: half the swing of y − y_highpass
-  double static_um = 0.0;            // mean y: the bending by unbalanced radial forces
-  double chatter_Hz = kNaN;          // zero crossings of y_highpass
-  double feed_mean[2] = {0.0, 0.0};  // per turret over the cut [mm/min]
-  double cut_power_W = 0.0, cut_power_measured_W = 0.0;
-  double one_out_share = 0.0;  // share of the window with one turret out of the cut
-  double t0 = 0.0, t1 = 0.0;   // the window
-};
-
-// The chatter frequency only when the vibration is above the dead zone (else it is noise).
-void measure(Run& r, bool twin, double dead_zone_um) {
-  const auto& rec = r.rig.recorder();
-  const auto t = rec.column("time_s");
-  const auto y = rec.column("y_um");
-  const auto yh = rec.column("y_highpass_um");
-  const double start = r.rig.cut_start_s(), end = t.empty() ? 0.0 : t[t.size() - 1];
-  r.t0 = start + 0.7 * (end - start);
-  r.t1 = end - 0.05;
-  double lo = 1e300, hi = -1e300, p = 0.0, pm = 0.0, n = 0.0, out = 0.0, ys = 0.0;
-  const auto c1 = rec.column("chip1_mm"), c2 = rec.column("chip2_mm");
-  const auto pw = rec.column("cut_power_W"), pwm = rec.column("cut_power_measured_W");
-  std::size_t first = t.size(), last = 0;
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    if (t[i] < r.t0 || t[i] > r.t1) continue;
-    first = std::min(first, i);
-    last = i;
-    r.vibration_um = std::max(r.vibration_um, std::abs(yh[i]));
-    lo = std::min(lo, y[i] - yh[i]);
-    hi = std::max(hi, y[i] - yh[i]);
-    p += pw[i];
-    pm += pwm[i];
-    ys += y[i];
-    n += 1.0;
-    if (twin && ((c1[i] == 0.0) != (c2[i] == 0.0))) out += 1.0;
-  }
-  if (n > 0.0) {
-    r.forced_um = 0.5 * (hi - lo);
-    r.static_um = ys / n;
-    r.cut_power_W = p / n;
-    r.cut_power_measured_W = pm / n;
-    r.one_out_share = out / n;
-    // Chatter frequency: crossings of ±20 % of the amplitude (hysteresis), over the window.
-    int sign = 0, crossings = 0;
-    double tc0 = kNaN, tc1 = kNaN;
-    for (std::size_t i = first; i <= last; ++i) {
-      const double h = 0.2 * r.vibration_um;
-      const int s = yh[i] > h ? 1 : (yh[i] < -h ? -1 : 0);
-      if (s != 0 && s != sign) {
-        if (sign != 0) {
-          ++crossings;
-          if (std::isnan(tc0)) tc0 = t[i];
-          tc1 = t[i];
-        }
-        sign = s;
-      }
-    }
-    if (crossings > 4 && r.vibration_um > dead_zone_um)
-      r.chatter_Hz = (crossings - 1) / (2.0 * (tc1 - tc0));
-  }
-  const auto z1 = rec.column("z1_mm"), z2 = rec.column("z2_mm");
-  std::size_t k0 = 0;
-  while (k0 < t.size() && t[k0] < start) ++k0;
-  if (k0 + 1 < t.size()) {
-    const double dt = t[t.size() - 1] - t[k0];
-    r.feed_mean[0] = (z1[z1.size() - 1] - z1[k0]) / dt * 60.0;
-    r.feed_mean[1] = (z2[z2.size() - 1] - z2[k0]) / dt * 60.0;
-  }
-}
-
-void run_one(const Scenario& sc, const sim::RigBConfig& cfg, Run& r) {
-  configure_and_run(sc, r.rig, cfg, "|y| > 50 mm");
+void run_one(const io::Scenario& sc, const sim::RigBConfig& cfg, Run& r) {
+  io::configure_and_run(sc, r.rig, cfg, "|y| > 50 mm");
   measure(r, cfg.setup != sim::TwinSetup::Single, cfg.vibration.dead_zone_m * 1e6);
 }
 
@@ -108,61 +37,27 @@ std::string source_name(control::ModulationSource s) {
                                                       : "no modulation";
 }
 
-// The linear limits of the loops at a cutting position, as chip per revolution at the program's
-// speed: one tool (τ, +μ) and twin turrets in feed division (τ/2, −μ, gains added).
-struct Limits {
-  double single_feed = kNaN, twin_feed = kNaN, chatter_Hz = kNaN;
-};
-Limits linear_limits(const sim::RigBConfig& b, double x_mm, double rpm, int points = 20000) {
-  const auto modes = dynamics::beam_modes_at(b.part, x_mm * 1e-3, b.modes);
-  double f_max = 0.0;
-  for (const auto& m : modes) f_max = std::max(f_max, m.natural_frequency_Hz);
-  const double tau = 60.0 / rpm;
-  const auto& fp = b.cutting.material.Fp;
-  const double sk = std::sin(b.cutting.approach_angle_deg * std::numbers::pi / 180.0);
-  // dF_p/dt per tool at chip s: k_p/sin κ·(s·sin κ)^(1−m) [N/mm] → per metre.
-  auto chip_for_gain = [&](double g) {
-    return std::pow(g / (fp.k11_N_per_mm2 * 1e3 / sk), 1.0 / (1.0 - fp.m)) / sk;
-  };
-  Limits l;
-  // The overlap μ is the coupling c of the delayed term; the gain is each tool's dF_p/db.
-  const auto one = dynamics::critical_gain(modes, tau, b.overlap, 5.0, 2.5 * f_max, points);
-  l.single_feed = chip_for_gain(one.gain_N_per_m);
-  l.chatter_Hz = one.chatter_Hz;
-  if (b.setup == sim::TwinSetup::FeedDivision) {
-    const auto two =
-        dynamics::critical_gain(modes, 0.5 * tau, -b.overlap, 5.0, 2.5 * f_max, points);
-    l.twin_feed = 2.0 * chip_for_gain(0.5 * two.gain_N_per_m);
-    l.chatter_Hz = two.chatter_Hz;
-  }
-  return l;
-}
-
 }  // namespace
 
-RunOutput run_system_b(const Scenario& sc) {
-  const sim::RigBConfig& b = sc.b;
+io::RunOutput run(const io::Scenario& sc) {
+  const Settings& settings = sc.get<Settings>();
+  const sim::RigBConfig& b = settings.rig;
   const bool twin = b.setup != sim::TwinSetup::Single;
   const bool modulated = b.source != control::ModulationSource::None;
   auto with = std::make_unique<Run>();
   auto without = std::make_unique<Run>();
   with->label = source_name(b.source);
   without->label = "no modulation";
+  const bool compared = modulated && settings.compare;
   {
+    // The run as programmed and, to compare, the same without modulation: side by side (the one
+    // on the calling thread moves its progress line; both are as long).
     sim::RigBConfig off = b;
     off.source = control::ModulationSource::None;
-    std::thread th;
-    if (modulated && sc.b_compare) th = std::thread([&] { run_one(sc, off, *without); });
-    std::exception_ptr err;
-    try {
-      run_one(sc, b, *with);
-    } catch (...) {
-      err = std::current_exception();
-    }
-    if (th.joinable()) th.join();
-    if (err) std::rethrow_exception(err);
+    sim::parallel_for(
+        compared ? 2 : 1,
+        [&](std::size_t i) { i == 0 ? run_one(sc, b, *with) : run_one(sc, off, *without); }, 2);
   }
-  const bool compared = modulated && sc.b_compare;
   const Run& main = *with;
   const Run* off = compared ? without.get() : (modulated ? nullptr : with.get());
 
@@ -172,35 +67,24 @@ RunOutput run_system_b(const Scenario& sc) {
     Run on, off;
   };
   std::vector<std::unique_ptr<SweepPoint>> sweep;
-  for (double f : sc.b_sweep_feed) {
+  for (double f : settings.sweep_feed_mm_per_rev) {
     sweep.push_back(std::make_unique<SweepPoint>());
     sweep.back()->feed = f;
   }
   if (!sweep.empty()) {
-    const std::size_t jobs = 2 * sweep.size();
-    std::atomic<std::size_t> next{0};
-    std::exception_ptr err;
-    std::mutex err_mutex;
-    auto worker = [&] {
-      for (std::size_t j; (j = next++) < jobs;) {
-        SweepPoint& p = *sweep[j / 2];
-        sim::RigBConfig c = b;
-        c.feed_mm_per_rev = p.feed;
-        if (j % 2 == 1) c.source = control::ModulationSource::None;
-        if (c.source == control::ModulationSource::None && j % 2 == 0 && !modulated) continue;
-        try {
+    // Job j: feed j/2, with (even) or without (odd) modulation; each writes its own run.
+    const unsigned threads = std::max(1u, std::min(4u, std::thread::hardware_concurrency()));
+    sim::parallel_for(
+        2 * sweep.size(),
+        [&](std::size_t j) {
+          SweepPoint& p = *sweep[j / 2];
+          sim::RigBConfig c = b;
+          c.feed_mm_per_rev = p.feed;
+          if (j % 2 == 1) c.source = control::ModulationSource::None;
+          if (c.source == control::ModulationSource::None && j % 2 == 0 && !modulated) return;
           run_one(sc, c, j % 2 ? p.off : p.on);
-        } catch (...) {
-          const std::lock_guard<std::mutex> lock(err_mutex);
-          if (!err) err = std::current_exception();
-        }
-      }
-    };
-    std::vector<std::thread> pool;
-    const unsigned n = std::max(1u, std::min(4u, std::thread::hardware_concurrency()));
-    for (unsigned i = 0; i < n; ++i) pool.emplace_back(worker);
-    for (auto& th : pool) th.join();
-    if (err) std::rethrow_exception(err);
+        },
+        threads);
   }
 
   // Linear limits at the softest position of the cut (the modes follow the tool).
@@ -226,7 +110,7 @@ RunOutput run_system_b(const Scenario& sc) {
   const auto& mo = main.rig.module_output();
   const int t = static_cast<int>(b.turret);
 
-  RunOutput out;
+  io::RunOutput out;
   json& s = out.summary;
   s["system"] = sc.system;
   s["scenario"] = sc.name;
@@ -294,9 +178,10 @@ RunOutput run_system_b(const Scenario& sc) {
 
   Claims claims;
   if (compared)
-    claims.add("without modulation the part chatters: steady vibration [µm] above the dead zone (" +
-                   fmt(dead_zone_um) + " µm)",
-               off->vibration_um, off->vibration_um > dead_zone_um);
+    claims.check(
+        "without modulation the part chatters: steady vibration [µm] above the dead zone (" +
+            fmt(dead_zone_um) + " µm)",
+        off->vibration_um, Compare::Above, dead_zone_um);
   else if (!modulated)
     claims.note("No modulation in this scenario: steady vibration " +
                 fmt(main.vibration_um, "%.3g") + " µm against the dead zone of " +
@@ -313,11 +198,11 @@ RunOutput run_system_b(const Scenario& sc) {
                std::abs(fr - 1.0) <= 0.1);
   }
   if (b.source == control::ModulationSource::Automatic && mo.engaged) {
-    claims.add("quenching condition: planned A_P / required c·a0·m_d·|ω_d² − ω_m²| (" +
-                   fmt(mo.force_amplitude_planned_N) + " N of " +
-                   fmt(mo.force_amplitude_required_N) + " N)",
-               mo.force_amplitude_planned_N / std::max(mo.force_amplitude_required_N, 1e-12),
-               mo.force_amplitude_planned_N >= mo.force_amplitude_required_N * (1.0 - 1e-3));
+    claims.check("quenching condition: planned A_P / required c·a0·m_d·|ω_d² − ω_m²| (" +
+                     fmt(mo.force_amplitude_planned_N) + " N of " +
+                     fmt(mo.force_amplitude_required_N) + " N)",
+                 mo.force_amplitude_planned_N / std::max(mo.force_amplitude_required_N, 1e-12),
+                 Compare::AtLeast, 1.0 - 1e-3);
     if (mo.force_amplitude_planned_N < mo.force_amplitude_required_N)
       claims.note(
           "The quenching condition asks for a force swing of " +
@@ -362,7 +247,7 @@ RunOutput run_system_b(const Scenario& sc) {
         "same without any modulation (b_twin_offset).");
   s["claims"] = claims.json();
 
-  Report& rep = out.report;
+  io::Report& rep = out.report;
   rep.title = "System B — " + sc.name;
   rep.doc_page = "system-b-chatter.md";
   rep.subtitle = sc.file + " · " + main.label +
@@ -398,9 +283,12 @@ RunOutput run_system_b(const Scenario& sc) {
   const char* colors[] = {"#d62728", "#1f77b4"};
   auto series = [&](const Run& r, const char* col, const std::string& name, const char* color,
                     bool dashed = false) {
-    return Series{
-        name, column(r.rig.recorder(), "time_s"), column(r.rig.recorder(), col), color, dashed,
-        false};
+    return Series{name,
+                  io::column(r.rig.recorder(), "time_s"),
+                  io::column(r.rig.recorder(), col),
+                  color,
+                  dashed,
+                  false};
   };
   {
     Plot p{"Part displacement at the tool", "time [s]", "y [µm]", {}, {}};
@@ -504,8 +392,8 @@ RunOutput run_system_b(const Scenario& sc) {
     rep.tables.push_back(tb);
   }
 
-  out.channels_csv = channels_csv(main.rig.recorder());
-  if (off && off != &main) out.compare_csv = channels_csv(off->rig.recorder());
+  out.channels_csv = io::channels_csv(main.rig.recorder());
+  if (off && off != &main) out.compare_csv = io::channels_csv(off->rig.recorder());
   out.headline =
       (off ? "no modulation " + fmt(off->vibration_um, "%.3g") + " µm" : std::string()) +
       (modulated ? (off ? "; " : "") + main.label + " " + fmt(main.vibration_um, "%.3g") +
@@ -514,4 +402,4 @@ RunOutput run_system_b(const Scenario& sc) {
   return out;
 }
 
-}  // namespace lathectl::io
+}  // namespace lathectl::b_chatter

@@ -41,11 +41,13 @@ struct RigBConfig {
   double approach_mm = 1.0;
   double idle_block_s = 0.5;
   double feed_drive_bandwidth_Hz = 30.0;
-  drives::SpindleDrive::Params spindle;
+  // System B's lathe: a lighter spindle than SpindleDrive::Params' (the reader's defaults).
+  drives::SpindleDrive::Params spindle{
+      .inertia_kg_m2 = 0.2, .max_torque_N_m = 300.0, .max_power_W = 11000.0, .max_rpm = 4000.0};
   sensors::VibrationChain::Params vibration;
   sensors::PowerSensor::Params power;
   control::ModulatedFeedController::Params module;
-  control::ModulationSource source = control::ModulationSource::Automatic;
+  control::ModulationSource source = control::ModulationSource::None;  // no [modulation]: none
   control::Turret turret = control::Turret::Right;
   control::ModulationPlan programmed{};
   double initial_disturbance_um = 1.0;  // part displacement at the start of the cut
@@ -77,8 +79,12 @@ class RigB {
   // k(x) its least modal stiffness over the cut. Stiffer modes are integrated exactly and cannot
   // regenerate, so they do not bind the step. f_Hz (optional) receives that chatter frequency.
   [[nodiscard]] static double max_step_s(const RigBConfig& cfg, double* f_Hz = nullptr);
-  // The part's modal mass at x_c for the first mode (the m_d a user would enter).
-  [[nodiscard]] static double modal_mass_kg(const dynamics::BeamPart& part, double x_c_m);
+  // The part's modal mass at x_c for the first mode (the m_d a user would enter). Inline: the
+  // section reader, which a HAL component links without the rig, derives a default from it.
+  [[nodiscard]] static double modal_mass_kg(const dynamics::BeamPart& part, double x_c_m) {
+    (void)dynamics::beam_modes_at(part, x_c_m, 1);  // validates
+    return dynamics::beam_mode_at(part, x_c_m, 1).mass_kg;
+  }
   [[nodiscard]] double programmed_feed_mm_per_min() const noexcept {
     return cfg_.feed_mm_per_rev * cfg_.rpm;
   }

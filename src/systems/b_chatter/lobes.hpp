@@ -1,20 +1,10 @@
 #pragma once
-// `lathectl lobes MACHINE.toml --out DIR`: stability lobes of a machine's chatter model, by the
-// frequency domain and, independently, by semi-discretization (limit depths at sd_speeds speeds
-// by bisection, and a speed × depth spectral-radius chart); writes lobes.json, lobes.csv and
-// lobes.html. The machine file:
-//   [cutting] kf_N_per_mm2                       cutting-force coefficient along the chip thickness
-//   [[mode]]  stiffness_N_per_m, damping_ratio, natural_frequency_Hz, angle_deg
-//             (machine and tool modes; optional when [part] is given, then added to its modes)
-//   [part]    (optional) the slender part between centres, a pinned-pinned Euler–Bernoulli beam
-//             (dynamics/beam.hpp): length_mm, diameter_mm, youngs_modulus_GPa,
-//             density_kg_per_m3, damping_ratio, angle_deg (0), modes (3), position_mm (where the
-//             lobes are computed), positions_mm (optional: the critical depth along the part)
-//   [speed]   min_rpm, max_rpm
-//   [lobes]   (optional) max_lobes (default: lobes_needed, enough to reach min_rpm; a smaller
-//             value is an error naming the key), sd_speeds (40, bisection check points), chart_speeds
-//             (200), chart_depths (100), chart_max_depth_mm (4 × the absolute limit),
-//             chart_steps_per_period (7; 0 speeds or depths: no chart)
+// `lathectl lobes MACHINE.toml --out DIR`: stability lobes of a machine's chatter model (system
+// B's), by the frequency domain and, independently, by semi-discretization (limit depths at
+// sd_speeds speeds by bisection, and a speed × depth spectral-radius chart); writes lobes.json,
+// lobes.csv and lobes.html. The machine file — [cutting], [[mode]] and/or [part] (a slender part
+// between centres, dynamics/beam.hpp), [speed], optional [lobes] — is read in lobes_input.cpp,
+// where each key is described once (describe_machine_file; docs/machine-file-reference.md).
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -25,8 +15,13 @@
 
 #include "lathectl/dynamics/beam.hpp"
 #include "lathectl/dynamics/lobes.hpp"
+#include "lathectl/io/toml_reader.hpp"
 
 namespace lathectl::io {
+class Progress;
+}  // namespace lathectl::io
+
+namespace lathectl::b_chatter {
 
 struct LobesPart {
   dynamics::BeamPart beam;
@@ -50,6 +45,8 @@ struct LobesInput {
 LobesInput load_lobes_input(const std::string& path);  // throws InputError
 // The same from text (file_label names it in error messages); throws InputError.
 LobesInput parse_lobes_input(std::string_view text, const std::string& file_label);
+// The machine file's keys, with their ranges, defaults and meaning (the reader run without a file).
+io::ParamLog describe_machine_file();
 // The modes seen at the tool with the cutting position at x_m: the part's plus the tool's.
 dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m);
 // The lobes N = 0, 1, ... needed for the frequency-domain envelope to reach min_rpm: lobe N lies
@@ -59,8 +56,7 @@ dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m);
 int lobes_needed(const LobesInput& in);
 // Computes and writes the outputs; returns lobes.json's content, with "warnings" (speeds where
 // no lobe reaches, lobes whose minimum lies outside the speed range). progress: optional.
-class Progress;
 nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_dir,
-                         Progress* progress = nullptr);
+                         io::Progress* progress = nullptr);
 
-}  // namespace lathectl::io
+}  // namespace lathectl::b_chatter

@@ -1,136 +1,30 @@
-#include "lathectl/io/lobes_command.hpp"
+#include "systems/b_chatter/lobes.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <numbers>
-#include <atomic>
 #include <optional>
-#include <thread>
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/progress.hpp"
 #include "lathectl/io/report.hpp"
 #include "lathectl/io/study.hpp"
-#include "lathectl/io/toml_reader.hpp"
+#include "lathectl/sim/parallel.hpp"
 
-namespace lathectl::io {
-
-namespace {
-LobesInput read_lobes_input(const TomlDocument& doc);
-}  // namespace
-
-LobesInput load_lobes_input(const std::string& path) {
-  return read_lobes_input(TomlDocument::parse_file(path));
-}
-
-LobesInput parse_lobes_input(std::string_view text, const std::string& file_label) {
-  return read_lobes_input(TomlDocument::parse(text, file_label));
-}
+namespace lathectl::b_chatter {
 
 namespace {
-// The chatter frequency f_n·√(1+2ζ) of the highest mode that can chatter (see lobes_needed).
-double reference_Hz(const dynamics::ChatterSystem& sys) {
-  double lowest = std::numeric_limits<double>::infinity();
-  auto limit = [&](const dynamics::Mode& m) {
-    const double c2 = std::max(std::cos(m.angle_rad) * std::cos(m.angle_rad), 1e-12);
-    return 2.0 * m.stiffness_N_per_m * m.damping_ratio * (1.0 + m.damping_ratio) / c2;
-  };
-  for (const auto& m : sys.modes) lowest = std::min(lowest, limit(m));
-  double f = 0.0;
-  for (const auto& m : sys.modes)
-    if (limit(m) <= 3.0 * lowest)
-      f = std::max(f, m.natural_frequency_Hz * std::sqrt(1.0 + 2.0 * m.damping_ratio));
-  return f;
-}
-double lobes_reference_Hz(const LobesInput& in) {
-  double f = reference_Hz(in.system);
-  if (in.part)
-    for (double x : in.part->positions_m) f = std::max(f, reference_Hz(lobes_system_at(in, x)));
-  return f;
-}
-LobesInput read_lobes_input(const TomlDocument& doc) {
-  const std::string& path = doc.file();
-  TableReader root(doc.root(), path, "");
-  LobesInput in;
-  auto c = root.table("cutting", true);
-  in.system.kf_N_per_m2 = c->number("kf_N_per_mm2", {0.0, 1e6, true, false}) * 1e6;
-  c->finish();
-  for (auto& m : root.tables("mode")) {
-    dynamics::Mode md;
-    md.stiffness_N_per_m = m.number("stiffness_N_per_m", {0.0, 1e13, true, false});
-    md.damping_ratio = m.number("damping_ratio", {0.0, 1.0, true, true});
-    md.natural_frequency_Hz = m.number("natural_frequency_Hz", {0.0, 1e6, true, false});
-    md.angle_rad = m.number("angle_deg", Range::closed(-90, 90), 0.0) * std::numbers::pi / 180.0;
-    m.finish();
-    in.tool_modes.push_back(md);
-  }
-  if (auto p = root.table("part")) {
-    LobesPart part;
-    auto& b = part.beam;
-    b.length_m = p->number("length_mm", {0.0, 1e5, true, false}) * 1e-3;
-    b.diameter_m = p->number("diameter_mm", {0.0, 1e4, true, false}) * 1e-3;
-    b.youngs_modulus_Pa = p->number("youngs_modulus_GPa", {0.0, 1e4, true, false}) * 1e9;
-    b.density_kg_per_m3 = p->number("density_kg_per_m3", {0.0, 1e5, true, false});
-    b.damping_ratio = p->number("damping_ratio", {0.0, 1.0, true, true});
-    b.angle_rad = p->number("angle_deg", Range::closed(-90, 90), 0.0) * std::numbers::pi / 180.0;
-    part.modes = static_cast<int>(p->integer("modes", 1, 50, 3));
-    const double L_mm = b.length_m * 1e3;
-    const Range inside{0.0, L_mm, true, true};  // between the centres
-    part.position_m = p->number("position_mm", inside) * 1e-3;
-    for (double x : p->numbers("positions_mm", inside)) part.positions_m.push_back(x * 1e-3);
-    p->finish();
-    in.part = part;
-  }
-  if (in.tool_modes.empty() && !in.part)
-    root.fail("mode", "at least one [[mode]] or a [part] expected");
-  auto s = root.table("speed", true);
-  in.min_rpm = s->number("min_rpm", {0.0, 1e6, true, false});
-  in.max_rpm = s->number("max_rpm", {0.0, 1e6, true, false});
-  if (!(in.max_rpm > in.min_rpm)) s->fail("max_rpm", "must exceed min_rpm");
-  s->finish();
-  std::optional<TableReader> l = root.table("lobes");
-  std::optional<int> max_lobes;
-  if (l) {
-    if (l->has("max_lobes")) max_lobes = static_cast<int>(l->integer("max_lobes", 1, 5000));
-    in.sd_speeds = static_cast<int>(l->integer("sd_speeds", 0, 2000, 40));
-    in.chart_speeds = static_cast<int>(l->integer("chart_speeds", 0, 2000, 200));
-    in.chart_depths = static_cast<int>(l->integer("chart_depths", 0, 2000, 100));
-    if (in.chart_speeds == 1) l->fail("chart_speeds", "expected 0 (no chart) or at least 2");
-    if (in.chart_depths == 1) l->fail("chart_depths", "expected 0 (no chart) or at least 2");
-    in.chart_max_depth_m = l->number("chart_max_depth_mm", {0.0, 1e4, true, false}, 0.0) * 1e-3;
-    in.chart_steps_per_period = static_cast<int>(l->integer("chart_steps_per_period", 2, 100, 7));
-    l->finish();
-  }
-  root.finish();
-  in.system = lobes_system_at(in, in.part ? in.part->position_m : 0.0);
-  // Never fewer than the former fixed default of 40: existing machine files keep their rows.
-  const int needed = std::max(40, lobes_needed(in));
-  if (max_lobes && *max_lobes < needed)
-    l->fail("max_lobes", "must be at least " + std::to_string(needed) + " for the lobes to reach min_rpm = " +
-                             fmt(in.min_rpm) + " (60·f/min_rpm at the chatter frequency; lobes "
-                             "below " + fmt(60.0 * lobes_reference_Hz(in) / *max_lobes, "%.0f") +
-                             " rpm would be missing); leave it out for that default");
-  in.max_lobes = max_lobes ? *max_lobes : needed;
-  return in;
-}
-}  // namespace
+using io::fmt;
+using io::json_number;
+using io::Plot;
+using io::Report;
+using io::Series;
+using io::Table;
 
-int lobes_needed(const LobesInput& in) {
-  return static_cast<int>(std::ceil(60.0 * lobes_reference_Hz(in) / in.min_rpm)) + 2;
-}
-
-dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m) {
-  dynamics::ChatterSystem sys;
-  sys.kf_N_per_m2 = in.system.kf_N_per_m2;
-  if (in.part) sys.modes = dynamics::beam_modes_at(in.part->beam, x_m, in.part->modes);
-  sys.modes.insert(sys.modes.end(), in.tool_modes.begin(), in.tool_modes.end());
-  return sys;
-}
-
-namespace {
 // Frequency grid of the lobes, 0.5·f_min..2·f_max: dense lobes (a slender part at low speed, a
 // stiff tool mode far above) need ~0.1 Hz near each mode, or the envelope overshoots at the
 // lobe crossings by tens of per cent (measured on examples/machines/b_part.toml).
@@ -144,7 +38,7 @@ std::string csv_row(double a, double b) {
 }  // namespace
 
 nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_dir,
-                         Progress* progress) {
+                         io::Progress* progress) {
   using nlohmann::json;
   // Progress: the bisection speeds, then the chart's speeds (each speed about as costly).
   const double total_work =
@@ -153,8 +47,7 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
   std::atomic<std::size_t> work_done{0};
   auto tick = [&](const char* phase) {
     const std::size_t k = ++work_done;
-    if (progress && total_work > 0)
-      progress->update(static_cast<double>(k) / total_work, phase);
+    if (progress && total_work > 0) progress->update(static_cast<double>(k) / total_work, phase);
   };
   const auto fd = dynamics::frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm, in.max_lobes,
                                                    kFrequencyPoints);
@@ -168,23 +61,14 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
                                    static_cast<double>(sd_speed.size());
     fd_depth[k] = dynamics::envelope_depth(fd, sd_speed[k]);
   }
-  {
-    std::vector<std::thread> pool;
-    const unsigned n = std::max(1u, std::thread::hardware_concurrency());
-    for (unsigned w = 0; w < n; ++w)
-      pool.emplace_back([&, w] {
-        for (std::size_t k = w; k < sd_speed.size(); k += n) {
-          const double hi =
-              std::isfinite(fd_depth[k]) ? 3.0 * fd_depth[k] : 100.0 * fd.critical_depth_m;
-          const dynamics::SdChartOptions o;
-          const int m = dynamics::sd_steps_per_delay(in.system, sd_speed[k], hi, o);
-          sd_depth[k] =
-              dynamics::sd_limit_depth(in.system, sd_speed[k], hi, m, 1e-3, o.interpolation_order);
-          tick("semi-discretization limits");
-        }
-      });
-    for (auto& t : pool) t.join();
-  }
+  sim::parallel_for(sd_speed.size(), [&](std::size_t k) {
+    const double hi = std::isfinite(fd_depth[k]) ? 3.0 * fd_depth[k] : 100.0 * fd.critical_depth_m;
+    const dynamics::SdChartOptions o;
+    const int m = dynamics::sd_steps_per_delay(in.system, sd_speed[k], hi, o);
+    sd_depth[k] =
+        dynamics::sd_limit_depth(in.system, sd_speed[k], hi, m, 1e-3, o.interpolation_order);
+    tick("semi-discretization limits");
+  });
   double worst = 0.0;
   for (std::size_t k = 0; k < sd_speed.size(); ++k)
     if (std::isfinite(sd_depth[k]) && std::isfinite(fd_depth[k]))
@@ -408,9 +292,10 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
           {"N", "speed at the minimum [rpm]", "depth [mm]", "chatter [Hz]", "minimum"},
           {}};
   for (const auto& l : fd.lobes)
-    t.rows.push_back({std::to_string(l.N), fmt(l.minimum.speed_rpm, "%.1f"),
-                      fmt(l.minimum.depth_m * 1e3), fmt(l.minimum.chatter_Hz),
-                      l.minimum_inside ? "inside the range" : "edge: lowest in range, not a minimum"});
+    t.rows.push_back(
+        {std::to_string(l.N), fmt(l.minimum.speed_rpm, "%.1f"), fmt(l.minimum.depth_m * 1e3),
+         fmt(l.minimum.chatter_Hz),
+         l.minimum_inside ? "inside the range" : "edge: lowest in range, not a minimum"});
   rep.tables.push_back(t);
   for (const auto& w : warnings) rep.notes.push_back("⚠ " + w.get<std::string>());
   Plot p{
@@ -435,10 +320,10 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
   }
 
   // One set: lobes.json never stands beside another machine's lobes.csv.
-  write_output_set(out_dir, {{"lobes.csv", csv},
-                             {"lobes.html", render_html(rep)},
-                             {"lobes.json", j.dump(2) + "\n"}});
+  io::write_output_set(
+      out_dir,
+      {{"lobes.csv", csv}, {"lobes.html", io::render_html(rep)}, {"lobes.json", j.dump(2) + "\n"}});
   return j;
 }
 
-}  // namespace lathectl::io
+}  // namespace lathectl::b_chatter

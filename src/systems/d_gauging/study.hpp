@@ -6,8 +6,8 @@
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
 
-namespace lathectl::io {
+namespace lathectl::d_gauging {
 
-RunOutput run_system_d(const Scenario& sc);
+io::RunOutput run(const io::Scenario& sc);
 
-}  // namespace lathectl::io
+}  // namespace lathectl::d_gauging

@@ -1,0 +1,32 @@
+#pragma once
+// System B's settings (seed 001): the twin-turret rig with its measurement chain and CNC module,
+// and what the study runs besides (the comparison without modulation, a sweep over the feed).
+// Every default is a member initialiser here or in the rig's RigBConfig; the section reader
+// (settings.cpp) reads the file's [part], [material], [tool], [cut], [spindle],
+// [vibration_sensor], [power_sensor], [modulation] and [study] over them.
+
+#include <memory>
+#include <vector>
+
+#include "lathectl/io/scenario.hpp"
+#include "systems/b_chatter/rig.hpp"
+
+namespace lathectl::b_chatter {
+
+struct Settings : io::SettingsOf<Settings> {
+  sim::RigBConfig rig;
+  bool compare = true;                        // [study] also run without modulation
+  std::vector<double> sweep_feed_mm_per_rev;  // [study] feeds of the with/without sweep
+};
+
+// The section reader (settings.cpp): the settings from the file's tables.
+std::unique_ptr<io::SystemSettings> read_settings(io::TableReader& root, io::Scenario& sc,
+                                                  const io::MaterialLibrary& lib);
+// The reader alone (no cross-checks that need the rig): what the HAL components link
+// (lathectl_b_chatter_settings).
+extern const io::Section kReadSection;
+// The reader and the rig's probe (step against the chatter, the rig's own checks): the registry's
+// (lathectl_b_chatter).
+extern const io::Section kSection;
+
+}  // namespace lathectl::b_chatter

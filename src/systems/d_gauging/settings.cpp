@@ -1,0 +1,144 @@
+#include "systems/d_gauging/settings.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "lathectl/io/errors.hpp"
+#include "lathectl/io/toml_reader.hpp"
+
+namespace lathectl::d_gauging {
+
+namespace {
+
+using io::Param;
+using io::Range;
+using io::TableReader;
+constexpr double kUm = 1e-6;  // µm → m
+constexpr double kMs = 1e-3;  // ms → s
+
+// [process]: the controlled size x = m_x − a·t, the disturbance the gauge sees, the relay.
+void read_process(TableReader& root, Settings& d) {
+  auto pr = root.table("process", true);
+  auto& p = d.process;
+  pr->require({"allowance_um", {0.0, 1e5, true, false}, "m_x, the allowance at the start", kUm},
+              p.allowance_m);
+  pr->require({"removal_um_per_s", {0.0, 1e5, true, false}, "a, the removal rate", kUm},
+              p.removal_m_per_s);
+  pr->require({"target_um", Range::any(), "x_k, the size the relay stops at; < allowance_um", kUm},
+              p.target_m);
+  pr->check(p.target_m < p.allowance_m, "target_um", "must be below allowance_um");
+  double sigma_m = std::sqrt(p.noise_variance_m2);
+  pr->read(
+      {"noise_sigma_um", Range::closed(0, 1e4), "√D, σ of the disturbance ξ the gauge sees", kUm},
+      sigma_m);
+  p.noise_variance_m2 = sigma_m * sigma_m;
+  pr->read({"noise_beta_per_s", {0.0, 1e6, true, false}, "β in R(τ) = D·e^{−β|τ|}"},
+           p.noise_beta_per_s);
+  pr->read({"relay_response_ms", Range::closed(0, 1e4), "t_r, the relay's response time", kMs},
+           p.relay_response_s);
+  pr->require({"tolerance_um", {0.0, 1e5, true, false}, "± about the target; for Cp and Cpk", kUm},
+              d.tolerance_m);
+  pr->finish();
+}
+
+// [transducer]: the electromagnetic vibrator, its probe and contact, the generator and filter.
+void read_transducer(TableReader& root, sensors::VibroContactGauge::Params& t) {
+  auto tr = root.table("transducer", true);
+  tr->require({"supply_V", {0.0, 1e4, true, false}, "supply voltage (amplitude)"}, t.supply_V);
+  tr->require({"supply_Hz", {0.0, 1e5, true, false}, "supply frequency; the probe is driven at 2ω"},
+              t.supply_Hz);
+  tr->require({"coil_turns", {0.0, 1e7, true, false}, "W, the coil's turns"}, t.coil_turns);
+  tr->require({"coil_resistance_ohm", {0.0, 1e7, true, false}, "r, the coil's resistance"},
+              t.coil_resistance_ohm);
+  tr->require({"coil_inductance_H", {0.0, 1e4, true, false}, "L, the coil's inductance"},
+              t.coil_inductance_H);
+  tr->require({"force_coefficient_N_per_Wb2",
+               {0.0, 1e20, true, false},
+               "a_f, the magnet's force per flux²"},
+              t.force_coefficient_N_per_Wb2);
+  tr->require({"probe_mass_g", {0.0, 1e6, true, false}, "M, the probe's moving mass", 1e-3},
+              t.probe_mass_kg);
+  tr->require({"probe_damping_N_s_per_m", Range::closed(0, 1e6), "h, the probe's damping"},
+              t.probe_damping_N_s_per_m);
+  tr->require({"probe_stiffness_N_per_mm", {0.0, 1e9, true, false}, "k, the probe's spring", 1e3},
+              t.probe_stiffness_N_per_m);
+  tr->read({"contact_stiffness_N_per_mm",
+            {0.0, 1e9, true, false},
+            "k_c, the contact with the part",
+            1e3},
+           t.contact_stiffness_N_per_m);
+  tr->read({"contact_damping_N_s_per_m", Range::closed(0, 1e6), "c_c, the contact's damping"},
+           t.contact_damping_N_s_per_m);
+  tr->require(
+      {"generator_V_per_m_per_s", {0.0, 1e6, true, false}, "K_g, the velocity generator's gain"},
+      t.generator_V_per_m_per_s);
+  tr->read({"generator_time_constant_ms", Range::closed(0, 1e4), "T_g, the generator's lag", kMs},
+           t.generator_time_constant_s);
+  tr->require({"filter_time_constant_ms",
+               {0.0, 1e6, true, false},
+               "T_f, the filter after the rectifier",
+               kMs},
+              t.filter_time_constant_s);
+  tr->finish();
+}
+
+// [gauge] and [monte_carlo]: the relay's threshold and the study's sample sizes.
+void read_gauge(TableReader& root, Settings& d) {
+  if (auto g = root.table("gauge")) {
+    d.threshold = g->pick({"threshold",
+                           {},
+                           "(23) with closed-form A0 and K (seed), (23) with the full model's "
+                           "local line (calibrated), or a given voltage"},
+                          {"seed", "calibrated", "given"}, "calibrated");
+    if (d.threshold == "given" || g->is_describing())
+      g->require({"threshold_V", Range::any(), "the relay's threshold, only with \"given\""},
+                 d.threshold_V);
+    g->finish();
+  }
+  if (auto mc = root.table("monte_carlo")) {
+    mc->read({"parts", Range::closed(1, 1e7), "parts of the linearised Monte Carlo"}, d.parts);
+    mc->read({"full_parts", Range::closed(0, 1e4), "parts of the full-model Monte Carlo"},
+             d.full_parts);
+    mc->finish();
+  }
+}
+
+// A number as a user wrote it (shortest form, no trailing zeros).
+std::string fmt_number(double v) {
+  std::ostringstream ss;
+  ss << v;
+  return ss.str();
+}
+
+void validate(const io::Scenario& sc) {
+  const auto& d = sc.get<Settings>();
+  sensors::VibroContactGauge probe;
+  try {
+    probe.configure(d.transducer, sc.run.step_s);
+  } catch (const std::invalid_argument& e) {
+    io::throw_at_key(sc, e, "transducer");
+  }
+  // The transducer reads nothing above its free amplitude: found here, not after a run.
+  if (d.process.allowance_m > probe.free_amplitude_m())
+    sc.keys->fail("process.allowance_um",
+                  fmt_number(d.process.allowance_m * 1e6) +
+                      " µm exceeds the largest allowance this transducer can measure, A0 = " +
+                      fmt_number(probe.free_amplitude_m() * 1e6) + " µm");
+}
+
+}  // namespace
+
+std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenario& /*sc*/,
+                                                  const io::MaterialLibrary& /*lib*/) {
+  auto d = std::make_unique<Settings>();
+  read_process(root, *d);
+  read_transducer(root, d->transducer);
+  read_gauge(root, *d);
+  return d;
+}
+
+const io::Section kReadSection{"D", &read_settings, nullptr};
+const io::Section kSection{"D", &read_settings, &validate};
+
+}  // namespace lathectl::d_gauging

@@ -1,0 +1,37 @@
+#pragma once
+// System D's settings (seed 003): the process (allowance, removal, disturbance, relay), the
+// vibro-contact transducer, the threshold's kind and the Monte Carlo sizes. Every default is a
+// member initialiser here or in the structs it holds; the section reader (settings.cpp) reads
+// [process], [transducer], [gauge] and [monte_carlo] over them.
+
+#include <cstddef>
+#include <memory>
+#include <string>
+
+#include "lathectl/io/scenario.hpp"
+#include "lathectl/sensors/vibro_contact_gauge.hpp"
+#include "systems/d_gauging/gauging.hpp"
+
+namespace lathectl::d_gauging {
+
+struct Settings : io::SettingsOf<Settings> {
+  // The reader's disturbance is none unless [process] noise_sigma_um gives one.
+  sim::GaugingProcess process{.noise_variance_m2 = 0.0};
+  sensors::VibroContactGauge::Params transducer;
+  double tolerance_m = 10e-6;            // ± about the target
+  std::string threshold = "calibrated";  // "seed" (23 with A0, K) or "calibrated" (23 with the
+                                         // full model's local line) or "given"
+  double threshold_V = 0.0;              // when "given"
+  std::size_t parts = 100000;            // linearised Monte Carlo
+  std::size_t full_parts = 8;            // full-model Monte Carlo
+};
+
+// The section reader (settings.cpp): the settings from the file's tables.
+std::unique_ptr<io::SystemSettings> read_settings(io::TableReader& root, io::Scenario& sc,
+                                                  const io::MaterialLibrary& lib);
+// The reader alone, and the reader with the transducer's probe (its own checks, and the allowance
+// against its free amplitude): the registry's.
+extern const io::Section kReadSection;
+extern const io::Section kSection;
+
+}  // namespace lathectl::d_gauging
