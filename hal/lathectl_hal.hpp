@@ -25,6 +25,7 @@ extern "C" {
 
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "lathectl/io/toml_reader.hpp"
 
 namespace lathectl::hal {
 
@@ -129,8 +130,28 @@ inline io::Scenario load_system(const char* path, const std::string& system) {
                 "\", this component needs a system-" + system + " scenario");
   return sc;
 }
-inline io::Scenario load_system_e(const char* path) {
-  return load_system(path, "E");
+// The same with only `section`'s reader linked (a component links its own system's settings
+// library, not every system's): the file's `system` is checked first, so that another system's
+// scenario is named as such.
+inline io::Scenario load_system(const char* path, const io::Section& section) {
+  const std::string system(section.system);
+  if (path == nullptr || *path == '\0')
+    throw Error("module parameter scenario=PATH (a system-" + system +
+                " scenario file) is required");
+  require_readable(path, "scenario");
+  const std::string materials = io::data_dir() + "/materials.toml";
+  require_readable(materials, "material library");
+  const auto lib = io::MaterialLibrary::load(materials);
+  const std::string text = io::read_scenario_text(path);
+  {
+    const auto doc = io::TomlDocument::parse(text, path);
+    io::TableReader root(doc.root(), path, "");
+    const std::string found = root.has("system") ? root.string("system") : system;
+    if (found != system)
+      throw Error(std::string(path) + ": system = \"" + found +
+                  "\", this component needs a system-" + system + " scenario");
+  }
+  return io::parse_scenario(text, path, lib, section);
 }
 
 // Wall time of one call with the monotonic clock; the worst case since load (or reset).

@@ -69,9 +69,13 @@ double SpindleDrive::rpm() const noexcept {
   return w_ / kRadPerSPerRpm;
 }
 
-double SpindleDrive::idle_power_W(double rpm) const noexcept {
+double idle_power_W(const SpindleDrive::Params& p, double rpm) noexcept {
   const double n = std::abs(rpm);
-  return p_.idle_p0_W + p_.idle_p1_W_per_rpm * n + p_.idle_p2_W_per_rpm2 * n * n;
+  return p.idle_p0_W + p.idle_p1_W_per_rpm * n + p.idle_p2_W_per_rpm2 * n * n;
+}
+
+double SpindleDrive::idle_power_W(double rpm) const noexcept {
+  return drives::idle_power_W(p_, rpm);
 }
 
 double SpindleDrive::electrical_power_W() const noexcept {

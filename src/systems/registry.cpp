@@ -7,8 +7,8 @@
 #include "lathectl/io/system_b.hpp"
 #include "lathectl/io/system_c.hpp"
 #include "lathectl/io/system_d.hpp"
-#include "lathectl/io/system_e.hpp"
 #include "../io/scenario_legacy.hpp"
+#include "systems/e_adaptive/study.hpp"
 
 namespace lathectl::systems {
 
@@ -18,7 +18,6 @@ constexpr io::Section kLegacyA{"A", &io::read_legacy};
 constexpr io::Section kLegacyB{"B", &io::read_legacy};
 constexpr io::Section kLegacyC{"C", &io::read_legacy};
 constexpr io::Section kLegacyD{"D", &io::read_legacy};
-constexpr io::Section kLegacyE{"E", &io::read_legacy};
 
 const std::array<System, 5> kSystems{{
     {"A", "a_pulse_feed", "hydraulic feed slide with pulse regulation (seed 000)", &kLegacyA,
@@ -28,8 +27,8 @@ const std::array<System, 5> kSystems{{
     {"C", "c_tracer", "hydraulic copying slide (seed 002)", &kLegacyC, &io::run_system_c},
     {"D", "d_gauging", "vibro-contact in-process gauging (seed 003)", &kLegacyD,
      &io::run_system_d},
-    {"E", "e_adaptive", "adaptive control of force by feed and speed (seed 004)", &kLegacyE,
-     &io::run_system_e},
+    {"E", "e_adaptive", "adaptive control of force by feed and speed (seed 004)", &e_adaptive::kSection,
+     &e_adaptive::run},
 }};
 
 std::vector<const io::Section*> sections() {

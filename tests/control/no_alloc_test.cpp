@@ -17,6 +17,7 @@
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/sim/lathe_plant.hpp"
+#include "systems/e_adaptive/settings.hpp"
 #include "lathectl/sensors/vibration_chain.hpp"
 #include "support/sample_controller.hpp"
 
@@ -144,7 +145,7 @@ TEST(NoAlloc, LathePlantStepNeverAllocates) {
   auto sc = lathectl::io::load_scenario(
       LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance_sensor_fault.toml", lib);
   lathectl::sim::LathePlant plant;
-  plant.configure(sc.e, {});  // may allocate
+  plant.configure(sc.get<lathectl::systems::e_adaptive::Settings>().rig, {});  // may allocate
   lathectl::sim::LathePlant::Output out;
   const long before = g_allocations.load();
   for (int k = 0; k < 20000; ++k) {  // 20 s: air, cut, the collar, the sensor fault, unhomed

@@ -20,7 +20,6 @@
 #include "lathectl/sim/rig_a.hpp"
 #include "lathectl/sim/rig_b.hpp"
 #include "lathectl/sim/rig_c.hpp"
-#include "lathectl/sim/rig_e.hpp"
 
 namespace lathectl::io {
 
@@ -94,7 +93,6 @@ struct Scenario {
   // --- Transitional (issue 12): per-system fields still read by src/io/scenario_legacy.cpp.
   //     Each moves into its system's folder (systems/<x>/settings.hpp) and leaves here.
   sim::RigAConfig a;      // system A
-  sim::RigEConfig e;      // system E
   sim::RigCConfig c;      // system C
   sim::RigBConfig b;      // system B
   bool b_compare = true;  // system B: also run without modulation
@@ -111,7 +109,6 @@ struct Scenario {
     std::size_t parts = 100000;            // linearised Monte Carlo
     std::size_t full_parts = 8;            // full-model Monte Carlo
   } d;
-  std::vector<control::AdaptiveFeedController::Mode> compare_modes;  // system E: overlaid runs
   std::optional<Comparison> compare;
   std::vector<double> sweep_leak_estimate_factor;  // controller K_leak / true K_leak
 };
@@ -153,6 +150,5 @@ ParamLog describe_section(const Section& section, const MaterialLibrary& materia
 
 std::string controller_kind_name(sim::ControllerKind k);
 std::string regulator_kind_name(sim::RegulatorKind k);
-std::string adaptive_mode_name(control::AdaptiveFeedController::Mode m);
 
 }  // namespace lathectl::io
