@@ -57,8 +57,7 @@ void read_stock(TableReader& root, sim::RigEConfig& e, std::uint64_t seed) {
     cutting::Pass k;
     p.require({"z_start_mm", Range::any(), "where the pass starts cutting (it moves toward +z)"},
               k.z_start_mm);
-    p.require({"z_end_mm", Range::any(), "where the pass ends; must exceed z_start_mm"},
-              k.z_end_mm);
+    p.require({"z_end_mm", Range::any(), "where the pass ends"}, k.z_end_mm);
     p.require({"diameter_mm", {0.0, 5000.0, true, false}, "diameter the pass cuts down to"},
               k.diameter_mm);
     p.check(k.z_end_mm > k.z_start_mm, "z_end_mm", "must exceed z_start_mm");
@@ -167,8 +166,8 @@ void read_controller(TableReader& root, sim::RigEConfig& e) {
   c->check(p.feed_max_mm_per_rev > p.feed_min_mm_per_rev, "feed_max_mm_per_rev",
            "must exceed feed_min_mm_per_rev");
   const Param feed{"feed_mm_per_rev", {0.0, 10.0, true, false},
-                   "programmed feed; in [min, max] unless worst_case_feed (then its default is "
-                   "feed_min_mm_per_rev)"};
+                   "programmed feed (with worst_case_feed: optional, default "
+                   "feed_min_mm_per_rev, and chosen by the rig)"};
   if (e.worst_case_feed) {
     p.feed_programmed_mm_per_rev = p.feed_min_mm_per_rev;
     c->read(feed, p.feed_programmed_mm_per_rev);
