@@ -416,3 +416,45 @@ TEST(RigE, ExactZeroInAirIsAirNotAStuckSensor) {
 
 }  // namespace
 }  // namespace lathectl::sim
+
+namespace lathectl::sim {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// A Py dynamometer (no example uses one): the feed holds Py at its limit as it holds Pz, and the
+// speed law's power limit gets the spindle meter minus the idle power (control::adaptive_input),
+// never Py·V. With cut_power_max_kW = 5 the limit decides the speed most of the cut, and it holds
+// the meter's P_el − P_idle = (P_cut + spindle losses)/η near 5 kW: the true cutting power's median
+// lies a little below η·5 kW (η = 0.85).
+TEST(RigE, PySensorHoldsPyAndThePowerLimitSeesTheMeter) {
+  std::string t = text_of("e_stepped_seed004");
+  t = replaced(t, "parameter = \"Pz\"", "parameter = \"Py\"");
+  t = replaced(t, "force_limit_N = 2500.0", "force_limit_N = 1000.0\ncut_power_max_kW = 5.0");
+  t = replaced(t, "controllers = [\"force_feed\", \"fixed\"]", "controllers = [\"force_feed\"]");
+  const auto r = run_text(t, "py.toml");
+  const auto& m = r.out.summary["metrics"];
+  EXPECT_TRUE(m["finished"].get<bool>());
+  EXPECT_GE(get(m, "force_within_5pct_fraction"), 0.95);
+  EXPECT_LE(get(m, "force_overshoot_pct"), 15.0);
+  EXPECT_TRUE(m["alarms"].empty());
+  const auto& p = r.ch.at("cut_power_kW");
+  const auto& in_cut = r.ch.at("in_cut");
+  const auto& reason = r.ch.at("reason_code");
+  std::vector<double> cut;
+  std::size_t limited = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (in_cut[i] > 0.5) {
+      cut.push_back(p[i]);
+      limited += reason[i] == 41.0 ? 1 : 0;  // spindle_power_limit
+    }
+  ASSERT_GT(cut.size(), 1000u);
+  EXPECT_GT(static_cast<double>(limited) / static_cast<double>(cut.size()), 0.5);
+  std::nth_element(cut.begin(), cut.begin() + static_cast<std::ptrdiff_t>(cut.size() / 2),
+                   cut.end());
+  const double median = cut[cut.size() / 2];
+  EXPECT_GT(median, 0.8 * 5.0);
+  EXPECT_LT(median, 0.9 * 5.0);
+}
+
+}  // namespace
+}  // namespace lathectl::sim
