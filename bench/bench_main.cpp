@@ -13,7 +13,8 @@
 #include "lathectl/dynamics/lobes.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
-#include "lathectl/sim/rig_e.hpp"
+#include "systems/e_adaptive/rig.hpp"
+#include "systems/e_adaptive/settings.hpp"
 #include "support/sample_controller.hpp"
 #include "systems/a_pulse_feed/rig.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
@@ -61,7 +62,7 @@ void BM_RigE_Part(benchmark::State& state, const char* scenario) {
   double cycle = 0.0;
   for (auto _ : state) {
     sim::RigE rig;
-    rig.configure(sc.e, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
+    rig.configure(sc.get<systems::e_adaptive::Settings>().rig, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
     rig.run();
     cycle = rig.cycle_time_s();
     benchmark::DoNotOptimize(rig.recorder().rows());

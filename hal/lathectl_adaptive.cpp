@@ -9,13 +9,18 @@
 // same file `lathectl run` reads). Its feed per revolution becomes motion.adaptive-feed as the
 // ratio to the program's feed per revolution (requested velocity / spindle speed), clamped to
 // [0, 1]: never negative (a negative factor runs the path backwards), never above the program.
-// Pins, parameters and units: lathectl_adaptive(9).
+// The cutting power the speed law limits is the one the rig computes (control::adaptive_input):
+// from Pz·V, from the power sensor itself, or, with a Py sensor, from spindle-power minus the
+// scenario's idle power. Pins, parameters and units: lathectl_adaptive(9).
 
 #include <algorithm>
 #include <memory>
 
 #include "lathectl/control/adaptive_feed_controller.hpp"
+#include "lathectl/control/adaptive_input.hpp"
+#include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl_hal.hpp"
+#include "systems/e_adaptive/settings.hpp"
 
 MODULE_AUTHOR("lathectl");
 MODULE_DESCRIPTION("lathectl system-E adaptive feed and cutting-speed controller for LinuxCNC");
@@ -41,6 +46,7 @@ struct Pins {
   hal_s32_t* motion_type;
   hal_float_t* x_pos;
   hal_float_t* cutting_speed;
+  hal_float_t* spindle_power;
   hal_bit_t* per_rev;
   hal_bit_t* enable;
   hal_bit_t* reset;
@@ -55,6 +61,7 @@ struct Pins {
   hal_float_t* feed_per_rev;
   hal_float_t* speed_cmd;
   hal_float_t* speed_opt;
+  hal_float_t* cut_power;
   hal_bit_t* in_cut;
   hal_bit_t* period_error;
   hal_s32_t* update_ns;
@@ -72,6 +79,8 @@ struct Pins {
 struct State {
   AdaptiveFeedController ctl;
   AdaptiveFeedController::Output out{};
+  lathectl::cutting::ForceParameter parameter = lathectl::cutting::ForceParameter::Pz;
+  lathectl::drives::SpindleDrive::Params spindle;  // its idle law
   bool speed_law = false;
   long every = 0;  // thread periods per control period (0: not yet known)
   long count = 0;
@@ -124,18 +133,20 @@ void update(void*, long period_ns) {
     timer.start();
     const bool enabled = *p.enable;
     const double rpm = std::abs(*p.rpm);
-    AdaptiveFeedController::Input in;
-    const double force = *p.force;
-    in.force = force;
-    in.rpm = rpm;
-    in.feed_rate_mm_per_min = std::abs(*p.current_vel) * 60.0;
+    lathectl::control::AdaptiveSignals sig;
+    sig.force = *p.force;
+    sig.spindle_power_W = *p.spindle_power;
+    sig.idle_power_W = lathectl::drives::idle_power_W(s.spindle, rpm);
+    sig.rpm = rpm;
+    sig.feed_rate_mm_per_min = std::abs(*p.current_vel) * 60.0;
     // Sensor 20: a measured cutting speed when one is wired, else π·D·n at the tool's diameter.
     const double v_meas = *p.cutting_speed;
-    in.speed_m_per_min =
+    sig.speed_m_per_min =
         v_meas > 0.0 ? v_meas : 3.14159265358979323846 * 2.0 * std::abs(*p.x_pos) * rpm / 1000.0;
-    in.cut_power_W = std::max(force, 0.0) * in.speed_m_per_min / 60.0;
-    in.feed_block = enabled && (*p.motion_type == 2 || *p.motion_type == 3);
+    sig.feed_block = enabled && (*p.motion_type == 2 || *p.motion_type == 3);
+    const auto in = lathectl::control::adaptive_input(s.parameter, sig);
     (void)s.ctl.update(in, s.out);
+    *p.cut_power = in.cut_power_W;
     const auto& o = s.out;
     double factor = 1.0;
     if (in.feed_block) {
@@ -178,11 +189,15 @@ extern "C" int rtapi_app_main(void) {
   return lathectl::hal::guarded_load(kName, comp_id, [] {
     using lathectl::hal::param;
     using lathectl::hal::pin;
-    const auto sc = lathectl::hal::load_system_e(scenario);
+    namespace e_adaptive = lathectl::systems::e_adaptive;
+    const auto sc = lathectl::hal::load_system(scenario, e_adaptive::kReadSection);
+    const auto& e = sc.get<e_adaptive::Settings>().rig;
     auto state = std::make_unique<State>();
-    state->ctl.configure(sc.e.controller);
-    state->speed_law = sc.e.controller.mode == AdaptiveFeedController::Mode::ForceFeedSpeed;
-    const auto& c = sc.e.controller;
+    state->ctl.configure(e.controller);
+    state->parameter = e.force_parameter;
+    state->spindle = e.spindle;
+    state->speed_law = e.controller.mode == AdaptiveFeedController::Mode::ForceFeedSpeed;
+    const auto& c = e.controller;
     pins = lathectl::hal::allocate_pins<Pins>();
     Pins& p = *pins;
     pin(&p.force, HAL_IN, comp_id, kPrefix, "force");
@@ -193,6 +208,7 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.motion_type, HAL_IN, comp_id, kPrefix, "motion-type");
     pin(&p.x_pos, HAL_IN, comp_id, kPrefix, "x-pos");
     pin(&p.cutting_speed, HAL_IN, comp_id, kPrefix, "cutting-speed");
+    pin(&p.spindle_power, HAL_IN, comp_id, kPrefix, "spindle-power");
     pin(&p.per_rev, HAL_IN, comp_id, kPrefix, "feed-per-rev-mode");
     pin(&p.enable, HAL_IN, comp_id, kPrefix, "enable");
     pin(&p.reset, HAL_IN, comp_id, kPrefix, "reset");
@@ -206,6 +222,7 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.feed_per_rev, HAL_OUT, comp_id, kPrefix, "feed-per-rev");
     pin(&p.speed_cmd, HAL_OUT, comp_id, kPrefix, "cutting-speed-cmd");
     pin(&p.speed_opt, HAL_OUT, comp_id, kPrefix, "cutting-speed-opt");
+    pin(&p.cut_power, HAL_OUT, comp_id, kPrefix, "cut-power");
     pin(&p.in_cut, HAL_OUT, comp_id, kPrefix, "in-cut");
     pin(&p.period_error, HAL_OUT, comp_id, kPrefix, "period-error");
     pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");

@@ -25,6 +25,7 @@ extern "C" {
 
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "lathectl/io/toml_reader.hpp"
 
 namespace lathectl::hal {
 
@@ -113,24 +114,10 @@ inline void require_readable(const std::string& path, const char* what) {
   throw Error(msg);
 }
 
-// The scenario of `system` named by the `scenario=` module parameter (errors name file, line,
-// key).
-inline io::Scenario load_system(const char* path, const std::string& system) {
-  if (path == nullptr || *path == '\0')
-    throw Error("module parameter scenario=PATH (a system-" + system +
-                " scenario file) is required");
-  require_readable(path, "scenario");
-  const std::string materials = io::data_dir() + "/materials.toml";
-  require_readable(materials, "material library");
-  const auto lib = io::MaterialLibrary::load(materials);
-  auto sc = io::load_scenario(path, lib);
-  if (sc.system != system)
-    throw Error(std::string(path) + ": system = \"" + sc.system +
-                "\", this component needs a system-" + system + " scenario");
-  return sc;
-}
-// The same with the system's own section reader only (what a component that links no other
-// system's code calls): a file of another system is refused naming both.
+// The scenario named by the `scenario=` module parameter, read with only `section`'s reader (a
+// component links its own system's settings library, not every system's); errors name file,
+// line and key. The file's `system` is checked first, so another system's scenario is named as
+// such.
 inline io::Scenario load_system(const char* path, const io::Section& section) {
   const std::string system(section.system);
   if (path == nullptr || *path == '\0')
@@ -144,15 +131,12 @@ inline io::Scenario load_system(const char* path, const io::Section& section) {
   {
     const auto doc = io::TomlDocument::parse(text, path);
     io::TableReader root(doc.root(), path, "");
-    const std::string found = root.has("system") ? root.string("system") : "";
-    if (!found.empty() && found != system)
+    const std::string found = root.has("system") ? root.string("system") : system;
+    if (found != system)
       throw Error(std::string(path) + ": system = \"" + found +
                   "\", this component needs a system-" + system + " scenario");
   }
   return io::parse_scenario(text, path, lib, section);
-}
-inline io::Scenario load_system_e(const char* path) {
-  return load_system(path, "E");
 }
 
 // Wall time of one call with the monotonic clock; the worst case since load (or reset).

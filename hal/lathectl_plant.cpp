@@ -15,6 +15,7 @@
 
 #include "lathectl/sim/lathe_plant.hpp"
 #include "lathectl_hal.hpp"
+#include "systems/e_adaptive/settings.hpp"
 
 MODULE_AUTHOR("lathectl");
 MODULE_DESCRIPTION("lathectl cutting-process plant (system-E scenario) for LinuxCNC");
@@ -91,12 +92,13 @@ extern "C" int rtapi_app_main(void) {
   if (comp_id < 0) return comp_id;
   return lathectl::hal::guarded_load(kName, comp_id, [] {
     using lathectl::hal::pin;
-    const auto sc = lathectl::hal::load_system_e(scenario);
+    namespace e_adaptive = lathectl::systems::e_adaptive;
+    const auto sc = lathectl::hal::load_system(scenario, e_adaptive::kReadSection);
     lathectl::sim::LathePlant::Params p;
     p.z_origin_mm = lathectl::hal::number_param(z_origin_mm, "z_origin_mm", 0.0);
     p.cell_mm = lathectl::hal::number_param(cell_mm, "cell_mm", 0.01);
     auto model = std::make_unique<lathectl::sim::LathePlant>();
-    model->configure(sc.e, p);
+    model->configure(sc.get<e_adaptive::Settings>().rig, p);
     pins = lathectl::hal::allocate_pins<Pins>();
     pin(&pins->x_pos, HAL_IN, comp_id, kPrefix, "x-pos");
     pin(&pins->z_pos, HAL_IN, comp_id, kPrefix, "z-pos");

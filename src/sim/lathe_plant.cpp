@@ -8,7 +8,7 @@
 
 namespace lathectl::sim {
 
-void LathePlant::configure(const RigEConfig& cfg, const Params& p) {
+void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   if (!(p.cell_mm > 0.0)) throw std::invalid_argument("lathe plant: cell_mm must be > 0");
   const auto& blank = cfg.stock.blank_diameter_mm;
   if (blank.size() < 2)
@@ -154,9 +154,7 @@ void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
   }
   if (t_since_contact_ >= 0.0) t_since_contact_ += dt;
   const double power = cut_.power_W(f, v);
-  double param = f.Pz;
-  if (cfg_.force_parameter == ForceParameter::Py) param = f.Py;
-  if (cfg_.force_parameter == ForceParameter::Power) param = power;
+  const double param = cutting::force_parameter(cfg_.force_parameter, f, power);
   sensor_.step(dt, param);
   const double sample = sensor_.sample();
   out.force_measured = t_since_contact_ >= 0.0

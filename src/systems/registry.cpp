@@ -3,8 +3,6 @@
 #include <array>
 
 #include "lathectl/io/errors.hpp"
-#include "lathectl/io/system_e.hpp"
-#include "../io/scenario_legacy.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
 #include "systems/a_pulse_feed/study.hpp"
 #include "systems/b_chatter/settings.hpp"
@@ -13,13 +11,11 @@
 #include "systems/c_tracer/study.hpp"
 #include "systems/d_gauging/settings.hpp"
 #include "systems/d_gauging/study.hpp"
+#include "systems/e_adaptive/study.hpp"
 
 namespace lathectl::systems {
 
 namespace {
-// Transitional (issue 12): systems whose section reader is still src/io/scenario_legacy.cpp.
-constexpr io::Section kLegacyE{"E", &io::read_legacy};
-
 const std::array<System, 5> kSystems{{
     {"A", "a_pulse_feed", "hydraulic feed slide with pulse regulation (seed 000)",
      &a_pulse_feed::kSection, &a_pulse_feed::run},
@@ -28,8 +24,8 @@ const std::array<System, 5> kSystems{{
     {"C", "c_tracer", "hydraulic copying slide (seed 002)", &c_tracer::kSection, &c_tracer::run},
     {"D", "d_gauging", "vibro-contact in-process gauging (seed 003)", &d_gauging::kSection,
      &d_gauging::run},
-    {"E", "e_adaptive", "adaptive control of force by feed and speed (seed 004)", &kLegacyE,
-     &io::run_system_e},
+    {"E", "e_adaptive", "adaptive control of force by feed and speed (seed 004)",
+     &e_adaptive::kSection, &e_adaptive::run},
 }};
 
 std::vector<const io::Section*> sections() {

@@ -12,11 +12,13 @@
 #include <new>
 
 #include "lathectl/control/adaptive_feed_controller.hpp"
+#include "lathectl/control/adaptive_input.hpp"
 #include "lathectl/control/modulated_feed.hpp"
 #include "lathectl/control/pulse_feed_controller.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/sim/lathe_plant.hpp"
+#include "systems/e_adaptive/settings.hpp"
 #include "lathectl/sensors/vibration_chain.hpp"
 #include "support/sample_controller.hpp"
 
@@ -106,7 +108,7 @@ TEST(NoAlloc, AdaptiveFeedControllerUpdateNeverAllocates) {
           const int phase = k % 5000;  // per block: air, cut, rapid
           const bool block = phase < 4500;
           const bool in_air = phase < 300;
-          AdaptiveFeedController::Input in;
+          lathectl::control::AdaptiveSignals in;  // as the rig and the HAL component build it
           in.feed_block = block;
           in.rpm = 600.0 + 100.0 * std::sin(k * 1e-3);
           in.speed_m_per_min = 150.0 * in.rpm / 600.0;
@@ -116,9 +118,11 @@ TEST(NoAlloc, AdaptiveFeedControllerUpdateNeverAllocates) {
           in.force = !block || in_air
                          ? 5.0 * std::sin(k * 0.7)
                          : k_plant * std::max(feed, 0.05) * (1.0 + 0.2 * std::sin(k * 0.2));
-          in.cut_power_W = in.force * in.speed_m_per_min / 60.0;
+          in.idle_power_W = 500.0;
+          in.spindle_power_W = 500.0 + in.force * in.speed_m_per_min / 60.0;
           if (k >= 12000 && k < 12005) in.force = std::nan("");  // fault path
-          (void)c.update(in, out);
+          (void)c.update(
+              lathectl::control::adaptive_input(lathectl::cutting::ForceParameter::Pz, in), out);
           feed = out.feed_per_rev_mm;
           alarms += out.alarm ? 1 : 0;
           rapids += block ? 0 : 1;
@@ -138,13 +142,31 @@ TEST(NoAlloc, AdaptiveFeedControllerUpdateNeverAllocates) {
       }
 }
 
+// The Input builder the rig and the HAL component share, for every force parameter.
+TEST(NoAlloc, AdaptiveInputNeverAllocates) {
+  using lathectl::cutting::ForceParameter;
+  double sum = 0.0;
+  const long before = g_allocations.load();
+  for (int k = 0; k < 3000; ++k) {
+    lathectl::control::AdaptiveSignals s;
+    s.force = k % 100 == 0 ? std::nan("") : 1000.0 + k;
+    s.spindle_power_W = 4000.0;
+    s.idle_power_W = 500.0;
+    s.speed_m_per_min = 120.0;
+    for (auto p : {ForceParameter::Pz, ForceParameter::Py, ForceParameter::Power})
+      sum += lathectl::control::adaptive_input(p, s).cut_power_W;
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0) << "adaptive_input() allocated";
+  EXPECT_GT(sum, 0.0);
+}
+
 // The LinuxCNC plant component's model runs in the servo thread too.
 TEST(NoAlloc, LathePlantStepNeverAllocates) {
   const auto lib = lathectl::io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
   auto sc = lathectl::io::load_scenario(
       LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance_sensor_fault.toml", lib);
   lathectl::sim::LathePlant plant;
-  plant.configure(sc.e, {});  // may allocate
+  plant.configure(sc.get<lathectl::systems::e_adaptive::Settings>().rig, {});  // may allocate
   lathectl::sim::LathePlant::Output out;
   const long before = g_allocations.load();
   for (int k = 0; k < 20000; ++k) {  // 20 s: air, cut, the collar, the sensor fault, unhomed

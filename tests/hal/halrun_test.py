@@ -4,6 +4,8 @@ a streamer feeds the stimulus into the component on a 1 ms thread, a sampler rec
 outputs in the same period, and the recording is checked against what the component must do.
 
   halrun_test.py adaptive SOURCE_DIR WORK_DIR   controller: feed by force, limits, sensor loss
+  halrun_test.py cut_power SOURCE_DIR WORK_DIR  controller: the speed law's power limit with a
+                                                power sensor and with Py + spindle power meter
   halrun_test.py plant SOURCE_DIR WORK_DIR      plant: handbook force of a straight turn
   halrun_test.py bad_input SOURCE_DIR WORK_DIR  bad scenario / module parameters fail the load
   halrun_test.py timing SOURCE_DIR WORK_DIR [SECONDS]
@@ -208,6 +210,74 @@ def test_adaptive(src, work):
     print("adaptive update(): max %d ns over %d calls" % (max(ns), len(ns)))
 
 
+def sensor_scenario(src, work, name, parameter, limit_line, cut_power_max_kw):
+    """step_allowance.toml with another sensor 4 and a spindle power for cutting small enough that
+    the speed law's power limit decides the spindle speed."""
+    text = open(scenario_path(src)).read()
+    unit = "W" if parameter == "power" else "N"
+    for a, b in [('parameter = "Pz"', 'parameter = "%s"' % parameter),
+                 ("noise_N = 15.0", "noise_%s = 15.0" % unit),
+                 ("range_N = 20000.0", "range_%s = 20000.0" % unit),
+                 ("force_limit_N = 1600.0", limit_line + "\ncut_power_max_kW = %g" % cut_power_max_kw)]:
+        assert a in text, a
+        text = text.replace(a, b)
+    path = os.path.join(work, name + ".toml")
+    with open(path, "w") as f:
+        f.write(text)
+    return tomllib.loads(text), rt_path(src, path)
+
+
+def test_cut_power(src, work):
+    """The cutting power the speed law limits (V ≤ V_meas·P_max/P_cut) is the one the rig uses
+    (control::adaptive_input): with a power sensor the sensor's own reading, with Py the spindle's
+    power meter minus the scenario's idle power, never force·V. The spindle then runs at
+    n·P_max/P_cut: the speed law alone would keep V_p (the measured feed is S_p)."""
+    rpm, x = 1200.0, 18.0
+    v = math.pi * 2.0 * x * rpm / 1000.0  # sensor 20 from x-pos: 135.7 m/min
+    for name, parameter, limit_line, force, meter, p_max in [
+            # power sensor: 2.4 kW below its 3 kW limit; P_cut = 2400 W, not 2400·V/60 = 5429 W
+            ("cut_power_power", "power", "cut_power_limit_kW = 3.0", 2400.0, 0.0, 2.0),
+            # Py dynamometer + a 5 kW spindle meter: P_cut = 5000 − P_idle(1200) = 4196 W, not
+            # Py·V/60 = 2262 W
+            ("cut_power_py", "Py", "force_limit_N = 1600.0", 1000.0, 5000.0, 2.0)]:
+        sc, rt = sensor_scenario(src, work, name, parameter, limit_line, p_max)
+        c, sp = sc["controller"], sc["spindle"]
+        s_prog = c["feed_mm_per_rev"]
+        idle = sp["idle_p0_W"] + sp["idle_p1_W_per_rpm"] * rpm + sp["idle_p2_W_per_rpm2"] * rpm ** 2
+        want = force if parameter == "power" else meter - idle
+        wrong = force * v / 60.0  # what the component computed before (force·V)
+        rows = []
+        for k in range(3000):
+            t = k * PERIOD_S
+            noise = 8.0 * math.sin(0.7 * k) + 5.0 * math.sin(0.13 * k)  # a live sensor
+            mtype, f = (1, noise) if t < 0.2 else (2, force + noise)
+            rows.append([f, rpm, rpm, s_prog, s_prog * rpm / 60.0, x, meter, mtype])
+        stim_pins = ["lathectl-adaptive.force", "lathectl-adaptive.spindle-rpm",
+                     "lathectl-adaptive.spindle-rpm-programmed", "lathectl-adaptive.requested-vel",
+                     "lathectl-adaptive.current-vel", "lathectl-adaptive.x-pos",
+                     "lathectl-adaptive.spindle-power", "lathectl-adaptive.motion-type"]
+        out_pins = ["lathectl-adaptive.cut-power", "lathectl-adaptive.spindle-speed-out",
+                    "lathectl-adaptive.feed-hold", "lathectl-adaptive.alarm"]
+        extra = ("setp lathectl-adaptive.enable 1\n"
+                 "setp lathectl-adaptive.feed-per-rev-mode 1\n")
+        got = stream_session(work, name, ["lathectl_adaptive scenario=" + rt], "fffffffs", rows,
+                             stim_pins, "ffbb", out_pins, extra)
+        if not got:
+            continue
+        steady = got[2000:]
+        p_cut = sum(r[0] for r in steady) / len(steady)
+        n_out = sum(r[1] for r in steady) / len(steady)
+        n_want = rpm * p_max * 1e3 / want
+        check(abs(p_cut - want) < 0.01 * want,
+              "%s: cut power %.0f W (expected %.0f W; force·V would be %.0f W)" %
+              (parameter, p_cut, want, wrong))
+        check(abs(n_out - n_want) < 0.01 * n_want,
+              "%s: the power limit sets the spindle to %.0f rpm (n·P_max/P_cut = %.0f rpm; with "
+              "force·V it would be %.0f rpm)" % (parameter, n_out, n_want,
+                                                 rpm * p_max * 1e3 / wrong))
+        check(not any(int(r[2]) or int(r[3]) for r in got), "%s: no hold, no alarm" % parameter)
+
+
 def handbook_pz(src, sc, t, s, v):
     mats = tomllib.load(open(os.path.join(src, "data/materials.toml"), "rb"))
     m = mats[sc["material"]["name"]]
@@ -394,6 +464,8 @@ def main():
     os.chmod(work, 0o777)  # the realtime side runs as RTAPI_UID and writes the sampler file
     if what == "adaptive":
         test_adaptive(src, work)
+    elif what == "cut_power":
+        test_cut_power(src, work)
     elif what == "plant":
         test_plant(src, work)
     elif what == "bad_input":

@@ -4,6 +4,7 @@
 
 #include "support/library.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "systems/e_adaptive/settings.hpp"
 
 #include <gtest/gtest.h>
 
@@ -414,18 +415,18 @@ std::string edit_e(const std::string& from, const std::string& to) {
 TEST(ScenarioE, FeedMinAboveOldEntryFeedRunsWithEntryAtFeedMin) {
   const auto sc = parse_scenario(edit_e("feed_min_mm_per_rev = 0.05", "feed_min_mm_per_rev = 0.1"),
                                  "mem.toml", library());
-  EXPECT_DOUBLE_EQ(sc.e.controller.feed_min_mm_per_rev, 0.1);
-  EXPECT_DOUBLE_EQ(sc.e.controller.entry_feed_mm_per_rev, 0.1);
+  EXPECT_DOUBLE_EQ(sc.get<systems::e_adaptive::Settings>().rig.controller.feed_min_mm_per_rev, 0.1);
+  EXPECT_DOUBLE_EQ(sc.get<systems::e_adaptive::Settings>().rig.controller.entry_feed_mm_per_rev, 0.1);
   // The examples keep their 0.05.
   const auto ex = parse_scenario(seed004_text(), "mem.toml", library());
-  EXPECT_DOUBLE_EQ(ex.e.controller.entry_feed_mm_per_rev, 0.05);
+  EXPECT_DOUBLE_EQ(ex.get<systems::e_adaptive::Settings>().rig.controller.entry_feed_mm_per_rev, 0.05);
 }
 
 TEST(ScenarioE, EntryFeedIsAKey) {
   const auto sc = parse_scenario(
       edit_e("feed_min_mm_per_rev = 0.05", "feed_min_mm_per_rev = 0.05\nentry_feed_mm_per_rev = 0.12"),
       "mem.toml", library());
-  EXPECT_DOUBLE_EQ(sc.e.controller.entry_feed_mm_per_rev, 0.12);
+  EXPECT_DOUBLE_EQ(sc.get<systems::e_adaptive::Settings>().rig.controller.entry_feed_mm_per_rev, 0.12);
 }
 
 TEST(ScenarioE, EntryFeedBelowFeedMinNamesLineAndKey) {

@@ -14,6 +14,7 @@
 
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "systems/e_adaptive/settings.hpp"
 
 namespace lathectl::sim {
 namespace {
@@ -21,9 +22,11 @@ namespace {
 RigEConfig config() {
   static const io::MaterialLibrary lib =
       io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
-  auto sc = io::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.toml", lib);
-  sc.e.force_sensor.noise_sigma = 0.0;
-  return sc.e;
+  const auto sc =
+      io::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.toml", lib);
+  auto cfg = sc.get<systems::e_adaptive::Settings>().rig;
+  cfg.force_sensor.noise_sigma = 0.0;
+  return cfg;
 }
 
 // Moves the tool from (x0, z0) to (x1, z1) at `feed` mm/rev, 1 ms steps; returns the last output.

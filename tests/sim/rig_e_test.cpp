@@ -6,7 +6,8 @@
 // Each scenario runs once (≈ 0.05–0.6 s), in one TEST per scenario.
 
 #include "support/library.hpp"
-#include "lathectl/sim/rig_e.hpp"
+#include "systems/e_adaptive/rig.hpp"
+#include "systems/e_adaptive/settings.hpp"
 
 #include <gtest/gtest.h>
 
@@ -32,6 +33,10 @@ namespace {
 using Mode = control::AdaptiveFeedController::Mode;
 
 using lathectl::test::library;
+
+const RigEConfig& rig_of(const io::Scenario& sc) {
+  return sc.get<systems::e_adaptive::Settings>().rig;
+}
 
 // The main run's recorded channels, parsed back from channels.csv.
 using Columns = std::map<std::string, std::vector<double>>;
@@ -78,7 +83,7 @@ const Result& result(const std::string& name) {
 
 // Metrics of the run with this controller (main or comparison), or null.
 const nlohmann::json* metrics_of(const nlohmann::json& summary, Mode mode) {
-  const std::string label = io::adaptive_mode_name(mode);
+  const std::string label = systems::e_adaptive::mode_name(mode);
   if (summary["label"].get<std::string>() == label) return &summary["metrics"];
   if (summary.contains("comparisons"))
     for (const auto& c : summary["comparisons"])
@@ -93,7 +98,7 @@ double get(const nlohmann::json& m, const char* key) {
 
 double stock_volume_cm3(const io::Scenario& sc) {
   cutting::Stock stock;
-  stock.configure(sc.e.stock);
+  stock.configure(rig_of(sc).stock);
   return stock.volume_to_remove_cm3();
 }
 
@@ -106,11 +111,11 @@ void seed004_force_held_at_limit() {
   // per-revolution force at most 15 % above the limit anywhere in cut.
   for (Mode mode : {Mode::ForceFeedSpeed, Mode::ForceFeed}) {
     const auto* m = metrics_of(r.out.summary, mode);
-    ASSERT_NE(m, nullptr) << io::adaptive_mode_name(mode);
-    EXPECT_TRUE((*m)["finished"].get<bool>()) << io::adaptive_mode_name(mode);
-    EXPECT_GE(get(*m, "force_within_5pct_fraction"), 0.95) << io::adaptive_mode_name(mode);
-    EXPECT_LE(get(*m, "force_overshoot_pct"), 15.0) << io::adaptive_mode_name(mode);
-    EXPECT_TRUE((*m)["alarms"].empty()) << io::adaptive_mode_name(mode);
+    ASSERT_NE(m, nullptr) << systems::e_adaptive::mode_name(mode);
+    EXPECT_TRUE((*m)["finished"].get<bool>()) << systems::e_adaptive::mode_name(mode);
+    EXPECT_GE(get(*m, "force_within_5pct_fraction"), 0.95) << systems::e_adaptive::mode_name(mode);
+    EXPECT_LE(get(*m, "force_overshoot_pct"), 15.0) << systems::e_adaptive::mode_name(mode);
+    EXPECT_TRUE((*m)["alarms"].empty()) << systems::e_adaptive::mode_name(mode);
   }
 }
 
@@ -136,7 +141,7 @@ void seed004_material_removed_is_stock_volume() {
   for (Mode mode : {Mode::ForceFeedSpeed, Mode::ForceFeed, Mode::Fixed}) {
     const auto* m = metrics_of(r.out.summary, mode);
     ASSERT_NE(m, nullptr);
-    EXPECT_NEAR(get(*m, "material_removed_cm3"), v, 0.03 * v) << io::adaptive_mode_name(mode);
+    EXPECT_NEAR(get(*m, "material_removed_cm3"), v, 0.03 * v) << systems::e_adaptive::mode_name(mode);
   }
 }
 
@@ -147,7 +152,7 @@ void seed004_tool_life_is_palmgren_miner_of_channels() {
   // interval (20 ms) is 40 simulation steps, so 5 % is allowed.
   const auto& r = result("e_stepped_seed004");
   cutting::CuttingModel cut;
-  cut.configure(r.sc.e.cutting);
+  cut.configure(rig_of(r.sc).cutting);
   const auto& t = r.ch.at("time_s");
   const auto& v = r.ch.at("speed_m_per_min");
   const auto& s = r.ch.at("feed_per_rev_mm");
@@ -165,8 +170,8 @@ void seed004_tool_life_is_palmgren_miner_of_channels() {
   EXPECT_NEAR(r.ch.at("tool_life_used").back(), reported, 1e-3 * reported);
   // plan fraction = time in cut / T(V_p, S_p, t_p)
   const double plan_min =
-      cut.tool_life_min(r.sc.e.controller.speed_programmed_m_per_min,
-                        r.sc.e.controller.feed_planned_mm_per_rev, r.sc.e.planned_depth_mm);
+      cut.tool_life_min(rig_of(r.sc).controller.speed_programmed_m_per_min,
+                        rig_of(r.sc).controller.feed_planned_mm_per_rev, rig_of(r.sc).planned_depth_mm);
   const auto& m = r.out.summary["metrics"];
   EXPECT_NEAR(get(m, "tool_life_planned_min"), plan_min, 1e-9 * plan_min);
   EXPECT_NEAR(get(m, "tool_life_plan_fraction"), get(m, "time_in_cut_s") / 60.0 / plan_min, 1e-9);
@@ -179,23 +184,23 @@ void seed004_speed_rises_when_feed_falls() {
   const auto* seed = metrics_of(s, Mode::ForceFeedSpeed);
   const auto* prior = metrics_of(s, Mode::ForceFeed);
   ASSERT_TRUE(seed && prior);
-  const double vp = result("e_stepped_seed004").sc.e.controller.speed_programmed_m_per_min;
+  const double vp = rig_of(result("e_stepped_seed004").sc).controller.speed_programmed_m_per_min;
   EXPECT_LT(get(*seed, "feed_mean_mm_per_rev"),
-            result("e_stepped_seed004").sc.e.controller.feed_planned_mm_per_rev);
+            rig_of(result("e_stepped_seed004").sc).controller.feed_planned_mm_per_rev);
   EXPECT_GT(get(*seed, "speed_mean_m_per_min"), vp);
   EXPECT_NEAR(get(*prior, "speed_mean_m_per_min"), vp, 0.01 * vp);
 }
 
 void seed004_fixed_comparison_is_worst_case() {
-  // run_system_e sets the fixed comparison for the worst case (RigE::worst_case_feed).
+  // e_adaptive::run sets the fixed comparison for the worst case (RigE::worst_case_feed).
   const auto& r = result("e_stepped_seed004");
   cutting::CuttingModel cut;
-  cut.configure(r.sc.e.cutting);
+  cut.configure(rig_of(r.sc).cutting);
   cutting::Stock stock;
-  stock.configure(r.sc.e.stock);
+  stock.configure(rig_of(r.sc).stock);
   const auto* fixed = metrics_of(r.out.summary, Mode::Fixed);
   ASSERT_NE(fixed, nullptr);
-  EXPECT_NEAR(get(*fixed, "feed_programmed_mm_per_rev"), RigE::worst_case_feed(r.sc.e, cut, stock),
+  EXPECT_NEAR(get(*fixed, "feed_programmed_mm_per_rev"), RigE::worst_case_feed(rig_of(r.sc), cut, stock),
               1e-12);
   EXPECT_LE(get(*fixed, "force_peak_rev_mean_N"), get(*fixed, "force_limit_N"));
 }
@@ -249,9 +254,9 @@ TEST(RigE, SteppedSeed004DepthKeepsToolLifeAtPlan) {
 
 TEST(RigE, SensorDropoutHoldsFeedWithinOnePeriodAndStopsTheAxis) {
   const auto& r = result("e_sensor_dropout");
-  ASSERT_EQ(r.sc.e.faults.size(), 1u);
-  const double fault_at = r.sc.e.faults[0].at_s;
-  const double period = r.sc.e.controller.period_s;
+  ASSERT_EQ(rig_of(r.sc).faults.size(), 1u);
+  const double fault_at = rig_of(r.sc).faults[0].at_s;
+  const double period = rig_of(r.sc).controller.period_s;
   ASSERT_DOUBLE_EQ(period, 0.002);
   const auto& m = r.out.summary["metrics"];
   ASSERT_FALSE(m["feed_hold_delay_s"].is_null());
@@ -297,24 +302,24 @@ TEST(RigE, SensorDropoutHoldsFeedWithinOnePeriodAndStopsTheAxis) {
 
 TEST(RigE, SteppedFixedUsesWorstCaseFeedAndStaysBelowLimit) {
   const auto& r = result("e_stepped_fixed");
-  ASSERT_TRUE(r.sc.e.worst_case_feed);
+  ASSERT_TRUE(rig_of(r.sc).worst_case_feed);
   cutting::CuttingModel cut;
-  cut.configure(r.sc.e.cutting);
+  cut.configure(rig_of(r.sc).cutting);
   cutting::Stock stock;
-  stock.configure(r.sc.e.stock);
-  const double s_wc = RigE::worst_case_feed(r.sc.e, cut, stock);
+  stock.configure(rig_of(r.sc).stock);
+  const double s_wc = RigE::worst_case_feed(rig_of(r.sc), cut, stock);
   const auto& m = r.out.summary["metrics"];
   EXPECT_NEAR(get(m, "feed_programmed_mm_per_rev"), s_wc, 1e-12);
-  EXPECT_GT(s_wc, r.sc.e.controller.feed_min_mm_per_rev);  // a real bisection, not a clamp
-  EXPECT_LT(s_wc, r.sc.e.controller.feed_max_mm_per_rev);
+  EXPECT_GT(s_wc, rig_of(r.sc).controller.feed_min_mm_per_rev);  // a real bisection, not a clamp
+  EXPECT_LT(s_wc, rig_of(r.sc).controller.feed_max_mm_per_rev);
   // The worst case just meets the limit: Pz(t_max + 3σ, s_wc, V_p, hardest, worn) = limit.
   double hard = 1.0;
-  for (const auto& h : r.sc.e.disturbances.hardness) hard = std::max(hard, h.value);
-  const double t_max = stock.max_depth_mm() + 3.0 * r.sc.e.disturbances.random_sigma_mm;
+  for (const auto& h : rig_of(r.sc).disturbances.hardness) hard = std::max(hard, h.value);
+  const double t_max = stock.max_depth_mm() + 3.0 * rig_of(r.sc).disturbances.random_sigma_mm;
   const auto f = cut.forces(
-      {t_max, s_wc, r.sc.e.controller.speed_programmed_m_per_min, hard,
-       1.0 + r.sc.e.disturbances.wear_force_gain_per_mm * r.sc.e.disturbances.wear_VB0_mm});
-  EXPECT_NEAR(f.Pz, r.sc.e.controller.force_limit, 1e-6 * r.sc.e.controller.force_limit);
+      {t_max, s_wc, rig_of(r.sc).controller.speed_programmed_m_per_min, hard,
+       1.0 + rig_of(r.sc).disturbances.wear_force_gain_per_mm * rig_of(r.sc).disturbances.wear_VB0_mm});
+  EXPECT_NEAR(f.Pz, rig_of(r.sc).controller.force_limit, 1e-6 * rig_of(r.sc).controller.force_limit);
   // ... so the part never exceeds it.
   EXPECT_TRUE(m["finished"].get<bool>());
   EXPECT_LE(get(m, "force_peak_rev_mean_N"), get(m, "force_limit_N"));
@@ -365,8 +370,8 @@ EdRun run_text(const std::string& text, const std::string& label, bool channels 
 TEST(RigE, FrozenReadingAboveTheLimitNeverRaisesTheFeed) {
   const auto r = run_text(replaced(text_of("e_sensor_dropout"), "kind = \"nan\"", "kind = \"stuck\""),
                           "e_stuck.toml");
-  const double fault_at = r.sc.e.faults.at(0).at_s;
-  const double period = r.sc.e.controller.period_s;
+  const double fault_at = rig_of(r.sc).faults.at(0).at_s;
+  const double period = rig_of(r.sc).controller.period_s;
   const auto& t = r.ch.at("time_s");
   const auto& cmd = r.ch.at("feed_cmd_mm_per_rev");
   const auto& alarm = r.ch.at("alarm");
@@ -384,10 +389,10 @@ TEST(RigE, FrozenReadingAboveTheLimitNeverRaisesTheFeed) {
       ASSERT_LE(cmd[i], cmd[i - 1] + 1e-12) << "t = " << t[i] << " s";
     }
   }
-  EXPECT_GT(frozen, r.sc.e.controller.force_limit) << "the fault should freeze an overload";
+  EXPECT_GT(frozen, rig_of(r.sc).controller.force_limit) << "the fault should freeze an overload";
   ASSERT_FALSE(std::isnan(alarm_at));
   // The alarm still latches at the configured stuck time (100 ms), reason sensor_stuck.
-  EXPECT_NEAR(alarm_at - fault_at, r.sc.e.controller.sensor_monitor.stuck_time_s,
+  EXPECT_NEAR(alarm_at - fault_at, rig_of(r.sc).controller.sensor_monitor.stuck_time_s,
               r.sc.run.record_interval_s + 2.0 * period + 1e-9);
   const auto& m = r.out.summary["metrics"];
   ASSERT_GE(m["alarms"].size(), 1u);
@@ -407,6 +412,48 @@ TEST(RigE, ExactZeroInAirIsAirNotAStuckSensor) {
   EXPECT_NEAR(m["material_removed_cm3"].get<double>(), noisy["material_removed_cm3"].get<double>(),
               0.01 * noisy["material_removed_cm3"].get<double>());
   EXPECT_GT(m["material_removed_cm3"].get<double>(), 0.0);
+}
+
+}  // namespace
+}  // namespace lathectl::sim
+
+namespace lathectl::sim {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// A Py dynamometer (no example uses one): the feed holds Py at its limit as it holds Pz, and the
+// speed law's power limit gets the spindle meter minus the idle power (control::adaptive_input),
+// never Py·V. With cut_power_max_kW = 5 the limit decides the speed most of the cut, and it holds
+// the meter's P_el − P_idle = (P_cut + spindle losses)/η near 5 kW: the true cutting power's median
+// lies a little below η·5 kW (η = 0.85).
+TEST(RigE, PySensorHoldsPyAndThePowerLimitSeesTheMeter) {
+  std::string t = text_of("e_stepped_seed004");
+  t = replaced(t, "parameter = \"Pz\"", "parameter = \"Py\"");
+  t = replaced(t, "force_limit_N = 2500.0", "force_limit_N = 1000.0\ncut_power_max_kW = 5.0");
+  t = replaced(t, "controllers = [\"force_feed\", \"fixed\"]", "controllers = [\"force_feed\"]");
+  const auto r = run_text(t, "py.toml");
+  const auto& m = r.out.summary["metrics"];
+  EXPECT_TRUE(m["finished"].get<bool>());
+  EXPECT_GE(get(m, "force_within_5pct_fraction"), 0.95);
+  EXPECT_LE(get(m, "force_overshoot_pct"), 15.0);
+  EXPECT_TRUE(m["alarms"].empty());
+  const auto& p = r.ch.at("cut_power_kW");
+  const auto& in_cut = r.ch.at("in_cut");
+  const auto& reason = r.ch.at("reason_code");
+  std::vector<double> cut;
+  std::size_t limited = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (in_cut[i] > 0.5) {
+      cut.push_back(p[i]);
+      limited += reason[i] == 41.0 ? 1 : 0;  // spindle_power_limit
+    }
+  ASSERT_GT(cut.size(), 1000u);
+  EXPECT_GT(static_cast<double>(limited) / static_cast<double>(cut.size()), 0.5);
+  std::nth_element(cut.begin(), cut.begin() + static_cast<std::ptrdiff_t>(cut.size() / 2),
+                   cut.end());
+  const double median = cut[cut.size() / 2];
+  EXPECT_GT(median, 0.8 * 5.0);
+  EXPECT_LT(median, 0.9 * 5.0);
 }
 
 }  // namespace

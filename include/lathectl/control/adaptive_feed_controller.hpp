@@ -57,7 +57,7 @@ class AdaptiveFeedController {
     double force_limit = 1000.0;              // setter 6, in the sensor's unit (N or W)
     double feed_programmed_mm_per_rev = 0.4;  // programmed feed (fixed mode's feed)
     double feed_min_mm_per_rev = 0.05;        // setter 10
-    double feed_max_mm_per_rev = 0.6;         // setter 9
+    double feed_max_mm_per_rev = 0.8;         // setter 9
     bool allow_above_programmed = false;
     double air_feed_mm_per_rev = 0.4;     // feed while in air
     double entry_feed_mm_per_rev = 0.05;  // feed the tool drops to on contact (bumpless entry)
@@ -83,7 +83,7 @@ class AdaptiveFeedController {
     double kp = 0.5;  // PI on (limit − force)/limit → feed [fraction of programmed]
     double ti_s = 0.1;
     double feed_rate_limit_per_s = 0.5;  // max |ds/dt| as a fraction of the programmed feed per s
-    double speed_rate_limit_m_per_min_per_s = 200.0;
+    double speed_rate_limit_m_per_min_per_s = 100.0;
     double air_threshold = 0.1;  // fraction of force_limit
     double air_time_s = 0.05;
     double overload_margin = 0.3;

@@ -50,8 +50,8 @@ class SpindleDrive {
   bool limited_ = false;
 };
 
-// The idle law P_idle(n) = p0 + p1·|n| + p2·n² [W] of a drive with these parameters (n in rpm):
-// the one formula the drive, the section readers' idle tables and the HAL components use.
+// The idle law P_idle(n) = p0 + p1·|n| + p2·n² [W] (n in rpm): what a running spindle draws
+// without cutting. The drive, the rigs and the HAL components all use this one.
 [[nodiscard]] double idle_power_W(const SpindleDrive::Params& p, double rpm) noexcept;
 
 }  // namespace lathectl::drives

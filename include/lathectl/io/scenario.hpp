@@ -16,7 +16,6 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/toml_reader.hpp"
-#include "lathectl/sim/rig_e.hpp"
 
 namespace lathectl::io {
 
@@ -79,11 +78,6 @@ struct Scenario {
     if (!p) throw std::logic_error(file + ": the scenario holds another system's settings");
     return *p;
   }
-
-  // --- Transitional (issue 12): per-system fields still read by src/io/scenario_legacy.cpp.
-  //     Each moves into its system's folder (systems/<x>/settings.hpp) and leaves here.
-  sim::RigEConfig e;      // system E
-  std::vector<control::AdaptiveFeedController::Mode> compare_modes;  // system E: overlaid runs
 };
 
 // How one system reads its part of a scenario file. The common part (system, name, description,
@@ -121,6 +115,5 @@ ParamLog describe_section(const Section& section, const MaterialLibrary& materia
 [[noreturn]] void throw_at_key(const Scenario& sc, const std::invalid_argument& e,
                                const std::string& fallback_key = "");
 
-std::string adaptive_mode_name(control::AdaptiveFeedController::Mode m);
 
 }  // namespace lathectl::io

@@ -31,10 +31,29 @@
 #include "lathectl/cutting/disturbances.hpp"
 #include "lathectl/cutting/stock.hpp"
 #include "lathectl/sensors/force_sensor.hpp"
+#include "lathectl/cutting/force_parameter.hpp"
 #include "lathectl/sim/faults.hpp"
-#include "lathectl/sim/rig_e.hpp"
 
 namespace lathectl::sim {
+
+using ForceParameter = cutting::ForceParameter;
+
+// The cutting process of a system-E scenario: what the tool meets and what sensor 4 reads.
+// Defaults are the scenario's (a random allowance correlated over 20 mm, a dynamometer that
+// saturates at 10⁵ N); RigEConfig adds the machine around it.
+struct CuttingProcess {
+  cutting::CuttingModel::Params cutting;
+  cutting::StockParams stock;
+  // random allowance, hardness, wear (no depth steps: the stock's passes make the depth)
+  cutting::DisturbanceParams disturbances = [] {
+    cutting::DisturbanceParams d;
+    d.random_correlation_mm = 20.0;
+    return d;
+  }();
+  ForceParameter force_parameter = ForceParameter::Pz;
+  sensors::LaggedNoisySensor::Params force_sensor{.range = 1e5};  // N (dynamometer) or W (power)
+  std::vector<SensorFault> faults;
+};
 
 class LathePlant {
  public:
@@ -63,7 +82,7 @@ class LathePlant {
   };
 
   // Throws std::invalid_argument on a stock the grid cannot hold.
-  void configure(const RigEConfig& cfg, const Params& p);
+  void configure(const CuttingProcess& cfg, const Params& p);
   // Advances by dt_s. Never allocates, throws or logs.
   void step(const Input& in, double dt_s, Output& out) noexcept;
   // Radius of the workpiece at stock z [mm] (0 outside the stock).
@@ -71,7 +90,7 @@ class LathePlant {
 
  private:
   static constexpr std::size_t kBins = 360;
-  RigEConfig cfg_{};
+  CuttingProcess cfg_{};
   Params p_{};
   double r_nose_ = 0.8;
   double z0_ = 0.0;  // stock z of the first cell

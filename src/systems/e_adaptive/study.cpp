@@ -1,4 +1,4 @@
-#include "lathectl/io/system_e.hpp"
+#include "systems/e_adaptive/study.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,13 +10,16 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
-#include "lathectl/sim/metrics_e.hpp"
+#include "lathectl/sim/per_revolution.hpp"
+#include "systems/e_adaptive/metrics.hpp"
+#include "systems/e_adaptive/settings.hpp"
 
-namespace lathectl::io {
+namespace lathectl::systems::e_adaptive {
+
+using namespace io;
 
 namespace {
 using nlohmann::json;
-using Mode = control::AdaptiveFeedController::Mode;
 
 struct Run {
   sim::RigE rig;
@@ -32,7 +35,7 @@ void run_one(const Scenario& sc, sim::RigEConfig cfg, Mode mode, bool as_compari
   configure_and_run(sc, r.rig, cfg);
   r.m = sim::compute_metrics_e(r.rig);
   r.mode = mode;
-  r.label = adaptive_mode_name(mode);
+  r.label = mode_name(mode);
 }
 
 json metrics_json(const Run& r, const std::string& unit) {
@@ -71,44 +74,48 @@ Series series(const Run& r, const char* channel, const std::string& name, const 
       name, column(r.rig.recorder(), "time_s"), column(r.rig.recorder(), channel), color, false,
       false};
 }
+// The per-revolution mean, as the claims compute it (sim::per_revolution_mean).
 Series per_rev(const Run& r, const char* channel, const std::string& name, const char* color) {
   Series s = series(r, channel, name, color);
-  const auto rpm = r.rig.recorder().column("spindle_rpm");
   const double dt = s.x.size() > 1 ? s.x[1] - s.x[0] : 1.0;
-  std::vector<double> out(s.y.size());
-  double acc = 0.0;
-  std::size_t lo = 0;
-  for (std::size_t i = 0; i < s.y.size(); ++i) {
-    acc += s.y[i];
-    const auto w =
-        static_cast<std::size_t>(std::max(1.0, std::round(60.0 / std::max(rpm[i], 1.0) / dt)));
-    while (i + 1 - lo > w) acc -= s.y[lo++];
-    out[i] = acc / static_cast<double>(i + 1 - lo);
-  }
-  s.y = out;
+  s.y = sim::per_revolution_mean(s.y, r.rig.recorder().column("spindle_rpm"), dt);
   return s;
 }
 Series constant(double x0, double x1, double y, const std::string& name) {
   return Series{name, {x0, x1}, {y, y}, "#555", true, false};
 }
+// Cross-checks that need the whole scenario: the rig configured once, as a probe.
+void validate(const Scenario& sc) {
+  sim::RigE probe;
+  try {
+    probe.configure(sc.get<Settings>().rig, sc.run.step_s, sc.run.record_interval_s,
+                    sc.run.step_s * 4);
+  } catch (const std::invalid_argument& e) {
+    throw_at_key(sc, e);
+  }
+}
 }  // namespace
 
-RunOutput run_system_e(const Scenario& sc) {
+const Section kSection{"E", &read_settings, &validate};
+
+RunOutput run(const Scenario& sc) {
+  const Settings& set = sc.get<Settings>();
+  const sim::RigEConfig& e = set.rig;
   RunOutput out;
   std::vector<std::unique_ptr<Run>> runs;
   runs.push_back(std::make_unique<Run>());
-  run_one(sc, sc.e, sc.e.controller.mode, false, *runs.back());
-  for (const Mode m : sc.compare_modes) {
-    if (m == sc.e.controller.mode) continue;
+  run_one(sc, e, e.controller.mode, false, *runs.back());
+  for (const Mode m : set.compare_modes) {
+    if (m == e.controller.mode) continue;
     runs.push_back(std::make_unique<Run>());
-    run_one(sc, sc.e, m, true, *runs.back());
+    run_one(sc, e, m, true, *runs.back());
   }
   const Run& main = *runs.front();
-  const bool power = sc.e.force_parameter == sim::ForceParameter::Power;
+  const bool power = e.force_parameter == sim::ForceParameter::Power;
   const std::string unit = power ? "W" : "N";
   const std::string pname =
       power ? "cutting power"
-            : (sc.e.force_parameter == sim::ForceParameter::Pz ? "force Pz" : "force Py");
+            : (e.force_parameter == sim::ForceParameter::Pz ? "force Pz" : "force Py");
 
   json& s = out.summary;
   s["system"] = sc.system;
@@ -130,7 +137,7 @@ RunOutput run_system_e(const Scenario& sc) {
   for (const auto& r : runs) {
     if (!r->m.finished)
       claims.note("✘ " + r->label + ": the part was not finished within run.duration_s");
-    if (r->mode == Mode::Fixed || !sc.e.faults.empty()) continue;
+    if (r->mode == Mode::Fixed || !e.faults.empty()) continue;
     // A part never cut holds no force at its limit and so cannot keep it: these claims are not
     // met (no number), however far below the limit a force of zero is.
     const bool cut = r->m.time_in_cut_s > 0.0;
@@ -138,12 +145,12 @@ RunOutput run_system_e(const Scenario& sc) {
       claims.note("✘ " + r->label +
                   ": the tool never cut the part, so the force claims below do not apply");
     const double nan = std::nan("");
-    claim(r->label + ": share of steady cutting with the per-revolution " + pname +
-              " within 5 % of its limit (≥ 0.95)",
-          cut ? r->m.force_within_5pct_fraction : nan,
-          cut && r->m.force_within_5pct_fraction >= 0.95);
-    claim(r->label + ": largest per-revolution " + pname + " above its limit, % (≤ 15)",
-          cut ? r->m.force_overshoot_pct : nan, cut && r->m.force_overshoot_pct <= 15.0);
+    // Not cut: the value is NaN, which meets no threshold.
+    claims.check(r->label + ": share of steady cutting with the per-revolution " + pname +
+                     " within 5 % of its limit (≥ 0.95)",
+                 cut ? r->m.force_within_5pct_fraction : nan, Compare::AtLeast, 0.95);
+    claims.check(r->label + ": largest per-revolution " + pname + " above its limit, % (≤ 15)",
+                 cut ? r->m.force_overshoot_pct : nan, Compare::AtMost, 15.0);
   }
   if (by_mode[0] && by_mode[1] && by_mode[2]) {
     const double c0 = by_mode[0]->m.cycle_time_s, c1 = by_mode[1]->m.cycle_time_s,
@@ -154,17 +161,18 @@ RunOutput run_system_e(const Scenario& sc) {
           c2 < c1 && c1 < c0 && by_mode[0]->m.finished && by_mode[1]->m.finished &&
               by_mode[2]->m.finished);
   }
-  if (by_mode[2] && sc.e.faults.empty()) {
+  if (by_mode[2] && e.faults.empty()) {
     const double ratio =
         by_mode[2]->m.tool_life_used_fraction / by_mode[2]->m.tool_life_plan_fraction;
     claim(
         "seed 004: tool-life consumption against plan (∫dt/T over time-in-cut/T_plan), within 15 %",
         ratio, std::abs(ratio - 1.0) <= 0.15);
   }
-  if (!sc.e.faults.empty()) {
-    claim("sensor fault: feed held, delay after the fault [s] (≤ one control period " +
-              fmt(sc.e.controller.period_s) + " s)",
-          main.m.feed_hold_delay_s, main.m.feed_hold_delay_s <= sc.e.controller.period_s + 1e-9);
+  if (!e.faults.empty()) {
+    // (1 ns of slack: the delay is a difference of step times)
+    claims.check("sensor fault: feed held, delay after the fault [s] (≤ one control period " +
+                     fmt(e.controller.period_s) + " s)",
+                 main.m.feed_hold_delay_s, Compare::AtMost, e.controller.period_s + 1e-9);
     claim("sensor fault: alarm raised with a reason code (code)",
           main.m.alarms.empty() ? std::nan("") : static_cast<double>(main.m.alarms.front().code),
           !main.m.alarms.empty());
@@ -263,7 +271,7 @@ RunOutput run_system_e(const Scenario& sc) {
   }
 
   std::vector<Marker> mk;
-  for (const auto& f : sc.e.faults) mk.push_back({f.at_s, "sensor fault"});
+  for (const auto& f : e.faults) mk.push_back({f.at_s, "sensor fault"});
   for (const auto& a : main.m.alarms)
     mk.push_back({a.time_s, "alarm: " + std::string(control::reason_name(
                                             static_cast<control::Reason>(a.code)))});
@@ -346,4 +354,4 @@ RunOutput run_system_e(const Scenario& sc) {
   return out;
 }
 
-}  // namespace lathectl::io
+}  // namespace lathectl::systems::e_adaptive

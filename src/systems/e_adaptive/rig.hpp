@@ -26,27 +26,28 @@
 #include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/sensors/force_sensor.hpp"
 #include "lathectl/sim/faults.hpp"
+#include "lathectl/sim/lathe_plant.hpp"
 #include "lathectl/sim/recorder.hpp"
 
 namespace lathectl::sim {
 
-enum class ForceParameter { Pz, Py, Power };
-
-struct RigEConfig {
-  cutting::CuttingModel::Params cutting;
-  cutting::StockParams stock;
-  cutting::DisturbanceParams disturbances;  // random allowance, hardness, wear (no depth steps)
-  drives::FeedAxis::Params axis;
-  drives::SpindleDrive::Params spindle;
-  ForceParameter force_parameter = ForceParameter::Pz;
-  sensors::LaggedNoisySensor::Params force_sensor;  // in N (dynamometer) or W (power)
-  sensors::LaggedNoisySensor::Params power_meter;   // spindle electrical power [W]
-  control::AdaptiveFeedController::Params controller;
+// The cutting process (material, tool, stock, disturbances, sensor 4, faults: what the LinuxCNC
+// plant models too) and the machine around it. Defaults are a system-E scenario's: where a
+// library struct's own default differs, the member initialiser says so.
+struct RigEConfig : CuttingProcess {
+  // The measured feed rate over 20 ms (the struct's 10 ms is the bare axis's).
+  drives::FeedAxis::Params axis{.velocity_window_s = 0.02};
+  // No idle losses unless the scenario gives them (the struct's 300 W + 0.3·n + 1e-4·n² are the
+  // generic drive's; system B keeps those).
+  drives::SpindleDrive::Params spindle{
+      .idle_p0_W = 0.0, .idle_p1_W_per_rpm = 0.0, .idle_p2_W_per_rpm2 = 0.0};
+  sensors::LaggedNoisySensor::Params power_meter{.time_constant_s = 0.02};  // electrical [W]
+  // A stuck reading alarms after 100 ms (the bare monitor's 0 disables the check).
+  control::AdaptiveFeedController::Params controller{.sensor_monitor = {.stuck_time_s = 0.1}};
   bool worst_case_feed = false;   // fixed mode: programmed feed so the worst case meets the limit
   double planned_depth_mm = 2.0;  // depth at which V_p, S_p give the planned tool life
   double approach_mm = 2.0;       // air travel before each pass
   double rapid_m_per_s = 0.1;
-  std::vector<SensorFault> faults;
 };
 
 class RigE {
@@ -78,7 +79,6 @@ class RigE {
                                               const cutting::Stock& stock);
 
  private:
-  double force_parameter(const cutting::Forces& f, double speed_m_per_min) const noexcept;
   // Uncut chip thickness [mm]: the axial travel over the last spindle revolution, from where
   // the tool met material in this pass (so the first revolution builds the chip up).
   double chip_thickness_mm(double z_mm) noexcept;

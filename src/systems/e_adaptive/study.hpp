@@ -5,8 +5,11 @@
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
 
-namespace lathectl::io {
+namespace lathectl::systems::e_adaptive {
 
-RunOutput run_system_e(const Scenario& sc);
+// The scenario's reader (settings.cpp) and the rig's cross-checks: a probe configuration.
+extern const io::Section kSection;
 
-}  // namespace lathectl::io
+io::RunOutput run(const io::Scenario& sc);
+
+}  // namespace lathectl::systems::e_adaptive

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "lathectl/sim/metrics.hpp"
-#include "lathectl/sim/rig_e.hpp"
+#include "systems/e_adaptive/rig.hpp"
 
 namespace lathectl::sim {
 

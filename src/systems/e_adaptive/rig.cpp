@@ -1,5 +1,6 @@
-#include "lathectl/sim/rig_e.hpp"
+#include "systems/e_adaptive/rig.hpp"
 
+#include "lathectl/control/adaptive_input.hpp"
 #include "lathectl/sim/config_error.hpp"
 
 #include <algorithm>
@@ -48,15 +49,7 @@ double RigE::worst_case_feed(const RigEConfig& cfg, const cutting::CuttingModel&
   const double v = cfg.controller.speed_programmed_m_per_min;
   auto param = [&](double s) {
     const auto f = cut.forces({t_max, s, v, hard, wear});
-    switch (cfg.force_parameter) {
-      case ForceParameter::Pz:
-        return f.Pz;
-      case ForceParameter::Py:
-        return f.Py;
-      case ForceParameter::Power:
-        return cut.power_W(f, v);
-    }
-    return f.Pz;
+    return cutting::force_parameter(cfg.force_parameter, f, cut.power_W(f, v));
   };
   double lo = cfg.controller.feed_min_mm_per_rev, hi = cfg.controller.feed_max_mm_per_rev;
   if (param(lo) > cfg.controller.force_limit) return lo;
@@ -142,18 +135,6 @@ void RigE::configure(const RigEConfig& cfg, double dt, double record_interval,
       static_cast<std::size_t>(max_duration / (dt * static_cast<double>(record_every_))) + 2);
 }
 
-double RigE::force_parameter(const cutting::Forces& f, double v) const noexcept {
-  switch (cfg_.force_parameter) {
-    case ForceParameter::Pz:
-      return f.Pz;
-    case ForceParameter::Py:
-      return f.Py;
-    case ForceParameter::Power:
-      return cut_.power_W(f, v);
-  }
-  return f.Pz;
-}
-
 double RigE::chip_thickness_mm(double z_mm) noexcept {
   const std::size_t n = hist_theta_.size();
   head_ = (head_ + 1) % n;
@@ -220,29 +201,25 @@ bool RigE::step() noexcept {
   const double cut_power = cut_.power_W(f, v);
   const double torque = f.Pz * 0.5 * (d_surface - depth) * 1e-3;
   spindle_.step(dt_, out_.rpm, torque);
-  const double true_param = force_parameter(f, v);
+  const double true_param = cutting::force_parameter(cfg_.force_parameter, f, cut_power);
   power_meter_.step(dt_, spindle_.electrical_power_W());
   if (cfg_.force_parameter != ForceParameter::Power) force_sensor_.step(dt_, true_param);
 
   if (step_ % control_every_ == 0) {
-    const double p_cut_est = power_meter_.sample() - spindle_.idle_power_W(spindle_.rpm());
+    control::AdaptiveSignals sig;
+    sig.spindle_power_W = power_meter_.sample();
+    sig.idle_power_W = drives::idle_power_W(cfg_.spindle, spindle_.rpm());
     // Sensor 4: the dynamometer, or the power meter minus the idle power at this speed.
-    const double measured =
-        cfg_.force_parameter == ForceParameter::Power ? p_cut_est : force_sensor_.sample();
+    const double measured = cfg_.force_parameter == ForceParameter::Power
+                                ? sig.spindle_power_W - sig.idle_power_W
+                                : force_sensor_.sample();
     force_seen_ = faults_.apply(cfg_.faults, t_, measured, cfg_.force_sensor.range * 2.0 + 1.0);
-    control::AdaptiveFeedController::Input in;
-    in.force = force_seen_;
-    in.feed_rate_mm_per_min = axis_.measured_velocity_m_per_s() * 60000.0;
-    in.rpm = spindle_.rpm();
-    in.speed_m_per_min = std::numbers::pi * d_surface * spindle_.rpm() / 1000.0;
-    // Cutting power for the speed's power limit: from the dynamometer's Pz when there is one
-    // (the spindle's meter also carries the power that accelerates the spindle, which would
-    // make a power-limited speed loop hunt), else the meter minus the idle power.
-    in.cut_power_W = cfg_.force_parameter == ForceParameter::Pz && std::isfinite(force_seen_)
-                         ? std::max(force_seen_, 0.0) * in.speed_m_per_min / 60.0
-                         : std::max(p_cut_est, 0.0);
-    in.feed_block = in_block_;
-    (void)ctl_.update(in, out_);
+    sig.force = force_seen_;
+    sig.feed_rate_mm_per_min = axis_.measured_velocity_m_per_s() * 60000.0;
+    sig.rpm = spindle_.rpm();
+    sig.speed_m_per_min = std::numbers::pi * d_surface * spindle_.rpm() / 1000.0;
+    sig.feed_block = in_block_;
+    (void)ctl_.update(control::adaptive_input(cfg_.force_parameter, sig), out_);
     if (out_.feed_hold && first_hold_s_ < 0.0) first_hold_s_ = t_;
   }
   double v_cmd = 0.0;

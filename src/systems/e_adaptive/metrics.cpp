@@ -1,4 +1,6 @@
-#include "lathectl/sim/metrics_e.hpp"
+#include "systems/e_adaptive/metrics.hpp"
+
+#include "lathectl/sim/per_revolution.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -35,18 +37,8 @@ MetricsE compute_metrics_e(const RigE& rig, double settle_s) {
   const auto reason = rec.column("reason_code");
   const double dt_rec = t.size() > 1 ? t[1] - t[0] : 1.0;
 
-  // Per-revolution mean of the force: trailing window of one revolution at the local speed.
-  std::vector<double> f_rev(f.size());
-  {
-    std::vector<double> cum(f.size() + 1, 0.0);
-    for (std::size_t i = 0; i < f.size(); ++i) cum[i + 1] = cum[i] + f[i];
-    for (std::size_t i = 0; i < f.size(); ++i) {
-      const auto w = static_cast<std::size_t>(
-          std::max(1.0, std::round(60.0 / std::max(rpm[i], 1.0) / dt_rec)));
-      const std::size_t lo = i + 1 >= w ? i + 1 - w : 0;
-      f_rev[i] = (cum[i + 1] - cum[lo]) / static_cast<double>(i + 1 - lo);
-    }
-  }
+  // Per-revolution mean of the force (the same curve the report plots).
+  const std::vector<double> f_rev = per_revolution_mean(f, rpm, dt_rec);
   const double limit = m.force_limit;
   const double ceiling = cfg.controller.allow_above_programmed ? cfg.controller.feed_max_mm_per_rev
                                                                : m.feed_programmed_mm_per_rev;

@@ -1,0 +1,328 @@
+#include "systems/e_adaptive/settings.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include "lathectl/io/sections.hpp"
+#include "lathectl/io/toml_reader.hpp"
+
+namespace lathectl::systems::e_adaptive {
+
+namespace {
+
+using io::Param;
+using io::Range;
+using io::TableReader;
+
+constexpr double kMs = 1e-3;
+const std::vector<std::string> kModes{"fixed", "force_feed", "force_speed"};
+
+Mode mode_from(const std::string& s) {
+  return s == "fixed" ? Mode::Fixed : s == "force_feed" ? Mode::ForceFeed : Mode::ForceFeedSpeed;
+}
+
+// A number as a user wrote it (shortest form, no trailing zeros).
+std::string fmt_number(double v) {
+  std::ostringstream ss;
+  ss << v;
+  return ss.str();
+}
+
+// Points {at_mm, <value key>} along z, at_mm strictly increasing.
+void read_profile(TableReader& t, std::string_view key, std::string_view value_key,
+                  Range value_range, std::string_view value_doc,
+                  std::vector<cutting::ProfilePoint>& out) {
+  for (auto& p : t.tables(key)) {
+    cutting::ProfilePoint pt;
+    p.require({"at_mm", Range::any(), "position along z"}, pt.at_mm);
+    p.require({value_key, value_range, value_doc}, pt.value);
+    p.finish();
+    out.push_back(pt);
+  }
+  for (std::size_t i = 1; i < out.size(); ++i)
+    t.check(out[i].at_mm > out[i - 1].at_mm, key, "at_mm must increase from point to point");
+}
+
+void read_stock(TableReader& root, sim::RigEConfig& e, std::uint64_t seed) {
+  auto st = root.table("stock", true);
+  read_profile(*st, "blank", "diameter_mm", {0.0, 5000.0, true, false},
+               "blank diameter there; piecewise linear between points", e.stock.blank_diameter_mm);
+  st->check(!e.stock.blank_diameter_mm.empty(), "blank", "at least one {at_mm, diameter_mm} point");
+  st->read({"eccentricity_mm", Range::closed(0, 50),
+            "offset of the blank's axis (runout on the blank surface only)"},
+           e.stock.eccentricity_mm);
+  for (auto& p : st->tables("passes")) {
+    cutting::Pass k;
+    p.require({"z_start_mm", Range::any(), "where the pass starts cutting (it moves toward +z)"},
+              k.z_start_mm);
+    p.require({"z_end_mm", Range::any(), "where the pass ends"}, k.z_end_mm);
+    p.require({"diameter_mm", {0.0, 5000.0, true, false}, "diameter the pass cuts down to"},
+              k.diameter_mm);
+    p.check(k.z_end_mm > k.z_start_mm, "z_end_mm", "must exceed z_start_mm");
+    p.finish();
+    e.stock.passes.push_back(k);
+  }
+  st->check(!e.stock.passes.empty(), "passes",
+            "at least one pass {z_start_mm, z_end_mm, diameter_mm}");
+  read_profile(*st, "hardness", "factor", {0.0, 10.0, true, false},
+               "strength factor of the material there (1 = nominal)", e.disturbances.hardness);
+  st->read({"random_depth_sigma_mm", Range::closed(0, 10), "σ of the random allowance"},
+           e.disturbances.random_sigma_mm);
+  st->read({"random_depth_correlation_mm", Range::positive(),
+            "correlation length of the random allowance along z"},
+           e.disturbances.random_correlation_mm);
+  e.disturbances.seed = seed;
+  st->read({"approach_mm", Range::closed(0, 1000), "air travel before each pass"}, e.approach_mm);
+  st->finish();
+}
+
+void read_feed_axis(TableReader& root, sim::RigEConfig& e) {
+  auto ax = root.table("feed_axis", true);
+  ax->read({"time_constant_ms", {0.0, 1000.0, true, false}, "velocity-loop lag of drive 1", kMs},
+           e.axis.time_constant_s);
+  ax->read({"rapid_mm_per_min", {0.0, 1e6, true, false},
+            "rapid traverse between passes, also the axis's top speed", 1.0 / 60000.0},
+           e.rapid_m_per_s);
+  e.axis.max_velocity_m_per_s = e.rapid_m_per_s;
+  ax->read({"max_acceleration_m_per_s2", {0.0, 1000.0, true, false}, "axis acceleration limit"},
+           e.axis.max_acceleration_m_per_s2);
+  ax->read({"encoder_resolution_um", {0.0, 1000.0, true, false},
+            "resolution of the position encoder (sensor 12)", 1e-6},
+           e.axis.encoder_resolution_m);
+  ax->read({"velocity_window_ms", {0.0, 10000.0, true, false},
+            "window of the measured feed rate (sensor 12)", kMs},
+           e.axis.velocity_window_s);
+  ax->finish();
+}
+
+void read_sensor(TableReader& root, sim::RigEConfig& e, std::uint64_t seed) {
+  auto se = root.table("sensor", true);
+  const std::string param =
+      se->pick({"parameter", {},
+                "the force parameter sensor 4 measures; \"power\" = spindle electrical power "
+                "minus its idle power"},
+               {"Pz", "Py", "power"});
+  e.force_parameter = param == "Pz"   ? sim::ForceParameter::Pz
+                      : param == "Py" ? sim::ForceParameter::Py
+                                      : sim::ForceParameter::Power;
+  const bool power = e.force_parameter == sim::ForceParameter::Power;
+  se->read({"time_constant_ms", Range::closed(0, 1e4), "lag of sensor 4", kMs},
+           e.force_sensor.time_constant_s);
+  // The unit is in the key: N for a dynamometer, W for the power sensor (both described).
+  const Param noise_N{"noise_N", Range::closed(0, 1e6), "noise σ of a Pz/Py dynamometer"};
+  const Param noise_W{"noise_W", Range::closed(0, 1e6), "noise σ of the power sensor"};
+  const Param range_N{"range_N", {0.0, 1e9, true, false}, "saturation of a Pz/Py dynamometer"};
+  const Param range_W{"range_W", {0.0, 1e9, true, false}, "saturation of the power sensor"};
+  if (!power || se->is_describing()) {
+    se->read(noise_N, e.force_sensor.noise_sigma);
+    se->read(range_N, e.force_sensor.range);
+  }
+  if (power || se->is_describing()) {
+    se->read(noise_W, e.force_sensor.noise_sigma);
+    se->read(range_W, e.force_sensor.range);
+  }
+  e.force_sensor.seed = seed ^ 0x51ED2701ULL;
+  se->read({"power_meter_time_constant_ms", Range::closed(0, 1e4),
+            "lag of the spindle's power meter", kMs},
+           e.power_meter.time_constant_s);
+  se->read({"power_meter_noise_W", Range::closed(0, 1e6), "noise σ of the spindle's power meter"},
+           e.power_meter.noise_sigma);
+  e.power_meter.seed = seed ^ 0xB0B0B0B0ULL;
+  se->finish();
+}
+
+// The material's tool-life exponent (`yv` or `xv`) for the range that contains the feed.
+template <class Field>
+double tool_life_exponent(const cutting::Material& m, double feed, Field field, double fallback) {
+  for (int i = 0; i < m.tool_life_ranges; ++i) {
+    const auto& r = m.tool_life[static_cast<std::size_t>(i)];
+    if (feed <= r.feed_max_mm_per_rev) return r.*field;
+  }
+  return fallback;
+}
+
+void read_controller(TableReader& root, sim::RigEConfig& e) {
+  auto c = root.table("controller", true);
+  auto& p = e.controller;
+  const bool power = e.force_parameter == sim::ForceParameter::Power;
+  p.mode = mode_from(c->pick({"type", {}, "baseline (fixed), prior art (force_feed) or seed 004 "
+                                          "(force_speed)"},
+                             kModes));
+  if (!power || c->is_describing())
+    c->require({"force_limit_N", {0.0, 1e7, true, false}, "setter 6 (Pz/Py sensor)"},
+               p.force_limit);
+  if (power || c->is_describing())
+    c->require({"cut_power_limit_kW", {0.0, 1e4, true, false},
+                "setter 6 (power sensor), instead of force_limit_N", 1e3},
+               p.force_limit);
+  c->read({"worst_case_feed", {},
+           "fixed mode: the programmed feed is chosen so that the worst case meets the limit"},
+          e.worst_case_feed);
+  c->read({"feed_min_mm_per_rev", {0.0, 10.0, true, false}, "setter 10"}, p.feed_min_mm_per_rev);
+  c->read({"feed_max_mm_per_rev", {0.0, 10.0, true, false}, "setter 9; must be > min"},
+          p.feed_max_mm_per_rev);
+  c->check(p.feed_max_mm_per_rev > p.feed_min_mm_per_rev, "feed_max_mm_per_rev",
+           "must exceed feed_min_mm_per_rev");
+  const Param feed{"feed_mm_per_rev", {0.0, 10.0, true, false},
+                   "programmed feed (with worst_case_feed: optional, default "
+                   "feed_min_mm_per_rev, and chosen by the rig)"};
+  if (e.worst_case_feed) {
+    p.feed_programmed_mm_per_rev = p.feed_min_mm_per_rev;
+    c->read(feed, p.feed_programmed_mm_per_rev);
+  } else {
+    c->require(feed, p.feed_programmed_mm_per_rev);
+    c->check(p.feed_programmed_mm_per_rev >= p.feed_min_mm_per_rev &&
+                 p.feed_programmed_mm_per_rev <= p.feed_max_mm_per_rev,
+             "feed_mm_per_rev", "must lie in [feed_min_mm_per_rev, feed_max_mm_per_rev]");
+  }
+  c->read({"allow_above_programmed", {}, "the feed may rise above the programmed feed in cut"},
+          p.allow_above_programmed);
+  p.air_feed_mm_per_rev = p.feed_programmed_mm_per_rev;
+  c->read({"air_feed_mm_per_rev", {0.0, 10.0, true, false},
+           "feed in air (default: feed_mm_per_rev)"},
+          p.air_feed_mm_per_rev);
+  // Entry feed: what the feed drops to at contact before the PI takes over. Default
+  // max(0.05 mm/rev, s_min): a light chip for the first revolution, never below the limiter's
+  // floor (the controller would reject it). Checked here so the error names this key.
+  p.entry_feed_mm_per_rev = std::max(0.05, p.feed_min_mm_per_rev);
+  c->read({"entry_feed_mm_per_rev", {0.0, 10.0, true, false},
+           "feed at contact before the PI takes over (default: max(0.05, feed_min_mm_per_rev))"},
+          p.entry_feed_mm_per_rev);
+  c->check(p.entry_feed_mm_per_rev >= p.feed_min_mm_per_rev &&
+               p.entry_feed_mm_per_rev <= p.feed_max_mm_per_rev,
+           "entry_feed_mm_per_rev",
+           "must lie in [feed_min_mm_per_rev, feed_max_mm_per_rev] = [" +
+               fmt_number(p.feed_min_mm_per_rev) + ", " + fmt_number(p.feed_max_mm_per_rev) +
+               "], got " + fmt_number(p.entry_feed_mm_per_rev));
+  c->require({"speed_m_per_min", {0.0, 2000.0, true, false}, "V_p, setter 18"},
+             p.speed_programmed_m_per_min);
+  p.feed_planned_mm_per_rev = p.feed_programmed_mm_per_rev;
+  c->read({"planned_feed_mm_per_rev", {0.0, 10.0, true, false},
+           "S_p, setter 15 (default: feed_mm_per_rev)"},
+          p.feed_planned_mm_per_rev);
+  c->require({"planned_depth_mm", {0.0, 50.0, true, false},
+              "t_p: the depth at which V_p and S_p give the planned tool life"},
+             e.planned_depth_mm);
+  const auto& m = e.cutting.material;
+  p.y_v = tool_life_exponent(m, p.feed_planned_mm_per_rev, &cutting::ToolLifeRange::yv, 0.2);
+  c->read({"y_v", Range::closed(0, 1.5),
+           "tool-life exponent of the feed (default: the material's y_v for the range that "
+           "contains S_p)"},
+          p.y_v);
+  c->read({"speed_law_filter_s", Range::closed(0, 100), "low-pass on S_cur before the speed law"},
+          p.speed_law_filter_s);
+  const bool depth_corrected =
+      c->pick({"speed_law", {},
+               "\"depth_corrected\" also corrects V for the depth (needs a Pz or Py sensor; x_v "
+               "comes from the material)"},
+              {"seed", "depth_corrected"}, "seed") == "depth_corrected";
+  if (depth_corrected) {
+    c->check(!power, "speed_law",
+             "the depth-corrected law estimates depth from a force; use a Pz or Py sensor");
+    p.depth_exponent_xv =
+        tool_life_exponent(m, p.feed_planned_mm_per_rev, &cutting::ToolLifeRange::xv, 0.15);
+    p.depth_planned_mm = e.planned_depth_mm;
+    // The design model: the handbook law of the measured component at the material's nominal
+    // strength (the controller cannot know the local hardness; it shows up in t̂).
+    const auto& law = e.force_parameter == sim::ForceParameter::Pz ? m.Pz : m.Py;
+    p.force_model_C = 10.0 * law.Cp * std::pow(m.strength / m.strength_base, m.kmp_exponent);
+    p.force_model_x = law.x;
+    p.force_model_y = law.y;
+    p.force_model_n = law.n;
+  }
+  c->read({"period_ms", {0.0, 1000.0, true, false},
+           "control period; in HAL, a whole multiple of the servo thread period", kMs},
+          p.period_s);
+  c->read({"kp", Range::closed(0, 100), "feed PI (regulator 7): proportional gain"}, p.kp);
+  c->read({"ti_s", Range::closed(0, 100), "feed PI: integral time"}, p.ti_s);
+  c->read({"feed_rate_limit_per_s", {0.0, 1e3, true, false},
+           "rate limit of the feed, fraction of the programmed feed per s"},
+          p.feed_rate_limit_per_s);
+  c->read({"speed_rate_limit_m_per_min_per_s", {0.0, 1e5, true, false},
+           "rate limit of the commanded cutting speed"},
+          p.speed_rate_limit_m_per_min_per_s);
+  c->read({"air_threshold", {0.0, 0.5, true, true},
+           "fraction of the limit below which the tool is in air"},
+          p.air_threshold);
+  c->read({"air_time_ms", Range::closed(0, 1e4), "time below the air threshold that means air",
+           kMs},
+          p.air_time_s);
+  c->read({"overload_margin", Range::closed(0, 10),
+           "overload alarm above (1 + margin)·limit at s_min …"},
+          p.overload_margin);
+  c->read({"overload_time_ms", Range::closed(0, 1e5), "… for this long", kMs}, p.overload_time_s);
+  c->read({"breakage_spike", {1.0, 100.0, true, false},
+           "tool-breakage alarm on a spike above this multiple of the limit"},
+          p.breakage_spike);
+  c->read({"breakage_drop_window_ms", Range::closed(0, 1e4),
+           "tool-breakage alarm on a drop from above half the limit to air within this time",
+           kMs},
+          p.breakage_drop_window_s);
+  const auto& s = e.spindle;
+  p.rpm_min = s.min_rpm;
+  p.rpm_max = s.max_rpm;
+  p.cut_power_max_W = 0.9 * s.max_power_W * s.efficiency / 1e3 * 1e3;
+  c->read({"cut_power_max_kW", {0.0, 1e4, true, false},
+           "power available for cutting, the speed law's clamp (default: 0.9·max_power_kW·"
+           "efficiency)",
+           1e3},
+          p.cut_power_max_W);
+  p.sensor_monitor.min = -0.2 * p.force_limit;
+  c->read({"sensor_min", Range::any(), "lowest plausible reading (default: −0.2·limit)"},
+          p.sensor_monitor.min);
+  p.sensor_monitor.max = e.force_sensor.range;
+  c->read({"sensor_max", Range::any(), "highest plausible reading (default: the sensor's range)"},
+          p.sensor_monitor.max);
+  c->read({"sensor_stuck_ms", Range::closed(0, 1e5),
+           "an unchanged reading this long is a stuck sensor", kMs},
+          p.sensor_monitor.stuck_time_s);
+  p.sensor_monitor.noise_sigma = e.force_sensor.noise_sigma;  // scale of the suspect check
+  c->check(p.sensor_monitor.min < p.sensor_monitor.max, "sensor_max", "must exceed sensor_min");
+  c->finish();
+}
+
+}  // namespace
+
+std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenario& sc,
+                                                  const io::MaterialLibrary& lib) {
+  auto out = std::make_unique<Settings>();
+  auto& e = out->rig;
+  io::read_material_tool(root, lib, e.cutting, &e.disturbances);
+  read_stock(root, e, sc.run.seed);
+  read_feed_axis(root, e);
+  {
+    auto sp = root.table("spindle", true);
+    io::read_spindle(*sp, e.spindle, false);
+  }
+  read_sensor(root, e, sc.run.seed);
+  read_controller(root, e);
+  if (auto cmp = root.table("compare")) {
+    for (const auto& n : cmp->choices("controllers", kModes))
+      out->compare_modes.push_back(mode_from(n));
+    // choices() takes no Param: describing, check() puts the key's doc beside it.
+    cmp->check(!cmp->is_describing(), "controllers",
+               "extra runs overlaid in the report; a compared fixed run is set for the worst "
+               "case");
+    cmp->finish();
+  }
+  e.faults = io::read_faults(root);
+  return out;
+}
+
+const io::Section kReadSection{"E", &read_settings, nullptr};
+
+std::string mode_name(Mode m) {
+  switch (m) {
+    case Mode::Fixed:
+      return "fixed feed and speed";
+    case Mode::ForceFeed:
+      return "force by feed (prior art)";
+    case Mode::ForceFeedSpeed:
+      return "force by feed + speed law (seed 004)";
+  }
+  return "?";
+}
+
+}  // namespace lathectl::systems::e_adaptive
