@@ -28,44 +28,9 @@ namespace fs = std::filesystem;
 namespace lathectl::cli {
 namespace {
 
-// The unit a key's suffix names: "feed_mm_per_rev" → "mm/rev", "rate_per_s" → "1/s",
-// "angle_deg" → "°"; "" when the last word is no unit.
+// The unit a key's name carries (io::unit_of_key, the one the report uses too).
 std::string unit_of(const std::string& full_key) {
-  static const std::map<std::string, std::string> kUnits = {
-      {"mm", "mm"},   {"um", "µm"},   {"m", "m"},     {"km", "km"},   {"s", "s"},
-      {"ms", "ms"},   {"us", "µs"},   {"min", "min"}, {"rev", "rev"}, {"Hz", "Hz"},
-      {"kHz", "kHz"}, {"rpm", "rpm"}, {"N", "N"},     {"kN", "kN"},   {"W", "W"},
-      {"kW", "kW"},   {"Pa", "Pa"},   {"MPa", "MPa"}, {"bar", "bar"}, {"deg", "°"},
-      {"rad", "rad"}, {"kg", "kg"},   {"g", "g"},     {"V", "V"},     {"mV", "mV"},
-      {"A", "A"},     {"ohm", "Ω"},   {"H", "H"},     {"pct", "%"},   {"mm2", "mm²"},
-      {"mm3", "mm³"}, {"cm2", "cm²"}, {"cm3", "cm³"}, {"m2", "m²"},   {"m3", "m³"},
-      {"Nm", "N·m"},  {"K", "K"},     {"dB", "dB"},   {"Wb", "Wb"},   {"L", "L"}};
-  std::string key = full_key.substr(full_key.rfind('.') + 1);
-  std::vector<std::string> w;
-  for (std::size_t p = 0, q; p <= key.size(); p = q + 1) {
-    q = key.find('_', p);
-    if (q == std::string::npos) q = key.size();
-    w.push_back(key.substr(p, q - p));
-  }
-  auto unit = [&](std::size_t i) -> const std::string* {
-    const auto it = kUnits.find(w[i]);
-    return it == kUnits.end() ? nullptr : &it->second;
-  };
-  if (w.size() < 2) return "";
-  std::size_t i = w.size() - 1;
-  const std::string* last = unit(i);
-  if (!last) return "";
-  std::string u = *last;
-  // ..._X_per_Y_per_Z: walk left over "per".
-  while (i >= 2 && w[i - 1] == "per") {
-    if (i >= 3 && unit(i - 2)) {
-      u = *unit(i - 2) + "/" + u;
-      i -= 2;
-    } else {
-      return "1/" + u;
-    }
-  }
-  return u;
+  return io::unit_of_key(full_key.substr(full_key.rfind('.') + 1));
 }
 
 std::string table_of(const std::string& key) {
@@ -97,7 +62,8 @@ std::string tables_markdown(const io::ParamLog& log, const std::set<std::string>
     const std::string t = table_of(r.key);
     if (!rows.count(t)) order.push_back(t);
     rows[t].push_back({"`" + r.key.substr(t.empty() ? 0 : t.size() + 1) + "`", r.kind,
-                       unit_of(r.key), r.range, r.required ? "—" : r.fallback, r.doc});
+                       unit_of(r.key), r.range, r.required ? "—" : r.fallback,
+                       r.rules.empty() ? r.doc : r.doc + " (rule: " + r.rules + ")"});
   }
   std::string out;
   for (const auto& t : order) {

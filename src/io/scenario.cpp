@@ -31,8 +31,10 @@ void read_common(TableReader& root, Scenario& sc, const std::vector<const Sectio
   sc.system = root.pick({"system", {}, "the system the scenario runs: selects everything else"},
                         ids);
   sc.name = root.string("name");
+  root.document("name", "the run's name in reports and summary.json");
   root.check(!sc.name.empty(), "name", "must not be empty");
   sc.description = root.string("description", "");
+  root.document("description", "free text; it becomes the report's introduction");
   read_run(root, sc.run);
 }
 }  // namespace

@@ -16,7 +16,8 @@ void read_run(TableReader& root, RunSettings& run) {
   t->read({"record_interval_s", Range::closed(1e-7, 10.0), "interval of the recorded channels"},
           run.record_interval_s);
   t->check(run.record_interval_s >= run.step_s, "record_interval_s", "must be ≥ step_s");
-  t->check(run.duration_s / run.step_s <= 5e8, "step_s", "run would take more than 5e8 steps");
+  t->check(run.duration_s / run.step_s <= 5e8, "step_s",
+           "duration_s / step_s must not exceed 5e8 steps");
   t->read({"seed", Range::closed(0, 9.2e18),
            "seeds every random source (noise, random allowance); the same seed gives the same run"},
           run.seed);
@@ -27,7 +28,9 @@ void read_material_tool(TableReader& root, const MaterialLibrary& lib,
                         cutting::CuttingModel::Params& cutting, cutting::DisturbanceParams* wear,
                         bool kienzle_only) {
   auto mat = root.table("material", true);
+  root.document("material", "the work material, from the library data/materials.toml");
   const std::string name = mat->string("name");
+  mat->document("name", "a material of data/materials.toml (lathectl check lists them on error)");
   const cutting::Material* found = lib.find(name);
   if (!found && mat->is_describing() && !lib.names().empty()) found = lib.find(lib.names().front());
   if (!found) {
@@ -41,16 +44,26 @@ void read_material_tool(TableReader& root, const MaterialLibrary& lib,
                     : mat->choice("force_model", {"handbook", "kienzle"}, "handbook")) == "kienzle"
           ? cutting::ForceForm::Kienzle
           : cutting::ForceForm::Handbook;
+  mat->document("force_model",
+                kienzle_only ? "Kienzle b·h^(1−m): the chatter model needs dF/db at the chip"
+                             : "the handbook's C·t^x·s^y·V^n, or Kienzle's b·h^(1−m)");
   mat->finish();
 
   if (auto tool = root.table("tool")) {
+    root.document("tool", "the insert's geometry (and, where the system models it, its wear)");
     cutting.nose_radius_mm = tool->number("nose_radius_mm", {0.0, 10.0, true, false}, 0.8);
+    tool->document("nose_radius_mm", "r_ε: with the feed, sets the chip and the roughness");
     cutting.approach_angle_deg = tool->number("approach_angle_deg", {0.0, 90.0, true, false}, 90.0);
+    tool->document("approach_angle_deg", "κ_r: splits the chip into width b = t/sin κ and h = s·sin κ");
     if (wear) {
       if (auto w = tool->table("wear")) {
         wear->wear_VB0_mm = w->number("initial_VB_mm", Range::closed(0, 2), 0.0);
         wear->wear_rate_mm_per_min = w->number("rate_mm_per_min", Range::closed(0, 1), 0.0);
         wear->wear_force_gain_per_mm = w->number("force_gain_per_mm", Range::closed(0, 20), 0.0);
+        tool->document("wear", "flank wear VB growing in cutting time, raising the force");
+        w->document("initial_VB_mm", "VB at the start");
+        w->document("rate_mm_per_min", "dVB/dt while cutting");
+        w->document("force_gain_per_mm", "relative force increase per mm of VB");
         w->finish();
       }
     }
@@ -68,6 +81,11 @@ std::vector<sim::SensorFault> read_faults(TableReader& root) {
                              : sim::SensorFault::Kind::OutOfRange;
     sf.at_s = f.number("at_s", Range::non_negative());
     sf.duration_s = f.number("duration_s", Range::positive(), 1e300);
+    root.document("fault", "injected sensor faults, to see the controller's monitor react");
+    f.document("kind", "nan: the reading is not a number; stuck: it freezes; out_of_range: far "
+                       "outside the sensor's range");
+    f.document("at_s", "when the fault starts");
+    f.document("duration_s", "how long it lasts (default: to the end)");
     f.finish();
     out.push_back(sf);
   }

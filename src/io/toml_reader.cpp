@@ -80,7 +80,11 @@ std::string unit_of_key(std::string_view key) {
       {"Hz", "Hz"},   {"N", "N"},     {"kN", "kN"},     {"W", "W"},       {"kW", "kW"},
       {"V", "V"},     {"mV", "mV"},   {"Pa", "Pa"},     {"MPa", "MPa"},   {"GPa", "GPa"},
       {"deg", "°"},   {"rpm", "rpm"}, {"rpm2", "rpm²"}, {"rev", "rev"},   {"kg", "kg"},
-      {"g", "g"},     {"J", "J"},     {"A", "A"},       {"percent", "%"}, {"per", "/"}};
+      {"g", "g"},     {"J", "J"},     {"A", "A"},       {"percent", "%"}, {"pct", "%"},
+      {"km", "km"},   {"us", "µs"},   {"kHz", "kHz"},   {"bar", "bar"},   {"rad", "rad"},
+      {"ohm", "Ω"},   {"H", "H"},     {"mm2", "mm²"},   {"mm3", "mm³"},   {"Nm", "N·m"},
+      {"K", "K"},     {"dB", "dB"},   {"Wb", "Wb"},     {"Wb2", "Wb²"},   {"L", "L"},
+      {"per", "/"}};
   auto unit = [&](std::string_view t) -> std::string_view {
     for (const auto& u : kUnits)
       if (u.in == t) return u.out;

@@ -444,7 +444,7 @@ expect_rc 0 "reference design tracer" $bin reference design tracer
 grep -q '^| `--E0` | `E0_N_per_mm` | N per mm of spool opening | > 0 | 2000 | stiffness E0' "$work/out.txt" || bad "reference design tracer: $(head -5 "$work/out.txt")"
 grep -q '^| settling time (2 %) | `settling_time_s` \[s\] | `settling_time_ms` \[ms\] |$' "$work/out.txt" || bad "reference design tracer outputs: $(cat "$work/out.txt")"
 expect_rc 0 "reference scenario common" $bin reference scenario common
-grep -q '^| `step_s` | number | s | \[1e-07, 0.01\] | 0.0001 | fixed integration step |$' "$work/out.txt" || bad "reference scenario common: $(cat "$work/out.txt")"
+grep -q '^| `step_s` | number | s | \[1e-07, 0.01\] | 0.0001 | fixed integration step (rule: duration_s / step_s must not exceed 5e8 steps) |$' "$work/out.txt" || bad "reference scenario common: $(cat "$work/out.txt")"
 expect_rc 2 "reference unknown system" $bin reference scenario Z
 grep -qx "error: reference scenario: no system 'Z' (common, A, B, C, D, E)" "$work/err.txt" || bad "reference unknown system: $(cat "$work/err.txt")"
 expect_rc 2 "reference unknown calculator" $bin reference design lathe

@@ -379,8 +379,12 @@ TEST(ScenarioB, EveryKeyOfItsTablesIsDescribed) {
     EXPECT_TRUE(described(rows, k)) << k;
   // The defaults shown are the settings' own, in the file's units.
   for (const auto& r : rows) {
-    if (r.key == "vibration_sensor.dead_zone_um") EXPECT_EQ(r.fallback, "5");
-    if (r.key == "modulation.engage_time_ms") EXPECT_EQ(r.fallback, "50");
+    if (r.key == "vibration_sensor.dead_zone_um") {
+      EXPECT_EQ(r.fallback, "5");
+    }
+    if (r.key == "modulation.engage_time_ms") {
+      EXPECT_EQ(r.fallback, "50");
+    }
   }
 }
 
@@ -390,8 +394,11 @@ TEST(ScenarioD, EveryKeyOfItsTablesIsDescribed) {
   EXPECT_EQ(rows.size(), 25u);  // process 7, transducer 14, gauge 2, monte_carlo 2
   for (const auto& r : rows) EXPECT_FALSE(r.doc.empty()) << r.key;
   EXPECT_TRUE(described(rows, "gauge.threshold_V"));
-  for (const auto& r : rows)
-    if (r.key == "process.noise_sigma_um") EXPECT_EQ(r.fallback, "0");
+  for (const auto& r : rows) {
+    if (r.key == "process.noise_sigma_um") {
+      EXPECT_EQ(r.fallback, "0");
+    }
+  }
 }
 
 // System E's entry feed (issue "Results a user can trust", finding 3): a scenario key, default

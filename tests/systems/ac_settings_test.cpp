@@ -72,7 +72,7 @@ TEST(SystemASettings, EveryKeyIsDescribed) {
   ASSERT_NE(ms, nullptr);
   EXPECT_EQ(ms->fallback, "3000");
   // A cross-field rule the defaults break is listed beside its key.
-  EXPECT_NE(row(log, "compare.controller")->doc.find("give controller and/or regulator"),
+  EXPECT_NE(row(log, "compare.controller")->rules.find("give controller and/or regulator"),
             std::string::npos);
 }
 

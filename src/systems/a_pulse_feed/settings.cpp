@@ -24,31 +24,17 @@ constexpr double kMs = 1e-3;
 constexpr double kMPa = 1e6;
 constexpr double kCm3 = 1e-6;
 
-// Tables, arrays of tables and free strings have no Param: their line of meaning is attached to
-// the reference row while describing (check() records a message there; reading a file, it passes).
-void doc(const TableReader& t, std::string_view key, const std::string& text) {
-  t.check(!t.is_describing(), key, text);
-}
-
-// An optional choice without a default value: "" when absent (a choice's fallback must be one of
-// its choices, so an absent key is not asked for; describing, it is listed with fallback "").
-std::string pick_optional(TableReader& t, const io::Param& p,
-                          const std::vector<std::string>& choices) {
-  if (!t.has(p.key) && !t.is_describing()) return "";
-  return t.pick(p, choices, "");
-}
-
 void read_cutting(TableReader& root, const io::MaterialLibrary& lib, sim::RigAConfig& a,
                   std::uint64_t seed) {
   auto m = root.table("machine", true);
-  doc(root, "machine", "the lathe's spindle");
+  root.document("machine", "the lathe's spindle");
   m->require({"spindle_rpm", {0.0, 20000.0, true, false}, "spindle speed n"}, a.spindle_rpm);
   m->finish();
 
   io::read_material_tool(root, lib, a.cutting);
 
   auto part = root.table("part", true);
-  doc(root, "part", "the part and its disturbances along the slide's travel");
+  root.document("part", "the part and its disturbances along the slide's travel");
   part->require({"diameter_mm", {0.0, 5000.0, true, false}, "sets the cutting speed", kMm},
                 a.diameter_m);
   auto& d = a.part;
@@ -69,7 +55,7 @@ void read_cutting(TableReader& root, const io::MaterialLibrary& lib, sim::RigACo
     s.finish();
     d.depth_steps.push_back(pt);
   }
-  doc(*part, "depth_steps", "depth steps {at_mm, depth_mm}; at_mm strictly increasing");
+  part->document("depth_steps", "depth steps {at_mm, depth_mm}; at_mm strictly increasing");
   for (auto& h : part->tables("hardness")) {
     cutting::ProfilePoint pt{};
     h.require({"at_mm", Range::non_negative(), "travel of the hardness point"}, pt.at_mm);
@@ -80,7 +66,7 @@ void read_cutting(TableReader& root, const io::MaterialLibrary& lib, sim::RigACo
     h.finish();
     d.hardness.push_back(pt);
   }
-  doc(*part, "hardness",
+  part->document("hardness",
       "hardness points {at_mm, factor}, interpolated; at_mm strictly increasing");
   for (std::size_t i = 1; i < d.depth_steps.size(); ++i)
     part->check(d.depth_steps[i].at_mm > d.depth_steps[i - 1].at_mm, "depth_steps",
@@ -89,7 +75,7 @@ void read_cutting(TableReader& root, const io::MaterialLibrary& lib, sim::RigACo
     part->check(d.hardness[i].at_mm > d.hardness[i - 1].at_mm, "hardness",
                 "at_mm must increase from point to point");
   if (auto w = part->table("wear")) {
-    doc(*part, "wear", "tool flank wear; the force factor is 1 + force_gain_per_mm·VB");
+    part->document("wear", "tool flank wear; the force factor is 1 + force_gain_per_mm·VB");
     w->read({"initial_VB_mm", Range::closed(0, 2), "flank wear VB at the start"}, d.wear_VB0_mm);
     w->read({"rate_mm_per_min", Range::closed(0, 1), "VB growth per minute in cut"},
             d.wear_rate_mm_per_min);
@@ -103,7 +89,7 @@ void read_cutting(TableReader& root, const io::MaterialLibrary& lib, sim::RigACo
 
 void read_regulator(TableReader& root, sim::RigAConfig& a) {
   auto r = root.table("regulator", true);
-  doc(root, "regulator", "discrete regulator 5, or the continuous throttle");
+  root.document("regulator", "discrete regulator 5, or the continuous throttle");
   a.regulator_kind =
       r->pick({"type", {}, "the pulsed regulator of the seed, or a continuous throttle"},
               {"pulsed", "throttle"}) == "throttle"
@@ -132,7 +118,7 @@ void read_regulator(TableReader& root, sim::RigAConfig& a) {
            "pulse width × frequency exceeds 1 (pulse longer than period)");
   r->check(a.slot_m <= a.regulator.max_slot_m, "slot_mm", "must not exceed max_slot_mm");
   if (auto ob = r->table("obliteration")) {
-    doc(*r, "obliteration",
+    r->document("obliteration",
         "silting: below the critical gap a layer grows toward layer_um; a wider opening clears it");
     auto& p = a.regulator.obliteration;
     ob->require({"layer_um", Range::closed(0, 100), "layer per wall it grows toward", kUm},
@@ -154,9 +140,9 @@ void read_eccentric(TableReader& root, sim::RigAConfig& a) {
     drives::EccentricDrive::circular_profile(0.0, a.regulator.max_slot_m / 2.0, 91, e);
     return;
   }
-  doc(root, "eccentric", "AIM actuator ЭД, Р and 8: a circular eccentric or a profile");
+  root.document("eccentric", "AIM actuator ЭД, Р and 8: a circular eccentric or a profile");
   auto profile = t->pairs("profile", Range::closed(0, 360), Range::closed(0, 10));
-  doc(*t, "profile",
+  t->document("profile",
       "[[deg, mm], …]: ≥ 2 points, both columns strictly increasing; not with eccentricity_mm");
   if (!profile.empty()) {
     t->check(!t->has("eccentricity_mm"), "eccentricity_mm",
@@ -196,7 +182,7 @@ void read_eccentric(TableReader& root, sim::RigAConfig& a) {
 
 void read_slide(TableReader& root, sim::RigAConfig& a) {
   auto s = root.table("slide", true);
-  doc(root, "slide", "slide 2, cylinder 3 and damper 6");
+  root.document("slide", "slide 2, cylinder 3 and damper 6");
   auto& p = a.slide;
   s->require({"piston_area_cm2", {0.0, 1e4, true, false}, "F", 1e-4}, p.piston_area_m2);
   s->require({"dead_volume_cm3", {0.0, 1e6, true, false}, "chamber and line volume at x = 0", kCm3},
@@ -225,7 +211,7 @@ void read_slide(TableReader& root, sim::RigAConfig& a) {
 
 void read_sensor(TableReader& root, sim::RigAConfig& a, std::uint64_t seed) {
   auto s = root.table("sensor", true);
-  doc(root, "sensor", "inductive sensor Д");
+  root.document("sensor", "inductive sensor Д");
   auto& p = a.sensor;
   s->require({"holder_stiffness_N_per_um", {0.0, 1e6, true, false}, "δ = Py/k", 1e6},
              p.holder_stiffness_N_per_m);
@@ -241,7 +227,7 @@ void read_sensor(TableReader& root, sim::RigAConfig& a, std::uint64_t seed) {
 
 void read_controller(TableReader& root, sim::RigAConfig& a) {
   auto c = root.table("controller", true);
-  doc(root, "controller",
+  root.document("controller",
       "read even with type = \"none\" (then it only matters for [compare] and [sweep])");
   const std::string kind =
       c->pick({"type", {}, "no control, AIM (amplitude-pulse) or FIM (frequency-pulse)"},
@@ -316,7 +302,7 @@ sim::ControllerKind controller_from(const std::string& s) {
 void read_options(TableReader& root, Settings& st) {
   auto& a = st.rig;
   if (auto m = root.table("metrics")) {
-    doc(root, "metrics", "how the metrics are taken");
+    root.document("metrics", "how the metrics are taken");
     m->read({"feed_window_s",
              {0.0, 100.0, true, false},
              "window of the reported feed rate, rounded to whole pulse periods"},
@@ -324,35 +310,38 @@ void read_options(TableReader& root, Settings& st) {
     m->finish();
   }
   if (auto cmp = root.table("compare")) {
-    doc(root, "compare", "a second run with another controller and/or regulator, overlaid");
+    root.document("compare", "a second run with another controller and/or regulator, overlaid");
     Comparison c;
-    const std::string ctl = pick_optional(
-        *cmp, {"controller", {}, "a second run with this controller, overlaid in the report"},
-        {"none", "aim", "fim"});
+    const std::string ctl =
+        cmp->pick({"controller", {}, "a second run with this controller, overlaid in the report"},
+                  {"none", "aim", "fim"}, "");
     if (!ctl.empty()) c.controller = controller_from(ctl);
-    const std::string reg = pick_optional(
-        *cmp, {"regulator", {}, "… or with this regulator; give at least one of the two"},
-        {"pulsed", "throttle"});
+    const std::string reg =
+        cmp->pick({"regulator", {}, "… or with this regulator; give at least one of the two"},
+                  {"pulsed", "throttle"}, "");
     if (!reg.empty())
       c.regulator = reg == "throttle" ? sim::RegulatorKind::Throttle : sim::RegulatorKind::Pulsed;
     cmp->check(c.controller || c.regulator, "controller",
                "give controller and/or regulator to compare with");
     c.label = cmp->string("label", "");
-    doc(*cmp, "label", "the second run's name in the report (default: its controller)");
+    cmp->document("label", "the second run's name in the report (default: its controller)");
     cmp->finish();
     st.compare = c;
   }
   if (auto sw = root.table("sweep")) {
-    doc(root, "sweep", "reruns with the controller's K_leak estimate off by factors");
-    st.sweep_leak_estimate_factor = sw->numbers("leak_estimate_factor", Range::closed(0, 10), 1);
-    doc(*sw, "leak_estimate_factor",
+    root.document("sweep", "reruns with the controller's K_leak estimate off by factors");
+    st.sweep_leak_estimate_factor = sw->numbers(
+        {"leak_estimate_factor", Range::closed(0, 10),
+         "controller K_leak / true K_leak for each extra run of the sweep"},
+        1);
+    sw->document("leak_estimate_factor",
         "reruns with the controller's K_leak off by these factors");
     sw->check(a.controller_kind != sim::ControllerKind::None, "leak_estimate_factor",
               "a sweep of the controller's K_leak needs a controller");
     sw->finish();
   }
   a.faults = io::read_faults(root);
-  doc(root, "fault", "sensor faults to inject");
+  root.document("fault", "sensor faults to inject");
 }
 
 }  // namespace

@@ -27,25 +27,11 @@ using io::TableReader;
 constexpr double kMm = 1e-3;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// Tables, arrays of tables and free strings have no Param: their line of meaning is attached to
-// the reference row while describing (check() records a message there; reading a file, it passes).
-void doc(const TableReader& t, std::string_view key, const std::string& text) {
-  t.check(!t.is_describing(), key, text);
-}
-
-// An optional choice without a default value: "" when absent (a choice's fallback must be one of
-// its choices, so an absent key is not asked for; describing, it is listed with fallback "").
-std::string pick_optional(TableReader& t, const io::Param& p,
-                          const std::vector<std::string>& choices) {
-  if (!t.has(p.key) && !t.is_describing()) return "";
-  return t.pick(p, choices, "");
-}
-
 // template.csv: one point x_mm,diameter_mm a line; empty lines, # comments and a header skipped.
 void read_csv(TableReader& tp, const std::string& scenario_file, sim::RigCConfig& c) {
   tp.check(!tp.has("features"), "csv", "give either csv or features");
   const std::string rel = tp.string("csv");
-  doc(tp, "csv",
+  tp.document("csv",
       "points x_mm,diameter_mm, relative to the scenario file, instead of features; ≤ 16 MiB");
   if (tp.is_describing()) return;
   const auto path = (std::filesystem::path(scenario_file).parent_path() / rel).string();
@@ -143,7 +129,7 @@ void read_feature(TableReader& f, sim::RigCConfig& c, double& x, double& y) {
 
 void read_template(TableReader& root, const std::string& scenario_file, sim::RigCConfig& c) {
   auto tp = root.table("template", true);
-  doc(root, "template", "the template the stylus follows: features or a CSV file");
+  root.document("template", "the template the stylus follows: features or a CSV file");
   const bool csv = tp->has("csv");
   if (csv || tp->is_describing()) read_csv(*tp, scenario_file, c);
   double x = 0.0, y = 0.0;
@@ -157,7 +143,7 @@ void read_template(TableReader& root, const std::string& scenario_file, sim::Rig
     if (!tp->is_describing()) c.profile.add_point(x, y);
   }
   for (auto& f : tp->tables("features")) read_feature(f, c, x, y);
-  doc(*tp, "features", "array of {type = line | cone | step | arc, ...}, at least one");
+  tp->document("features", "array of {type = line | cone | step | arc, ...}, at least one");
   tp->check(!c.features.empty(), "features",
             "at least one feature {type = line | cone | step | arc, ...}");
   tp->finish();
@@ -167,20 +153,18 @@ void read_models(TableReader& root, Settings& st) {
   auto& c = st.rig;
   {
     auto mt = root.table("model", true);
-    doc(root, "model", "which slide model runs, and which one is overlaid");
+    root.document("model", "which slide model runs, and which one is overlaid");
     c.nonlinear = mt->pick({"type", {}, "the seed's (8)-(9), or the nonlinear servo"},
                            {"linear", "nonlinear"}) == "nonlinear";
     st.compare =
-        pick_optional(*mt,
-                      {"compare",
-                       {},
-                       "a second run, overlaid; a nonlinear run compared with \"linear\" uses "
-                       "the servo's own linearisation, P0 = Coulomb friction + initial load"},
-                      {"linear", "nonlinear"});
+        mt->pick({"compare", {},
+                   "a second run, overlaid; a nonlinear run compared with \"linear\" uses the "
+                   "servo's own linearisation, P0 = Coulomb friction + initial load"},
+                  {"linear", "nonlinear"}, "");
     mt->finish();
   }
   if (auto li = root.table("linear")) {
-    doc(root, "linear", "the linear model (8)-(9); required with type = \"linear\"");
+    root.document("linear", "the linear model (8)-(9); required with type = \"linear\"");
     li->require({"E0_N_per_mm", {0.0, 1e9, true, false}, "E0, N per mm of spool opening", 1e3},
                 c.linear.E0_N_per_m);
     li->require({"C0_per_s", {0.0, 1e6, true, false}, "C0, velocity gain ∂V/∂h"},
@@ -192,7 +176,7 @@ void read_models(TableReader& root, Settings& st) {
     root.check(c.nonlinear, "linear", "a linear model needs [linear] E0_N_per_mm, C0_per_s, P0_N");
   }
   if (auto sv = root.table("servo")) {
-    doc(root, "servo",
+    root.document("servo",
         "the nonlinear servo; required with type = \"nonlinear\" or compare = \"nonlinear\"");
     sv->require({"supply_MPa", {0.0, 100.0, true, false}, "supply pressure p_s", 1e6}, c.supply_Pa);
     sv->read({"discharge_coefficient", {0.0, 1.0, true, false}, "C_d"}, c.discharge_coefficient);
@@ -223,7 +207,7 @@ void read_models(TableReader& root, Settings& st) {
 
 void read_friction_cutting(TableReader& root, const io::MaterialLibrary& lib, sim::RigCConfig& c) {
   if (auto fr = root.table("friction")) {
-    doc(root, "friction", "the slide's friction (nonlinear servo): Stribeck, with stiction");
+    root.document("friction", "the slide's friction (nonlinear servo): Stribeck, with stiction");
     fr->read({"coulomb_N", Range::closed(0, 1e6), "F_c, Coulomb friction"}, c.coulomb_N);
     c.static_N = c.coulomb_N;
     fr->read({"static_N", Range::closed(0, 1e6), "F_s, static friction (default coulomb_N)"},
@@ -237,7 +221,7 @@ void read_friction_cutting(TableReader& root, const io::MaterialLibrary& lib, si
     fr->finish();
   }
   if (auto cu = root.table("cutting")) {
-    doc(root, "cutting",
+    root.document("cutting",
         "a cutting load from the handbook model (needs [material]); without it P0 is constant");
     io::read_material_tool(root, lib, c.cutting);
     cu->require({"blank_diameter_mm",
@@ -253,13 +237,13 @@ void read_all(TableReader& root, const io::Scenario& sc, const io::MaterialLibra
               Settings& st) {
   auto& c = st.rig;
   auto m = root.table("machine", true);
-  doc(root, "machine", "feed and spindle speed: the carriage speed V_pr = s·n/60");
+  root.document("machine", "feed and spindle speed: the carriage speed V_pr = s·n/60");
   m->require({"feed_mm_per_rev", {0.0, 10.0, true, false}, "s", kMm}, c.feed_m_per_rev);
   m->require({"spindle_rpm", {0.0, 2e4, true, false}, "n"}, c.spindle_rpm);
   m->finish();
 
   auto sl = root.table("slide", true);
-  doc(root, "slide", "the tracer slide");
+  root.document("slide", "the tracer slide");
   sl->require({"guide_angle_deg", {0.0, 90.0, true, false}, "β, the guide's inclination", kDeg},
               c.beta_rad);
   sl->require({"lever_ratio", {0.0, 1e3, true, false}, "i = spool opening per stylus deflection"},

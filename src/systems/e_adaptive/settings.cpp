@@ -301,8 +301,7 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
   if (auto cmp = root.table("compare")) {
     for (const auto& n : cmp->choices("controllers", kModes))
       out->compare_modes.push_back(mode_from(n));
-    // choices() takes no Param: describing, check() puts the key's doc beside it.
-    cmp->check(!cmp->is_describing(), "controllers",
+    cmp->document("controllers",
                "extra runs overlaid in the report; a compared fixed run is set for the worst "
                "case");
     cmp->finish();
