@@ -1,5 +1,7 @@
 #include "lathectl/dynamics/lobes.hpp"
 
+#include "lathectl/sim/parallel.hpp"
+
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -278,28 +280,22 @@ SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_
   const SdModel model = sd_model(sys);
   // The cost per speed grows as (d + m)³ and m as 1/speed: the speeds ascend, so the slow ones
   // are handed out first and the cheap ones fill the gaps at the end.
-  std::atomic<std::size_t> next{0}, finished{0};
-  auto work = [&] {
-    Eigen::MatrixXd D;
-    Eigen::EigenSolver<Eigen::MatrixXd> es;
-    for (std::size_t i = next++; i < ns; i = next++) {
-      const int m = c.steps[i];
-      const double dt = 60.0 / c.speed_rpm[i] / m;
-      for (std::size_t j = 0; j < nd; ++j) {
-        sd_map(model, sys.kf_N_per_m2 * c.depth_m[j], dt, m, o.interpolation_order, D);
-        c.spectral_radius[i * nd + j] = spectral_radius(D, es);
-      }
-      const std::size_t k = ++finished;
-      if (o.on_speed_done) o.on_speed_done(k, ns);
-    }
-  };
-  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-  const unsigned n_threads =
-      std::min<unsigned>(o.threads > 0 ? o.threads : hw, static_cast<unsigned>(ns));
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < n_threads; ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
+  std::atomic<std::size_t> finished{0};
+  sim::parallel_for(
+      ns,
+      [&](std::size_t i) {
+        thread_local Eigen::MatrixXd D;  // workspaces kept per thread across speeds
+        thread_local Eigen::EigenSolver<Eigen::MatrixXd> es;
+        const int m = c.steps[i];
+        const double dt = 60.0 / c.speed_rpm[i] / m;
+        for (std::size_t j = 0; j < nd; ++j) {
+          sd_map(model, sys.kf_N_per_m2 * c.depth_m[j], dt, m, o.interpolation_order, D);
+          c.spectral_radius[i * nd + j] = spectral_radius(D, es);
+        }
+        const std::size_t k = ++finished;
+        if (o.on_speed_done) o.on_speed_done(k, ns);
+      },
+      o.threads > 0 ? static_cast<unsigned>(o.threads) : 0u);
   for (std::size_t i = 0; i < ns; ++i) {
     for (std::size_t j = 0; j < nd; ++j) {
       const double r = c.radius(i, j);
