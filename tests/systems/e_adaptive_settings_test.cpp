@@ -104,5 +104,19 @@ TEST(ESettings, PowerSensorReadsItsKeysInWatts) {
   EXPECT_THROW(io::parse_scenario(text, "power.toml", library(), kReadSection), io::InputError);
 }
 
+// A key added to the reader in one line (issue 12's measure of the redesign): the controller
+// averages the force over a revolution unless the scenario says otherwise.
+TEST(ESettings, AveragePerRevolutionIsAScenarioKey) {
+  EXPECT_TRUE(io::parse_scenario(kMinimal, "m.toml", library(), kReadSection)
+                  .get<Settings>()
+                  .rig.controller.average_per_revolution);
+  std::string text = kMinimal;
+  text.replace(text.find("planned_depth_mm = 2.0"), 22,
+               "planned_depth_mm = 2.0\naverage_per_revolution = false");
+  EXPECT_FALSE(io::parse_scenario(text, "m.toml", library(), kReadSection)
+                   .get<Settings>()
+                   .rig.controller.average_per_revolution);
+}
+
 }  // namespace
 }  // namespace lathectl::systems::e_adaptive

@@ -179,6 +179,10 @@ void read_controller(TableReader& root, sim::RigEConfig& e) {
   }
   c->read({"allow_above_programmed", {}, "the feed may rise above the programmed feed in cut"},
           p.allow_above_programmed);
+  c->read({"average_per_revolution", {},
+           "regulate the force averaged over one revolution (runout is not the feed's to fight); "
+           "false: the raw signal"},
+          p.average_per_revolution);
   p.air_feed_mm_per_rev = p.feed_programmed_mm_per_rev;
   c->read({"air_feed_mm_per_rev", {0.0, 10.0, true, false},
            "feed in air (default: feed_mm_per_rev)"},
