@@ -45,6 +45,10 @@ const char* compare_symbol(Compare c) {
       return ">";
     case Compare::Within:
       return "|·| ≤";
+    case Compare::Outside:
+      return "|·| >";
+    case Compare::RatioWithin:
+      return "|· − 1| ≤";
   }
   return "?";
 }
@@ -66,6 +70,12 @@ bool Claims::check(const std::string& text, double value, Compare cmp, double th
       break;
     case Compare::Within:
       met = std::abs(value) <= threshold;
+      break;
+    case Compare::Outside:
+      met = std::abs(value) > threshold;
+      break;
+    case Compare::RatioWithin:
+      met = std::abs(value - 1.0) <= threshold;
       break;
   }
   add(text, value, met);

@@ -23,7 +23,8 @@ nlohmann::json alarms_json(const std::vector<sim::AlarmEvent>& alarms);
 
 // Claims a run answers: the JSON list for summary.json and the report's notes, kept together.
 // How a claim's value is judged against its threshold.
-enum class Compare { AtMost, Below, AtLeast, Above, Within };  // ≤ < ≥ > |v| ≤
+// ≤  <  ≥  >  |v| ≤ t  |v| > t  |v − 1| ≤ t (a ratio against its prediction)
+enum class Compare { AtMost, Below, AtLeast, Above, Within, Outside, RatioWithin };
 const char* compare_symbol(Compare c);
 
 class Claims {

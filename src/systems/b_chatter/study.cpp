@@ -194,8 +194,8 @@ io::RunOutput run(const io::Scenario& sc) {
   }
   if (modulated) {
     const double fr = main.feed_mean[t] / s_prog;
-    claims.add("mean feed of the modulated turret / programmed (within 10 %)", fr,
-               std::abs(fr - 1.0) <= 0.1);
+    claims.check("mean feed of the modulated turret / programmed (within 10 %)", fr,
+                 Compare::RatioWithin, 0.1);
   }
   if (b.source == control::ModulationSource::Automatic && mo.engaged) {
     claims.check("quenching condition: planned A_P / required c·a0·m_d·|ω_d² − ω_m²| (" +

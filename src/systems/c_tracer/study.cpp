@@ -156,9 +156,8 @@ io::RunOutput run(const io::Scenario& sc) {
   if (!std::isnan(alpha) && !st.rig.nonlinear) {
     // Steady error on the cone = (P0/E0 + V_k/C0)/i; with the setup on the first cylinder the
     // P0/E0 part is tuned out, leaving V_k/(C0·i).
-    claims.add("linear: steady lag on the first cone, simulated / (V_k/C0)/i",
-               main.steady_lag_um / (q_dyn * 1e6),
-               std::abs(main.steady_lag_um / (q_dyn * 1e6) - 1.0) < 1e-3);
+    claims.check("linear: steady lag on the first cone, simulated / (V_k/C0)/i",
+                 main.steady_lag_um / (q_dyn * 1e6), Compare::RatioWithin, 1e-3);
   }
   if (runs.size() > 1) {
     const Run& nl = st.rig.nonlinear ? main : *runs[1];
@@ -179,10 +178,9 @@ io::RunOutput run(const io::Scenario& sc) {
       // An extra lag u/i along d shows as δy = −(u/i)·sin(α+β)/cos α at equal x.
       const double expect = st.rig.overlap_m / st.rig.linear.lever_ratio *
                             std::sin(alpha + st.rig.beta_rad) / std::cos(alpha) * 1e6;
-      claims.add("dead zone: extra |δy| on the slow cone against (u/i)·sin(α+β)/cos α = " +
-                     fmt(expect) + " µm (ratio)",
-                 (nl.max_dy_um - li.max_dy_um) / expect,
-                 std::abs((nl.max_dy_um - li.max_dy_um) / expect - 1.0) < 0.1);
+      claims.check("dead zone: extra |δy| on the slow cone against (u/i)·sin(α+β)/cos α = " +
+                       fmt(expect) + " µm (ratio)",
+                   (nl.max_dy_um - li.max_dy_um) / expect, Compare::RatioWithin, 0.1);
     }
     claims.note("Largest errors: nonlinear δx " + fmt(nl.max_dx_um) + " µm, δy " +
                 fmt(nl.max_dy_um) + " µm; linear δx " + fmt(li.max_dx_um) + " µm, δy " +

@@ -234,10 +234,10 @@ io::RunOutput run(const io::Scenario& sc) {
   s["outside_range"] = cases_json;
 
   Claims claims;
-  claims.add("(25): Monte Carlo σ of the filter-output noise / predicted (1e5 samples; within 3 %)",
-             noise_sigma / noise_pred, std::abs(noise_sigma / noise_pred - 1.0) <= 0.03);
-  claims.add("σ of finished size / sqrt(D/(1+βT_f))", st.sigma / pred_sigma,
-             std::abs(st.sigma / pred_sigma - 1.0) <= 0.05);
+  claims.check("(25): Monte Carlo σ of the filter-output noise / predicted (1e5 samples; within 3 %)",
+               noise_sigma / noise_pred, Compare::RatioWithin, 0.03);
+  claims.check("σ of finished size / sqrt(D/(1+βT_f))", st.sigma / pred_sigma,
+               Compare::RatioWithin, 0.05);
   const double bias_in_se = (st.mean - p.target_m) / se;
   claims.check("threshold (23): mean finished size − target, in standard errors σ/√N (|·| ≤ 1)",
                bias_in_se, Compare::Within, 1.0);
