@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
+#include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -23,6 +24,7 @@
 #include <variant>
 #include <vector>
 
+#include "cli.hpp"
 #include "lathectl/io/toml_reader.hpp"
 
 namespace lathectl::cli {
@@ -190,8 +192,52 @@ std::string outputs_markdown(std::span<const Output<R>> outputs, const char* si 
     return "`" + std::string(key) + "`" + (unit.empty() ? "" : " [" + std::string(unit) + "]");
   };
   for (const auto& o : outputs)
-    rows.push_back({std::string(o.label), cell(o.si_key, o.si_unit), cell(o.shop_key, o.shop_unit)});
+    rows.push_back(
+        {std::string(o.label), cell(o.si_key, o.si_unit), cell(o.shop_key, o.shop_unit)});
   return markdown_table({"result", si, shop}, rows);
+}
+
+// What every calculator does with its result: with --json the inputs and the results in SI and
+// shop units, else a title and one row per output.
+template <class A, class R>
+int print_result(const A& a, std::span<const Input<A>> inputs, const R& r,
+                 std::span<const Output<R>> outputs, const char* title) {
+  if (a.json) {
+    nlohmann::json j;
+    j["inputs"] = inputs_json<A>(a, inputs);
+    outputs_json<R>(j, r, outputs);
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  print_header(title);
+  print_outputs<R>(r, outputs);
+  return 0;
+}
+
+// A calculator's subcommand: its flags from the inputs, --json, the footer naming its docs page,
+// and `compute` as the action. Returns the bound inputs (for rules between flags).
+template <class A>
+std::shared_ptr<BoundInputs<A>> add_calculator(CLI::App& sub, Commands& out,
+                                               std::span<const Input<A>> inputs,
+                                               const std::string& footer,
+                                               int (*compute)(const A&)) {
+  auto a = std::make_shared<A>();
+  sub.footer(footer);
+  auto bound = add_inputs<A>(sub, *a, inputs);
+  sub.add_flag("--json", a->json, "print JSON (inputs, SI and shop units)");
+  out.push_back({&sub, [a, bound, compute] {
+                   bound->apply(*a);
+                   return compute(*a);
+                 }});
+  return bound;
+}
+
+// A calculator's section of the reference.
+template <class A, class R>
+std::string calculator_reference(std::span<const Input<A>> inputs,
+                                 std::span<const Output<R>> outputs) {
+  return "Inputs:\n\n" + inputs_markdown<A>(inputs) + "\nResults (`--json`: `si` and `shop`):\n\n" +
+         outputs_markdown<R>(outputs);
 }
 
 }  // namespace lathectl::cli

@@ -19,11 +19,11 @@ namespace {
 using io::Range;
 using Opt = std::optional<double>;
 
-struct Args {  // shop units, as the flags; none has a default
-  Opt Vp, Sp, yv, S;           // V_opt group [m/min, mm/rev, -, mm/rev]
+struct Args {                 // shop units, as the flags; none has a default
+  Opt Vp, Sp, yv, S;          // V_opt group [m/min, mm/rev, -, mm/rev]
   Opt Cv, m, xv, t, s, V, T;  // tool-life groups: Cv, m, xv [-], t [mm], s [mm/rev], V, T
-  Opt F, n;                    // feed per revolution group [mm/min, rpm]
-  Opt D;                       // workpiece diameter [mm] → spindle speed for V_opt
+  Opt F, n;                   // feed per revolution group [mm/min, rpm]
+  Opt D;                      // workpiece diameter [mm] → spindle speed for V_opt
   std::string material;
   bool json = false;
 };
@@ -38,15 +38,27 @@ const Input<Args> kInputs[] = {
     {"--m", {"m", kPos, "tool-life exponent m"}, "", &Args::m},
     {"--xv", {"xv", kNonNeg, "depth exponent x_v"}, "", &Args::xv},
     {"--t", {"t_mm", kPos, "depth of cut t"}, "mm", &Args::t},
-    {"--s", {"s_mm_per_rev", kPos, "feed s"}, "mm/rev", &Args::s,
+    {"--s",
+     {"s_mm_per_rev", kPos, "feed s"},
+     "mm/rev",
+     &Args::s,
      "(for tool life and speed for life)"},
     {"--V", {"V_m_per_min", kPos, "cutting speed V"}, "m/min", &Args::V, "→ tool life T [min]"},
-    {"--T-target", {"T_target_min", kPos, "target tool life T"}, "min", &Args::T,
+    {"--T-target",
+     {"T_target_min", kPos, "target tool life T"},
+     "min",
+     &Args::T,
      "→ speed for that life [m/min]"},
-    {"--F", {"F_mm_per_min", kPos, "feed rate F"}, "mm/min", &Args::F,
+    {"--F",
+     {"F_mm_per_min", kPos, "feed rate F"},
+     "mm/min",
+     &Args::F,
      "(with --n → feed per revolution)"},
     {"--n", {"n_rpm", kPos, "spindle speed n"}, "rpm", &Args::n},
-    {"--D-mm", {"D_mm", kPos, "workpiece diameter D"}, "mm", &Args::D,
+    {"--D-mm",
+     {"D_mm", kPos, "workpiece diameter D"},
+     "mm",
+     &Args::D,
      "(with V_opt → its spindle speed)"},
 };
 
@@ -60,8 +72,7 @@ const Output<Result> kOutputs[] = {
     {"tool life T at V", "", "", "tool_life_min", "min", 1, &Result::life},
     {"speed V_T for the target life", "", "", "speed_for_life_m_per_min", "m/min", 1,
      &Result::v_life},
-    {"feed per revolution s = F/n", "", "", "feed_per_rev_mm_per_rev", "mm/rev", 1,
-     &Result::feed},
+    {"feed per revolution s = F/n", "", "", "feed_per_rev_mm_per_rev", "mm/rev", 1, &Result::feed},
 };
 
 // Extended-Taylor coefficients for one calculation: explicit options win; the rest come from the

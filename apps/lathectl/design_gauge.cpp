@@ -34,43 +34,66 @@ struct Args {  // shop units, as the flags; the initial values are the defaults
 const Range kPos = Range::positive(), kNonNeg = Range::non_negative();
 const Input<Args> kInputs[] = {
     {"--supply-V", {"supply_V", kPos, "electromagnet supply amplitude V"}, "V", &Args::supply_V},
-    {"--supply-Hz", {"supply_Hz", kPos, "supply frequency ω/2π"}, "Hz", &Args::supply_Hz,
+    {"--supply-Hz",
+     {"supply_Hz", kPos, "supply frequency ω/2π"},
+     "Hz",
+     &Args::supply_Hz,
      "(the probe runs at 2ω)"},
     {"--coil-turns", {"coil_turns", kPos, "electromagnet coil turns W"}, "", &Args::coil_turns},
     {"--coil-ohm", {"coil_ohm", kPos, "coil resistance r"}, "Ω", &Args::coil_ohm},
     {"--coil-H", {"coil_H", kPos, "coil inductance L"}, "H", &Args::coil_H},
-    {"--force-coeff", {"force_coeff_N_per_Wb2", kPos, "magnet force coefficient a, F = a·Φ²"},
-     "N/Wb²", &Args::force_coeff_N_per_Wb2},
+    {"--force-coeff",
+     {"force_coeff_N_per_Wb2", kPos, "magnet force coefficient a, F = a·Φ²"},
+     "N/Wb²",
+     &Args::force_coeff_N_per_Wb2},
     {"--probe-mass-g", {"probe_mass_g", kPos, "probe mass M"}, "g", &Args::probe_mass_g},
-    {"--probe-damping", {"probe_damping_N_s_per_m", kNonNeg, "probe damping h"}, "N·s/m",
+    {"--probe-damping",
+     {"probe_damping_N_s_per_m", kNonNeg, "probe damping h"},
+     "N·s/m",
      &Args::probe_damping_N_s_per_m},
     {"--probe-stiffness-N-per-mm",
-     {"probe_stiffness_N_per_mm", kPos, "probe spring stiffness k"}, "N/mm",
+     {"probe_stiffness_N_per_mm", kPos, "probe spring stiffness k"},
+     "N/mm",
      &Args::probe_stiffness_N_per_mm},
-    {"--generator", {"generator_V_per_m_per_s", kPos, "sensor-generator constant K_g"},
-     "V per m/s", &Args::generator_V_per_m_per_s},
-    {"--generator-ms", {"generator_ms", kNonNeg, "generator time constant T_g"}, "ms",
+    {"--generator",
+     {"generator_V_per_m_per_s", kPos, "sensor-generator constant K_g"},
+     "V per m/s",
+     &Args::generator_V_per_m_per_s},
+    {"--generator-ms",
+     {"generator_ms", kNonNeg, "generator time constant T_g"},
+     "ms",
      &Args::generator_ms},
-    {"--filter-ms", {"filter_ms", kPos, "smoothing filter time constant T_f"}, "ms",
+    {"--filter-ms",
+     {"filter_ms", kPos, "smoothing filter time constant T_f"},
+     "ms",
      &Args::filter_ms},
-    {"--relay-ms", {"relay_ms", kNonNeg, "relay/command response time t_r"}, "ms",
-     &Args::relay_ms},
-    {"--allowance-um", {"allowance_um", kPos, "controlled allowance at the start m_x"}, "µm",
+    {"--relay-ms", {"relay_ms", kNonNeg, "relay/command response time t_r"}, "ms", &Args::relay_ms},
+    {"--allowance-um",
+     {"allowance_um", kPos, "controlled allowance at the start m_x"},
+     "µm",
      &Args::allowance_um},
-    {"--removal-um-per-s", {"removal_um_per_s", kPos, "removal rate a"}, "µm/s",
+    {"--removal-um-per-s",
+     {"removal_um_per_s", kPos, "removal rate a"},
+     "µm/s",
      &Args::removal_um_per_s},
     {"--target-um", {"target_um", kNonNeg, "final controlled size x_k"}, "µm", &Args::target_um},
-    {"--noise-sigma-um", {"noise_sigma_um", kNonNeg, "disturbance σ = sqrt(D)"}, "µm",
+    {"--noise-sigma-um",
+     {"noise_sigma_um", kNonNeg, "disturbance σ = sqrt(D)"},
+     "µm",
      &Args::noise_sigma_um},
     {"--noise-beta",
-     {"noise_beta_per_s", kNonNeg, "disturbance correlation decay β, R = D·e^(−β|τ|)"}, "1/s",
+     {"noise_beta_per_s", kNonNeg, "disturbance correlation decay β, R = D·e^(−β|τ|)"},
+     "1/s",
      &Args::noise_beta_per_s},
-    {"--tolerance-um", {"tolerance_um", kPos, "± size tolerance"}, "µm", &Args::tolerance_um,
+    {"--tolerance-um",
+     {"tolerance_um", kPos, "± size tolerance"},
+     "µm",
+     &Args::tolerance_um,
      "→ also Cp = 2·tol/(6·σ_x)"},
 };
 
 struct Result : design::GaugeResult {
-  double sigma_y_V = 0.0;     // sqrt(D_y)
+  double sigma_y_V = 0.0;    // sqrt(D_y)
   std::optional<double> Cp;  // with a tolerance
 };
 const Output<Result> kOutputs[] = {
@@ -144,32 +167,18 @@ int compute(const Args& a) {
   if (a.tolerance_um)  // unbounded without noise (JSON null)
     r.Cp = r.size_sigma_m > 0.0 ? 2.0 * *a.tolerance_um * 1e-6 / (6.0 * r.size_sigma_m)
                                 : std::numeric_limits<double>::infinity();
-  if (a.json) {
-    nlohmann::json j;
-    j["inputs"] = inputs_json<Args>(a, kInputs);
-    outputs_json<Result>(j, r, kOutputs);
-    std::cout << j.dump(2) << "\n";
-    return 0;
-  }
-  print_header("Vibro-contact in-process gauge (seed 003, linearised (20)-(25))");
-  print_outputs<Result>(r, kOutputs);
-  return 0;
+  return print_result<Args, Result>(
+      a, kInputs, r, kOutputs, "Vibro-contact in-process gauge (seed 003, linearised (20)-(25))");
 }
 
 void add(CLI::App& sub, Commands& out) {
-  auto a = std::make_shared<Args>();
-  sub.footer("Seed 003 and its formulas (20)-(25): " + doc("system-d-gauging.md") + ".");
-  auto bound = add_inputs<Args>(sub, *a, kInputs);
-  sub.add_flag("--json", a->json, "print JSON (inputs, SI and shop units)");
-  out.push_back({&sub, [a, bound] {
-                   bound->apply(*a);
-                   return compute(*a);
-                 }});
+  add_calculator<Args>(sub, out, kInputs,
+                       "Seed 003 and its formulas (20)-(25): " + doc("system-d-gauging.md") + ".",
+                       &compute);
 }
 
 std::string reference() {
-  return "Inputs:\n\n" + inputs_markdown<Args>(kInputs) + "\nResults (`--json`: `si` and " +
-         "`shop`):\n\n" + outputs_markdown<Result>(kOutputs);
+  return calculator_reference<Args, Result>(kInputs, kOutputs);
 }
 
 }  // namespace

@@ -25,18 +25,24 @@ struct Args {  // shop units, as the flags; the initial values are the defaults
 const Input<Args> kInputs[] = {
     {"--d-mm", {"d_mm", Range::positive(), "spool diameter d"}, "mm", &Args::d_mm},
     {"--h-mm", {"h_mm", Range::positive(), "slot opening h"}, "mm", &Args::h_mm},
-    {"--dp-MPa", {"dp_MPa", Range::positive(), "pressure drop Δp across the regulator"}, "MPa",
+    {"--dp-MPa",
+     {"dp_MPa", Range::positive(), "pressure drop Δp across the regulator"},
+     "MPa",
      &Args::dp_MPa},
-    {"--rho", {"rho_kg_per_m3", Range::positive(), "oil density ρ"}, "kg/m³",
-     &Args::rho_kg_per_m3},
+    {"--rho", {"rho_kg_per_m3", Range::positive(), "oil density ρ"}, "kg/m³", &Args::rho_kg_per_m3},
     {"--mu", {"mu", Range{0.0, 1.0, true, false}, "discharge coefficient μ"}, "", &Args::mu},
     {"--dt-ms", {"dt_ms", Range::positive(), "pulse width Δt"}, "ms", &Args::dt_ms},
     {"--T-ms", {"T_ms", Range::positive(), "pulse period T"}, "ms", &Args::T_ms},
-    {"--f-Hz", {"f_Hz", Range::positive(), "pulse frequency f"}, "Hz", &Args::f_Hz,
+    {"--f-Hz",
+     {"f_Hz", Range::positive(), "pulse frequency f"},
+     "Hz",
+     &Args::f_Hz,
      "(instead of T)"},
     {"--F-cm2", {"F_cm2", Range::positive(), "effective piston area F"}, "cm²", &Args::F_cm2},
-    {"--leak", {"leak_cm3_per_min_per_MPa", Range::non_negative(), "leakage K_leak"},
-     "cm³/min per MPa", &Args::leak_cm3_per_min_per_MPa},
+    {"--leak",
+     {"leak_cm3_per_min_per_MPa", Range::non_negative(), "leakage K_leak"},
+     "cm³/min per MPa",
+     &Args::leak_cm3_per_min_per_MPa},
     {"--Py", {"Py_N", Range::any(), "radial cutting force Py"}, "N", &Args::Py_N},
     {"--dPy", {"dPy_N", Range::any(), "force change ΔPy"}, "N", &Args::dPy_N},
 };
@@ -47,8 +53,8 @@ const Output<R> kOutputs[] = {
     {"AIM gain Ka (2)", "Ka_m2_per_s", "m²/s", "Ka_cm3_per_min_per_mm", "cm³/min per mm", 6e4,
      &R::ka_m2_per_s},
     {"FIM gain Kf (6)", "Kf_m3", "m³", "Kf_cm3_per_min_per_Hz", "cm³/min per Hz", 6e7, &R::kf_m3},
-    {"feed without leakage Q/F", "S_no_leak_m_per_s", "m/s", "S_no_leak_mm_per_min", "mm/min",
-     6e4, &R::feed_no_leak_m_per_s},
+    {"feed without leakage Q/F", "S_no_leak_m_per_s", "m/s", "S_no_leak_mm_per_min", "mm/min", 6e4,
+     &R::feed_no_leak_m_per_s},
     {"leakage K_leak·Py/F", "leak_m3_per_s", "m³/s", "leak_cm3_per_min", "cm³/min", 6e7,
      &R::leak_m3_per_s},
     {"feed S (3)", "S_m_per_s", "m/s", "S_mm_per_min", "mm/min", 6e4, &R::feed_m_per_s},
@@ -78,33 +84,18 @@ int compute(const Args& a) {
   } catch (const std::invalid_argument& e) {
     throw io::InputError(std::string("design pulse-regulator: ") + e.what());
   }
-  if (a.json) {
-    nlohmann::json j;
-    j["inputs"] = inputs_json<Args>(a, kInputs);
-    outputs_json<R>(j, r, kOutputs);
-    std::cout << j.dump(2) << "\n";
-  } else {
-    print_header("Pulsed flow regulator (seed 000)");
-    print_outputs<R>(r, kOutputs);
-  }
-  return 0;
+  return print_result<Args, R>(a, kInputs, r, kOutputs, "Pulsed flow regulator (seed 000)");
 }
 
 void add(CLI::App& sub, Commands& out) {
-  auto a = std::make_shared<Args>();
-  sub.footer("Seed 000 and its formulas (1)-(7): " + doc("system-a-pulse-feed.md") + ".");
-  auto bound = add_inputs<Args>(sub, *a, kInputs);
+  auto bound = add_calculator<Args>(
+      sub, out, kInputs,
+      "Seed 000 and its formulas (1)-(7): " + doc("system-a-pulse-feed.md") + ".", &compute);
   bound->option("--T-ms")->excludes(bound->option("--f-Hz"));
-  sub.add_flag("--json", a->json, "print JSON (SI and shop units)");
-  out.push_back({&sub, [a, bound] {
-                   bound->apply(*a);
-                   return compute(*a);
-                 }});
 }
 
 std::string reference() {
-  return "Inputs:\n\n" + inputs_markdown<Args>(kInputs) + "\nResults (`--json`: `si` and " +
-         "`shop`):\n\n" + outputs_markdown<R>(kOutputs);
+  return calculator_reference<Args, R>(kInputs, kOutputs);
 }
 
 }  // namespace

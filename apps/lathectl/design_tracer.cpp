@@ -22,16 +22,23 @@ struct Args {  // shop units, as the flags; the initial values are the defaults
 
 const Range kPos = Range::positive();
 const Input<Args> kInputs[] = {
-    {"--E0", {"E0_N_per_mm", kPos, "stiffness E0 = ∂P/∂h"}, "N per mm of spool opening",
+    {"--E0",
+     {"E0_N_per_mm", kPos, "stiffness E0 = ∂P/∂h"},
+     "N per mm of spool opening",
      &Args::E0_N_per_mm},
     {"--C0", {"C0_per_s", kPos, "velocity gain C0 = ∂V/∂h"}, "1/s", &Args::C0_per_s},
     {"--M", {"M_kg", kPos, "reduced moving mass M"}, "kg", &Args::M_kg},
     {"--i", {"i", kPos, "lever ratio i (spool opening per stylus deflection)"}, "", &Args::i},
     {"--P0", {"P0_N", Range::non_negative(), "cutting + dry friction force P0"}, "N", &Args::P0_N},
-    {"--beta-deg", {"beta_deg", Range{0.0, 90.0, true, false}, "guide inclination β to the axis"},
-     "deg", &Args::beta_deg},
-    {"--alpha-deg", {"alpha_deg", Range{-1e300, 90.0, false, false}, "template cone angle α"},
-     "deg", &Args::alpha_deg, "(≤ 90: a template y(x))"},
+    {"--beta-deg",
+     {"beta_deg", Range{0.0, 90.0, true, false}, "guide inclination β to the axis"},
+     "deg",
+     &Args::beta_deg},
+    {"--alpha-deg",
+     {"alpha_deg", Range{-1e300, 90.0, false, false}, "template cone angle α"},
+     "deg",
+     &Args::alpha_deg,
+     "(≤ 90: a template y(x))"},
     {"--s", {"s_mm_per_rev", kPos, "feed s"}, "mm/rev", &Args::s_mm_per_rev},
     {"--n", {"n_rpm", kPos, "spindle speed n"}, "rpm", &Args::n_rpm},
 };
@@ -83,9 +90,9 @@ int compute(const Args& a) {
   t.P0_N = a.P0_N;
   const double al = a.alpha_deg * kDeg, be = a.beta_deg * kDeg;
   Result r;
-  r.v_pr = a.s_mm_per_rev * a.n_rpm / 60.0 * 1e-3;      // m/s
+  r.v_pr = a.s_mm_per_rev * a.n_rpm / 60.0 * 1e-3;    // m/s
   r.v_t = r.v_pr * std::sin(al) / std::sin(al + be);  // m/s along the slide
-  r.q_ss = t.steady_lag_m(r.v_t);                      // m along the slide
+  r.q_ss = t.steady_lag_m(r.v_t);                     // m along the slide
   r.q_axial = r.q_ss * std::cos(be);
   r.q_radial = r.q_ss * std::sin(be);
   r.q_static = t.static_offset_m();
@@ -99,32 +106,18 @@ int compute(const Args& a) {
   r.settling = tr.settling_s;
   if (!std::isfinite(r.q_ss) || !std::isfinite(r.peak) || !std::isfinite(r.settling))
     throw io::InputError(who + "the inputs give no finite result");
-  if (a.json) {
-    nlohmann::json j;
-    j["inputs"] = inputs_json<Args>(a, kInputs);
-    outputs_json<Result>(j, r, kOutputs);
-    std::cout << j.dump(2) << "\n";
-    return 0;
-  }
-  print_header("Hydraulic tracer slide, linearised (seed 002, (8)-(9))");
-  print_outputs<Result>(r, kOutputs);
-  return 0;
+  return print_result<Args, Result>(a, kInputs, r, kOutputs,
+                                    "Hydraulic tracer slide, linearised (seed 002, (8)-(9))");
 }
 
 void add(CLI::App& sub, Commands& out) {
-  auto a = std::make_shared<Args>();
-  sub.footer("Seed 002 and its formulas (8)-(9): " + doc("system-c-tracer.md") + ".");
-  auto bound = add_inputs<Args>(sub, *a, kInputs);
-  sub.add_flag("--json", a->json, "print JSON (inputs, SI and shop units)");
-  out.push_back({&sub, [a, bound] {
-                   bound->apply(*a);
-                   return compute(*a);
-                 }});
+  add_calculator<Args>(sub, out, kInputs,
+                       "Seed 002 and its formulas (8)-(9): " + doc("system-c-tracer.md") + ".",
+                       &compute);
 }
 
 std::string reference() {
-  return "Inputs:\n\n" + inputs_markdown<Args>(kInputs) + "\nResults (`--json`: `si` and " +
-         "`shop`):\n\n" + outputs_markdown<Result>(kOutputs);
+  return calculator_reference<Args, Result>(kInputs, kOutputs);
 }
 
 }  // namespace
