@@ -27,7 +27,8 @@ void add_settings(const Scenario& sc, RunOutput& out) {
           {"key", "value", "unit", "default", "meaning"},
           {}};
   for (const auto& p : *sc.params) {
-    if (p.kind == "table" || p.kind == "array of tables") continue;
+    // Tables are headings, not settings; the description is the report's introduction already.
+    if (p.kind == "table" || p.kind == "array of tables" || p.key == "description") continue;
     char* end = nullptr;
     const double v = std::strtod(p.value.c_str(), &end);
     const bool numeric = !p.value.empty() && end && *end == '\0' && p.kind != "string";
