@@ -23,6 +23,7 @@ struct Args {  // shop units, as the flags; the initial values are the defaults
   double probe_mass_g = 20.0;
   double probe_damping_N_s_per_m = 1.382;
   double probe_stiffness_N_per_mm = 9.554;
+  double contact_stiffness_N_per_mm = 1000.0, contact_damping_N_s_per_m = 5.0;
   double generator_V_per_m_per_s = 50.0;
   double generator_ms = 0.2, filter_ms = 100.0, relay_ms = 20.0;
   double allowance_um = 250.0, removal_um_per_s = 20.0, target_um = 100.0;
@@ -55,6 +56,14 @@ const Input<Args> kInputs[] = {
      {"probe_stiffness_N_per_mm", kPos, "probe spring stiffness k"},
      "N/mm",
      &Args::probe_stiffness_N_per_mm},
+    {"--contact-stiffness-N-per-mm",
+     {"contact_stiffness_N_per_mm", kPos, "probe-part contact stiffness k_c"},
+     "N/mm",
+     &Args::contact_stiffness_N_per_mm},
+    {"--contact-damping",
+     {"contact_damping_N_s_per_m", kNonNeg, "probe-part contact damping c_c"},
+     "N·s/m",
+     &Args::contact_damping_N_s_per_m},
     {"--generator",
      {"generator_V_per_m_per_s", kPos, "sensor-generator constant K_g"},
      "V per m/s",
@@ -94,6 +103,8 @@ const Input<Args> kInputs[] = {
 
 struct Result : design::GaugeResult {
   double sigma_y_V = 0.0;    // sqrt(D_y)
+  double floor_V = 0.0, floor_start_m = 0.0, low_V = 0.0, high_V = 0.0;  // range.*
+  bool in_range = false;     // S_th inside [low_V, high_V]
   std::optional<double> Cp;  // with a tolerance
 };
 const Output<Result> kOutputs[] = {
@@ -111,8 +122,20 @@ const Output<Result> kOutputs[] = {
     {"signal noise D_y (25)", "D_y_V2", "V²", "D_y_V2", "V²", 1, &Result::noise_variance_V2},
     {"signal noise σ_y = sqrt(D_y)", "sigma_y_V", "V", "sigma_y_mV", "mV", 1e3, &Result::sigma_y_V},
     {"size scatter σ_x", "sigma_x_m", "m", "sigma_x_um", "µm", 1e6, &Result::size_sigma_m},
+    {"full model: signal floor (bounce)", "S_floor_V", "V", "S_floor_V", "V", 1, &Result::floor_V},
+    {"full model: floor from x", "floor_from_m", "m", "floor_from_um", "µm", 1e6,
+     &Result::floor_start_m},
+    {"safe S_th from (floor + margin)", "S_th_low_V", "V", "S_th_low_V", "V", 1, &Result::low_V},
+    {"safe S_th up to (free − margin)", "S_th_high_V", "V", "S_th_high_V", "V", 1,
+     &Result::high_V},
+    {"safe range of targets ends at", "largest_target_m", "m", "largest_target_um", "µm", 1e6,
+     &Result::largest_target_m},
+    {"S_th in the safe range", "in_range", "", "in_range", "", 1, &Result::in_range},
     {"Cp = 2·tol/(6·σ_x)", "Cp", "", "Cp", "", 1, &Result::Cp},
 };
+
+// --force: compute even when the threshold lies outside the safe range (a flag, not a number row).
+bool force = false;
 
 int compute(const Args& a) {
   const std::string who = "design gauge: ";
@@ -126,6 +149,8 @@ int compute(const Args& a) {
   in.probe_mass_kg = a.probe_mass_g * 1e-3;
   in.probe_damping_N_s_per_m = a.probe_damping_N_s_per_m;
   in.probe_stiffness_N_per_m = a.probe_stiffness_N_per_mm * 1e3;
+  in.contact_stiffness_N_per_m = a.contact_stiffness_N_per_mm * 1e3;
+  in.contact_damping_N_s_per_m = a.contact_damping_N_s_per_m;
   in.generator_V_per_m_per_s = a.generator_V_per_m_per_s;
   in.generator_time_constant_s = a.generator_ms * 1e-3;
   in.filter_time_constant_s = a.filter_ms * 1e-3;
@@ -135,7 +160,7 @@ int compute(const Args& a) {
   in.target_m = a.target_um * 1e-6;
   in.noise_variance_m2 = a.noise_sigma_um * a.noise_sigma_um * 1e-12;
   in.noise_beta_per_s = a.noise_beta_per_s;
-  char buf[256];
+  char buf[512];
   if (!(a.target_um < a.allowance_um)) {
     std::snprintf(buf, sizeof buf,
                   "--target-um (%g) must be below --allowance-um (%g): nothing to remove",
@@ -163,18 +188,38 @@ int compute(const Args& a) {
     std::cerr << "note: allowance " << a.allowance_um
               << " µm exceeds the largest measurable A0 = " << r.free_amplitude_m * 1e6
               << " µm; the gauge reads nothing until x < A0\n";
+  r.floor_V = r.range.floor_V;
+  r.floor_start_m = r.range.floor_start_m;
+  r.low_V = r.range.low_V;
+  r.high_V = r.range.high_V;
+  r.in_range = r.range.contains(r.threshold_V);
+  if (!r.in_range && !force) {
+    const bool below = r.threshold_V < r.low_V;
+    std::snprintf(buf, sizeof buf,
+                  "--target-um %g: threshold S_th (23) = %.3f V lies %s %.3f V (%s %.3f V, margin "
+                  "ripple %.3f V + 4σ noise %.3f V): the relay would never trip; the safe range "
+                  "ends at --target-um %.1f (--force to compute anyway)",
+                  a.target_um, r.threshold_V, below ? "below" : "above",
+                  below ? r.low_V : r.high_V,
+                  below ? "the full model's bounce floor" : "the free signal",
+                  below ? r.floor_V : r.range.free_V, r.range.ripple_V,
+                  4.0 * r.range.noise_sigma_V, r.largest_target_m * 1e6);
+    throw io::InputError(who + buf);
+  }
   r.sigma_y_V = std::sqrt(r.noise_variance_V2);
   if (a.tolerance_um)  // unbounded without noise (JSON null)
     r.Cp = r.size_sigma_m > 0.0 ? 2.0 * *a.tolerance_um * 1e-6 / (6.0 * r.size_sigma_m)
                                 : std::numeric_limits<double>::infinity();
   return print_result<Args, Result>(
-      a, kInputs, r, kOutputs, "Vibro-contact in-process gauge (seed 003, linearised (20)-(25))");
+      a, kInputs, r, kOutputs, "Vibro-contact in-process gauge (seed 003, linearised (20)-(25); range: full model)");
 }
 
 void add(CLI::App& sub, Commands& out) {
   add_calculator<Args>(sub, out, kInputs,
                        "Seed 003 and its formulas (20)-(25): " + doc("system-d-gauging.md") + ".",
                        &compute);
+  sub.add_flag("--force", force,
+               "compute even when S_th lies outside the signal range the full model reaches");
 }
 
 std::string reference() {

@@ -1,6 +1,9 @@
 #include "lathectl/design/vibro_gauge.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -32,6 +35,8 @@ GaugeResult gauge(const GaugeInput& in) {
   positive(in.probe_mass_kg, "probe mass");
   positive(in.probe_stiffness_N_per_m, "probe stiffness");
   positive(in.generator_V_per_m_per_s, "generator constant");
+  positive(in.contact_stiffness_N_per_m, "contact stiffness");
+  nonneg(in.contact_damping_N_s_per_m, "contact damping");
   positive(in.filter_time_constant_s, "filter time constant");
   nonneg(in.probe_damping_N_s_per_m, "probe damping");
   nonneg(in.generator_time_constant_s, "generator time constant");
@@ -45,6 +50,8 @@ GaugeResult gauge(const GaugeInput& in) {
   p.probe_mass_kg = in.probe_mass_kg;
   p.probe_damping_N_s_per_m = in.probe_damping_N_s_per_m;
   p.probe_stiffness_N_per_m = in.probe_stiffness_N_per_m;
+  p.contact_stiffness_N_per_m = in.contact_stiffness_N_per_m;
+  p.contact_damping_N_s_per_m = in.contact_damping_N_s_per_m;
   p.generator_V_per_m_per_s = in.generator_V_per_m_per_s;
   p.generator_time_constant_s = in.generator_time_constant_s;
   p.filter_time_constant_s = in.filter_time_constant_s;
@@ -56,12 +63,89 @@ GaugeResult gauge(const GaugeInput& in) {
   r.intercept_m = r.free_amplitude_m;
   const double K = r.signal_gain_V_per_m, A = r.intercept_m, T = in.filter_time_constant_s;
   r.signal_at_target_V = K * (A - in.target_m);
-  r.threshold_V = K * (A - in.target_m - in.removal_m_per_s * (T + in.relay_response_s));
+  r.threshold_V = threshold_23({K, A}, in.target_m, in.removal_m_per_s, T + in.relay_response_s);
   r.end_time_s =
       in.removal_m_per_s > 0.0 ? (in.allowance_m - in.target_m) / in.removal_m_per_s : INFINITY;
   r.noise_variance_V2 = in.noise_variance_m2 * K * K / (1.0 + in.noise_beta_per_s * T);
   r.size_sigma_m = std::sqrt(in.noise_variance_m2 / (1.0 + in.noise_beta_per_s * T));
+  const double dt = full_model_step(p);
+  r.range = signal_range(p, dt, in.allowance_m, std::sqrt(r.noise_variance_V2));
+  const double lag = in.removal_m_per_s * (T + in.relay_response_s);
+  r.largest_target_m = size_at_signal(p, dt, r.range.low_V, 0.0, r.range.floor_start_m) - lag;
   return r;
+}
+
+double threshold_23(const GaugeLine& line, double target_m, double removal_m_per_s, double lag_s) {
+  return line.gain_V_per_m * (line.intercept_m - target_m - removal_m_per_s * lag_s);
+}
+
+GaugeLine calibrated_line(const sensors::VibroContactGauge::Params& p, double dt, double x_trip) {
+  const double settle = full_model_settle(p);
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  constexpr double n = 5.0;
+  for (int i = -2; i <= 2; ++i) {
+    const double x = x_trip + 10e-6 * i;
+    const double y = sensors::VibroContactGauge::settled_signal(p, dt, x, settle, 0.4).mean_V;
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+  }
+  const double c1 = (n * sxy - sx * sy) / (n * sxx - sx * sx);  // S = c0 + c1·x
+  const double c0 = (sy - c1 * sx) / n;
+  return {-c1, c0 / -c1};
+}
+
+double full_model_step(const sensors::VibroContactGauge::Params& p) {
+  // configure(): dt·sqrt(k_c/M) ≤ 0.5 and ω·dt ≤ 0.05; here half of each, and 2e-5 s at most.
+  const double wc = std::sqrt(p.contact_stiffness_N_per_m / p.probe_mass_kg);
+  const double w = 2.0 * std::numbers::pi * p.supply_Hz;
+  return std::min({2e-5, 0.25 / wc, 0.025 / w});
+}
+
+double full_model_settle(const sensors::VibroContactGauge::Params& p) {
+  return std::max(0.8, 8.0 * p.filter_time_constant_s);
+}
+
+SignalRange signal_range(const sensors::VibroContactGauge::Params& p, double dt,
+                         double allowance_m, double noise_sigma_V) {
+  using G = sensors::VibroContactGauge;
+  const double settle = full_model_settle(p);
+  constexpr int kGrid = 24;  // x = allowance·i/24: the floor is found to 4 % of the allowance
+  std::array<G::Level, kGrid + 1> lv{};
+  for (int i = 0; i <= kGrid; ++i)
+    lv[static_cast<std::size_t>(i)] =
+        G::settled_signal(p, dt, allowance_m * i / kGrid, settle, 0.4);
+  SignalRange r;
+  r.free_V = lv[0].mean_V;
+  r.start_V = lv[kGrid].mean_V;
+  // The falling branch ends where S stops falling by more than its ripple.
+  std::size_t k = 0;
+  while (k < kGrid && lv[k + 1].mean_V < lv[k].mean_V - lv[k + 1].ripple_V) ++k;
+  r.floor_start_m = allowance_m * static_cast<double>(k) / kGrid;
+  for (std::size_t i = k; i <= kGrid; ++i) {
+    r.floor_V = std::max(r.floor_V, lv[i].mean_V);
+    r.ripple_V = std::max(r.ripple_V, lv[i].ripple_V);
+  }
+  r.noise_sigma_V = noise_sigma_V;
+  const double margin = r.ripple_V + 4.0 * noise_sigma_V;
+  r.low_V = r.floor_V + margin;
+  r.high_V = r.free_V - margin;
+  return r;
+}
+
+double size_at_signal(const sensors::VibroContactGauge::Params& p, double dt, double level,
+                      double lo, double hi) {
+  using G = sensors::VibroContactGauge;
+  const double settle = full_model_settle(p);
+  auto s = [&](double x) { return G::settled_signal(p, dt, x, settle, 0.2).mean_V; };
+  if (level >= s(lo)) return lo;
+  if (level <= s(hi)) return hi;
+  for (int i = 0; i < 24 && hi - lo > 1e-8; ++i) {  // to 0.01 µm
+    const double mid = 0.5 * (lo + hi);
+    (s(mid) > level ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
 }
 
 }  // namespace lathectl::design

@@ -2,7 +2,9 @@
 
 #include "lathectl/sim/config_error.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <complex>
 #include <numbers>
 #include <stdexcept>
@@ -69,6 +71,23 @@ VibroContactGauge::Steady VibroContactGauge::steady(const Params& p) noexcept {
   return {f_2w / std::abs(z_mech), f_dc / p.probe_stiffness_N_per_m,
           2.0 / std::numbers::pi * p.generator_V_per_m_per_s * w2 /
               std::sqrt(1.0 + std::pow(w2 * p.generator_time_constant_s, 2))};
+}
+
+VibroContactGauge::Level VibroContactGauge::settled_signal(const Params& p, double dt, double x,
+                                                          double settle_s, double average_s) {
+  VibroContactGauge g;
+  g.configure(p, dt);
+  const auto n_settle = static_cast<std::size_t>(settle_s / dt);
+  const auto n_avg = std::max<std::size_t>(1, static_cast<std::size_t>(average_s / dt));
+  for (std::size_t k = 0; k < n_settle; ++k) (void)g.step(x);
+  double acc = 0.0, lo = 1e300, hi = -1e300;
+  for (std::size_t k = 0; k < n_avg; ++k) {
+    const double s = g.step(x);
+    acc += s;
+    lo = std::min(lo, s);
+    hi = std::max(hi, s);
+  }
+  return {acc / static_cast<double>(n_avg), 0.5 * (hi - lo)};
 }
 
 void VibroContactGauge::reset() noexcept {

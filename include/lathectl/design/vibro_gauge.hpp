@@ -12,15 +12,49 @@
 //                          D_y = D·K² / (1 + β·T_f)                          (25)
 //   size scatter (a threshold crossing converts signal noise to size by 1/K): σ_x =
 //   sqrt(D/(1+βT_f)) largest allowance it can measure: A0.
-// The full model (sensors/vibro_contact_gauge.hpp) shows where these hold.
+// The full model (sensors/vibro_contact_gauge.hpp) shows where these hold, and bounds them: the
+// relay trips on the signal rising through S_th, so S_th must lie above the signal at the start of
+// the cut and below the free (no contact) signal, each with a margin for noise and ripple. Near
+// A0 the probe bounces off the part and the signal keeps a floor (≈ 1.1 V for d_gauging, where
+// (20) says 0): a threshold below it is never crossed and the cut never ends (issue 16).
+
+#include "lathectl/sensors/vibro_contact_gauge.hpp"
 
 namespace lathectl::design {
+
+// The signal range the full model reaches (simulated on a grid of x, not a constant):
+//   S(x) falls from free_V (x = 0, the crest grazes the part) while the probe's amplitude is
+//   clipped, until floor_start_m; beyond it the probe bounces and S stays on a floor (≈ 1.1 V for
+//   d_gauging, not 0 as (20) says), even rising again. floor_V = the largest S on [floor_start_m,
+//   allowance] (the relay, armed below its threshold, must see the signal there under it);
+//   margin = the largest ripple there + 4·σ_y (σ_y of (25), the noise through the filter);
+//   a usable threshold lies in [low_V, high_V] = [floor_V + margin, free_V − margin].
+struct SignalRange {
+  double start_V = 0.0;          // S at x = allowance
+  double floor_V = 0.0;          // the floor's highest signal
+  double floor_start_m = 0.0;    // where S(x) stops falling
+  double free_V = 0.0, ripple_V = 0.0, noise_sigma_V = 0.0;
+  double low_V = 0.0, high_V = 0.0;
+  [[nodiscard]] bool contains(double s) const { return s >= low_V && s <= high_V; }
+};
+// Step for simulating the full model: resolves the contact and the supply (configure()'s rules).
+double full_model_step(const sensors::VibroContactGauge::Params& p);
+// Settling time before a settled signal is read: 8·T_f, at least 0.8 s.
+double full_model_settle(const sensors::VibroContactGauge::Params& p);
+SignalRange signal_range(const sensors::VibroContactGauge::Params& p, double dt_s,
+                         double allowance_m, double noise_sigma_V);
+// The size x in [x_lo, x_hi] at which the full model's settled mean signal equals level_V
+// (bisection on the falling S(x), x_hi ≤ floor_start_m; x_lo or x_hi when the level lies outside
+// their signals).
+double size_at_signal(const sensors::VibroContactGauge::Params& p, double dt_s, double level_V,
+                      double x_lo, double x_hi);
 
 struct GaugeInput {
   // transducer
   double supply_V = 24.0, supply_Hz = 50.0, coil_turns = 1000.0, coil_resistance_ohm = 50.0,
          coil_inductance_H = 0.5, force_coefficient_N_per_Wb2 = 2e8, probe_mass_kg = 0.02,
          probe_damping_N_s_per_m = 1.4, probe_stiffness_N_per_m = 9500.0,
+         contact_stiffness_N_per_m = 1e6, contact_damping_N_s_per_m = 5.0,
          generator_V_per_m_per_s = 50.0, generator_time_constant_s = 2e-4,
          filter_time_constant_s = 0.1, relay_response_s = 0.02;
   // process
@@ -41,9 +75,25 @@ struct GaugeResult {
   double noise_variance_V2 = 0.0;    // D_y (25)
   double size_sigma_m = 0.0;         // σ_x
   double static_offset_m = 0.0;      // DC deflection of the probe
+  SignalRange range;                 // what the full model's signal reaches, with its margin
+  // The largest target whose (23) threshold is still in range: S_full(x_k + a(T_f + t_r)) =
+  // range.low_V on the falling branch. Where the safe range of targets ends.
+  double largest_target_m = 0.0;
 };
 
-// Throws std::invalid_argument naming the bad input.
+// A straight line S = K·(B − x) for (23): the seed's (K, A0), or the full model's local line.
+struct GaugeLine {
+  double gain_V_per_m = 0.0;  // K
+  double intercept_m = 0.0;   // B (B0/q1)
+};
+// (23): S_th = K·(B − x_k − a·lag_s), lag_s = T_f + t_r for the first-order filter.
+double threshold_23(const GaugeLine& line, double target_m, double removal_m_per_s, double lag_s);
+// The full model's local line: least squares through its settled mean signal at x_trip + 10 µm·i,
+// i = −2…2 (the calibration a shop makes with setting masters around the trip point).
+GaugeLine calibrated_line(const sensors::VibroContactGauge::Params& p, double dt_s,
+                          double x_trip_m);
+
+// Throws std::invalid_argument naming the bad input. Simulates the full model (a few ms).
 GaugeResult gauge(const GaugeInput& in);
 
 }  // namespace lathectl::design

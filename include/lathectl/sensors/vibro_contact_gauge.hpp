@@ -48,6 +48,14 @@ class VibroContactGauge {
     double signal_gain_V_per_m;  // K
   };
   static Steady steady(const Params& p) noexcept;
+  // The settled filtered signal at a fixed x (no removal, no noise): its mean over `average_s`
+  // after `settle_s`, and its ripple (half its peak-to-peak there). Throws as configure().
+  struct Level {
+    double mean_V = 0.0;
+    double ripple_V = 0.0;
+  };
+  static Level settled_signal(const Params& p, double dt_s, double x_m, double settle_s,
+                              double average_s);
   // Starts in the free steady oscillation (no contact) so no start-up transient is simulated.
   void reset() noexcept;
   // One step with the controlled part of the size x [m] (x ≤ 0: no contact). Returns S [V].

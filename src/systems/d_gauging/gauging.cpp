@@ -6,6 +6,7 @@
 #include <limits>
 #include <random>
 
+#include "lathectl/design/vibro_gauge.hpp"
 #include "lathectl/sim/parallel.hpp"
 
 namespace lathectl::sim {
@@ -72,7 +73,8 @@ PartResult one_linear_part(const GaugingProcess& p, const LinearGauge& g, double
   double prev = s_det(t) + eps - s_th;
   PartResult r;
   r.trip_s = std::numeric_limits<double>::quiet_NaN();
-  const double t_end = t_star + 20.0 * corr + 20.0 * sigma_t + 10.0 * h;
+  const double t_back = p.backstop_time_s();
+  const double t_end = std::min(t_star + 20.0 * corr + 20.0 * sigma_t + 10.0 * h, t_back);
   while (t < t_end) {
     const double z1 = n01(rng), z2 = n01(rng);
     const double xi_n = tr.f11 * xi + tr.l11 * z1;
@@ -88,6 +90,10 @@ PartResult one_linear_part(const GaugingProcess& p, const LinearGauge& g, double
     prev = now;
   }
   r.stop_s = r.trip_s + p.relay_response_s;
+  if (!(r.stop_s <= t_back) && std::isfinite(t_back)) {  // late or never: the backstop ends it
+    r.stop_s = t_back;
+    r.backstop = true;
+  }
   r.finished_m = p.allowance_m - a * r.stop_s;
   return r;
 }
@@ -95,8 +101,8 @@ PartResult one_linear_part(const GaugingProcess& p, const LinearGauge& g, double
 }  // namespace
 
 double threshold_23(const LinearGauge& g, const GaugingProcess& p) {
-  return g.gain_V_per_m *
-         (g.intercept_m - p.target_m - p.removal_m_per_s * (g.filter_s + p.relay_response_s));
+  return design::threshold_23({g.gain_V_per_m, g.intercept_m}, p.target_m, p.removal_m_per_s,
+                              g.filter_s + p.relay_response_s);
 }
 
 std::vector<PartResult> monte_carlo_linear(const GaugingProcess& p, const LinearGauge& g,
@@ -160,6 +166,7 @@ PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContac
       max_time_s > 0.0 ? max_time_s : 2.0 * t_expected + 10.0 * gp.filter_time_constant_s + 1.0;
   PartResult r;
   r.trip_s = r.stop_s = std::numeric_limits<double>::quiet_NaN();
+  const double t_back = p.backstop_time_s();
   double stop = std::numeric_limits<double>::infinity();
   double prev = -1.0;
   double x = p.allowance_m;
@@ -174,10 +181,17 @@ PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContac
     // The relay arms once the signal has settled below the threshold after the first contact.
     if (std::isnan(r.trip_s) && t > 5.0 * gp.filter_time_constant_s && prev < 0.0 && now >= 0.0) {
       r.trip_s = t + dt * (1.0 - now / (now - prev));
-      stop = r.trip_s + p.relay_response_s;
-      r.stop_s = stop;
+      if (r.trip_s + p.relay_response_s < stop) {
+        stop = r.trip_s + p.relay_response_s;
+        r.stop_s = stop;
+      }
     }
     prev = now;
+    if (t + dt >= t_back && t_back < stop) {  // x reaches the limit position first
+      stop = t_back;
+      r.stop_s = stop;
+      r.backstop = true;
+    }
     if (rec && k % record_every == 0) {
       const std::array<double, 5> row{t, x * 1e6, (x + xi) * 1e6, s, g.probe_position_m() * 1e6};
       rec->push_row(row);
@@ -190,19 +204,8 @@ PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContac
 
 SignalLevel full_model_signal(const sensors::VibroContactGauge::Params& gp, double dt, double x,
                               double settle_s, double average_s) {
-  sensors::VibroContactGauge g;
-  g.configure(gp, dt);
-  const auto n_settle = static_cast<std::size_t>(settle_s / dt);
-  const auto n_avg = static_cast<std::size_t>(average_s / dt);
-  for (std::size_t k = 0; k < n_settle; ++k) (void)g.step(x);
-  double acc = 0.0, lo = 1e300, hi = -1e300;
-  for (std::size_t k = 0; k < n_avg; ++k) {
-    const double s = g.step(x);
-    acc += s;
-    lo = std::min(lo, s);
-    hi = std::max(hi, s);
-  }
-  return {acc / static_cast<double>(n_avg), 0.5 * (hi - lo)};
+  const auto l = sensors::VibroContactGauge::settled_signal(gp, dt, x, settle_s, average_s);
+  return {l.mean_V, l.ripple_V};
 }
 
 }  // namespace lathectl::sim

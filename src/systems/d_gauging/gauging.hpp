@@ -12,10 +12,12 @@
 // simulated from a few correlation times before its expected trip, starting from the
 // stationary distribution (exact, since the noise is stationary and the lag long settled).
 // The relay trips at the first upward crossing of S_th (interpolated between steps); removal
-// stops t_r later. The finished size is the true size then: ξ disturbs the measurement, not
+// stops t_r later, or at the backstop if x reaches it first. The finished size is the true size then: ξ disturbs the measurement, not
 // the part.
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
@@ -30,6 +32,15 @@ struct GaugingProcess {
   double noise_variance_m2 = 4e-12;  // D
   double noise_beta_per_s = 5.0;     // β
   double relay_response_s = 0.02;    // t_r
+  // The programmed limit position: the cut ends when x reaches it whether or not the relay has
+  // tripped (as any real gauging cycle's end stop), with an alarm. −∞: none.
+  double backstop_m = -std::numeric_limits<double>::infinity();
+  // The time x reaches the backstop (∞ without one or without removal).
+  [[nodiscard]] double backstop_time_s() const {
+    return removal_m_per_s > 0.0 && std::isfinite(backstop_m)
+               ? (allowance_m - backstop_m) / removal_m_per_s
+               : std::numeric_limits<double>::infinity();
+  }
 };
 
 struct LinearGauge {
@@ -45,6 +56,7 @@ struct PartResult {
   double trip_s = 0.0;      // relay trips (NaN if never within the run)
   double stop_s = 0.0;      // removal stops
   double finished_m = 0.0;  // true x when removal stopped
+  bool backstop = false;    // the cut ended at the backstop (relay too late or never)
 };
 
 // Linearised Monte Carlo: N parts, each with its own stream (seed, part index), on `threads`

@@ -39,6 +39,14 @@ void read_process(TableReader& root, Settings& d) {
            p.relay_response_s);
   pr->require({"tolerance_um", {0.0, 1e5, true, false}, "± about the target; for Cp and Cpk", kUm},
               d.tolerance_m);
+  pr->read({"backstop_um",
+            Range::any(),
+            "the programmed limit position: the cut ends when x reaches it if the relay has not "
+            "tripped, with an alarm (absent: target_um − tolerance_um, the lower tolerance limit)",
+            kUm},
+           p.backstop_m);
+  if (std::isnan(p.backstop_m)) p.backstop_m = p.target_m - d.tolerance_m;
+  pr->check(p.backstop_m < p.target_m, "backstop_um", "must be below target_um");
   pr->finish();
 }
 
@@ -94,6 +102,11 @@ void read_gauge(TableReader& root, Settings& d) {
     if (d.threshold == "given" || g->is_describing())
       g->require({"threshold_V", Range::any(), "the relay's threshold, only with \"given\""},
                  d.threshold_V);
+    g->read({"force_threshold",
+             {},
+             "run even when the threshold lies outside the signal range the full model reaches "
+             "(the backstop then ends the cut)"},
+            d.force_threshold);
     g->finish();
   }
   if (auto mc = root.table("monte_carlo")) {
@@ -111,6 +124,9 @@ std::string fmt_number(double v) {
   return ss.str();
 }
 
+std::string mv(double v) { return fmt_number(std::round(v * 1e3) / 1e3); }  // V, to the mV
+std::string um(double m) { return fmt_number(std::round(m * 1e7) / 10.0); }   // µm, to 0.1
+
 void validate(const io::Scenario& sc) {
   const auto& d = sc.get<Settings>();
   sensors::VibroContactGauge probe;
@@ -125,9 +141,48 @@ void validate(const io::Scenario& sc) {
                   fmt_number(d.process.allowance_m * 1e6) +
                       " µm exceeds the largest allowance this transducer can measure, A0 = " +
                       fmt_number(probe.free_amplitude_m() * 1e6) + " µm");
+  // The relay must see the signal rise through its threshold (issue 16): found here, not after a
+  // cut that never ends.
+  const ThresholdPlan plan = plan_threshold(d, sc.run.step_s);
+  if (plan.safe() || d.force_threshold) return;
+  const auto& r = plan.range;
+  const bool below = plan.threshold_V < r.low_V;
+  const std::string why =
+      "threshold S_th = " + mv(plan.threshold_V) + " V (" + d.threshold + ") lies " +
+      (below ? "below " + mv(r.low_V) + " V, the probe's bounce floor (" + mv(r.floor_V) +
+                   " V from x = " + um(r.floor_start_m) + " µm on)"
+             : "above " + mv(r.high_V) + " V, the free signal (" + mv(r.free_V) + " V)") +
+      " with its margin (ripple " + mv(r.ripple_V) + " V + 4σ noise " + mv(4.0 * r.noise_sigma_V) +
+      " V): the relay would never trip; the safe range ends at target_um = " +
+      um(plan.largest_target_m) + " (set gauge.force_threshold = true to run into the backstop)";
+  sc.keys->fail(d.threshold == "given" ? "gauge.threshold_V" : "process.target_um", why);
 }
 
 }  // namespace
+
+ThresholdPlan plan_threshold(const Settings& d, double dt) {
+  const auto& p = d.process;
+  const auto& t = d.transducer;
+  const auto st = sensors::VibroContactGauge::steady(t);
+  ThresholdPlan pl;
+  const double lag = t.filter_time_constant_s + p.relay_response_s;
+  pl.x_trip_m = p.target_m + p.removal_m_per_s * lag;
+  pl.seed_line = {st.signal_gain_V_per_m, st.free_amplitude_m};
+  pl.calibrated_line = design::calibrated_line(t, dt, pl.x_trip_m);
+  pl.line = d.threshold == "seed" ? pl.seed_line : pl.calibrated_line;
+  pl.threshold_V = d.threshold == "given"
+                       ? d.threshold_V
+                       : design::threshold_23(pl.line, p.target_m, p.removal_m_per_s, lag);
+  // σ_y of (25) through the line's gain.
+  const double sigma_y =
+      std::sqrt(p.noise_variance_m2 / (1.0 + p.noise_beta_per_s * t.filter_time_constant_s)) *
+      std::abs(pl.line.gain_V_per_m);
+  pl.range = design::signal_range(t, dt, p.allowance_m, sigma_y);
+  pl.largest_target_m =
+      design::size_at_signal(t, dt, pl.range.low_V, 0.0, pl.range.floor_start_m) -
+      p.removal_m_per_s * lag;
+  return pl;
+}
 
 std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenario& /*sc*/,
                                                   const io::MaterialLibrary& /*lib*/) {

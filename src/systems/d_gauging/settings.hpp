@@ -5,9 +5,11 @@
 // [process], [transducer], [gauge] and [monte_carlo] over them.
 
 #include <cstddef>
+#include <limits>
 #include <memory>
 #include <string>
 
+#include "lathectl/design/vibro_gauge.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
 #include "systems/d_gauging/gauging.hpp"
@@ -16,15 +18,32 @@ namespace lathectl::d_gauging {
 
 struct Settings : io::SettingsOf<Settings> {
   // The reader's disturbance is none unless [process] noise_sigma_um gives one.
-  sim::GaugingProcess process{.noise_variance_m2 = 0.0};
+  // The backstop is NaN until read: absent, it is target − tolerance (the lower tolerance limit).
+  sim::GaugingProcess process{.noise_variance_m2 = 0.0,
+                              .backstop_m = std::numeric_limits<double>::quiet_NaN()};
   sensors::VibroContactGauge::Params transducer;
   double tolerance_m = 10e-6;            // ± about the target
   std::string threshold = "calibrated";  // "seed" (23 with A0, K) or "calibrated" (23 with the
                                          // full model's local line) or "given"
   double threshold_V = 0.0;              // when "given"
+  bool force_threshold = false;          // run even when the threshold is outside the safe range
   std::size_t parts = 100000;            // linearised Monte Carlo
   std::size_t full_parts = 8;            // full-model Monte Carlo
 };
+
+// The relay's threshold and what bounds it, from the settings and the full model (settings.cpp):
+// computed by the check (validate) and again by the run, the same way.
+struct ThresholdPlan {
+  design::GaugeLine seed_line;        // K, A0 of the closed forms
+  design::GaugeLine calibrated_line;  // the full model's local line at the trip point
+  design::GaugeLine line;             // the one the threshold uses
+  double x_trip_m = 0.0;              // x_k + a·(T_f + t_r), where the relay should trip
+  double threshold_V = 0.0;           // S_th
+  design::SignalRange range;          // what the signal reaches, with its margin
+  double largest_target_m = 0.0;      // where the safe range of targets ends
+  [[nodiscard]] bool safe() const { return range.contains(threshold_V); }
+};
+ThresholdPlan plan_threshold(const Settings& d, double dt_s);
 
 // The section reader (settings.cpp): the settings from the file's tables.
 std::unique_ptr<io::SystemSettings> read_settings(io::TableReader& root, io::Scenario& sc,

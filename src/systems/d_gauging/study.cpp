@@ -26,6 +26,9 @@ using io::Series;
 using io::Table;
 using nlohmann::json;
 constexpr double kUm = 1e6;
+// The backstop's alarm code in summary.json's alarms (beside control::Reason's codes, which are
+// the controllers'; this one is the gauging cycle's own).
+constexpr int kBackstopAlarmCode = 60;
 
 struct Stats {
   double mean = 0.0, sigma = 0.0;
@@ -37,20 +40,6 @@ Stats stats(const std::vector<double>& v) {
   for (double x : v) s.sigma += (x - s.mean) * (x - s.mean);
   s.sigma = v.size() > 1 ? std::sqrt(s.sigma / static_cast<double>(v.size() - 1)) : 0.0;
   return s;
-}
-
-// Least-squares line S = c0 + c1·x through the points.
-std::pair<double, double> fit_line(const std::vector<double>& x, const std::vector<double>& y) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  const double n = static_cast<double>(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    sx += x[i];
-    sy += y[i];
-    sxx += x[i] * x[i];
-    sxy += x[i] * y[i];
-  }
-  const double c1 = (n * sxy - sx * sy) / (n * sxx - sx * sx);
-  return {(sy - c1 * sx) / n, c1};
 }
 
 // Trip time of the linear model without noise: S_det(t) = S_th.
@@ -86,21 +75,16 @@ io::RunOutput run(const io::Scenario& sc) {
     sig[i] = sim::full_model_mean_signal(d.transducer, dt, xs[i], settle);
   });
   s_full = sig;
+  const ThresholdPlan plan = plan_threshold(d, dt);
   const sim::LinearGauge seed_line{K, A0, d.transducer.filter_time_constant_s};
-  // Local calibration around where the relay trips: x_k + a·(T_f + t_r) ± 20 µm.
-  const double x_trip =
-      p.target_m + p.removal_m_per_s * (d.transducer.filter_time_constant_s + p.relay_response_s);
-  std::vector<double> cx, cs;
-  for (int i = -2; i <= 2; ++i) cx.push_back(x_trip + 10e-6 * i);
-  cs.resize(cx.size());
-  for (std::size_t i = 0; i < cx.size(); ++i)
-    cs[i] = sim::full_model_mean_signal(d.transducer, dt, cx[i], settle);
-  const auto [c0, c1] = fit_line(cx, cs);
-  const sim::LinearGauge cal_line{-c1, c0 / -c1, d.transducer.filter_time_constant_s};
+  const sim::LinearGauge cal_line{plan.calibrated_line.gain_V_per_m,
+                                  plan.calibrated_line.intercept_m,
+                                  d.transducer.filter_time_constant_s};
   const sim::LinearGauge& line = d.threshold == "seed" ? seed_line : cal_line;
+  const double x_trip = plan.x_trip_m;
   const auto level_at_trip = sim::full_model_signal(d.transducer, dt, x_trip, settle);
   const double s_full_at_trip = level_at_trip.mean_V;
-  const double s_th = d.threshold == "given" ? d.threshold_V : sim::threshold_23(line, p);
+  const double s_th = plan.threshold_V;
   const double seed_signal_dev_pct = 100.0 * (K * (A0 - x_trip) - s_full_at_trip) / s_full_at_trip;
 
   // 2. One full-model part without noise against the linear prediction (inside the range).
@@ -133,15 +117,18 @@ io::RunOutput run(const io::Scenario& sc) {
     c = {"target near A0 (x_k = 0.85·A0)", quiet, d.transducer};
     c.proc.target_m = 0.85 * A0;
     c.proc.allowance_m = 0.97 * A0;
+    c.proc.backstop_m = c.proc.target_m - d.tolerance_m;  // each case's own limit position
     cases.push_back(c);
     c = {"target near grazing (x_k = 0.02·A0)", quiet, d.transducer};
     c.proc.target_m = 0.02 * A0;
+    c.proc.backstop_m = c.proc.target_m - d.tolerance_m;
     cases.push_back(c);
   }
   Table outside{
       "Full model against the linearised formulas (no noise; threshold (23) with the seed's A0 and "
       "K)",
-      {"case", "trip (22)+(23) [s]", "trip, full model [s]", "finished − target, full [µm]"},
+      {"case", "trip (22)+(23) [s]", "trip, full model [s]", "finished − target, full [µm]",
+       "ended by"},
       {}};
   json cases_json = json::array();
   for (const auto& c : cases) {
@@ -152,27 +139,28 @@ io::RunOutput run(const io::Scenario& sc) {
                            20.0 * c.tp.filter_time_constant_s + 1.0;
     const auto r = sim::machine_part_full(c.proc, c.tp, dt, th, sc.run.seed, nullptr, 50, horizon);
     const double err = (r.finished_m - c.proc.target_m) * kUm;
-    outside.rows.push_back({c.name, fmt(t_lin, "%.3f"), fmt(r.trip_s, "%.3f"), fmt(err, "%.2f")});
+    outside.rows.push_back({c.name, fmt(t_lin, "%.3f"), fmt(r.trip_s, "%.3f"), fmt(err, "%.2f"),
+                            r.backstop ? "backstop (alarm)" : "relay"});
     cases_json.push_back({{"case", c.name},
                           {"trip_linear_s", json_number(t_lin)},
                           {"trip_full_s", json_number(r.trip_s)},
-                          {"finished_error_um", json_number(err)}});
+                          {"finished_error_um", json_number(err)},
+                          {"backstop", r.backstop}});
   }
 
   // 4. Linearised Monte Carlo of finished sizes.
   const auto parts = sim::monte_carlo_linear(p, line, s_th, d.parts, sc.run.seed);
   std::vector<double> sizes;
   sizes.reserve(parts.size());
-  std::size_t never = 0;
+  std::size_t never = 0, backstops = 0;
   for (const auto& r : parts) {
-    if (std::isnan(r.trip_s))
-      ++never;
-    else
-      sizes.push_back(r.finished_m);
+    never += std::isnan(r.trip_s) ? 1 : 0;
+    backstops += r.backstop ? 1 : 0;
+    if (std::isfinite(r.finished_m)) sizes.push_back(r.finished_m);  // the backstop's included
   }
-  if (sizes.size() < 2)
-    throw std::runtime_error(sc.file +
-                             ": the relay never tripped in the Monte Carlo: check the threshold");
+  if (sizes.size() < 2)  // only without removal (the backstop ends every cut that has one)
+    io::throw_at_key(sc, sim::ConfigError("process.removal_um_per_s",
+                                          "no part finished: nothing ends the cut"));
   const Stats st = stats(sizes);
   const double pred_sigma =
       std::sqrt(p.noise_variance_m2 / (1.0 + p.noise_beta_per_s * line.filter_s));
@@ -193,11 +181,21 @@ io::RunOutput run(const io::Scenario& sc) {
 
   // 6. A few full-model parts with noise, on all cores.
   std::vector<double> full_sizes(d.full_parts, 0.0);
+  std::vector<char> full_backstop(d.full_parts, 0);
   sim::parallel_for(full_sizes.size(), [&](std::size_t i) {  // part i: its own seed
-    full_sizes[i] = sim::machine_part_full(p, d.transducer, dt, s_th, sc.run.seed * 7919 + i,
-                                           nullptr, 50, sc.run.duration_s)
-                        .finished_m;
+    const auto r = sim::machine_part_full(p, d.transducer, dt, s_th, sc.run.seed * 7919 + i,
+                                          nullptr, 50, sc.run.duration_s);
+    full_sizes[i] = r.finished_m;
+    full_backstop[i] = r.backstop ? 1 : 0;
   });
+  for (char b : full_backstop) backstops += static_cast<std::size_t>(b);
+  backstops += full.backstop ? 1 : 0;
+  // The one part of the run: ended by its backstop, it raises the gauging cycle's alarm.
+  json alarms = json::array();
+  if (full.backstop)
+    alarms.push_back({{"time_s", json_number(full.stop_s)},
+                      {"code", kBackstopAlarmCode},
+                      {"reason", "gauge_backstop"}});
   const Stats fst = full_sizes.size() > 1 ? stats(full_sizes) : Stats{};
 
   io::RunOutput out;
@@ -230,7 +228,16 @@ io::RunOutput run(const io::Scenario& sc) {
                   {"full_mc_parts", full_sizes.size()},
                   {"full_mc_mean_error_um",
                    json_number(full_sizes.empty() ? NAN : (fst.mean - p.target_m) * kUm)},
-                  {"full_mc_sigma_um", json_number(full_sizes.size() > 1 ? fst.sigma * kUm : NAN)}};
+                  {"full_mc_sigma_um", json_number(full_sizes.size() > 1 ? fst.sigma * kUm : NAN)},
+                  {"backstop_um", json_number(p.backstop_m * kUm)},
+                  {"backstop_trips", backstops},
+                  {"threshold_forced", d.force_threshold && !plan.safe()},
+                  {"safe_threshold_low_V", json_number(plan.range.low_V)},
+                  {"safe_threshold_high_V", json_number(plan.range.high_V)},
+                  {"signal_floor_V", json_number(plan.range.floor_V)},
+                  {"signal_floor_from_um", json_number(plan.range.floor_start_m * kUm)},
+                  {"largest_safe_target_um", json_number(plan.largest_target_m * kUm)},
+                  {"alarms", alarms}};
   s["outside_range"] = cases_json;
 
   Claims claims;
@@ -274,6 +281,22 @@ io::RunOutput run(const io::Scenario& sc) {
         fmt((st.mean - p.target_m) * kUm, "%.4f") + " µm here (" + fmt(bias_in_se, "%.1f") +
         " standard errors of the mean, " + fmt(100.0 * (st.mean - p.target_m) / st.sigma, "%.2f") +
         " % of σ).");
+  {
+    double smallest = full.finished_m;
+    for (double v : sizes) smallest = std::min(smallest, v);
+    for (double v : full_sizes) smallest = std::min(smallest, v);
+    claims.check("backstop: smallest finished size of every cut − the limit position [µm] (≥ 0: "
+                 "no part undersize beyond it)",
+                 (smallest - p.backstop_m) * kUm, Compare::AtLeast, -1e-9);
+  }
+  if (!plan.safe())
+    claims.note("Forced (gauge.force_threshold): the threshold " + fmt(s_th) +
+                " V lies outside the safe range " + fmt(plan.range.low_V) + "…" +
+                fmt(plan.range.high_V) + " V the full model's signal reaches with its margin (the "
+                "probe bounces on a floor of " + fmt(plan.range.floor_V) + " V from x = " +
+                fmt(plan.range.floor_start_m * kUm) + " µm on); the safe range of targets ends at " +
+                fmt(plan.largest_target_m * kUm) + " µm. " + std::to_string(backstops) +
+                " cuts ended at the backstop " + fmt(p.backstop_m * kUm) + " µm.");
   s["claims"] = claims.json();
 
   io::Report& rep = out.report;
@@ -291,6 +314,13 @@ io::RunOutput run(const io::Scenario& sc) {
   add("Cp", cp);
   add("Cpk", cpk);
   add("threshold S_th [V]", s_th);
+  add("safe range of S_th: from [V]", plan.range.low_V);
+  add("safe range of S_th: to [V]", plan.range.high_V);
+  add("signal floor (the probe bounces) [V]", plan.range.floor_V);
+  add("signal floor from x [µm]", plan.range.floor_start_m * kUm);
+  add("safe range of targets ends at [µm]", plan.largest_target_m * kUm);
+  add("backstop (limit position) [µm]", p.backstop_m * kUm);
+  add("cuts ended by the backstop", static_cast<double>(backstops), "%.0f");
   add("free amplitude A0 = largest allowance [µm]", A0 * kUm);
   add("signal gain K (seed) [mV/µm]", K * 1e-3);
   add("signal gain, calibrated at the trip point [mV/µm]", cal_line.gain_V_per_m * 1e-3);
