@@ -26,6 +26,7 @@ struct Args {  // shop units, as the flags; the initial values are the defaults
   double contact_stiffness_N_per_mm = 1000.0, contact_damping_N_s_per_m = 5.0;
   double generator_V_per_m_per_s = 50.0;
   double generator_ms = 0.2, filter_ms = 100.0, relay_ms = 20.0;
+  double magnet_gap_mm = 0.0, pm_force_N = 0.0, pm_gap_mm = 0.0;
   double allowance_um = 250.0, removal_um_per_s = 20.0, target_um = 100.0;
   double noise_sigma_um = 2.0, noise_beta_per_s = 5.0;
   std::optional<double> tolerance_um;
@@ -76,6 +77,18 @@ const Input<Args> kInputs[] = {
      {"filter_ms", kPos, "smoothing filter time constant T_f"},
      "ms",
      &Args::filter_ms},
+    {"--magnet-gap-mm",
+     {"magnet_gap_mm", kNonNeg, "electromagnet air gap δ of (6) Φ = (L·i/W)·δ/(δ − z); 0: linear"},
+     "mm",
+     &Args::magnet_gap_mm},
+    {"--pm-force-N",
+     {"pm_force_N", kNonNeg, "permanent magnet's pull at rest F_M0, (9)-(10)"},
+     "N",
+     &Args::pm_force_N},
+    {"--pm-gap-mm",
+     {"pm_gap_mm", kNonNeg, "permanent magnet's gap b₂ of (11); 0: linear generator"},
+     "mm",
+     &Args::pm_gap_mm},
     {"--relay-ms", {"relay_ms", kNonNeg, "relay/command response time t_r"}, "ms", &Args::relay_ms},
     {"--allowance-um",
      {"allowance_um", kPos, "controlled allowance at the start m_x"},
@@ -131,11 +144,16 @@ const Output<Result> kOutputs[] = {
     {"safe range of targets ends at", "largest_target_m", "m", "largest_target_um", "µm", 1e6,
      &Result::largest_target_m},
     {"S_th in the safe range", "in_range", "", "in_range", "", 1, &Result::in_range},
+    {"probe spread at trip (Poincaré)", "trip_spread_m", "m", "trip_spread_um", "µm", 1e6,
+     &Result::trip_spread_m},
+    {"probe regular (spread ≤ 3 % A0)", "regular", "", "regular", "", 1, &Result::regular},
     {"Cp = 2·tol/(6·σ_x)", "Cp", "", "Cp", "", 1, &Result::Cp},
 };
 
-// --force: compute even when the threshold lies outside the safe range (a flag, not a number row).
+// --force: compute even when the threshold lies outside the safe range; --filter: the filter's
+// kind (flags that are not number rows).
 bool force = false;
+std::string filter_kind = "first_order";
 
 int compute(const Args& a) {
   const std::string who = "design gauge: ";
@@ -155,6 +173,13 @@ int compute(const Args& a) {
   in.generator_time_constant_s = a.generator_ms * 1e-3;
   in.filter_time_constant_s = a.filter_ms * 1e-3;
   in.relay_response_s = a.relay_ms * 1e-3;
+  in.magnet_gap_m = a.magnet_gap_mm * 1e-3;
+  in.pm_force_N = a.pm_force_N;
+  in.pm_gap_m = a.pm_gap_mm * 1e-3;
+  using F = sensors::VibroContactGauge::Params::Filter;
+  in.filter = filter_kind == "second_order"  ? F::SecondOrder
+              : filter_kind == "synchronous" ? F::Synchronous
+                                             : F::FirstOrder;
   in.allowance_m = a.allowance_um * 1e-6;
   in.removal_m_per_s = a.removal_um_per_s * 1e-6;
   in.target_m = a.target_um * 1e-6;
@@ -206,6 +231,11 @@ int compute(const Args& a) {
                   4.0 * r.range.noise_sigma_V, r.largest_target_m * 1e6);
     throw io::InputError(who + buf);
   }
+  if (!r.regular)
+    std::cerr << "note: the probe is not regular at the trip point (Poincaré spread "
+              << r.trip_spread_m * 1e6 << " µm > 3 % of A0): its period-doubled impacts make the "
+              << "trip time erratic; damp the contact (ζ_c ≥ 0.35), soften it, or put the "
+              << "resonance at or below 2ω\n";
   r.sigma_y_V = std::sqrt(r.noise_variance_V2);
   if (a.tolerance_um)  // unbounded without noise (JSON null)
     r.Cp = r.size_sigma_m > 0.0 ? 2.0 * *a.tolerance_um * 1e-6 / (6.0 * r.size_sigma_m)
@@ -218,6 +248,10 @@ void add(CLI::App& sub, Commands& out) {
   add_calculator<Args>(sub, out, kInputs,
                        "Seed 003 and its formulas (20)-(25): " + doc("system-d-gauging.md") + ".",
                        &compute);
+  sub.add_option("--filter", filter_kind,
+                 "filter after the rectifier: first_order (the seed's), second_order, synchronous")
+      ->check(CLI::IsMember({"first_order", "second_order", "synchronous"}))
+      ->capture_default_str();
   sub.add_flag("--force", force,
                "compute even when S_th lies outside the signal range the full model reaches");
 }

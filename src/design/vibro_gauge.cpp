@@ -55,23 +55,41 @@ GaugeResult gauge(const GaugeInput& in) {
   p.generator_V_per_m_per_s = in.generator_V_per_m_per_s;
   p.generator_time_constant_s = in.generator_time_constant_s;
   p.filter_time_constant_s = in.filter_time_constant_s;
+  p.filter = in.filter;
+  p.magnet_gap_m = in.magnet_gap_m;
+  p.pm_force_N = in.pm_force_N;
+  p.pm_gap_m = in.pm_gap_m;
   const auto st = sensors::VibroContactGauge::steady(p);
   GaugeResult r;
   r.free_amplitude_m = st.free_amplitude_m;
   r.static_offset_m = st.static_offset_m;
   r.signal_gain_V_per_m = st.signal_gain_V_per_m;
   r.intercept_m = r.free_amplitude_m;
-  const double K = r.signal_gain_V_per_m, A = r.intercept_m, T = in.filter_time_constant_s;
+  if (in.magnet_gap_m > 0.0 || in.pm_gap_m > 0.0 || in.pm_force_N != 0.0) {
+    // (6), (9)-(11): the free oscillation is simulated (configure()), not the closed form.
+    sensors::VibroContactGauge g;
+    g.configure(p, full_model_step(p));
+    r.free_amplitude_m = r.intercept_m = g.free_amplitude_m();
+    r.static_offset_m = g.static_offset_m();
+  }
+  const double K = r.signal_gain_V_per_m, A = r.intercept_m;
   r.signal_at_target_V = K * (A - in.target_m);
-  r.threshold_V = threshold_23({K, A}, in.target_m, in.removal_m_per_s, T + in.relay_response_s);
+  r.threshold_V = threshold_23({K, A}, in.target_m, in.removal_m_per_s,
+                               sensors::VibroContactGauge::filter_lag_s(p) + in.relay_response_s);
   r.end_time_s =
       in.removal_m_per_s > 0.0 ? (in.allowance_m - in.target_m) / in.removal_m_per_s : INFINITY;
-  r.noise_variance_V2 = in.noise_variance_m2 * K * K / (1.0 + in.noise_beta_per_s * T);
-  r.size_sigma_m = std::sqrt(in.noise_variance_m2 / (1.0 + in.noise_beta_per_s * T));
+  // (25), extended to the filter: 1/(1 + βT_f) for the seed's first order.
+  const double factor = sensors::VibroContactGauge::filter_noise_factor(p, in.noise_beta_per_s);
+  r.noise_variance_V2 = in.noise_variance_m2 * K * K * factor;
+  r.size_sigma_m = std::sqrt(in.noise_variance_m2 * factor);
   const double dt = full_model_step(p);
   r.range = signal_range(p, dt, in.allowance_m, std::sqrt(r.noise_variance_V2));
-  const double lag = in.removal_m_per_s * (T + in.relay_response_s);
+  const double lag = in.removal_m_per_s * (sensors::VibroContactGauge::filter_lag_s(p) + in.relay_response_s);
   r.largest_target_m = size_at_signal(p, dt, r.range.low_V, 0.0, r.range.floor_start_m) - lag;
+  const double x_trip = in.target_m + lag;
+  r.trip_spread_m =
+      sensors::VibroContactGauge::settled_signal(p, dt, x_trip, full_model_settle(p), 0.4).spread_m;
+  r.regular = r.trip_spread_m <= kRegularSpread * r.free_amplitude_m;
   return r;
 }
 
@@ -83,9 +101,12 @@ GaugeLine calibrated_line(const sensors::VibroContactGauge::Params& p, double dt
   const double settle = full_model_settle(p);
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   constexpr double n = 5.0;
+  double spread = 0.0;
   for (int i = -2; i <= 2; ++i) {
     const double x = x_trip + 10e-6 * i;
-    const double y = sensors::VibroContactGauge::settled_signal(p, dt, x, settle, 0.4).mean_V;
+    const auto lv = sensors::VibroContactGauge::settled_signal(p, dt, x, settle, 0.4);
+    const double y = lv.mean_V;
+    spread = std::max(spread, lv.spread_m);
     sx += x;
     sy += y;
     sxx += x * x;
@@ -93,7 +114,7 @@ GaugeLine calibrated_line(const sensors::VibroContactGauge::Params& p, double dt
   }
   const double c1 = (n * sxy - sx * sy) / (n * sxx - sx * sx);  // S = c0 + c1·x
   const double c0 = (sy - c1 * sx) / n;
-  return {-c1, c0 / -c1};
+  return {-c1, c0 / -c1, spread};
 }
 
 double full_model_step(const sensors::VibroContactGauge::Params& p) {

@@ -57,6 +57,10 @@ struct GaugeInput {
          contact_stiffness_N_per_m = 1e6, contact_damping_N_s_per_m = 5.0,
          generator_V_per_m_per_s = 50.0, generator_time_constant_s = 2e-4,
          filter_time_constant_s = 0.1, relay_response_s = 0.02;
+  // (6) and (9)-(11) (0: the seed's linear coil and generator), and the filter's kind
+  double magnet_gap_m = 0.0, pm_force_N = 0.0, pm_gap_m = 0.0;
+  sensors::VibroContactGauge::Params::Filter filter =
+      sensors::VibroContactGauge::Params::Filter::FirstOrder;
   // process
   double allowance_m = 200e-6;       // m_x
   double removal_m_per_s = 20e-6;    // a
@@ -79,19 +83,34 @@ struct GaugeResult {
   // The largest target whose (23) threshold is still in range: S_full(x_k + a(T_f + t_r)) =
   // range.low_V on the falling branch. Where the safe range of targets ends.
   double largest_target_m = 0.0;
+  // The design rule: the probe's Poincaré spread at the trip point x_k + a·(lag + t_r), and
+  // whether it is regular (spread ≤ kRegularSpread·A0).
+  double trip_spread_m = 0.0;
+  bool regular = true;
 };
 
 // A straight line S = K·(B − x) for (23): the seed's (K, A0), or the full model's local line.
 struct GaugeLine {
   double gain_V_per_m = 0.0;  // K
   double intercept_m = 0.0;   // B (B0/q1)
+  double spread_m = 0.0;      // calibrated: the probe's largest Poincaré spread at the points
 };
+// The design rule of issue 16: the probe must repeat its impact every drive period at the trip
+// point — its Poincaré spread at most this fraction of A0. Found by simulation (not a closed form):
+// with the seed's contact (k_c = 10⁶ N/m, c_c = 5 N·s/m: restitution e ≈ 0.95) and the resonance
+// above 2ω (110 Hz against 100 Hz) the probe period-doubles (spread 0.10-0.16·A0) and the trip
+// time is chaotic (a 1e-12 change of k moves the finished size by 0.2-0.4 µm); a damped contact
+// (c_c ≥ 100 N·s/m: ζ_c = c_c/(2·sqrt(k_c·M)) ≥ 0.35, e ≤ 0.3), a softer one (k_c = 10⁵ N/m) or a
+// resonance at or below 2ω (f_n ≤ 2f: 90-100 Hz) keeps it regular (spread ≤ 0.02·A0).
+constexpr double kRegularSpread = 0.03;
 // (23): S_th = K·(B − x_k − a·lag_s), lag_s = T_f + t_r for the first-order filter.
 double threshold_23(const GaugeLine& line, double target_m, double removal_m_per_s, double lag_s);
 // The full model's local line: least squares through its settled mean signal at x_trip + 10 µm·i,
 // i = −2…2 (the calibration a shop makes with setting masters around the trip point).
 GaugeLine calibrated_line(const sensors::VibroContactGauge::Params& p, double dt_s,
                           double x_trip_m);
+
+
 
 // Throws std::invalid_argument naming the bad input. Simulates the full model (a few ms).
 GaugeResult gauge(const GaugeInput& in);

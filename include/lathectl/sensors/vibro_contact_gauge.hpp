@@ -2,23 +2,45 @@
 // Vibro-contact transducer (ВКП) of seed 003, its equations (5)-(14) as a full electromechanical
 // model:
 //
-//   electromagnet 2:  L·di/dt + r·i = V·sin ωt        (7), flux Φ = L·i/W
+//   electromagnet 2:  W·dΦ/dt + r·i = V·sin ωt         (7)
+//                     Φ = (L·i/W)·δ/(δ − z)            (6), our reading of the garbled OCR
+//                       "Φ_э(t) = a₁·i(t)/[δ − Z(t)]": the flux of a magnetic circuit whose
+//                       reluctance is its effective air gap δ − z (iron included); L is the
+//                       inductance at rest. δ = 0 (magnet_gap_m) keeps the seed's linear coil
+//                       Φ = L·i/W. Consistent with (5): a_f = 1/(2μ₀S) and L = μ₀S·W²/δ give
+//                       δ = W²/(2·a_f·L) (4.74 mm for d_gauging).
 //                     F_m = a_f·Φ²                     (5): DC + a 2ω component
-//   probe 1:          M·z'' + h·z' + k·z = F_m − F_c   (8), z from the probe's rest position
-//   contact:          the part surface at z_s = z_eq + A0 − x (x: the controlled part of the
+//   permanent magnet 3 (9)-(11): F = F_m + F_M (9), F_M = a₂·Φ_M² (10), Φ_M = b₁/(b₂ − z) (11)
+//                       (OCR "Φ_M(t) = b₁/(b₂ − Z(t))"): F_M = F_M0·(b₂/(b₂ − z))², F_M0 the
+//                       pull at rest (pm_force_N), b₂ the magnet's gap (pm_gap_m; 0: none).
+//   probe 1:          M·z'' + h·z' + k·z = F − F_c     (8), z from the spring's free position,
+//                       positive towards the part and the magnets
+//   contact:          the part surface at z_s = z_crest − x (x: the controlled part of the
 //                     size, so x = 0 grazes the free oscillation's crest and x = A0 stops it);
 //                     F_c = max(0, k_c·p + c_c·ṗ) for penetration p = z − z_s > 0 (one-sided)
-//   generator 3-4:    emf = K_g·ż (moving permanent-magnet flux through the coil, (10)-(11)),
+//   generator 3-4:    emf = W_g·dΦ_M/dt = K_g·(b₂/(b₂ − z))²·ż (10)-(11), K_g = W_g·b₁/b₂² its
+//                       gain at rest (linear, emf = K_g·ż, without a magnet gap),
 //                     T_g·u' + u = emf                  (12)
 //   rectifier 13:     g = |u|                           (13)
-//   filter 14:        T_f·S' + S = g                     (14)
-// The free amplitude of the 2ω component, A0 = (a_f·Φ_m²/2)/|k − M(2ω)² + j·h·2ω| with
-// Φ_m = L·V/(W·sqrt(r² + ω²L²)), is the largest allowance it can measure.
+//   filter 14:        first order   T_f·S' + S = g      (14), the seed's
+//                     second order  two lags T_f/2 in cascade: the same ramp lag T_f, the 2ω
+//                                   ripple down by a further ~ωT_f/2
+//                     synchronous   the mean of g over the last T_w = 2n supply periods
+//                                   (T_w the even number of periods nearest 2·T_f): the ramp
+//                                   lag T_w/2, and every harmonic of ω/2 (the 2ω ripple, its
+//                                   period-doubled and period-quadrupled subharmonics) nulled
+// The free amplitude of the 2ω component in the seed's linear model, A0 = (a_f·Φ_m²/2)/|k −
+// M(2ω)² + j·h·2ω| with Φ_m = L·V/(W·sqrt(r² + ω²L²)), is the largest allowance it can measure;
+// with (6) or (9)-(11) the free oscillation is simulated at configure() instead and A0 is half its
+// peak-to-peak.
 //
 // Integration: semi-implicit Euler for the probe (velocity first, contact force implicit in its
-// stiffness so a stiff contact stays stable), exact first-order updates for the coil current
-// lag (with the input held over the step), the generator and the filter. The step must resolve
+// stiffness so a stiff contact stays stable), exact first-order updates for the flux (with the
+// input and the gap held over the step), the generator and the filter(s). The step must resolve
 // the contact: dt·sqrt(k_c/M) ≲ 0.5 (checked at configure).
+
+#include <cstddef>
+#include <vector>
 
 namespace lathectl::sensors {
 
@@ -39,7 +61,23 @@ class VibroContactGauge {
     double generator_V_per_m_per_s = 50.0;     // K_g
     double generator_time_constant_s = 2e-4;   // T_g
     double filter_time_constant_s = 0.1;       // T_f
+    double magnet_gap_m = 0.0;                 // δ of (6); 0: flux independent of the gap
+    double pm_force_N = 0.0;                   // F_M0, the permanent magnet's pull at rest
+    double pm_gap_m = 0.0;                     // b₂ of (11); 0: linear generator, no F_M(z)
+    enum class Filter { FirstOrder, SecondOrder, Synchronous };
+    Filter filter = Filter::FirstOrder;
   };
+  // The synchronous filter's window: the even number of supply periods nearest 2·T_f (≥ 2).
+  static double synchronous_window_s(const Params& p) noexcept;
+  // The filter's ramp lag (the delay of a ramp through it): T_f, T_f, T_w/2.
+  static double filter_lag_s(const Params& p) noexcept;
+  // The variance of OU noise (R = D·e^{−β|τ|}) through the filter, per unit D:
+  //   first order 1/(1 + βT_f) (seed (25)); second order (βτ + 2)/(2(1 + βτ)²), τ = T_f/2;
+  //   synchronous 2(x − 1 + e^{−x})/x², x = βT_w.
+  static double filter_noise_factor(const Params& p, double beta_per_s) noexcept;
+  [[nodiscard]] bool nonlinear() const noexcept {
+    return p_.magnet_gap_m > 0.0 || p_.pm_gap_m > 0.0 || p_.pm_force_N != 0.0;
+  }
   void configure(const Params& p, double dt_s);  // throws std::invalid_argument
   // The closed forms alone, without a simulation step (for the design calculator).
   struct Steady {
@@ -50,13 +88,18 @@ class VibroContactGauge {
   static Steady steady(const Params& p) noexcept;
   // The settled filtered signal at a fixed x (no removal, no noise): its mean over `average_s`
   // after `settle_s`, and its ripple (half its peak-to-peak there). Throws as configure().
+  // spread_m: the spread of the probe position sampled once per 2ω period (its Poincaré
+  // section) over the averaging window: ≈ 0 when the probe repeats every drive period (regular),
+  // large when it period-doubles or wanders (the impact pattern of issue 16).
   struct Level {
     double mean_V = 0.0;
     double ripple_V = 0.0;
+    double spread_m = 0.0;
   };
   static Level settled_signal(const Params& p, double dt_s, double x_m, double settle_s,
                               double average_s);
   // Starts in the free steady oscillation (no contact) so no start-up transient is simulated.
+  // Allocation-free (configure() sizes the synchronous filter's buffer).
   void reset() noexcept;
   // One step with the controlled part of the size x [m] (x ≤ 0: no contact). Returns S [V].
   double step(double x_m) noexcept;
@@ -72,13 +115,24 @@ class VibroContactGauge {
   [[nodiscard]] double signal_gain_V_per_m() const noexcept { return gain_; }
 
  private:
+  struct State {
+    double t0 = 0.0;  // supply phase offset [s] of the free steady state
+    double phi = 0.0, z = 0.0, v = 0.0, u = 0.0, s = 0.0;
+  };
+  void linear_free_state() noexcept;
+  double filter(double g) noexcept;
   Params p_{};
   double dt_ = 2e-5;
   double t_ = 0.0;
-  double i_ = 0.0, z_ = 0.0, v_ = 0.0, u_ = 0.0, s_ = 0.0;
+  double phi_ = 0.0, z_ = 0.0, v_ = 0.0, u_ = 0.0, s_ = 0.0, s1_ = 0.0;
   double a0_ = 0.0, z_eq_ = 0.0, gain_ = 0.0;
   double coil_decay_ = 0.0, gen_decay_ = 0.0, filt_decay_ = 0.0;
   double omega_ = 0.0;
+  State free_{};  // the free steady state reset() starts from
+  // Synchronous filter: ring buffer of the last n samples of g and their running sum.
+  std::vector<double> ring_;
+  std::size_t ring_pos_ = 0;
+  double ring_sum_ = 0.0;
 };
 
 }  // namespace lathectl::sensors

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <random>
 
 #include "lathectl/design/vibro_gauge.hpp"
@@ -58,9 +59,9 @@ PartResult one_linear_part(const GaugingProcess& p, const LinearGauge& g, double
                            std::mt19937_64& rng) {
   std::normal_distribution<double> n01(0.0, 1.0);
   const double K = g.gain_V_per_m, a = p.removal_m_per_s;
-  auto s_det = [&](double t) { return K * (g.intercept_m - p.allowance_m + a * (t - g.filter_s)); };
+  auto s_det = [&](double t) { return K * (g.intercept_m - p.allowance_m + a * (t - g.lag_s())); };
   // Expected trip: s_det(t*) = S_th; start well before it (noise and lag long settled).
-  const double t_star = (s_th / K - g.intercept_m + p.allowance_m) / a + g.filter_s;
+  const double t_star = (s_th / K - g.intercept_m + p.allowance_m) / a + g.lag_s();
   const double corr =
       std::max(g.filter_s, p.noise_beta_per_s > 0.0 ? 1.0 / p.noise_beta_per_s : 0.0);
   const double sigma_t = std::sqrt(tr.var_eps) / (K * a);
@@ -75,18 +76,18 @@ PartResult one_linear_part(const GaugingProcess& p, const LinearGauge& g, double
   r.trip_s = std::numeric_limits<double>::quiet_NaN();
   const double t_back = p.backstop_time_s();
   const double t_end = std::min(t_star + 20.0 * corr + 20.0 * sigma_t + 10.0 * h, t_back);
-  while (t < t_end) {
+  // Until the trip and t* (ε there: the control variate of the bias calibration).
+  while (t < t_end && (std::isnan(r.trip_s) || std::isnan(r.noise_at_nominal_V))) {
     const double z1 = n01(rng), z2 = n01(rng);
     const double xi_n = tr.f11 * xi + tr.l11 * z1;
     const double eps_n = tr.f21 * xi + tr.f22 * eps + tr.l21 * z1 + tr.l22 * z2;
     xi = xi_n;
     eps = eps_n;
     t += h;
+    if (std::isnan(r.noise_at_nominal_V) && t >= t_star) r.noise_at_nominal_V = eps;
     const double now = s_det(t) + eps - s_th;
-    if (now >= 0.0) {
+    if (std::isnan(r.trip_s) && now >= 0.0)
       r.trip_s = t - h * now / (now - prev);  // linear interpolation of the crossing
-      break;
-    }
     prev = now;
   }
   r.stop_s = r.trip_s + p.relay_response_s;
@@ -98,17 +99,134 @@ PartResult one_linear_part(const GaugingProcess& p, const LinearGauge& g, double
   return r;
 }
 
+// ε = filter(−K·ξ) for the second-order and synchronous filters, by steps h: ξ exact (OU), each
+// lag exact for an input linear over the step, the moving average by the trapezoid rule over a
+// whole number of steps. Starts from a stationary ξ and runs a warm-up so ε is stationary too.
+class FilteredNoise {
+ public:
+  FilteredNoise(const GaugingProcess& p, const LinearGauge& g, double h)
+      : g_(g), h_(h), rho_(std::exp(-p.noise_beta_per_s * h)),
+        kick_(std::sqrt(p.noise_variance_m2 * (1.0 - rho_ * rho_))),
+        sigma_(std::sqrt(p.noise_variance_m2)) {
+    const double tau = 0.5 * g.filter_s;
+    e_ = std::exp(-h / tau);
+    if (g.filter == LinearGauge::Filter::Synchronous)
+      ring_.assign(static_cast<std::size_t>(std::llround(2.0 * g.lag_s() / h)) + 1, 0.0);
+    warm_ = g.filter == LinearGauge::Filter::Synchronous ? 2.0 * g.lag_s() : 8.0 * tau;
+  }
+  // A step h for the window: a whole number of steps per window, near h0.
+  static double step_for(const LinearGauge& g, double h0) {
+    if (g.filter != LinearGauge::Filter::Synchronous) return h0;
+    const double tw = 2.0 * g.lag_s();
+    return tw / std::max(1.0, std::round(tw / h0));
+  }
+  void start(std::mt19937_64& rng) {
+    xi_ = sigma_ * n01_(rng);
+    const double in = -g_.gain_V_per_m * xi_;
+    y1_ = y2_ = in;
+    std::fill(ring_.begin(), ring_.end(), in);
+    sum_ = in * static_cast<double>(ring_.size());
+    pos_ = 0;
+    for (double t = 0.0; t < warm_; t += h_) (void)step(rng);
+  }
+  double step(std::mt19937_64& rng) {
+    const double a = -g_.gain_V_per_m * xi_;
+    xi_ = rho_ * xi_ + kick_ * n01_(rng);
+    const double b = -g_.gain_V_per_m * xi_;
+    if (ring_.empty()) {  // two lags τ = T_f/2, each exact for the linear input over the step
+      const double y1_new = b - (b - a) * tau_over_h() + (y1_ - a + (b - a) * tau_over_h()) * e_;
+      const double y2_new = y1_new - (y1_new - y1_) * tau_over_h() +
+                            (y2_ - y1_ + (y1_new - y1_) * tau_over_h()) * e_;
+      y1_ = y1_new;
+      y2_ = y2_new;
+      return y2_;
+    }
+    sum_ += b - ring_[pos_];
+    ring_[pos_] = b;
+    pos_ = (pos_ + 1) % ring_.size();
+    const double first = ring_[pos_], last = b;  // oldest and newest of the n + 1 samples
+    return (sum_ - 0.5 * (first + last)) / static_cast<double>(ring_.size() - 1);
+  }
+
+ private:
+  [[nodiscard]] double tau_over_h() const { return 0.5 * g_.filter_s / h_; }
+  LinearGauge g_;
+  double h_, rho_, kick_, sigma_, e_ = 0.0, warm_ = 0.0;
+  double xi_ = 0.0, y1_ = 0.0, y2_ = 0.0, sum_ = 0.0;
+  std::vector<double> ring_;
+  std::size_t pos_ = 0;
+  std::normal_distribution<double> n01_{0.0, 1.0};
+};
+
+PartResult one_filtered_part(const GaugingProcess& p, const LinearGauge& g, double s_th,
+                             FilteredNoise& noise, double h, std::mt19937_64& rng) {
+  const double K = g.gain_V_per_m, a = p.removal_m_per_s, lag = g.lag_s();
+  auto s_det = [&](double t) { return K * (g.intercept_m - p.allowance_m + a * (t - lag)); };
+  const double t_star = (s_th / K - g.intercept_m + p.allowance_m) / a + lag;
+  const double corr = std::max(lag, p.noise_beta_per_s > 0.0 ? 1.0 / p.noise_beta_per_s : 0.0);
+  const double sigma_t =
+      std::sqrt(p.noise_variance_m2 * g.noise_factor(p.noise_beta_per_s)) / a;
+  double t = std::max(0.0, t_star - corr - 6.0 * sigma_t);
+  noise.start(rng);
+  double prev = s_det(t) + noise.step(rng) - s_th;
+  PartResult r;
+  r.trip_s = std::numeric_limits<double>::quiet_NaN();
+  const double t_back = p.backstop_time_s();
+  const double t_end = std::min(t_star + 20.0 * corr + 20.0 * sigma_t + 10.0 * h, t_back);
+  while (t < t_end && (std::isnan(r.trip_s) || std::isnan(r.noise_at_nominal_V))) {
+    t += h;
+    const double eps = noise.step(rng);
+    if (std::isnan(r.noise_at_nominal_V) && t >= t_star) r.noise_at_nominal_V = eps;
+    const double now = s_det(t) + eps - s_th;
+    if (std::isnan(r.trip_s) && now >= 0.0 && prev < 0.0) r.trip_s = t - h * now / (now - prev);
+    prev = now;
+  }
+  r.stop_s = r.trip_s + p.relay_response_s;
+  if (!(r.stop_s <= t_back) && std::isfinite(t_back)) {
+    r.stop_s = t_back;
+    r.backstop = true;
+  }
+  r.finished_m = p.allowance_m - a * r.stop_s;
+  return r;
+}
+
+double filtered_step(const GaugingProcess& p, const LinearGauge& g) {
+  const double corr = std::min(
+      {0.5 * g.filter_s, g.lag_s(), p.noise_beta_per_s > 0.0 ? 1.0 / p.noise_beta_per_s : 1.0});
+  return FilteredNoise::step_for(g, corr / 10.0);
+}
+
 }  // namespace
+
+LinearGauge linear_gauge(const design::GaugeLine& line,
+                         const sensors::VibroContactGauge::Params& t) {
+  return {line.gain_V_per_m, line.intercept_m, t.filter_time_constant_s, t.filter, t.supply_Hz};
+}
 
 double threshold_23(const LinearGauge& g, const GaugingProcess& p) {
   return design::threshold_23({g.gain_V_per_m, g.intercept_m}, p.target_m, p.removal_m_per_s,
-                              g.filter_s + p.relay_response_s);
+                              g.lag_s() + p.relay_response_s);
 }
 
 std::vector<PartResult> monte_carlo_linear(const GaugingProcess& p, const LinearGauge& g,
                                            double s_th, std::size_t parts, std::uint64_t seed,
                                            unsigned threads) {
   std::vector<PartResult> out(parts);
+  if (g.filter != LinearGauge::Filter::FirstOrder) {
+    const double h = filtered_step(p, g);
+    constexpr std::size_t kChunk = 256;
+    sim::parallel_for(
+        (parts + kChunk - 1) / kChunk,
+        [&](std::size_t c) {
+          FilteredNoise noise(p, g, h);  // one buffer per chunk
+          for (std::size_t i = c * kChunk; i < std::min(parts, (c + 1) * kChunk); ++i) {
+            std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + i);
+            out[i] = one_filtered_part(p, g, s_th, noise, h, rng);
+          }
+        },
+        threads);
+    return out;
+  }
   // Step: a twentieth of the shorter of the filter lag and the noise correlation time; the
   // transition is exact, the step only sets how finely the crossing is interpolated.
   const double corr =
@@ -132,6 +250,21 @@ std::vector<PartResult> monte_carlo_linear(const GaugingProcess& p, const Linear
 
 std::vector<double> filter_noise_samples(const GaugingProcess& p, const LinearGauge& g,
                                          std::size_t n, double spacing_s, std::uint64_t seed) {
+  if (g.filter != LinearGauge::Filter::FirstOrder) {
+    const double h = filtered_step(p, g);
+    FilteredNoise noise(p, g, h);
+    std::mt19937_64 rng(seed);
+    noise.start(rng);
+    const auto every = std::max<std::size_t>(1, static_cast<std::size_t>(spacing_s / h));
+    std::vector<double> out;
+    out.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      double e = 0.0;
+      for (std::size_t k = 0; k < every; ++k) e = noise.step(rng);
+      out.push_back(e);
+    }
+    return out;
+  }
   const Transition tr = transition(p, g, spacing_s);
   const Stationary st = stationary(tr);
   std::mt19937_64 rng(seed);

@@ -20,6 +20,7 @@
 #include <limits>
 #include <vector>
 
+#include "lathectl/design/vibro_gauge.hpp"
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
 #include "lathectl/sim/recorder.hpp"
 
@@ -44,19 +45,46 @@ struct GaugingProcess {
 };
 
 struct LinearGauge {
+  using Filter = sensors::VibroContactGauge::Params::Filter;
   double gain_V_per_m = 0.0;  // K
   double intercept_m = 0.0;   // B0/q1 (A0 in the seed's approximation)
   double filter_s = 0.1;      // T_f
+  Filter filter = Filter::FirstOrder;
+  double supply_Hz = 50.0;    // sets the synchronous filter's window
+  [[nodiscard]] sensors::VibroContactGauge::Params filter_params() const {
+    sensors::VibroContactGauge::Params q;
+    q.filter_time_constant_s = filter_s;
+    q.filter = filter;
+    q.supply_Hz = supply_Hz;
+    return q;
+  }
+  // The ramp lag: T_f (first and second order) or T_w/2 (synchronous).
+  [[nodiscard]] double lag_s() const {
+    return sensors::VibroContactGauge::filter_lag_s(filter_params());
+  }
+  // (25) extended: Var ε / (D·K²).
+  [[nodiscard]] double noise_factor(double beta) const {
+    return sensors::VibroContactGauge::filter_noise_factor(filter_params(), beta);
+  }
 };
+// The line (K, B) with the transducer's filter.
+LinearGauge linear_gauge(const design::GaugeLine& line,
+                         const sensors::VibroContactGauge::Params& t);
 
-// Threshold (23).
+// Threshold (23), the filter's ramp lag for T_f.
 double threshold_23(const LinearGauge& g, const GaugingProcess& p);
+
+
 
 struct PartResult {
   double trip_s = 0.0;      // relay trips (NaN if never within the run)
   double stop_s = 0.0;      // removal stops
   double finished_m = 0.0;  // true x when removal stopped
   bool backstop = false;    // the cut ended at the backstop (relay too late or never)
+  // Linearised Monte Carlo: the filtered noise ε at the nominal trip time t* (S_det(t*) = S_th),
+  // NaN if not reached: highly correlated with the finished size, known mean 0 — the control
+  // variate that makes the bias calibration precise.
+  double noise_at_nominal_V = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Linearised Monte Carlo: N parts, each with its own stream (seed, part index), on `threads`
@@ -89,5 +117,34 @@ inline double full_model_mean_signal(const sensors::VibroContactGauge::Params& g
                                      double x_m, double settle_s = 0.8, double average_s = 0.4) {
   return full_model_signal(gp, step_s, x_m, settle_s, average_s).mean_V;
 }
+
+// threshold = "calibrated_dynamic" (calibration.cpp): machine parts with the full model (noise
+// included), each at the current S_th, and move S_th by K·(mean finished − target) after each
+// batch, the errors pooled (each corrected to the current S_th through the slope K). Batches of 8
+// parts with noise (1 without); stops when the pooled mean is within its standard error of the
+// target and that error is below `precision_m` (without noise: within 0.05 µm), or at max_parts.
+struct DynamicCalibration {
+  double threshold_V = 0.0;
+  std::size_t parts = 0;          // parts machined
+  double mean_error_m = 0.0;      // pooled, at the final threshold
+  double standard_error_m = 0.0;
+  bool converged = false;
+};
+DynamicCalibration calibrate_dynamic(const GaugingProcess& p,
+                                     const sensors::VibroContactGauge::Params& gp, double dt,
+                                     double threshold0_V, double gain_V_per_m,
+                                     std::size_t max_parts, double precision_m,
+                                     std::uint64_t seed, double max_time_s);
+
+// One full-model part without noise for a transducer variant, with its own calibrated (23)
+// (no bias: no noise): the finished error, and the probe's Poincaré spread and the signal's
+// ripple at the trip point — the study's table of what causes the full model's error.
+struct NoiselessPart {
+  double error_m = 0.0;
+  double spread_m = 0.0;
+  double ripple_V = 0.0;
+};
+NoiselessPart noiseless_part(const GaugingProcess& quiet, const sensors::VibroContactGauge::Params& gp,
+                             double dt, std::uint64_t seed, double max_time_s);
 
 }  // namespace lathectl::sim

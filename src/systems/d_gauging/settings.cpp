@@ -88,6 +88,34 @@ void read_transducer(TableReader& root, sensors::VibroContactGauge::Params& t) {
                "T_f, the filter after the rectifier",
                kMs},
               t.filter_time_constant_s);
+  using F = sensors::VibroContactGauge::Params::Filter;
+  const std::string filter =
+      tr->pick({"filter",
+                {},
+                "the filter after the rectifier: the seed's first-order lag T_f (14), two lags "
+                "T_f/2 in cascade (second_order: the same ramp lag, the 2ω ripple far lower), or "
+                "the mean over the even number of supply periods nearest 2·T_f (synchronous: "
+                "every harmonic of the half supply frequency nulled)"},
+               {"first_order", "second_order", "synchronous"}, "first_order");
+  t.filter = filter == "second_order"  ? F::SecondOrder
+             : filter == "synchronous" ? F::Synchronous
+                                       : F::FirstOrder;
+  tr->read({"magnet_gap_mm",
+            Range::closed(0, 1e4),
+            "δ, the electromagnet's effective air gap at rest in (6) Φ = (L·i/W)·δ/(δ − z); "
+            "0: the seed's linear coil Φ = L·i/W (consistent with (5) and L: δ = W²/(2·a_f·L))",
+            1e-3},
+           t.magnet_gap_m);
+  tr->read({"pm_force_N",
+            Range::closed(0, 1e4),
+            "F_M0, the permanent magnet's pull on the probe at rest, (9)-(10) F_M = a₂·Φ_M²"},
+           t.pm_force_N);
+  tr->read({"pm_gap_mm",
+            Range::closed(0, 1e4),
+            "b₂, the permanent magnet's gap in (11) Φ_M = b₁/(b₂ − z): F_M = F_M0·(b₂/(b₂ − z))² "
+            "and the generator's gain K_g·(b₂/(b₂ − z))²; 0: linear generator, constant F_M",
+            1e-3},
+           t.pm_gap_m);
   tr->finish();
 }
 
@@ -97,8 +125,14 @@ void read_gauge(TableReader& root, Settings& d) {
     d.threshold = g->pick({"threshold",
                            {},
                            "(23) with closed-form A0 and K (seed), (23) with the full model's "
-                           "local line (calibrated), or a given voltage"},
-                          {"seed", "calibrated", "given"}, "calibrated");
+                           "local line and the first-passage bias (calibrated), that adjusted "
+                           "by machining parts with the full model until their mean finished "
+                           "size is on target (calibrated_dynamic), or a given voltage"},
+                          {"seed", "calibrated", "calibrated_dynamic", "given"}, "calibrated");
+    g->read({"calibration_parts_max",
+             Range::closed(2, 1e4),
+             "calibrated_dynamic: the most full-model parts it may machine"},
+            d.calibration_parts_max);
     if (d.threshold == "given" || g->is_describing())
       g->require({"threshold_V", Range::any(), "the relay's threshold, only with \"given\""},
                  d.threshold_V);
@@ -165,7 +199,7 @@ ThresholdPlan plan_threshold(const Settings& d, double dt) {
   const auto& t = d.transducer;
   const auto st = sensors::VibroContactGauge::steady(t);
   ThresholdPlan pl;
-  const double lag = t.filter_time_constant_s + p.relay_response_s;
+  const double lag = sensors::VibroContactGauge::filter_lag_s(t) + p.relay_response_s;
   pl.x_trip_m = p.target_m + p.removal_m_per_s * lag;
   pl.seed_line = {st.signal_gain_V_per_m, st.free_amplitude_m};
   pl.calibrated_line = design::calibrated_line(t, dt, pl.x_trip_m);
@@ -173,9 +207,10 @@ ThresholdPlan plan_threshold(const Settings& d, double dt) {
   pl.threshold_V = d.threshold == "given"
                        ? d.threshold_V
                        : design::threshold_23(pl.line, p.target_m, p.removal_m_per_s, lag);
-  // σ_y of (25) through the line's gain.
+  // σ_y of (25), extended to the filter, through the line's gain.
   const double sigma_y =
-      std::sqrt(p.noise_variance_m2 / (1.0 + p.noise_beta_per_s * t.filter_time_constant_s)) *
+      std::sqrt(p.noise_variance_m2 *
+                sensors::VibroContactGauge::filter_noise_factor(t, p.noise_beta_per_s)) *
       std::abs(pl.line.gain_V_per_m);
   pl.range = design::signal_range(t, dt, p.allowance_m, sigma_y);
   pl.largest_target_m =
