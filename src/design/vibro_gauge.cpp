@@ -140,10 +140,14 @@ SignalRange signal_range(const sensors::VibroContactGauge::Params& p, double dt,
   SignalRange r;
   r.free_V = lv[0].mean_V;
   r.start_V = lv[kGrid].mean_V;
-  // The falling branch ends where S stops falling by more than its ripple.
-  std::size_t k = 0;
-  while (k < kGrid && lv[k + 1].mean_V < lv[k].mean_V - lv[k + 1].ripple_V) ++k;
+  // The floor: walking back from the allowance, up to the first step where S falls (towards the
+  // allowance) by more than its ripple. (Not from x = 0: with the resonance below 2ω a light
+  // contact first raises the signal.)
+  std::size_t k = kGrid;
+  while (k > 0 && !(lv[k - 1].mean_V > lv[k].mean_V + lv[k - 1].ripple_V)) --k;
   r.floor_start_m = allowance_m * static_cast<double>(k) / kGrid;
+  double top = 0.0;
+  for (const auto& l : lv) top = std::max(top, l.mean_V);
   for (std::size_t i = k; i <= kGrid; ++i) {
     r.floor_V = std::max(r.floor_V, lv[i].mean_V);
     r.ripple_V = std::max(r.ripple_V, lv[i].ripple_V);
@@ -151,7 +155,7 @@ SignalRange signal_range(const sensors::VibroContactGauge::Params& p, double dt,
   r.noise_sigma_V = noise_sigma_V;
   const double margin = r.ripple_V + 4.0 * noise_sigma_V;
   r.low_V = r.floor_V + margin;
-  r.high_V = r.free_V - margin;
+  r.high_V = top - margin;  // the largest signal the cut reaches
   return r;
 }
 

@@ -190,6 +190,17 @@ grep -q "^error: design gauge: --probe-mass-g" "$work/err.txt" || bad "gauge mas
 expect_rc 2 "design gauge not a number" $bin design gauge --filter-ms fast
 [ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "gauge non-number message is not one line"
 expect_rc 2 "design gauge zero tolerance" $bin design gauge --tolerance-um 0
+# Issue 16: a threshold below the probe's bounce floor is refused (and --force computes it);
+# `check` refuses the same set-up at process.target_um, runs it with gauge.force_threshold.
+expect_rc 2 "design gauge near A0" $bin design gauge --allowance-um 290 --target-um 254
+grep -q "bounce floor.*safe range ends at --target-um" "$work/err.txt" || bad "gauge floor message: $(cat "$work/err.txt")"
+[ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "gauge floor message is not one line"
+expect_rc 0 "design gauge near A0 forced" $bin design gauge --allowance-um 290 --target-um 254 --force --json
+grep -q '"in_range": false' "$work/out.txt" || bad "gauge forced json: $(cat "$work/out.txt")"
+sed -e 's/^threshold = "seed"/threshold = "seed"/' -e '/^force_threshold = true/d' "$src/examples/scenarios/d_near_a0.toml" > "$work/near_a0.toml"
+expect_rc 2 "check near A0" $bin check "$work/near_a0.toml"
+grep -q "key 'process.target_um'.*force_threshold" "$work/err.txt" || bad "near A0 message: $(cat "$work/err.txt")"
+[ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "near A0 message is not one line"
 
 # design tracer (seed 002, linearised tracer slide). E0 = 2000 N/mm = 2e6 N/m, C0 = 20 1/s,
 # M = 100 kg, i = 3, P0 = 500 N, β = 45°, α = 30°, s = 0.3 mm/rev, n = 600 rpm:

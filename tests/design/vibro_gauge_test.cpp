@@ -186,5 +186,41 @@ TEST(DesignVibroGauge, FormulasNeedNoStep) {
   EXPECT_NEAR(r.signal_gain_V_per_m / c.K, 1.0, 1e-12);
 }
 
+// The safe range from the full model (issue 16): the bounce floor, and the near-A0 target refused.
+TEST(DesignVibroGauge, SafeRangeFromTheFullModel) {
+  GaugeInput in;
+  in.force_coefficient_N_per_Wb2 = 2.11e8;  // the d_gauging transducer (A0 = 298.7 µm)
+  in.probe_damping_N_s_per_m = 1.382;
+  in.probe_stiffness_N_per_m = 9554.0;
+  in.allowance_m = 250e-6;
+  in.target_m = 100e-6;
+  const auto r = gauge(in);
+  EXPECT_TRUE(r.range.contains(r.threshold_V));
+  EXPECT_GT(r.range.floor_V, 0.9);  // the probe's bounce: measured 1.19 V
+  EXPECT_LT(r.range.floor_V, 1.5);
+  EXPECT_NEAR(r.range.free_V / (r.signal_gain_V_per_m * r.free_amplitude_m), 1.0, 0.01);
+  EXPECT_GT(r.range.low_V, r.range.floor_V);
+  EXPECT_LT(r.range.high_V, r.range.free_V);
+  EXPECT_GT(r.largest_target_m, 200e-6);
+  EXPECT_LT(r.largest_target_m, 250e-6);
+  in.allowance_m = 290e-6;  // the issue's new user: target 0.85·A0
+  in.target_m = 254e-6;
+  const auto n = gauge(in);
+  EXPECT_FALSE(n.range.contains(n.threshold_V));
+  EXPECT_LT(n.threshold_V, n.range.low_V);
+}
+
+TEST(DesignVibroGauge, RegularityRule) {
+  GaugeInput in;
+  in.force_coefficient_N_per_Wb2 = 2.11e8;
+  in.probe_damping_N_s_per_m = 1.382;
+  in.probe_stiffness_N_per_m = 9554.0;
+  in.allowance_m = 250e-6;
+  in.target_m = 100e-6;
+  EXPECT_FALSE(gauge(in).regular);  // the seed's lightly damped contact: period doubling
+  in.contact_damping_N_s_per_m = 200.0;
+  EXPECT_TRUE(gauge(in).regular);
+}
+
 }  // namespace
 }  // namespace lathectl::design

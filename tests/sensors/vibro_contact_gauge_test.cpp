@@ -199,5 +199,75 @@ TEST(VibroContactGauge, ConfigureRejectsBadInput) {
   EXPECT_THROW(g.configure(p, kDt), std::invalid_argument);
 }
 
+// (6) and (9)-(11) (issue 16): gaps far larger than the excursion give back the linear model,
+// the permanent magnet's pull at rest shifts the probe by F_M0/k, and a real gap changes A0.
+TEST(VibroContactGauge, GapModelsReduceToTheLinearOneForLargeGaps) {
+  VibroContactGauge::Params p;
+  const auto st = VibroContactGauge::steady(p);
+  p.magnet_gap_m = 1.0;  // 1 m: Φ varies by z/δ ≈ 3e-4
+  p.pm_gap_m = 1.0;
+  const auto g = make(p);
+  EXPECT_NEAR(g.free_amplitude_m() / st.free_amplitude_m, 1.0, 5e-3);
+  EXPECT_NEAR(g.static_offset_m() / st.static_offset_m, 1.0, 5e-3);
+  p.pm_force_N = 0.5;  // F_M0/k = 0.5/9500 = 52.6 µm more
+  const auto h = make(p);
+  EXPECT_NEAR((h.static_offset_m() - g.static_offset_m()) * 1e6, 0.5 / 9500.0 * 1e6, 0.5);
+  EXPECT_NEAR(h.free_amplitude_m() / g.free_amplitude_m(), 1.0, 5e-3);
+  // δ = W²/(2·a_f·L) = 1e6/(2·2e8·0.5) = 5 mm, the gap consistent with (5) and L: the flux grows
+  // as the probe closes it, the 2ω force and the amplitude with it (a few per cent).
+  VibroContactGauge::Params q;
+  q.magnet_gap_m = 5e-3;
+  const auto k = make(q);
+  EXPECT_GT(k.free_amplitude_m(), 0.95 * st.free_amplitude_m);
+  EXPECT_LT(k.free_amplitude_m(), 1.10 * st.free_amplitude_m);
+  q.magnet_gap_m = 0.5e-3;  // narrower than twice the crest excursion
+  EXPECT_THROW(make(q), std::invalid_argument);
+}
+
+// The filters (issue 16): the same mean, the 2ω ripple (here without contact: a pure rectified
+// sinusoid, ripple at 4ω) far lower for two lags, nulled by the synchronous mean.
+TEST(VibroContactGauge, FiltersKeepTheMeanAndCutTheRipple) {
+  using F = VibroContactGauge::Params::Filter;
+  VibroContactGauge::Params p;
+  const auto first = VibroContactGauge::settled_signal(p, kDt, -10e-6, 1.0, 0.4);
+  p.filter = F::SecondOrder;
+  const auto second = VibroContactGauge::settled_signal(p, kDt, -10e-6, 1.0, 0.4);
+  p.filter = F::Synchronous;
+  const auto sync = VibroContactGauge::settled_signal(p, kDt, -10e-6, 1.0, 0.4);
+  EXPECT_NEAR(second.mean_V / first.mean_V, 1.0, 2e-3);
+  EXPECT_NEAR(sync.mean_V / first.mean_V, 1.0, 2e-3);
+  // First order at 4ω = 1257 rad/s, T_f = 0.1: ripple ≈ (2/3)·mean/(4ωT_f); two lags of T_f/2:
+  // a further 1/(4ω·T_f/2) ≈ 1/63.
+  EXPECT_LT(second.ripple_V, first.ripple_V / 20.0);
+  EXPECT_LT(sync.ripple_V, first.ripple_V / 1000.0);
+  EXPECT_DOUBLE_EQ(VibroContactGauge::synchronous_window_s(p), 0.2);  // 10 periods of 50 Hz
+  EXPECT_DOUBLE_EQ(VibroContactGauge::filter_lag_s(p), 0.1);
+}
+
+// (25) extended: the variance factors against their closed forms at βT_f = 0.5.
+TEST(VibroContactGauge, NoiseFactorsOfTheFilters) {
+  using F = VibroContactGauge::Params::Filter;
+  VibroContactGauge::Params p;  // T_f = 0.1, β = 5
+  EXPECT_NEAR(VibroContactGauge::filter_noise_factor(p, 5.0), 1.0 / 1.5, 1e-15);
+  p.filter = F::SecondOrder;  // βτ = 0.25: (0.25 + 2)/(2·1.25²) = 0.72
+  EXPECT_NEAR(VibroContactGauge::filter_noise_factor(p, 5.0), 0.72, 1e-12);
+  p.filter = F::Synchronous;  // x = βT_w = 1: 2(1 − 1 + e^−1)/1 = 0.735759
+  EXPECT_NEAR(VibroContactGauge::filter_noise_factor(p, 5.0), 2.0 * std::exp(-1.0), 1e-12);
+}
+
+// The Poincaré spread tells the seed's period-doubling probe from a regular one (issue 16).
+TEST(VibroContactGauge, PoincareSpreadShowsPeriodDoubling) {
+  VibroContactGauge::Params p;
+  p.force_coefficient_N_per_Wb2 = 2.11e8;
+  p.probe_damping_N_s_per_m = 1.382;
+  p.probe_stiffness_N_per_m = 9554.0;
+  const double x = 102.4e-6;  // d_gauging's trip point
+  const auto seed = VibroContactGauge::settled_signal(p, kDt, x, 1.2, 0.4);
+  p.contact_damping_N_s_per_m = 200.0;
+  const auto damped = VibroContactGauge::settled_signal(p, kDt, x, 1.2, 0.4);
+  EXPECT_GT(seed.spread_m, 20e-6);   // measured 39-44 µm
+  EXPECT_LT(damped.spread_m, 3e-6);  // measured ≈ 1 µm
+}
+
 }  // namespace
 }  // namespace lathectl::sensors

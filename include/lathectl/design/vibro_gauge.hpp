@@ -24,11 +24,13 @@ namespace lathectl::design {
 
 // The signal range the full model reaches (simulated on a grid of x, not a constant):
 //   S(x) falls from free_V (x = 0, the crest grazes the part) while the probe's amplitude is
-//   clipped, until floor_start_m; beyond it the probe bounces and S stays on a floor (≈ 1.1 V for
+//   clipped, until floor_start_m (found walking back from the allowance to the first fall larger
+//   than the ripple); beyond it the probe bounces and S stays on a floor (≈ 1.1 V for
 //   d_gauging, not 0 as (20) says), even rising again. floor_V = the largest S on [floor_start_m,
 //   allowance] (the relay, armed below its threshold, must see the signal there under it);
 //   margin = the largest ripple there + 4·σ_y (σ_y of (25), the noise through the filter);
-//   a usable threshold lies in [low_V, high_V] = [floor_V + margin, free_V − margin].
+//   a usable threshold lies in [low_V, high_V] = [floor_V + margin, max S − margin] (max S is
+//   free_V unless a light contact raises the signal, as with the resonance below 2ω).
 struct SignalRange {
   double start_V = 0.0;          // S at x = allowance
   double floor_V = 0.0;          // the floor's highest signal

@@ -48,7 +48,8 @@ DynamicCalibration calibrate_dynamic(const GaugingProcess& p,
       const double var = N > 1.0 ? std::max(0.0, (m2 - N * m * m) / (N - 1.0)) : 0.0;
       return std::pair{m, std::sqrt(var / N)};
     };
-    auto [m, se] = pooled(c.threshold_V);
+    // Without noise each part is exact at its own threshold: the last one is the estimate.
+    auto [m, se] = noisy ? pooled(c.threshold_V) : std::pair{err_at_th.back(), 0.0};
     c.mean_error_m = m;
     c.standard_error_m = se;
     const bool done = noisy ? (err_at_th.size() > 1 && std::abs(m) <= se && se <= precision_m)
@@ -58,9 +59,11 @@ DynamicCalibration calibrate_dynamic(const GaugingProcess& p,
       break;
     }
     c.threshold_V += gain_V_per_m * m;
-    const auto after = pooled(c.threshold_V);  // the pooled estimate at the new threshold
-    c.mean_error_m = after.first;
-    c.standard_error_m = after.second;
+    if (noisy) {
+      const auto after = pooled(c.threshold_V);  // the pooled estimate at the new threshold
+      c.mean_error_m = after.first;
+      c.standard_error_m = after.second;
+    }
   }
   return c;
 }

@@ -197,11 +197,13 @@ void validate(const io::Scenario& sc) {
 ThresholdPlan plan_threshold(const Settings& d, double dt) {
   const auto& p = d.process;
   const auto& t = d.transducer;
-  const auto st = sensors::VibroContactGauge::steady(t);
+  // The transducer's A0: the closed form, or simulated with (6), (9)-(11) (as the run's).
+  sensors::VibroContactGauge g;
+  g.configure(t, dt);
   ThresholdPlan pl;
   const double lag = sensors::VibroContactGauge::filter_lag_s(t) + p.relay_response_s;
   pl.x_trip_m = p.target_m + p.removal_m_per_s * lag;
-  pl.seed_line = {st.signal_gain_V_per_m, st.free_amplitude_m};
+  pl.seed_line = {g.signal_gain_V_per_m(), g.free_amplitude_m()};
   pl.calibrated_line = design::calibrated_line(t, dt, pl.x_trip_m);
   pl.line = d.threshold == "seed" ? pl.seed_line : pl.calibrated_line;
   pl.threshold_V = d.threshold == "given"

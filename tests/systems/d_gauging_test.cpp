@@ -1,0 +1,174 @@
+// System D's safety and accuracy (issue 16): the check refuses a threshold outside the signal
+// range the full model reaches, force_threshold lets it through, the backstop ends any cut the
+// relay does not, the filtered linearised Monte Carlo against the extended (25), and the dynamic
+// calibration on the full model.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+#include <string>
+
+#include "lathectl/io/errors.hpp"
+#include "lathectl/io/scenario.hpp"
+#include "support/library.hpp"
+#include "systems/d_gauging/gauging.hpp"
+#include "systems/d_gauging/settings.hpp"
+
+namespace lathectl {
+namespace {
+
+using test::library;
+
+std::string example(const std::string& name) {
+  std::ifstream in(LATHECTL_SOURCE_DIR "/examples/scenarios/" + name + ".toml", std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string edited(std::string text, const std::string& from, const std::string& to) {
+  const auto pos = text.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  if (pos != std::string::npos) text.replace(pos, from.size(), to);
+  return text;
+}
+
+// The issue's new user: the d_gauging example with allowance 290 µm and a target near A0
+// (254 µm = 0.85·A0), on the seed's transducer (lightly damped contact, first-order filter, the
+// linear coil): (23) with the seed's line and with the calibrated one both fall below the
+// probe's bounce floor. On the example's own transducer (damped contact: a lower floor) the
+// calibrated threshold is reachable and only the seed's is refused.
+TEST(SystemDSafety, ThresholdBelowTheBounceFloorIsRefusedAtTheTarget) {
+  std::string t = edited(example("d_gauging"), "allowance_um = 250.0", "allowance_um = 290.0");
+  t = edited(t, "target_um = 100.0", "target_um = 254.0");
+  std::string seed_tr = edited(t, "contact_damping_N_s_per_m = 200.0", "contact_damping_N_s_per_m = 5.0");
+  seed_tr = edited(seed_tr, "filter = \"synchronous\"\n", "");
+  seed_tr = edited(seed_tr, "magnet_gap_mm = 4.739", "magnet_gap_mm = 0.0");
+  auto refused = [](const std::string& text, const char* kind) {
+    const std::string k = edited(text, "threshold = \"calibrated\"",
+                                 std::string("threshold = \"") + kind + "\"");
+    try {
+      (void)io::parse_scenario(k, "mem.toml", library(), d_gauging::kSection);
+      ADD_FAILURE() << kind << ": not refused";
+    } catch (const io::InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("process.target_um"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("bounce floor"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("force_threshold"), std::string::npos) << msg;
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
+    }
+  };
+  refused(seed_tr, "seed");
+  refused(seed_tr, "calibrated");
+  refused(t, "seed");
+  EXPECT_NO_THROW((void)io::parse_scenario(t, "mem.toml", library(), d_gauging::kSection));
+  // Forced, it parses; the example near A0 is that set-up.
+  EXPECT_NO_THROW((void)io::parse_scenario(example("d_near_a0"), "mem.toml", library(),
+                                           d_gauging::kSection));
+}
+
+TEST(SystemDSafety, GivenThresholdAboveTheFreeSignalIsRefusedAtItsKey) {
+  std::string t = edited(example("d_gauging"), "threshold = \"calibrated\"",
+                         "threshold = \"given\"\nthreshold_V = 50.0");
+  try {
+    (void)io::parse_scenario(t, "mem.toml", library(), d_gauging::kSection);
+    ADD_FAILURE() << "not refused";
+  } catch (const io::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("gauge.threshold_V"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SystemDSafety, ExamplesThresholdsLieInTheSafeRange) {
+  for (const char* name : {"d_gauging", "d_low_resonance"}) {
+    const auto sc = io::parse_scenario(example(name), "mem.toml", library(), d_gauging::kSection);
+    const auto& d = sc.get<d_gauging::Settings>();
+    const auto plan = d_gauging::plan_threshold(d, sc.run.step_s);
+    EXPECT_TRUE(plan.safe()) << name;
+    // The floor at the start of the cut is about 1-2 V (issue 16), not (20)'s K·(A0 − x).
+    EXPECT_GT(plan.range.floor_V, 0.9) << name;
+    EXPECT_LT(plan.range.floor_V, 2.0) << name;
+    EXPECT_GT(plan.largest_target_m, d.process.target_m) << name;
+    EXPECT_LT(plan.largest_target_m, d.process.allowance_m) << name;
+    // Default backstop: the lower tolerance limit.
+    EXPECT_NEAR(d.process.backstop_m, d.process.target_m - d.tolerance_m, 1e-15) << name;
+  }
+}
+
+sim::GaugingProcess process() {
+  sim::GaugingProcess p;
+  p.allowance_m = 250e-6;
+  p.removal_m_per_s = 20e-6;
+  p.target_m = 100e-6;
+  p.noise_variance_m2 = 4e-12;
+  p.backstop_m = 90e-6;
+  return p;
+}
+
+TEST(SystemDBackstop, EndsTheLinearCutsTheRelayDoesNot) {
+  const auto p = process();
+  const sim::LinearGauge g{19844.0, 298e-6, 0.1};
+  const auto parts = sim::monte_carlo_linear(p, g, 100.0, 200, 5);  // S_th never reached
+  for (const auto& r : parts) {
+    EXPECT_TRUE(r.backstop);
+    EXPECT_TRUE(std::isnan(r.trip_s));
+    EXPECT_NEAR(r.finished_m, p.backstop_m, 1e-12);
+  }
+}
+
+TEST(SystemDBackstop, EndsTheFullModelCutAtItsLimit) {
+  auto p = process();
+  p.noise_variance_m2 = 0.0;
+  sensors::VibroContactGauge::Params gp;
+  const auto r = sim::machine_part_full(p, gp, 2e-5, 100.0, 1, nullptr, 50, 12.0);
+  EXPECT_TRUE(r.backstop);
+  EXPECT_NEAR(r.finished_m, p.backstop_m, 1e-12);
+  EXPECT_NEAR(r.stop_s, (p.allowance_m - p.backstop_m) / p.removal_m_per_s, 1e-12);
+}
+
+// The linearised Monte Carlo of the second-order and synchronous filters against (25) extended
+// to them (VibroContactGauge::filter_noise_factor): the size scatter σ_x = sqrt(D·f).
+TEST(SystemDFilters, LinearMonteCarloScatterMatchesExtended25) {
+  using F = sensors::VibroContactGauge::Params::Filter;
+  const auto p = process();
+  for (F f : {F::SecondOrder, F::Synchronous}) {
+    sim::LinearGauge g{19844.0, 298e-6, 0.1, f, 50.0};
+    const double th = sim::threshold_23(g, p);
+    const auto parts = sim::monte_carlo_linear(p, g, th, 20000, 11);
+    double m = 0.0, ss = 0.0;
+    for (const auto& r : parts) m += r.finished_m;
+    m /= static_cast<double>(parts.size());
+    for (const auto& r : parts) ss += (r.finished_m - m) * (r.finished_m - m);
+    const double sd = std::sqrt(ss / static_cast<double>(parts.size() - 1));
+    const double pred = std::sqrt(p.noise_variance_m2 * g.noise_factor(p.noise_beta_per_s));
+    // σ of a σ estimate from 2e4 parts: 0.5 %; 3 % leaves room for the step's discretisation.
+    EXPECT_NEAR(sd / pred, 1.0, 0.03) << static_cast<int>(f);
+    // (23) with the filter's lag: the mean within a few standard errors and the first-passage
+    // bias (≈ 0.01 µm) of target.
+    EXPECT_NEAR(m, p.target_m, 5.0 * sd / std::sqrt(20000.0) + 0.02e-6) << static_cast<int>(f);
+  }
+}
+
+// Without noise the dynamic calibration re-aims part by part until the full model is on target.
+TEST(SystemDCalibration, DynamicCalibrationWithoutNoiseLandsOnTarget) {
+  auto p = process();
+  p.noise_variance_m2 = 0.0;
+  sensors::VibroContactGauge::Params gp;
+  gp.contact_damping_N_s_per_m = 200.0;  // regular probe (the design rule)
+  gp.filter = sensors::VibroContactGauge::Params::Filter::SecondOrder;
+  const auto st = sensors::VibroContactGauge::steady(gp);
+  const sim::LinearGauge g{st.signal_gain_V_per_m, st.free_amplitude_m, 0.1,
+                           gp.filter, gp.supply_Hz};
+  const double th0 = sim::threshold_23(g, p) + 0.1;  // started 5 µm off
+  const auto c = sim::calibrate_dynamic(p, gp, 2e-5, th0, st.signal_gain_V_per_m, 8, 0.2e-6, 3,
+                                        12.0);
+  EXPECT_TRUE(c.converged);
+  EXPECT_LE(c.parts, 8u);
+  const auto r = sim::machine_part_full(p, gp, 2e-5, c.threshold_V, 3, nullptr, 50, 12.0);
+  EXPECT_NEAR((r.finished_m - p.target_m) * 1e6, 0.0, 0.1);
+}
+
+}  // namespace
+}  // namespace lathectl
