@@ -115,7 +115,7 @@ const Input<Args> kInputs[] = {
 };
 
 struct Result : design::GaugeResult {
-  double sigma_y_V = 0.0;    // sqrt(D_y)
+  double sigma_y_V = 0.0;                                                // sqrt(D_y)
   double floor_V = 0.0, floor_start_m = 0.0, low_V = 0.0, high_V = 0.0;  // range.*
   bool in_range = false;     // S_th inside [low_V, high_V]
   std::optional<double> Cp;  // with a tolerance
@@ -139,8 +139,7 @@ const Output<Result> kOutputs[] = {
     {"full model: floor from x", "floor_from_m", "m", "floor_from_um", "µm", 1e6,
      &Result::floor_start_m},
     {"safe S_th from (floor + margin)", "S_th_low_V", "V", "S_th_low_V", "V", 1, &Result::low_V},
-    {"safe S_th up to (free − margin)", "S_th_high_V", "V", "S_th_high_V", "V", 1,
-     &Result::high_V},
+    {"safe S_th up to (free − margin)", "S_th_high_V", "V", "S_th_high_V", "V", 1, &Result::high_V},
     {"safe range of targets ends at", "largest_target_m", "m", "largest_target_um", "µm", 1e6,
      &Result::largest_target_m},
     {"S_th in the safe range", "in_range", "", "in_range", "", 1, &Result::in_range},
@@ -224,11 +223,10 @@ int compute(const Args& a) {
                   "--target-um %g: threshold S_th (23) = %.3f V lies %s %.3f V (%s %.3f V, margin "
                   "ripple %.3f V + 4σ noise %.3f V): the relay would never trip; the safe range "
                   "ends at --target-um %.1f (--force to compute anyway)",
-                  a.target_um, r.threshold_V, below ? "below" : "above",
-                  below ? r.low_V : r.high_V,
+                  a.target_um, r.threshold_V, below ? "below" : "above", below ? r.low_V : r.high_V,
                   below ? "the full model's bounce floor" : "the free signal",
-                  below ? r.floor_V : r.range.free_V, r.range.ripple_V,
-                  4.0 * r.range.noise_sigma_V, r.largest_target_m * 1e6);
+                  below ? r.floor_V : r.range.free_V, r.range.ripple_V, 4.0 * r.range.noise_sigma_V,
+                  r.largest_target_m * 1e6);
     throw io::InputError(who + buf);
   }
   if (!r.regular)
@@ -241,7 +239,8 @@ int compute(const Args& a) {
     r.Cp = r.size_sigma_m > 0.0 ? 2.0 * *a.tolerance_um * 1e-6 / (6.0 * r.size_sigma_m)
                                 : std::numeric_limits<double>::infinity();
   return print_result<Args, Result>(
-      a, kInputs, r, kOutputs, "Vibro-contact in-process gauge (seed 003, linearised (20)-(25); range: full model)");
+      a, kInputs, r, kOutputs,
+      "Vibro-contact in-process gauge (seed 003, linearised (20)-(25); range: full model)");
 }
 
 void add(CLI::App& sub, Commands& out) {

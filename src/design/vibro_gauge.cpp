@@ -84,7 +84,8 @@ GaugeResult gauge(const GaugeInput& in) {
   r.size_sigma_m = std::sqrt(in.noise_variance_m2 * factor);
   const double dt = full_model_step(p);
   r.range = signal_range(p, dt, in.allowance_m, std::sqrt(r.noise_variance_V2));
-  const double lag = in.removal_m_per_s * (sensors::VibroContactGauge::filter_lag_s(p) + in.relay_response_s);
+  const double lag =
+      in.removal_m_per_s * (sensors::VibroContactGauge::filter_lag_s(p) + in.relay_response_s);
   r.largest_target_m = size_at_signal(p, dt, r.range.low_V, 0.0, r.range.floor_start_m) - lag;
   const double x_trip = in.target_m + lag;
   r.trip_spread_m =
@@ -128,8 +129,8 @@ double full_model_settle(const sensors::VibroContactGauge::Params& p) {
   return std::max(0.8, 8.0 * p.filter_time_constant_s);
 }
 
-SignalRange signal_range(const sensors::VibroContactGauge::Params& p, double dt,
-                         double allowance_m, double noise_sigma_V) {
+SignalRange signal_range(const sensors::VibroContactGauge::Params& p, double dt, double allowance_m,
+                         double noise_sigma_V) {
   using G = sensors::VibroContactGauge;
   const double settle = full_model_settle(p);
   constexpr int kGrid = 24;  // x = allowance·i/24: the floor is found to 4 % of the allowance

@@ -1,13 +1,13 @@
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
 
-#include "lathectl/sim/config_error.hpp"
-
 #include <algorithm>
 #include <cmath>
-#include <cstddef>
 #include <complex>
+#include <cstddef>
 #include <numbers>
 #include <stdexcept>
+
+#include "lathectl/sim/config_error.hpp"
 
 namespace lathectl::sensors {
 
@@ -38,7 +38,7 @@ void VibroContactGauge::configure(const Params& p, double dt) {
     throw sim::ConfigError(
         "run.step_s",
         "vibro-contact gauge: step too coarse for the contact stiffness (use step_s ≤ " +
-        std::to_string(0.5 / wc) + ")");
+            std::to_string(0.5 / wc) + ")");
   const double w = 2.0 * std::numbers::pi * p.supply_Hz;
   if (w * dt > 0.05)
     throw sim::ConfigError("run.step_s",
@@ -71,10 +71,11 @@ void VibroContactGauge::configure(const Params& p, double dt) {
     const double crest = z_eq_ + a0_;
     for (double gap : {p.magnet_gap_m, p.pm_gap_m})
       if (gap > 0.0 && gap < 2.0 * crest)
-        throw sim::ConfigError(gap == p.magnet_gap_m ? "transducer.magnet_gap_mm"
-                                                     : "transducer.pm_gap_mm",
-                               "vibro-contact gauge: the gap must exceed twice the probe's crest "
-                               "excursion, " + std::to_string(2.0 * crest * 1e3) + " mm");
+        throw sim::ConfigError(
+            gap == p.magnet_gap_m ? "transducer.magnet_gap_mm" : "transducer.pm_gap_mm",
+            "vibro-contact gauge: the gap must exceed twice the probe's crest "
+            "excursion, " +
+                std::to_string(2.0 * crest * 1e3) + " mm");
     a0_ = 1.0;  // far from any surface while settling (x = 0 then sits 1 m away)
     z_eq_ = 0.0;
     reset();
@@ -140,7 +141,7 @@ VibroContactGauge::Steady VibroContactGauge::steady(const Params& p) noexcept {
 }
 
 VibroContactGauge::Level VibroContactGauge::settled_signal(const Params& p, double dt, double x,
-                                                          double settle_s, double average_s) {
+                                                           double settle_s, double average_s) {
   VibroContactGauge g;
   g.configure(p, dt);
   const auto n_settle = static_cast<std::size_t>(settle_s / dt);

@@ -44,12 +44,13 @@ std::string edited(std::string text, const std::string& from, const std::string&
 TEST(SystemDSafety, ThresholdBelowTheBounceFloorIsRefusedAtTheTarget) {
   std::string t = edited(example("d_gauging"), "allowance_um = 250.0", "allowance_um = 290.0");
   t = edited(t, "target_um = 100.0", "target_um = 254.0");
-  std::string seed_tr = edited(t, "contact_damping_N_s_per_m = 200.0", "contact_damping_N_s_per_m = 5.0");
+  std::string seed_tr =
+      edited(t, "contact_damping_N_s_per_m = 200.0", "contact_damping_N_s_per_m = 5.0");
   seed_tr = edited(seed_tr, "filter = \"synchronous\"\n", "");
   seed_tr = edited(seed_tr, "magnet_gap_mm = 4.739", "magnet_gap_mm = 0.0");
   auto refused = [](const std::string& text, const char* kind) {
-    const std::string k = edited(text, "threshold = \"calibrated\"",
-                                 std::string("threshold = \"") + kind + "\"");
+    const std::string k =
+        edited(text, "threshold = \"calibrated\"", std::string("threshold = \"") + kind + "\"");
     try {
       (void)io::parse_scenario(k, "mem.toml", library(), d_gauging::kSection);
       ADD_FAILURE() << kind << ": not refused";
@@ -66,8 +67,8 @@ TEST(SystemDSafety, ThresholdBelowTheBounceFloorIsRefusedAtTheTarget) {
   refused(t, "seed");
   EXPECT_NO_THROW((void)io::parse_scenario(t, "mem.toml", library(), d_gauging::kSection));
   // Forced, it parses; the example near A0 is that set-up.
-  EXPECT_NO_THROW((void)io::parse_scenario(example("d_near_a0"), "mem.toml", library(),
-                                           d_gauging::kSection));
+  EXPECT_NO_THROW(
+      (void)io::parse_scenario(example("d_near_a0"), "mem.toml", library(), d_gauging::kSection));
 }
 
 TEST(SystemDSafety, GivenThresholdAboveTheFreeSignalIsRefusedAtItsKey) {
@@ -159,11 +160,11 @@ TEST(SystemDCalibration, DynamicCalibrationWithoutNoiseLandsOnTarget) {
   gp.contact_damping_N_s_per_m = 200.0;  // regular probe (the design rule)
   gp.filter = sensors::VibroContactGauge::Params::Filter::SecondOrder;
   const auto st = sensors::VibroContactGauge::steady(gp);
-  const sim::LinearGauge g{st.signal_gain_V_per_m, st.free_amplitude_m, 0.1,
-                           gp.filter, gp.supply_Hz};
+  const sim::LinearGauge g{st.signal_gain_V_per_m, st.free_amplitude_m, 0.1, gp.filter,
+                           gp.supply_Hz};
   const double th0 = sim::threshold_23(g, p) + 0.1;  // started 5 µm off
-  const auto c = sim::calibrate_dynamic(p, gp, 2e-5, th0, st.signal_gain_V_per_m, 8, 0.2e-6, 3,
-                                        12.0);
+  const auto c =
+      sim::calibrate_dynamic(p, gp, 2e-5, th0, st.signal_gain_V_per_m, 8, 0.2e-6, 3, 12.0);
   EXPECT_TRUE(c.converged);
   EXPECT_LE(c.parts, 8u);
   const auto r = sim::machine_part_full(p, gp, 2e-5, c.threshold_V, 3, nullptr, 50, 12.0);

@@ -32,9 +32,9 @@ namespace lathectl::design {
 //   a usable threshold lies in [low_V, high_V] = [floor_V + margin, max S − margin] (max S is
 //   free_V unless a light contact raises the signal, as with the resonance below 2ω).
 struct SignalRange {
-  double start_V = 0.0;          // S at x = allowance
-  double floor_V = 0.0;          // the floor's highest signal
-  double floor_start_m = 0.0;    // where S(x) stops falling
+  double start_V = 0.0;        // S at x = allowance
+  double floor_V = 0.0;        // the floor's highest signal
+  double floor_start_m = 0.0;  // where S(x) stops falling
   double free_V = 0.0, ripple_V = 0.0, noise_sigma_V = 0.0;
   double low_V = 0.0, high_V = 0.0;
   [[nodiscard]] bool contains(double s) const { return s >= low_V && s <= high_V; }
@@ -111,8 +111,6 @@ double threshold_23(const GaugeLine& line, double target_m, double removal_m_per
 // i = −2…2 (the calibration a shop makes with setting masters around the trip point).
 GaugeLine calibrated_line(const sensors::VibroContactGauge::Params& p, double dt_s,
                           double x_trip_m);
-
-
 
 // Throws std::invalid_argument naming the bad input. Simulates the full model (a few ms).
 GaugeResult gauge(const GaugeInput& in);

@@ -13,8 +13,8 @@ namespace lathectl::sim {
 DynamicCalibration calibrate_dynamic(const GaugingProcess& p,
                                      const sensors::VibroContactGauge::Params& gp, double dt,
                                      double threshold0_V, double gain_V_per_m,
-                                     std::size_t max_parts, double precision_m,
-                                     std::uint64_t seed, double max_time_s) {
+                                     std::size_t max_parts, double precision_m, std::uint64_t seed,
+                                     double max_time_s) {
   const bool noisy = p.noise_variance_m2 > 0.0;
   const std::size_t batch = noisy ? 8 : 1;
   DynamicCalibration c;
@@ -26,8 +26,8 @@ DynamicCalibration calibrate_dynamic(const GaugingProcess& p,
     std::vector<double> e(n);
     const double th = c.threshold_V;
     sim::parallel_for(n, [&](std::size_t i) {  // part k: its own seed, apart from the study's
-      const auto r = machine_part_full(p, gp, dt, th, seed * 104729 + c.parts + i, nullptr, 50,
-                                       max_time_s);
+      const auto r =
+          machine_part_full(p, gp, dt, th, seed * 104729 + c.parts + i, nullptr, 50, max_time_s);
       e[i] = r.finished_m - p.target_m;
     });
     for (double v : e) {
@@ -77,7 +77,7 @@ NoiselessPart noiseless_part(const GaugingProcess& quiet,
   const double th = design::threshold_23(line, quiet.target_m, quiet.removal_m_per_s, lag);
   const auto r = machine_part_full(quiet, gp, dt, th, seed, nullptr, 50, max_time_s);
   const auto lv = sensors::VibroContactGauge::settled_signal(gp, dt, x_trip,
-                                                            design::full_model_settle(gp), 0.4);
+                                                             design::full_model_settle(gp), 0.4);
   return {r.finished_m - quiet.target_m, line.spread_m, lv.ripple_V};
 }
 

@@ -105,7 +105,9 @@ PartResult one_linear_part(const GaugingProcess& p, const LinearGauge& g, double
 class FilteredNoise {
  public:
   FilteredNoise(const GaugingProcess& p, const LinearGauge& g, double h)
-      : g_(g), h_(h), rho_(std::exp(-p.noise_beta_per_s * h)),
+      : g_(g),
+        h_(h),
+        rho_(std::exp(-p.noise_beta_per_s * h)),
         kick_(std::sqrt(p.noise_variance_m2 * (1.0 - rho_ * rho_))),
         sigma_(std::sqrt(p.noise_variance_m2)) {
     const double tau = 0.5 * g.filter_s;
@@ -135,8 +137,8 @@ class FilteredNoise {
     const double b = -g_.gain_V_per_m * xi_;
     if (ring_.empty()) {  // two lags τ = T_f/2, each exact for the linear input over the step
       const double y1_new = b - (b - a) * tau_over_h() + (y1_ - a + (b - a) * tau_over_h()) * e_;
-      const double y2_new = y1_new - (y1_new - y1_) * tau_over_h() +
-                            (y2_ - y1_ + (y1_new - y1_) * tau_over_h()) * e_;
+      const double y2_new =
+          y1_new - (y1_new - y1_) * tau_over_h() + (y2_ - y1_ + (y1_new - y1_) * tau_over_h()) * e_;
       y1_ = y1_new;
       y2_ = y2_new;
       return y2_;
@@ -164,8 +166,7 @@ PartResult one_filtered_part(const GaugingProcess& p, const LinearGauge& g, doub
   auto s_det = [&](double t) { return K * (g.intercept_m - p.allowance_m + a * (t - lag)); };
   const double t_star = (s_th / K - g.intercept_m + p.allowance_m) / a + lag;
   const double corr = std::max(lag, p.noise_beta_per_s > 0.0 ? 1.0 / p.noise_beta_per_s : 0.0);
-  const double sigma_t =
-      std::sqrt(p.noise_variance_m2 * g.noise_factor(p.noise_beta_per_s)) / a;
+  const double sigma_t = std::sqrt(p.noise_variance_m2 * g.noise_factor(p.noise_beta_per_s)) / a;
   double t = std::max(0.0, t_star - corr - 6.0 * sigma_t);
   noise.start(rng);
   double prev = s_det(t) + noise.step(rng) - s_th;
@@ -215,16 +216,16 @@ std::vector<PartResult> monte_carlo_linear(const GaugingProcess& p, const Linear
   if (g.filter != LinearGauge::Filter::FirstOrder) {
     const double h = filtered_step(p, g);
     constexpr std::size_t kChunk = 256;
-    sim::parallel_for(
-        (parts + kChunk - 1) / kChunk,
-        [&](std::size_t c) {
-          FilteredNoise noise(p, g, h);  // one buffer per chunk
-          for (std::size_t i = c * kChunk; i < std::min(parts, (c + 1) * kChunk); ++i) {
-            std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + i);
-            out[i] = one_filtered_part(p, g, s_th, noise, h, rng);
-          }
-        },
-        threads);
+    sim::parallel_for((parts + kChunk - 1) / kChunk,
+                      [&](std::size_t c) {
+                        FilteredNoise noise(p, g, h);  // one buffer per chunk
+                        for (std::size_t i = c * kChunk; i < std::min(parts, (c + 1) * kChunk);
+                             ++i) {
+                          std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + i);
+                          out[i] = one_filtered_part(p, g, s_th, noise, h, rng);
+                        }
+                      },
+                      threads);
     return out;
   }
   // Step: a twentieth of the shorter of the filter lag and the noise correlation time; the

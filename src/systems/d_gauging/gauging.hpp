@@ -12,8 +12,8 @@
 // simulated from a few correlation times before its expected trip, starting from the
 // stationary distribution (exact, since the noise is stationary and the lag long settled).
 // The relay trips at the first upward crossing of S_th (interpolated between steps); removal
-// stops t_r later, or at the backstop if x reaches it first. The finished size is the true size then: ξ disturbs the measurement, not
-// the part.
+// stops t_r later, or at the backstop if x reaches it first. The finished size is the true size
+// then: ξ disturbs the measurement, not the part.
 
 #include <cmath>
 #include <cstdint>
@@ -50,7 +50,7 @@ struct LinearGauge {
   double intercept_m = 0.0;   // B0/q1 (A0 in the seed's approximation)
   double filter_s = 0.1;      // T_f
   Filter filter = Filter::FirstOrder;
-  double supply_Hz = 50.0;    // sets the synchronous filter's window
+  double supply_Hz = 50.0;  // sets the synchronous filter's window
   [[nodiscard]] sensors::VibroContactGauge::Params filter_params() const {
     sensors::VibroContactGauge::Params q;
     q.filter_time_constant_s = filter_s;
@@ -73,8 +73,6 @@ LinearGauge linear_gauge(const design::GaugeLine& line,
 
 // Threshold (23), the filter's ramp lag for T_f.
 double threshold_23(const LinearGauge& g, const GaugingProcess& p);
-
-
 
 struct PartResult {
   double trip_s = 0.0;      // relay trips (NaN if never within the run)
@@ -125,16 +123,16 @@ inline double full_model_mean_signal(const sensors::VibroContactGauge::Params& g
 // target and that error is below `precision_m` (without noise: within 0.05 µm), or at max_parts.
 struct DynamicCalibration {
   double threshold_V = 0.0;
-  std::size_t parts = 0;          // parts machined
-  double mean_error_m = 0.0;      // pooled, at the final threshold
+  std::size_t parts = 0;      // parts machined
+  double mean_error_m = 0.0;  // pooled, at the final threshold
   double standard_error_m = 0.0;
   bool converged = false;
 };
 DynamicCalibration calibrate_dynamic(const GaugingProcess& p,
                                      const sensors::VibroContactGauge::Params& gp, double dt,
                                      double threshold0_V, double gain_V_per_m,
-                                     std::size_t max_parts, double precision_m,
-                                     std::uint64_t seed, double max_time_s);
+                                     std::size_t max_parts, double precision_m, std::uint64_t seed,
+                                     double max_time_s);
 
 // One full-model part without noise for a transducer variant, with its own calibrated (23)
 // (no bias: no noise): the finished error, and the probe's Poincaré spread and the signal's
@@ -144,7 +142,8 @@ struct NoiselessPart {
   double spread_m = 0.0;
   double ripple_V = 0.0;
 };
-NoiselessPart noiseless_part(const GaugingProcess& quiet, const sensors::VibroContactGauge::Params& gp,
-                             double dt, std::uint64_t seed, double max_time_s);
+NoiselessPart noiseless_part(const GaugingProcess& quiet,
+                             const sensors::VibroContactGauge::Params& gp, double dt,
+                             std::uint64_t seed, double max_time_s);
 
 }  // namespace lathectl::sim

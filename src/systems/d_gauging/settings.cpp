@@ -39,8 +39,7 @@ void read_process(TableReader& root, Settings& d) {
            p.relay_response_s);
   pr->require({"tolerance_um", {0.0, 1e5, true, false}, "± about the target; for Cp and Cpk", kUm},
               d.tolerance_m);
-  pr->read({"backstop_um",
-            Range::any(),
+  pr->read({"backstop_um", Range::any(),
             "the programmed limit position: the cut ends when x reaches it if the relay has not "
             "tripped, with an alarm (absent: target_um − tolerance_um, the lower tolerance limit)",
             kUm},
@@ -100,18 +99,15 @@ void read_transducer(TableReader& root, sensors::VibroContactGauge::Params& t) {
   t.filter = filter == "second_order"  ? F::SecondOrder
              : filter == "synchronous" ? F::Synchronous
                                        : F::FirstOrder;
-  tr->read({"magnet_gap_mm",
-            Range::closed(0, 1e4),
+  tr->read({"magnet_gap_mm", Range::closed(0, 1e4),
             "δ, the electromagnet's effective air gap at rest in (6) Φ = (L·i/W)·δ/(δ − z); "
             "0: the seed's linear coil Φ = L·i/W (consistent with (5) and L: δ = W²/(2·a_f·L))",
             1e-3},
            t.magnet_gap_m);
-  tr->read({"pm_force_N",
-            Range::closed(0, 1e4),
+  tr->read({"pm_force_N", Range::closed(0, 1e4),
             "F_M0, the permanent magnet's pull on the probe at rest, (9)-(10) F_M = a₂·Φ_M²"},
            t.pm_force_N);
-  tr->read({"pm_gap_mm",
-            Range::closed(0, 1e4),
+  tr->read({"pm_gap_mm", Range::closed(0, 1e4),
             "b₂, the permanent magnet's gap in (11) Φ_M = b₁/(b₂ − z): F_M = F_M0·(b₂/(b₂ − z))² "
             "and the generator's gain K_g·(b₂/(b₂ − z))²; 0: linear generator, constant F_M",
             1e-3},
@@ -129,8 +125,7 @@ void read_gauge(TableReader& root, Settings& d) {
                            "by machining parts with the full model until their mean finished "
                            "size is on target (calibrated_dynamic), or a given voltage"},
                           {"seed", "calibrated", "calibrated_dynamic", "given"}, "calibrated");
-    g->read({"calibration_parts_max",
-             Range::closed(2, 1e4),
+    g->read({"calibration_parts_max", Range::closed(2, 1e4),
              "calibrated_dynamic: the most full-model parts it may machine"},
             d.calibration_parts_max);
     if (d.threshold == "given" || g->is_describing())
@@ -158,8 +153,12 @@ std::string fmt_number(double v) {
   return ss.str();
 }
 
-std::string mv(double v) { return fmt_number(std::round(v * 1e3) / 1e3); }  // V, to the mV
-std::string um(double m) { return fmt_number(std::round(m * 1e7) / 10.0); }   // µm, to 0.1
+std::string mv(double v) {
+  return fmt_number(std::round(v * 1e3) / 1e3);
+}  // V, to the mV
+std::string um(double m) {
+  return fmt_number(std::round(m * 1e7) / 10.0);
+}  // µm, to 0.1
 
 void validate(const io::Scenario& sc) {
   const auto& d = sc.get<Settings>();
@@ -215,9 +214,8 @@ ThresholdPlan plan_threshold(const Settings& d, double dt) {
                 sensors::VibroContactGauge::filter_noise_factor(t, p.noise_beta_per_s)) *
       std::abs(pl.line.gain_V_per_m);
   pl.range = design::signal_range(t, dt, p.allowance_m, sigma_y);
-  pl.largest_target_m =
-      design::size_at_signal(t, dt, pl.range.low_V, 0.0, pl.range.floor_start_m) -
-      p.removal_m_per_s * lag;
+  pl.largest_target_m = design::size_at_signal(t, dt, pl.range.low_V, 0.0, pl.range.floor_start_m) -
+                        p.removal_m_per_s * lag;
   return pl;
 }
 

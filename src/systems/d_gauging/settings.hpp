@@ -22,15 +22,15 @@ struct Settings : io::SettingsOf<Settings> {
   sim::GaugingProcess process{.noise_variance_m2 = 0.0,
                               .backstop_m = std::numeric_limits<double>::quiet_NaN()};
   sensors::VibroContactGauge::Params transducer;
-  double tolerance_m = 10e-6;            // ± about the target
-  std::string threshold = "calibrated";  // "seed" (23 with A0, K), "calibrated" (23 with the
-                                         // full model's local line and the first-passage
-                                         // bias), "calibrated_dynamic" or "given"
-  double threshold_V = 0.0;              // when "given"
-  bool force_threshold = false;          // run even when the threshold is outside the safe range
+  double tolerance_m = 10e-6;              // ± about the target
+  std::string threshold = "calibrated";    // "seed" (23 with A0, K), "calibrated" (23 with the
+                                           // full model's local line and the first-passage
+                                           // bias), "calibrated_dynamic" or "given"
+  double threshold_V = 0.0;                // when "given"
+  bool force_threshold = false;            // run even when the threshold is outside the safe range
   std::size_t calibration_parts_max = 96;  // calibrated_dynamic: the most full-model parts
-  std::size_t parts = 100000;            // linearised Monte Carlo
-  std::size_t full_parts = 8;            // full-model Monte Carlo
+  std::size_t parts = 100000;              // linearised Monte Carlo
+  std::size_t full_parts = 8;              // full-model Monte Carlo
 };
 
 // The relay's threshold and what bounds it, from the settings and the full model (settings.cpp):

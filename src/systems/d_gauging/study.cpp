@@ -99,8 +99,8 @@ io::RunOutput run(const io::Scenario& sc) {
   const bool calibrated = d.threshold == "calibrated" || d.threshold == "calibrated_dynamic";
   double bias_m = 0.0, bias_se_m = 0.0, s_static = plan.threshold_V;
   if (calibrated && p.noise_variance_m2 > 0.0) {
-    const auto cal = sim::monte_carlo_linear(p, line, plan.threshold_V, d.parts,
-                                             sc.run.seed + 1000003);
+    const auto cal =
+        sim::monte_carlo_linear(p, line, plan.threshold_V, d.parts, sc.run.seed + 1000003);
     std::vector<double> e, y;
     for (const auto& r : cal)
       if (!r.backstop && std::isfinite(r.noise_at_nominal_V)) {
@@ -130,8 +130,8 @@ io::RunOutput run(const io::Scenario& sc) {
   sim::DynamicCalibration dyn;
   if (d.threshold == "calibrated_dynamic")
     dyn = sim::calibrate_dynamic(p, d.transducer, dt, s_static, cal_line.gain_V_per_m,
-                                 d.calibration_parts_max, 0.025 * d.tolerance_m,
-                                 sc.run.seed + 17, sc.run.duration_s);
+                                 d.calibration_parts_max, 0.025 * d.tolerance_m, sc.run.seed + 17,
+                                 sc.run.duration_s);
   const double s_th = d.threshold == "calibrated_dynamic" ? dyn.threshold_V : s_static;
   const double seed_signal_dev_pct = 100.0 * (K * (A0 - x_trip) - s_full_at_trip) / s_full_at_trip;
 
@@ -198,11 +198,12 @@ io::RunOutput run(const io::Scenario& sc) {
 
   // 3b. The cause of the full model's error (issue 16): ripple, subharmonic motion, or both —
   // the filters against the probe's regime (the seed's contact c_c = 5 N·s/m beside this one's).
-  Table cause{"What the full model's error (no noise) comes from: the filter against the probe's "
-              "regime, each with its own calibrated (23)",
-              {"filter", "contact damping c_c [N·s/m]", "probe spread at trip [µm]",
-               "ripple at trip [mV]", "finished − target [µm]"},
-              {}};
+  Table cause{
+      "What the full model's error (no noise) comes from: the filter against the probe's "
+      "regime, each with its own calibrated (23)",
+      {"filter", "contact damping c_c [N·s/m]", "probe spread at trip [µm]", "ripple at trip [mV]",
+       "finished − target [µm]"},
+      {}};
   json cause_json = json::array();
   {
     using F = sensors::VibroContactGauge::Params::Filter;
@@ -245,8 +246,8 @@ io::RunOutput run(const io::Scenario& sc) {
     if (std::isfinite(r.finished_m)) sizes.push_back(r.finished_m);  // the backstop's included
   }
   if (sizes.size() < 2)  // only without removal (the backstop ends every cut that has one)
-    io::throw_at_key(sc, sim::ConfigError("process.removal_um_per_s",
-                                          "no part finished: nothing ends the cut"));
+    io::throw_at_key(
+        sc, sim::ConfigError("process.removal_um_per_s", "no part finished: nothing ends the cut"));
   const Stats st = stats(sizes);
   // (25) extended to the filter: σ_x = sqrt(D·f), f = 1/(1 + βT_f) for the seed's first order.
   const double noise_factor = line.noise_factor(p.noise_beta_per_s);
@@ -337,10 +338,11 @@ io::RunOutput run(const io::Scenario& sc) {
   s["error_cause"] = cause_json;
 
   Claims claims;
-  claims.check("(25): Monte Carlo σ of the filter-output noise / predicted (1e5 samples; within 3 %)",
-               noise_sigma / noise_pred, Compare::RatioWithin, 0.03);
-  claims.check("σ of finished size / sqrt(D/(1+βT_f))", st.sigma / pred_sigma,
-               Compare::RatioWithin, 0.05);
+  claims.check(
+      "(25): Monte Carlo σ of the filter-output noise / predicted (1e5 samples; within 3 %)",
+      noise_sigma / noise_pred, Compare::RatioWithin, 0.03);
+  claims.check("σ of finished size / sqrt(D/(1+βT_f))", st.sigma / pred_sigma, Compare::RatioWithin,
+               0.05);
   const double bias_in_se = (st.mean - p.target_m) / se;
   // calibrated_dynamic aims the full model, not the linearised one: its linear mean is a note.
   if (d.threshold != "calibrated_dynamic")
@@ -374,10 +376,14 @@ io::RunOutput run(const io::Scenario& sc) {
               " mV/µm (seed: " + fmt(K * 1e-3) + "), intercept " + fmt(cal_line.intercept_m * kUm) +
               " µm (seed: A0 = " + fmt(A0 * kUm) + ").");
   if (calibrated && p.noise_variance_m2 > 0.0)
-    claims.note("First-passage bias: (23) places the mean crossing, the relay trips at the first; "
-                "calibrated on " + std::to_string(d.parts) + " linearised parts of its own "
-                "(control variate ε(t*)): " + fmt(bias_m * kUm, "%.4f") + " ± " +
-                fmt(bias_se_m * kUm, "%.4f") + " µm, taken off the target in (23).");
+    claims.note(
+        "First-passage bias: (23) places the mean crossing, the relay trips at the first; "
+        "calibrated on " +
+        std::to_string(d.parts) +
+        " linearised parts of its own "
+        "(control variate ε(t*)): " +
+        fmt(bias_m * kUm, "%.4f") + " ± " + fmt(bias_se_m * kUm, "%.4f") +
+        " µm, taken off the target in (23).");
   if (std::abs(bias_in_se) > 1.0 && !calibrated)
     claims.note(
         "The relay trips at the first upward crossing of S_th; with noise the first crossing comes "
@@ -391,9 +397,10 @@ io::RunOutput run(const io::Scenario& sc) {
   if (full_sizes.size() >= 30) {  // enough parts for their mean and σ to mean something
     claims.check("full model with noise: mean finished size − target [µm] (|·| ≤ 0.5)",
                  (fst.mean - p.target_m) * kUm, Compare::Within, 0.5);
-    claims.check("full model with noise: σ of finished size / (25) extended to the filter (within "
-                 "10 %)",
-                 fst.sigma / pred_sigma, Compare::RatioWithin, 0.10);
+    claims.check(
+        "full model with noise: σ of finished size / (25) extended to the filter (within "
+        "10 %)",
+        fst.sigma / pred_sigma, Compare::RatioWithin, 0.10);
   }
   claims.note(std::string("Probe ") + (regular ? "regular" : "NOT regular") +
               " at the trip point: its position once per drive period spreads over " +
@@ -401,26 +408,30 @@ io::RunOutput run(const io::Scenario& sc) {
               fmt(100.0 * plan.calibrated_line.spread_m / A0, "%.1f") +
               " % of A0; the design rule asks ≤ " + fmt(100.0 * design::kRegularSpread) + " %).");
   if (d.threshold == "calibrated_dynamic")
-    claims.note("calibrated_dynamic: " + std::to_string(dyn.parts) + " full-model parts moved S_th from " +
-                fmt(s_static) + " to " + fmt(dyn.threshold_V) + " V (pooled mean error " +
-                fmt(dyn.mean_error_m * kUm, "%.3f") + " ± " + fmt(dyn.standard_error_m * kUm, "%.3f") +
-                " µm" + (dyn.converged ? "" : ", not converged within calibration_parts_max") + ").");
+    claims.note(
+        "calibrated_dynamic: " + std::to_string(dyn.parts) + " full-model parts moved S_th from " +
+        fmt(s_static) + " to " + fmt(dyn.threshold_V) + " V (pooled mean error " +
+        fmt(dyn.mean_error_m * kUm, "%.3f") + " ± " + fmt(dyn.standard_error_m * kUm, "%.3f") +
+        " µm" + (dyn.converged ? "" : ", not converged within calibration_parts_max") + ").");
   {
     double smallest = full.finished_m;
     for (double v : sizes) smallest = std::min(smallest, v);
     for (double v : full_sizes) smallest = std::min(smallest, v);
-    claims.check("backstop: smallest finished size of every cut − the limit position [µm] (≥ 0: "
-                 "no part undersize beyond it)",
-                 (smallest - p.backstop_m) * kUm, Compare::AtLeast, -1e-9);
+    claims.check(
+        "backstop: smallest finished size of every cut − the limit position [µm] (≥ 0: "
+        "no part undersize beyond it)",
+        (smallest - p.backstop_m) * kUm, Compare::AtLeast, -1e-9);
   }
   if (!plan.safe())
     claims.note("Forced (gauge.force_threshold): the threshold " + fmt(s_th) +
                 " V lies outside the safe range " + fmt(plan.range.low_V) + "…" +
-                fmt(plan.range.high_V) + " V the full model's signal reaches with its margin (the "
-                "probe bounces on a floor of " + fmt(plan.range.floor_V) + " V from x = " +
-                fmt(plan.range.floor_start_m * kUm) + " µm on); the safe range of targets ends at " +
-                fmt(plan.largest_target_m * kUm) + " µm. " + std::to_string(backstops) +
-                " cuts ended at the backstop " + fmt(p.backstop_m * kUm) + " µm.");
+                fmt(plan.range.high_V) +
+                " V the full model's signal reaches with its margin (the "
+                "probe bounces on a floor of " +
+                fmt(plan.range.floor_V) + " V from x = " + fmt(plan.range.floor_start_m * kUm) +
+                " µm on); the safe range of targets ends at " + fmt(plan.largest_target_m * kUm) +
+                " µm. " + std::to_string(backstops) + " cuts ended at the backstop " +
+                fmt(p.backstop_m * kUm) + " µm.");
   s["claims"] = claims.json();
 
   io::Report& rep = out.report;
