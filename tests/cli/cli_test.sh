@@ -362,7 +362,7 @@ sed -e 's/^step_s = .*/step_s = 1e-3\nrecord_interval_s = 1e-3/' "$scn/d_gauging
 sed -e '/^\[regulator\]/,/^\[/ s/^type = "pulsed"/type = "throttle"/' "$scn/a_finishing_aim.toml" > "$work/throttle_aim.toml"
 for c in "coarse_a.toml:9:[0-9]*: key 'run.step_s': step_s .* too coarse" \
          "coarse_c.toml:7:[0-9]*: key 'run.step_s': step too coarse" \
-         "coarse_d.toml:12:[0-9]*: key 'run.step_s': vibro-contact gauge: step too coarse" \
+         "coarse_d.toml:16:[0-9]*: key 'run.step_s': vibro-contact gauge: step too coarse" \
          "throttle_aim.toml:66:[0-9]*: key 'controller.type': a continuous throttle"; do
   f=${c%%:*}
   expect_rc 2 "cross-field $f" $bin check "$work/$f"

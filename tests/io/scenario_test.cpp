@@ -391,7 +391,7 @@ TEST(ScenarioB, EveryKeyOfItsTablesIsDescribed) {
 TEST(ScenarioD, EveryKeyOfItsTablesIsDescribed) {
   const auto rows =
       own_rows(d_gauging::kSection, {"process", "transducer", "gauge", "monte_carlo"});
-  EXPECT_EQ(rows.size(), 25u);  // process 7, transducer 14, gauge 2, monte_carlo 2
+  EXPECT_EQ(rows.size(), 32u);  // process 8, transducer 18, gauge 4, monte_carlo 2
   for (const auto& r : rows) EXPECT_FALSE(r.doc.empty()) << r.key;
   EXPECT_TRUE(described(rows, "gauge.threshold_V"));
   for (const auto& r : rows) {
