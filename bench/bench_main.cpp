@@ -79,8 +79,9 @@ BENCHMARK_CAPTURE(BM_RigE_Part, fixed_worst_case, "e_stepped_fixed.toml")
 std::pair<sim::LinearGauge, double> seed_line(const io::Scenario& sc) {
   const auto& d = sc.get<d_gauging::Settings>();
   const auto st = sensors::VibroContactGauge::steady(d.transducer);
-  const sim::LinearGauge lg{st.signal_gain_V_per_m, st.free_amplitude_m,
-                            d.transducer.filter_time_constant_s};
+  // With the scenario's filter (d_gauging: synchronous, simulated by steps; issue 16).
+  const sim::LinearGauge lg =
+      sim::linear_gauge({st.signal_gain_V_per_m, st.free_amplitude_m}, d.transducer);
   return {lg, sim::threshold_23(lg, d.process)};
 }
 
