@@ -268,9 +268,11 @@ void obliteration_study(const Settings& st, double slot_m, double gap_m, double 
       "assumption, not finding: \"the pulsed regulator does not silt up\" rests on model "
       "choices, not on a measurement. (1) A closing stroke sweeps off the share η of the layer "
       "([regulator.obliteration] removal_per_stroke, 1 by default; no source gives it): in this "
-      "sweep the pulsed flow holds within 1 % over the run for η ≥ " +
-      fmt(eta_min_holding, "%.3g") + ". (2) The layer grows only while oil flows through the "
-      "gap, so a pulsed slot silts duty times slower. (3) Its slot is 1/duty wider than the "
+      "sweep the pulsed flow holds within 1 % over the run " +
+      (eta_min_holding == 0.0 ? std::string("for every η, down to 0")
+                              : "for η ≥ " + fmt(eta_min_holding, "%.3g")) +
+      ". (2) The layer grows only while oil flows through the gap, so a pulsed slot silts only "
+      "over its open time (the duty Δt/T of the run). (3) Its slot is 1/duty wider than the "
       "throttle's gap for the same flow (" + fmt(slot_m * 1e6, "%.3g") + " against " +
       fmt(gap_m * 1e6, "%.3g") + " µm): with no sweeping at all (η = 0) a layer of δ_max = " +
       fmt(ob.layer_max_m * 1e6) + " µm per wall finally costs it 2δ_max/h = " +
