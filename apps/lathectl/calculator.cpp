@@ -1,5 +1,7 @@
 #include "calculator.hpp"
 
+#include "lathectl/io/errors.hpp"
+
 #include <cstdlib>
 
 namespace lathectl::cli {
@@ -57,6 +59,20 @@ std::string markdown_table(const std::vector<std::string>& head,
   out += "\n";
   for (const auto& r : rows) out += line(r);
   return out;
+}
+
+const cutting::Material& tool_life_material(io::MaterialLibrary& lib, const std::string& name,
+                                            const std::string& who) {
+  lib = io::MaterialLibrary::load_default();
+  const cutting::Material* mat = lib.find(name);
+  if (!mat) {
+    std::string known;
+    for (const auto& nm : lib.names()) known += (known.empty() ? "" : ", ") + nm;
+    throw io::InputError(who + "unknown material '" + name + "' (known: " + known + ")");
+  }
+  if (mat->tool_life_ranges == 0)
+    throw io::InputError(who + "material '" + name + "' has no tool-life data");
+  return *mat;
 }
 
 }  // namespace lathectl::cli

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "cli.hpp"
+#include "lathectl/io/materials.hpp"
 #include "lathectl/io/toml_reader.hpp"
 
 namespace lathectl::cli {
@@ -230,6 +231,34 @@ std::shared_ptr<BoundInputs<A>> add_calculator(CLI::App& sub, Commands& out,
                    return compute(*a);
                  }});
   return bound;
+}
+
+// The calculators that read a material (seed 004's): --material and --json besides the table's
+// flags, and the shop-unit text rows. A has `std::string material` and `bool json`.
+template <class A>
+void add_material_calculator(CLI::App& sub, Commands& out, std::span<const Input<A>> inputs,
+                             const std::string& footer, const std::string& material_help,
+                             const std::string& json_help, int (*compute)(const A&)) {
+  auto a = std::make_shared<A>();
+  sub.footer(footer);
+  auto bound = add_inputs<A>(sub, *a, inputs);
+  sub.add_option("--material", a->material, material_help);
+  sub.add_flag("--json", a->json, json_help);
+  out.push_back({&sub, [a, bound, compute] {
+                   bound->apply(*a);
+                   return compute(*a);
+                 }});
+}
+// A material with tool-life data from data/materials.toml (kept in `lib`), or an InputError
+// starting with `who` that lists the known materials.
+const cutting::Material& tool_life_material(io::MaterialLibrary& lib, const std::string& name,
+                                            const std::string& who);
+// One text row of a shop-unit result ("  label   value unit").
+template <class R>
+void print_shop_row(const R& r, const Output<R>& o) {
+  if (const auto v = output_value(r, o))
+    std::printf("  %-46s %14.6g %s\n", std::string(o.label).c_str(), *v,
+                std::string(o.shop_unit).c_str());
 }
 
 // A calculator's section of the reference.

@@ -9,6 +9,7 @@
 
 #include "calculator.hpp"
 #include "cli.hpp"
+#include "lathectl/cutting/feed_range.hpp"
 #include "lathectl/design/adaptive_speed.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
@@ -82,17 +83,11 @@ struct TaylorCoefficients {
   const cutting::ToolLifeRange* range = nullptr;  // the material range used, if any
 };
 
-const cutting::ToolLifeRange& life_range(const cutting::Material& mat, double feed_mm_per_rev) {
-  const auto n = static_cast<std::size_t>(mat.tool_life_ranges);
-  for (std::size_t i = 0; i < n; ++i)
-    if (feed_mm_per_rev <= mat.tool_life[i].feed_max_mm_per_rev) return mat.tool_life[i];
-  return mat.tool_life[n - 1];
-}
 
 TaylorCoefficients coefficients(const Args& a, const cutting::Material* mat, Opt feed) {
   TaylorCoefficients c{a.Cv, a.m, a.xv, a.yv, nullptr};
   if (mat && feed) {
-    const auto& r = life_range(*mat, *feed);
+    const auto& r = cutting::feed_range(mat->tool_life, mat->tool_life_ranges, *feed);
     const bool used = !c.Cv || !c.m || !c.xv || !c.yv;
     if (!c.Cv) c.Cv = r.Cv;
     if (!c.m) c.m = r.m;
@@ -115,17 +110,7 @@ int compute(const Args& a) {
   const std::string who = "design adaptive-speed: ";
   io::MaterialLibrary lib;
   const cutting::Material* mat = nullptr;
-  if (!a.material.empty()) {
-    lib = io::MaterialLibrary::load_default();
-    mat = lib.find(a.material);
-    if (!mat) {
-      std::string known;
-      for (const auto& nm : lib.names()) known += (known.empty() ? "" : ", ") + nm;
-      throw io::InputError(who + "unknown material '" + a.material + "' (known: " + known + ")");
-    }
-    if (mat->tool_life_ranges == 0)
-      throw io::InputError(who + "material '" + a.material + "' has no tool-life data");
-  }
+  if (!a.material.empty()) mat = &tool_life_material(lib, a.material, who);
   const auto c_opt = coefficients(a, mat, a.S);  // V_opt: the range of the current feed
   const auto c_life = coefficients(a, mat, a.s);
   const char* yv_hint = mat ? "--yv" : "--yv (or --material)";
@@ -201,11 +186,7 @@ int compute(const Args& a) {
     std::cout << j.dump(2) << "\n";
     return 0;
   }
-  auto row = [&](const Output<Result>& o) {
-    if (const auto v = output_value(r, o))
-      std::printf("  %-46s %14.6g %s\n", std::string(o.label).c_str(), *v,
-                  std::string(o.shop_unit).c_str());
-  };
+  auto row = [&](const Output<Result>& o) { print_shop_row(r, o); };
   auto source = [&](const TaylorCoefficients& c) {
     if (!c.range) return std::string("options");
     char buf[96];
@@ -227,18 +208,13 @@ int compute(const Args& a) {
 }
 
 void add(CLI::App& sub, Commands& out) {
-  auto a = std::make_shared<Args>();
-  sub.footer("Seed 004 and V_opt: " + doc("system-e-adaptive.md") +
-             "; materials: " + doc("materials-reference.md") + ".");
-  auto bound = add_inputs<Args>(sub, *a, kInputs);
-  sub.add_option("--material", a->material,
-                 "material in data/materials.toml: Cv, m, xv, yv from its tool-life range "
-                 "containing the feed (--s; --S for V_opt); explicit options win");
-  sub.add_flag("--json", a->json, "print JSON (inputs, coefficients used, results)");
-  out.push_back({&sub, [a, bound] {
-                   bound->apply(*a);
-                   return compute(*a);
-                 }});
+  add_material_calculator<Args>(
+      sub, out, kInputs,
+      "Seed 004 and V_opt: " + doc("system-e-adaptive.md") +
+          "; materials: " + doc("materials-reference.md") + ".",
+      "material in data/materials.toml: Cv, m, xv, yv from its tool-life range containing the "
+      "feed (--s; --S for V_opt); explicit options win",
+      "print JSON (inputs, coefficients used, results)", &compute);
 }
 
 std::string reference() {

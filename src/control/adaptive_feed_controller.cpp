@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "lathectl/cutting/feed_range.hpp"
+
 namespace lathectl::control {
 
 void AdaptiveFeedController::configure(const Params& p) {
@@ -26,6 +28,14 @@ void AdaptiveFeedController::configure(const Params& p) {
   need(p.speed_programmed_m_per_min > 0.0 && p.feed_planned_mm_per_rev > 0.0,
        "planned speed V_p and feed S_p must be > 0");
   need(p.y_v >= 0.0 && p.y_v < 2.0, "y_v must be in [0, 2)");
+  need(p.y_v_ranges >= 0 && p.y_v_ranges <= 3, "y_v table: 0 to 3 feed ranges");
+  for (int i = 0; i < p.y_v_ranges; ++i) {
+    const auto& r = p.y_v_table[static_cast<std::size_t>(i)];
+    need(r.Cv > 0.0 && r.y_v >= 0.0 && r.y_v < 2.0 &&
+             (i == 0 || r.feed_max_mm_per_rev >
+                            p.y_v_table[static_cast<std::size_t>(i - 1)].feed_max_mm_per_rev),
+         "y_v table: Cv > 0, y_v in [0, 2), feed ranges ascending");
+  }
   need(p.speed_law_filter_s >= 0.0, "speed-law filter time must be ≥ 0");
   need(p.rpm_min > 0.0 && p.rpm_max > p.rpm_min, "spindle range: 0 < min < max");
   need(60.0 / p.rpm_min / p.period_s < 1e7,
@@ -222,6 +232,14 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
       s_cur_filtered_ += speed_filter_a_ * (s_meas - s_cur_filtered_);
       const double s_cur = s_cur_filtered_;
       v_opt = p_.speed_programmed_m_per_min * std::pow(p_.feed_planned_mm_per_rev / s_cur, p_.y_v);
+      if (p_.y_v_ranges > 0) {  // y_v (and Cv) of the range containing each feed
+        auto speed_term = [&](double s_mm) {
+          const auto& r = cutting::feed_range(p_.y_v_table, p_.y_v_ranges, s_mm);
+          return r.Cv / std::pow(s_mm, r.y_v);
+        };
+        v_opt = p_.speed_programmed_m_per_min * speed_term(s_cur) /
+                speed_term(p_.feed_planned_mm_per_rev);
+      }
       if (p_.depth_exponent_xv > 0.0 && regulated > 0.0 && in.speed_m_per_min > 0.0) {
         const double t_hat =
             std::pow(regulated / (p_.force_model_C * std::pow(s_cur, p_.force_model_y) *

@@ -5,6 +5,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "lathectl/cutting/feed_range.hpp"
+
 namespace lathectl::cutting {
 
 namespace {
@@ -79,30 +81,32 @@ double CuttingModel::power_W(const Forces& f, double speed_m_per_min) const noex
 }
 
 const ToolLifeRange& CuttingModel::life_range(double feed_mm_per_rev) const noexcept {
-  const int n = p_.material.tool_life_ranges;
-  for (int i = 0; i < n; ++i) {
-    const auto& r = p_.material.tool_life[static_cast<std::size_t>(i)];
-    if (feed_mm_per_rev <= r.feed_max_mm_per_rev) return r;
-  }
-  return p_.material.tool_life[static_cast<std::size_t>(n > 0 ? n - 1 : 0)];
+  return feed_range(p_.material.tool_life, p_.material.tool_life_ranges, feed_mm_per_rev);
 }
 
-double CuttingModel::tool_life_min(double speed_m_per_min, double feed_mm_per_rev,
-                                   double depth_mm) const noexcept {
+double CuttingModel::kmv(double strength_factor) const noexcept {
+  const double nv = p_.material.kmv_exponent;
+  return strength_factor == 1.0 || nv == 0.0 || !(strength_factor > 0.0)
+             ? 1.0
+             : std::pow(strength_factor, -nv);
+}
+
+double CuttingModel::tool_life_min(double speed_m_per_min, double feed_mm_per_rev, double depth_mm,
+                                   double strength_factor) const noexcept {
   if (p_.material.tool_life_ranges == 0 || !(speed_m_per_min > 0.0) || !(feed_mm_per_rev > 0.0) ||
       !(depth_mm > 0.0))
     return std::numeric_limits<double>::infinity();
   const auto& r = life_range(feed_mm_per_rev);
-  const double ratio =
-      r.Cv / (speed_m_per_min * std::pow(depth_mm, r.xv) * std::pow(feed_mm_per_rev, r.yv));
+  const double ratio = r.Cv * kmv(strength_factor) /
+                       (speed_m_per_min * std::pow(depth_mm, r.xv) * std::pow(feed_mm_per_rev, r.yv));
   return std::pow(ratio, 1.0 / r.m);
 }
 
-double CuttingModel::speed_for_life(double life_min, double feed_mm_per_rev,
-                                    double depth_mm) const noexcept {
+double CuttingModel::speed_for_life(double life_min, double feed_mm_per_rev, double depth_mm,
+                                    double strength_factor) const noexcept {
   if (p_.material.tool_life_ranges == 0 || !(life_min > 0.0)) return 0.0;
   const auto& r = life_range(feed_mm_per_rev);
-  return r.Cv /
+  return r.Cv * kmv(strength_factor) /
          (std::pow(life_min, r.m) * std::pow(depth_mm, r.xv) * std::pow(feed_mm_per_rev, r.yv));
 }
 

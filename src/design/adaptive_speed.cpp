@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "lathectl/cutting/feed_range.hpp"
+
 namespace lathectl::design {
 
 namespace {
@@ -64,6 +66,66 @@ double feed_per_rev(double feed_rate_mm_per_min, double spindle_rpm) {
   require_positive(feed_rate_mm_per_min, "feed rate F [mm/min]");
   require_positive(spindle_rpm, "spindle speed n [rpm]");
   return feed_rate_mm_per_min / spindle_rpm;
+}
+
+PlannedMode planned_mode(const PlannedModeInput& in) {
+  if (in.ranges < 1 || in.ranges > 3) throw std::invalid_argument("tool-life table: 1 to 3 ranges");
+  for (int i = 0; i < in.ranges; ++i) {
+    const auto& r = in.life[static_cast<std::size_t>(i)];
+    require_taylor(r.Cv, r.m, r.xv, r.yv, 1.0, 1.0);
+  }
+  require_positive(in.kv, "speed correction Kv");
+  require_positive(in.Cp, "Cp");
+  require_positive(in.kp, "Kp");
+  require_positive(in.depth_mm, "planned depth t_p [mm]");
+  require_positive(in.life_min, "planned tool life T [min]");
+  require_positive(in.feed_min_mm_per_rev, "smallest feed [mm/rev]");
+  require_positive(in.nose_radius_mm, "nose radius [mm]");
+  if (!(in.feed_max_mm_per_rev > in.feed_min_mm_per_rev) || !std::isfinite(in.feed_max_mm_per_rev))
+    throw std::invalid_argument("largest feed must be finite and above the smallest");
+  for (const double lim : {in.force_limit_N, in.power_limit_kW, in.Rz_limit_um})
+    if (!(lim > 0.0)) throw std::invalid_argument("limits must be > 0");
+  auto mode = [&](double s) {
+    const auto* r = &cutting::feed_range(in.life, in.ranges, s);
+    PlannedMode p;
+    p.feed_mm_per_rev = s;
+    p.speed_m_per_min = r->Cv * in.kv /
+                        (std::pow(in.life_min, r->m) * std::pow(in.depth_mm, r->xv) *
+                         std::pow(s, r->yv));
+    p.force_N = 10.0 * in.Cp * std::pow(in.depth_mm, in.x) * std::pow(s, in.y) *
+                std::pow(p.speed_m_per_min, in.n) * in.kp;
+    p.power_kW = p.force_N * p.speed_m_per_min / 60.0 / 1000.0;
+    p.Rz_um = s * s / (8.0 * in.nose_radius_mm) * 1000.0;
+    p.mrr_cm3_per_min = in.depth_mm * s * p.speed_m_per_min;
+    return p;
+  };
+  // The first limit a feed breaks (or FeedMax when none).
+  auto broken = [&](const PlannedMode& p) {
+    if (p.force_N > in.force_limit_N) return PlanLimit::Force;
+    if (p.power_kW > in.power_limit_kW) return PlanLimit::Power;
+    if (p.Rz_um > in.Rz_limit_um) return PlanLimit::Roughness;
+    return PlanLimit::FeedMax;
+  };
+  PlannedMode hi = mode(in.feed_max_mm_per_rev);
+  if (broken(hi) == PlanLimit::FeedMax) return hi;
+  if (broken(mode(in.feed_min_mm_per_rev)) != PlanLimit::FeedMax)
+    throw std::invalid_argument("even the smallest feed breaks a limit (force, power or Rz)");
+  // Force, power and Rz all rise with the feed along V(s) (Pz ∝ s^(y − n·yv), n < 0): bisect.
+  double lo = in.feed_min_mm_per_rev, up = in.feed_max_mm_per_rev;
+  PlanLimit limit = broken(hi);
+  for (int k = 0; k < 200 && up - lo > 1e-12 * up; ++k) {
+    const double mid = 0.5 * (lo + up);
+    const PlanLimit b = broken(mode(mid));
+    if (b == PlanLimit::FeedMax) {
+      lo = mid;
+    } else {
+      up = mid;
+      limit = b;
+    }
+  }
+  PlannedMode out = mode(lo);
+  out.limit = limit;
+  return out;
 }
 
 }  // namespace lathectl::design

@@ -69,6 +69,7 @@ MaterialLibrary MaterialLibrary::load(const std::string& path) {
       r.finish();
       m.tool_life[static_cast<std::size_t>(m.tool_life_ranges++)] = lr;
     }
+    m.kmv_exponent = t->number("kmv_exponent", Range::closed(0, 3), 0.0);
     t->finish();
     lib.materials_.push_back(std::move(m));
   }

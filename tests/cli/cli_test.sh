@@ -121,6 +121,20 @@ assert abs(r["V_opt_m_per_min"] - 162.671) < 1e-3, r
 assert c["tool_life"]["Cv"] == 350 and c["tool_life"]["range_feed_max_mm_per_rev"] == 0.7, c
 assert c["V_opt"]["yv"] == 0.2 and j["inputs"]["material"] == "steel_45", j
 PY
+# Seed 004's setters by the handbook (tests/design/adaptive_speed_test.cpp works it by hand):
+# steel 45, t_p = 3 mm, T = 60 min, Pz ≤ 2500 N → S_p = 0.504040 mm/rev, V_p = 166.344 m/min.
+expect_rc 0 "planned-mode" $bin design planned-mode --material steel_45 --t 3 --force-limit 2500 --json
+python3 - "$work/out.txt" <<'PY' || bad "planned-mode json: $(cat "$work/out.txt")"
+import json, sys
+j = json.load(open(sys.argv[1]))
+r = j["results"]
+assert abs(r["Sp_mm_per_rev"] - 0.504040) < 2e-6, r
+assert abs(r["Vp_m_per_min"] - 166.344) < 2e-3, r
+assert abs(r["Pz_N"] - 2500) < 1e-6, r
+assert j["limit"] == "force limit" and "n_rpm" not in r, j
+PY
+expect_rc 2 "planned-mode without depth" $bin design planned-mode --material steel_45
+grep -q "give the planned depth --t" "$work/err.txt" || bad "planned-mode without depth: $(cat "$work/err.txt")"
 expect_rc 0 "adaptive-speed table" $bin design adaptive-speed --F 150 --n 1000
 grep -q "feed per revolution.* 0.15 mm/rev" "$work/out.txt" || bad "adaptive-speed table: $(cat "$work/out.txt")"
 # missing or bad inputs: exit 2, one line
@@ -375,7 +389,7 @@ expect_rc 2 "unknown command" $bin frobnicate
 grep -qx "error: unknown command 'frobnicate' (run, check, demo, lobes, design, reference)" "$work/err.txt" || bad "unknown command: $(cat "$work/err.txt")"
 one_line "unknown command"
 expect_rc 2 "unknown design command" $bin design frob
-grep -qx "error: unknown command 'design frob' (pulse-regulator, adaptive-speed, gauge, tracer)" "$work/err.txt" || bad "unknown design command: $(cat "$work/err.txt")"
+grep -qx "error: unknown command 'design frob' (pulse-regulator, adaptive-speed, planned-mode, gauge, tracer)" "$work/err.txt" || bad "unknown design command: $(cat "$work/err.txt")"
 expect_rc 2 "no command" $bin
 one_line "no command"
 expect_rc 2 "run without scenario" $bin run

@@ -352,6 +352,39 @@ TEST_P(SeedSpeedLaw, SpeedOptIsVpTimesSpOverScurToYv) {
 INSTANTIATE_TEST_SUITE_P(AdaptiveFeedController, SeedSpeedLaw,
                          ::testing::Values(0.1, 0.2, 0.4, 0.55));
 
+TEST(AdaptiveFeedController, HandbookTableSpeedLawKeepsToolLifeAcrossFeedRanges) {
+  // Issue 17: y_v (and Cv) from the handbook's feed ranges, the table the tool-life law uses
+  // (data/materials.toml, steel_45: s ≤ 0.3: Cv 420, y_v 0.20; ≤ 0.7: 350, 0.35; above: 340,
+  // 0.45). V_opt = V_p·[Cv(S)/S^{y_v(S)}]/[Cv(S_p)/S_p^{y_v(S_p)}]: the extended Taylor law then
+  // gives the same T at (V_opt, S) as at (V_p, S_p), T = (Cv/(V·t^xv·s^yv))^(1/m).
+  auto p = base(Mode::ForceFeedSpeed);
+  p.y_v_table = {{{0.3, 420.0, 0.20}, {0.7, 350.0, 0.35}, {1e9, 340.0, 0.45}}};
+  p.y_v_ranges = 3;
+  auto life = [](double v, double s) {
+    const double cv = s <= 0.3 ? 420.0 : s <= 0.7 ? 350.0 : 340.0;
+    const double yv = s <= 0.3 ? 0.20 : s <= 0.7 ? 0.35 : 0.45;
+    return std::pow(cv / (v * std::pow(3.0, 0.15) * std::pow(s, yv)), 5.0);
+  };
+  // (feeds inside [s_min, s_max] = [0.05, 0.6], off the 0.3 boundary: the filtered S_cur only
+  // approaches the measured one)
+  for (const double s_cur : {0.1, 0.2, 0.29, 0.31, 0.5, 0.6}) {
+    Ctl c = make(p);
+    Ctl::Output out;
+    (void)run(c, sample(kLimit, s_cur), 10000, out);
+    ASSERT_TRUE(out.in_cut);
+    EXPECT_NEAR(life(out.speed_opt_m_per_min, s_cur), life(kVp, kSp), 1e-9 * life(kVp, kSp))
+        << s_cur;
+  }
+  // In S_p's own range it is the seed's law with that range's y_v: 150·(0.4/0.5)^0.35.
+  Ctl c = make(p);
+  Ctl::Output out;
+  (void)run(c, sample(kLimit, 0.5), 10000, out);
+  EXPECT_NEAR(out.speed_opt_m_per_min, kVp * std::pow(0.4 / 0.5, 0.35), 1e-9 * kVp);
+  // Below 0.3 mm/rev the speed rises less than the one-exponent law (y_v = 0.35) says.
+  (void)run(c, sample(kLimit, 0.1), 10000, out);
+  EXPECT_LT(out.speed_opt_m_per_min, kVp * std::pow(kSp / 0.1, 0.35));
+}
+
 TEST(AdaptiveFeedController, SeedSpeedLawFollowsFeedThroughFilterAndRamp) {
   // The S_cur filter is first order: after one time constant the speed law has seen
   // 1 − e^−1 of a step in S_cur; and the commanded speed never moves faster than its ramp.
@@ -801,6 +834,11 @@ TEST(AdaptiveFeedController, ConfigureRejectsBadParams) {
   bad([](Ctl::Params& p) { p.rpm_min = 4000.0; });
   bad([](Ctl::Params& p) { p.rpm_min = 0.0; });
   bad([](Ctl::Params& p) { p.y_v = -0.1; });
+  bad([](Ctl::Params& p) {  // ranges not ascending
+    p.y_v_table = {{{0.7, 350.0, 0.35}, {0.3, 420.0, 0.2}, {}}};
+    p.y_v_ranges = 2;
+  });
+  bad([](Ctl::Params& p) { p.y_v_ranges = 4; });
   bad([](Ctl::Params& p) { p.speed_programmed_m_per_min = 0.0; });
   bad([](Ctl::Params& p) { p.feed_planned_mm_per_rev = 0.0; });
   bad([](Ctl::Params& p) { p.feed_rate_limit_per_s = 0.0; });

@@ -243,6 +243,27 @@ TEST(CuttingModel, ToolLifeFeedRangesPickTheRightCv) {
     EXPECT_NEAR(cm.tool_life_min(cm.speed_for_life(T, s, t), s, t), T, 1e-9);
 }
 
+TEST(CuttingModel, ToolLifeFallsWithHardnessByTheHandbookKmv) {
+  // Kosilova & Meshcheryakov vol. 2, turning, speed corrections: Kmv = Kг·(750/σв)^nv, nv = 1.0
+  // for steel with carbide (data/materials.toml: kmv_exponent). A local factor h acts as σв·h:
+  // V_T ∝ h^(−1), and at one speed T ∝ Kmv^(1/m) = h^(−5) (m = 0.2).
+  const auto cm = model("steel_45");
+  EXPECT_DOUBLE_EQ(cm.params().material.kmv_exponent, 1.0);
+  const double T1 = cm.tool_life_min(150.0, 0.5, 3.0);
+  EXPECT_NEAR(cm.tool_life_min(150.0, 0.5, 3.0, 1.3) / T1, std::pow(1.3, -5.0), 1e-12);
+  EXPECT_NEAR(cm.speed_for_life(60.0, 0.5, 3.0, 1.3) / cm.speed_for_life(60.0, 0.5, 3.0), 1 / 1.3,
+              1e-12);
+  EXPECT_DOUBLE_EQ(cm.tool_life_min(150.0, 0.5, 3.0, 1.0), T1);  // h = 1: the table itself
+  // The 40Kh table is the 45 table × (750/980)^1 (its comment): the same law at h = 980/750.
+  const auto k40 = model("steel_40Kh");
+  EXPECT_NEAR(k40.speed_for_life(60.0, 0.5, 3.0) / cm.speed_for_life(60.0, 0.5, 3.0, 980.0 / 750.0),
+              1.0, 0.005);
+  // Grey cast iron, nv = 1.25.
+  const auto ci = model("cast_iron_SCh20");
+  EXPECT_NEAR(ci.tool_life_min(100.0, 0.3, 2.0, 1.2) / ci.tool_life_min(100.0, 0.3, 2.0),
+              std::pow(1.2, -1.25 / 0.2), 1e-12);
+}
+
 TEST(CuttingModel, ToolLifeInfiniteWhenNotCutting) {
   const auto cm = model("steel_45");
   const double inf = std::numeric_limits<double>::infinity();

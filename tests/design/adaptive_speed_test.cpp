@@ -100,5 +100,63 @@ TEST(AdaptiveSpeed, RejectsBadInputsNamingThem) {
             std::string::npos);
 }
 
+// The planned mode (V_p, S_p) of steel 45 at t_p = 3 mm, T = 60 min, Pz ≤ 2500 N, by hand
+// (tables as above; Pz: Cp = 300, x = 1, y = 0.75, n = −0.15, Kp = 1). In the range s ≤ 0.7:
+//   V(s) = 350/(60^0.2·3^0.15)·s^−0.35 = 350/(2.267933·1.179148)·s^−0.35 = 130.8789·s^−0.35
+//   Pz(s) = 3000·3·s^0.75·V(s)^−0.15 = 9000·130.8789^−0.15·s^(0.75 + 0.0525) = 4332.24·s^0.8025
+//   (130.8789^−0.15 = e^(−0.15·4.874272) = e^−0.731141 = 0.481360; 9000·0.481360 = 4332.24)
+//   Pz = 2500 → s = (2500/4332.24)^(1/0.8025) = e^(ln 0.577069/0.8025) = e^(−0.549793/0.8025)
+//   = e^−0.685100 = 0.504040 mm/rev;  V_p = 130.8789·0.504040^−0.35 = 130.8789·1.270976 = 166.344
+PlannedModeInput steel45_plan() {
+  PlannedModeInput in;
+  in.life = {{{0.3, 420.0, 0.2, 0.15, 0.20}, {0.7, 350.0, 0.2, 0.15, 0.35},
+              {1e9, 340.0, 0.2, 0.15, 0.45}}};
+  in.ranges = 3;
+  in.Cp = 300.0;
+  in.x = 1.0;
+  in.y = 0.75;
+  in.n = -0.15;
+  in.depth_mm = 3.0;
+  in.life_min = 60.0;
+  in.force_limit_N = 2500.0;
+  return in;
+}
+
+TEST(DesignPlannedMode, ForceLimitSetsTheFeedAndTheLifeSetsTheSpeed) {
+  const auto pm = planned_mode(steel45_plan());
+  EXPECT_EQ(pm.limit, PlanLimit::Force);
+  EXPECT_NEAR(pm.feed_mm_per_rev, 0.504040, 2e-6);
+  EXPECT_NEAR(pm.speed_m_per_min, 166.344, 2e-3);
+  EXPECT_NEAR(pm.force_N, 2500.0, 1e-6);
+  // The speed gives the planned life at S_p (the handbook law, range s ≤ 0.7).
+  EXPECT_NEAR(tool_life_min(350.0, 0.2, 0.15, 0.35, pm.speed_m_per_min, 3.0, pm.feed_mm_per_rev),
+              60.0, 1e-9);
+  EXPECT_NEAR(pm.power_kW, 2500.0 * pm.speed_m_per_min / 60000.0, 1e-12);
+  EXPECT_NEAR(pm.mrr_cm3_per_min, 3.0 * pm.feed_mm_per_rev * pm.speed_m_per_min, 1e-9);
+}
+
+TEST(DesignPlannedMode, OtherLimitsAndTheFeedRange) {
+  auto in = steel45_plan();
+  in.force_limit_N = 1e9;  // no force limit: the largest feed, at its range's speed
+  auto pm = planned_mode(in);
+  EXPECT_EQ(pm.limit, PlanLimit::FeedMax);
+  EXPECT_DOUBLE_EQ(pm.feed_mm_per_rev, 0.8);
+  EXPECT_NEAR(pm.speed_m_per_min, speed_for_life(340.0, 0.2, 0.15, 0.45, 60.0, 3.0, 0.8), 1e-9);
+  in.Rz_limit_um = 20.0;  // Rz = s²/(8r), r = 0.8: s = √(20e−3·6.4) = 0.357771
+  pm = planned_mode(in);
+  EXPECT_EQ(pm.limit, PlanLimit::Roughness);
+  EXPECT_NEAR(pm.feed_mm_per_rev, std::sqrt(20e-3 * 6.4), 1e-9);
+  in.Rz_limit_um = 1e9;
+  in.power_limit_kW = 5.0;
+  pm = planned_mode(in);
+  EXPECT_EQ(pm.limit, PlanLimit::Power);
+  EXPECT_NEAR(pm.power_kW, 5.0, 1e-9);
+  in.power_limit_kW = 0.01;  // not even the smallest feed
+  EXPECT_THROW((void)planned_mode(in), std::invalid_argument);
+  in = steel45_plan();
+  in.ranges = 0;
+  EXPECT_THROW((void)planned_mode(in), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace lathectl::design

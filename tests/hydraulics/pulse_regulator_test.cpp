@@ -279,5 +279,42 @@ TEST(Obliteration, PulsedRegulatorKeepsItsFlow) {
   EXPECT_NEAR(q / (gain() * h), 1.0 - 2.0 * 0.5e-6 * (1.0 - std::exp(-3.0)) / h, 1e-6);
 }
 
+TEST(Obliteration, PartialSweepsSettleAtTheClosedFormBalance) {
+  // Issue 17: a closing stroke removes only the share η of the layer, and the layer grows while
+  // oil flows through the open slot. Instantaneous switching, pulse Δt = 10 ms every T = 50 ms:
+  // each pulse the layer grows by (δ_max − δ)·g, g = 1 − e^(−Δt/τ), and the stroke at its end
+  // removes η of it (the flow of the step sees the layer after that pulse's growth). The layer
+  // a pulse flows through tends to δ* = δ_max·g/(η + (1 − η)·g):
+  //   τ = 10 s (fast, to settle within the test), η = 0.01: g = 1 − e^−0.001 = 9.995002e−4,
+  //   δ* = 0.5 µm·9.995002e−4/(0.01 + 0.99·9.995002e−4) = 4.997501e−4/0.010989505 µm
+  //      = 0.0454754 µm,  flow q = q₁·(1 − 2δ*/h) = q₁·(1 − 0.00227377) at h = 40 µm.
+  const double eta = 0.01, tau = 10.0, T = 0.05, dmax = 0.5e-6, width = 0.01;
+  ObliterationParams ob{dmax, tau, 50e-6, eta};
+  auto r = make(0.0, 0.0, 0.0, ob);
+  const double h = 40e-6, f = 1.0 / T, dt = T / 4.0;
+  (void)mean_flow(r, dt, 40000, h, f, width);  // 500 s ≫ the settling, T/(η + g) ≈ 4.5 s
+  const double g = 1.0 - std::exp(-width / tau);
+  const double d_star = dmax * g / (eta + (1.0 - eta) * g);
+  EXPECT_NEAR(d_star, 0.0454754e-6, 1e-12);
+  const double q1 = gain() * h * width * f;
+  EXPECT_NEAR(mean_flow(r, dt, 400, h, f, width), q1 * (1.0 - 2.0 * d_star / h), 1e-9 * q1);
+  // A finer step (8 steps a pulse) sees the layer grow within the pulse: the same balance, the
+  // flow between the layer after the stroke, (1 − η)·δ*, and the one before it, δ*.
+  auto r2 = make(0.0, 0.0, 0.0, ob);
+  (void)mean_flow(r2, T / 40.0, 400000, h, f, width);
+  const double q_fine = mean_flow(r2, T / 40.0, 4000, h, f, width);
+  EXPECT_GE(q_fine, q1 * (1.0 - 2.0 * d_star / h) - 1e-12 * q1);
+  EXPECT_LE(q_fine, q1 * (1.0 - 2.0 * (1.0 - eta) * d_star / h) + 1e-12 * q1);
+  // η = 0: no stroke helps; the slot silts toward h − 2δ_max like a throttle (over its open time).
+  ObliterationParams none{dmax, tau, 50e-6, 0.0};
+  auto r0 = make(0.0, 0.0, 0.0, none);
+  (void)mean_flow(r0, dt, 40000, h, f, width);  // 100 s open = 10 τ
+  EXPECT_NEAR(mean_flow(r0, dt, 400, h, f, width), q1 * (1.0 - 2.0 * dmax / h), 1e-4 * q1);
+  PulseRegulator::Params bad;
+  bad.obliteration.removal_per_stroke = 1.5;
+  PulseRegulator rb;
+  EXPECT_THROW(rb.configure(bad), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace lathectl::hydraulics

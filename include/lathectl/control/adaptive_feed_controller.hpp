@@ -40,6 +40,7 @@
 //   - every limit, hold or alarm sets a Reason; alarms latch until reset_alarm().
 // Real-time: configure() validates and may throw; update() never allocates, throws, locks or logs.
 
+#include <array>
 #include <vector>
 
 #include "lathectl/control/building_blocks.hpp"
@@ -64,6 +65,18 @@ class AdaptiveFeedController {
     double speed_programmed_m_per_min = 150.0;  // V_p, setter 18 (fixed and prior art: V)
     double feed_planned_mm_per_rev = 0.4;       // S_p, setter 15
     double y_v = 0.35;                          // exponent of feed in the tool-life formula
+    // y_v from the handbook's feed ranges (issue 17): the same table as the tool-life law,
+    // {s_max, Cv, y_v} per range. Given (y_v_ranges > 0), the speed law is the seed's with y_v
+    // (and Cv) of the range that contains each feed — equal tool life at equal depth:
+    //   V_opt = V_p · [Cv(S)/S^{y_v(S)}] / [Cv(S_p)/S_p^{y_v(S_p)}]
+    // which is V_p·(S_p/S)^{y_v} when S and S_p share a range. 0 ranges: the single y_v above.
+    struct YvRange {
+      double feed_max_mm_per_rev = 1e9;
+      double Cv = 1.0;
+      double y_v = 0.35;
+    };
+    std::array<YvRange, 3> y_v_table{};
+    int y_v_ranges = 0;
     // Low-pass on S_cur = F/n (computer 11) before the speed law. Unfiltered, a spindle speed-up
     // lowers the measured F/n (the feed axis lags), which raises V_opt again: the loop hunts.
     double speed_law_filter_s = 1.0;

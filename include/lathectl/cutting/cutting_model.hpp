@@ -9,8 +9,15 @@
 // Kienzle form (König & Essel; Degner, Lutze, Smejkal "Spanende Formung"):
 //   F_i = k_i1.1 · b · h^(1 − m_i),  b = t / sin κ,  h = s · sin κ    [N; mm]
 //   Fc ↔ Pz, Fp (passive) ↔ Py, Ff (feed) ↔ Px
-// Power: Nc = Pz · V.  Tool life (extended Taylor, handbook): V = Cv / (T^m · t^xv · s^yv),
-// so T = (Cv / (V · t^xv · s^yv))^(1/m) [min]; the coefficients depend on the feed range.
+// Power: Nc = Pz · V.  Tool life (extended Taylor, handbook): V = Cv·Kmv / (T^m · t^xv · s^yv),
+// so T = (Cv·Kmv / (V · t^xv · s^yv))^(1/m) [min]; the coefficients depend on the feed range.
+// Kmv = (strength_base / (strength·h))^kmv_exponent, h the local hardness (strength) factor:
+// the handbook's Kmv = Kг·(750/σв)^nv for steel (nv = 1.0 for carbide tools) or (190/HB)^nv for
+// grey cast iron (nv = 1.25), Kosilova & Meshcheryakov vol. 2, ch. "Turning", tables 1–2 of
+// the speed corrections. The material file folds the material's own Kmv into Cv (steel_40Kh);
+// here it applies to the local factor h (the material's strength/strength_base is 1 there).
+// Wear: T is the time to the handbook's flank-wear criterion, so ∫dt/T (Palmgren–Miner) is the
+// share of that wear used; the handbook gives no further wear term in V.
 // Roughness: Rz = s² / (8 r), Ra ≈ s² / (32 r) (r nose radius).
 //
 // Units here are the handbook's shop units (mm, mm/rev, m/min, N); callers convert from SI.
@@ -52,6 +59,7 @@ struct Material {
   KienzleLaw Fc, Fp, Ff;                     // Kienzle form
   std::array<ToolLifeRange, 3> tool_life{};  // ascending feed ranges
   int tool_life_ranges = 0;
+  double kmv_exponent = 0.0;  // nv of Kmv = (base/strength)^nv (tool life; 0 = no hardness term)
 };
 
 enum class ForceForm { Handbook, Kienzle };
@@ -87,12 +95,16 @@ class CuttingModel {
   [[nodiscard]] double radial_force(const CutState& c) const noexcept;
   // Cutting power Nc = Pz·V [W].
   [[nodiscard]] double power_W(const Forces& f, double speed_m_per_min) const noexcept;
-  // Tool life T [min] at V, s, t (extended Taylor); +inf when not cutting.
+  // Tool life T [min] at V, s, t and local strength factor h (extended Taylor with Kmv);
+  // +inf when not cutting.
   [[nodiscard]] double tool_life_min(double speed_m_per_min, double feed_mm_per_rev,
-                                     double depth_mm) const noexcept;
-  // Speed [m/min] giving tool life T_min at s, t.
-  [[nodiscard]] double speed_for_life(double life_min, double feed_mm_per_rev,
-                                      double depth_mm) const noexcept;
+                                     double depth_mm,
+                                     double strength_factor = 1.0) const noexcept;
+  // Speed [m/min] giving tool life T_min at s, t, h.
+  [[nodiscard]] double speed_for_life(double life_min, double feed_mm_per_rev, double depth_mm,
+                                      double strength_factor = 1.0) const noexcept;
+  // Kmv of the local strength factor h: (1/h)^kmv_exponent (1 at h = 1).
+  [[nodiscard]] double kmv(double strength_factor) const noexcept;
   [[nodiscard]] double roughness_Rz_um(double feed_mm_per_rev) const noexcept;
   [[nodiscard]] double roughness_Ra_um(double feed_mm_per_rev) const noexcept;
   [[nodiscard]] const Params& params() const noexcept { return p_; }

@@ -22,16 +22,27 @@ struct SlotOrifice {
 
 // Obliteration (silting) of a small gap: polar molecules of the oil adsorb on the gap walls and
 // build a layer that grows with time while the gap is held at a small opening; a full opening
-// (flush) or, in a spool valve, the edge sweep of each closing stroke removes it. Model:
-//   dδ/dt = (δ_max − δ)/τ   while the gap is open and below the critical gap,
-//   δ ← 0                   on a flush (opening ≥ critical gap, or a closing stroke),
+// (flush) removes it, and in a spool valve each closing stroke sweeps off a share η of it. Model:
+//   dδ/dt = (δ_max − δ)/τ   while oil flows through a gap below the critical gap (a pulsed
+//                           slot: while it is open),
+//   δ ← 0                   on a flush (opening ≥ critical gap),
+//   δ ← (1 − η)·δ           on a closing stroke (η = removal_per_stroke),
 //   effective opening = max(h − 2δ, 0)  (a layer on both walls).
-// Layer thickness of a few µm and times of minutes, after Bashta, "Hydraulic drives of machine
-// tools" (obliteration of throttle gaps); the numbers are scenario parameters, not constants.
+// Basis and its limits (issue 17): the time law (flow decaying over minutes at gaps of a few to
+// some tens of µm, with a layer of the order of a µm per wall, restored by a full opening or by
+// relative motion of the walls — why servo valves are dithered) is the textbook description of
+// obliteration (Bashta, "Mashinostroitel'naya gidravlika", 1971, obliteration of throttle gaps;
+// Blackburn, Reethof & Shearer, "Fluid Power Control", 1960, silting of valves); the numbers are
+// scenario parameters, not constants. How much of the layer a closing stroke removes (η) is not
+// in those sources: η = 1 (the default, and what the seed's "no obliteration" assumes) is an
+// assumption, and a_obliteration's report sweeps it. A pulse's growth g = 1 − e^(−Δt_open/τ)
+// balances the removal at δ* = δ_max·g/(η + (1 − η)·g) ≈ δ_max·(Δt_open/τ)/η (η ≫ g); with
+// η = 0 the slot silts toward δ_max, only over its open time.
 struct ObliterationParams {
-  double layer_max_m = 0.0;        // δ_max per wall; 0 disables
-  double time_constant_s = 600.0;  // τ
-  double critical_gap_m = 20e-6;   // gaps at or above this do not silt
+  double layer_max_m = 0.0;         // δ_max per wall; 0 disables
+  double time_constant_s = 600.0;   // τ
+  double critical_gap_m = 20e-6;    // gaps at or above this do not silt
+  double removal_per_stroke = 1.0;  // η: share of the layer a closing stroke sweeps off
 };
 
 class ObliterationLayer {
@@ -51,6 +62,8 @@ class ObliterationLayer {
     return std::max(h - 2.0 * delta_, 0.0);
   }
   void flush() noexcept { delta_ = 0.0; }
+  // A closing stroke of the spool: sweeps off the share η of the layer.
+  void sweep() noexcept { delta_ *= 1.0 - p_.removal_per_stroke; }
   [[nodiscard]] double thickness_m() const noexcept { return delta_; }
 
  private:

@@ -49,8 +49,9 @@ class PulseRegulator {
   void reset() noexcept;
 
  private:
-  // Moves y toward target at speed v for time tau; returns ∫ max(y, 0) dt over it.
-  double move(double target, double v, double tau) noexcept;
+  // Moves y toward target at speed v for time tau; returns ∫ max(y, 0) dt over it and adds the
+  // time with y > 0 to open_time.
+  double move(double target, double v, double tau, double& open_time) noexcept;
 
   Params p_{};
   double gain_ = 0.0;    // K_o [m³/s per m]

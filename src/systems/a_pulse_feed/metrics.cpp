@@ -49,6 +49,20 @@ MetricsA compute_metrics_a(const RigA& rig) {
   const double early = mean_between(t, feed, 0.05 * T, 0.10 * T);
   m.feed_drift_pct = 100.0 * (mean_between(t, feed, 0.95 * T, T + 1.0) - early) / early;
 
+  if (td > 0.0) {
+    const double k_um = cfg.sensor.holder_stiffness_N_per_m * 1e-6;  // N per µm
+    const double dt_rec = t.size() > 1 ? t[1] - t[0] : 1.0;
+    const auto w = static_cast<std::size_t>(std::max(1.0, std::round(cfg.feed_window_s / dt_rec)));
+    const auto py = moving_average(force, w);
+    const double d_ref = mean_between(t, force, std::max(t_settle, td - 1.0), td) / k_um;
+    m.deflection_reference_um = d_ref;
+    m.deflection_end_um = mean_between(t, force, 0.9 * T, T + 1.0) / k_um;
+    m.size_error_diameter_um = 2.0 * (m.deflection_end_um - d_ref);
+    double peak = 0.0;
+    for (std::size_t i = w; i < t.size(); ++i)
+      if (t[i] >= td) peak = std::max(peak, std::abs(py[i] / k_um - d_ref));
+    m.size_error_peak_diameter_um = 2.0 * peak;
+  }
   m.flow_mean_cm3_per_min = mean_between(t, flow, t_settle, T + 1.0);
   if (cfg.controller_kind == ControllerKind::None && cfg.regulator_kind == RegulatorKind::Pulsed) {
     m.flow_formula_cm3_per_min = cfg.regulator.orifice.gain_per_m() * rig.fixed_actuator() *

@@ -36,6 +36,13 @@ struct MetricsA {
   double flow_formula_cm3_per_min =
       std::numeric_limits<double>::quiet_NaN();  // seed (1), fixed h,f
   double flow_formula_error_pct = std::numeric_limits<double>::quiet_NaN();
+  // Size (issue 17): the radial force bends the tool holder by δ = Py/k_holder and moves the
+  // tool off the work, so the diameter grows by 2δ. Feed-window means of Py; reference: the
+  // second before t_d (as the feed's). NaN without a disturbance.
+  double deflection_reference_um = std::numeric_limits<double>::quiet_NaN();
+  double deflection_end_um = std::numeric_limits<double>::quiet_NaN();   // last 10 % of the run
+  double size_error_diameter_um = std::numeric_limits<double>::quiet_NaN();       // 2·(end − ref)
+  double size_error_peak_diameter_um = std::numeric_limits<double>::quiet_NaN();  // max 2·|δ−ref|
   std::vector<AlarmEvent> alarms;
   double first_alarm_delay_s = std::numeric_limits<double>::quiet_NaN();  // after the first fault
   // Oil balance (RigA::volume_balance): travel not explained by the net inflow, and oil the

@@ -128,6 +128,10 @@ void read_regulator(TableReader& root, sim::RigAConfig& a) {
     ob->read(
         {"critical_gap_um", Range::closed(0, 1000), "openings at or above it do not silt", kUm},
         p.critical_gap_m);
+    ob->read({"removal_per_stroke", Range::closed(0, 1),
+              "share of the layer each closing stroke of the spool sweeps off (1: all, the "
+              "seed's assumption; not measured)"},
+             p.removal_per_stroke);
     ob->finish();
   }
   r->finish();
@@ -339,6 +343,46 @@ void read_options(TableReader& root, Settings& st) {
     sw->check(a.controller_kind != sim::ControllerKind::None, "leak_estimate_factor",
               "a sweep of the controller's K_leak needs a controller");
     sw->finish();
+  }
+  if (auto ob = root.table("obliteration_study")) {
+    root.document("obliteration_study",
+                  "the regulators alone over the run: flow drift against the share of the layer a "
+                  "closing stroke removes");
+    st.obliteration_removal = ob->numbers(
+        {"removal_per_stroke", Range::closed(0, 1), "shares η to run, each a regulator pair"}, 1);
+    st.obliteration_layer_m = ob->numbers(
+        {"layer_um", {0.0, 100.0, true, false},
+         "layers δ_max per wall to run with no sweeping at all (η = 0): where the advantage ends",
+         kUm});
+    ob->check(a.regulator.obliteration.layer_max_m > 0.0, "removal_per_stroke",
+              "needs [regulator.obliteration] with layer_um > 0");
+    ob->finish();
+  }
+  if (auto tol = root.table("tolerance")) {
+    root.document("tolerance",
+                  "Monte Carlo of manufacturing errors through the pulsed regulator and a "
+                  "continuous throttle set for the same flow");
+    ToleranceStudy t;
+    tol->read({"samples", Range::closed(10, 100000), "regulators drawn"}, t.samples);
+    tol->read({"slot_error_um", Range::closed(0, 100),
+               "σ of the slot/gap opening error (the same machining error for both)", kUm},
+              t.slot_sigma_m);
+    tol->read({"diameter_error_um", Range::closed(0, 1000), "σ of the spool diameter error", kUm},
+              t.diameter_sigma_m);
+    tol->read({"discharge_coefficient_error_pct", Range::closed(0, 50),
+               "σ of μ (edge sharpness, burrs), % of μ", 0.01},
+              t.mu_sigma);
+    tol->read({"lap_error_um", Range::closed(0, 100),
+               "σ of the spool overlap (pulsed regulator only; clipped at 0)", kUm},
+              t.lap_sigma_m);
+    tol->read({"switching_time_error_pct", Range::closed(0, 100),
+               "σ of the opening and closing times (pulsed regulator only), %", 0.01},
+              t.switching_sigma);
+    tol->read({"flow_tolerance_pct", {0.0, 100.0, true, false},
+               "flow (feed) error a regulator may make: the pass mark of each sample", 0.01},
+              t.flow_tolerance);
+    tol->finish();
+    st.tolerance = t;
   }
   a.faults = io::read_faults(root);
   root.document("fault", "sensor faults to inject");

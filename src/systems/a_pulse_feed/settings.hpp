@@ -21,10 +21,26 @@ struct Comparison {
   std::optional<sim::RegulatorKind> regulator;
 };
 
+// [tolerance]: manufacturing errors (normal, σ each) drawn for a Monte Carlo of the mean flow of
+// the pulsed regulator at its scenario setting and of a continuous throttle set for the same
+// flow (advantage 5 of the seed: "far less manufacturing precision").
+struct ToleranceStudy {
+  std::size_t samples = 400;    // regulators drawn
+  double slot_sigma_m = 1e-6;   // slot / gap opening error (both)
+  double diameter_sigma_m = 5e-6;
+  double mu_sigma = 0.03;       // relative
+  double lap_sigma_m = 5e-6;    // overlap (pulsed only)
+  double switching_sigma = 0.2; // relative, opening and closing times (pulsed only)
+  double flow_tolerance = 0.05; // relative flow error a sample may make
+};
+
 struct Settings : io::SettingsOf<Settings> {
   sim::RigAConfig rig;
   std::optional<Comparison> compare;               // [compare]
   std::vector<double> sweep_leak_estimate_factor;  // [sweep]: controller K_leak / true K_leak
+  std::vector<double> obliteration_removal;        // [obliteration_study] removal_per_stroke
+  std::vector<double> obliteration_layer_m;        // [obliteration_study] layer_um (at η = 0)
+  std::optional<ToleranceStudy> tolerance;         // [tolerance]
 };
 
 // Reads A's tables into Settings (the common part, [run], is read before).

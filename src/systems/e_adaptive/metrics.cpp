@@ -16,6 +16,7 @@ MetricsE compute_metrics_e(const RigE& rig, double settle_s) {
   m.time_in_cut_s = rig.time_in_cut_s();
   m.force_limit = rig.force_limit();
   m.tool_life_used_fraction = rig.tool_life_used();
+  m.tool_life_used_nominal_hardness_fraction = rig.tool_life_used_nominal_hardness();
   m.tool_life_planned_min = rig.tool_life_planned_min();
   m.tool_life_plan_fraction = rig.time_in_cut_s() / 60.0 / rig.tool_life_planned_min();
   m.material_removed_cm3 = rig.material_removed_cm3();

@@ -7,7 +7,8 @@
 //   steady cutting: in cut, the feed regulating between its limits, ≥ settle_s after contact
 //   force_within_5pct_fraction: share of steady-cutting time with |F_rev − limit| ≤ 5 %
 //   force_overshoot_pct: largest (F_rev − limit)/limit anywhere in cut
-//   tool_life_used_fraction: ∫ dt / T(V, s, t) (Palmgren–Miner); tool_life_plan_fraction:
+//   tool_life_used_fraction: ∫ dt / T(V, s, t, h) (Palmgren–Miner, with the local hardness);
+//   tool_life_used_nominal_hardness_fraction: the same at h = 1; tool_life_plan_fraction:
 //     time in cut / T(V_p, S_p, t_p) — what the planned tool life would have allowed in that time
 
 #include <cmath>
@@ -31,6 +32,7 @@ struct MetricsE {
   double force_mean_steady = std::numeric_limits<double>::quiet_NaN();
   double force_Pz_peak_N = 0.0;
   double tool_life_used_fraction = 0.0;
+  double tool_life_used_nominal_hardness_fraction = 0.0;  // ∫ dt / T(V, s, t, h = 1)
   double tool_life_plan_fraction = 0.0;
   double tool_life_planned_min = 0.0;
   double material_removed_cm3 = 0.0;

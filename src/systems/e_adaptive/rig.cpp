@@ -72,7 +72,7 @@ void RigE::configure(const RigEConfig& cfg, double dt, double record_interval,
   cfg_ = cfg;
   dt_ = dt;
   max_t_ = max_duration;
-  t_ = t_cut_ = life_used_ = removed_mm3_ = 0.0;
+  t_ = t_cut_ = life_used_ = life_used_nominal_ = removed_mm3_ = 0.0;
   step_ = 0;
   pass_ = 0;
   phi_ = 0.0;
@@ -195,7 +195,8 @@ bool RigE::step() noexcept {
   if (depth > 0.0 && s > 0.0) {
     f = cut_.forces({depth, s, v, strength, dist_.wear_factor(t_cut_)});
     t_cut_ += dt_;
-    life_used_ += dt_ / (60.0 * cut_.tool_life_min(v, s, depth));
+    life_used_ += dt_ / (60.0 * cut_.tool_life_min(v, s, depth, strength));
+    life_used_nominal_ += dt_ / (60.0 * cut_.tool_life_min(v, s, depth));  // as if h = 1
     removed_mm3_ += depth * s * (rpm / 60.0) * std::numbers::pi * (d_surface - depth) * dt_;
   }
   const double cut_power = cut_.power_W(f, v);

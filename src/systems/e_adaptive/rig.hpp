@@ -12,8 +12,9 @@
 // feed changes reach the force over one revolution, and entering material builds the chip up
 // over the first revolution — as in a real cut.
 // The part is roughed pass by pass; between passes the axis returns at rapid traverse outside
-// a feed block. Tool life is accounted by Palmgren–Miner: ∫ dt / T(V, s, t), T from the
-// material's extended Taylor law; productivity as cycle time and material removed.
+// a feed block. Tool life is accounted by Palmgren–Miner: ∫ dt / T(V, s, t, h), T from the
+// material's extended Taylor law with the local hardness h (Kmv = h^(−nv)); productivity as cycle
+// time and material removed.
 
 #include <cstdint>
 #include <vector>
@@ -64,6 +65,11 @@ class RigE {
   [[nodiscard]] double cycle_time_s() const noexcept { return t_; }
   [[nodiscard]] double time_in_cut_s() const noexcept { return t_cut_; }
   [[nodiscard]] double tool_life_used() const noexcept { return life_used_; }
+  // The same integral with the hardness factor left out (T at h = 1): what the speed laws,
+  // which see no hardness, are designed to hold at plan.
+  [[nodiscard]] double tool_life_used_nominal_hardness() const noexcept {
+    return life_used_nominal_;
+  }
   [[nodiscard]] double tool_life_planned_min() const noexcept { return life_plan_min_; }
   [[nodiscard]] double material_removed_cm3() const noexcept { return removed_mm3_ / 1000.0; }
   [[nodiscard]] double programmed_feed() const noexcept {
@@ -95,6 +101,7 @@ class RigE {
   double phi_ = 0.0;
   double t_cut_ = 0.0;
   double life_used_ = 0.0;
+  double life_used_nominal_ = 0.0;
   double life_plan_min_ = 0.0;
   double removed_mm3_ = 0.0;
   FaultInjector faults_;

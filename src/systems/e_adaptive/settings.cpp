@@ -143,6 +143,25 @@ double tool_life_exponent(const cutting::Material& m, double feed, Field field, 
   return fallback;
 }
 
+}  // namespace
+
+void use_depth_corrected_law(sim::RigEConfig& e) {
+  auto& p = e.controller;
+  const auto& m = e.cutting.material;
+  p.depth_exponent_xv =
+      tool_life_exponent(m, p.feed_planned_mm_per_rev, &cutting::ToolLifeRange::xv, 0.15);
+  p.depth_planned_mm = e.planned_depth_mm;
+  // The design model: the handbook law of the measured component at the material's nominal
+  // strength (the controller cannot know the local hardness; it shows up in t̂).
+  const auto& law = e.force_parameter == sim::ForceParameter::Pz ? m.Pz : m.Py;
+  p.force_model_C = 10.0 * law.Cp * std::pow(m.strength / m.strength_base, m.kmp_exponent);
+  p.force_model_x = law.x;
+  p.force_model_y = law.y;
+  p.force_model_n = law.n;
+}
+
+namespace {
+
 void read_controller(TableReader& root, sim::RigEConfig& e) {
   auto c = root.table("controller", true);
   auto& p = e.controller;
@@ -211,10 +230,22 @@ void read_controller(TableReader& root, sim::RigEConfig& e) {
              e.planned_depth_mm);
   const auto& m = e.cutting.material;
   p.y_v = tool_life_exponent(m, p.feed_planned_mm_per_rev, &cutting::ToolLifeRange::yv, 0.2);
+  // Issue 17: by default the speed law takes y_v (and Cv) from the material's feed ranges, the
+  // table the tool-life law uses; a y_v given here is one exponent for every feed (the seed's
+  // law as written).
+  const bool single_yv = c->has("y_v");
   c->read({"y_v", Range::closed(0, 1.5),
-           "tool-life exponent of the feed (default: the material's y_v for the range that "
-           "contains S_p)"},
+           "one tool-life exponent of the feed for every feed (default: none; the speed law "
+           "takes y_v and Cv from the material's range containing each feed, as the tool-life "
+           "law does)"},
           p.y_v);
+  p.y_v_ranges = 0;
+  if (!single_yv)
+    for (int i = 0; i < m.tool_life_ranges && i < 3; ++i) {
+      const auto& r = m.tool_life[static_cast<std::size_t>(i)];
+      p.y_v_table[static_cast<std::size_t>(i)] = {r.feed_max_mm_per_rev, r.Cv, r.yv};
+      p.y_v_ranges = i + 1;
+    }
   c->read({"speed_law_filter_s", Range::closed(0, 100), "low-pass on S_cur before the speed law"},
           p.speed_law_filter_s);
   const bool depth_corrected =
@@ -225,16 +256,7 @@ void read_controller(TableReader& root, sim::RigEConfig& e) {
   if (depth_corrected) {
     c->check(!power, "speed_law",
              "the depth-corrected law estimates depth from a force; use a Pz or Py sensor");
-    p.depth_exponent_xv =
-        tool_life_exponent(m, p.feed_planned_mm_per_rev, &cutting::ToolLifeRange::xv, 0.15);
-    p.depth_planned_mm = e.planned_depth_mm;
-    // The design model: the handbook law of the measured component at the material's nominal
-    // strength (the controller cannot know the local hardness; it shows up in t̂).
-    const auto& law = e.force_parameter == sim::ForceParameter::Pz ? m.Pz : m.Py;
-    p.force_model_C = 10.0 * law.Cp * std::pow(m.strength / m.strength_base, m.kmp_exponent);
-    p.force_model_x = law.x;
-    p.force_model_y = law.y;
-    p.force_model_n = law.n;
+    use_depth_corrected_law(e);
   }
   c->read({"period_ms", {0.0, 1000.0, true, false},
            "control period; in HAL, a whole multiple of the servo thread period", kMs},
@@ -309,6 +331,30 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
                "extra runs overlaid in the report; a compared fixed run is set for the worst "
                "case");
     cmp->finish();
+  }
+  if (auto co = root.table("cost")) {
+    root.document("cost", "cost per part: machine time and the share of a cutting edge used");
+    co->read({"machine_rate_per_h", Range::closed(0, 1e5),
+              "machine-hour rate, operator and overhead included [money/h]"},
+             out->cost.machine_rate_per_h);
+    co->read({"tool_edge_cost", Range::closed(0, 1e5), "price of one cutting edge [money]"},
+             out->cost.tool_edge_cost);
+    co->read({"tool_change_min", Range::closed(0, 1e3),
+              "machine time to index or change an edge"},
+             out->cost.tool_change_min);
+    co->finish();
+  }
+  if (auto sw = root.table("sweep")) {
+    root.document("sweep", "extra runs: the tool-life verdict against the planned depth t_p");
+    out->sweep_planned_depth_mm = sw->numbers(
+        {"planned_depth_mm", {0.0, 50.0, true, false},
+         "planned depths t_p: the seed law's used/plan from the main run, the depth-corrected "
+         "law run at each"});
+    sw->check(e.controller.mode == Mode::ForceFeedSpeed && e.force_parameter != sim::ForceParameter::Power,
+              "planned_depth_mm",
+              "the planned-depth sweep needs controller.type = \"force_speed\" and a Pz or Py "
+              "sensor (the depth-corrected law estimates the depth from the force)");
+    sw->finish();
   }
   e.faults = io::read_faults(root);
   return out;

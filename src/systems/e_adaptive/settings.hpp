@@ -16,9 +16,22 @@ namespace lathectl::systems::e_adaptive {
 
 using Mode = control::AdaptiveFeedController::Mode;
 
+// [cost]: what a part costs a production engineer (issue 17): machine time at the machine-hour
+// rate plus the share of a cutting edge used, each edge costing its price and the machine time
+// of its change. cost = cycle/3600·rate + life_used·(edge + change_min/60·rate).
+struct Cost {
+  double machine_rate_per_h = 60.0;  // machine-hour rate (with operator and overhead)
+  double tool_edge_cost = 3.0;       // one cutting edge: an indexable carbide insert / its edges
+  double tool_change_min = 1.0;      // machine time to index or change the edge
+};
+
 struct Settings : io::SettingsOf<Settings> {
   sim::RigEConfig rig;
   std::vector<Mode> compare_modes;  // [compare] controllers: extra runs overlaid in the report
+  Cost cost;                        // [cost]
+  // [sweep] planned_depth_mm: the tool-life verdict against the planned depth t_p, for the seed
+  // law (exact from the main run: it never reads t_p) and the depth-corrected law (one run each).
+  std::vector<double> sweep_planned_depth_mm;
 };
 
 // Reads system E's tables of a scenario (after its common part) into a Settings.
@@ -27,6 +40,11 @@ std::unique_ptr<io::SystemSettings> read_settings(io::TableReader& root, io::Sce
 // The reader only (validate = nullptr): what a HAL component links. The registry's kSection
 // (study.hpp) adds the rig's cross-checks.
 extern const io::Section kReadSection;
+
+// Switches the controller to the depth-corrected speed law V·(t_p/t̂)^{x_v} at e.planned_depth_mm:
+// x_v from the material's range containing S_p, the depth estimate from the handbook law of the
+// measured force (Pz or Py) at the nominal strength.
+void use_depth_corrected_law(sim::RigEConfig& e);
 
 // "force by feed + speed law (seed 004)", ...: a mode as reports name it.
 std::string mode_name(Mode m);

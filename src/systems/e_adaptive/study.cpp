@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 
@@ -10,6 +11,7 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
+#include "lathectl/sim/parallel.hpp"
 #include "lathectl/sim/per_revolution.hpp"
 #include "systems/e_adaptive/metrics.hpp"
 #include "systems/e_adaptive/settings.hpp"
@@ -38,9 +40,26 @@ void run_one(const Scenario& sc, sim::RigEConfig cfg, Mode mode, bool as_compari
   r.label = mode_name(mode);
 }
 
-json metrics_json(const Run& r, const std::string& unit) {
+// Cost per part (settings.hpp, Cost): machine time plus the share of an edge used.
+struct PartCost {
+  double machine = 0.0, tool = 0.0, total = 0.0;
+};
+PartCost part_cost(const sim::MetricsE& m, const Cost& c) {
+  PartCost pc;
+  pc.machine = m.cycle_time_s / 3600.0 * c.machine_rate_per_h;
+  pc.tool = m.tool_life_used_fraction *
+            (c.tool_edge_cost + c.tool_change_min / 60.0 * c.machine_rate_per_h);
+  pc.total = pc.machine + pc.tool;
+  return pc;
+}
+
+json metrics_json(const Run& r, const std::string& unit, const Cost& cost) {
   const auto& m = r.m;
+  const PartCost pc = part_cost(m, cost);
   return {{"finished", m.finished},
+          {"cost_per_part", json_number(pc.total)},
+          {"cost_machine_time", json_number(pc.machine)},
+          {"cost_tool", json_number(pc.tool)},
           {"cycle_time_s", json_number(m.cycle_time_s)},
           {"time_in_cut_s", json_number(m.time_in_cut_s)},
           {"force_parameter_unit", unit},
@@ -53,6 +72,10 @@ json metrics_json(const Run& r, const std::string& unit) {
           {"force_Pz_peak_N", json_number(m.force_Pz_peak_N)},
           {"tool_life_used_fraction", json_number(m.tool_life_used_fraction)},
           {"tool_life_plan_fraction", json_number(m.tool_life_plan_fraction)},
+          {"tool_life_used_nominal_hardness_fraction",
+           json_number(m.tool_life_used_nominal_hardness_fraction)},
+          {"tool_life_used_nominal_hardness_to_plan",
+           json_number(m.tool_life_used_nominal_hardness_fraction / m.tool_life_plan_fraction)},
           {"tool_life_used_to_plan",
            json_number(m.tool_life_used_fraction / m.tool_life_plan_fraction)},
           {"tool_life_planned_min", json_number(m.tool_life_planned_min)},
@@ -103,13 +126,13 @@ RunOutput run(const Scenario& sc) {
   const sim::RigEConfig& e = set.rig;
   RunOutput out;
   std::vector<std::unique_ptr<Run>> runs;
-  runs.push_back(std::make_unique<Run>());
-  run_one(sc, e, e.controller.mode, false, *runs.back());
-  for (const Mode m : set.compare_modes) {
-    if (m == e.controller.mode) continue;
-    runs.push_back(std::make_unique<Run>());
-    run_one(sc, e, m, true, *runs.back());
-  }
+  std::vector<Mode> modes{e.controller.mode};
+  for (const Mode m : set.compare_modes)
+    if (m != e.controller.mode) modes.push_back(m);
+  for (std::size_t i = 0; i < modes.size(); ++i) runs.push_back(std::make_unique<Run>());
+  // The runs are independent: side by side on two cores (each is one core's work).
+  sim::parallel_for(
+      modes.size(), [&](std::size_t i) { run_one(sc, e, modes[i], i > 0, *runs[i]); }, 2);
   const Run& main = *runs.front();
   const bool power = e.force_parameter == sim::ForceParameter::Power;
   const std::string unit = power ? "W" : "N";
@@ -122,10 +145,11 @@ RunOutput run(const Scenario& sc) {
   s["scenario"] = sc.name;
   s["file"] = sc.file;
   s["label"] = main.label;
-  s["metrics"] = metrics_json(main, unit);
+  s["metrics"] = metrics_json(main, unit, set.cost);
   json cmp = json::array();
   for (std::size_t i = 1; i < runs.size(); ++i)
-    cmp.push_back({{"label", runs[i]->label}, {"metrics", metrics_json(*runs[i], unit)}});
+    cmp.push_back(
+        {{"label", runs[i]->label}, {"metrics", metrics_json(*runs[i], unit, set.cost)}});
   if (!cmp.empty()) s["comparisons"] = cmp;
 
   Claims claims;
@@ -167,6 +191,15 @@ RunOutput run(const Scenario& sc) {
     claim(
         "seed 004: tool-life consumption against plan (∫dt/T over time-in-cut/T_plan), within 15 %",
         ratio, std::abs(ratio - 1.0) <= 0.15);
+    const auto& m2 = by_mode[2]->m;
+    claims.note("of that, the part's hardness (factor " + fmt(m2.tool_life_used_fraction /
+                                                          m2.tool_life_used_nominal_hardness_fraction,
+                                                          "%.3f") +
+                "; T ∝ h^(−n_v/m), the handbook's K_mv): at nominal hardness the same run uses " +
+                fmt(m2.tool_life_used_nominal_hardness_fraction / m2.tool_life_plan_fraction,
+                    "%.3f") +
+                "× the plan. No speed law that sees only force and feed can tell hardness from "
+                "depth; seed 004's raises the speed where hardness has lowered the feed");
   }
   if (!e.faults.empty()) {
     // (1 ns of slack: the delay is a difference of step times)
@@ -176,6 +209,188 @@ RunOutput run(const Scenario& sc) {
     claim("sensor fault: alarm raised with a reason code (code)",
           main.m.alarms.empty() ? std::nan("") : static_cast<double>(main.m.alarms.front().code),
           !main.m.alarms.empty());
+  }
+
+  // Issue 17, item 7: productivity at equal tool use. (a) Cost per part at the [cost] rates.
+  // (b) The prior art given seed 004's tool-life budget: its speed raised until it uses as much
+  // of an edge. At a held force Pz ∝ s^0.75·V^−0.15, so s ∝ V^0.2, time in cut ∝ 1/(V·s) ∝ V^−1.2
+  // and T ∝ V^−5·s^(−y_v/m), so the share used ∝ V^(3.8 + y_v): one run at the speed this
+  // predicts, then the cycle time interpolated log-log to the seed's use between that run and
+  // the prior art at V_p (both measured).
+  const Run* seed = by_mode[2];
+  const Run* prior = by_mode[1];
+  const bool tradeoff = seed && prior && e.faults.empty() && seed->m.finished &&
+                        prior->m.finished && prior->m.tool_life_used_fraction > 0.0 &&
+                        seed->m.tool_life_used_fraction > 0.0;
+  Run budget;
+  double budget_speed_factor = std::nan("");
+  // Item 5: the used/plan verdict against the planned depth t_p (jobs: depth-corrected law at
+  // each t_p; the seed law from the main run, which never reads t_p, or one run of it).
+  const auto& depths = set.sweep_planned_depth_mm;
+  const bool main_seed_law = e.controller.mode == Mode::ForceFeedSpeed &&
+                             e.controller.depth_exponent_xv == 0.0;
+  std::vector<std::unique_ptr<Run>> corrected;
+  Run seed_law;
+  {
+    std::vector<std::function<void()>> jobs;
+    if (tradeoff) {
+      budget_speed_factor =
+          std::pow(seed->m.tool_life_used_fraction / prior->m.tool_life_used_fraction,
+                   1.0 / (3.8 + e.controller.y_v));
+      jobs.push_back([&] {
+        auto c = e;
+        c.controller.speed_programmed_m_per_min *= budget_speed_factor;
+        run_one(sc, c, Mode::ForceFeed, true, budget);
+      });
+    }
+    for (const double d : depths) {
+      corrected.push_back(std::make_unique<Run>());
+      jobs.push_back([&, d, r = corrected.back().get()] {
+        auto c = e;
+        c.planned_depth_mm = d;
+        use_depth_corrected_law(c);
+        run_one(sc, c, Mode::ForceFeedSpeed, false, *r);
+      });
+    }
+    if (!depths.empty() && !main_seed_law)
+      jobs.push_back([&] {
+        auto c = e;
+        c.controller.depth_exponent_xv = 0.0;
+        run_one(sc, c, Mode::ForceFeedSpeed, false, seed_law);
+      });
+    sim::parallel_for(jobs.size(), [&](std::size_t i) { jobs[i](); }, 2);
+  }
+  Table cost_table{"Cost per part: machine time at " + fmt(set.cost.machine_rate_per_h) +
+                       "/h, an edge " + fmt(set.cost.tool_edge_cost) + " + " +
+                       fmt(set.cost.tool_change_min) + " min to change it",
+                   {"controller", "cycle [s]", "edge used", "machine", "tool", "cost per part"},
+                   {}};
+  for (const auto& r : runs) {
+    const PartCost pc = part_cost(r->m, set.cost);
+    cost_table.rows.push_back({r->label, fmt(r->m.cycle_time_s, "%.1f"),
+                               fmt(r->m.tool_life_used_fraction, "%.4f"), fmt(pc.machine, "%.3f"),
+                               fmt(pc.tool, "%.3f"), fmt(pc.total, "%.3f")});
+  }
+  if (tradeoff) {
+    const PartCost cs = part_cost(seed->m, set.cost), cp = part_cost(prior->m, set.cost);
+    claims.check("cost per part (machine time + edge used), seed 004 / prior art (< 1; " +
+                     fmt(cs.total, "%.3f") + " against " + fmt(cp.total, "%.3f") + ")",
+                 cs.total / cp.total, Compare::Below, 1.0);
+    // The tool price at which the two would cost the same per part.
+    const double du = seed->m.tool_life_used_fraction - prior->m.tool_life_used_fraction;
+    const double dm = (prior->m.cycle_time_s - seed->m.cycle_time_s) / 3600.0 *
+                      set.cost.machine_rate_per_h;
+    const double breakeven = du > 0.0 ? dm / du - set.cost.tool_change_min / 60.0 *
+                                                      set.cost.machine_rate_per_h
+                                      : std::nan("");
+    const double u0 = prior->m.tool_life_used_fraction, c0 = prior->m.cycle_time_s;
+    const double u1 = budget.m.tool_life_used_fraction, c1 = budget.m.cycle_time_s;
+    const double u = seed->m.tool_life_used_fraction;
+    const double c_equal = budget.m.finished && std::abs(std::log(u1 / u0)) > 1e-9
+                               ? c0 * std::exp(std::log(c1 / c0) * std::log(u / u0) /
+                                               std::log(u1 / u0))
+                               : std::nan("");
+    s["tool_use_tradeoff"] = {
+        {"seed_to_prior_tool_use", json_number(u / u0)},
+        {"seed_to_prior_cycle_time", json_number(seed->m.cycle_time_s / c0)},
+        {"breakeven_tool_edge_cost", json_number(breakeven)},
+        {"prior_art_equal_budget",
+         {{"speed_m_per_min",
+           json_number(e.controller.speed_programmed_m_per_min * budget_speed_factor)},
+          {"cycle_time_s", json_number(c1)},
+          {"tool_life_used_fraction", json_number(u1)},
+          {"cycle_time_at_seed_tool_use_s", json_number(c_equal)}}}};
+    cost_table.rows.push_back(
+        {"prior art at V = " +
+             fmt(e.controller.speed_programmed_m_per_min * budget_speed_factor, "%.1f") +
+             " m/min (seed 004's tool budget)",
+         fmt(c1, "%.1f"), fmt(u1, "%.4f"), fmt(part_cost(budget.m, set.cost).machine, "%.3f"),
+         fmt(part_cost(budget.m, set.cost).tool, "%.3f"),
+         fmt(part_cost(budget.m, set.cost).total, "%.3f")});
+    claims.check("equal tool use: prior art given seed 004's tool-life budget (speed raised to " +
+                     fmt(e.controller.speed_programmed_m_per_min * budget_speed_factor, "%.1f") +
+                     " m/min, cycle " + fmt(c_equal, "%.1f") +
+                     " s interpolated to the seed's use); cycle time seed 004 / prior art (< 1)",
+                 seed->m.cycle_time_s / c_equal, Compare::Below, 1.0);
+    claims.note("seed 004 uses " + fmt(u / u0, "%.3f") + "× the prior art's tool life for " +
+                fmt(seed->m.cycle_time_s / c0, "%.3f") +
+                "× its cycle time; at these rates the two cost the same per part when an edge "
+                "costs " + fmt(breakeven, "%.1f") + " (the [cost] default: " +
+                fmt(set.cost.tool_edge_cost) + ")");
+  }
+  json sweep_json;
+  Table depth_table{"Tool-life verdict against the planned depth t_p (used / plan = ∫dt/T over "
+                    "time in cut / T(V_p, S_p, t_p))",
+                    {"t_p [mm]", "T plan [min]", "seed law used/plan",
+                     "seed law, nominal hardness", "depth-corrected used/plan",
+                     "depth-corrected, nominal hardness", "depth-corrected cycle [s]",
+                     "depth-corrected edge used"},
+                    {}};
+  Plot depth_plot{"Tool-life use against plan vs the planned depth", "planned depth t_p [mm]",
+                  "used / plan", {}, {}};
+  if (!depths.empty()) {
+    const Run& sl = main_seed_law ? main : seed_law;
+    cutting::CuttingModel cut;
+    cut.configure(e.cutting);
+    Series ss{"seed law V_p·(S_p/S)^y_v", {}, {}, kColors[0], false, true};
+    Series sd{"depth-corrected law ·(t_p/t̂)^x_v", {}, {}, kColors[2], false, true};
+    Series ssn{"seed law, at nominal hardness", {}, {}, kColors[0], true, true};
+    Series sdn{"depth-corrected law, at nominal hardness", {}, {}, kColors[2], true, true};
+    json jd = json::array(), js = json::array(), jc = json::array(), jcyc = json::array(),
+         jplan = json::array(), jsn = json::array(), jcn = json::array();
+    double worst = 0.0;
+    for (std::size_t k = 0; k < depths.size(); ++k) {
+      const double d = depths[k];
+      const double plan = cut.tool_life_min(e.controller.speed_programmed_m_per_min,
+                                            e.controller.feed_planned_mm_per_rev, d);
+      const double r_seed = sl.m.tool_life_used_fraction * plan * 60.0 / sl.m.time_in_cut_s;
+      const Run& rc = *corrected[k];
+      const double r_corr = rc.m.tool_life_used_fraction / rc.m.tool_life_plan_fraction;
+      const double r_seed_n =
+          sl.m.tool_life_used_nominal_hardness_fraction * plan * 60.0 / sl.m.time_in_cut_s;
+      const double r_corr_n =
+          rc.m.tool_life_used_nominal_hardness_fraction / rc.m.tool_life_plan_fraction;
+      worst = std::max(worst, std::abs(r_corr_n - 1.0));
+      ss.x.push_back(d);
+      ss.y.push_back(r_seed);
+      sd.x.push_back(d);
+      sd.y.push_back(r_corr);
+      ssn.x.push_back(d);
+      ssn.y.push_back(r_seed_n);
+      sdn.x.push_back(d);
+      sdn.y.push_back(r_corr_n);
+      jsn.push_back(json_number(r_seed_n));
+      jcn.push_back(json_number(r_corr_n));
+      jd.push_back(d);
+      jplan.push_back(json_number(plan));
+      js.push_back(json_number(r_seed));
+      jc.push_back(json_number(r_corr));
+      jcyc.push_back(json_number(rc.m.cycle_time_s));
+      depth_table.rows.push_back({fmt(d), fmt(plan, "%.1f"), fmt(r_seed, "%.3f"),
+                                  fmt(r_seed_n, "%.3f"), fmt(r_corr, "%.3f"), fmt(r_corr_n, "%.3f"),
+                                  fmt(rc.m.cycle_time_s, "%.1f"),
+                                  fmt(rc.m.tool_life_used_fraction, "%.4f")});
+    }
+    depth_plot.series = {ss, sd, ssn, sdn, constant(depths.front(), depths.back(), 1.0, "plan")};
+    sweep_json = {{"planned_depth_mm", jd},
+                  {"tool_life_planned_min", jplan},
+                  {"seed_law_used_to_plan", js},
+                  {"seed_law_used_to_plan_nominal_hardness", jsn},
+                  {"depth_corrected_used_to_plan", jc},
+                  {"depth_corrected_used_to_plan_nominal_hardness", jcn},
+                  {"depth_corrected_cycle_time_s", jcyc}};
+    s["planned_depth_sweep"] = sweep_json;
+    claims.note("the seed law's used/plan scales as t_p^(−x_v/m): its verdict is the choice of "
+                "t_p, from " + fmt(ss.y.front(), "%.2f") + " at t_p = " + fmt(depths.front()) +
+                " mm to " + fmt(ss.y.back(), "%.2f") + " at " + fmt(depths.back()) + " mm");
+    claims.check("depth-corrected law, what it is designed to hold (tool life at nominal "
+                 "hardness): largest |used/plan − 1| over the planned depths (≤ 0.15)",
+                 worst, Compare::AtMost, 0.15);
+    claims.note("with the part's hardness (1.0–1.3 along it here) in the tool-life law, the "
+                "depth-corrected law uses " + fmt(sd.y.front(), "%.2f") + "–" +
+                fmt(*std::max_element(sd.y.begin(), sd.y.end()), "%.2f") +
+                "× the plan at every t_p: hardness, which no force-only law can tell from depth, "
+                "not the planned depth, then sets the verdict");
   }
   s["claims"] = claims.json();
 
@@ -233,6 +448,8 @@ RunOutput run(const Scenario& sc) {
          fmt(r->m.tool_life_used_fraction / r->m.tool_life_plan_fraction, "%.3f"),
          fmt(r->m.force_peak_rev_mean, "%.0f"), fmt(r->m.force_within_5pct_fraction, "%.3f")});
   rep.tables.push_back(t);
+  if (runs.size() > 1 || tradeoff) rep.tables.push_back(cost_table);
+  if (!depths.empty()) rep.tables.push_back(depth_table);
 
   // Decisions of the main run, by reason code: how long each held, how often, first and last.
   {
@@ -330,6 +547,7 @@ RunOutput run(const Scenario& sc) {
                                true,
                                false});
   rep.plots.push_back(life);
+  if (!depths.empty()) rep.plots.push_back(depth_plot);
   Plot dist{"What the tool meets: depth of cut and hardness (main run)",
             "time [s]",
             "depth [mm] / factor",
