@@ -84,14 +84,9 @@ TEST(TwinTurretCut, FrozenDelayIgnoresTheActualLag) {
   }
 }
 
-// Free decay of one tool's cut with no regeneration (μ = 0) and a tiny chip (the static
-// deflection ≈ 1 µm): ζ from the decrement of the half peak-to-trough amplitudes (blind to the
-// slow drift of the static point while the first chip builds up), and the frequency.
-struct Decay {
-  double zeta, f_Hz;
-};
-Decay free_decay(bool ploughing, double disturbance_um = 5.0, double t_from = 0.08,
-                 std::size_t n = 24) {
+// One tool, no regeneration (μ = 0), a tiny chip (static deflection ≈ 1 µm), started from a
+// part displacement of `a_um`, with or without the flank's ploughing.
+TwinTurretCut::Params single_tool(bool ploughing, double a_um) {
   TwinTurretCut::Params p;
   p.part.length_m = 0.6;
   p.part.diameter_m = 0.04;
@@ -106,10 +101,22 @@ Decay free_decay(bool ploughing, double disturbance_um = 5.0, double t_from = 0.
   p.z_start_mm = 300.0;
   p.rpm_nominal = 820.0;
   p.feed_mm_per_rev = 1e-4;
-  p.initial_disturbance_um = disturbance_um;
+  p.initial_disturbance_um = a_um;
   p.process_damping.enabled = ploughing;
   p.process_damping.wear_land_mm = 0.1;
   p.process_damping.clearance_deg = 6.0;
+  return p;
+}
+
+// Free decay of one tool's cut with no regeneration (μ = 0) and a tiny chip (the static
+// deflection ≈ 1 µm): ζ from the decrement of the half peak-to-trough amplitudes (blind to the
+// slow drift of the static point while the first chip builds up), and the frequency.
+struct Decay {
+  double zeta, f_Hz;
+};
+Decay free_decay(bool ploughing, double disturbance_um = 5.0, double t_from = 0.08,
+                 std::size_t n = 24) {
+  const TwinTurretCut::Params p = single_tool(ploughing, disturbance_um);
   TwinTurretCut cut;
   const double dt = 2e-5, w = 820.0 / 60.0 * 2.0 * kPi;
   cut.configure(p, dt);
@@ -155,22 +162,7 @@ TEST(TwinTurretCut, PloughingOfTheWearLandAddsChiouLiangDamping) {
 // The same cut from a disturbance of `a_um`: half the swing of y over the 11th cycle after the
 // start, relative to a_um.
 double relative_amplitude_after_10_cycles(bool ploughing, double a_um) {
-  TwinTurretCut::Params p;
-  p.part.length_m = 0.6;
-  p.part.diameter_m = 0.04;
-  p.part.damping_ratio = 0.012;
-  p.modes = 1;
-  p.modes_follow_tool = false;
-  p.cutting.material = *library().find("steel_40Kh");
-  p.cutting.approach_angle_deg = 90.0;
-  p.setup = TwinSetup::Single;
-  p.depth_mm[0] = 2.0;
-  p.overlap = 0.0;
-  p.z_start_mm = 300.0;
-  p.rpm_nominal = 820.0;
-  p.feed_mm_per_rev = 1e-4;
-  p.initial_disturbance_um = a_um;
-  p.process_damping.enabled = ploughing;
+  const TwinTurretCut::Params p = single_tool(ploughing, a_um);
   TwinTurretCut cut;
   const double dt = 2e-5, w = 820.0 / 60.0 * 2.0 * kPi;
   cut.configure(p, dt);

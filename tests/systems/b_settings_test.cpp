@@ -4,38 +4,24 @@
 
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "support/library.hpp"
+#include "support/scenario_text.hpp"
 #include "systems/b_chatter/settings.hpp"
 
 namespace lathectl {
 namespace {
 
+using test::edited;
 using test::library;
-
-std::string example(const std::string& name) {
-  std::ifstream in(LATHECTL_SOURCE_DIR "/examples/scenarios/" + name + ".toml", std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::string edited(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  if (pos != std::string::npos) text.replace(pos, from.size(), to);
-  return text;
-}
 
 const sim::RigBConfig& rig(const io::Scenario& sc) { return sc.get<b_chatter::Settings>().rig; }
 
 TEST(SystemBSettings, DefaultsKeepTheModelOfTheGoldenRuns) {
-  const auto sc = io::parse_scenario(example("b_twin_depth_division"), "mem.toml", library());
+  const auto sc = io::parse_scenario(test::example_text("b_twin_depth_division"), "mem.toml", library());
   const auto& b = rig(sc);
   EXPECT_FALSE(b.seed_divides);
   EXPECT_DOUBLE_EQ(b.seed_coefficient, 1.41);
@@ -45,7 +31,7 @@ TEST(SystemBSettings, DefaultsKeepTheModelOfTheGoldenRuns) {
 }
 
 TEST(SystemBSettings, EachChoiceSetsWhatItSays) {
-  std::string text = example("b_twin_depth_division");
+  std::string text = test::example_text("b_twin_depth_division");
   text = edited(text, "coefficient = 1.41\n",
                 "coefficient = 1.41\ncoefficient_reading = \"divide\"\n");
   text = edited(text, "tool2_lag_mm = 2.0\n", "tool2_lag_mm = 2.0\ninter_tool_delay = \"fixed\"\n");
@@ -61,7 +47,7 @@ TEST(SystemBSettings, EachChoiceSetsWhatItSays) {
 }
 
 TEST(SystemBSettings, RefusesAnUnknownReading) {
-  const std::string text = edited(example("b_twin_feed_division"), "coefficient = 1.41\n",
+  const std::string text = edited(test::example_text("b_twin_feed_division"), "coefficient = 1.41\n",
                                   "coefficient = 1.41\ncoefficient_reading = \"half\"\n");
   EXPECT_THROW(io::parse_scenario(text, "mem.toml", library()), io::InputError);
 }
