@@ -163,7 +163,7 @@ io::RunOutput run(const io::Scenario& sc) {
       {"quenching_check",
        {{"van_der_pol_threshold_B_over_a0", vdp_B / 2.0},
         {"averaging_theory", 1.0 / std::numbers::sqrt2},
-        {"seed_coefficient", b.module.coefficient}}}};
+        {"seed_coefficient", b.seed_coefficient}}}};
   // The quenching condition under both readings of the seed's 1.41, for the a0 the module
   // planned on (just above the dead zone, chatter still growing) and for the document's a0, the
   // steady amplitude without modulation (issue 17). K = a0·m_d·|ω_d² − ω_m²|: the module's
