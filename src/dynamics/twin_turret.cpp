@@ -29,6 +29,12 @@ void TwinTurretCut::configure(const Params& p, double dt) {
   require(p.depth_mm[0] >= 0.0 && p.depth_mm[1] >= 0.0, "depths must be non-negative");
   require(p.overlap >= 0.0 && p.overlap <= 1.0, "overlap must be in [0, 1]");
   require(p.tool2_lag_mm >= 0.0, "tool2_lag must be non-negative");
+  require(p.slowest_feed_fraction > 0.0 && p.slowest_feed_fraction <= 1.0,
+          "slowest_feed_fraction must be in (0, 1]");
+  const ProcessDamping& pd = p.process_damping;
+  require(pd.k_sp_N_per_m3 >= 0.0 && pd.wear_land_mm >= 0.0 && pd.flank_length_mm > 0.0 &&
+              pd.clearance_deg > 0.0 && pd.clearance_deg < 45.0,
+          "process damping: K_sp, VB ≥ 0, flank length > 0, clearance in (0°, 45°)");
   p_ = p;
   p_.cutting.form = cutting::ForceForm::Kienzle;
   cut_.configure(p_.cutting);
@@ -37,17 +43,25 @@ void TwinTurretCut::configure(const Params& p, double dt) {
 
   const double tau = 60.0 / p.rpm_nominal;
   cells_per_rev_ = std::max<std::size_t>(64, static_cast<std::size_t>(std::lround(tau / dt)));
-  const int lag_revs = p.setup == TwinSetup::DepthDivision
-                           ? static_cast<int>(std::lround(p.tool2_lag_mm / p.feed_mm_per_rev))
-                           : 0;
+  const bool depth = p.setup == TwinSetup::DepthDivision;
+  const bool axial = depth && p.inter_tool_delay == InterToolDelay::AxialPositions;
+  const int lag_revs =
+      depth ? static_cast<int>(std::lround(p.tool2_lag_mm / p.feed_mm_per_rev)) : 0;
   if (lag_revs > 200)
     throw sim::ConfigError("cut.tool2_lag_mm", "tool2_lag_mm is more than 200 revolutions of feed");
-  if (!(static_cast<double>(cells_per_rev_) * (lag_revs + 2) <= 4e6))
+  // The axial-position search needs every pass of tool 1 within the lag, at its slowest feed.
+  const double mem_revs =
+      axial ? std::ceil(p.tool2_lag_mm / (p.feed_mm_per_rev * p.slowest_feed_fraction)) + 3.0
+            : lag_revs + 2.0;
+  if (!(static_cast<double>(cells_per_rev_) * mem_revs <= 4e6))
     throw sim::ConfigError(
         "run.step_s",
         "the surface memory (revolutions × steps per revolution) exceeds 4e6 cells: raise the "
         "step, the speed, or shorten tool2_lag_mm");
-  ring_cells_ = cells_per_rev_ * static_cast<std::size_t>(lag_revs + 2);
+  ring_cells_ = cells_per_rev_ * static_cast<std::size_t>(mem_revs);
+  uncut_reads_ = clipped_reads_ = 0;
+  delay_rev_ = 0.0;
+  sin_kappa_ = std::sin(p.cutting.approach_angle_deg * kPi / 180.0);
   const std::size_t n_rings = p.setup == TwinSetup::DepthDivision ? 2 : 1;
   rings_.assign(n_rings, Ring{std::vector<double>(ring_cells_, 0.0),
                               std::vector<double>(ring_cells_, p.z_start_mm)});
@@ -60,6 +74,13 @@ void TwinTurretCut::configure(const Params& p, double dt) {
     e.alpha = i == 0 ? 0.0 : kPi;
     e.t0_mm = p.depth_mm[i];
     e.d_weight = p.overlap;
+    if (pd.on()) {
+      // One sample per step over the flank at half the nominal speed (the spindle may sag).
+      const double v_low = 0.5 * kPi * p.part.diameter_m * p.rpm_nominal / 60.0;
+      const auto n = static_cast<std::size_t>(std::ceil(pd.flank_length_mm * 1e-3 / (v_low * dt)));
+      require(n <= 100000, "process damping: the flank spans more than 1e5 steps");
+      e.hist.assign(n + 2, 0.0);
+    }
   }
   if (p.setup == TwinSetup::FeedDivision) {
     // One shared layer. In cumulative material-angle cells tool 2 (at π) finds tool 1's pass
@@ -74,6 +95,8 @@ void TwinTurretCut::configure(const Params& p, double dt) {
     e2.d_ring = 0;
     e2.d_lag_rev = lag_revs;
     e2.d_weight = 1.0;
+    e2.axial = axial;
+    e2.pass_hint = lag_revs;
   }
   for (Edge& e : edges_)
     e.last_cell = static_cast<long long>(
@@ -122,6 +145,92 @@ double TwinTurretCut::read(const std::vector<double>& v, double cell) const noex
   return v[static_cast<std::size_t>(i)] * (1.0 - f) + v[static_cast<std::size_t>((i + 1) % m)] * f;
 }
 
+double TwinTurretCut::surface_over(Edge& e, double cell, double z_lo, double z_hi) noexcept {
+  // Tool 1's passes at this material angle, newest first: Z_j = z(cell − j·N), non-increasing
+  // in j (tool 1 only advances; where it did not cut, the older pass was carried forward).
+  const std::vector<double>& zr = rings_[0].z;
+  const std::vector<double>& dr = rings_[0].d;
+  const double n_rev = static_cast<double>(cells_per_rev_);
+  const long long last = static_cast<long long>(ring_cells_ / cells_per_rev_) - 1;
+  auto Z = [&](long long j) { return read(zr, cell - static_cast<double>(j) * n_rev); };
+  // The pass that cut z_hi: the oldest j with Z_j ≥ z_hi (then Z_{j+1} < z_hi).
+  long long j = std::clamp(e.pass_hint, 0LL, last);
+  while (j > 0 && Z(j) < z_hi) --j;
+  while (j < last && Z(j + 1) >= z_hi) ++j;
+  e.pass_hint = j;
+  const double t0_outer = p_.depth_mm[0] * 1e-3;  // the uncut layer above tool 1's surface
+  double zj = Z(j);
+  if (z_hi <= z_lo) {  // no chip: the surface at the edge
+    delay_rev_ = static_cast<double>(j) + 0.5;
+    if (zj < z_hi) {
+      ++uncut_reads_;
+      return t0_outer;
+    }
+    return read(dr, cell - static_cast<double>(j) * n_rev);
+  }
+  double sum = 0.0, weight_j = 0.0;
+  if (zj < z_hi) {  // only possible at j = 0: tool 2 is ahead of tool 1's last pass
+    ++uncut_reads_;
+    sum += (z_hi - std::max(zj, z_lo)) * t0_outer;
+  }
+  for (;; ++j) {
+    const bool oldest = j == last;
+    const double below = oldest ? z_lo : Z(j + 1);
+    if (oldest && zj > z_lo) ++clipped_reads_;
+    const double w = std::min(zj, z_hi) - std::max(below, z_lo);
+    if (w > 0.0) {
+      sum += w * read(dr, cell - static_cast<double>(j) * n_rev);
+      weight_j += w * static_cast<double>(j);
+    }
+    if (oldest || below <= z_lo) break;
+    zj = below;
+  }
+  delay_rev_ = weight_j / (z_hi - z_lo) + 0.5;
+  return sum / (z_hi - z_lo);
+}
+
+double TwinTurretCut::ploughing(Edge& e, double p, double v) const noexcept {
+  // History: p at this step and the ones before it, one sample per step.
+  const std::size_t n = e.hist.size();
+  e.hist_at = (e.hist_at + n - 1) % n;
+  e.hist[e.hist_at] = p;
+  if (!(v > 0.0)) return 0.0;
+  const ProcessDamping& pd = p_.process_damping;
+  const double dx = v * dt_;  // m per step behind the edge
+  const double land = pd.wear_land_mm * 1e-3, tan_g = std::tan(pd.clearance_deg * kPi / 180.0);
+  const double flank = pd.flank_length_mm * 1e-3;
+  // The surface is linear between samples and the flank is linear on each side of the land's
+  // end: integrate the positive part of the interference exactly on each linear piece (a
+  // sampled trapezoid would lose the land's end, where the clearance face drops by dx·tan γ
+  // within one sample, far more than a small vibration's interference).
+  auto positive = [](double f0, double f1, double len) {
+    if (f0 >= 0.0 && f1 >= 0.0) return 0.5 * (f0 + f1) * len;
+    if (f0 <= 0.0 && f1 <= 0.0) return 0.0;
+    const double fp = std::max(f0, f1);
+    return 0.5 * fp * fp / std::abs(f1 - f0) * len;
+  };
+  auto clearance = [&](double x) { return x > land ? (x - land) * tan_g : 0.0; };
+  double area = 0.0, x0 = 0.0, s0 = p;  // at the edge the surface is where the tool is
+  for (std::size_t k = 1; k < n && x0 < flank; ++k) {
+    double x1 = static_cast<double>(k) * dx, s1 = e.hist[(e.hist_at + k) % n];
+    if (x1 > flank) {  // the flank ends inside this sample
+      s1 = s0 + (s1 - s0) * (flank - x0) / (x1 - x0);
+      x1 = flank;
+    }
+    if (x0 < land && x1 > land) {  // split at the land's end
+      const double sl = s0 + (s1 - s0) * (land - x0) / (x1 - x0);
+      area += positive(p - s0, p - sl, land - x0);
+      area += positive(p - sl, p - clearance(x1) - s1, x1 - land);
+    } else {
+      area += positive(p - clearance(x0) - s0, p - clearance(x1) - s1, x1 - x0);
+    }
+    x0 = x1;
+    s0 = s1;
+  }
+  const double width = e.b_mm * 1e-3 / sin_kappa_;
+  return pd.k_sp_N_per_m3 * width * area;
+}
+
 void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept {
   const double n_rev = static_cast<double>(cells_per_rev_);
   const double cell = (theta - e.alpha) / (2.0 * kPi) * n_rev;
@@ -129,10 +238,11 @@ void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept
   // other turret's pass): read one cell ahead, past what this tool itself wrote last step.
   auto at = [&](double lag_rev) { return cell - lag_rev * n_rev + (lag_rev == 0.0 ? 1.0 : 0.0); };
   Ring& w = rings_[e.write_ring];
-  const double d_read = read(rings_[e.d_ring].d, at(e.d_lag_rev));
   const double z_read = read(w.z, at(e.z_lag_rev));
-  e.b_mm = e.t0_mm + (e.sigma * y_ + e.d_weight * d_read) * 1e3;
   e.s_mm = z_mm - z_read;
+  const double d_read = e.axial ? surface_over(e, cell, std::min(z_read, z_mm), z_mm)
+                                : read(rings_[e.d_ring].d, at(e.d_lag_rev));
+  e.b_mm = e.t0_mm + (e.sigma * y_ + e.d_weight * d_read) * 1e3;
   e.cutting = e.b_mm > 0.0 && e.s_mm > 0.0;
   if (e.cutting) {
     const double v = kPi * p_.part.diameter_m * rpm;  // m/min
@@ -141,6 +251,11 @@ void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept
     e.fp = f.Py;
   } else {
     e.fc = e.fp = 0.0;
+  }
+  e.fd = 0.0;
+  if (!e.hist.empty()) {
+    const double pd = ploughing(e, e.sigma * y_, kPi * p_.part.diameter_m * rpm / 60.0);
+    if (e.cutting) e.fd = pd;
   }
   // Write the cells swept since the last step: the new surface where the tool cut; where it did
   // not, the surface it met is carried forward (from the cell it reads its chip from; with a lag
@@ -169,7 +284,7 @@ void TwinTurretCut::step(double theta, double rpm, const double z_mm[2]) noexcep
   double fy = 0.0;
   for (int i = 0; i < n_tools_; ++i) {
     cut(edges_[i], theta, rpm, z_mm[i]);
-    fy -= edges_[i].sigma * edges_[i].fp;
+    fy -= edges_[i].sigma * (edges_[i].fp + edges_[i].fd);
   }
   y_ = 0.0;
   for (int j = 0; j < p_.modes; ++j) {

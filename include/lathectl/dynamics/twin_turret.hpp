@@ -25,8 +25,31 @@
 //     feed: the material a tool meets was last cut by the other turret half a revolution earlier
 //     (tool2_lag_mm offsets tool 2 axially: chips s/2 + lag and s/2 − lag)
 //   depth division: tool 1 cuts the outer layer (ring 0, own overlap μ); tool 2, trailing
-//     axially by tool2_lag_mm, cuts the inner layer from the surface tool 1 left
-//     (k + ½ revolutions earlier, k = round(lag/s)) — ring 1 holds tool 2's own surface.
+//     axially by tool2_lag_mm, cuts the inner layer from the surface tool 1 left — ring 1
+//     holds tool 2's own surface. Which pass of tool 1 left that surface (the inter-tool delay):
+//     - AxialPositions (default, the physics): found at every step from the positions the rings
+//       hold. At its material angle, tool 1's pass j revolutions (+½) back was at Z_j and cut
+//       the axial band (Z_{j+1}, Z_j]; tool 2's chip spans (z2 − s2, z2], so the outer
+//       boundary of its chip is the band-weighted mean of tool 1's passes over it. The delay
+//       then follows the tools' actual axial offset: a modulated feed swings it by whole
+//       revolutions, as the spindle-speed-variation literature's variable delay (e.g. Insperger
+//       & Stépán, "Stability analysis of turning with periodic spindle speed modulation via
+//       semi-discretization", J. Vib. Control 10 (2004)). Where tool 2 has overtaken tool 1's
+//       last pass it meets the uncut outer layer (depth + t0 of tool 1; tool 1 does not learn
+//       that this material is gone: a limit of the two-layer model, counted in uncut_reads()).
+//     - Fixed: k + ½ revolutions earlier, k = round(lag/s), frozen at configure() (the model
+//       before; kept to reproduce earlier results). With a constant feed it reads the pass one
+//       revolution older than the one that cut z2 whenever frac(lag/s) ≥ ½.
+// Process damping (optional, off by default): the flank of each tool ploughs the wavy surface it
+// has just cut (Wu, ASME J. Eng. Ind. 111 (1989); Chiou & Liang, IJMTM 38 (1998); Ahmadi &
+// Ismail, IJMTM 50 (2010)). With p(t) = σ_i·y(t) the tool's penetration into the part, the
+// surface a distance x behind the edge is p(t − x/V); the flank there is at p(t) − c(x), with
+// c = 0 on the wear land (x ≤ VB) and (x − VB)·tan γ on the clearance face beyond. The
+// interference area A = ∫ max(0, p(t) − c(x) − p(t − x/V)) dx over the flank gives a radial
+// force K_sp·w·A (w = b/sin κ, the engaged edge, as the force law's width). It is one-sided and
+// grows steeply once the surface slope ṗ/V exceeds tan γ: an amplitude-limiting nonlinearity
+// besides loss of contact. Small vibrations see on average the linear damping
+// K_sp·w·VB²/(4V) (Chiou & Liang's equivalent viscous coefficient).
 // Only the radial plane is modelled: F_c acts in the other bending plane, whose vibration does
 // not change the depth to first order.
 // configure() allocates the rings and may throw; step() never allocates.
@@ -40,6 +63,19 @@
 namespace lathectl::dynamics {
 
 enum class TwinSetup : std::uint8_t { Single, FeedDivision, DepthDivision };
+enum class InterToolDelay : std::uint8_t { AxialPositions, Fixed };
+
+// The flank's ploughing of the surface it has just cut (see above); off unless enabled.
+struct ProcessDamping {
+  bool enabled = false;
+  // Specific indentation force K_sp: the order reported for carbon steels (Chiou & Liang 1998
+  // and Ahmadi & Ismail 2010 work with ≈ 4·10^13 N/m³); a parameter, swept in the report.
+  double k_sp_N_per_m3 = 4e13;
+  double wear_land_mm = 0.1;      // VB: the flank's land without clearance
+  double clearance_deg = 6.0;     // γ: the clearance face beyond the land
+  double flank_length_mm = 2.0;   // how far behind the edge the flank can touch
+  [[nodiscard]] bool on() const noexcept { return enabled && k_sp_N_per_m3 > 0.0; }
+};
 
 class TwinTurretCut {
  public:
@@ -59,6 +95,11 @@ class TwinTurretCut {
     // revolution (the depth division's lag in revolutions).
     double rpm_nominal = 800.0;
     double feed_mm_per_rev = 0.1;
+    InterToolDelay inter_tool_delay = InterToolDelay::AxialPositions;
+    // The slowest sustained feed of tool 1 as a share of feed_mm_per_rev (a modulated feed
+    // runs below it): sizes the surface memory the axial-position delay searches.
+    double slowest_feed_fraction = 1.0;
+    ProcessDamping process_damping{};
   };
   void configure(const Params& p, double dt_s);  // throws std::invalid_argument
   // One step: the spindle's cumulative angle [rad] and speed [rpm], and the tools' axial
@@ -77,6 +118,14 @@ class TwinTurretCut {
   [[nodiscard]] double power_W(double rpm) const noexcept;
   [[nodiscard]] bool sound() const noexcept { return sound_; }
   [[nodiscard]] const Params& params() const noexcept { return p_; }
+  // Depth division, axial-position delay: tool 2 steps that met material tool 1 had not cut
+  // yet, and steps whose search ran past the oldest pass in memory (read there).
+  [[nodiscard]] long long uncut_reads() const noexcept { return uncut_reads_; }
+  [[nodiscard]] long long clipped_reads() const noexcept { return clipped_reads_; }
+  // The process-damping (ploughing) share of tool i's radial force at the last step [N].
+  [[nodiscard]] double ploughing_N(int i) const noexcept { return edges_[i].fd; }
+  // The revolutions back (+½) of tool 1's pass tool 2 read last (depth division): the delay.
+  [[nodiscard]] double inter_tool_delay_rev() const noexcept { return delay_rev_; }
 
  private:
   struct Ring {
@@ -94,11 +143,20 @@ class TwinTurretCut {
     double t0_mm = 0.0;
     long long last_cell = 0;
     bool cutting = false;
-    double fc = 0.0, fp = 0.0, b_mm = 0.0, s_mm = 0.0;
+    bool axial = false;  // the surface it meets is found from the axial positions
+    long long pass_hint = 0;
+    double fc = 0.0, fp = 0.0, fd = 0.0, b_mm = 0.0, s_mm = 0.0;
+    // Penetration p = σ·y over the last steps (newest at hist_at), for the ploughing.
+    std::vector<double> hist;
+    std::size_t hist_at = 0;
   };
   void update_modes(double x_mm) noexcept;
   double read(const std::vector<double>& v, double cell) const noexcept;
   void cut(Edge& e, double theta, double rpm, double z_mm) noexcept;
+  // Depth division: the outer boundary d of tool 2's chip over (z_lo, z_hi] at its cell.
+  double surface_over(Edge& e, double cell, double z_lo, double z_hi) noexcept;
+  // The ploughing force of the flank [N] for penetration p now, at cutting speed v [m/s].
+  double ploughing(Edge& e, double p, double v_m_per_s) const noexcept;
 
   Params p_{};
   double dt_ = 2e-5;
@@ -114,6 +172,9 @@ class TwinTurretCut {
          phi22_[kMaxModes] = {}, g1_[kMaxModes] = {}, g2_[kMaxModes] = {}, shape_[kMaxModes] = {};
   double modes_at_mm_ = -1e9;
   double y_ = 0.0;
+  long long uncut_reads_ = 0, clipped_reads_ = 0;
+  double delay_rev_ = 0.0;
+  double sin_kappa_ = 1.0;
 };
 
 }  // namespace lathectl::dynamics

@@ -20,6 +20,7 @@ void measure(Run& r, bool twin, double dead_zone_um) {
   double lo = 1e300, hi = -1e300, p = 0.0, pm = 0.0, n = 0.0, out = 0.0, ys = 0.0;
   const auto c1 = rec.column("chip1_mm"), c2 = rec.column("chip2_mm");
   const auto pw = rec.column("cut_power_W"), pwm = rec.column("cut_power_measured_W");
+  const auto dl = rec.column("inter_tool_delay_rev");
   std::size_t first = t.size(), last = 0;
   for (std::size_t i = 0; i < t.size(); ++i) {
     if (t[i] < r.t0 || t[i] > r.t1) continue;
@@ -33,6 +34,10 @@ void measure(Run& r, bool twin, double dead_zone_um) {
     ys += y[i];
     n += 1.0;
     if (twin && ((c1[i] == 0.0) != (c2[i] == 0.0))) out += 1.0;
+    if (dl[i] > 0.0) {
+      r.delay_min_rev = std::isnan(r.delay_min_rev) ? dl[i] : std::min(r.delay_min_rev, dl[i]);
+      r.delay_max_rev = std::isnan(r.delay_max_rev) ? dl[i] : std::max(r.delay_max_rev, dl[i]);
+    }
   }
   if (n > 0.0) {
     r.forced_um = 0.5 * (hi - lo);

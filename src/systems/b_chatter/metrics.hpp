@@ -22,6 +22,8 @@ struct Run {
   double feed_mean[2] = {0.0, 0.0};  // per turret over the cut [mm/min]
   double cut_power_W = 0.0, cut_power_measured_W = 0.0;
   double one_out_share = 0.0;  // share of the window with one turret out of the cut
+  // Depth division: the revolutions (+½) back of tool 1's pass tool 2 met, over the window.
+  double delay_min_rev = kNaN, delay_max_rev = kNaN;
   double t0 = 0.0, t1 = 0.0;   // the window
 };
 

@@ -42,7 +42,8 @@ std::vector<Channel> rig_b_channels() {
           {"S_min_mm_per_min", "mm/min"},
           {"dS_mm_per_min", "mm/min"},
           {"dl_mm", "mm"},
-          {"n_s", ""}};
+          {"n_s", ""},
+          {"inter_tool_delay_rev", "rev"}};
 }
 
 }  // namespace
@@ -132,6 +133,14 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
   pp.initial_disturbance_um = cfg.initial_disturbance_um;
   pp.rpm_nominal = cfg.rpm;
   pp.feed_mm_per_rev = cfg.feed_mm_per_rev;
+  pp.inter_tool_delay = cfg.inter_tool_delay;
+  pp.process_damping = cfg.process_damping;
+  // The slowest feed of tool 1 (the right turret) a modulation can hold, for the surface memory.
+  if (cfg.source == control::ModulationSource::Automatic)
+    pp.slowest_feed_fraction = cfg.module.s_min_fraction;
+  else if (cfg.source == control::ModulationSource::Programmed)
+    pp.slowest_feed_fraction =
+        std::clamp(cfg.programmed.s_min_mm_per_min / (cfg.feed_mm_per_rev * cfg.rpm), 0.05, 1.0);
   configure_as("cut", [&] { process_.configure(pp, dt); });
   n_tools_ = process_.tools();
   for (int i = 0; i < 2; ++i) {
@@ -241,7 +250,10 @@ bool RigB::step() noexcept {
                           pl.s_min_mm_per_min,
                           pl.ds_mm_per_min,
                           pl.dl_mm,
-                          static_cast<double>(pl.n_s)};
+                          static_cast<double>(pl.n_s),
+                          cfg_.setup == TwinSetup::DepthDivision
+                              ? process_.inter_tool_delay_rev()
+                              : 0.0};
     rec_.push_row(row);
   }
   t_ += dt_;

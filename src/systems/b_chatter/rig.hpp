@@ -54,6 +54,19 @@ struct RigBConfig {
   // The modes follow the tool along the part (true), or stay at z_start (for checks against
   // the stability charts at one position).
   bool modes_follow_tool = true;
+  // Depth division: the pass of tool 1 whose surface tool 2 meets, from the tools' axial
+  // positions at every step (the physics) or frozen at round(lag/s) + ½ revolutions.
+  dynamics::InterToolDelay inter_tool_delay = dynamics::InterToolDelay::AxialPositions;
+  // The flank's ploughing (process damping); K_sp = 0: off (the default model).
+  dynamics::ProcessDamping process_damping{};
+  // The seed's quenching formula: the number it prints (1.41) and how the garbled text is read:
+  // multiplying, A_P ≥ 1.41·a0·m_d·|ω_d² − ω_m²|, or dividing, A_P ≥ a0·m_d·|ω_d² − ω_m²|/1.41
+  // (docs/system-b-chatter.md). The module's coefficient is the one or the other.
+  double seed_coefficient = 1.41;
+  bool seed_divides = false;
+  [[nodiscard]] double module_coefficient() const noexcept {
+    return seed_divides ? 1.0 / seed_coefficient : seed_coefficient;
+  }
 };
 
 class RigB {
@@ -69,6 +82,7 @@ class RigB {
   [[nodiscard]] double time_s() const noexcept { return t_; }
   [[nodiscard]] double cut_start_s() const noexcept { return t_cut_start_; }
   [[nodiscard]] bool numerically_sound() const noexcept { return process_.sound(); }
+  [[nodiscard]] const dynamics::TwinTurretCut& process() const noexcept { return process_; }
   [[nodiscard]] double engaged_at_s() const noexcept { return engaged_at_; }
   [[nodiscard]] const control::ModulatedFeedController::Output& module_output() const noexcept {
     return mod_out_;

@@ -84,6 +84,15 @@ void read_cut(TableReader& root, sim::RigBConfig& b) {
   c->read({"initial_disturbance_um", Range::closed(0, 1000),
            "part displacement at the start of the cut"},
           b.initial_disturbance_um);
+  const bool fixed =
+      c->pick({"inter_tool_delay",
+               {},
+               "depth division: the pass of tool 1 whose surface tool 2 meets, found from both "
+               "tools' axial positions at every step (the physics), or fixed at round(lag/s) + "
+               "½ revolutions (the model before; a modulated feed cannot change it)"},
+              {"axial_positions", "fixed"}, "axial_positions") == "fixed";
+  b.inter_tool_delay =
+      fixed ? dynamics::InterToolDelay::Fixed : dynamics::InterToolDelay::AxialPositions;
   c->finish();
 }
 
@@ -163,8 +172,17 @@ void read_modulation(TableReader& md, sim::RigBConfig& b) {
                  : control::Turret::Right;
   md.check(!(b.setup == sim::TwinSetup::Single && b.turret == control::Turret::Left), "turret",
            "a single-tool set-up has only the right turret");
-  md.read({"coefficient", {0.0, 100.0, true, false}, "c in A_P ≥ c·a0·m_d·|ω_d² − ω_m²|"},
-          m.coefficient);
+  md.read({"coefficient", {0.0, 100.0, true, false},
+           "the seed formula's number c (1.41); how it enters: coefficient_reading"},
+          b.seed_coefficient);
+  b.seed_divides =
+      md.pick({"coefficient_reading",
+               {},
+               "the garbled seed formula read as A_P ≥ c·a0·m_d·|ω_d² − ω_m²| (multiply: a "
+               "forced amplitude B ≥ 1.41·a0, twice van der Pol averaging's threshold) or A_P ≥ "
+               "a0·m_d·|ω_d² − ω_m²|/c (divide: B ≥ a0/√2, the threshold itself)"},
+              {"multiply", "divide"}, b.seed_divides ? "divide" : "multiply") == "divide";
+  m.coefficient = b.module_coefficient();
   md.read({"part_mass_kg",
            {0.0, 1e6, true, false},
            "m_d; by default the first mode's modal mass at mid-cut"},
@@ -220,6 +238,27 @@ void read_modulation(TableReader& md, sim::RigBConfig& b) {
   md.finish();
 }
 
+// [process_damping]: the flank ploughing the surface it has just cut (beyond the seed).
+void read_process_damping(TableReader& pd, sim::RigBConfig& b) {
+  auto& p = b.process_damping;
+  p.enabled = pd.pick({"model", {}, "none, or the flank's indentation (Wu 1989; Chiou & "
+                                       "Liang 1998): a radial force K_sp·w·A of the area A the "
+                                       "flank overlaps the surface"},
+                      {"none", "indentation"}, p.enabled ? "indentation" : "none") ==
+              "indentation";
+  pd.read({"K_sp_N_per_mm3", {0.0, 1e7, true, false},
+           "K_sp, the specific indentation force (steels: order 1e4 … 1e5 N/mm³)", 1e9},
+          p.k_sp_N_per_m3);
+  pd.read({"wear_land_mm", Range::closed(0, 2), "VB, the flank's wear land (no clearance)"},
+          p.wear_land_mm);
+  pd.read({"clearance_deg", {0.0, 45.0, true, true}, "γ, the clearance beyond the land"},
+          p.clearance_deg);
+  pd.read({"flank_length_mm", {0.0, 20.0, true, false},
+           "how far behind the edge the flank reaches (the insert's thickness)"},
+          p.flank_length_mm);
+  pd.finish();
+}
+
 // [study]: what the study runs besides the scenario itself.
 void read_study(TableReader& st, Settings& s) {
   st.read({"compare_without_modulation", {}, "also run without modulation"}, s.compare);
@@ -252,6 +291,7 @@ void read_tables(TableReader& root, io::Scenario& sc, const io::MaterialLibrary&
 
   derive_module_defaults(root, b);
   if (auto md = root.table("modulation")) read_modulation(*md, b);
+  if (auto pd = root.table("process_damping")) read_process_damping(*pd, b);
   if (auto st = root.table("study")) read_study(*st, s);
 }
 

@@ -163,7 +163,62 @@ io::RunOutput run(const io::Scenario& sc) {
       {"quenching_check",
        {{"van_der_pol_threshold_B_over_a0", vdp_B / 2.0},
         {"averaging_theory", 1.0 / std::numbers::sqrt2},
-        {"seed_coefficient", b.module.coefficient}}}};
+        {"seed_coefficient", b.seed_coefficient}}}};
+  // The quenching condition under both readings of the seed's 1.41, for the a0 the module
+  // planned on (just above the dead zone, chatter still growing) and for the document's a0, the
+  // steady amplitude without modulation (issue 17). K = a0·m_d·|ω_d² − ω_m²|: the module's
+  // required force is c·K (multiply) or K/c (divide).
+  const double c_seed = b.seed_coefficient;
+  const bool automatic_engaged = b.source == control::ModulationSource::Automatic && mo.engaged;
+  double k_planned = kNaN, k_steady = kNaN, a0_steady_um = kNaN;
+  if (automatic_engaged) {
+    k_planned = mo.force_amplitude_required_N / b.module_coefficient();
+    if (off && std::isfinite(off->chatter_Hz)) {
+      const double wd = 2.0 * std::numbers::pi * off->chatter_Hz;
+      const double wm = mo.omega_m_rad_per_s;
+      a0_steady_um = off->vibration_um;
+      k_steady = a0_steady_um * 1e-6 * b.module.part_mass_kg * std::abs(wd * wd - wm * wm);
+    }
+    auto reading = [&](double k, double a0_um) {
+      return json{{"a0_um", json_number(a0_um)},
+                  {"required_multiply_N", json_number(c_seed * k)},
+                  {"required_divide_N", json_number(k / c_seed)},
+                  {"ratio_multiply", json_number(mo.force_amplitude_planned_N / (c_seed * k))},
+                  {"ratio_divide", json_number(mo.force_amplitude_planned_N * c_seed / k)}};
+    };
+    const double wd_plan =
+        off && std::isfinite(off->chatter_Hz) ? 2.0 * std::numbers::pi * off->chatter_Hz : kNaN;
+    const double a0_plan_um =
+        k_planned /
+        (b.module.part_mass_kg * std::abs(wd_plan * wd_plan -
+                                          mo.omega_m_rad_per_s * mo.omega_m_rad_per_s)) *
+        1e6;
+    s["metrics"]["quenching_condition"] = {
+        {"reading", b.seed_divides ? "divide" : "multiply"},
+        {"planned_N", mo.force_amplitude_planned_N},
+        {"at_planned_a0", reading(k_planned, a0_plan_um)},
+        {"at_steady_a0", reading(k_steady, a0_steady_um)}};
+  }
+  if (b.setup == sim::TwinSetup::DepthDivision) {
+    const auto& pc = main.rig.process();
+    s["metrics"]["inter_tool_delay"] = {
+        {"model", b.inter_tool_delay == dynamics::InterToolDelay::Fixed ? "fixed"
+                                                                         : "axial_positions"},
+        {"min_rev", json_number(main.delay_min_rev)},
+        {"max_rev", json_number(main.delay_max_rev)},
+        {"uncut_reads", pc.uncut_reads()},
+        {"clipped_reads", pc.clipped_reads()}};
+  }
+  if (b.process_damping.on())
+    s["metrics"]["process_damping"] = {
+        {"model", "indentation"},
+        {"K_sp_N_per_mm3", b.process_damping.k_sp_N_per_m3 * 1e-9},
+        {"wear_land_mm", b.process_damping.wear_land_mm},
+        {"clearance_deg", b.process_damping.clearance_deg},
+        {"linear_equivalent_N_s_per_m",
+         b.process_damping.k_sp_N_per_m3 * b.depth_mm[0] * 1e-3 *
+             std::pow(b.process_damping.wear_land_mm * 1e-3, 2) /
+             (4.0 * std::numbers::pi * b.part.diameter_m * b.rpm / 60.0)}};
   if (!sweep.empty()) {
     json sw = json::array();
     for (const auto& p : sweep)
@@ -219,8 +274,39 @@ io::RunOutput run(const io::Scenario& sc) {
       "Van der Pol check: forced amplitude at which a small self-excited oscillation stops "
       "growing, measured " +
       fmt(vdp_B / 2.0, "%.4f") + "·a0; averaging theory a0/√2 = 0.7071·a0; the seed asks " +
-      fmt(b.module.coefficient) + "·a0 (a " +
-      fmt(b.module.coefficient * std::numbers::sqrt2, "%.2f") + "× margin).");
+      fmt(b.module_coefficient()) + "·a0 (a " +
+      fmt(b.module_coefficient() * std::numbers::sqrt2, "%.2f") + "× margin).");
+  if (automatic_engaged)
+    claims.note(
+        "The seed's 1.41, read both ways (coefficient_reading = \"" +
+        std::string(b.seed_divides ? "divide" : "multiply") +
+        "\" here). At the a0 the module planned on (just above the dead zone): required " +
+        fmt(c_seed * k_planned) + " N multiplying, " + fmt(k_planned / c_seed) +
+        " N dividing, against " + fmt(mo.force_amplitude_planned_N) + " N planned (ratio " +
+        fmt(mo.force_amplitude_planned_N / (c_seed * k_planned), "%.2f") + " or " +
+        fmt(mo.force_amplitude_planned_N * c_seed / k_planned, "%.2f") +
+        ")." +
+        (std::isfinite(k_steady)
+             ? " At the document's a0, the steady amplitude without modulation (" +
+                   fmt(a0_steady_um, "%.0f") + " µm): " + fmt(c_seed * k_steady, "%.0f") +
+                   " N or " + fmt(k_steady / c_seed, "%.0f") + " N (ratio " +
+                   fmt(mo.force_amplitude_planned_N / (c_seed * k_steady), "%.3f") + " or " +
+                   fmt(mo.force_amplitude_planned_N * c_seed / k_steady, "%.3f") +
+                   "): the document's rule, read either way, asks a feed drive for a force "
+                   "swing it cannot make once chatter is developed."
+             : std::string()));
+  if (b.setup == sim::TwinSetup::DepthDivision &&
+      b.inter_tool_delay == dynamics::InterToolDelay::AxialPositions)
+    claims.note("Inter-tool delay from the tools' axial positions: tool 2 met the surface tool 1 "
+                "left " +
+                fmt(main.delay_min_rev, "%.2f") + " … " + fmt(main.delay_max_rev, "%.2f") +
+                " revolutions earlier over the steady window (frozen model: round(lag/s) + ½ = " +
+                fmt(std::round(b.tool2_lag_mm / b.feed_mm_per_rev) + 0.5, "%.1f") + ").");
+  if (b.process_damping.on())
+    claims.note("Process damping (flank indentation, K_sp = " +
+                fmt(b.process_damping.k_sp_N_per_m3 * 1e-9, "%.3g") + " N/mm³, VB = " +
+                fmt(b.process_damping.wear_land_mm) + " mm, γ = " +
+                fmt(b.process_damping.clearance_deg) + "°) is on: beyond the seed's model.");
   if (b.setup == sim::TwinSetup::FeedDivision)
     claims.note("Linear limits at z = " + fmt(lim_x) + " mm, " + fmt(b.rpm) +
                 " rpm: feed division chatters above s = " + fmt(lim.twin_feed, "%.3f") +
