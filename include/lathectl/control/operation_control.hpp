@@ -1,0 +1,136 @@
+#pragma once
+// What a shop's adaptive control needs around the control law (Heidenhain AFC, Caron TMAC), for
+// the LinuxCNC component lathectl_adaptive:
+//
+//   IdleTare        the spindle drive's idle power P_idle(n) = p0 + p1·n + p2·n² (seed 001's
+//                   law, drives::idle_power_W) learned from the drive's power pin while the tool
+//                   is out of the cut at a steady speed, so that P_cut = P_drive − P_idle(n) is
+//                   the load sensor a lathe without a dynamometer has. Speed bins hold a running
+//                   mean (time constant tau_s: warm-up drift is followed) and the law is fitted by
+//                   least squares over the bins that have data (every speed counts once, however
+//                   long the machine stood there).
+//   TeachIn         the reference load of a teach cut: the mean of the load over the steady cut,
+//                   whole revolutions only, without the entry (the first settle_revs revolutions)
+//                   and without the exit (the last two revolutions before the tool left the cut).
+//   OperationStats  one operation's record for the log: per-revolution mean load (mean and
+//                   peak), the adaptive feed factor (min and mean) and the time in cut.
+//   check_operation the per-operation settings a program or a tool table gives, against the
+//                   machine's rating: a code naming what is wrong, never a silently used value.
+//
+// Real-time: update()/sample()/check never allocate, throw, lock or log.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+namespace lathectl::control {
+
+class IdleTare {
+ public:
+  static constexpr std::size_t kBins = 32;
+  struct Params {
+    double rpm_max = 4000.0;      // the speed range the bins cover [0, rpm_max]
+    double rpm_min = 30.0;        // below this the spindle is not "running" (nothing learned)
+    double tau_s = 3.0;           // running-mean time constant of a bin
+    double steady_rpm_per_s = 20.0;  // |dn/dt| above this: the drive accelerates, not idle
+    double settle_s = 0.2;        // after a speed change, wait this long before learning
+  };
+  void configure(const Params& p);  // throws std::invalid_argument
+  // One sample of the drive's power at speed rpm; `air` when the tool is out of the cut.
+  void update(double rpm, double drive_power_W, double dt, bool air) noexcept;
+  // P_idle at rpm from the fitted law; NaN until one bin has data.
+  [[nodiscard]] double idle_W(double rpm) const noexcept;
+  [[nodiscard]] bool ready() const noexcept { return populated_ >= 3; }
+  // Whether the law is known at rpm: a learned bin within 10 % (or one bin width) of it, or rpm
+  // inside the span of three or more learned bins. Elsewhere the fit would extrapolate.
+  [[nodiscard]] bool covers(double rpm) const noexcept;
+  [[nodiscard]] std::size_t bins_learned() const noexcept { return populated_; }
+  // The fitted law's coefficients p0 [W], p1 [W/rpm], p2 [W/rpm²].
+  [[nodiscard]] std::array<double, 3> coefficients() const noexcept { return c_; }
+
+ private:
+  void fit() noexcept;
+  Params p_{};
+  std::array<double, kBins> power_{};
+  std::array<double, kBins> rpm_{};
+  std::array<double, kBins> weight_s_{};
+  std::array<double, 3> c_{};
+  std::size_t populated_ = 0;
+  double last_rpm_ = 0.0;
+  double steady_s_ = 0.0;
+  bool dirty_ = false;
+};
+
+class TeachIn {
+ public:
+  struct Params {
+    double settle_revs = 4.0;  // entry transient: revolutions in cut not taken
+    double min_revs = 3.0;     // fewer whole steady revolutions: no reference
+  };
+  void configure(const Params& p) noexcept { p_ = p; }
+  void start() noexcept;
+  // One control period; returns true once, when the cut has ended with a reference.
+  bool sample(double load, double rpm, double dt, bool in_cut) noexcept;
+  [[nodiscard]] bool running() const noexcept { return running_; }
+  [[nodiscard]] double reference() const noexcept { return reference_; }
+  [[nodiscard]] double revolutions() const noexcept { return revs_; }
+
+ private:
+  Params p_{};
+  bool running_ = false;
+  bool cutting_ = false;
+  double t_in_revs_ = 0.0;  // revolutions since contact
+  double rev_phase_ = 0.0;  // of the revolution being filled
+  double cur_sum_ = 0.0, cur_n_ = 0.0;    // the revolution being filled
+  double pend_sum_ = 0.0, pend_n_ = 0.0;  // the last whole revolution (not yet taken)
+  double pend2_sum_ = 0.0, pend2_n_ = 0.0;  // the one before it (not yet taken)
+  double sum_ = 0.0, n_ = 0.0, revs_ = 0.0;
+  double reference_ = 0.0;
+};
+
+class OperationStats {
+ public:
+  void reset() noexcept { *this = OperationStats{}; }
+  // One control period: load, adaptive feed factor, in a cut (feed block, tool in contact).
+  void sample(double load, double feed_factor, double rpm, double dt, bool in_cut) noexcept;
+  [[nodiscard]] double mean_load() const noexcept { return revs_ > 0 ? rev_sum_ / revs_ : 0.0; }
+  [[nodiscard]] double peak_load() const noexcept { return rev_peak_; }
+  [[nodiscard]] double feed_min() const noexcept { return t_cut_ > 0.0 ? feed_min_ : 1.0; }
+  [[nodiscard]] double feed_mean() const noexcept {
+    return t_cut_ > 0.0 ? feed_int_ / t_cut_ : 1.0;
+  }
+  [[nodiscard]] double time_in_cut_s() const noexcept { return t_cut_; }
+  [[nodiscard]] double time_s() const noexcept { return t_; }
+
+ private:
+  double t_ = 0.0, t_cut_ = 0.0;
+  double feed_min_ = 1e300, feed_int_ = 0.0;
+  double rev_phase_ = 0.0, cur_sum_ = 0.0, cur_n_ = 0.0;
+  double rev_sum_ = 0.0, revs_ = 0.0, rev_peak_ = 0.0;
+};
+
+// What is wrong with a per-operation setting (0: nothing). The component's bad-code pin.
+enum class SettingError : std::int32_t {
+  None = 0,
+  LimitNotFinite = 1,
+  LimitNegative = 2,
+  LimitAboveRating = 3,
+  FeedBounds = 4,  // feed_min ≤ 0, feed_max ≤ feed_min, not finite, or above the rating
+  Mode = 5,        // not one of the mode codes
+  Percentage = 6,  // a percentage of the taught reference outside (0, max]
+  NotTaught = 7,   // control at a percentage of a reference this tool/operation has not taught
+};
+
+struct OperationRating {
+  double limit_max = 0.0;     // the machine's rating in the sensor's unit (N or W)
+  double feed_max_mm_per_rev = 0.0;
+  double percent_max = 200.0;  // of a taught reference
+};
+
+// A limit, feed bounds (0 means "not set": the caller's default applies, so only negative, NaN
+// and too-large values are errors), checked against the rating.
+[[nodiscard]] SettingError check_limit(double limit, const OperationRating& r) noexcept;
+[[nodiscard]] SettingError check_feeds(double feed_min, double feed_max,
+                                       const OperationRating& r) noexcept;
+
+}  // namespace lathectl::control
