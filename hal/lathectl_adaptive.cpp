@@ -112,6 +112,7 @@ struct Pins {
   hal_bit_t* teaching;
   hal_float_t* idle_power;
   hal_bit_t* tare_ready;
+  hal_float_t* idle_p[3];
   hal_bit_t* bad_setting;
   hal_s32_t* bad_code;
   hal_s32_t* bad_line;
@@ -401,8 +402,13 @@ void update(void*, long period_ns) {
       s.tare.update(rpm, *p.spindle_power, dt, !feed_block);
       const double idle = s.tare.idle_W(rpm);
       *p.idle_power = std::isfinite(idle) ? idle : 0.0;
+      const auto k = s.tare.coefficients();
+      for (int i = 0; i < 3; ++i) *p.idle_p[i] = k[static_cast<std::size_t>(i)];
       sensing = s.tare.covers(rpm);
       sig.force = (*p.spindle_power - idle) * s.spindle.efficiency;
+      // Outside feed moves nothing is cut: what is left is the power that accelerates or brakes
+      // the spindle (M3/M5, speed changes), not a load.
+      if (!feed_block) sig.force = std::max(sig.force, 0.0);
       sig.spindle_power_W = *p.spindle_power;
       sig.idle_power_W = idle;
       parameter = lathectl::cutting::ForceParameter::Power;
@@ -536,6 +542,10 @@ extern "C" int rtapi_app_main(void) {
                                  ": expected force or power");
     state->power_sensor = sensor_kind == "power";
     auto c = e.controller;
+    if (state->power_sensor) {  // the sensor's valid range in W (the scenario's is its sensor's)
+      c.sensor_monitor.min = -0.2 * e.spindle.max_power_W;
+      c.sensor_monitor.max = 2.0 * e.spindle.max_power_W;
+    }
     state->ctl.configure(c);
     state->base = c;
     state->parameter = e.force_parameter;
@@ -625,6 +635,9 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.teaching, HAL_OUT, comp_id, kPrefix, "teaching");
     pin(&p.idle_power, HAL_OUT, comp_id, kPrefix, "idle-power");
     pin(&p.tare_ready, HAL_OUT, comp_id, kPrefix, "tare-ready");
+    pin(&p.idle_p[0], HAL_OUT, comp_id, kPrefix, "idle-p0");
+    pin(&p.idle_p[1], HAL_OUT, comp_id, kPrefix, "idle-p1");
+    pin(&p.idle_p[2], HAL_OUT, comp_id, kPrefix, "idle-p2");
     pin(&p.bad_setting, HAL_OUT, comp_id, kPrefix, "bad-setting");
     pin(&p.bad_code, HAL_OUT, comp_id, kPrefix, "bad-code");
     pin(&p.bad_line, HAL_OUT, comp_id, kPrefix, "bad-line");

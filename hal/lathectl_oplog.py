@@ -39,7 +39,8 @@ BAD = {1: "limit is not a number", 2: "limit is negative", 3: "limit above the m
        4: "feed bounds invalid (need 0 <= min < max <= rating)", 5: "mode/operation not a valid code",
        6: "percentage of the taught reference out of range", 7: "no taught reference for this tool"
        " and operation (teach it first: M68 E3 Q3)"}
-BAD_WORD = {1: "E0", 2: "E0", 3: "E0", 4: "E1/E2", 5: "E3/E4", 6: "E0", 7: "E3"}
+BAD_WORD = {1: ("E0",), 2: ("E0",), 3: ("E0",), 4: ("E1", "E2"), 5: ("E3", "E4"), 6: ("E0",),
+            7: ("E3",)}
 
 
 def reason_names(root):
@@ -122,18 +123,29 @@ class Messenger:
                 pass
 
 
-def source_line(program, line, word):
-    """The program's text at `line` (1-based), or where the bad M67/M68 word was set."""
-    if not program or not os.path.exists(program) or line <= 0:
+def source_line(program, line, words, value):
+    """Where the program set the bad value: the M67/M68 line with one of `words` (E0, ...) and
+    Q equal to `value`. M68 waits for motion, so it follows the line motion was on; M67 takes
+    effect with the next move, so it precedes it: the nearest match after, else before."""
+    if not program or not os.path.exists(program):
         return ""
     text = open(program, errors="replace").read().splitlines()
-    e = [w for w in word.split("/")]
-    # The value was set by an M67/M68 at or before the line motion was on: the last such word.
-    for i in range(min(line, len(text)) - 1, -1, -1):
-        code = re.sub(r"\([^)]*\)|;.*", "", text[i]).upper().replace(" ", "")
-        if re.search(r"M6[78]", code) and any(x.replace("E", "E") in code for x in e):
-            return "line %d: %s" % (i + 1, text[i].strip())
-    return "line %d" % line
+    hits = []
+    for i, l in enumerate(text):
+        code = re.sub(r"\([^)]*\)|;.*", "", l).upper().replace(" ", "")
+        m = re.search(r"M6[78](E\d+)Q([-+.\dA-Z\[\]#<>_]+)", code)
+        if not m or m.group(1) not in words:
+            continue
+        try:
+            q = float(m.group(2))
+        except ValueError:
+            q = None  # an expression: any value
+        if q is None or (math.isnan(value) or abs(q - value) <= 1e-6 * max(1.0, abs(value))):
+            hits.append(i + 1)
+    after = [h for h in hits if h >= line]
+    before = [h for h in hits if h < line]
+    pick = after[0] if after else before[-1] if before else None
+    return "line %d: %s" % (pick, text[pick - 1].strip()) if pick else ""
 
 
 def main():
@@ -236,7 +248,7 @@ def main():
             if code:
                 line = c["bad-line"] - a.line_offset
                 v = c["bad-value"]
-                where = source_line(a.program, line, BAD_WORD.get(code, "E0"))
+                where = source_line(a.program, line, BAD_WORD.get(code, ("E0",)), v)
                 text = "lathectl: %s (%s) near program %s: feed held, not used" % (
                     BAD.get(code, "bad setting %d" % code), "NaN" if math.isnan(v) else "%g" % v,
                     where or "line %d" % line)

@@ -58,6 +58,7 @@ struct Pins {
   hal_float_t* power;
   hal_float_t* spindle_power;
   hal_float_t* idle_power;
+  hal_float_t* idle_factor;
   hal_float_t* depth;
   hal_float_t* feed;
   hal_float_t* speed;
@@ -119,6 +120,7 @@ void update(void*, long period_ns) {
                                       (1.0 + drive.drift * std::exp(-drive.t_s / drive.warmup_s))
                                 : 0.0;
     *pins->idle_power = idle;
+    *pins->idle_factor = 1.0 + drive.drift * std::exp(-drive.t_s / drive.warmup_s);
     *pins->spindle_power = out.cut_power_W / sp.efficiency + idle +
                            sp.inertia_kg_m2 * w * dw / sp.efficiency +
                            (n > 0.0 ? 0.001 * sp.max_power_W * noise() : 0.0);
@@ -164,6 +166,7 @@ extern "C" int rtapi_app_main(void) {
     pin(&pins->power, HAL_OUT, comp_id, kPrefix, "cut-power");
     pin(&pins->spindle_power, HAL_OUT, comp_id, kPrefix, "spindle-power");
     pin(&pins->idle_power, HAL_OUT, comp_id, kPrefix, "idle-power");
+    pin(&pins->idle_factor, HAL_OUT, comp_id, kPrefix, "idle-drift-factor");
     pin(&pins->depth, HAL_OUT, comp_id, kPrefix, "depth");
     pin(&pins->feed, HAL_OUT, comp_id, kPrefix, "feed-per-rev");
     pin(&pins->speed, HAL_OUT, comp_id, kPrefix, "cutting-speed");

@@ -170,6 +170,11 @@ def main():
         update_ns_max = int(hal.get_value("lathectl-adaptive.update-ns-max"))
         plant_ns_max = int(hal.get_value("lathectl-plant.update-ns-max"))
         force_limit = float(hal.get_value("lathectl-adaptive.force-limit"))
+        # The idle tare the controller learned (sensor=power) and the plant's true warm-up state.
+        idle_tare = {"p0_W": hal.get_value("lathectl-adaptive.idle-p0"),
+                     "p1_W_per_rpm": hal.get_value("lathectl-adaptive.idle-p1"),
+                     "p2_W_per_rpm2": hal.get_value("lathectl-adaptive.idle-p2"),
+                     "plant_drift_factor": hal.get_value("lathectl-plant.idle-drift-factor")}
     drain()
     cmd.state(linuxcnc.STATE_OFF)
 
@@ -235,6 +240,7 @@ def main():
         "alarms": alarms,
         "update_ns_max_adaptive": update_ns_max,
         "update_ns_max_plant": plant_ns_max,
+        "idle_tare": idle_tare,
     }
     tmp = os.path.join(out_dir, "summary.json.tmp")
     with open(tmp, "w") as fj:
