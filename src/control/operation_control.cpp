@@ -120,46 +120,68 @@ void TeachIn::start() noexcept {
   running_ = true;
 }
 
+void TeachIn::take(double sum, double n) noexcept {
+  sum_ += sum;
+  n_ += n;
+  revs_ += 1.0;
+}
+
 bool TeachIn::sample(double load, double rpm, double dt, bool in_cut) noexcept {
   if (!running_) return false;
   if (!in_cut || !std::isfinite(load) || !(rpm > 0.0)) {
     if (cutting_) {
-      // The exit: the revolution being filled and the last whole one carry it; not taken.
+      // The exit: of the revolutions held back, those like the steady cut are taken (oldest
+      // first, up to the first that is not), never the last whole one nor the partial one.
       cutting_ = false;
+      for (std::size_t i = 0; i + 1 < held_count_; ++i) {
+        const std::size_t k = (held_head_ + kHeld - held_count_ + i) % kHeld;
+        const double m = held_sum_[k] / held_n_[k];
+        const double ref = n_ > 0.0 ? sum_ / n_ : m;
+        if (std::abs(m - ref) > p_.steady_tol * std::abs(ref)) break;
+        take(held_sum_[k], held_n_[k]);
+      }
+      held_count_ = 0;
       if (revs_ >= p_.min_revs && n_ > 0.0) {
         reference_ = sum_ / n_;
         running_ = false;
         return true;
       }
-      // Too short a cut to teach: wait for the next one.
-      sum_ = n_ = revs_ = 0.0;
+      sum_ = n_ = revs_ = 0.0;  // too short a cut to teach: wait for the next one
     }
     return false;
   }
   if (!cutting_) {
     cutting_ = true;
+    steady_ = false;
+    last_rev_mean_ = 0.0;
     t_in_revs_ = rev_phase_ = 0.0;
-    cur_sum_ = cur_n_ = pend_sum_ = pend_n_ = pend2_sum_ = pend2_n_ = 0.0;
+    cur_sum_ = cur_n_ = 0.0;
+    held_count_ = 0;
   }
   const double revs = dt * rpm / 60.0;
   t_in_revs_ += revs;
-  if (t_in_revs_ < p_.settle_revs) return false;
   cur_sum_ += load;
   cur_n_ += 1.0;
   rev_phase_ += revs;
-  if (rev_phase_ >= 1.0) {  // a whole revolution: the one two back is now surely steady
-    rev_phase_ -= 1.0;
-    if (pend2_n_ > 0.0) {
-      sum_ += pend2_sum_;
-      n_ += pend2_n_;
-      revs_ += 1.0;
+  if (rev_phase_ < 1.0) return false;
+  rev_phase_ -= 1.0;  // a whole revolution
+  if (!steady_) {     // settling: is this revolution like the one before?
+    const double m = cur_sum_ / cur_n_;
+    steady_ = t_in_revs_ >= p_.settle_revs &&
+              std::abs(m - last_rev_mean_) <= p_.steady_tol * std::abs(last_rev_mean_);
+    last_rev_mean_ = m;
+  } else {
+    if (held_count_ == kHeld) {  // the oldest held revolution is surely not the exit
+      const std::size_t k = held_head_;  // == the oldest when the ring is full
+      take(held_sum_[k], held_n_[k]);
+      --held_count_;
     }
-    pend2_sum_ = pend_sum_;
-    pend2_n_ = pend_n_;
-    pend_sum_ = cur_sum_;
-    pend_n_ = cur_n_;
-    cur_sum_ = cur_n_ = 0.0;
+    held_sum_[held_head_] = cur_sum_;
+    held_n_[held_head_] = cur_n_;
+    held_head_ = (held_head_ + 1) % kHeld;
+    ++held_count_;
   }
+  cur_sum_ = cur_n_ = 0.0;
   return false;
 }
 

@@ -10,8 +10,11 @@
 //                   least squares over the bins that have data (every speed counts once, however
 //                   long the machine stood there).
 //   TeachIn         the reference load of a teach cut: the mean of the load over the steady cut,
-//                   whole revolutions only, without the entry (the first settle_revs revolutions)
-//                   and without the exit (the last two revolutions before the tool left the cut).
+//                   whole revolutions only, without the entry (at least settle_revs revolutions,
+//                   and until a revolution's mean is within steady_tol of the one before) and
+//                   without the exit (the last revolutions before the tool left the cut: held
+//                   back kHeld revolutions, taken at the end up to the first whose mean leaves
+//                   the steady mean by more than steady_tol, and never the last whole one).
 //   OperationStats  one operation's record for the log: per-revolution mean load (mean and
 //                   peak), the adaptive feed factor (min and mean) and the time in cut.
 //   check_operation the per-operation settings a program or a tool table gives, against the
@@ -64,8 +67,9 @@ class IdleTare {
 class TeachIn {
  public:
   struct Params {
-    double settle_revs = 4.0;  // entry transient: revolutions in cut not taken
-    double min_revs = 3.0;     // fewer whole steady revolutions: no reference
+    double settle_revs = 3.0;   // entry transient: revolutions in cut not taken, at least
+    double steady_tol = 0.02;   // ... and until consecutive revolutions' means agree this well
+    double min_revs = 3.0;      // fewer whole steady revolutions: no reference
   };
   void configure(const Params& p) noexcept { p_ = p; }
   void start() noexcept;
@@ -77,13 +81,17 @@ class TeachIn {
 
  private:
   Params p_{};
+  static constexpr std::size_t kHeld = 16;
+  void take(double sum, double n) noexcept;
   bool running_ = false;
   bool cutting_ = false;
+  bool steady_ = false;
+  double last_rev_mean_ = 0.0;  // while settling
   double t_in_revs_ = 0.0;  // revolutions since contact
   double rev_phase_ = 0.0;  // of the revolution being filled
-  double cur_sum_ = 0.0, cur_n_ = 0.0;    // the revolution being filled
-  double pend_sum_ = 0.0, pend_n_ = 0.0;  // the last whole revolution (not yet taken)
-  double pend2_sum_ = 0.0, pend2_n_ = 0.0;  // the one before it (not yet taken)
+  double cur_sum_ = 0.0, cur_n_ = 0.0;  // the revolution being filled
+  std::array<double, kHeld> held_sum_{}, held_n_{};  // whole revolutions not yet taken (a ring)
+  std::size_t held_head_ = 0, held_count_ = 0;
   double sum_ = 0.0, n_ = 0.0, revs_ = 0.0;
   double reference_ = 0.0;
 };
