@@ -222,6 +222,13 @@ def analyse(res, unit, report):
     check(len(msgs) == 1 and ("line %d" % L["bad_m68"]) in msgs[0] and "rating" in msgs[0],
           "%s bad value: operator message %r" % (unit, msgs[0] if msgs else None))
     report["bad_value_message_%s" % unit] = msgs[0] if msgs else None
+    if os.environ.get("LATHECTL"):
+        html = os.path.join(os.path.dirname(res["taught"]), unit, "report.html")
+        page = open(html).read() if os.path.exists(html) else ""
+        check("Operations" in page and "Load against the limit" in page and
+              ("line %d" % L["bad_m68"]) in page,
+              "%s: lathectl report wrote report.html (table, plots, the bad value's message)" %
+              unit)
     check(res["csv"].count("\n") == len(res["ops"]["rows"]) + 1 and
           res["ops"]["missed_rows"] == 0 and all(r["line"] > 0 for r in res["ops"]["rows"]),
           "%s: operations.csv and .json, one row per cutting line (%d rows, none missed)" %
