@@ -39,6 +39,7 @@
 #include "lathectl/control/adaptive_input.hpp"
 #include "lathectl/control/operation_control.hpp"
 #include "lathectl/drives/spindle_drive.hpp"
+#include "lathectl/sim/lathe_plant.hpp"
 #include "lathectl_hal.hpp"
 #include "lathectl_tool_limits.hpp"
 #include "systems/e_adaptive/settings.hpp"
@@ -54,6 +55,9 @@ static char* tools = nullptr;
 RTAPI_MP_STRING(tools, "per-tool limits table (TOML, optional): rating, defaults, overload levels");
 static char* taught = nullptr;
 RTAPI_MP_STRING(taught, "teach-in references (TOML written by lathectl_oplog; absent: none)");
+static char* z_origin_mm = nullptr;
+RTAPI_MP_STRING(z_origin_mm, "machine z of the stock's face: turns on the stock model for the "
+                             "path-aware breakage detector (unset: the controller's own)");
 static char* sensor = nullptr;
 RTAPI_MP_STRING(sensor, "force (the scenario's sensor, default) or power (spindle-power - idle)");
 
@@ -87,6 +91,8 @@ struct Pins {
   hal_float_t* op_cmd;        // -04
   hal_s32_t* tool_number;     // iocontrol.0.tool-number
   hal_s32_t* program_line;    // motion.program-line
+  hal_float_t* z_pos;         // joint 1 (the stock model's path)
+  hal_bit_t* homed;           // motion.is-all-homed (positions mean something)
   // outputs
   hal_float_t* adaptive_feed;
   hal_float_t* spindle_speed_out;
@@ -120,6 +126,8 @@ struct Pins {
   hal_bit_t* overload_warn;
   hal_bit_t* overload_hold;
   hal_float_t* load_rev;  // the load's mean over the last revolution
+  hal_float_t* predicted_depth;  // the stock model's depth of cut at the tool [mm]
+  hal_bit_t* breakage;           // path-aware breakage alarm (latched)
   hal_s32_t* op_seq;
   hal_s32_t* op_line;
   hal_s32_t* op_tool;
@@ -200,6 +208,11 @@ struct State {
   double below_air_s = 0.0;
   double rev_phase = 0.0, rev_sum = 0.0, rev_n = 0.0, load_rev = 0.0;
   bool overload_latched = false;
+  // The stock model (z_origin_mm given): the scenario's blank cut down by the tool's path; its
+  // depth of cut is the engagement the path-aware breakage detector expects.
+  std::unique_ptr<lathectl::sim::LathePlant> stock;
+  lathectl::control::PathBreakage breakage;
+  bool breakage_latched = false;
 };
 
 int comp_id = -1;
@@ -331,6 +344,8 @@ void update(void*, long period_ns) {
   if (*p.reset && !s.last_reset) {
     s.ctl.reset_alarm();
     s.overload_latched = false;
+    s.breakage_latched = false;
+    s.breakage.reset();
   }
   s.last_reset = *p.reset;
   const double rpm_prog = *p.rpm_programmed;
@@ -385,6 +400,29 @@ void update(void*, long period_ns) {
   s.op_mode = s.applied.mode;
   s.op_limit = s.applied.limit;
 
+  if (s.stock) {  // every servo period: the stop comes in the period the load collapses
+    lathectl::sim::LathePlant::Input si;
+    si.x_mm = *p.homed ? *p.x_pos : std::nan("");
+    si.z_mm = *p.homed ? *p.z_pos : std::nan("");
+    si.rpm = *p.rpm;
+    lathectl::sim::LathePlant::Output so;
+    s.stock->step(si, static_cast<double>(period_ns) * 1e-9, so);
+    const double depth = so.in_contact ? so.depth_mm : 0.0;
+    *p.predicted_depth = depth;
+    const bool feed = *p.enable && (*p.motion_type == 2 || *p.motion_type == 3);
+    const double load = s.power_sensor ? *p.load : *p.force;
+    if (feed && s.applied.mode == 2 &&
+        s.breakage.update(load, s.applied.limit, depth, static_cast<double>(period_ns) * 1e-9))
+      s.breakage_latched = true;
+    if (!feed) s.breakage.reset();
+    *p.breakage = s.breakage_latched;
+    if (s.breakage_latched) {
+      *p.adaptive_feed = 0.0;
+      *p.feed_hold = 1;
+      *p.alarm = 1;
+      *p.alarm_reason = static_cast<std::int32_t>(lathectl::control::Reason::ToolBreakage);
+    }
+  }
   if (s.count++ % s.every == 0) {
     timer.start();
     const double dt = s.ctl.params().period_s;
@@ -483,12 +521,16 @@ void update(void*, long period_ns) {
                : prog_per_rev > 0.0 ? std::clamp(o.feed_per_rev_mm / prog_per_rev, 0.0, 1.0)
                                     : 1.0;
     }
-    const bool hold = enabled && (o.feed_hold || s.bad || s.overload_latched);
+    const bool hold =
+        enabled && (o.feed_hold || s.bad || s.overload_latched || s.breakage_latched);
     *p.adaptive_feed = hold ? 0.0 : factor;
     *p.feed_hold = hold;
-    *p.alarm = o.alarm || s.overload_latched;
+    *p.alarm = o.alarm || s.overload_latched || s.breakage_latched;
     *p.reason = static_cast<std::int32_t>(o.reason);
-    *p.alarm_reason = static_cast<std::int32_t>(o.alarm_reason);
+    *p.alarm_reason =
+        s.breakage_latched && !o.alarm
+            ? static_cast<std::int32_t>(lathectl::control::Reason::ToolBreakage)
+            : static_cast<std::int32_t>(o.alarm_reason);
     *p.feed_per_rev = o.feed_per_rev_mm;
     *p.speed_cmd = o.speed_m_per_min;
     *p.speed_opt = o.speed_opt_m_per_min;
@@ -511,7 +553,7 @@ void update(void*, long period_ns) {
   } else {
     if (!(*p.enable && s.speed_law && s.applied.mode == 2))
       *p.spindle_speed_out = rpm_prog;  // pass program speed changes through between updates
-    if (s.bad) {  // a bad setting holds the feed in the period it appears
+    if (s.bad || s.breakage_latched) {  // held in the period it appears
       *p.adaptive_feed = 0.0;
       *p.feed_hold = 1;
     }
@@ -545,6 +587,18 @@ extern "C" int rtapi_app_main(void) {
     if (state->power_sensor) {  // the sensor's valid range in W (the scenario's is its sensor's)
       c.sensor_monitor.min = -0.2 * e.spindle.max_power_W;
       c.sensor_monitor.max = 2.0 * e.spindle.max_power_W;
+    }
+    if (z_origin_mm != nullptr && *z_origin_mm != '\0') {
+      // The path-aware detector replaces the controller's collapse detector (its spike stays).
+      lathectl::sim::LathePlant::Params sp;
+      sp.z_origin_mm = lathectl::hal::number_param(z_origin_mm, "z_origin_mm", 0.0);
+      state->stock = std::make_unique<lathectl::sim::LathePlant>();
+      state->stock->configure(e, sp);
+      lathectl::control::PathBreakage::Params bp;
+      bp.window_s = c.breakage_drop_window_s;
+      bp.air = c.air_threshold;
+      state->breakage.configure(bp);
+      c.breakage_drop_window_s = 0.0;
     }
     state->ctl.configure(c);
     state->base = c;
@@ -611,6 +665,8 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.op_cmd, HAL_IN, comp_id, kPrefix, "operation-cmd");
     pin(&p.tool_number, HAL_IN, comp_id, kPrefix, "tool-number");
     pin(&p.program_line, HAL_IN, comp_id, kPrefix, "program-line");
+    pin(&p.z_pos, HAL_IN, comp_id, kPrefix, "z-pos");
+    pin(&p.homed, HAL_IN, comp_id, kPrefix, "homed");
     pin(&p.adaptive_feed, HAL_OUT, comp_id, kPrefix, "adaptive-feed");
     pin(&p.spindle_speed_out, HAL_OUT, comp_id, kPrefix, "spindle-speed-out");
     pin(&p.spindle_override, HAL_OUT, comp_id, kPrefix, "spindle-override");
@@ -645,6 +701,8 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.overload_warn, HAL_OUT, comp_id, kPrefix, "overload-warn");
     pin(&p.overload_hold, HAL_OUT, comp_id, kPrefix, "overload-hold");
     pin(&p.load_rev, HAL_OUT, comp_id, kPrefix, "load-rev");
+    pin(&p.predicted_depth, HAL_OUT, comp_id, kPrefix, "predicted-depth");
+    pin(&p.breakage, HAL_OUT, comp_id, kPrefix, "breakage");
     pin(&p.op_seq, HAL_OUT, comp_id, kPrefix, "op-seq");
     pin(&p.op_line, HAL_OUT, comp_id, kPrefix, "op-line");
     pin(&p.op_tool, HAL_OUT, comp_id, kPrefix, "op-tool");

@@ -106,21 +106,19 @@ class Messenger:
         except Exception:
             self.cmd = None
 
-    def error(self, text):
+    def _send(self, channel, text):
         print("lathectl_oplog: " + text, file=sys.stderr, flush=True)
         if self.cmd is not None:
             try:
-                self.cmd.error_msg(text)
+                getattr(self.cmd, channel)(text)
             except Exception:
                 pass
 
+    def error(self, text):
+        self._send("error_msg", text)
+
     def text(self, text):
-        print("lathectl_oplog: " + text, file=sys.stderr, flush=True)
-        if self.cmd is not None:
-            try:
-                self.cmd.text_msg(text)
-            except Exception:
-                pass
+        self._send("text_msg", text)
 
 
 def source_line(program, line, words, value):

@@ -38,6 +38,9 @@ static char* cell_mm = nullptr;
 RTAPI_MP_STRING(cell_mm, "workpiece grid along z [mm], default 0.01");
 static char* warmup_s = nullptr;
 RTAPI_MP_STRING(warmup_s, "time constant of the idle power's warm-up drift [s], default 120");
+static char* break_at_s = nullptr;
+RTAPI_MP_STRING(break_at_s, "the tool breaks after this time in cut [s] (no force from then on); "
+                            "default never");
 static char* idle_drift = nullptr;
 RTAPI_MP_STRING(idle_drift, "extra idle power of the cold machine (fraction), default 0.15");
 
@@ -81,6 +84,7 @@ struct Drive {
   std::uint64_t rng = 0x9e3779b97f4a7c15ULL;
 };
 Drive drive;
+double break_at = 0.0;  // 0: never
 
 // A uniform deviate in [−1, 1) (xorshift64*: deterministic, no allocation).
 double noise() noexcept {
@@ -103,6 +107,10 @@ void update(void*, long period_ns) {
   in.rpm = *pins->rpm;
   lathectl::sim::LathePlant::Output out;
   plant->step(in, static_cast<double>(period_ns) * 1e-9, out);
+  if (break_at > 0.0 && out.time_in_cut_s >= break_at) {  // a broken tool: nothing is cut
+    out.force_measured = out.force_parameter = out.Pz_N = out.Py_N = out.cut_power_W = 0.0;
+    out.depth_mm = 0.0;
+  }
   *pins->force = out.force_measured;
   *pins->force_true = out.force_parameter;
   *pins->pz = out.Pz_N;
@@ -152,6 +160,7 @@ extern "C" int rtapi_app_main(void) {
     drive.spindle = sc.get<e_adaptive::Settings>().rig.spindle;
     drive.warmup_s = lathectl::hal::number_param(warmup_s, "warmup_s", 120.0);
     drive.drift = lathectl::hal::number_param(idle_drift, "idle_drift", 0.15);
+    break_at = lathectl::hal::number_param(break_at_s, "break_at_s", 0.0);
     if (!(drive.warmup_s > 0.0) || !(drive.drift >= 0.0))
       throw lathectl::hal::Error("module parameters: warmup_s must be > 0, idle_drift >= 0");
     pins = lathectl::hal::allocate_pins<Pins>();

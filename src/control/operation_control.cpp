@@ -208,6 +208,19 @@ void OperationStats::sample(double load, double feed_factor, double rpm, double 
   }
 }
 
+bool PathBreakage::update(double load, double limit, double predicted_depth_mm,
+                          double dt) noexcept {
+  if (!std::isfinite(load) || !(limit > 0.0)) return false;
+  if (load > 0.5 * limit) {
+    high_since_s_ = 0.0;
+    depth_high_ = predicted_depth_mm;
+    return false;
+  }
+  high_since_s_ += dt;
+  return load < p_.air * limit && high_since_s_ <= p_.window_s &&
+         predicted_depth_mm >= std::max(p_.min_depth_mm, p_.keep * depth_high_);
+}
+
 SettingError check_limit(double limit, const OperationRating& r) noexcept {
   if (!std::isfinite(limit)) return SettingError::LimitNotFinite;
   if (limit < 0.0) return SettingError::LimitNegative;

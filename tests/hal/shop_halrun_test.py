@@ -10,6 +10,11 @@ records the component in the same 1 ms period.
                                          ripple, noise, exit): the reference within 2 % of the
                                          steady mean; lathectl_oplog stores it; a restart (the
                                          component loaded again) controls at a % of it
+  shop_halrun_test.py breakage SRC WORK  the plant cuts a straight turn; a broken tool (the plant's
+                                         break_at_s) stops the feed in the servo period its force
+                                         collapses, while a programmed fast exit from the material
+                                         does not, with the stock model (z_origin_mm); the
+                                         controller's own collapse detector trips on that exit
   shop_halrun_test.py files SRC WORK     unreadable or wrong tools/taught files: the load fails
                                          with one line naming file, line and key
 """
@@ -206,6 +211,70 @@ def test_teach(src, work):
               "E0 = 0: the table's reference_pct (90 %%): limit %.2f N" % got3[-1]["limit"])
 
 
+def breakage_session(src, work, name, plant_params, adaptive_params, exit_at=None):
+    """A straight turn at 2 mm depth (x 18 on the 40 mm bar, z 2 → −12 at 0.3 mm/rev, 1200 rpm);
+    exit_at: at that z the tool leaves the material in +x at 300 mm/s (a feed move)."""
+    rows, rpm = [], 1200.0
+    x, z, v = 18.0, 2.0, 0.3 * rpm / 60.0
+    for k in range(3000):
+        mtype = 2
+        if exit_at is not None and z <= exit_at:
+            x = min(25.0, x + 300.0 * h.PERIOD_S)
+        else:
+            z -= v * h.PERIOD_S
+        rows.append([x, z, rpm, mtype])
+    stim = ["lathectl-plant.x-pos", "lathectl-plant.z-pos", "lathectl-plant.spindle-rpm",
+            "lathectl-adaptive.motion-type"]
+    out = ["lathectl-plant.force", "lathectl-adaptive.feed-hold", "lathectl-adaptive.alarm",
+           "lathectl-adaptive.alarm-reason", "lathectl-adaptive.predicted-depth",
+           "lathectl-adaptive.breakage", "lathectl-plant.depth"]
+    sc = h.rt_scenario(src)
+    pre = ("net stim0 => lathectl-adaptive.x-pos\nnet stim1 => lathectl-adaptive.z-pos\n"
+           "net stim2 => lathectl-adaptive.spindle-rpm lathectl-adaptive.spindle-rpm-programmed\n")
+    extra = ("net out0 => lathectl-adaptive.force\n"  # the plant's force (sampled as out0)
+             "setp lathectl-plant.enable 1\nsetp lathectl-adaptive.homed 1\n"
+             "setp lathectl-adaptive.enable 1\nsetp lathectl-adaptive.feed-per-rev-mode 1\n"
+             "setp lathectl-adaptive.requested-vel 0.3\n")
+    got = h.stream_session(work, name, ["lathectl_plant scenario=%s %s" % (sc, plant_params),
+                                        "lathectl_adaptive scenario=%s %s" % (sc, adaptive_params)],
+                           "fffs", rows, stim, "fbbsfbf", out, extra, pre)
+    return [dict(zip(["force", "hold", "alarm", "reason", "predicted", "breakage", "depth"], r))
+            for r in got]
+
+
+def test_breakage(src, work):
+    limit = tomllib.load(open(h.scenario_path(src), "rb"))["controller"]["force_limit_N"]
+    air = 0.1 * limit
+    # A broken tool: the plant's force vanishes after 1 s in cut, the stock is still there.
+    got = breakage_session(src, work, "broken", "break_at_s=1.0", "z_origin_mm=0")
+    if got:
+        i_drop = next((i for i in range(1, len(got)) if got[i - 1]["force"] > 0.5 * limit and
+                       got[i]["force"] < air), None)
+        i_stop = next((i for i, r in enumerate(got) if r["breakage"] == 1), None)
+        check(i_drop is not None and i_stop == i_drop and got[i_stop]["hold"] == 1 and
+              got[i_stop]["reason"] == 21 and got[i_stop]["predicted"] > 1.5,
+              "broken tool: breakage alarm and feed hold in the servo period the force collapses "
+              "(%s periods; predicted depth %.2f mm)" %
+              (None if i_drop is None or i_stop is None else i_stop - i_drop,
+               got[i_stop]["predicted"] if i_stop is not None else float("nan")))
+        check(all(r["hold"] == 1 for r in got[i_stop:]) if i_stop is not None else False,
+              "broken tool: the hold latches")
+    # A programmed exit at 300 mm/s: the load collapses within the 10 ms window, and so does the
+    # engagement the stock model predicts.
+    got = breakage_session(src, work, "exit_path", "", "z_origin_mm=0", exit_at=-8.0)
+    if got:
+        fell = next((i for i in range(10, len(got)) if got[i]["force"] < air and
+                     max(r["force"] for r in got[i - 10:i]) > 0.5 * limit), None)
+        check(fell is not None and not any(r["breakage"] or r["alarm"] for r in got),  # 10 ms
+              "programmed exit with the stock model: no alarm (the predicted depth fell with the "
+              "load: %.2f mm then)" % (got[fell]["predicted"] if fell else float("nan")))
+    got = breakage_session(src, work, "exit_old", "", "", exit_at=-8.0)
+    if got:
+        check(any(r["alarm"] and r["reason"] == 21 for r in got),
+              "the same exit with the controller's own collapse detector: a false breakage alarm "
+              "(what pawn_bar.toml had to switch off)")
+
+
 def test_files(src, work):
     sc = h.rt_scenario(src)
     bad_key = tools_file(src, work, TOOLS.replace("limit = 900.0", "limit = -900.0"), "bad1.toml")
@@ -244,7 +313,8 @@ def main():
     what, src, work = sys.argv[1], os.path.abspath(sys.argv[2]), os.path.abspath(sys.argv[3])
     os.makedirs(work, exist_ok=True)
     os.chmod(work, 0o777)  # the realtime uid writes nothing here, the sampler files are ours
-    {"settings": test_settings, "teach": test_teach, "files": test_files}[what](src, work)
+    {"settings": test_settings, "teach": test_teach, "files": test_files,
+     "breakage": test_breakage}[what](src, work)
     if h.FAILS:
         print("%d check(s) failed" % len(h.FAILS))
         sys.exit(1)

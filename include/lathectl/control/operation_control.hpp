@@ -117,6 +117,30 @@ class OperationStats {
   double rev_sum_ = 0.0, revs_ = 0.0, rev_peak_ = 0.0;
 };
 
+// Tool breakage by load collapse that knows the path: a load that falls from above half the limit
+// to below the air threshold within `window_s` is a broken tool only while the stock model still
+// predicts engagement (its depth of cut at least `keep` of what it was while loaded). A
+// programmed exit (a G70 contour leaving the material along an arc) takes the predicted depth
+// down with the load. Sampled every servo period: the stop comes in the period the load falls.
+class PathBreakage {
+ public:
+  struct Params {
+    double window_s = 0.01;   // the controller's breakage_drop_window_s
+    double air = 0.1;         // air threshold, fraction of the limit
+    double keep = 0.5;        // predicted depth still ≥ keep × the loaded one: material is there
+    double min_depth_mm = 0.05;
+  };
+  void configure(const Params& p) noexcept { p_ = p; reset(); }
+  void reset() noexcept { high_since_s_ = 1e9; depth_high_ = 0.0; }
+  // True in the period a collapse with engagement predicted is seen.
+  bool update(double load, double limit, double predicted_depth_mm, double dt) noexcept;
+
+ private:
+  Params p_{};
+  double high_since_s_ = 1e9;
+  double depth_high_ = 0.0;  // predicted depth while the load was above half the limit
+};
+
 // What is wrong with a per-operation setting (0: nothing). The component's bad-code pin.
 enum class SettingError : std::int32_t {
   None = 0,
