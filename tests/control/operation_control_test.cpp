@@ -27,9 +27,12 @@ void sweep(IdleTare& t, std::initializer_list<double> speeds, double dwell_s, do
   double n = 0.0;
   for (double target : speeds) {
     const double n0 = n;
-    for (double s = 0.0; s < 0.3; s += 0.002) t.update(n = n0 + (target - n0) * s / 0.3,
-                                                       scale * law(n) + 5000.0, 0.002, true);
-    for (double s = 0.0; s < dwell_s; s += 0.002) t.update(n = target, scale * law(n), 0.002, true);
+    for (double s = 0.0; s < 0.3; s += 0.002) {  // a ramp: the drive's acceleration power too
+      n = n0 + (target - n0) * s / 0.3;
+      t.update(n, scale * law(n) + 5000.0, 0.002, true);
+    }
+    n = target;
+    for (double s = 0.0; s < dwell_s; s += 0.002) t.update(n, scale * law(n), 0.002, true);
   }
 }
 

@@ -84,10 +84,19 @@ def run(src, work, unit):
            tools_file(work, unit), "--taught", taught, "--timeout", "150", "--quiet"]
     if unit == "W":
         cmd += ["--sensor", "power"]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    first = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if unit == "N":  # a second session beside a running one is refused, the first lives on
+        import time
+        time.sleep(8.0)
+        second = subprocess.run(cmd[:3] + ["--out", os.path.join(work, "second"), "--quiet"],
+                                capture_output=True, text=True, timeout=60)
+        check(second.returncode == 3 and "running" in second.stderr and first.poll() is None,
+              "a second linuxcnc-sim is refused (exit %d: %s), the first runs on" %
+              (second.returncode, second.stderr.strip()))
+    out_s, err_s = first.communicate(timeout=300)
     summary_path = os.path.join(out, "summary.json")
     if not os.path.exists(summary_path):
-        print(p.stdout + p.stderr)
+        print(out_s + err_s)
         check(False, unit + ": linuxcnc-sim ran")
         return None
     rows = []
@@ -263,11 +272,31 @@ def tare(res, src, report):
           "every cut (%.2f %% of rated, < 2 %%)" % (e, 100 * e / RATED_W))
 
 
+def timeout_run(src, work):
+    """--timeout: the program is aborted, what was recorded is kept, nothing raw left behind."""
+    out = os.path.join(work, "timeout")
+    p = subprocess.run([os.path.join(src, "scripts/linuxcnc-sim"),
+                        os.path.join(src, "examples/linuxcnc/two_tool.ngc"),
+                        os.path.join(src, "examples/linuxcnc/two_tool.toml"), "--out", out,
+                        "--timeout", "7"], capture_output=True, text=True, timeout=120)
+    s = json.load(open(os.path.join(out, "summary.json"))) if os.path.exists(
+        os.path.join(out, "summary.json")) else {}
+    check(p.returncode == 4 and s.get("timed_out") and s.get("samples", 0) > 3000 and
+          os.path.exists(os.path.join(out, "signals.csv")) and
+          not [f for f in os.listdir(out) if f.endswith(".raw")],
+          "--timeout 7: exit %d, summary.json timed_out with %s samples, signals.csv kept, no raw "
+          "file left" % (p.returncode, s.get("samples")))
+    check("linuxcnc-sim:" in p.stderr and " s  line " in p.stderr,
+          "progress lines on stderr while it runs: %r" %
+          next((l for l in p.stderr.splitlines() if " s  line " in l), None))
+
+
 def main():
     src, work = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
     os.makedirs(work, exist_ok=True)
     os.chmod(work, 0o755)
     report = {}
+    timeout_run(src, work)
     force = run(src, work, "N")
     if force:
         analyse(force, "N", report)
