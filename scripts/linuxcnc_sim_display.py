@@ -94,12 +94,12 @@ def main():
 
     cmd.state(linuxcnc.STATE_ESTOP_RESET)
     cmd.state(linuxcnc.STATE_ON)
-    wait(lambda s: s.task_state == linuxcnc.STATE_ON, 10, "machine on", stat)
+    wait(lambda s: s.task_state == linuxcnc.STATE_ON, 60, "machine on", stat)
     cmd.mode(linuxcnc.MODE_MANUAL)
     cmd.wait_complete()
     cmd.teleop_enable(0)
     cmd.home(-1)
-    wait(lambda s: all(s.homed[j] for j in range(s.joints)), 20, "homing", stat)
+    wait(lambda s: all(s.homed[j] for j in range(s.joints)), 60, "homing", stat)
     cmd.mode(linuxcnc.MODE_AUTO)
     cmd.wait_complete()
     cmd.program_open(program)
@@ -117,7 +117,7 @@ def main():
         me["record"] = 1
         t0 = time.monotonic()
         cmd.auto(linuxcnc.AUTO_RUN, 0)
-        wait(lambda s: s.interp_state != linuxcnc.INTERP_IDLE, 10, "program start", stat)
+        wait(lambda s: s.interp_state != linuxcnc.INTERP_IDLE, 30, "program start", stat)
         hold_since = None
         aborted = timed_out = False
         progress = None

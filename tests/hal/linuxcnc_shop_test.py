@@ -183,7 +183,8 @@ def analyse(res, unit, report):
         check(dev < 0.05, "%s %s (tool %d): per-revolution load %.0f..%.0f %s, within %.1f %% of "
               "%.0f (±5 %%)" % (unit, op, entry["tool"], min(revs), max(revs), unit, 100 * dev,
                                 want))
-        check(row and row["limit"] == round(want, 3) and row["time_in_cut_s"] > 1.0,
+        # (the taught file keeps 3 decimals of the reference the component holds in full)
+        check(row and abs(row["limit"] - want) < 0.01 and row["time_in_cut_s"] > 1.0,
               "%s %s: the operation log's row (limit %s, %s s in cut)" %
               (unit, op, row.get("limit"), row.get("time_in_cut_s")))
     report["operations_%s" % unit] = table
