@@ -587,6 +587,9 @@ extern "C" int rtapi_app_main(void) {
     if (state->power_sensor) {  // the sensor's valid range in W (the scenario's is its sensor's)
       c.sensor_monitor.min = -0.2 * e.spindle.max_power_W;
       c.sensor_monitor.max = 2.0 * e.spindle.max_power_W;
+      // The default limit in W (the scenario's is in its sensor's unit): the power the spindle
+      // has for cutting, the speed law's clamp.
+      c.force_limit = std::min(c.cut_power_max_W, e.spindle.max_power_W);
     }
     if (z_origin_mm != nullptr && *z_origin_mm != '\0') {
       // The path-aware detector replaces the controller's collapse detector (its spike stays).

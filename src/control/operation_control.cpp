@@ -20,12 +20,27 @@ void IdleTare::update(double rpm, double drive_power_W, double dt, bool air) noe
   const double n = std::abs(rpm);
   const double rate = dt > 0.0 ? std::abs(n - last_rpm_) / dt : 0.0;
   last_rpm_ = n;
-  // Heavily filtered speeds (a drive's ramp) change by less than the threshold per period only
-  // at the end of a ramp: also wait settle_s after the last change.
-  steady_s_ = rate <= p_.steady_rpm_per_s ? steady_s_ + dt : 0.0;
-  if (!air || steady_s_ < p_.settle_s || n < p_.rpm_min || n > p_.rpm_max ||
-      !std::isfinite(drive_power_W) || !(dt > 0.0))
+  const bool usable = air && rate <= p_.steady_rpm_per_s && n >= p_.rpm_min && n <= p_.rpm_max &&
+                      std::isfinite(drive_power_W) && dt > 0.0;
+  if (!usable) {  // the stretch ends: its last settle_s is not steady enough to be learned
+    steady_s_ = 0.0;
+    pend_count_ = 0;
     return;
+  }
+  steady_s_ += dt;
+  const std::size_t tail = (pend_head_ + kPending - pend_count_) % kPending;
+  if (pend_count_ == kPending || (steady_s_ > 2.0 * p_.settle_s && pend_count_ > 0 &&
+                                  static_cast<double>(pend_count_) * dt >= p_.settle_s)) {
+    learn(pend_rpm_[tail], pend_power_[tail], dt);  // steady settle_s before and after it
+    --pend_count_;
+  }
+  pend_rpm_[pend_head_] = n;
+  pend_power_[pend_head_] = drive_power_W;
+  pend_head_ = (pend_head_ + 1) % kPending;
+  ++pend_count_;
+}
+
+void IdleTare::learn(double n, double drive_power_W, double dt) noexcept {
   const auto k = std::min(kBins - 1, static_cast<std::size_t>(n / p_.rpm_max * kBins));
   if (weight_s_[k] == 0.0) {
     power_[k] = drive_power_W;

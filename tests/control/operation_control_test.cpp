@@ -152,19 +152,19 @@ TEST(AdaptiveFeedController, SetOperationChangesLimitsOnlyWhenValid) {
   ASSERT_TRUE(c.set_operation(1200.0, 0.05, 0.6, true));
   EXPECT_EQ(c.params().mode, p.mode);
   EXPECT_EQ(c.params().feed_programmed_mm_per_rev, 0.3);
-  // Regulating at the new limit: a force above it lowers the feed.
+  // Regulating at the limit in effect: 1500 N holds the feed at s_min against 1200 N, and lets
+  // it rise against 1600 N (the limit set_operation restores).
   AdaptiveFeedController::Output out;
   AdaptiveFeedController::Input in;
   in.rpm = 1000.0;
   in.speed_m_per_min = 150.0;
   in.feed_block = true;
-  double first = 0.0;
-  for (int k = 0; k < 500; ++k) {
-    in.force = 1500.0;  // above 1200, below the configured 1600
-    (void)c.update(in, out);
-    if (k == 10) first = out.feed_per_rev_mm;
-  }
-  EXPECT_LT(out.feed_per_rev_mm, first);
+  in.force = 1500.0;
+  for (int k = 0; k < 500; ++k) (void)c.update(in, out);
+  EXPECT_EQ(out.feed_per_rev_mm, 0.05);
+  ASSERT_TRUE(c.set_operation(1600.0, 0.05, 0.6, true));
+  for (int k = 0; k < 500; ++k) (void)c.update(in, out);
+  EXPECT_GT(out.feed_per_rev_mm, 0.1);
 }
 
 }  // namespace

@@ -53,6 +53,13 @@ class IdleTare {
 
  private:
   void fit() noexcept;
+  void learn(double rpm, double power_W, double dt) noexcept;
+  // Samples of the current steady stretch not yet learned: one is learned only once the speed has
+  // stayed steady settle_s after it, so the drive's power at the start of a speed change (its
+  // torque rises before the speed moves) never is. A ring, allocated with the object.
+  static constexpr std::size_t kPending = 1024;
+  std::array<double, kPending> pend_rpm_{}, pend_power_{};
+  std::size_t pend_head_ = 0, pend_count_ = 0;
   Params p_{};
   std::array<double, kBins> power_{};
   std::array<double, kBins> rpm_{};
