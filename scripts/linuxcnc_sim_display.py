@@ -127,10 +127,15 @@ def main():
             except OSError:
                 progress = None
         next_progress = t0 + 5.0
+        idle = 0
         while True:
             stat.poll()
             drain()
-            if stat.interp_state == linuxcnc.INTERP_IDLE and stat.queue == 0:
+            # The end: idle for 0.2 s (a tool change can show idle with nothing queued for a poll;
+            # seen once on a loaded machine: a run "finished" at T2 M6).
+            idle = idle + 1 if (stat.interp_state == linuxcnc.INTERP_IDLE and stat.queue == 0 and
+                                stat.exec_state == linuxcnc.EXEC_DONE) else 0
+            if idle >= 20:
                 break
             if hal.get_value("lathectl-adaptive.feed-hold"):
                 hold_since = hold_since or time.monotonic()

@@ -20,18 +20,24 @@ void IdleTare::update(double rpm, double drive_power_W, double dt, bool air) noe
   const double n = std::abs(rpm);
   const double rate = dt > 0.0 ? std::abs(n - last_rpm_) / dt : 0.0;
   last_rpm_ = n;
-  const bool usable = air && rate <= p_.steady_rpm_per_s && n >= p_.rpm_min && n <= p_.rpm_max &&
-                      std::isfinite(drive_power_W) && dt > 0.0;
-  if (!usable) {  // the stretch ends: its last settle_s is not steady enough to be learned
+  const std::size_t tail = (pend_head_ + kPending - pend_count_) % kPending;
+  if (!(rate <= p_.steady_rpm_per_s)) {  // a speed change: the last settle_s is not idle power
     steady_s_ = 0.0;
     pend_count_ = 0;
     return;
   }
   steady_s_ += dt;
-  const std::size_t tail = (pend_head_ + kPending - pend_count_) % kPending;
-  if (pend_count_ == kPending || (steady_s_ > 2.0 * p_.settle_s && pend_count_ > 0 &&
-                                  static_cast<double>(pend_count_) * dt >= p_.settle_s)) {
-    learn(pend_rpm_[tail], pend_power_[tail], dt);  // steady settle_s before and after it
+  const bool usable = air && steady_s_ >= p_.settle_s && n >= p_.rpm_min && n <= p_.rpm_max &&
+                      std::isfinite(drive_power_W) && dt > 0.0;
+  if (!usable) {  // the speed held: what is pending was idle at a steady speed
+    for (; pend_count_ > 0; --pend_count_) {
+      const std::size_t k = (pend_head_ + kPending - pend_count_) % kPending;
+      learn(pend_rpm_[k], pend_power_[k], dt);
+    }
+    return;
+  }
+  if (pend_count_ == kPending || static_cast<double>(pend_count_) * dt >= p_.settle_s) {
+    learn(pend_rpm_[tail], pend_power_[tail], dt);  // the speed stayed steady settle_s after it
     --pend_count_;
   }
   pend_rpm_[pend_head_] = n;

@@ -54,9 +54,9 @@ class IdleTare {
  private:
   void fit() noexcept;
   void learn(double rpm, double power_W, double dt) noexcept;
-  // Samples of the current steady stretch not yet learned: one is learned only once the speed has
-  // stayed steady settle_s after it, so the drive's power at the start of a speed change (its
-  // torque rises before the speed moves) never is. A ring, allocated with the object.
+  // Samples not yet learned: one is learned once the speed has stayed steady settle_s after it
+  // (or the tool entered a cut at that speed), so the drive's power at the start of a speed
+  // change (its torque rises before the speed moves) never is. A ring, allocated with the object.
   static constexpr std::size_t kPending = 1024;
   std::array<double, kPending> pend_rpm_{}, pend_power_{};
   std::size_t pend_head_ = 0, pend_count_ = 0;
