@@ -2,16 +2,24 @@
 // adaptive loop closes inside LinuxCNC on a simulated machine. A thin wrapper over
 // sim::LathePlant (cutting model, stock, disturbances and force sensor of the library).
 //
-//   loadrt lathectl_plant scenario=PATH [z_origin_mm=0] [cell_mm=0.01]
+//   loadrt lathectl_plant scenario=PATH [z_origin_mm=0] [cell_mm=0.01] [warmup_s=120]
+//                         [idle_drift=0.15]
 //   addf lathectl-plant servo-thread
 //
 // Pins (prefix lathectl-plant.): in x-pos, z-pos [mm], spindle-rpm, enable; out force (the sensor's
 // sample, N or W), force-true, pz, py [N], cut-power [W], depth [mm], feed-per-rev [mm/rev],
 // cutting-speed [m/min], strength-factor, in-contact, time-in-cut [s], update-ns,
-// update-ns-max [ns]. See lathectl_plant(9).
+// update-ns-max [ns]; spindle-power [W]: what the spindle drive's power pin reads,
+//   P = P_cut/η + P_idle(n)·(1 + d·e^{−t/τ}) + J·ω·(dω/dt)/η + noise
+// (the scenario's [spindle]: seed 001's idle law p0 + p1·n + p2·n², efficiency η, inertia J; a
+// cold machine draws d = idle_drift more idle power, which falls off with τ = warmup_s as it warms
+// up; the noise is 0.1 % of the rated power, deterministic). See lathectl_plant(9).
 
 #include <cmath>
+#include <cstdint>
 #include <memory>
+
+#include "lathectl/drives/spindle_drive.hpp"
 
 #include "lathectl/sim/lathe_plant.hpp"
 #include "lathectl_hal.hpp"
@@ -28,6 +36,13 @@ static char* z_origin_mm = nullptr;
 RTAPI_MP_STRING(z_origin_mm, "machine z [mm] of the stock's z = 0 (the part lies toward -z)");
 static char* cell_mm = nullptr;
 RTAPI_MP_STRING(cell_mm, "workpiece grid along z [mm], default 0.01");
+static char* warmup_s = nullptr;
+RTAPI_MP_STRING(warmup_s, "time constant of the idle power's warm-up drift [s], default 120");
+static char* break_at_s = nullptr;
+RTAPI_MP_STRING(break_at_s, "the tool breaks after this time in cut [s] (no force from then on); "
+                            "default never");
+static char* idle_drift = nullptr;
+RTAPI_MP_STRING(idle_drift, "extra idle power of the cold machine (fraction), default 0.15");
 
 namespace {
 
@@ -44,6 +59,9 @@ struct Pins {
   hal_float_t* pz;
   hal_float_t* py;
   hal_float_t* power;
+  hal_float_t* spindle_power;
+  hal_float_t* idle_power;
+  hal_float_t* idle_factor;
   hal_float_t* depth;
   hal_float_t* feed;
   hal_float_t* speed;
@@ -57,6 +75,25 @@ struct Pins {
 int comp_id = -1;
 Pins* pins = nullptr;
 std::unique_ptr<lathectl::sim::LathePlant> plant;
+struct Drive {
+  lathectl::drives::SpindleDrive::Params spindle;
+  double warmup_s = 120.0;
+  double drift = 0.15;
+  double t_s = 0.0;
+  double last_rpm = 0.0;
+  std::uint64_t rng = 0x9e3779b97f4a7c15ULL;
+};
+Drive drive;
+double break_at = 0.0;  // 0: never
+
+// A uniform deviate in [−1, 1) (xorshift64*: deterministic, no allocation).
+double noise() noexcept {
+  drive.rng ^= drive.rng >> 12;
+  drive.rng ^= drive.rng << 25;
+  drive.rng ^= drive.rng >> 27;
+  const std::uint64_t v = drive.rng * 2685821657736338717ULL;
+  return static_cast<double>(v >> 11) / 4503599627370496.0 - 1.0;
+}
 lathectl::hal::UpdateTimer timer;
 
 void update(void*, long period_ns) {
@@ -70,11 +107,32 @@ void update(void*, long period_ns) {
   in.rpm = *pins->rpm;
   lathectl::sim::LathePlant::Output out;
   plant->step(in, static_cast<double>(period_ns) * 1e-9, out);
+  if (break_at > 0.0 && out.time_in_cut_s >= break_at) {  // a broken tool: nothing is cut
+    out.force_measured = out.force_parameter = out.Pz_N = out.Py_N = out.cut_power_W = 0.0;
+    out.depth_mm = 0.0;
+  }
   *pins->force = out.force_measured;
   *pins->force_true = out.force_parameter;
   *pins->pz = out.Pz_N;
   *pins->py = out.Py_N;
   *pins->power = out.cut_power_W;
+  {  // the drive's power pin
+    const double dt = static_cast<double>(period_ns) * 1e-9;
+    const auto& sp = drive.spindle;
+    const double n = std::abs(in.rpm);
+    const double w = n * 2.0 * 3.14159265358979323846 / 60.0;
+    const double dw = (n - drive.last_rpm) * 2.0 * 3.14159265358979323846 / 60.0 / dt;
+    drive.last_rpm = n;
+    drive.t_s += dt;
+    const double idle = n > 0.0 ? lathectl::drives::idle_power_W(sp, n) *
+                                      (1.0 + drive.drift * std::exp(-drive.t_s / drive.warmup_s))
+                                : 0.0;
+    *pins->idle_power = idle;
+    *pins->idle_factor = 1.0 + drive.drift * std::exp(-drive.t_s / drive.warmup_s);
+    *pins->spindle_power = out.cut_power_W / sp.efficiency + idle +
+                           sp.inertia_kg_m2 * w * dw / sp.efficiency +
+                           (n > 0.0 ? 0.001 * sp.max_power_W * noise() : 0.0);
+  }
   *pins->depth = out.depth_mm;
   *pins->feed = out.feed_per_rev_mm;
   *pins->speed = out.speed_m_per_min;
@@ -99,6 +157,12 @@ extern "C" int rtapi_app_main(void) {
     p.cell_mm = lathectl::hal::number_param(cell_mm, "cell_mm", 0.01);
     auto model = std::make_unique<lathectl::sim::LathePlant>();
     model->configure(sc.get<e_adaptive::Settings>().rig, p);
+    drive.spindle = sc.get<e_adaptive::Settings>().rig.spindle;
+    drive.warmup_s = lathectl::hal::number_param(warmup_s, "warmup_s", 120.0);
+    drive.drift = lathectl::hal::number_param(idle_drift, "idle_drift", 0.15);
+    break_at = lathectl::hal::number_param(break_at_s, "break_at_s", 0.0);
+    if (!(drive.warmup_s > 0.0) || !(drive.drift >= 0.0))
+      throw lathectl::hal::Error("module parameters: warmup_s must be > 0, idle_drift >= 0");
     pins = lathectl::hal::allocate_pins<Pins>();
     pin(&pins->x_pos, HAL_IN, comp_id, kPrefix, "x-pos");
     pin(&pins->z_pos, HAL_IN, comp_id, kPrefix, "z-pos");
@@ -109,6 +173,9 @@ extern "C" int rtapi_app_main(void) {
     pin(&pins->pz, HAL_OUT, comp_id, kPrefix, "pz");
     pin(&pins->py, HAL_OUT, comp_id, kPrefix, "py");
     pin(&pins->power, HAL_OUT, comp_id, kPrefix, "cut-power");
+    pin(&pins->spindle_power, HAL_OUT, comp_id, kPrefix, "spindle-power");
+    pin(&pins->idle_power, HAL_OUT, comp_id, kPrefix, "idle-power");
+    pin(&pins->idle_factor, HAL_OUT, comp_id, kPrefix, "idle-drift-factor");
     pin(&pins->depth, HAL_OUT, comp_id, kPrefix, "depth");
     pin(&pins->feed, HAL_OUT, comp_id, kPrefix, "feed-per-rev");
     pin(&pins->speed, HAL_OUT, comp_id, kPrefix, "cutting-speed");

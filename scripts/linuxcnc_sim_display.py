@@ -29,8 +29,12 @@ CHANNELS = [
     ("feed_per_rev_mm", float), ("feed_per_rev_cmd_mm", float), ("cutting_speed_m_per_min", float),
     ("spindle_rpm_cmd", float), ("feed_hold", int), ("alarm", int),
     ("reason", int), ("alarm_reason", int), ("in_cut", int), ("program_line", int),
-    ("update_ns", int),
+    ("update_ns", int), ("load", float), ("limit", float), ("cut_power_W", float),
+    ("spindle_power_W", float), ("idle_power_W", float), ("idle_power_true_W", float),
+    ("tool", int), ("bad_setting", int), ("teaching", int), ("in_contact", int),
+    ("limit_cmd", float),
 ]
+CHANNELS_0 = 21  # sampler.0's pins; the rest are sampler.1's
 
 
 def reason_names():
@@ -43,8 +47,14 @@ def reason_names():
     return {int(v): names.get(k, k) for k, v in codes.items()}
 
 
+RAW = []  # the raw recording: never left behind
+
+
 def fail(msg):
     print("linuxcnc_sim_display: " + msg, file=sys.stderr)
+    for r in RAW:
+        if os.path.exists(r):
+            os.remove(r)
     sys.exit(1)
 
 
@@ -65,7 +75,11 @@ def main():
     period_s = 1e-3  # [EMCMOT]SERVO_PERIOD of the sample config
     stat, cmd, err = linuxcnc.stat(), linuxcnc.command(), linuxcnc.error_channel()
     me = hal.component("lathectl-sim-display")  # hal.set_p/get_value need a component
+    me.newpin("record", hal.HAL_BIT, hal.HAL_OUT)
     me.ready()
+    # Both samplers start in the same servo period (their sample numbers then match).
+    subprocess.run(["halcmd", "net", "lathectl-sim-record", "lathectl-sim-display.record",
+                    "sampler.0.enable", "sampler.1.enable"], check=True)
     wait(lambda s: s.task_state is not None, 20, "task", stat)
     errors = []
 
@@ -80,12 +94,12 @@ def main():
 
     cmd.state(linuxcnc.STATE_ESTOP_RESET)
     cmd.state(linuxcnc.STATE_ON)
-    wait(lambda s: s.task_state == linuxcnc.STATE_ON, 10, "machine on", stat)
+    wait(lambda s: s.task_state == linuxcnc.STATE_ON, 60, "machine on", stat)
     cmd.mode(linuxcnc.MODE_MANUAL)
     cmd.wait_complete()
     cmd.teleop_enable(0)
     cmd.home(-1)
-    wait(lambda s: all(s.homed[j] for j in range(s.joints)), 20, "homing", stat)
+    wait(lambda s: all(s.homed[j] for j in range(s.joints)), 60, "homing", stat)
     cmd.mode(linuxcnc.MODE_AUTO)
     cmd.wait_complete()
     cmd.program_open(program)
@@ -95,18 +109,33 @@ def main():
         fail("opening the program: " + "; ".join(errors))
 
     csv_raw = os.path.join(out_dir, "signals.raw")
-    with open(csv_raw, "w") as raw:
+    csv_raw1 = os.path.join(out_dir, "signals1.raw")
+    RAW.extend([csv_raw, csv_raw1])
+    with open(csv_raw, "w") as raw, open(csv_raw1, "w") as raw1:
         sampler = subprocess.Popen(["halsampler", "-t"], stdout=raw)
-        hal.set_p("sampler.0.enable", "1")
+        sampler1 = subprocess.Popen(["halsampler", "-t", "-c", "1"], stdout=raw1)
+        me["record"] = 1
         t0 = time.monotonic()
         cmd.auto(linuxcnc.AUTO_RUN, 0)
-        wait(lambda s: s.interp_state != linuxcnc.INTERP_IDLE, 10, "program start", stat)
+        wait(lambda s: s.interp_state != linuxcnc.INTERP_IDLE, 30, "program start", stat)
         hold_since = None
-        aborted = False
+        aborted = timed_out = False
+        progress = None
+        if os.environ.get("LATHECTL_SIM_PROGRESS"):
+            try:
+                progress = open(os.environ["LATHECTL_SIM_PROGRESS"], "w")
+            except OSError:
+                progress = None
+        next_progress = t0 + 5.0
+        idle = 0
         while True:
             stat.poll()
             drain()
-            if stat.interp_state == linuxcnc.INTERP_IDLE and stat.queue == 0:
+            # The end: idle for 0.2 s (a tool change can show idle with nothing queued for a poll;
+            # seen once on a loaded machine: a run "finished" at T2 M6).
+            idle = idle + 1 if (stat.interp_state == linuxcnc.INTERP_IDLE and stat.queue == 0 and
+                                stat.exec_state == linuxcnc.EXEC_DONE) else 0
+            if idle >= 20:
                 break
             if hal.get_value("lathectl-adaptive.feed-hold"):
                 hold_since = hold_since or time.monotonic()
@@ -117,30 +146,60 @@ def main():
                     break
             if time.monotonic() - t0 > timeout_s:
                 cmd.abort()
-                fail("program still running after %g s (--timeout)" % timeout_s)
+                cmd.wait_complete()
+                timed_out = True
+                errors.append("program still running after %g s (--timeout): aborted" % timeout_s)
+                break
+            if progress is not None and time.monotonic() >= next_progress:
+                next_progress += 5.0
+                progress.write("linuxcnc-sim: %5.0f s  line %d  tool %d  load %.0f / %.0f  "
+                               "feed x%.2f%s\n" % (
+                                   time.monotonic() - t0,
+                                   stat.motion_line - int(os.environ.get("LATHECTL_SIM_LINE_OFFSET", "0")),
+                                   stat.tool_in_spindle,
+                                   hal.get_value("lathectl-adaptive.load"),
+                                   hal.get_value("lathectl-adaptive.limit"),
+                                   hal.get_value("lathectl-adaptive.adaptive-feed"),
+                                   "  HOLD" if hal.get_value("lathectl-adaptive.feed-hold") else ""))
+                progress.flush()
             time.sleep(0.01)
         wall_s = time.monotonic() - t0
         time.sleep(0.1)
-        hal.set_p("sampler.0.enable", "0")
+        me["record"] = 0
         time.sleep(0.3)  # let halsampler drain the FIFO
-        sampler.terminate()
-        sampler.wait()
-        overruns = int(hal.get_value("sampler.0.overruns"))
+        for p in (sampler, sampler1):
+            p.terminate()
+            p.wait()
+        overruns = int(hal.get_value("sampler.0.overruns")) + int(
+            hal.get_value("sampler.1.overruns"))
         update_ns_max = int(hal.get_value("lathectl-adaptive.update-ns-max"))
         plant_ns_max = int(hal.get_value("lathectl-plant.update-ns-max"))
         force_limit = float(hal.get_value("lathectl-adaptive.force-limit"))
+        # The idle tare the controller learned (sensor=power) and the plant's true warm-up state.
+        idle_tare = {"p0_W": hal.get_value("lathectl-adaptive.idle-p0"),
+                     "p1_W_per_rpm": hal.get_value("lathectl-adaptive.idle-p1"),
+                     "p2_W_per_rpm2": hal.get_value("lathectl-adaptive.idle-p2"),
+                     "plant_drift_factor": hal.get_value("lathectl-plant.idle-drift-factor")}
     drain()
     cmd.state(linuxcnc.STATE_OFF)
 
     rows = []
+    second = {}
+    with open(csv_raw1) as raw1:
+        for line in raw1:
+            f = line.split()
+            if len(f) == len(CHANNELS) - CHANNELS_0 + 1:
+                second[int(f[0])] = f[1:]
     with open(csv_raw) as raw:
         for line in raw:
             f = line.split()
-            if len(f) != len(CHANNELS) + 1:
+            if len(f) != CHANNELS_0 + 1 or int(f[0]) not in second:
                 continue
+            f = f + second[int(f[0])]
             rows.append([int(f[0])] + [conv(v) if conv is int else float(v)
                                        for (name, conv), v in zip(CHANNELS, f[1:])])
     os.remove(csv_raw)
+    os.remove(csv_raw1)
     if not rows:
         fail("nothing recorded")
     n0 = rows[0][0]
@@ -171,6 +230,7 @@ def main():
         "scenario": os.environ.get("LATHECTL_SIM_SCENARIO", ""),
         "finished": not aborted and not errors,
         "aborted_on_feed_hold": aborted,
+        "timed_out": timed_out,
         "errors": errors,
         "cycle_time_s": round(len(rows) * period_s, 3),
         "wall_time_s": round(wall_s, 3),
@@ -185,12 +245,18 @@ def main():
         "alarms": alarms,
         "update_ns_max_adaptive": update_ns_max,
         "update_ns_max_plant": plant_ns_max,
+        "idle_tare": idle_tare,
     }
     tmp = os.path.join(out_dir, "summary.json.tmp")
     with open(tmp, "w") as fj:
         json.dump(summary, fj, indent=2)
         fj.write("\n")
     os.replace(tmp, os.path.join(out_dir, "summary.json"))
+    if progress is not None:
+        progress.write("linuxcnc-sim: %s after %.1f s of program; %s\n" % (
+            "timed out" if timed_out else "held and aborted" if aborted else "finished",
+            wall_s, out_dir))
+        progress.close()
     sys.exit(0 if not errors else 1)
 
 

@@ -34,6 +34,7 @@ void add_run(CLI::App& app, Commands& out);
 void add_check(CLI::App& app, Commands& out);
 void add_demo(CLI::App& app, Commands& out);
 void add_lobes(CLI::App& app, Commands& out);
+void add_report(CLI::App& app, Commands& out);
 void add_design(CLI::App& app, Commands& out);
 void add_reference(CLI::App& app, Commands& out);
 

@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   cli::add_check(app, commands);
   cli::add_demo(app, commands);
   cli::add_lobes(app, commands);
+  cli::add_report(app, commands);
   cli::add_design(app, commands);
   cli::add_reference(app, commands);
 

@@ -53,6 +53,7 @@ void AdaptiveFeedController::configure(const Params& p) {
     probe.configure(p.sensor_monitor);
   }
   p_ = p;
+  base_ = p;
   {
     auto mp = p.sensor_monitor;  // the monitor samples once per control period
     if (mp.period_s == 0.0) mp.period_s = p.period_s;
@@ -87,6 +88,24 @@ double AdaptiveFeedController::feed_ceiling() const noexcept {
   return p_.allow_above_programmed
              ? p_.feed_max_mm_per_rev
              : std::min(p_.feed_max_mm_per_rev, p_.feed_programmed_mm_per_rev);
+}
+
+bool AdaptiveFeedController::set_operation(double force_limit, double feed_min_mm_per_rev,
+                                           double feed_max_mm_per_rev, bool adaptive) noexcept {
+  if (!configured_ || !std::isfinite(force_limit) || !(force_limit > 0.0) ||
+      !std::isfinite(feed_max_mm_per_rev) || !(feed_min_mm_per_rev > 0.0) ||
+      !(feed_max_mm_per_rev > feed_min_mm_per_rev))
+    return false;
+  p_.force_limit = force_limit;
+  p_.feed_min_mm_per_rev = feed_min_mm_per_rev;
+  p_.feed_max_mm_per_rev = feed_max_mm_per_rev;
+  p_.feed_programmed_mm_per_rev =
+      std::clamp(base_.feed_programmed_mm_per_rev, feed_min_mm_per_rev, feed_max_mm_per_rev);
+  p_.entry_feed_mm_per_rev =
+      std::clamp(base_.entry_feed_mm_per_rev, feed_min_mm_per_rev, feed_max_mm_per_rev);
+  p_.mode = adaptive ? base_.mode : Mode::Fixed;
+  pi_.set_limits(feed_min_mm_per_rev, feed_ceiling());
+  return true;
 }
 
 void AdaptiveFeedController::reset_alarm() noexcept {

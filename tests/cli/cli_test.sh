@@ -14,7 +14,7 @@ expect_rc() {  # expected_rc description command...
 }
 
 # --help on every command
-for c in "" run check demo lobes design reference "design pulse-regulator" "design adaptive-speed" "design gauge" "design tracer"; do
+for c in "" run check demo lobes report design reference "design pulse-regulator" "design adaptive-speed" "design gauge" "design tracer"; do
   expect_rc 0 "--help for '$c'" $bin $c --help
 done
 # every example validates
@@ -386,7 +386,7 @@ for c in "coarse_a.toml:9:[0-9]*: key 'run.step_s': step_s .* too coarse" \
 done
 # command line: one line, the command and the flag named
 expect_rc 2 "unknown command" $bin frobnicate
-grep -qx "error: unknown command 'frobnicate' (run, check, demo, lobes, design, reference)" "$work/err.txt" || bad "unknown command: $(cat "$work/err.txt")"
+grep -qx "error: unknown command 'frobnicate' (run, check, demo, lobes, report, design, reference)" "$work/err.txt" || bad "unknown command: $(cat "$work/err.txt")"
 one_line "unknown command"
 expect_rc 2 "unknown design command" $bin design frob
 grep -qx "error: unknown command 'design frob' (pulse-regulator, adaptive-speed, planned-mode, gauge, tracer)" "$work/err.txt" || bad "unknown design command: $(cat "$work/err.txt")"
@@ -481,6 +481,23 @@ grep -q "system-c-tracer.md: generated block 'lathectl reference design tracer' 
 grep -q "^run: lathectl reference --update $work/docs$" "$work/out.txt" || bad "stale block: no update command: $(cat "$work/out.txt")"
 expect_rc 0 "reference --update" $bin reference --update "$work/docs"
 diff -r "$src/docs" "$work/docs" >/dev/null || bad "reference --update did not restore the block: $(diff -r "$src/docs" "$work/docs" | head -5)"
+
+# report: an operation log of lathectl_oplog → report.html beside it; bad logs: exit 2, one line
+mkdir -p "$work/oplog"
+cat > "$work/oplog/operations.json" <<'JSON'
+{"unit": "N", "program": "two_tool.ngc", "missed_rows": 0, "taught": [{"tool": 2, "operation": 1, "reference": 1000.2, "unit": "N"}],
+ "messages": [{"time_s": 40.1, "kind": "bad_setting", "text": "lathectl: limit above the machine's rating (9000) near program line 40: M68 E0 Q9000: feed held, not used"}],
+ "rows": [{"seq": 5, "time_s": 10.5, "tool": 1, "operation": 0, "line": 17, "mode": "adaptive", "limit": 1400.0, "load_mean": 1285.0, "load_peak": 1433.6, "load_peak_pct": 102.4, "feed_min": 0.1677, "feed_mean": 0.6888, "time_in_cut_s": 4.85, "time_s_line": 5.2, "reasons": "none rate_limited", "alarm": ""}]}
+JSON
+expect_rc 0 "report" $bin report "$work/oplog"
+grep -q "Operations" "$work/oplog/report.html" && grep -q "line 40" "$work/oplog/report.html" || bad "report.html lacks the table or the message"
+sed 's/"limit": 1400.0/"limit": "high"/' "$work/oplog/operations.json" > "$work/oplog_bad.json"
+expect_rc 2 "report with a bad row" $bin report "$work/oplog_bad.json" --out "$work/never.html"
+grep -q "oplog_bad.json: rows\[0\]: key 'limit': expected a number" "$work/err.txt" || bad "report bad-row message: $(cat "$work/err.txt")"
+[ ! -e "$work/never.html" ] || bad "a failed report left a file behind"
+printf '{"rows": [\n' > "$work/oplog_syntax.json"
+expect_rc 2 "report with broken JSON" $bin report "$work/oplog_syntax.json"
+grep -q "oplog_syntax.json:2: not JSON" "$work/err.txt" || bad "report syntax message: $(cat "$work/err.txt")"
 
 # inputs the fuzzer once crashed on: each must be a clean input error now
 for f in "$src"/tests/cli/fuzz_regressions/*.toml; do expect_rc 2 "fuzz regression $(basename "$f")" $bin check "$f"; done

@@ -14,6 +14,7 @@
 #include "lathectl/control/adaptive_feed_controller.hpp"
 #include "lathectl/control/adaptive_input.hpp"
 #include "lathectl/control/modulated_feed.hpp"
+#include "lathectl/control/operation_control.hpp"
 #include "lathectl/control/pulse_feed_controller.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
@@ -75,6 +76,45 @@ TEST(NoAlloc, PulseFeedControllerUpdateNeverAllocates) {
 }
 
 using lathectl::control::AdaptiveFeedController;
+
+// What lathectl_adaptive runs around the controller every servo period: per-operation settings
+// (valid and refused), the idle tare learning and its fit, a teach cut, the operation record.
+TEST(NoAlloc, OperationControlNeverAllocates) {
+  AdaptiveFeedController c;
+  c.configure({});
+  lathectl::control::IdleTare tare;
+  tare.configure({});
+  lathectl::control::TeachIn teach;
+  lathectl::control::OperationStats stats;
+  const lathectl::control::OperationRating rating{5000.0, 0.8, 200.0};
+  AdaptiveFeedController::Output out;
+  int refs = 0;
+  const long before = g_allocations.load();
+  teach.start();
+  for (int k = 0; k < 20000; ++k) {
+    const double rpm = 300.0 + 250.0 * (k / 1000 % 8);
+    const bool cut = k % 4000 > 1500;
+    const double load = cut ? 1000.0 + 50.0 * std::sin(k * 0.3) : 0.0;
+    (void)c.set_operation(k % 3000 < 1500 ? 1200.0 : -1.0, 0.05, 0.6, k % 7000 < 5000);
+    (void)lathectl::control::check_limit(k % 2 ? 6000.0 : 1000.0, rating);
+    (void)lathectl::control::check_feeds(0.05, k % 2 ? 0.9 : 0.4, rating);
+    tare.update(rpm, 300.0 + 0.3 * rpm + 1e-4 * rpm * rpm, 0.002, !cut);
+    (void)tare.idle_W(rpm);
+    (void)tare.covers(rpm);
+    refs += teach.sample(load, rpm, 0.002, cut) ? 1 : 0;
+    if (!teach.running()) teach.start();
+    stats.sample(load, 0.8, rpm, 0.002, cut);
+    if (k % 4000 == 0) stats.reset();
+    AdaptiveFeedController::Input in;
+    in.force = load;
+    in.rpm = rpm;
+    in.feed_block = cut;
+    (void)c.update(in, out);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0) << "allocated";
+  EXPECT_GT(refs, 0);
+  EXPECT_TRUE(tare.ready());
+}
 
 // Seed 004's controller through every path: the three modes, the per-revolution mean and the raw
 // sample, the depth-corrected law, air cut, contact, regulation with runout, the power and speed

@@ -139,11 +139,18 @@ class AdaptiveFeedController {
   // Status::NotConfigured.
   [[nodiscard]] Status update(const Input& in, Output& out) noexcept;
   void reset_alarm() noexcept;
+  // Per-operation settings (an NC block, a tool change: lathectl_adaptive) without re-allocating:
+  // the limit, the feed bounds (the configured programmed and entry feeds are clamped into them)
+  // and adaptive on/off (off: the configured mode's Fixed baseline). Returns false and changes
+  // nothing unless 0 < limit and 0 < s_min < s_max, all finite.
+  [[nodiscard]] bool set_operation(double force_limit, double feed_min_mm_per_rev,
+                                   double feed_max_mm_per_rev, bool adaptive) noexcept;
   [[nodiscard]] const Params& params() const noexcept { return p_; }
 
  private:
   double feed_ceiling() const noexcept;
   Params p_{};
+  Params base_{};  // as configured (set_operation changes p_ only)
   bool configured_ = false;
   SignalMonitor monitor_;
   PiRegulator pi_;

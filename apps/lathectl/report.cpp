@@ -1,0 +1,243 @@
+// `lathectl report LOG`: the operation log lathectl_oplog writes on LinuxCNC (operations.json,
+// one row per program line with feed moves) as the same kind of HTML report as `lathectl run`'s:
+// the per-line table, the taught references, the operator messages, and, when the recording of
+// scripts/linuxcnc-sim lies beside it (signals.csv), load against limit and the adaptive feed
+// over time.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli.hpp"
+#include "lathectl/io/errors.hpp"
+#include "lathectl/io/report.hpp"
+
+namespace lathectl::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string fixed(double v, int digits) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(digits);
+  s << v;
+  return s.str();
+}
+
+std::string read_all(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  if (!f) throw io::InputError(p.string() + ": cannot read the operation log");
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// A field of a row: present and of the kind asked, else one line naming the file, row and key.
+double number(const json& row, const char* key, const std::string& where) {
+  const auto it = row.find(key);
+  if (it == row.end() || !it->is_number())
+    throw io::InputError(where + ": key '" + key + "': expected a number");
+  return it->get<double>();
+}
+std::string text(const json& row, const char* key, const std::string& where) {
+  const auto it = row.find(key);
+  if (it == row.end() || !it->is_string())
+    throw io::InputError(where + ": key '" + key + "': expected a string");
+  return it->get<std::string>();
+}
+
+json parse_log(const fs::path& file) {
+  const std::string body = read_all(file);
+  try {
+    return json::parse(body);
+  } catch (const json::parse_error& e) {
+    const std::size_t at = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, body.size());
+    int line = 1;
+    for (std::size_t i = 0; i < at; ++i) line += body[i] == '\n' ? 1 : 0;
+    throw io::InputError(io::located(file.string(), line, 0, "not JSON (" +
+                                                                 std::string(e.what()) + ")"));
+  }
+}
+
+// The recording of scripts/linuxcnc-sim, the columns the plots need (absent: no plots).
+struct Signals {
+  std::vector<double> t, load, limit, feed, line;
+};
+bool read_signals(const fs::path& csv, Signals& s) {
+  std::ifstream f(csv);
+  if (!f) return false;
+  std::string header;
+  if (!std::getline(f, header)) return false;
+  std::vector<std::string> cols;
+  {
+    std::stringstream h(header);
+    for (std::string c; std::getline(h, c, ',');) cols.push_back(c);
+  }
+  auto col = [&](const char* name) {
+    for (std::size_t i = 0; i < cols.size(); ++i)
+      if (cols[i] == name) return static_cast<long>(i);
+    return -1L;
+  };
+  const long it = col("time_s"), il = col("load"), im = col("limit"), ia = col("adaptive_feed"),
+             ip = col("program_line");
+  if (it < 0 || il < 0 || im < 0 || ia < 0 || ip < 0) return false;
+  std::vector<double> v(cols.size());
+  for (std::string line; std::getline(f, line);) {
+    std::stringstream r(line);
+    std::size_t i = 0;
+    for (std::string c; std::getline(r, c, ',') && i < v.size(); ++i) {
+      char* end = nullptr;
+      v[i] = std::strtod(c.c_str(), &end);
+    }
+    if (i != v.size()) continue;  // a torn last line
+    s.t.push_back(v[static_cast<std::size_t>(it)]);
+    s.load.push_back(v[static_cast<std::size_t>(il)]);
+    s.limit.push_back(v[static_cast<std::size_t>(im)]);
+    s.feed.push_back(v[static_cast<std::size_t>(ia)]);
+    s.line.push_back(v[static_cast<std::size_t>(ip)]);
+  }
+  return !s.t.empty();
+}
+
+int report(const std::string& log_arg, const std::string& out_arg) {
+  fs::path log = log_arg;
+  if (fs::is_directory(log)) log /= "operations.json";
+  if (!fs::exists(log)) throw io::InputError(log.string() + ": no such operation log");
+  const json doc = parse_log(log);
+  const std::string file = log.string();
+  if (!doc.is_object() || !doc.contains("rows") || !doc["rows"].is_array())
+    throw io::InputError(file + ": key 'rows': expected an array of operations");
+  const std::string unit = doc.contains("unit") ? text(doc, "unit", file) : "N";
+  if (unit != "N" && unit != "W") throw io::InputError(file + ": key 'unit': expected N or W");
+
+  io::Report r;
+  r.title = "Operation log";
+  r.subtitle = doc.contains("program") && doc["program"].is_string()
+                   ? doc["program"].get<std::string>() + " · " + file
+                   : file;
+  r.description =
+      "One row per program line with feed moves, as lathectl_adaptive closed it on LinuxCNC and "
+      "lathectl_oplog logged it: the limit in effect, the load's per-revolution mean (mean and "
+      "peak over the line), the adaptive feed factor (minimum and mean in the cut), the time in "
+      "cut, the controller's reasons and the first alarm. Load in " +
+      std::string(unit == "N" ? "N (the force sensor)" : "W (cutting power: spindle drive power "
+                                                         "minus the learned idle power)") +
+      ".";
+  r.doc_page = "linuxcnc.md";
+  io::Table ops{"Operations", {"line", "tool", "operation", "mode", "limit [" + unit + "]",
+                               "load mean [" + unit + "]", "peak per rev [" + unit + "]",
+                               "peak / limit", "feed min", "feed mean", "in cut [s]",
+                               "reasons", "alarm"}, {}};
+  double t_cut = 0.0, worst = 0.0;
+  int alarms = 0;
+  std::map<int, int> tools;
+  io::Series mean_s{"load mean per line", {}, {}, "", false, true};
+  io::Series peak_s{"peak per revolution", {}, {}, "", false, true};
+  io::Series lim_s{"limit", {}, {}, "", true, true};
+  std::size_t k = 0;
+  for (const auto& row : doc["rows"]) {
+    const std::string where = file + ": rows[" + std::to_string(k++) + "]";
+    if (!row.is_object()) throw io::InputError(where + ": expected an object");
+    const double line = number(row, "line", where), limit = number(row, "limit", where);
+    const double mean = number(row, "load_mean", where), peak = number(row, "load_peak", where);
+    const double fmin = number(row, "feed_min", where), fmean = number(row, "feed_mean", where);
+    const double cut = number(row, "time_in_cut_s", where);
+    const int tool = static_cast<int>(number(row, "tool", where));
+    const std::string alarm = text(row, "alarm", where);
+    const double pct = limit > 0.0 ? peak / limit : 0.0;
+    ops.rows.push_back({fixed(line, 0), std::to_string(tool),
+                        fixed(number(row, "operation", where), 0), text(row, "mode", where),
+                        fixed(limit, 1), fixed(mean, 1), fixed(peak, 1), fixed(100.0 * pct, 1) +
+                        " %", fixed(fmin, 3), fixed(fmean, 3), fixed(cut, 2),
+                        text(row, "reasons", where), alarm});
+    t_cut += cut;
+    if (cut > 0.0) worst = std::max(worst, pct);
+    alarms += alarm.empty() ? 0 : 1;
+    ++tools[tool];
+    mean_s.x.push_back(line);
+    mean_s.y.push_back(mean);
+    peak_s.x.push_back(line);
+    peak_s.y.push_back(peak);
+    lim_s.x.push_back(line);
+    lim_s.y.push_back(limit);
+  }
+  r.metrics = {{"operations (lines with feed moves)", std::to_string(ops.rows.size())},
+               {"tools", std::to_string(tools.size())},
+               {"time in cut", fixed(t_cut, 2) + " s"},
+               {"highest peak per revolution / limit", fixed(100.0 * worst, 1) + " %"},
+               {"alarms", std::to_string(alarms)}};
+  if (doc.contains("missed_rows") && doc["missed_rows"].is_number() &&
+      doc["missed_rows"].get<double>() > 0)
+    r.metrics.emplace_back("operations not logged (shorter than the log's poll)",
+                           fixed(doc["missed_rows"].get<double>(), 0));
+  r.tables.push_back(ops);
+  if (doc.contains("taught") && doc["taught"].is_array() && !doc["taught"].empty()) {
+    io::Table t{"Taught references", {"tool", "operation", "reference", "unit"}, {}};
+    std::size_t i = 0;
+    for (const auto& e : doc["taught"]) {
+      const std::string where = file + ": taught[" + std::to_string(i++) + "]";
+      t.rows.push_back({fixed(number(e, "tool", where), 0), fixed(number(e, "operation", where), 0),
+                        fixed(number(e, "reference", where), 1), text(e, "unit", where)});
+    }
+    r.tables.push_back(t);
+  }
+  if (doc.contains("messages") && doc["messages"].is_array()) {
+    std::size_t i = 0;
+    for (const auto& m : doc["messages"]) {
+      const std::string where = file + ": messages[" + std::to_string(i++) + "]";
+      r.notes.push_back(fixed(number(m, "time_s", where), 2) + " s: " + text(m, "text", where));
+    }
+  }
+  r.plots.push_back({"Load per program line", "program line", "load [" + unit + "]",
+                     {lim_s, mean_s, peak_s}, {}});
+  Signals s;
+  if (read_signals(log.parent_path() / "signals.csv", s)) {
+    io::Plot p{"Load against the limit (LinuxCNC recording)", "time [s]", "load [" + unit + "]",
+               {{"load", s.t, s.load, "", false, false}, {"limit", s.t, s.limit, "", true, false}},
+               {}};
+    for (std::size_t i = 1; i < s.t.size(); ++i)  // where an operation's limit took effect
+      if (s.limit[i] != s.limit[i - 1]) p.markers.push_back({s.t[i], fixed(s.limit[i], 0)});
+    r.plots.push_back(p);
+    r.plots.push_back({"Adaptive feed (motion.adaptive-feed)", "time [s]", "factor of the program's",
+                       {{"adaptive feed", s.t, s.feed, "", false, false}}, {}});
+  }
+  const fs::path out = out_arg.empty() ? log.parent_path() / "report.html" : fs::path(out_arg);
+  const fs::path tmp = out.string() + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    if (!f) throw io::InputError(out.string() + ": cannot write the report");
+    f << io::render_html(r);
+    if (!f) throw io::InputError(out.string() + ": cannot write the report");
+  }
+  fs::rename(tmp, out);
+  std::cout << ops.rows.size() << " operations, " << tools.size() << " tools, peak "
+            << fixed(100.0 * worst, 1) << " % of the limit → " << out.string() << "\n";
+  return 0;
+}
+
+}  // namespace
+
+void add_report(CLI::App& app, Commands& out) {
+  struct Args {
+    std::string log, out;
+  };
+  auto a = std::make_shared<Args>();
+  auto* sub = app.add_subcommand(
+      "report", "HTML report of a LinuxCNC operation log (lathectl_oplog's operations.json)");
+  sub->add_option("log", a->log,
+                  "operations.json, or the directory holding it (scripts/linuxcnc-sim --out DIR)")
+      ->required();
+  sub->add_option("--out", a->out, "the report (default: report.html beside the log)");
+  sub->footer("The operation log and its columns: " + doc("linuxcnc.md") + ".");
+  out.push_back({sub, [a] { return report(a->log, a->out); }});
+}
+
+}  // namespace lathectl::cli
