@@ -158,6 +158,15 @@ void BM_Lobes_SdCellEigen(benchmark::State& state) {
 }
 BENCHMARK(BM_Lobes_SdCellEigen)->Arg(54)->Arg(101)->Arg(201)->Arg(400)->ArgName("m")
     ->Unit(benchmark::kMillisecond);
+// The same cell as the chart now evaluates it: the number of the SD map's roots outside the unit
+// circle by the argument principle (issue 19), cost ∝ m.
+void BM_Lobes_SdCellCount(benchmark::State& state) {
+  const auto s = bench_sdof();
+  const int m = static_cast<int>(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(dynamics::sd_unstable_roots(s, 6500.0, 5e-3, m, 5));
+}
+BENCHMARK(BM_Lobes_SdCellCount)->Arg(54)->Arg(101)->Arg(201)->Arg(400)->ArgName("m")
+    ->Unit(benchmark::kMillisecond);
 
 // Issue 19: the default SD chart of each machine file (as `lathectl lobes` draws it: its own
 // speeds × depths, top 4 × the absolute limit unless the file sets it) on 2 threads (target:
@@ -363,5 +372,5 @@ void BM_ModulatedFeedController_Plan(benchmark::State& state) {
                                         820.0, wm, req, got, lim));
   }
 }
-BENCHMARK(BM_ModulatedFeedController_Plan)->Arg(5)->Arg(50)->Arg(1000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ModulatedFeedController_Plan)->Arg(5)->Arg(32)->Arg(33)->Arg(50)->Arg(1000)->Unit(benchmark::kMicrosecond);
 }  // namespace
