@@ -308,15 +308,18 @@ void sd_map(const SdModel& s, double kb, double dt, int m, int order, Eigen::Mat
 struct CountWorkspace {
   Eigen::MatrixXcd M;
   Eigen::VectorXcd G;
+  // The base grid's e^{jθ_k} and e^{jθ_k(lo − m)}, kept while m and the grid stay the same (every
+  // depth of a speed, and the bisection, reuse them).
+  int m = -1, lo = 0, samples = 0;
+  std::vector<std::complex<double>> mu, pw;
 };
 
-std::complex<double> char_value(const SdStep& st, const Eigen::VectorXd& v, int m, double theta,
-                                CountWorkspace& w) {
+// f(μ) at μ = e^{jθ}, given μ and μ^{lo−m}.
+std::complex<double> char_value(const SdStep& st, const Eigen::VectorXd& v, std::complex<double> mu,
+                                std::complex<double> pw, CountWorkspace& w) {
   const Eigen::Index d = st.P.rows();
-  const std::complex<double> mu = std::polar(1.0, theta);
-  std::complex<double> pw = std::polar(1.0, theta * (st.lo - m));  // μ^{σ−m}, σ = lo
   w.G.setZero(d);
-  for (const auto& g : st.g) {
+  for (const auto& g : st.g) {  // G(μ) = Σ_σ g_σ·μ^{σ−m}
     w.G += pw * g;
     pw *= mu;
   }
@@ -343,13 +346,18 @@ std::complex<double> char_value(const SdStep& st, const Eigen::VectorXd& v, int 
   return det;
 }
 
+std::complex<double> char_value_at(const SdStep& st, const Eigen::VectorXd& v, int m, double theta,
+                                   CountWorkspace& w) {
+  return char_value(st, v, std::polar(1.0, theta), std::polar(1.0, theta * (st.lo - m)), w);
+}
+
 double phase_change(const SdStep& st, const Eigen::VectorXd& v, int m, double t0,
                     std::complex<double> f0, double t1, std::complex<double> f1, int depth,
                     CountWorkspace& w) {
   const double step = std::arg(f1 * std::conj(f0));
   if (std::abs(step) <= 0.25 * kPi || depth >= 48) return step;
   const double tm = 0.5 * (t0 + t1);
-  const auto fm = char_value(st, v, m, tm, w);
+  const auto fm = char_value_at(st, v, m, tm, w);
   return phase_change(st, v, m, t0, f0, tm, fm, depth + 1, w) +
          phase_change(st, v, m, tm, fm, t1, f1, depth + 1, w);
 }
@@ -357,11 +365,24 @@ double phase_change(const SdStep& st, const Eigen::VectorXd& v, int m, double t0
 int unstable_roots(const SdStep& st, const Eigen::VectorXd& v, int m, CountWorkspace& w) {
   const auto d = static_cast<int>(st.P.rows());
   const int samples = 4 * (m - st.lo + d) + 32;
+  if (w.m != m || w.lo != st.lo || w.samples != samples) {
+    w.m = m;
+    w.lo = st.lo;
+    w.samples = samples;
+    w.mu.resize(static_cast<std::size_t>(samples) + 1);
+    w.pw.resize(w.mu.size());
+    for (int k = 0; k <= samples; ++k) {
+      const double t = kPi * k / samples;
+      w.mu[static_cast<std::size_t>(k)] = std::polar(1.0, t);
+      w.pw[static_cast<std::size_t>(k)] = std::polar(1.0, t * (st.lo - m));
+    }
+  }
   double total = 0.0, t0 = 0.0;
-  std::complex<double> f0 = char_value(st, v, m, 0.0, w);
+  std::complex<double> f0 = char_value(st, v, w.mu[0], w.pw[0], w);
   for (int k = 1; k <= samples; ++k) {
     const double t1 = kPi * k / samples;
-    const auto f1 = char_value(st, v, m, t1, w);
+    const auto kk = static_cast<std::size_t>(k);
+    const auto f1 = char_value(st, v, w.mu[kk], w.pw[kk], w);
     total += phase_change(st, v, m, t0, f0, t1, f1, 0, w);
     t0 = t1;
     f0 = f1;
