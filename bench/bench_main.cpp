@@ -4,6 +4,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -12,7 +13,10 @@
 #include "lathectl/control/pulse_feed_controller.hpp"
 #include "lathectl/dynamics/lobes.hpp"
 #include "lathectl/io/materials.hpp"
+#include "lathectl/io/output.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "lathectl/sim/recorder.hpp"
+#include "systems/b_chatter/lobes.hpp"
 #include "systems/e_adaptive/rig.hpp"
 #include "systems/e_adaptive/settings.hpp"
 #include "support/sample_controller.hpp"
@@ -145,6 +149,102 @@ void BM_Lobes_SdChart200x100(benchmark::State& state) {
     benchmark::DoNotOptimize(dynamics::sd_stability_chart(s, 2000, 14000, 200, 0.03, 100));
 }
 BENCHMARK(BM_Lobes_SdChart200x100)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+
+// Issue 19: the cost of one SD chart cell against the steps per delay m (the eigenvalue solve of
+// the (2 + m + 2)-dimensional map; the example mode at 6500 rpm and 5 mm).
+void BM_Lobes_SdCellEigen(benchmark::State& state) {
+  const auto s = bench_sdof();
+  const int m = static_cast<int>(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(dynamics::spectral_radius_sd(s, 6500.0, 5e-3, m, 5));
+}
+BENCHMARK(BM_Lobes_SdCellEigen)->Arg(54)->Arg(101)->Arg(201)->Arg(400)->ArgName("m")
+    ->Unit(benchmark::kMillisecond);
+// The same cell as the chart now evaluates it: the number of the SD map's roots outside the unit
+// circle by the argument principle (issue 19), cost ∝ m.
+void BM_Lobes_SdCellCount(benchmark::State& state) {
+  const auto s = bench_sdof();
+  const int m = static_cast<int>(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(dynamics::sd_unstable_roots(s, 6500.0, 5e-3, m, 5));
+}
+BENCHMARK(BM_Lobes_SdCellCount)->Arg(54)->Arg(101)->Arg(201)->Arg(400)->ArgName("m")
+    ->Unit(benchmark::kMillisecond);
+
+// Issue 19: the default SD chart of each machine file (as `lathectl lobes` draws it: its own
+// speeds × depths, top 4 × the absolute limit unless the file sets it) on 2 threads (target:
+// under 5 s for any machine file). b_slow_high_freq: one 650 Hz mode at 500–4000 rpm.
+void BM_Lobes_SdChartMachine(benchmark::State& state, const char* machine) {
+  const auto in = b_chatter::load_lobes_input(std::string(LATHECTL_SOURCE_DIR "/examples/machines/") +
+                                              machine);
+  const auto fd = dynamics::frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm, in.max_lobes,
+                                                   40000);
+  const double top = in.chart_max_depth_m > 0.0 ? in.chart_max_depth_m : 4.0 * fd.critical_depth_m;
+  dynamics::SdChartOptions o;
+  o.steps_per_period = in.chart_steps_per_period;
+  o.threads = 2;
+  int m_max = 0;
+  for (auto _ : state) {
+    const auto c = dynamics::sd_stability_chart(in.system, in.min_rpm, in.max_rpm, in.chart_speeds,
+                                                top, in.chart_depths, o);
+    m_max = *std::max_element(c.steps.begin(), c.steps.end());
+    benchmark::DoNotOptimize(c.boundary_depth_m.data());
+  }
+  state.counters["cells"] = in.chart_speeds * in.chart_depths;
+  state.counters["m_max"] = m_max;
+}
+BENCHMARK_CAPTURE(BM_Lobes_SdChartMachine, b_sdof, "b_sdof.toml")
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_Lobes_SdChartMachine, b_two_mode, "b_two_mode.toml")
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_Lobes_SdChartMachine, b_part, "b_part.toml")
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_Lobes_SdChartMachine, b_slow_high_freq, "b_slow_high_freq.toml")
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+// Issue 19: the limit depth at one speed read off the frequency-domain lobes (`lobes` asks it
+// 1001 times for lobes.csv, and once per SD speed); b_part's lobes (60 lobes, 40000 points).
+void BM_Lobes_EnvelopeDepth(benchmark::State& state) {
+  const auto in =
+      b_chatter::load_lobes_input(std::string(LATHECTL_SOURCE_DIR "/examples/machines/b_part.toml"));
+  const auto fd = dynamics::frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm, in.max_lobes,
+                                                   40000);
+  std::size_t points = 0;
+  for (const auto& l : fd.lobes) points += l.points.size();
+  double n = in.min_rpm;
+  for (auto _ : state) {
+    n = n >= in.max_rpm ? in.min_rpm : n + 1.7;
+    benchmark::DoNotOptimize(dynamics::envelope_depth(fd, n));
+  }
+  state.counters["lobe_points"] = static_cast<double>(points);
+}
+BENCHMARK(BM_Lobes_EnvelopeDepth)->Unit(benchmark::kMicrosecond);
+
+// Issue 19: writing channels.csv: 100 000 rows of 12 channels (typical magnitudes).
+void BM_Output_ChannelsCsv(benchmark::State& state) {
+  std::vector<sim::Channel> ch;
+  for (int i = 0; i < 12; ++i) ch.push_back({"channel_" + std::to_string(i), ""});
+  const std::size_t rows = 100000;
+  sim::Recorder rec(ch, rows);
+  std::vector<double> row(12);
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t i = 0; i < 12; ++i)
+      row[i] = std::sin(0.001 * static_cast<double>(r) * static_cast<double>(i + 1)) *
+               std::pow(10.0, static_cast<double>(i) - 4.0);
+    rec.push_row(row);
+  }
+  std::size_t bytes = 0;
+  for (auto _ : state) {
+    const auto s = io::channels_csv(rec);
+    bytes = s.size();
+    benchmark::DoNotOptimize(s.data());
+  }
+  state.counters["bytes_per_s"] = benchmark::Counter(
+      static_cast<double>(bytes) * static_cast<double>(state.iterations()),
+      benchmark::Counter::kIsRate);
+  state.counters["rows_per_s"] = benchmark::Counter(
+      static_cast<double>(rows) * static_cast<double>(state.iterations()),
+      benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Output_ChannelsCsv)->Unit(benchmark::kMillisecond);
 void BM_Chatter_TimeDomain10s(benchmark::State& state) {
   const auto s = bench_sdof();
   for (auto _ : state)
@@ -273,5 +373,5 @@ void BM_ModulatedFeedController_Plan(benchmark::State& state) {
                                         820.0, wm, req, got, lim));
   }
 }
-BENCHMARK(BM_ModulatedFeedController_Plan)->Arg(5)->Arg(50)->Arg(1000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ModulatedFeedController_Plan)->Arg(5)->Arg(32)->Arg(33)->Arg(50)->Arg(1000)->Unit(benchmark::kMicrosecond);
 }  // namespace

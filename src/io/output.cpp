@@ -6,10 +6,12 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <charconv>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <span>
 #include <system_error>
 
 #include "lathectl/io/errors.hpp"
@@ -199,18 +201,25 @@ void write_output_set(const fs::path& dir_in,
   }
 }
 
+void append_general(std::string& out, double v, int digits) {
+  char buf[40];
+  // std::to_chars with a precision formats as printf's %.*g in the "C" locale ([charconv.to.chars]).
+  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, digits);
+  out.append(buf, r.ptr);
+}
+
 std::string channels_csv(const sim::Recorder& rec) {
   std::string s;
   const auto& ch = rec.channels();
   s.reserve(rec.rows() * ch.size() * 12 + 256);
   for (std::size_t i = 0; i < ch.size(); ++i) s += (i ? "," : "") + ch[i].name;
   s += '\n';
-  char buf[32];
+  std::vector<std::span<const double>> cols;
+  for (std::size_t i = 0; i < ch.size(); ++i) cols.push_back(rec.column(i));
   for (std::size_t r = 0; r < rec.rows(); ++r) {
-    for (std::size_t i = 0; i < ch.size(); ++i) {
-      const int n = std::snprintf(buf, sizeof buf, "%.9g", rec.column(i)[r]);
+    for (std::size_t i = 0; i < cols.size(); ++i) {
       if (i) s += ',';
-      s.append(buf, static_cast<std::size_t>(n));
+      append_general(s, cols[i][r], 9);
     }
     s += '\n';
   }

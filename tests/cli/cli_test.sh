@@ -295,7 +295,7 @@ c = json.load(open(sys.argv[1]))["sd_chart"]
 assert c["speeds"] == 200 and c["depths"] == 100, c
 assert c["compared_speeds"] > 80 and c["max_rel_difference_vs_frequency_domain"] < 0.01, c
 PY
-grep -q "^speed_rpm,depth_mm,spectral_radius$" "$work/lobes/lobes.csv" || bad "lobes.csv has no SD chart"
+grep -q "^speed_rpm,depth_mm,sd_unstable_roots$" "$work/lobes/lobes.csv" || bad "lobes.csv has no SD chart"
 # two modes in different directions (Altintas' example): 7.18498 mm, chart within 1.5 %
 expect_rc 0 "lobes two modes" $bin lobes "$src/examples/machines/b_two_mode.toml" --out "$work/lobes2"
 python3 - "$work/lobes2/lobes.json" <<'PY' || bad "two-mode lobes.json"

@@ -16,8 +16,10 @@
 //   along the chip thickness; over steps Δt = τ/m the delayed y is linearly interpolated and the
 //   rest integrated exactly (matrix exponential); the map z_{i+1} = D·z_i with
 //   z = [x_i, y_{i−1}, ..., y_{i−m}] (the force is rank one, so only y needs a history) is
-//   stable when the spectral radius of D < 1. The limit depth at a speed is found by bisection
-//   on b; a speed × depth chart evaluates the spectral radius on a grid.
+//   stable when the spectral radius of D < 1, i.e. when none of the roots of its characteristic
+//   polynomial lies outside the unit circle, which the argument principle counts in O(m) (see
+//   lobes.cpp). The limit depth at a speed is found by bisection on b; a speed × depth chart
+//   counts the unstable roots on a grid and bisects its boundary between grid depths.
 
 #include <cstddef>
 #include <functional>
@@ -54,46 +56,69 @@ struct Lobe {
   bool minimum_inside = true;
 };
 
+// A run of consecutive lobe segments (points k−1, k for k in [first, last)) along which the speed
+// is strictly monotone: the segment holding a speed is found by binary search.
+struct EnvelopeRun {
+  std::size_t lobe = 0;
+  std::size_t first = 0, last = 0;  // segment k joins points k − 1 and k
+  bool ascending = true;            // speed rises with k
+  double lo_rpm = 0.0, hi_rpm = 0.0;
+};
+
 struct FrequencyDomainResult {
   double critical_depth_m = 0.0;  // absolute stability limit
   double critical_chatter_Hz = 0.0;
   std::vector<Lobe> lobes;
+  // The lobes cut into monotone runs (index_envelope), so envelope_depth costs
+  // O(runs · log points) per query instead of O(points). Filled by frequency_domain_lobes.
+  std::vector<EnvelopeRun> envelope_runs;
 };
 
 // Throws std::invalid_argument on an empty or invalid system.
 FrequencyDomainResult frequency_domain_lobes(const ChatterSystem& sys, double min_rpm,
                                              double max_rpm, int max_lobes = 40,
                                              int frequency_points = 4000);
-// Limit depth at one speed from the lobes (lower envelope of all lobes at that speed).
+// Limit depth at one speed from the lobes (lower envelope of all lobes at that speed): the least,
+// over every lobe segment whose speeds bracket speed_rpm (ends included), of the depth linearly
+// interpolated in speed; +inf where no segment does. Uses fd.envelope_runs when present (binary
+// search per run) and scans every segment otherwise; both give bit-identical results.
 double envelope_depth(const FrequencyDomainResult& fd, double speed_rpm);
+// (Re)builds fd.envelope_runs from fd.lobes (after changing the lobes by hand).
+void index_envelope(FrequencyDomainResult& fd);
 
-// Semi-discretization: stable at (speed, depth)?  and the limit depth at a speed by bisection.
+// Semi-discretization (SD): the spectral radius of the SD map at (speed, depth) by a dense
+// eigenvalue solve (O((2·modes + m)³); for checks), the number of its eigenvalues outside the
+// unit circle by the argument principle (O(m·modes³); what the chart and the bisection use,
+// see lobes.cpp), and the limit depth at a speed by bisection on "no root outside".
 // interpolation_order: of the delayed displacement, 1 (the classic first-order SD), 3 or 5
 // (see SdChartOptions below).
 double spectral_radius_sd(const ChatterSystem& sys, double speed_rpm, double depth_m, int m = 30,
                           int interpolation_order = 1);
+int sd_unstable_roots(const ChatterSystem& sys, double speed_rpm, double depth_m, int m = 30,
+                      int interpolation_order = 1);
 double sd_limit_depth(const ChatterSystem& sys, double speed_rpm, double depth_hi_m, int m = 30,
                       double rel_tol = 1e-3, int interpolation_order = 1);
 
-// Semi-discretization stability chart: the spectral radius of the SD map on a speed × depth grid
-// (ρ < 1 stable), and the boundary it implies. Steps per delay at speed n:
+// Semi-discretization stability chart: on a speed × depth grid, the number of the SD map's
+// eigenvalues outside the unit circle (0: stable), and per speed the SD boundary: the lowest
+// grid depth with a root outside, refined by bisection between it and the grid depth below to
+// boundary_rel_tol. Steps per delay at speed n:
 //   m = clamp(⌈(60/n)·f_ref·steps_per_period⌉, min_steps, max_steps),
 // f_ref the highest frequency among the modes that can chatter on the chart (own SDOF limit
 // 2kζ(1+ζ)/(K_f·cos²θ) below twice the chart's top depth). The delayed displacement is
 // interpolated by a Lagrange polynomial through order + 1 history points (higher-order SD); the
-// error falls as Δt^(order+1). Measured on the SDOF example, 200 speeds × 100 depths (0..30 mm),
-// chart boundary against the frequency-domain envelope: linear at 30 steps per period, worst
-// 1.5 %; cubic at 10, worst 0.9 % (mean 0.2 %); quintic at 7, worst 0.55 % (mean 0.08 %) in
-// about 1/20 of the linear one's time and half the cubic's. At least min_steps per delay
-// resolve the delay itself.
-// Per cell: one (2·modes + order + 1)² matrix exponential (the current-state force is
-// integrated exactly, so it depends on the depth) and one eigenvalue solve of size
-// 2·modes + m + (order − 1)/2, which dominates; speeds are shared among threads.
+// error falls as Δt^(order+1). Quintic at 7 steps per period is within ≈ 0.1 % of the exact
+// (frequency-domain) limit (SdChart tests; at 5 steps per period 0.04 %).
+// Per cell: one (2·modes + order + 1)² matrix exponential and a root count along the unit
+// circle at ~4·m points, each a (2·modes)² complex determinant: the cost grows as m, not m³,
+// so a slow spindle or a high mode (m = 400) costs ~0.1–1 ms per cell (issue 19; before, the
+// dense eigenvalue solve of size 2·modes + m + 2 took 130 ms at m = 400).
 struct SdChartOptions {
   int steps_per_period = 7;     // per period of f_ref (above)
   int min_steps = 20;           // per delay (one revolution)
-  int max_steps = 400;          // cap on m (cost grows as (2·modes + m)³)
+  int max_steps = 4000;         // cap on m (the cost per cell grows as m)
   int interpolation_order = 5;  // of the delayed displacement: 1, 3 or 5 (quintic)
+  double boundary_rel_tol = 1e-6;  // bisection of the boundary between grid depths
   unsigned threads = 0;         // 0: one per hardware thread
   // Called (from any worker thread, so it must be thread-safe) each time a speed is done.
   std::function<void(std::size_t done, std::size_t total)> on_speed_done;
@@ -102,11 +127,11 @@ struct SdChart {
   std::vector<double> speed_rpm;         // n_speeds, min..max inclusive
   std::vector<double> depth_m;           // n_depths, 0..max inclusive
   std::vector<int> steps;                // m used at each speed
-  std::vector<double> spectral_radius;   // row-major [speed][depth]
-  std::vector<double> boundary_depth_m;  // per speed: lowest depth where ρ reaches 1, linear in ρ
-                                         // between grid depths; +inf if ρ < 1 on the whole grid
-  [[nodiscard]] double radius(std::size_t i_speed, std::size_t i_depth) const {
-    return spectral_radius[i_speed * depth_m.size() + i_depth];
+  std::vector<int> unstable_roots;       // row-major [speed][depth]: SD eigenvalues with |μ| > 1
+  std::vector<double> boundary_depth_m;  // per speed: the SD boundary (above); +inf if every
+                                         // grid depth is stable
+  [[nodiscard]] int unstable(std::size_t i_speed, std::size_t i_depth) const {
+    return unstable_roots[i_speed * depth_m.size() + i_depth];
   }
 };
 // Throws std::invalid_argument on a bad system or grid. Runs on options.threads threads.

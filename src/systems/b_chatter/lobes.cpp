@@ -30,10 +30,11 @@ using io::Table;
 // lobe crossings by tens of per cent (measured on examples/machines/b_part.toml).
 constexpr int kFrequencyPoints = 40000;
 
-std::string csv_row(double a, double b) {
-  char buf[96];
-  std::snprintf(buf, sizeof buf, "%.6g,%.9g\n", a, b);
-  return buf;
+void csv_row(std::string& csv, double a, double b) {
+  io::append_general(csv, a, 6);
+  csv += ',';
+  io::append_general(csv, b, 9);
+  csv += '\n';
 }
 }  // namespace
 
@@ -74,7 +75,7 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
     if (std::isfinite(sd_depth[k]) && std::isfinite(fd_depth[k]))
       worst = std::max(worst, std::abs(sd_depth[k] / fd_depth[k] - 1.0));
 
-  // The SD stability chart: spectral radius on a speed × depth grid, and its ρ = 1 boundary
+  // The SD stability chart: the SD map's unstable roots on a speed × depth grid, and its boundary
   // against the frequency-domain envelope where that lies inside the chart.
   std::optional<dynamics::SdChart> chart;
   double chart_worst = 0.0;
@@ -226,14 +227,14 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
   for (int k = 0; k <= 1000; ++k) {
     const double n = in.min_rpm + (in.max_rpm - in.min_rpm) * k / 1000.0;
     const double b = dynamics::envelope_depth(fd, n);
-    csv += csv_row(n, b * 1e3);
+    csv_row(csv, n, b * 1e3);
     env.x.push_back(n);
     env.y.push_back(std::isfinite(b) ? b * 1e3 : std::nan(""));
   }
   csv += "\nspeed_rpm,semi_discretization_depth_mm\n";
   Series sdp{"semi-discretization (bisection)", {}, {}, "#d62728", false, true};
   for (std::size_t k = 0; k < sd_speed.size(); ++k) {
-    csv += csv_row(sd_speed[k], sd_depth[k] * 1e3);
+    csv_row(csv, sd_speed[k], sd_depth[k] * 1e3);
     sdp.x.push_back(sd_speed[k]);
     sdp.y.push_back(std::isfinite(sd_depth[k]) ? sd_depth[k] * 1e3 : std::nan(""));
   }
@@ -242,22 +243,24 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
     csv += "\nspeed_rpm,sd_chart_boundary_depth_mm\n";
     for (std::size_t i = 0; i < chart->speed_rpm.size(); ++i) {
       const double b = chart->boundary_depth_m[i];
-      csv += csv_row(chart->speed_rpm[i], b * 1e3);
+      csv_row(csv, chart->speed_rpm[i], b * 1e3);
       sdc.x.push_back(chart->speed_rpm[i]);
       sdc.y.push_back(std::isfinite(b) ? b * 1e3 : std::nan(""));
     }
-    csv += "\nspeed_rpm,depth_mm,spectral_radius\n";
+    csv += "\nspeed_rpm,depth_mm,sd_unstable_roots\n";
     for (std::size_t i = 0; i < chart->speed_rpm.size(); ++i)
       for (std::size_t k = 0; k < chart->depth_m.size(); ++k) {
-        char buf[128];
-        std::snprintf(buf, sizeof buf, "%.6g,%.6g,%.9g\n", chart->speed_rpm[i],
-                      chart->depth_m[k] * 1e3, chart->radius(i, k));
-        csv += buf;
+        io::append_general(csv, chart->speed_rpm[i], 6);
+        csv += ',';
+        io::append_general(csv, chart->depth_m[k] * 1e3, 6);
+        csv += ',';
+        csv += std::to_string(chart->unstable(i, k));
+        csv += '\n';
       }
   }
   if (!along.empty()) {
     csv += "\nposition_mm,critical_depth_mm\n";
-    for (const auto& a : along) csv += csv_row(a.x_m * 1e3, a.critical_m * 1e3);
+    for (const auto& a : along) csv_row(csv, a.x_m * 1e3, a.critical_m * 1e3);
   }
 
   Report rep;
@@ -271,8 +274,9 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
                     fmt(in.part->position_m * 1e3) + " mm";
   rep.description =
       "Frequency-domain lobes (Tlusty/Tobias/Altintas) and, independently, semi-discretization "
-      "(Insperger–Stépán): limit depths by bisection at a few speeds, and the spectral radius of "
-      "the SD map on a speed × depth grid, whose ρ = 1 contour is the chart's boundary. "
+      "(Insperger–Stépán): limit depths by bisection at a few speeds, and the SD map's eigenvalues "
+      "outside the unit circle counted on a speed × depth grid (argument principle), whose "
+      "boundary, bisected between grid depths, is the chart's ρ = 1 line. "
       "Below the envelope the cut is stable; the lobe minima are the absolute stability limit.";
   rep.metrics.emplace_back("absolute stability limit [mm]", fmt(fd.critical_depth_m * 1e3));
   rep.metrics.emplace_back("chatter frequency there [Hz]", fmt(fd.critical_chatter_Hz));

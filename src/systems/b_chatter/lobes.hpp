@@ -1,8 +1,8 @@
 #pragma once
 // `lathectl lobes MACHINE.toml --out DIR`: stability lobes of a machine's chatter model (system
 // B's), by the frequency domain and, independently, by semi-discretization (limit depths at
-// sd_speeds speeds by bisection, and a speed × depth spectral-radius chart); writes lobes.json,
-// lobes.csv and lobes.html. The machine file — [cutting], [[mode]] and/or [part] (a slender part
+// sd_speeds speeds by bisection, and a speed × depth chart of the SD map's unstable roots);
+// writes lobes.json, lobes.csv and lobes.html. The machine file — [cutting], [[mode]] and/or [part] (a slender part
 // between centres, dynamics/beam.hpp), [speed], optional [lobes] — is read in lobes_input.cpp,
 // where each key is described once (describe_machine_file; docs/machine-file-reference.md).
 

@@ -125,9 +125,9 @@ int read_tables(TableReader& root, LobesInput& in, std::optional<TableReader>& l
     l->read({"sd_speeds", Range::closed(0, 2000),
              "speeds at which semi-discretization checks the limit by bisection"},
             in.sd_speeds);
-    l->read({"chart_speeds", Range::closed(0, 2000), "spectral-radius chart: speeds (0: no chart)"},
+    l->read({"chart_speeds", Range::closed(0, 2000), "SD stability chart: speeds (0: no chart)"},
             in.chart_speeds);
-    l->read({"chart_depths", Range::closed(0, 2000), "spectral-radius chart: depths (0: no chart)"},
+    l->read({"chart_depths", Range::closed(0, 2000), "SD stability chart: depths (0: no chart)"},
             in.chart_depths);
     l->check(in.chart_speeds != 1, "chart_speeds", "expected 0 (no chart) or at least 2");
     l->check(in.chart_depths != 1, "chart_depths", "expected 0 (no chart) or at least 2");
