@@ -144,17 +144,10 @@ extern "C" int rtapi_app_main(void) {
     state->period = std::lround(period);
     state->substeps = std::max(1, static_cast<int>(std::lround(period * 1e-9 / sc.run.step_s)));
     const double dt = period * 1e-9 / state->substeps;
-    lathectl::dynamics::TwinTurretCut::Params pp;
-    pp.part = b.part;
-    pp.modes = b.modes;
-    pp.cutting = b.cutting;
-    pp.setup = b.setup;
-    pp.depth_mm[0] = pp.depth_mm[1] = b.depth_mm[0];
-    pp.overlap = b.overlap;
-    pp.z_start_mm = b.z_start_mm;
-    pp.initial_disturbance_um = b.initial_disturbance_um;
-    pp.rpm_nominal = b.rpm;
-    pp.feed_mm_per_rev = b.feed_mm_per_rev;
+    // The scenario's process (process damping included) as the rig maps it; one tool here.
+    auto pp = lathectl::sim::cut_params(b);
+    pp.depth_mm[1] = b.depth_mm[0];
+    pp.tool2_lag_mm = 0.0;
     state->cut.configure(pp, dt);
     state->chain_every = std::max(1, static_cast<int>(std::lround(1e-4 / dt)));
     auto vib = b.vibration;

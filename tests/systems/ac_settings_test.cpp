@@ -13,28 +13,16 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "support/library.hpp"
+#include "support/scenario_text.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
 #include "systems/c_tracer/settings.hpp"
 
 namespace lathectl {
 namespace {
 
+using test::edited;
 using test::library;
-
-std::string example(const std::string& name) {
-  std::ifstream in(LATHECTL_SOURCE_DIR "/examples/scenarios/" + name + ".toml", std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-// `text` with the one occurrence of `from` replaced by `to`.
-std::string edited(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  if (pos != std::string::npos) text.replace(pos, from.size(), to);
-  return text;
-}
+std::string example(const std::string& name) { return test::example_text(name); }
 
 // The shared tables (io/sections.cpp) and the common part are described elsewhere.
 bool shared_key(const std::string& key) {

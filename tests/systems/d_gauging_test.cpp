@@ -14,27 +14,16 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "support/library.hpp"
+#include "support/scenario_text.hpp"
 #include "systems/d_gauging/gauging.hpp"
 #include "systems/d_gauging/settings.hpp"
 
 namespace lathectl {
 namespace {
 
+using test::edited;
 using test::library;
-
-std::string example(const std::string& name) {
-  std::ifstream in(LATHECTL_SOURCE_DIR "/examples/scenarios/" + name + ".toml", std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::string edited(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  if (pos != std::string::npos) text.replace(pos, from.size(), to);
-  return text;
-}
+std::string example(const std::string& name) { return test::example_text(name); }
 
 // The new user: the d_gauging example with allowance 290 µm and a target near A0
 // (254 µm = 0.85·A0), on the seed's transducer (lightly damped contact, first-order filter, the

@@ -16,7 +16,11 @@
 //   A_P ≥ c·a0·m_d·|ω_d² − ω_m²|,   c = 1.41 by default (a parameter)
 // (our reading of the garbled seed formula: a forced vibration of amplitude
 // B = A_P/(m_d·|ω_d² − ω_m²|) ≥ c·a0 quenches the self-excited one; van der Pol averaging gives
-// c = 1/√2, so the seed's 1.41 is a 2× margin). A_P, the amplitude of the force variation the
+// c = 1/√2). The OCR admits c = 1.41 ("multiply", the default, a 2× margin over averaging) and
+// c = 1/1.41 ("divide", exactly the averaging threshold; the OCR's reversed word order puts 1,41
+// in the denominator): the scenario key [modulation] coefficient_reading chooses, and system B's
+// report gives the condition under both readings (docs/system-b-chatter.md, issue 17).
+// A_P, the amplitude of the force variation the
 // modulation causes, follows from the force estimated from N_c: F_c = N_c/V, the force along the
 // vibration F = r·F_c (r = radial_force_ratio), and F ∝ S^e (e = force_feed_exponent, 1 − m of
 // the Kienzle law): A_P = F·((S_max/S_p)^e − (S_min/S_p)^e)/2.

@@ -119,22 +119,7 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
   chain_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1e-4 / dt)));
   control_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1e-3 / dt)));
 
-  dynamics::TwinTurretCut::Params pp;
-  pp.part = cfg.part;
-  pp.modes = cfg.modes;
-  pp.cutting = cfg.cutting;
-  pp.setup = cfg.setup;
-  pp.depth_mm[0] = cfg.depth_mm[0];
-  pp.depth_mm[1] = cfg.depth_mm[1];
-  pp.overlap = cfg.overlap;
-  pp.tool2_lag_mm = cfg.tool2_lag_mm;
-  pp.z_start_mm = cfg.z_start_mm;
-  pp.modes_follow_tool = cfg.modes_follow_tool;
-  pp.initial_disturbance_um = cfg.initial_disturbance_um;
-  pp.rpm_nominal = cfg.rpm;
-  pp.feed_mm_per_rev = cfg.feed_mm_per_rev;
-  pp.inter_tool_delay = cfg.inter_tool_delay;
-  pp.process_damping = cfg.process_damping;
+  dynamics::TwinTurretCut::Params pp = cut_params(cfg);
   // The slowest feed of tool 1 (the right turret) a modulation can hold, for the surface memory.
   if (cfg.source == control::ModulationSource::Automatic)
     pp.slowest_feed_fraction = cfg.module.s_min_fraction;

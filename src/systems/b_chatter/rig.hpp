@@ -69,6 +69,28 @@ struct RigBConfig {
   }
 };
 
+// The cutting process's parameters as the scenario gives them: the one mapping the rig and the
+// HAL component (hal/lathectl_chatter.cpp) both use, so a new process option reaches both.
+inline dynamics::TwinTurretCut::Params cut_params(const RigBConfig& cfg) {
+  dynamics::TwinTurretCut::Params pp;
+  pp.part = cfg.part;
+  pp.modes = cfg.modes;
+  pp.cutting = cfg.cutting;
+  pp.setup = cfg.setup;
+  pp.depth_mm[0] = cfg.depth_mm[0];
+  pp.depth_mm[1] = cfg.depth_mm[1];
+  pp.overlap = cfg.overlap;
+  pp.tool2_lag_mm = cfg.tool2_lag_mm;
+  pp.z_start_mm = cfg.z_start_mm;
+  pp.modes_follow_tool = cfg.modes_follow_tool;
+  pp.initial_disturbance_um = cfg.initial_disturbance_um;
+  pp.rpm_nominal = cfg.rpm;
+  pp.feed_mm_per_rev = cfg.feed_mm_per_rev;
+  pp.inter_tool_delay = cfg.inter_tool_delay;
+  pp.process_damping = cfg.process_damping;
+  return pp;
+}
+
 class RigB {
  public:
   // dt_s: integration step; record_interval_s: recorder row interval.
