@@ -371,7 +371,10 @@ std::string TableReader::choice_value(std::string_view key, const std::vector<st
 // The public getters: the value, and a row of the log (in both modes).
 double TableReader::number(std::string_view key, Range range, std::optional<double> fallback) {
   const double v = number_value(key, range, fallback);
-  log(key, "number", range.describe(), fallback ? fmt_num(*fallback) : "", !fallback, "",
+  // A NaN default is one the section reader derives from other keys (its description says how).
+  const std::string shown_default =
+      !fallback ? "" : std::isnan(*fallback) ? "derived" : fmt_num(*fallback);
+  log(key, "number", range.describe(), shown_default, !fallback, "",
       is_describing() ? "" : fmt_num(v));
   return v;
 }

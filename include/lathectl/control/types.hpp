@@ -39,6 +39,7 @@ enum class Reason : std::uint16_t {
   ModulationLimited = 52,     // the quenching condition needs more span than the limits allow
   ModulationProgrammed = 53,  // the NC block's own (S_min, ΔS, Δl, n_s) are running
   ModulationNoForce = 54,     // vibration seen but no cutting power/speed to size A_P: no plan
+  GaugeBackstop = 60,  // the gauge's relay did not end the cut: the backstop position did (system D)
 };
 
 constexpr std::string_view reason_name(Reason r) noexcept {
@@ -83,13 +84,16 @@ constexpr std::string_view reason_name(Reason r) noexcept {
       return "modulation_programmed";
     case Reason::ModulationNoForce:
       return "modulation_no_force";
+    case Reason::GaugeBackstop:
+      return "gauge_backstop";
   }
   return "unknown";
 }
 
 constexpr bool is_alarm(Reason r) noexcept {
   return r == Reason::SensorNotFinite || r == Reason::SensorOutOfRange ||
-         r == Reason::SensorStuck || r == Reason::Overload || r == Reason::ToolBreakage;
+         r == Reason::SensorStuck || r == Reason::Overload || r == Reason::ToolBreakage ||
+         r == Reason::GaugeBackstop;
 }
 
 }  // namespace lathectl::control

@@ -39,12 +39,13 @@ void read_process(TableReader& root, Settings& d) {
            p.relay_response_s);
   pr->require({"tolerance_um", {0.0, 1e5, true, false}, "± about the target; for Cp and Cpk", kUm},
               d.tolerance_m);
+  // The derived default is set before the read, so the run's settings record shows the value used.
+  if (std::isnan(p.backstop_m) && !pr->is_describing()) p.backstop_m = p.target_m - d.tolerance_m;
   pr->read({"backstop_um", Range::any(),
             "the programmed limit position: the cut ends when x reaches it if the relay has not "
             "tripped, with an alarm (absent: target_um − tolerance_um, the lower tolerance limit)",
             kUm},
            p.backstop_m);
-  if (std::isnan(p.backstop_m)) p.backstop_m = p.target_m - d.tolerance_m;
   pr->check(p.backstop_m < p.target_m, "backstop_um", "must be below target_um");
   pr->finish();
 }

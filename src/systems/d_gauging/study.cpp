@@ -6,6 +6,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "lathectl/control/types.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
@@ -26,9 +27,6 @@ using io::Series;
 using io::Table;
 using nlohmann::json;
 constexpr double kUm = 1e6;
-// The backstop's alarm code in summary.json's alarms (beside control::Reason's codes, which are
-// the controllers'; this one is the gauging cycle's own).
-constexpr int kBackstopAlarmCode = 60;
 
 struct Stats {
   double mean = 0.0, sigma = 0.0;
@@ -282,8 +280,8 @@ io::RunOutput run(const io::Scenario& sc) {
   json alarms = json::array();
   if (full.backstop)
     alarms.push_back({{"time_s", json_number(full.stop_s)},
-                      {"code", kBackstopAlarmCode},
-                      {"reason", "gauge_backstop"}});
+                      {"code", static_cast<int>(control::Reason::GaugeBackstop)},
+                      {"reason", std::string(control::reason_name(control::Reason::GaugeBackstop))}});
   const Stats fst = full_sizes.size() > 1 ? stats(full_sizes) : Stats{};
 
   const bool regular = plan.calibrated_line.spread_m <= design::kRegularSpread * A0;
