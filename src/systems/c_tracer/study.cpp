@@ -6,6 +6,7 @@
 #include <numbers>
 #include <span>
 #include <stdexcept>
+#include <vector>
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
@@ -25,10 +26,22 @@ struct Run {
   json features = json::array();
 };
 
-double nan_max_abs(std::span<const double> v, std::span<const double> x, double x0, double x1) {
+// The zone around a shoulder (a vertical step) where the rig masks δy and δx belongs to the
+// shoulder: ±0.5 mm of the tool's x (rig.cpp, near_step).
+constexpr double kShoulderZone_mm = 0.5;
+
+// Largest |v| over the samples with x in [x0, x1], leaving out those within the zone of any
+// shoulder in `shoulders` (their error is the shoulder's, not its neighbours').
+double nan_max_abs(std::span<const double> v, std::span<const double> x, double x0, double x1,
+                   const std::vector<double>& shoulders = {}) {
   double m = 0.0;
-  for (std::size_t i = 0; i < v.size(); ++i)
-    if (x[i] >= x0 && x[i] <= x1 && std::isfinite(v[i])) m = std::max(m, std::abs(v[i]));
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (!(x[i] >= x0 && x[i] <= x1 && std::isfinite(v[i]))) continue;
+    const bool at_shoulder = std::any_of(shoulders.begin(), shoulders.end(), [&](double s) {
+      return std::abs(x[i] - s) <= kShoulderZone_mm;
+    });
+    if (!at_shoulder) m = std::max(m, std::abs(v[i]));
+  }
   return m;
 }
 
@@ -45,9 +58,18 @@ void run_one(const io::Scenario& sc, sim::RigCConfig cfg, bool nonlinear, Run& r
   r.max_dx_um = nan_max_abs(dx, tx, -1e300, 1e300);
   r.max_dy_um = nan_max_abs(dy, tx, -1e300, 1e300);
   bool first_cone = true;
+  // A shoulder has no length (x_start = x_end): the tool climbs it within its zone, which starts
+  // the next feature's x range; without this the shoulder's δx was booked to the next line.
+  std::vector<double> shoulders;
+  for (const auto& f : cfg.features)
+    if (f.x_end_m <= f.x_start_m) shoulders.push_back(f.x_start_m * 1e3);
   for (const auto& f : cfg.features) {
     const double a = f.x_start_m * 1e3, b = f.x_end_m * 1e3;
-    const double mdx = nan_max_abs(dx, tx, a, b), mdy = nan_max_abs(dy, tx, a, b);
+    const bool shoulder = b <= a;
+    const double mdx = shoulder ? nan_max_abs(dx, tx, a - kShoulderZone_mm, a + kShoulderZone_mm)
+                                : nan_max_abs(dx, tx, a, b, shoulders);
+    const double mdy = shoulder ? nan_max_abs(dy, tx, a - kShoulderZone_mm, a + kShoulderZone_mm)
+                                : nan_max_abs(dy, tx, a, b, shoulders);
     json fj = {{"type", f.kind},
                {"x_start_mm", a},
                {"x_end_mm", b},
