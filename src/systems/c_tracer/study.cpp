@@ -245,15 +245,33 @@ io::RunOutput run(const io::Scenario& sc) {
     Table t{"Errors per feature — " + r->label,
             {"feature", "from [mm]", "to [mm]", "max |δx| [µm]", "max |δy| [µm]", "waviness [µm]"},
             {}};
+    // δx is defined only where the template is steeper than 10° (or at a shoulder): elsewhere
+    // the table says so instead of showing the 0 of an empty maximum.
+    const auto tx = r->rig.recorder().column("tool_x_mm");
+    const auto dx = r->rig.recorder().column("dx_um");
+    const auto dx_defined = [&](double a, double b) {
+      if (b <= a) {  // a shoulder: its zone
+        a -= kShoulderZone_mm;
+        b += kShoulderZone_mm;
+      }
+      for (std::size_t i = 0; i < dx.size(); ++i)
+        if (tx[i] >= a && tx[i] <= b && std::isfinite(dx[i])) return true;
+      return false;
+    };
     for (const auto& f : r->features)
       t.rows.push_back(
           {f["type"].get<std::string>(), fmt(f["x_start_mm"].get<double>()),
-           fmt(f["x_end_mm"].get<double>()), fmt(f["max_dx_um"].get<double>(), "%.2f"),
+           fmt(f["x_end_mm"].get<double>()),
+           dx_defined(f["x_start_mm"].get<double>(), f["x_end_mm"].get<double>())
+               ? fmt(f["max_dx_um"].get<double>(), "%.2f")
+               : "— (under 10°)",
            fmt(f["max_dy_um"].get<double>(), "%.2f"),
            f.contains("waviness_um") ? fmt(f["waviness_um"].get<double>(), "%.2f") : "—"});
     rep.tables.push_back(t);
   }
   const char* colors[] = {"#1f77b4", "#d62728"};
+  // The plots along x share the template's x range, so they line up one under the other.
+  const double x_lo = st.rig.profile.xs().front() * 1e3, x_hi = st.rig.profile.xs().back() * 1e3;
   // Profiles with the error magnified so it shows at the scale of the part.
   {
     double ymin = 1e300, ymax = -1e300;
@@ -288,6 +306,8 @@ io::RunOutput run(const io::Scenario& sc) {
       pp.series.push_back(part);
     }
     for (const auto& f : st.rig.features) pp.markers.push_back({f.x_start_m * 1e3, f.kind});
+    pp.x_min = x_lo;
+    pp.x_max = x_hi;
     rep.plots.push_back(pp);
   }
   Plot pdy{"Radial error δy(x) at equal x", "x [mm]", "δy [µm]", {}, {}};
@@ -313,8 +333,17 @@ io::RunOutput run(const io::Scenario& sc) {
     pdy.markers.push_back({f.x_start_m * 1e3, f.kind});
     pdx.markers.push_back({f.x_start_m * 1e3, f.kind});
   }
+  bool any_dx = false;
+  for (const Series& sr : pdx.series)
+    any_dx = any_dx ||
+             std::any_of(sr.y.begin(), sr.y.end(), [](double v) { return std::isfinite(v); });
+  if (!any_dx) pdy.title += " (no feature steeper than 10°: δx at equal y not defined)";
+  for (Plot* p : {&pdy, &pdx}) {
+    p->x_min = x_lo;
+    p->x_max = x_hi;
+  }
   rep.plots.push_back(pdy);
-  rep.plots.push_back(pdx);
+  if (any_dx) rep.plots.push_back(pdx);
   rep.plots.push_back(plag);
   rep.plots.push_back(pv);
 
