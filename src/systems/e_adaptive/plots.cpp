@@ -74,51 +74,37 @@ void add_run_plots(io::Report& rep, const std::vector<PlotRun>& runs, const std:
     const auto p = cut_path_mm(*r.rec);
     if (!p.empty()) path_end = std::max(path_end, p.back());
   }
-  const auto compared = [&](std::string title, std::string y_label) {
+  // Every run's channel along the part (per_rev: its per-revolution mean).
+  const auto compared = [&](std::string title, std::string y_label, const char* channel,
+                            bool per_rev) {
     Plot p{std::move(title), x_path, std::move(y_label), {}, mk_path};
     p.x_min = 0.0;
     p.x_max = path_end;
+    for (std::size_t i = 0; i < runs.size(); ++i)
+      p.series.push_back(along_path(runs[i], channel, runs[i].label, kColors[i % 4], per_rev));
     return p;
   };
   const std::string suffix = runs.size() > 1 ? ", the controllers along the cut" : "";
 
   Plot force = compared("Per-revolution " + pname + " (the feed's reach) and its limit" + suffix,
-                        pname + " [" + unit + "]");
-  for (std::size_t i = 0; i < runs.size(); ++i)
-    force.series.push_back(
-        along_path(runs[i], "force_parameter_true", runs[i].label, kColors[i % 4], true));
+                        pname + " [" + unit + "]", "force_parameter_true", true);
   force.series.push_back(
       {"limit", {0.0, path_end}, {main.m->force_limit, main.m->force_limit}, "#555", true, false});
   rep.plots.push_back(force);
-
-  Plot feed = compared("Feed per revolution (chip thickness)" + suffix, "feed [mm/rev]");
-  for (std::size_t i = 0; i < runs.size(); ++i)
-    feed.series.push_back(
-        along_path(runs[i], "feed_per_rev_mm", runs[i].label, kColors[i % 4], false));
-  rep.plots.push_back(feed);
-
-  Plot speed =
-      compared("Cutting speed V (sensor 20) and seed 004's V_opt" + suffix, "speed [m/min]");
-  for (std::size_t i = 0; i < runs.size(); ++i)
-    speed.series.push_back(
-        along_path(runs[i], "speed_m_per_min", runs[i].label, kColors[i % 4], false));
+  rep.plots.push_back(compared("Feed per revolution (chip thickness)" + suffix, "feed [mm/rev]",
+                               "feed_per_rev_mm", false));
+  Plot speed = compared("Cutting speed V (sensor 20) and seed 004's V_opt" + suffix,
+                        "speed [m/min]", "speed_m_per_min", false);
   if (main.speed_law) {
     Series vo = along_path(main, "speed_opt_m_per_min", "V_opt, " + main.label, kColors[0], false);
     vo.dashed = true;
     speed.series.push_back(vo);
   }
   rep.plots.push_back(speed);
-
-  Plot pw = compared("Spindle electrical power" + suffix, "power [kW]");
-  for (std::size_t i = 0; i < runs.size(); ++i)
-    pw.series.push_back(
-        along_path(runs[i], "spindle_power_kW", runs[i].label, kColors[i % 4], false));
-  rep.plots.push_back(pw);
-
-  Plot life = compared("Tool life used (∫ dt/T)" + suffix, "share of one edge");
-  for (std::size_t i = 0; i < runs.size(); ++i)
-    life.series.push_back(
-        along_path(runs[i], "tool_life_used", runs[i].label, kColors[i % 4], false));
+  rep.plots.push_back(
+      compared("Spindle electrical power" + suffix, "power [kW]", "spindle_power_kW", false));
+  Plot life =
+      compared("Tool life used (∫ dt/T)" + suffix, "share of one edge", "tool_life_used", false);
   // The plan, t / T_plan, at the main run's pace.
   Series plan{"plan: t / T_plan (main run's time)", path_main, t_main, "#555", true, false};
   for (double& v : plan.y) v = v / 60.0 / main.m->tool_life_planned_min;
