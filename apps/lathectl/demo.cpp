@@ -104,7 +104,7 @@ int demo(const std::string& out, const std::string& dir, const std::vector<std::
         n,
         [&](std::size_t i) {
           const auto r = io::run_scenario(scenarios[i]);
-          io::write_outputs(r, fs::path(out) / scenarios[i].name);
+          io::write_outputs(r, fs::path(out) / scenarios[i].name, "../index.html");
           entries[i] = index_entry(scenarios[i], r);
           failed[i] = r.verdict.ok() ? 0 : 1;
           progress.print_above([&] {

@@ -228,6 +228,13 @@ std::string render_html(const Report& report, std::size_t max_points) {
   out += "<header>\n<h1>" + escape(report.title) + "</h1>\n";
   if (!report.subtitle.empty())
     out += "<p class=\"subtitle\">" + escape(report.subtitle) + "</p>\n";
+  if (!report.links.empty()) {
+    out += "<nav class=\"links\">";
+    for (std::size_t i = 0; i < report.links.size(); ++i)
+      out += (i ? " · " : "") + std::string("<a href=\"") + escape(report.links[i].href) + "\">" +
+             escape(report.links[i].text) + "</a>";
+    out += "</nav>\n";
+  }
   out += "</header>\n";
 
   const std::vector<std::string> paras = paragraphs(report.description);
@@ -265,15 +272,17 @@ std::string render_html(const Report& report, std::size_t max_points) {
     out += "</ul>\n</section>\n";
   }
 
-  for (const Table& t : report.tables) render_table(out, t);
-
-  if (!report.plots.empty()) {
+  const auto plots = [&] {
+    if (report.plots.empty()) return;
     out += "<section class=\"plots\">\n<h2>Plots</h2>\n";
     for (std::size_t i = 0; i < report.plots.size(); ++i) {
       render_plot(out, report.plots[i], i, max_points);
     }
     out += "</section>\n";
-  }
+  };
+  if (report.plots_first) plots();
+  for (const Table& t : report.tables) render_table(out, t);
+  if (!report.plots_first) plots();
 
   end_page(out, report.doc_page);
   return out;

@@ -104,20 +104,6 @@ std::string tick_label(double v, double step, double lo, double hi) {
   return general(v, digits);
 }
 
-// Number of characters (UTF-8 code points), for rough text width estimates.
-std::size_t text_length(std::string_view s) {
-  std::size_t n = 0;
-  for (const char c : s) {
-    if ((static_cast<unsigned char>(c) & 0xC0U) != 0x80U) ++n;
-  }
-  return n;
-}
-
-double text_width(std::string_view s, double px_per_char) {
-  return static_cast<double>(text_length(s)) * px_per_char;
-}
-
-
 // ---------------------------------------------------------------------------------------------
 // Axis scaling
 
@@ -166,72 +152,6 @@ Range widen(double lo, double hi, double pad_fraction) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Decimation
-
-using Point = std::pair<double, double>;
-using Segment = std::vector<Point>;  // a run of finite points, drawn as one polyline
-
-bool finite_point(const Series& s, std::size_t i) {
-  return std::isfinite(s.x[i]) && std::isfinite(s.y[i]);
-}
-
-// Splits the series into runs of finite points. If it has more than max_points finite points,
-// each of max_points/2 index buckets contributes only its minimum and maximum (in index order),
-// so spikes survive decimation.
-std::vector<Segment> segments_of(const Series& s, std::size_t max_points) {
-  const std::size_t n = std::min(s.x.size(), s.y.size());
-  std::size_t finite = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (finite_point(s, i)) ++finite;
-  }
-  max_points = std::max<std::size_t>(max_points, 2);
-  std::size_t bucket = 1;
-  if (finite > max_points) {
-    const std::size_t buckets = max_points / 2;
-    bucket = (n + buckets - 1) / buckets;
-  }
-
-  std::vector<Segment> out;
-  Segment current;
-  bool run = false;
-  std::size_t i_min = 0;
-  std::size_t i_max = 0;
-  const auto flush_run = [&] {
-    if (!run) return;
-    const Point a{s.x[std::min(i_min, i_max)], s.y[std::min(i_min, i_max)]};
-    current.push_back(a);
-    if (i_min != i_max)
-      current.emplace_back(s.x[std::max(i_min, i_max)], s.y[std::max(i_min, i_max)]);
-    run = false;
-  };
-  const auto break_line = [&] {
-    flush_run();
-    if (!current.empty()) out.push_back(std::move(current));
-    current.clear();
-  };
-
-  for (std::size_t b = 0; b < n; b += bucket) {
-    const std::size_t end = std::min(n, b + bucket);
-    for (std::size_t i = b; i < end; ++i) {
-      if (!finite_point(s, i)) {
-        break_line();
-        continue;
-      }
-      if (!run) {
-        i_min = i_max = i;
-        run = true;
-      } else {
-        if (s.y[i] < s.y[i_min]) i_min = i;
-        if (s.y[i] > s.y[i_max]) i_max = i;
-      }
-    }
-    flush_run();
-  }
-  break_line();
-  return out;
-}
-
-// ---------------------------------------------------------------------------------------------
 // SVG plot
 
 constexpr double kWidth = 900.0;
@@ -239,7 +159,8 @@ constexpr double kTop = 44.0;  // plot area top (title above)
 constexpr double kPlotHeight = 212.0;
 constexpr double kRight = 24.0;
 constexpr double kLegendRow = 20.0;
-constexpr double kCharWidth = 7.0;  // rough width of a 12 px character
+constexpr double kLaneHeight = 22.0;  // one lane of a timeline band
+constexpr double kEdgePad = 6.0;      // px between the frame and points at the x range's ends
 
 struct Frame {
   double left = 0.0;
@@ -274,13 +195,53 @@ std::string line(double x1, double y1, double x2, double y2, std::string_view cl
   return out;
 }
 
-std::string text(double x, double y, std::string_view anchor, std::string_view cls,
-                 std::string_view content) {
-  std::string out = "<text x=\"" + coord(x) + "\" y=\"" + coord(y) + "\"";
-  if (!anchor.empty()) out += " text-anchor=\"" + std::string(anchor) + "\"";
-  if (!cls.empty()) out += " class=\"" + std::string(cls) + "\"";
-  out += ">" + escape(content) + "</text>";
-  return out;
+// Writes a <text> (every one carries its class, so its size is known: text_style) and records
+// its estimated box.
+struct TextWriter {
+  std::vector<PlacedText>* placed = nullptr;
+
+  std::string text(double x, double y, std::string_view anchor, std::string_view cls,
+                   std::string_view content) const {
+    record(text_box(x, y, anchor, false, content, text_style(cls)), cls, content);
+    std::string out = "<text x=\"" + coord(x) + "\" y=\"" + coord(y) + "\"";
+    if (!anchor.empty()) out += " text-anchor=\"" + std::string(anchor) + "\"";
+    out += " class=\"" + std::string(cls) + "\">" + escape(content) + "</text>";
+    return out;
+  }
+  // Rotated −90° about (x, y), reading upwards.
+  std::string rotated(double x, double y, std::string_view anchor, std::string_view cls,
+                      std::string_view content) const {
+    record(text_box(x, y, anchor, true, content, text_style(cls)), cls, content);
+    return "<text transform=\"translate(" + coord(x) + " " + coord(y) +
+           ") rotate(-90)\" text-anchor=\"" + std::string(anchor) + "\" class=\"" +
+           std::string(cls) + "\">" + escape(content) + "</text>";
+  }
+  void record(const Box& b, std::string_view cls, std::string_view content) const {
+    if (placed) placed->push_back({b, std::string(cls), std::string(content)});
+  }
+};
+
+// Decade ticks on a log10 axis [lo, hi] (in decades); 2 and 5 between them when the axis spans
+// fewer than three decades.
+Ticks log_ticks(double lo, double hi) {
+  Ticks t;
+  t.step = 1.0;
+  const bool fine = hi - lo < 3.0;
+  for (double d = std::floor(lo); d <= std::ceil(hi) && t.values.size() < 60; d += 1.0) {
+    for (const double m : {1.0, 2.0, 5.0}) {
+      if (m > 1.0 && !fine) continue;
+      const double v = d + std::log10(m);
+      if (v >= lo - 1e-9 && v <= hi + 1e-9) t.values.push_back(v);
+    }
+  }
+  return t;
+}
+
+std::string log_tick_label(double decades) {
+  const double v = std::pow(10.0, decades);
+  if (v < 1e-4 || v >= 1e6) return general(v, 2);
+  const double d = std::floor(decades + 1e-9);
+  return fixed(v, d < 0.0 ? static_cast<int>(-d) : 0);
 }
 
 struct LegendItem {
@@ -291,18 +252,32 @@ struct LegendItem {
 
 }  // namespace
 
-void render_plot(std::string& out, const Plot& plot, std::size_t plot_index,
-                 std::size_t max_points) {
+void render_plot(std::string& out, const Plot& plot, std::size_t plot_index, std::size_t max_points,
+                 std::vector<PlacedText>* placed) {
+  const bool timeline = !plot.lanes.empty();
+  // A log axis plots log10(y) (non-positive values become gaps) on a linear frame.
+  std::vector<Series> logged;
+  if (plot.log_y && !timeline) {
+    logged = plot.series;
+    for (Series& s : logged)
+      for (double& v : s.y) v = v > 0.0 ? std::log10(v) : std::nan("");
+  }
+  const std::vector<Series>& series = logged.empty() ? plot.series : logged;
+  const bool fixed_x =
+      std::isfinite(plot.x_min) && std::isfinite(plot.x_max) && plot.x_max > plot.x_min;
+
   // Decimated runs of finite points per series, and the data extent (from all finite points,
-  // not only the kept ones, so the axes are the same with or without decimation).
+  // not only the kept ones, so the axes are the same with or without decimation; y only from
+  // the points inside a fixed x range).
   std::vector<std::vector<Segment>> segments;
-  segments.reserve(plot.series.size());
-  bool has_data = false;
+  segments.reserve(series.size());
+  bool has_data = false, has_points = false;
   double x_lo = 0.0, x_hi = 0.0, y_lo = 0.0, y_hi = 0.0;
-  for (const Series& s : plot.series) {
+  for (const Series& s : series) {
     const std::size_t n = std::min(s.x.size(), s.y.size());
     for (std::size_t i = 0; i < n; ++i) {
       if (!finite_point(s, i)) continue;
+      if (fixed_x && (s.x[i] < plot.x_min || s.x[i] > plot.x_max)) continue;
       const double xv = std::clamp(s.x[i], -kHuge, kHuge);
       const double yv = std::clamp(s.y[i], -kHuge, kHuge);
       if (!has_data) {
@@ -317,6 +292,8 @@ void render_plot(std::string& out, const Plot& plot, std::size_t plot_index,
       }
     }
     segments.push_back(segments_of(s, max_points));
+    has_points = has_points || s.points;
+    for (const Segment& seg : segments.back()) has_points = has_points || seg.size() == 1;
   }
   if (!has_data) {
     // Empty axes; markers still give the time axis a meaningful extent when present.
@@ -334,18 +311,59 @@ void render_plot(std::string& out, const Plot& plot, std::size_t plot_index,
   }
 
   Frame f;
-  f.x = widen(x_lo, x_hi, 0.0);
-  f.y = has_data ? widen(y_lo, y_hi, 0.05) : Range{0.0, 1.0};
-  const Ticks xt = make_ticks(f.x.lo, f.x.hi, 7.0);
-  const Ticks yt = make_ticks(f.y.lo, f.y.hi, 5.0);
-  std::vector<std::string> y_labels;
-  std::size_t longest = 1;
-  for (const double v : yt.values) {
-    y_labels.push_back(tick_label(v, yt.step, f.y.lo, f.y.hi));
-    longest = std::max(longest, text_length(y_labels.back()));
+  f.x = fixed_x ? Range{plot.x_min, plot.x_max} : widen(x_lo, x_hi, 0.0);
+  const auto fixed_y = [&](double v) { return plot.log_y ? (v > 0.0 ? std::log10(v) : NAN) : v; };
+  const double fy_lo = fixed_y(plot.y_min), fy_hi = fixed_y(plot.y_max);
+  if (timeline) {
+    f.y = {0.0, static_cast<double>(plot.lanes.size())};
+    f.height = kLaneHeight * static_cast<double>(plot.lanes.size());
+  } else if (std::isfinite(fy_lo) && std::isfinite(fy_hi) && fy_hi > fy_lo) {
+    f.y = {fy_lo, fy_hi};
+  } else {
+    f.y = has_data ? widen(y_lo, y_hi, 0.05) : Range{0.0, 1.0};
+    if (std::isfinite(fy_lo) && fy_lo < f.y.hi) f.y.lo = fy_lo;
+    if (std::isfinite(fy_hi) && fy_hi > f.y.lo) f.y.hi = fy_hi;
   }
-  f.left = std::max(60.0, 36.0 + static_cast<double>(longest) * kCharWidth);
+
+  // y ticks: lane names, decades, or 1-2-5 steps.
+  std::vector<double> y_ticks;
+  std::vector<std::string> y_labels;
+  if (timeline) {
+    for (std::size_t i = 0; i < plot.lanes.size(); ++i) {
+      y_ticks.push_back(f.y.hi - static_cast<double>(i) - 0.5);
+      y_labels.push_back(plot.lanes[i].second);
+    }
+  } else {
+    const Ticks yt = plot.log_y ? log_ticks(f.y.lo, f.y.hi) : make_ticks(f.y.lo, f.y.hi, 5.0);
+    y_ticks = yt.values;
+    for (const double v : yt.values)
+      y_labels.push_back(plot.log_y ? log_tick_label(v) : tick_label(v, yt.step, f.y.lo, f.y.hi));
+  }
+  double longest = 0.0;
+  for (const std::string& l : y_labels)
+    longest = std::max(longest, text_width(l, text_style("tick")));
+  // Room for the tick labels (8 px from the axis) and the rotated axis label (to x ≈ 19).
+  f.left = std::max(60.0, 32.0 + longest);
   f.width = kWidth - f.left - kRight;
+  if (has_points && !fixed_x) {  // keep markers at the ends whole
+    const double pad = (f.x.hi - f.x.lo) * kEdgePad / f.width;
+    f.x = {f.x.lo - pad, f.x.hi + pad};
+  }
+
+  // x ticks: as many as fit without their labels touching.
+  Ticks xt;
+  std::vector<std::string> x_labels;
+  for (double target = 7.0; target >= 2.0; target -= 1.0) {
+    xt = make_ticks(f.x.lo, f.x.hi, target);
+    x_labels.clear();
+    double widest = 0.0;
+    for (const double v : xt.values) {
+      x_labels.push_back(tick_label(v, xt.step, f.x.lo, f.x.hi));
+      widest = std::max(widest, text_width(x_labels.back(), text_style("tick")));
+    }
+    const double spacing = xt.values.size() > 1 ? f.px(xt.values[1]) - f.px(xt.values[0]) : 1e9;
+    if (widest + 10.0 < spacing) break;
+  }
 
   // Legend layout: rows under the x-axis label, wrapped to the plot width.
   std::vector<LegendItem> legend;
@@ -354,7 +372,7 @@ void render_plot(std::string& out, const Plot& plot, std::size_t plot_index,
   for (std::size_t i = 0; i < plot.series.size(); ++i) {
     const std::string& name = plot.series[i].name;
     if (name.empty()) continue;
-    const double w = 30.0 + text_width(name, kCharWidth) + 22.0;
+    const double w = 28.0 + text_width(name, text_style("legend")) + 24.0;
     if (legend.empty()) {
       rows = 1.0;
     } else if (lx + w > f.right() && lx > f.left) {
@@ -364,16 +382,81 @@ void render_plot(std::string& out, const Plot& plot, std::size_t plot_index,
     legend.push_back({lx, rows - 1.0, i});
     lx += w;
   }
-  const double legend_top = f.bottom() + 54.0;
-  const double height = rows > 0.0 ? legend_top + rows * kLegendRow + 6.0 : f.bottom() + 50.0;
 
+  // The data's footprint in pixels, for placing marker labels off it.
+  Occupancy occ(f.left, f.top, f.width, f.height);
+  for (std::size_t si = 0; si < series.size(); ++si) {
+    if (timeline) continue;
+    for (const Segment& seg : segments[si]) {
+      for (std::size_t k = 0; k < seg.size(); ++k) {
+        const double x = f.px(seg[k].first), y = f.py(seg[k].second);
+        if (series[si].points || k == 0) {
+          occ.mark_rect(x - 3.0, y - 3.0, x + 3.0, y + 3.0);
+        } else {
+          occ.mark_line(f.px(seg[k - 1].first), f.py(seg[k - 1].second), x, y);
+        }
+      }
+    }
+  }
+  std::string bands;
+  for (std::size_t li = 0; timeline && li < plot.lanes.size(); ++li) {
+    const double yc = f.py(y_ticks[li]);
+    std::vector<std::pair<double, double>> px_runs;  // merged where closer than half a pixel
+    for (const Series& s : series) {
+      for (const auto& [a, b] : runs_of(s, plot.lanes[li].first)) {
+        const double x0 = std::max(f.px(a), f.left);
+        const double x1 = std::max(std::min(f.px(b), f.right()), x0 + 1.0);  // one sample shows
+        if (x0 > f.right()) continue;
+        if (!px_runs.empty() && x0 <= px_runs.back().second + 0.5) {
+          px_runs.back().second = std::max(px_runs.back().second, x1);
+        } else {
+          px_runs.emplace_back(x0, x1);
+        }
+      }
+    }
+    bands += "<g fill=\"" + std::string(kPalette[li % kPaletteSize]) + "\">";
+    for (const auto& [x0, x1] : px_runs) {
+      occ.mark_rect(x0, yc - 7.0, x1, yc + 7.0);
+      bands += "<rect x=\"" + coord(x0) + "\" y=\"" + coord(yc - 7.0) + "\" width=\"" +
+               coord(x1 - x0) + "\" height=\"14\"/>";
+    }
+    bands += "</g>";
+  }
+
+  // Marker lines, in the plot area, and their labels beside them.
+  std::vector<MarkerLabel> wanted;
+  std::string marker_lines;
+  for (const Marker& m : plot.markers) {
+    if (!std::isfinite(m.x) || m.x < f.x.lo || m.x > f.x.hi) continue;
+    const double x = f.px(m.x);
+    marker_lines += line(x, f.top, x, f.bottom(), "m");
+    occ.mark_line(x, f.top, x, f.bottom());
+    wanted.push_back({x, m.label});
+  }
+  // The title is laid out first: marker labels may go in the strip between it and the frame.
+  const Box title_box =
+      text_box(f.left + f.width / 2.0, 24.0, "middle", false, plot.title, text_style("title"));
+  std::vector<Box> taken{title_box};
+  std::vector<std::string> unplaced;
+  const Box frame_box{f.left, f.top, f.right(), f.bottom()};
+  const Box above{4.0, title_box.y1 + 1.0, kWidth - 4.0, f.top};
+  const std::vector<PlacedMarkerLabel> mlabels =
+      place_marker_labels(wanted, frame_box, above, occ, taken, unplaced);
+
+  const double legend_top = f.bottom() + 54.0;
+  const double caption_rows = unplaced.empty() ? 0.0 : 1.0;
+  const double height = rows + caption_rows > 0.0
+                            ? legend_top + (rows + caption_rows) * kLegendRow + 6.0
+                            : f.bottom() + 50.0;
+
+  const TextWriter tw{placed};
   const std::string id = "clip" + std::to_string(plot_index);
   out += "<figure class=\"plot\">\n<svg class=\"chart\" viewBox=\"0 0 " + coord(kWidth) + " " +
          coord(height) + "\" role=\"img\" aria-label=\"" + escape(plot.title) + "\">\n";
   out += "<defs><clipPath id=\"" + id + "\"><rect x=\"" + coord(f.left - 4.0) + "\" y=\"" +
          coord(f.top - 4.0) + "\" width=\"" + coord(f.width + 8.0) + "\" height=\"" +
          coord(f.height + 8.0) + "\"/></clipPath></defs>\n";
-  out += text(f.left + f.width / 2.0, 24.0, "middle", "title", plot.title) + "\n";
+  out += tw.text(f.left + f.width / 2.0, 24.0, "middle", "title", plot.title) + "\n";
   out += "<rect class=\"frame\" x=\"" + coord(f.left) + "\" y=\"" + coord(f.top) + "\" width=\"" +
          coord(f.width) + "\" height=\"" + coord(f.height) + "\"/>\n";
 
@@ -383,55 +466,42 @@ void render_plot(std::string& out, const Plot& plot, std::size_t plot_index,
     const double x = f.px(v);
     out += line(x, f.top, x, f.bottom(), "g");
   }
-  for (const double v : yt.values) {
+  for (const double v : y_ticks) {
     const double y = f.py(v);
     out += line(f.left, y, f.right(), y, "g");
   }
   out += "</g>\n<g class=\"ticks\">";
-  for (const double v : xt.values) {
-    const double x = f.px(v);
+  for (std::size_t i = 0; i < xt.values.size(); ++i) {
+    const double x = f.px(xt.values[i]);
     out += line(x, f.bottom(), x, f.bottom() + 5.0, "t");
-    out += text(x, f.bottom() + 19.0, "middle", "", tick_label(v, xt.step, f.x.lo, f.x.hi));
+    out += tw.text(x, f.bottom() + 19.0, "middle", "tick", x_labels[i]);
   }
-  for (std::size_t i = 0; i < yt.values.size(); ++i) {
-    const double y = f.py(yt.values[i]);
+  for (std::size_t i = 0; i < y_ticks.size(); ++i) {
+    const double y = f.py(y_ticks[i]);
     out += line(f.left - 5.0, y, f.left, y, "t");
-    out += text(f.left - 8.0, y + 4.0, "end", "", y_labels[i]);
+    out += tw.text(f.left - 8.0, y + 4.0, "end", "tick", y_labels[i]);
   }
   out += "</g>\n";
   out += line(f.left, f.top, f.left, f.bottom(), "axis") +
          line(f.left, f.bottom(), f.right(), f.bottom(), "axis") + "\n";
 
   // Axis labels.
-  if (!plot.x_label.empty()) {
-    out += text(f.left + f.width / 2.0, f.bottom() + 40.0, "middle", "label", plot.x_label) + "\n";
-  }
+  if (!plot.x_label.empty())
+    out +=
+        tw.text(f.left + f.width / 2.0, f.bottom() + 40.0, "middle", "label", plot.x_label) + "\n";
   if (!plot.y_label.empty()) {
-    const double cy = f.top + f.height / 2.0;
-    out += "<text transform=\"translate(16 " + coord(cy) +
-           ") rotate(-90)\" text-anchor=\"middle\" class=\"label\">" + escape(plot.y_label) +
-           "</text>\n";
+    const std::string y_label = plot.log_y ? plot.y_label + " (log scale)" : plot.y_label;
+    out += tw.rotated(16.0, f.top + f.height / 2.0, "middle", "label", y_label) + "\n";
   }
 
-  // Markers: dashed vertical lines under the data; their labels (rotated, reading upwards from
-  // the top, with a white halo) go on top of the data so they stay legible.
-  std::string marker_labels;
-  out += "<g class=\"marker\">";
-  for (const Marker& m : plot.markers) {
-    if (!std::isfinite(m.x) || m.x < f.x.lo || m.x > f.x.hi) continue;
-    const double x = f.px(m.x);
-    out += line(x, f.top, x, f.bottom(), "m");
-    if (!m.label.empty()) {
-      marker_labels += "<text transform=\"translate(" + coord(x - 4.0) + " " + coord(f.top + 6.0) +
-                       ") rotate(-90)\" text-anchor=\"end\">" + escape(m.label) + "</text>";
-    }
-  }
-  out += "</g>\n";
+  // Markers: dashed vertical lines under the data; their labels (with a white halo) on top.
+  out += "<g class=\"marker\">" + marker_lines + "</g>\n";
 
-  // Series.
-  out += "<g clip-path=\"url(#" + id + ")\">\n";
-  for (std::size_t si = 0; si < plot.series.size(); ++si) {
-    const Series& s = plot.series[si];
+  // Series: timeline bands, or lines and points (each series drawn in its order, the last on
+  // top).
+  out += "<g clip-path=\"url(#" + id + ")\">\n" + bands;
+  for (std::size_t si = 0; si < series.size() && !timeline; ++si) {
+    const Series& s = series[si];
     const std::string color = color_of(s, si);
     if (s.points) {
       out += "<g class=\"points\" fill=\"" + color + "\">";
@@ -471,14 +541,20 @@ void render_plot(std::string& out, const Plot& plot, std::size_t plot_index,
   }
   out += "</g>\n";
 
-  if (!marker_labels.empty()) out += "<g class=\"marker\">" + marker_labels + "</g>\n";
+  if (!mlabels.empty()) {
+    out += "<g class=\"marker\">";
+    for (const PlacedMarkerLabel& l : mlabels)
+      out += l.rotated ? tw.rotated(l.x, l.y, l.anchor, "mark", l.text)
+                       : tw.text(l.x, l.y, l.anchor, "mark", l.text);
+    out += "</g>\n";
+  }
   if (!has_data) {
-    out +=
-        text(f.left + f.width / 2.0, f.top + f.height / 2.0 + 6.0, "middle", "nodata", "no data") +
-        "\n";
+    out += tw.text(f.left + f.width / 2.0, f.top + f.height / 2.0 + 6.0, "middle", "nodata",
+                   "no data") +
+           "\n";
   }
 
-  // Legend.
+  // Legend (and, under it, the marker labels that found no room beside their lines).
   if (!legend.empty()) {
     out += "<g class=\"legend\">";
     for (const LegendItem& item : legend) {
@@ -495,9 +571,14 @@ void render_plot(std::string& out, const Plot& plot, std::size_t plot_index,
         if (s.dashed) out += " stroke-dasharray=\"5 3\"";
         out += "/>";
       }
-      out += text(item.x + 28.0, y, "", "", s.name);
+      out += tw.text(item.x + 28.0, y, "", "legend", s.name);
     }
     out += "</g>\n";
+  }
+  if (!unplaced.empty()) {
+    std::string caption = "also marked: ";
+    for (std::size_t i = 0; i < unplaced.size(); ++i) caption += (i ? ", " : "") + unplaced[i];
+    out += tw.text(f.left, legend_top + rows * kLegendRow, "", "legend", caption) + "\n";
   }
   out += "</svg>\n</figure>\n";
 }

@@ -66,11 +66,19 @@ RunOutput run_scenario(const Scenario& sc) {
 
 // One set, appearing as a whole (see write_output_set): never a new channels.csv beside an old
 // summary.json.
-void write_outputs(const RunOutput& out, const std::filesystem::path& dir) {
+void write_outputs(const RunOutput& out, const std::filesystem::path& dir,
+                   const std::string& index_href) {
   std::vector<std::pair<std::string, std::string>> files;
   files.emplace_back("channels.csv", out.channels_csv);
   if (!out.compare_csv.empty()) files.emplace_back("channels_compare.csv", out.compare_csv);
-  files.emplace_back("report.html", render_html(out.report));
+  // The report's header links to the files beside it (and back to the demo's index).
+  Report rep = out.report;
+  if (!index_href.empty()) rep.links.push_back({"← all reports", index_href});
+  rep.links.push_back({"channels.csv", "channels.csv"});
+  if (!out.compare_csv.empty())
+    rep.links.push_back({"channels_compare.csv (the comparison run)", "channels_compare.csv"});
+  rep.links.push_back({"summary.json", "summary.json"});
+  files.emplace_back("report.html", render_html(rep));
   files.emplace_back("summary.json", out.summary.dump(2) + "\n");
   write_output_set(dir, files);
 }

@@ -3,7 +3,9 @@
 // offline in any browser. Plots are drawn here, in C++, as SVG polylines, so the report needs
 // nothing installed to be read.
 
+#include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lathectl::io {
@@ -28,6 +30,17 @@ struct Plot {
   std::string y_label;  // with unit
   std::vector<Series> series;
   std::vector<Marker> markers;
+  // Optional layout (the defaults give a linear plot fitted to the data):
+  bool log_y = false;  // logarithmic y axis (values <= 0 are left out)
+  // Fixed axis ranges (NaN: from the data). A fixed x range lines stacked plots up and shows a
+  // gap at the end of a run as a gap; data beyond a fixed y range is clipped at the frame.
+  double x_min = std::numeric_limits<double>::quiet_NaN();
+  double x_max = std::numeric_limits<double>::quiet_NaN();
+  double y_min = std::numeric_limits<double>::quiet_NaN();
+  double y_max = std::numeric_limits<double>::quiet_NaN();
+  // Timeline band: when not empty, each series' y values are codes and the plot has one lane
+  // per listed code (value, name), filled where the series holds that code (e.g. reason codes).
+  std::vector<std::pair<double, std::string>> lanes = {};
 };
 
 struct Table {
@@ -60,6 +73,10 @@ struct Report {
   // Page of docs/ that explains the seed, formula and block numbers the report cites (e.g.
   // "system-d-gauging.md"); the footer names it, in the sources and installed. Empty: the index.
   std::string doc_page;
+  // Links shown under the title (e.g. back to the index, the run's channels.csv and
+  // summary.json); empty: none.
+  std::vector<Link> links = {};
+  bool plots_first = false;  // plots before the tables (a chart above a long table)
 };
 
 // Renders the report as one HTML document. Series longer than max_points are decimated by

@@ -30,7 +30,10 @@ struct RunOutput {
 // Throws InputError (bad scenario) or std::runtime_error (numerical failure: NaN, divergence).
 // The verdict is filled in, added to the summary and shown at the top of the report.
 RunOutput run_scenario(const Scenario& sc);
-void write_outputs(const RunOutput& out, const std::filesystem::path& dir);
+// index_href: the demo's index.html relative to dir ("../index.html"), linked from the report;
+// empty for a single run.
+void write_outputs(const RunOutput& out, const std::filesystem::path& dir,
+                   const std::string& index_href = {});
 
 // Configures a rig with the scenario's run settings and runs it to the end. A configuration the
 // rig rejects is the scenario's fault (InputError); a divergence is a numerical failure

@@ -96,6 +96,51 @@ Series constant(const Run& r, double value, std::string name) {
   return s;
 }
 
+// The regulator's flow averaged over whole pulses: between the opening of one pulse and the
+// opening of the pulse N periods later, N the whole number of periods nearest the feed window at
+// the recorded frequency. A window that does not start and end between pulses catches a varying
+// part of a pulse (a 2 ms sample of an 8 ms pulse is 1/250 of a 500 ms window but 1/4 of the pulse
+// volume): with FIM's moving frequency a fixed window's mean jumps like a square wave. Where the
+// flow never stops (the continuous throttle) a plain trailing mean over the window. NaN until a
+// whole window has been recorded.
+std::vector<double> pulse_mean_flow(const Run& r, double window_s) {
+  const auto x = r.rig.recorder().column("flow_cm3_per_min");
+  const auto f = r.rig.recorder().column("frequency_Hz");
+  const auto t = r.rig.recorder().column("time_s");
+  const double dt = t.size() > 1 ? t[1] - t[0] : 1.0;
+  std::vector<double> sum(x.size() + 1, 0.0);  // sum[i]: samples before i
+  for (std::size_t i = 0; i < x.size(); ++i) sum[i + 1] = sum[i] + x[i];
+  std::vector<std::size_t> opens;  // first sample of each pulse (the slot shut before it)
+  for (std::size_t i = 1; i < x.size(); ++i)
+    if (x[i - 1] <= 0.0 && x[i] > 0.0) opens.push_back(i);
+  std::vector<double> out(x.size(), std::nan(""));
+  const auto mean = [&](std::size_t a, std::size_t b) {
+    return (sum[b] - sum[a]) / static_cast<double>(b - a);
+  };
+  if (opens.size() < 2) {
+    const auto n = static_cast<std::size_t>(std::max(1.0, std::round(window_s / dt)));
+    for (std::size_t i = n; i <= x.size(); ++i) out[i - 1] = mean(i - n, i);
+    return out;
+  }
+  for (std::size_t k = 1; k < opens.size(); ++k) {
+    const auto periods =
+        static_cast<std::size_t>(std::max(1.0, std::round(window_s * f[opens[k]])));
+    if (periods > k) continue;
+    const double v = mean(opens[k - periods], opens[k]);
+    const std::size_t until = k + 1 < opens.size() ? opens[k + 1] : x.size();
+    for (std::size_t i = opens[k]; i < until; ++i) out[i] = v;
+  }
+  return out;
+}
+
+// The whole run's time span: every time plot gets it, so a sensor's NaN stretch at the end shows
+// as a gap, not as a shorter axis.
+void span_run(Plot& p, const Run& r) {
+  const auto t = r.rig.recorder().column("time_s");
+  p.x_min = 0.0;
+  p.x_max = t.empty() ? 1.0 : t.back();
+}
+
 std::vector<Marker> markers(const Run& r) {
   std::vector<Marker> m;
   if (!std::isnan(r.metrics.first_disturbance_s))
@@ -316,20 +361,32 @@ io::RunOutput run(const io::Scenario& sc) {
   if (!sweep.empty()) rep.tables.push_back(sweep_table);
 
   const auto mk = markers(*main);
-  Plot feed{"Feed rate (averaged over " + fmt(settings.rig.feed_window_s * 1000) + " ms)",
+  const double window_s = settings.rig.feed_window_s;
+  Plot feed{"Feed rate (averaged over the whole pulse periods nearest " + fmt(window_s * 1000) +
+                " ms)",
             "time [s]",
             "feed [mm/min]",
             {},
             mk};
-  feed.series.push_back(series(*main, "feed_mm_per_min", main->label, kMain));
-  if (cmp) feed.series.push_back(series(*cmp, "feed_mm_per_min", cmp->label, kCmp));
+  // The rig's feed channel from its first full window on (before, the mean mixes in the assumed
+  // steady motion before t = 0: a ripple that is not the run's).
+  const auto from_full_window = [&](Series sr) {
+    for (std::size_t i = 0; i < sr.y.size() && sr.x[i] - sr.x.front() < window_s; ++i)
+      sr.y[i] = std::nan("");
+    return sr;
+  };
+  feed.series.push_back(from_full_window(series(*main, "feed_mm_per_min", main->label, kMain)));
+  if (cmp)
+    feed.series.push_back(from_full_window(series(*cmp, "feed_mm_per_min", cmp->label, kCmp)));
   feed.series.push_back(constant(*main, m.feed_rate_programmed_mm_per_min, "programmed"));
+  span_run(feed, *main);
   rep.plots.push_back(feed);
 
   Plot force{"Radial cutting force Py", "time [s]", "force [N]", {}, mk};
   force.series.push_back(series(*main, "force_Py_N", main->label, kMain));
   if (cmp) force.series.push_back(series(*cmp, "force_Py_N", cmp->label, kCmp));
   if (roughing) force.series.push_back(constant(*main, m.force_setpoint_N, "set force"));
+  span_run(force, *main);
   rep.plots.push_back(force);
 
   const bool fim = settings.rig.controller_kind == ControllerKind::Fim;
@@ -344,24 +401,21 @@ io::RunOutput run(const io::Scenario& sc) {
   act.series.push_back(series(*main, fim ? "frequency_Hz" : "slot_um", main->label, kMain));
   if (cmp && cmp->rig.config().regulator_kind == RegulatorKind::Pulsed)
     act.series.push_back(series(*cmp, fim ? "frequency_Hz" : "slot_um", cmp->label, kCmp));
+  span_run(act, *main);
   rep.plots.push_back(act);
 
   Plot sens{"Inductive sensor signal U_D", "time [s]", "U_D [V]", {}, mk};
   sens.series.push_back(series(*main, "sensor_V", main->label, kMain));
+  span_run(sens, *main);
   rep.plots.push_back(sens);
 
-  Plot flow{"Regulator flow (averaged over the feed window) and internal leakage",
+  Plot flow{"Regulator flow (averaged over whole pulse periods) and internal leakage",
             "time [s]",
             "flow [cm³/min]",
             {},
             mk};
   const auto smooth = [&](const Run& r, Series sr) {
-    const auto t = r.rig.recorder().column("time_s");
-    const double dt_rec = t.size() > 1 ? t[1] - t[0] : 1.0;
-    const auto w = static_cast<std::size_t>(std::max(1.0, settings.rig.feed_window_s / dt_rec));
-    sr.y = sim::moving_average(sr.y, w);
-    for (std::size_t i = 0; i + 1 < w && i < sr.y.size(); ++i)
-      sr.y[i] = std::nan("");  // partial window
+    sr.y = pulse_mean_flow(r, window_s);
     return sr;
   };
   flow.series.push_back(
@@ -370,16 +424,18 @@ io::RunOutput run(const io::Scenario& sc) {
   if (cmp)
     flow.series.push_back(
         smooth(*cmp, series(*cmp, "flow_cm3_per_min", "regulator flow, " + cmp->label, kCmp)));
+  span_run(flow, *main);
   rep.plots.push_back(flow);
 
-  Plot dist{"Disturbances: depth of cut and hardness (strength factor)",
-            "time [s]",
-            "depth [mm] / factor",
-            {},
-            mk};
-  dist.series.push_back(series(*main, "depth_mm", "depth [mm]", "#8c564b"));
-  dist.series.push_back(series(*main, "strength_factor", "strength factor", "#9467bd"));
-  rep.plots.push_back(dist);
+  // Depth [mm] and the strength factor share no unit: one panel each.
+  Plot depth{"Disturbance: depth of cut", "time [s]", "depth [mm]", {}, mk};
+  depth.series.push_back(series(*main, "depth_mm", "depth of cut", "#8c564b"));
+  span_run(depth, *main);
+  rep.plots.push_back(depth);
+  Plot hard{"Disturbance: hardness (strength factor)", "time [s]", "strength factor", {}, mk};
+  hard.series.push_back(series(*main, "strength_factor", "strength factor", "#9467bd"));
+  span_run(hard, *main);
+  rep.plots.push_back(hard);
 
   if (cmp && cmp->rig.config().regulator_kind == RegulatorKind::Throttle) {
     Plot ob{

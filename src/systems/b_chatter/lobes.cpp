@@ -292,19 +292,39 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
                                  "relative difference over " +
                                  std::to_string(chart_compared) + " speeds",
                              fmt(chart_worst, "%.3g"));
-  Table t{"Lobes (max_lobes " + std::to_string(in.max_lobes) + ")",
-          {"N", "speed at the minimum [rpm]", "depth [mm]", "chatter [Hz]", "minimum"},
+  // The chart first: the tables under it run to dozens of rows.
+  rep.plots_first = true;
+  rep.links = {{"lobes.csv", "lobes.csv"}, {"lobes.json", "lobes.json"}};
+  // Minima only where a lobe has one inside the speed range; the lobes the range cuts off (their
+  // lowest point is at an edge, not a minimum) in a table of their own.
+  Table t{"Lobe minima inside the speed range (max_lobes " + std::to_string(in.max_lobes) + ")",
+          {"N", "speed at the minimum [rpm]", "depth [mm]", "chatter [Hz]"},
           {}};
+  Table te{"Lobes cut off by the speed range (no minimum inside; lowest point at the edge)",
+           {"N", "speed at the edge [rpm]", "depth there [mm]", "chatter [Hz]"},
+           {}};
   for (const auto& l : fd.lobes)
-    t.rows.push_back(
-        {std::to_string(l.N), fmt(l.minimum.speed_rpm, "%.1f"), fmt(l.minimum.depth_m * 1e3),
-         fmt(l.minimum.chatter_Hz),
-         l.minimum_inside ? "inside the range" : "edge: lowest in range, not a minimum"});
-  rep.tables.push_back(t);
+    (l.minimum_inside ? t : te)
+        .rows.push_back({std::to_string(l.N), fmt(l.minimum.speed_rpm, "%.1f"),
+                         fmt(l.minimum.depth_m * 1e3), fmt(l.minimum.chatter_Hz)});
+  if (!t.rows.empty()) rep.tables.push_back(t);
+  if (!te.rows.empty()) rep.tables.push_back(te);
   for (const auto& w : warnings) rep.notes.push_back("⚠ " + w.get<std::string>());
   Plot p{
       "Stability lobe diagram", "spindle speed [rpm]", "limit depth of cut [mm]", {env, sdp}, {}};
   if (chart) p.series.push_back(sdc);
+  // Lobe tops far above the absolute limit would squash the minima, where the choice of speed
+  // is made: the depth axis stops at five times the limit (lobes.csv has every value).
+  const double top = 5.0 * fd.critical_depth_m * 1e3;
+  double data_top = 0.0;
+  for (const Series& sr : p.series)
+    for (const double v : sr.y)
+      if (std::isfinite(v)) data_top = std::max(data_top, v);
+  if (std::isfinite(top) && top > 0.0 && data_top > top) {
+    p.y_min = 0.0;
+    p.y_max = top;
+    p.title += " (depth axis clipped at 5 × the absolute limit)";
+  }
   rep.plots.push_back(p);
   if (!along.empty()) {
     Table ta{"Critical depth along the part",

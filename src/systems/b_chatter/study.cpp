@@ -376,23 +376,35 @@ io::RunOutput run(const io::Scenario& sc) {
                   dashed,
                   false};
   };
-  {
-    Plot p{"Part displacement at the tool", "time [s]", "y [µm]", {}, {}};
-    if (off && off != &main) p.series.push_back(series(*off, "y_um", "no modulation", colors[0]));
-    p.series.push_back(series(main, "y_um", main.label, colors[1]));
-    if (main.rig.engaged_at_s() >= 0.0) p.markers.push_back({main.rig.engaged_at_s(), "engaged"});
-    p.markers.push_back({main.t0, "steady window"});
+  // The unmodulated run chatters at hundreds of µm, the modulated one stays near 0.1 µm: each
+  // gets its own panel (same time axis), or the smaller would be a flat line beside the other.
+  const std::vector<const Run*> panels =
+      off && off != &main ? std::vector<const Run*>{off, &main} : std::vector<const Run*>{&main};
+  double t_end = 0.0;
+  for (const Run* r : panels) {
+    const auto tt = r->rig.recorder().column("time_s");
+    if (!tt.empty()) t_end = std::max(t_end, tt.back());
+  }
+  const auto panel = [&](std::string title, std::string y_label) {
+    Plot p{std::move(title), "time [s]", std::move(y_label), {}, {}};
+    p.x_min = 0.0;
+    p.x_max = t_end;
+    return p;
+  };
+  for (std::size_t k = 0; k < panels.size(); ++k) {
+    const Run& r = *panels[k];
+    const char* color = colors[panels.size() == 2 ? k : 1];
+    Plot p = panel("Part displacement at the tool, " + r.label, "y [µm]");
+    p.series.push_back(series(r, "y_um", r.label, color));
+    if (r.rig.engaged_at_s() >= 0.0) p.markers.push_back({r.rig.engaged_at_s(), "engaged"});
+    p.markers.push_back({r.t0, "steady window"});
     rep.plots.push_back(p);
   }
-  {
-    Plot p{"Chatter band (high-pass " + fmt(b.vibration.highpass_Hz) + " Hz)",
-           "time [s]",
-           "y_hp [µm]",
-           {},
-           {}};
-    if (off && off != &main)
-      p.series.push_back(series(*off, "y_highpass_um", "no modulation", colors[0]));
-    p.series.push_back(series(main, "y_highpass_um", main.label, colors[1]));
+  for (std::size_t k = 0; k < panels.size(); ++k) {
+    const Run& r = *panels[k];
+    Plot p = panel("Chatter band (high-pass " + fmt(b.vibration.highpass_Hz) + " Hz), " + r.label,
+                   "y_hp [µm]");
+    p.series.push_back(series(r, "y_highpass_um", r.label, colors[panels.size() == 2 ? k : 1]));
     rep.plots.push_back(p);
   }
   if (modulated) {
@@ -406,15 +418,14 @@ io::RunOutput run(const io::Scenario& sc) {
     rep.plots.push_back(c);
   }
   {
-    Plot p{"Measurement chain: a0 (ADC 19) and ω_d (detector 20)",
-           "time [s]",
-           "a0 [µm] / f [Hz]",
-           {},
-           {}};
+    // Two panels: the amplitude in µm and the detected frequency in Hz share no axis.
     const Run& r = off && off != &main ? *off : main;
-    p.series.push_back(series(r, "a0_um", "a0 [µm], " + r.label, "#ff7f0e"));
-    p.series.push_back(series(r, "omega_d_Hz", "ω_d/2π [Hz], " + r.label, "#8c564b", true));
-    rep.plots.push_back(p);
+    Plot a0 = panel("Measurement chain: amplitude a0 (ADC 19), " + r.label, "a0 [µm]");
+    a0.series.push_back(series(r, "a0_um", "a0, " + r.label, "#ff7f0e"));
+    rep.plots.push_back(a0);
+    Plot wd = panel("Measurement chain: frequency ω_d/2π (detector 20), " + r.label, "f [Hz]");
+    wd.series.push_back(series(r, "omega_d_Hz", "ω_d/2π, " + r.label, "#8c564b"));
+    rep.plots.push_back(wd);
   }
   {
     Plot p{"Cutting power: true and measured (N_m − N_idle)", "time [s]", "power [W]", {}, {}};
@@ -451,6 +462,7 @@ io::RunOutput run(const io::Scenario& sc) {
   if (!sweep.empty()) {
     Plot p{
         "Steady vibration against the programmed feed", "feed [mm/rev]", "vibration [µm]", {}, {}};
+    p.log_y = true;  // from 0.001 µm (modulated, stable) to hundreds of µm (chatter)
     Series s0{"no modulation", {}, {}, colors[0], false, true},
         s1{main.label, {}, {}, colors[1], false, true};
     Table tb{"Sweep over the feed",

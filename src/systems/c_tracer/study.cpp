@@ -6,6 +6,7 @@
 #include <numbers>
 #include <span>
 #include <stdexcept>
+#include <vector>
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
@@ -25,10 +26,22 @@ struct Run {
   json features = json::array();
 };
 
-double nan_max_abs(std::span<const double> v, std::span<const double> x, double x0, double x1) {
+// The zone around a shoulder (a vertical step) where the rig masks δy and δx belongs to the
+// shoulder: ±0.5 mm of the tool's x (rig.cpp, near_step).
+constexpr double kShoulderZone_mm = 0.5;
+
+// Largest |v| over the samples with x in [x0, x1], leaving out those within the zone of any
+// shoulder in `shoulders` (their error is the shoulder's, not its neighbours').
+double nan_max_abs(std::span<const double> v, std::span<const double> x, double x0, double x1,
+                   const std::vector<double>& shoulders = {}) {
   double m = 0.0;
-  for (std::size_t i = 0; i < v.size(); ++i)
-    if (x[i] >= x0 && x[i] <= x1 && std::isfinite(v[i])) m = std::max(m, std::abs(v[i]));
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (!(x[i] >= x0 && x[i] <= x1 && std::isfinite(v[i]))) continue;
+    const bool at_shoulder = std::any_of(shoulders.begin(), shoulders.end(), [&](double s) {
+      return std::abs(x[i] - s) <= kShoulderZone_mm;
+    });
+    if (!at_shoulder) m = std::max(m, std::abs(v[i]));
+  }
   return m;
 }
 
@@ -45,9 +58,18 @@ void run_one(const io::Scenario& sc, sim::RigCConfig cfg, bool nonlinear, Run& r
   r.max_dx_um = nan_max_abs(dx, tx, -1e300, 1e300);
   r.max_dy_um = nan_max_abs(dy, tx, -1e300, 1e300);
   bool first_cone = true;
+  // A shoulder has no length (x_start = x_end): the tool climbs it within its zone, which starts
+  // the next feature's x range; without this the shoulder's δx was booked to the next line.
+  std::vector<double> shoulders;
+  for (const auto& f : cfg.features)
+    if (f.x_end_m <= f.x_start_m) shoulders.push_back(f.x_start_m * 1e3);
   for (const auto& f : cfg.features) {
     const double a = f.x_start_m * 1e3, b = f.x_end_m * 1e3;
-    const double mdx = nan_max_abs(dx, tx, a, b), mdy = nan_max_abs(dy, tx, a, b);
+    const bool shoulder = b <= a;
+    const double mdx = shoulder ? nan_max_abs(dx, tx, a - kShoulderZone_mm, a + kShoulderZone_mm)
+                                : nan_max_abs(dx, tx, a, b, shoulders);
+    const double mdy = shoulder ? nan_max_abs(dy, tx, a - kShoulderZone_mm, a + kShoulderZone_mm)
+                                : nan_max_abs(dy, tx, a, b, shoulders);
     json fj = {{"type", f.kind},
                {"x_start_mm", a},
                {"x_end_mm", b},
@@ -223,15 +245,33 @@ io::RunOutput run(const io::Scenario& sc) {
     Table t{"Errors per feature — " + r->label,
             {"feature", "from [mm]", "to [mm]", "max |δx| [µm]", "max |δy| [µm]", "waviness [µm]"},
             {}};
+    // δx is defined only where the template is steeper than 10° (or at a shoulder): elsewhere
+    // the table says so instead of showing the 0 of an empty maximum.
+    const auto tx = r->rig.recorder().column("tool_x_mm");
+    const auto dx = r->rig.recorder().column("dx_um");
+    const auto dx_defined = [&](double a, double b) {
+      if (b <= a) {  // a shoulder: its zone
+        a -= kShoulderZone_mm;
+        b += kShoulderZone_mm;
+      }
+      for (std::size_t i = 0; i < dx.size(); ++i)
+        if (tx[i] >= a && tx[i] <= b && std::isfinite(dx[i])) return true;
+      return false;
+    };
     for (const auto& f : r->features)
       t.rows.push_back(
           {f["type"].get<std::string>(), fmt(f["x_start_mm"].get<double>()),
-           fmt(f["x_end_mm"].get<double>()), fmt(f["max_dx_um"].get<double>(), "%.2f"),
+           fmt(f["x_end_mm"].get<double>()),
+           dx_defined(f["x_start_mm"].get<double>(), f["x_end_mm"].get<double>())
+               ? fmt(f["max_dx_um"].get<double>(), "%.2f")
+               : "— (under 10°)",
            fmt(f["max_dy_um"].get<double>(), "%.2f"),
            f.contains("waviness_um") ? fmt(f["waviness_um"].get<double>(), "%.2f") : "—"});
     rep.tables.push_back(t);
   }
   const char* colors[] = {"#1f77b4", "#d62728"};
+  // The plots along x share the template's x range, so they line up one under the other.
+  const double x_lo = st.rig.profile.xs().front() * 1e3, x_hi = st.rig.profile.xs().back() * 1e3;
   // Profiles with the error magnified so it shows at the scale of the part.
   {
     double ymin = 1e300, ymax = -1e300;
@@ -266,6 +306,8 @@ io::RunOutput run(const io::Scenario& sc) {
       pp.series.push_back(part);
     }
     for (const auto& f : st.rig.features) pp.markers.push_back({f.x_start_m * 1e3, f.kind});
+    pp.x_min = x_lo;
+    pp.x_max = x_hi;
     rep.plots.push_back(pp);
   }
   Plot pdy{"Radial error δy(x) at equal x", "x [mm]", "δy [µm]", {}, {}};
@@ -291,8 +333,17 @@ io::RunOutput run(const io::Scenario& sc) {
     pdy.markers.push_back({f.x_start_m * 1e3, f.kind});
     pdx.markers.push_back({f.x_start_m * 1e3, f.kind});
   }
+  bool any_dx = false;
+  for (const Series& sr : pdx.series)
+    any_dx = any_dx ||
+             std::any_of(sr.y.begin(), sr.y.end(), [](double v) { return std::isfinite(v); });
+  if (!any_dx) pdy.title += " (no feature steeper than 10°: δx at equal y not defined)";
+  for (Plot* p : {&pdy, &pdx}) {
+    p->x_min = x_lo;
+    p->x_max = x_hi;
+  }
   rep.plots.push_back(pdy);
-  rep.plots.push_back(pdx);
+  if (any_dx) rep.plots.push_back(pdx);
   rep.plots.push_back(plag);
   rep.plots.push_back(pv);
 

@@ -537,7 +537,10 @@ io::RunOutput run(const io::Scenario& sc) {
                  "#1f77b4",
                  false,
                  false};
-    Series th{"threshold S_th", {0.0, sc.run.duration_s}, {s_th, s_th}, "#555", true, false};
+    // The recording ends when the part is finished: the constants end there too (not at the run's
+    // duration, which left the axis running on past the data).
+    const double t_end = rec.column("time_s").empty() ? 0.0 : rec.column("time_s").back();
+    Series th{"threshold S_th", {0.0, t_end}, {s_th, s_th}, "#555", true, false};
     rep.plots.push_back(Plot{"One part, full model without noise: filtered signal",
                              "time [s]",
                              "S [V]",
@@ -545,8 +548,7 @@ io::RunOutput run(const io::Scenario& sc) {
                              {{full.trip_s, "relay trips"}, {full.stop_s, "cut ends"}}});
     Series xx{"x(t)", io::column(rec, "time_s"), io::column(rec, "x_um"), "#8c564b", false, false};
     Series tg{
-        "target", {0.0, sc.run.duration_s}, {p.target_m * kUm, p.target_m * kUm}, "#555", true,
-        false};
+        "target", {0.0, t_end}, {p.target_m * kUm, p.target_m * kUm}, "#555", true, false};
     rep.plots.push_back(Plot{"One part: the controlled size x(t)",
                              "time [s]",
                              "x [µm]",

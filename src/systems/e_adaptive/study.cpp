@@ -14,6 +14,7 @@
 #include "lathectl/sim/parallel.hpp"
 #include "lathectl/sim/per_revolution.hpp"
 #include "systems/e_adaptive/metrics.hpp"
+#include "systems/e_adaptive/plots.hpp"
 #include "systems/e_adaptive/settings.hpp"
 
 namespace lathectl::systems::e_adaptive {
@@ -92,18 +93,6 @@ json metrics_json(const Run& r, const std::string& unit, const Cost& cost) {
 
 constexpr const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd"};
 
-Series series(const Run& r, const char* channel, const std::string& name, const char* color) {
-  return Series{
-      name, column(r.rig.recorder(), "time_s"), column(r.rig.recorder(), channel), color, false,
-      false};
-}
-// The per-revolution mean, as the claims compute it (sim::per_revolution_mean).
-Series per_rev(const Run& r, const char* channel, const std::string& name, const char* color) {
-  Series s = series(r, channel, name, color);
-  const double dt = s.x.size() > 1 ? s.x[1] - s.x[0] : 1.0;
-  s.y = sim::per_revolution_mean(s.y, r.rig.recorder().column("spindle_rpm"), dt);
-  return s;
-}
 Series constant(double x0, double x1, double y, const std::string& name) {
   return Series{name, {x0, x1}, {y, y}, "#555", true, false};
 }
@@ -492,74 +481,11 @@ RunOutput run(const Scenario& sc) {
   for (const auto& a : main.m.alarms)
     mk.push_back({a.time_s, "alarm: " + std::string(control::reason_name(
                                             static_cast<control::Reason>(a.code)))});
-  const double t_end = std::max_element(runs.begin(), runs.end(),
-                                        [](const auto& a, const auto& b) {
-                                          return a->m.cycle_time_s < b->m.cycle_time_s;
-                                        })
-                           ->get()
-                           ->m.cycle_time_s;
-
-  Plot force{"Per-revolution " + pname + " (the feed's reach) and its limit",
-             "time [s]",
-             pname + " [" + unit + "]",
-             {},
-             mk};
-  for (std::size_t i = 0; i < runs.size(); ++i)
-    force.series.push_back(
-        per_rev(*runs[i], "force_parameter_true", runs[i]->label, kColors[i % 4]));
-  force.series.push_back(constant(0, t_end, main.m.force_limit, "limit"));
-  rep.plots.push_back(force);
-  Plot raw{pname + " within the revolution (runout of the eccentric blank), main run",
-           "time [s]",
-           pname + " [" + unit + "]",
-           {},
-           mk};
-  raw.series.push_back(series(main, "force_parameter_true", "true", kColors[0]));
-  raw.series.push_back(
-      series(main, "force_parameter", "as the controller saw it (sensor 4)", "#aaa"));
-  raw.series.push_back(constant(0, main.m.cycle_time_s, main.m.force_limit, "limit"));
-  rep.plots.push_back(raw);
-  Plot feed{"Feed per revolution (chip thickness)", "time [s]", "feed [mm/rev]", {}, mk};
-  for (std::size_t i = 0; i < runs.size(); ++i)
-    feed.series.push_back(series(*runs[i], "feed_per_rev_mm", runs[i]->label, kColors[i % 4]));
-  rep.plots.push_back(feed);
-  Plot speed{
-      "Cutting speed V (sensor 20) and seed 004's V_opt", "time [s]", "speed [m/min]", {}, mk};
-  for (std::size_t i = 0; i < runs.size(); ++i)
-    speed.series.push_back(series(*runs[i], "speed_m_per_min", runs[i]->label, kColors[i % 4]));
-  if (main.mode == Mode::ForceFeedSpeed) {
-    Series vo = series(main, "speed_opt_m_per_min", "V_opt, " + main.label, kColors[0]);
-    vo.dashed = true;
-    speed.series.push_back(vo);
-  }
-  rep.plots.push_back(speed);
-  Plot pw{"Spindle electrical power", "time [s]", "power [kW]", {}, mk};
-  for (std::size_t i = 0; i < runs.size(); ++i)
-    pw.series.push_back(series(*runs[i], "spindle_power_kW", runs[i]->label, kColors[i % 4]));
-  rep.plots.push_back(pw);
-  Plot life{"Tool life used (∫ dt/T)", "time [s]", "share of one edge", {}, mk};
-  for (std::size_t i = 0; i < runs.size(); ++i)
-    life.series.push_back(series(*runs[i], "tool_life_used", runs[i]->label, kColors[i % 4]));
-  life.series.push_back(Series{"plan: t / T_plan",
-                               {0, t_end},
-                               {0, t_end / 60.0 / main.m.tool_life_planned_min},
-                               "#555",
-                               true,
-                               false});
-  rep.plots.push_back(life);
   if (!depths.empty()) rep.plots.push_back(depth_plot);
-  Plot dist{"What the tool meets: depth of cut and hardness (main run)",
-            "time [s]",
-            "depth [mm] / factor",
-            {},
-            mk};
-  dist.series.push_back(series(main, "depth_mm", "depth [mm]", "#8c564b"));
-  dist.series.push_back(series(main, "strength_factor", "strength factor", "#9467bd"));
-  rep.plots.push_back(dist);
-  Plot reason{
-      "Reason code timeline, main run (codes in the decisions table)", "time [s]", "code", {}, mk};
-  reason.series.push_back(series(main, "reason_code", "reason code", "#444"));
-  rep.plots.push_back(reason);
+  std::vector<PlotRun> plot_runs;
+  for (const auto& r : runs)
+    plot_runs.push_back({&r->rig.recorder(), &r->m, r->label, r->mode == Mode::ForceFeedSpeed});
+  add_run_plots(rep, plot_runs, mk, pname, unit);
 
   out.channels_csv = channels_csv(main.rig.recorder());
   if (runs.size() > 1) out.compare_csv = channels_csv(runs[1]->rig.recorder());
