@@ -64,15 +64,21 @@ RunOutput run_scenario(const Scenario& sc) {
   return out;
 }
 
-// One set, appearing as a whole (see write_output_set): never a new channels.csv beside an old
-// summary.json.
-void write_outputs(const RunOutput& out, const std::filesystem::path& dir) {
+// One set, appearing as a whole (see OutputStage): never a new channels.csv beside an old
+// summary.json. Files the runs streamed into the stage already (channels.csv) are not in `out`.
+void write_outputs(const RunOutput& out, OutputStage& stage) {
   std::vector<std::pair<std::string, std::string>> files;
-  files.emplace_back("channels.csv", out.channels_csv);
-  if (!out.compare_csv.empty()) files.emplace_back("channels_compare.csv", out.compare_csv);
+  if (!stage.streamed("channels.csv")) files.emplace_back("channels.csv", out.channels_csv);
+  if (!out.compare_csv.empty() && !stage.streamed("channels_compare.csv"))
+    files.emplace_back("channels_compare.csv", out.compare_csv);
   files.emplace_back("report.html", render_html(out.report));
   files.emplace_back("summary.json", out.summary.dump(2) + "\n");
-  write_output_set(dir, files);
+  stage.commit(files);
+}
+
+void write_outputs(const RunOutput& out, const std::filesystem::path& dir) {
+  OutputStage stage(dir);
+  write_outputs(out, stage);
 }
 
 }  // namespace lathectl::io

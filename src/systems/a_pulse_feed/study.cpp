@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <stdexcept>
 
 #include "lathectl/control/types.hpp"
+#include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/runner.hpp"
@@ -58,6 +60,8 @@ json metrics_json(const sim::MetricsA& m) {
 
 struct Run {
   sim::RigA rig;
+  std::unique_ptr<sim::MetricsAAccumulator> acc;  // fed as the rig records
+  std::unique_ptr<io::ChannelStream> csv;          // channels.csv / channels_compare.csv
   sim::MetricsA metrics;
   std::string label;
 };
@@ -68,18 +72,35 @@ std::string label_of(const sim::RigAConfig& a) {
                                                    : controller_kind_name(a.controller_kind);
 }
 
-void run_one(const io::Scenario& sc, const sim::RigAConfig& cfg, Run& r) {
-  configure_and_run(sc, r.rig, cfg);
-  r.metrics = sim::compute_metrics_a(r.rig);
+// The rig records streamed (its memory bounded whatever run.duration_s): the metrics are
+// computed row by row, csv (nullptr: none) is written into `stage` as the rows come.
+void run_one(const io::Scenario& sc, const sim::RigAConfig& cfg, Run& r, const char* csv = nullptr,
+             io::OutputStage* stage = nullptr) {
+  r.rig.set_streamed(true);
+  io::configure_rig(sc, r.rig, cfg);
+  r.acc = std::make_unique<sim::MetricsAAccumulator>(r.rig, r.rig.last_record_time());
+  r.rig.attach(r.acc.get());
+  if (csv) {
+    try {
+      r.csv = io::open_channel_stream(stage, csv, r.rig.recorder().channels(),
+                                      sc.run.duration_s / sc.run.record_interval_s + 2.0);
+    } catch (const std::invalid_argument& e) {
+      io::throw_at_key(sc, e);
+    }
+    r.rig.attach(r.csv.get());
+  }
+  io::run_rig(sc, r.rig);
+  if (r.csv) r.csv->finish();
+  r.metrics = r.acc->result(r.rig);
   r.label = label_of(cfg);
 }
 
+// A recorded channel against time, decimated to a bounded number of points (sim::Recorder).
 Series series(const Run& r, const char* channel, std::string name, std::string color,
               bool dashed = false) {
   Series s;
   s.name = std::move(name);
-  s.x = column(r.rig.recorder(), "time_s");
-  s.y = column(r.rig.recorder(), channel);
+  r.rig.recorder().plot_points(channel, s.x, s.y);
   s.color = std::move(color);
   s.dashed = dashed;
   return s;
@@ -87,9 +108,8 @@ Series series(const Run& r, const char* channel, std::string name, std::string c
 
 Series constant(const Run& r, double value, std::string name) {
   Series s;
-  const auto t = r.rig.recorder().column("time_s");
   s.name = std::move(name);
-  s.x = {t.front(), t.back()};
+  s.x = {r.acc->first_time(), r.acc->last_time()};
   s.y = {value, value};
   s.color = "#555";
   s.dashed = true;
@@ -116,7 +136,8 @@ io::RunOutput run(const io::Scenario& sc) {
   const Settings& settings = sc.get<Settings>();
   RunOutput out;
   auto main = std::make_unique<Run>();
-  run_one(sc, settings.rig, *main);
+  OutputStage* stage = StreamScope::current();
+  run_one(sc, settings.rig, *main, "channels.csv", stage);
   std::unique_ptr<Run> cmp;
   if (settings.compare) {
     auto c = settings.rig;
@@ -124,7 +145,7 @@ io::RunOutput run(const io::Scenario& sc) {
     if (settings.compare->regulator) c.regulator_kind = *settings.compare->regulator;
     if (c.regulator_kind == RegulatorKind::Throttle) c.controller_kind = ControllerKind::None;
     cmp = std::make_unique<Run>();
-    run_one(sc, c, *cmp);
+    run_one(sc, c, *cmp, "channels_compare.csv", stage);
     if (!settings.compare->label.empty()) cmp->label = settings.compare->label;
   }
 
@@ -355,13 +376,9 @@ io::RunOutput run(const io::Scenario& sc) {
             "flow [cm³/min]",
             {},
             mk};
+  // The flow averaged over the feed window (NaN over the first, partial one): the accumulator's.
   const auto smooth = [&](const Run& r, Series sr) {
-    const auto t = r.rig.recorder().column("time_s");
-    const double dt_rec = t.size() > 1 ? t[1] - t[0] : 1.0;
-    const auto w = static_cast<std::size_t>(std::max(1.0, settings.rig.feed_window_s / dt_rec));
-    sr.y = sim::moving_average(sr.y, w);
-    for (std::size_t i = 0; i + 1 < w && i < sr.y.size(); ++i)
-      sr.y[i] = std::nan("");  // partial window
+    r.acc->flow_smoothed_plot().points(sr.x, sr.y);
     return sr;
   };
   flow.series.push_back(
@@ -455,8 +472,9 @@ io::RunOutput run(const io::Scenario& sc) {
 
   std::rotate(rep.tables.begin(), rep.tables.begin() + study_tables, rep.tables.end());
   std::rotate(rep.plots.begin(), rep.plots.begin() + study_plots, rep.plots.end());
-  out.channels_csv = channels_csv(main->rig.recorder());
-  if (cmp) out.compare_csv = channels_csv(cmp->rig.recorder());
+  // In memory only without a stage (library callers, tests); else on disk already.
+  out.channels_csv = main->csv->take_text();
+  if (cmp) out.compare_csv = cmp->csv->take_text();
   out.headline = main->label + (cmp ? " vs " + cmp->label : "") + ": feed dev " +
                  fmt(m.feed_rate_deviation_pct) + " %, steady " +
                  fmt(m.feed_rate_steady_deviation_pct) + " %, peak Py " + fmt(m.force_peak_N) +
