@@ -380,17 +380,23 @@ void BM_RigB_TwinTurret10s(benchmark::State& state) {
 }
 BENCHMARK(BM_RigB_TwinTurret10s)->Unit(benchmark::kMillisecond);
 
-void BM_ModulatedFeedController_Update(benchmark::State& state) {
-  control::ModulatedFeedController m;
-  m.configure({});
+// A cutting block vibrating at 227 Hz with amplitude a0 [m].
+control::ModulatedFeedController::Input modfeed_input(double a0) {
   control::ModulatedFeedController::Input in;
-  in.a0_m = 10e-6;
+  in.a0_m = a0;
   in.omega_d_rad_per_s = 2.0 * std::numbers::pi * 227.0;
   in.cut_power_W = 500.0;
   in.speed_m_per_min = 100.0;
   in.rpm = 800.0;
   in.feed_programmed_mm_per_min[0] = in.feed_programmed_mm_per_min[1] = 100.0;
   in.feed_block = true;
+  return in;
+}
+
+void BM_ModulatedFeedController_Update(benchmark::State& state) {
+  control::ModulatedFeedController m;
+  m.configure({});
+  auto in = modfeed_input(10e-6);
   control::ModulatedFeedController::Output out;
   for (auto _ : state) {
     in.path_mm[0] += 1.6e-3;
@@ -430,14 +436,7 @@ void BM_ModulatedFeedController_UpdateDeferred(benchmark::State& state) {
   control::ModulationPlanner planner;
   m.use_planner(&planner);
   (void)planner.run(m);  // the planner thread is alive
-  control::ModulatedFeedController::Input in;
-  in.a0_m = 1e-6;
-  in.omega_d_rad_per_s = 2.0 * std::numbers::pi * 227.0;
-  in.cut_power_W = 500.0;
-  in.speed_m_per_min = 100.0;
-  in.rpm = 800.0;
-  in.feed_programmed_mm_per_min[0] = in.feed_programmed_mm_per_min[1] = 100.0;
-  in.feed_block = true;
+  auto in = modfeed_input(1e-6);
   control::ModulatedFeedController::Output out;
   double worst = 0.0;
   for (auto _ : state) {

@@ -236,14 +236,7 @@ void append_general(std::string& out, double v, int digits) {
 
 std::string channels_csv(const sim::Recorder& rec) {
   ChannelStream out(rec.channels());
-  const std::size_t n = rec.channels().size();
-  std::vector<std::span<const double>> cols;
-  for (std::size_t i = 0; i < n; ++i) cols.push_back(rec.column(i));
-  std::vector<double> row(n);
-  for (std::size_t r = 0; r < rec.rows(); ++r) {
-    for (std::size_t i = 0; i < n; ++i) row[i] = cols[i][r];
-    out.row(row);
-  }
+  rec.replay(out);
   return out.take_text();
 }
 

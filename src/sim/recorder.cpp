@@ -108,6 +108,15 @@ std::span<const double> Recorder::column(std::size_t i) const noexcept {
   return {data_[i].data(), rows_};
 }
 
+void Recorder::replay(RowSink& sink) const {
+  if (streamed_) return;
+  std::vector<double> row(data_.size());
+  for (std::size_t r = 0; r < rows_; ++r) {
+    for (std::size_t i = 0; i < data_.size(); ++i) row[i] = data_[i][r];
+    sink.row(row);
+  }
+}
+
 void Recorder::plot_points(const std::string& name, std::vector<double>& x,
                            std::vector<double>& y) const {
   const std::size_t i = index(name);

@@ -79,6 +79,8 @@ class Recorder {
   // Column view of one channel (length rows()). Columns storage only (streamed: empty).
   [[nodiscard]] std::span<const double> column(const std::string& name) const;
   [[nodiscard]] std::span<const double> column(std::size_t i) const noexcept;
+  // Hands every row kept to `sink`, in order (columns storage; streamed: none are kept).
+  void replay(RowSink& sink) const;
   // Channel `name` against channel 0 for a plot: every row (columns) or the bounded decimation
   // (streamed).
   void plot_points(const std::string& name, std::vector<double>& x, std::vector<double>& y) const;

@@ -186,17 +186,9 @@ MetricsA MetricsAAccumulator::result(const RigA& rig) const {
 }
 
 MetricsA compute_metrics_a(const RigA& rig) {
-  const auto& rec = rig.recorder();
-  const auto t = rec.column("time_s");
+  const auto t = rig.recorder().column("time_s");
   MetricsAAccumulator acc(rig, t.empty() ? -1.0 : t.back());
-  const std::size_t n = rec.channels().size();
-  std::vector<std::span<const double>> cols;
-  for (std::size_t k = 0; k < n; ++k) cols.push_back(rec.column(k));
-  std::vector<double> row(n);
-  for (std::size_t i = 0; i < rec.rows(); ++i) {
-    for (std::size_t k = 0; k < n; ++k) row[k] = cols[k][i];
-    acc.row(row);
-  }
+  rig.recorder().replay(acc);
   return acc.result(rig);
 }
 
