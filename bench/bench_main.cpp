@@ -3,6 +3,11 @@
 // time on one core (BM_RigA_60s), controller update() well under a microsecond.
 
 #include <benchmark/benchmark.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +17,7 @@
 #include "lathectl/control/modulated_feed.hpp"
 #include "lathectl/control/pulse_feed_controller.hpp"
 #include "lathectl/dynamics/lobes.hpp"
+#include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/scenario.hpp"
@@ -245,6 +251,41 @@ void BM_Output_ChannelsCsv(benchmark::State& state) {
       benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_Output_ChannelsCsv)->Unit(benchmark::kMillisecond);
+
+// Issue 19: a run's memory does not grow with its duration. Rows of system E's 22 channels pushed
+// into a streamed recorder (channels.csv written to a temporary file as they come, a bounded
+// min/max plot per channel): peak_rss_MB (the process's peak resident set so far) stays the same
+// from 1e6 to 4e6 rows (the recorder with columns held 8 B per value, channels.csv and the plot
+// copies about 500 B per row more).
+void BM_Output_StreamedRecorder(benchmark::State& state) {
+  std::vector<sim::Channel> ch;
+  for (int i = 0; i < 22; ++i) ch.push_back({"channel_" + std::to_string(i), ""});
+  const auto rows = static_cast<std::size_t>(state.range(0));
+  const auto file = std::filesystem::temp_directory_path() /
+                    ("lathectl_bench_stream_" + std::to_string(::getpid()) + ".csv");
+  std::vector<double> row(ch.size());
+  for (auto _ : state) {
+    io::ChannelStream csv(ch, file);
+    auto rec = sim::Recorder::streamed(ch, {&csv});
+    for (std::size_t r = 0; r < rows; ++r) {
+      row[0] = 0.01 * static_cast<double>(r);
+      for (std::size_t i = 1; i < ch.size(); ++i)
+        row[i] = std::sin(0.001 * static_cast<double>(r) * static_cast<double>(i)) *
+                 std::pow(10.0, static_cast<double>(i % 8) - 4.0);
+      rec.push_row(row);
+    }
+    csv.finish();
+    benchmark::DoNotOptimize(rec.rows());
+  }
+  std::filesystem::remove(file);
+  rusage ru{};
+  ::getrusage(RUSAGE_SELF, &ru);
+  state.counters["peak_rss_MB"] = static_cast<double>(ru.ru_maxrss) / 1024.0;
+  state.counters["rows_per_s"] = benchmark::Counter(
+      static_cast<double>(rows) * static_cast<double>(state.iterations()),
+      benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Output_StreamedRecorder)->Arg(1000000)->Arg(4000000)->Iterations(1)->Unit(benchmark::kSecond);
 void BM_Chatter_TimeDomain10s(benchmark::State& state) {
   const auto s = bench_sdof();
   for (auto _ : state)
@@ -339,17 +380,23 @@ void BM_RigB_TwinTurret10s(benchmark::State& state) {
 }
 BENCHMARK(BM_RigB_TwinTurret10s)->Unit(benchmark::kMillisecond);
 
-void BM_ModulatedFeedController_Update(benchmark::State& state) {
-  control::ModulatedFeedController m;
-  m.configure({});
+// A cutting block vibrating at 227 Hz with amplitude a0 [m].
+control::ModulatedFeedController::Input modfeed_input(double a0) {
   control::ModulatedFeedController::Input in;
-  in.a0_m = 10e-6;
+  in.a0_m = a0;
   in.omega_d_rad_per_s = 2.0 * std::numbers::pi * 227.0;
   in.cut_power_W = 500.0;
   in.speed_m_per_min = 100.0;
   in.rpm = 800.0;
   in.feed_programmed_mm_per_min[0] = in.feed_programmed_mm_per_min[1] = 100.0;
   in.feed_block = true;
+  return in;
+}
+
+void BM_ModulatedFeedController_Update(benchmark::State& state) {
+  control::ModulatedFeedController m;
+  m.configure({});
+  auto in = modfeed_input(10e-6);
   control::ModulatedFeedController::Output out;
   for (auto _ : state) {
     in.path_mm[0] += 1.6e-3;
@@ -374,4 +421,49 @@ void BM_ModulatedFeedController_Plan(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_ModulatedFeedController_Plan)->Arg(5)->Arg(32)->Arg(33)->Arg(50)->Arg(1000)->Unit(benchmark::kMicrosecond);
+
+// Issue 19: update()'s worst case when the re-plan runs in the planner's thread
+// (ModulationPlanner, lathectl-modfeed.plan): a0 grows every call and the re-plan period is one
+// call, so the calls alternate between posting a request and taking the finished plan (the two
+// re-plan paths); the planning in between is not timed. Manual time: the update() calls alone
+// (steady clock around each); p50_ns, p99_ns, p999_ns and max_ns of the calls (on a loaded
+// machine the largest are preemptions, not the code: its path has no loop but the staircase's).
+// Arg: n_s.
+void BM_ModulatedFeedController_UpdateDeferred(benchmark::State& state) {
+  control::ModulatedFeedController m;
+  control::ModulatedFeedController::Params mp;
+  mp.n_s = static_cast<int>(state.range(0));
+  mp.engage_time_s = 0.0;
+  mp.replan_period_s = mp.period_s;
+  m.configure(mp);
+  control::ModulationPlanner planner;
+  m.use_planner(&planner);
+  (void)planner.run(m);  // the planner thread is alive
+  auto in = modfeed_input(1e-6);
+  control::ModulatedFeedController::Output out;
+  std::vector<double> ns;
+  ns.reserve(1u << 22);
+  std::size_t plans = 0;
+  for (auto _ : state) {
+    in.path_mm[0] += 1.6e-3;
+    in.a0_m += 1e-12;
+    const auto t0 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(m.update(in, out));
+    const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    state.SetIterationTime(dt);
+    if (ns.size() < ns.capacity()) ns.push_back(dt * 1e9);
+    plans += planner.run(m) ? 1 : 0;  // the slower thread's turn
+  }
+  std::sort(ns.begin(), ns.end());
+  const auto at = [&](double q) {
+    return ns.empty() ? 0.0 : ns[static_cast<std::size_t>(q * static_cast<double>(ns.size() - 1))];
+  };
+  state.counters["p50_ns"] = at(0.5);
+  state.counters["p99_ns"] = at(0.99);
+  state.counters["p999_ns"] = at(0.999);
+  state.counters["max_ns"] = at(1.0);
+  state.counters["replans_per_call"] =
+      static_cast<double>(plans) / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_ModulatedFeedController_UpdateDeferred)->Arg(5)->Arg(1000)->UseManualTime()->Unit(benchmark::kNanosecond);
 }  // namespace

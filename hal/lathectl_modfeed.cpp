@@ -6,7 +6,13 @@
 //
 //   loadrt lathectl_modfeed scenario=PATH [ceiling=2]
 //   addf lathectl-modfeed servo-thread
+//   addf lathectl-modfeed.plan slow-thread     (optional: the re-plan out of the servo thread)
 //
+// The re-plan (the quenching condition solved for the staircase, 9–39 µs) runs inside the servo
+// function unless `lathectl-modfeed.plan` is added to a slower thread (e.g. `loadrt threads
+// name1=slow-thread period1=10000000`, created after the servo thread so at a lower priority):
+// once that function has run, the servo function only posts the request and takes the finished
+// plan one planner period later (control::ModulationPlanner; under 1 µs).
 // Inputs: a0 and ω_d from the vibration chain's detectors (lathectl_chatter, or the machine's
 // own ADC channels), the main motor's electrical power, the spindle speed, the NC block's flags
 // (idle block, turret, source) and, for the programmed variant, its (S_min, ΔS, Δl, n_s).
@@ -87,6 +93,7 @@ struct Pins {
 
 struct State {
   ModulatedFeedController module;
+  lathectl::control::ModulationPlanner planner;
   ModulatedFeedController::Output out{};
   lathectl::sensors::PowerSensor power;
   long every = 0;
@@ -163,6 +170,11 @@ void update(void*, long period_ns) {
   *p.update_ns_max = timer.max();
 }
 
+// The slower thread's function: plans what the servo function asked for, if anything.
+void plan(void*, long) {
+  if (st) (void)st->planner.run(st->module);
+}
+
 }  // namespace
 
 extern "C" int rtapi_app_main(void) {
@@ -184,6 +196,7 @@ extern "C" int rtapi_app_main(void) {
     if (!(mp.s_max_fraction > 1.0))
       throw lathectl::hal::Error("ceiling must exceed 1 for the staircase to rise above the mean");
     state->module.configure(mp);
+    state->module.use_planner(&state->planner);
     state->power.configure(b.power, mp.period_s);
     pins = lathectl::hal::allocate_pins<Pins>();
     Pins& p = *pins;
@@ -229,6 +242,7 @@ extern "C" int rtapi_app_main(void) {
     param(&p.part_mass, HAL_RO, comp_id, kPrefix, "part-mass", mp.part_mass_kg);
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);
+    lathectl::hal::export_update("lathectl-modfeed.plan", plan, comp_id);
   });
 }
 

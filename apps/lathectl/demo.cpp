@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli.hpp"
+#include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/install_paths.hpp"
 #include "lathectl/io/materials.hpp"
@@ -103,8 +104,13 @@ int demo(const std::string& out, const std::string& dir, const std::vector<std::
     sim::parallel_for(
         n,
         [&](std::size_t i) {
-          const auto r = io::run_scenario(scenarios[i]);
-          io::write_outputs(r, fs::path(out) / scenarios[i].name, "../index.html");
+          io::OutputStage stage(fs::path(out) / scenarios[i].name);
+          io::RunOutput r;
+          {
+            io::StreamScope streams(stage);  // channels.csv streams into the stage
+            r = io::run_scenario(scenarios[i]);
+          }
+          io::write_outputs(r, stage, "../index.html");
           entries[i] = index_entry(scenarios[i], r);
           failed[i] = r.verdict.ok() ? 0 : 1;
           progress.print_above([&] {

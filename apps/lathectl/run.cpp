@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cli.hpp"
+#include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/output.hpp"
@@ -22,13 +23,16 @@ int run(const std::string& scenario, const std::string& out, bool strict) {
   const auto sc = io::load_scenario(scenario, lib);
   io::prepare_output_dir(out, "--out");  // before the simulation, not after it
   io::RunOutput result;
-  {
-    io::Progress progress("run " + sc.name);
-    io::ProgressScope scope(progress);
-    result = io::run_scenario(sc);
-  }
   try {
-    io::write_outputs(result, out);
+    // The set's staging directory exists during the run: channels.csv streams into it.
+    io::OutputStage stage(out);
+    {
+      io::Progress progress("run " + sc.name);
+      io::ProgressScope scope(progress);
+      io::StreamScope streams(stage);
+      result = io::run_scenario(sc);
+    }
+    io::write_outputs(result, stage);
   } catch (const fs::filesystem_error& e) {
     throw io::InputError("--out " + out + ": cannot write the results there (" +
                          e.code().message() + ")");

@@ -285,6 +285,29 @@ ModulationPlan ModulatedFeedController::plan_for(double a0, double omega_d, doub
   return plan;
 }
 
+void ModulatedFeedController::apply(const ModulationPlan& plan, double a0) noexcept {
+  if (engaged_)
+    gen_.retune(plan);
+  else
+    gen_.start(plan);
+  engaged_ = true;
+  a0_planned_ = a0;
+  since_plan_s_ = 0.0;
+}
+
+bool ModulationPlanner::run(const ModulatedFeedController& c) noexcept {
+  alive_.store(true, std::memory_order_release);
+  if (!requests_.fetch()) return false;
+  const Request q = requests_.front();  // a request not planned yet (fetch: only new ones)
+  Result& r = results_.back();
+  r.id = q.id;
+  r.a0_m = q.a0_m;
+  r.plan = c.plan_for(q.a0_m, q.omega_d, q.cut_power_W, q.speed_m_per_min, q.feed_programmed,
+                      q.rpm, r.omega_m, r.required_N, r.planned_N, r.limited);
+  results_.publish();
+  return true;
+}
+
 Status ModulatedFeedController::update(const Input& in, Output& out) noexcept {
   out = Output{};
   if (!configured_) return Status::NotConfigured;
@@ -299,6 +322,7 @@ Status ModulatedFeedController::update(const Input& in, Output& out) noexcept {
     gen_.stop();
     above_s_ = below_s_ = 0.0;
     a0_planned_ = 0.0;
+    waiting_id_ = 0;  // a plan still coming is for the old block
   }
   was_block_ = in.feed_block;
   turret_ = in.turret;
@@ -333,27 +357,39 @@ Status ModulatedFeedController::update(const Input& in, Output& out) noexcept {
     engaged_ = false;
     gen_.stop();
     a0_planned_ = 0.0;
+    waiting_id_ = 0;
     out.reason = Reason::ModulationReleased;
     return Status::Ok;
   }
+  if (planner_ && waiting_id_ != 0 && planner_->results_.fetch() &&
+      planner_->results_.front().id == waiting_id_) {  // the planner's answer
+    const auto& r = planner_->results_.front();
+    omega_m_ = r.omega_m;
+    required_N_ = r.required_N;
+    planned_N_ = r.planned_N;
+    limited_ = r.limited;
+    apply(r.plan, r.a0_m);
+    waiting_id_ = 0;
+    out.reason = Reason::ModulationEngaged;
+  }
   const bool want_plan =
-      vibrating && above_s_ >= p_.engage_time_s &&
+      vibrating && above_s_ >= p_.engage_time_s && waiting_id_ == 0 &&
       (!engaged_ || (since_plan_s_ >= p_.replan_period_s && in.a0_m > a0_planned_));
   if (want_plan) {
     if (!(in.cut_power_W > 0.0) || !(in.speed_m_per_min > 0.0) || !(s_p > 0.0)) {
       out.reason = Reason::ModulationNoForce;
+    } else if (planner_ && planner_->alive()) {  // post it; the plan comes back in a later call
+      const double a0 = std::max(in.a0_m, a0_planned_);
+      waiting_id_ = ++next_id_ == 0 ? ++next_id_ : next_id_;
+      auto& q = planner_->requests_.back();
+      q = {waiting_id_, a0, in.omega_d_rad_per_s, in.cut_power_W, in.speed_m_per_min, s_p, in.rpm};
+      planner_->requests_.publish();
     } else {
       const double a0 = std::max(in.a0_m, a0_planned_);
       const ModulationPlan plan =
           plan_for(a0, in.omega_d_rad_per_s, in.cut_power_W, in.speed_m_per_min, s_p, in.rpm,
                    omega_m_, required_N_, planned_N_, limited_);
-      if (engaged_)
-        gen_.retune(plan);
-      else
-        gen_.start(plan);
-      engaged_ = true;
-      a0_planned_ = a0;
-      since_plan_s_ = 0.0;
+      apply(plan, a0);
       out.reason = Reason::ModulationEngaged;
     }
   }

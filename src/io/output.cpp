@@ -5,6 +5,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include <span>
 #include <system_error>
 
+#include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 
 namespace lathectl::io {
@@ -156,49 +158,73 @@ void prepare_output_dir(const fs::path& dir_in, const std::string& flag, bool wh
   ::rmdir(probe.c_str());
 }
 
-void write_output_set(const fs::path& dir_in,
-                      const std::vector<std::pair<std::string, std::string>>& files) {
-  const fs::path dir = normalized(dir_in);
-  const fs::path parent = parent_of(dir);
+OutputStage::OutputStage(const fs::path& dir_in) : dir_(normalized(dir_in)) {
+  const fs::path parent = parent_of(dir_);
   fs::create_directories(parent);
   remove_dead_temporaries(parent);
+  stage_ = parent / (dir_.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  fs::remove_all(stage_);
+  fs::create_directory(stage_);
+  try {
+    write_plain(stage_ / kOutputMarker, "lathectl output set\n");
+  } catch (...) {
+    std::error_code ec;
+    fs::remove_all(stage_, ec);
+    throw;
+  }
+}
+
+OutputStage::~OutputStage() {
+  if (done_) return;
+  std::error_code ec;
+  fs::remove_all(stage_, ec);
+}
+
+bool OutputStage::streamed(const std::string& name) const {
+  return std::find(streamed_.begin(), streamed_.end(), name) != streamed_.end();
+}
+
+void OutputStage::commit(const std::vector<std::pair<std::string, std::string>>& files) {
+  const fs::path& dir = dir_;
+  const fs::path parent = parent_of(dir);
   std::error_code ec;
   const bool replace = fs::exists(dir, ec);
   if (replace && (!fs::is_directory(dir, ec) || !replaceable_output_set(dir)))
-    throw InputError(dir_in.string() + ": exists and is not a lathectl output directory; not "
-                                       "replacing it");
+    throw InputError(dir.string() + ": exists and is not a lathectl output directory; not "
+                                    "replacing it");
   const std::string pid = std::to_string(::getpid());
-  const fs::path stage = parent / (dir.filename().string() + ".tmp-" + pid);
-  fs::remove_all(stage);
-  fs::create_directory(stage);
-  try {
-    write_plain(stage / kOutputMarker, "lathectl output set\n");
-    for (const auto& [name, content] : files) {
-      write_plain(stage / name, content);
-      fault_point(name);
-    }
-    if (!replace) {
-      fs::rename(stage, dir);
-      fault_point("swapped");
-      return;
-    }
-    if (::renameat2(AT_FDCWD, stage.c_str(), AT_FDCWD, dir.c_str(), RENAME_EXCHANGE) == 0) {
-      fault_point("swapped");
-      fs::remove_all(stage);  // now the old set
-      return;
-    }
-    if (errno != EINVAL && errno != ENOSYS)
-      throw fs::filesystem_error("cannot replace", dir, std::error_code(errno, std::generic_category()));
-    // No atomic exchange on this file system: move the old set aside, then the new one in.
-    const fs::path old = parent / (dir.filename().string() + ".old-" + pid);
-    fs::rename(dir, old);
-    fs::rename(stage, dir);
-    fault_point("swapped");
-    fs::remove_all(old);
-  } catch (...) {
-    fs::remove_all(stage, ec);
-    throw;
+  for (const auto& name : streamed_) fault_point(name);
+  for (const auto& [name, content] : files) {
+    write_plain(stage_ / name, content);
+    fault_point(name);
   }
+  if (!replace) {
+    fs::rename(stage_, dir);
+    done_ = true;
+    fault_point("swapped");
+    return;
+  }
+  if (::renameat2(AT_FDCWD, stage_.c_str(), AT_FDCWD, dir.c_str(), RENAME_EXCHANGE) == 0) {
+    fault_point("swapped");
+    fs::remove_all(stage_);  // now the old set
+    done_ = true;
+    return;
+  }
+  if (errno != EINVAL && errno != ENOSYS)
+    throw fs::filesystem_error("cannot replace", dir, std::error_code(errno, std::generic_category()));
+  // No atomic exchange on this file system: move the old set aside, then the new one in.
+  const fs::path old = parent / (dir.filename().string() + ".old-" + pid);
+  fs::rename(dir, old);
+  fs::rename(stage_, dir);
+  done_ = true;
+  fault_point("swapped");
+  fs::remove_all(old);
+}
+
+void write_output_set(const fs::path& dir_in,
+                      const std::vector<std::pair<std::string, std::string>>& files) {
+  OutputStage stage(dir_in);
+  stage.commit(files);
 }
 
 void append_general(std::string& out, double v, int digits) {
@@ -209,21 +235,9 @@ void append_general(std::string& out, double v, int digits) {
 }
 
 std::string channels_csv(const sim::Recorder& rec) {
-  std::string s;
-  const auto& ch = rec.channels();
-  s.reserve(rec.rows() * ch.size() * 12 + 256);
-  for (std::size_t i = 0; i < ch.size(); ++i) s += (i ? "," : "") + ch[i].name;
-  s += '\n';
-  std::vector<std::span<const double>> cols;
-  for (std::size_t i = 0; i < ch.size(); ++i) cols.push_back(rec.column(i));
-  for (std::size_t r = 0; r < rec.rows(); ++r) {
-    for (std::size_t i = 0; i < cols.size(); ++i) {
-      if (i) s += ',';
-      append_general(s, cols[i][r], 9);
-    }
-    s += '\n';
-  }
-  return s;
+  ChannelStream out(rec.channels());
+  rec.replay(out);
+  return out.take_text();
 }
 
 }  // namespace lathectl::io

@@ -64,23 +64,30 @@ RunOutput run_scenario(const Scenario& sc) {
   return out;
 }
 
-// One set, appearing as a whole (see write_output_set): never a new channels.csv beside an old
-// summary.json.
-void write_outputs(const RunOutput& out, const std::filesystem::path& dir,
-                   const std::string& index_href) {
+// One set, appearing as a whole (see OutputStage): never a new channels.csv beside an old
+// summary.json. Files the runs streamed into the stage already (channels.csv) are not in `out`.
+void write_outputs(const RunOutput& out, OutputStage& stage, const std::string& index_href) {
   std::vector<std::pair<std::string, std::string>> files;
-  files.emplace_back("channels.csv", out.channels_csv);
-  if (!out.compare_csv.empty()) files.emplace_back("channels_compare.csv", out.compare_csv);
+  if (!stage.streamed("channels.csv")) files.emplace_back("channels.csv", out.channels_csv);
+  const bool has_compare = !out.compare_csv.empty() || stage.streamed("channels_compare.csv");
+  if (!out.compare_csv.empty() && !stage.streamed("channels_compare.csv"))
+    files.emplace_back("channels_compare.csv", out.compare_csv);
   // The report's header links to the files beside it (and back to the demo's index).
   Report rep = out.report;
   if (!index_href.empty()) rep.links.push_back({"← all reports", index_href});
   rep.links.push_back({"channels.csv", "channels.csv"});
-  if (!out.compare_csv.empty())
+  if (has_compare)
     rep.links.push_back({"channels_compare.csv (the comparison run)", "channels_compare.csv"});
   rep.links.push_back({"summary.json", "summary.json"});
   files.emplace_back("report.html", render_html(rep));
   files.emplace_back("summary.json", out.summary.dump(2) + "\n");
-  write_output_set(dir, files);
+  stage.commit(files);
+}
+
+void write_outputs(const RunOutput& out, const std::filesystem::path& dir,
+                   const std::string& index_href) {
+  OutputStage stage(dir);
+  write_outputs(out, stage, index_href);
 }
 
 }  // namespace lathectl::io

@@ -341,3 +341,68 @@ TEST(ModulatedFeedController, ReplanAtLargestNsKeepsTheMean) {
 
 }  // namespace
 }  // namespace lathectl::control
+
+namespace lathectl::control {
+namespace {
+// The re-plan through a ModulationPlanner (the HAL component's slower thread): update() posts the
+// request, run() plans it, the next update() takes exactly the plan update() would have made
+// itself; before the planner has run once, update() plans itself; a request from an ended block
+// is dropped.
+TEST(ModulationPlanner, HandsOverThePlanInlinePlanningWouldMake) {
+  auto p = params();
+  p.engage_time_s = 0.0;
+  ModulatedFeedController inline_m, deferred;
+  inline_m.configure(p);
+  deferred.configure(p);
+  ModulationPlanner planner;
+  deferred.use_planner(&planner);
+  auto in = cutting_input(5e-6);
+  ModulatedFeedController::Output a, b;
+  (void)inline_m.update(in, a);
+  (void)deferred.update(in, b);
+  ASSERT_TRUE(a.engaged);
+  EXPECT_TRUE(b.engaged);  // no planner thread yet: planned inside update()
+  // Now with the planner alive: a new block, a request, the plan one planner run later.
+  ModulatedFeedController d2;
+  d2.configure(p);
+  d2.use_planner(&planner);
+  EXPECT_FALSE(planner.run(d2));  // alive, nothing asked yet
+  (void)d2.update(in, b);
+  EXPECT_FALSE(b.engaged);  // asked, not answered
+  (void)d2.update(in, b);
+  EXPECT_FALSE(b.engaged);  // still not: no second request while one is out
+  EXPECT_TRUE(planner.run(d2));
+  EXPECT_FALSE(planner.run(d2));  // nothing new
+  (void)d2.update(in, b);
+  ASSERT_TRUE(b.engaged);
+  EXPECT_EQ(b.reason, Reason::ModulationEngaged);
+  EXPECT_EQ(b.plan.n_s, a.plan.n_s);
+  EXPECT_EQ(b.plan.s_min_mm_per_min, a.plan.s_min_mm_per_min);
+  EXPECT_EQ(b.plan.ds_mm_per_min, a.plan.ds_mm_per_min);
+  EXPECT_EQ(b.plan.dl_mm, a.plan.dl_mm);
+  EXPECT_EQ(b.force_amplitude_required_N, a.force_amplitude_required_N);
+  // A request whose block ends before the answer comes is not applied to the next block.
+  ModulatedFeedController d3;
+  d3.configure(p);
+  d3.use_planner(&planner);
+  (void)d3.update(in, b);  // posts
+  in.feed_block = false;
+  (void)d3.update(in, b);  // the block ends
+  EXPECT_TRUE(planner.run(d3));  // answers the old request
+  in.feed_block = true;
+  in.a0_m = 10e-6;
+  (void)d3.update(in, b);  // the new block asks anew
+  (void)d3.update(in, b);  // the old answer arrives: dropped
+  EXPECT_FALSE(b.engaged);
+  EXPECT_TRUE(planner.run(d3));
+  (void)d3.update(in, b);
+  ASSERT_TRUE(b.engaged);
+  ModulatedFeedController::Output c;
+  ModulatedFeedController ref;
+  ref.configure(p);
+  (void)ref.update(in, c);
+  EXPECT_EQ(b.plan.ds_mm_per_min, c.plan.ds_mm_per_min);  // the plan for 10 µm, not 5 µm
+  EXPECT_EQ(b.force_amplitude_required_N, c.force_amplitude_required_N);
+}
+}  // namespace
+}  // namespace lathectl::control

@@ -27,10 +27,12 @@
 // The levels are chosen so that the time-mean feed equals the programmed S_p (productivity kept):
 // S_min is found by bisection for the given span. The staircase sums Σ_j 1/(S_min + k_j·ΔS) are
 // taken term by term up to n_s = 32 and in closed form above (digamma ψ and trigamma ψ₁), so the
-// re-plan inside update() costs the same at n_s = 1000 as at 32 (bench: ModulatedFeedController_Plan;
-// measured on 2 shared 2.3 GHz cores, issue 19: 9 µs at n_s = 5, the worst 39 µs at n_s = 32, the
-// last direct sum, 24 µs from 33 to 1000 — bounded, once per replan_period_s, but not under the
-// 1 µs the issue asks for). ω_m = 2π·S_p/(2·n_s·Δl) (path per cycle at the
+// re-plan costs the same at n_s = 1000 as at 32 (bench: ModulatedFeedController_Plan; measured on
+// 2 shared 2.3 GHz cores, issue 19: 9 µs at n_s = 5, the worst 39 µs at n_s = 32, the last direct
+// sum, 24 µs from 33 to 1000). Inside update() (the simulation, and a HAL component without a
+// planner thread) that is its worst case, once per replan_period_s; with a ModulationPlanner
+// (lathectl_modfeed's `plan` function in a slower thread) update() only posts the request and
+// takes the finished plan (bench: ModulatedFeedController_UpdateDeferred, well under 1 µs). ω_m = 2π·S_p/(2·n_s·Δl) (path per cycle at the
 // programmed feed) is set to modulation_frequency_Hz, kept below the feed drives' bandwidth and
 // away from ω_d/3, ω_d/2, ω_d, 2ω_d, 3ω_d (entrainment instead of quenching; see
 // dynamics/van_der_pol.hpp).
@@ -51,8 +53,10 @@
 // clamps the span to [s_min_fraction·S_p, s_max_fraction·S_p] and says so (ModulationLimited).
 // Real-time: configure() validates and may throw; update() never allocates, throws or locks.
 
+#include <atomic>
 #include <cstdint>
 
+#include "lathectl/control/triple_buffer.hpp"
 #include "lathectl/control/types.hpp"
 
 namespace lathectl::control {
@@ -96,6 +100,40 @@ class ModulatedFeedGenerator {
 };
 
 enum class Turret : std::uint8_t { Right = 0, Left = 1 };
+class ModulatedFeedController;
+
+// The re-plan outside the servo thread: update() posts what it would plan for (a request) and
+// takes the plan when it is ready; run() — called from a slower, lower-priority thread (HAL:
+// lathectl-modfeed.plan) — plans the newest request by the controller's own plan_for(). The two
+// sides exchange through TripleBuffers: no lock, no wait, no allocation on either side. Until
+// run() has been called once, the controller plans inside update() as without a planner, so a
+// configuration without the planner thread behaves as before. The plan then takes effect one
+// planner period later than inside update(); the simulation plans inside update() (the same
+// points as before, the same numbers).
+class ModulationPlanner {
+ public:
+  struct Request {
+    unsigned id = 0;
+    double a0_m = 0.0, omega_d = 0.0, cut_power_W = 0.0, speed_m_per_min = 0.0,
+           feed_programmed = 0.0, rpm = 0.0;
+  };
+  struct Result {
+    unsigned id = 0;  // the request's
+    double a0_m = 0.0;
+    ModulationPlan plan{};
+    double omega_m = 0.0, required_N = 0.0, planned_N = 0.0;
+    bool limited = false;
+  };
+  // Planner thread. Returns true when it planned a new request.
+  bool run(const ModulatedFeedController& controller) noexcept;
+  [[nodiscard]] bool alive() const noexcept { return alive_.load(std::memory_order_acquire); }
+
+ private:
+  friend class ModulatedFeedController;
+  TripleBuffer<Request> requests_;
+  TripleBuffer<Result> results_;
+  std::atomic<bool> alive_{false};
+};
 enum class ModulationSource : std::uint8_t { None = 0, Programmed = 1, Automatic = 2 };
 
 class ModulatedFeedController {
@@ -146,6 +184,8 @@ class ModulatedFeedController {
 
   void configure(const Params& p);  // throws std::invalid_argument
   [[nodiscard]] Status update(const Input& in, Output& out) noexcept;
+  // Re-plan through `planner` (not owned; nullptr: inside update()). Set before the first update.
+  void use_planner(ModulationPlanner* planner) noexcept { planner_ = planner; }
   [[nodiscard]] const Params& params() const noexcept { return p_; }
 
   // The plan for a measured vibration (the module's formula; pure, allocation-free). Sets
@@ -171,6 +211,10 @@ class ModulatedFeedController {
   double last_path_[2] = {0.0, 0.0};
   bool was_block_ = false;
   Turret turret_ = Turret::Right;
+  ModulationPlanner* planner_ = nullptr;
+  unsigned next_id_ = 0;
+  unsigned waiting_id_ = 0;  // the request posted to the planner (0: none)
+  void apply(const ModulationPlan& plan, double a0) noexcept;
 };
 
 }  // namespace lathectl::control

@@ -41,6 +41,32 @@ void prepare_output_dir(const std::filesystem::path& dir, const std::string& fla
 void write_output_set(const std::filesystem::path& dir,
                       const std::vector<std::pair<std::string, std::string>>& files);
 
+// The staging directory of one output set, made before a run so that large files can be
+// streamed into it as they are produced (channels.csv, ChannelStream) instead of being held in
+// memory: DIR.tmp-<pid>/ beside `dir`, marked first. commit() writes the remaining files and
+// swaps the set into place as write_output_set does; a stage not committed (an error, an
+// exception) is removed by the destructor, and one a kill leaves by the next run beside it.
+class OutputStage {
+ public:
+  explicit OutputStage(const std::filesystem::path& dir);
+  ~OutputStage();
+  OutputStage(const OutputStage&) = delete;
+  OutputStage& operator=(const OutputStage&) = delete;
+  [[nodiscard]] const std::filesystem::path& path() const noexcept { return stage_; }
+  // `name` has been written into path() (complete): it is part of the set.
+  void add_streamed(const std::string& name) { streamed_.push_back(name); }
+  [[nodiscard]] bool streamed(const std::string& name) const;
+  // Bytes promised to files being streamed into the stage (the disk-space check's running sum).
+  double& reserved_bytes() noexcept { return reserved_; }
+  void commit(const std::vector<std::pair<std::string, std::string>>& files);
+
+ private:
+  std::filesystem::path dir_, stage_;
+  std::vector<std::string> streamed_;
+  double reserved_ = 0.0;
+  bool done_ = false;
+};
+
 // Removes, in `dir`, what runs that are no longer alive left behind: NAME.tmp.<pid> files
 // (write_file_atomic) and NAME.tmp-<pid> / NAME.old-<pid> staging directories (only ones that are
 // empty or carry the output marker). A live process's temporaries are left alone.

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/output.hpp"
 #include "lathectl/io/progress.hpp"
 #include "lathectl/io/report.hpp"
 #include "lathectl/io/scenario.hpp"
@@ -20,8 +21,10 @@ namespace lathectl::io {
 
 struct RunOutput {
   nlohmann::json summary;  // {"system", "scenario", "metrics", ...}
+  // channels.csv and channels_compare.csv (empty when no comparison) — or empty when the run
+  // streamed them into the StreamScope's stage (open_channel_stream).
   std::string channels_csv;
-  std::string compare_csv;  // empty when no comparison
+  std::string compare_csv;
   Report report;
   std::string headline;  // one line for the demo index
   Verdict verdict;       // unmet claims, alarms, unfinished parts (also summary["verdict"])
@@ -34,13 +37,14 @@ RunOutput run_scenario(const Scenario& sc);
 // empty for a single run.
 void write_outputs(const RunOutput& out, const std::filesystem::path& dir,
                    const std::string& index_href = {});
+// Into a stage made before the run (the runs may have streamed channels.csv into it).
+void write_outputs(const RunOutput& out, OutputStage& stage, const std::string& index_href = {});
 
 // Configures a rig with the scenario's run settings and runs it to the end. A configuration the
 // rig rejects is the scenario's fault (InputError); a divergence is a numerical failure
 // (std::runtime_error). Every system's study runs its rigs through this.
 template <class Rig, class Config>
-void configure_and_run(const Scenario& sc, Rig& rig, const Config& cfg,
-                       const std::string& divergence = "NaN or infinite state") {
+void configure_rig(const Scenario& sc, Rig& rig, const Config& cfg) {
   try {
     if constexpr (requires { rig.configure(cfg, 0.0, 0.0, 0.0); })
       rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
@@ -49,6 +53,12 @@ void configure_and_run(const Scenario& sc, Rig& rig, const Config& cfg,
   } catch (const std::invalid_argument& e) {
     throw_at_key(sc, e);
   }
+}
+
+// Runs a configured rig to the end (configure_rig first; between the two a study may attach
+// sinks to the rig's recorder).
+template <class Rig>
+void run_rig(const Scenario& sc, Rig& rig, const std::string& divergence = "NaN or infinite state") {
   Progress* progress = ProgressScope::current();
   if constexpr (requires { { rig.step() } -> std::same_as<bool>; }) {
     if (progress && progress->enabled()) {  // the same steps as rig.run(), reported as they go
@@ -72,6 +82,13 @@ void configure_and_run(const Scenario& sc, Rig& rig, const Config& cfg,
   if (!rig.numerically_sound())
     throw std::runtime_error(sc.file + ": the simulation diverged (" + divergence +
                              "); reduce run.step_s");
+}
+
+template <class Rig, class Config>
+void configure_and_run(const Scenario& sc, Rig& rig, const Config& cfg,
+                       const std::string& divergence = "NaN or infinite state") {
+  configure_rig(sc, rig, cfg);
+  run_rig(sc, rig, divergence);
 }
 
 }  // namespace lathectl::io

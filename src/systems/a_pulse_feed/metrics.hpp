@@ -1,5 +1,5 @@
 #pragma once
-// Metrics that answer system A's claims, computed from a finished run's recorded channels.
+// Metrics that answer system A's claims, computed from a run's recorded rows.
 // Definitions (also in the README):
 //   t_d        time the tool reaches the first disturbance (depth step or hardness change)
 //   S_ref      mean feed rate over the second before t_d (the feed the disturbance disturbs)
@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "lathectl/sim/metrics.hpp"
+#include "lathectl/sim/recorder.hpp"
 #include "systems/a_pulse_feed/rig.hpp"
 
 namespace lathectl::sim {
@@ -51,7 +52,83 @@ struct MetricsA {
   double volume_conservation_error_pct = 0.0;
 };
 
+// From a finished rig with columns (its rows replayed through MetricsAAccumulator).
 MetricsA compute_metrics_a(const RigA& rig);
+
+// The same metrics row by row as the rig records (a RowSink attached to a streamed RigA between
+// configure and run): the windows relative to the run's end are known before it starts (the last
+// row's time, RigA::last_record_time), the second before t_d is kept in a ring of rows, the
+// largest deviation from a mean known only at the end by the extremes (|x − ref| is largest at
+// the largest or the smallest x). Memory is bounded by the record interval, not the duration.
+class MetricsAAccumulator final : public RowSink {
+ public:
+  // rig: configured; last_t: the time of the last row it will record (RigA::last_record_time()
+  // for run()).
+  MetricsAAccumulator(const RigA& rig, double last_t);
+  void row(std::span<const double> v) noexcept override;
+  [[nodiscard]] MetricsA result(const RigA& rig) const;
+  // The regulator flow averaged over the feed window (NaN over the first, partial window),
+  // decimated for the report's plot.
+  [[nodiscard]] const PlotDecimator& flow_smoothed_plot() const noexcept { return flow_plot_; }
+  [[nodiscard]] double first_time() const noexcept { return t_first_; }
+  [[nodiscard]] double last_time() const noexcept { return t_last_; }
+
+ private:
+  struct Past {
+    double t, feed, force;
+  };
+  void start_windows(double dt_rec);
+  void on_disturbance(double t_settle);
+  void late_row(double t, double feed, double force, double f_rev, double py, std::size_t i);
+  const RigA* rig_;
+  std::size_t t_, feed_, force_, flow_, alarm_, reason_;
+  bool roughing_;
+  double T_, t_settle_, set_, k_um_, feed_window_s_, rpm_;
+  MeanBetween feed_all_, feed_end90_, feed_end95_, feed_early_, force_end90_, flow_all_,
+      f_rev_end90_;
+  double force_peak_ = 0.0;
+  double feed_max_ = -std::numeric_limits<double>::infinity();
+  double feed_min_ = std::numeric_limits<double>::infinity();
+  bool any_late_ = false;  // a row at t ≥ t_settle
+  // t_d and what hangs on it
+  double td_ = -1.0, ref_ = 0.0, d_ref_ = 0.0, dev_ = 0.0, peak_ = 0.0, last_out_ = 0.0;
+  bool td_seen_ = false;
+  std::vector<Past> past_;  // ring: the rows of the last second
+  std::size_t past_n_ = 0;
+  // moving averages (windows from the first two rows' times)
+  std::size_t w_ = 1, rev_ = 1, w_flow_ = 1;
+  MovingAverage py_, f_rev_, flow_avg_;
+  PlotDecimator flow_plot_;
+  AlarmOnsets onsets_;
+  std::size_t n_ = 0;
+  double row0_force_ = 0.0, row0_flow_ = 0.0, t_first_ = 0.0, t_last_ = 0.0;
+};
+
+// The regulator's flow averaged over whole pulses, for the report's plot, row by row: between the
+// opening of one pulse and the opening of the pulse N periods later, N the whole number of periods
+// nearest the feed window at the recorded frequency. A window that does not start and end between
+// pulses catches a varying part of a pulse (a 2 ms sample of an 8 ms pulse is 1/250 of a 500 ms
+// window but 1/4 of the pulse volume): with FIM's moving frequency a fixed window's mean jumps
+// like a square wave. A sample gets the mean that ended at the last opening before it (NaN until
+// N pulses have been seen). Where the flow never stops (fewer than two openings: the continuous
+// throttle) the caller plots the trailing mean over the window instead (points() returns false).
+// Memory: the last kMaxPeriods openings (a window of up to 4096 pulses), whatever the duration.
+class PulseMeanFlowPlot final : public RowSink {
+ public:
+  static constexpr std::size_t kMaxPeriods = 4096;
+  PulseMeanFlowPlot(const Recorder& rec, double window_s);
+  void row(std::span<const double> v) noexcept override;
+  // The decimated plot; false (nothing written) when the flow had fewer than two openings.
+  bool points(std::vector<double>& x, std::vector<double>& y) const;
+
+ private:
+  std::size_t t_, flow_, freq_;
+  double window_s_;
+  double sum_ = 0.0, prev_flow_ = 0.0, value_;
+  std::size_t n_ = 0, opens_seen_ = 0;
+  std::vector<std::pair<std::size_t, double>> opens_;  // ring: (sample index, sum before it)
+  PlotDecimator plot_;
+};
 
 // Simulated mean flow of a pulsed regulator at slot h and frequency f for each pulse width,
 // over `periods` periods (the first discarded). Validates (1) and shows switching effects.

@@ -147,7 +147,7 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
         1.0 / rev_per_s_ / dt > kMaxBufferSteps ? "run.step_s" : "metrics.feed_window_s",
         "one spindle revolution or the feed window spans more than 2e7 steps: "
         "increase step_s or the spindle speed, or shorten feed_window_s");
-  if (duration / (dt * static_cast<double>(record_every_)) > 5e7)
+  if (!streamed_ && duration / (dt * static_cast<double>(record_every_)) > 5e7)
     throw ConfigError("run.record_interval_s",
                       "more than 5e7 recorded rows: increase record_interval_s");
   // Warm-up: the slide was already feeding before t = 0. Run regulator, damper and slide at the
@@ -187,9 +187,23 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
   acc_n_ = 0;
   last_flow_ = q_needed;
 
+  if (streamed_) {
+    rec_ = Recorder::streamed(rig_a_channels());
+    return;
+  }
   const auto rows =
       static_cast<std::size_t>(duration / (dt * static_cast<double>(record_every_))) + 2;
   rec_ = Recorder(rig_a_channels(), rows);
+}
+
+double RigA::last_record_time() const noexcept {
+  // run() takes llround(duration/dt) steps of t += dt from 0 and records every record_every_-th.
+  const auto steps = static_cast<std::size_t>(std::llround(duration_ / dt_));
+  const std::size_t last = steps / record_every_ * record_every_;
+  if (last == 0) return -1.0;
+  double t = 0.0;
+  for (std::size_t i = 0; i < last; ++i) t += dt_;
+  return t;
 }
 
 double RigA::position_ago(std::size_t steps) const noexcept {

@@ -72,6 +72,15 @@ class RigA {
   void run() noexcept;  // to the configured duration
 
   [[nodiscard]] const Recorder& recorder() const noexcept { return rec_; }
+  // Streamed recording (set before configure): no columns, rows to the attached sinks (metrics,
+  // channels.csv) — the memory of a run of any duration is bounded (issue 19). Default: columns.
+  void set_streamed(bool streamed) noexcept { streamed_ = streamed; }
+  void attach(RowSink* sink) { rec_.attach(sink); }
+  // Time of the last row run() will record (the clock's own sums; −1 when it records none).
+  [[nodiscard]] double last_record_time() const noexcept;
+  [[nodiscard]] double record_interval() const noexcept {
+    return dt_ * static_cast<double>(record_every_);
+  }
   [[nodiscard]] double time() const noexcept { return t_; }
   // Time the tool reached the first disturbance (step or hardness change), or -1.
   [[nodiscard]] double first_disturbance_time() const noexcept { return t_disturbance_; }
@@ -104,6 +113,7 @@ class RigA {
   double dt_ = 1e-4;
   double t_ = 0.0;
   double duration_ = 0.0;
+  bool streamed_ = false;
   std::size_t step_ = 0;
   std::size_t record_every_ = 1;
   std::size_t control_every_ = 1;

@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <stdexcept>
 
 #include "lathectl/control/types.hpp"
+#include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/runner.hpp"
@@ -58,6 +60,9 @@ json metrics_json(const sim::MetricsA& m) {
 
 struct Run {
   sim::RigA rig;
+  std::unique_ptr<sim::MetricsAAccumulator> acc;  // fed as the rig records
+  std::unique_ptr<sim::PulseMeanFlowPlot> pulse;  // the flow over whole pulses, for the plot
+  std::unique_ptr<io::ChannelStream> csv;          // channels.csv / channels_compare.csv
   sim::MetricsA metrics;
   std::string label;
 };
@@ -68,18 +73,37 @@ std::string label_of(const sim::RigAConfig& a) {
                                                    : controller_kind_name(a.controller_kind);
 }
 
-void run_one(const io::Scenario& sc, const sim::RigAConfig& cfg, Run& r) {
-  configure_and_run(sc, r.rig, cfg);
-  r.metrics = sim::compute_metrics_a(r.rig);
+// The rig records streamed (its memory bounded whatever run.duration_s): the metrics are
+// computed row by row, csv (nullptr: none) is written into `stage` as the rows come.
+void run_one(const io::Scenario& sc, const sim::RigAConfig& cfg, Run& r, const char* csv = nullptr,
+             io::OutputStage* stage = nullptr) {
+  r.rig.set_streamed(true);
+  io::configure_rig(sc, r.rig, cfg);
+  r.acc = std::make_unique<sim::MetricsAAccumulator>(r.rig, r.rig.last_record_time());
+  r.rig.attach(r.acc.get());
+  r.pulse = std::make_unique<sim::PulseMeanFlowPlot>(r.rig.recorder(), cfg.feed_window_s);
+  r.rig.attach(r.pulse.get());
+  if (csv) {
+    try {
+      r.csv = io::open_channel_stream(stage, csv, r.rig.recorder().channels(),
+                                      sc.run.duration_s / sc.run.record_interval_s + 2.0);
+    } catch (const std::invalid_argument& e) {
+      io::throw_at_key(sc, e);
+    }
+    r.rig.attach(r.csv.get());
+  }
+  io::run_rig(sc, r.rig);
+  if (r.csv) r.csv->finish();
+  r.metrics = r.acc->result(r.rig);
   r.label = label_of(cfg);
 }
 
+// A recorded channel against time, decimated to a bounded number of points (sim::Recorder).
 Series series(const Run& r, const char* channel, std::string name, std::string color,
               bool dashed = false) {
   Series s;
   s.name = std::move(name);
-  s.x = column(r.rig.recorder(), "time_s");
-  s.y = column(r.rig.recorder(), channel);
+  r.rig.recorder().plot_points(channel, s.x, s.y);
   s.color = std::move(color);
   s.dashed = dashed;
   return s;
@@ -87,58 +111,19 @@ Series series(const Run& r, const char* channel, std::string name, std::string c
 
 Series constant(const Run& r, double value, std::string name) {
   Series s;
-  const auto t = r.rig.recorder().column("time_s");
   s.name = std::move(name);
-  s.x = {t.front(), t.back()};
+  s.x = {r.acc->first_time(), r.acc->last_time()};
   s.y = {value, value};
   s.color = "#555";
   s.dashed = true;
   return s;
 }
 
-// The regulator's flow averaged over whole pulses: between the opening of one pulse and the
-// opening of the pulse N periods later, N the whole number of periods nearest the feed window at
-// the recorded frequency. A window that does not start and end between pulses catches a varying
-// part of a pulse (a 2 ms sample of an 8 ms pulse is 1/250 of a 500 ms window but 1/4 of the pulse
-// volume): with FIM's moving frequency a fixed window's mean jumps like a square wave. Where the
-// flow never stops (the continuous throttle) a plain trailing mean over the window. NaN until a
-// whole window has been recorded.
-std::vector<double> pulse_mean_flow(const Run& r, double window_s) {
-  const auto x = r.rig.recorder().column("flow_cm3_per_min");
-  const auto f = r.rig.recorder().column("frequency_Hz");
-  const auto t = r.rig.recorder().column("time_s");
-  const double dt = t.size() > 1 ? t[1] - t[0] : 1.0;
-  std::vector<double> sum(x.size() + 1, 0.0);  // sum[i]: samples before i
-  for (std::size_t i = 0; i < x.size(); ++i) sum[i + 1] = sum[i] + x[i];
-  std::vector<std::size_t> opens;  // first sample of each pulse (the slot shut before it)
-  for (std::size_t i = 1; i < x.size(); ++i)
-    if (x[i - 1] <= 0.0 && x[i] > 0.0) opens.push_back(i);
-  std::vector<double> out(x.size(), std::nan(""));
-  const auto mean = [&](std::size_t a, std::size_t b) {
-    return (sum[b] - sum[a]) / static_cast<double>(b - a);
-  };
-  if (opens.size() < 2) {
-    const auto n = static_cast<std::size_t>(std::max(1.0, std::round(window_s / dt)));
-    for (std::size_t i = n; i <= x.size(); ++i) out[i - 1] = mean(i - n, i);
-    return out;
-  }
-  for (std::size_t k = 1; k < opens.size(); ++k) {
-    const auto periods =
-        static_cast<std::size_t>(std::max(1.0, std::round(window_s * f[opens[k]])));
-    if (periods > k) continue;
-    const double v = mean(opens[k - periods], opens[k]);
-    const std::size_t until = k + 1 < opens.size() ? opens[k + 1] : x.size();
-    for (std::size_t i = opens[k]; i < until; ++i) out[i] = v;
-  }
-  return out;
-}
-
 // The whole run's time span: every time plot gets it, so a sensor's NaN stretch at the end shows
 // as a gap, not as a shorter axis.
 void span_run(Plot& p, const Run& r) {
-  const auto t = r.rig.recorder().column("time_s");
   p.x_min = 0.0;
-  p.x_max = t.empty() ? 1.0 : t.back();
+  p.x_max = r.acc->last_time() > 0.0 ? r.acc->last_time() : 1.0;
 }
 
 std::vector<Marker> markers(const Run& r) {
@@ -161,7 +146,8 @@ io::RunOutput run(const io::Scenario& sc) {
   const Settings& settings = sc.get<Settings>();
   RunOutput out;
   auto main = std::make_unique<Run>();
-  run_one(sc, settings.rig, *main);
+  OutputStage* stage = StreamScope::current();
+  run_one(sc, settings.rig, *main, "channels.csv", stage);
   std::unique_ptr<Run> cmp;
   if (settings.compare) {
     auto c = settings.rig;
@@ -169,7 +155,7 @@ io::RunOutput run(const io::Scenario& sc) {
     if (settings.compare->regulator) c.regulator_kind = *settings.compare->regulator;
     if (c.regulator_kind == RegulatorKind::Throttle) c.controller_kind = ControllerKind::None;
     cmp = std::make_unique<Run>();
-    run_one(sc, c, *cmp);
+    run_one(sc, c, *cmp, "channels_compare.csv", stage);
     if (!settings.compare->label.empty()) cmp->label = settings.compare->label;
   }
 
@@ -415,7 +401,8 @@ io::RunOutput run(const io::Scenario& sc) {
             {},
             mk};
   const auto smooth = [&](const Run& r, Series sr) {
-    sr.y = pulse_mean_flow(r, window_s);
+    // whole pulses (sim::PulseMeanFlowPlot); a flow that never stops: the trailing window mean
+    if (!r.pulse->points(sr.x, sr.y)) r.acc->flow_smoothed_plot().points(sr.x, sr.y);
     return sr;
   };
   flow.series.push_back(
@@ -511,8 +498,9 @@ io::RunOutput run(const io::Scenario& sc) {
 
   std::rotate(rep.tables.begin(), rep.tables.begin() + study_tables, rep.tables.end());
   std::rotate(rep.plots.begin(), rep.plots.begin() + study_plots, rep.plots.end());
-  out.channels_csv = channels_csv(main->rig.recorder());
-  if (cmp) out.compare_csv = channels_csv(cmp->rig.recorder());
+  // In memory only without a stage (library callers, tests); else on disk already.
+  out.channels_csv = main->csv->take_text();
+  if (cmp) out.compare_csv = cmp->csv->take_text();
   out.headline = main->label + (cmp ? " vs " + cmp->label : "") + ": feed dev " +
                  fmt(m.feed_rate_deviation_pct) + " %, steady " +
                  fmt(m.feed_rate_steady_deviation_pct) + " %, peak Py " + fmt(m.force_peak_N) +

@@ -1,15 +1,98 @@
 #include "systems/e_adaptive/metrics.hpp"
 
-#include "lathectl/sim/per_revolution.hpp"
-
 #include <algorithm>
 #include <cmath>
 
 namespace lathectl::sim {
 
-MetricsE compute_metrics_e(const RigE& rig, double settle_s) {
-  MetricsE m;
+MetricsEAccumulator::MetricsEAccumulator(const RigE& rig, double settle_s)
+    : settle_s_(settle_s), onsets_(rig.config().faults) {
   const auto& rec = rig.recorder();
+  const auto& cfg = rig.config();
+  t_ = rec.index("time_s");
+  f_ = rec.index("force_parameter_true");
+  pz_ = rec.index("force_Pz_N");
+  rpm_ = rec.index("spindle_rpm");
+  in_cut_ = rec.index("in_cut");
+  depth_ = rec.index("depth_mm");
+  s_ = rec.index("feed_per_rev_mm");
+  s_cmd_ = rec.index("feed_cmd_mm_per_rev");
+  v_ = rec.index("speed_m_per_min");
+  power_ = rec.index("spindle_power_kW");
+  alarm_ = rec.index("alarm");
+  hold_ = rec.index("feed_hold");
+  reason_ = rec.index("reason_code");
+  limit_ = rig.force_limit();
+  ceiling_ = cfg.controller.allow_above_programmed ? cfg.controller.feed_max_mm_per_rev
+                                                   : rig.programmed_feed();
+  feed_min_ = cfg.controller.feed_min_mm_per_rev;
+}
+
+MetricsEAccumulator::ReasonSpan& MetricsEAccumulator::reason_entry(int code) {
+  auto it = std::find_if(reasons_.begin(), reasons_.end(),
+                         [&](const ReasonSpan& a) { return a.code == code; });
+  if (it != reasons_.end()) return *it;
+  reasons_.push_back({code});
+  return reasons_.back();
+}
+
+void MetricsEAccumulator::row(std::span<const double> v) noexcept {
+  const std::size_t i = n_++;
+  const double t = v[t_];
+  // The record interval, as the whole-record forms took it: t[1] − t[0].
+  if (i == 0) t0_ = t;
+  if (i == 1) {
+    dt_rec_ = t - t0_;
+    f_rev_.set_dt(dt_rec_);
+    if (first_row_code_pending_) reason_entry(prev_code_).total_s += dt_rec_;
+  }
+  const double f_rev = f_rev_.push(v[f_], v[rpm_]);
+  onsets_.push(t, v[alarm_], v[reason_]);
+
+  // Decisions by reason code.
+  const int code = static_cast<int>(v[reason_]);
+  if (code != 0) {
+    ReasonSpan& a = reason_entry(code);
+    if (i == 0)
+      first_row_code_pending_ = true;  // its interval is known at the second row
+    else
+      a.total_s += dt_rec_;
+    if (a.first_s < 0) a.first_s = t;
+    a.last_s = t;
+    if (i == 0 || prev_code_ != code) ++a.episodes;
+  }
+  prev_code_ = code;
+
+  const bool cutting = v[depth_] > 0.0 && v[s_] > 0.0;
+  if (cutting && !was_cutting_) contact_t_ = t;
+  was_cutting_ = cutting;
+  m_.force_peak = std::max(m_.force_peak, v[f_]);
+  m_.force_Pz_peak_N = std::max(m_.force_Pz_peak_N, v[pz_]);
+  m_.spindle_power_peak_kW = std::max(m_.spindle_power_peak_kW, v[power_]);
+  if (!cutting) return;
+  ++cut_n_;
+  s_sum_ += v[s_];
+  v_sum_ += v[v_];
+  // the first revolution after contact builds the chip: its mean is not a cut's mean yet
+  if (t - contact_t_ > 60.0 / std::max(v[rpm_], 1.0))
+    m_.force_peak_rev_mean = std::max(m_.force_peak_rev_mean, f_rev);
+  const bool regulating = v[s_cmd_] < ceiling_ * 0.995 && v[s_cmd_] > feed_min_ * 1.005;
+  if (v[in_cut_] > 0.5 && regulating && t - contact_t_ >= settle_s_ && v[hold_] < 0.5) {
+    ++steady_n_;
+    steady_sum_ += f_rev;
+    if (std::abs(f_rev - limit_) <= 0.05 * limit_) ++within_n_;
+  }
+}
+
+std::vector<MetricsEAccumulator::ReasonSpan> MetricsEAccumulator::reasons() const {
+  auto out = reasons_;
+  std::sort(out.begin(), out.end(),
+            [](const ReasonSpan& a, const ReasonSpan& b) { return a.code < b.code; });
+  return out;
+}
+
+MetricsE MetricsEAccumulator::result(const RigE& rig) const {
+  MetricsE m;
   const auto& cfg = rig.config();
   m.finished = rig.finished();
   m.cycle_time_s = rig.cycle_time_s();
@@ -22,63 +105,23 @@ MetricsE compute_metrics_e(const RigE& rig, double settle_s) {
   m.material_removed_cm3 = rig.material_removed_cm3();
   m.mrr_cm3_per_min = m.material_removed_cm3 / (m.cycle_time_s / 60.0);
   m.feed_programmed_mm_per_rev = rig.programmed_feed();
-  const auto t = rec.column("time_s");
-  if (t.empty()) return m;
-  const auto f = rec.column("force_parameter_true");
-  const auto pz = rec.column("force_Pz_N");
-  const auto rpm = rec.column("spindle_rpm");
-  const auto in_cut = rec.column("in_cut");
-  const auto depth = rec.column("depth_mm");
-  const auto s = rec.column("feed_per_rev_mm");
-  const auto s_cmd = rec.column("feed_cmd_mm_per_rev");
-  const auto v = rec.column("speed_m_per_min");
-  const auto power = rec.column("spindle_power_kW");
-  const auto alarm = rec.column("alarm");
-  const auto hold = rec.column("feed_hold");
-  const auto reason = rec.column("reason_code");
-  const double dt_rec = t.size() > 1 ? t[1] - t[0] : 1.0;
-
-  // Per-revolution mean of the force (the same curve the report plots).
-  const std::vector<double> f_rev = per_revolution_mean(f, rpm, dt_rec);
+  if (n_ == 0) return m;
+  m.force_peak = m_.force_peak;
+  m.force_Pz_peak_N = m_.force_Pz_peak_N;
+  m.spindle_power_peak_kW = m_.spindle_power_peak_kW;
+  m.force_peak_rev_mean = m_.force_peak_rev_mean;
   const double limit = m.force_limit;
-  const double ceiling = cfg.controller.allow_above_programmed ? cfg.controller.feed_max_mm_per_rev
-                                                               : m.feed_programmed_mm_per_rev;
-  double contact_t = -1e9, steady_n = 0, within_n = 0, steady_sum = 0, cut_n = 0, s_sum = 0,
-         v_sum = 0;
-  bool was_cutting = false;
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    const bool cutting = depth[i] > 0.0 && s[i] > 0.0;
-    if (cutting && !was_cutting) contact_t = t[i];
-    was_cutting = cutting;
-    m.force_peak = std::max(m.force_peak, f[i]);
-    m.force_Pz_peak_N = std::max(m.force_Pz_peak_N, pz[i]);
-    m.spindle_power_peak_kW = std::max(m.spindle_power_peak_kW, power[i]);
-    if (!cutting) continue;
-    ++cut_n;
-    s_sum += s[i];
-    v_sum += v[i];
-    // the first revolution after contact builds the chip: its mean is not a cut's mean yet
-    if (t[i] - contact_t > 60.0 / std::max(rpm[i], 1.0))
-      m.force_peak_rev_mean = std::max(m.force_peak_rev_mean, f_rev[i]);
-    const bool regulating =
-        s_cmd[i] < ceiling * 0.995 && s_cmd[i] > cfg.controller.feed_min_mm_per_rev * 1.005;
-    if (in_cut[i] > 0.5 && regulating && t[i] - contact_t >= settle_s && hold[i] < 0.5) {
-      ++steady_n;
-      steady_sum += f_rev[i];
-      if (std::abs(f_rev[i] - limit) <= 0.05 * limit) ++within_n;
-    }
-  }
   m.force_overshoot_pct = 100.0 * (m.force_peak_rev_mean - limit) / limit;
-  if (steady_n > 0) {
-    m.force_within_5pct_fraction = within_n / steady_n;
-    m.force_mean_steady = steady_sum / steady_n;
+  if (steady_n_ > 0) {
+    m.force_within_5pct_fraction = within_n_ / steady_n_;
+    m.force_mean_steady = steady_sum_ / steady_n_;
   }
-  if (cut_n > 0) {
-    m.feed_mean_mm_per_rev = s_sum / cut_n;
-    m.speed_mean_m_per_min = v_sum / cut_n;
+  if (cut_n_ > 0) {
+    m.feed_mean_mm_per_rev = s_sum_ / cut_n_;
+    m.speed_mean_m_per_min = v_sum_ / cut_n_;
   }
-
-  m.alarms = alarm_onsets(t, alarm, reason, cfg.faults, m.first_alarm_delay_s);
+  m.alarms = onsets_.events();
+  m.first_alarm_delay_s = onsets_.first_delay_s();
   double first_fault = std::numeric_limits<double>::infinity();
   for (const auto& fl : cfg.faults) first_fault = std::min(first_fault, fl.at_s);
   if (std::isfinite(first_fault) && rig.first_feed_hold_s() >= first_fault)

@@ -1,5 +1,5 @@
 #pragma once
-// Metrics that answer system E's claims, from a finished RigE run. Definitions:
+// Metrics that answer system E's claims, from a RigE run (row by row as it records). Definitions:
 //   force (per revolution): the true force parameter averaged over one spindle revolution — a
 //     feed drive cannot act within a revolution (the chip is the travel over the last one), so
 //     runout of an eccentric blank swings the instantaneous force around this mean; the raw
@@ -16,6 +16,8 @@
 #include <vector>
 
 #include "lathectl/sim/metrics.hpp"
+#include "lathectl/sim/per_revolution.hpp"
+#include "lathectl/sim/recorder.hpp"
 #include "systems/e_adaptive/rig.hpp"
 
 namespace lathectl::sim {
@@ -46,6 +48,41 @@ struct MetricsE {
   double feed_hold_delay_s = std::numeric_limits<double>::quiet_NaN();  // fault → feed command 0
 };
 
-MetricsE compute_metrics_e(const RigE& rig, double settle_s = 0.5);
+// The metrics computed row by row as the rig records (a RowSink attached to its streamed
+// recorder between configure and run): nothing of the record is kept but a few sums, the
+// per-revolution window and a bounded plot of the per-revolution mean, so a run of any length
+// takes the same memory (issue 19).
+class MetricsEAccumulator final : public RowSink {
+ public:
+  // rig: configured (its configuration and controller limits are read here).
+  explicit MetricsEAccumulator(const RigE& rig, double settle_s = 0.5);
+  void row(std::span<const double> v) noexcept override;
+  // After the run.
+  [[nodiscard]] MetricsE result(const RigE& rig) const;
+  // How long each non-zero reason code held in the record (rows × record interval), in how many
+  // episodes, first and last time; sorted by code.
+  struct ReasonSpan {
+    int code = 0;
+    double total_s = 0.0, first_s = -1.0, last_s = -1.0;
+    int episodes = 0;
+  };
+  [[nodiscard]] std::vector<ReasonSpan> reasons() const;
+
+ private:
+  ReasonSpan& reason_entry(int code);
+  std::size_t t_, f_, pz_, rpm_, in_cut_, depth_, s_, s_cmd_, v_, power_, alarm_, hold_, reason_;
+  double settle_s_, limit_, ceiling_, feed_min_;
+  MetricsE m_;
+  PerRevolutionMean f_rev_;
+  AlarmOnsets onsets_;
+  std::size_t n_ = 0;
+  double t0_ = 0.0, dt_rec_ = 0.0;
+  double contact_t_ = -1e9, steady_n_ = 0, within_n_ = 0, steady_sum_ = 0, cut_n_ = 0, s_sum_ = 0,
+         v_sum_ = 0;
+  bool was_cutting_ = false;
+  int prev_code_ = 0;
+  bool first_row_code_pending_ = false;
+  std::vector<ReasonSpan> reasons_;
+};
 
 }  // namespace lathectl::sim

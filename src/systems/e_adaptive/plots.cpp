@@ -17,25 +17,39 @@ using io::Marker;
 using io::Plot;
 using io::Series;
 
+PathPlots::PathPlots(const sim::Recorder& rec)
+    : t_(rec.index("time_s")),
+      z_(rec.index("z_mm")),
+      pass_(rec.index("pass")),
+      rpm_(rec.index("spindle_rpm")) {
+  ch_[kForceRev] = rec.index("force_parameter_true");
+  ch_[kFeedRev] = rec.index("feed_per_rev_mm");
+  ch_[kSpeed] = rec.index("speed_m_per_min");
+  ch_[kSpeedOpt] = rec.index("speed_opt_m_per_min");
+  ch_[kPower] = rec.index("spindle_power_kW");
+  ch_[kToolLife] = rec.index("tool_life_used");
+}
+
+void PathPlots::row(std::span<const double> v) noexcept {
+  const std::size_t i = n_++;
+  const double t = v[t_];
+  if (i == 0) t0_ = t;
+  t_last_ = t;
+  if (i == 1) f_rev_.set_dt(t - t0_);  // the record interval, as MetricsEAccumulator takes it
+  // Not the return to the next pass's start.
+  if (i > 0 && v[pass_] == pass_prev_) path_ += std::max(v[z_] - z_prev_, 0.0);
+  z_prev_ = v[z_];
+  pass_prev_ = v[pass_];
+  for (std::size_t k = 0; k < kCount; ++k)
+    plots_[k].push(path_, k == kForceRev ? f_rev_.push(v[ch_[k]], v[rpm_]) : v[ch_[k]]);
+  path_t_.push(t, path_);
+}
+
 namespace {
 
 constexpr const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd"};
 
-// Distance along the part [mm]: z advanced within a pass, summed over the passes. The
-// runs cut the same part with the same passes, so this axis lines up where each run meets the
-// same depth step or hard spot, whatever its speed (the fixed run takes 2½ times as long).
-std::vector<double> cut_path_mm(const sim::Recorder& rec) {
-  const auto z = rec.column("z_mm");
-  const auto pass = rec.column("pass");
-  std::vector<double> path(z.size(), 0.0);
-  for (std::size_t i = 1; i < z.size(); ++i) {
-    const bool same_pass = pass[i] == pass[i - 1];  // not the return to the next pass's start
-    path[i] = path[i - 1] + (same_pass ? std::max(z[i] - z[i - 1], 0.0) : 0.0);
-  }
-  return path;
-}
-
-// The path position at time t of the run whose time axis is `t` (first sample at or after t).
+// The path position at time `at` on the run's decimated path-of-time (first point at or after).
 double path_at(const std::vector<double>& t, const std::vector<double>& path, double at) {
   const auto it = std::lower_bound(t.begin(), t.end(), at);
   if (it == t.end()) return path.empty() ? std::nan("") : path.back();
@@ -44,8 +58,9 @@ double path_at(const std::vector<double>& t, const std::vector<double>& path, do
 
 Series along_time(const PlotRun& r, const char* channel, const std::string& name,
                   const char* color) {
-  return Series{name, io::column(*r.rec, "time_s"), io::column(*r.rec, channel), color, false,
-                false};
+  Series s{name, {}, {}, color, false, false};
+  r.rec->plot_points(channel, s.x, s.y);
+  return s;
 }
 
 }  // namespace
@@ -53,58 +68,50 @@ Series along_time(const PlotRun& r, const char* channel, const std::string& name
 void add_run_plots(io::Report& rep, const std::vector<PlotRun>& runs, const std::vector<Marker>& mk,
                    const std::string& pname, const std::string& unit) {
   const PlotRun& main = runs.front();
-  const std::vector<double> t_main = io::column(*main.rec, "time_s");
-  const std::vector<double> path_main = cut_path_mm(*main.rec);
+  std::vector<double> t_main, path_main;
+  main.path->path_of_time().points(t_main, path_main);
   std::vector<Marker> mk_path;
   for (const Marker& m : mk) mk_path.push_back({path_at(t_main, path_main, m.x), m.label});
 
-  const auto along_path = [&](const PlotRun& r, const char* channel, const std::string& name,
-                              const char* color, bool per_rev) {
-    Series s = along_time(r, channel, name, color);
-    if (per_rev) {  // the per-revolution mean, as the claims compute it
-      const double dt = s.x.size() > 1 ? s.x[1] - s.x[0] : 1.0;
-      s.y = sim::per_revolution_mean(s.y, r.rec->column("spindle_rpm"), dt);
-    }
-    s.x = cut_path_mm(*r.rec);
+  const auto along_path = [&](const PlotRun& r, PathPlots::Which w, const std::string& name,
+                              const char* color) {
+    Series s{name, {}, {}, color, false, false};
+    r.path->along(w).points(s.x, s.y);
     return s;
   };
   const std::string x_path = "distance along the part [mm] (all passes)";
   double path_end = 0.0;
-  for (const PlotRun& r : runs) {
-    const auto p = cut_path_mm(*r.rec);
-    if (!p.empty()) path_end = std::max(path_end, p.back());
-  }
-  // Every run's channel along the part (per_rev: its per-revolution mean).
-  const auto compared = [&](std::string title, std::string y_label, const char* channel,
-                            bool per_rev) {
+  for (const PlotRun& r : runs) path_end = std::max(path_end, r.path->path_end());
+  // Every run's channel along the part.
+  const auto compared = [&](std::string title, std::string y_label, PathPlots::Which w) {
     Plot p{std::move(title), x_path, std::move(y_label), {}, mk_path};
     p.x_min = 0.0;
     p.x_max = path_end;
     for (std::size_t i = 0; i < runs.size(); ++i)
-      p.series.push_back(along_path(runs[i], channel, runs[i].label, kColors[i % 4], per_rev));
+      p.series.push_back(along_path(runs[i], w, runs[i].label, kColors[i % 4]));
     return p;
   };
   const std::string suffix = runs.size() > 1 ? ", the controllers along the cut" : "";
 
   Plot force = compared("Per-revolution " + pname + " (the feed's reach) and its limit" + suffix,
-                        pname + " [" + unit + "]", "force_parameter_true", true);
+                        pname + " [" + unit + "]", PathPlots::kForceRev);
   force.series.push_back(
       {"limit", {0.0, path_end}, {main.m->force_limit, main.m->force_limit}, "#555", true, false});
   rep.plots.push_back(force);
   rep.plots.push_back(compared("Feed per revolution (chip thickness)" + suffix, "feed [mm/rev]",
-                               "feed_per_rev_mm", false));
+                               PathPlots::kFeedRev));
   Plot speed = compared("Cutting speed V (sensor 20) and seed 004's V_opt" + suffix,
-                        "speed [m/min]", "speed_m_per_min", false);
+                        "speed [m/min]", PathPlots::kSpeed);
   if (main.speed_law) {
-    Series vo = along_path(main, "speed_opt_m_per_min", "V_opt, " + main.label, kColors[0], false);
+    Series vo = along_path(main, PathPlots::kSpeedOpt, "V_opt, " + main.label, kColors[0]);
     vo.dashed = true;
     speed.series.push_back(vo);
   }
   rep.plots.push_back(speed);
   rep.plots.push_back(
-      compared("Spindle electrical power" + suffix, "power [kW]", "spindle_power_kW", false));
+      compared("Spindle electrical power" + suffix, "power [kW]", PathPlots::kPower));
   Plot life =
-      compared("Tool life used (∫ dt/T)" + suffix, "share of one edge", "tool_life_used", false);
+      compared("Tool life used (∫ dt/T)" + suffix, "share of one edge", PathPlots::kToolLife);
   // The plan, t / T_plan, at the main run's pace.
   Series plan{"plan: t / T_plan (main run's time)", path_main, t_main, "#555", true, false};
   for (double& v : plan.y) v = v / 60.0 / main.m->tool_life_planned_min;
@@ -112,7 +119,7 @@ void add_run_plots(io::Report& rep, const std::vector<PlotRun>& runs, const std:
   rep.plots.push_back(life);
 
   // The main run in detail, on its own time axis.
-  const double t_end = t_main.empty() ? 1.0 : t_main.back();
+  const double t_end = main.path->last_time() > 0.0 ? main.path->last_time() : 1.0;
   const auto detail = [&](std::string title, std::string y_label) {
     Plot p{std::move(title), "time [s]", std::move(y_label), {}, mk};
     p.x_min = 0.0;
@@ -140,9 +147,12 @@ void add_run_plots(io::Report& rep, const std::vector<PlotRun>& runs, const std:
   // decisions table).
   Plot reason = detail("Reason code timeline, main run (codes in the decisions table)", "");
   reason.series.push_back(along_time(main, "reason_code", "", "#444"));
+  // The codes the record holds: the decimated band's (each bucket's extremes) and every code the
+  // accumulator counted (one held between a bucket's extremes too).
   std::set<int> codes;
   for (const double c : reason.series.front().y)
     if (std::isfinite(c)) codes.insert(static_cast<int>(c));
+  for (const auto& span : main.acc->reasons()) codes.insert(span.code);
   for (const int c : codes)
     reason.lanes.push_back({static_cast<double>(c),
                             std::string(control::reason_name(static_cast<control::Reason>(c))) +

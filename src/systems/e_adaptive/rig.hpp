@@ -59,7 +59,9 @@ class RigE {
   void run() noexcept;                 // until the last pass ends or max_duration_s
   [[nodiscard]] bool step() noexcept;  // false when finished
 
+  // Streamed (no columns): attach sinks between configure() and run().
   [[nodiscard]] const Recorder& recorder() const noexcept { return rec_; }
+  void attach(RowSink* sink) { rec_.attach(sink); }
   [[nodiscard]] const RigEConfig& config() const noexcept { return cfg_; }
   [[nodiscard]] bool finished() const noexcept { return pass_ >= cfg_.stock.passes.size(); }
   [[nodiscard]] double cycle_time_s() const noexcept { return t_; }

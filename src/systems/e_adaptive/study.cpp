@@ -8,11 +8,11 @@
 #include <stdexcept>
 
 #include "lathectl/control/types.hpp"
+#include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
 #include "lathectl/sim/parallel.hpp"
-#include "lathectl/sim/per_revolution.hpp"
 #include "systems/e_adaptive/metrics.hpp"
 #include "systems/e_adaptive/plots.hpp"
 #include "systems/e_adaptive/settings.hpp"
@@ -26,17 +26,37 @@ using nlohmann::json;
 
 struct Run {
   sim::RigE rig;
+  std::unique_ptr<sim::MetricsEAccumulator> acc;  // fed as the rig records
+  std::unique_ptr<PathPlots> path;                 // the compared plots, along the part
+  std::unique_ptr<ChannelStream> csv;              // channels.csv / channels_compare.csv
   sim::MetricsE m;
   Mode mode = Mode::Fixed;
   std::string label;
 };
 
-void run_one(const Scenario& sc, sim::RigEConfig cfg, Mode mode, bool as_comparison, Run& r) {
+// csv: the result file the run's channels go to (nullptr: none), streamed into `stage`.
+void run_one(const Scenario& sc, sim::RigEConfig cfg, Mode mode, bool as_comparison, Run& r,
+             const char* csv = nullptr, OutputStage* stage = nullptr) {
   cfg.controller.mode = mode;
   // The baseline must be set for the worst case to avoid overload: that is what makes it slow.
   if (mode == Mode::Fixed && as_comparison) cfg.worst_case_feed = true;
-  configure_and_run(sc, r.rig, cfg);
-  r.m = sim::compute_metrics_e(r.rig);
+  configure_rig(sc, r.rig, cfg);
+  r.acc = std::make_unique<sim::MetricsEAccumulator>(r.rig);
+  r.rig.attach(r.acc.get());
+  r.path = std::make_unique<PathPlots>(r.rig.recorder());
+  r.rig.attach(r.path.get());
+  if (csv) {
+    try {
+      r.csv = open_channel_stream(stage, csv, r.rig.recorder().channels(),
+                                  sc.run.duration_s / sc.run.record_interval_s + 2.0);
+    } catch (const std::invalid_argument& e) {
+      throw_at_key(sc, e);
+    }
+    r.rig.attach(r.csv.get());
+  }
+  run_rig(sc, r.rig);
+  if (r.csv) r.csv->finish();
+  r.m = r.acc->result(r.rig);
   r.mode = mode;
   r.label = mode_name(mode);
 }
@@ -120,8 +140,16 @@ RunOutput run(const Scenario& sc) {
     if (m != e.controller.mode) modes.push_back(m);
   for (std::size_t i = 0; i < modes.size(); ++i) runs.push_back(std::make_unique<Run>());
   // The runs are independent: side by side on two cores (each is one core's work).
+  // channels.csv (main run) and channels_compare.csv (first comparison) stream into the output
+  // set's stage as the runs record.
+  OutputStage* stage = StreamScope::current();
   sim::parallel_for(
-      modes.size(), [&](std::size_t i) { run_one(sc, e, modes[i], i > 0, *runs[i]); }, 2);
+      modes.size(),
+      [&](std::size_t i) {
+        const char* csv = i == 0 ? "channels.csv" : i == 1 ? "channels_compare.csv" : nullptr;
+        run_one(sc, e, modes[i], i > 0, *runs[i], csv, stage);
+      },
+      2);
   const Run& main = *runs.front();
   const bool power = e.force_parameter == sim::ForceParameter::Power;
   const std::string unit = power ? "W" : "N";
@@ -445,34 +473,11 @@ RunOutput run(const Scenario& sc) {
     Table rt{"Decisions of the main run (reason codes, from the recorded timeline)",
              {"reason", "code", "total time [s]", "episodes", "first at [s]", "last at [s]"},
              {}};
-    const auto tt = main.rig.recorder().column("time_s");
-    const auto rc = main.rig.recorder().column("reason_code");
-    const double dt_rec = tt.size() > 1 ? tt[1] - tt[0] : 0.0;
-    struct Acc {
-      double total = 0, first = -1, last = -1;
-      int episodes = 0;
-    };
-    std::vector<std::pair<int, Acc>> acc;
-    for (std::size_t i = 0; i < rc.size(); ++i) {
-      const int code = static_cast<int>(rc[i]);
-      if (code == 0) continue;
-      auto it =
-          std::find_if(acc.begin(), acc.end(), [&](const auto& a) { return a.first == code; });
-      if (it == acc.end()) {
-        acc.push_back({code, {}});
-        it = acc.end() - 1;
-      }
-      it->second.total += dt_rec;
-      if (it->second.first < 0) it->second.first = tt[i];
-      it->second.last = tt[i];
-      if (i == 0 || static_cast<int>(rc[i - 1]) != code) ++it->second.episodes;
-    }
-    std::sort(acc.begin(), acc.end(),
-              [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (const auto& [code, a] : acc)
-      rt.rows.push_back({std::string(control::reason_name(static_cast<control::Reason>(code))),
-                         std::to_string(code), fmt(a.total, "%.2f"), std::to_string(a.episodes),
-                         fmt(a.first, "%.2f"), fmt(a.last, "%.2f")});
+    for (const auto& a : main.acc->reasons())
+      rt.rows.push_back({std::string(control::reason_name(static_cast<control::Reason>(a.code))),
+                         std::to_string(a.code), fmt(a.total_s, "%.2f"),
+                         std::to_string(a.episodes), fmt(a.first_s, "%.2f"),
+                         fmt(a.last_s, "%.2f")});
     if (!rt.rows.empty()) rep.tables.push_back(rt);
   }
 
@@ -484,11 +489,13 @@ RunOutput run(const Scenario& sc) {
   if (!depths.empty()) rep.plots.push_back(depth_plot);
   std::vector<PlotRun> plot_runs;
   for (const auto& r : runs)
-    plot_runs.push_back({&r->rig.recorder(), &r->m, r->label, r->mode == Mode::ForceFeedSpeed});
+    plot_runs.push_back({&r->rig.recorder(), r->path.get(), r->acc.get(), &r->m, r->label,
+                         r->mode == Mode::ForceFeedSpeed});
   add_run_plots(rep, plot_runs, mk, pname, unit);
 
-  out.channels_csv = channels_csv(main.rig.recorder());
-  if (runs.size() > 1) out.compare_csv = channels_csv(runs[1]->rig.recorder());
+  // In memory only without a stage (library callers, tests); else on disk already.
+  out.channels_csv = main.csv->take_text();
+  if (runs.size() > 1) out.compare_csv = runs[1]->csv->take_text();
   out.headline = main.label + ": cycle " + fmt(main.m.cycle_time_s, "%.1f") +
                  " s, tool life used " + fmt(main.m.tool_life_used_fraction, "%.4f") + " (plan " +
                  fmt(main.m.tool_life_plan_fraction, "%.4f") + "), peak per-rev " + pname + " " +

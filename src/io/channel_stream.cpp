@@ -1,0 +1,120 @@
+#include "lathectl/io/channel_stream.hpp"
+
+#include <fcntl.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
+#include <system_error>
+
+#include "lathectl/io/output.hpp"
+#include "lathectl/sim/config_error.hpp"
+
+namespace lathectl::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+constexpr std::size_t kBlock = std::size_t{1} << 20;  // bytes written at a time
+thread_local OutputStage* g_stage = nullptr;
+
+void header(std::string& s, const std::vector<sim::Channel>& ch) {
+  for (std::size_t i = 0; i < ch.size(); ++i) s += (i ? "," : "") + ch[i].name;
+  s += '\n';
+}
+}  // namespace
+
+ChannelStream::ChannelStream(const std::vector<sim::Channel>& channels) {
+  header(buf_, channels);
+}
+
+ChannelStream::ChannelStream(const std::vector<sim::Channel>& channels, const fs::path& file)
+    : path_(file) {
+  fd_ = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0)
+    throw fs::filesystem_error("cannot write", file, std::error_code(errno, std::generic_category()));
+  buf_.reserve(kBlock + 4096);
+  header(buf_, channels);
+}
+
+ChannelStream::~ChannelStream() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void ChannelStream::row(std::span<const double> values) noexcept {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (i) buf_ += ',';
+    append_general(buf_, values[i], 9);
+  }
+  buf_ += '\n';
+  if (fd_ >= 0 && buf_.size() >= kBlock) flush();
+}
+
+void ChannelStream::flush() noexcept {
+  std::size_t done = 0;
+  while (done < buf_.size() && failed_errno_ == 0) {
+    const ssize_t n = ::write(fd_, buf_.data() + done, buf_.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      failed_errno_ = n < 0 ? errno : EIO;
+      break;
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  buf_.clear();  // capacity kept: no allocation in the steady state
+}
+
+void ChannelStream::finish() {
+  if (fd_ < 0 && failed_errno_ == 0) return;  // in memory
+  if (fd_ >= 0) {
+    flush();
+    if (::close(fd_) != 0 && failed_errno_ == 0) failed_errno_ = errno;
+    fd_ = -1;
+  }
+  if (failed_errno_ != 0)
+    throw fs::filesystem_error("write failed", path_,
+                               std::error_code(failed_errno_, std::generic_category()));
+}
+
+StreamScope::StreamScope(OutputStage& stage) { g_stage = &stage; }
+StreamScope::~StreamScope() { g_stage = nullptr; }
+OutputStage* StreamScope::current() { return g_stage; }
+
+std::unique_ptr<ChannelStream> open_channel_stream(OutputStage* stage, const std::string& name,
+                                                   const std::vector<sim::Channel>& channels,
+                                                   double max_rows) {
+  if (!stage) return std::make_unique<ChannelStream>(channels);
+  static std::mutex mutex;  // the stage's running sum of promised bytes
+  std::lock_guard lock(mutex);
+  const double per_row = static_cast<double>(channels.size() * ChannelStream::kMaxBytesPerValue);
+  const double need = (std::max(max_rows, 0.0) + 1.0) * per_row;
+  struct statvfs vfs{};
+  // Test-only: LATHECTL_TEST_FREE_BYTES=<n> stands for the file system's free space.
+  const char* fake = std::getenv("LATHECTL_TEST_FREE_BYTES");
+  if (fake || ::statvfs(stage->path().c_str(), &vfs) == 0) {
+    const double free_bytes =
+        fake ? std::strtod(fake, nullptr)
+             : static_cast<double>(vfs.f_bavail) * static_cast<double>(vfs.f_frsize);
+    if (stage->reserved_bytes() + need > free_bytes) {
+      char msg[320];
+      std::snprintf(msg, sizeof msg,
+                    "%s of up to %.0f rows would need up to %.3g GB (%.0f B a row), more than the "
+                    "%.3g GB free on the output's file system (%.3g GB already promised to the "
+                    "other recorded files): shorten run.duration_s, raise run.record_interval_s "
+                    "or choose another --out",
+                    name.c_str(), std::ceil(max_rows), need * 1e-9, per_row, free_bytes * 1e-9,
+                    stage->reserved_bytes() * 1e-9);
+      throw sim::ConfigError("run.duration_s", msg);
+    }
+  }
+  stage->reserved_bytes() += need;
+  auto s = std::make_unique<ChannelStream>(channels, stage->path() / name);
+  stage->add_streamed(name);
+  return s;
+}
+
+}  // namespace lathectl::io
