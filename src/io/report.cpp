@@ -76,7 +76,10 @@ th, td { padding: 5px 12px; border-bottom: 1px solid #e5e8eb; text-align: left;
   vertical-align: top; }
 th { background: #f6f8fa; font-weight: 600; border-bottom: 1px solid #d0d7de; }
 tbody tr:nth-child(even) td { background: #fafbfc; }
-th.num, td.num { text-align: right; white-space: nowrap; }
+th.num, td.num { text-align: right; }
+td.num { white-space: nowrap; }
+td { overflow-wrap: anywhere; }  /* long keys and lists wrap: tables fit the card at 1024 px */
+@media (min-width: 1360px) { main { max-width: 1240px; } }
 table.metrics td:first-child { color: #424a53; padding-right: 32px; }
 table.metrics th:last-child { text-align: right; }
 table.metrics td:last-child { font-weight: 600; text-align: right; white-space: nowrap; }
