@@ -64,6 +64,7 @@ nlohmann::json pyramid_json(const Series& s, std::size_t max_values, bool& monot
   }
   return {{"n", p.samples()},
           {"x0", p.x0()},
+          {"x1", p.x_last()},
           {"dx", p.dx()},
           {"uniform", p.uniform()},
           {"levels", std::move(levels)}};

@@ -17,7 +17,7 @@
   }
   var blobs = spec.blobs.map(function (b) {
     return {
-      n: b.n, x0: b.x0, dx: b.dx, uniform: b.uniform,
+      n: b.n, x0: b.x0, x1: b.x1, dx: b.dx, uniform: b.uniform,
       levels: b.levels.map(function (l) {
         return { b: l.b, y: floats(l.y), x: l.x ? floats(l.x) : null };
       })
@@ -38,10 +38,7 @@
     }
     return lo;
   }
-  function span(blob) {
-    var lv = blob.levels[blob.levels.length - 1], m = lv.y.length;
-    return m ? [xAt(blob, lv, 0), Math.max(xAt(blob, lv, m - 1), blob.x0 + (blob.n - 1) * blob.dx)] : null;
-  }
+  function span(blob) { return blob.n ? [blob.x0, blob.x1] : null; }
   // The visible part of one series at about one point per pixel: [xs, ys, level bucket].
   function slice(blob, x0, x1, pixels) {
     var L = blob.levels, pick = L[0];

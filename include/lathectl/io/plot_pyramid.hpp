@@ -43,6 +43,7 @@ class PlotPyramid {
 
   [[nodiscard]] std::size_t samples() const noexcept { return samples_; }
   [[nodiscard]] double x0() const noexcept { return x0_; }
+  [[nodiscard]] double x_last() const noexcept { return last_x_; }  // of the last sample kept
   // Uniform spacing: sample i lies at x0() + i·dx() (to 1e-3 of dx); then levels() hold no x,
   // and a viewer places level 0's value i at i·dx, level k's pair j at (j·b + b/4) and
   // (j·b + 3b/4) samples (b the bucket).
