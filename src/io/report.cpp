@@ -77,8 +77,7 @@ th, td { padding: 5px 12px; border-bottom: 1px solid #e5e8eb; text-align: left;
 th { background: #f6f8fa; font-weight: 600; border-bottom: 1px solid #d0d7de; }
 tbody tr:nth-child(even) td { background: #fafbfc; }
 th.num, td.num { text-align: right; }
-td.num { white-space: nowrap; }
-td { overflow-wrap: anywhere; }  /* long keys and lists wrap: tables fit the card at 1024 px */
+td.num { white-space: nowrap; }  /* headers wrap; a table still too wide scrolls in its card */
 @media (min-width: 1360px) { main { max-width: 1240px; } }
 table.metrics td:first-child { color: #424a53; padding-right: 32px; }
 table.metrics th:last-child { text-align: right; }
