@@ -9,6 +9,9 @@ pkgs=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev          # libFuzzer and sanitizer runtimes
 )
+# The reports' plotting library (uPlot) comes from package-lock.json by `npm ci`, run by the
+# build. Debian's npm (with its nodejs) only when there is no npm already (e.g. a NodeSource node).
+command -v npm >/dev/null 2>&1 || pkgs+=(npm)
 for opt in "$@"; do
   case "$opt" in
     --browser) pkgs+=(chromium) ;;  # headless report rendering test

@@ -5,7 +5,9 @@
 // claim not met, an alarm raised or a part not finished.
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,10 @@ using Commands = std::vector<Command>;
 // "docs/PAGE in the lathectl sources (installed: /usr/share/doc/lathectl/docs/PAGE)".
 std::string doc(const std::string& page);
 
+// A JSON file (`what` names it in the message); InputError "FILE:LINE: not JSON (...)" or
+// "FILE: cannot read WHAT".
+nlohmann::json read_json(const std::filesystem::path& file, const std::string& what);
+
 // One line for a command-line error CLI11 reports: the command it concerns, an unknown command
 // named with the ones there are, a rejected value as "--flag VALUE: expected ... (what it is)".
 std::string command_line_error(const CLI::App& app, const CLI::ParseError& e, int argc,
@@ -37,6 +43,7 @@ void add_lobes(CLI::App& app, Commands& out);
 void add_report(CLI::App& app, Commands& out);
 void add_design(CLI::App& app, Commands& out);
 void add_reference(CLI::App& app, Commands& out);
+void add_compare(CLI::App& app, Commands& out);
 
 // The design calculators (design_<name>.cpp each; design.cpp lists them): the subcommand, and
 // the inputs and outputs as Markdown for `lathectl reference design`.

@@ -32,14 +32,6 @@ std::string fixed(double v, int digits) {
   return s.str();
 }
 
-std::string read_all(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  if (!f) throw io::InputError(p.string() + ": cannot read the operation log");
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
 // A field of a row: present and of the kind asked, else one line naming the file, row and key.
 double number(const json& row, const char* key, const std::string& where) {
   const auto it = row.find(key);
@@ -52,19 +44,6 @@ std::string text(const json& row, const char* key, const std::string& where) {
   if (it == row.end() || !it->is_string())
     throw io::InputError(where + ": key '" + key + "': expected a string");
   return it->get<std::string>();
-}
-
-json parse_log(const fs::path& file) {
-  const std::string body = read_all(file);
-  try {
-    return json::parse(body);
-  } catch (const json::parse_error& e) {
-    const std::size_t at = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, body.size());
-    int line = 1;
-    for (std::size_t i = 0; i < at; ++i) line += body[i] == '\n' ? 1 : 0;
-    throw io::InputError(io::located(file.string(), line, 0, "not JSON (" +
-                                                                 std::string(e.what()) + ")"));
-  }
 }
 
 // The recording of scripts/linuxcnc-sim, the columns the plots need (absent: no plots).
@@ -111,7 +90,7 @@ int report(const std::string& log_arg, const std::string& out_arg) {
   fs::path log = log_arg;
   if (fs::is_directory(log)) log /= "operations.json";
   if (!fs::exists(log)) throw io::InputError(log.string() + ": no such operation log");
-  const json doc = parse_log(log);
+  const json doc = read_json(log, "the operation log");
   const std::string file = log.string();
   if (!doc.is_object() || !doc.contains("rows") || !doc["rows"].is_array())
     throw io::InputError(file + ": key 'rows': expected an array of operations");

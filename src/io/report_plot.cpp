@@ -583,4 +583,6 @@ void render_plot(std::string& out, const Plot& plot, std::size_t plot_index, std
   out += "</svg>\n</figure>\n";
 }
 
+std::string series_color(const Series& s, std::size_t index) { return color_of(s, index); }
+
 }  // namespace lathectl::io::detail

@@ -100,6 +100,8 @@ std::vector<Segment> segments_of(const Series& s, std::size_t max_points);
 // Contiguous runs of one code in a timeline series: [x_start, x_end) per run.
 std::vector<std::pair<double, double>> runs_of(const Series& s, double code);
 
+// The colour a series is drawn in: its own, else the palette's by its index in the plot.
+std::string series_color(const Series& s, std::size_t index);
 // One <figure> with an inline SVG plot; series longer than max_points decimated by min/max per
 // pixel column. `placed` (optional) receives the box of every text the layout wrote.
 void render_plot(std::string& out, const Plot& plot, std::size_t plot_index, std::size_t max_points,

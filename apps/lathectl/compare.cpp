@@ -1,0 +1,276 @@
+// `lathectl compare RUN_DIR... --out DIR`: two or more runs' output sets side by side — their
+// channels overlaid on one axis (the first column of channels.csv: time, or the part number), the
+// settings that differ, the metrics with their differences to the first run, and the claims whose
+// verdict changed. Writes summary.json and report.html as one output set.
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cli.hpp"
+#include "lathectl/io/channels_reader.hpp"
+#include "lathectl/io/errors.hpp"
+#include "lathectl/io/output.hpp"
+#include "lathectl/io/report.hpp"
+
+namespace lathectl::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct Run {
+  std::string label;  // the directory as given
+  json summary;
+  io::ChannelTable channels;
+};
+
+Run read_run(const std::string& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw io::InputError(dir + ": not a directory");
+  const fs::path summary = fs::path(dir) / "summary.json";
+  const fs::path csv = fs::path(dir) / "channels.csv";
+  for (const fs::path& f : {summary, csv})
+    if (!fs::is_regular_file(f, ec))
+      throw io::InputError(dir + ": not a lathectl run's output (no " +
+                           f.filename().string() + ")");
+  Run r;
+  r.label = dir;
+  r.summary = read_json(summary, "the run's summary");
+  for (const char* key : {"metrics", "claims"}) {
+    const bool ok = r.summary.is_object() && r.summary.contains(key) &&
+                    (std::string(key) == "metrics" ? r.summary[key].is_object()
+                                                   : r.summary[key].is_array());
+    if (!ok)
+      throw io::InputError(summary.string() + ": key '" + key + "': missing or not " +
+                           (std::string(key) == "metrics" ? "an object" : "an array"));
+  }
+  r.channels = io::read_channels_csv(csv);
+  if (r.channels.names.empty() || r.channels.columns[0].empty())
+    throw io::InputError(csv.string() + ": no rows");
+  return r;
+}
+
+// "a.b.c" → scalar for every scalar leaf of an object (arrays of scalars joined as text).
+void flatten(const json& j, const std::string& prefix, std::map<std::string, json>& out) {
+  if (j.is_object()) {
+    for (const auto& [k, v] : j.items()) flatten(v, prefix.empty() ? k : prefix + "." + k, out);
+  } else if (!j.is_array()) {
+    out[prefix] = j;
+  } else if (std::all_of(j.begin(), j.end(), [](const json& e) { return e.is_primitive(); })) {
+    out[prefix] = j.dump();
+  }
+}
+
+std::string text_of(const json& v) {
+  if (v.is_null()) return "—";
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_boolean()) return v.get<bool>() ? "yes" : "no";
+  if (v.is_number()) {
+    char b[48];
+    std::snprintf(b, sizeof b, "%.6g", v.get<double>());
+    return b;
+  }
+  return v.dump();
+}
+
+// "x − first" for numbers (with the relative change when the first is not 0), "" when equal,
+// "changed" for other values that differ.
+std::string difference(const json& first, const json& v) {
+  if (first == v) return "";
+  if (first.is_number() && v.is_number()) {
+    const double a = first.get<double>(), b = v.get<double>();
+    char buf[80];
+    if (a != 0.0 && std::isfinite(a) && std::isfinite(b))
+      std::snprintf(buf, sizeof buf, "%+.6g (%+.1f %%)", b - a, (b - a) / std::abs(a) * 100.0);
+    else
+      std::snprintf(buf, sizeof buf, "%+.6g", b - a);
+    return buf;
+  }
+  return "changed";
+}
+
+// Rows of "key | run 1 | run 2 … | difference to run 1 (each further run)" over the union of
+// the runs' keys; with only_changed, the keys whose value is not the same in every run.
+io::Table side_by_side(const std::string& title, const std::vector<Run>& runs,
+                       const std::string& section, bool only_changed, json& out) {
+  std::vector<std::map<std::string, json>> flat(runs.size());
+  std::map<std::string, int> keys;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    if (runs[i].summary.contains(section)) flatten(runs[i].summary[section], "", flat[i]);
+    for (const auto& kv : flat[i]) keys[kv.first] = 0;
+  }
+  io::Table t{title, {"key"}, {}};
+  for (std::size_t i = 0; i < runs.size(); ++i) t.header.push_back("run " + std::to_string(i + 1));
+  for (std::size_t i = 1; i < runs.size(); ++i)
+    t.header.push_back("run " + std::to_string(i + 1) + " − run 1");
+  out = json::object();
+  for (const auto& kv : keys) {
+    const std::string& key = kv.first;
+    std::vector<json> v(runs.size());
+    bool same = true;
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      const auto it = flat[i].find(key);
+      v[i] = it == flat[i].end() ? json() : it->second;
+      same = same && v[i] == v[0];
+    }
+    if (only_changed && same) continue;
+    std::vector<std::string> row{key};
+    json values = json::array(), diffs = json::array();
+    for (const json& x : v) {
+      row.push_back(text_of(x));
+      values.push_back(x);
+    }
+    for (std::size_t i = 1; i < runs.size(); ++i) {
+      row.push_back(difference(v[0], v[i]));
+      diffs.push_back(v[0].is_number() && v[i].is_number()
+                          ? json(v[i].get<double>() - v[0].get<double>())
+                          : json(v[0] != v[i]));
+    }
+    t.rows.push_back(std::move(row));
+    out[key] = {{"values", values}, {"differences", diffs}};
+  }
+  return t;
+}
+
+// Claims matched by their text before its first " (" — what follows there quotes the run's own
+// numbers ("… (≤ 0.2; 1.46 % against 12.2 %)"); a repeated text by its occurrence. Met / not met
+// per run, and whether the verdict changed.
+io::Table claims_table(const std::vector<Run>& runs, json& out, std::size_t& changed) {
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<json>> met;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    std::map<std::string, int> seen;
+    for (const json& c : runs[i].summary["claims"]) {
+      if (!c.is_object() || !c.contains("claim") || !c["claim"].is_string()) continue;
+      const std::string full = c["claim"].get<std::string>();
+      std::string text = full.substr(0, full.find(" ("));
+      if (const int k = seen[text]++; k > 0) text += " [" + std::to_string(k + 1) + "]";
+      auto [it, fresh] = met.try_emplace(text, std::vector<json>(runs.size()));
+      if (fresh) order.push_back(text);
+      it->second[i] = c.contains("met") ? c["met"] : json();
+    }
+  }
+  io::Table t{"Claims", {"claim"}, {}};
+  for (std::size_t i = 0; i < runs.size(); ++i) t.header.push_back("run " + std::to_string(i + 1));
+  t.header.push_back("changed");
+  out = json::array();
+  changed = 0;
+  for (const std::string& text : order) {
+    const auto& m = met[text];
+    std::vector<std::string> row{text};
+    bool differs = false;
+    for (const json& x : m) {
+      row.push_back(x.is_boolean() ? (x.get<bool>() ? "✔ met" : "✘ not met") : "—");
+      differs = differs || x != m[0];
+    }
+    std::string what;
+    if (differs) {
+      ++changed;
+      for (std::size_t i = 1; i < m.size(); ++i)
+        if (m[i] != m[0])
+          what += (what.empty() ? "" : "; ") + std::string("run ") + std::to_string(i + 1) + ": " +
+                  (m[0] == json(true) ? "met" : m[0] == json(false) ? "not met" : "absent") +
+                  " → " + (m[i] == json(true) ? "met" : m[i] == json(false) ? "not met" : "absent");
+    }
+    row.push_back(what);
+    t.rows.push_back(std::move(row));
+    out.push_back({{"claim", text}, {"met", m}, {"changed", differs}});
+  }
+  return t;
+}
+
+// One plot per channel: the runs overlaid on the first column (time or part number).
+std::vector<io::Plot> channel_plots(const std::vector<Run>& runs) {
+  std::vector<std::string> order;
+  for (const Run& r : runs)
+    for (std::size_t c = 1; c < r.channels.names.size(); ++c)
+      if (std::find(order.begin(), order.end(), r.channels.names[c]) == order.end())
+        order.push_back(r.channels.names[c]);
+  std::vector<io::Plot> plots;
+  for (const std::string& name : order) {
+    io::Plot p;
+    p.title = name;
+    p.y_label = name;
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      const auto& ch = runs[i].channels;
+      const auto at = std::find(ch.names.begin(), ch.names.end(), name);
+      if (at == ch.names.end()) continue;
+      if (p.x_label.empty()) p.x_label = ch.names[0] == "time_s" ? "time [s]" : ch.names[0];
+      p.series.push_back({"run " + std::to_string(i + 1), ch.columns[0],
+                          ch.columns[static_cast<std::size_t>(at - ch.names.begin())], "",
+                          false, ch.names[0] != "time_s"});
+    }
+    plots.push_back(std::move(p));
+  }
+  return plots;
+}
+
+int compare(const std::vector<std::string>& dirs, const std::string& out) {
+  if (dirs.size() < 2) throw io::InputError("compare: give two or more run directories");
+  std::error_code ec;
+  for (const std::string& d : dirs)
+    if (fs::exists(out, ec) && fs::equivalent(d, out, ec))
+      throw io::InputError("--out " + out + ": is one of the runs compared; choose another");
+  std::vector<Run> runs;
+  for (const std::string& d : dirs) runs.push_back(read_run(d));
+  io::prepare_output_dir(out, "--out");
+
+  json summary{{"runs", dirs}};
+  io::Report rep;
+  rep.title = "Comparison of " + std::to_string(runs.size()) + " runs";
+  rep.subtitle = "lathectl compare";
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const json& s = runs[i].summary;
+    rep.description += "Run " + std::to_string(i + 1) + ": " + runs[i].label +
+                       (s.contains("scenario") && s["scenario"].is_string()
+                            ? " (" + s["scenario"].get<std::string>() + ")"
+                            : std::string()) +
+                       "\n\n";
+  }
+  json settings, metrics, claims;
+  std::size_t changed = 0;
+  rep.tables.push_back(claims_table(runs, claims, changed));
+  rep.tables.push_back(side_by_side("Settings that differ", runs, "settings", true, settings));
+  rep.tables.push_back(side_by_side("Metrics", runs, "metrics", false, metrics));
+  rep.plots = channel_plots(runs);
+  rep.verdict = std::to_string(changed) + " claim(s) changed verdict, " +
+                std::to_string(settings.size()) + " setting(s) differ";
+  rep.verdict_ok = changed == 0;
+  summary["settings_changed"] = settings;
+  summary["metrics"] = metrics;
+  summary["claims"] = claims;
+  summary["claims_changed"] = changed;
+  io::write_output_set(out, {{"summary.json", summary.dump(2) + "\n"},
+                             {"report.html", io::render_html(rep)}});
+  std::cout << "compare: " << runs.size() << " runs, " << settings.size()
+            << " setting(s) differ, " << changed << " claim(s) changed verdict → "
+            << (fs::path(out) / "report.html").string() << "\n";
+  return 0;
+}
+
+}  // namespace
+
+void add_compare(CLI::App& app, Commands& out) {
+  struct Args {
+    std::vector<std::string> dirs;
+    std::string out = "compare-out";
+  };
+  auto a = std::make_shared<Args>();
+  auto* sub = app.add_subcommand(
+      "compare",
+      "Compare two or more runs' output directories: channels overlaid, settings and metrics "
+      "side by side with differences, claims whose verdict changed");
+  sub->add_option("runs", a->dirs, "output directories of `lathectl run` (or of the demo)")
+      ->required()
+      ->expected(2, -1);
+  sub->add_option("--out", a->out, "output directory")->capture_default_str();
+  out.push_back({sub, [a] { return compare(a->dirs, a->out); }});
+}
+
+}  // namespace lathectl::cli

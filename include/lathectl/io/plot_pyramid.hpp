@@ -1,0 +1,83 @@
+#pragma once
+// Min/max pyramid of one plotted series, for the reports' interactive plots (issue 18): level 0
+// holds the samples themselves, level k ≥ 1 the minimum and the maximum of each bucket of
+// branching^k samples, in the order they occurred (so a spike or a zig-zag keeps its shape). A
+// viewer picks, for the visible x range, the coarsest level that still gives about one point per
+// pixel; zoomed in far enough, that is level 0 and it shows the recorded samples.
+//
+// Fed one sample at a time (push), with memory bounded by Options::max_values_per_level per
+// level: a level that would grow beyond it is dropped (its coarser levels carry on), so a series
+// can be fed while it streams and still fits a report's size budget. Values are stored as float
+// (what the page decodes), x as an offset from the first sample when the spacing is not uniform.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace lathectl::io {
+
+class PlotPyramid {
+ public:
+  struct Options {
+    std::size_t branching = 4;                 // samples per bucket grow by this per level
+    std::size_t max_values_per_level = 1u << 18;  // a level beyond this is dropped
+    std::size_t coarsest_values = 2048;        // levels above the first this small are not kept
+  };
+  struct Level {
+    std::size_t bucket = 1;  // samples per bucket; 1 for level 0
+    // Level 0: one value per sample. Level k: two values per bucket (its extremes, in the order
+    // they occurred); NaN where a bucket had no finite value.
+    std::vector<float> y;
+    // Empty when the x spacing is uniform; else the x of each value (offset from x0()).
+    std::vector<float> x;
+  };
+
+  PlotPyramid() : PlotPyramid(Options{}) {}
+  explicit PlotPyramid(Options options);
+
+  // The next sample. A sample with a non-finite x is skipped (it cannot be placed); a non-finite
+  // y is kept (level 0 shows it as a gap).
+  void push(double x, double y);
+  // Closes the partial buckets; push() after finish() is an error (std::logic_error).
+  void finish();
+
+  [[nodiscard]] std::size_t samples() const noexcept { return samples_; }
+  [[nodiscard]] double x0() const noexcept { return x0_; }
+  [[nodiscard]] double x_last() const noexcept { return last_x_; }  // of the last sample kept
+  // Uniform spacing: sample i lies at x0() + i·dx() (to 1e-3 of dx); then levels() hold no x,
+  // and a viewer places level 0's value i at i·dx, level k's pair j at (j·b + b/4) and
+  // (j·b + 3b/4) samples (b the bucket).
+  [[nodiscard]] bool uniform() const noexcept { return uniform_; }
+  [[nodiscard]] double dx() const noexcept { return dx_; }
+  // x never decreases (a time axis); a viewer may binary-search it.
+  [[nodiscard]] bool monotonic() const noexcept { return monotonic_; }
+  // After finish(): the kept levels, finest first (level 0 absent when it was dropped).
+  [[nodiscard]] const std::vector<Level>& levels() const;
+
+ private:
+  struct Bucket {  // the bucket being filled at one level
+    std::size_t count = 0;
+    float lo = 0.0f, hi = 0.0f;
+    double x_lo = 0.0, x_hi = 0.0;  // offsets of the extremes
+    std::size_t i_lo = 0, i_hi = 0;  // sample index of the extremes (their order)
+    bool any = false;               // a finite value seen
+  };
+  void feed(std::size_t level, const Bucket& b);  // a closed bucket of level-1 into `level`
+  void close(std::size_t level, bool propagate = true);
+  void store(std::size_t level, float v, double x_offset);
+
+  Options opt_;
+  std::vector<Level> levels_;
+  std::vector<Bucket> open_;      // per level ≥ 1 (index = level)
+  std::vector<bool> dropped_;
+  std::size_t samples_ = 0;
+  double x0_ = 0.0, dx_ = 0.0, last_x_ = 0.0;
+  bool uniform_ = true, monotonic_ = true, finished_ = false;
+};
+
+// Standard base64 (RFC 4648, with padding) of raw bytes; the page decodes it with atob().
+std::string base64(const void* data, std::size_t size);
+// The floats as little-endian IEEE-754 binary32, base64: what the page reads as a Float32Array.
+std::string base64_floats(const std::vector<float>& v);
+
+}  // namespace lathectl::io

@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# `lathectl compare` on two runs of one example that differ in one parameter (issue 18):
+#
+#   tests/io/compare_cli.sh LATHECTL EXAMPLE.toml WORKDIR
+#
+# Runs the example, and again with [controller] feed_mm_per_min raised by half; compares them and
+# checks from the comparison's summary.json that exactly that setting differs (60 → 90), that
+# every metric's difference is its second value minus its first, and that the report carries the
+# interactive plots' data. Then bad input: a missing directory, a directory that is not a run's
+# output, channels.csv with a bad header and with a bad row — each exit 2, one line naming the
+# file (and line and column), and no output directory written.
+set -euo pipefail
+[[ $# -eq 3 ]] || { echo "usage: $0 LATHECTL EXAMPLE.toml WORKDIR" >&2; exit 2; }
+lathectl=$1
+example=$2
+work=$3
+rm -rf -- "$work"
+mkdir -p -- "$work"
+cd -- "$work"
+sed 's/^feed_mm_per_min = 60.0$/feed_mm_per_min = 90.0/' "$example" >changed.toml
+grep -q '^feed_mm_per_min = 90.0$' changed.toml || { echo "FAIL: $example has no feed_mm_per_min = 60.0" >&2; exit 1; }
+"$lathectl" run "$example" --out run1 >/dev/null
+"$lathectl" run changed.toml --out run2 >/dev/null
+"$lathectl" compare run1 run2 --out cmp
+python3 - cmp/summary.json <<'PY'
+import json, math, sys
+s = json.load(open(sys.argv[1]))
+changed = s["settings_changed"]
+assert list(changed) == ["controller.feed_mm_per_min"], changed
+assert changed["controller.feed_mm_per_min"]["values"] == [60.0, 90.0], changed
+assert changed["controller.feed_mm_per_min"]["differences"] == [30.0], changed
+numeric = 0
+for key, m in s["metrics"].items():
+    a, b = m["values"]
+    if isinstance(a, (int, float)) and isinstance(b, (int, float)) and not isinstance(a, bool):
+        assert math.isclose(m["differences"][0], b - a, rel_tol=1e-12, abs_tol=1e-300), key
+        numeric += 1
+assert numeric >= 5, numeric
+assert s["claims"] and all(len(c["met"]) == 2 for c in s["claims"]), s["claims"]
+assert s["claims_changed"] == sum(c["changed"] for c in s["claims"])
+print(f"ok: 1 setting differs (feed 60 → 90 mm/min), {numeric} numeric metrics, "
+      f"{len(s['claims'])} claims, {s['claims_changed']} changed verdict")
+PY
+grep -q 'id="lathectl-plot-data"' cmp/report.html || { echo "FAIL: no interactive plot data" >&2; exit 1; }
+
+# Bad input: exit 2, one line naming what is wrong, nothing written.
+expect_bad() {  # expect_bad WHAT_THE_MESSAGE_NAMES ARGS...
+  local names=$1
+  shift
+  local rc=0
+  "$lathectl" compare "$@" --out bad 2>err.txt >/dev/null || rc=$?
+  if [[ $rc -ne 2 || $(wc -l <err.txt) -ne 1 ]] || ! grep -qF -- "$names" err.txt || [[ -e bad ]]; then
+    echo "FAIL: compare $* → exit $rc, expected 2, one line naming '$names', no bad/:" >&2
+    cat err.txt >&2
+    exit 1
+  fi
+}
+expect_bad "nowhere: not a directory" run1 nowhere
+mkdir -p notarun && echo x >notarun/summary.json
+expect_bad "notarun: not a lathectl run's output (no channels.csv)" run1 notarun
+cp -r run2 badrow
+awk 'NR == 5 { sub(/,[^,]*$/, ",x1") } { print }' run2/channels.csv >badrow/channels.csv
+last=$(head -1 run2/channels.csv | awk -F, '{print $NF}')
+expect_bad "badrow/channels.csv:5: column '$last': expected a number, got 'x1'" run1 badrow
+cp -r run2 badhead
+{ head -1 run2/channels.csv | sed 's/^time_s,/time_s,time_s,/'; tail -n +2 run2/channels.csv; } >badhead/channels.csv
+expect_bad "badhead/channels.csv:1: column 2 'time_s': named twice" run1 badhead
+cp -r run2 badjson
+printf '{\n"metrics": {}\n' >badjson/summary.json
+expect_bad "badjson/summary.json:3: not JSON" run1 badjson
+echo "ok: bad input → exit 2, one line, nothing written"
