@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   cli::add_report(app, commands);
   cli::add_design(app, commands);
   cli::add_reference(app, commands);
+  cli::add_optimize(app, commands);
 
   try {
     app.parse(argc, argv);
