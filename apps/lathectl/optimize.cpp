@@ -13,6 +13,7 @@
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "lathectl/io/study.hpp"
 #include "optimize/optimize.hpp"
 
 namespace fs = std::filesystem;
@@ -47,7 +48,6 @@ int run(Args& a) {
   if (e.rig.stock.blank_diameter_mm.size() < 2)
     throw io::InputError(a.scenario + ": key 'stock.blank': lathectl optimize needs the blank's "
                          "extent along z (at least two points)");
-  io::prepare_output_dir(a.out, "--out");
   a.opt.ini = (fs::path(hal_config_dir()) / "lathectl-lathe.ini").string();
   a.opt.rs274 = a.rs274;
   a.opt.label = a.program;
@@ -57,8 +57,9 @@ int run(Args& a) {
   for (double d : result.before.s.depth) touched = touched || d > 0.0;
   if (!touched)
     throw io::InputError(a.program + ": the tool never touches the blank of " + a.scenario +
-                         " (its face is at machine Z " + std::to_string(a.opt.z_origin_mm) +
+                         " (its face is at machine Z " + io::fmt(a.opt.z_origin_mm) +
                          ", the part toward -Z; --z-origin-mm Z places it)");
+  io::prepare_output_dir(a.out, "--out");  // before --verify's runs, not after them
   std::unique_ptr<optimize::Verified> v;
   if (a.verify) {
     optimize::VerifyOptions vo;

@@ -38,6 +38,25 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
   cutting::Disturbances wear;  // the plant's wear law (its force factor from the time in cut)
   wear.configure(e.rig.disturbances);
   const double rapid = e.rig.rapid_m_per_s * 1000.0;  // mm/s, also the top feed velocity
+  {  // reserve the samples: the moves' times at their start speeds, plus a margin
+    double t = 0.0;
+    for (std::size_t mi = 0; mi < prog.moves.size(); ++mi) {
+      const CanonMove& m = prog.moves[mi];
+      const double rpm = spindle_rpm(m, m.x0);
+      for (const Piece& pc : plan[mi]) {
+        const double v = m.kind == CanonMove::Kind::Traverse ? rapid
+                         : m.per_rev ? pc.feed * rpm / 60.0
+                                     : pc.feed / 60.0;
+        if (v > 0.0) t += move_length(m) * (pc.to - pc.from) / std::min(v, rapid);
+      }
+    }
+    const auto n = static_cast<std::size_t>(std::min(t / s.dt_s * 1.1 + 1000.0, 5e7));
+    for (auto* v : {&s.path_mm, &s.depth, &s.feed_rev, &s.speed, &s.rpm, &s.strength, &s.param,
+                    &s.pz, &s.py, &s.power, &s.torque, &s.life_use, &s.x, &s.dt, &s.wear})
+      v->reserve(n);
+    s.move.reserve(n);
+    s.piece.reserve(n);
+  }
   double path = 0.0;
   for (std::size_t mi = 0; mi < prog.moves.size(); ++mi) {
     const CanonMove& m = prog.moves[mi];

@@ -118,6 +118,13 @@ VerifyRun run_sim(const std::string& name, const std::string& text, bool off, co
   for (std::size_t i = 0; i < in_feed.size(); ++i)
     in_feed[i] = run.motion[i] == 2.0 || run.motion[i] == 3.0 ? run.force[i] : 0.0;
   run.force_rev = sim::per_revolution_mean(in_feed, rpm, dt_s);
+  // The cycle: until the last move ends (motion type ≠ 0), the same measure for every run; the
+  // simulator's own cycle_time_s also counts a session that hangs after its last move.
+  for (std::size_t i = run.motion.size(); i-- > 0;)
+    if (run.motion[i] != 0.0) {
+      run.cycle_time_s = run.t[i] + dt_s;
+      break;
+    }
   for (std::size_t i = 0; i < run.force_rev.size(); ++i)
     if (run.motion[i] == 2.0 || run.motion[i] == 3.0)
       run.force_peak_rev = std::max(run.force_peak_rev, run.force_rev[i]);
