@@ -53,6 +53,9 @@ void BM_Optimize_TenMinuteProgram(benchmark::State& state) {
   state.counters["cycle_optimized_s"] = after;
   std::filesystem::remove(path);
 }
-BENCHMARK(BM_Optimize_TenMinuteProgram)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_Optimize_TenMinuteProgram)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
 
 }  // namespace

@@ -1,6 +1,8 @@
 // `lathectl optimize PROGRAM.ngc SCENARIO.toml --out DIR [--verify]`: offline feed optimisation
 // of a turning NC program on a system-E scenario's blank, read by LinuxCNC's own interpreter and
 // optionally verified in LinuxCNC's simulated lathe (src/optimize/optimize.hpp).
+#include "optimize/optimize.hpp"
+
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -14,7 +16,6 @@
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/io/study.hpp"
-#include "optimize/optimize.hpp"
 
 namespace fs = std::filesystem;
 
@@ -31,10 +32,10 @@ struct Args {
 // The simulated lathe's configuration (its INI and tool table): the sources' hal/config, or the
 // installed share/lathectl/hal/config; $LATHECTL_HAL_CONFIG_DIR over both.
 std::string hal_config_dir() {
-  return io::locate_tree("LATHECTL_HAL_CONFIG_DIR",
-                         {LATHECTL_SOURCE_HAL_CONFIG, LATHECTL_HAL_CONFIG_SUBDIR,
-                          LATHECTL_INSTALLED_HAL_CONFIG},
-                         "lathectl-lathe.ini");
+  return io::locate_tree(
+      "LATHECTL_HAL_CONFIG_DIR",
+      {LATHECTL_SOURCE_HAL_CONFIG, LATHECTL_HAL_CONFIG_SUBDIR, LATHECTL_INSTALLED_HAL_CONFIG},
+      "lathectl-lathe.ini");
 }
 
 int run(Args& a) {
@@ -46,7 +47,8 @@ int run(Args& a) {
                          "tool, blank, force limit and feed bounds)");
   const auto& e = sc.get<systems::e_adaptive::Settings>();
   if (e.rig.stock.blank_diameter_mm.size() < 2)
-    throw io::InputError(a.scenario + ": key 'stock.blank': lathectl optimize needs the blank's "
+    throw io::InputError(a.scenario +
+                         ": key 'stock.blank': lathectl optimize needs the blank's "
                          "extent along z (at least two points)");
   a.opt.ini = (fs::path(hal_config_dir()) / "lathectl-lathe.ini").string();
   a.opt.rs274 = a.rs274;
@@ -65,8 +67,8 @@ int run(Args& a) {
     optimize::VerifyOptions vo;
     std::string sim = a.sim;
     if (sim.empty()) {
-      const fs::path src = fs::path(LATHECTL_SOURCE_HAL_CONFIG) / ".." / ".." / "scripts" /
-                           "linuxcnc-sim";
+      const fs::path src =
+          fs::path(LATHECTL_SOURCE_HAL_CONFIG) / ".." / ".." / "scripts" / "linuxcnc-sim";
       sim = fs::exists(src) && hal_config_dir() == LATHECTL_SOURCE_HAL_CONFIG
                 ? src.lexically_normal().string()
                 : "lathectl-linuxcnc-sim";
@@ -98,7 +100,8 @@ void add_optimize(CLI::App& app, Commands& out) {
       "Optimise the feeds of a turning NC program on a system-E scenario's blank (read by "
       "LinuxCNC's interpreter; --verify runs it in LinuxCNC's simulated lathe)");
   sub->add_option("program", a->program, "NC program (.ngc)")->required();
-  sub->add_option("scenario", a->scenario, "system-E scenario (TOML): material, tool, blank, limits")
+  sub->add_option("scenario", a->scenario,
+                  "system-E scenario (TOML): material, tool, blank, limits")
       ->required();
   sub->add_option("--out", a->out, "output directory")->capture_default_str();
   sub->add_flag("--verify", a->verify,
@@ -127,9 +130,10 @@ void add_optimize(CLI::App& app, Commands& out) {
       ->check(CLI::Range(0.5, 1.0))
       ->capture_default_str();
   sub->add_option("--rs274", a->rs274, "LinuxCNC's standalone interpreter")->capture_default_str();
-  sub->add_option("--sim", a->sim,
-                  "the simulator command for --verify (default scripts/linuxcnc-sim, installed "
-                  "lathectl-linuxcnc-sim); words split at blanks, e.g. \"flock LOCK linuxcnc-sim\"");
+  sub->add_option(
+      "--sim", a->sim,
+      "the simulator command for --verify (default scripts/linuxcnc-sim, installed "
+      "lathectl-linuxcnc-sim); words split at blanks, e.g. \"flock LOCK linuxcnc-sim\"");
   sub->add_option("--timeout", a->timeout_s, "--verify: time limit of each LinuxCNC run [s]")
       ->check(CLI::Range(1.0, 1e5))
       ->capture_default_str();

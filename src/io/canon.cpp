@@ -14,8 +14,10 @@ namespace {
 constexpr std::string_view kMarker = "lathectl-line ";
 
 std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r'))
+    s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
   return s;
 }
 
@@ -47,7 +49,9 @@ bool numbers(std::string_view s, Args& out) {
 
 }  // namespace
 
-std::string canon_line_marker(int line) { return std::string(kMarker) + std::to_string(line); }
+std::string canon_line_marker(int line) {
+  return std::string(kMarker) + std::to_string(line);
+}
 
 CanonProgram parse_canon(std::string_view text, const std::string& label, double start_x_mm,
                          double start_z_mm) {
@@ -95,7 +99,8 @@ CanonProgram parse_canon(std::string_view text, const std::string& label, double
     }
     if (name == "USE_LENGTH_UNITS") {
       if (inner.find("MM") == std::string_view::npos)
-        fail("the program works in inches (G20); lathectl optimize reads millimetre programs (G21)");
+        fail(
+            "the program works in inches (G20); lathectl optimize reads millimetre programs (G21)");
       continue;
     }
     if (name == "SELECT_PLANE") {

@@ -20,6 +20,7 @@
 //      the original path; if it does not (modes the pieces cannot be written in: G91, G7, offsets,
 //      cutter compensation), the splits are dropped and each line gets one F.
 
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -40,7 +41,7 @@ struct Options {
   std::string ini;               // the simulated lathe's INI (tool table beside it)
   double start_x_mm = 60.0;      // where the tool stands before the program (the sim's home)
   double start_z_mm = 60.0;
-  std::string label;             // the program's file, for messages
+  std::string label;  // the program's file, for messages
 };
 
 // The program's lines and what rs274 made of them.
@@ -49,6 +50,11 @@ struct Program {
   std::vector<std::string> lines;  // the text, line 1 at [0]
   io::CanonProgram canon;
 };
+
+// A word for /bin/sh ('…'), and a file's text ("" when unreadable): for running rs274 and the
+// simulator.
+std::string shell_quote(const std::string& s);
+std::string read_text(const std::filesystem::path& p);
 
 // Runs rs274 on `text` (lines marked for io::parse_canon); InputError naming `label` and the
 // line on an interpreter error.
@@ -59,9 +65,9 @@ Program read_program(const std::string& path, const Options& opt);
 // A piece of a move at one feed: the share [from, to] of the move's length.
 struct Piece {
   double from = 0.0, to = 1.0;
-  double feed = 0.0;        // mm/rev (G95) or mm/min (G94), as the move's F
-  std::string limited_by;   // "force", "power", "torque", "feed_max", "roughness", "air", ...
-  int out_line = 0;         // its line in optimized.ngc
+  double feed = 0.0;       // mm/rev (G95) or mm/min (G94), as the move's F
+  std::string limited_by;  // "force", "power", "torque", "feed_max", "roughness", "air", ...
+  int out_line = 0;        // its line in optimized.ngc
 };
 using Plan = std::vector<std::vector<Piece>>;  // per move
 
@@ -69,8 +75,8 @@ using Plan = std::vector<std::vector<Piece>>;  // per move
 struct Samples {
   double dt_s = 0.001;
   std::vector<int> move, piece;
-  std::vector<double> path_mm, depth, feed_rev, speed, rpm, strength, param, pz, py, power,
-      torque, life_use, x, dt, wear;
+  std::vector<double> path_mm, depth, feed_rev, speed, rpm, strength, param, pz, py, power, torque,
+      life_use, x, dt, wear;
 };
 struct MoveStats {  // per move and piece
   double time_s = 0.0, depth_max = 0.0, param_mean = 0.0, param_max = 0.0, power_max = 0.0,
@@ -80,7 +86,7 @@ struct MoveStats {  // per move and piece
 struct Prediction {
   Samples s;
   double cycle_time_s = 0.0;
-  double life_use = 0.0;           // share of the tool's life (Palmgren–Miner)
+  double life_use = 0.0;  // share of the tool's life (Palmgren–Miner)
   double rapid_in_material_s = 0.0;
   double rapid_peak = 0.0;
   int rapid_first_line = 0;
@@ -115,14 +121,14 @@ namespace lathectl::optimize {
 // (scripts/linuxcnc-sim): original and optimised with the adaptive controller off ("M68 E3 Q1"
 // in front), and both with seed 004's online control on (the simulator's default).
 struct VerifyRun {
-  std::string name;          // "original", "optimized", "original_online", "optimized_online"
+  std::string name;  // "original", "optimized", "original_online", "optimized_online"
   bool finished = false;
   double cycle_time_s = 0.0;
   double force_peak_rev = 0.0;  // peak of the per-revolution mean of the true force parameter
                                 // in feed moves
   double rapid_in_material_s = 0.0;
   double rapid_peak = 0.0;
-  std::string summary_json;  // the simulator's summary.json
+  std::string summary_json;          // the simulator's summary.json
   std::vector<double> t, force_rev;  // for the report (feed moves and rapids alike)
   std::vector<int> line;             // the program line of each sample (the run's program)
   std::vector<double> force, motion;

@@ -92,9 +92,9 @@ std::vector<std::pair<std::string, std::string>> output_files(
   std::string csv =
       "line,out_line,move,piece,motion,x_start_mm,z_start_mm,x_end_mm,z_end_mm,length_mm,"
       "feed_mode,feed_programmed,feed_optimized,limited_by,depth_max_mm,time_original_s,"
-      "time_optimized_s,force_mean_original_" + unit + ",force_peak_rev_original_" + unit +
-      ",force_mean_optimized_" + unit + ",force_peak_rev_optimized_" + unit +
-      ",power_max_W,torque_max_N_m,tool_life_use_optimized\n";
+      "time_optimized_s,force_mean_original_" +
+      unit + ",force_peak_rev_original_" + unit + ",force_mean_optimized_" + unit +
+      ",force_peak_rev_optimized_" + unit + ",power_max_W,torque_max_N_m,tool_life_use_optimized\n";
   for (std::size_t mi = 0; mi < prog.moves.size(); ++mi) {
     const CanonMove& m = prog.moves[mi];
     if (m.kind == CanonMove::Kind::Traverse) continue;
@@ -105,15 +105,14 @@ std::vector<std::pair<std::string, std::string>> output_files(
       const auto [xe, ze] = point_at(m, pc.to);
       const auto& a = st0[mi][k];
       const auto& b = st1[mi][k];
-      csv += std::to_string(m.line) + "," + std::to_string(pc.out_line) + "," +
-             std::to_string(mi) + "," + std::to_string(k + 1) + "," + kind_name(m.kind) + "," +
-             num(xs) + "," + num(zs) + "," + num(xe) + "," + num(ze) + "," +
-             num(len * (pc.to - pc.from)) + "," + (m.per_rev ? "G95" : "G94") + "," +
-             num(m.feed) + "," + num(pc.feed) + ",\"" + pc.limited_by + "\"," +
-             num(std::max(a.depth, b.depth), 4) + "," + num(a.time, 5) + "," + num(b.time, 5) +
-             "," + num(a.time > 0 ? a.sum / a.time : 0.0) + "," + num(a.peak) + "," +
-             num(b.time > 0 ? b.sum / b.time : 0.0) + "," + num(b.peak) + "," + num(b.power) +
-             "," + num(b.torque) + "," + num(b.life) + "\n";
+      csv += std::to_string(m.line) + "," + std::to_string(pc.out_line) + "," + std::to_string(mi) +
+             "," + std::to_string(k + 1) + "," + kind_name(m.kind) + "," + num(xs) + "," + num(zs) +
+             "," + num(xe) + "," + num(ze) + "," + num(len * (pc.to - pc.from)) + "," +
+             (m.per_rev ? "G95" : "G94") + "," + num(m.feed) + "," + num(pc.feed) + ",\"" +
+             pc.limited_by + "\"," + num(std::max(a.depth, b.depth), 4) + "," + num(a.time, 5) +
+             "," + num(b.time, 5) + "," + num(a.time > 0 ? a.sum / a.time : 0.0) + "," +
+             num(a.peak) + "," + num(b.time > 0 ? b.sum / b.time : 0.0) + "," + num(b.peak) + "," +
+             num(b.power) + "," + num(b.torque) + "," + num(b.life) + "\n";
     }
   }
   // summary.json
@@ -128,8 +127,9 @@ std::vector<std::pair<std::string, std::string>> output_files(
   json js;
   js["program"] = p.file;
   js["scenario"] = scenario_file;
-  js["force_parameter"] = unit == "W" ? "power" : e.rig.force_parameter ==
-                                                          cutting::ForceParameter::Py ? "Py" : "Pz";
+  js["force_parameter"] = unit == "W"                                            ? "power"
+                          : e.rig.force_parameter == cutting::ForceParameter::Py ? "Py"
+                                                                                 : "Pz";
   js["force_limit_N"] = r.limit;
   js["predicted_cycle_time_original_s"] = r.before.cycle_time_s;
   js["predicted_cycle_time_optimized_s"] = r.after.cycle_time_s;
@@ -172,8 +172,8 @@ std::vector<std::pair<std::string, std::string>> output_files(
                   {"air_feed_mm_per_rev", lim.air},
                   {"limit_fraction", opt.limit_fraction},
                   {"finish_depth_mm", opt.finish_depth_mm},
-                  {"finish_ra_um", opt.finish_ra_um > 0.0 ? json(opt.finish_ra_um)
-                                                          : json("programmed feed's")}};
+                  {"finish_ra_um",
+                   opt.finish_ra_um > 0.0 ? json(opt.finish_ra_um) : json("programmed feed's")}};
   json kept = json::array();
   for (std::size_t li = 0; li < r.actions.size(); ++li)
     if (r.actions[li].kind == LineAction::Kind::Keep)
@@ -212,8 +212,9 @@ std::vector<std::pair<std::string, std::string>> output_files(
                         " s, up to " + num(r.before.rapid_peak, 4) + " " + unit +
                         ": feeds cannot help there; the program's path must change.");
   if (r.splits_dropped)
-    rep.notes.push_back("The pieces of split lines did not follow the original path when "
-                        "interpreted (modes such as G91, G7 or offsets): each line got one F.");
+    rep.notes.push_back(
+        "The pieces of split lines did not follow the original path when "
+        "interpreted (modes such as G91, G7 or offsets): each line got one F.");
   auto decimate = [](const std::vector<double>& x, std::size_t every) {
     std::vector<double> o;
     for (std::size_t i = 0; i < x.size(); i += every) o.push_back(x[i]);
@@ -221,14 +222,21 @@ std::vector<std::pair<std::string, std::string>> output_files(
   };
   const std::size_t e0 = std::max<std::size_t>(1, r.before.s.path_mm.size() / 20000);
   const std::size_t e1 = std::max<std::size_t>(1, r.after.s.path_mm.size() / 20000);
-  io::Plot pf{"Predicted force along the path (per-revolution mean)", "path [mm]",
-              "force parameter [" + unit + "]", {}, {}};
-  pf.series.push_back({"original", decimate(r.before.s.path_mm, e0), decimate(rev0, e0), "", false,
+  io::Plot pf{"Predicted force along the path (per-revolution mean)",
+              "path [mm]",
+              "force parameter [" + unit + "]",
+              {},
+              {}};
+  pf.series.push_back(
+      {"original", decimate(r.before.s.path_mm, e0), decimate(rev0, e0), "", false, false});
+  pf.series.push_back(
+      {"optimised", decimate(r.after.s.path_mm, e1), decimate(rev1, e1), "", false, false});
+  pf.series.push_back({"limit",
+                       {0.0, r.after.s.path_mm.empty() ? 1.0 : r.after.s.path_mm.back()},
+                       {r.limit, r.limit},
+                       "",
+                       true,
                        false});
-  pf.series.push_back({"optimised", decimate(r.after.s.path_mm, e1), decimate(rev1, e1), "", false,
-                       false});
-  pf.series.push_back({"limit", {0.0, r.after.s.path_mm.empty() ? 1.0 : r.after.s.path_mm.back()},
-                       {r.limit, r.limit}, "", true, false});
   io::Plot pfeed{"Feed per revolution along the path", "path [mm]", "feed [mm/rev]", {}, {}};
   pfeed.series.push_back({"original", decimate(r.before.s.path_mm, e0),
                           decimate(r.before.s.feed_rev, e0), "", false, false});
@@ -236,8 +244,11 @@ std::vector<std::pair<std::string, std::string>> output_files(
                           decimate(r.after.s.feed_rev, e1), "", false, false});
   rep.plots = {pf, pfeed};
   if (v) {
-    io::Plot pv{"LinuxCNC: force over time (per-revolution mean, true value)", "time [s]",
-                "force parameter [" + unit + "]", {}, {}};
+    io::Plot pv{"LinuxCNC: force over time (per-revolution mean, true value)",
+                "time [s]",
+                "force parameter [" + unit + "]",
+                {},
+                {}};
     for (const auto& x : v->runs) {
       const std::size_t k = std::max<std::size_t>(1, x.t.size() / 20000);
       pv.series.push_back({x.name, decimate(x.t, k), decimate(x.force_rev, k), "", false, false});

@@ -183,8 +183,8 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
           f_rev = f;
           if (t <= opt.finish_depth_mm) {  // finishing: Ra = f²/(32 r) at most the target
             const double programmed_rev = m.per_rev ? m.feed : m.feed / std::max(rpm_min, 1e-9);
-            const double ra = opt.finish_ra_um > 0.0 ? opt.finish_ra_um
-                                                     : cut.roughness_Ra_um(programmed_rev);
+            const double ra =
+                opt.finish_ra_um > 0.0 ? opt.finish_ra_um : cut.roughness_Ra_um(programmed_rev);
             const double f_ra = std::sqrt(ra * 1e-3 * 32.0 * r_nose);
             if (f_ra < f_rev) {
               f_rev = std::max(f_ra, lim.feed_min);
@@ -216,8 +216,8 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
     for (std::size_t k = 0; k + 1 < pieces.size(); ++k) {
       auto& p0 = pieces[k];
       auto& p1 = pieces[k + 1];
-      const double at = p1.feed < p0.feed ? std::max(p0.from, p0.to - lead)
-                                          : std::min(p1.to, p0.to + lead);
+      const double at =
+          p1.feed < p0.feed ? std::max(p0.from, p0.to - lead) : std::min(p1.to, p0.to + lead);
       p0.to = p1.from = at;
     }
     std::erase_if(pieces, [](const Piece& pc) { return !(pc.to > pc.from); });

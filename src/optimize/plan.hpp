@@ -11,9 +11,9 @@
 namespace lathectl::optimize {
 
 struct FeedLimits {
-  double param = 0.0;       // force parameter (N, or W for a power sensor)
-  double power_W = 0.0;     // cutting power
-  double torque_N_m = 0.0;  // spindle torque
+  double param = 0.0;                                // force parameter (N, or W for a power sensor)
+  double power_W = 0.0;                              // cutting power
+  double torque_N_m = 0.0;                           // spindle torque
   double feed_min = 0.0, feed_max = 0.0, air = 0.0;  // mm/rev
 };
 FeedLimits feed_limits(const systems::e_adaptive::Settings& e, const Options& opt);

@@ -45,8 +45,8 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
       const double rpm = spindle_rpm(m, m.x0);
       for (const Piece& pc : plan[mi]) {
         const double v = m.kind == CanonMove::Kind::Traverse ? rapid
-                         : m.per_rev ? pc.feed * rpm / 60.0
-                                     : pc.feed / 60.0;
+                         : m.per_rev                         ? pc.feed * rpm / 60.0
+                                                             : pc.feed / 60.0;
         if (v > 0.0) t += move_length(m) * (pc.to - pc.from) / std::min(v, rapid);
       }
     }

@@ -18,19 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
 // A private temporary directory, removed on scope exit.
 struct TempDir {
   fs::path path;
@@ -75,6 +62,19 @@ std::string interpreter_error(const std::string& err, const std::string& label) 
 
 }  // namespace
 
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string read_text(const std::filesystem::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
 io::CanonProgram interpret(const std::vector<std::string>& lines, const std::string& label,
                            const Options& opt) {
   TempDir tmp;
@@ -85,19 +85,20 @@ io::CanonProgram interpret(const std::vector<std::string>& lines, const std::str
   }
   const fs::path ini = opt.ini;
   const fs::path tbl = ini.parent_path() / "lathectl-lathe.tbl";
-  std::string cmd = quote(opt.rs274) + " -g";
-  if (!opt.ini.empty()) cmd += " -i " + quote(ini.string()) + " -t " + quote(tbl.string());
-  cmd += " -v " + quote((tmp.path / "program.var").string()) + " " +
-         quote((tmp.path / "program.ngc").string()) + " " +
-         quote((tmp.path / "canon.txt").string()) + " </dev/null 2>" +
-         quote((tmp.path / "err.txt").string()) + " >/dev/null";
+  std::string cmd = shell_quote(opt.rs274) + " -g";
+  if (!opt.ini.empty())
+    cmd += " -i " + shell_quote(ini.string()) + " -t " + shell_quote(tbl.string());
+  cmd += " -v " + shell_quote((tmp.path / "program.var").string()) + " " +
+         shell_quote((tmp.path / "program.ngc").string()) + " " +
+         shell_quote((tmp.path / "canon.txt").string()) + " </dev/null 2>" +
+         shell_quote((tmp.path / "err.txt").string()) + " >/dev/null";
   const int rc = std::system(cmd.c_str());
-  const std::string err = slurp(tmp.path / "err.txt");
+  const std::string err = read_text(tmp.path / "err.txt");
   if (rc != 0 && !fs::exists(tmp.path / "canon.txt"))
     throw io::InputError(label + ": cannot run LinuxCNC's interpreter '" + opt.rs274 +
                          "' (linuxcnc-uspace; --rs274 PATH)");
   if (rc != 0) throw io::InputError(interpreter_error(err, label));
-  return io::parse_canon(slurp(tmp.path / "canon.txt"), label, opt.start_x_mm, opt.start_z_mm);
+  return io::parse_canon(read_text(tmp.path / "canon.txt"), label, opt.start_x_mm, opt.start_z_mm);
 }
 
 Program read_program(const std::string& path, const Options& opt) {

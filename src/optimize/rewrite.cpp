@@ -22,7 +22,9 @@ std::string number(double v, int decimals) {
   std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
   return buf;
 }
-std::string feed_text(const CanonMove& m, double f) { return number(f, m.per_rev ? 4 : 1); }
+std::string feed_text(const CanonMove& m, double f) {
+  return number(f, m.per_rev ? 4 : 1);
+}
 
 // The line's text inside a comment: parentheses would end it early.
 std::string commented(const std::string& l) {
@@ -50,8 +52,10 @@ bool cycle_line(const std::string& l) {
   for (const auto& w : words(l)) {
     if (w.letter == 'G') {
       const std::string v = w.value;
-      if (v.rfind("70", 0) == 0 || v.rfind("71", 0) == 0 || v.rfind("72", 0) == 0) cycle = true;
-      else return false;
+      if (v.rfind("70", 0) == 0 || v.rfind("71", 0) == 0 || v.rfind("72", 0) == 0)
+        cycle = true;
+      else
+        return false;
     } else if (std::string("XZQDIKRPEFN").find(w.letter) == std::string::npos) {
       return false;
     }
@@ -135,8 +139,8 @@ std::string write_program(const Program& p, const std::vector<LineAction>& act, 
             std::any_of(ws.begin(), ws.end(), [](const Word& w) { return w.letter == 'F'; });
         if (changed && first_feed && !has_f)
           out.push_back("F" + feed_text(*first_feed, first_feed->feed) +
-                        " (lathectl: the programmed feed of the kept line " +
-                        std::to_string(line) + ")");
+                        " (lathectl: the programmed feed of the kept line " + std::to_string(line) +
+                        ")");
         set_lines(here());
         out.push_back(text);
         break;
@@ -275,7 +279,8 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
     const auto again = interpret(out_lines, p.file + " (optimised)", opt);
     if (same_path(p.canon, again)) break;
     if (!allow_split)
-      throw std::runtime_error(p.file + ": the optimised program leaves the original path "
+      throw std::runtime_error(p.file +
+                               ": the optimised program leaves the original path "
                                "(lathectl optimize's fault: please report it)");
     r.splits_dropped = true;
   }
@@ -288,7 +293,10 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
       const auto mi = line_moves[li].front();
       std::size_t f = mi;
       for (auto m : line_moves[li])
-        if (moves[m].kind != CanonMove::Kind::Traverse) { f = m; break; }
+        if (moves[m].kind != CanonMove::Kind::Traverse) {
+          f = m;
+          break;
+        }
       if (std::abs(r.optimized[f].front().feed - moves[f].feed) > 1e-3 * moves[f].feed)
         ++r.blocks_changed;
     }

@@ -46,7 +46,8 @@ void scan(const std::string& l, F&& f) {
         for (; k < end; ++k) {
           if (l[k] == '[') ++depth;
           if (l[k] == ']') --depth;
-          if (depth <= 0 && k > j && (std::isalpha(static_cast<unsigned char>(l[k])) || l[k] == '('))
+          if (depth <= 0 && k > j &&
+              (std::isalpha(static_cast<unsigned char>(l[k])) || l[k] == '('))
             break;
         }
       } else {
@@ -78,8 +79,8 @@ std::vector<std::string> marked_lines(const std::vector<std::string>& lines, dou
       out.emplace_back(buf);
     }
     const auto w = words(l);
-    const bool o_word = !w.empty() && (w[0].letter == 'O' || (w[0].letter == 'N' && w.size() > 1 &&
-                                                              w[1].letter == 'O'));
+    const bool o_word = !w.empty() && (w[0].letter == 'O' ||
+                                       (w[0].letter == 'N' && w.size() > 1 && w[1].letter == 'O'));
     if (is_blank(l) || (k < l.size() && l[k] == '%') || o_word) {
       out.push_back(l);
     } else {
@@ -99,7 +100,8 @@ std::vector<std::string> marked_lines(const std::vector<std::string>& lines, dou
 bool keep_marked(const std::string& line) {
   std::string low;
   for (char c : line)
-    if (c != ' ' && c != '\t') low += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (c != ' ' && c != '\t')
+      low += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return low.find("(lathectl:keep)") != std::string::npos;
 }
 

@@ -21,19 +21,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
 // The program as a run gets it: "M68 E3 Q1" (adaptive control off) in front when `off`.
 std::string with_mode(const std::string& text, bool off) {
   if (!off) return text;
@@ -42,8 +29,8 @@ std::string with_mode(const std::string& text, bool off) {
   while (k < text.size() && (text[k] == ' ' || text[k] == '\t')) ++k;
   if (k < text.size() && text[k] == '%') {
     const auto nl = text.find('\n');
-    return nl == std::string::npos ? text + "\n" + line : text.substr(0, nl + 1) + line +
-                                                              text.substr(nl + 1);
+    return nl == std::string::npos ? text + "\n" + line
+                                   : text.substr(0, nl + 1) + line + text.substr(nl + 1);
   }
   return line + text;
 }
@@ -59,25 +46,26 @@ VerifyRun run_sim(const std::string& name, const std::string& text, bool off, co
     f << with_mode(text, off);
   }
   std::string cmd;
-  for (const auto& w : v.sim) cmd += quote(w) + " ";
+  for (const auto& w : v.sim) cmd += shell_quote(w) + " ";
   char num[64];
-  cmd += quote(prog.string()) + " " + quote(v.scenario) + " --out " + quote(out.string()) +
-         " --quiet --timeout " + std::to_string(static_cast<long>(v.timeout_s));
+  cmd += shell_quote(prog.string()) + " " + shell_quote(v.scenario) + " --out " +
+         shell_quote(out.string()) + " --quiet --timeout " +
+         std::to_string(static_cast<long>(v.timeout_s));
   std::snprintf(num, sizeof num, " --z-origin-mm %.6g", opt.z_origin_mm);
   cmd += num;
   if (opt.spindle_rpm > 0.0) {
     std::snprintf(num, sizeof num, " --spindle-rpm %.6g", opt.spindle_rpm);
     cmd += num;
   }
-  cmd += " >" + quote((dir / (name + ".log")).string()) + " 2>&1";
+  cmd += " >" + shell_quote((dir / (name + ".log")).string()) + " 2>&1";
   const int rc = std::system(cmd.c_str());
   if (!fs::exists(out / "summary.json")) {
-    const std::string log = slurp(dir / (name + ".log"));
+    const std::string log = read_text(dir / (name + ".log"));
     throw std::runtime_error("--verify: the LinuxCNC run of the " + name +
-                             " program failed (exit " + std::to_string(rc) + "): " +
-                             log.substr(log.size() > 600 ? log.size() - 600 : 0));
+                             " program failed (exit " + std::to_string(rc) +
+                             "): " + log.substr(log.size() > 600 ? log.size() - 600 : 0));
   }
-  run.summary_json = slurp(out / "summary.json");
+  run.summary_json = read_text(out / "summary.json");
   const auto js = nlohmann::json::parse(run.summary_json);
   run.finished = js.value("finished", false);
   run.cycle_time_s = js.value("cycle_time_s", 0.0);
@@ -94,7 +82,8 @@ VerifyRun run_sim(const std::string& name, const std::string& text, bool off, co
   }
   auto col = [&](const char* c) {
     const auto it = std::find(cols.begin(), cols.end(), c);
-    if (it == cols.end()) throw std::runtime_error("--verify: signals.csv has no column " + std::string(c));
+    if (it == cols.end())
+      throw std::runtime_error("--verify: signals.csv has no column " + std::string(c));
     return static_cast<std::size_t>(it - cols.begin());
   };
   const std::size_t it = col("time_s"), ifo = col("force_true"), ir = col("spindle_rpm"),

@@ -1,6 +1,8 @@
 // lathectl optimize (issue 15): the canonical-command reader, the program text edits, the
 // prediction against the cutting model's closed form, the feed solver against its inverse, and
 // the rewrite of a real program within the limits (that part needs LinuxCNC's rs274).
+#include "optimize/optimize.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,7 +14,6 @@
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/sim/per_revolution.hpp"
-#include "optimize/optimize.hpp"
 #include "optimize/path.hpp"
 #include "optimize/plan.hpp"
 #include "optimize/text.hpp"
@@ -29,7 +30,9 @@ const systems::e_adaptive::Settings& step_allowance() {
   return sc.get<systems::e_adaptive::Settings>();
 }
 
-bool have_rs274() { return std::filesystem::exists("/usr/bin/rs274"); }
+bool have_rs274() {
+  return std::filesystem::exists("/usr/bin/rs274");
+}
 Options options() {
   Options o;
   o.ini = LATHECTL_SOURCE_DIR "/hal/config/lathectl-lathe.ini";
@@ -178,9 +181,9 @@ TEST(Plan, LargestFeedInvertsTheForceLaw) {
   const double t = 2.5, v = 150.0;
   const auto& mat = e.rig.cutting.material;
   const double kmp = std::pow(mat.strength / mat.strength_base, mat.kmp_exponent);
-  const double s = std::pow(l.param / (10.0 * mat.Pz.Cp * std::pow(t, mat.Pz.x) *
-                                       std::pow(v, mat.Pz.n) * kmp),
-                            1.0 / mat.Pz.y);
+  const double s =
+      std::pow(l.param / (10.0 * mat.Pz.Cp * std::pow(t, mat.Pz.x) * std::pow(v, mat.Pz.n) * kmp),
+               1.0 / mat.Pz.y);
   const auto [f, why] = largest_feed(cut, cutting::ForceParameter::Pz, l, t, v, 1.0, 1.0, 18.0);
   EXPECT_NEAR(f, s, 1e-6 * s);
   EXPECT_EQ(why, "force");

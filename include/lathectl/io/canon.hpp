@@ -33,18 +33,18 @@ namespace lathectl::io {
 struct CanonMove {
   enum class Kind { Traverse, Line, Arc };
   Kind kind = Kind::Line;
-  int line = 0;  // program line (the marker), 0 when none was seen
+  int line = 0;                                   // program line (the marker), 0 when none was seen
   double x0 = 0.0, z0 = 0.0, x1 = 0.0, z1 = 0.0;  // start and end: radius, z [mm]
   double xc = 0.0, zc = 0.0;                      // arc centre
   int rotation = 0;                               // arc: < 0 G2, > 0 G3
   bool per_rev = false;                           // G95
-  double feed = 0.0;           // mm/rev (G95) or mm/min (G94); 0 before any F
-  bool css = false;            // G96
-  double css_max_rpm = 0.0;    // G96's D
-  double speed = 0.0;          // rpm (G97) or m/min (G96)
+  double feed = 0.0;                              // mm/rev (G95) or mm/min (G94); 0 before any F
+  bool css = false;                               // G96
+  double css_max_rpm = 0.0;                       // G96's D
+  double speed = 0.0;                             // rpm (G97) or m/min (G96)
   bool spindle_on = false;
-  bool synced = false;         // threading: spindle-synchronised
-  bool compensated = false;    // cutter radius compensation on (G41/G42/G41.1/G42.1)
+  bool synced = false;       // threading: spindle-synchronised
+  bool compensated = false;  // cutter radius compensation on (G41/G42/G41.1/G42.1)
   int tool = 0;
 };
 
