@@ -135,7 +135,7 @@ struct VerifyRun {
 };
 struct Verified {
   std::vector<VerifyRun> runs;
-  double prediction_error_pct = 0.0;  // largest |predicted − measured| mean per line, % of limit
+  double prediction_error_pct = 0.0;  // largest |predicted − measured| mean per line (≥ 0.3 s), % of limit
   int prediction_error_line = 0;      // its line in optimized.ngc
   int lines_compared = 0;
 };
