@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   cli::add_design(app, commands);
   cli::add_reference(app, commands);
   cli::add_compare(app, commands);
+  cli::add_optimize(app, commands);
 
   try {
     app.parse(argc, argv);

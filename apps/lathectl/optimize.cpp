@@ -1,0 +1,145 @@
+// `lathectl optimize PROGRAM.ngc SCENARIO.toml --out DIR [--verify]`: offline feed optimisation
+// of a turning NC program on a system-E scenario's blank, read by LinuxCNC's own interpreter and
+// optionally verified in LinuxCNC's simulated lathe (src/optimize/optimize.hpp).
+#include "optimize/optimize.hpp"
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "cli.hpp"
+#include "lathectl/io/errors.hpp"
+#include "lathectl/io/install_paths.hpp"
+#include "lathectl/io/materials.hpp"
+#include "lathectl/io/output.hpp"
+#include "lathectl/io/scenario.hpp"
+#include "lathectl/io/study.hpp"
+
+namespace fs = std::filesystem;
+
+namespace lathectl::cli {
+namespace {
+
+struct Args {
+  std::string program, scenario, out = "optimize-out", sim, rs274 = "rs274";
+  bool verify = false;
+  double timeout_s = 1800.0;
+  optimize::Options opt;
+};
+
+// The simulated lathe's configuration (its INI and tool table): the sources' hal/config, or the
+// installed share/lathectl/hal/config; $LATHECTL_HAL_CONFIG_DIR over both.
+std::string hal_config_dir() {
+  return io::locate_tree(
+      "LATHECTL_HAL_CONFIG_DIR",
+      {LATHECTL_SOURCE_HAL_CONFIG, LATHECTL_HAL_CONFIG_SUBDIR, LATHECTL_INSTALLED_HAL_CONFIG},
+      "lathectl-lathe.ini");
+}
+
+int run(Args& a) {
+  const auto lib = io::MaterialLibrary::load_default();
+  const auto sc = io::load_scenario(a.scenario, lib);
+  if (sc.system != "E")
+    throw io::InputError(a.scenario + ": a system-" + sc.system +
+                         " scenario; lathectl optimize needs a system-E scenario (material, "
+                         "tool, blank, force limit and feed bounds)");
+  const auto& e = sc.get<systems::e_adaptive::Settings>();
+  if (e.rig.stock.blank_diameter_mm.size() < 2)
+    throw io::InputError(a.scenario +
+                         ": key 'stock.blank': lathectl optimize needs the blank's "
+                         "extent along z (at least two points)");
+  a.opt.ini = (fs::path(hal_config_dir()) / "lathectl-lathe.ini").string();
+  a.opt.rs274 = a.rs274;
+  a.opt.label = a.program;
+  const auto prog = optimize::read_program(a.program, a.opt);
+  const auto result = optimize::optimize(prog, e, a.opt);
+  bool touched = false;
+  for (double d : result.before.s.depth) touched = touched || d > 0.0;
+  if (!touched)
+    throw io::InputError(a.program + ": the tool never touches the blank of " + a.scenario +
+                         " (its face is at machine Z " + io::fmt(a.opt.z_origin_mm) +
+                         ", the part toward -Z; --z-origin-mm Z places it)");
+  io::prepare_output_dir(a.out, "--out");  // before --verify's runs, not after them
+  std::unique_ptr<optimize::Verified> v;
+  if (a.verify) {
+    optimize::VerifyOptions vo;
+    std::string sim = a.sim;
+    if (sim.empty()) {
+      const fs::path src =
+          fs::path(LATHECTL_SOURCE_HAL_CONFIG) / ".." / ".." / "scripts" / "linuxcnc-sim";
+      sim = fs::exists(src) && hal_config_dir() == LATHECTL_SOURCE_HAL_CONFIG
+                ? src.lexically_normal().string()
+                : "lathectl-linuxcnc-sim";
+    }
+    std::istringstream words(sim);
+    for (std::string w; words >> w;) vo.sim.push_back(w);
+    vo.scenario = fs::absolute(a.scenario).string();
+    vo.timeout_s = a.timeout_s;
+    v = std::make_unique<optimize::Verified>(optimize::verify(prog, result, a.opt, vo));
+  }
+  io::write_output_set(a.out, optimize::output_files(prog, result, e, a.opt, a.scenario, v.get()));
+  std::cout << a.program << ": predicted cycle " << result.before.cycle_time_s << " s → "
+            << result.after.cycle_time_s << " s, " << result.blocks_changed << " lines changed";
+  if (v)
+    std::cout << "; LinuxCNC " << v->runs[0].cycle_time_s << " s → " << v->runs[1].cycle_time_s
+              << " s, force peak " << v->runs[0].force_peak_rev << " → "
+              << v->runs[1].force_peak_rev << " (limit " << result.limit << "), prediction error "
+              << v->prediction_error_pct << " % of the limit";
+  std::cout << "\n  → " << (fs::path(a.out) / "optimized.ngc").string() << "\n";
+  return 0;
+}
+
+}  // namespace
+
+void add_optimize(CLI::App& app, Commands& out) {
+  auto a = std::make_shared<Args>();
+  auto* sub = app.add_subcommand(
+      "optimize",
+      "Optimise the feeds of a turning NC program on a system-E scenario's blank (read by "
+      "LinuxCNC's interpreter; --verify runs it in LinuxCNC's simulated lathe)");
+  sub->add_option("program", a->program, "NC program (.ngc)")->required();
+  sub->add_option("scenario", a->scenario,
+                  "system-E scenario (TOML): material, tool, blank, limits")
+      ->required();
+  sub->add_option("--out", a->out, "output directory")->capture_default_str();
+  sub->add_flag("--verify", a->verify,
+                "run the original and the optimised program in LinuxCNC (adaptive control off, "
+                "then on) and report both");
+  sub->add_option("--spindle-rpm", a->opt.spindle_rpm,
+                  "start the spindle at this speed before the program (as linuxcnc-sim)")
+      ->check(CLI::Range(0.0, 1e5));
+  sub->add_option("--z-origin-mm", a->opt.z_origin_mm,
+                  "machine Z of the stock's face (as linuxcnc-sim)")
+      ->capture_default_str();
+  sub->add_option("--air-feed", a->opt.air_feed,
+                  "feed in air [mm/rev] (default: the scenario's controller.feed_max_mm_per_rev)")
+      ->check(CLI::Range(1e-3, 10.0));
+  sub->add_option("--finish-depth-mm", a->opt.finish_depth_mm,
+                  "pieces at most this deep are finishing: their feed keeps the roughness")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  sub->add_option("--finish-ra-um", a->opt.finish_ra_um,
+                  "roughness Ra of finishing pieces (default: the programmed feed's, "
+                  "Ra = f²/(32 r))")
+      ->check(CLI::Range(0.01, 100.0));
+  a->opt.finish_ra_um = 0.0;
+  sub->add_option("--limit-fraction", a->opt.limit_fraction,
+                  "share of each limit the chosen feed predicts")
+      ->check(CLI::Range(0.5, 1.0))
+      ->capture_default_str();
+  sub->add_option("--rs274", a->rs274, "LinuxCNC's standalone interpreter")->capture_default_str();
+  sub->add_option(
+      "--sim", a->sim,
+      "the simulator command for --verify (default scripts/linuxcnc-sim, installed "
+      "lathectl-linuxcnc-sim); words split at blanks, e.g. \"flock LOCK linuxcnc-sim\"");
+  sub->add_option("--timeout", a->timeout_s, "--verify: time limit of each LinuxCNC run [s]")
+      ->check(CLI::Range(1.0, 1e5))
+      ->capture_default_str();
+  sub->footer("Lines marked (lathectl:keep) and threading (G33/G76) keep their feeds. " +
+              doc("optimize.md") + ".");
+  out.push_back({sub, [a] { return run(*a); }});
+}
+
+}  // namespace lathectl::cli

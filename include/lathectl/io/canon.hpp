@@ -1,0 +1,63 @@
+#pragma once
+// LinuxCNC's canonical machining commands as its standalone interpreter prints them
+// (`rs274 -g -t TOOLS -v VARS PROGRAM`, src/emc/sai/saicanon.cc): one command a line,
+//
+//     <seq> N<word>|N..... NAME(args)
+//
+// read into the moves of a turning program (plane XZ, X the radius, millimetres). What LinuxCNC
+// runs is what is read: G7x cycles, subroutines, loops and cutter compensation arrive expanded.
+// The program line of a move comes from a marker comment, "(lathectl-line N)", that the caller
+// puts on each line of the copy it interprets (rs274 prints a line's last comment as
+// COMMENT("…") before the line's motion; the lines of a subroutine a G7x cycle reads print none,
+// so a cycle's moves belong to the cycle's line).
+//
+//   STRAIGHT_TRAVERSE(x, y, z, a, b, c)        G0
+//   STRAIGHT_FEED(x, y, z, a, b, c)            G1 (and the straight pieces of G7x/G33/G76)
+//   ARC_FEED(z1, x1, zc, xc, rot, y, a, b, c)  in CANON_PLANE_XZ: first axis z, second x;
+//                                              rot < 0 clockwise (G2), > 0 counter-clockwise (G3)
+//   SET_FEED_MODE(spindle, 0|1)                G94 | G95
+//   SET_FEED_RATE(f)                           mm/min (G94) or mm/rev (G95)
+//   SET_SPINDLE_MODE(spindle css_max)          0: G97; > 0: G96 with D css_max [rpm]
+//   SET_SPINDLE_SPEED(spindle, s)              rpm (G97) or m/min (G96)
+//   START_SPINDLE_(COUNTER)CLOCKWISE, STOP_SPINDLE_TURNING
+//   START_SPEED_FEED_SYNC / STOP_SPEED_FEED_SYNCH   G33/G76 threading (synchronised moves)
+//   SELECT_TOOL(t), COMMENT("…"), USE_LENGTH_UNITS(CANON_UNITS_MM|_INCHES)
+// Anything else is passed over. Inch units and arcs outside the XZ plane are refused.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace lathectl::io {
+
+struct CanonMove {
+  enum class Kind { Traverse, Line, Arc };
+  Kind kind = Kind::Line;
+  int line = 0;                                   // program line (the marker), 0 when none was seen
+  double x0 = 0.0, z0 = 0.0, x1 = 0.0, z1 = 0.0;  // start and end: radius, z [mm]
+  double xc = 0.0, zc = 0.0;                      // arc centre
+  int rotation = 0;                               // arc: < 0 G2, > 0 G3
+  bool per_rev = false;                           // G95
+  double feed = 0.0;                              // mm/rev (G95) or mm/min (G94); 0 before any F
+  bool css = false;                               // G96
+  double css_max_rpm = 0.0;                       // G96's D
+  double speed = 0.0;                             // rpm (G97) or m/min (G96)
+  bool spindle_on = false;
+  bool synced = false;       // threading: spindle-synchronised
+  bool compensated = false;  // cutter radius compensation on (G41/G42/G41.1/G42.1)
+  int tool = 0;
+};
+
+struct CanonProgram {
+  std::vector<CanonMove> moves;
+};
+
+// The marker comment for program line `line` ("lathectl-line 12").
+std::string canon_line_marker(int line);
+
+// Reads rs274's output. `label` names the program in messages; start: the tool's position
+// before the first move (x, z). Throws InputError, one line, on what it cannot read.
+CanonProgram parse_canon(std::string_view text, const std::string& label, double start_x_mm = 0.0,
+                         double start_z_mm = 0.0);
+
+}  // namespace lathectl::io

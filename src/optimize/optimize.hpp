@@ -1,0 +1,154 @@
+#pragma once
+// `lathectl optimize PROGRAM.ngc SCENARIO.toml --out DIR [--verify]`: offline feed optimisation
+// of a turning NC program on a system-E scenario's blank (issue 15).
+//
+//   1. LinuxCNC's own interpreter (rs274) reads the program (interpret): the moves as LinuxCNC
+//      runs them, each with its program line (io::parse_canon).
+//   2. predict: the moves are run through sim::LathePlant, the cutting process the LinuxCNC
+//      plant component (hal/lathectl_plant) runs, at its servo period: the same stock
+//      bookkeeping, cutting model and disturbances, so depth, chip, Pz/Py/power, torque, time and
+//      tool-life use per move are what the plant will produce.
+//   3. plan: each feed move is cut into pieces where its engagement changes; each piece gets the
+//      largest feed per revolution that keeps the force parameter, the cutting power and the
+//      spindle torque within the scenario's limits and the feed within [feed_min, feed_max];
+//      pieces in air get the air feed, finishing pieces (depth ≤ finish depth) at most the feed
+//      of the roughness Ra = f²/(32 r_ε); threading (spindle-synchronised) and lines marked
+//      "(lathectl:keep)" are left alone.
+//   4. write: optimized.ngc keeps the program's lines, with changed F words; a line whose pieces
+//      need different feeds is split (pieces inserted before it, marked by comments) or, for a
+//      cycle (G7x) line, expanded into its moves. The result is interpreted again and must follow
+//      the original path; if it does not (modes the pieces cannot be written in: G91, G7, offsets,
+//      cutter compensation), the splits are dropped and each line gets one F.
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "lathectl/io/canon.hpp"
+#include "systems/e_adaptive/settings.hpp"
+
+namespace lathectl::optimize {
+
+struct Options {
+  double spindle_rpm = 0.0;      // > 0: "M3 S<rpm>" before the program (as linuxcnc-sim)
+  double z_origin_mm = 0.0;      // machine z of the stock's z = 0 (as linuxcnc-sim)
+  double air_feed = -1.0;        // mm/rev in air; < 0: the controller's feed_max
+  double finish_depth_mm = 0.6;  // a piece at most this deep is finishing
+  double finish_ra_um = 3.2;     // roughness the finishing feed keeps (ISO N8)
+  double limit_fraction = 0.97;  // the feed is chosen for this share of each limit
+  std::string rs274 = "rs274";   // LinuxCNC's standalone interpreter
+  std::string ini;               // the simulated lathe's INI (tool table beside it)
+  double start_x_mm = 60.0;      // where the tool stands before the program (the sim's home)
+  double start_z_mm = 60.0;
+  std::string label;  // the program's file, for messages
+};
+
+// The program's lines and what rs274 made of them.
+struct Program {
+  std::string file;
+  std::vector<std::string> lines;  // the text, line 1 at [0]
+  io::CanonProgram canon;
+};
+
+// A word for /bin/sh ('…'), and a file's text ("" when unreadable): for running rs274 and the
+// simulator.
+std::string shell_quote(const std::string& s);
+std::string read_text(const std::filesystem::path& p);
+
+// Runs rs274 on `text` (lines marked for io::parse_canon); InputError naming `label` and the
+// line on an interpreter error.
+io::CanonProgram interpret(const std::vector<std::string>& lines, const std::string& label,
+                           const Options& opt);
+Program read_program(const std::string& path, const Options& opt);
+
+// A piece of a move at one feed: the share [from, to] of the move's length.
+struct Piece {
+  double from = 0.0, to = 1.0;
+  double feed = 0.0;       // mm/rev (G95) or mm/min (G94), as the move's F
+  std::string limited_by;  // "force", "power", "torque", "feed_max", "roughness", "air", ...
+  int out_line = 0;        // its line in optimized.ngc
+};
+using Plan = std::vector<std::vector<Piece>>;  // per move
+
+// The prediction along the program: one sample per servo period in feed moves and rapids.
+struct Samples {
+  double dt_s = 0.001;
+  std::vector<int> move, piece;
+  std::vector<double> path_mm, depth, feed_rev, speed, rpm, strength, param, pz, py, power, torque,
+      life_use, x, dt, wear;
+};
+struct MoveStats {  // per move and piece
+  double time_s = 0.0, depth_max = 0.0, param_mean = 0.0, param_max = 0.0, power_max = 0.0,
+         torque_max = 0.0, life_use = 0.0, feed_rev_mean = 0.0;
+  int n = 0, n_cut = 0;
+};
+struct Prediction {
+  Samples s;
+  double cycle_time_s = 0.0;
+  double life_use = 0.0;  // share of the tool's life (Palmgren–Miner)
+  double rapid_in_material_s = 0.0;
+  double rapid_peak = 0.0;
+  int rapid_first_line = 0;
+};
+Prediction predict(const io::CanonProgram& prog, const Plan& plan,
+                   const systems::e_adaptive::Settings& e, const Options& opt);
+
+struct LineAction {
+  enum class Kind { None, Keep, Feed, Split, Expand };
+  Kind kind = Kind::None;
+  std::string why;  // for Keep
+};
+struct Result {
+  Plan original, optimized;
+  Prediction before, after;
+  std::vector<LineAction> actions;  // per program line (index line − 1)
+  std::string ngc;
+  bool splits_dropped = false;
+  int blocks_changed = 0;
+  double limit = 0.0;  // the force parameter's limit (N, or W)
+};
+Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const Options& opt);
+
+// The plan with the programmed feeds, one piece per move.
+Plan programmed(const io::CanonProgram& prog);
+
+}  // namespace lathectl::optimize
+
+namespace lathectl::optimize {
+
+// --verify: the programs run in LinuxCNC's simulated lathe with the plant in the loop
+// (scripts/linuxcnc-sim): original and optimised with the adaptive controller off ("M68 E3 Q1"
+// in front), and both with seed 004's online control on (the simulator's default).
+struct VerifyRun {
+  std::string name;  // "original", "optimized", "original_online", "optimized_online"
+  bool finished = false;
+  double cycle_time_s = 0.0;
+  double force_peak_rev = 0.0;  // peak of the per-revolution mean of the true force parameter
+                                // in feed moves
+  double rapid_in_material_s = 0.0;
+  double rapid_peak = 0.0;
+  std::string summary_json;          // the simulator's summary.json
+  std::vector<double> t, force_rev;  // for the report (feed moves and rapids alike)
+  std::vector<int> line;             // the program line of each sample (the run's program)
+  std::vector<double> force, motion;
+};
+struct Verified {
+  std::vector<VerifyRun> runs;
+  double prediction_error_pct = 0.0;  // largest |predicted − measured| mean per line (≥ 0.3 s), % of limit
+  int prediction_error_line = 0;      // its line in optimized.ngc
+  int lines_compared = 0;
+};
+struct VerifyOptions {
+  std::vector<std::string> sim;  // the simulator's command (may start with a wrapper: flock …)
+  std::string scenario;          // the scenario file
+  double timeout_s = 1200.0;
+};
+Verified verify(const Program& p, const Result& r, const Options& opt, const VerifyOptions& v);
+
+// The output set: optimized.ngc, blocks.csv, summary.json, report.html (+ the runs' summaries).
+std::vector<std::pair<std::string, std::string>> output_files(
+    const Program& p, const Result& r, const systems::e_adaptive::Settings& e, const Options& opt,
+    const std::string& scenario_file, const Verified* v);
+
+}  // namespace lathectl::optimize

@@ -1,0 +1,286 @@
+// The output set of `lathectl optimize`: optimized.ngc, blocks.csv (one row per piece of each
+// feed move), summary.json and report.html (io::render_html).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "lathectl/io/output.hpp"
+#include "lathectl/io/report.hpp"
+#include "lathectl/sim/per_revolution.hpp"
+#include "optimize/path.hpp"
+#include "optimize/plan.hpp"
+
+namespace lathectl::optimize {
+namespace {
+
+using io::CanonMove;
+using nlohmann::json;
+
+std::string num(double v, int digits = 6) {
+  std::string s;
+  io::append_general(s, v, digits);
+  return s;
+}
+
+// Per-revolution mean of the force parameter in feed moves (a rapid through material is
+// reported on its own: no feed acts on it) and its peak.
+std::vector<double> rev_param(const io::CanonProgram& prog, const Samples& s) {
+  std::vector<double> f(s.param.size());
+  for (std::size_t i = 0; i < f.size(); ++i)
+    f[i] = prog.moves[static_cast<std::size_t>(s.move[i])].kind == CanonMove::Kind::Traverse
+               ? 0.0
+               : s.param[i];
+  return sim::per_revolution_mean(f, s.rpm, s.dt_s);
+}
+double feed_peak(const io::CanonProgram& prog, const Samples& s, const std::vector<double>& rev) {
+  double peak = 0.0;
+  for (std::size_t i = 0; i < rev.size(); ++i)
+    if (prog.moves[static_cast<std::size_t>(s.move[i])].kind != CanonMove::Kind::Traverse)
+      peak = std::max(peak, rev[i]);
+  return peak;
+}
+
+struct PieceStats {
+  double time = 0.0, sum = 0.0, peak = 0.0, depth = 0.0, power = 0.0, torque = 0.0, life = 0.0;
+};
+// Stats of each piece of `plan` from samples of a run whose plan may differ: a sample belongs to
+// the piece its share of the move lies in.
+std::vector<std::vector<PieceStats>> stats(const io::CanonProgram& prog, const Plan& plan,
+                                           const Samples& s, const std::vector<double>& rev) {
+  std::vector<std::vector<PieceStats>> st(plan.size());
+  for (std::size_t i = 0; i < plan.size(); ++i) st[i].resize(plan[i].size());
+  const auto ranges = move_ranges(s, prog.moves.size());
+  for (std::size_t mi = 0; mi < prog.moves.size(); ++mi) {
+    const auto [a, b] = ranges[mi];
+    if (a == b) continue;
+    const double p0 = a > 0 ? s.path_mm[a - 1] : 0.0;
+    const double len = std::max(move_length(prog.moves[mi]), 1e-12);
+    std::size_t k = 0;
+    for (std::size_t i = a; i < b; ++i) {
+      const double u = (s.path_mm[i] - p0) / len;
+      while (k + 1 < plan[mi].size() && u > plan[mi][k].to + 1e-9) ++k;
+      auto& x = st[mi][k];
+      x.time += s.dt[i];
+      x.sum += s.param[i] * s.dt[i];
+      x.peak = std::max(x.peak, rev[i]);
+      x.depth = std::max(x.depth, s.depth[i]);
+      x.power = std::max(x.power, s.power[i]);
+      x.torque = std::max(x.torque, s.torque[i]);
+      x.life += s.life_use[i];
+    }
+  }
+  return st;
+}
+
+const char* kind_name(CanonMove::Kind k) {
+  return k == CanonMove::Kind::Traverse ? "G0" : k == CanonMove::Kind::Line ? "G1" : "arc";
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> output_files(
+    const Program& p, const Result& r, const systems::e_adaptive::Settings& e, const Options& opt,
+    const std::string& scenario_file, const Verified* v) {
+  const auto& prog = p.canon;
+  const auto rev0 = rev_param(prog, r.before.s), rev1 = rev_param(prog, r.after.s);
+  const auto st0 = stats(prog, r.optimized, r.before.s, rev0);
+  const auto st1 = stats(prog, r.optimized, r.after.s, rev1);
+  const std::string unit = e.rig.force_parameter == cutting::ForceParameter::Power ? "W" : "N";
+  // blocks.csv
+  std::string csv =
+      "line,out_line,move,piece,motion,x_start_mm,z_start_mm,x_end_mm,z_end_mm,length_mm,"
+      "feed_mode,feed_programmed,feed_optimized,limited_by,depth_max_mm,time_original_s,"
+      "time_optimized_s,force_mean_original_" +
+      unit + ",force_peak_rev_original_" + unit + ",force_mean_optimized_" + unit +
+      ",force_peak_rev_optimized_" + unit + ",power_max_W,torque_max_N_m,tool_life_use_optimized\n";
+  for (std::size_t mi = 0; mi < prog.moves.size(); ++mi) {
+    const CanonMove& m = prog.moves[mi];
+    if (m.kind == CanonMove::Kind::Traverse) continue;
+    const double len = move_length(m);
+    for (std::size_t k = 0; k < r.optimized[mi].size(); ++k) {
+      const Piece& pc = r.optimized[mi][k];
+      const auto [xs, zs] = point_at(m, pc.from);
+      const auto [xe, ze] = point_at(m, pc.to);
+      const auto& a = st0[mi][k];
+      const auto& b = st1[mi][k];
+      csv += std::to_string(m.line) + "," + std::to_string(pc.out_line) + "," + std::to_string(mi) +
+             "," + std::to_string(k + 1) + "," + kind_name(m.kind) + "," + num(xs) + "," + num(zs) +
+             "," + num(xe) + "," + num(ze) + "," + num(len * (pc.to - pc.from)) + "," +
+             (m.per_rev ? "G95" : "G94") + "," + num(m.feed) + "," + num(pc.feed) + ",\"" +
+             pc.limited_by + "\"," + num(std::max(a.depth, b.depth), 4) + "," + num(a.time, 5) +
+             "," + num(b.time, 5) + "," + num(a.time > 0 ? a.sum / a.time : 0.0) + "," +
+             num(a.peak) + "," + num(b.time > 0 ? b.sum / b.time : 0.0) + "," + num(b.peak) + "," +
+             num(b.power) + "," + num(b.torque) + "," + num(b.life) + "\n";
+    }
+  }
+  // summary.json
+  auto run = [&](const char* name) -> const VerifyRun* {
+    if (!v) return nullptr;
+    for (const auto& x : v->runs)
+      if (x.name == name) return &x;
+    return nullptr;
+  };
+  const VerifyRun *vo = run("original"), *vp = run("optimized"), *vo_on = run("original_online"),
+                  *vp_on = run("optimized_online");
+  json js;
+  js["program"] = p.file;
+  js["scenario"] = scenario_file;
+  js["force_parameter"] = unit == "W"                                            ? "power"
+                          : e.rig.force_parameter == cutting::ForceParameter::Py ? "Py"
+                                                                                 : "Pz";
+  js["force_limit_N"] = r.limit;
+  js["predicted_cycle_time_original_s"] = r.before.cycle_time_s;
+  js["predicted_cycle_time_optimized_s"] = r.after.cycle_time_s;
+  js["predicted_force_peak_rev_original_N"] = feed_peak(prog, r.before.s, rev0);
+  js["predicted_force_peak_rev_optimized_N"] = feed_peak(prog, r.after.s, rev1);
+  js["cycle_time_original_s"] = vo ? vo->cycle_time_s : r.before.cycle_time_s;
+  js["cycle_time_optimized_s"] = vp ? vp->cycle_time_s : r.after.cycle_time_s;
+  js["force_peak_rev_original_N"] = vo ? vo->force_peak_rev : feed_peak(prog, r.before.s, rev0);
+  js["force_peak_rev_optimized_N"] = vp ? vp->force_peak_rev : feed_peak(prog, r.after.s, rev1);
+  js["prediction_error_pct"] = v ? json(v->prediction_error_pct) : json(nullptr);
+  if (v) {
+    js["prediction_error_line"] = v->prediction_error_line;
+    js["prediction_lines_compared"] = v->lines_compared;
+    js["cycle_time_original_online_s"] = vo_on->cycle_time_s;
+    js["cycle_time_optimized_online_s"] = vp_on->cycle_time_s;
+    js["force_peak_rev_original_online_N"] = vo_on->force_peak_rev;
+    js["force_peak_rev_optimized_online_N"] = vp_on->force_peak_rev;
+    for (const auto& x : v->runs) {
+      js["verify"][x.name] = {{"finished", x.finished},
+                              {"cycle_time_s", x.cycle_time_s},
+                              {"force_peak_rev_N", x.force_peak_rev},
+                              {"rapid_in_material_s", x.rapid_in_material_s},
+                              {"force_peak_in_rapid_N", x.rapid_peak}};
+    }
+  }
+  js["verified"] = v != nullptr;
+  js["blocks_changed"] = r.blocks_changed;
+  js["splits_dropped"] = r.splits_dropped;
+  js["tool_life_use_original"] = r.before.life_use;
+  js["tool_life_use_optimized"] = r.after.life_use;
+  js["predicted_rapid_in_material_s"] = r.before.rapid_in_material_s;
+  js["predicted_force_peak_in_rapid_N"] = r.before.rapid_peak;
+  js["predicted_rapid_in_material_first_line"] = r.before.rapid_first_line;
+  const auto lim = feed_limits(e, opt);
+  js["limits"] = {{"force", r.limit},
+                  {"power_W", e.rig.spindle.max_power_W},
+                  {"torque_N_m", e.rig.spindle.max_torque_N_m},
+                  {"feed_min_mm_per_rev", lim.feed_min},
+                  {"feed_max_mm_per_rev", lim.feed_max},
+                  {"air_feed_mm_per_rev", lim.air},
+                  {"limit_fraction", opt.limit_fraction},
+                  {"finish_depth_mm", opt.finish_depth_mm},
+                  {"finish_ra_um",
+                   opt.finish_ra_um > 0.0 ? json(opt.finish_ra_um) : json("programmed feed's")}};
+  json kept = json::array();
+  for (std::size_t li = 0; li < r.actions.size(); ++li)
+    if (r.actions[li].kind == LineAction::Kind::Keep)
+      kept.push_back({{"line", li + 1}, {"why", r.actions[li].why}});
+  js["lines_kept"] = kept;
+  // report.html
+  io::Report rep;
+  rep.title = "Feed optimisation of " + p.file;
+  rep.subtitle = "scenario " + scenario_file + " (system E)";
+  rep.description =
+      "The program as LinuxCNC's interpreter (rs274) runs it, predicted on the scenario's blank "
+      "by the cutting process of the LinuxCNC plant (sim::LathePlant) at the servo period, and "
+      "the same program with the largest feed per piece that keeps force, power and torque "
+      "within the limits. " +
+      std::string(v ? "Verified in LinuxCNC's simulated lathe (scripts/linuxcnc-sim)."
+                    : "Not verified in LinuxCNC (--verify).");
+  auto m = [&](const std::string& k, double x, const std::string& u) {
+    rep.metrics.emplace_back(k, num(x, 4) + " " + u);
+  };
+  m("cycle time, original", js["cycle_time_original_s"].get<double>(), "s");
+  m("cycle time, optimised", js["cycle_time_optimized_s"].get<double>(), "s");
+  m("force limit", r.limit, unit);
+  m("per-revolution force peak, original", js["force_peak_rev_original_N"].get<double>(), unit);
+  m("per-revolution force peak, optimised", js["force_peak_rev_optimized_N"].get<double>(), unit);
+  if (v) {
+    m("prediction error (largest per line)", v->prediction_error_pct, "% of the limit");
+    m("cycle time with online control, original", vo_on->cycle_time_s, "s");
+    m("cycle time with online control, optimised", vp_on->cycle_time_s, "s");
+  }
+  m("lines changed", r.blocks_changed, "");
+  m("tool life used, original", r.before.life_use, "");
+  m("tool life used, optimised", r.after.life_use, "");
+  if (r.before.rapid_in_material_s > 0.0)
+    rep.notes.push_back("A rapid (G0) of line " + std::to_string(r.before.rapid_first_line) +
+                        " passes through material for " + num(r.before.rapid_in_material_s, 3) +
+                        " s, up to " + num(r.before.rapid_peak, 4) + " " + unit +
+                        ": feeds cannot help there; the program's path must change.");
+  if (r.splits_dropped)
+    rep.notes.push_back(
+        "The pieces of split lines did not follow the original path when "
+        "interpreted (modes such as G91, G7 or offsets): each line got one F.");
+  auto decimate = [](const std::vector<double>& x, std::size_t every) {
+    std::vector<double> o;
+    for (std::size_t i = 0; i < x.size(); i += every) o.push_back(x[i]);
+    return o;
+  };
+  const std::size_t e0 = std::max<std::size_t>(1, r.before.s.path_mm.size() / 20000);
+  const std::size_t e1 = std::max<std::size_t>(1, r.after.s.path_mm.size() / 20000);
+  io::Plot pf{"Predicted force along the path (per-revolution mean)",
+              "path [mm]",
+              "force parameter [" + unit + "]",
+              {},
+              {}};
+  pf.series.push_back(
+      {"original", decimate(r.before.s.path_mm, e0), decimate(rev0, e0), "", false, false});
+  pf.series.push_back(
+      {"optimised", decimate(r.after.s.path_mm, e1), decimate(rev1, e1), "", false, false});
+  pf.series.push_back({"limit",
+                       {0.0, r.after.s.path_mm.empty() ? 1.0 : r.after.s.path_mm.back()},
+                       {r.limit, r.limit},
+                       "",
+                       true,
+                       false});
+  io::Plot pfeed{"Feed per revolution along the path", "path [mm]", "feed [mm/rev]", {}, {}};
+  pfeed.series.push_back({"original", decimate(r.before.s.path_mm, e0),
+                          decimate(r.before.s.feed_rev, e0), "", false, false});
+  pfeed.series.push_back({"optimised", decimate(r.after.s.path_mm, e1),
+                          decimate(r.after.s.feed_rev, e1), "", false, false});
+  rep.plots = {pf, pfeed};
+  if (v) {
+    io::Plot pv{"LinuxCNC: force over time (per-revolution mean, true value)",
+                "time [s]",
+                "force parameter [" + unit + "]",
+                {},
+                {}};
+    for (const auto& x : v->runs) {
+      const std::size_t k = std::max<std::size_t>(1, x.t.size() / 20000);
+      pv.series.push_back({x.name, decimate(x.t, k), decimate(x.force_rev, k), "", false, false});
+    }
+    rep.plots.push_back(pv);
+  }
+  io::Table tb{"Lines changed", {"line", "action", "feed", "limited by"}, {}};
+  for (std::size_t li = 0; li < r.actions.size() && tb.rows.size() < 200; ++li) {
+    const auto k = r.actions[li].kind;
+    if (k == LineAction::Kind::None) continue;
+    std::string feeds, why;
+    for (std::size_t mi = 0; mi < prog.moves.size(); ++mi) {
+      if (prog.moves[mi].line != static_cast<int>(li + 1) ||
+          prog.moves[mi].kind == CanonMove::Kind::Traverse)
+        continue;
+      for (const auto& pc : r.optimized[mi]) {
+        if (feeds.size() < 80) feeds += (feeds.empty() ? "" : " ") + num(pc.feed, 4);
+        if (why.find(pc.limited_by) == std::string::npos && why.size() < 80)
+          why += (why.empty() ? "" : ", ") + pc.limited_by;
+      }
+    }
+    const char* names[] = {"", "kept", "F changed", "split", "cycle expanded"};
+    tb.rows.push_back({std::to_string(li + 1), names[static_cast<int>(k)],
+                       feeds.size() >= 80 ? feeds + " …" : feeds,
+                       k == LineAction::Kind::Keep ? r.actions[li].why : why});
+  }
+  rep.tables.push_back(tb);
+  rep.doc_page = "optimize.md";
+  return {{"optimized.ngc", r.ngc},
+          {"blocks.csv", csv},
+          {"summary.json", js.dump(2) + "\n"},
+          {"report.html", io::render_html(rep)}};
+}
+
+}  // namespace lathectl::optimize

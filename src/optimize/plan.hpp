@@ -1,0 +1,34 @@
+#pragma once
+// The feed of each piece of each move (plan.cpp) and the program written from it (rewrite.cpp).
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "lathectl/cutting/cutting_model.hpp"
+#include "lathectl/cutting/force_parameter.hpp"
+#include "optimize/optimize.hpp"
+
+namespace lathectl::optimize {
+
+struct FeedLimits {
+  double param = 0.0;                                // force parameter (N, or W for a power sensor)
+  double power_W = 0.0;                              // cutting power
+  double torque_N_m = 0.0;                           // spindle torque
+  double feed_min = 0.0, feed_max = 0.0, air = 0.0;  // mm/rev
+};
+FeedLimits feed_limits(const systems::e_adaptive::Settings& e, const Options& opt);
+
+std::pair<double, std::string> largest_feed(const cutting::CuttingModel& cut,
+                                            cutting::ForceParameter which, const FeedLimits& l,
+                                            double t, double v, double h, double w, double x);
+
+// [first, last) sample of each move.
+std::vector<std::pair<std::size_t, std::size_t>> move_ranges(const Samples& s, std::size_t moves);
+
+// Pieces and feeds for every move from the prediction at the programmed feeds; kept moves
+// (kept_move[i]) and threading keep the programmed feed.
+Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
+                  const systems::e_adaptive::Settings& e, const Options& opt,
+                  const std::vector<bool>& kept_move);
+
+}  // namespace lathectl::optimize

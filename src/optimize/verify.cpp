@@ -1,0 +1,180 @@
+// --verify: the original and the optimised program in LinuxCNC's simulated lathe with the plant
+// in the loop (scripts/linuxcnc-sim), adaptive control off and on.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+
+#include "lathectl/io/errors.hpp"
+#include "lathectl/sim/per_revolution.hpp"
+#include "optimize/optimize.hpp"
+
+namespace lathectl::optimize {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The program as a run gets it: "M68 E3 Q1" (adaptive control off) in front when `off`.
+std::string with_mode(const std::string& text, bool off) {
+  if (!off) return text;
+  const std::string line = "M68 E3 Q1 (lathectl optimize --verify: adaptive control off)\n";
+  std::size_t k = 0;
+  while (k < text.size() && (text[k] == ' ' || text[k] == '\t')) ++k;
+  if (k < text.size() && text[k] == '%') {
+    const auto nl = text.find('\n');
+    return nl == std::string::npos ? text + "\n" + line
+                                   : text.substr(0, nl + 1) + line + text.substr(nl + 1);
+  }
+  return line + text;
+}
+
+VerifyRun run_sim(const std::string& name, const std::string& text, bool off, const Options& opt,
+                  const VerifyOptions& v, const fs::path& dir, double dt_s) {
+  VerifyRun run;
+  run.name = name;
+  const fs::path prog = dir / (name + ".ngc");
+  const fs::path out = dir / name;
+  {
+    std::ofstream f(prog);
+    f << with_mode(text, off);
+  }
+  std::string cmd;
+  for (const auto& w : v.sim) cmd += shell_quote(w) + " ";
+  char num[64];
+  cmd += shell_quote(prog.string()) + " " + shell_quote(v.scenario) + " --out " +
+         shell_quote(out.string()) + " --quiet --timeout " +
+         std::to_string(static_cast<long>(v.timeout_s));
+  std::snprintf(num, sizeof num, " --z-origin-mm %.6g", opt.z_origin_mm);
+  cmd += num;
+  if (opt.spindle_rpm > 0.0) {
+    std::snprintf(num, sizeof num, " --spindle-rpm %.6g", opt.spindle_rpm);
+    cmd += num;
+  }
+  cmd += " >" + shell_quote((dir / (name + ".log")).string()) + " 2>&1";
+  const int rc = std::system(cmd.c_str());
+  if (!fs::exists(out / "summary.json")) {
+    const std::string log = read_text(dir / (name + ".log"));
+    throw std::runtime_error("--verify: the LinuxCNC run of the " + name +
+                             " program failed (exit " + std::to_string(rc) +
+                             "): " + log.substr(log.size() > 600 ? log.size() - 600 : 0));
+  }
+  run.summary_json = read_text(out / "summary.json");
+  const auto js = nlohmann::json::parse(run.summary_json);
+  run.finished = js.value("finished", false);
+  run.cycle_time_s = js.value("cycle_time_s", 0.0);
+  run.rapid_in_material_s = js.value("rapid_in_material_s", 0.0);
+  run.rapid_peak = js.value("force_peak_in_rapid_N", 0.0);
+  // signals.csv: the true force parameter, speed, motion type and line per servo period.
+  std::ifstream f(out / "signals.csv");
+  std::string header;
+  std::getline(f, header);
+  std::vector<std::string> cols;
+  {
+    std::stringstream h(header);
+    for (std::string c; std::getline(h, c, ',');) cols.push_back(c);
+  }
+  auto col = [&](const char* c) {
+    const auto it = std::find(cols.begin(), cols.end(), c);
+    if (it == cols.end())
+      throw std::runtime_error("--verify: signals.csv has no column " + std::string(c));
+    return static_cast<std::size_t>(it - cols.begin());
+  };
+  const std::size_t it = col("time_s"), ifo = col("force_true"), ir = col("spindle_rpm"),
+                    im = col("motion_type"), il = col("program_line");
+  std::vector<double> rpm;
+  std::vector<double> row(cols.size());
+  const int offset = 1 + (opt.spindle_rpm > 0.0 ? 1 : 0) + (off ? 1 : 0);
+  for (std::string l; std::getline(f, l);) {
+    std::stringstream r(l);
+    std::size_t i = 0;
+    for (std::string c; std::getline(r, c, ',') && i < row.size(); ++i)
+      row[i] = std::strtod(c.c_str(), nullptr);
+    if (i != row.size()) continue;
+    run.t.push_back(row[it]);
+    run.force.push_back(std::isfinite(row[ifo]) ? row[ifo] : 0.0);
+    rpm.push_back(std::abs(row[ir]));
+    run.motion.push_back(row[im]);
+    run.line.push_back(static_cast<int>(row[il]) - offset);
+  }
+  std::vector<double> in_feed(run.force.size());  // rapids through material: reported apart
+  for (std::size_t i = 0; i < in_feed.size(); ++i)
+    in_feed[i] = run.motion[i] == 2.0 || run.motion[i] == 3.0 ? run.force[i] : 0.0;
+  run.force_rev = sim::per_revolution_mean(in_feed, rpm, dt_s);
+  // The cycle: until the last move ends (motion type ≠ 0), the same measure for every run; the
+  // simulator's own cycle_time_s also counts a session that hangs after its last move.
+  for (std::size_t i = run.motion.size(); i-- > 0;)
+    if (run.motion[i] != 0.0) {
+      run.cycle_time_s = run.t[i] + dt_s;
+      break;
+    }
+  for (std::size_t i = 0; i < run.force_rev.size(); ++i)
+    if (run.motion[i] == 2.0 || run.motion[i] == 3.0)
+      run.force_peak_rev = std::max(run.force_peak_rev, run.force_rev[i]);
+  return run;
+}
+
+}  // namespace
+
+Verified verify(const Program& p, const Result& r, const Options& opt, const VerifyOptions& v) {
+  char tmpl[] = "/tmp/lathectl-verify.XXXXXX";
+  if (mkdtemp(tmpl) == nullptr) throw std::runtime_error("--verify: no temporary directory");
+  const fs::path dir = tmpl;
+  fs::permissions(dir, fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
+                           fs::perms::others_read | fs::perms::others_exec);
+  std::string original;
+  for (const auto& l : p.lines) original += l + "\n";
+  Verified out;
+  const double dt = r.after.s.dt_s;  // the servo period
+  try {
+    out.runs.push_back(run_sim("original", original, true, opt, v, dir, dt));
+    out.runs.push_back(run_sim("optimized", r.ngc, true, opt, v, dir, dt));
+    out.runs.push_back(run_sim("original_online", original, false, opt, v, dir, dt));
+    out.runs.push_back(run_sim("optimized_online", r.ngc, false, opt, v, dir, dt));
+  } catch (...) {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+    throw;
+  }
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  // Prediction against measurement: the mean force parameter of each line of optimized.ngc in
+  // feed moves, lines with at least 0.3 s of feed in both: in shorter ones LinuxCNC's blending and
+  // motion.program-line (the next line's number from the start of the blend) decide the mean,
+  // which the prediction (no acceleration, no blending) does not model.
+  std::map<int, std::pair<double, double>> pred, meas;  // line → (sum, seconds)
+  const Samples& s = r.after.s;
+  for (std::size_t i = 0; i < s.move.size(); ++i) {
+    const auto mi = static_cast<std::size_t>(s.move[i]);
+    if (p.canon.moves[mi].kind == io::CanonMove::Kind::Traverse) continue;
+    const int line = r.optimized[mi][static_cast<std::size_t>(s.piece[i])].out_line;
+    pred[line].first += s.param[i] * s.dt[i];
+    pred[line].second += s.dt[i];
+  }
+  const VerifyRun& o = out.runs[1];
+  for (std::size_t i = 0; i < o.t.size(); ++i) {
+    if (o.motion[i] != 2.0 && o.motion[i] != 3.0) continue;
+    meas[o.line[i]].first += o.force[i] * dt;
+    meas[o.line[i]].second += dt;
+  }
+  const double limit = r.limit;
+  for (const auto& [line, ps] : pred) {
+    const auto m = meas.find(line);
+    if (ps.second < 0.3 || m == meas.end() || m->second.second < 0.3) continue;
+    const double err = std::abs(ps.first / ps.second - m->second.first / m->second.second);
+    ++out.lines_compared;
+    if (100.0 * err / limit > out.prediction_error_pct) {
+      out.prediction_error_pct = 100.0 * err / limit;
+      out.prediction_error_line = line;
+    }
+  }
+  return out;
+}
+
+}  // namespace lathectl::optimize

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# lathectl optimize's bad inputs (issue 15): a program LinuxCNC's interpreter rejects, a program
+# whose tool never touches the blank, a scenario of another system — each exits 2 with one line
+# on stderr naming the file, and leaves no output directory. Skips (77) without LinuxCNC's rs274.
+set -uo pipefail
+bin=$1 src=$2 work=$3
+command -v rs274 >/dev/null || { echo "rs274 (linuxcnc-uspace) not installed: skipped"; exit 77; }
+rm -rf "$work" && mkdir -p "$work"
+fail=0
+expect_bad() {  # NAME PROGRAM SCENARIO WORD-IN-MESSAGE [ARGS...]
+  local name=$1 prog=$2 sc=$3 word=$4
+  shift 4
+  "$bin" optimize "$prog" "$sc" --out "$work/$name" "$@" >"$work/$name.out" 2>"$work/$name.err"
+  local rc=$?
+  local lines
+  lines=$(wc -l <"$work/$name.err")
+  if [ $rc -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -q -- "$word" "$work/$name.err" ||
+     [ -e "$work/$name" ]; then
+    echo "FAIL $name: exit $rc, $lines line(s) on stderr, output left: $([ -e "$work/$name" ] && echo yes || echo no)"
+    cat "$work/$name.err"
+    fail=1
+  else
+    echo "ok   $name: $(cat "$work/$name.err")"
+  fi
+}
+printf 'G18 G21 G95\nM3 S1000\nG0 X25 Z5\nG2 X3 Z1 I1 J100 F0.2\nM2\n' >"$work/rejected.ngc"
+expect_bad rejected "$work/rejected.ngc" "$src/examples/linuxcnc/step_allowance.toml" \
+  "rejected.ngc:4: LinuxCNC's interpreter"
+printf 'G18 G21 G95\nM3 S1000\nG0 X50 Z5\nG1 Z-50 F0.2\nM2\n' >"$work/air.ngc"
+expect_bad untouched "$work/air.ngc" "$src/examples/linuxcnc/step_allowance.toml" "never touches"
+expect_bad not_e "$src/examples/linuxcnc/cautious_roughing.ngc" \
+  "$src/examples/linuxcnc/b_chatter_single.toml" "system-E scenario"
+exit $fail

@@ -1,0 +1,241 @@
+// lathectl optimize (issue 15): the canonical-command reader, the program text edits, the
+// prediction against the cutting model's closed form, the feed solver against its inverse, and
+// the rewrite of a real program within the limits (that part needs LinuxCNC's rs274).
+#include "optimize/optimize.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "lathectl/io/canon.hpp"
+#include "lathectl/io/errors.hpp"
+#include "lathectl/io/materials.hpp"
+#include "lathectl/io/scenario.hpp"
+#include "lathectl/sim/per_revolution.hpp"
+#include "optimize/path.hpp"
+#include "optimize/plan.hpp"
+#include "optimize/text.hpp"
+
+namespace lathectl::optimize {
+namespace {
+
+using io::CanonMove;
+
+const systems::e_adaptive::Settings& step_allowance() {
+  static const auto lib = io::MaterialLibrary::load_default();
+  static const auto sc =
+      io::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.toml", lib);
+  return sc.get<systems::e_adaptive::Settings>();
+}
+
+bool have_rs274() {
+  return std::filesystem::exists("/usr/bin/rs274");
+}
+Options options() {
+  Options o;
+  o.ini = LATHECTL_SOURCE_DIR "/hal/config/lathectl-lathe.ini";
+  o.rs274 = "/usr/bin/rs274";
+  return o;
+}
+
+// rs274's output for "G18 G21 G95 / G96 D2000 S150 M3 / G0 X25 Z5 / G1 Z-50 F0.3 /
+// G33 Z-60 K1.5 / G2 X12 Z-62 I2 K0" (printed by rs274 -g of linuxcnc-uspace 2.9), markers added.
+constexpr const char* kCanon = R"(executing
+    1 N..... USE_LENGTH_UNITS(CANON_UNITS_MM)
+    7 N..... COMMENT("lathectl-line 1")
+    8 N..... SET_FEED_MODE(0, 1)
+    9 N..... SET_FEED_RATE(0.0000)
+   10 N..... SELECT_PLANE(CANON_PLANE_XZ)
+   11 N..... COMMENT("lathectl-line 3")
+   17 N..... SET_SPINDLE_MODE(0 2000.0000)
+   18 N..... SET_SPINDLE_SPEED(0, 150.0000)
+   19 N..... START_SPINDLE_CLOCKWISE(0)
+   20 N..... COMMENT("lathectl-line 4")
+   21 N..... STRAIGHT_TRAVERSE(25.0000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)
+   22 N..... COMMENT("lathectl-line 5")
+   23 N..... SET_FEED_RATE(0.3000)
+   24 N..... STRAIGHT_FEED(25.0000, 0.0000, -50.0000, 0.0000, 0.0000, 0.0000)
+   25 N..... COMMENT("lathectl-line 6")
+   30 N..... START_SPEED_FEED_SYNC(1.500000,0)
+   31 N..... STRAIGHT_FEED(10.0000, 0.0000, -60.0000, 0.0000, 0.0000, 0.0000)
+   32 N..... STOP_SPEED_FEED_SYNCH()
+   33 N..... COMMENT("lathectl-line 7")
+   34 N..... ARC_FEED(-62.0000, 12.0000, -60.0000, 12.0000, -1, 0.0000, 0.0000, 0.0000, 0.0000)
+)";
+
+TEST(Canon, ReadsMovesModesAndLines) {
+  const auto p = io::parse_canon(kCanon, "t.ngc", 60.0, 60.0);
+  ASSERT_EQ(p.moves.size(), 4u);
+  EXPECT_EQ(p.moves[0].kind, CanonMove::Kind::Traverse);
+  EXPECT_EQ(p.moves[0].line, 4);
+  EXPECT_DOUBLE_EQ(p.moves[0].x0, 60.0);
+  const auto& cut = p.moves[1];
+  EXPECT_EQ(cut.line, 5);
+  EXPECT_TRUE(cut.per_rev);
+  EXPECT_DOUBLE_EQ(cut.feed, 0.3);
+  EXPECT_TRUE(cut.css);
+  EXPECT_DOUBLE_EQ(cut.css_max_rpm, 2000.0);
+  EXPECT_DOUBLE_EQ(cut.speed, 150.0);
+  EXPECT_TRUE(cut.spindle_on);
+  EXPECT_DOUBLE_EQ(cut.z1, -50.0);
+  EXPECT_TRUE(p.moves[2].synced);
+  EXPECT_FALSE(p.moves[3].synced);
+  const auto& arc = p.moves[3];
+  EXPECT_EQ(arc.kind, CanonMove::Kind::Arc);
+  EXPECT_EQ(arc.rotation, -1);
+  EXPECT_DOUBLE_EQ(arc.x1, 12.0);
+  EXPECT_DOUBLE_EQ(arc.z1, -62.0);
+  EXPECT_DOUBLE_EQ(arc.xc, 12.0);
+  EXPECT_DOUBLE_EQ(arc.zc, -60.0);
+  // G96: n = 1000·V/(2π·x) at x = 25 mm, below D = 2000
+  EXPECT_NEAR(spindle_rpm(cut, 25.0), 1000.0 * 150.0 / (2.0 * std::numbers::pi * 25.0), 1e-9);
+  EXPECT_DOUBLE_EQ(spindle_rpm(cut, 0.5), 2000.0);
+}
+
+TEST(Canon, RefusesWhatItCannotRead) {
+  EXPECT_THROW(io::parse_canon("1 N..... USE_LENGTH_UNITS(CANON_UNITS_INCHES)\n", "t"),
+               io::InputError);
+  EXPECT_THROW(io::parse_canon("1 N..... STRAIGHT_FEED(1.0, 0.0, x, 0, 0, 0)\n", "t"),
+               io::InputError);
+  EXPECT_THROW(io::parse_canon("1 N..... SELECT_PLANE(CANON_PLANE_XY)\n"
+                               "2 N..... ARC_FEED(1, 0, 0, 0, 1, 0, 0, 0, 0)\n",
+                               "t"),
+               io::InputError);
+  EXPECT_NO_THROW(io::parse_canon("garbage\n  \n 12 N5 SOMETHING_NEW(1,2)\n", "t"));
+}
+
+TEST(Text, FeedWordsAndMarkers) {
+  EXPECT_EQ(with_feed("G1 Z-50 F0.3", "0.4500").value(), "G1 Z-50 F0.4500");
+  EXPECT_EQ(with_feed("G1 Z-50 f 0.3 (cut)", "0.4500").value(), "G1 Z-50 f 0.4500 (cut)");
+  EXPECT_EQ(with_feed("G1 Z-50 ; cut", "0.4500").value(), "G1 Z-50 F0.4500 ; cut");
+  EXPECT_EQ(with_feed("G1 Z-50 (F0.2 in a comment)", "0.4").value(),
+            "G1 Z-50 (F0.2 in a comment) F0.4");
+  EXPECT_FALSE(with_feed("G1 Z-50 F#1", "0.4").has_value());
+  EXPECT_FALSE(with_feed("G1 Z-50 F[#1*2]", "0.4").has_value());
+  EXPECT_TRUE(keep_marked("G1 Z-5 F0.1 ( Lathectl:Keep )"));
+  EXPECT_FALSE(keep_marked("G1 Z-5 F0.1 (keep)"));
+  const auto m = marked_lines({"%", "G1 X1 ; c", "o100 sub", "", "%"}, 1200.0);
+  ASSERT_EQ(m.size(), 6u);
+  EXPECT_EQ(m[0], "%");
+  EXPECT_EQ(m[1], "M3 S1200");
+  EXPECT_EQ(m[2], "G1 X1  (lathectl-line 2); c");
+  EXPECT_EQ(m[3], "o100 sub");
+  EXPECT_EQ(m[5], "%");
+}
+
+// A straight turning pass, 2 mm deep at 0.3 mm/rev and 1194 rpm on step_allowance.toml's 40 mm
+// bar: the prediction's steady chip and force against the handbook's closed form
+// Pz = 10·Cp·t^x·s^y·V^n·Kmp (Kosilova & Meshcheryakov vol. 2; cutting_model.hpp), V = π·D·n/1000.
+TEST(Predict, StraightPassMatchesTheHandbookForce) {
+  const auto& e = step_allowance();
+  io::CanonProgram prog;
+  CanonMove m;
+  m.spindle_on = true;
+  m.speed = 1194.0;
+  m.per_rev = true;
+  m.feed = 0.3;
+  m.kind = CanonMove::Kind::Traverse;
+  m.x0 = 25.0, m.z0 = 5.0, m.x1 = 18.0, m.z1 = 2.0;
+  prog.moves.push_back(m);
+  m.kind = CanonMove::Kind::Line;
+  m.x0 = 18.0, m.z0 = 2.0, m.x1 = 18.0, m.z1 = -12.0;  // the collar begins at 15 mm
+  prog.moves.push_back(m);
+  const Options opt;
+  const auto pr = predict(prog, programmed(prog), e, opt);
+  const auto& s = pr.s;
+  const double t = 2.0, f = 0.3, v = std::numbers::pi * 40.0 * 1194.0 / 1000.0;
+  const auto& mat = e.rig.cutting.material;
+  const double kmp = std::pow(mat.strength / mat.strength_base, mat.kmp_exponent);
+  const double pz = 10.0 * mat.Pz.Cp * std::pow(t, mat.Pz.x) * std::pow(f, mat.Pz.y) *
+                    std::pow(v, mat.Pz.n) * kmp;
+  std::size_t at = 0;
+  for (std::size_t i = 0; i < s.path_mm.size(); ++i)
+    if (s.move[i] == 1 && s.x[i] == 18.0 && s.path_mm[i] >= s.path_mm.back() - 2.0) {
+      at = i;
+      break;
+    }
+  ASSERT_GT(at, 0u);
+  EXPECT_NEAR(s.depth[at], t, 0.01 * t);
+  EXPECT_NEAR(s.feed_rev[at], f, 0.005 * f);
+  EXPECT_NEAR(s.speed[at], v, 0.01 * v);
+  EXPECT_NEAR(s.pz[at], pz, 0.02 * pz);
+  EXPECT_NEAR(s.torque[at], s.pz[at] * 20.0e-3, 0.01 * s.pz[at] * 20.0e-3);
+  // time of the feed move: its length over F·n
+  double t_feed = 0.0;
+  for (std::size_t i = 0; i < s.move.size(); ++i) t_feed += s.move[i] == 1 ? s.dt[i] : 0.0;
+  EXPECT_NEAR(t_feed, 14.0 / (f * 1194.0 / 60.0), 1e-9);
+}
+
+// With only the force binding, the handbook law inverts: s = (L / (10·Cp·t^x·V^n·Kmp))^(1/y).
+TEST(Plan, LargestFeedInvertsTheForceLaw) {
+  const auto& e = step_allowance();
+  cutting::CuttingModel cut;
+  cut.configure(e.rig.cutting);
+  FeedLimits l;
+  l.param = 1600.0;
+  l.power_W = l.torque_N_m = 1e12;
+  l.feed_min = 0.01;
+  l.feed_max = 5.0;
+  const double t = 2.5, v = 150.0;
+  const auto& mat = e.rig.cutting.material;
+  const double kmp = std::pow(mat.strength / mat.strength_base, mat.kmp_exponent);
+  const double s =
+      std::pow(l.param / (10.0 * mat.Pz.Cp * std::pow(t, mat.Pz.x) * std::pow(v, mat.Pz.n) * kmp),
+               1.0 / mat.Pz.y);
+  const auto [f, why] = largest_feed(cut, cutting::ForceParameter::Pz, l, t, v, 1.0, 1.0, 18.0);
+  EXPECT_NEAR(f, s, 1e-6 * s);
+  EXPECT_EQ(why, "force");
+  l.torque_N_m = 10.0;  // Pz·(x + t) ≤ 10 N·m binds first
+  const auto [f2, why2] = largest_feed(cut, cutting::ForceParameter::Pz, l, t, v, 1.0, 1.0, 18.0);
+  EXPECT_LT(f2, f);
+  EXPECT_EQ(why2, "torque");
+  EXPECT_NEAR(cut.forces({t, f2, v, 1.0, 1.0}).Pz * 20.5e-3, 10.0, 1e-4);
+}
+
+// cautious_roughing.ngc on step_allowance.toml through LinuxCNC's interpreter: the rewrite keeps
+// every piece within the feed bounds and the predicted per-revolution force within the limit,
+// and shortens the cycle; the profile's kept line stays as written.
+TEST(Optimize, RewriteRespectsTheLimits) {
+  if (!have_rs274()) GTEST_SKIP() << "LinuxCNC's rs274 not installed";
+  const auto& e = step_allowance();
+  const auto opt = options();
+  const auto p = read_program(LATHECTL_SOURCE_DIR "/examples/linuxcnc/cautious_roughing.ngc", opt);
+  const auto r = optimize(p, e, opt);
+  const auto& c = e.rig.controller;
+  for (std::size_t mi = 0; mi < p.canon.moves.size(); ++mi) {
+    if (p.canon.moves[mi].kind == CanonMove::Kind::Traverse) continue;
+    for (const auto& pc : r.optimized[mi]) {
+      EXPECT_GE(pc.feed, c.feed_min_mm_per_rev - 1e-12);
+      EXPECT_LE(pc.feed, c.feed_max_mm_per_rev + 1e-12);
+    }
+  }
+  const auto& s = r.after.s;
+  const auto rev = sim::per_revolution_mean(s.param, s.rpm, s.dt_s);
+  for (double x : rev) EXPECT_LE(x, c.force_limit);
+  EXPECT_LT(r.after.cycle_time_s, 0.75 * r.before.cycle_time_s);
+  EXPECT_FALSE(r.splits_dropped);
+  EXPECT_GT(r.blocks_changed, 0);
+
+  const auto q = read_program(LATHECTL_SOURCE_DIR "/examples/linuxcnc/profile_arcs.ngc", opt);
+  const auto rq = optimize(q, e, opt);
+  std::string kept;
+  for (const auto& l : q.lines)
+    if (keep_marked(l)) kept = l;
+  ASSERT_FALSE(kept.empty());
+  EXPECT_NE(rq.ngc.find("\n" + kept + "\n"), std::string::npos);
+}
+
+TEST(Optimize, InterpreterErrorNamesFileAndLine) {
+  if (!have_rs274()) GTEST_SKIP() << "LinuxCNC's rs274 not installed";
+  try {
+    (void)interpret({"G18 G21", "G1 X10 Z5 F100", "G2 X3 Z1 I1 J100", "M2"}, "bad.ngc", options());
+    FAIL() << "no error";
+  } catch (const io::InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("bad.ngc:3:", 0), 0u) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace lathectl::optimize
