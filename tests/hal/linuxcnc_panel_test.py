@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Above the programmed feed, the operator's override, and the operator panel, in one LinuxCNC
 session (scripts/linuxcnc-sim --gui: AXIS with the PyVCP panel on an Xvfb display) running
-examples/linuxcnc/above_program.ngc on two_tool.toml's bar with [DISPLAY]MAX_FEED_OVERRIDE 1.5.
+examples/linuxcnc/above_program.ngc on two_tool.toml's bar with [DISPLAY]MAX_FEED_OVERRIDE 1.5
+(--max-feed-override).
 Asserts:
 
   - an air move and a light cut run faster than programmed: the measured feed (motion's
@@ -35,7 +36,7 @@ import threading
 import time
 
 FAILS = []
-MAX_OVERRIDE = 1.5  # hal/config/lathectl-lathe.ini [DISPLAY]MAX_FEED_OVERRIDE
+MAX_OVERRIDE = 1.5  # linuxcnc-sim --max-feed-override: [DISPLAY]MAX_FEED_OVERRIDE
 # PyVCP pin → the component's pin it shows (hal/config/lathectl-panel.hal), and how closely a
 # reading must agree. The panel refreshes every 100 ms (PyVCP's cycle) and a reading of both by
 # one halcmd is not one instant: values that move with every revolution (load, feed) are
@@ -128,8 +129,8 @@ def main():
     os.chmod(work, 0o755)
     prog = os.path.join(src, "examples/linuxcnc/above_program.ngc")
     text = open(prog).read()
-    L = {"air": line_of(text, "G1 Z-15 F0.2"), "light": line_of(text, "G1 Z-14 F0.2"),
-         "knob": line_of(text, "G1 Z-24 F0.2"), "heavy": line_of(text, "G1 Z-16 F0.3")}
+    L = {"air": line_of(text, "G1 Z-8 F0.2"), "light": line_of(text, "G1 Z-14 F0.2"),
+         "knob": line_of(text, "G1 Z-20 F0.2"), "heavy": line_of(text, "G1 Z-12 F0.3")}
     retract = L["knob"] + 1  # the knob back to 100 % for the heavy cut
     knob = 0.6
     gui = all(shutil.which(t) for t in ("Xvfb", "xwd", "xwdtopnm", "pnmtopng", "axis"))
@@ -152,7 +153,8 @@ def main():
         os.remove(shot)
     cmd = [os.path.join(src, "scripts/linuxcnc-sim"), prog,
            os.path.join(src, "examples/linuxcnc/two_tool.toml"), "--out", out, "--timeout", "90",
-           "--override", "%d=%g,%d=1" % (L["knob"], knob, retract), "--quiet"]
+           "--override", "%d=%g,%d=1" % (L["knob"], knob, retract),
+           "--max-feed-override", str(MAX_OVERRIDE), "--quiet"]
     if gui:
         cmd.append("--gui")
     t0 = time.monotonic()
@@ -179,7 +181,7 @@ def main():
     s = json.load(open(summary_path))
     check(s["finished"] and not s["errors"] and not s["alarms"],
           "the program ran to its end without errors or alarms (%s %s)" % (s["errors"], s["alarms"]))
-    check(s["max_feed_override"] == MAX_OVERRIDE, "max-feed-override %.2f from the INI" %
+    check(s["max_feed_override"] == MAX_OVERRIDE, "max-feed-override %.2f from the INI's" %
           s["max_feed_override"])
     rows = []
     with open(os.path.join(out, "signals.csv")) as f:
@@ -195,11 +197,11 @@ def main():
         return [r for r in rows if int(r["program_line"]) == line + off and
                 z_lo <= r["z_mm"] <= z_hi and r["motion_type"] == 2]
 
-    air = steady(L["air"], 0.0, -13.0)
+    air = steady(L["air"], 0.0, -7.0)
     # (the light cut after the entry's ramp: the regulator rate-limits its rise, ~2 s)
     light = steady(L["light"], -8.5, -13.5)
-    low = steady(L["knob"], -16.0, -23.0)  # (the knob through the panel: 0.1-0.2 s)
-    heavy = steady(L["heavy"], -5.0, -15.0)
+    low = steady(L["knob"], -16.0, -19.5)  # (the knob through the panel: 0.1-0.2 s)
+    heavy = steady(L["heavy"], -5.0, -11.5)
     for name, rs in (("air", air), ("light", light), ("knob", low), ("heavy", heavy)):
         check(len(rs) > 300, "%s: %d servo periods recorded in the steady part" % (name, len(rs)))
     if not (air and light and low and heavy):
@@ -261,7 +263,9 @@ def main():
             lags.append(j - i)
     report["halui_scale_latency_ms"] = {"n": len(lags), "max": max(lags) if lags else None,
                                         "mean": sum(lags) / len(lags) if lags else None}
-    check(bool(lags) and max(lags) < 200, "halui's feed scale in motion's status %s ms after the "
+    # A measurement (the split above is safe whatever the lag); the bound only says the path
+    # works: halui's 20 ms loop, task, motion, and back through the status, on a loaded machine.
+    check(bool(lags) and max(lags) < 1000, "halui's feed scale in motion's status %s ms after the "
           "component commands it (max, %d changes)" % (max(lags) if lags else None, len(lags)))
     if gui:
         live = [v for v in samples if 0 < v["motion.program-line"]]
