@@ -71,6 +71,8 @@ constexpr std::size_t kMaxTools = 64;
 constexpr std::size_t kMaxTaught = 256;
 // The feed scale's resolution: halui.feed-override.scale with direct-value (the sample config).
 constexpr double kOverrideStep = 0.001;
+constexpr double kRescaleAfter = 0.5;  // [s], well beyond halui's measured 0.1-0.2 s
+constexpr double kRescaleFor = 0.05;   // [s], over two of halui's 20 ms loops
 
 struct Pins {
   // inputs
@@ -222,6 +224,12 @@ struct State {
   std::unique_ptr<lathectl::sim::LathePlant> stock;
   lathectl::control::PathBreakage breakage;
   bool breakage_latched = false;
+  // The feed scale motion reports against the one commanded: halui sends a value only when its
+  // counts change, so a value another client set since (AXIS's slider sends its own when it
+  // redraws) would stay. After kRescaleAfter of disagreement the counts step one down for
+  // kRescaleFor (two changes halui sees), and halui sends the commanded value again.
+  double scale_mismatch_s = 0.0;
+  double rescale_s = 0.0;
 };
 
 int comp_id = -1;
@@ -542,7 +550,17 @@ void update(void*, long period_ns) {
         factor, *p.knob, max_ovr, kOverrideStep, *p.feed_override, *p.scale_in_motion,
         enabled && feed_block);
     *p.feed_override = fo.scale;
-    *p.feed_override_counts = static_cast<std::int32_t>(std::lround(fo.scale / kOverrideStep));
+    s.scale_mismatch_s = std::abs(*p.scale_in_motion - fo.scale) > 0.5 * kOverrideStep
+                             ? s.scale_mismatch_s + dt
+                             : 0.0;
+    if (s.scale_mismatch_s > kRescaleAfter) {
+      s.rescale_s = kRescaleFor;
+      s.scale_mismatch_s = 0.0;
+    }
+    // (one count lower while re-sending: below the divisor, so the feed only ever dips by it)
+    *p.feed_override_counts = static_cast<std::int32_t>(std::lround(fo.scale / kOverrideStep)) -
+                              (s.rescale_s > 0.0 ? 1 : 0);
+    s.rescale_s = std::max(s.rescale_s - dt, 0.0);
     *p.feed_factor = hold ? 0.0 : fo.net;
     *p.adaptive_feed = hold ? 0.0 : fo.adaptive;
     *p.feed_hold = hold;
