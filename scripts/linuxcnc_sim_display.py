@@ -97,7 +97,8 @@ def main():
     if GUI:
         ini = sys.argv[sys.argv.index("-ini") + 1]
         # AXIS opens a file of its own at start (its splash program): give it ours.
-        GUI.append(subprocess.Popen(["axis", "-ini", ini, program]))
+        GUI.append(subprocess.Popen(["axis", "-ini", ini, program], env=dict(
+            os.environ, DISPLAY=os.environ.get("LATHECTL_SIM_X_DISPLAY", ""))))
         gui = GUI[1]
         end = time.monotonic() + 60
         while True:  # the panel's last net (lathectl-panel.hal): AXIS has run the postgui file

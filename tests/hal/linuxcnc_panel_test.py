@@ -15,6 +15,8 @@ Asserts:
     0.2 s, and stays at 0.6 × 1.5 = 0.9 of the program's;
   - motion's product feed_scale × adaptive-feed never exceeds the net override the component
     wants (+1 count of the feed scale) nor the maximum override, while halui's scale follows;
+  - one owner of the feed scale: another client's value (1.0, sent through LinuxCNC's command
+    channel as AXIS's slider would) is taken back within 1 s (0.5 s, then halui's path);
   - the panel: while the program runs, the PyVCP widgets' pins (read with halcmd) show the
     component's values (load %, limit, feed factor, reason, alarm, teach state, knob) and a
     screenshot of AXIS with the panel is kept as WORK_DIR/panel.png.
@@ -108,6 +110,10 @@ def watch_panel(stop, samples, shot, display):
                     subprocess.run(["pnmtopng"], stdin=pnm.stdout, stdout=f,
                                    stderr=subprocess.DEVNULL)
                 shot_taken = True
+                # Another client sets the feed scale (as AXIS's slider would): the component is
+                # its one owner and takes it back.
+                import linuxcnc
+                linuxcnc.command().feedrate(1.0)
         time.sleep(0.25)
 
 
@@ -120,8 +126,8 @@ def main():
     os.chmod(work, 0o755)
     prog = os.path.join(src, "examples/linuxcnc/above_program.ngc")
     text = open(prog).read()
-    L = {"light": line_of(text, "G1 Z-14 F0.2"),
-         "knob": line_of(text, "G1 Z-20 F0.2"), "heavy": line_of(text, "G1 Z-12 F0.3")}
+    L = {"light": line_of(text, "G1 Z-17 F0.2"),
+         "knob": line_of(text, "G1 Z-22 F0.2"), "heavy": line_of(text, "G1 Z-12 F0.3")}
     retract = L["knob"] + 1  # the knob back to 100 % for the heavy cut
     knob = 0.6
     gui = all(shutil.which(t) for t in ("Xvfb", "xwd", "xwdtopnm", "pnmtopng", "axis"))
@@ -188,10 +194,28 @@ def main():
         return [r for r in rows if int(r["program_line"]) == line + off and
                 z_lo <= r["z_mm"] <= z_hi and r["motion_type"] == 2]
 
+    # The other client's feed scale (1.0, sent in the light cut after the screenshot).
+    light_rows = [i for i, r in enumerate(rows) if int(r["program_line"]) == L["light"] + off]
+    i_other = next((i for i in light_rows if rows[i]["feed_override"] == MAX_OVERRIDE and
+                    rows[i]["feed_override_in_motion"] == 1.0 and
+                    rows[i - 1]["feed_override_in_motion"] == MAX_OVERRIDE), None)
+    i_back = None if i_other is None else next(
+        (i for i in range(i_other, len(rows)) if rows[i]["feed_override_in_motion"] ==
+         rows[i]["feed_override"]), None)
+    back_s = None if i_back is None else round((i_back - i_other) * 1e-3, 3)
+    report["other_client_scale_taken_back_s"] = back_s
+    if gui:
+        check(back_s is not None and back_s < 1.0,
+              "another client's feed scale (1.0 in the light cut) taken back after %s s (< 1 s: "
+              "0.5 s, then halui)" % back_s)
     air = steady(L["light"], 4.5, 0.5)  # the same move, before the face
     # (the light cut after the entry's ramp: the regulator rate-limits its rise, ~2 s)
-    light = steady(L["light"], -8.5, -13.5)
-    low = steady(L["knob"], -16.0, -19.5)  # (the knob through the panel: 0.1-0.2 s)
+    light = steady(L["light"], -8.5, -16.5)
+    # (without the other client's feed scale and its take-back, checked below)
+    if i_other is not None:  # from 0.2 s before it shows (the status lags) to 0.1 s after
+        t0_, t1_ = rows[i_other]["time_s"] - 0.2, rows[i_back or -1]["time_s"] + 0.1
+        light = [r for r in light if not t0_ <= r["time_s"] <= t1_]
+    low = steady(L["knob"], -19.0, -21.5)  # (the knob through the panel: 0.1-0.2 s)
     heavy = steady(L["heavy"], -5.0, -11.5)
     for name, rs in (("air", air), ("light", light), ("knob", low), ("heavy", heavy)):
         check(len(rs) > 300 if name != "air" else len(rs) > 200, "%s: %d servo periods recorded in the steady part" % (name, len(rs)))
