@@ -113,6 +113,14 @@ def main():
     subprocess.run(["halcmd", "net", "lathectl-sim-record", "lathectl-sim-display.record",
                     "sampler.0.enable", "sampler.1.enable"], check=True)
     wait(lambda s: s.task_state is not None, 20, "task", stat)
+    # Above the program's feed (lathectl-above.hal): halui sends the component's first feed scale
+    # as soon as it is wired: let that command through before ours, one client at a time.
+    end = time.monotonic() + 10
+    while os.environ.get("LATHECTL_SIM_ABOVE") == "1" and abs(hal.get_value("lathectl-adaptive.feed-override-in-motion") -
+              hal.get_value("lathectl-adaptive.feed-override")) > 1e-9:
+        if time.monotonic() > end:
+            fail("halui did not apply the first feed scale")
+        time.sleep(0.02)
     errors = []
 
     def drain():
