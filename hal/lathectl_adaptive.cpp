@@ -69,6 +69,10 @@ constexpr const char* kName = "lathectl_adaptive";
 constexpr const char* kPrefix = "lathectl-adaptive";
 constexpr std::size_t kMaxTools = 64;
 constexpr std::size_t kMaxTaught = 256;
+// The feed scale's resolution: halui.feed-override.scale with direct-value (the sample config).
+constexpr double kOverrideStep = 0.001;
+constexpr double kRescaleAfter = 0.5;  // [s], well beyond halui's measured 0.1-0.2 s
+constexpr double kRescaleFor = 0.05;   // [s], over two of halui's 20 ms loops
 
 struct Pins {
   // inputs
@@ -93,8 +97,14 @@ struct Pins {
   hal_s32_t* program_line;    // motion.program-line
   hal_float_t* z_pos;         // joint 1 (the stock model's path)
   hal_bit_t* homed;           // motion.is-all-homed (positions mean something)
+  hal_float_t* knob;              // the operator's feed override (panel, MPG)
+  hal_float_t* max_override;      // [DISPLAY]MAX_FEED_OVERRIDE
+  hal_float_t* scale_in_motion;   // halui.feed-override.value (motion's feed scale)
   // outputs
   hal_float_t* adaptive_feed;
+  hal_float_t* feed_override;     // motion's feed scale to command
+  hal_s32_t* feed_override_counts;  // the same in thousandths (halui.feed-override.counts)
+  hal_float_t* feed_factor;       // the net override of the program's feed
   hal_float_t* spindle_speed_out;
   hal_float_t* spindle_override;
   hal_bit_t* feed_hold;
@@ -126,6 +136,7 @@ struct Pins {
   hal_bit_t* overload_warn;
   hal_bit_t* overload_hold;
   hal_float_t* load_rev;  // the load's mean over the last revolution
+  hal_float_t* load_pct;  // load_rev in % of the limit (the operator panel's bar)
   hal_float_t* predicted_depth;  // the stock model's depth of cut at the tool [mm]
   hal_bit_t* breakage;           // path-aware breakage alarm (latched)
   hal_s32_t* op_seq;
@@ -213,6 +224,12 @@ struct State {
   std::unique_ptr<lathectl::sim::LathePlant> stock;
   lathectl::control::PathBreakage breakage;
   bool breakage_latched = false;
+  // The feed scale motion reports against the one commanded: halui sends a value only when its
+  // counts change, so a value another client set since (AXIS's slider sends its own when it
+  // redraws) would stay. After kRescaleAfter of disagreement the counts step one down for
+  // kRescaleFor (two changes halui sees), and halui sends the commanded value again.
+  double scale_mismatch_s = 0.0;
+  double rescale_s = 0.0;
 };
 
 int comp_id = -1;
@@ -491,6 +508,7 @@ void update(void*, long period_ns) {
       if (!s.contact) s.load_rev = 0.0;
     }
     *p.load_rev = s.load_rev;
+    *p.load_pct = s.applied.limit > 0.0 ? 100.0 * s.load_rev / s.applied.limit : 0.0;
     // AFC's overload levels, percentages of the reference (taught, else the limit).
     const auto* tl = tool_of(s, tool);
     const double ref = s.applied.reference;
@@ -512,18 +530,39 @@ void update(void*, long period_ns) {
 
     double factor = 1.0;
     const bool regulating = s.applied.mode == 2 && sensing;
+    const double max_ovr = *p.max_override;
     if (feed_block && regulating) {
       // The program's feed per revolution: motion reports the F word itself under G95, a
-      // velocity [mm/s] under G94.
+      // velocity [mm/s] under G94 (motion.requested-vel: without the feed scale).
       const double req = s.req_stable;
       const double prog_per_rev = *p.per_rev ? req : rpm > 0.0 ? req * 60.0 / rpm : 0.0;
+      // Above the program's feed up to the machine's maximum override (split_feed_override).
       factor = o.feed_hold          ? 0.0
-               : prog_per_rev > 0.0 ? std::clamp(o.feed_per_rev_mm / prog_per_rev, 0.0, 1.0)
+               : prog_per_rev > 0.0 ? std::clamp(o.feed_per_rev_mm / prog_per_rev, 0.0,
+                                                 std::max(max_ovr, 1.0))
                                     : 1.0;
     }
     const bool hold =
         enabled && (o.feed_hold || s.bad || s.overload_latched || s.breakage_latched);
-    *p.adaptive_feed = hold ? 0.0 : factor;
+    // The operator's knob times the factor; the ceiling to halui, every decrease on
+    // adaptive-feed. Not enabled: the knob alone, on feed moves as before.
+    const auto fo = lathectl::control::split_feed_override(
+        factor, *p.knob, max_ovr, kOverrideStep, *p.feed_override, *p.scale_in_motion,
+        enabled && feed_block);
+    *p.feed_override = fo.scale;
+    s.scale_mismatch_s = std::abs(*p.scale_in_motion - fo.scale) > 0.5 * kOverrideStep
+                             ? s.scale_mismatch_s + dt
+                             : 0.0;
+    if (s.scale_mismatch_s > kRescaleAfter) {
+      s.rescale_s = kRescaleFor;
+      s.scale_mismatch_s = 0.0;
+    }
+    // (one count lower while re-sending: below the divisor, so the feed only ever dips by it)
+    *p.feed_override_counts = static_cast<std::int32_t>(std::lround(fo.scale / kOverrideStep)) -
+                              (s.rescale_s > 0.0 ? 1 : 0);
+    s.rescale_s = std::max(s.rescale_s - dt, 0.0);
+    *p.feed_factor = hold ? 0.0 : fo.net;
+    *p.adaptive_feed = hold ? 0.0 : fo.adaptive;
     *p.feed_hold = hold;
     *p.alarm = o.alarm || s.overload_latched || s.breakage_latched;
     *p.reason = static_cast<std::int32_t>(o.reason);
@@ -535,7 +574,7 @@ void update(void*, long period_ns) {
     *p.speed_cmd = o.speed_m_per_min;
     *p.speed_opt = o.speed_opt_m_per_min;
     *p.in_cut = o.in_cut;
-    s.stats.sample(sig.force, *p.adaptive_feed, rpm, dt, s.contact);
+    s.stats.sample(sig.force, *p.feed_factor, rpm, dt, s.contact);
     if (feed_block) s.op_feed_s += dt;
     if (feed_block && s.contact) {
       const auto r = static_cast<unsigned>(o.reason);
@@ -670,7 +709,13 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.program_line, HAL_IN, comp_id, kPrefix, "program-line");
     pin(&p.z_pos, HAL_IN, comp_id, kPrefix, "z-pos");
     pin(&p.homed, HAL_IN, comp_id, kPrefix, "homed");
+    pin(&p.knob, HAL_IN, comp_id, kPrefix, "operator-override");
+    pin(&p.max_override, HAL_IN, comp_id, kPrefix, "max-feed-override");
+    pin(&p.scale_in_motion, HAL_IN, comp_id, kPrefix, "feed-override-in-motion");
     pin(&p.adaptive_feed, HAL_OUT, comp_id, kPrefix, "adaptive-feed");
+    pin(&p.feed_override, HAL_OUT, comp_id, kPrefix, "feed-override");
+    pin(&p.feed_override_counts, HAL_OUT, comp_id, kPrefix, "feed-override-counts");
+    pin(&p.feed_factor, HAL_OUT, comp_id, kPrefix, "feed-factor");
     pin(&p.spindle_speed_out, HAL_OUT, comp_id, kPrefix, "spindle-speed-out");
     pin(&p.spindle_override, HAL_OUT, comp_id, kPrefix, "spindle-override");
     pin(&p.feed_hold, HAL_OUT, comp_id, kPrefix, "feed-hold");
@@ -704,6 +749,7 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.overload_warn, HAL_OUT, comp_id, kPrefix, "overload-warn");
     pin(&p.overload_hold, HAL_OUT, comp_id, kPrefix, "overload-hold");
     pin(&p.load_rev, HAL_OUT, comp_id, kPrefix, "load-rev");
+    pin(&p.load_pct, HAL_OUT, comp_id, kPrefix, "load-percent");
     pin(&p.predicted_depth, HAL_OUT, comp_id, kPrefix, "predicted-depth");
     pin(&p.breakage, HAL_OUT, comp_id, kPrefix, "breakage");
     pin(&p.op_seq, HAL_OUT, comp_id, kPrefix, "op-seq");
@@ -725,6 +771,11 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.teach_op, HAL_OUT, comp_id, kPrefix, "teach-operation");
     pin(&p.teach_ref, HAL_OUT, comp_id, kPrefix, "teach-reference");
     *p.adaptive_feed = 1.0;
+    *p.knob = 1.0;
+    *p.max_override = 1.0;
+    *p.feed_override = 1.0;
+    *p.feed_override_counts = 1000;
+    *p.feed_factor = 1.0;
     *p.spindle_override = 1.0;
     *p.program_line = -1;
     param(&p.force_limit, HAL_RO, comp_id, kPrefix, "force-limit", c.force_limit);

@@ -17,7 +17,9 @@ for opt in "$@"; do
     --browser) pkgs+=(chromium) ;;  # headless report rendering test
     # HAL components and the simulated LinuxCNC session; without --no-install-recommends
     # linuxcnc-uspace would pull in a realtime kernel.
-    --linuxcnc) pkgs+=(linuxcnc-uspace linuxcnc-uspace-dev) ;;
+    # The operator panel's test: AXIS on a virtual display (xvfb), its screenshot (xwd from
+    # x11-apps, xwdtopnm/pnmtopng from netpbm).
+    --linuxcnc) pkgs+=(linuxcnc-uspace linuxcnc-uspace-dev xvfb x11-apps netpbm) ;;
     # make package: CPack's dependency detection (dpkg-shlibdeps, file) and lintian.
     --package) pkgs+=(dpkg-dev file lintian) ;;
     *) echo "install-deps: unknown option $opt (--browser, --linuxcnc, --package)" >&2; exit 2 ;;

@@ -7,6 +7,10 @@ the program, records the HAL signals with halsampler (the config's sampler.0), a
 signals.csv and summary.json into $LATHECTL_SIM_OUT. A latched controller alarm holds the feed
 (motion.feed-inhibit): the run then aborts the program after a second of hold, as an operator
 would, and reports the alarm.
+
+With LATHECTL_SIM_GUI=1 (linuxcnc-sim --gui) it first starts AXIS on the same INI ($DISPLAY:
+an X server, Xvfb in the tests) with the operator panel (PyVCP, [HAL]POSTGUI_HALFILE), waits
+until the panel is wired, runs the program as above while AXIS shows it, and closes AXIS at the end.
 """
 
 import csv
@@ -32,7 +36,8 @@ CHANNELS = [
     ("update_ns", int), ("load", float), ("limit", float), ("cut_power_W", float),
     ("spindle_power_W", float), ("idle_power_W", float), ("idle_power_true_W", float),
     ("tool", int), ("bad_setting", int), ("teaching", int), ("in_contact", int),
-    ("limit_cmd", float),
+    ("limit_cmd", float), ("operator_override", float), ("feed_override", float),
+    ("feed_override_in_motion", float), ("feed_factor", float),
 ]
 CHANNELS_0 = 21  # sampler.0's pins; the rest are sampler.1's
 
@@ -48,6 +53,18 @@ def reason_names():
 
 
 RAW = []  # the raw recording: never left behind
+GUI = [True] if os.environ.get("LATHECTL_SIM_GUI") == "1" else []  # then AXIS's process
+
+
+def close_gui():
+    """AXIS goes with the display, however it ends (LinuxCNC waits for it otherwise)."""
+    for g in GUI[1:]:
+        g.terminate()
+        try:
+            g.wait(10)
+        except subprocess.TimeoutExpired:
+            g.kill()
+            g.wait()
 
 
 def fail(msg):
@@ -77,10 +94,33 @@ def main():
     me = hal.component("lathectl-sim-display")  # hal.set_p/get_value need a component
     me.newpin("record", hal.HAL_BIT, hal.HAL_OUT)
     me.ready()
+    if GUI:
+        ini = sys.argv[sys.argv.index("-ini") + 1]
+        # AXIS opens a file of its own at start (its splash program): give it ours.
+        GUI.append(subprocess.Popen(["axis", "-ini", ini, program], env=dict(
+            os.environ, DISPLAY=os.environ.get("LATHECTL_SIM_X_DISPLAY", ""))))
+        gui = GUI[1]
+        end = time.monotonic() + 60
+        while True:  # the panel's last net (lathectl-panel.hal): AXIS has run the postgui file
+            shown = subprocess.run(["halcmd", "-s", "show", "pin", "pyvcp.teach-reference"],
+                                   capture_output=True, text=True).stdout
+            if "<==" in shown:
+                break
+            if gui.poll() is not None or time.monotonic() > end:
+                fail("AXIS with the operator panel did not come up (exit %s)" % gui.poll())
+            time.sleep(0.2)
     # Both samplers start in the same servo period (their sample numbers then match).
     subprocess.run(["halcmd", "net", "lathectl-sim-record", "lathectl-sim-display.record",
                     "sampler.0.enable", "sampler.1.enable"], check=True)
     wait(lambda s: s.task_state is not None, 20, "task", stat)
+    # Above the program's feed (lathectl-above.hal): halui sends the component's first feed scale
+    # as soon as it is wired: let that command through before ours, one client at a time.
+    end = time.monotonic() + 10
+    while os.environ.get("LATHECTL_SIM_ABOVE") == "1" and abs(hal.get_value("lathectl-adaptive.feed-override-in-motion") -
+              hal.get_value("lathectl-adaptive.feed-override")) > 1e-9:
+        if time.monotonic() > end:
+            fail("halui did not apply the first feed scale")
+        time.sleep(0.02)
     errors = []
 
     def drain():
@@ -117,6 +157,21 @@ def main():
         me["record"] = 1
         t0 = time.monotonic()
         cmd.auto(linuxcnc.AUTO_RUN, 0)
+        if GUI:  # AXIS may still be opening the program when we run it: then once more
+            for _ in range(5):
+                end = time.monotonic() + 3
+                while time.monotonic() < end:
+                    stat.poll()
+                    if stat.interp_state != linuxcnc.INTERP_IDLE:
+                        break
+                    time.sleep(0.02)
+                if stat.interp_state != linuxcnc.INTERP_IDLE:
+                    break
+                cmd.mode(linuxcnc.MODE_AUTO)
+                cmd.wait_complete()
+                cmd.program_open(program)
+                cmd.wait_complete()
+                cmd.auto(linuxcnc.AUTO_RUN, 0)
         wait(lambda s: s.interp_state != linuxcnc.INTERP_IDLE, 30, "program start", stat)
         hold_since = None
         aborted = timed_out = False
@@ -128,6 +183,10 @@ def main():
                 progress = None
         next_progress = t0 + 5.0
         idle = 0
+        # --override: the operator's knob turned when the program reaches a line.
+        line_offset = int(os.environ.get("LATHECTL_SIM_LINE_OFFSET", "0"))
+        knob = sorted((int(a), float(b)) for a, b in (
+            kv.split("=") for kv in os.environ.get("LATHECTL_SIM_OVERRIDE", "").split(",") if kv))
         while True:
             stat.poll()
             drain()
@@ -137,6 +196,12 @@ def main():
                                 stat.exec_state == linuxcnc.EXEC_DONE) else 0
             if idle >= 20:
                 break
+            while knob and stat.motion_line - line_offset >= knob[0][0]:
+                # With the panel (--gui) the knob is its scale (moved through its param pin, as
+                # the operator's hand would); headless, the signal itself.
+                value = str(knob.pop(0)[1])
+                subprocess.run(["halcmd", "setp", "pyvcp.scale.0.param_pin", value] if GUI else
+                               ["halcmd", "sets", "operator-override", value], check=True)
             if hal.get_value("lathectl-adaptive.feed-hold"):
                 hold_since = hold_since or time.monotonic()
                 if time.monotonic() - hold_since > 1.0:
@@ -155,11 +220,11 @@ def main():
                 progress.write("linuxcnc-sim: %5.0f s  line %d  tool %d  load %.0f / %.0f  "
                                "feed x%.2f%s\n" % (
                                    time.monotonic() - t0,
-                                   stat.motion_line - int(os.environ.get("LATHECTL_SIM_LINE_OFFSET", "0")),
+                                   stat.motion_line - line_offset,
                                    stat.tool_in_spindle,
                                    hal.get_value("lathectl-adaptive.load"),
                                    hal.get_value("lathectl-adaptive.limit"),
-                                   hal.get_value("lathectl-adaptive.adaptive-feed"),
+                                   hal.get_value("lathectl-adaptive.feed-factor"),
                                    "  HOLD" if hal.get_value("lathectl-adaptive.feed-hold") else ""))
                 progress.flush()
             time.sleep(0.01)
@@ -175,6 +240,7 @@ def main():
         update_ns_max = int(hal.get_value("lathectl-adaptive.update-ns-max"))
         plant_ns_max = int(hal.get_value("lathectl-plant.update-ns-max"))
         force_limit = float(hal.get_value("lathectl-adaptive.force-limit"))
+        max_override = float(hal.get_value("lathectl-adaptive.max-feed-override"))
         # The idle tare the controller learned (sensor=power) and the plant's true warm-up state.
         idle_tare = {"p0_W": hal.get_value("lathectl-adaptive.idle-p0"),
                      "p1_W_per_rpm": hal.get_value("lathectl-adaptive.idle-p1"),
@@ -242,6 +308,9 @@ def main():
         "rapid_in_material_s": round(len(rapid_cut) * period_s, 3),
         "force_peak_in_rapid_N": max((r[idx["force_true"]] for r in rapid_cut), default=0.0),
         "adaptive_feed_min": min(r[idx["adaptive_feed"]] for r in feed_rows) if feed_rows else 1.0,
+        # The net override of the program's feed (operator's knob × the controller's factor).
+        "feed_factor_max": max((r[idx["feed_factor"]] for r in feed_rows), default=1.0),
+        "max_feed_override": max_override,
         "alarms": alarms,
         "update_ns_max_adaptive": update_ns_max,
         "update_ns_max_plant": plant_ns_max,
@@ -261,4 +330,7 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    finally:
+        close_gui()

@@ -256,4 +256,21 @@ SettingError check_feeds(double feed_min, double feed_max, const OperationRating
   return SettingError::None;
 }
 
+FeedOverride split_feed_override(double factor, double knob, double max, double step,
+                                 double scale_before, double scale_in_motion,
+                                 bool feed_move) noexcept {
+  if (!(max > 0.0) || !std::isfinite(max)) max = 1.0;
+  knob = knob > 0.0 ? std::min(knob, max) : 0.0;  // NaN → 0
+  factor = factor > 0.0 ? factor : 0.0;
+  FeedOverride o;
+  o.net = feed_move ? std::min(knob * factor, max) : knob;
+  o.scale = feed_move ? std::max({scale_before > 0.0 ? std::min(scale_before, max) : 0.0, o.net,
+                                  knob})
+                      : knob;
+  if (step > 0.0) o.scale = std::min(std::ceil(o.scale / step - 1e-9) * step, max);
+  const double divisor = std::max(o.scale, scale_in_motion > 0.0 ? scale_in_motion : 0.0);
+  o.adaptive = !feed_move ? 1.0 : divisor > 0.0 ? std::min(1.0, o.net / divisor) : 0.0;
+  return o;
+}
+
 }  // namespace lathectl::control

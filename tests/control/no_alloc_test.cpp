@@ -97,6 +97,8 @@ TEST(NoAlloc, OperationControlNeverAllocates) {
     const double load = cut ? 1000.0 + 50.0 * std::sin(k * 0.3) : 0.0;
     (void)c.set_operation(k % 3000 < 1500 ? 1200.0 : -1.0, 0.05, 0.6, k % 7000 < 5000);
     (void)lathectl::control::check_limit(k % 2 ? 6000.0 : 1000.0, rating);
+    (void)lathectl::control::split_feed_override(0.001 * (k % 3000), 1.0, 1.5, 0.001, 1.0, 1.0,
+                                                 k % 5 != 0);
     (void)lathectl::control::check_feeds(0.05, k % 2 ? 0.9 : 0.4, rating);
     tare.update(rpm, 300.0 + 0.3 * rpm + 1e-4 * rpm * rpm, 0.002, !cut);
     (void)tare.idle_W(rpm);

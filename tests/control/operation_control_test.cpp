@@ -167,4 +167,48 @@ TEST(AdaptiveFeedController, SetOperationChangesLimitsOnlyWhenValid) {
   EXPECT_GT(out.feed_per_rev_mm, 0.1);
 }
 
+// Above the programmed feed: motion's product feed_scale × adaptive-feed (src/emc/motion/
+// control.c) against the net override knob × factor, clipped to MAX_FEED_OVERRIDE.
+TEST(FeedOverride, SplitsTheNetOverrideIntoCeilingAndFastDecrease) {
+  using lathectl::control::split_feed_override;
+  // A light cut: the controller wants 3 × the program's; the ceiling is 1.5.
+  auto o = split_feed_override(3.0, 1.0, 1.5, 0.001, 1.0, 1.0, true);
+  EXPECT_DOUBLE_EQ(o.net, 1.5);
+  EXPECT_DOUBLE_EQ(o.scale, 1.5);
+  EXPECT_DOUBLE_EQ(o.adaptive, 1.0 / 1.0 * 1.5 / 1.5);  // motion still at 1.0: product 1.0 ≤ net
+  // A heavy cut: 0.6 of the program's, with the scale still at 1.5 in motion: adaptive-feed alone.
+  o = split_feed_override(0.6, 1.0, 1.5, 0.001, 1.5, 1.5, true);
+  EXPECT_DOUBLE_EQ(o.scale, 1.5);  // never lowered in a feed move
+  EXPECT_DOUBLE_EQ(o.scale * o.adaptive, 0.6);
+  // The operator's knob at 60 %: the net override drops in this call, through adaptive-feed.
+  o = split_feed_override(1.5, 0.6, 1.5, 0.001, 1.5, 1.5, true);
+  EXPECT_NEAR(o.net, 0.9, 1e-12);
+  EXPECT_NEAR(o.scale * o.adaptive, 0.9, 1e-12);
+  // Outside feed moves: the knob alone on the scale, adaptive-feed 1 (rapids untouched).
+  o = split_feed_override(2.0, 0.8, 1.5, 0.001, 1.5, 1.5, false);
+  EXPECT_DOUBLE_EQ(o.scale, 0.8);
+  EXPECT_DOUBLE_EQ(o.adaptive, 1.0);
+  // A scale lowered outside the move but still 1.5 in motion when the next move starts: the
+  // higher one divides, so the product is the net override, not 1.5 × it.
+  o = split_feed_override(1.0, 0.8, 1.5, 0.001, 0.8, 1.5, true);
+  EXPECT_NEAR(1.5 * o.adaptive, 0.8, 1e-12);
+  // Never above the maximum, whatever the knob; rounded up to the resolution.
+  o = split_feed_override(1.2345, 2.0, 1.5, 0.001, 1.0, 1.0, true);
+  EXPECT_DOUBLE_EQ(o.net, 1.5);
+  o = split_feed_override(1.2345, 1.0, 1.5, 0.001, 1.0, 1.0, true);
+  EXPECT_NEAR(o.scale, 1.235, 1e-12);
+  EXPECT_LE(o.scale * o.adaptive, o.net + 1e-12);
+  // MAX_FEED_OVERRIDE 1 (the default): never above the program's feed.
+  o = split_feed_override(3.0, 1.0, 1.0, 0.001, 1.0, 1.0, true);
+  EXPECT_DOUBLE_EQ(o.scale * o.adaptive, 1.0);
+  // Bad inputs stop the feed or fall back to the program's.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  o = split_feed_override(1.0, nan, 1.5, 0.001, 1.0, 1.0, true);
+  EXPECT_DOUBLE_EQ(o.scale * o.adaptive, 0.0);
+  o = split_feed_override(nan, 1.0, 1.5, 0.001, 1.0, 1.0, true);
+  EXPECT_DOUBLE_EQ(o.net, 0.0);
+  o = split_feed_override(3.0, 1.0, nan, 0.001, 1.0, 1.0, true);
+  EXPECT_DOUBLE_EQ(o.net, 1.0);
+}
+
 }  // namespace

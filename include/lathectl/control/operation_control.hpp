@@ -19,6 +19,10 @@
 //                   peak), the adaptive feed factor (min and mean) and the time in cut.
 //   check_operation the per-operation settings a program or a tool table gives, against the
 //                   machine's rating: a code naming what is wrong, never a silently used value.
+//   split_feed_override  a feed above the program's: the net override (operator's knob times
+//                   the controller's factor, at most the machine's maximum) split into motion's
+//                   feed scale (the ceiling, raised through halui) and motion.adaptive-feed in
+//                   [0, 1] (every decrease, in the servo period it is computed).
 //
 // Real-time: update()/sample()/check never allocate, throw, lock or log.
 
@@ -171,5 +175,42 @@ struct OperationRating {
 [[nodiscard]] SettingError check_limit(double limit, const OperationRating& r) noexcept;
 [[nodiscard]] SettingError check_feeds(double feed_min, double feed_max,
                                        const OperationRating& r) noexcept;
+
+// Above the programmed feed on LinuxCNC. motion's net feed scale is feed_scale × adaptive-feed
+// (src/emc/motion/control.c). LinuxCNC up to 2.9 clips motion.adaptive-feed to [-1, 1] (since
+// commit 062589ef05, Oct 2024, to ±MAX_FEED_OVERRIDE), so a factor above 1 must go through
+// feed_scale: EMC_TRAJ_SET_SCALE, which halui.feed-override sends, clipped by halui to
+// [0, [DISPLAY]MAX_FEED_OVERRIDE] — the value the trajectory planner sizes its blends for. That
+// path is slow (halui's 20 ms loop, then task, then motion; its status comes back as late), so
+// it only ever carries a ceiling; the fast path, adaptive-feed, carries every decrease in the
+// period it is computed:
+//
+//   net      = min(knob × factor, max)       feed moves (knob alone outside them)
+//   scale    = max(scale before, net, knob)  in a feed move: never lowered there (a lower scale
+//                                             reaches motion ~0.1-0.2 s before its status does,
+//                                             and the divisor below would then dip the feed)
+//            = knob                           outside feed moves (rapids are scaled by the rapid
+//                                             override, not this), so the next move starts
+//                                             from the operator's value
+//   adaptive = min(1, net / max(scale, scale_in_motion))   feed moves; 1 outside
+//
+// With scale_in_motion the feed scale motion reports (halui.feed-override.value, which lags
+// motion), motion's product is never above net while a new scale is on its way (lowered: the
+// old, higher one divides; raised: the new one divides, the old one multiplies). The operator's
+// knob is the one way to the feed scale besides this (one owner), and its decrease takes effect
+// in the same control period through adaptive-feed.
+struct FeedOverride {
+  double net = 1.0;       // the override of the program's feed wanted now
+  double scale = 1.0;     // motion's feed scale to command (halui.feed-override)
+  double adaptive = 1.0;  // motion.adaptive-feed, in [0, 1]
+};
+// factor: the controller's feed over the program's (≥ 0); knob: the operator's override, at most
+// max; max: MAX_FEED_OVERRIDE; step: the feed scale's resolution (halui's counts × scale: the
+// scale is rounded up to it, never above max); scale_before: the scale this returned last. A NaN
+// or negative knob or factor counts as 0 (the feed stops); a max that is not positive and finite
+// counts as 1 (the program's feed).
+[[nodiscard]] FeedOverride split_feed_override(double factor, double knob, double max, double step,
+                                               double scale_before, double scale_in_motion,
+                                               bool feed_move) noexcept;
 
 }  // namespace lathectl::control
