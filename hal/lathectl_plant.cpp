@@ -15,7 +15,6 @@
 // cold machine draws d = idle_drift more idle power, which falls off with τ = warmup_s as it warms
 // up; the noise is 0.1 % of the rated power, deterministic). See lathectl_plant(9).
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -86,14 +85,6 @@ struct Drive {
 };
 Drive drive;
 double break_at = 0.0;  // 0: never
-// Servo periods after enable rises in which positions are not yet trusted. In the period motion
-// completes homing (HOME_SEARCH_VEL = 0 sets the position at once) is-all-homed can rise before
-// joint.N.pos-fb carries the homed position: the plant then saw the tool at X0 Z0 for one period
-// and cut a groove to the axis, as wide as the nose, at Z0 of every part (found by the issue-15
-// verify runs). Five periods (10 ms at 2 ms) cover the feedback's one-period lag with margin; no
-// program moves that soon after homing.
-constexpr int kSettlePeriods = 5;
-int settle = kSettlePeriods;
 
 // A uniform deviate in [−1, 1) (xorshift64*: deterministic, no allocation).
 double noise() noexcept {
@@ -110,8 +101,7 @@ void update(void*, long period_ns) {
   lathectl::sim::LathePlant::Input in;
   // Disabled (e.g. before homing, positions mean nothing): no position, nothing is cut; the
   // sensor keeps reading (noise), as a live dynamometer does.
-  settle = *pins->enable ? std::max(settle - 1, 0) : kSettlePeriods;
-  const bool on = *pins->enable && settle == 0;
+  const bool on = *pins->enable;
   in.x_mm = on ? *pins->x_pos : std::nan("");
   in.z_mm = on ? *pins->z_pos : std::nan("");
   in.rpm = *pins->rpm;
