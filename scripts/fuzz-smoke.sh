@@ -5,7 +5,10 @@ set -euo pipefail
 SECONDS_PER_TARGET=${1:-20}
 cd "$(dirname "$0")/.."
 cmake --preset fuzz -DLATHECTL_WERROR="${LATHECTL_WERROR:-OFF}" >/dev/null
-cmake --build --preset fuzz -j "$(nproc)" >/dev/null
+cmake --build --preset fuzz -j "$(nproc)" >/dev/null || {
+  echo "fuzz: the clang build of the fuzz targets failed; rerun: cmake --build --preset fuzz" >&2
+  exit 1
+}
 work=build/fuzz/corpus
 mkdir -p "$work/scenario" "$work/materials" "$work/lobes" "$work/tool_limits" "$work/channels_csv" \
   "$work/canon"

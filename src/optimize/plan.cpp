@@ -147,8 +147,9 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
     }
     // Short spans join their neighbour (a cut span never becomes air).
     const double path0 = a > 0 ? s.path_mm[a - 1] : 0.0;
-    auto length = [&](const Span& sp) {
-      return s.path_mm[sp.b - 1] - (sp.a > a ? s.path_mm[sp.a - 1] : path0);
+    // (a structured binding is not captured by a lambda before C++20's P1091 in clang 14)
+    auto length = [&, first = a](const Span& sp) {
+      return s.path_mm[sp.b - 1] - (sp.a > first ? s.path_mm[sp.a - 1] : path0);
     };
     for (std::size_t k = 0; k + 1 < spans.size();) {
       if (length(spans[k]) < min_piece_mm || length(spans[k + 1]) < min_piece_mm) {
