@@ -1,12 +1,14 @@
 // The reports' interactive plots (issue 18): which plots get a chart, their data as min/max
-// pyramids (plot_pyramid.hpp) in one JSON block, and the inlined uPlot library and page script
+// pyramids (sim/plot_pyramid.hpp) in one JSON block, and the inlined uPlot library and page script
 // (report_plot_script.js), both embedded at build time (cmake/ReportAssets.cmake).
 #include "report_interactive.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <memory>
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -14,7 +16,8 @@
 #include <string_view>
 #include <vector>
 
-#include "lathectl/io/plot_pyramid.hpp"
+#include "lathectl/io/base64.hpp"
+#include "lathectl/sim/plot_pyramid.hpp"
 #include "report_plot.hpp"
 
 namespace lathectl::io::detail {
@@ -37,6 +40,8 @@ std::string_view asset(const unsigned char* data, std::size_t size) {
 
 // A series' recorded data, for sharing one pyramid between plots that show the same channel.
 std::string data_key(const Series& s) {
+  if (s.pyramid)  // a streamed record's: shared by pointer
+    return "p" + std::to_string(reinterpret_cast<std::uintptr_t>(s.pyramid.get()));
   const std::size_t n = std::min(s.x.size(), s.y.size());
   std::string key(reinterpret_cast<const char*>(s.x.data()), n * sizeof(double));
   key.append(reinterpret_cast<const char*>(s.y.data()), n * sizeof(double));
@@ -45,15 +50,24 @@ std::string data_key(const Series& s) {
 
 nlohmann::json pyramid_json(const Series& s, std::size_t max_values, bool& monotonic,
                             std::size_t& bytes) {
-  PlotPyramid::Options o;
-  o.max_values_per_level = max_values;
-  PlotPyramid p(o);
-  const std::size_t n = std::min(s.x.size(), s.y.size());
-  for (std::size_t i = 0; i < n; ++i) p.push(s.x[i], s.y[i]);
-  p.finish();
+  using sim::PlotPyramid;
+  std::shared_ptr<const PlotPyramid> built = s.pyramid;
+  if (!built) {  // x/y are the whole record
+    PlotPyramid::Options o;
+    o.max_values_per_level = max_values;
+    auto b = std::make_shared<PlotPyramid>(o);
+    const std::size_t n = std::min(s.x.size(), s.y.size());
+    for (std::size_t i = 0; i < n; ++i) b->push(s.x[i], s.y[i]);
+    b->finish();
+    built = std::move(b);
+  }
+  const PlotPyramid& p = *built;
   monotonic = p.monotonic();
   nlohmann::json levels = nlohmann::json::array();
   for (const auto& l : p.levels()) {
+    // A level over the budget's cap is left out, as a pyramid built here would drop it (the
+    // coarsest is kept whatever its size).
+    if (l.y.size() > max_values && &l != &p.levels().back()) continue;
     nlohmann::json j{{"b", l.bucket}, {"y", base64_floats(l.y)}};
     bytes += j["y"].get_ref<const std::string&>().size();
     if (!l.x.empty()) {

@@ -1,6 +1,7 @@
 // The interactive plots' data (issue 18): the min/max pyramid, its base64, the report's data
 // block and size budget, and channels.csv read back for `lathectl compare`.
-#include "lathectl/io/plot_pyramid.hpp"
+#include "lathectl/io/base64.hpp"
+#include "lathectl/sim/plot_pyramid.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,6 +22,7 @@
 
 namespace lathectl::io {
 namespace {
+using sim::PlotPyramid;
 
 PlotPyramid build(const std::vector<double>& x, const std::vector<double>& y,
                   PlotPyramid::Options o = {}) {

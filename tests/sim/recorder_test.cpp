@@ -1,5 +1,5 @@
 // sim::Recorder streamed (issue 19): rows go to the sinks as they come and into a bounded
-// min/max decimation per channel; the row-by-row forms of the whole-record metrics give the
+// min/max pyramid per channel; the row-by-row forms of the whole-record metrics give the
 // same numbers bit for bit.
 
 #include "lathectl/sim/recorder.hpp"
@@ -18,30 +18,43 @@
 namespace lathectl::sim {
 namespace {
 
-TEST(PlotDecimator, KeepsEveryPointUpToItsSizeThenExtremesInBoundedMemory) {
-  PlotDecimator d(64);
+TEST(Recorder, StreamedKeepsABoundedPyramidPerChannelWithTheExtremes) {
+  // 64 values per level at most: 100 000 rows keep no level over 64 (level 0 dropped), and the
+  // static plot's points (at most 128, from the finest level that fits) keep the extremes, a
+  // one-row spike included.
+  Recorder r = Recorder::streamed({{"time_s", "s"}, {"v", ""}}, {}, 64);
   std::vector<double> x, y;
-  for (int i = 0; i < 64; ++i) d.push(i, std::sin(i));
-  d.points(x, y);
-  ASSERT_EQ(x.size(), 64u);  // exact while it fits
-  for (int i = 0; i < 64; ++i) EXPECT_EQ(y[static_cast<std::size_t>(i)], std::sin(i));
-  // 100 000 points: at most 2 per bucket, in order, the extremes kept (a spike included).
-  double lo = 1e9, hi = -1e9;
-  for (int i = 64; i < 100000; ++i) {
-    const double v = i == 77777 ? 50.0 : std::sin(0.001 * i);
-    d.push(i, v);
+  for (int i = 0; i < 64; ++i) {
+    const double row[2] = {static_cast<double>(i), std::sin(i)};
+    r.push_row(row);
   }
+  r.plot_points("v", x, y);
+  ASSERT_EQ(x.size(), 64u);  // the samples themselves while they fit (as floats)
+  for (int i = 0; i < 64; ++i) {
+    EXPECT_EQ(y[static_cast<std::size_t>(i)], static_cast<float>(std::sin(i)));
+    EXPECT_DOUBLE_EQ(x[static_cast<std::size_t>(i)], i);
+  }
+  float lo = 1e9f, hi = -1e9f;
   for (int i = 0; i < 100000; ++i) {
     const double v = i < 64 ? std::sin(i) : i == 77777 ? 50.0 : std::sin(0.001 * i);
-    lo = std::min(lo, v);
-    hi = std::max(hi, v);
+    lo = std::min(lo, static_cast<float>(v));
+    hi = std::max(hi, static_cast<float>(v));
+    if (i < 64) continue;
+    const double row[2] = {static_cast<double>(i), v};
+    r.push_row(row);
   }
-  d.points(x, y);
+  const auto p = r.plot_pyramid("v");
+  ASSERT_TRUE(p);
+  EXPECT_EQ(p->samples(), 100000u);
+  ASSERT_FALSE(p->levels().empty());
+  EXPECT_GT(p->levels().front().bucket, 1u);  // level 0 went over 64 values
+  for (const auto& l : p->levels()) EXPECT_LE(l.y.size(), 64u);
+  p->points(x, y, 128);
   EXPECT_LE(x.size(), 128u);
   EXPECT_TRUE(std::is_sorted(x.begin(), x.end()));
   EXPECT_EQ(*std::min_element(y.begin(), y.end()), lo);
   EXPECT_EQ(*std::max_element(y.begin(), y.end()), hi);
-  EXPECT_NE(std::find(x.begin(), x.end(), 77777.0), x.end());
+  EXPECT_EQ(*std::max_element(y.begin(), y.end()), 50.0);
 }
 
 TEST(Recorder, StreamedHandsRowsToSinksAndWritesTheSameCsv) {

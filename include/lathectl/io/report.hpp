@@ -4,9 +4,12 @@
 // nothing installed to be read.
 
 #include <limits>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "lathectl/sim/plot_pyramid.hpp"
 
 namespace lathectl::io {
 
@@ -17,6 +20,10 @@ struct Series {
   std::string color;    // CSS colour; empty → from a default palette
   bool dashed = false;  // dashed line (e.g. setpoints, formula curves)
   bool points = false;  // draw markers instead of a line (e.g. measured points)
+  // The whole record's min/max pyramid when x/y are already decimated from it (a streamed
+  // recorder): the interactive plot zooms into it (levels over the report's budget left out);
+  // null: the interactive plot builds one from x/y.
+  std::shared_ptr<const sim::PlotPyramid> pyramid = {};
 };
 
 struct Marker {  // vertical line on a time axis: an event, alarm or disturbance

@@ -281,10 +281,9 @@ void PulseMeanFlowPlot::row(std::span<const double> v) noexcept {
   ++n_;
 }
 
-bool PulseMeanFlowPlot::points(std::vector<double>& x, std::vector<double>& y) const {
-  if (opens_seen_ < 2) return false;
-  plot_.points(x, y);
-  return true;
+std::shared_ptr<const PlotPyramid> PulseMeanFlowPlot::plot() const {
+  if (opens_seen_ < 2) return nullptr;
+  return plot_.finished();
 }
 
 }  // namespace lathectl::sim

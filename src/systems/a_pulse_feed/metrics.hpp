@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "lathectl/sim/metrics.hpp"
@@ -69,7 +70,7 @@ class MetricsAAccumulator final : public RowSink {
   [[nodiscard]] MetricsA result(const RigA& rig) const;
   // The regulator flow averaged over the feed window (NaN over the first, partial window),
   // decimated for the report's plot.
-  [[nodiscard]] const PlotDecimator& flow_smoothed_plot() const noexcept { return flow_plot_; }
+  [[nodiscard]] const PlotPyramid& flow_smoothed_plot() const noexcept { return flow_plot_; }
   [[nodiscard]] double first_time() const noexcept { return t_first_; }
   [[nodiscard]] double last_time() const noexcept { return t_last_; }
 
@@ -98,7 +99,7 @@ class MetricsAAccumulator final : public RowSink {
   // moving averages (windows from the first two rows' times)
   std::size_t w_ = 1, rev_ = 1, w_flow_ = 1;
   MovingAverage py_, f_rev_, flow_avg_;
-  PlotDecimator flow_plot_;
+  PlotPyramid flow_plot_;
   AlarmOnsets onsets_;
   std::size_t n_ = 0;
   double row0_force_ = 0.0, row0_flow_ = 0.0, t_first_ = 0.0, t_last_ = 0.0;
@@ -111,15 +112,15 @@ class MetricsAAccumulator final : public RowSink {
 // window but 1/4 of the pulse volume): with FIM's moving frequency a fixed window's mean jumps
 // like a square wave. A sample gets the mean that ended at the last opening before it (NaN until
 // N pulses have been seen). Where the flow never stops (fewer than two openings: the continuous
-// throttle) the caller plots the trailing mean over the window instead (points() returns false).
+// throttle) the caller plots the trailing mean over the window instead (plot() returns null).
 // Memory: the last kMaxPeriods openings (a window of up to 4096 pulses), whatever the duration.
 class PulseMeanFlowPlot final : public RowSink {
  public:
   static constexpr std::size_t kMaxPeriods = 4096;
   PulseMeanFlowPlot(const Recorder& rec, double window_s);
   void row(std::span<const double> v) noexcept override;
-  // The decimated plot; false (nothing written) when the flow had fewer than two openings.
-  bool points(std::vector<double>& x, std::vector<double>& y) const;
+  // The plot's finished pyramid; null when the flow had fewer than two openings.
+  [[nodiscard]] std::shared_ptr<const PlotPyramid> plot() const;
 
  private:
   std::size_t t_, flow_, freq_;
@@ -127,7 +128,7 @@ class PulseMeanFlowPlot final : public RowSink {
   double sum_ = 0.0, prev_flow_ = 0.0, value_;
   std::size_t n_ = 0, opens_seen_ = 0;
   std::vector<std::pair<std::size_t, double>> opens_;  // ring: (sample index, sum before it)
-  PlotDecimator plot_;
+  PlotPyramid plot_;
 };
 
 // Simulated mean flow of a pulsed regulator at slot h and frequency f for each pulse width,

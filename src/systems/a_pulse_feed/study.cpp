@@ -104,6 +104,7 @@ Series series(const Run& r, const char* channel, std::string name, std::string c
   Series s;
   s.name = std::move(name);
   r.rig.recorder().plot_points(channel, s.x, s.y);
+  s.pyramid = r.rig.recorder().plot_pyramid(channel);  // streamed: the zoomable record
   s.color = std::move(color);
   s.dashed = dashed;
   return s;
@@ -402,7 +403,10 @@ io::RunOutput run(const io::Scenario& sc) {
             mk};
   const auto smooth = [&](const Run& r, Series sr) {
     // whole pulses (sim::PulseMeanFlowPlot); a flow that never stops: the trailing window mean
-    if (!r.pulse->points(sr.x, sr.y)) r.acc->flow_smoothed_plot().points(sr.x, sr.y);
+    auto p = r.pulse->plot();
+    if (!p) p = r.acc->flow_smoothed_plot().finished();
+    p->points(sr.x, sr.y);
+    sr.pyramid = std::move(p);
     return sr;
   };
   flow.series.push_back(

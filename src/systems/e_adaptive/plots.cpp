@@ -49,7 +49,7 @@ namespace {
 
 constexpr const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd"};
 
-// The path position at time `at` on the run's decimated path-of-time (first point at or after).
+// The path position at time `at` on the run's path-of-time points (first point at or after).
 double path_at(const std::vector<double>& t, const std::vector<double>& path, double at) {
   const auto it = std::lower_bound(t.begin(), t.end(), at);
   if (it == t.end()) return path.empty() ? std::nan("") : path.back();
@@ -60,6 +60,7 @@ Series along_time(const PlotRun& r, const char* channel, const std::string& name
                   const char* color) {
   Series s{name, {}, {}, color, false, false};
   r.rec->plot_points(channel, s.x, s.y);
+  s.pyramid = r.rec->plot_pyramid(channel);
   return s;
 }
 
@@ -76,7 +77,8 @@ void add_run_plots(io::Report& rep, const std::vector<PlotRun>& runs, const std:
   const auto along_path = [&](const PlotRun& r, PathPlots::Which w, const std::string& name,
                               const char* color) {
     Series s{name, {}, {}, color, false, false};
-    r.path->along(w).points(s.x, s.y);
+    s.pyramid = r.path->along(w).finished();
+    s.pyramid->points(s.x, s.y);
     return s;
   };
   const std::string x_path = "distance along the part [mm] (all passes)";

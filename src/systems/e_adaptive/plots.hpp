@@ -26,9 +26,9 @@ class PathPlots final : public sim::RowSink {
   enum Which { kForceRev, kFeedRev, kSpeed, kSpeedOpt, kPower, kToolLife, kCount };
   explicit PathPlots(const sim::Recorder& rec);
   void row(std::span<const double> v) noexcept override;
-  [[nodiscard]] const sim::PlotDecimator& along(Which w) const noexcept { return plots_[w]; }
+  [[nodiscard]] const sim::PlotPyramid& along(Which w) const noexcept { return plots_[w]; }
   // The path against time (x = time [s], y = path [mm]), to place the time axis's markers.
-  [[nodiscard]] const sim::PlotDecimator& path_of_time() const noexcept { return path_t_; }
+  [[nodiscard]] const sim::PlotPyramid& path_of_time() const noexcept { return path_t_; }
   [[nodiscard]] double path_end() const noexcept { return path_; }
   [[nodiscard]] double last_time() const noexcept { return t_last_; }
 
@@ -39,8 +39,8 @@ class PathPlots final : public sim::RowSink {
   std::size_t n_ = 0;
   sim::PerRevolutionMean f_rev_;
   std::size_t rpm_;
-  std::array<sim::PlotDecimator, kCount> plots_;
-  sim::PlotDecimator path_t_;
+  std::array<sim::PlotPyramid, kCount> plots_;
+  sim::PlotPyramid path_t_;
 };
 
 struct PlotRun {

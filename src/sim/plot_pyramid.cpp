@@ -1,15 +1,13 @@
-// Min/max pyramid of a plotted series (plot_pyramid.hpp) and the base64 the page decodes.
-#include "lathectl/io/plot_pyramid.hpp"
+// Min/max pyramid of a plotted series (plot_pyramid.hpp).
+#include "lathectl/sim/plot_pyramid.hpp"
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 #include <limits>
 #include <stdexcept>
 
-namespace lathectl::io {
+namespace lathectl::sim {
 
 PlotPyramid::PlotPyramid(Options options) : opt_(options) {
   opt_.branching = std::max<std::size_t>(opt_.branching, 2);
@@ -130,40 +128,42 @@ const std::vector<PlotPyramid::Level>& PlotPyramid::levels() const {
   return levels_;
 }
 
-std::string base64(const void* data, std::size_t size) {
-  static constexpr char kAlphabet[] =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  const auto* p = static_cast<const unsigned char*>(data);
-  std::string out;
-  out.reserve((size + 2) / 3 * 4);
-  std::size_t i = 0;
-  for (; i + 3 <= size; i += 3) {
-    const std::uint32_t v = (std::uint32_t{p[i]} << 16) | (std::uint32_t{p[i + 1]} << 8) | p[i + 2];
-    out += kAlphabet[(v >> 18) & 63U];
-    out += kAlphabet[(v >> 12) & 63U];
-    out += kAlphabet[(v >> 6) & 63U];
-    out += kAlphabet[v & 63U];
-  }
-  if (i < size) {
-    std::uint32_t v = std::uint32_t{p[i]} << 16;
-    if (i + 1 < size) v |= std::uint32_t{p[i + 1]} << 8;
-    out += kAlphabet[(v >> 18) & 63U];
-    out += kAlphabet[(v >> 12) & 63U];
-    out += i + 1 < size ? kAlphabet[(v >> 6) & 63U] : '=';
-    out += '=';
-  }
-  return out;
+std::shared_ptr<const PlotPyramid> PlotPyramid::finished() const {
+  auto p = std::make_shared<PlotPyramid>(*this);
+  p->finish();
+  return p;
 }
 
-std::string base64_floats(const std::vector<float>& v) {
-  std::vector<unsigned char> bytes(v.size() * 4);
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    std::uint32_t u = 0;
-    std::memcpy(&u, &v[i], 4);
-    for (std::size_t k = 0; k < 4; ++k)
-      bytes[i * 4 + k] = static_cast<unsigned char>((u >> (8 * k)) & 0xFFU);  // little-endian
+void PlotPyramid::points(std::vector<double>& x, std::vector<double>& y,
+                         std::size_t max_points) const {
+  if (!finished_) {
+    finished()->points(x, y, max_points);
+    return;
   }
-  return base64(bytes.data(), bytes.size());
+  x.clear();
+  y.clear();
+  if (levels_.empty()) return;
+  const Level* l = &levels_.back();
+  for (const Level& c : levels_)
+    if (c.y.size() <= max_points) {
+      l = &c;
+      break;
+    }
+  x.reserve(l->y.size());
+  y.reserve(l->y.size());
+  for (std::size_t i = 0; i < l->y.size(); ++i) {
+    double off = 0.0;
+    if (!uniform_) {
+      off = l->x[i];
+    } else if (l->bucket == 1) {
+      off = static_cast<double>(i) * dx_;
+    } else {  // pair j at (j·b + b/4) and (j·b + 3b/4) samples
+      const double b = static_cast<double>(l->bucket);
+      off = (static_cast<double>(i / 2) * b + (i % 2 == 0 ? 0.25 : 0.75) * b) * dx_;
+    }
+    x.push_back(x0_ + off);
+    y.push_back(l->y[i]);
+  }
 }
 
-}  // namespace lathectl::io
+}  // namespace lathectl::sim

@@ -7,20 +7,22 @@
 //
 // Fed one sample at a time (push), with memory bounded by Options::max_values_per_level per
 // level: a level that would grow beyond it is dropped (its coarser levels carry on), so a series
-// can be fed while it streams and still fits a report's size budget. Values are stored as float
+// can be fed while it streams and still fits a report's size budget. It is also the streamed
+// recorder's plot storage (recorder.hpp): the static SVG takes points() from it, the interactive
+// chart its levels. Values are stored as float
 // (what the page decodes), x as an offset from the first sample when the spacing is not uniform.
 
 #include <cstddef>
-#include <string>
+#include <memory>
 #include <vector>
 
-namespace lathectl::io {
+namespace lathectl::sim {
 
 class PlotPyramid {
  public:
   struct Options {
     std::size_t branching = 4;                 // samples per bucket grow by this per level
-    std::size_t max_values_per_level = 1u << 18;  // a level beyond this is dropped
+    std::size_t max_values_per_level = 1u << 16;  // a level beyond this is dropped
     std::size_t coarsest_values = 2048;        // levels above the first this small are not kept
   };
   struct Level {
@@ -53,6 +55,12 @@ class PlotPyramid {
   [[nodiscard]] bool monotonic() const noexcept { return monotonic_; }
   // After finish(): the kept levels, finest first (level 0 absent when it was dropped).
   [[nodiscard]] const std::vector<Level>& levels() const;
+  // A finished copy (this one unchanged; itself when already finished and shared).
+  [[nodiscard]] std::shared_ptr<const PlotPyramid> finished() const;
+  // At most max_points points for a static plot, from the finest kept level that has no more
+  // values (the coarsest when none), in order; works before finish() too (on a finished copy).
+  void points(std::vector<double>& x, std::vector<double>& y,
+              std::size_t max_points = 4096) const;
 
  private:
   struct Bucket {  // the bucket being filled at one level
@@ -75,9 +83,4 @@ class PlotPyramid {
   bool uniform_ = true, monotonic_ = true, finished_ = false;
 };
 
-// Standard base64 (RFC 4648, with padding) of raw bytes; the page decodes it with atob().
-std::string base64(const void* data, std::size_t size);
-// The floats as little-endian IEEE-754 binary32, base64: what the page reads as a Float32Array.
-std::string base64_floats(const std::vector<float>& v);
-
-}  // namespace lathectl::io
+}  // namespace lathectl::sim
