@@ -1,6 +1,6 @@
 // The reports' interactive plots (issue 18), inlined into report.html after uPlot (lathectl
 // embeds this file at build time). Every time-axis plot of the page gets a uPlot chart; all of
-// them share one x range. Data: per series a min/max pyramid (plot_pyramid.hpp), of which each
+// them share one x range. Data: per series a min/max pyramid (include/lathectl/sim/plot_pyramid.hpp), of which each
 // redraw takes, for the visible range, the coarsest level that still gives about one point per
 // pixel. Page API for tests and scripts: window.lathectlPlots (setRange, reset, state); the URL
 // fragment #range=X0,X1 sets the range on load.
@@ -23,7 +23,7 @@
       })
     };
   });
-  // x of value i of a level (see plot_pyramid.hpp for the uniform placement).
+  // x of value i of a level (see sim/plot_pyramid.hpp for the uniform placement).
   function xAt(blob, lv, i) {
     if (lv.x) return blob.x0 + lv.x[i];
     if (lv.b === 1) return blob.x0 + i * blob.dx;

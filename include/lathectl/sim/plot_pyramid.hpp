@@ -22,7 +22,7 @@ class PlotPyramid {
  public:
   struct Options {
     std::size_t branching = 4;                 // samples per bucket grow by this per level
-    std::size_t max_values_per_level = 1u << 16;  // a level beyond this is dropped
+    std::size_t max_values_per_level = 1u << 14;  // a level beyond this is dropped
     std::size_t coarsest_values = 2048;        // levels above the first this small are not kept
   };
   struct Level {

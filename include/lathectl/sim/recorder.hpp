@@ -38,8 +38,9 @@ class Recorder {
   Recorder(std::vector<Channel> channels, std::size_t capacity_rows);
   // Streamed storage: rows go to `sinks` (not owned; they must outlive the recording) and into a
   // PlotPyramid per channel against channel 0 (the time), at most values_per_level values per
-  // level (2^16: ~35 channels stay within tens of MB, whatever the run's length).
-  static constexpr std::size_t kPlotValuesPerLevel = std::size_t{1} << 16;
+  // level (2^14: A with its comparison run held 116 MB at 2^16 for 1800 s; a recording up to
+  // 16 384 rows keeps its samples, so its charts zoom to them).
+  static constexpr std::size_t kPlotValuesPerLevel = std::size_t{1} << 14;
   static Recorder streamed(std::vector<Channel> channels, std::vector<RowSink*> sinks = {},
                            std::size_t values_per_level = kPlotValuesPerLevel);
   // Adds a sink (not owned; it must outlive the recording): it receives each row pushed from now.
