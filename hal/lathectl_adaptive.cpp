@@ -96,7 +96,7 @@ struct Pins {
   hal_s32_t* tool_number;     // iocontrol.0.tool-number
   hal_s32_t* program_line;    // motion.program-line
   hal_float_t* z_pos;         // joint 1 (the stock model's path)
-  hal_bit_t* homed;           // motion.is-all-homed (positions mean something)
+  hal_bit_t* homed;           // both joints homed (positions mean something; lathectl.hal)
   hal_float_t* knob;              // the operator's feed override (panel, MPG)
   hal_float_t* max_override;      // [DISPLAY]MAX_FEED_OVERRIDE
   hal_float_t* scale_in_motion;   // halui.feed-override.value (motion's feed scale)

@@ -9,7 +9,9 @@
 // Pins (prefix lathectl-plant.): in x-pos, z-pos [mm], spindle-rpm, enable; out force (the sensor's
 // sample, N or W), force-true, pz, py [N], cut-power [W], depth [mm], feed-per-rev [mm/rev],
 // cutting-speed [m/min], strength-factor, in-contact, time-in-cut [s], update-ns,
-// update-ns-max [ns]; spindle-power [W]: what the spindle drive's power pin reads,
+// update-ns-max [ns]; in probe-z [mm, machine z] → out probe-radius [mm]: the workpiece's radius
+// there now (what the stock model holds; for tests and for finding where material went);
+// spindle-power [W]: what the spindle drive's power pin reads,
 //   P = P_cut/η + P_idle(n)·(1 + d·e^{−t/τ}) + J·ω·(dω/dt)/η + noise
 // (the scenario's [spindle]: seed 001's idle law p0 + p1·n + p2·n², efficiency η, inertia J; a
 // cold machine draws d = idle_drift more idle power, which falls off with τ = warmup_s as it warms
@@ -54,6 +56,8 @@ struct Pins {
   hal_float_t* z_pos;
   hal_float_t* rpm;
   hal_bit_t* enable;
+  hal_float_t* probe_z;
+  hal_float_t* probe_radius;
   hal_float_t* force;
   hal_float_t* force_true;
   hal_float_t* pz;
@@ -139,6 +143,7 @@ void update(void*, long period_ns) {
   *pins->strength = out.strength_factor;
   *pins->contact = out.in_contact;
   *pins->t_cut = out.time_in_cut_s;
+  *pins->probe_radius = plant->radius_mm(plant->stock_z_mm(*pins->probe_z));
   *pins->update_ns = timer.stop();
   *pins->update_ns_max = timer.max();
 }
@@ -168,6 +173,8 @@ extern "C" int rtapi_app_main(void) {
     pin(&pins->z_pos, HAL_IN, comp_id, kPrefix, "z-pos");
     pin(&pins->rpm, HAL_IN, comp_id, kPrefix, "spindle-rpm");
     pin(&pins->enable, HAL_IN, comp_id, kPrefix, "enable");
+    pin(&pins->probe_z, HAL_IN, comp_id, kPrefix, "probe-z");
+    pin(&pins->probe_radius, HAL_OUT, comp_id, kPrefix, "probe-radius");
     pin(&pins->force, HAL_OUT, comp_id, kPrefix, "force");
     pin(&pins->force_true, HAL_OUT, comp_id, kPrefix, "force-true");
     pin(&pins->pz, HAL_OUT, comp_id, kPrefix, "pz");

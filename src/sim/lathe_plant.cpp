@@ -60,7 +60,7 @@ double LathePlant::radius_mm(double z) const noexcept {
 
 void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
   const double x = in.x_mm;
-  const double z = p_.z_origin_mm - in.z_mm;  // stock coordinate
+  const double z = stock_z_mm(in.z_mm);
   const double rpm = std::abs(in.rpm);
 
   // Spindle angle of this step, in bins: [a0, a1).

@@ -85,6 +85,10 @@ class LathePlant {
   void configure(const CuttingProcess& cfg, const Params& p);
   // Advances by dt_s. Never allocates, throws or logs.
   void step(const Input& in, double dt_s, Output& out) noexcept;
+  // Stock z of a machine z [mm].
+  [[nodiscard]] double stock_z_mm(double z_machine_mm) const noexcept {
+    return p_.z_origin_mm - z_machine_mm;
+  }
   // Radius of the workpiece at stock z [mm] (0 outside the stock).
   [[nodiscard]] double radius_mm(double z_stock_mm) const noexcept;
 
