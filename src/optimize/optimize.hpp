@@ -76,7 +76,7 @@ struct Samples {
   double dt_s = 0.001;
   std::vector<int> move, piece;
   std::vector<double> path_mm, depth, feed_rev, speed, rpm, strength, param, pz, py, power, torque,
-      life_use, x, dt, wear;
+      life_use, x, z, dt, wear;  // x: radius, z: machine z [mm]
 };
 struct MoveStats {  // per move and piece
   double time_s = 0.0, depth_max = 0.0, param_mean = 0.0, param_max = 0.0, power_max = 0.0,
@@ -132,6 +132,7 @@ struct VerifyRun {
   std::vector<double> t, force_rev;  // for the report (feed moves and rapids alike)
   std::vector<int> line;             // the program line of each sample (the run's program)
   std::vector<double> force, motion;
+  std::vector<double> x, z;  // the tool's position [mm] (radius, machine z)
 };
 struct Verified {
   std::vector<VerifyRun> runs;

@@ -107,6 +107,7 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
         s.py.push_back(out.Py_N);
         s.power.push_back(out.cut_power_W);
         s.x.push_back(x1);
+        s.z.push_back(z1);
         s.wear.push_back(wear.wear_factor(out.time_in_cut_s));
         const double torque = out.Pz_N * (x1 + out.depth_mm) * 1e-3;
         s.torque.push_back(torque);
