@@ -81,6 +81,7 @@ struct Pins {
   hal_float_t* rpm_programmed;
   hal_float_t* current_vel;
   hal_float_t* requested_vel;
+  hal_float_t* feed_upm;          // motion.feed-upm: the F word of the move × motion's net scale
   hal_s32_t* motion_type;
   hal_float_t* x_pos;
   hal_float_t* cutting_speed;
@@ -198,6 +199,8 @@ struct State {
   // a value is used once it has held for one thread period.
   double req_prev = 0.0;
   double req_stable = 0.0;
+  // The F word under G95, from motion.feed-upm (below): 0 while motion's net scale is 0.
+  double f_word = 0.0;
   // shop settings
   lathectl::control::OperationRating rating;
   AdaptiveFeedController::Params base;
@@ -369,6 +372,14 @@ void update(void*, long period_ns) {
   const double req_now = std::abs(*p.requested_vel);
   if (req_now == s.req_prev) s.req_stable = req_now;
   s.req_prev = req_now;
+  {  // Under G95 motion.requested-vel is the F word for a straight feed but, for an arc, the
+     // arc's velocity limit (80 mm/s in the sample config: profile_arcs.ngc's G2 read as
+     // 80 mm/rev, the factor fell to 0.0006 and the arc crawled). motion.feed-upm is the move's
+     // own F word times motion's net feed scale: the feed scale (halui.feed-override.value)
+     // times the adaptive feed we wrote last period, which motion used in this one.
+    const double net = *p.scale_in_motion * *p.adaptive_feed;
+    s.f_word = net > 1e-9 && *p.feed_upm > 0.0 ? *p.feed_upm / net : 0.0;
+  }
 
   // Settings: checked every thread period, so a value motion puts out is in effect (or held as
   // bad) in the same period.
@@ -535,7 +546,9 @@ void update(void*, long period_ns) {
       // The program's feed per revolution: motion reports the F word itself under G95, a
       // velocity [mm/s] under G94 (motion.requested-vel: without the feed scale).
       const double req = s.req_stable;
-      const double prog_per_rev = *p.per_rev ? req : rpm > 0.0 ? req * 60.0 / rpm : 0.0;
+      const double prog_per_rev = *p.per_rev ? (s.f_word > 0.0 ? s.f_word : req)
+                                  : rpm > 0.0 ? req * 60.0 / rpm
+                                              : 0.0;
       // Above the program's feed up to the machine's maximum override (split_feed_override).
       factor = o.feed_hold          ? 0.0
                : prog_per_rev > 0.0 ? std::clamp(o.feed_per_rev_mm / prog_per_rev, 0.0,
@@ -693,6 +706,7 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.rpm_programmed, HAL_IN, comp_id, kPrefix, "spindle-rpm-programmed");
     pin(&p.current_vel, HAL_IN, comp_id, kPrefix, "current-vel");
     pin(&p.requested_vel, HAL_IN, comp_id, kPrefix, "requested-vel");
+    pin(&p.feed_upm, HAL_IN, comp_id, kPrefix, "feed-upm");
     pin(&p.motion_type, HAL_IN, comp_id, kPrefix, "motion-type");
     pin(&p.x_pos, HAL_IN, comp_id, kPrefix, "x-pos");
     pin(&p.cutting_speed, HAL_IN, comp_id, kPrefix, "cutting-speed");

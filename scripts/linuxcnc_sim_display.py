@@ -75,14 +75,41 @@ def fail(msg):
     sys.exit(1)
 
 
-def wait(pred, timeout, what, stat):
+def wait(pred, timeout, what, stat, err=None):
     end = time.monotonic() + timeout
     while time.monotonic() < end:
         stat.poll()
         if pred(stat):
             return
         time.sleep(0.02)
-    fail("timed out waiting for " + what)
+    said = []
+    while err is not None:
+        e = err.poll()
+        if not e:
+            break
+        said.append(e[1])
+    fail("timed out waiting for %s (task mode %s, state %s, interp %s, exec %s, line %s%s)" % (
+        what, stat.task_mode, stat.task_state, stat.interp_state, stat.exec_state,
+        stat.motion_line, "; LinuxCNC said: " + "; ".join(said) if said else ""))
+
+
+def realtime_servo_thread():
+    """The servo thread at real-time priority when we may give it (root), as LinuxCNC's setuid
+    rtapi_app takes itself: scripts/linuxcnc-sim runs rtapi_app as RTAPI_UID (it refuses root),
+    which leaves its threads time-shared, and on a loaded machine (a build beside it) the servo
+    thread then lost whole periods and milltask stalled ("timed out waiting for program start",
+    a run stuck at T2 M6). Linux's RT throttling keeps 5 % for everything else."""
+    if os.geteuid() != 0:
+        return
+    for pid in subprocess.run(["pgrep", "-x", "rtapi_app"], capture_output=True,
+                              text=True).stdout.split():
+        for tid in os.listdir("/proc/%s/task" % pid):
+            try:
+                name = open("/proc/%s/task/%s/comm" % (pid, tid)).read().strip()
+                if ":T#" in name:
+                    os.sched_setscheduler(int(tid), os.SCHED_FIFO, os.sched_param(80))
+            except OSError:
+                pass  # a thread that ended, or no permission: time-shared as before
 
 
 def main():
@@ -92,6 +119,7 @@ def main():
     period_s = 1e-3  # [EMCMOT]SERVO_PERIOD of the sample config
     stat, cmd, err = linuxcnc.stat(), linuxcnc.command(), linuxcnc.error_channel()
     me = hal.component("lathectl-sim-display")  # hal.set_p/get_value need a component
+    realtime_servo_thread()
     me.newpin("record", hal.HAL_BIT, hal.HAL_OUT)
     me.ready()
     if GUI:
@@ -172,7 +200,7 @@ def main():
                 cmd.program_open(program)
                 cmd.wait_complete()
                 cmd.auto(linuxcnc.AUTO_RUN, 0)
-        wait(lambda s: s.interp_state != linuxcnc.INTERP_IDLE, 30, "program start", stat)
+        wait(lambda s: s.interp_state != linuxcnc.INTERP_IDLE, 30, "program start", stat, err)
         hold_since = None
         aborted = timed_out = False
         progress = None
