@@ -56,8 +56,9 @@ RTAPI_MP_STRING(tools, "per-tool limits table (TOML, optional): rating, defaults
 static char* taught = nullptr;
 RTAPI_MP_STRING(taught, "teach-in references (TOML written by lathectl_oplog; absent: none)");
 static char* z_origin_mm = nullptr;
-RTAPI_MP_STRING(z_origin_mm, "machine z of the stock's face: turns on the stock model for the "
-                             "path-aware breakage detector (unset: the controller's own)");
+RTAPI_MP_STRING(z_origin_mm,
+                "machine z of the stock's face: turns on the stock model for the "
+                "path-aware breakage detector (unset: the controller's own)");
 static char* sensor = nullptr;
 RTAPI_MP_STRING(sensor, "force (the scenario's sensor, default) or power (spindle-power - idle)");
 
@@ -81,7 +82,7 @@ struct Pins {
   hal_float_t* rpm_programmed;
   hal_float_t* current_vel;
   hal_float_t* requested_vel;
-  hal_float_t* feed_upm;          // motion.feed-upm: the F word of the move × motion's net scale
+  hal_float_t* feed_upm;  // motion.feed-upm: the F word of the move × motion's net scale
   hal_s32_t* motion_type;
   hal_float_t* x_pos;
   hal_float_t* cutting_speed;
@@ -89,23 +90,23 @@ struct Pins {
   hal_bit_t* per_rev;
   hal_bit_t* enable;
   hal_bit_t* reset;
-  hal_float_t* limit_cmd;     // motion.analog-out-00
-  hal_float_t* feed_min_cmd;  // -01
-  hal_float_t* feed_max_cmd;  // -02
-  hal_float_t* mode_cmd;      // -03
-  hal_float_t* op_cmd;        // -04
-  hal_s32_t* tool_number;     // iocontrol.0.tool-number
-  hal_s32_t* program_line;    // motion.program-line
-  hal_float_t* z_pos;         // joint 1 (the stock model's path)
-  hal_bit_t* homed;           // both joints homed (positions mean something; lathectl.hal)
-  hal_float_t* knob;              // the operator's feed override (panel, MPG)
-  hal_float_t* max_override;      // [DISPLAY]MAX_FEED_OVERRIDE
-  hal_float_t* scale_in_motion;   // halui.feed-override.value (motion's feed scale)
+  hal_float_t* limit_cmd;        // motion.analog-out-00
+  hal_float_t* feed_min_cmd;     // -01
+  hal_float_t* feed_max_cmd;     // -02
+  hal_float_t* mode_cmd;         // -03
+  hal_float_t* op_cmd;           // -04
+  hal_s32_t* tool_number;        // iocontrol.0.tool-number
+  hal_s32_t* program_line;       // motion.program-line
+  hal_float_t* z_pos;            // joint 1 (the stock model's path)
+  hal_bit_t* homed;              // both joints homed (positions mean something; lathectl.hal)
+  hal_float_t* knob;             // the operator's feed override (panel, MPG)
+  hal_float_t* max_override;     // [DISPLAY]MAX_FEED_OVERRIDE
+  hal_float_t* scale_in_motion;  // halui.feed-override.value (motion's feed scale)
   // outputs
   hal_float_t* adaptive_feed;
-  hal_float_t* feed_override;     // motion's feed scale to command
+  hal_float_t* feed_override;       // motion's feed scale to command
   hal_s32_t* feed_override_counts;  // the same in thousandths (halui.feed-override.counts)
-  hal_float_t* feed_factor;       // the net override of the program's feed
+  hal_float_t* feed_factor;         // the net override of the program's feed
   hal_float_t* spindle_speed_out;
   hal_float_t* spindle_override;
   hal_bit_t* feed_hold;
@@ -136,8 +137,8 @@ struct Pins {
   hal_float_t* bad_value;
   hal_bit_t* overload_warn;
   hal_bit_t* overload_hold;
-  hal_float_t* load_rev;  // the load's mean over the last revolution
-  hal_float_t* load_pct;  // load_rev in % of the limit (the operator panel's bar)
+  hal_float_t* load_rev;         // the load's mean over the last revolution
+  hal_float_t* load_pct;         // load_rev in % of the limit (the operator panel's bar)
   hal_float_t* predicted_depth;  // the stock model's depth of cut at the tool [mm]
   hal_bit_t* breakage;           // path-aware breakage alarm (latched)
   hal_s32_t* op_seq;
@@ -306,12 +307,12 @@ SettingError resolve(State& s, const Pins& p, OpSettings& out, double& bad_value
   bad_value = std::isfinite(fmin_v) && fmin_v >= 0.0 ? fmax_v : fmin_v;
   if (lathectl::control::check_feeds(fmin_v, fmax_v, s.rating) != SettingError::None)
     return SettingError::FeedBounds;
-  o.feed_min = fmin_v > 0.0                                      ? fmin_v
+  o.feed_min = fmin_v > 0.0                                     ? fmin_v
                : tl != nullptr && tl->feed_min_mm_per_rev > 0.0 ? tl->feed_min_mm_per_rev
-                                                                  : s.base.feed_min_mm_per_rev;
-  o.feed_max = fmax_v > 0.0                                      ? fmax_v
+                                                                : s.base.feed_min_mm_per_rev;
+  o.feed_max = fmax_v > 0.0                                     ? fmax_v
                : tl != nullptr && tl->feed_max_mm_per_rev > 0.0 ? tl->feed_max_mm_per_rev
-                                                                  : s.base.feed_max_mm_per_rev;
+                                                                : s.base.feed_max_mm_per_rev;
   bad_value = o.feed_min;
   if (!(o.feed_min < o.feed_max)) return SettingError::FeedBounds;
   out = o;
@@ -376,8 +377,14 @@ void update(void*, long period_ns) {
      // arc's velocity limit (80 mm/s in the sample config: profile_arcs.ngc's G2 read as
      // 80 mm/rev, the factor fell to 0.0006 and the arc crawled). motion.feed-upm is the move's
      // own F word times motion's net feed scale: the feed scale (halui.feed-override.value)
-     // times the adaptive feed we wrote last period, which motion used in this one.
-    const double net = *p.scale_in_motion * *p.adaptive_feed;
+     // times the adaptive feed we wrote last period, which motion used in this one. halui's
+     // value lags motion's scale by 0.1–0.2 s when the scale changes (above the programmed
+     // feed), so the tag's F is off by up to the override's ratio then; it is used only where
+     // requested-vel cannot be an F word (more than 4× the tag's: an arc's limit is ~500×).
+    // Without halui's value (the sample config wires it only above the programmed feed,
+    // lathectl-above.hal) motion's feed scale is taken as 1: an operator's override then
+    // scales the tag's F too, which the 4× test below tolerates.
+    const double net = (*p.scale_in_motion > 0.0 ? *p.scale_in_motion : 1.0) * *p.adaptive_feed;
     s.f_word = net > 1e-9 && *p.feed_upm > 0.0 ? *p.feed_upm / net : 0.0;
   }
 
@@ -523,7 +530,8 @@ void update(void*, long period_ns) {
     // AFC's overload levels, percentages of the reference (taught, else the limit).
     const auto* tl = tool_of(s, tool);
     const double ref = s.applied.reference;
-    *p.overload_warn = tl != nullptr && tl->warn_pct > 0.0 && s.load_rev > tl->warn_pct / 100.0 * ref;
+    *p.overload_warn =
+        tl != nullptr && tl->warn_pct > 0.0 && s.load_rev > tl->warn_pct / 100.0 * ref;
     if (tl != nullptr && tl->hold_pct > 0.0 && s.load_rev > tl->hold_pct / 100.0 * ref)
       s.overload_latched = true;
     *p.overload_hold = s.overload_latched;
@@ -546,22 +554,22 @@ void update(void*, long period_ns) {
       // The program's feed per revolution: motion reports the F word itself under G95, a
       // velocity [mm/s] under G94 (motion.requested-vel: without the feed scale).
       const double req = s.req_stable;
-      const double prog_per_rev = *p.per_rev ? (s.f_word > 0.0 ? s.f_word : req)
+      const double prog_per_rev = *p.per_rev
+                                      ? (s.f_word > 0.0 && req > 4.0 * s.f_word ? s.f_word : req)
                                   : rpm > 0.0 ? req * 60.0 / rpm
                                               : 0.0;
       // Above the program's feed up to the machine's maximum override (split_feed_override).
-      factor = o.feed_hold          ? 0.0
-               : prog_per_rev > 0.0 ? std::clamp(o.feed_per_rev_mm / prog_per_rev, 0.0,
-                                                 std::max(max_ovr, 1.0))
-                                    : 1.0;
+      factor = o.feed_hold ? 0.0
+               : prog_per_rev > 0.0
+                   ? std::clamp(o.feed_per_rev_mm / prog_per_rev, 0.0, std::max(max_ovr, 1.0))
+                   : 1.0;
     }
-    const bool hold =
-        enabled && (o.feed_hold || s.bad || s.overload_latched || s.breakage_latched);
+    const bool hold = enabled && (o.feed_hold || s.bad || s.overload_latched || s.breakage_latched);
     // The operator's knob times the factor; the ceiling to halui, every decrease on
     // adaptive-feed. Not enabled: the knob alone, on feed moves as before.
-    const auto fo = lathectl::control::split_feed_override(
-        factor, *p.knob, max_ovr, kOverrideStep, *p.feed_override, *p.scale_in_motion,
-        enabled && feed_block);
+    const auto fo = lathectl::control::split_feed_override(factor, *p.knob, max_ovr, kOverrideStep,
+                                                           *p.feed_override, *p.scale_in_motion,
+                                                           enabled && feed_block);
     *p.feed_override = fo.scale;
     s.scale_mismatch_s = std::abs(*p.scale_in_motion - fo.scale) > 0.5 * kOverrideStep
                              ? s.scale_mismatch_s + dt
@@ -579,10 +587,9 @@ void update(void*, long period_ns) {
     *p.feed_hold = hold;
     *p.alarm = o.alarm || s.overload_latched || s.breakage_latched;
     *p.reason = static_cast<std::int32_t>(o.reason);
-    *p.alarm_reason =
-        s.breakage_latched && !o.alarm
-            ? static_cast<std::int32_t>(lathectl::control::Reason::ToolBreakage)
-            : static_cast<std::int32_t>(o.alarm_reason);
+    *p.alarm_reason = s.breakage_latched && !o.alarm
+                          ? static_cast<std::int32_t>(lathectl::control::Reason::ToolBreakage)
+                          : static_cast<std::int32_t>(o.alarm_reason);
     *p.feed_per_rev = o.feed_per_rev_mm;
     *p.speed_cmd = o.speed_m_per_min;
     *p.speed_opt = o.speed_opt_m_per_min;
@@ -662,18 +669,18 @@ extern "C" int rtapi_app_main(void) {
     state->speed_law = e.controller.mode == AdaptiveFeedController::Mode::ForceFeedSpeed;
     // The rating a program's value may not exceed: the tool table's, else what the sensor can
     // measure (the dynamometer's range; with sensor=power, the spindle's power).
-    state->rating.limit_max =
-        state->power_sensor ? e.spindle.max_power_W
-        : e.force_parameter == lathectl::cutting::ForceParameter::Power ? e.spindle.max_power_W
-                                                                          : e.force_sensor.range;
+    state->rating.limit_max = state->power_sensor ? e.spindle.max_power_W
+                              : e.force_parameter == lathectl::cutting::ForceParameter::Power
+                                  ? e.spindle.max_power_W
+                                  : e.force_sensor.range;
     state->rating.feed_max_mm_per_rev = c.feed_max_mm_per_rev;
     if (tools != nullptr && *tools != '\0') {
       const auto t = lathectl::hal::read_tool_table(read_text(tools, "tool limits"), tools);
       if (t.limit_max > 0.0) state->rating.limit_max = t.limit_max;
       if (t.feed_max_mm_per_rev > 0.0) state->rating.feed_max_mm_per_rev = t.feed_max_mm_per_rev;
       if (t.tools.size() > kMaxTools)
-        throw lathectl::hal::Error(std::string(tools) + ": more than " +
-                                   std::to_string(kMaxTools) + " tools");
+        throw lathectl::hal::Error(std::string(tools) + ": more than " + std::to_string(kMaxTools) +
+                                   " tools");
       for (const auto& l : t.tools) state->tools[state->n_tools++] = l;
     }
     const char* unit = state->power_sensor ? "W" : "N";

@@ -238,10 +238,16 @@ def main():
                     aborted = True
                     break
             if time.monotonic() - t0 > timeout_s:
+                # Where LinuxCNC waits (exec state: 2 motion, 3 motion queue, 4 io, 5 motion and
+                # io, 6 delay, 7 system command, 8 spindle oriented), before the abort clears it.
+                state = "interp %s, exec %s, queue %s, motion line %s, current line %s" % (
+                    stat.interp_state, stat.exec_state, stat.queue, stat.motion_line,
+                    stat.current_line)
                 cmd.abort()
                 cmd.wait_complete()
                 timed_out = True
-                errors.append("program still running after %g s (--timeout): aborted" % timeout_s)
+                errors.append("program still running after %g s (--timeout): aborted (%s)"
+                              % (timeout_s, state))
                 break
             if progress is not None and time.monotonic() >= next_progress:
                 next_progress += 5.0

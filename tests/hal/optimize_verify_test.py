@@ -1,0 +1,77 @@
+#!/usr/bin/python3
+"""`lathectl optimize --verify` end to end in LinuxCNC's simulated lathe (issue 15): a short
+program of our own on examples/linuxcnc/step_allowance.toml's bar (tests/hal/optimize_short.ngc:
+one pass at one cautious feed into the 44 mm collar, where the depth grows from 1.5 to 3.5 mm,
+then a G2 arc out of it) optimised, then the original and the optimised program run four times
+through scripts/linuxcnc-sim (control off, then seed 004's online control on). Asserts what the
+issue asks of the optimiser, on LinuxCNC's measurements:
+
+  - the optimised program's cycle at least 25 % shorter than the original's;
+  - its per-revolution force peak at most 5 % above the limit;
+  - the prediction within 5 % of the limit on every line with at least 0.3 s of feed;
+  - optimised + online control no slower than the original with online control;
+  - every run finished, and summary.json carries the issue's keys.
+
+Four LinuxCNC sessions, about 50 s of real time.
+
+  optimize_verify_test.py SOURCE_DIR WORK_DIR LATHECTL
+"""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+FAILS = []
+
+
+def check(cond, what):
+    print(("ok   " if cond else "FAIL ") + what)
+    if not cond:
+        FAILS.append(what)
+
+
+def main():
+    src, work, lathectl = (os.path.abspath(a) for a in sys.argv[1:4])
+    here = os.path.dirname(os.path.abspath(__file__))
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    program = os.path.join(work, "optimize_short.ngc")
+    shutil.copy(os.path.join(here, "optimize_short.ngc"), program)
+    out = os.path.join(work, "out")
+    p = subprocess.run([lathectl, "optimize", program,
+                        os.path.join(src, "examples/linuxcnc/step_allowance.toml"), "--out", out,
+                        "--verify", "--sim", os.path.join(src, "scripts/linuxcnc-sim"),
+                        "--timeout", "120"], capture_output=True, text=True, timeout=900)
+    print(p.stdout + p.stderr)
+    if p.returncode != 0:
+        check(False, "lathectl optimize --verify ran (exit %d)" % p.returncode)
+        return
+    s = json.load(open(os.path.join(out, "summary.json")))
+    for k in ("cycle_time_original_s", "cycle_time_optimized_s", "force_limit_N",
+              "force_peak_rev_original_N", "force_peak_rev_optimized_N", "prediction_error_pct",
+              "blocks_changed", "cycle_time_optimized_online_s"):
+        check(k in s, "summary.json has %s" % k)
+    runs = s["verify"]
+    check(all(r["finished"] for r in runs.values()),
+          "all four LinuxCNC runs finished (%s)" % {n: r["finished"] for n, r in runs.items()})
+    t0, t1 = s["cycle_time_original_s"], s["cycle_time_optimized_s"]
+    check(t1 <= 0.75 * t0, "cycle %.2f → %.2f s (%.1f %%, at least 25 %% shorter)"
+          % (t0, t1, 100.0 * (t1 / t0 - 1.0)))
+    limit = s["force_limit_N"]
+    peak = s["force_peak_rev_optimized_N"]
+    check(peak <= 1.05 * limit, "per-revolution force peak %.0f N (limit %.0f N, at most +5 %%)"
+          % (peak, limit))
+    check(s["prediction_lines_compared"] >= 2 and s["prediction_error_pct"] <= 5.0,
+          "prediction within %.2f %% of the limit over %d lines (at most 5 %%)"
+          % (s["prediction_error_pct"], s["prediction_lines_compared"]))
+    on0, on1 = s["cycle_time_original_online_s"], s["cycle_time_optimized_online_s"]
+    check(on1 <= on0, "online control: optimised %.2f s, original %.2f s (no slower)" % (on1, on0))
+
+
+if __name__ == "__main__":
+    main()
+    if FAILS:
+        print("%d check(s) failed" % len(FAILS))
+        sys.exit(1)
