@@ -52,7 +52,7 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
     }
     const auto n = static_cast<std::size_t>(std::min(t / s.dt_s * 1.1 + 1000.0, 5e7));
     for (auto* v : {&s.path_mm, &s.depth, &s.feed_rev, &s.speed, &s.rpm, &s.strength, &s.param,
-                    &s.pz, &s.py, &s.power, &s.torque, &s.life_use, &s.x, &s.dt, &s.wear})
+                    &s.pz, &s.py, &s.power, &s.torque, &s.life_use, &s.x, &s.z, &s.dt, &s.wear})
       v->reserve(n);
     s.move.reserve(n);
     s.piece.reserve(n);
@@ -107,6 +107,7 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
         s.py.push_back(out.Py_N);
         s.power.push_back(out.cut_power_W);
         s.x.push_back(x1);
+        s.z.push_back(z1);
         s.wear.push_back(wear.wear_factor(out.time_in_cut_s));
         const double torque = out.Pz_N * (x1 + out.depth_mm) * 1e-3;
         s.torque.push_back(torque);
