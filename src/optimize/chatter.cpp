@@ -65,6 +65,7 @@ double ChatterLimit::critical_stiffness(double z_stock_mm, double diameter_mm, d
   const auto band = static_cast<std::int64_t>(std::floor(std::log(rpm) / std::log1p(kBand)));
   const std::tuple<std::int64_t, std::int64_t, std::int64_t> key{
       band, part ? std::llround(z_stock_mm) : 0, part ? std::llround(diameter_mm * 10.0) : 0};
+  if (rpm == last_rpm_ && key == last_key_) return last_k_;  // the same lobes, the same speed
   auto it = cache_.find(key);
   if (it == cache_.end()) {
     // The band's lobes with a margin on both sides, at the key's position and diameter.
@@ -81,7 +82,10 @@ double ChatterLimit::critical_stiffness(double z_stock_mm, double diameter_mm, d
     }
     it = cache_.emplace(key, std::move(fd)).first;
   }
-  return it->second.lobes.empty() ? kInf : dynamics::envelope_depth(it->second, rpm);
+  last_rpm_ = rpm;
+  last_key_ = key;
+  last_k_ = it->second.lobes.empty() ? kInf : dynamics::envelope_depth(it->second, rpm);
+  return last_k_;
 }
 
 void chatter_margins(Samples& s, ChatterLimit& lim, const cutting::CuttingModel& cut,
@@ -89,13 +93,20 @@ void chatter_margins(Samples& s, ChatterLimit& lim, const cutting::CuttingModel&
   const std::size_t n = s.depth.size();
   s.kcrit.assign(n, kNaN);
   s.margin.assign(n, kNaN);
+  ChipStiffness law;  // the law's exponents: constants of a power law, found at the first sample
+  bool have_law = false;
   for (std::size_t i = 0; i < n; ++i) {
     if (!(s.depth[i] > 0.0 && s.feed_rev[i] > 0.0)) continue;
     // The part's diameter at the tool before this pass: the radius it leaves plus the depth.
     const double k = lim.critical_stiffness(z_origin_mm - s.z[i], 2.0 * (s.x[i] + s.depth[i]),
                                             s.rpm[i]);
-    const auto g =
-        chip_stiffness(cut, {s.depth[i], s.feed_rev[i], s.speed[i], s.strength[i], s.wear[i]});
+    const cutting::CutState c{s.depth[i], s.feed_rev[i], s.speed[i], s.strength[i], s.wear[i]};
+    if (!have_law) {
+      law = chip_stiffness(cut, c);
+      have_law = law.k_N_per_m > 0.0;
+    }
+    ChipStiffness g = law;  // k_c = y·Pz/s (chip_stiffness without its four extra force calls)
+    g.k_N_per_m = law.feed_exponent * cut.forces(c).Pz / s.feed_rev[i] * 1e3;
     s.kcrit[i] = k;
     s.margin[i] = chatter_margin(k, g);
   }

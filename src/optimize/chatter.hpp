@@ -73,6 +73,8 @@ class ChatterLimit {
   systems::e_adaptive::Chatter ch_;
   std::map<std::tuple<std::int64_t, std::int64_t, std::int64_t>, dynamics::FrequencyDomainResult>
       cache_;
+  std::tuple<std::int64_t, std::int64_t, std::int64_t> last_key_{};  // the last query's
+  double last_rpm_ = -1.0, last_k_ = 0.0;
 };
 
 // Per sample of a prediction in cut: k_lim there (s.kcrit) and the margin at the sample's depth,
