@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <filesystem>
 #include <numbers>
 
@@ -121,6 +122,54 @@ TEST(Chatter, RewriteRestoresTheMarginOrFlags) {
   }
   EXPECT_GT(restored, 0);
   EXPECT_GT(flagged, 0);
+}
+
+// A finishing pass (0.5 mm ≤ the finish depth) whose roughness feed, f = √(32·r_ε·Ra) = 0.286
+// mm/rev at Ra 3.2 µm, is below the chatter limit's lowest stable feed: with k_lim = 2kζ(1+ζ) of
+// a 10.7 N/µm tool mode (0.66 N/µm, the lobes' minima being dense at 1194 rpm and 1500 Hz) and
+// k_c = 0.75·Pz/s, margin ≈ 0.9 there; the feed rises to the smallest stable one, ≈ 0.29·(1/0.9)^4,
+// below the force limit's 0.6.
+TEST(Chatter, FinishingFeedRisesToTheStableOne) {
+  if (!have_rs274()) GTEST_SKIP() << "LinuxCNC's rs274 not installed";
+  auto e = modes_scenario();
+  e.chatter.part = false;
+  e.chatter.tool_modes = {{1.07e7, 0.03, 1500.0, 0.0}};
+  Options opt;
+  opt.ini = LATHECTL_SOURCE_DIR "/hal/config/lathectl-lathe.ini";
+  opt.rs274 = "/usr/bin/rs274";
+  const auto dir = std::filesystem::temp_directory_path() / "lathectl_chatter_finish";
+  std::filesystem::create_directories(dir);
+  const auto file = (dir / "finish.ngc").string();
+  {
+    std::FILE* f = std::fopen(file.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fputs("G18 G21 G40 G80 G90 G95\nT1 M6\nM3 S1194\nG0 X25 Z5\nG0 X19.5 Z2\n"
+               "G1 Z-12 F0.15\nG0 X25\nM5\nM2\n", f);
+    std::fclose(f);
+  }
+  const auto p = read_program(file, opt);
+  const auto r = optimize(p, e, opt);
+  int raised = 0;
+  for (std::size_t mi = 0; mi < p.canon.moves.size(); ++mi)
+    for (std::size_t k = 0; k < r.optimized[mi].size(); ++k) {
+      const Piece& pc = r.optimized[mi][k];
+      if (pc.limited_by != "chatter (above the roughness feed)") continue;
+      ++raised;
+      EXPECT_GT(pc.feed, 0.3);
+      EXPECT_LT(pc.feed, 0.6);
+      double m0 = INFINITY, m1 = INFINITY;
+      for (std::size_t i = 0; i < r.before.s.move.size(); ++i)
+        if (r.before.s.move[i] == static_cast<int>(mi) && r.before.s.margin[i] >= 0.0)
+          m0 = std::min(m0, r.before.s.margin[i]);
+      for (std::size_t i = 0; i < r.after.s.move.size(); ++i)
+        if (r.after.s.move[i] == static_cast<int>(mi) &&
+            r.after.s.piece[i] == static_cast<int>(k) && r.after.s.margin[i] >= 0.0)
+          m1 = std::min(m1, r.after.s.margin[i]);
+      EXPECT_LT(m0, 1.0);
+      EXPECT_GE(m1, 1.0);
+      EXPECT_LT(m1, 1.1);  // the smallest stable feed, not the largest the limits allow
+    }
+  EXPECT_EQ(raised, 1);
 }
 
 TEST(Chatter, SectionWithoutModesIsRefused) {
