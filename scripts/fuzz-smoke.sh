@@ -12,7 +12,7 @@ cmake --build --preset fuzz -j "$(nproc)" >/dev/null || {
 work=build/fuzz/corpus
 mkdir -p "$work/scenario" "$work/materials" "$work/lobes" "$work/tool_limits" "$work/channels_csv" \
   "$work/canon"
-cp examples/scenarios/*.toml "$work/scenario/"
+cp examples/scenarios/*.toml examples/linuxcnc/step_allowance_modes.toml "$work/scenario/"
 cp data/materials.toml "$work/materials/"
 cp examples/machines/*.toml "$work/lobes/"
 cp hal/config/lathectl-tools.toml "$work/tool_limits/"

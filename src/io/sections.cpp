@@ -1,6 +1,7 @@
 #include "lathectl/io/sections.hpp"
 
 #include <cstdint>
+#include <numbers>
 #include <optional>
 #include <string>
 
@@ -124,6 +125,54 @@ void read_spindle(TableReader& sp, drives::SpindleDrive::Params& s, bool default
   sp.read({"max_rpm", Range::positive(), "highest speed"}, s.max_rpm);
   sp.check(s.max_rpm > s.min_rpm, "max_rpm", "must exceed min_rpm");
   sp.finish();
+}
+
+namespace {
+// An angle in degrees, converted as the machine file's reader always did (deg·π/180).
+double read_angle_rad(TableReader& t, std::string_view doc) {
+  double deg = 0.0;
+  t.read({"angle_deg", Range::closed(-90, 90), doc}, deg);
+  return deg * std::numbers::pi / 180.0;
+}
+}  // namespace
+
+std::vector<dynamics::Mode> read_modes(TableReader& root) {
+  std::vector<dynamics::Mode> modes;
+  for (auto& m : root.tables("mode")) {
+    dynamics::Mode md;
+    m.require({"stiffness_N_per_m", {0.0, 1e13, true, false}, "k, the mode's stiffness"},
+              md.stiffness_N_per_m);
+    m.require({"damping_ratio", {0.0, 1.0, true, true}, "ζ, the mode's damping ratio"},
+              md.damping_ratio);
+    m.require(
+        {"natural_frequency_Hz", {0.0, 1e6, true, false}, "f_n, the mode's natural frequency"},
+        md.natural_frequency_Hz);
+    md.angle_rad = read_angle_rad(m, "θ, the mode's direction to the chip-thickness direction");
+    m.finish();
+    modes.push_back(md);
+  }
+  return modes;
+}
+
+void read_beam_material(TableReader& p, dynamics::BeamPart& b, bool defaults) {
+  const Param e{"youngs_modulus_GPa",
+                {0.0, 1e4, true, false},
+                defaults ? "E, Young's modulus of the part"
+                         : "E (required here; 210 by default in a system-B scenario)",
+                1e9};
+  const Param rho{"density_kg_per_m3",
+                  {0.0, 1e5, true, false},
+                  defaults ? "ρ, density of the part"
+                           : "ρ (required here; 7850 by default in a system-B scenario)"};
+  if (defaults) {
+    p.read(e, b.youngs_modulus_Pa);
+    p.read(rho, b.density_kg_per_m3);
+  } else {
+    p.require(e, b.youngs_modulus_Pa);
+    p.require(rho, b.density_kg_per_m3);
+  }
+  p.require({"damping_ratio", {0.0, 1.0, true, true}, "ζ of each bending mode"}, b.damping_ratio);
+  b.angle_rad = read_angle_rad(p, "direction of the bending modes to the chip thickness");
 }
 
 }  // namespace lathectl::io

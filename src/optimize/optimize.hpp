@@ -77,6 +77,9 @@ struct Samples {
   std::vector<int> move, piece;
   std::vector<double> path_mm, depth, feed_rev, speed, rpm, strength, param, pz, py, power, torque,
       life_use, x, z, dt, wear;  // x: radius, z: machine z [mm]
+  // With the scenario's [chatter] (chatter.hpp), per sample in cut, NaN elsewhere; else empty:
+  std::vector<double> kcrit;   // k_lim: the largest stable cutting stiffness ∂Pz/∂s [N/m]
+  std::vector<double> margin;  // chatter margin: limit depth / depth
 };
 struct MoveStats {  // per move and piece
   double time_s = 0.0, depth_max = 0.0, param_mean = 0.0, param_max = 0.0, power_max = 0.0,
@@ -107,6 +110,7 @@ struct Result {
   bool splits_dropped = false;
   int blocks_changed = 0;
   double limit = 0.0;  // the force parameter's limit (N, or W)
+  bool chatter = false;  // the scenario has modes: the samples carry the chatter margin
 };
 Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const Options& opt);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -44,6 +45,9 @@ double feed_peak(const io::CanonProgram& prog, const Samples& s, const std::vect
 
 struct PieceStats {
   double time = 0.0, sum = 0.0, peak = 0.0, depth = 0.0, power = 0.0, torque = 0.0, life = 0.0;
+  // With [chatter]: the least margin and limit depth over the piece's samples in cut.
+  double margin = std::numeric_limits<double>::infinity();
+  double limit_depth = std::numeric_limits<double>::infinity();
 };
 // Stats of each piece of `plan` from samples of a run whose plan may differ: a sample belongs to
 // the piece its share of the move lies in.
@@ -69,9 +73,31 @@ std::vector<std::vector<PieceStats>> stats(const io::CanonProgram& prog, const P
       x.power = std::max(x.power, s.power[i]);
       x.torque = std::max(x.torque, s.torque[i]);
       x.life += s.life_use[i];
+      if (!s.margin.empty() && s.margin[i] >= 0.0) {  // NaN out of cut
+        x.margin = std::min(x.margin, s.margin[i]);
+        x.limit_depth = std::min(x.limit_depth, s.margin[i] * s.depth[i]);
+      }
     }
   }
   return st;
+}
+
+// Chatter margin or limit depth for the table: empty without modes, "inf" where no lobe reaches.
+std::string chatter_cell(bool chatter, double v) {
+  return !chatter ? "" : std::isfinite(v) ? num(v, 4) : "inf";
+}
+// The least margin over the samples in cut of feed moves; +inf when every one is stable at any
+// depth.
+double margin_min(const io::CanonProgram& prog, const Samples& s) {
+  double m = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < s.margin.size(); ++i)
+    if (s.margin[i] >= 0.0 &&
+        prog.moves[static_cast<std::size_t>(s.move[i])].kind != CanonMove::Kind::Traverse)
+      m = std::min(m, s.margin[i]);
+  return m;
+}
+nlohmann::json finite_or_null(bool chatter, double v) {
+  return chatter && std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
 }
 
 const char* kind_name(CanonMove::Kind k) {
@@ -94,7 +120,9 @@ std::vector<std::pair<std::string, std::string>> output_files(
       "feed_mode,feed_programmed,feed_optimized,limited_by,depth_max_mm,time_original_s,"
       "time_optimized_s,force_mean_original_" +
       unit + ",force_peak_rev_original_" + unit + ",force_mean_optimized_" + unit +
-      ",force_peak_rev_optimized_" + unit + ",power_max_W,torque_max_N_m,tool_life_use_optimized\n";
+      ",force_peak_rev_optimized_" + unit + ",power_max_W,torque_max_N_m,tool_life_use_optimized,chatter_limit_depth_original_mm,"
+      "chatter_margin_original,chatter_limit_depth_optimized_mm,chatter_margin_optimized\n";
+  int below0 = 0, below1 = 0;
   for (std::size_t mi = 0; mi < prog.moves.size(); ++mi) {
     const CanonMove& m = prog.moves[mi];
     if (m.kind == CanonMove::Kind::Traverse) continue;
@@ -112,7 +140,12 @@ std::vector<std::pair<std::string, std::string>> output_files(
              pc.limited_by + "\"," + num(std::max(a.depth, b.depth), 4) + "," + num(a.time, 5) +
              "," + num(b.time, 5) + "," + num(a.time > 0 ? a.sum / a.time : 0.0) + "," +
              num(a.peak) + "," + num(b.time > 0 ? b.sum / b.time : 0.0) + "," + num(b.peak) + "," +
-             num(b.power) + "," + num(b.torque) + "," + num(b.life) + "\n";
+             num(b.power) + "," + num(b.torque) + "," + num(b.life) + "," +
+             chatter_cell(r.chatter, a.limit_depth) + "," + chatter_cell(r.chatter, a.margin) +
+             "," + chatter_cell(r.chatter, b.limit_depth) + "," +
+             chatter_cell(r.chatter, b.margin) + "\n";
+      below0 += a.margin < 1.0;
+      below1 += b.margin < 1.0;
     }
   }
   // summary.json
@@ -158,6 +191,13 @@ std::vector<std::pair<std::string, std::string>> output_files(
   js["verified"] = v != nullptr;
   js["blocks_changed"] = r.blocks_changed;
   js["splits_dropped"] = r.splits_dropped;
+  // Chatter (scenario [chatter]): null without modes, or where no lobe reaches (stable at any
+  // depth); the blocks are the rows of blocks.csv.
+  const double mm0 = margin_min(prog, r.before.s), mm1 = margin_min(prog, r.after.s);
+  js["chatter_margin_min_original"] = finite_or_null(r.chatter, mm0);
+  js["chatter_margin_min_optimized"] = finite_or_null(r.chatter, mm1);
+  js["chatter_blocks_below_1_original"] = r.chatter ? json(below0) : json(nullptr);
+  js["chatter_blocks_below_1_optimized"] = r.chatter ? json(below1) : json(nullptr);
   js["tool_life_use_original"] = r.before.life_use;
   js["tool_life_use_optimized"] = r.after.life_use;
   js["predicted_rapid_in_material_s"] = r.before.rapid_in_material_s;
@@ -206,6 +246,12 @@ std::vector<std::pair<std::string, std::string>> output_files(
   m("lines changed", r.blocks_changed, "");
   m("tool life used, original", r.before.life_use, "");
   m("tool life used, optimised", r.after.life_use, "");
+  if (r.chatter) {
+    m("least chatter margin, original", mm0, "");
+    m("least chatter margin, optimised", mm1, "");
+    m("pieces below margin 1, original", below0, "");
+    m("pieces below margin 1, optimised", below1, "");
+  }
   if (r.before.rapid_in_material_s > 0.0)
     rep.notes.push_back("A rapid (G0) of line " + std::to_string(r.before.rapid_first_line) +
                         " passes through material for " + num(r.before.rapid_in_material_s, 3) +
@@ -276,6 +322,26 @@ std::vector<std::pair<std::string, std::string>> output_files(
                        k == LineAction::Kind::Keep ? r.actions[li].why : why});
   }
   rep.tables.push_back(tb);
+  if (r.chatter) {  // the pieces whose margin is below 1, original or optimised
+    io::Table tc{"Chatter margin below 1 (limit depth / depth; lobes of the modes at the piece)",
+                 {"line", "piece", "depth [mm]", "feed, original", "margin, original",
+                  "feed, optimised", "margin, optimised", "limited by"},
+                 {}};
+    for (std::size_t mi = 0; mi < prog.moves.size() && tc.rows.size() < 200; ++mi) {
+      if (prog.moves[mi].kind == CanonMove::Kind::Traverse) continue;
+      for (std::size_t k = 0; k < r.optimized[mi].size(); ++k) {
+        const auto &a = st0[mi][k], &b = st1[mi][k];
+        if (!(a.margin < 1.0 || b.margin < 1.0)) continue;
+        const Piece& pc = r.optimized[mi][k];
+        tc.rows.push_back({std::to_string(prog.moves[mi].line), std::to_string(k + 1),
+                           num(std::max(a.depth, b.depth), 4), num(prog.moves[mi].feed, 4),
+                           chatter_cell(true, a.margin), num(pc.feed, 4),
+                           chatter_cell(true, b.margin), pc.limited_by});
+      }
+    }
+    if (tc.rows.empty()) tc.rows.push_back({"—", "", "", "", "", "", "", "every piece ≥ 1"});
+    rep.tables.push_back(tc);
+  }
   rep.doc_page = "optimize.md";
   return {{"optimized.ngc", r.ngc},
           {"blocks.csv", csv},

@@ -6,10 +6,12 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/cutting/force_parameter.hpp"
 #include "lathectl/sim/per_revolution.hpp"
+#include "optimize/chatter.hpp"
 #include "optimize/path.hpp"
 
 namespace lathectl::optimize {
@@ -21,6 +23,38 @@ struct Span {  // a piece of a move as a range of samples
   std::size_t a = 0, b = 0;
   bool cut = false;
 };
+
+// The chatter limit is a lower bound on the feed (chatter.hpp: k_c = ∂Pz/∂s ∝ s^(y−1) falls as
+// the feed rises). The smallest feed per revolution in [f, f_top] at which every sample of the
+// span in cut is stable (k_c ≤ k_lim at its depth, speed and position): f itself when it is
+// stable, nothing when f_top is not. The ratio k_c/k_lim of two samples does not depend on the
+// feed (the same power of s), so the sample worst at f is worst at every feed: it alone is solved.
+std::optional<double> stable_feed(const cutting::CuttingModel& cut, const Samples& s,
+                                  const Span& sp, double f, double f_top) {
+  std::size_t worst = sp.b;
+  double r = 0.0;
+  auto ratio = [&](std::size_t i, double feed) {
+    return chip_stiffness(cut, {s.depth[i], feed, s.speed[i], s.strength[i], s.wear[i]})
+               .k_N_per_m /
+           s.kcrit[i];
+  };
+  for (std::size_t i = sp.a; i < sp.b; ++i) {
+    if (!(s.depth[i] > 0.0) || !(s.kcrit[i] > 0.0)) continue;  // NaN: not in cut
+    const double q = ratio(i, f);
+    if (q > r) {
+      r = q;
+      worst = i;
+    }
+  }
+  if (worst == sp.b || r <= 1.0) return f;
+  if (ratio(worst, f_top) > 1.0) return std::nullopt;
+  double lo = f, hi = f_top;  // unstable at lo, stable at hi
+  for (int k = 0; k < 50; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (ratio(worst, mid) > 1.0 ? lo : hi) = mid;
+  }
+  return hi;
+}
 
 }  // namespace
 
@@ -182,6 +216,7 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
           auto [f, why] = largest_feed(cut, e.rig.force_parameter, lim, t, v, h, w, x);
           pc.limited_by = why;
           f_rev = f;
+          const double f_limits = f;  // the largest feed force, power and torque allow
           if (t <= opt.finish_depth_mm) {  // finishing: Ra = f²/(32 r) at most the target
             const double programmed_rev = m.per_rev ? m.feed : m.feed / std::max(rpm_min, 1e-9);
             const double ra =
@@ -190,6 +225,16 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
             if (f_ra < f_rev) {
               f_rev = std::max(f_ra, lim.feed_min);
               pc.limited_by = "roughness";
+            }
+          }
+          if (!s.kcrit.empty()) {  // the scenario has modes: the feed that keeps margin ≥ 1
+            const auto fc = stable_feed(cut, s, sp, f_rev, std::max(f_limits, f_rev));
+            if (!fc) {
+              pc.limited_by += " + chatter: unstable at every feed within the limits";
+            } else if (*fc > f_rev) {
+              pc.limited_by = pc.limited_by == "roughness" ? "chatter (above the roughness feed)"
+                                                           : "chatter";
+              f_rev = *fc;
             }
           }
         } else {

@@ -52,7 +52,7 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
     }
     const auto n = static_cast<std::size_t>(std::min(t / s.dt_s * 1.1 + 1000.0, 5e7));
     for (auto* v : {&s.path_mm, &s.depth, &s.feed_rev, &s.speed, &s.rpm, &s.strength, &s.param,
-                    &s.pz, &s.py, &s.power, &s.torque, &s.life_use, &s.x, &s.dt, &s.wear})
+                    &s.pz, &s.py, &s.power, &s.torque, &s.life_use, &s.x, &s.z, &s.dt, &s.wear})
       v->reserve(n);
     s.move.reserve(n);
     s.piece.reserve(n);

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "optimize/chatter.hpp"
 #include "optimize/path.hpp"
 #include "optimize/plan.hpp"
 #include "optimize/text.hpp"
@@ -210,6 +211,12 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
   const auto& moves = p.canon.moves;
   r.original = programmed(p.canon);
   r.before = predict(p.canon, r.original, e, opt);
+  // With [chatter]: the margin of every sample in cut (chatter.hpp), which the feeds respect.
+  ChatterLimit chatter(e.chatter);
+  cutting::CuttingModel cut;
+  cut.configure(e.rig.cutting);
+  r.chatter = chatter.enabled();
+  if (r.chatter) chatter_margins(r.before.s, chatter, cut, opt.z_origin_mm);
   // Moves of each line; lines that must not change.
   std::vector<std::vector<std::size_t>> line_moves(p.lines.size());
   std::vector<bool> kept(moves.size(), false);
@@ -285,6 +292,10 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
     r.splits_dropped = true;
   }
   r.after = predict(p.canon, r.optimized, e, opt);
+  if (r.chatter) {
+    chatter_margins(r.after.s, chatter, cut, opt.z_origin_mm);
+    flag_chatter(r.optimized, r.after.s);
+  }
   for (std::size_t li = 0; li < p.lines.size(); ++li) {
     const auto k = r.actions[li].kind;
     if (k == Kind::Split || k == Kind::Expand) {

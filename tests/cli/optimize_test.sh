@@ -30,4 +30,14 @@ printf 'G18 G21 G95\nM3 S1000\nG0 X50 Z5\nG1 Z-50 F0.2\nM2\n' >"$work/air.ngc"
 expect_bad untouched "$work/air.ngc" "$src/examples/linuxcnc/step_allowance.toml" "never touches"
 expect_bad not_e "$src/examples/linuxcnc/cautious_roughing.ngc" \
   "$src/examples/linuxcnc/b_chatter_single.toml" "system-E scenario"
+# [chatter] (the chatter margin): a part without its headstock centre, and a section with no
+# mode and no part — the reader names the file, the line and the key.
+{ cat "$src/examples/linuxcnc/step_allowance.toml"
+  printf '\n[chatter]\n[[chatter.mode]]\nstiffness_N_per_m = 3e7\ndamping_ratio = 0.03\n'
+  printf 'natural_frequency_Hz = 1500\n[chatter.part]\ndamping_ratio = 0.02\n'; } >"$work/no_centre.toml"
+expect_bad no_centre "$src/examples/linuxcnc/cautious_roughing.ngc" "$work/no_centre.toml" \
+  "no_centre.toml:.*headstock_at_mm"
+{ cat "$src/examples/linuxcnc/step_allowance.toml"; printf '\n[chatter]\n'; } >"$work/no_modes.toml"
+expect_bad no_modes "$src/examples/linuxcnc/cautious_roughing.ngc" "$work/no_modes.toml" \
+  "no_modes.toml:.*chatter"
 exit $fail

@@ -1,5 +1,6 @@
 #pragma once
-// Scenario tables more than one system reads: [run], [material] and [tool], [[fault]], [spindle].
+// Scenario tables more than one system reads: [run], [material] and [tool], [[fault]], [spindle],
+// the chatter model's [[mode]]s and a part's beam material (B's machine files, E's [chatter]).
 // A system's own tables are read in its folder (systems/<x>/settings.cpp).
 
 #include <cstdint>
@@ -7,6 +8,8 @@
 
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/cutting/disturbances.hpp"
+#include "lathectl/dynamics/beam.hpp"
+#include "lathectl/dynamics/lobes.hpp"
 #include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
@@ -26,5 +29,11 @@ std::vector<sim::SensorFault> read_faults(TableReader& root);
 // The spindle drive (systems B and E). With `defaults`, every key is optional and keeps the
 // value already in `s`.
 void read_spindle(TableReader& sp, drives::SpindleDrive::Params& s, bool defaults);
+// [[mode]] (an array of tables under `root`): each a vibration mode of the chatter model
+// (dynamics::Mode: k, ζ, f_n, direction to the chip thickness).
+std::vector<dynamics::Mode> read_modes(TableReader& root);
+// A slender part's beam material and damping (E, ρ, ζ, direction of its bending modes); with
+// `defaults` E and ρ are optional and keep the values already in `b`.
+void read_beam_material(TableReader& p, dynamics::BeamPart& b, bool defaults);
 
 }  // namespace lathectl::io

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/sections.hpp"
 #include "lathectl/io/study.hpp"
 #include "lathectl/io/toml_reader.hpp"
 #include "systems/b_chatter/lobes.hpp"
@@ -42,27 +43,9 @@ double lobes_reference_Hz(const LobesInput& in) {
   return f;
 }
 
-// An angle in degrees, converted as the file's reader always did (deg·π/180).
-double read_angle_rad(TableReader& t, std::string_view doc) {
-  double deg = 0.0;
-  t.read({"angle_deg", Range::closed(-90, 90), doc}, deg);
-  return deg * std::numbers::pi / 180.0;
-}
-
 void read_modes(TableReader& root, LobesInput& in) {
-  for (auto& m : root.tables("mode")) {
-    dynamics::Mode md;
-    m.require({"stiffness_N_per_m", {0.0, 1e13, true, false}, "k, the mode's stiffness"},
-              md.stiffness_N_per_m);
-    m.require({"damping_ratio", {0.0, 1.0, true, true}, "ζ, the mode's damping ratio"},
-              md.damping_ratio);
-    m.require(
-        {"natural_frequency_Hz", {0.0, 1e6, true, false}, "f_n, the mode's natural frequency"},
-        md.natural_frequency_Hz);
-    md.angle_rad = read_angle_rad(m, "θ, the mode's direction to the chip-thickness direction");
-    m.finish();
-    in.tool_modes.push_back(md);
-  }
+  const auto modes = io::read_modes(root);
+  in.tool_modes.insert(in.tool_modes.end(), modes.begin(), modes.end());
 }
 
 // [part]: a pinned-pinned Euler–Bernoulli beam; its modes are seen at the cutting position.
@@ -72,17 +55,7 @@ void read_part(TableReader& p, LobesInput& in) {
   p.require({"length_mm", {0.0, 1e5, true, false}, "distance between the centres", 1e-3},
             b.length_m);
   p.require({"diameter_mm", {0.0, 1e4, true, false}, "the part's diameter", 1e-3}, b.diameter_m);
-  p.require({"youngs_modulus_GPa",
-             {0.0, 1e4, true, false},
-             "E (required here; 210 by default in a system-B scenario)",
-             1e9},
-            b.youngs_modulus_Pa);
-  p.require({"density_kg_per_m3",
-             {0.0, 1e5, true, false},
-             "ρ (required here; 7850 by default in a system-B scenario)"},
-            b.density_kg_per_m3);
-  p.require({"damping_ratio", {0.0, 1.0, true, true}, "ζ of each bending mode"}, b.damping_ratio);
-  b.angle_rad = read_angle_rad(p, "direction of the bending modes to the chip thickness");
+  io::read_beam_material(p, b, false);
   p.read({"modes", Range::closed(1, 50), "bending modes (at most 6 in a system-B scenario)"},
          part.modes);
   const Range inside{0.0, b.length_m * 1e3, true, true};  // between the centres

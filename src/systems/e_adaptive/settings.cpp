@@ -309,6 +309,33 @@ void read_controller(TableReader& root, sim::RigEConfig& e) {
   c->finish();
 }
 
+// [chatter]: the tool's modes and the part between centres (lathectl optimize's chatter margin).
+// The mode and beam-material keys are the machine file's (io::read_modes, read_beam_material).
+void read_chatter(TableReader& c, Chatter& ch) {
+  c.document("mode", "the tool's (and machine's) vibration modes, as in a machine file");
+  ch.tool_modes = io::read_modes(c);
+  c.document("part", "the part between centres; without it the part is rigid");
+  if (auto p = c.table("part")) {
+    ch.part = true;
+    p->read({"tailstock_at_mm", Range::any(),
+             "stock z of the tailstock centre (z = 0 is the part's face, z grows toward the "
+             "chuck)"},
+            ch.tailstock_at_mm);
+    p->require({"headstock_at_mm", Range::any(),
+                "stock z of the headstock centre; the part is a pinned-pinned beam between the "
+                "two centres, of the diameter the stock has at the tool (system B's model)"},
+               ch.headstock_at_mm);
+    p->check(ch.headstock_at_mm > ch.tailstock_at_mm, "headstock_at_mm",
+             "must exceed tailstock_at_mm");
+    io::read_beam_material(*p, ch.beam, true);
+    p->read({"modes", Range::closed(1, 50), "bending modes of the part"}, ch.part_modes);
+    p->finish();
+    ch.beam.length_m = (ch.headstock_at_mm - ch.tailstock_at_mm) * 1e-3;
+  }
+  c.check(ch.enabled(), "mode", "at least one [[chatter.mode]] or a [chatter.part] expected");
+  c.finish();
+}
+
 }  // namespace
 
 std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenario& sc,
@@ -355,6 +382,12 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
               "the planned-depth sweep needs controller.type = \"force_speed\" and a Pz or Py "
               "sensor (the depth-corrected law estimates the depth from the force)");
     sw->finish();
+  }
+  if (auto ch = root.table("chatter")) {
+    root.document("chatter",
+                  "lathectl optimize's chatter margin: the tool's modes and the part between "
+                  "centres (docs/optimize.md)");
+    read_chatter(*ch, out->chatter);
   }
   e.faults = io::read_faults(root);
   return out;

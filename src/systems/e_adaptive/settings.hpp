@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "lathectl/control/adaptive_feed_controller.hpp"
+#include "lathectl/dynamics/beam.hpp"
+#include "lathectl/dynamics/lobes.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "systems/e_adaptive/rig.hpp"
 
@@ -25,6 +27,20 @@ struct Cost {
   double tool_change_min = 1.0;      // machine time to index or change the edge
 };
 
+// [chatter] (optional): what `lathectl optimize` needs for each piece's chatter margin (issue 15;
+// docs/optimize.md): the tool's modes and the part as system B models it, a pinned-pinned
+// Euler–Bernoulli beam between two centres (dynamics/beam.hpp), whose diameter the optimiser
+// takes from the stock as the passes leave it. The rig does not read it.
+struct Chatter {
+  std::vector<dynamics::Mode> tool_modes;  // [[chatter.mode]]
+  bool part = false;                       // [chatter.part] given
+  dynamics::BeamPart beam;                 // length = headstock_at − tailstock_at; diameter unused
+  int part_modes = 3;
+  double tailstock_at_mm = 0.0;  // stock z of the centres (z = 0 is the part's face)
+  double headstock_at_mm = 0.0;
+  [[nodiscard]] bool enabled() const { return part || !tool_modes.empty(); }
+};
+
 struct Settings : io::SettingsOf<Settings> {
   sim::RigEConfig rig;
   std::vector<Mode> compare_modes;  // [compare] controllers: extra runs overlaid in the report
@@ -32,6 +48,7 @@ struct Settings : io::SettingsOf<Settings> {
   // [sweep] planned_depth_mm: the tool-life verdict against the planned depth t_p, for the seed
   // law (exact from the main run: it never reads t_p) and the depth-corrected law (one run each).
   std::vector<double> sweep_planned_depth_mm;
+  Chatter chatter;  // [chatter]
 };
 
 // Reads system E's tables of a scenario (after its common part) into a Settings.
