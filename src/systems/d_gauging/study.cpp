@@ -74,6 +74,19 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
                                               "can measure, A0 = " +
                                               fmt(A0 * kUm) + " µm"));
   const double settle = std::max(0.8, 8.0 * d.transducer.filter_time_constant_s);
+  // The result files stream into the stage (issue 19), their disk space checked before any work:
+  // channels.csv one row a linearised part, channels_compare.csv the full-model part recorded
+  // (streamed: memory bounded whatever run.duration_s; the plots from its pyramids).
+  io::OutputStage* stage = io::StreamScope::current();
+  const auto parts_csv = io::open_channel_stream(
+      sc, stage, "channels.csv",
+      {{"part", ""}, {"trip_s", "s"}, {"stop_s", "s"}, {"finished_um", "µm"}},
+      static_cast<double>(d.parts), "monte_carlo.parts", "lower monte_carlo.parts");
+  sim::Recorder rec = sim::Recorder::streamed(
+      {{"time_s", "s"}, {"x_um", "µm"}, {"x_seen_um", "µm"}, {"signal_V", "V"}, {"probe_um", "µm"}});
+  const auto rec_csv = io::open_channel_stream(
+      sc, stage, "channels_compare.csv", rec.channels(), sc.run.duration_s / dt / 50.0 + 16.0,
+      "run.duration_s", "shorten run.duration_s, raise run.step_s");
 
   // 1. Calibration: the full model's settled mean signal against x, and the seed's line.
   std::vector<double> xs, s_full;
@@ -124,14 +137,6 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
   // 2. One full-model part without noise against the linear prediction (inside the range).
   auto quiet = p;
   quiet.noise_variance_m2 = 0.0;
-  // Recorded streamed (memory bounded whatever run.duration_s): channels_compare.csv written as
-  // it records, the plots from its pyramids.
-  io::OutputStage* stage = io::StreamScope::current();
-  sim::Recorder rec = sim::Recorder::streamed(
-      {{"time_s", "s"}, {"x_um", "µm"}, {"x_seen_um", "µm"}, {"signal_V", "V"}, {"probe_um", "µm"}});
-  const auto rec_csv = io::open_channel_stream(sc, stage, "channels_compare.csv", rec.channels(),
-                                   sc.run.duration_s / dt / 50.0 + 16.0, "run.duration_s",
-                                   "shorten run.duration_s, raise run.step_s");
   rec.attach(rec_csv.get());
   const auto full = sim::machine_part_full(quiet, d.transducer, dt, s_th, sc.run.seed, &rec, 50,
                                            sc.run.duration_s);
@@ -232,10 +237,6 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
   // In passes over the parts (LinearParts): the first writes channels.csv (one row a part) and
   // sums the sizes, the second their spread about the mean, the third (the report) the histogram.
   sim::LinearParts parts(p, line, s_th, d.parts, sc.run.seed, kept_parts);
-  const auto parts_csv =
-      io::open_channel_stream(sc, stage, "channels.csv",
-                  {{"part", ""}, {"trip_s", "s"}, {"stop_s", "s"}, {"finished_um", "µm"}},
-                  static_cast<double>(d.parts), "monte_carlo.parts", "lower monte_carlo.parts");
   const auto each_size = [&](auto&& f) {  // the finished sizes (the backstop's included)
     parts.for_each([&](std::size_t, const sim::PartResult& r) {
       if (std::isfinite(r.finished_m)) f(r.finished_m);
