@@ -4,7 +4,6 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
-#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -31,8 +30,8 @@ struct Run {
 };
 
 // The rig records streamed (its memory bounded whatever the template's length, the feed and the
-// record interval): the metrics are accumulated row by row, csv (nullptr: none) is written into
-// `stage` as the rows come. kept_rows: TracerMetrics' budget of cone rows.
+// record interval): the metrics are accumulated row by row, the result file `csv` is written into
+// `stage` as the rows come (in memory without one). kept_rows: TracerMetrics' budget of cone rows.
 void run_one(const io::Scenario& sc, sim::RigCConfig cfg, bool nonlinear, Run& r,
              std::size_t kept_rows, const char* csv, io::OutputStage* stage) {
   cfg.nonlinear = nonlinear;
