@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "lathectl/io/output.hpp"
+#include "lathectl/io/scenario.hpp"
 #include "lathectl/sim/config_error.hpp"
 
 namespace lathectl::io {
@@ -86,7 +87,8 @@ OutputStage* StreamScope::current() { return g_stage; }
 
 std::unique_ptr<ChannelStream> open_channel_stream(OutputStage* stage, const std::string& name,
                                                    const std::vector<sim::Channel>& channels,
-                                                   double max_rows) {
+                                                   double max_rows, const char* key,
+                                                   const char* advice) {
   if (!stage) return std::make_unique<ChannelStream>(channels);
   static std::mutex mutex;  // the stage's running sum of promised bytes
   std::lock_guard lock(mutex);
@@ -100,21 +102,32 @@ std::unique_ptr<ChannelStream> open_channel_stream(OutputStage* stage, const std
         fake ? std::strtod(fake, nullptr)
              : static_cast<double>(vfs.f_bavail) * static_cast<double>(vfs.f_frsize);
     if (stage->reserved_bytes() + need > free_bytes) {
-      char msg[320];
+      char msg[480];
       std::snprintf(msg, sizeof msg,
                     "%s of up to %.0f rows would need up to %.3g GB (%.0f B a row), more than the "
                     "%.3g GB free on the output's file system (%.3g GB already promised to the "
-                    "other recorded files): shorten run.duration_s, raise run.record_interval_s "
-                    "or choose another --out",
+                    "other recorded files): %s or choose another --out",
                     name.c_str(), std::ceil(max_rows), need * 1e-9, per_row, free_bytes * 1e-9,
-                    stage->reserved_bytes() * 1e-9);
-      throw sim::ConfigError("run.duration_s", msg);
+                    stage->reserved_bytes() * 1e-9, advice);
+      throw sim::ConfigError(key, msg);
     }
   }
   stage->reserved_bytes() += need;
   auto s = std::make_unique<ChannelStream>(channels, stage->path() / name);
   stage->add_streamed(name);
   return s;
+}
+
+std::unique_ptr<ChannelStream> open_channel_stream(const Scenario& sc, OutputStage* stage,
+                                                   const std::string& name,
+                                                   const std::vector<sim::Channel>& channels,
+                                                   double max_rows, const char* key,
+                                                   const char* advice) {
+  try {
+    return open_channel_stream(stage, name, channels, max_rows, key, advice);
+  } catch (const std::invalid_argument& e) {
+    throw_at_key(sc, e);
+  }
 }
 
 }  // namespace lathectl::io

@@ -473,6 +473,15 @@ for f in e_sensor_dropout a_finishing_aim; do
   left=$(ls -A "$work" | grep -E '^full')
   [ -z "$left" ] || bad "no room for $f: left $left"
 done
+# C and D stream too, checked at the key that sets their length (before any simulation)
+for fk in c_stepped_tapered_fast:run.record_interval_s:channels.csv d_near_a0:monte_carlo.parts:channels.csv; do
+  f=${fk%%:*}; k=${fk#*:}; file=${k#*:}; k=${k%%:*}
+  rm -rf "$work/full" "$work"/full.*
+  expect_rc 2 "no room for $f's channels" env LATHECTL_TEST_FREE_BYTES=100000 $bin run "$scn/$f.toml" --out "$work/full"
+  grep -q "^error: $scn/$f.toml:[0-9]*:[0-9]*: key '$k': $file of up to .* more than the 0.0001 GB free" "$work/err.txt" || bad "no room for $f: $(cat "$work/err.txt")"
+  left=$(ls -A "$work" | grep -E '^full')
+  [ -z "$left" ] || bad "no room for $f: left $left"
+done
 
 # reference: the tables generated from the one description of each key and calculator input
 expect_rc 0 "reference design tracer" $bin reference design tracer

@@ -65,10 +65,19 @@ class StreamScope {
 // handing runs to other threads), or into memory when it is null. Thread-safe. Before the run writes anything it
 // checks that the stage's file system has room for max_rows rows at their largest (statvfs; the
 // files already opened in the stage counted): if not, throws sim::ConfigError naming
-// run.duration_s (the caller turns it into the scenario's error, exit 2) — this replaces the
-// former limit of 5e7 recorded rows.
-std::unique_ptr<ChannelStream> open_channel_stream(OutputStage* stage, const std::string& name,
-                                                   const std::vector<sim::Channel>& channels,
-                                                   double max_rows);
+// `key` (the caller turns it into the scenario's error, exit 2), its message ending with
+// `advice` (what makes the file smaller) — this replaces the former limit of 5e7 recorded rows.
+std::unique_ptr<ChannelStream> open_channel_stream(
+    OutputStage* stage, const std::string& name, const std::vector<sim::Channel>& channels,
+    double max_rows, const char* key = "run.duration_s",
+    const char* advice = "shorten run.duration_s, raise run.record_interval_s");
+
+// The same for a run of `sc`: the disk-space refusal becomes the scenario's error at `key`
+// (throw_at_key: its file and line, exit 2).
+struct Scenario;
+std::unique_ptr<ChannelStream> open_channel_stream(
+    const Scenario& sc, OutputStage* stage, const std::string& name,
+    const std::vector<sim::Channel>& channels, double max_rows, const char* key,
+    const char* advice);
 
 }  // namespace lathectl::io

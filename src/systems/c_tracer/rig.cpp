@@ -126,8 +126,8 @@ void RigC::configure(const RigCConfig& cfg, double dt, double record_interval) {
   }
   s_ = target(x0_) - q_static_;
   v_ = 0.0;
-  rec_ = Recorder(rig_c_channels(),
-                  static_cast<std::size_t>(t_end_ / (dt * static_cast<double>(record_every_))) + 4);
+  max_rows_ = static_cast<std::size_t>(t_end_ / (dt * static_cast<double>(record_every_))) + 4;
+  rec_ = streamed_ ? Recorder::streamed(rig_c_channels()) : Recorder(rig_c_channels(), max_rows_);
 }
 
 void RigC::run() noexcept {

@@ -10,6 +10,7 @@ namespace lathectl::systems::c_tracer {
 namespace {
 void validate(const io::Scenario& sc) {
   sim::RigC probe;
+  probe.set_streamed(true);  // no columns: the probe records nothing
   try {
     probe.configure(sc.get<Settings>().rig, sc.run.step_s, sc.run.record_interval_s);
   } catch (const std::invalid_argument& e) {

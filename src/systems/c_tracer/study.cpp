@@ -4,13 +4,14 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
-#include <span>
 #include <stdexcept>
 #include <vector>
 
+#include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
+#include "systems/c_tracer/metrics.hpp"
 #include "systems/c_tracer/settings.hpp"
 
 namespace lathectl::systems::c_tracer {
@@ -21,113 +22,102 @@ using nlohmann::json;
 
 struct Run {
   sim::RigC rig;
+  std::unique_ptr<TracerMetrics> acc;        // fed as the rig records
+  std::unique_ptr<io::ChannelStream> csv;    // channels.csv / channels_compare.csv
   std::string label;
   double max_dx_um = 0.0, max_dy_um = 0.0, steady_lag_um = std::nan(""), waviness_um = 0.0;
   json features = json::array();
 };
 
-// The zone around a shoulder (a vertical step) where the rig masks δy and δx belongs to the
-// shoulder: ±0.5 mm of the tool's x (rig.cpp, near_step).
-constexpr double kShoulderZone_mm = 0.5;
-
-// Largest |v| over the samples with x in [x0, x1], leaving out those within the zone of any
-// shoulder in `shoulders` (their error is the shoulder's, not its neighbours').
-double nan_max_abs(std::span<const double> v, std::span<const double> x, double x0, double x1,
-                   const std::vector<double>& shoulders = {}) {
-  double m = 0.0;
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    if (!(x[i] >= x0 && x[i] <= x1 && std::isfinite(v[i]))) continue;
-    const bool at_shoulder = std::any_of(shoulders.begin(), shoulders.end(), [&](double s) {
-      return std::abs(x[i] - s) <= kShoulderZone_mm;
-    });
-    if (!at_shoulder) m = std::max(m, std::abs(v[i]));
-  }
-  return m;
-}
-
-void run_one(const io::Scenario& sc, sim::RigCConfig cfg, bool nonlinear, Run& r) {
+// The rig records streamed (its memory bounded whatever the template's length, the feed and the
+// record interval): the metrics are accumulated row by row, the result file `csv` is written into
+// `stage` as the rows come (in memory without one). kept_rows: TracerMetrics' budget of cone rows.
+void run_one(const io::Scenario& sc, sim::RigCConfig cfg, bool nonlinear, Run& r,
+             std::size_t kept_rows, const char* csv, io::OutputStage* stage) {
   cfg.nonlinear = nonlinear;
-  configure_and_run(sc, r.rig, cfg);
+  r.rig.set_streamed(true);
+  configure_rig(sc, r.rig, cfg);
+  r.acc = std::make_unique<TracerMetrics>(r.rig.recorder(), cfg.features, kept_rows);
+  r.rig.attach(r.acc.get());
+  r.csv = io::open_channel_stream(sc, stage, csv, r.rig.recorder().channels(),
+                                  static_cast<double>(r.rig.max_rows()), "run.record_interval_s",
+                                  "raise run.record_interval_s, machine.feed_mm_per_rev or "
+                                  "machine.spindle_rpm, shorten the template");
+  r.rig.attach(r.csv.get());
+  run_rig(sc, r.rig);
+  r.csv->finish();
+  if (!r.acc->finish()) {
+    // More rows in a cone's window than were kept: the residuals from a second, identical run.
+    sim::RigC again;
+    again.set_streamed(true);
+    configure_rig(sc, again, cfg);
+    again.attach(&r.acc->residuals());
+    run_rig(sc, again);
+  }
   r.label = nonlinear ? "nonlinear servo" : "linear model (8)-(9)";
-  const auto& rec = r.rig.recorder();
-  const auto tx = rec.column("tool_x_mm");
-  const auto dx = rec.column("dx_um");
-  const auto dy = rec.column("dy_um");
-  const auto lag = rec.column("lag_um");
-  const auto cx = rec.column("carriage_mm");
-  r.max_dx_um = nan_max_abs(dx, tx, -1e300, 1e300);
-  r.max_dy_um = nan_max_abs(dy, tx, -1e300, 1e300);
+  const TracerMetrics& m = *r.acc;
+  r.max_dx_um = m.max_dx_um();
+  r.max_dy_um = m.max_dy_um();
   bool first_cone = true;
-  // A shoulder has no length (x_start = x_end): the tool climbs it within its zone, which starts
-  // the next feature's x range; without this the shoulder's δx was booked to the next line.
-  std::vector<double> shoulders;
-  for (const auto& f : cfg.features)
-    if (f.x_end_m <= f.x_start_m) shoulders.push_back(f.x_start_m * 1e3);
-  for (const auto& f : cfg.features) {
-    const double a = f.x_start_m * 1e3, b = f.x_end_m * 1e3;
-    const bool shoulder = b <= a;
-    const double mdx = shoulder ? nan_max_abs(dx, tx, a - kShoulderZone_mm, a + kShoulderZone_mm)
-                                : nan_max_abs(dx, tx, a, b, shoulders);
-    const double mdy = shoulder ? nan_max_abs(dy, tx, a - kShoulderZone_mm, a + kShoulderZone_mm)
-                                : nan_max_abs(dy, tx, a, b, shoulders);
+  for (std::size_t i = 0; i < cfg.features.size(); ++i) {
+    const auto& f = cfg.features[i];
     json fj = {{"type", f.kind},
-               {"x_start_mm", a},
-               {"x_end_mm", b},
-               {"max_dx_um", mdx},
-               {"max_dy_um", mdy}};
-    if (f.kind == "cone" && b - a > 0.0) {
-      // Steady lag and waviness over the cone's second half (after the transient).
+               {"x_start_mm", f.x_start_m * 1e3},
+               {"x_end_mm", f.x_end_m * 1e3},
+               {"max_dx_um", m.features()[i].max_dx_um},
+               {"max_dy_um", m.features()[i].max_dy_um}};
+    for (const ConeWindow& w : m.cones()) {
+      if (w.feature != i) continue;
       // Waviness: peak-to-peak of δy about its straight-line trend (a load that falls along the
       // cone tilts δy; that drift is not waviness).
-      double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0, last = std::nan("");
-      for (std::size_t i = 0; i < cx.size(); ++i)
-        if (cx[i] >= 0.5 * (a + b) && cx[i] <= b && std::isfinite(dy[i])) {
-          sx += cx[i];
-          sy += dy[i];
-          sxx += cx[i] * cx[i];
-          sxy += cx[i] * dy[i];
-          n += 1;
-          last = lag[i];
-        }
-      double wav = 0.0;
-      if (n > 2) {
-        const double k1 = (n * sxy - sx * sy) / (n * sxx - sx * sx), k0 = (sy - k1 * sx) / n;
-        double lo = 1e300, hi = -1e300;
-        for (std::size_t i = 0; i < cx.size(); ++i)
-          if (cx[i] >= 0.5 * (a + b) && cx[i] <= b && std::isfinite(dy[i])) {
-            const double res = dy[i] - (k0 + k1 * cx[i]);
-            lo = std::min(lo, res);
-            hi = std::max(hi, res);
-          }
-        wav = hi - lo;
-      }
+      const double wav = w.waviness_um();
       fj["waviness_um"] = wav;
-      fj["lag_end_um"] = json_number(last);
+      fj["lag_end_um"] = json_number(w.last_lag_um);
       r.waviness_um = std::max(r.waviness_um, wav);
-      if (first_cone) r.steady_lag_um = last;
+      if (first_cone) r.steady_lag_um = w.last_lag_um;
       first_cone = false;
     }
     r.features.push_back(fj);
   }
 }
+
+// A recorded channel against time, decimated to a bounded number of points (sim::Recorder).
+Series along_time(const Run& r, const char* channel, std::string name, std::string color) {
+  Series s{std::move(name), {}, {}, std::move(color), false, false};
+  r.rig.recorder().plot_points(channel, s.x, s.y);
+  s.pyramid = r.rig.recorder().plot_pyramid(channel);
+  return s;
+}
+
+// δy or δx against the tool's x, from its pyramid.
+Series along_x(const sim::PlotPyramid& p, std::string name, std::string color) {
+  Series s{std::move(name), {}, {}, std::move(color), false, false};
+  s.pyramid = p.finished();
+  s.pyramid->points(s.x, s.y);
+  return s;
+}
 }  // namespace
 
-io::RunOutput run(const io::Scenario& sc) {
+io::RunOutput run(const io::Scenario& sc) { return run(sc, TracerMetrics::kKeptRows); }
+
+io::RunOutput run(const io::Scenario& sc, std::size_t kept_rows) {
   using namespace io;
   const Settings& st = sc.get<Settings>();
+  OutputStage* stage = StreamScope::current();
   std::vector<std::unique_ptr<Run>> runs;
   runs.push_back(std::make_unique<Run>());
-  run_one(sc, st.rig, st.rig.nonlinear, *runs.back());
+  run_one(sc, st.rig, st.rig.nonlinear, *runs.back(), kept_rows, "channels.csv", stage);
   if (!st.compare.empty() && (st.compare == "nonlinear") != st.rig.nonlinear) {
     auto cfg = st.rig;
     if (st.rig.nonlinear) {  // compare with the nonlinear servo's own linearisation
       cfg.linear = runs.front()->rig.linearisation();
       cfg.linear.P0_N =
           st.rig.coulomb_N +
-          (st.rig.blank_diameter_m > 0.0 ? runs.front()->rig.recorder().column("load_N")[0] : 0.0);
+          (st.rig.blank_diameter_m > 0.0 ? runs.front()->acc->first_load_N() : 0.0);
     }
     runs.push_back(std::make_unique<Run>());
-    run_one(sc, cfg, st.compare == "nonlinear", *runs.back());
+    run_one(sc, cfg, st.compare == "nonlinear", *runs.back(), kept_rows, "channels_compare.csv",
+            stage);
   }
   const Run& main = *runs.front();
   const auto lin = main.rig.linearisation();
@@ -247,26 +237,16 @@ io::RunOutput run(const io::Scenario& sc) {
             {}};
     // δx is defined only where the template is steeper than 10° (or at a shoulder): elsewhere
     // the table says so instead of showing the 0 of an empty maximum.
-    const auto tx = r->rig.recorder().column("tool_x_mm");
-    const auto dx = r->rig.recorder().column("dx_um");
-    const auto dx_defined = [&](double a, double b) {
-      if (b <= a) {  // a shoulder: its zone
-        a -= kShoulderZone_mm;
-        b += kShoulderZone_mm;
-      }
-      for (std::size_t i = 0; i < dx.size(); ++i)
-        if (tx[i] >= a && tx[i] <= b && std::isfinite(dx[i])) return true;
-      return false;
-    };
-    for (const auto& f : r->features)
+    for (std::size_t i = 0; i < r->features.size(); ++i) {
+      const auto& f = r->features[i];
       t.rows.push_back(
           {f["type"].get<std::string>(), fmt(f["x_start_mm"].get<double>()),
            fmt(f["x_end_mm"].get<double>()),
-           dx_defined(f["x_start_mm"].get<double>(), f["x_end_mm"].get<double>())
-               ? fmt(f["max_dx_um"].get<double>(), "%.2f")
-               : "— (under 10°)",
+           r->acc->features()[i].dx_defined ? fmt(f["max_dx_um"].get<double>(), "%.2f")
+                                            : "— (under 10°)",
            fmt(f["max_dy_um"].get<double>(), "%.2f"),
            f.contains("waviness_um") ? fmt(f["waviness_um"].get<double>(), "%.2f") : "—"});
+    }
     rep.tables.push_back(t);
   }
   const char* colors[] = {"#1f77b4", "#d62728"};
@@ -294,15 +274,17 @@ io::RunOutput run(const io::Scenario& sc) {
     }
     pp.series.push_back(tpl);
     for (std::size_t j = 0; j < runs.size(); ++j) {
-      const auto& rec = runs[j]->rig.recorder();
+      // The template under the tool plus the magnified δy, at δy's decimated points (its
+      // pyramid's extremes: the template changes little within a bucket).
       Series part{"part, " + runs[j]->label + " (error ×" + fmt(k, "%.0f") + ")",
-                  column(rec, "tool_x_mm"),
-                  column(rec, "template_y_mm"),
+                  {},
+                  {},
                   colors[j % 2],
                   false,
                   false};
-      const auto dy = rec.column("dy_um");
-      for (std::size_t i = 0; i < part.y.size(); ++i) part.y[i] += k * dy[i] * 1e-3;
+      runs[j]->acc->dy_along_x().points(part.x, part.y);
+      for (std::size_t i = 0; i < part.y.size(); ++i)
+        part.y[i] = st.rig.profile.y_at(part.x[i] * 1e-3) * 1e3 + k * part.y[i] * 1e-3;
       pp.series.push_back(part);
     }
     for (const auto& f : st.rig.features) pp.markers.push_back({f.x_start_m * 1e3, f.kind});
@@ -318,25 +300,19 @@ io::RunOutput run(const io::Scenario& sc) {
             {},
             {}};
   Plot pv{"Slide speed", "time [s]", "speed [mm/s]", {}, {}};
+  bool any_dx = false;
   for (std::size_t j = 0; j < runs.size(); ++j) {
-    const auto& rec = runs[j]->rig.recorder();
-    pdy.series.push_back({runs[j]->label, column(rec, "tool_x_mm"), column(rec, "dy_um"),
-                          colors[j % 2], false, false});
-    pdx.series.push_back({runs[j]->label, column(rec, "tool_x_mm"), column(rec, "dx_um"),
-                          colors[j % 2], false, false});
-    plag.series.push_back({runs[j]->label, column(rec, "time_s"), column(rec, "lag_um"),
-                           colors[j % 2], false, false});
-    pv.series.push_back({runs[j]->label, column(rec, "time_s"), column(rec, "slide_speed_mm_per_s"),
-                         colors[j % 2], false, false});
+    const Run& r = *runs[j];
+    pdy.series.push_back(along_x(r.acc->dy_along_x(), r.label, colors[j % 2]));
+    pdx.series.push_back(along_x(r.acc->dx_along_x(), r.label, colors[j % 2]));
+    plag.series.push_back(along_time(r, "lag_um", r.label, colors[j % 2]));
+    pv.series.push_back(along_time(r, "slide_speed_mm_per_s", r.label, colors[j % 2]));
+    any_dx = any_dx || r.acc->any_dx();
   }
   for (const auto& f : st.rig.features) {
     pdy.markers.push_back({f.x_start_m * 1e3, f.kind});
     pdx.markers.push_back({f.x_start_m * 1e3, f.kind});
   }
-  bool any_dx = false;
-  for (const Series& sr : pdx.series)
-    any_dx = any_dx ||
-             std::any_of(sr.y.begin(), sr.y.end(), [](double v) { return std::isfinite(v); });
   if (!any_dx) pdy.title += " (no feature steeper than 10°: δx at equal y not defined)";
   for (Plot* p : {&pdy, &pdx}) {
     p->x_min = x_lo;
@@ -347,8 +323,10 @@ io::RunOutput run(const io::Scenario& sc) {
   rep.plots.push_back(plag);
   rep.plots.push_back(pv);
 
-  out.channels_csv = channels_csv(main.rig.recorder());
-  if (runs.size() > 1) out.compare_csv = channels_csv(runs[1]->rig.recorder());
+  // channels.csv (and channels_compare.csv) were streamed into the stage; without one (a
+  // library caller) they were collected in memory.
+  out.channels_csv = main.csv->take_text();
+  if (runs.size() > 1) out.compare_csv = runs[1]->csv->take_text();
   out.headline =
       main.label + ": max δx " + fmt(main.max_dx_um) + " µm, δy " + fmt(main.max_dy_um) +
       " µm, ζ " + fmt(lin.zeta(), "%.2f") +

@@ -213,20 +213,30 @@ std::vector<PartResult> monte_carlo_linear(const GaugingProcess& p, const Linear
                                            double s_th, std::size_t parts, std::uint64_t seed,
                                            unsigned threads) {
   std::vector<PartResult> out(parts);
+  monte_carlo_linear(p, g, s_th, 0, out, seed, threads);
+  return out;
+}
+
+void monte_carlo_linear(const GaugingProcess& p, const LinearGauge& g, double s_th,
+                        std::size_t first, std::span<PartResult> out, std::uint64_t seed,
+                        unsigned threads) {
+  const std::size_t parts = out.size();
+  // In chunks of parts (a part is short); part first + i has its own stream whatever thread (or
+  // block of the caller's) machines it.
   if (g.filter != LinearGauge::Filter::FirstOrder) {
     const double h = filtered_step(p, g);
-    constexpr std::size_t kChunk = 256;
+    constexpr std::size_t kChunk = 256;  // divides kLinearPartChunk
     sim::parallel_for((parts + kChunk - 1) / kChunk,
                       [&](std::size_t c) {
                         FilteredNoise noise(p, g, h);  // one buffer per chunk
                         for (std::size_t i = c * kChunk; i < std::min(parts, (c + 1) * kChunk);
                              ++i) {
-                          std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + i);
+                          std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + first + i);
                           out[i] = one_filtered_part(p, g, s_th, noise, h, rng);
                         }
                       },
                       threads);
-    return out;
+    return;
   }
   // Step: a twentieth of the shorter of the filter lag and the noise correlation time; the
   // transition is exact, the step only sets how finely the crossing is interpolated.
@@ -235,18 +245,50 @@ std::vector<PartResult> monte_carlo_linear(const GaugingProcess& p, const Linear
   const double h = corr / 20.0;
   const Transition tr = transition(p, g, h);
   const Stationary st = stationary(tr);
-  // In chunks of parts (a part is short); part i has its own stream whatever thread runs it.
-  constexpr std::size_t kChunk = 1024;
+  constexpr std::size_t kChunk = kLinearPartChunk;
   sim::parallel_for(
       (parts + kChunk - 1) / kChunk,
       [&](std::size_t c) {
         for (std::size_t i = c * kChunk; i < std::min(parts, (c + 1) * kChunk); ++i) {
-          std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + i);  // one stream per part
+          std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + first + i);  // one stream per part
           out[i] = one_linear_part(p, g, s_th, tr, st, h, rng);
         }
       },
       threads);
-  return out;
+}
+
+FirstPassageBias first_passage_bias(LinearParts& parts, double target_m, double gain_V_per_m) {
+  const auto each = [&](auto&& f) {  // f(e, y) over the parts the calibration uses
+    parts.for_each([&](std::size_t, const PartResult& r) {
+      if (!r.backstop && std::isfinite(r.noise_at_nominal_V))
+        f(r.finished_m - target_m, r.noise_at_nominal_V / gain_V_per_m);
+    });
+  };
+  std::size_t n = 0;
+  double mean_e = 0.0, mean_y = 0.0, var_y = 0.0, cov = 0.0, res = 0.0;
+  each([&](double e, double y) {
+    mean_e += e;
+    mean_y += y;
+    ++n;
+  });
+  mean_e /= static_cast<double>(n);
+  mean_y /= static_cast<double>(n);
+  each([&](double e, double y) {
+    var_y += (y - mean_y) * (y - mean_y);
+    cov += (e - mean_e) * (y - mean_y);
+  });
+  const double sigma_y = n > 1 ? std::sqrt(var_y / static_cast<double>(n - 1)) : 0.0;
+  cov /= static_cast<double>(std::max<std::size_t>(n, 2) - 1);
+  const double c = sigma_y > 0.0 ? cov / (sigma_y * sigma_y) : 0.0;
+  FirstPassageBias b;
+  b.bias_m = mean_e - c * mean_y;
+  each([&](double e, double y) {
+    const double v = e - c * y - b.bias_m;
+    res += v * v;
+  });
+  b.standard_error_m = std::sqrt(res / static_cast<double>(std::max<std::size_t>(n, 2) - 1) /
+                                 static_cast<double>(std::max<std::size_t>(n, 1)));
+  return b;
 }
 
 std::vector<double> filter_noise_samples(const GaugingProcess& p, const LinearGauge& g,

@@ -17,7 +17,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <algorithm>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include "lathectl/design/vibro_gauge.hpp"
@@ -90,6 +92,70 @@ struct PartResult {
 std::vector<PartResult> monte_carlo_linear(const GaugingProcess& p, const LinearGauge& g,
                                            double threshold_V, std::size_t parts,
                                            std::uint64_t seed, unsigned threads = 0);
+// Parts are machined in chunks of this many (a chunk's parts share a noise filter's buffer).
+constexpr std::size_t kLinearPartChunk = 1024;
+// The parts first … first + out.size() − 1 of that Monte Carlo into `out`: the same results as
+// the whole run's when `first` is a multiple of kLinearPartChunk.
+void monte_carlo_linear(const GaugingProcess& p, const LinearGauge& g, double threshold_V,
+                        std::size_t first, std::span<PartResult> out, std::uint64_t seed,
+                        unsigned threads = 0);
+
+// The parts of monte_carlo_linear visited in part order, as many times as a statistic needs passes
+// (a mean before the spread about it; issue 19): kept in memory up to `kept` parts, beyond that
+// machined again block by block for each visit (the same numbers: every part has its own stream),
+// so the memory stays bounded whatever the number of parts, at the cost of machining them again.
+class LinearParts {
+ public:
+  static constexpr std::size_t kKeptParts = std::size_t{1} << 17;  // 5 MB
+  static constexpr std::size_t kBlock = std::size_t{1} << 16;      // a multiple of the chunk
+  // block: parts machined at a time when they are not kept (rounded up to whole chunks).
+  LinearParts(const GaugingProcess& p, const LinearGauge& g, double threshold_V, std::size_t parts,
+              std::uint64_t seed, std::size_t kept = kKeptParts, std::size_t block = kBlock)
+      : p_(p),
+        g_(g),
+        threshold_V_(threshold_V),
+        parts_(parts),
+        seed_(seed),
+        kept_(kept),
+        block_((std::max<std::size_t>(block, 1) + kLinearPartChunk - 1) / kLinearPartChunk *
+               kLinearPartChunk) {}
+  [[nodiscard]] std::size_t size() const noexcept { return parts_; }
+  // f(std::size_t part, const PartResult&) for every part, in order.
+  template <class F>
+  void for_each(F&& f) {
+    if (parts_ <= kept_) {
+      if (all_.size() != parts_) all_ = monte_carlo_linear(p_, g_, threshold_V_, parts_, seed_);
+      for (std::size_t i = 0; i < parts_; ++i) f(i, all_[i]);
+      return;
+    }
+    std::vector<PartResult> block(std::min(block_, parts_));
+    for (std::size_t first = 0; first < parts_; first += block_) {
+      const std::span<PartResult> b(block.data(), std::min(block_, parts_ - first));
+      monte_carlo_linear(p_, g_, threshold_V_, first, b, seed_);
+      for (std::size_t i = 0; i < b.size(); ++i) f(first + i, b[i]);
+    }
+  }
+
+ private:
+  GaugingProcess p_;
+  LinearGauge g_;
+  double threshold_V_;
+  std::size_t parts_;
+  std::uint64_t seed_;
+  std::size_t kept_, block_;
+  std::vector<PartResult> all_;
+};
+
+// The first-passage bias of (23) (study.cpp says why no closed form serves): the linearised
+// parts' mean error, made precise by the control variate ε(t*)/K (mean 0, following the finished
+// size closely): mean(e) − c·mean(ε*/K), c their regression slope, with its standard error. Over
+// the parts that tripped before the backstop with ε(t*) known, in three passes (the means; the
+// spread and covariance about them; the residuals), each summing in part order.
+struct FirstPassageBias {
+  double bias_m = 0.0;
+  double standard_error_m = 0.0;
+};
+FirstPassageBias first_passage_bias(LinearParts& parts, double target_m, double gain_V_per_m);
 
 // Samples of the filter-output noise ε, n apart by `spacing_s`, from one long exact path:
 // for checking (25) by Monte Carlo.

@@ -1,12 +1,15 @@
 #include "systems/d_gauging/study.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <memory>
 #include <cstdio>
 #include <numbers>
 #include <stdexcept>
 
 #include "lathectl/control/types.hpp"
+#include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
@@ -51,7 +54,9 @@ double linear_trip(const sim::GaugingProcess& p, const sim::LinearGauge& g, doub
 }
 }  // namespace
 
-io::RunOutput run(const io::Scenario& sc) {
+io::RunOutput run(const io::Scenario& sc) { return run(sc, sim::LinearParts::kKeptParts); }
+
+io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
   const auto& d = sc.get<Settings>();
   const double dt = sc.run.step_s;
   sensors::VibroContactGauge gauge;
@@ -69,6 +74,19 @@ io::RunOutput run(const io::Scenario& sc) {
                                               "can measure, A0 = " +
                                               fmt(A0 * kUm) + " µm"));
   const double settle = std::max(0.8, 8.0 * d.transducer.filter_time_constant_s);
+  // The result files stream into the stage (issue 19), their disk space checked before any work:
+  // channels.csv one row a linearised part, channels_compare.csv the full-model part recorded
+  // (streamed: memory bounded whatever run.duration_s; the plots from its pyramids).
+  io::OutputStage* stage = io::StreamScope::current();
+  const auto parts_csv = io::open_channel_stream(
+      sc, stage, "channels.csv",
+      {{"part", ""}, {"trip_s", "s"}, {"stop_s", "s"}, {"finished_um", "µm"}},
+      static_cast<double>(d.parts), "monte_carlo.parts", "lower monte_carlo.parts");
+  sim::Recorder rec = sim::Recorder::streamed(
+      {{"time_s", "s"}, {"x_um", "µm"}, {"x_seen_um", "µm"}, {"signal_V", "V"}, {"probe_um", "µm"}});
+  const auto rec_csv = io::open_channel_stream(
+      sc, stage, "channels_compare.csv", rec.channels(), sc.run.duration_s / dt / 50.0 + 16.0,
+      "run.duration_s", "shorten run.duration_s, raise run.step_s");
 
   // 1. Calibration: the full model's settled mean signal against x, and the seed's line.
   std::vector<double> xs, s_full;
@@ -97,27 +115,10 @@ io::RunOutput run(const io::Scenario& sc) {
   const bool calibrated = d.threshold == "calibrated" || d.threshold == "calibrated_dynamic";
   double bias_m = 0.0, bias_se_m = 0.0, s_static = plan.threshold_V;
   if (calibrated && p.noise_variance_m2 > 0.0) {
-    const auto cal =
-        sim::monte_carlo_linear(p, line, plan.threshold_V, d.parts, sc.run.seed + 1000003);
-    std::vector<double> e, y;
-    for (const auto& r : cal)
-      if (!r.backstop && std::isfinite(r.noise_at_nominal_V)) {
-        e.push_back(r.finished_m - p.target_m);
-        y.push_back(r.noise_at_nominal_V / line.gain_V_per_m);
-      }
-    const Stats se_ = stats(e), sy = stats(y);
-    double cov = 0.0;
-    for (std::size_t i = 0; i < e.size(); ++i) cov += (e[i] - se_.mean) * (y[i] - sy.mean);
-    cov /= static_cast<double>(std::max<std::size_t>(e.size(), 2) - 1);
-    const double c = sy.sigma > 0.0 ? cov / (sy.sigma * sy.sigma) : 0.0;
-    bias_m = se_.mean - c * sy.mean;
-    double res = 0.0;
-    for (std::size_t i = 0; i < e.size(); ++i) {
-      const double v = e[i] - c * y[i] - bias_m;
-      res += v * v;
-    }
-    bias_se_m = std::sqrt(res / static_cast<double>(std::max<std::size_t>(e.size(), 2) - 1) /
-                          static_cast<double>(std::max<std::size_t>(e.size(), 1)));
+    sim::LinearParts cal(p, line, plan.threshold_V, d.parts, sc.run.seed + 1000003, kept_parts);
+    const auto bias = sim::first_passage_bias(cal, p.target_m, line.gain_V_per_m);
+    bias_m = bias.bias_m;
+    bias_se_m = bias.standard_error_m;
     s_static = sim::threshold_23(line, [&] {
       auto q = p;
       q.target_m -= bias_m;
@@ -136,11 +137,10 @@ io::RunOutput run(const io::Scenario& sc) {
   // 2. One full-model part without noise against the linear prediction (inside the range).
   auto quiet = p;
   quiet.noise_variance_m2 = 0.0;
-  sim::Recorder rec(
-      {{"time_s", "s"}, {"x_um", "µm"}, {"x_seen_um", "µm"}, {"signal_V", "V"}, {"probe_um", "µm"}},
-      static_cast<std::size_t>(sc.run.duration_s / dt / 50.0) + 16);
+  rec.attach(rec_csv.get());
   const auto full = sim::machine_part_full(quiet, d.transducer, dt, s_th, sc.run.seed, &rec, 50,
                                            sc.run.duration_s);
+  rec_csv->finish();
   const double trip_lin = linear_trip(p, line, s_th);
   const double full_err_um = (full.finished_m - p.target_m) * kUm;
 
@@ -234,19 +234,35 @@ io::RunOutput run(const io::Scenario& sc) {
   }
 
   // 4. Linearised Monte Carlo of finished sizes.
-  const auto parts = sim::monte_carlo_linear(p, line, s_th, d.parts, sc.run.seed);
-  std::vector<double> sizes;
-  sizes.reserve(parts.size());
-  std::size_t never = 0, backstops = 0;
-  for (const auto& r : parts) {
+  // In passes over the parts (LinearParts): the first writes channels.csv (one row a part) and
+  // sums the sizes, the second their spread about the mean, the third (the report) the histogram.
+  sim::LinearParts parts(p, line, s_th, d.parts, sc.run.seed, kept_parts);
+  const auto each_size = [&](auto&& f) {  // the finished sizes (the backstop's included)
+    parts.for_each([&](std::size_t, const sim::PartResult& r) {
+      if (std::isfinite(r.finished_m)) f(r.finished_m);
+    });
+  };
+  std::size_t n_sizes = 0, never = 0, backstops = 0;
+  Stats st;
+  double smallest = full.finished_m;
+  parts.for_each([&](std::size_t i, const sim::PartResult& r) {
+    const std::array<double, 4> row{static_cast<double>(i), r.trip_s, r.stop_s,
+                                    r.finished_m * kUm};
+    parts_csv->row(row);
     never += std::isnan(r.trip_s) ? 1 : 0;
     backstops += r.backstop ? 1 : 0;
-    if (std::isfinite(r.finished_m)) sizes.push_back(r.finished_m);  // the backstop's included
-  }
-  if (sizes.size() < 2)  // only without removal (the backstop ends every cut that has one)
+    if (!std::isfinite(r.finished_m)) return;
+    st.mean += r.finished_m;
+    smallest = std::min(smallest, r.finished_m);
+    ++n_sizes;
+  });
+  parts_csv->finish();
+  if (n_sizes < 2)  // only without removal (the backstop ends every cut that has one)
     io::throw_at_key(
         sc, sim::ConfigError("process.removal_um_per_s", "no part finished: nothing ends the cut"));
-  const Stats st = stats(sizes);
+  st.mean /= static_cast<double>(n_sizes);
+  each_size([&](double x) { st.sigma += (x - st.mean) * (x - st.mean); });
+  st.sigma = std::sqrt(st.sigma / static_cast<double>(n_sizes - 1));
   // (25) extended to the filter: σ_x = sqrt(D·f), f = 1/(1 + βT_f) for the seed's first order.
   const double noise_factor = line.noise_factor(p.noise_beta_per_s);
   const double pred_sigma = std::sqrt(p.noise_variance_m2 * noise_factor);
@@ -254,7 +270,7 @@ io::RunOutput run(const io::Scenario& sc) {
   const double cp = st.sigma > 0.0 ? (usl - lsl) / (6.0 * st.sigma) : INFINITY;
   const double cpk =
       st.sigma > 0.0 ? std::min(usl - st.mean, st.mean - lsl) / (3.0 * st.sigma) : INFINITY;
-  const double se = st.sigma / std::sqrt(static_cast<double>(sizes.size()));
+  const double se = st.sigma / std::sqrt(static_cast<double>(n_sizes));
 
   // 5. Seed (25) by Monte Carlo: filter-output noise, 1e5 samples far enough apart.
   const double spacing = 5.0 * std::max(line.lag_s(), 1.0 / p.noise_beta_per_s);
@@ -290,7 +306,7 @@ io::RunOutput run(const io::Scenario& sc) {
   s["system"] = sc.system;
   s["scenario"] = sc.name;
   s["file"] = sc.file;
-  s["metrics"] = {{"parts", sizes.size()},
+  s["metrics"] = {{"parts", n_sizes},
                   {"parts_never_tripped", never},
                   {"size_mean_error_um", json_number((st.mean - p.target_m) * kUm)},
                   {"size_sigma_um", json_number(st.sigma * kUm)},
@@ -412,8 +428,6 @@ io::RunOutput run(const io::Scenario& sc) {
         fmt(dyn.mean_error_m * kUm, "%.3f") + " ± " + fmt(dyn.standard_error_m * kUm, "%.3f") +
         " µm" + (dyn.converged ? "" : ", not converged within calibration_parts_max") + ").");
   {
-    double smallest = full.finished_m;
-    for (double v : sizes) smallest = std::min(smallest, v);
     for (double v : full_sizes) smallest = std::min(smallest, v);
     claims.check(
         "backstop: smallest finished size of every cut − the limit position [µm] (≥ 0: "
@@ -440,7 +454,7 @@ io::RunOutput run(const io::Scenario& sc) {
   auto add = [&](const std::string& k, double v, const char* f = "%.4g") {
     rep.metrics.emplace_back(k, fmt(v, f));
   };
-  add("parts (linearised Monte Carlo)", static_cast<double>(sizes.size()), "%.0f");
+  add("parts (linearised Monte Carlo)", static_cast<double>(n_sizes), "%.0f");
   add("mean finished size − target [µm]", (st.mean - p.target_m) * kUm);
   add("σ of finished size [µm]", st.sigma * kUm);
   add("predicted σ sqrt(D/(1+βT_f)) [µm]", pred_sigma * kUm);
@@ -479,11 +493,11 @@ io::RunOutput run(const io::Scenario& sc) {
     const int bins = 80;
     const double w = (hi - lo) / bins;
     std::vector<double> counts(bins, 0.0);
-    for (double v : sizes) {
+    each_size([&](double v) {
       const int b = static_cast<int>((v - lo) / w);
       if (b >= 0 && b < bins) counts[static_cast<std::size_t>(b)] += 1.0;
-    }
-    Series hist{"finished sizes (" + std::to_string(sizes.size()) + " parts)",
+    });
+    Series hist{"finished sizes (" + std::to_string(n_sizes) + " parts)",
                 {},
                 {},
                 "#1f77b4",
@@ -500,7 +514,7 @@ io::RunOutput run(const io::Scenario& sc) {
       const double x = lo + (hi - lo) * k / 200.0;
       const double z = (x - p.target_m) / pred_sigma;
       normal.x.push_back(x * kUm);
-      normal.y.push_back(static_cast<double>(sizes.size()) * w /
+      normal.y.push_back(static_cast<double>(n_sizes) * w /
                          (pred_sigma * std::sqrt(2.0 * std::numbers::pi)) * std::exp(-0.5 * z * z));
     }
     Plot h{"Finished sizes: the controlled part x at the end of cut",
@@ -531,22 +545,23 @@ io::RunOutput run(const io::Scenario& sc) {
                              {{x_trip * kUm, "trip point"}, {A0 * kUm, "A0"}}});
   }
   {
-    Series sig_s{"S(t), full model",
-                 io::column(rec, "time_s"),
-                 io::column(rec, "signal_V"),
-                 "#1f77b4",
-                 false,
-                 false};
+    const auto along_time = [&](const char* channel, std::string name, std::string color) {
+      Series r{std::move(name), {}, {}, std::move(color), false, false};
+      rec.plot_points(channel, r.x, r.y);
+      r.pyramid = rec.plot_pyramid(channel);
+      return r;
+    };
+    Series sig_s = along_time("signal_V", "S(t), full model", "#1f77b4");
     // The recording ends when the part is finished: the constants end there too (not at the run's
     // duration, which left the axis running on past the data).
-    const double t_end = rec.column("time_s").empty() ? 0.0 : rec.column("time_s").back();
+    const double t_end = rec.rows() == 0 ? 0.0 : rec.plot_pyramid("time_s")->x_last();
     Series th{"threshold S_th", {0.0, t_end}, {s_th, s_th}, "#555", true, false};
     rep.plots.push_back(Plot{"One part, full model without noise: filtered signal",
                              "time [s]",
                              "S [V]",
                              {sig_s, th},
                              {{full.trip_s, "relay trips"}, {full.stop_s, "cut ends"}}});
-    Series xx{"x(t)", io::column(rec, "time_s"), io::column(rec, "x_um"), "#8c564b", false, false};
+    Series xx = along_time("x_um", "x(t)", "#8c564b");
     Series tg{
         "target", {0.0, t_end}, {p.target_m * kUm, p.target_m * kUm}, "#555", true, false};
     rep.plots.push_back(Plot{"One part: the controlled size x(t)",
@@ -556,16 +571,10 @@ io::RunOutput run(const io::Scenario& sc) {
                              {{full.stop_s, "cut ends"}}});
   }
 
-  std::string csv = "part,trip_s,stop_s,finished_um\n";
-  for (std::size_t i = 0; i < parts.size(); ++i) {
-    char b[128];
-    std::snprintf(b, sizeof b, "%zu,%.9g,%.9g,%.9g\n", i, parts[i].trip_s, parts[i].stop_s,
-                  parts[i].finished_m * kUm);
-    csv += b;
-  }
-  out.channels_csv = csv;
-  out.compare_csv = io::channels_csv(rec);
-  out.headline = std::to_string(sizes.size()) + " parts: mean error " +
+  // Streamed into the stage; without one (a library caller) collected in memory.
+  out.channels_csv = parts_csv->take_text();
+  out.compare_csv = rec_csv->take_text();
+  out.headline = std::to_string(n_sizes) + " parts: mean error " +
                  fmt((st.mean - p.target_m) * kUm, "%.4f") + " µm, σ " +
                  fmt(st.sigma * kUm, "%.3f") + " µm (predicted " + fmt(pred_sigma * kUm, "%.3f") +
                  "), Cpk " + fmt(cpk, "%.2f") + "; full model " + fmt(full_err_um, "%.2f") +
