@@ -3,7 +3,7 @@
 // Two storages:
 //  - columns (the constructor with a capacity): every row kept, capacity reserved for the whole
 //    run, push_row() never allocates; column() gives a channel's whole record. For the systems
-//    whose runs are short by construction (B, C, D: a fixed cut; A's regulator studies).
+//    whose runs are short by construction (C, D: a fixed cut; A's regulator studies; tests).
 //  - streamed (Recorder::streamed): no row kept. Each row goes to the attached sinks as it is
 //    pushed (channels.csv written to disk, a metric's accumulator) and into a bounded min/max
 //    pyramid per channel for the plots (PlotPyramid, kPlotValuesPerLevel per level): memory does
