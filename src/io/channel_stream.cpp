@@ -126,8 +126,8 @@ std::unique_ptr<ChannelStream> open_channel_stream(OutputStage* stage, const std
   return s;
 }
 
-RowSpill::RowSpill(OutputStage* stage, const std::string& what, std::size_t width,
-                   double max_rows, std::size_t block_rows)
+RowSpill::RowSpill(OutputStage* stage, const std::string& what, std::size_t width, double max_rows,
+                   std::size_t block_rows)
     : width_(std::max<std::size_t>(width, 1)), block_(std::max<std::size_t>(block_rows, 1)) {
   if (!stage) return;  // in memory
   reserve_rows(*stage, what, max_rows, static_cast<double>(width_ * sizeof(double)));

@@ -4,13 +4,13 @@
 // bit for bit (the numbers themselves are held to the runs before streaming by golden_summaries).
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 #include "lathectl/io/channel_stream.hpp"
@@ -28,8 +28,8 @@ namespace fs = std::filesystem;
 using test::library;
 
 fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() /
-                     ("lathectl-b-streamed-" + std::to_string(::getpid())) / name;
+  const fs::path d =
+      fs::temp_directory_path() / ("lathectl-b-streamed-" + std::to_string(::getpid())) / name;
   fs::remove_all(d);
   return d;
 }
@@ -65,14 +65,15 @@ TEST(RowSpill, GivesBackTheRowsBitForBitFromDiskAndMemory) {
   EXPECT_EQ(disk.read(100, none), 0u);
   // The spill's file has no name: nothing but the stage's marker is left in the stage.
   std::size_t files = 0;
-  for (const auto& e : fs::directory_iterator(stage.path())) files += e.path().filename() != ".lathectl-output";
+  for (const auto& e : fs::directory_iterator(stage.path()))
+    files += e.path().filename() != ".lathectl-output";
   EXPECT_EQ(files, 0u);
 }
 
 TEST(SystemBStreamed, ChannelsAndMeasuresEqualTheColumnsRecord) {
   // The example's twin turrets with the automatic module, over 4 mm of the cut (about 2.6 s).
-  const auto sc = io::parse_scenario(test::example_text("b_twin_feed_division"), "mem.toml",
-                                     library());
+  const auto sc =
+      io::parse_scenario(test::example_text("b_twin_feed_division"), "mem.toml", library());
   sim::RigBConfig b = sc.get<b_chatter::Settings>().rig;
   b.z_end_mm = b.z_start_mm + 4.0;
   const double dead_zone_um = b.vibration.dead_zone_m * 1e6;

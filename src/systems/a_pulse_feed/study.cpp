@@ -101,8 +101,7 @@ void run_one(const io::Scenario& sc, const sim::RigAConfig& cfg, Run& r, const c
 // A recorded channel against time, decimated to a bounded number of points (sim::Recorder).
 Series series(const Run& r, const char* channel, std::string name, std::string color,
               bool dashed = false) {
-  return io::recorded_series(r.rig.recorder(), channel, std::move(name), std::move(color),
-                             dashed);
+  return io::recorded_series(r.rig.recorder(), channel, std::move(name), std::move(color), dashed);
 }
 
 Series constant(const Run& r, double value, std::string name) {

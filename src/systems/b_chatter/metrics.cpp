@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
 #include <numbers>
+#include <vector>
 
 #include "lathectl/dynamics/beam.hpp"
 #include "lathectl/dynamics/delayed_coupling.hpp"
@@ -40,8 +40,8 @@ void Measure::row(std::span<const double> v) noexcept {
     std::copy_n(tz, 3, k0_row_);
   }
   ++n_;
-  const double w[kWidth] = {v[t_],  v[y_],   v[yh_], v[pw_],
-                            v[pwm_], v[dl_], twin_ && ((v[c1_] == 0.0) != (v[c2_] == 0.0)) ? 1.0 : 0.0};
+  const bool one_out = twin_ && ((v[c1_] == 0.0) != (v[c2_] == 0.0));
+  const double w[kWidth] = {v[t_], v[y_], v[yh_], v[pw_], v[pwm_], v[dl_], one_out ? 1.0 : 0.0};
   spill_->push(w);
 }
 

@@ -35,8 +35,8 @@ void run_one(const io::Scenario& sc, const sim::RigBConfig& cfg, Run& r, io::Out
   io::configure_rig(sc, r.rig, cfg);
   try {  // the disk-space checks: channels.csv first, then the window's rows
     if (csv)
-      r.csv = io::open_channel_stream(stage, csv, r.rig.recorder().channels(),
-                                      r.rig.max_record_rows());
+      r.csv =
+          io::open_channel_stream(stage, csv, r.rig.recorder().channels(), r.rig.max_record_rows());
     r.measure = std::make_unique<Measure>(r.rig, cfg.setup != sim::TwinSetup::Single, stage);
   } catch (const std::invalid_argument& e) {
     io::throw_at_key(sc, e);
