@@ -39,7 +39,8 @@ class Recorder {
   // Streamed storage: rows go to `sinks` (not owned; they must outlive the recording) and into a
   // PlotPyramid per channel against channel 0 (the time), at most values_per_level values per
   // level (2^14: A with its comparison run held 116 MB at 2^16 for 1800 s; a recording up to
-  // 16 384 rows keeps its samples, so its charts zoom to them).
+  // 16 384 rows keeps its samples, so its charts zoom to them). values_per_level 0: no plots
+  // (a run that is only measured, such as B's sweep runs; plot_points gives nothing).
   static constexpr std::size_t kPlotValuesPerLevel = std::size_t{1} << 14;
   static Recorder streamed(std::vector<Channel> channels, std::vector<RowSink*> sinks = {},
                            std::size_t values_per_level = kPlotValuesPerLevel);

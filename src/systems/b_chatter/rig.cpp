@@ -155,7 +155,7 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
   max_t_ = std::min(max_duration, cfg.idle_block_s + 1.5 * cut_time + 1.0);
   max_rows_ = max_t_ / (dt * static_cast<double>(record_every_)) + 2.0;
   if (streamed_) {  // bounded by the disk-space check of what the study streams
-    rec_ = Recorder::streamed(rig_b_channels());
+    rec_ = Recorder::streamed(rig_b_channels(), {}, plots_ ? Recorder::kPlotValuesPerLevel : 0);
     return;
   }
   if (!(max_rows_ <= 5e6))

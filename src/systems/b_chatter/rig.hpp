@@ -102,8 +102,12 @@ class RigB {
   [[nodiscard]] const Recorder& recorder() const noexcept { return rec_; }
   // Streamed recording (set before configure): no columns, rows to the attached sinks (the
   // study's measures, channels.csv), so memory does not grow with the cut's duration; columns
-  // (the default) keep every row, at most 5e6.
-  void set_streamed(bool streamed) noexcept { streamed_ = streamed; }
+  // (the default) keep every row, at most 5e6. plots false: streamed without the plots' pyramids
+  // (a run that is only measured).
+  void set_streamed(bool streamed, bool plots = true) noexcept {
+    streamed_ = streamed;
+    plots_ = plots;
+  }
   void attach(RowSink* sink) { rec_.attach(sink); }
   // The most rows the configured run can record (its time bound over the record interval).
   [[nodiscard]] double max_record_rows() const noexcept { return max_rows_; }
@@ -149,7 +153,7 @@ class RigB {
   std::size_t chain_every_ = 1;
   std::size_t control_every_ = 1;
   bool done_ = false;
-  bool streamed_ = false;
+  bool streamed_ = false, plots_ = true;
   double max_rows_ = 0.0;
   double t_cut_start_ = -1.0;
   double engaged_at_ = -1.0;

@@ -28,10 +28,11 @@ using io::Table;
 using nlohmann::json;
 
 // The rig records streamed (its memory bounded whatever the cut's length): the measures are taken
-// row by row, csv (nullptr: none) is written into `stage` as the rows come.
+// row by row, csv (nullptr: none) is written into `stage` as the rows come. Without csv the run is
+// only measured (the sweep): no plots are kept either.
 void run_one(const io::Scenario& sc, const sim::RigBConfig& cfg, Run& r, io::OutputStage* stage,
              const char* csv = nullptr) {
-  r.rig.set_streamed(true);
+  r.rig.set_streamed(true, csv != nullptr);
   io::configure_rig(sc, r.rig, cfg);
   try {  // the disk-space checks: channels.csv first, then the window's rows
     if (csv)
