@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include "lathectl/dynamics/beam.hpp"
@@ -13,17 +14,17 @@ namespace lathectl::b_chatter {
 Measure::Measure(const sim::RigB& rig, bool twin, io::OutputStage* stage,
                  std::size_t spill_block_rows)
     : rig_(&rig), twin_(twin) {
-  const auto& rec = rig.recorder();
-  t_ = rec.index("time_s");
-  y_ = rec.index("y_um");
-  yh_ = rec.index("y_highpass_um");
-  c1_ = rec.index("chip1_mm");
-  c2_ = rec.index("chip2_mm");
-  pw_ = rec.index("cut_power_W");
-  pwm_ = rec.index("cut_power_measured_W");
-  dl_ = rec.index("inter_tool_delay_rev");
-  z1_ = rec.index("z1_mm");
-  z2_ = rec.index("z2_mm");
+  const std::pair<std::size_t*, const char*> read[] = {{&t_, "time_s"},
+                                                       {&y_, "y_um"},
+                                                       {&yh_, "y_highpass_um"},
+                                                       {&c1_, "chip1_mm"},
+                                                       {&c2_, "chip2_mm"},
+                                                       {&pw_, "cut_power_W"},
+                                                       {&pwm_, "cut_power_measured_W"},
+                                                       {&dl_, "inter_tool_delay_rev"},
+                                                       {&z1_, "z1_mm"},
+                                                       {&z2_, "z2_mm"}};
+  for (const auto& [index, name] : read) *index = rig.recorder().index(name);
   spill_ = std::make_unique<io::RowSpill>(stage, "the steady window's rows", kWidth,
                                           rig.max_record_rows(), spill_block_rows);
 }
