@@ -4,6 +4,7 @@
 #include <sys/statvfs.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -85,34 +86,45 @@ StreamScope::StreamScope(OutputStage& stage) { g_stage = &stage; }
 StreamScope::~StreamScope() { g_stage = nullptr; }
 OutputStage* StreamScope::current() { return g_stage; }
 
-std::unique_ptr<ChannelStream> open_channel_stream(OutputStage* stage, const std::string& name,
-                                                   const std::vector<sim::Channel>& channels,
-                                                   double max_rows, const char* key,
-                                                   const char* advice) {
-  if (!stage) return std::make_unique<ChannelStream>(channels);
+namespace {
+// Promises `max_rows` rows of `per_row` bytes in the stage, if its file system has room for them
+// beside what was promised before (statvfs); else sim::ConfigError at `key`, its message ending
+// with `advice`.
+void reserve_rows(OutputStage& stage, const std::string& name, double max_rows, double per_row,
+                  const char* key, const char* advice) {
   static std::mutex mutex;  // the stage's running sum of promised bytes
   std::lock_guard lock(mutex);
-  const double per_row = static_cast<double>(channels.size() * ChannelStream::kMaxBytesPerValue);
   const double need = (std::max(max_rows, 0.0) + 1.0) * per_row;
   struct statvfs vfs{};
   // Test-only: LATHECTL_TEST_FREE_BYTES=<n> stands for the file system's free space.
   const char* fake = std::getenv("LATHECTL_TEST_FREE_BYTES");
-  if (fake || ::statvfs(stage->path().c_str(), &vfs) == 0) {
+  if (fake || ::statvfs(stage.path().c_str(), &vfs) == 0) {
     const double free_bytes =
         fake ? std::strtod(fake, nullptr)
              : static_cast<double>(vfs.f_bavail) * static_cast<double>(vfs.f_frsize);
-    if (stage->reserved_bytes() + need > free_bytes) {
+    if (stage.reserved_bytes() + need > free_bytes) {
       char msg[480];
       std::snprintf(msg, sizeof msg,
                     "%s of up to %.0f rows would need up to %.3g GB (%.0f B a row), more than the "
                     "%.3g GB free on the output's file system (%.3g GB already promised to the "
                     "other recorded files): %s or choose another --out",
                     name.c_str(), std::ceil(max_rows), need * 1e-9, per_row, free_bytes * 1e-9,
-                    stage->reserved_bytes() * 1e-9, advice);
+                    stage.reserved_bytes() * 1e-9, advice);
       throw sim::ConfigError(key, msg);
     }
   }
-  stage->reserved_bytes() += need;
+  stage.reserved_bytes() += need;
+}
+}  // namespace
+
+std::unique_ptr<ChannelStream> open_channel_stream(OutputStage* stage, const std::string& name,
+                                                   const std::vector<sim::Channel>& channels,
+                                                   double max_rows, const char* key,
+                                                   const char* advice) {
+  if (!stage) return std::make_unique<ChannelStream>(channels);
+  reserve_rows(*stage, name, max_rows,
+               static_cast<double>(channels.size() * ChannelStream::kMaxBytesPerValue), key,
+               advice);
   auto s = std::make_unique<ChannelStream>(channels, stage->path() / name);
   stage->add_streamed(name);
   return s;
@@ -128,6 +140,91 @@ std::unique_ptr<ChannelStream> open_channel_stream(const Scenario& sc, OutputSta
   } catch (const std::invalid_argument& e) {
     throw_at_key(sc, e);
   }
+}
+
+RowSpill::RowSpill(OutputStage* stage, const std::string& what, std::size_t width, double max_rows,
+                   std::size_t block_rows)
+    : width_(std::max<std::size_t>(width, 1)), block_(std::max<std::size_t>(block_rows, 1)) {
+  if (!stage) return;  // in memory
+  reserve_rows(*stage, what, max_rows, static_cast<double>(width_ * sizeof(double)));
+  dir_ = stage->path();
+  buf_.reserve(block_ * width_);
+}
+
+RowSpill::~RowSpill() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void RowSpill::push(std::span<const double> row) noexcept {
+  const std::size_t n = std::min(row.size(), width_);
+  buf_.insert(buf_.end(), row.begin(), row.begin() + static_cast<std::ptrdiff_t>(n));
+  buf_.resize(buf_.size() + (width_ - n), 0.0);
+  if (!dir_.empty() && buf_.size() >= block_ * width_) flush();
+}
+
+void RowSpill::flush() noexcept {
+  if (failed_errno_ != 0) return;
+  if (fd_ < 0) {
+    // An unnamed file in the stage (the file system the disk check measured); where O_TMPFILE is
+    // not supported, a named one removed at once.
+    fd_ = ::open(dir_.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+    if (fd_ < 0) {
+      std::string name = (dir_ / ".spill-XXXXXX").string();
+      fd_ = ::mkostemp(name.data(), O_CLOEXEC);
+      if (fd_ >= 0) ::unlink(name.c_str());
+    }
+    if (fd_ < 0) {
+      failed_errno_ = errno;
+      return;
+    }
+  }
+  const auto* p = reinterpret_cast<const char*>(buf_.data());
+  const std::size_t bytes = buf_.size() * sizeof(double);
+  std::size_t done = 0;
+  while (done < bytes) {
+    const ssize_t n = ::write(fd_, p + done, bytes - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      failed_errno_ = n < 0 ? errno : EIO;
+      return;
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  file_rows_ += buf_.size() / width_;
+  buf_.clear();  // capacity kept
+}
+
+std::size_t RowSpill::read(std::size_t from, std::span<double> out) const {
+  if (failed_errno_ != 0)
+    throw fs::filesystem_error("cannot keep the rows for the run's window", dir_,
+                               std::error_code(failed_errno_, std::generic_category()));
+  const std::size_t total = rows();
+  if (from >= total) return 0;
+  const std::size_t want = std::min(out.size() / width_, total - from);
+  std::size_t got = 0;
+  while (got < want && from + got < file_rows_) {  // from the file
+    const std::size_t n = std::min(want - got, file_rows_ - (from + got));
+    const std::size_t bytes = n * width_ * sizeof(double);
+    auto* p = reinterpret_cast<char*>(out.data() + got * width_);
+    std::size_t done = 0;
+    while (done < bytes) {
+      const auto off = static_cast<off_t>((from + got) * width_ * sizeof(double) + done);
+      const ssize_t r = ::pread(fd_, p + done, bytes - done, off);
+      if (r < 0 && errno == EINTR) continue;
+      if (r <= 0)
+        throw fs::filesystem_error("cannot read back the rows for the run's window", dir_,
+                                   std::error_code(r < 0 ? errno : EIO, std::generic_category()));
+      done += static_cast<std::size_t>(r);
+    }
+    got += n;
+  }
+  if (got < want) {  // from the block in memory
+    const std::size_t b = (from + got - file_rows_) * width_;
+    std::copy_n(buf_.begin() + static_cast<std::ptrdiff_t>(b), (want - got) * width_,
+                out.begin() + static_cast<std::ptrdiff_t>(got * width_));
+    got = want;
+  }
+  return got;
 }
 
 }  // namespace lathectl::io

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "lathectl/control/types.hpp"
 
@@ -21,6 +22,17 @@ nlohmann::json json_number(double v) {
 std::vector<double> column(const sim::Recorder& rec, const char* name) {
   const auto c = rec.column(name);
   return {c.begin(), c.end()};
+}
+
+Series recorded_series(const sim::Recorder& rec, const char* channel, std::string name,
+                       std::string color, bool dashed) {
+  Series s;
+  s.name = std::move(name);
+  rec.plot_points(channel, s.x, s.y);
+  s.pyramid = rec.plot_pyramid(channel);  // streamed: the zoomable record
+  s.color = std::move(color);
+  s.dashed = dashed;
+  return s;
 }
 
 nlohmann::json alarms_json(const std::vector<sim::AlarmEvent>& alarms) {

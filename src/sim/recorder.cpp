@@ -17,8 +17,8 @@ Recorder Recorder::streamed(std::vector<Channel> channels, std::vector<RowSink*>
   Recorder r;
   r.channels_ = std::move(channels);
   r.sinks_ = std::move(sinks);
-  r.plots_.reserve(r.channels_.size());
-  for (std::size_t i = 0; i < r.channels_.size(); ++i) {
+  r.plots_.reserve(values_per_level > 0 ? r.channels_.size() : 0);
+  for (std::size_t i = 0; i < r.channels_.size() && values_per_level > 0; ++i) {
     PlotPyramid::Options o;
     o.max_values_per_level = values_per_level;
     r.plots_.emplace_back(o);
@@ -73,7 +73,12 @@ void Recorder::plot_points(const std::string& name, std::vector<double>& x,
                            std::vector<double>& y) const {
   const std::size_t i = index(name);
   if (streamed_) {
-    plots_[i].points(x, y);
+    if (i < plots_.size()) {
+      plots_[i].points(x, y);
+    } else {
+      x.clear();
+      y.clear();
+    }
     return;
   }
   const auto cx = column(std::size_t{0}), cy = column(i);
@@ -83,7 +88,7 @@ void Recorder::plot_points(const std::string& name, std::vector<double>& x,
 
 std::shared_ptr<const PlotPyramid> Recorder::plot_pyramid(const std::string& name) const {
   const std::size_t i = index(name);
-  if (!streamed_) return nullptr;
+  if (!streamed_ || i >= plots_.size()) return nullptr;
   return plots_[i].finished();
 }
 

@@ -465,7 +465,7 @@ left=$(ls -A "$work" | grep -E '^set\.(tmp|old)-'; ls -A "$work/set" | grep -E '
 [ -z "$left" ] || bad "after kill -9: temporaries left: $left"
 # channels.csv streams to disk as the run records (issue 19): a disk-space check before the run
 # replaces the row limit; no room → exit 2 at run.duration_s, nothing written, no stage left
-for f in e_sensor_dropout a_finishing_aim; do
+for f in e_sensor_dropout a_finishing_aim b_twin_offset; do
   rm -rf "$work/full" "$work"/full.*
   expect_rc 2 "no room for $f's channels" env LATHECTL_TEST_FREE_BYTES=100000 $bin run "$scn/$f.toml" --out "$work/full"
   grep -q "^error: $scn/$f.toml:[0-9]*:[0-9]*: key 'run.duration_s': channels.csv of up to .* more than the 0.0001 GB free" "$work/err.txt" || bad "no room for $f: $(cat "$work/err.txt")"

@@ -76,6 +76,22 @@ TEST(Recorder, StreamedHandsRowsToSinksAndWritesTheSameCsv) {
   EXPECT_EQ(y.front(), 1.0);
 }
 
+TEST(Recorder, StreamedWithoutPlotsOnlyHandsRowsToSinks) {
+  const std::vector<Channel> ch{{"time_s", "s"}, {"a", ""}};
+  io::ChannelStream stream(ch);
+  Recorder r = Recorder::streamed(ch, {&stream}, 0);  // a run that is only measured
+  for (int i = 0; i < 100; ++i) {
+    const double row[2] = {0.01 * i, 1.0 * i};
+    r.push_row(row);
+  }
+  EXPECT_EQ(r.rows(), 100u);
+  std::vector<double> x{1.0}, y{1.0};
+  r.plot_points("a", x, y);
+  EXPECT_TRUE(x.empty() && y.empty());
+  EXPECT_EQ(r.plot_pyramid("a"), nullptr);
+  EXPECT_EQ(std::count(stream.text().begin(), stream.text().end(), '\n'), 101);
+}
+
 TEST(OnlineMetrics, MatchTheWholeRecordFormsBitForBit) {
   std::vector<double> t, x, rpm, alarm;
   for (int i = 0; i < 5000; ++i) {

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -79,5 +80,38 @@ std::unique_ptr<ChannelStream> open_channel_stream(
     const Scenario& sc, OutputStage* stage, const std::string& name,
     const std::vector<sim::Channel>& channels, double max_rows, const char* key,
     const char* advice);
+
+// Rows of `width` doubles kept bit for bit for a second pass once the run has ended, for a
+// measure over a window that only the run's end places (system B: the last 30 % of the cut, its
+// start known when the cut ends). With a stage: one block in memory, the rest in an unnamed file
+// in the stage's directory (O_TMPFILE; gone when the spill is), so memory does not grow with the
+// duration; the same disk-space check as open_channel_stream (8 B a value, `what` names it in
+// the message). Without a stage (tests, library callers): in memory.
+class RowSpill {
+ public:
+  static constexpr std::size_t kBlockRows = 16384;
+  RowSpill(OutputStage* stage, const std::string& what, std::size_t width, double max_rows,
+           std::size_t block_rows = kBlockRows);
+  ~RowSpill();
+  RowSpill(const RowSpill&) = delete;
+  RowSpill& operator=(const RowSpill&) = delete;
+
+  void push(std::span<const double> row) noexcept;  // `width` values (missing ones 0)
+  [[nodiscard]] std::size_t rows() const noexcept { return file_rows_ + buf_.size() / width_; }
+  [[nodiscard]] std::size_t width() const noexcept { return width_; }
+  [[nodiscard]] bool on_disk() const noexcept { return fd_ >= 0; }
+  // Rows from `from` on into `out` (out.size() / width() of them at most, fewer at the end);
+  // returns how many. Throws std::filesystem::filesystem_error if a write or a read failed.
+  std::size_t read(std::size_t from, std::span<double> out) const;
+
+ private:
+  void flush() noexcept;
+  std::filesystem::path dir_;
+  std::size_t width_, block_;
+  std::vector<double> buf_;
+  std::size_t file_rows_ = 0;
+  int fd_ = -1;
+  int failed_errno_ = 0;
+};
 
 }  // namespace lathectl::io

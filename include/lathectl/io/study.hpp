@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "lathectl/io/report.hpp"
 #include "lathectl/sim/metrics.hpp"
 #include "lathectl/sim/recorder.hpp"
 
@@ -18,6 +19,10 @@ std::string fmt(double v, const char* format = "%.4g");
 nlohmann::json json_number(double v);
 // A copy of one recorded channel.
 std::vector<double> column(const sim::Recorder& rec, const char* name);
+// One recorded channel against time for a plot: every row (columns), or at most 4096 points of
+// a streamed recorder's pyramid with the pyramid itself for the zoomable chart.
+Series recorded_series(const sim::Recorder& rec, const char* channel, std::string name,
+                       std::string color, bool dashed = false);
 // [{time_s, code, reason}, ...]
 nlohmann::json alarms_json(const std::vector<sim::AlarmEvent>& alarms);
 

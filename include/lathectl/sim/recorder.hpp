@@ -3,11 +3,13 @@
 // Two storages:
 //  - columns (the constructor with a capacity): every row kept, capacity reserved for the whole
 //    run, push_row() never allocates; column() gives a channel's whole record. For the systems
-//    whose runs are short by construction (B, C, D: a fixed cut; A's regulator studies).
+//    whose runs are short by construction (A's regulator studies, B's sweeps, tests); every
+//    system's `lathectl run` streams.
 //  - streamed (Recorder::streamed): no row kept. Each row goes to the attached sinks as it is
 //    pushed (channels.csv written to disk, a metric's accumulator) and into a bounded min/max
 //    pyramid per channel for the plots (PlotPyramid, kPlotValuesPerLevel per level): memory does
-//    not grow with the run's duration (issue 19: 30 simulated minutes held ~0.8 GB as columns, CSV text and plot copies).
+//    not grow with the run's duration (issue 19: 30 simulated minutes held ~0.8 GB as columns,
+//    CSV text and plot copies).
 
 #include <cstddef>
 #include <memory>
@@ -39,7 +41,8 @@ class Recorder {
   // Streamed storage: rows go to `sinks` (not owned; they must outlive the recording) and into a
   // PlotPyramid per channel against channel 0 (the time), at most values_per_level values per
   // level (2^14: A with its comparison run held 116 MB at 2^16 for 1800 s; a recording up to
-  // 16 384 rows keeps its samples, so its charts zoom to them).
+  // 16 384 rows keeps its samples, so its charts zoom to them). values_per_level 0: no plots
+  // (a run that is only measured, such as B's sweep runs; plot_points gives nothing).
   static constexpr std::size_t kPlotValuesPerLevel = std::size_t{1} << 14;
   static Recorder streamed(std::vector<Channel> channels, std::vector<RowSink*> sinks = {},
                            std::size_t values_per_level = kPlotValuesPerLevel);

@@ -101,13 +101,7 @@ void run_one(const io::Scenario& sc, const sim::RigAConfig& cfg, Run& r, const c
 // A recorded channel against time, decimated to a bounded number of points (sim::Recorder).
 Series series(const Run& r, const char* channel, std::string name, std::string color,
               bool dashed = false) {
-  Series s;
-  s.name = std::move(name);
-  r.rig.recorder().plot_points(channel, s.x, s.y);
-  s.pyramid = r.rig.recorder().plot_pyramid(channel);  // streamed: the zoomable record
-  s.color = std::move(color);
-  s.dashed = dashed;
-  return s;
+  return io::recorded_series(r.rig.recorder(), channel, std::move(name), std::move(color), dashed);
 }
 
 Series constant(const Run& r, double value, std::string name) {

@@ -3,42 +3,101 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 #include "lathectl/dynamics/beam.hpp"
 #include "lathectl/dynamics/delayed_coupling.hpp"
 
 namespace lathectl::b_chatter {
 
-void measure(Run& r, bool twin, double dead_zone_um) {
-  const auto& rec = r.rig.recorder();
-  const auto t = rec.column("time_s");
-  const auto y = rec.column("y_um");
-  const auto yh = rec.column("y_highpass_um");
-  const double start = r.rig.cut_start_s(), end = t.empty() ? 0.0 : t[t.size() - 1];
+Measure::Measure(const sim::RigB& rig, bool twin, io::OutputStage* stage,
+                 std::size_t spill_block_rows)
+    : rig_(&rig), twin_(twin) {
+  const std::pair<std::size_t*, const char*> read[] = {{&t_, "time_s"},
+                                                       {&y_, "y_um"},
+                                                       {&yh_, "y_highpass_um"},
+                                                       {&c1_, "chip1_mm"},
+                                                       {&c2_, "chip2_mm"},
+                                                       {&pw_, "cut_power_W"},
+                                                       {&pwm_, "cut_power_measured_W"},
+                                                       {&dl_, "inter_tool_delay_rev"},
+                                                       {&z1_, "z1_mm"},
+                                                       {&z2_, "z2_mm"}};
+  for (const auto& [index, name] : read) *index = rig.recorder().index(name);
+  spill_ = std::make_unique<io::RowSpill>(stage, "the steady window's rows", kWidth,
+                                          rig.max_record_rows(), spill_block_rows);
+}
+
+void Measure::row(std::span<const double> v) noexcept {
+  const double tz[3] = {v[t_], v[z1_], v[z2_]};
+  if (n_ == 0) std::copy_n(tz, 3, first_);
+  std::copy_n(tz, 3, last_);
+  // The cut's start is set (by the step that records this row at the latest) before its rows.
+  const double start = rig_->cut_start_s();
+  if (!k0_seen_ && start >= 0.0 && v[t_] >= start) {
+    k0_seen_ = true;
+    k0_ = n_;
+    std::copy_n(tz, 3, k0_row_);
+  }
+  ++n_;
+  const bool one_out = twin_ && ((v[c1_] == 0.0) != (v[c2_] == 0.0));
+  const double w[kWidth] = {v[t_], v[y_], v[yh_], v[pw_], v[pwm_], v[dl_], one_out ? 1.0 : 0.0};
+  spill_->push(w);
+}
+
+void Measure::result(Run& r, double dead_zone_um) {
+  const double start = rig_->cut_start_s(), end = n_ == 0 ? 0.0 : last_[0];
+  r.t_end = end;
   r.t0 = start + 0.7 * (end - start);
   r.t1 = end - 0.05;
-  double lo = 1e300, hi = -1e300, p = 0.0, pm = 0.0, n = 0.0, out = 0.0, ys = 0.0;
-  const auto c1 = rec.column("chip1_mm"), c2 = rec.column("chip2_mm");
-  const auto pw = rec.column("cut_power_W"), pwm = rec.column("cut_power_measured_W");
-  const auto dl = rec.column("inter_tool_delay_rev");
-  std::size_t first = t.size(), last = 0;
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    if (t[i] < r.t0 || t[i] > r.t1) continue;
-    first = std::min(first, i);
-    last = i;
-    r.vibration_um = std::max(r.vibration_um, std::abs(yh[i]));
-    lo = std::min(lo, y[i] - yh[i]);
-    hi = std::max(hi, y[i] - yh[i]);
-    p += pw[i];
-    pm += pwm[i];
-    ys += y[i];
-    n += 1.0;
-    if (twin && ((c1[i] == 0.0) != (c2[i] == 0.0))) out += 1.0;
-    if (dl[i] > 0.0) {
-      r.delay_min_rev = std::isnan(r.delay_min_rev) ? dl[i] : std::min(r.delay_min_rev, dl[i]);
-      r.delay_max_rev = std::isnan(r.delay_max_rev) ? dl[i] : std::max(r.delay_max_rev, dl[i]);
-    }
+  // The window's rows: the first at t ≥ t0 (time grows row by row) up to the last at t ≤ t1.
+  const io::RowSpill& sp = *spill_;
+  const std::size_t rows = sp.rows();
+  double one[kWidth];
+  const auto time_of = [&](std::size_t i) {
+    sp.read(i, one);
+    return one[kT];
+  };
+  std::size_t lo_i = 0, hi_i = rows;
+  while (lo_i < hi_i) {
+    const std::size_t mid = lo_i + (hi_i - lo_i) / 2;
+    if (time_of(mid) < r.t0)
+      lo_i = mid + 1;
+    else
+      hi_i = mid;
   }
+  const std::size_t first = lo_i;
+  // Hands the window's rows to f in order; returns the index past the last.
+  std::vector<double> block(1024 * kWidth);
+  const auto window = [&](auto&& f) {
+    std::size_t i = first;
+    for (;;) {
+      const std::size_t n = sp.read(i, block);
+      if (n == 0) return i;
+      for (std::size_t k = 0; k < n; ++k, ++i) {
+        const double* w = block.data() + k * kWidth;
+        if (w[kT] > r.t1) return i;
+        f(w);
+      }
+    }
+  };
+  double lo = 1e300, hi = -1e300, p = 0.0, pm = 0.0, n = 0.0, out = 0.0, ys = 0.0;
+  window([&](const double* w) {
+    const double y = w[kY], yh = w[kYh], dl = w[kDelay];
+    r.vibration_um = std::max(r.vibration_um, std::abs(yh));
+    lo = std::min(lo, y - yh);
+    hi = std::max(hi, y - yh);
+    p += w[kPower];
+    pm += w[kPowerMeasured];
+    ys += y;
+    n += 1.0;
+    if (w[kOneOut] != 0.0) out += 1.0;
+    if (dl > 0.0) {
+      r.delay_min_rev = std::isnan(r.delay_min_rev) ? dl : std::min(r.delay_min_rev, dl);
+      r.delay_max_rev = std::isnan(r.delay_max_rev) ? dl : std::max(r.delay_max_rev, dl);
+    }
+  });
   if (n > 0.0) {
     r.forced_um = 0.5 * (hi - lo);
     r.static_um = ys / n;
@@ -48,29 +107,33 @@ void measure(Run& r, bool twin, double dead_zone_um) {
     // Chatter frequency: crossings of ±20 % of the amplitude (hysteresis), over the window.
     int sign = 0, crossings = 0;
     double tc0 = kNaN, tc1 = kNaN;
-    for (std::size_t i = first; i <= last; ++i) {
-      const double h = 0.2 * r.vibration_um;
-      const int s = yh[i] > h ? 1 : (yh[i] < -h ? -1 : 0);
+    const double h = 0.2 * r.vibration_um;
+    window([&](const double* w) {
+      const double yh = w[kYh];
+      const int s = yh > h ? 1 : (yh < -h ? -1 : 0);
       if (s != 0 && s != sign) {
         if (sign != 0) {
           ++crossings;
-          if (std::isnan(tc0)) tc0 = t[i];
-          tc1 = t[i];
+          if (std::isnan(tc0)) tc0 = w[kT];
+          tc1 = w[kT];
         }
         sign = s;
       }
-    }
+    });
     if (crossings > 4 && r.vibration_um > dead_zone_um)
       r.chatter_Hz = (crossings - 1) / (2.0 * (tc1 - tc0));
   }
-  const auto z1 = rec.column("z1_mm"), z2 = rec.column("z2_mm");
-  std::size_t k0 = 0;
-  while (k0 < t.size() && t[k0] < start) ++k0;
-  if (k0 + 1 < t.size()) {
-    const double dt = t[t.size() - 1] - t[k0];
-    r.feed_mean[0] = (z1[z1.size() - 1] - z1[k0]) / dt * 60.0;
-    r.feed_mean[1] = (z2[z2.size() - 1] - z2[k0]) / dt * 60.0;
+  // The mean feeds over the cut: from its first row (every row when it never started) to the
+  // last.
+  const bool from_first = start < 0.0 || !k0_seen_;
+  const double* k0 = from_first ? first_ : k0_row_;
+  const std::size_t k0_index = from_first ? (start < 0.0 ? 0 : n_) : k0_;
+  if (k0_index + 1 < n_) {
+    const double dt = last_[0] - k0[0];
+    r.feed_mean[0] = (last_[1] - k0[1]) / dt * 60.0;
+    r.feed_mean[1] = (last_[2] - k0[2]) / dt * 60.0;
   }
+  spill_.reset();
 }
 
 Limits linear_limits(const sim::RigBConfig& b, double x_mm, double rpm, int points) {

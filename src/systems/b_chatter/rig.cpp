@@ -153,11 +153,15 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
   const double cut_time = (cfg.z_end_mm - cfg.z_start_mm + cfg.approach_mm + cfg.tool2_lag_mm) /
                           (cfg.feed_mm_per_rev * cfg.rpm / 60.0);
   max_t_ = std::min(max_duration, cfg.idle_block_s + 1.5 * cut_time + 1.0);
-  const double rows = max_t_ / (dt * static_cast<double>(record_every_)) + 2.0;
-  if (!(rows <= 5e6))
+  max_rows_ = max_t_ / (dt * static_cast<double>(record_every_)) + 2.0;
+  if (streamed_) {  // bounded by the disk-space check of what the study streams
+    rec_ = Recorder::streamed(rig_b_channels(), {}, plots_ ? Recorder::kPlotValuesPerLevel : 0);
+    return;
+  }
+  if (!(max_rows_ <= 5e6))
     throw ConfigError("run.record_interval_s",
                       "more than 5e6 recorded rows: raise run.record_interval_s");
-  rec_ = Recorder(rig_b_channels(), static_cast<std::size_t>(rows));
+  rec_ = Recorder(rig_b_channels(), static_cast<std::size_t>(max_rows_));
 }
 
 bool RigB::step() noexcept {

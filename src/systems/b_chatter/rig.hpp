@@ -100,6 +100,17 @@ class RigB {
   [[nodiscard]] bool step() noexcept;  // false when the cut is finished
 
   [[nodiscard]] const Recorder& recorder() const noexcept { return rec_; }
+  // Streamed recording (set before configure): no columns, rows to the attached sinks (the
+  // study's measures, channels.csv), so memory does not grow with the cut's duration; columns
+  // (the default) keep every row, at most 5e6. plots false: streamed without the plots' pyramids
+  // (a run that is only measured).
+  void set_streamed(bool streamed, bool plots = true) noexcept {
+    streamed_ = streamed;
+    plots_ = plots;
+  }
+  void attach(RowSink* sink) { rec_.attach(sink); }
+  // The most rows the configured run can record (its time bound over the record interval).
+  [[nodiscard]] double max_record_rows() const noexcept { return max_rows_; }
   [[nodiscard]] const RigBConfig& config() const noexcept { return cfg_; }
   [[nodiscard]] double time_s() const noexcept { return t_; }
   [[nodiscard]] double cut_start_s() const noexcept { return t_cut_start_; }
@@ -142,6 +153,8 @@ class RigB {
   std::size_t chain_every_ = 1;
   std::size_t control_every_ = 1;
   bool done_ = false;
+  bool streamed_ = false, plots_ = true;
+  double max_rows_ = 0.0;
   double t_cut_start_ = -1.0;
   double engaged_at_ = -1.0;
   double theta_ = 0.0;  // cumulative spindle angle

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "lathectl/dynamics/van_der_pol.hpp"
+#include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
@@ -26,9 +27,26 @@ using io::Series;
 using io::Table;
 using nlohmann::json;
 
-void run_one(const io::Scenario& sc, const sim::RigBConfig& cfg, Run& r) {
-  io::configure_and_run(sc, r.rig, cfg, "|y| > 50 mm");
-  measure(r, cfg.setup != sim::TwinSetup::Single, cfg.vibration.dead_zone_m * 1e6);
+// The rig records streamed (its memory bounded whatever the cut's length): the measures are taken
+// row by row, csv (nullptr: none) is written into `stage` as the rows come. Without csv the run is
+// only measured (the sweep): no plots are kept either.
+void run_one(const io::Scenario& sc, const sim::RigBConfig& cfg, Run& r, io::OutputStage* stage,
+             const char* csv = nullptr) {
+  r.rig.set_streamed(true, csv != nullptr);
+  io::configure_rig(sc, r.rig, cfg);
+  try {  // the disk-space checks: channels.csv first, then the window's rows
+    if (csv)
+      r.csv =
+          io::open_channel_stream(stage, csv, r.rig.recorder().channels(), r.rig.max_record_rows());
+    r.measure = std::make_unique<Measure>(r.rig, cfg.setup != sim::TwinSetup::Single, stage);
+  } catch (const std::invalid_argument& e) {
+    io::throw_at_key(sc, e);
+  }
+  r.rig.attach(r.measure.get());
+  if (r.csv) r.rig.attach(r.csv.get());
+  io::run_rig(sc, r.rig, "|y| > 50 mm");
+  if (r.csv) r.csv->finish();
+  r.measure->result(r, cfg.vibration.dead_zone_m * 1e6);
 }
 
 std::string source_name(control::ModulationSource s) {
@@ -49,14 +67,20 @@ io::RunOutput run(const io::Scenario& sc) {
   with->label = source_name(b.source);
   without->label = "no modulation";
   const bool compared = modulated && settings.compare;
+  io::OutputStage* stage = io::StreamScope::current();  // this thread's: the runs use other ones
   {
     // The run as programmed and, to compare, the same without modulation: side by side (the one
     // on the calling thread moves its progress line; both are as long).
+    // channels.csv and channels_compare.csv stream into the output set's stage as they record.
     sim::RigBConfig off = b;
     off.source = control::ModulationSource::None;
     sim::parallel_for(
         compared ? 2 : 1,
-        [&](std::size_t i) { i == 0 ? run_one(sc, b, *with) : run_one(sc, off, *without); }, 2);
+        [&](std::size_t i) {
+          i == 0 ? run_one(sc, b, *with, stage, "channels.csv")
+                 : run_one(sc, off, *without, stage, "channels_compare.csv");
+        },
+        2);
   }
   const Run& main = *with;
   const Run* off = compared ? without.get() : (modulated ? nullptr : with.get());
@@ -82,7 +106,7 @@ io::RunOutput run(const io::Scenario& sc) {
           c.feed_mm_per_rev = p.feed;
           if (j % 2 == 1) c.source = control::ModulationSource::None;
           if (c.source == control::ModulationSource::None && j % 2 == 0 && !modulated) return;
-          run_one(sc, c, j % 2 ? p.off : p.on);
+          run_one(sc, c, j % 2 ? p.off : p.on, stage);
         },
         threads);
   }
@@ -369,22 +393,14 @@ io::RunOutput run(const io::Scenario& sc) {
   const char* colors[] = {"#d62728", "#1f77b4"};
   auto series = [&](const Run& r, const char* col, const std::string& name, const char* color,
                     bool dashed = false) {
-    return Series{name,
-                  io::column(r.rig.recorder(), "time_s"),
-                  io::column(r.rig.recorder(), col),
-                  color,
-                  dashed,
-                  false};
+    return io::recorded_series(r.rig.recorder(), col, name, color, dashed);
   };
   // The unmodulated run chatters at hundreds of µm, the modulated one stays near 0.1 µm: each
   // gets its own panel (same time axis), or the smaller would be a flat line beside the other.
   const std::vector<const Run*> panels =
       off && off != &main ? std::vector<const Run*>{off, &main} : std::vector<const Run*>{&main};
   double t_end = 0.0;
-  for (const Run* r : panels) {
-    const auto tt = r->rig.recorder().column("time_s");
-    if (!tt.empty()) t_end = std::max(t_end, tt.back());
-  }
+  for (const Run* r : panels) t_end = std::max(t_end, r->t_end);
   const auto panel = [&](std::string title, std::string y_label) {
     Plot p{std::move(title), "time [s]", std::move(y_label), {}, {}};
     p.x_min = 0.0;
@@ -490,8 +506,9 @@ io::RunOutput run(const io::Scenario& sc) {
     rep.tables.push_back(tb);
   }
 
-  out.channels_csv = io::channels_csv(main.rig.recorder());
-  if (off && off != &main) out.compare_csv = io::channels_csv(off->rig.recorder());
+  // In memory only without a stage (library callers, tests); else on disk already.
+  out.channels_csv = main.csv->take_text();
+  if (compared) out.compare_csv = without->csv->take_text();
   out.headline =
       (off ? "no modulation " + fmt(off->vibration_um, "%.3g") + " µm" : std::string()) +
       (modulated ? (off ? "; " : "") + main.label + " " + fmt(main.vibration_um, "%.3g") +
