@@ -6,13 +6,15 @@
 //
 //   loadrt lathectl_modfeed scenario=PATH [ceiling=2]
 //   addf lathectl-modfeed servo-thread
-//   addf lathectl-modfeed.plan slow-thread     (optional: the re-plan out of the servo thread)
+//   loadrt threads name1=modfeed-plan period1=10000000
+//   addf lathectl-modfeed.plan modfeed-plan   (optional: the re-plan out of the servo thread)
 //
 // The re-plan (the quenching condition solved for the staircase, 9–39 µs) runs inside the servo
-// function unless `lathectl-modfeed.plan` is added to a slower thread (e.g. `loadrt threads
-// name1=slow-thread period1=10000000`, created after the servo thread so at a lower priority):
-// once that function has run, the servo function only posts the request and takes the finished
-// plan one planner period later (control::ModulationPlanner; under 1 µs).
+// function unless `lathectl-modfeed.plan` is added to a slower thread (created after the servo
+// thread, so HAL gives it a lower priority): once that function has run, the servo function
+// only posts the request and takes the finished plan in its first period after the planner's
+// (control::ModulationPlanner; under 1 µs). plans-inline / plans-taken / plans-made count which
+// way the plans went (tests/hal/modfeed_test.py plan).
 // Inputs: a0 and ω_d from the vibration chain's detectors (lathectl_chatter, or the machine's
 // own ADC channels), the main motor's electrical power, the spindle speed, the NC block's flags
 // (idle block, turret, source) and, for the programmed variant, its (S_min, ΔS, Δl, n_s).
@@ -85,6 +87,9 @@ struct Pins {
   hal_bit_t* period_error;
   hal_s32_t* update_ns;
   hal_s32_t* update_ns_max;
+  hal_s32_t* plans_inline;  // plans the servo function made itself
+  hal_s32_t* plans_taken;   // plans it took from lathectl-modfeed.plan
+  hal_s32_t* plans_made;    // plans lathectl-modfeed.plan made (written by that function)
   // parameters
   hal_float_t ceiling;
   hal_float_t coefficient;
@@ -166,13 +171,16 @@ void update(void*, long period_ns) {
   *p.omega_m = o.omega_m_rad_per_s / (2.0 * std::numbers::pi);
   *p.ap_required = o.force_amplitude_required_N;
   *p.ap_planned = o.force_amplitude_planned_N;
+  const auto counts = s.module.plan_counts();
+  *p.plans_inline = static_cast<std::int32_t>(counts.made_inline);
+  *p.plans_taken = static_cast<std::int32_t>(counts.taken);
   *p.update_ns = timer.stop();
   *p.update_ns_max = timer.max();
 }
 
 // The slower thread's function: plans what the servo function asked for, if anything.
 void plan(void*, long) {
-  if (st) (void)st->planner.run(st->module);
+  if (st && st->planner.run(st->module)) *pins->plans_made = *pins->plans_made + 1;
 }
 
 }  // namespace
@@ -233,6 +241,9 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.period_error, HAL_OUT, comp_id, kPrefix, "period-error");
     pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
     pin(&p.update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
+    pin(&p.plans_inline, HAL_OUT, comp_id, kPrefix, "plans-inline");
+    pin(&p.plans_taken, HAL_OUT, comp_id, kPrefix, "plans-taken");
+    pin(&p.plans_made, HAL_OUT, comp_id, kPrefix, "plans-made");
     *p.adaptive_feed = 1.0 / c;
     *p.source = static_cast<std::int32_t>(b.source);
     *p.turret_left = b.turret == Turret::Left;

@@ -11,7 +11,7 @@ cmake --build --preset fuzz -j "$(nproc)" >/dev/null || {
 }
 work=build/fuzz/corpus
 mkdir -p "$work/scenario" "$work/materials" "$work/lobes" "$work/tool_limits" "$work/channels_csv" \
-  "$work/canon"
+  "$work/canon" "$work/json_file"
 cp examples/scenarios/*.toml examples/linuxcnc/step_allowance_modes.toml "$work/scenario/"
 cp data/materials.toml "$work/materials/"
 cp examples/machines/*.toml "$work/lobes/"
@@ -19,11 +19,15 @@ cp hal/config/lathectl-tools.toml "$work/tool_limits/"
 # A few rows of a channels.csv as lathectl writes it (header, numbers, nan, inf).
 printf 'time_s,x_mm,force_N\n0,1.5,-2e-05\n0.001,nan,inf\n0.002,-inf,3\n' >"$work/channels_csv/seed.csv"
 cp tests/optimize/canon_example.txt "$work/canon/"
-for target in scenario materials lobes tool_limits channels_csv canon; do
-  # The CSV and canonical-command readers are small line grammars: a quarter of the time covers
+# An operation log lathectl_oplog wrote in a LinuxCNC session, and two runs' summary.json.
+cp tests/cli/operations_two_tool.json tests/golden/summaries/{c_csv_template,a_regulator_flow}.json \
+  "$work/json_file/"
+for target in scenario materials lobes tool_limits channels_csv canon json_file; do
+  # The CSV, canonical-command and JSON readers are small grammars: a quarter of the time covers
   # them (make test: 5 s each).
   seconds=$SECONDS_PER_TARGET
-  [[ $target == channels_csv || $target == canon ]] && seconds=$(((SECONDS_PER_TARGET + 3) / 4))
+  [[ $target == channels_csv || $target == canon || $target == json_file ]] &&
+    seconds=$(((SECONDS_PER_TARGET + 3) / 4))
   echo "fuzz: ${target}_fuzz for ${seconds} s"
   ./build/fuzz/fuzz/${target}_fuzz -max_total_time="$seconds" -max_len=16384 \
     -timeout=10 -rss_limit_mb=4096 -print_final_stats=0 "$work/$target" \

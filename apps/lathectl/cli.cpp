@@ -1,34 +1,13 @@
 #include "cli.hpp"
 
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
-
-#include "lathectl/io/errors.hpp"
 
 namespace lathectl::cli {
 
 std::string doc(const std::string& page) {
   return "docs/" + page + " in the lathectl sources (installed: /usr/share/doc/lathectl/docs/" +
          page + ")";
-}
-
-nlohmann::json read_json(const std::filesystem::path& file, const std::string& what) {
-  std::ifstream f(file, std::ios::binary);
-  if (!f) throw io::InputError(file.string() + ": cannot read " + what);
-  std::ostringstream s;
-  s << f.rdbuf();
-  const std::string body = s.str();
-  try {
-    return nlohmann::json::parse(body);
-  } catch (const nlohmann::json::parse_error& e) {
-    const std::size_t at = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, body.size());
-    int line = 1;
-    for (std::size_t i = 0; i < at; ++i) line += body[i] == '\n' ? 1 : 0;
-    throw io::InputError(io::located(file.string(), line, 0, "not JSON (" +
-                                                                 std::string(e.what()) + ")"));
-  }
 }
 
 std::string command_line_error(const CLI::App& app, const CLI::ParseError& e, int argc,

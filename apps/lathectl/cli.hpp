@@ -26,10 +26,6 @@ using Commands = std::vector<Command>;
 // "docs/PAGE in the lathectl sources (installed: /usr/share/doc/lathectl/docs/PAGE)".
 std::string doc(const std::string& page);
 
-// A JSON file (`what` names it in the message); InputError "FILE:LINE: not JSON (...)" or
-// "FILE: cannot read WHAT".
-nlohmann::json read_json(const std::filesystem::path& file, const std::string& what);
-
 // One line for a command-line error CLI11 reports: the command it concerns, an unknown command
 // named with the ones there are, a rejected value as "--flag VALUE: expected ... (what it is)".
 std::string command_line_error(const CLI::App& app, const CLI::ParseError& e, int argc,

@@ -15,6 +15,7 @@
 #include "cli.hpp"
 #include "lathectl/io/channels_reader.hpp"
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/json_file.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/report.hpp"
 
@@ -41,14 +42,14 @@ Run read_run(const std::string& dir) {
                            f.filename().string() + ")");
   Run r;
   r.label = dir;
-  r.summary = read_json(summary, "the run's summary");
+  const io::JsonFile file = io::JsonFile::read(summary, "the run's summary");
+  r.summary = file.doc();
+  if (!r.summary.is_object()) file.fail("", "expected an object (a run's summary)");
   for (const char* key : {"metrics", "claims"}) {
-    const bool ok = r.summary.is_object() && r.summary.contains(key) &&
-                    (std::string(key) == "metrics" ? r.summary[key].is_object()
-                                                   : r.summary[key].is_array());
-    if (!ok)
-      throw io::InputError(summary.string() + ": key '" + key + "': missing or not " +
-                           (std::string(key) == "metrics" ? "an object" : "an array"));
+    const bool metrics = std::string(key) == "metrics";
+    const auto it = r.summary.find(key);
+    if (it == r.summary.end() || !(metrics ? it->is_object() : it->is_array()))
+      file.fail(key, metrics ? "expected an object" : "expected an array");
   }
   r.channels = io::read_channels_csv(csv);
   if (r.channels.names.empty() || r.channels.columns[0].empty())

@@ -9,20 +9,19 @@
 #include <iostream>
 #include <map>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "cli.hpp"
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/operation_log.hpp"
 #include "lathectl/io/report.hpp"
 
 namespace lathectl::cli {
 namespace {
 
 namespace fs = std::filesystem;
-using nlohmann::json;
 
 std::string fixed(double v, int digits) {
   std::ostringstream s;
@@ -30,20 +29,6 @@ std::string fixed(double v, int digits) {
   s.precision(digits);
   s << v;
   return s.str();
-}
-
-// A field of a row: present and of the kind asked, else one line naming the file, row and key.
-double number(const json& row, const char* key, const std::string& where) {
-  const auto it = row.find(key);
-  if (it == row.end() || !it->is_number())
-    throw io::InputError(where + ": key '" + key + "': expected a number");
-  return it->get<double>();
-}
-std::string text(const json& row, const char* key, const std::string& where) {
-  const auto it = row.find(key);
-  if (it == row.end() || !it->is_string())
-    throw io::InputError(where + ": key '" + key + "': expected a string");
-  return it->get<std::string>();
 }
 
 // The recording of scripts/linuxcnc-sim, the columns the plots need (absent: no plots).
@@ -90,18 +75,14 @@ int report(const std::string& log_arg, const std::string& out_arg) {
   fs::path log = log_arg;
   if (fs::is_directory(log)) log /= "operations.json";
   if (!fs::exists(log)) throw io::InputError(log.string() + ": no such operation log");
-  const json doc = read_json(log, "the operation log");
+  const io::OperationLog oplog =
+      io::read_operation_log(io::JsonFile::read(log, "the operation log"));
   const std::string file = log.string();
-  if (!doc.is_object() || !doc.contains("rows") || !doc["rows"].is_array())
-    throw io::InputError(file + ": key 'rows': expected an array of operations");
-  const std::string unit = doc.contains("unit") ? text(doc, "unit", file) : "N";
-  if (unit != "N" && unit != "W") throw io::InputError(file + ": key 'unit': expected N or W");
+  const std::string& unit = oplog.unit;
 
   io::Report r;
   r.title = "Operation log";
-  r.subtitle = doc.contains("program") && doc["program"].is_string()
-                   ? doc["program"].get<std::string>() + " · " + file
-                   : file;
+  r.subtitle = oplog.program.empty() ? file : oplog.program + " · " + file;
   r.description =
       "One row per program line with feed moves, as lathectl_adaptive closed it on LinuxCNC and "
       "lathectl_oplog logged it: the limit in effect, the load's per-revolution mean (mean and "
@@ -121,22 +102,16 @@ int report(const std::string& log_arg, const std::string& out_arg) {
   io::Series mean_s{"load mean per line", {}, {}, "", false, true};
   io::Series peak_s{"peak per revolution", {}, {}, "", false, true};
   io::Series lim_s{"limit", {}, {}, "", true, true};
-  std::size_t k = 0;
-  for (const auto& row : doc["rows"]) {
-    const std::string where = file + ": rows[" + std::to_string(k++) + "]";
-    if (!row.is_object()) throw io::InputError(where + ": expected an object");
-    const double line = number(row, "line", where), limit = number(row, "limit", where);
-    const double mean = number(row, "load_mean", where), peak = number(row, "load_peak", where);
-    const double fmin = number(row, "feed_min", where), fmean = number(row, "feed_mean", where);
-    const double cut = number(row, "time_in_cut_s", where);
-    const int tool = static_cast<int>(number(row, "tool", where));
-    const std::string alarm = text(row, "alarm", where);
+  for (const auto& o : oplog.rows) {
+    const double line = o.line, limit = o.limit, mean = o.load_mean, peak = o.load_peak;
+    const double cut = o.time_in_cut_s;
+    const int tool = o.tool;  // (a whole number ≥ 0: read_operation_log checks)
+    const std::string& alarm = o.alarm;
     const double pct = limit > 0.0 ? peak / limit : 0.0;
-    ops.rows.push_back({fixed(line, 0), std::to_string(tool),
-                        fixed(number(row, "operation", where), 0), text(row, "mode", where),
-                        fixed(limit, 1), fixed(mean, 1), fixed(peak, 1), fixed(100.0 * pct, 1) +
-                        " %", fixed(fmin, 3), fixed(fmean, 3), fixed(cut, 2),
-                        text(row, "reasons", where), alarm});
+    ops.rows.push_back({fixed(line, 0), std::to_string(tool), fixed(o.operation, 0), o.mode,
+                        fixed(limit, 1), fixed(mean, 1), fixed(peak, 1),
+                        fixed(100.0 * pct, 1) + " %", fixed(o.feed_min, 3), fixed(o.feed_mean, 3),
+                        fixed(cut, 2), o.reasons, alarm});
     t_cut += cut;
     if (cut > 0.0) worst = std::max(worst, pct);
     alarms += alarm.empty() ? 0 : 1;
@@ -153,28 +128,17 @@ int report(const std::string& log_arg, const std::string& out_arg) {
                {"time in cut", fixed(t_cut, 2) + " s"},
                {"highest peak per revolution / limit", fixed(100.0 * worst, 1) + " %"},
                {"alarms", std::to_string(alarms)}};
-  if (doc.contains("missed_rows") && doc["missed_rows"].is_number() &&
-      doc["missed_rows"].get<double>() > 0)
+  if (oplog.missed_rows > 0)
     r.metrics.emplace_back("operations not logged (shorter than the log's poll)",
-                           fixed(doc["missed_rows"].get<double>(), 0));
+                           fixed(oplog.missed_rows, 0));
   r.tables.push_back(ops);
-  if (doc.contains("taught") && doc["taught"].is_array() && !doc["taught"].empty()) {
+  if (!oplog.taught.empty()) {
     io::Table t{"Taught references", {"tool", "operation", "reference", "unit"}, {}};
-    std::size_t i = 0;
-    for (const auto& e : doc["taught"]) {
-      const std::string where = file + ": taught[" + std::to_string(i++) + "]";
-      t.rows.push_back({fixed(number(e, "tool", where), 0), fixed(number(e, "operation", where), 0),
-                        fixed(number(e, "reference", where), 1), text(e, "unit", where)});
-    }
+    for (const auto& e : oplog.taught)
+      t.rows.push_back({fixed(e.tool, 0), fixed(e.operation, 0), fixed(e.reference, 1), e.unit});
     r.tables.push_back(t);
   }
-  if (doc.contains("messages") && doc["messages"].is_array()) {
-    std::size_t i = 0;
-    for (const auto& m : doc["messages"]) {
-      const std::string where = file + ": messages[" + std::to_string(i++) + "]";
-      r.notes.push_back(fixed(number(m, "time_s", where), 2) + " s: " + text(m, "text", where));
-    }
-  }
+  for (const auto& m : oplog.messages) r.notes.push_back(fixed(m.time_s, 2) + " s: " + m.text);
   r.plots.push_back({"Load per program line", "program line", "load [" + unit + "]",
                      {lim_s, mean_s, peak_s}, {}});
   Signals s;

@@ -209,6 +209,7 @@ void ModulatedFeedController::configure(const Params& p) {
   gen_.stop();
   engaged_ = false;
   was_block_ = false;
+  counts_ = {};
 }
 
 ModulationPlan ModulatedFeedController::plan_for(double a0, double omega_d, double cut_power_W,
@@ -369,6 +370,7 @@ Status ModulatedFeedController::update(const Input& in, Output& out) noexcept {
     planned_N_ = r.planned_N;
     limited_ = r.limited;
     apply(r.plan, r.a0_m);
+    ++counts_.taken;
     waiting_id_ = 0;
     out.reason = Reason::ModulationEngaged;
   }
@@ -390,6 +392,7 @@ Status ModulatedFeedController::update(const Input& in, Output& out) noexcept {
           plan_for(a0, in.omega_d_rad_per_s, in.cut_power_W, in.speed_m_per_min, s_p, in.rpm,
                    omega_m_, required_N_, planned_N_, limited_);
       apply(plan, a0);
+      ++counts_.made_inline;
       out.reason = Reason::ModulationEngaged;
     }
   }

@@ -512,11 +512,14 @@ expect_rc 0 "report" $bin report "$work/oplog"
 grep -q "Operations" "$work/oplog/report.html" && grep -q "line 40" "$work/oplog/report.html" || bad "report.html lacks the table or the message"
 sed 's/"limit": 1400.0/"limit": "high"/' "$work/oplog/operations.json" > "$work/oplog_bad.json"
 expect_rc 2 "report with a bad row" $bin report "$work/oplog_bad.json" --out "$work/never.html"
-grep -q "oplog_bad.json: rows\[0\]: key 'limit': expected a number" "$work/err.txt" || bad "report bad-row message: $(cat "$work/err.txt")"
+grep -qx "error: .*oplog_bad.json:3:[0-9]*: key 'rows\[0\].limit': expected a number" "$work/err.txt" || bad "report bad-row message: $(cat "$work/err.txt")"
 [ ! -e "$work/never.html" ] || bad "a failed report left a file behind"
+# the log of a LinuxCNC session (linuxcnc_shop: two tools, teach-in, a refused value)
+expect_rc 0 "report of a session's log" $bin report "$src/tests/cli/operations_two_tool.json" --out "$work/two_tool.html"
+grep -q "5 operations, 2 tools" "$work/out.txt" || bad "report of a session's log: $(cat "$work/out.txt")"
 printf '{"rows": [\n' > "$work/oplog_syntax.json"
 expect_rc 2 "report with broken JSON" $bin report "$work/oplog_syntax.json"
-grep -q "oplog_syntax.json:2: not JSON" "$work/err.txt" || bad "report syntax message: $(cat "$work/err.txt")"
+grep -q "oplog_syntax.json:2:1: not JSON" "$work/err.txt" || bad "report syntax message: $(cat "$work/err.txt")"
 
 # inputs the fuzzer once crashed on: each must be a clean input error now
 for f in "$src"/tests/cli/fuzz_regressions/*.toml; do expect_rc 2 "fuzz regression $(basename "$f")" $bin check "$f"; done

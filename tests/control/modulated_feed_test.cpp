@@ -362,6 +362,8 @@ TEST(ModulationPlanner, HandsOverThePlanInlinePlanningWouldMake) {
   (void)deferred.update(in, b);
   ASSERT_TRUE(a.engaged);
   EXPECT_TRUE(b.engaged);  // no planner thread yet: planned inside update()
+  EXPECT_EQ(deferred.plan_counts().made_inline, 1U);
+  EXPECT_EQ(deferred.plan_counts().taken, 0U);
   // Now with the planner alive: a new block, a request, the plan one planner run later.
   ModulatedFeedController d2;
   d2.configure(p);
@@ -376,6 +378,8 @@ TEST(ModulationPlanner, HandsOverThePlanInlinePlanningWouldMake) {
   (void)d2.update(in, b);
   ASSERT_TRUE(b.engaged);
   EXPECT_EQ(b.reason, Reason::ModulationEngaged);
+  EXPECT_EQ(d2.plan_counts().made_inline, 0U);  // the servo side planned nothing itself
+  EXPECT_EQ(d2.plan_counts().taken, 1U);
   EXPECT_EQ(b.plan.n_s, a.plan.n_s);
   EXPECT_EQ(b.plan.s_min_mm_per_min, a.plan.s_min_mm_per_min);
   EXPECT_EQ(b.plan.ds_mm_per_min, a.plan.ds_mm_per_min);

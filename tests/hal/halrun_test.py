@@ -86,17 +86,23 @@ def halrun(hal_text, work, name, timeout=120):
     return p.returncode, log
 
 
+LAST_LOG = ""  # halrun's output of the last stream_session (what `post` showed)
+
+
 def stream_session(work, name, loads, stim_cfg, stim_rows, stim_pins, out_cfg, out_pins,
-                   extra="", pre=""):
-    """streamer → component(s) → sampler on one 1 ms thread; returns the sampled rows. `pre` is
-    HAL text run after the loads and before the nets (more components to wire), `extra` after."""
+                   extra="", pre="", threads="", post=""):
+    """streamer → component(s) → sampler on one 1 ms thread (t); returns the sampled rows. `pre`
+    is HAL text run after the loads and before the nets (more components to wire), `extra` after;
+    `threads` more slower threads for `loadrt threads` (" name2=slow period2=10000000"), `post`
+    HAL text run once the samples are in (its output: LAST_LOG)."""
+    global LAST_LOG
     n = len(stim_rows)
     stim = os.path.join(work, name + "-stimulus.txt")
     out = os.path.join(work, name + "-sampled.txt")
     with open(stim, "w") as f:
         for r in stim_rows:
             f.write(" ".join(str(v) for v in r) + "\n")
-    hal = ["loadrt threads name1=t period1=%d" % int(PERIOD_S * 1e9),
+    hal = ["loadrt threads name1=t period1=%d%s" % (int(PERIOD_S * 1e9), threads),
            "loadrt streamer depth=%d cfg=%s" % (n + 16, stim_cfg),
            "loadrt sampler depth=%d cfg=%s" % (n + 16, out_cfg)]
     hal += ["loadrt " + l for l in loads]
@@ -109,8 +115,9 @@ def stream_session(work, name, loads, stim_cfg, stim_rows, stim_pins, out_cfg, o
         hal.append("net out%d %s => sampler.0.pin.%d" % (i, p, i))
     hal.append(extra)
     hal += ["loadusr -w halstreamer %s" % stim, "start",
-            "loadusr -w halsampler -n %d %s" % (n, out), "stop"]
+            "loadusr -w halsampler -n %d %s" % (n, out), post, "stop"]
     rc, log = halrun("\n".join(hal) + "\n", work, name)
+    LAST_LOG = log
     if rc != 0:
         print(log)
         check(False, name + ": halrun session ran")

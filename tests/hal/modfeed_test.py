@@ -8,6 +8,11 @@ streamer → component → sampler pattern of halrun_test.py.
   modfeed_test.py loop SOURCE_DIR WORK_DIR         the chatter plant and the module in a closed HAL
                                                     loop (the path integrated from the adaptive
                                                     feed), compared with `lathectl run`
+  modfeed_test.py plan SOURCE_DIR WORK_DIR         the re-plan on its own thread
+                                                    (lathectl-modfeed.plan) against the re-plan
+                                                    inside the servo function: the same plans,
+                                                    handed over within one plan period + one servo
+                                                    period; the servo function's time both ways
   modfeed_test.py bad_input SOURCE_DIR WORK_DIR    bad scenarios and module parameters
 """
 
@@ -20,7 +25,37 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import halrun_test as H  # noqa: E402  (check, halrun, stream_session, FAILS)
 
 SCENARIO = "examples/linuxcnc/b_chatter_single.toml"
+# The re-plan's own thread, as a machine's HAL adds it (lathectl_modfeed(9)): slower than the
+# servo thread and created after it, so at a lower priority.
+PLAN_PERIOD_NS = 10000000
+PLAN_THREAD = " name2=modfeed-plan period2=%d" % PLAN_PERIOD_NS
+ADD_PLAN = "addf lathectl-modfeed.plan modfeed-plan"
 IDLE_W = 300 + 0.3 * 820 + 1e-4 * 820 ** 2  # the scenario's spindle idle law at 820 rpm
+
+
+# The module's inputs a stimulus drives (cut_rows' columns, in this order).
+STIM = ["lathectl-modfeed.a0-um", "lathectl-modfeed.omega-d-Hz", "lathectl-modfeed.spindle-power",
+        "lathectl-modfeed.spindle-rpm", "lathectl-modfeed.x-pos", "lathectl-modfeed.requested-vel",
+        "lathectl-modfeed.current-vel", "lathectl-modfeed.motion-type",
+        "lathectl-modfeed.idle-block"]
+STIM_CFG = "fffffffsb"
+
+
+def cut_rows(n, idle_rows, a0_of):
+    """n rows (1 ms each) for STIM: an idle block for idle_rows, then a feed block at the mean
+    feed 0.30 mm/rev × 820 rpm (the program's F at the ceiling 2) drawing 1000 W of cutting
+    power at 85 % efficiency; a0_of(k) the vibration amplitude [µm] at row k (227 Hz while
+    > 0)."""
+    mean = 0.30 * 820
+    F = 2.0 * mean / 60.0
+    rows = []
+    for k in range(n):
+        idle = k < idle_rows
+        a0 = a0_of(k)
+        rows.append([a0, 227.0 if a0 > 0 else 0.0, IDLE_W + (0.0 if idle else 1000.0 / 0.85),
+                     820.0, 20.0, F, 0.0 if idle else mean / 60.0, 0 if idle else 2,
+                     1 if idle else 0])
+    return rows
 
 
 def near_multiple(v, q, tol=1e-6):
@@ -30,24 +65,13 @@ def near_multiple(v, q, tol=1e-6):
 def test_stream(src, work):
     sc = H.rt_path(src, os.path.join(src, SCENARIO))
     mean = 0.30 * 820  # mm/min: the feed to keep
-    F = 2.0 * mean / 60.0  # the program's F at the ceiling (2), mm/s
-    rows = []
-    for k in range(6000):
-        t = k * 1e-3
-        idle = t < 0.5
-        vib = t >= 2.0
-        rows.append([20.0 if vib else 0.0, 227.0 if vib else 0.0,
-                     IDLE_W + (0.0 if idle else 1000.0 / 0.85), 820.0, 20.0, F,
-                     0.0 if idle else mean / 60.0, 0 if idle else 2, 1 if idle else 0])
-    stim = ["lathectl-modfeed.a0-um", "lathectl-modfeed.omega-d-Hz",
-            "lathectl-modfeed.spindle-power", "lathectl-modfeed.spindle-rpm",
-            "lathectl-modfeed.x-pos", "lathectl-modfeed.requested-vel",
-            "lathectl-modfeed.current-vel", "lathectl-modfeed.motion-type",
-            "lathectl-modfeed.idle-block"]
+    # Idle block for 0.5 s, chatter of 20 µm from 2 s.
+    rows = cut_rows(6000, 500, lambda k: 20.0 if k >= 2000 else 0.0)
+    stim = STIM
     outs = ["lathectl-modfeed.adaptive-feed", "lathectl-modfeed.feed", "lathectl-modfeed.cut-power",
             "lathectl-modfeed.engaged", "lathectl-modfeed.reason", "lathectl-modfeed.s-min",
             "lathectl-modfeed.ds", "lathectl-modfeed.dl", "lathectl-modfeed.n-s"]
-    got = H.stream_session(work, "modfeed", ["lathectl_modfeed scenario=" + sc], "fffffffsb", rows,
+    got = H.stream_session(work, "modfeed", ["lathectl_modfeed scenario=" + sc], STIM_CFG, rows,
                            stim, "fffbsfffs", outs)
     if not got:
         return
@@ -77,7 +101,7 @@ def test_stream(src, work):
     # The programmed variant: the NC block's parameters, whatever the vibration.
     prog = {"source": 1, "prog-s-min": 150.0, "prog-ds": 25.0, "prog-dl": 0.2, "prog-n-s": 4}
     extra = "\n".join("setp lathectl-modfeed.%s %s" % (k, v) for k, v in prog.items())
-    got = H.stream_session(work, "modfeed-prog", ["lathectl_modfeed scenario=" + sc], "fffffffsb",
+    got = H.stream_session(work, "modfeed-prog", ["lathectl_modfeed scenario=" + sc], STIM_CFG,
                            rows, stim, "fffbsfffs", outs, extra)
     if got:
         cut = [r for i, r in enumerate(got) if i >= 600]
@@ -134,12 +158,13 @@ net pw lathectl-chatter.spindle-power => lathectl-modfeed.spindle-power
             "lathectl-modfeed.update-ns"]
     # The streamer's pins are wired by stream_session's stim_pins; `extra` adds mult2 to pin 0's
     # signal.
+    # The module as a machine runs it: the re-plan on its own slower thread.
     got = H.stream_session(work, "loop",
                            ["lathectl_chatter scenario=%s z_origin_mm=0" % rt_sc,
                             "lathectl_modfeed scenario=%s" % rt_sc],
                            "fsb", rows, ["lathectl-modfeed.requested-vel", "lathectl-modfeed.motion-type",
                                          "lathectl-modfeed.idle-block"],
-                           "ffffbsffffsbss", outs, hal, pre)
+                           "ffffbsffffsbss", outs, hal, pre + ADD_PLAN + "\n", threads=PLAN_THREAD)
     if not got:
         return
     # The same scenario in the simulator.
@@ -199,6 +224,80 @@ net pw lathectl-chatter.spindle-power => lathectl-modfeed.spindle-power
     print(json.dumps(summary, indent=2))
 
 
+def test_plan(src, work):
+    """The same stimulus twice, the re-plan inside the servo function (no plan function added:
+    the configuration of before) and on the modfeed-plan thread: a cut from 0.2 s, chatter of
+    6 µm from 0.4 s (the plan at engagement) and of 12 µm from 1.2 s (a re-plan: a0 above the
+    planned, more than replan_period_s = 0.5 s after the first plan). Both amplitudes ask for
+    less force variation than the ceiling allows (20 µm would not: the plan would stay at the
+    limit), so the second plan differs from the first."""
+    sc = H.rt_path(src, os.path.join(src, SCENARIO))
+    rows = cut_rows(1500, 200, lambda k: 0.0 if k < 400 else 6.0 if k < 1200 else 12.0)
+    outs = ["lathectl-modfeed.engaged", "lathectl-modfeed.s-min", "lathectl-modfeed.ds",
+            "lathectl-modfeed.dl", "lathectl-modfeed.n-s", "lathectl-modfeed.plans-inline",
+            "lathectl-modfeed.plans-taken", "lathectl-modfeed.plans-made",
+            "lathectl-modfeed.time", "lathectl-modfeed.update-ns"]
+    # HAL's own measure of each function (hal_export_funct): the .time pin every call, the
+    # .tmax parameter its largest.
+    post = "show param lathectl-modfeed.tmax\nshow param lathectl-modfeed.plan.tmax"
+    runs = {}
+    for name, threads, extra in (("inline", "", ""), ("thread", PLAN_THREAD, ADD_PLAN)):
+        got = H.stream_session(work, "plan-" + name, ["lathectl_modfeed scenario=" + sc],
+                               STIM_CFG, rows, STIM, "bfffssssss", outs, extra,
+                               threads=threads, post=post)
+        if not got:
+            return
+        tmax = {}
+        for l in H.LAST_LOG.splitlines():
+            f = l.split()
+            if len(f) == 5 and f[4].endswith(".tmax"):
+                tmax[f[4]] = int(f[3])
+        plan_of = lambda r: (r[1], r[2], round(r[3], 6), int(r[4]))
+        # The rows where the running plan changes (the first: engagement).
+        changes = [i for i in range(1, len(got)) if got[i][0] == 1 and
+                   (got[i - 1][0] == 0 or plan_of(got[i]) != plan_of(got[i - 1]))]
+        runs[name] = {"rows": got, "changes": changes, "plans": [plan_of(got[i]) for i in changes],
+                      "tmax": tmax}
+    inl, thr = runs["inline"], runs["thread"]
+    last_in, last_th = inl["rows"][-1], thr["rows"][-1]
+    H.check(len(inl["changes"]) == 2 and int(last_in[5]) == 2 and int(last_in[6]) == 0,
+            "without the plan function the servo function plans itself: plans-inline %d, "
+            "plans-taken %d, plans at rows %s" % (last_in[5], last_in[6], inl["changes"]))
+    H.check(all(int(r[5]) == 0 for r in thr["rows"]) and int(last_th[6]) == 2 and
+            int(last_th[7]) == 2,
+            "with lathectl-modfeed.plan on its own thread the servo function never plans: "
+            "plans-inline 0, plans-made %d, plans-taken %d" % (last_th[7], last_th[6]))
+    H.check(inl["plans"] == thr["plans"] and len(thr["plans"]) == 2,
+            "the same plans both ways (S_min, ΔS, Δl, n_s): %s" % thr["plans"])
+    # The request goes out in the servo period that asks (the plan inside the servo function
+    # appears in that row); the plan thread runs within PLAN_PERIOD_NS, the servo function takes
+    # its answer in its next period.
+    bound = PLAN_PERIOD_NS // 1000000 + 1
+    lags = [b - a for a, b in zip(inl["changes"], thr["changes"])]
+    H.check(len(lags) == 2 and all(1 <= d <= bound for d in lags),
+            "the plan handed over %s servo periods after the request (≤ %d: one plan period + "
+            "one servo period)" % (lags, bound))
+    # The servo function's time: HAL's .time pin (CPU clocks, rtapi_get_clocks) sampled every
+    # period and its .tmax, and the module's own update-ns; in the periods that made a plan
+    # (inline) or took one (thread), and over the run. Reported, not asserted: on a kernel
+    # without PREEMPT_RT and a shared CPU, the largest values are the machine's (preemption).
+    def times(run, key):
+        t = sorted(int(r[8]) for r in run["rows"])
+        return {"servo_tmax_clocks": run["tmax"].get("lathectl-modfeed.tmax"),
+                "servo_time_p50_clocks": t[len(t) // 2],
+                "servo_time_p99_clocks": t[int(0.99 * (len(t) - 1))],
+                key + "_clocks": [int(run["rows"][i][8]) for i in run["changes"]],
+                key.replace("servo_time", "update_ns"): [int(run["rows"][i][9])
+                                                         for i in run["changes"]]}
+    summary = {"inline": times(inl, "servo_time_in_planning_periods"),
+               "thread": times(thr, "servo_time_in_handover_periods"),
+               "plan_function_tmax_clocks": thr["tmax"].get("lathectl-modfeed.plan.tmax"),
+               "handover_lag_periods": lags, "plans": thr["plans"]}
+    with open(os.path.join(work, "plan.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+    print(json.dumps(summary, indent=2))
+
+
 def test_bad_input(src, work):
     sc = H.rt_path(src, os.path.join(src, SCENARIO))
     twin = H.rt_path(src, os.path.join(src, "examples/scenarios/b_twin_feed_division.toml"))
@@ -225,7 +324,7 @@ def main():
     what, src, work = sys.argv[1], os.path.abspath(sys.argv[2]), os.path.abspath(sys.argv[3])
     os.makedirs(work, exist_ok=True)
     os.chmod(work, 0o777)
-    {"stream": test_stream, "loop": test_loop, "bad_input": test_bad_input}[what](src, work)
+    {"stream": test_stream, "loop": test_loop, "plan": test_plan, "bad_input": test_bad_input}[what](src, work)
     if H.FAILS:
         print("%d check(s) failed" % len(H.FAILS))
         sys.exit(1)

@@ -67,5 +67,7 @@ cp -r run2 badhead
 expect_bad "badhead/channels.csv:1: column 2 'time_s': named twice" run1 badhead
 cp -r run2 badjson
 printf '{\n"metrics": {}\n' >badjson/summary.json
-expect_bad "badjson/summary.json:3: not JSON" run1 badjson
+expect_bad "badjson/summary.json:3:1: not JSON" run1 badjson
+printf '{\n"metrics": {},\n"claims": {}\n}\n' >badjson/summary.json
+expect_bad "badjson/summary.json:3:1: key 'claims': expected an array" run1 badjson
 echo "ok: bad input → exit 2, one line, nothing written"

@@ -186,6 +186,14 @@ class ModulatedFeedController {
   [[nodiscard]] Status update(const Input& in, Output& out) noexcept;
   // Re-plan through `planner` (not owned; nullptr: inside update()). Set before the first update.
   void use_planner(ModulationPlanner* planner) noexcept { planner_ = planner; }
+  // How the plans came since configure(): made inside update(), or taken from the planner (the
+  // HAL component's plans-inline / plans-taken pins: with the planner thread running, update()
+  // makes none).
+  struct PlanCounts {
+    std::uint32_t made_inline = 0;
+    std::uint32_t taken = 0;
+  };
+  [[nodiscard]] PlanCounts plan_counts() const noexcept { return counts_; }
   [[nodiscard]] const Params& params() const noexcept { return p_; }
 
   // The plan for a measured vibration (the module's formula; pure, allocation-free). Sets
@@ -214,6 +222,7 @@ class ModulatedFeedController {
   ModulationPlanner* planner_ = nullptr;
   unsigned next_id_ = 0;
   unsigned waiting_id_ = 0;  // the request posted to the planner (0: none)
+  PlanCounts counts_{};
   void apply(const ModulationPlan& plan, double a0) noexcept;
 };
 

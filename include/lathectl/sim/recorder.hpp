@@ -3,7 +3,7 @@
 // Two storages:
 //  - columns (the constructor with a capacity): every row kept, capacity reserved for the whole
 //    run, push_row() never allocates; column() gives a channel's whole record. For the systems
-//    whose runs are short by construction (A's regulator studies, B's sweeps, tests); every
+//    whose runs are short by construction (A's regulator studies, tests); every
 //    system's `lathectl run` streams.
 //  - streamed (Recorder::streamed): no row kept. Each row goes to the attached sinks as it is
 //    pushed (channels.csv written to disk, a metric's accumulator) and into a bounded min/max
