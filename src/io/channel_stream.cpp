@@ -146,7 +146,8 @@ RowSpill::RowSpill(OutputStage* stage, const std::string& what, std::size_t widt
                    std::size_t block_rows)
     : width_(std::max<std::size_t>(width, 1)), block_(std::max<std::size_t>(block_rows, 1)) {
   if (!stage) return;  // in memory
-  reserve_rows(*stage, what, max_rows, static_cast<double>(width_ * sizeof(double)));
+  reserve_rows(*stage, what, max_rows, static_cast<double>(width_ * sizeof(double)),
+               "run.duration_s", "shorten run.duration_s, raise run.record_interval_s");
   dir_ = stage->path();
   buf_.reserve(block_ * width_);
 }
