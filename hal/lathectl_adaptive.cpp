@@ -98,7 +98,7 @@ struct Pins {
   hal_s32_t* tool_number;        // iocontrol.0.tool-number
   hal_s32_t* program_line;       // motion.program-line
   hal_float_t* z_pos;            // joint 1 (the stock model's path)
-  hal_bit_t* homed;              // both joints homed (positions mean something; lathectl.hal)
+  hal_bit_t* homed;              // motion.is-all-homed (positions mean something; HomedGate)
   hal_float_t* knob;             // the operator's feed override (panel, MPG)
   hal_float_t* max_override;     // [DISPLAY]MAX_FEED_OVERRIDE
   hal_float_t* scale_in_motion;  // halui.feed-override.value (motion's feed scale)
@@ -202,6 +202,7 @@ struct State {
   double req_stable = 0.0;
   // The F word under G95, from motion.feed-upm (below): 0 while motion's net scale is 0.
   double f_word = 0.0;
+  lathectl::hal::HomedGate homed_gate;
   // shop settings
   lathectl::control::OperationRating rating;
   AdaptiveFeedController::Params base;
@@ -437,8 +438,9 @@ void update(void*, long period_ns) {
 
   if (s.stock) {  // every servo period: the stop comes in the period the load collapses
     lathectl::sim::LathePlant::Input si;
-    si.x_mm = *p.homed ? *p.x_pos : std::nan("");
-    si.z_mm = *p.homed ? *p.z_pos : std::nan("");
+    const bool homed = s.homed_gate(*p.homed, *p.x_pos, *p.z_pos);
+    si.x_mm = homed ? *p.x_pos : std::nan("");
+    si.z_mm = homed ? *p.z_pos : std::nan("");
     si.rpm = *p.rpm;
     lathectl::sim::LathePlant::Output so;
     s.stock->step(si, static_cast<double>(period_ns) * 1e-9, so);

@@ -140,6 +140,37 @@ inline io::Scenario load_system(const char* path, const io::Section& section) {
 }
 
 // Wall time of one call with the monotonic clock; the worst case since load (or reset).
+// "Homed" as a plant or a stock model may trust it: motion.is-all-homed counts only the joints
+// milltask has activated (homing.c, base_get_allhomed), so it reads TRUE from the first servo
+// period until milltask configures the joints — while they read X0 Z0, where the simulated plant
+// cut a groove as wide as its nose into the bar before anything was homed. A TRUE counts once the
+// pin has been FALSE, or once the position has moved while it was TRUE (a halrun session or a
+// machine that holds the pin TRUE from the start: positions that never moved are still the
+// start-up's).
+class HomedGate {
+ public:
+  bool operator()(bool homed, double x, double z) noexcept {
+    if (!homed) {
+      open_ = true;
+    } else if (!open_) {
+      if (!seen_) {
+        x0_ = x;
+        z0_ = z;
+        seen_ = true;
+      } else if (x != x0_ || z != z0_) {
+        open_ = true;
+      }
+    }
+    return homed && open_;
+  }
+
+ private:
+  bool open_ = false;
+  bool seen_ = false;
+  double x0_ = 0.0;
+  double z0_ = 0.0;
+};
+
 class UpdateTimer {
  public:
   void start() noexcept { t0_ = std::chrono::steady_clock::now(); }

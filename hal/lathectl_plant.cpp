@@ -99,13 +99,14 @@ double noise() noexcept {
   return static_cast<double>(v >> 11) / 4503599627370496.0 - 1.0;
 }
 lathectl::hal::UpdateTimer timer;
+lathectl::hal::HomedGate homed_gate;
 
 void update(void*, long period_ns) {
   timer.start();
   lathectl::sim::LathePlant::Input in;
   // Disabled (e.g. before homing, positions mean nothing): no position, nothing is cut; the
   // sensor keeps reading (noise), as a live dynamometer does.
-  const bool on = *pins->enable;
+  const bool on = homed_gate(*pins->enable, *pins->x_pos, *pins->z_pos);
   in.x_mm = on ? *pins->x_pos : std::nan("");
   in.z_mm = on ? *pins->z_pos : std::nan("");
   in.rpm = *pins->rpm;
