@@ -155,7 +155,10 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
   max_t_ = std::min(max_duration, cfg.idle_block_s + 1.5 * cut_time + 1.0);
   max_rows_ = max_t_ / (dt * static_cast<double>(record_every_)) + 2.0;
   if (streamed_) {  // bounded by the disk-space check of what the study streams
-    rec_ = Recorder::streamed(rig_b_channels(), {}, plots_ ? Recorder::kPlotValuesPerLevel : 0);
+    // 2^16 values per level (A and E: 2^14): B's chatter (hundreds of Hz at 1 kHz recording)
+    // shows only in the recorded samples, and its examples record up to 45 000 rows; 28 channels
+    // of float pairs keep ~0.7 MB each.
+    rec_ = Recorder::streamed(rig_b_channels(), {}, plots_ ? std::size_t{1} << 16 : 0);
     return;
   }
   if (!(max_rows_ <= 5e6))
