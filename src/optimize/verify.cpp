@@ -10,9 +10,9 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <stdexcept>
 
+#include "lathectl/io/channels_reader.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/sim/per_revolution.hpp"
 #include "optimize/optimize.hpp"
@@ -73,39 +73,26 @@ VerifyRun run_sim(const std::string& name, const std::string& text, bool off, co
   run.rapid_in_material_s = js.value("rapid_in_material_s", 0.0);
   run.rapid_peak = js.value("force_peak_in_rapid_N", 0.0);
   // signals.csv: the true force parameter, speed, motion type and line per servo period.
-  std::ifstream f(out / "signals.csv");
-  std::string header;
-  std::getline(f, header);
-  std::vector<std::string> cols;
-  {
-    std::stringstream h(header);
-    for (std::string c; std::getline(h, c, ',');) cols.push_back(c);
-  }
-  auto col = [&](const char* c) {
-    const auto it = std::find(cols.begin(), cols.end(), c);
-    if (it == cols.end())
+  const io::ChannelTable sig = io::read_channels_csv(out / "signals.csv");
+  auto col = [&](const char* c) -> const std::vector<double>& {
+    const auto it = std::find(sig.names.begin(), sig.names.end(), c);
+    if (it == sig.names.end())
       throw std::runtime_error("--verify: signals.csv has no column " + std::string(c));
-    return static_cast<std::size_t>(it - cols.begin());
+    return sig.columns[static_cast<std::size_t>(it - sig.names.begin())];
   };
-  const std::size_t it = col("time_s"), ifo = col("force_true"), ir = col("spindle_rpm"),
-                    im = col("motion_type"), il = col("program_line"), ix = col("x_mm"),
-                    iz = col("z_mm");
-  std::vector<double> rpm;
-  std::vector<double> row(cols.size());
+  const auto &t = col("time_s"), &force = col("force_true"), &rpm_col = col("spindle_rpm"),
+             &motion = col("motion_type"), &line = col("program_line"), &x = col("x_mm"),
+             &z = col("z_mm");
   const int offset = 1 + (opt.spindle_rpm > 0.0 ? 1 : 0) + (off ? 1 : 0);
-  for (std::string l; std::getline(f, l);) {
-    std::stringstream r(l);
-    std::size_t i = 0;
-    for (std::string c; std::getline(r, c, ',') && i < row.size(); ++i)
-      row[i] = std::strtod(c.c_str(), nullptr);
-    if (i != row.size()) continue;
-    run.t.push_back(row[it]);
-    run.force.push_back(std::isfinite(row[ifo]) ? row[ifo] : 0.0);
-    rpm.push_back(std::abs(row[ir]));
-    run.motion.push_back(row[im]);
-    run.line.push_back(static_cast<int>(row[il]) - offset);
-    run.x.push_back(row[ix]);
-    run.z.push_back(row[iz]);
+  run.t = t;
+  run.motion = motion;
+  run.x = x;
+  run.z = z;
+  std::vector<double> rpm(t.size());
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    run.force.push_back(std::isfinite(force[i]) ? force[i] : 0.0);
+    rpm[i] = std::abs(rpm_col[i]);
+    run.line.push_back(static_cast<int>(line[i]) - offset);
   }
   std::vector<double> in_feed(run.force.size());  // rapids through material: reported apart
   for (std::size_t i = 0; i < in_feed.size(); ++i)
