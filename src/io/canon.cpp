@@ -1,10 +1,12 @@
 #include "lathectl/io/canon.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <string>
+#include <utility>
 
 #include "lathectl/io/errors.hpp"
 
@@ -59,6 +61,7 @@ CanonProgram parse_canon(std::string_view text, const std::string& label, double
   CanonMove state;  // the modal state, copied into each move
   double x = start_x_mm, z = start_z_mm;
   int out_line = 0;
+  bool stop_pending = true;  // the first move starts from rest
   bool plane_xz = false;
   auto fail = [&](const std::string& what) {
     throw InputError(label + ": interpreter output line " + std::to_string(out_line) + ": " + what);
@@ -107,16 +110,41 @@ CanonProgram parse_canon(std::string_view text, const std::string& label, double
       plane_xz = inner.find("CANON_PLANE_XZ") != std::string_view::npos;
       continue;
     }
+    if (name == "SET_MOTION_CONTROL_MODE") {
+      if (inner.find("CANON_CONTINUOUS") != std::string_view::npos) {
+        const std::size_t comma = inner.find(',');
+        Args a;
+        if (comma == std::string_view::npos || !numbers(inner.substr(comma + 1), a) || a.n < 1)
+          state.blend_tol_mm = 0.0;
+        else
+          state.blend_tol_mm = std::max(0.0, a.v[0]);
+      } else {
+        state.blend_tol_mm = -1.0;
+      }
+      continue;
+    }
+    // What LinuxCNC's task runs only once motion is done (emctaskmain.cc,
+    // emcTaskCheckPreconditions: WAITING_FOR_MOTION): no blend across these.
+    if (name == "DWELL" || name == "CHANGE_TOOL" || name == "PROGRAM_STOP" ||
+        name == "OPTIONAL_PROGRAM_STOP" || name == "USER_DEFINED_FUNCTION" ||
+        name == "SET_SPINDLE_SPEED" || name == "FLOOD_ON" || name == "FLOOD_OFF" ||
+        name == "MIST_ON" || name == "MIST_OFF" || name == "USE_TOOL_LENGTH_OFFSET" ||
+        name == "SET_G5X_OFFSET" || name == "SET_G92_OFFSET" || name == "SET_XY_ROTATION" ||
+        name == "MESSAGE" || name == "STRAIGHT_PROBE" || name == "RIGID_TAP") {
+      stop_pending = true;  // SET_SPINDLE_SPEED is also read below
+    }
     if (name == "STOP_SPEED_FEED_SYNCH") {
       state.synced = false;
       continue;
     }
     if (name == "START_SPINDLE_CLOCKWISE" || name == "START_SPINDLE_COUNTERCLOCKWISE") {
       state.spindle_on = true;
+      stop_pending = true;
       continue;
     }
     if (name == "STOP_SPINDLE_TURNING") {
       state.spindle_on = false;
+      stop_pending = true;
       continue;
     }
     const bool known = name == "STRAIGHT_TRAVERSE" || name == "STRAIGHT_FEED" ||
@@ -138,6 +166,7 @@ CanonProgram parse_canon(std::string_view text, const std::string& label, double
       m.x1 = x = a.v[0];
       m.z1 = z = a.v[2];
       if (std::abs(a.v[1]) > 1e-9) fail("a move in Y: a lathe program moves in X and Z only");
+      m.stop_before = std::exchange(stop_pending, false);
       prog.moves.push_back(m);
     } else if (name == "ARC_FEED") {
       need(5);
@@ -156,6 +185,7 @@ CanonProgram parse_canon(std::string_view text, const std::string& label, double
       const double r1 = std::hypot(m.x1 - m.xc, m.z1 - m.zc);
       if (!(r0 > 0.0) || std::abs(r0 - r1) > 1e-3 * std::max(1.0, r0))
         fail("ARC_FEED: start and end not on one circle");
+      m.stop_before = std::exchange(stop_pending, false);
       prog.moves.push_back(m);
     } else if (name == "SET_FEED_MODE") {
       need(2);

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "lathectl/io/canon.hpp"
+#include "optimize/blend.hpp"
 #include "systems/e_adaptive/settings.hpp"
 
 namespace lathectl::optimize {
@@ -41,6 +42,8 @@ struct Options {
   std::string ini;               // the simulated lathe's INI (tool table beside it)
   double start_x_mm = 60.0;      // where the tool stands before the program (the sim's home)
   double start_z_mm = 60.0;
+  Machine machine;      // the planner's limits for the blends (blend.hpp)
+  bool blends = true;   // predict LinuxCNC's G64 blend arcs (false: the programmed corners)
   std::string label;  // the program's file, for messages
 };
 

@@ -113,6 +113,101 @@ std::pair<double, std::string> largest_feed(const cutting::CuttingModel& cut,
   return {lo, at_hi};
 }
 
+namespace {
+
+// The feed of a piece whose samples are `sp` (in cut or in air): the largest the limits allow at
+// its deepest per-revolution engagement, at most the roughness feed when it is finishing, at
+// least the chatter-stable feed when the scenario has modes.
+struct FeedContext {
+  const cutting::CuttingModel& cut;
+  const systems::e_adaptive::Settings& e;
+  const Options& opt;
+  FeedLimits lim;
+  double r_nose;
+  std::vector<double> rev_depth;
+};
+void span_feed(const FeedContext& ctx, const CanonMove& m, const Samples& s, const Span& sp,
+               Piece& pc) {
+  const auto& cut = ctx.cut;
+  const auto& e = ctx.e;
+  const auto& opt = ctx.opt;
+  const auto& lim = ctx.lim;
+  const double r_nose = ctx.r_nose;
+  const auto& rev_depth = ctx.rev_depth;
+  double rpm_min = std::numeric_limits<double>::infinity();
+  for (std::size_t i = sp.a; i < sp.b; ++i) rpm_min = std::min(rpm_min, s.rpm[i]);
+  double f_rev = lim.air;
+  if (sp.cut) {
+    double t = 0.0, h = 0.0, w = 1.0, v = std::numeric_limits<double>::infinity(), x = 0.0;
+    for (std::size_t i = sp.a; i < sp.b; ++i) {
+      t = std::max(t, rev_depth[i]);
+      h = std::max(h, s.strength[i]);
+      w = std::max(w, s.wear[i]);
+      x = std::max(x, s.x[i]);
+      if (s.speed[i] > 0.0) v = std::min(v, s.speed[i]);
+    }
+    if (!std::isfinite(v)) v = 2.0 * std::numbers::pi * x * rpm_min / 1000.0;
+    if (t > 0.0 && v > 0.0) {
+      auto [f, why] = largest_feed(cut, e.rig.force_parameter, lim, t, v, h, w, x);
+      pc.limited_by = why;
+      f_rev = f;
+      const double f_limits = f;  // the largest feed force, power and torque allow
+      if (t <= opt.finish_depth_mm) {  // finishing: Ra = f²/(32 r) at most the target
+        const double programmed_rev = m.per_rev ? m.feed : m.feed / std::max(rpm_min, 1e-9);
+        const double ra =
+            opt.finish_ra_um > 0.0 ? opt.finish_ra_um : cut.roughness_Ra_um(programmed_rev);
+        const double f_ra = std::sqrt(ra * 1e-3 * 32.0 * r_nose);
+        if (f_ra < f_rev) {
+          f_rev = std::max(f_ra, lim.feed_min);
+          pc.limited_by = "roughness";
+        }
+      }
+      if (!s.kcrit.empty()) {  // the scenario has modes: the feed that keeps margin ≥ 1
+        const auto fc = stable_feed(cut, s, sp, f_rev, std::max(f_limits, f_rev));
+        if (!fc) {
+          pc.limited_by += " + chatter: unstable at every feed within the limits";
+        } else if (*fc > f_rev) {
+          pc.limited_by = pc.limited_by == "roughness" ? "chatter (above the roughness feed)"
+                                                       : "chatter";
+          f_rev = *fc;
+        }
+      }
+    } else {
+      pc.limited_by = "air";
+    }
+  } else {
+    pc.limited_by = "air";
+  }
+  if (m.per_rev) {
+    pc.feed = f_rev;
+  } else if (rpm_min > 0.0 && std::isfinite(rpm_min)) {
+    pc.feed = f_rev * rpm_min;
+  } else {
+    pc.feed = m.feed;  // G94 with the spindle stopped: nothing to scale by
+    pc.limited_by = "spindle stopped (kept)";
+  }
+}
+
+// Per sample: in cut, or near enough that the last revolution's chip reaches into it (`reach`:
+// the nose's width and a revolution at the air feed on either side of the material).
+std::vector<char> near_material(const Samples& s, double reach) {
+  const std::size_t n = s.depth.size();
+  std::vector<char> near(n, 0);
+  double last = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (s.depth[i] > 0.0) last = s.path_mm[i];
+    near[i] = s.path_mm[i] - last <= reach;
+  }
+  double next = std::numeric_limits<double>::infinity();
+  for (std::size_t i = n; i-- > 0;) {
+    if (s.depth[i] > 0.0) next = s.path_mm[i];
+    near[i] = near[i] || next - s.path_mm[i] <= reach;
+  }
+  return near;
+}
+
+}  // namespace
+
 Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
                   const systems::e_adaptive::Settings& e, const Options& opt,
                   const std::vector<bool>& kept_move) {
@@ -121,24 +216,9 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
   cutting::CuttingModel cut;
   cut.configure(e.rig.cutting);
   const double r_nose = e.rig.cutting.nose_radius_mm;
-  const auto rev_depth = sim::per_revolution_mean(s.depth, s.rpm, s.dt_s);
-  // In cut, or near enough that the last revolution's chip reaches into it: the nose's width and
-  // a revolution at the air feed on either side of the material.
-  const double reach = 2.0 * r_nose + lim.air + 0.5;
-  const std::size_t n = s.depth.size();
-  std::vector<char> near(n, 0);
-  {
-    double last = -std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < n; ++i) {
-      if (s.depth[i] > 0.0) last = s.path_mm[i];
-      near[i] = s.path_mm[i] - last <= reach;
-    }
-    double next = std::numeric_limits<double>::infinity();
-    for (std::size_t i = n; i-- > 0;) {
-      if (s.depth[i] > 0.0) next = s.path_mm[i];
-      near[i] = near[i] || next - s.path_mm[i] <= reach;
-    }
-  }
+  const FeedContext ctx{cut, e, opt, lim, r_nose, sim::per_revolution_mean(s.depth, s.rpm, s.dt_s)};
+  const auto& rev_depth = ctx.rev_depth;
+  const std::vector<char> near = near_material(s, 2.0 * r_nose + lim.air + 0.5);
   const auto ranges = move_ranges(s, prog.moves.size());
   const double min_piece_mm = 3.0;
   Plan plan = programmed(prog);
@@ -199,58 +279,7 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
       Piece pc;
       pc.from = pieces.empty() ? 0.0 : pieces.back().to;
       pc.to = sp.b == b ? 1.0 : std::clamp((s.path_mm[sp.b - 1] - path0) / len, pc.from, 1.0);
-      double rpm_min = std::numeric_limits<double>::infinity();
-      for (std::size_t i = sp.a; i < sp.b; ++i) rpm_min = std::min(rpm_min, s.rpm[i]);
-      double f_rev = lim.air;
-      if (sp.cut) {
-        double t = 0.0, h = 0.0, w = 1.0, v = std::numeric_limits<double>::infinity(), x = 0.0;
-        for (std::size_t i = sp.a; i < sp.b; ++i) {
-          t = std::max(t, rev_depth[i]);
-          h = std::max(h, s.strength[i]);
-          w = std::max(w, s.wear[i]);
-          x = std::max(x, s.x[i]);
-          if (s.speed[i] > 0.0) v = std::min(v, s.speed[i]);
-        }
-        if (!std::isfinite(v)) v = 2.0 * std::numbers::pi * x * rpm_min / 1000.0;
-        if (t > 0.0 && v > 0.0) {
-          auto [f, why] = largest_feed(cut, e.rig.force_parameter, lim, t, v, h, w, x);
-          pc.limited_by = why;
-          f_rev = f;
-          const double f_limits = f;  // the largest feed force, power and torque allow
-          if (t <= opt.finish_depth_mm) {  // finishing: Ra = f²/(32 r) at most the target
-            const double programmed_rev = m.per_rev ? m.feed : m.feed / std::max(rpm_min, 1e-9);
-            const double ra =
-                opt.finish_ra_um > 0.0 ? opt.finish_ra_um : cut.roughness_Ra_um(programmed_rev);
-            const double f_ra = std::sqrt(ra * 1e-3 * 32.0 * r_nose);
-            if (f_ra < f_rev) {
-              f_rev = std::max(f_ra, lim.feed_min);
-              pc.limited_by = "roughness";
-            }
-          }
-          if (!s.kcrit.empty()) {  // the scenario has modes: the feed that keeps margin ≥ 1
-            const auto fc = stable_feed(cut, s, sp, f_rev, std::max(f_limits, f_rev));
-            if (!fc) {
-              pc.limited_by += " + chatter: unstable at every feed within the limits";
-            } else if (*fc > f_rev) {
-              pc.limited_by = pc.limited_by == "roughness" ? "chatter (above the roughness feed)"
-                                                           : "chatter";
-              f_rev = *fc;
-            }
-          }
-        } else {
-          pc.limited_by = "air";
-        }
-      } else {
-        pc.limited_by = "air";
-      }
-      if (m.per_rev) {
-        pc.feed = f_rev;
-      } else if (rpm_min > 0.0 && std::isfinite(rpm_min)) {
-        pc.feed = f_rev * rpm_min;
-      } else {
-        pc.feed = m.feed;  // G94 with the spindle stopped: nothing to scale by
-        pc.limited_by = "spindle stopped (kept)";
-      }
+      span_feed(ctx, m, s, sp, pc);
       pieces.push_back(pc);
     }
     if (pieces.empty()) pieces = programmed(prog)[mi];
@@ -273,6 +302,32 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
     }
   }
   return plan;
+}
+
+void refeed(const io::CanonProgram& prog, Plan& plan, const Prediction& trial,
+            const systems::e_adaptive::Settings& e, const Options& opt,
+            const std::vector<bool>& kept_move) {
+  const Samples& s = trial.s;
+  cutting::CuttingModel cut;
+  cut.configure(e.rig.cutting);
+  const FeedLimits lim = feed_limits(e, opt);
+  const double r_nose = e.rig.cutting.nose_radius_mm;
+  const FeedContext ctx{cut, e, opt, lim, r_nose, sim::per_revolution_mean(s.depth, s.rpm, s.dt_s)};
+  const std::vector<char> near = near_material(s, 2.0 * r_nose + lim.air + 0.5);
+  // A piece's samples are contiguous: a blend arc's come just before the piece it counts to.
+  for (std::size_t i = 0; i < s.move.size();) {
+    std::size_t j = i;
+    bool in_cut = false;
+    for (; j < s.move.size() && s.move[j] == s.move[i] && s.piece[j] == s.piece[i]; ++j)
+      if (near[j] != 0) in_cut = true;
+    const auto mi = static_cast<std::size_t>(s.move[i]);
+    const auto pi = static_cast<std::size_t>(s.piece[i]);
+    const CanonMove& m = prog.moves[mi];
+    if (m.kind != CanonMove::Kind::Traverse && !m.synced && !kept_move[mi] &&
+        pi < plan[mi].size())
+      span_feed(ctx, m, s, Span{i, j, in_cut}, plan[mi][pi]);
+    i = j;
+  }
 }
 
 }  // namespace lathectl::optimize

@@ -31,4 +31,11 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
                   const systems::e_adaptive::Settings& e, const Options& opt,
                   const std::vector<bool>& kept_move);
 
+// The feeds of `plan`'s pieces taken again from `trial`, the prediction of that plan: LinuxCNC's
+// blend arcs (blend.hpp) depend on where the program is split, so the path each piece really cuts
+// is known only once the pieces are. The pieces' bounds stay.
+void refeed(const io::CanonProgram& prog, Plan& plan, const Prediction& trial,
+            const systems::e_adaptive::Settings& e, const Options& opt,
+            const std::vector<bool>& kept_move);
+
 }  // namespace lathectl::optimize

@@ -1,18 +1,22 @@
 // Prediction: the program's moves run through sim::LathePlant — the cutting process of the
 // LinuxCNC plant component — at LinuxCNC's servo period (1 ms, hal/config/lathectl-lathe.ini),
 // the tool moving along each move at its programmed velocity (no acceleration phases: a move's
-// time is length / velocity; the trajectory planner's blending and ramps are not modelled).
+// time is length / velocity), with LinuxCNC's G64 blend arcs at the corners (blend.hpp): the
+// path the tool takes there, at the feed LinuxCNC runs it.
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/cutting/disturbances.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/sim/lathe_plant.hpp"
 #include "optimize/optimize.hpp"
+#include "optimize/blend.hpp"
 #include "optimize/path.hpp"
 
 namespace lathectl::optimize {
@@ -57,76 +61,131 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
     s.move.reserve(n);
     s.piece.reserve(n);
   }
-  double path = 0.0;
+  // The planner's segments: every piece of every move, in order (a split move's pieces are
+  // blocks of their own), and LinuxCNC's blend at each corner (blend.hpp).
+  struct Seg {
+    std::size_t mi, pi;
+    double u0, u1, len;                 // share of the move, and the piece's length
+    double trim0 = 0.0, trim1 = 0.0;    // cut off its start / end by the blends
+    Corner next;                        // the blend into the next segment
+  };
+  std::vector<Seg> segs;
   for (std::size_t mi = 0; mi < prog.moves.size(); ++mi) {
-    const CanonMove& m = prog.moves[mi];
-    const double len = move_length(m);
+    const double len = move_length(prog.moves[mi]);
     for (std::size_t pi = 0; pi < plan[mi].size(); ++pi) {
       const Piece& pc = plan[mi][pi];
       const double l = len * (pc.to - pc.from);
-      if (!(l > 1e-9)) continue;
-      // The velocity at the piece's start (css: it changes with x; re-evaluated every step).
-      double u = pc.from;
-      const double du_len = 1.0 / len;
-      while (u < pc.to - 1e-12) {
-        const auto [x, z] = point_at(m, u);
-        const double rpm = spindle_rpm(m, x);
-        double v = rapid;
-        if (m.kind != CanonMove::Kind::Traverse) {
-          v = m.per_rev ? pc.feed * rpm / 60.0 : pc.feed / 60.0;
-          if (!(v > 0.0))
-            throw io::InputError(
-                io::located(opt.label, m.line, 0,
-                            m.per_rev && rpm <= 0.0
-                                ? "a feed-per-revolution move (G95) with the spindle stopped: "
-                                  "LinuxCNC would wait for ever (start it, or --spindle-rpm N)"
-                                : "a feed move with no feed rate (F0)"));
-          v = std::min(v, rapid);
-        }
-        double dt = s.dt_s;
-        double step_u = v * dt * du_len;
-        if (u + step_u > pc.to) {
-          step_u = pc.to - u;
-          dt = step_u * len / v;
-        }
-        u += step_u;
-        const auto [x1, z1] = point_at(m, u);
-        sim::LathePlant::Output out;
-        plant.step({.x_mm = x1, .z_mm = z1, .rpm = rpm}, dt, out);
-        path += step_u * len;
-        s.move.push_back(static_cast<int>(mi));
-        s.piece.push_back(static_cast<int>(pi));
-        s.path_mm.push_back(path);
-        s.depth.push_back(out.depth_mm);
-        s.feed_rev.push_back(out.feed_per_rev_mm);
-        s.speed.push_back(out.speed_m_per_min);
-        s.rpm.push_back(rpm);
-        s.strength.push_back(out.strength_factor);
-        s.param.push_back(out.force_parameter);
-        s.pz.push_back(out.Pz_N);
-        s.py.push_back(out.Py_N);
-        s.power.push_back(out.cut_power_W);
-        s.x.push_back(x1);
-        s.z.push_back(z1);
-        s.wear.push_back(wear.wear_factor(out.time_in_cut_s));
-        const double torque = out.Pz_N * (x1 + out.depth_mm) * 1e-3;
-        s.torque.push_back(torque);
-        double life = 0.0;
-        if (out.depth_mm > 0.0 && out.feed_per_rev_mm > 0.0 && out.speed_m_per_min > 0.0)
-          life = dt / 60.0 /
-                 cut.tool_life_min(out.speed_m_per_min, out.feed_per_rev_mm, out.depth_mm,
-                                   out.strength_factor);
-        s.life_use.push_back(life);
-        s.dt.push_back(dt);
-        pr.life_use += life;
-        pr.cycle_time_s += dt;
-        if (m.kind == CanonMove::Kind::Traverse && out.force_parameter > 0.0) {
-          pr.rapid_in_material_s += dt;
-          if (pr.rapid_first_line == 0) pr.rapid_first_line = m.line;
-          pr.rapid_peak = std::max(pr.rapid_peak, out.force_parameter);
-        }
+      if (l > 1e-9) segs.push_back({mi, pi, pc.from, pc.to, l, 0.0, 0.0, {}});
+    }
+  }
+  for (std::size_t k = 0; k + 1 < segs.size() && opt.blends; ++k) {
+    const CanonMove& a = prog.moves[segs[k].mi];
+    const CanonMove& b = prog.moves[segs[k + 1].mi];
+    // Which corners LinuxCNC blends, as measured in the simulated lathe: two feed moves of one
+    // feed mode, or two rapids, in G64. It came to a stop between a rapid and a G95 feed either
+    // way (tests/hal: the profile's G0 X16 Z2 → G1 Z-8 stops at the corner).
+    const bool same_kind = a.kind == CanonMove::Kind::Traverse
+                               ? b.kind == CanonMove::Kind::Traverse
+                               : b.kind != CanonMove::Kind::Traverse && a.per_rev == b.per_rev;
+    const bool new_move = segs[k].mi != segs[k + 1].mi;
+    if (!same_kind || a.synced || b.synced || a.blend_tol_mm < 0.0 ||
+        (new_move && b.stop_before))
+      continue;
+    const Segment sa{&a, segs[k].u0, segs[k].u1, segs[k].len - segs[k].trim0};
+    const Segment sb{&b, segs[k + 1].u0, segs[k + 1].u1, segs[k + 1].len};
+    Corner c = blend_corner(sa, sb, opt.machine);
+    if (!c.blended || c.trim_end_mm > segs[k].len - segs[k].trim0) continue;
+    segs[k].trim1 = c.trim_end_mm;
+    segs[k + 1].trim0 = c.trim_start_mm;
+    segs[k].next = std::move(c);
+  }
+
+  double path = 0.0;
+  // Walks the share [u_from, u_to] of `m` one servo period at a time; `feed` is the piece's F,
+  // `v_cap` the planner's limit (a blend arc's), `rapid_move` whether it runs at rapid.
+  auto walk = [&](const CanonMove& m, double u_from, double u_to, double feed, double v_cap,
+                  bool rapid_move, std::size_t mi, std::size_t pi) {
+    const double len = move_length(m);
+    double u = u_from;
+    const double du_len = 1.0 / len;
+    while (u < u_to - 1e-12) {
+      const auto [x, z] = point_at(m, u);
+      const double rpm = spindle_rpm(m, x);
+      double v = rapid;
+      if (!rapid_move) {
+        v = m.per_rev ? feed * rpm / 60.0 : feed / 60.0;
+        if (!(v > 0.0))
+          throw io::InputError(
+              io::located(opt.label, m.line, 0,
+                          m.per_rev && rpm <= 0.0
+                              ? "a feed-per-revolution move (G95) with the spindle stopped: "
+                                "LinuxCNC would wait for ever (start it, or --spindle-rpm N)"
+                              : "a feed move with no feed rate (F0)"));
+        v = std::min(v, rapid);
+      }
+      v = std::min(v, v_cap);
+      double dt = s.dt_s;
+      double step_u = v * dt * du_len;
+      if (u + step_u > u_to) {
+        step_u = u_to - u;
+        dt = step_u * len / v;
+      }
+      u += step_u;
+      const auto [x1, z1] = point_at(m, u);
+      sim::LathePlant::Output out;
+      plant.step({.x_mm = x1, .z_mm = z1, .rpm = rpm}, dt, out);
+      path += step_u * len;
+      s.move.push_back(static_cast<int>(mi));
+      s.piece.push_back(static_cast<int>(pi));
+      s.path_mm.push_back(path);
+      s.depth.push_back(out.depth_mm);
+      s.feed_rev.push_back(out.feed_per_rev_mm);
+      s.speed.push_back(out.speed_m_per_min);
+      s.rpm.push_back(rpm);
+      s.strength.push_back(out.strength_factor);
+      s.param.push_back(out.force_parameter);
+      s.pz.push_back(out.Pz_N);
+      s.py.push_back(out.Py_N);
+      s.power.push_back(out.cut_power_W);
+      s.x.push_back(x1);
+      s.z.push_back(z1);
+      s.wear.push_back(wear.wear_factor(out.time_in_cut_s));
+      const double torque = out.Pz_N * (x1 + out.depth_mm) * 1e-3;
+      s.torque.push_back(torque);
+      double life = 0.0;
+      if (out.depth_mm > 0.0 && out.feed_per_rev_mm > 0.0 && out.speed_m_per_min > 0.0)
+        life = dt / 60.0 /
+               cut.tool_life_min(out.speed_m_per_min, out.feed_per_rev_mm, out.depth_mm,
+                                 out.strength_factor);
+      s.life_use.push_back(life);
+      s.dt.push_back(dt);
+      pr.life_use += life;
+      pr.cycle_time_s += dt;
+      if (rapid_move && out.force_parameter > 0.0) {
+        pr.rapid_in_material_s += dt;
+        if (pr.rapid_first_line == 0) pr.rapid_first_line = m.line;
+        pr.rapid_peak = std::max(pr.rapid_peak, out.force_parameter);
       }
     }
+  };
+  const double no_cap = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < segs.size(); ++k) {
+    const Seg& g = segs[k];
+    const CanonMove& m = prog.moves[g.mi];
+    const double len = move_length(m);
+    const bool traverse = m.kind == CanonMove::Kind::Traverse;
+    walk(m, g.u0 + g.trim0 / len, g.u1 - g.trim1 / len, plan[g.mi][g.pi].feed, no_cap, traverse,
+         g.mi, g.pi);
+    if (!g.next.blended) continue;
+    // The blend arc runs with the next segment's state (tp.c, tcSetupState): its feed per
+    // revolution when synchronised, else the larger requested velocity; at most v_plan. Its
+    // samples count to the next segment, whose feed they are cut at.
+    const Seg& h = segs[k + 1];
+    const CanonMove& b = prog.moves[h.mi];
+    const bool rapid_blend = b.kind == CanonMove::Kind::Traverse;
+    double feed = plan[h.mi][h.pi].feed;
+    if (!b.per_rev && !rapid_blend) feed = std::max(feed, plan[g.mi][g.pi].feed);
+    walk(g.next.arc, 0.0, 1.0, feed, g.next.v_max_mm_s, rapid_blend, h.mi, h.pi);
   }
   return pr;
 }

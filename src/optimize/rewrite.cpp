@@ -227,6 +227,10 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
     kept[i] = keep_marked(p.lines[static_cast<std::size_t>(l - 1)]);
   }
   Plan chosen = choose_feeds(p.canon, r.before, e, opt, kept);
+  if (opt.blends) {  // the blends at the chosen splits cut a path of their own (refeed)
+    const Prediction trial = predict(p.canon, chosen, e, opt);
+    refeed(p.canon, chosen, trial, e, opt, kept);
+  }
   for (int attempt = 0; attempt < 2; ++attempt) {
     const bool allow_split = attempt == 0;
     r.actions.assign(p.lines.size(), {});

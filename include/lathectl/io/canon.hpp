@@ -46,6 +46,12 @@ struct CanonMove {
   bool synced = false;       // threading: spindle-synchronised
   bool compensated = false;  // cutter radius compensation on (G41/G42/G41.1/G42.1)
   int tool = 0;
+  // Path blending (SET_MOTION_CONTROL_MODE): G64's P [mm], 0 when none was given (LinuxCNC's
+  // default, continuous with no tolerance); < 0: exact path or exact stop (G61, G61.1).
+  double blend_tol_mm = 0.0;
+  // Something between the previous move and this one makes LinuxCNC stop (a dwell, a tool
+  // change, a spindle command, a program stop, an M1xx): no blend across it.
+  bool stop_before = false;
 };
 
 struct CanonProgram {

@@ -1,0 +1,249 @@
+// LinuxCNC's G64 blend arc at a corner (blend.hpp: what is ported and from where).
+#include "optimize/blend.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "optimize/path.hpp"
+
+namespace lathectl::optimize {
+namespace {
+
+using io::CanonMove;
+constexpr double kPi = std::numbers::pi;
+
+struct V {  // a vector in the XZ plane: x (radius), z
+  double x = 0.0, z = 0.0;
+};
+V operator+(V a, V b) { return {a.x + b.x, a.z + b.z}; }
+V operator-(V a, V b) { return {a.x - b.x, a.z - b.z}; }
+V operator*(double k, V a) { return {k * a.x, k * a.z}; }
+double dot(V a, V b) { return a.x * b.x + a.z * b.z; }
+double cross(V a, V b) { return a.x * b.z - a.z * b.x; }
+double norm(V a) { return std::hypot(a.x, a.z); }
+V unit(V a) {
+  const double n = norm(a);
+  return n > 0.0 ? (1.0 / n) * a : V{};
+}
+V at(const CanonMove& m, double u) {
+  const auto [x, z] = point_at(m, u);
+  return {x, z};
+}
+
+// The share [u0, u1] of a move as a move of its own.
+CanonMove sub_move(const CanonMove& m, double u0, double u1) {
+  CanonMove s = m;
+  const V p0 = at(m, u0), p1 = at(m, u1);
+  s.x0 = p0.x;
+  s.z0 = p0.z;
+  s.x1 = p1.x;
+  s.z1 = p1.z;
+  if (m.kind == CanonMove::Kind::Arc) {
+    const double sweep = std::abs(arc_sweep(m)) * (u1 - u0);
+    const int turns = static_cast<int>(std::floor(sweep / (2.0 * kPi) + 1e-9));
+    s.rotation = (m.rotation > 0 ? 1 : -1) * (1 + std::max(0, turns));
+  }
+  return s;
+}
+
+// Unit tangent in the direction of travel at the start (u = 0) or end (u = 1).
+V tangent(const CanonMove& m, bool at_end) {
+  if (m.kind != CanonMove::Kind::Arc) return unit({m.x1 - m.x0, m.z1 - m.z0});
+  const V c{m.xc, m.zc};
+  const V r = (at_end ? V{m.x1, m.z1} : V{m.x0, m.z0}) - c;
+  // point_at: x = xc + r sin a, z = zc + r cos a; d/da = (r cos a, −r sin a) = (r.z, −r.x)
+  const V d = unit({r.z, -r.x});
+  return arc_sweep(m) > 0.0 ? d : -1.0 * d;
+}
+
+double radius(const CanonMove& m) { return std::hypot(m.x0 - m.xc, m.z0 - m.zc); }
+
+// tc->maxvel: the move's velocity limit from the axes' (and, for an arc, its normal
+// acceleration, BLEND_ACC_RATIO_NORMAL = √(1 − 0.5²)).
+double max_vel(const CanonMove& m, const Machine& mc) {
+  if (m.kind != CanonMove::Kind::Arc) {
+    const V u = unit({m.x1 - m.x0, m.z1 - m.z0});
+    const double k = std::max(std::abs(u.x), std::abs(u.z));
+    return k > 0.0 ? mc.vmax_mm_s / k : mc.vmax_mm_s;
+  }
+  return std::min(mc.vmax_mm_s, std::sqrt(mc.accel_mm_s2 * std::sqrt(0.75) * radius(m)));
+}
+
+bool synchronised(const CanonMove& m) { return m.kind != CanonMove::Kind::Traverse && m.per_rev; }
+
+// tcGetMaxTargetVel: a spindle-synchronised (G95) move's is its maxvel whatever the feed; an
+// unsynchronised one's is its requested velocity times the largest feed override.
+double target_vel(const CanonMove& m, double scale, const Machine& mc) {
+  const double vmax = max_vel(m, mc);
+  if (synchronised(m)) return vmax;
+  const double req = m.kind == CanonMove::Kind::Traverse ? vmax : m.feed / 60.0;
+  return std::min(req * scale, vmax);
+}
+
+// tcFindBlendTolerance: G64 P, or a quarter of the segment when none was given.
+double blend_tolerance(const CanonMove& a, double len_a, const CanonMove& b, double len_b) {
+  const double t1 = a.blend_tol_mm > 0.0 ? a.blend_tol_mm : 0.25 * len_a;
+  const double t2 = b.blend_tol_mm > 0.0 ? b.blend_tol_mm : 0.25 * len_b;
+  return std::min({t1, t2, 0.25 * len_a, 0.25 * len_b});
+}
+
+struct Params {
+  double theta = 0.0, phi = 0.0, L1 = 0.0, L2 = 0.0, tolerance = 0.0;
+  double v_goal = 0.0, v_req = 0.0, a_max = 0.0, a_n = 0.0;
+  double v_plan = 0.0, R_plan = 0.0, d_plan = 0.0;
+};
+
+// blendComputeParameters (2.9, without S-curve).
+bool compute(Params& p) {
+  const double h_tol = p.tolerance / (1.0 - std::sin(p.theta));
+  const double d_tol = std::cos(p.theta) * h_tol;
+  const double d_geom = std::min({p.L1, p.L2, d_tol});
+  const double R_geom = std::tan(p.theta) * d_geom;
+  const double v_normal = std::sqrt(p.a_n * R_geom);
+  p.v_plan = std::min(v_normal, p.v_goal);
+  const double a_par = 0.5 * p.a_max;
+  const double v_triangle = std::sqrt(2.0 * a_par * d_geom);
+  const double t_blend = std::min(v_triangle, p.v_plan) / a_par;
+  const double s_blend = t_blend * p.v_plan;
+  const double R_blend = std::min(s_blend / p.phi, R_geom);
+  p.R_plan = std::max(p.v_plan * p.v_plan / p.a_n, R_blend);
+  p.d_plan = p.R_plan / std::tan(p.theta);
+  return p.R_plan >= 1e-12 && p.R_plan * p.phi >= 1e-6 && std::isfinite(p.d_plan);
+}
+
+// The blend circle of radius R tangent to a line (through P, direction u, the circle on the side
+// n) and to a circle (centre C, radius r; outside it when d = R + r, inside when d = r − R):
+// the distance along the line from P to the tangent point (blend*PostProcess's quadratic; its
+// two roots for ±u are each other's negatives, so the smaller |root| serves either way).
+bool tangent_to_line_and_circle(V P, V u, V n, V C, double d, double R, double& d_L) {
+  const V rc = C - P;
+  const double cu = dot(rc, u), cn = dot(rc, n);
+  const double B = 2.0 * cu;
+  const double Cq = cu * cu - d * d + (R - cn) * (R - cn);
+  const double disc = B * B - 4.0 * Cq;
+  if (disc < 0.0) return false;
+  const double s = std::sqrt(disc);
+  d_L = std::min(std::abs((-B + s) / 2.0), std::abs((-B - s) / 2.0));
+  return true;
+}
+
+}  // namespace
+
+Corner blend_corner(const Segment& sa, const Segment& sb, const Machine& mc) {
+  Corner out;
+  const CanonMove a = sub_move(*sa.m, sa.u0, sa.u1);
+  const CanonMove b = sub_move(*sb.m, sb.u0, sb.u1);
+  const double len_a = move_length(a), len_b = move_length(b);
+  if (!(len_a > 1e-9) || !(len_b > 1e-9)) return out;
+  const bool arc_a = a.kind == CanonMove::Kind::Arc, arc_b = b.kind == CanonMove::Kind::Arc;
+  if (arc_a && arc_b) return out;  // not ported
+  const V P{a.x1, a.z1};
+  const V t1 = tangent(a, true), t2 = tangent(b, false);
+  const double theta_tan = std::acos(std::clamp(-dot(t1, t2), -1.0, 1.0)) / 2.0;
+  if (kPi / 2.0 - theta_tan < 1e-6 || theta_tan < 1e-6) return out;  // tangent, or a reversal
+
+  Params p;
+  p.a_max = mc.accel_mm_s2;  // calculateInscribedDiameter in the XZ plane: min(a_x, a_z)
+  p.a_n = p.a_max * std::sqrt(0.75);
+  // tpSetupTangent: a small kink is taken as tangent (no blend arc).
+  {
+    const double v_max = std::min(target_vel(a, mc.max_feed_scale, mc),
+                                  target_vel(b, mc.max_feed_scale, mc));
+    const double a_inst = v_max / mc.servo_s + p.a_max;
+    const V diff = a_inst * (t2 - t1);
+    double scale = std::max(std::abs(diff.x), std::abs(diff.z)) / p.a_max;
+    if (arc_a || arc_b) scale /= 0.5;  // BLEND_ACC_RATIO_TANGENTIAL
+    if (scale < mc.kink_ratio) return out;
+  }
+  p.theta = theta_tan;
+  p.tolerance = blend_tolerance(a, len_a, b, len_b);
+  const double left_a = std::min(sa.left_mm, len_a);
+  bool convex = false;
+  if (!arc_a && !arc_b) {  // blendInit3FromLineLine (BLEND_DIST_FRACTION 0.5)
+    p.L1 = std::min(left_a, 0.5 * len_a);
+    p.L2 = 0.5 * len_b;
+  } else if (arc_b) {  // blendInit3FromLineArc
+    const V C2{b.xc, b.zc};
+    convex = !(dot(P - C2, t1) < 0.0);  // arcConvexTest(..., reverse_dir = true)
+    const double angle = std::abs(arc_sweep(b));
+    const double phi2_max = std::min(angle / 3.0, convex ? theta_tan : kPi / 2.0);
+    if (convex) p.theta = std::min(p.theta, theta_tan - phi2_max / 4.0);
+    p.L1 = std::min(left_a, 0.5 * len_a);
+    p.L2 = convex ? std::sin(phi2_max / 4.0) * radius(b) : phi2_max * radius(b);
+  } else {  // blendInit3FromArcLine
+    const V C1{a.xc, a.zc};
+    convex = dot(P - C1, t2) < 0.0;  // arcConvexTest(..., reverse_dir = false)
+    const double angle = std::abs(arc_sweep(a));
+    const double phi1_max = std::min(angle * 2.0 / 3.0, convex ? theta_tan : kPi / 2.0);
+    if (convex) p.theta = std::min(p.theta, theta_tan - phi1_max / 4.0);
+    p.L1 = convex ? std::sin(phi1_max / 4.0) * radius(a) : phi1_max * radius(a);
+    p.L2 = 0.5 * len_b;
+  }
+  p.phi = kPi - 2.0 * p.theta;
+  // blendParamKinematics
+  p.v_req = std::max(target_vel(a, 1.0, mc), target_vel(b, 1.0, mc));
+  p.v_goal =
+      std::max(target_vel(a, mc.max_feed_scale, mc), target_vel(b, mc.max_feed_scale, mc));
+  double v_max = mc.vmax_mm_s;  // the planar limit: min(v_x, v_z)
+  if (!arc_a && !arc_b) {       // the "altitude" limit of two lines
+    const double phi_eff = std::min(p.phi, kPi * 0.49);
+    const double m1 = max_vel(a, mc), m2 = max_vel(b, mc);
+    const double v1 = std::min(m1, m2 / std::cos(phi_eff));
+    const double v2 = std::min(m2, m1 / std::cos(phi_eff));
+    const double base = norm(v2 * t2 - v1 * t1);
+    if (base > 0.0) v_max = std::max(v_max, v1 * v2 * std::sin(p.phi) / base);
+  }
+  p.v_goal = std::min(p.v_goal, v_max);
+  if (!compute(p)) return out;
+
+  // The arc's centre and where it meets each segment.
+  V centre;
+  const V bis = unit(t2 - t1);  // towards the inside of the corner
+  if (!arc_a && !arc_b) {       // blendFindPoints3
+    centre = P + (p.R_plan / std::sin(p.theta)) * bis;
+    out.trim_end_mm = out.trim_start_mm = p.d_plan;
+  } else if (arc_b) {  // blendLineArcPostProcess
+    const V n1 = cross(t1, t2) > 0.0 ? V{-t1.z, t1.x} : V{t1.z, -t1.x};
+    const V C2{b.xc, b.zc};
+    const double d2 = (convex ? -p.R_plan : p.R_plan) + radius(b);
+    double d_L = 0.0;
+    if (!tangent_to_line_and_circle(P, t1, n1, C2, d2, p.R_plan, d_L)) return out;
+    centre = P - d_L * t1 + p.R_plan * n1;
+    if (norm(centre - P) - p.R_plan > p.tolerance) return out;
+    out.trim_end_mm = d_L;
+    const double ang =
+        std::acos(std::clamp(dot(unit(P - C2), unit(centre - C2)), -1.0, 1.0));  // findTrimAngle
+    out.trim_start_mm = ang * radius(b);
+  } else {  // blendArcLinePostProcess
+    const V n2 = cross(t1, t2) > 0.0 ? V{-t2.z, t2.x} : V{t2.z, -t2.x};
+    const V C1{a.xc, a.zc};
+    const double d1 = (convex ? -p.R_plan : p.R_plan) + radius(a);
+    double d_L = 0.0;
+    if (!tangent_to_line_and_circle(P, t2, n2, C1, d1, p.R_plan, d_L)) return out;
+    centre = P + d_L * t2 + p.R_plan * n2;
+    if (norm(centre - P) - p.R_plan > p.tolerance) return out;
+    out.trim_start_mm = d_L;
+    const double ang = std::acos(std::clamp(dot(unit(P - C1), unit(centre - C1)), -1.0, 1.0));
+    out.trim_end_mm = ang * radius(a);
+  }
+  if (!(out.trim_end_mm < len_a) || !(out.trim_start_mm < len_b)) return out;
+  const double ua = 1.0 - out.trim_end_mm / len_a, ub = out.trim_start_mm / len_b;
+  const V q1 = at(a, ua), q2 = at(b, ub);
+  out.arc = *sb.m;  // the planner's state when the second segment was queued (tcSetupState)
+  out.arc.kind = CanonMove::Kind::Arc;
+  out.arc.x0 = q1.x;
+  out.arc.z0 = q1.z;
+  out.arc.x1 = q2.x;
+  out.arc.z1 = q2.z;
+  out.arc.xc = centre.x;
+  out.arc.zc = centre.z;
+  // Counter-clockwise in (z, x) (path.hpp) is a turn to the left seen with x up and z right.
+  out.arc.rotation = cross(t1, t2) < 0.0 ? 1 : -1;
+  out.v_max_mm_s = p.v_plan;
+  out.v_req_mm_s = p.v_req;
+  out.blended = true;
+  return out;
+}
+
+}  // namespace lathectl::optimize
