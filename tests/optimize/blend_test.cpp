@@ -1,0 +1,137 @@
+// LinuxCNC's G64 blend arcs (src/optimize/blend.hpp) against what LinuxCNC 2.9 did in the
+// simulated lathe (scripts/linuxcnc-sim, hal/config/lathectl-lathe.ini: 500 mm/s², 80 mm/s),
+// recorded from motion's position at the servo period on examples/linuxcnc/profile_arcs.ngc's
+// optimised program (2026-11-24; circles through the recorded blend points: 1198 and 2242 points,
+// all within 1e-4 mm of them), and against the closed forms of the geometry.
+#include "optimize/blend.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lathectl/io/canon.hpp"
+#include "optimize/path.hpp"
+
+namespace lathectl::optimize {
+namespace {
+
+using io::CanonMove;
+
+CanonMove line(double x0, double z0, double x1, double z1, bool rapid = false) {
+  CanonMove m;
+  m.kind = rapid ? CanonMove::Kind::Traverse : CanonMove::Kind::Line;
+  m.x0 = x0, m.z0 = z0, m.x1 = x1, m.z1 = z1;
+  m.per_rev = true;
+  m.feed = 0.2;
+  m.spindle_on = true;
+  m.speed = 1194.0;
+  return m;
+}
+CanonMove arc(double x0, double z0, double x1, double z1, double xc, double zc, int rotation) {
+  CanonMove m = line(x0, z0, x1, z1);
+  m.kind = CanonMove::Kind::Arc;
+  m.xc = xc, m.zc = zc, m.rotation = rotation;
+  return m;
+}
+Corner corner(const CanonMove& a, const CanonMove& b) {
+  return blend_corner({&a, 0.0, 1.0, move_length(a)}, {&b, 0.0, 1.0, move_length(b)}, Machine{});
+}
+// The largest distance of the blend arc from the programmed corner point P.
+double inside_at_corner(const Corner& c, double xp, double zp) {
+  const double r = std::hypot(c.arc.x0 - c.arc.xc, c.arc.z0 - c.arc.zc);
+  return std::hypot(xp - c.arc.xc, zp - c.arc.zc) - r;
+}
+
+// profile_arcs.ngc: "G1 Z-8" from X16 Z2, then "G2 X18 Z-20 R10" (centre X24.829 Z-12.695): a
+// 28° corner. LinuxCNC's blend was the circle centred at X−1.482 Z−4.759, R 17.482: it left the
+// line 3.24 mm before the corner and passed 0.30 mm inside it.
+TEST(Blend, LineIntoArcIsWhereLinuxCncCut) {
+  const auto a = line(16, 2, 16, -8);
+  const auto b = arc(16, -8, 18, -20, 24.829259, -12.695123, -1);
+  const Corner c = corner(a, b);
+  ASSERT_TRUE(c.blended);
+  EXPECT_NEAR(c.arc.xc, -1.482, 0.02);
+  EXPECT_NEAR(c.arc.zc, -4.759, 0.02);
+  EXPECT_NEAR(std::hypot(c.arc.x0 - c.arc.xc, c.arc.z0 - c.arc.zc), 17.482, 0.02);
+  EXPECT_NEAR(c.trim_end_mm, 3.24, 0.02);
+  EXPECT_NEAR(inside_at_corner(c, 16, -8), 0.30, 0.01);
+  // The blend arc is tangent to the line where it leaves it: its centre level with that point.
+  EXPECT_NEAR(c.arc.z0, c.arc.zc, 1e-9);
+  EXPECT_NEAR(c.arc.x0, 16.0, 1e-9);
+  // …and to the G2's circle: the centres are R_blend + 10 apart (outside it, a concave corner).
+  const double rb = std::hypot(c.arc.x0 - c.arc.xc, c.arc.z0 - c.arc.zc);
+  EXPECT_NEAR(std::hypot(c.arc.xc - b.xc, c.arc.zc - b.zc), rb + 10.0, 1e-6);
+}
+
+// The same program's "G2 … Z-20" into "G1 Z-32" (a 47° corner): LinuxCNC's blend was the circle
+// centred at X4.177 Z−24.570, R 13.823: it met the line 4.57 mm after the corner and passed
+// 0.74 mm inside it.
+TEST(Blend, ArcIntoLineIsWhereLinuxCncCut) {
+  const auto a = arc(16, -8, 18, -20, 24.829259, -12.695123, -1);
+  const auto b = line(18, -20, 18, -32);
+  const Corner c = corner(a, b);
+  ASSERT_TRUE(c.blended);
+  EXPECT_NEAR(c.arc.xc, 4.177, 0.02);
+  EXPECT_NEAR(c.arc.zc, -24.570, 0.02);
+  EXPECT_NEAR(std::hypot(c.arc.x1 - c.arc.xc, c.arc.z1 - c.arc.zc), 13.823, 0.02);
+  EXPECT_NEAR(c.trim_start_mm, 4.57, 0.02);
+  EXPECT_NEAR(c.arc.x1, 18.0, 1e-9);  // tangent to the line where it meets it
+  EXPECT_NEAR(c.arc.z1, c.arc.zc, 1e-9);
+  EXPECT_NEAR(inside_at_corner(c, 18, -20), 0.74, 0.01);
+}
+
+// Two rapids at 90° ("G0 X25" 6.5 mm, then "G0 Z2"): blendInit3FromLineLine takes half the
+// shorter (3.25 mm) within the quarter-length tolerance (d_tol = 1.625·cos45°/(1 − sin45°) =
+// 3.92 mm), so R = tan45°·3.25 and v_plan = √(a_n·R) = √(500·√0.75·3.25) = 37.5 mm/s; LinuxCNC
+// ran the corner at 37.51 mm/s, leaving the X move at x 22.0.
+TEST(Blend, RapidCornerRadiusAndSpeed) {
+  const auto a = line(18.5, -50, 25, -50, true);
+  const auto b = line(25, -50, 25, 2, true);
+  const Corner c = corner(a, b);
+  ASSERT_TRUE(c.blended);
+  EXPECT_NEAR(c.trim_end_mm, 3.25, 1e-9);
+  EXPECT_NEAR(c.trim_start_mm, 3.25, 1e-9);
+  EXPECT_NEAR(std::hypot(c.arc.x0 - c.arc.xc, c.arc.z0 - c.arc.zc), 3.25, 1e-9);
+  EXPECT_NEAR(c.v_max_mm_s, std::sqrt(500.0 * std::sqrt(0.75) * 3.25), 1e-9);
+  EXPECT_NEAR(c.v_max_mm_s, 37.51, 0.05);
+}
+
+// G64 P0.02: the arc stays within 0.02 mm of the corner (tcFindBlendTolerance).
+TEST(Blend, ToleranceBoundsTheDeviation) {
+  auto a = line(16, 2, 16, -8);
+  auto b = arc(16, -8, 18, -20, 24.829259, -12.695123, -1);
+  a.blend_tol_mm = b.blend_tol_mm = 0.02;
+  const Corner c = corner(a, b);
+  ASSERT_TRUE(c.blended);
+  EXPECT_LE(inside_at_corner(c, 16, -8), 0.02 + 1e-9);
+  EXPECT_GT(inside_at_corner(c, 16, -8), 0.01);
+}
+
+// Collinear pieces of a split move, and a reversal, are not blended.
+TEST(Blend, TangentAndReversalAreNotBlended) {
+  EXPECT_FALSE(corner(line(18.5, 2, 18.5, -12), line(18.5, -12, 18.5, -30)).blended);
+  EXPECT_FALSE(corner(line(18.5, 2, 18.5, -12), line(18.5, -12, 18.5, 0)).blended);
+}
+
+// The canon reader keeps the blending mode and the commands LinuxCNC stops for.
+TEST(Blend, CanonKeepsModesAndStops) {
+  const auto p = io::parse_canon(R"(    1 N..... SELECT_PLANE(CANON_PLANE_XZ)
+    2 N..... STRAIGHT_FEED(25.0000, 0.0000, -50.0000, 0.0000, 0.0000, 0.0000)
+    3 N..... SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, 0.020000)
+    4 N..... STRAIGHT_FEED(20.0000, 0.0000, -50.0000, 0.0000, 0.0000, 0.0000)
+    5 N..... DWELL(0.5000)
+    6 N..... SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH)
+    7 N..... STRAIGHT_FEED(20.0000, 0.0000, -60.0000, 0.0000, 0.0000, 0.0000)
+)",
+                                 "t.ngc", 25.0, 5.0);
+  ASSERT_EQ(p.moves.size(), 3u);
+  EXPECT_DOUBLE_EQ(p.moves[0].blend_tol_mm, 0.0);
+  EXPECT_TRUE(p.moves[0].stop_before);  // from rest
+  EXPECT_DOUBLE_EQ(p.moves[1].blend_tol_mm, 0.02);
+  EXPECT_FALSE(p.moves[1].stop_before);
+  EXPECT_LT(p.moves[2].blend_tol_mm, 0.0);
+  EXPECT_TRUE(p.moves[2].stop_before);
+}
+
+}  // namespace
+}  // namespace lathectl::optimize
