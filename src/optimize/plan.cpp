@@ -46,12 +46,16 @@ std::optional<double> stable_feed(const cutting::CuttingModel& cut, const Sample
       worst = i;
     }
   }
-  if (worst == sp.b || r <= 1.0) return f;
-  if (ratio(worst, f_top) > 1.0) return std::nullopt;
+  // Aimed a hair inside the boundary (k_c ≤ 0.999 k_lim): once the program is rewritten the
+  // prediction's samples fall a little differently along the piece, and a feed solved exactly
+  // on the boundary came out at margin 0.999999 there.
+  constexpr double kStable = 0.999;
+  if (worst == sp.b || r <= kStable) return f;
+  if (ratio(worst, f_top) > kStable) return std::nullopt;
   double lo = f, hi = f_top;  // unstable at lo, stable at hi
   for (int k = 0; k < 50; ++k) {
     const double mid = 0.5 * (lo + hi);
-    (ratio(worst, mid) > 1.0 ? lo : hi) = mid;
+    (ratio(worst, mid) > kStable ? lo : hi) = mid;
   }
   return hi;
 }

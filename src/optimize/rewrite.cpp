@@ -228,7 +228,8 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
   }
   Plan chosen = choose_feeds(p.canon, r.before, e, opt, kept);
   if (opt.blends) {  // the blends at the chosen splits cut a path of their own (refeed)
-    const Prediction trial = predict(p.canon, chosen, e, opt);
+    Prediction trial = predict(p.canon, chosen, e, opt);
+    if (r.chatter) chatter_margins(trial.s, chatter, cut, opt.z_origin_mm);
     refeed(p.canon, chosen, trial, e, opt, kept);
   }
   for (int attempt = 0; attempt < 2; ++attempt) {
