@@ -202,7 +202,16 @@ def main():
                 cmd.auto(linuxcnc.AUTO_RUN, 0)
         wait(lambda s: s.interp_state != linuxcnc.INTERP_IDLE, 30, "program start", stat, err)
         hold_since = None
-        aborted = timed_out = False
+        aborted = timed_out = task_exited = False
+        # LinuxCNC's task process: seen gone in the middle of a program under heavy load (no
+        # segfault in the kernel log; LinuxCNC's own Cleanup kills every `milltask` by name).
+        # Without it the status stays frozen at its last value, so it is watched directly.
+        try:
+            task_pids = [int(p) for p in subprocess.run(["pidof", "milltask"], capture_output=True,
+                                                        text=True).stdout.split()]
+        except (OSError, ValueError):
+            task_pids = []
+        next_task_check = time.monotonic() + 0.5
         progress = None
         if os.environ.get("LATHECTL_SIM_PROGRESS"):
             try:
@@ -236,6 +245,14 @@ def main():
                     cmd.abort()
                     cmd.wait_complete()
                     aborted = True
+                    break
+            if task_pids and time.monotonic() >= next_task_check:
+                next_task_check += 0.5
+                if not any(os.path.exists("/proc/%d" % p) for p in task_pids):
+                    task_exited = True
+                    errors.append("LinuxCNC's task process (milltask) exited during the program "
+                                  "(motion line %d); the run is incomplete" %
+                                  (stat.motion_line - line_offset))
                     break
             if time.monotonic() - t0 > timeout_s:
                 # Where LinuxCNC waits (exec state: 2 motion, 3 motion queue, 4 io, 5 motion and
@@ -331,6 +348,7 @@ def main():
         "finished": not aborted and not errors,
         "aborted_on_feed_hold": aborted,
         "timed_out": timed_out,
+        "task_exited": task_exited,
         "errors": errors,
         "cycle_time_s": round(len(rows) * period_s, 3),
         "wall_time_s": round(wall_s, 3),

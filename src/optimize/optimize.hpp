@@ -130,6 +130,7 @@ namespace lathectl::optimize {
 struct VerifyRun {
   std::string name;  // "original", "optimized", "original_online", "optimized_online"
   bool finished = false;
+  bool retried = false;  // LinuxCNC's task exited in the first attempt: run once more
   double cycle_time_s = 0.0;
   double force_peak_rev = 0.0;  // peak of the per-revolution mean of the true force parameter
                                 // in feed moves

@@ -181,7 +181,7 @@ std::vector<std::pair<std::string, std::string>> output_files(
     js["force_peak_rev_original_online_N"] = vo_on->force_peak_rev;
     js["force_peak_rev_optimized_online_N"] = vp_on->force_peak_rev;
     for (const auto& x : v->runs) {
-      js["verify"][x.name] = {{"finished", x.finished},
+      js["verify"][x.name] = {{"finished", x.finished}, {"retried", x.retried},
                               {"cycle_time_s", x.cycle_time_s},
                               {"force_peak_rev_N", x.force_peak_rev},
                               {"rapid_in_material_s", x.rapid_in_material_s},
