@@ -96,6 +96,25 @@ TEST(Blend, RapidCornerRadiusAndSpeed) {
   EXPECT_NEAR(c.v_max_mm_s, 37.51, 0.05);
 }
 
+// G94 at F400 (lathe_g70_71_demo.ngc's G71 passes): an unsynchronised block's blend is sized for
+// its feed, 6.67 mm/s: R = max(v²/a_n, v²/(a/2)/φ) = 0.113 mm, so a 90° corner is passed
+// R(√2 − 1) = 0.047 mm inside; LinuxCNC passed 0.0471 mm from the corner of "G1 Z-18.982" →
+// "G1 X9.6536" at 6.67 mm/s (scripts/linuxcnc-sim, pawn_bar.toml, 2026-11-24). The same program's
+// 30 rapid → feed and 30 feed → rapid corners all passed within 5 µm of the corner (not blended:
+// predict.cpp leaves them alone).
+TEST(Blend, FeedPerMinuteCornerIsSizedForTheFeed) {
+  auto a = line(8, -11.232, 8, -18.982);
+  auto b = line(8, -18.982, 9.6536, -18.982);
+  for (auto* m : {&a, &b}) {
+    m->per_rev = false;
+    m->feed = 400.0;
+  }
+  const Corner c = corner(a, b);
+  ASSERT_TRUE(c.blended);
+  EXPECT_NEAR(c.v_max_mm_s, 400.0 / 60.0, 1e-9);
+  EXPECT_NEAR(inside_at_corner(c, 8, -18.982), 0.0471, 0.001);
+}
+
 // G64 P0.02: the arc stays within 0.02 mm of the corner (tcFindBlendTolerance).
 TEST(Blend, ToleranceBoundsTheDeviation) {
   auto a = line(16, 2, 16, -8);
