@@ -137,7 +137,6 @@ Corner blend_corner(const Segment& sa, const Segment& sb, const Machine& mc) {
   const double len_a = move_length(a), len_b = move_length(b);
   if (!(len_a > 1e-9) || !(len_b > 1e-9)) return out;
   const bool arc_a = a.kind == CanonMove::Kind::Arc, arc_b = b.kind == CanonMove::Kind::Arc;
-  if (arc_a && arc_b) return out;  // not ported
   const V P{a.x1, a.z1};
   const V t1 = tangent(a, true), t2 = tangent(b, false);
   const double theta_tan = std::acos(std::clamp(-dot(t1, t2), -1.0, 1.0)) / 2.0;
@@ -159,10 +158,26 @@ Corner blend_corner(const Segment& sa, const Segment& sb, const Machine& mc) {
   p.theta = theta_tan;
   p.tolerance = blend_tolerance(a, len_a, b, len_b);
   const double left_a = std::min(sa.left_mm, len_a);
-  bool convex = false;
+  // An arc trimmed at its start by the previous corner's blend keeps only the rest of its sweep
+  // (tcSetCircleXYZ): what the next corner's limits see.
+  const double sweep_a = arc_a ? left_a / radius(a) : 0.0;
+  bool convex = false;   // the first arc's convexity (or the only arc's)
+  bool convex2 = false;  // arc to arc: the second's
   if (!arc_a && !arc_b) {  // blendInit3FromLineLine (BLEND_DIST_FRACTION 0.5)
     p.L1 = std::min(left_a, 0.5 * len_a);
     p.L2 = 0.5 * len_b;
+  } else if (arc_a && arc_b) {  // blendInit3FromArcArc
+    const V C1{a.xc, a.zc}, C2{b.xc, b.zc};
+    convex = dot(P - C1, t2) < 0.0;
+    convex2 = !(dot(P - C2, t1) < 0.0);
+    const double phi1_max = std::min(sweep_a * 2.0 / 3.0, convex ? theta_tan : kPi / 2.0);
+    const double phi2_max =
+        std::min(std::abs(arc_sweep(b)) / 3.0, convex2 ? theta_tan : kPi / 2.0);
+    if (convex) p.theta = std::min(p.theta, theta_tan - phi1_max / 4.0);
+    if (convex2) p.theta = std::min(p.theta, theta_tan - phi2_max / 4.0);
+    if (p.theta < kPi / 12.0) return out;
+    p.L1 = convex ? std::sin(phi1_max / 4.0) * radius(a) : phi1_max * radius(a);
+    p.L2 = convex2 ? std::sin(phi2_max / 4.0) * radius(b) : phi2_max * radius(b);
   } else if (arc_b) {  // blendInit3FromLineArc
     const V C2{b.xc, b.zc};
     convex = !(dot(P - C2, t1) < 0.0);  // arcConvexTest(..., reverse_dir = true)
@@ -174,8 +189,7 @@ Corner blend_corner(const Segment& sa, const Segment& sb, const Machine& mc) {
   } else {  // blendInit3FromArcLine
     const V C1{a.xc, a.zc};
     convex = dot(P - C1, t2) < 0.0;  // arcConvexTest(..., reverse_dir = false)
-    const double angle = std::abs(arc_sweep(a));
-    const double phi1_max = std::min(angle * 2.0 / 3.0, convex ? theta_tan : kPi / 2.0);
+    const double phi1_max = std::min(sweep_a * 2.0 / 3.0, convex ? theta_tan : kPi / 2.0);
     if (convex) p.theta = std::min(p.theta, theta_tan - phi1_max / 4.0);
     p.L1 = convex ? std::sin(phi1_max / 4.0) * radius(a) : phi1_max * radius(a);
     p.L2 = 0.5 * len_b;
@@ -203,6 +217,26 @@ Corner blend_corner(const Segment& sa, const Segment& sb, const Machine& mc) {
   if (!arc_a && !arc_b) {       // blendFindPoints3
     centre = P + (p.R_plan / std::sin(p.theta)) * bis;
     out.trim_end_mm = out.trim_start_mm = p.d_plan;
+  } else if (arc_a && arc_b) {  // blendArcArcPostProcess: the centre d1, d2 from C1, C2
+    const V C1{a.xc, a.zc}, C2{b.xc, b.zc};
+    const double d1 = (convex ? -p.R_plan : p.R_plan) + radius(a);
+    const double d2 = (convex2 ? -p.R_plan : p.R_plan) + radius(b);
+    const double c2x = norm(C2 - C1);
+    if (!(c2x > 0.0)) return out;
+    const double Cx = (-d1 * d1 + d2 * d2 - c2x * c2x) / (-2.0 * c2x);
+    const double Cy2 = d1 * d1 - Cx * Cx;
+    if (!(Cy2 >= 0.0)) return out;
+    const V uc = unit(C2 - C1);
+    V nc{-uc.z, uc.x};
+    if (dot(bis, nc) < 0.0) nc = -1.0 * nc;
+    const V c1 = C1 + Cx * uc;
+    const V plus = c1 + std::sqrt(Cy2) * nc, minus = c1 - std::sqrt(Cy2) * nc;
+    centre = norm(minus - P) < norm(plus - P) ? minus : plus;  // the solution nearer P
+    if (norm(centre - P) - p.R_plan > p.tolerance) return out;
+    out.trim_end_mm =
+        std::acos(std::clamp(dot(unit(P - C1), unit(centre - C1)), -1.0, 1.0)) * radius(a);
+    out.trim_start_mm =
+        std::acos(std::clamp(dot(unit(P - C2), unit(centre - C2)), -1.0, 1.0)) * radius(b);
   } else if (arc_b) {  // blendLineArcPostProcess
     const V n1 = cross(t1, t2) > 0.0 ? V{-t1.z, t1.x} : V{t1.z, -t1.x};
     const V C2{b.xc, b.zc};

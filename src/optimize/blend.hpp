@@ -2,8 +2,8 @@
 // LinuxCNC's path blending (G64) at the corner between two motion segments, as its trajectory
 // planner computes it: the blend arc tangent to both, the length it trims off each, its velocity
 // limit. A 2-D port (the XZ plane) of LinuxCNC 2.9's src/emc/tp/blendmath.c
-// (blendInit3FromLineLine / …LineArc / …ArcLine, blendComputeParameters, blendFindPoints3,
-// blendLineArcPostProcess, blendArcLinePostProcess) and tc.c (tcFindBlendTolerance,
+// (blendInit3FromLineLine / …LineArc / …ArcLine / …ArcArc, blendComputeParameters,
+// blendFindPoints3, blendLineArcPostProcess, blendArcLinePostProcess, blendArcArcPostProcess) and tc.c (tcFindBlendTolerance,
 // tcGetMaxTargetVel), the version Debian 12 ships (2.9.0~pre1, git f1270d6ed7).
 //
 // Why it matters: under G95 LinuxCNC plans the blend for the segments' maximum velocity
@@ -13,7 +13,7 @@
 // starts 3.23 mm before the corner and cuts 0.30 mm inside it, at the next block's feed
 // (measured in LinuxCNC: 3.25 mm, 0.30 mm). The prediction follows that path.
 //
-// Not ported: arc-to-arc blends (no blend is assumed), the parabolic and tangent alternatives
+// Not ported: the parabolic and tangent alternatives
 // (tpChooseBestBlend: the arc is taken whenever it can be built), consuming a short previous
 // line (its geometry is the same). Which corners LinuxCNC blends at all is decided by the caller
 // (predict.cpp) from what was measured.

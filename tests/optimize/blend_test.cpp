@@ -67,9 +67,13 @@ TEST(Blend, LineIntoArcIsWhereLinuxCncCut) {
 // centred at X4.177 Z−24.570, R 13.823: it met the line 4.57 mm after the corner and passed
 // 0.74 mm inside it.
 TEST(Blend, ArcIntoLineIsWhereLinuxCncCut) {
+  const auto in = line(16, 2, 16, -8);  // the G1 Z-8 whose blend trims the G2's start
   const auto a = arc(16, -8, 18, -20, 24.829259, -12.695123, -1);
   const auto b = line(18, -20, 18, -32);
-  const Corner c = corner(a, b);
+  const Corner first = corner(in, a);
+  ASSERT_TRUE(first.blended);
+  const Corner c = blend_corner({&a, 0.0, 1.0, move_length(a) - first.trim_start_mm},
+                                {&b, 0.0, 1.0, move_length(b)}, Machine{});
   ASSERT_TRUE(c.blended);
   EXPECT_NEAR(c.arc.xc, 4.177, 0.02);
   EXPECT_NEAR(c.arc.zc, -24.570, 0.02);
@@ -113,6 +117,25 @@ TEST(Blend, FeedPerMinuteCornerIsSizedForTheFeed) {
   ASSERT_TRUE(c.blended);
   EXPECT_NEAR(c.v_max_mm_s, 400.0 / 60.0, 1e-9);
   EXPECT_NEAR(inside_at_corner(c, 8, -18.982), 0.0471, 0.001);
+}
+
+// Arc into arc (blendInit3FromArcArc): "G3 X36 Z-6 I0 K-6" from X30 Z0 (R 6), then
+// "G2 X36 Z-18 I6 K-6" (R 8.49), a 45° corner at F0.3 mm/rev, 1194 rpm, in air. LinuxCNC's
+// blend was the circle centred at X34.1214 Z−5.3462, R 1.8271 (243 recorded positions within
+// 1e-5 mm of it), 0.162 mm inside the corner.
+TEST(Blend, ArcIntoArcIsWhereLinuxCncCut) {
+  const auto in = line(30, 5, 30, 0);  // "G1 Z0": its blend into the G3 trims the G3's start
+  const auto a = arc(30, 0, 36, -6, 30, -6, 1);
+  const auto b = arc(36, -6, 36, -18, 42, -12, -1);
+  const Corner first = corner(in, a);
+  ASSERT_TRUE(first.blended);
+  const Corner c = blend_corner({&a, 0.0, 1.0, move_length(a) - first.trim_start_mm},
+                                {&b, 0.0, 1.0, move_length(b)}, Machine{});
+  ASSERT_TRUE(c.blended);
+  EXPECT_NEAR(c.arc.xc, 34.1214, 0.01);
+  EXPECT_NEAR(c.arc.zc, -5.3462, 0.01);
+  EXPECT_NEAR(std::hypot(c.arc.x0 - c.arc.xc, c.arc.z0 - c.arc.zc), 1.8271, 0.01);
+  EXPECT_NEAR(inside_at_corner(c, 36, -6), 0.162, 0.005);
 }
 
 // G64 P0.02: the arc stays within 0.02 mm of the corner (tcFindBlendTolerance).
