@@ -88,6 +88,8 @@ int run(Args& a) {
               << v->runs[1].force_peak_rev << " (limit " << result.limit << "), prediction error "
               << v->prediction_error_pct << " % of the limit";
   std::cout << "\n  → " << (fs::path(a.out) / "optimized.ngc").string() << "\n";
+  if (result.before.blend_inside_max_mm > 0.01)
+    std::cout << "  note: " << optimize::blend_note(result.before) << "\n";
   return 0;
 }
 

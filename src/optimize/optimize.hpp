@@ -96,6 +96,10 @@ struct Prediction {
   double rapid_in_material_s = 0.0;
   double rapid_peak = 0.0;
   int rapid_first_line = 0;
+  // LinuxCNC's blend arcs in material: the largest distance inside the programmed corner [mm]
+  // and the line whose end that corner is (0: none).
+  double blend_inside_max_mm = 0.0;
+  int blend_inside_line = 0;
 };
 Prediction predict(const io::CanonProgram& prog, const Plan& plan,
                    const systems::e_adaptive::Settings& e, const Options& opt);
@@ -154,6 +158,9 @@ struct VerifyOptions {
   double timeout_s = 1200.0;
 };
 Verified verify(const Program& p, const Result& r, const Options& opt, const VerifyOptions& v);
+
+// A note for a program whose G64 blends cut inside its contour in material (blend.hpp).
+std::string blend_note(const Prediction& p);
 
 // The output set: optimized.ngc, blocks.csv, summary.json, report.html (+ the runs' summaries).
 std::vector<std::pair<std::string, std::string>> output_files(

@@ -106,6 +106,13 @@ const char* kind_name(CanonMove::Kind k) {
 
 }  // namespace
 
+std::string blend_note(const Prediction& p) {
+  return "LinuxCNC's G64 blend at the corner after line " + std::to_string(p.blend_inside_line) +
+         " cuts " + num(p.blend_inside_max_mm, 2) +
+         " mm inside the programmed contour, in material: the part is undersize there unless "
+         "the program sets a tolerance (G64 P0.01) or exact path (G61).";
+}
+
 std::vector<std::pair<std::string, std::string>> output_files(
     const Program& p, const Result& r, const systems::e_adaptive::Settings& e, const Options& opt,
     const std::string& scenario_file, const Verified* v) {
@@ -203,6 +210,8 @@ std::vector<std::pair<std::string, std::string>> output_files(
   js["predicted_rapid_in_material_s"] = r.before.rapid_in_material_s;
   js["predicted_force_peak_in_rapid_N"] = r.before.rapid_peak;
   js["predicted_rapid_in_material_first_line"] = r.before.rapid_first_line;
+  js["predicted_blend_inside_max_mm"] = r.before.blend_inside_max_mm;
+  js["predicted_blend_inside_line"] = r.before.blend_inside_line;
   const auto lim = feed_limits(e, opt);
   js["limits"] = {{"force", r.limit},
                   {"power_W", e.rig.spindle.max_power_W},
@@ -257,6 +266,8 @@ std::vector<std::pair<std::string, std::string>> output_files(
                         " passes through material for " + num(r.before.rapid_in_material_s, 3) +
                         " s, up to " + num(r.before.rapid_peak, 4) + " " + unit +
                         ": feeds cannot help there; the program's path must change.");
+  if (r.before.blend_inside_max_mm > 0.01)
+    rep.notes.push_back(blend_note(r.before));
   if (r.splits_dropped)
     rep.notes.push_back(
         "The pieces of split lines did not follow the original path when "

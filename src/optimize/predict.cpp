@@ -186,7 +186,19 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
     const bool rapid_blend = b.kind == CanonMove::Kind::Traverse;
     double feed = plan[h.mi][h.pi].feed;
     if (!b.per_rev && !rapid_blend) feed = std::max(feed, plan[g.mi][g.pi].feed);
+    const std::size_t first = s.depth.size();
     walk(g.next.arc, 0.0, 1.0, feed, g.next.v_max_mm_s, rapid_blend, h.mi, h.pi);
+    bool in_cut = false;
+    for (std::size_t i = first; i < s.depth.size(); ++i) in_cut = in_cut || s.depth[i] > 0.0;
+    if (in_cut) {  // how far inside the programmed corner (the end of segment k) it cuts
+      const auto [px, pz] = point_at(m, g.u1);
+      const double r = std::hypot(g.next.arc.x0 - g.next.arc.xc, g.next.arc.z0 - g.next.arc.zc);
+      const double inside = std::hypot(px - g.next.arc.xc, pz - g.next.arc.zc) - r;
+      if (inside > pr.blend_inside_max_mm) {
+        pr.blend_inside_max_mm = inside;
+        pr.blend_inside_line = m.line;
+      }
+    }
   }
   return pr;
 }
