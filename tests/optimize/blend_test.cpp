@@ -36,6 +36,14 @@ CanonMove arc(double x0, double z0, double x1, double z1, double xc, double zc, 
 Corner corner(const CanonMove& a, const CanonMove& b) {
   return blend_corner({&a, 0.0, 1.0, move_length(a)}, {&b, 0.0, 1.0, move_length(b)}, Machine{});
 }
+// The corner a → b when `in` came before a: a keeps what the blend in → a left of it, as
+// LinuxCNC trims it before it plans the next corner.
+Corner corner_after(const CanonMove& in, const CanonMove& a, const CanonMove& b) {
+  const Corner first = corner(in, a);
+  EXPECT_TRUE(first.blended);
+  return blend_corner({&a, 0.0, 1.0, move_length(a) - first.trim_start_mm},
+                      {&b, 0.0, 1.0, move_length(b)}, Machine{});
+}
 // The largest distance of the blend arc from the programmed corner point P.
 double inside_at_corner(const Corner& c, double xp, double zp) {
   const double r = std::hypot(c.arc.x0 - c.arc.xc, c.arc.z0 - c.arc.zc);
@@ -70,10 +78,7 @@ TEST(Blend, ArcIntoLineIsWhereLinuxCncCut) {
   const auto in = line(16, 2, 16, -8);  // the G1 Z-8 whose blend trims the G2's start
   const auto a = arc(16, -8, 18, -20, 24.829259, -12.695123, -1);
   const auto b = line(18, -20, 18, -32);
-  const Corner first = corner(in, a);
-  ASSERT_TRUE(first.blended);
-  const Corner c = blend_corner({&a, 0.0, 1.0, move_length(a) - first.trim_start_mm},
-                                {&b, 0.0, 1.0, move_length(b)}, Machine{});
+  const Corner c = corner_after(in, a, b);
   ASSERT_TRUE(c.blended);
   EXPECT_NEAR(c.arc.xc, 4.177, 0.02);
   EXPECT_NEAR(c.arc.zc, -24.570, 0.02);
@@ -127,10 +132,7 @@ TEST(Blend, ArcIntoArcIsWhereLinuxCncCut) {
   const auto in = line(30, 5, 30, 0);  // "G1 Z0": its blend into the G3 trims the G3's start
   const auto a = arc(30, 0, 36, -6, 30, -6, 1);
   const auto b = arc(36, -6, 36, -18, 42, -12, -1);
-  const Corner first = corner(in, a);
-  ASSERT_TRUE(first.blended);
-  const Corner c = blend_corner({&a, 0.0, 1.0, move_length(a) - first.trim_start_mm},
-                                {&b, 0.0, 1.0, move_length(b)}, Machine{});
+  const Corner c = corner_after(in, a, b);
   ASSERT_TRUE(c.blended);
   EXPECT_NEAR(c.arc.xc, 34.1214, 0.01);
   EXPECT_NEAR(c.arc.zc, -5.3462, 0.01);
