@@ -172,7 +172,7 @@ TEST(SdChart, HigherOrderInterpolationConvergesFaster) {
 // steps per delay not capped below 7 per period.
 TEST(SdChart, SlowHighFrequencyMachineAgreesWithFrequencyDomain) {
   const auto in = lathectl::b_chatter::load_lobes_input(
-      std::string(LATHECTL_SOURCE_DIR) + "/examples/machines/b_slow_high_freq.toml");
+      LATHECTL_SOURCE_DIR "/examples/machines/b_slow_high_freq.toml");
   const auto fd =
       frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm, in.max_lobes, 40000);
   const double top = 4.0 * fd.critical_depth_m;
@@ -197,8 +197,8 @@ TEST(SdChart, SlowHighFrequencyMachineAgreesWithFrequencyDomain) {
 // the scan over every lobe segment gives: at 401 speeds of b_part's 60 dense lobes, at the
 // lobe points' own speeds (shared ends of two segments) and outside the range.
 TEST(Lobes, IndexedEnvelopeEqualsScan) {
-  const auto in = lathectl::b_chatter::load_lobes_input(std::string(LATHECTL_SOURCE_DIR) +
-                                                        "/examples/machines/b_part.toml");
+  const auto in =
+      lathectl::b_chatter::load_lobes_input(LATHECTL_SOURCE_DIR "/examples/machines/b_part.toml");
   const auto fd = frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm, in.max_lobes, 40000);
   ASSERT_FALSE(fd.envelope_runs.empty());
   auto scan = fd;
