@@ -26,15 +26,34 @@ cp tests/optimize/canon_example.txt "$work/canon/"
 # An operation log lathectl_oplog wrote in a LinuxCNC session, and two runs' summary.json.
 cp tests/cli/operations_two_tool.json tests/golden/summaries/{c_csv_template,a_regulator_flow}.json \
   "$work/json_file/"
-for target in "${targets[@]}"; do
+# One target per core at a time: each libFuzzer run is single-threaded.
+fuzz_one() {
+  local target=$1 seconds=$SECONDS_PER_TARGET
   # The CSV, canonical-command and JSON readers are small grammars: a quarter of the time covers
   # them (make test: 5 s each).
-  seconds=$SECONDS_PER_TARGET
   [[ $target == channels_csv || $target == canon || $target == json_file ]] &&
     seconds=$(((SECONDS_PER_TARGET + 3) / 4))
-  echo "fuzz: ${target}_fuzz for ${seconds} s"
   ./build/fuzz/fuzz/${target}_fuzz -max_total_time="$seconds" -max_len=16384 \
     -timeout=10 -rss_limit_mb=4096 -print_final_stats=0 "$work/$target" \
-    -artifact_prefix=build/fuzz/ 2>&1 | tail -n 2
+    -artifact_prefix=build/fuzz/${target}- >"$work/$target.log" 2>&1
+  echo $? >"$work/$target.rc"
+}
+export -f fuzz_one
+export SECONDS_PER_TARGET work
+rm -f "$work"/*.rc
+printf '%s\n' "${targets[@]}" | xargs -P "$(nproc)" -I{} bash -c 'fuzz_one {}'
+failed=0
+for target in "${targets[@]}"; do
+  if [[ $(cat "$work/$target.rc" 2>/dev/null) != 0 ]]; then
+    echo "fuzz: ${target}_fuzz failed ($work/$target.log):" >&2
+    tail -n 40 "$work/$target.log" >&2
+    failed=1
+  else
+    echo "fuzz: ${target}_fuzz: $(tail -n 1 "$work/$target.log")"
+  fi
 done
+if ((failed)); then
+  echo "fuzz: a target failed; its input is in build/fuzz/<target>-crash-* (rerun the target on it)" >&2
+  exit 1
+fi
 echo "fuzz: no crashes"
