@@ -89,8 +89,18 @@ def wait(pred, timeout, what, stat, err=None):
             break
         said.append(e[1])
     fail("timed out waiting for %s (task mode %s, state %s, interp %s, exec %s, line %s%s)" % (
-        what, stat.task_mode, stat.task_state, stat.interp_state, stat.exec_state,
+        what, stat.task_mode, stat.task_state, stat.interp_state, exec_state(stat.exec_state),
         stat.motion_line, "; LinuxCNC said: " + "; ".join(said) if said else ""))
+
+
+# What task waits for: EMC_TASK_EXEC_ENUM (src/emc/nml_intf/emc.hh; 6 is not used).
+EXEC_STATES = {1: "error", 2: "done", 3: "waiting for motion", 4: "waiting for the motion queue",
+               5: "waiting for io", 7: "waiting for motion and io", 8: "waiting for a delay",
+               9: "waiting for a system command", 10: "waiting for the spindle to orient"}
+
+
+def exec_state(value):
+    return "%s (%s)" % (value, EXEC_STATES.get(value, "?"))
 
 
 def realtime_servo_thread():
@@ -103,7 +113,13 @@ def realtime_servo_thread():
         return
     for pid in subprocess.run(["pgrep", "-x", "rtapi_app"], capture_output=True,
                               text=True).stdout.split():
-        for tid in os.listdir("/proc/%s/task" % pid):
+        try:
+            # (an rtapi_app that a halcmd started to hand the master one command may have ended
+            # since pgrep saw it: found under load, where it failed 1 session in 20)
+            tids = os.listdir("/proc/%s/task" % pid)
+        except OSError:
+            continue
+        for tid in tids:
             try:
                 name = open("/proc/%s/task/%s/comm" % (pid, tid)).read().strip()
                 if ":T#" in name:
@@ -255,10 +271,9 @@ def main():
                                   (stat.motion_line - line_offset))
                     break
             if time.monotonic() - t0 > timeout_s:
-                # Where LinuxCNC waits (exec state: 2 motion, 3 motion queue, 4 io, 5 motion and
-                # io, 6 delay, 7 system command, 8 spindle oriented), before the abort clears it.
+                # Where LinuxCNC waits, before the abort clears it.
                 state = "interp %s, exec %s, queue %s, motion line %s, current line %s" % (
-                    stat.interp_state, stat.exec_state, stat.queue, stat.motion_line,
+                    stat.interp_state, exec_state(stat.exec_state), stat.queue, stat.motion_line,
                     stat.current_line)
                 cmd.abort()
                 cmd.wait_complete()
