@@ -140,7 +140,8 @@ Corner blend_corner(const Segment& sa, const Segment& sb, const Machine& mc) {
   const V P{a.x1, a.z1};
   const V t1 = tangent(a, true), t2 = tangent(b, false);
   const double theta_tan = std::acos(std::clamp(-dot(t1, t2), -1.0, 1.0)) / 2.0;
-  if (kPi / 2.0 - theta_tan < 1e-6 || theta_tan < 1e-6) return out;  // tangent, or a reversal
+  out.reversal = theta_tan < 1e-6;
+  if (kPi / 2.0 - theta_tan < 1e-6 || out.reversal) return out;  // tangent, or a reversal
 
   Params p;
   p.a_max = mc.accel_mm_s2;  // calculateInscribedDiameter in the XZ plane: min(a_x, a_z)

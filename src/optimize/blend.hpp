@@ -41,6 +41,7 @@ struct Segment {
 
 struct Corner {
   bool blended = false;
+  bool reversal = false;       // the path turns back on itself: the planner stops there
   double trim_end_mm = 0.0;    // cut off the end of the first segment
   double trim_start_mm = 0.0;  // cut off the start of the second
   io::CanonMove arc;           // the blend arc, with the second segment's modal state

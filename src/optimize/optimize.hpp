@@ -91,7 +91,10 @@ struct MoveStats {  // per move and piece
 };
 struct Prediction {
   Samples s;
-  double cycle_time_s = 0.0;
+  double cycle_time_s = 0.0;  // the samples' time plus accel_time_s
+  // What the planner's acceleration (trapezoidal, from and to the stops and slower segments)
+  // adds to the cycle; in cycle_time_s, not in the samples nor the per-block times.
+  double accel_time_s = 0.0;
   double life_use = 0.0;  // share of the tool's life (Palmgren–Miner)
   double rapid_in_material_s = 0.0;
   double rapid_peak = 0.0;
@@ -103,6 +106,20 @@ struct Prediction {
 };
 Prediction predict(const io::CanonProgram& prog, const Plan& plan,
                    const systems::e_adaptive::Settings& e, const Options& opt);
+
+// The planner's velocity profile over a program's legs (segments and blend arcs, in order):
+// each run at its velocity v [mm/s] over len [mm] with acceleration a [mm/s²]; stop_after: the
+// planner stops at its end.
+struct Leg {
+  double len, v, a;
+  bool stop_after;
+};
+// The time of one leg entered at v0 and left at v1 (≤ v): a trapezoid, or a triangle when it
+// is too short to reach v.
+double leg_time(double len, double v, double v0, double v1, double a);
+// What accelerating and braking add to Σ len / v over the legs: from rest at the start, to rest
+// at the end and at every stop, and between legs of different velocities.
+double acceleration_time(const std::vector<Leg>& legs);
 
 struct LineAction {
   enum class Kind { None, Keep, Feed, Split, Expand };

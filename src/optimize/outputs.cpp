@@ -173,6 +173,8 @@ std::vector<std::pair<std::string, std::string>> output_files(
   js["force_limit_N"] = r.limit;
   js["predicted_cycle_time_original_s"] = r.before.cycle_time_s;
   js["predicted_cycle_time_optimized_s"] = r.after.cycle_time_s;
+  js["predicted_accel_time_original_s"] = r.before.accel_time_s;
+  js["predicted_accel_time_optimized_s"] = r.after.accel_time_s;
   js["predicted_force_peak_rev_original_N"] = feed_peak(prog, r.before.s, rev0);
   js["predicted_force_peak_rev_optimized_N"] = feed_peak(prog, r.after.s, rev1);
   js["cycle_time_original_s"] = vo ? vo->cycle_time_s : r.before.cycle_time_s;

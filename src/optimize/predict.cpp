@@ -1,8 +1,10 @@
 // Prediction: the program's moves run through sim::LathePlant — the cutting process of the
 // LinuxCNC plant component — at LinuxCNC's servo period (1 ms, hal/config/lathectl-lathe.ini),
-// the tool moving along each move at its programmed velocity (no acceleration phases: a move's
-// time is length / velocity), with LinuxCNC's G64 blend arcs at the corners (blend.hpp): the
-// path the tool takes there, at the feed LinuxCNC runs it.
+// the tool moving along each move at its programmed velocity, with LinuxCNC's G64 blend arcs at
+// the corners (blend.hpp): the path the tool takes there, at the feed LinuxCNC runs it. The time
+// the planner loses accelerating out of a stop and braking into one or into a slower segment is
+// added to the cycle (accel_time_s), not to the samples: at the lower speed the chip, and so
+// the force, is only smaller.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -68,6 +70,7 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
     double u0, u1, len;                 // share of the move, and the piece's length
     double trim0 = 0.0, trim1 = 0.0;    // cut off its start / end by the blends
     Corner next;                        // the blend into the next segment
+    bool stop_after = true;             // the planner stops at its end
   };
   std::vector<Seg> segs;
   for (std::size_t mi = 0; mi < prog.moves.size(); ++mi) {
@@ -95,6 +98,10 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
     const Segment sa{&a, segs[k].u0, segs[k].u1, segs[k].len - segs[k].trim0};
     const Segment sb{&b, segs[k + 1].u0, segs[k + 1].u1, segs[k + 1].len};
     Corner c = blend_corner(sa, sb, opt.machine);
+    // Blended or not, the planner runs on through a corner it may blend (tangent pieces of a
+    // split move, a kink it takes as tangent, a parabolic blend where no arc fits), except
+    // where the path turns back.
+    segs[k].stop_after = c.reversal;
     if (!c.blended || c.trim_end_mm > segs[k].len - segs[k].trim0) continue;
     segs[k].trim1 = c.trim_end_mm;
     segs[k + 1].trim0 = c.trim_start_mm;
@@ -170,13 +177,29 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
     }
   };
   const double no_cap = std::numeric_limits<double>::infinity();
+  // What the planner's velocity profile needs of each walked leg (a segment or a blend arc).
+  std::vector<Leg> legs;
+  legs.reserve(2 * segs.size());
+  auto leg = [&](const CanonMove& m, double len_mm, double t0, bool stop_after) {
+    const double t = pr.cycle_time_s - t0;
+    if (!(len_mm > 1e-9) || !(t > 0.0)) {  // nothing left of it: its stop is the previous leg's
+      if (stop_after && !legs.empty()) legs.back().stop_after = true;
+      return;
+    }
+    // [TRAJ]MAX_LINEAR_ACCELERATION along a line; on a circle half of it is left for the
+    // tangent (tc.c tcGetTangentialMaxAccel, BLEND_ACC_RATIO_TANGENTIAL).
+    const double a = opt.machine.accel_mm_s2 * (m.kind == CanonMove::Kind::Arc ? 0.5 : 1.0);
+    legs.push_back({len_mm, len_mm / t, a, stop_after});
+  };
   for (std::size_t k = 0; k < segs.size(); ++k) {
     const Seg& g = segs[k];
     const CanonMove& m = prog.moves[g.mi];
     const double len = move_length(m);
     const bool traverse = m.kind == CanonMove::Kind::Traverse;
+    const double t0 = pr.cycle_time_s;
     walk(m, g.u0 + g.trim0 / len, g.u1 - g.trim1 / len, plan[g.mi][g.pi].feed, no_cap, traverse,
          g.mi, g.pi);
+    leg(m, g.len - g.trim0 - g.trim1, t0, g.stop_after || k + 1 == segs.size());
     if (!g.next.blended) continue;
     // The blend arc runs with the next segment's state (tp.c, tcSetupState): its feed per
     // revolution when synchronised, else the larger requested velocity; at most v_plan. Its
@@ -187,7 +210,9 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
     double feed = plan[h.mi][h.pi].feed;
     if (!b.per_rev && !rapid_blend) feed = std::max(feed, plan[g.mi][g.pi].feed);
     const std::size_t first = s.depth.size();
+    const double t_arc = pr.cycle_time_s;
     walk(g.next.arc, 0.0, 1.0, feed, g.next.v_max_mm_s, rapid_blend, h.mi, h.pi);
+    leg(g.next.arc, move_length(g.next.arc), t_arc, false);
     bool in_cut = false;
     for (std::size_t i = first; i < s.depth.size(); ++i) in_cut = in_cut || s.depth[i] > 0.0;
     if (in_cut) {  // how far inside the programmed corner (the end of segment k) it cuts
@@ -200,7 +225,35 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
       }
     }
   }
+  pr.accel_time_s = acceleration_time(legs);
+  pr.cycle_time_s += pr.accel_time_s;
   return pr;
+}
+
+double leg_time(double len, double v, double v0, double v1, double a) {
+  const double vp = std::min(v, std::sqrt((2.0 * a * len + v0 * v0 + v1 * v1) / 2.0));
+  const double d_acc = (vp * vp - v0 * v0) / (2.0 * a);
+  const double d_dec = (vp * vp - v1 * v1) / (2.0 * a);
+  return (vp - v0) / a + (vp - v1) / a + std::max(len - d_acc - d_dec, 0.0) / vp;
+}
+
+double acceleration_time(const std::vector<Leg>& legs) {
+  // The velocity at each junction: at most both legs' velocities, 0 at a stop, and what
+  // accelerating forward and braking backward allow (the planner's look-ahead).
+  const std::size_t n = legs.size();
+  std::vector<double> b(n + 1, 0.0);
+  for (std::size_t k = 0; k < n; ++k)
+    b[k + 1] = legs[k].stop_after || k + 1 == n
+                   ? 0.0
+                   : std::min({legs[k].v, legs[k + 1].v,
+                               std::sqrt(b[k] * b[k] + 2.0 * legs[k].a * legs[k].len)});
+  for (std::size_t k = n; k-- > 0;)
+    b[k] = std::min(b[k], std::sqrt(b[k + 1] * b[k + 1] + 2.0 * legs[k].a * legs[k].len));
+  double extra = 0.0;
+  for (std::size_t k = 0; k < n; ++k)
+    extra += leg_time(legs[k].len, legs[k].v, b[k], b[k + 1], legs[k].a) -
+             legs[k].len / legs[k].v;
+  return extra;
 }
 
 }  // namespace lathectl::optimize
