@@ -219,9 +219,10 @@ def main():
         wait(lambda s: s.interp_state != linuxcnc.INTERP_IDLE, 30, "program start", stat, err)
         hold_since = None
         aborted = timed_out = task_exited = False
-        # LinuxCNC's task process: seen gone in the middle of a program under heavy load (no
-        # segfault in the kernel log; LinuxCNC's own Cleanup kills every `milltask` by name).
-        # Without it the status stays frozen at its last value, so it is watched directly.
+        # LinuxCNC's task process: gone in the middle of a program when LinuxCNC's standalone
+        # rs274 ran as the same user (2.9 ≤ 2.9.10: it truncates $HOME/.tool.mmap, the session's
+        # tool table, and milltask dies of SIGBUS; LinuxCNC pull request 4385). Without it the
+        # status stays frozen at its last value, so it is watched directly.
         try:
             task_pids = [int(p) for p in subprocess.run(["pidof", "milltask"], capture_output=True,
                                                         text=True).stdout.split()]
@@ -267,8 +268,9 @@ def main():
                 if not any(os.path.exists("/proc/%d" % p) for p in task_pids):
                     task_exited = True
                     errors.append("LinuxCNC's task process (milltask) exited during the program "
-                                  "(motion line %d); the run is incomplete" %
-                                  (stat.motion_line - line_offset))
+                                  "(motion line %d); the run is incomplete (was LinuxCNC's "
+                                  "rs274 run as this user meanwhile? it truncates "
+                                  "$HOME/.tool.mmap)" % (stat.motion_line - line_offset))
                     break
             if time.monotonic() - t0 > timeout_s:
                 # Where LinuxCNC waits, before the abort clears it.

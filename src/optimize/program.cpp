@@ -85,7 +85,14 @@ io::CanonProgram interpret(const std::vector<std::string>& lines, const std::str
   }
   const fs::path ini = opt.ini;
   const fs::path tbl = ini.parent_path() / "lathectl-lathe.tbl";
-  std::string cmd = shell_quote(opt.rs274) + " -g";
+  // HOME: LinuxCNC 2.9's standalone interpreter creates its tool table as a shared map at
+  // $HOME/.tool.mmap, truncating the file (tooldata_mmap.cc, O_TRUNC), before it reads its
+  // options — the file a LinuxCNC running as the same user has mapped (io, milltask, halui). That
+  // session's tool table becomes rs274's, and its task process (milltask) may die of SIGBUS in
+  // the middle of a part, with nothing in the kernel log: 3 runs of rs274 beside a session did
+  // it here (the "stalls" of the LinuxCNC tests). Fixed upstream after 2.9.10 (LinuxCNC pull
+  // request 4385: sai gets a private file); Debian 12 ships 2.9.0~pre1. Here it gets its own.
+  std::string cmd = "HOME=" + shell_quote(tmp.path.string()) + " " + shell_quote(opt.rs274) + " -g";
   if (!opt.ini.empty())
     cmd += " -i " + shell_quote(ini.string()) + " -t " + shell_quote(tbl.string());
   cmd += " -v " + shell_quote((tmp.path / "program.var").string()) + " " +

@@ -113,8 +113,9 @@ VerifyRun run_sim_once(const std::string& name, const std::string& text, bool of
 }
 
 // A run whose LinuxCNC task process exited in the middle (linuxcnc_sim_display.py's
-// "task_exited": seen under heavy load, not reproduced on an idle machine) is run once more; the
-// summary says so (verify.<run>.retried).
+// "task_exited") is run once more; the summary says so (verify.<run>.retried). The cause found:
+// LinuxCNC's standalone rs274 run as the same user beside the session (program.cpp, which now
+// gives its own rs274 a HOME of its own; another program's, or one run by hand, still can).
 VerifyRun run_sim(const std::string& name, const std::string& text, bool off, const Options& opt,
                   const VerifyOptions& v, const fs::path& dir, double dt_s) {
   VerifyRun run = run_sim_once(name, text, off, opt, v, dir, dt_s);

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # lathectl optimize's bad inputs (issue 15): a program LinuxCNC's interpreter rejects, a program
 # whose tool never touches the blank, a scenario of another system — each exits 2 with one line
-# on stderr naming the file, and leaves no output directory. Skips (77) without LinuxCNC's rs274.
+# on stderr naming the file, and leaves no output directory; and it leaves the user's
+# $HOME/.tool.mmap alone. Skips (77) without LinuxCNC's rs274.
 set -uo pipefail
 bin=$1 src=$2 work=$3
 command -v rs274 >/dev/null || { echo "rs274 (linuxcnc-uspace) not installed: skipped"; exit 77; }
@@ -40,4 +41,16 @@ expect_bad no_centre "$src/examples/linuxcnc/cautious_roughing.ngc" "$work/no_ce
 { cat "$src/examples/linuxcnc/step_allowance.toml"; printf '\n[chatter]\n'; } >"$work/no_modes.toml"
 expect_bad no_modes "$src/examples/linuxcnc/cautious_roughing.ngc" "$work/no_modes.toml" \
   "no_modes.toml:.*chatter"
+# LinuxCNC's rs274 (2.9 ≤ 2.9.10) recreates $HOME/.tool.mmap, truncated: the tool table of a
+# LinuxCNC session of the same user, which then runs on with rs274's table or loses its task
+# process mid-part. lathectl runs it with a HOME of its own: the user's is left alone.
+mkdir -p "$work/home"
+if HOME="$work/home" "$bin" optimize "$src/examples/linuxcnc/cautious_roughing.ngc" \
+     "$src/examples/linuxcnc/step_allowance.toml" --out "$work/home_run" >"$work/home.out" 2>&1 &&
+   [ ! -e "$work/home/.tool.mmap" ]; then
+  echo "ok   rs274 left \$HOME/.tool.mmap alone"
+else
+  echo "FAIL rs274 and \$HOME/.tool.mmap: $(ls -A "$work/home") $(tail -n 1 "$work/home.out")"
+  fail=1
+fi
 exit $fail
