@@ -128,6 +128,21 @@ bool tangent_to_line_and_circle(V P, V u, V n, V C, double d, double R, double& 
   return true;
 }
 
+// blendInit3From{Line,}Arc / ArcLine / ArcArc, an arc's side of the corner: the angle the blend
+// may take of it (`share`: two thirds of what is left of the first arc, a third of the second;
+// at most the corner's half angle when the arc is convex), the corner angle that leaves
+// (`theta`, lowered), and the length along the arc it offers.
+double arc_side(bool convex, double share, double theta_tan, double r, double& theta) {
+  const double phi_max = std::min(share, convex ? theta_tan : kPi / 2.0);
+  if (convex) theta = std::min(theta, theta_tan - phi_max / 4.0);
+  return convex ? std::sin(phi_max / 4.0) * r : phi_max * r;
+}
+
+// findTrimAngle: the angle at the arc's centre C between the corner P and the blend's centre.
+double trim_angle(V P, V C, V centre) {
+  return std::acos(std::clamp(dot(unit(P - C), unit(centre - C)), -1.0, 1.0));
+}
+
 }  // namespace
 
 Corner blend_corner(const Segment& sa, const Segment& sb, const Machine& mc) {
@@ -171,28 +186,18 @@ Corner blend_corner(const Segment& sa, const Segment& sb, const Machine& mc) {
     const V C1{a.xc, a.zc}, C2{b.xc, b.zc};
     convex = dot(P - C1, t2) < 0.0;
     convex2 = !(dot(P - C2, t1) < 0.0);
-    const double phi1_max = std::min(sweep_a * 2.0 / 3.0, convex ? theta_tan : kPi / 2.0);
-    const double phi2_max =
-        std::min(std::abs(arc_sweep(b)) / 3.0, convex2 ? theta_tan : kPi / 2.0);
-    if (convex) p.theta = std::min(p.theta, theta_tan - phi1_max / 4.0);
-    if (convex2) p.theta = std::min(p.theta, theta_tan - phi2_max / 4.0);
+    p.L1 = arc_side(convex, sweep_a * 2.0 / 3.0, theta_tan, radius(a), p.theta);
+    p.L2 = arc_side(convex2, std::abs(arc_sweep(b)) / 3.0, theta_tan, radius(b), p.theta);
     if (p.theta < kPi / 12.0) return out;
-    p.L1 = convex ? std::sin(phi1_max / 4.0) * radius(a) : phi1_max * radius(a);
-    p.L2 = convex2 ? std::sin(phi2_max / 4.0) * radius(b) : phi2_max * radius(b);
   } else if (arc_b) {  // blendInit3FromLineArc
     const V C2{b.xc, b.zc};
     convex = !(dot(P - C2, t1) < 0.0);  // arcConvexTest(..., reverse_dir = true)
-    const double angle = std::abs(arc_sweep(b));
-    const double phi2_max = std::min(angle / 3.0, convex ? theta_tan : kPi / 2.0);
-    if (convex) p.theta = std::min(p.theta, theta_tan - phi2_max / 4.0);
     p.L1 = std::min(left_a, 0.5 * len_a);
-    p.L2 = convex ? std::sin(phi2_max / 4.0) * radius(b) : phi2_max * radius(b);
+    p.L2 = arc_side(convex, std::abs(arc_sweep(b)) / 3.0, theta_tan, radius(b), p.theta);
   } else {  // blendInit3FromArcLine
     const V C1{a.xc, a.zc};
     convex = dot(P - C1, t2) < 0.0;  // arcConvexTest(..., reverse_dir = false)
-    const double phi1_max = std::min(sweep_a * 2.0 / 3.0, convex ? theta_tan : kPi / 2.0);
-    if (convex) p.theta = std::min(p.theta, theta_tan - phi1_max / 4.0);
-    p.L1 = convex ? std::sin(phi1_max / 4.0) * radius(a) : phi1_max * radius(a);
+    p.L1 = arc_side(convex, sweep_a * 2.0 / 3.0, theta_tan, radius(a), p.theta);
     p.L2 = 0.5 * len_b;
   }
   p.phi = kPi - 2.0 * p.theta;
@@ -234,10 +239,8 @@ Corner blend_corner(const Segment& sa, const Segment& sb, const Machine& mc) {
     const V plus = c1 + std::sqrt(Cy2) * nc, minus = c1 - std::sqrt(Cy2) * nc;
     centre = norm(minus - P) < norm(plus - P) ? minus : plus;  // the solution nearer P
     if (norm(centre - P) - p.R_plan > p.tolerance) return out;
-    out.trim_end_mm =
-        std::acos(std::clamp(dot(unit(P - C1), unit(centre - C1)), -1.0, 1.0)) * radius(a);
-    out.trim_start_mm =
-        std::acos(std::clamp(dot(unit(P - C2), unit(centre - C2)), -1.0, 1.0)) * radius(b);
+    out.trim_end_mm = trim_angle(P, C1, centre) * radius(a);
+    out.trim_start_mm = trim_angle(P, C2, centre) * radius(b);
   } else if (arc_b) {  // blendLineArcPostProcess
     const V n1 = cross(t1, t2) > 0.0 ? V{-t1.z, t1.x} : V{t1.z, -t1.x};
     const V C2{b.xc, b.zc};
@@ -247,9 +250,7 @@ Corner blend_corner(const Segment& sa, const Segment& sb, const Machine& mc) {
     centre = P - d_L * t1 + p.R_plan * n1;
     if (norm(centre - P) - p.R_plan > p.tolerance) return out;
     out.trim_end_mm = d_L;
-    const double ang =
-        std::acos(std::clamp(dot(unit(P - C2), unit(centre - C2)), -1.0, 1.0));  // findTrimAngle
-    out.trim_start_mm = ang * radius(b);
+    out.trim_start_mm = trim_angle(P, C2, centre) * radius(b);
   } else {  // blendArcLinePostProcess
     const V n2 = cross(t1, t2) > 0.0 ? V{-t2.z, t2.x} : V{t2.z, -t2.x};
     const V C1{a.xc, a.zc};
@@ -259,8 +260,7 @@ Corner blend_corner(const Segment& sa, const Segment& sb, const Machine& mc) {
     centre = P + d_L * t2 + p.R_plan * n2;
     if (norm(centre - P) - p.R_plan > p.tolerance) return out;
     out.trim_start_mm = d_L;
-    const double ang = std::acos(std::clamp(dot(unit(P - C1), unit(centre - C1)), -1.0, 1.0));
-    out.trim_end_mm = ang * radius(a);
+    out.trim_end_mm = trim_angle(P, C1, centre) * radius(a);
   }
   if (!(out.trim_end_mm < len_a) || !(out.trim_start_mm < len_b)) return out;
   const double ua = 1.0 - out.trim_end_mm / len_a, ub = out.trim_start_mm / len_b;

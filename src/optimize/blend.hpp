@@ -3,8 +3,9 @@
 // planner computes it: the blend arc tangent to both, the length it trims off each, its velocity
 // limit. A 2-D port (the XZ plane) of LinuxCNC 2.9's src/emc/tp/blendmath.c
 // (blendInit3FromLineLine / …LineArc / …ArcLine / …ArcArc, blendComputeParameters,
-// blendFindPoints3, blendLineArcPostProcess, blendArcLinePostProcess, blendArcArcPostProcess) and tc.c (tcFindBlendTolerance,
-// tcGetMaxTargetVel), the version Debian 12 ships (2.9.0~pre1, git f1270d6ed7).
+// blendFindPoints3, blendLineArcPostProcess, blendArcLinePostProcess, blendArcArcPostProcess)
+// and tc.c (tcFindBlendTolerance, tcGetMaxTargetVel), the version Debian 12 ships (2.9.0~pre1,
+// git f1270d6ed7).
 //
 // Why it matters: under G95 LinuxCNC plans the blend for the segments' maximum velocity
 // (tcGetMaxTargetVel: a spindle-synchronised segment's target is its maxvel, 80 mm/s in the

@@ -85,9 +85,9 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
     const CanonMove& a = prog.moves[segs[k].mi];
     const CanonMove& b = prog.moves[segs[k + 1].mi];
     // Which corners LinuxCNC blends, as measured in the simulated lathe: two feed moves of one
-    // feed mode, or two rapids, in G64. Between a rapid and a feed move it passed through the
-    // corner, in G95 (profile_arcs.ngc: G0 X16 Z2 → G1 Z-8 stops there) and in G94 alike
-    // (lathe_g70_71_demo.ngc: 60 such corners, all within 5 µm).
+    // feed mode, or two rapids, in G64. Between a rapid and a feed move it did not blend: the
+    // tool went through the programmed corner, in G95 (profile_arcs.ngc: G0 X16 Z2 → G1 Z-8
+    // stops there) and in G94 alike (lathe_g70_71_demo.ngc: 60 such corners, all within 5 µm).
     const bool same_kind = a.kind == CanonMove::Kind::Traverse
                                ? b.kind == CanonMove::Kind::Traverse
                                : b.kind != CanonMove::Kind::Traverse && a.per_rev == b.per_rev;
