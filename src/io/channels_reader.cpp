@@ -9,6 +9,7 @@
 #include <system_error>
 
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/input_file.hpp"
 
 namespace lathectl::io {
 namespace {
@@ -86,6 +87,7 @@ ChannelTable read_channels_csv(std::istream& in, const std::string& file) {
 }
 
 ChannelTable read_channels_csv(const std::filesystem::path& file) {
+  check_input_file(file, "a channels.csv", kMaxCsvBytes);
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string() + ": cannot read");
   return read_channels_csv(in, file.string());

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/input_file.hpp"
 
 namespace lathectl::io {
 
@@ -178,12 +179,7 @@ JsonFile::JsonFile(std::string file, std::string_view text) : file_(std::move(fi
 }
 
 JsonFile JsonFile::read(const std::filesystem::path& file, const std::string& what) {
-  std::ifstream f(file, std::ios::binary);
-  if (!f) throw InputError(file.string() + ": cannot read " + what);
-  std::ostringstream s;
-  s << f.rdbuf();
-  if (f.bad()) throw InputError(file.string() + ": cannot read " + what);
-  return JsonFile(file.string(), s.str());
+  return JsonFile(file.string(), read_input_file(file, what, kMaxJsonBytes));
 }
 
 std::string JsonFile::locate(const std::string& key, const std::string& message) const {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/input_file.hpp"
 #include "lathectl/io/sections.hpp"
 #include "lathectl/io/toml_reader.hpp"
 #include "lathectl/sim/config_error.hpp"
@@ -13,14 +14,7 @@
 namespace lathectl::io {
 
 std::string read_scenario_text(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw InputError(path + ": is a directory, expected a scenario file (.toml)");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open scenario file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  return read_input_file(path, "a scenario file (.toml)", kMaxTomlBytes);
 }
 
 namespace {

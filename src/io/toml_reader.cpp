@@ -1,5 +1,7 @@
 #include "lathectl/io/toml_reader.hpp"
 
+#include "lathectl/io/input_file.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -131,14 +133,7 @@ TomlDocument TomlDocument::parse(std::string_view text, const std::string& file_
 }
 
 TomlDocument TomlDocument::parse_file(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw InputError(path + ": is a directory, expected a TOML file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse(ss.str(), path);
+  return parse(read_input_file(path, "a TOML file", kMaxTomlBytes), path);
 }
 
 TableReader::TableReader(const toml::table& table, std::string file, std::string prefix,

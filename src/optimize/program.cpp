@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/input_file.hpp"
 #include "optimize/optimize.hpp"
 #include "optimize/text.hpp"
 
@@ -109,8 +110,7 @@ io::CanonProgram interpret(const std::vector<std::string>& lines, const std::str
 }
 
 Program read_program(const std::string& path, const Options& opt) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f || fs::is_directory(path)) throw io::InputError(path + ": cannot read the program");
+  std::istringstream f(io::read_input_file(path, "an NC program", io::kMaxProgramBytes));
   Program p;
   p.file = path;
   for (std::string l; std::getline(f, l);) {
