@@ -220,6 +220,18 @@ int compare(const std::vector<std::string>& dirs, const std::string& out) {
       throw io::InputError("--out " + out + ": is one of the runs compared; choose another");
   std::vector<Run> runs;
   for (const std::string& d : dirs) runs.push_back(read_run(d));
+  // Runs of different systems share no claims and hardly a metric or channel: a comparison of them
+  // would be a page of "—". Say so instead.
+  auto system_of = [](const Run& r) {
+    const auto it = r.summary.find("system");
+    return it != r.summary.end() && it->is_string() ? it->get<std::string>() : std::string("?");
+  };
+  for (std::size_t i = 1; i < runs.size(); ++i)
+    if (system_of(runs[i]) != system_of(runs[0]))
+      throw io::InputError("compare: " + runs[0].label + " is a run of system " +
+                           system_of(runs[0]) + ", " + runs[i].label + " of system " +
+                           system_of(runs[i]) +
+                           ": compare runs of one system (the same claims, metrics and channels)");
   io::prepare_output_dir(out, "--out");
 
   json summary{{"runs", dirs}};

@@ -122,6 +122,12 @@ int demo(const std::string& out, const std::string& dir, const std::vector<std::
                           std::to_string(k) + " of " + std::to_string(n) + " scenarios");
         },
         std::max(1u, std::min(std::thread::hardware_concurrency(), 8u)));
+  } catch (const io::InputError&) {  // where the results go cannot take them (a full disk)
+    progress.finish();
+    throw;
+  } catch (const fs::filesystem_error&) {
+    progress.finish();
+    throw;
   } catch (const std::exception& e) {
     progress.finish();
     throw std::runtime_error(e.what());  // a run that fails is an internal failure (exit 1)

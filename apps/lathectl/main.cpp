@@ -5,6 +5,8 @@
 // and a claim not met, an alarm raised or a part not finished.
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
+#include <new>
 #include <iostream>
 #include <string>
 
@@ -54,6 +56,20 @@ int main(int argc, char** argv) {
       if (c.app->parsed()) return c.run();
   } catch (const io::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
+    return cli::kBadInput;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // Where the results were to go cannot take them (a full disk, a quota, a read-only or vanished
+    // directory): the user's to fix, like a bad --out. Nothing half written is left (the output
+    // sets are staged and removed on failure).
+    std::cerr << "error: " << e.path1().string() << ": " << e.code().message()
+              << (e.code() == std::errc::no_space_on_device
+                      ? " (free space on that file system, or choose another --out)"
+                      : "")
+              << "\n";
+    return cli::kBadInput;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "error: out of memory: the input asks for more than this machine has "
+                 "(lathectl check FILE estimates a run's size)\n";
     return cli::kBadInput;
   } catch (const std::exception& e) {
     std::cerr << "internal error: " << e.what() << "\n";

@@ -14,8 +14,10 @@
 #include <vector>
 
 #include "cli.hpp"
+#include "lathectl/io/channels_reader.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/operation_log.hpp"
+#include "lathectl/io/output.hpp"
 #include "lathectl/io/report.hpp"
 
 namespace lathectl::cli {
@@ -31,50 +33,37 @@ std::string fixed(double v, int digits) {
   return s.str();
 }
 
-// The recording of scripts/linuxcnc-sim, the columns the plots need (absent: no plots).
+// The recording of scripts/linuxcnc-sim, the columns the plots need: read by the reader
+// `lathectl compare` uses (io::read_channels_csv, fuzzed); absent, or a recording without these
+// columns: no plots. A recording that is there but malformed is an error naming its line.
 struct Signals {
   std::vector<double> t, load, limit, feed, line;
 };
 bool read_signals(const fs::path& csv, Signals& s) {
-  std::ifstream f(csv);
-  if (!f) return false;
-  std::string header;
-  if (!std::getline(f, header)) return false;
-  std::vector<std::string> cols;
-  {
-    std::stringstream h(header);
-    for (std::string c; std::getline(h, c, ',');) cols.push_back(c);
-  }
-  auto col = [&](const char* name) {
-    for (std::size_t i = 0; i < cols.size(); ++i)
-      if (cols[i] == name) return static_cast<long>(i);
-    return -1L;
+  std::error_code ec;
+  if (!fs::exists(csv, ec)) return false;
+  const io::ChannelTable table = io::read_channels_csv(csv);
+  auto col = [&](const char* name) -> const std::vector<double>* {
+    for (std::size_t i = 0; i < table.names.size(); ++i)
+      if (table.names[i] == name) return &table.columns[i];
+    return nullptr;
   };
-  const long it = col("time_s"), il = col("load"), im = col("limit"), ia = col("adaptive_feed"),
-             ip = col("program_line");
-  if (it < 0 || il < 0 || im < 0 || ia < 0 || ip < 0) return false;
-  std::vector<double> v(cols.size());
-  for (std::string line; std::getline(f, line);) {
-    std::stringstream r(line);
-    std::size_t i = 0;
-    for (std::string c; std::getline(r, c, ',') && i < v.size(); ++i) {
-      char* end = nullptr;
-      v[i] = std::strtod(c.c_str(), &end);
-    }
-    if (i != v.size()) continue;  // a torn last line
-    s.t.push_back(v[static_cast<std::size_t>(it)]);
-    s.load.push_back(v[static_cast<std::size_t>(il)]);
-    s.limit.push_back(v[static_cast<std::size_t>(im)]);
-    s.feed.push_back(v[static_cast<std::size_t>(ia)]);
-    s.line.push_back(v[static_cast<std::size_t>(ip)]);
-  }
-  return !s.t.empty();
+  const auto *t = col("time_s"), *load = col("load"), *limit = col("limit"),
+             *feed = col("adaptive_feed"), *line = col("program_line");
+  if (!t || !load || !limit || !feed || !line || t->empty()) return false;
+  s = {*t, *load, *limit, *feed, *line};
+  return true;
 }
 
 int report(const std::string& log_arg, const std::string& out_arg) {
   fs::path log = log_arg;
   if (fs::is_directory(log)) log /= "operations.json";
   if (!fs::exists(log)) throw io::InputError(log.string() + ": no such operation log");
+  // Where the report goes, checked before anything is read: never over a device (/dev/null), a
+  // directory, the log itself or a file lathectl did not write.
+  const fs::path out = out_arg.empty() ? log.parent_path() / "report.html" : fs::path(out_arg);
+  const fs::path signals = log.parent_path() / "signals.csv";
+  io::check_output_file(out, "--out", {log, signals});
   const io::OperationLog oplog =
       io::read_operation_log(io::JsonFile::read(log, "the operation log"));
   const std::string file = log.string();
@@ -142,7 +131,7 @@ int report(const std::string& log_arg, const std::string& out_arg) {
   r.plots.push_back({"Load per program line", "program line", "load [" + unit + "]",
                      {lim_s, mean_s, peak_s}, {}});
   Signals s;
-  if (read_signals(log.parent_path() / "signals.csv", s)) {
+  if (read_signals(signals, s)) {
     io::Plot p{"Load against the limit (LinuxCNC recording)", "time [s]", "load [" + unit + "]",
                {{"load", s.t, s.load, "", false, false}, {"limit", s.t, s.limit, "", true, false}},
                {}};
@@ -152,15 +141,7 @@ int report(const std::string& log_arg, const std::string& out_arg) {
     r.plots.push_back({"Adaptive feed (motion.adaptive-feed)", "time [s]", "factor of the program's",
                        {{"adaptive feed", s.t, s.feed, "", false, false}}, {}});
   }
-  const fs::path out = out_arg.empty() ? log.parent_path() / "report.html" : fs::path(out_arg);
-  const fs::path tmp = out.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    if (!f) throw io::InputError(out.string() + ": cannot write the report");
-    f << io::render_html(r);
-    if (!f) throw io::InputError(out.string() + ": cannot write the report");
-  }
-  fs::rename(tmp, out);
+  io::write_output_file(out, io::render_html(r), "--out", {log, signals});
   std::cout << ops.rows.size() << " operations, " << tools.size() << " tools, peak "
             << fixed(100.0 * worst, 1) << " % of the limit → " << out.string() << "\n";
   return 0;

@@ -82,12 +82,51 @@ fs::path parent_of(const fs::path& dir) {
   return dir.has_parent_path() ? dir.parent_path() : fs::path(".");
 }
 
+// The system's reason a write failed, for a message ("No space left on device").
+[[noreturn]] void write_failed(const fs::path& path, int err) {
+  throw InputError(path.string() + ": cannot write (" + std::strerror(err) + ")");
+}
+
+// `content` into a new file `path` by write(2), so that a full disk or a quota is reported as
+// itself (an ofstream only says that something failed). Returns 0, or the errno of the failure
+// (the partial file removed).
+int write_plain_errno(const fs::path& path, const std::string& content) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) return errno;
+  const char* p = content.data();
+  std::size_t left = content.size();
+  int err = 0;
+  while (left > 0) {
+    const ssize_t n = ::write(fd, p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      err = n < 0 ? errno : ENOSPC;
+      break;
+    }
+    p += n;
+    left -= static_cast<std::size_t>(n);
+  }
+  if (::close(fd) != 0 && err == 0) err = errno;
+  if (err != 0) {
+    std::error_code ec;
+    fs::remove(path, ec);
+  }
+  return err;
+}
+
 void write_plain(const fs::path& path, const std::string& content) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw fs::filesystem_error("cannot write", path, std::error_code(errno, std::generic_category()));
-  out.write(content.data(), static_cast<std::streamsize>(content.size()));
-  out.flush();
-  if (!out) throw fs::filesystem_error("write failed", path, std::make_error_code(std::errc::io_error));
+  if (const int err = write_plain_errno(path, content)) write_failed(path, err);
+}
+
+// The first bytes of a file (at most n).
+std::string head_of(const fs::path& path, std::size_t n) {
+  std::string s(n, '\0');
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) return {};
+  const ssize_t got = ::read(fd, s.data(), n);
+  ::close(fd);
+  s.resize(got > 0 ? static_cast<std::size_t>(got) : 0);
+  return s;
 }
 
 }  // namespace
@@ -114,22 +153,61 @@ void remove_dead_temporaries(const fs::path& dir) {
 
 void write_file_atomic(const std::filesystem::path& path, const std::string& content) {
   remove_dead_temporaries(parent_of(path));
-  const auto tmp = path.string() + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot write " + tmp);
-    out.write(content.data(), static_cast<std::streamsize>(content.size()));
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw std::runtime_error("write failed: " + tmp);
-    }
+  const fs::path tmp = path.string() + ".tmp." + std::to_string(::getpid());
+  if (const int err = write_plain_errno(tmp, content)) write_failed(path, err);
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw InputError(path.string() + ": cannot write (" + ec.message() + ")");
   }
-  std::filesystem::rename(tmp, path);
+}
+
+void check_output_file(const fs::path& path, const std::string& flag,
+                       const std::vector<fs::path>& inputs) {
+  const std::string label = flag + " " + path.string();
+  std::error_code ec;
+  const auto st = fs::status(path, ec);
+  if (fs::exists(st)) {
+    if (!fs::is_regular_file(st))
+      throw InputError(label + ": exists and is not a regular file (" +
+                       (fs::is_directory(st) ? "a directory" : "a device, FIFO or socket") +
+                       "); not replacing it: name a file");
+    for (const auto& in : inputs)
+      if (fs::equivalent(path, in, ec))
+        throw InputError(label + ": is the input " + in.string() +
+                         "; writing there would destroy it: name another file");
+    // A page of this lathectl, or of an older one (whose pages began exactly so).
+    const std::string head = head_of(path, 4096);
+    const bool ours =
+        head.find(kGeneratorMeta) != std::string::npos ||
+        head.rfind("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+                   "<meta name=\"viewport\"",
+                   0) == 0;
+    if (!ours)
+      throw InputError(label + ": exists and is not a page lathectl wrote; not replacing it: "
+                               "name a new file or remove it");
+  }
+  const fs::path parent = parent_of(path);
+  if (!fs::is_directory(parent, ec))
+    throw InputError(label + ": " + parent.string() + " is not a directory");
+  if (::access(parent.c_str(), W_OK | X_OK) != 0)
+    throw InputError(label + ": cannot write in " + parent.string() + " (" +
+                     std::strerror(errno) + ")");
+}
+
+void write_output_file(const fs::path& path, const std::string& content, const std::string& flag,
+                       const std::vector<fs::path>& inputs) {
+  check_output_file(path, flag, inputs);
+  try {
+    write_file_atomic(path, content);
+  } catch (const InputError& e) {
+    throw InputError(flag + " " + e.what());
+  }
 }
 
 void prepare_output_dir(const fs::path& dir_in, const std::string& flag, bool whole_set) {
+  if (dir_in.empty()) throw InputError(flag + ": empty; name a directory for the results");
   const fs::path dir = normalized(dir_in);
   const std::string label = flag + " " + dir_in.string();
   std::error_code ec;
@@ -211,7 +289,7 @@ void OutputStage::commit(const std::vector<std::pair<std::string, std::string>>&
     return;
   }
   if (errno != EINVAL && errno != ENOSYS)
-    throw fs::filesystem_error("cannot replace", dir, std::error_code(errno, std::generic_category()));
+    throw InputError(dir.string() + ": cannot replace it (" + std::strerror(errno) + ")");
   // No atomic exchange on this file system: move the old set aside, then the new one in.
   const fs::path old = parent / (dir.filename().string() + ".old-" + pid);
   fs::rename(dir, old);

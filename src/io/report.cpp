@@ -1,5 +1,7 @@
 #include "lathectl/io/report.hpp"
 
+#include "lathectl/io/output.hpp"
+
 #include "report_interactive.hpp"
 #include "report_plot.hpp"
 
@@ -119,6 +121,8 @@ footer { color: #8c959f; font-size: 12px; margin-top: 24px; }
 
 void begin_page(std::string& out, std::string_view title) {
   out += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
+  out += kGeneratorMeta;
+  out += "\n";
   out += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
   out += "<title>" + escape(title) + "</title>\n<style>";
   out += kStyle;

@@ -14,7 +14,25 @@
 
 namespace lathectl::io {
 
+// Writes `content` to a temporary file beside `path`, then renames it over `path`. A failed
+// write (a full disk, a quota) removes the temporary and throws InputError naming `path` and the
+// system's reason.
 void write_file_atomic(const std::filesystem::path& path, const std::string& content);
+
+// Every HTML page lathectl writes carries this line in its head: what a single-file output may
+// replace (write_output_file).
+inline constexpr const char* kGeneratorMeta = "<meta name=\"generator\" content=\"lathectl\">";
+
+// A single result file a user names with `flag` (lathectl report --out): written atomically, and
+// only where nothing but an earlier lathectl page is. Throws InputError "FLAG PATH: ..." (before
+// anything is written) when `path` exists and is not a regular file (a device such as /dev/null,
+// a directory, a FIFO), is one of `inputs` (the same file under any name), or is a file lathectl
+// did not write (no kGeneratorMeta in its head, nor the head of an older lathectl page).
+void write_output_file(const std::filesystem::path& path, const std::string& content,
+                       const std::string& flag, const std::vector<std::filesystem::path>& inputs);
+// The same checks alone, for a command to make before its work.
+void check_output_file(const std::filesystem::path& path, const std::string& flag,
+                       const std::vector<std::filesystem::path>& inputs);
 std::string channels_csv(const sim::Recorder& rec);
 
 // Appends v as printf's "%.<digits>g" would write it in the "C" locale, byte for byte (inf,
