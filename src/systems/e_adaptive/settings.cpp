@@ -50,6 +50,13 @@ void read_stock(TableReader& root, sim::RigEConfig& e, std::uint64_t seed) {
   read_profile(*st, "blank", "diameter_mm", {0.0, 5000.0, true, false},
                "blank diameter there; piecewise linear between points", e.stock.blank_diameter_mm);
   st->check(!e.stock.blank_diameter_mm.empty(), "blank", "at least one {at_mm, diameter_mm} point");
+  // The stock model of LinuxCNC's plant and of optimize keeps the blank on a 0.01 mm grid (it
+  // refuses more than 5e7 cells): a blank longer than any lathe's bed would end there as an
+  // internal error after the run had begun.
+  st->check(e.stock.blank_diameter_mm.empty() ||
+                e.stock.blank_diameter_mm.back().at_mm - e.stock.blank_diameter_mm.front().at_mm <=
+                    20000.0,
+            "blank", "at most 20 000 mm (20 m) from the first point's at_mm to the last's");
   st->read({"eccentricity_mm", Range::closed(0, 50),
             "offset of the blank's axis (runout on the blank surface only)"},
            e.stock.eccentricity_mm);
