@@ -12,6 +12,7 @@
 #include "lathectl/io/progress.hpp"
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "systems/estimate.hpp"
 
 namespace fs = std::filesystem;
 
@@ -22,6 +23,9 @@ int run(const std::string& scenario, const std::string& out, bool strict) {
   const auto lib = io::MaterialLibrary::load_default();
   const auto sc = io::load_scenario(scenario, lib);
   io::prepare_output_dir(out, "--out");  // before the simulation, not after it
+  // A long run says up front what it will cost (the progress line then says how far it is).
+  if (const auto e = systems::estimate(sc); e.wall_s > 30.0)
+    std::cerr << "run " << sc.name << ": " << systems::summary_text(e) << "\n";
   io::RunOutput result;
   try {
     // The set's staging directory exists during the run: channels.csv streams into it.

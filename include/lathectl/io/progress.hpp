@@ -1,7 +1,9 @@
 #pragma once
-// Progress of a long command on a terminal: one line on stderr, rewritten with '\r' (what,
-// percent, elapsed seconds), ended with a newline. Silent when stderr is not a terminal (CI,
-// pipes, files), so logs and test outputs stay as they were.
+// Progress of a long command (run, demo, lobes) on stderr, with an estimate of the time left.
+// On a terminal: one line rewritten with '\r' (what, percent, detail, elapsed, time left), ended
+// with a newline. When stderr is a pipe or a log: a plain line every kPlainInterval, the first
+// only once that much time has passed, so a short command prints nothing and a long one shows in
+// a log that it is alive and how far it is.
 
 #include <chrono>
 #include <mutex>
@@ -11,14 +13,18 @@ namespace lathectl::io {
 
 class Progress {
  public:
-  // enabled: draw at all (default: stderr is a terminal).
-  explicit Progress(std::string what, bool enabled = stderr_is_terminal());
+  enum class Mode { Auto, Terminal, Plain, Off };
+  // Seconds between two plain lines (and before the first).
+  static constexpr double kPlainInterval = 10.0;
+
+  // Auto: Terminal when stderr is a terminal, else Plain.
+  explicit Progress(std::string what, Mode mode = Mode::Auto);
   ~Progress();
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
 
-  // Fraction done in [0, 1] and an optional detail ("3 of 27"). Thread-safe; redraws at most
-  // every 0.2 s (and always at 1).
+  // Fraction done in [0, 1] and an optional detail ("3 of 27"). Thread-safe; redraws a terminal
+  // line at most every 0.2 s (and always at 1).
   void update(double fraction, const std::string& detail = "");
   // Clears the line so that other output can be printed, then redraws it (thread-safe).
   template <class F>
@@ -26,13 +32,14 @@ class Progress {
     std::lock_guard lock(mutex_);
     clear_locked();
     print();
-    draw_locked();
+    if (mode_ == Mode::Terminal) draw_locked();  // a plain line waits for its interval
   }
   // Ends the line with a newline (once; also done by the destructor).
   void finish();
 
-  [[nodiscard]] bool enabled() const { return enabled_; }
-  // The line as it would be drawn now, e.g. "lobes: 42 % (3 of 7), 12 s" (for tests).
+  [[nodiscard]] bool enabled() const { return mode_ != Mode::Off; }
+  // The line as it would be drawn now, e.g. "lobes: 42 % (3 of 7), 12 s, about 17 s left"
+  // (for tests). The time left is elapsed·(1 − f)/f, given once 2 % and 2 s are done.
   [[nodiscard]] std::string text(double elapsed_s) const;
 
   static bool stderr_is_terminal();
@@ -43,7 +50,8 @@ class Progress {
 
   std::string what_, detail_;
   double fraction_ = 0.0;
-  bool enabled_, drawn_ = false, finished_ = false;
+  Mode mode_;
+  bool drawn_ = false, finished_ = false;
   std::chrono::steady_clock::time_point start_, last_;
   std::mutex mutex_;
 };

@@ -1,0 +1,57 @@
+// What `lathectl check` says a scenario will cost (systems/estimate.hpp): the steps and parts are
+// counted from the scenario exactly as the study makes them; the CPU time follows from them (its
+// constants are measured, see docs/scenario-reference.md), so it scales as they do.
+#include <gtest/gtest.h>
+
+#include "lathectl/io/scenario.hpp"
+#include "support/library.hpp"
+#include "support/scenario_text.hpp"
+#include "systems/estimate.hpp"
+
+namespace lathectl {
+namespace {
+
+io::Scenario parsed(const std::string& text) {
+  return io::parse_scenario(text, "mem.toml", test::library());
+}
+
+TEST(Estimate, CountsTheRunsAStudyMakes) {
+  // a_finishing_aim: the run, its uncontrolled comparison and five K_leak factors: 7 runs of
+  // 12 s / 1e-4 s.
+  const auto e = systems::estimate(parsed(test::example_text("a_finishing_aim")));
+  EXPECT_DOUBLE_EQ(e.simulated_steps, 7.0 * 120000.0);
+  EXPECT_FALSE(e.upper_bound);
+}
+
+TEST(Estimate, ADayOfSystemAIsSaidToBeLong) {
+  // (a day at 1e-4 s would be 8.6e8 steps, past the 5e8 a run may have)
+  const auto text = test::edited(
+      test::edited(test::example_text("a_finishing_aim"), "duration_s = 12.0", "duration_s = 86400.0"),
+      "step_s = 1e-4", "step_s = 2e-4");
+  const auto day = systems::estimate(parsed(text));
+  const auto base = systems::estimate(parsed(test::example_text("a_finishing_aim")));
+  EXPECT_DOUBLE_EQ(day.simulated_steps / base.simulated_steps, 3600.0);
+  EXPECT_NEAR(day.cpu_s / base.cpu_s, 3600.0, 1e-6 * 3600.0);
+  EXPECT_GT(day.output_bytes, 100.0 * base.output_bytes);
+  EXPECT_NE(systems::summary_text(day).find(" min of CPU"), std::string::npos)
+      << systems::summary_text(day);
+}
+
+TEST(Estimate, MonteCarloPartsScaleTheGauge) {
+  const auto few = systems::estimate(parsed(test::example_text("d_gauging")));
+  const auto many = systems::estimate(parsed(
+      test::edited(test::example_text("d_gauging"), "parts = 100000", "parts = 10000000")));
+  EXPECT_DOUBLE_EQ(few.parts, 100000.0 + 8.0);
+  EXPECT_DOUBLE_EQ(many.parts, 10000000.0 + 8.0);
+  EXPECT_GT(many.cpu_s, 50.0 * few.cpu_s);
+  EXPECT_GT(many.output_bytes, 50.0 * (few.output_bytes - 1e6));
+}
+
+TEST(Estimate, AdaptiveRunsAreUpperBounds) {
+  const auto e = systems::estimate(parsed(test::example_text("e_stepped_seed004")));
+  EXPECT_TRUE(e.upper_bound);
+  EXPECT_NE(systems::summary_text(e).find("at most"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace lathectl
