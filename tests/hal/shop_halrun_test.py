@@ -93,8 +93,11 @@ def test_settings(src, work):
     for k in range(int((phases[-1][0] + 0.1) / h.PERIOD_S)):
         t = k * h.PERIOD_S
         ph = [p for p in phases if p[0] <= t + 1e-9][-1]
-        rows.append([0.0, rpm, rpm, s_prog, s_prog * rpm / 60.0, x, 2, ph[1], ph[2], ph[3], ph[4],
-                     0, ph[5], 10 + phases.index(ph)])
+        # A tool changes (M6) with motion stopped: motion-type 0 in that period (a tool number
+        # that changes inside a feed move is alarm 22, test_breakage).
+        mtype = 0 if rows and rows[-1][12] != ph[5] else 2
+        rows.append([0.0, rpm, rpm, s_prog, s_prog * rpm / 60.0, x, mtype, ph[1], ph[2], ph[3],
+                     ph[4], 0, ph[5], 10 + phases.index(ph)])
     got = session(src, work, "settings", rows, "tools=" + tools)
     if not got:
         return
