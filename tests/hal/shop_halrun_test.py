@@ -222,7 +222,7 @@ def breakage_session(src, work, name, plant_params, adaptive_params, exit_at=Non
     the tool table's diameter (halui.tool.diameter) and rapid(k) a rapid in period k."""
     rows, rpm = [], 1200.0
     x, z, v = 18.0, 2.0, 0.3 * rpm / 60.0
-    for k in range(3000):
+    for k in range(2000):  # 2 s: the exit at 1.7 s, the broken tip at 1.3 s
         mtype = 1 if rapid(k) else 2
         if exit_at is not None and z <= exit_at:
             x = min(25.0, x + 300.0 * h.PERIOD_S)
@@ -278,14 +278,14 @@ def test_breakage(src, work):
               "load: %.2f mm then)" % (got[fell]["predicted"] if fell else float("nan")))
     # The tool table rewritten under the running program (LinuxCNC's rs274 as the same user:
     # halui.tool.diameter 0.8 → 1.6 mm with T2 in the spindle, measured beside a session). In a
-    # rapid (1 s) nothing: the next move's data; in a feed move (2 s) its own alarm 22 and the
-    # hold in that servo period, never a breakage.
+    # rapid (0.7 s) nothing: the next move's data; in a feed move in the cut (1.4 s) its own
+    # alarm 22 and the hold in that servo period, never a breakage.
     got = breakage_session(src, work, "tool_data", "", "z_origin_mm=0",
-                           diameter=lambda k: 0.8 if k < 1000 else 1.2 if k < 2000 else 1.6,
-                           rapid=lambda k: 990 <= k < 1010)
+                           diameter=lambda k: 0.8 if k < 700 else 1.2 if k < 1400 else 1.6,
+                           rapid=lambda k: 690 <= k < 710)
     if got:
         i = next((i for i, r in enumerate(got) if r["tool_data"] == 1 or r["alarm"]), None)
-        check(i == 2000 and got[i]["hold"] == 1 and got[i]["alarm"] == 1 and
+        check(i == 1400 and got[i - 1]["force"] > 100.0 and got[i]["hold"] == 1 and got[i]["alarm"] == 1 and
               got[i]["reason"] == 22 and all(r["reason"] == 22 and r["hold"] == 1 and
                                              not r["breakage"] for r in got[i:]),
               "tool data changed in a feed move: alarm 22 and feed hold in that period, latched, "
