@@ -29,6 +29,10 @@
 //   - teach-in (E3 = 3): the program's feed (adaptive-feed 1) and the mean load over the steady
 //     cut (control::TeachIn) published on the teach-* pins; lathectl_oplog stores it (taught=).
 //   - one operation record per program line with feed moves on the op-* pins (op-seq counts).
+//   - the latching detectors count the period measured between calls (rtapi_get_time()), not the
+//     thread's nominal one: a late servo period is neither a breakage nor a stuck sensor.
+//   - the tool's number, offsets or table row changing inside a feed move (another LinuxCNC
+//     program rewrote the tool table under this one): alarm 22, not a breakage (ToolWatch).
 // Pins, parameters and units: lathectl_adaptive(9).
 
 #include <algorithm>
@@ -141,6 +145,10 @@ struct Pins {
   hal_float_t* load_pct;         // load_rev in % of the limit (the operator panel's bar)
   hal_float_t* predicted_depth;  // the stock model's depth of cut at the tool [mm]
   hal_bit_t* breakage;           // path-aware breakage alarm (latched)
+  hal_float_t* tool_diameter;    // halui.tool.diameter (the tool table's row of the tool)
+  hal_float_t* tool_offset_x;    // motion.tooloffset.x (the offset in effect)
+  hal_float_t* tool_offset_z;    // motion.tooloffset.z
+  hal_bit_t* tool_data_changed;  // the tool's data changed during a feed move (latched)
   hal_s32_t* op_seq;
   hal_s32_t* op_line;
   hal_s32_t* op_tool;
@@ -183,6 +191,40 @@ struct OpSettings {
   int mode = 2;  // 1 off, 2 on, 3 teach (4 resolves to 2 with the limit from the reference)
   double reference = 0.0;  // what overload levels are percentages of
   bool operator==(const OpSettings&) const = default;
+};
+
+// Tool data under a running program. Task changes the tool (M6: iocontrol.0.tool-number) and
+// its offsets (G43, G10 L1: motion.tooloffset.*) only with motion stopped between moves
+// (emctaskmain.cc, emcTaskCheckPreconditions: WAITING_FOR_MOTION), so none of them changes in a
+// feed move of a program. halui.tool.diameter is the tool table's row of the tool in the spindle,
+// read from the table every machine shares (the tool data map $HOME/.tool.mmap) — which
+// LinuxCNC 2.9's standalone rs274, run as the same user, recreates with its own tools under a
+// running program. A change in a feed move is therefore not the program's: the part is being cut
+// by other data than it was programmed for, and a load that falls or rises then says nothing
+// about the tool's edge. halui publishes the diameter in its own loop, after iocontrol's tool
+// number: a change within kToolSettleS of a tool change is that change arriving.
+constexpr double kToolSettleS = 1.0;
+struct ToolWatch {
+  int tool = 0;
+  double diameter = 0.0, offset_x = 0.0, offset_z = 0.0;
+  double since_change_s = 1e9;  // since the tool number last changed
+  bool known = false;
+  // One servo period; true when the data changed inside a feed move.
+  bool update(int t, double d, double ox, double oz, bool feed_move, double dt) noexcept {
+    since_change_s = t != tool ? 0.0 : since_change_s + dt;
+    const bool settling = since_change_s < kToolSettleS;
+    const bool moved = known && (t != tool || std::abs(d - diameter) > 1e-6 ||
+                                 std::abs(ox - offset_x) > 1e-6 || std::abs(oz - offset_z) > 1e-6);
+    const bool changed =
+        feed_move && moved &&
+        !(settling && t == tool && ox == offset_x && oz == offset_z);  // halui's late diameter
+    tool = t;
+    diameter = d;
+    offset_x = ox;
+    offset_z = oz;
+    known = true;
+    return changed;
+  }
 };
 
 struct State {
@@ -229,6 +271,12 @@ struct State {
   std::unique_ptr<lathectl::sim::LathePlant> stock;
   lathectl::control::PathBreakage breakage;
   bool breakage_latched = false;
+  // The measured period (rtapi_get_time() at the last call, and at the last control update).
+  long long last_ns = 0, last_ctl_ns = 0;
+  // The tool's data of the last period, watched for a change inside a feed move (ToolWatch).
+  ToolWatch tool_watch;
+  bool tool_data_latched = false;
+  bool tool_data_first = false;  // it was the first alarm (alarm-reason 22)
   // The feed scale motion reports against the one commanded: halui sends a value only when its
   // counts change, so a value another client set since (AXIS's slider sends its own when it
   // redraws) would stay. After kRescaleAfter of disagreement the counts step one down for
@@ -362,12 +410,19 @@ void update(void*, long period_ns) {
     hold_all(p);
     return;
   }
+  // The period as it was, not as the thread says (PeriodTime): the detectors count this.
+  const double nominal_s = static_cast<double>(period_ns) * 1e-9;
+  const long long now_ns = rtapi_get_time();
+  const auto period = lathectl::control::period_time(
+      s.last_ns > 0 ? static_cast<double>(now_ns - s.last_ns) * 1e-9 : 0.0, nominal_s);
+  s.last_ns = now_ns;
   if (*p.reset_max) timer.reset();
   if (*p.reset && !s.last_reset) {
     s.ctl.reset_alarm();
     s.overload_latched = false;
     s.breakage_latched = false;
     s.breakage.reset();
+    s.tool_data_latched = s.tool_data_first = false;
   }
   s.last_reset = *p.reset;
   const double rpm_prog = *p.rpm_programmed;
@@ -436,6 +491,23 @@ void update(void*, long period_ns) {
   s.op_mode = s.applied.mode;
   s.op_limit = s.applied.limit;
 
+  {  // every servo period: the stop comes in the period the data changes
+    const bool feed_move = *p.enable && (*p.motion_type == 2 || *p.motion_type == 3);
+    if (s.tool_watch.update(tool, *p.tool_diameter, *p.tool_offset_x, *p.tool_offset_z, feed_move,
+                            period.elapsed_s) &&
+        !s.tool_data_latched) {
+      s.tool_data_latched = true;
+      s.tool_data_first = !(*p.alarm || s.breakage_latched || s.overload_latched);
+    }
+    *p.tool_data_changed = s.tool_data_latched;
+    if (s.tool_data_latched) {
+      *p.adaptive_feed = 0.0;
+      *p.feed_hold = 1;
+      *p.alarm = 1;
+      if (s.tool_data_first)
+        *p.alarm_reason = static_cast<std::int32_t>(lathectl::control::Reason::ToolDataChanged);
+    }
+  }
   if (s.stock) {  // every servo period: the stop comes in the period the load collapses
     lathectl::sim::LathePlant::Input si;
     const bool homed = s.homed_gate(*p.homed, *p.x_pos, *p.z_pos);
@@ -443,13 +515,13 @@ void update(void*, long period_ns) {
     si.z_mm = homed ? *p.z_pos : std::nan("");
     si.rpm = *p.rpm;
     lathectl::sim::LathePlant::Output so;
-    s.stock->step(si, static_cast<double>(period_ns) * 1e-9, so);
+    s.stock->step(si, period.elapsed_s, so);  // the spindle turned for the time that passed
     const double depth = so.in_contact ? so.depth_mm : 0.0;
     *p.predicted_depth = depth;
     const bool feed = *p.enable && (*p.motion_type == 2 || *p.motion_type == 3);
     const double load = s.power_sensor ? *p.load : *p.force;
     if (feed && s.applied.mode == 2 &&
-        s.breakage.update(load, s.applied.limit, depth, static_cast<double>(period_ns) * 1e-9))
+        s.breakage.update(load, s.applied.limit, depth, period.elapsed_s) && !s.tool_data_latched)
       s.breakage_latched = true;
     if (!feed) s.breakage.reset();
     *p.breakage = s.breakage_latched;
@@ -457,12 +529,17 @@ void update(void*, long period_ns) {
       *p.adaptive_feed = 0.0;
       *p.feed_hold = 1;
       *p.alarm = 1;
-      *p.alarm_reason = static_cast<std::int32_t>(lathectl::control::Reason::ToolBreakage);
+      if (!(s.tool_data_latched && s.tool_data_first))
+        *p.alarm_reason = static_cast<std::int32_t>(lathectl::control::Reason::ToolBreakage);
     }
   }
   if (s.count++ % s.every == 0) {
     timer.start();
     const double dt = s.ctl.params().period_s;
+    // The control period as measured (every `every` thread periods): the detectors' time.
+    const auto ctl_period = lathectl::control::period_time(
+        s.last_ctl_ns > 0 ? static_cast<double>(now_ns - s.last_ctl_ns) * 1e-9 : 0.0, dt);
+    s.last_ctl_ns = now_ns;
     const bool enabled = *p.enable;
     const double rpm = std::abs(*p.rpm);
     const bool feed_block = enabled && (*p.motion_type == 2 || *p.motion_type == 3);
@@ -497,7 +574,8 @@ void update(void*, long period_ns) {
     sig.speed_m_per_min =
         v_meas > 0.0 ? v_meas : 3.14159265358979323846 * 2.0 * std::abs(*p.x_pos) * rpm / 1000.0;
     sig.feed_block = feed_block;
-    const auto in = lathectl::control::adaptive_input(parameter, sig);
+    auto in = lathectl::control::adaptive_input(parameter, sig);
+    in.dt_s = ctl_period.elapsed_s;
     (void)s.ctl.update(in, s.out);
     *p.cut_power = in.cut_power_W;
     *p.load = sig.force;
@@ -517,7 +595,7 @@ void update(void*, long period_ns) {
     if (s.contact && rpm > 0.0 && std::isfinite(sig.force)) {
       s.rev_sum += sig.force;
       s.rev_n += 1.0;
-      s.rev_phase += dt * rpm / 60.0;
+      s.rev_phase += ctl_period.elapsed_s * rpm / 60.0;  // the spindle turns in real time
       if (s.rev_phase >= 1.0) {
         s.load_rev = s.rev_sum / s.rev_n;
         s.rev_phase -= 1.0;
@@ -566,7 +644,8 @@ void update(void*, long period_ns) {
                    ? std::clamp(o.feed_per_rev_mm / prog_per_rev, 0.0, std::max(max_ovr, 1.0))
                    : 1.0;
     }
-    const bool hold = enabled && (o.feed_hold || s.bad || s.overload_latched || s.breakage_latched);
+    const bool hold = enabled && (o.feed_hold || s.bad || s.overload_latched ||
+                                  s.breakage_latched || s.tool_data_latched);
     // The operator's knob times the factor; the ceiling to halui, every decrease on
     // adaptive-feed. Not enabled: the knob alone, on feed moves as before.
     const auto fo = lathectl::control::split_feed_override(factor, *p.knob, max_ovr, kOverrideStep,
@@ -587,9 +666,11 @@ void update(void*, long period_ns) {
     *p.feed_factor = hold ? 0.0 : fo.net;
     *p.adaptive_feed = hold ? 0.0 : fo.adaptive;
     *p.feed_hold = hold;
-    *p.alarm = o.alarm || s.overload_latched || s.breakage_latched;
+    *p.alarm = o.alarm || s.overload_latched || s.breakage_latched || s.tool_data_latched;
     *p.reason = static_cast<std::int32_t>(o.reason);
-    *p.alarm_reason = s.breakage_latched && !o.alarm
+    *p.alarm_reason = s.tool_data_latched && s.tool_data_first
+                          ? static_cast<std::int32_t>(lathectl::control::Reason::ToolDataChanged)
+                      : s.breakage_latched && !o.alarm
                           ? static_cast<std::int32_t>(lathectl::control::Reason::ToolBreakage)
                           : static_cast<std::int32_t>(o.alarm_reason);
     *p.feed_per_rev = o.feed_per_rev_mm;
@@ -601,7 +682,7 @@ void update(void*, long period_ns) {
     if (feed_block && s.contact) {
       const auto r = static_cast<unsigned>(o.reason);
       if (r < 31) s.op_reasons |= static_cast<std::int32_t>(1u << r);
-      if (o.alarm && s.op_alarm == 0) s.op_alarm = static_cast<std::int32_t>(o.alarm_reason);
+      if (*p.alarm && s.op_alarm == 0) s.op_alarm = *p.alarm_reason;  // any latched alarm
     }
     // Seed 004's speed law drives the spindle while the program runs it; otherwise the program's
     // speed passes through.
@@ -614,7 +695,7 @@ void update(void*, long period_ns) {
   } else {
     if (!(*p.enable && s.speed_law && s.applied.mode == 2))
       *p.spindle_speed_out = rpm_prog;  // pass program speed changes through between updates
-    if (s.bad || s.breakage_latched) {  // held in the period it appears
+    if (s.bad || s.breakage_latched || s.tool_data_latched) {  // held in the period it appears
       *p.adaptive_feed = 0.0;
       *p.feed_hold = 1;
     }
@@ -775,6 +856,10 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.load_pct, HAL_OUT, comp_id, kPrefix, "load-percent");
     pin(&p.predicted_depth, HAL_OUT, comp_id, kPrefix, "predicted-depth");
     pin(&p.breakage, HAL_OUT, comp_id, kPrefix, "breakage");
+    pin(&p.tool_diameter, HAL_IN, comp_id, kPrefix, "tool-diameter");
+    pin(&p.tool_offset_x, HAL_IN, comp_id, kPrefix, "tool-offset-x");
+    pin(&p.tool_offset_z, HAL_IN, comp_id, kPrefix, "tool-offset-z");
+    pin(&p.tool_data_changed, HAL_OUT, comp_id, kPrefix, "tool-data-changed");
     pin(&p.op_seq, HAL_OUT, comp_id, kPrefix, "op-seq");
     pin(&p.op_line, HAL_OUT, comp_id, kPrefix, "op-line");
     pin(&p.op_tool, HAL_OUT, comp_id, kPrefix, "op-tool");

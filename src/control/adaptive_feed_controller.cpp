@@ -125,6 +125,7 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     return Status::NotConfigured;
   }
   const double dt = p_.period_s;
+  const PeriodTime measured = period_time(in.dt_s, dt);  // what the detectors count
   const double limit = p_.force_limit;
   const double s_prog = p_.feed_programmed_mm_per_rev;
   const bool adaptive = p_.mode != Mode::Fixed;
@@ -144,7 +145,7 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     // exactly 0 there) and in rapids: the stuck timer runs only while the controller acts on
     // the force in a cut — in cut, or a reading above the air threshold.
     const bool armed = in.feed_block && (in_cut_ || in.force > p_.air_threshold * limit);
-    fault = monitor_.check(in.force, dt, armed);
+    fault = monitor_.check(in.force, measured.evidence_s, armed);
     if (fault != Reason::None) raise(fault);
     suspect = monitor_.suspect();
   }
@@ -175,11 +176,13 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     }
     // Breakage: a spike, or a collapse from a loaded cut to nothing within a few ms.
     if (in.force > p_.breakage_spike * limit) raise(Reason::ToolBreakage);
-    high_since_s_ = in.force > 0.5 * limit ? 0.0 : high_since_s_ + dt;
+    high_since_s_ = in.force > 0.5 * limit ? 0.0 : high_since_s_ + measured.elapsed_s;
     if (in.force < air && high_since_s_ <= p_.breakage_drop_window_s) raise(Reason::ToolBreakage);
     // Overload: above the limit too long although the feed is already at its minimum.
     const bool at_min = feed_ramp_.value() <= p_.feed_min_mm_per_rev * (1.0 + 1e-9);
-    over_s_ = (in.force > (1.0 + p_.overload_margin) * limit && at_min) ? over_s_ + dt : 0.0;
+    over_s_ = (in.force > (1.0 + p_.overload_margin) * limit && at_min)
+                  ? over_s_ + measured.evidence_s
+                  : 0.0;
     if (over_s_ >= p_.overload_time_s && p_.overload_time_s > 0.0) raise(Reason::Overload);
   }
   was_block_ = in.feed_block;

@@ -6,6 +6,11 @@
 
 namespace lathectl::control {
 
+PeriodTime period_time(double measured_s, double nominal_s) noexcept {
+  const double m = std::isfinite(measured_s) && measured_s > 0.0 ? measured_s : nominal_s;
+  return {std::min(m, PeriodTime::kMaxElapsedS), std::min(m, 2.0 * nominal_s)};
+}
+
 void SignalMonitor::configure(const Params& p) {
   if (!(p.min < p.max)) throw std::invalid_argument("signal monitor: min must be below max");
   if (p.stuck_time_s < 0.0 || p.stuck_tolerance < 0.0 || p.noise_sigma < 0.0 || p.period_s < 0.0)

@@ -771,6 +771,131 @@ TEST(AdaptiveFeedController, DropJustOutsideWindowIsNoBreakage) {
 // ---------------------------------------------------------------------------------------------
 // Rapids, configuration
 
+// ---------------------------------------------------------------------------------------------
+// A late servo period (LinuxCNC's "unexpected realtime delay"): the uspace thread passes the
+// nominal period, then runs the periods it missed back to back. The detectors count the measured
+// time (Input::dt_s), so neither reads as a breakage, a stuck sensor or an overload.
+
+// The load a sensor reads at time t [s] as it leaves the cut along a programmed path: 800 N
+// falling linearly to 0 over 24 ms from t0 (from 0.5·limit to the air threshold: 12 ms, longer
+// than the 10 ms window). Real time, as a machine's sensor gives it.
+double exit_load(double t, double t0) {
+  return std::clamp(800.0 * (1.0 - (t - t0) / 0.024), 0.0, 800.0);
+}
+
+// Control periods of 2 ms as a late thread calls them: on time until `late_at`, then one call
+// `late_s` late, then the calls it missed back to back (10 µs apart), then on time again. Runs
+// `calls` calls; each reads the load at its real time; alarm time (or -1).
+double run_late(Ctl& c, bool measured, double late_at, double late_s, int calls, double t0) {
+  Ctl::Output out;
+  double t = 0.0, behind = 0.0;
+  for (int k = 0; k < calls; ++k) {
+    double dt = kDt;
+    if (t + kDt >= late_at && t < late_at) {
+      dt = kDt + late_s;
+      behind = late_s;
+    } else if (behind > 1e-12) {
+      dt = 1e-5;
+      behind = std::max(behind - kDt + 1e-5, 0.0);
+    }
+    t += dt;
+    auto in = sample(exit_load(t, t0));
+    in.dt_s = measured ? dt : 0.0;
+    (void)c.update(in, out);
+    if (out.alarm) return t;
+  }
+  return -1.0;
+}
+
+TEST(AdaptiveFeedController, LatePeriodDuringAnExitIsNoBreakage) {
+  // The call after the last one above 0.5·limit (1.008 s, 533 N) comes 12 ms late and reads
+  // 67 N: counted in nominal periods the fall took 2 ms, a broken tool (the false alarm of issue
+  // 28's kind); it took 14 ms.
+  {
+    Ctl c = make(base());
+    EXPECT_GT(run_late(c, false, 1.009, 0.012, 1000, 1.0), 0.0) << "nominal periods: alarm";
+  }
+  Ctl c = make(base());
+  EXPECT_LT(run_late(c, true, 1.009, 0.012, 1000, 1.0), 0.0) << "measured periods: none";
+  // Late by 1, 3, 5 and 20 ms, anywhere in the fall: never an alarm.
+  for (double late : {0.001, 0.003, 0.005, 0.020})
+    for (double at = 0.994; at < 1.03; at += 0.0013) {
+      Ctl c2 = make(base());
+      EXPECT_LT(run_late(c2, true, at, late, 1000, 1.0), 0.0) << late << " s late at " << at;
+    }
+}
+
+TEST(AdaptiveFeedController, RealBreakageStillLatchesInTheServoPeriodAfterALatePeriod) {
+  // A broken tip after a 5 ms late period and its catch-up calls: 900 N → 0 in one period.
+  Ctl c = make(base());
+  Ctl::Output out;
+  (void)run(c, sample(900.0), 200, out);
+  auto in = sample(900.0);
+  in.dt_s = kDt + 0.005;
+  (void)c.update(in, out);
+  in.dt_s = 1e-5;
+  (void)run(c, in, 3, out);
+  EXPECT_FALSE(out.alarm);
+  auto broken = sample(0.0);
+  broken.dt_s = kDt;
+  EXPECT_EQ(c.update(broken, out), Status::Hold);
+  EXPECT_EQ(rn(out.alarm_reason), rn(Reason::ToolBreakage));
+}
+
+TEST(AdaptiveFeedController, CatchUpCallsAfterALatePeriodAreNoStuckSensor) {
+  // 60 ms late: 30 catch-up calls read the sample the late one read (the ADC has not moved in
+  // 10 µs). Counted in nominal periods that is 60 ms unchanged, beyond the 50 ms stuck time.
+  for (bool measured : {false, true}) {
+    Ctl c = make(with_monitor());
+    Ctl::Output out;
+    (void)engage(c, out);
+    auto in = sample(925.0);
+    in.dt_s = measured ? kDt + 0.06 : 0.0;
+    (void)c.update(in, out);
+    in.dt_s = measured ? 1e-5 : 0.0;
+    (void)run(c, in, 30, out);
+    EXPECT_EQ(out.alarm, !measured) << (measured ? "measured" : "nominal");
+    if (measured) {  // a sensor that really froze still latches, at the stuck time
+      in.dt_s = kDt;
+      (void)run(c, in, 24, out);
+      EXPECT_FALSE(out.alarm);
+      (void)run(c, in, 2, out);
+      EXPECT_TRUE(out.alarm);
+      EXPECT_EQ(rn(out.alarm_reason), rn(Reason::SensorStuck));
+    }
+  }
+}
+
+TEST(AdaptiveFeedController, OneLatePeriodIsNoOverload) {
+  // Above 1.3·limit at the minimum feed before and after a 0.3 s late period: the overload time
+  // (0.2 s) is not reached by it; it is by 0.2 s of periods that show the load.
+  Ctl c = make(base());
+  Ctl::Output out;
+  (void)run(c, sample(1270.0), 2000, out);  // the feed down at s_min, below the margin
+  auto in = sample(1350.0);
+  in.dt_s = kDt;
+  (void)c.update(in, out);
+  in.dt_s = 0.3;
+  (void)c.update(in, out);
+  EXPECT_FALSE(out.alarm);
+  in.dt_s = kDt;
+  (void)run(c, in, 96, out);  // 2 + 4 (the late period) + 192 ms
+  EXPECT_FALSE(out.alarm);
+  (void)run(c, in, 2, out);
+  EXPECT_TRUE(out.alarm);
+  EXPECT_EQ(rn(out.alarm_reason), rn(Reason::Overload));
+}
+
+TEST(PeriodTime, MeasuredPeriodClampedAndNominalWhenUnknown) {
+  EXPECT_EQ(period_time(0.0, 0.001).elapsed_s, 0.001);
+  EXPECT_EQ(period_time(std::nan(""), 0.001).evidence_s, 0.001);
+  EXPECT_EQ(period_time(-1.0, 0.001).elapsed_s, 0.001);
+  EXPECT_EQ(period_time(0.007, 0.001).elapsed_s, 0.007);
+  EXPECT_EQ(period_time(0.007, 0.001).evidence_s, 0.002);
+  EXPECT_EQ(period_time(1e-5, 0.001).evidence_s, 1e-5);
+  EXPECT_EQ(period_time(5.0, 0.001).elapsed_s, PeriodTime::kMaxElapsedS);
+}
+
 TEST(AdaptiveFeedController, RapidIsInactiveAndNextBlockStartsBumpless) {
   for (Mode mode : {Mode::ForceFeed, Mode::ForceFeedSpeed}) {
     Ctl c = make(base(mode));

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -16,6 +17,7 @@ namespace {
 using lathectl::control::AdaptiveFeedController;
 using lathectl::control::IdleTare;
 using lathectl::control::OperationStats;
+using lathectl::control::PathBreakage;
 using lathectl::control::SettingError;
 using lathectl::control::TeachIn;
 
@@ -212,3 +214,48 @@ TEST(FeedOverride, SplitsTheNetOverrideIntoCeilingAndFastDecrease) {
 }
 
 }  // namespace
+
+// PathBreakage with a late servo period (1 ms thread, limit 550 N): the load of an exit falls from
+// 600 N to 0 over 36 ms (from 0.5·limit to the air threshold: 13 ms, outside the 10 ms window)
+// while the stock model still predicts the full depth (the worst case: it missed the exit). The
+// call after 0.120 s comes late; 12 ms late, it reads 50 N: counted in calls, a 2-call collapse.
+namespace {
+bool exit_with_late_period(bool measured, double late_s) {
+  PathBreakage b;
+  b.configure({});  // window 10 ms, air 0.1
+  const double limit = 550.0;
+  double t = 0.0;
+  bool alarm = false;
+  auto load = [](double tt) { return std::clamp(600.0 * (1.0 - (tt - 0.1) / 0.036), 0.0, 600.0); };
+  double behind = 0.0;
+  for (int k = 0; k < 400 && !alarm; ++k) {
+    double dt = 0.001;
+    if (t < 0.1205 && t + 0.001 >= 0.1205) {
+      dt += late_s;
+      behind = late_s;
+    } else if (behind > 1e-12) {
+      dt = 1e-5;
+      behind = std::max(behind - 0.001 + 1e-5, 0.0);
+    }
+    t += dt;
+    alarm = b.update(load(t), limit, 2.0, measured ? dt : 0.001);
+  }
+  return alarm;
+}
+}  // namespace
+
+TEST(PathBreakage, LatePeriodInAFallingLoadIsNoCollapse) {
+  EXPECT_FALSE(exit_with_late_period(true, 0.0));    // on time: 13 ms from 275 N to 55 N
+  EXPECT_TRUE(exit_with_late_period(false, 0.012));  // nominal periods: 2 calls, "broken"
+  for (double late : {0.001, 0.002, 0.005, 0.008, 0.012, 0.03})
+    EXPECT_FALSE(exit_with_late_period(true, late)) << late;
+}
+
+TEST(PathBreakage, ABrokenToolLatchesInThePeriodTheLoadCollapses) {
+  PathBreakage b;
+  b.configure({});
+  for (int k = 0; k < 100; ++k) EXPECT_FALSE(b.update(500.0, 550.0, 2.0, 0.001));
+  EXPECT_FALSE(b.update(500.0, 550.0, 2.0, 0.006));  // a late period, still loaded
+  EXPECT_FALSE(b.update(500.0, 550.0, 2.0, 1e-5));   // a catch-up call
+  EXPECT_TRUE(b.update(10.0, 550.0, 2.0, 0.001));    // broken: the next period
+}

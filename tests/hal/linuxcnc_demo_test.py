@@ -2,8 +2,10 @@
 """scripts/linuxcnc-sim on a program LinuxCNC ships: lathe_g70_71_demo.ngc (the pawn: G71
 roughing, G71.2, G70 finishing with cutter compensation) on examples/linuxcnc/pawn_bar.toml
 (eccentric, locally hardened bar; the program never starts the spindle, so --spindle-rpm).
-About two minutes of real time. Asserts that the program runs to its end without errors or
-alarms, that the recording is complete, that the controller acted (adaptive feed well below 1
+About two minutes of real time. While it runs, the servo thread is made late now and then (its
+process stopped for 40 ms every 5 s, as a loaded machine's scheduler would: LinuxCNC then runs the
+periods it missed back to back), so a late period reading as a broken tool (issue 28) fails here.
+Asserts that the program runs to its end without errors or alarms, that the recording is complete, that the controller acted (adaptive feed well below 1
 where the bar is hard and deep) and that in the feed moves the force stayed within 10 % of its
 limit for at least 95 % of the time in cut.
 
@@ -13,8 +15,11 @@ limit for at least 95 % of the time in cut.
 import csv
 import json
 import os
+import signal
 import subprocess
 import sys
+import threading
+import time
 
 FAILS = []
 
@@ -25,13 +30,45 @@ def check(cond, what):
         FAILS.append(what)
 
 
+def late_periods(stop, done, every_s=5.0, late_s=0.04):
+    """Stops LinuxCNC's realtime process (the oldest rtapi_app: halcmd starts short-lived ones as
+    clients) for late_s every every_s until `stop` is set; done[0] counts the late periods made,
+    done[1] says why none could be (a normal user cannot signal the setuid rtapi_app)."""
+    while not stop.wait(every_s):
+        out = subprocess.run(["pgrep", "-o", "-x", "rtapi_app"], capture_output=True,
+                             text=True).stdout.split()
+        if not out:
+            continue
+        try:
+            os.kill(int(out[0]), signal.SIGSTOP)
+        except ProcessLookupError:
+            continue
+        except OSError as e:
+            done[1] = str(e)
+            return
+        try:
+            time.sleep(late_s)
+        finally:
+            os.kill(int(out[0]), signal.SIGCONT)
+        done[0] += 1
+
+
 def main():
     src, work = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
     program = "/usr/share/linuxcnc/ncfiles/lathe_g70_71_demo.ngc"
-    p = subprocess.run([os.path.join(src, "scripts/linuxcnc-sim"), program,
-                        os.path.join(src, "examples/linuxcnc/pawn_bar.toml"), "--spindle-rpm",
-                        "1600", "--z-origin-mm", "2", "--out", work, "--timeout", "400"],
-                       capture_output=True, text=True, timeout=600)
+    stop, done = threading.Event(), [0, ""]
+    late = threading.Thread(target=late_periods, args=(stop, done))
+    late.start()
+    try:
+        p = subprocess.run([os.path.join(src, "scripts/linuxcnc-sim"), program,
+                            os.path.join(src, "examples/linuxcnc/pawn_bar.toml"), "--spindle-rpm",
+                            "1600", "--z-origin-mm", "2", "--out", work, "--timeout", "400"],
+                           capture_output=True, text=True, timeout=600)
+    finally:
+        stop.set()
+        late.join()
+    print("late servo periods made: %d (40 ms each)%s" %
+          (done[0], " — none: " + done[1] if done[1] else ""))
     if p.returncode != 0:
         print(p.stdout + p.stderr)
         check(False, "linuxcnc-sim ran " + program)

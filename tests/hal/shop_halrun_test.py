@@ -14,7 +14,8 @@ records the component in the same 1 ms period.
                                          break_at_s) stops the feed in the servo period its force
                                          collapses, while a programmed fast exit from the material
                                          does not, with the stock model (z_origin_mm); the
-                                         controller's own collapse detector trips on that exit
+                                         controller's own collapse detector trips on that exit;
+                                         the tool's table row changed in a feed move: alarm 22
   shop_halrun_test.py files SRC WORK     unreadable or wrong tools/taught files: the load fails
                                          with one line naming file, line and key
 """
@@ -92,8 +93,11 @@ def test_settings(src, work):
     for k in range(int((phases[-1][0] + 0.1) / h.PERIOD_S)):
         t = k * h.PERIOD_S
         ph = [p for p in phases if p[0] <= t + 1e-9][-1]
-        rows.append([0.0, rpm, rpm, s_prog, s_prog * rpm / 60.0, x, 2, ph[1], ph[2], ph[3], ph[4],
-                     0, ph[5], 10 + phases.index(ph)])
+        # A tool changes (M6) with motion stopped: motion-type 0 in that period (a tool number
+        # that changes inside a feed move is alarm 22, test_breakage).
+        mtype = 0 if rows and rows[-1][12] != ph[5] else 2
+        rows.append([0.0, rpm, rpm, s_prog, s_prog * rpm / 60.0, x, mtype, ph[1], ph[2], ph[3],
+                     ph[4], 0, ph[5], 10 + phases.index(ph)])
     got = session(src, work, "settings", rows, "tools=" + tools)
     if not got:
         return
@@ -211,23 +215,26 @@ def test_teach(src, work):
               "E0 = 0: the table's reference_pct (90 %%): limit %.2f N" % got3[-1]["limit"])
 
 
-def breakage_session(src, work, name, plant_params, adaptive_params, exit_at=None):
+def breakage_session(src, work, name, plant_params, adaptive_params, exit_at=None,
+                     diameter=lambda k: 0.8, rapid=lambda k: False):
     """A straight turn at 2 mm depth (x 18 on the 40 mm bar, z 2 → −12 at 0.3 mm/rev, 1200 rpm);
-    exit_at: at that z the tool leaves the material in +x at 300 mm/s (a feed move)."""
+    exit_at: at that z the tool leaves the material in +x at 300 mm/s (a feed move); diameter(k)
+    the tool table's diameter (halui.tool.diameter) and rapid(k) a rapid in period k."""
     rows, rpm = [], 1200.0
     x, z, v = 18.0, 2.0, 0.3 * rpm / 60.0
-    for k in range(3000):
-        mtype = 2
+    for k in range(2000):  # 2 s: the exit at 1.7 s, the broken tip at 1.3 s
+        mtype = 1 if rapid(k) else 2
         if exit_at is not None and z <= exit_at:
             x = min(25.0, x + 300.0 * h.PERIOD_S)
         else:
             z -= v * h.PERIOD_S
-        rows.append([x, z, rpm, mtype])
+        rows.append([x, z, rpm, mtype, diameter(k)])
     stim = ["lathectl-plant.x-pos", "lathectl-plant.z-pos", "lathectl-plant.spindle-rpm",
-            "lathectl-adaptive.motion-type"]
+            "lathectl-adaptive.motion-type", "lathectl-adaptive.tool-diameter"]
     out = ["lathectl-plant.force", "lathectl-adaptive.feed-hold", "lathectl-adaptive.alarm",
            "lathectl-adaptive.alarm-reason", "lathectl-adaptive.predicted-depth",
-           "lathectl-adaptive.breakage", "lathectl-plant.depth"]
+           "lathectl-adaptive.breakage", "lathectl-plant.depth",
+           "lathectl-adaptive.tool-data-changed"]
     sc = h.rt_scenario(src)
     pre = ("net stim0 => lathectl-adaptive.x-pos\nnet stim1 => lathectl-adaptive.z-pos\n"
            "net stim2 => lathectl-adaptive.spindle-rpm lathectl-adaptive.spindle-rpm-programmed\n")
@@ -237,8 +244,9 @@ def breakage_session(src, work, name, plant_params, adaptive_params, exit_at=Non
              "setp lathectl-adaptive.requested-vel 0.3\n")
     got = h.stream_session(work, name, ["lathectl_plant scenario=%s %s" % (sc, plant_params),
                                         "lathectl_adaptive scenario=%s %s" % (sc, adaptive_params)],
-                           "fffs", rows, stim, "fbbsfbf", out, extra, pre)
-    return [dict(zip(["force", "hold", "alarm", "reason", "predicted", "breakage", "depth"], r))
+                           "fffsf", rows, stim, "fbbsfbfb", out, extra, pre)
+    return [dict(zip(["force", "hold", "alarm", "reason", "predicted", "breakage", "depth",
+                      "tool_data"], r))
             for r in got]
 
 
@@ -268,6 +276,20 @@ def test_breakage(src, work):
         check(fell is not None and not any(r["breakage"] or r["alarm"] for r in got),  # 10 ms
               "programmed exit with the stock model: no alarm (the predicted depth fell with the "
               "load: %.2f mm then)" % (got[fell]["predicted"] if fell else float("nan")))
+    # The tool table rewritten under the running program (LinuxCNC's rs274 as the same user:
+    # halui.tool.diameter 0.8 → 1.6 mm with T2 in the spindle, measured beside a session). In a
+    # rapid (0.7 s) nothing: the next move's data; in a feed move in the cut (1.4 s) its own
+    # alarm 22 and the hold in that servo period, never a breakage.
+    got = breakage_session(src, work, "tool_data", "", "z_origin_mm=0",
+                           diameter=lambda k: 0.8 if k < 700 else 1.2 if k < 1400 else 1.6,
+                           rapid=lambda k: 690 <= k < 710)
+    if got:
+        i = next((i for i, r in enumerate(got) if r["tool_data"] == 1 or r["alarm"]), None)
+        check(i == 1400 and got[i - 1]["force"] > 100.0 and got[i]["hold"] == 1 and got[i]["alarm"] == 1 and
+              got[i]["reason"] == 22 and all(r["reason"] == 22 and r["hold"] == 1 and
+                                             not r["breakage"] for r in got[i:]),
+              "tool data changed in a feed move: alarm 22 and feed hold in that period, latched, "
+              "no breakage; in a rapid no alarm (first alarm in period %s)" % i)
     got = breakage_session(src, work, "exit_old", "", "", exit_at=-8.0)
     if got:
         check(any(r["alarm"] and r["reason"] == 21 for r in got),

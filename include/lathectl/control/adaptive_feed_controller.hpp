@@ -37,7 +37,10 @@
 //     only in a cut or above the air threshold, never in rapids. While such a reading stays
 //     constant the feed is not raised either (no feed-up in air on a signal that cannot show the
 //     contact; the programmed feed holds), and the first contact moves the reading;
-//   - every limit, hold or alarm sets a Reason; alarms latch until reset_alarm().
+//   - every limit, hold or alarm sets a Reason; alarms latch until reset_alarm();
+//   - the detectors count the measured period (Input::dt_s, PeriodTime), not the nominal one: a
+//     servo thread that ran late never turns a slow fall of the load into a breakage, nor the
+//     catch-up calls after it (the same sample, again and again) into a stuck sensor.
 // Real-time: configure() validates and may throw; update() never allocates, throws, locks or logs.
 
 #include <array>
@@ -118,6 +121,11 @@ class AdaptiveFeedController {
     double speed_m_per_min = 0.0;       // sensor 20 (V = π·D·n)
     double cut_power_W = 0.0;           // spindle power minus idle power at this speed
     bool feed_block = true;             // a cutting (G1) block is active
+    // The time since the last update() as measured [s] (LinuxCNC: rtapi_get_time() differences);
+    // 0: the nominal period_s. The latching detectors (breakage window, stuck sensor, overload)
+    // count it (PeriodTime), so a late servo period reads neither as a collapse nor as a stall;
+    // the regulator and ramps keep the nominal period.
+    double dt_s = 0.0;
   };
 
   struct Output {

@@ -9,6 +9,27 @@
 
 namespace lathectl::control {
 
+// The time one step of a detector really spans. LinuxCNC's uspace servo thread hands its
+// functions the nominal period even when it ran late, and then runs the periods it missed back to
+// back (uspace_posix.cc: the next start advances by the period, no sleep while behind;
+// hal_lib.c: funct(arg, thread->period)). Counted in nominal periods, a late stretch of real time
+// shrinks (a load that fell over 12 ms, 6 ms of it in one late period, reads as a 7 ms collapse)
+// and a burst of catch-up calls, which read the same sensor sample, reads as milliseconds of a
+// frozen signal. The detectors that latch count the measured time instead:
+//   elapsed   the measured period, at most kMaxElapsedS (a thread stopped for longer is no period):
+//             windows ("within 10 ms of being loaded") — a late period only ever widens them;
+//   evidence  at most twice the nominal period: timers that latch after a time spent somewhere
+//             (unchanged, above the overload level) — one late period is no evidence of what the
+//             signal did meanwhile, so it adds no more than two ordinary periods.
+// A measured period that is not known (≤ 0 or not finite: the first call, a simulator that steps
+// by the nominal period) is the nominal one.
+struct PeriodTime {
+  static constexpr double kMaxElapsedS = 1.0;
+  double elapsed_s = 0.0;
+  double evidence_s = 0.0;
+};
+[[nodiscard]] PeriodTime period_time(double measured_s, double nominal_s) noexcept;
+
 // Checks one sensor sample: finite, inside [min, max], and not frozen (a real sensor with noise
 // never repeats the same value for long; a stuck ADC or broken wire does).
 //
@@ -36,7 +57,8 @@ class SignalMonitor {
     double period_s = 0.0;         // sample period (> 0 enables the suspect state)
   };
   void configure(const Params& p);  // throws std::invalid_argument on min ≥ max or negative times
-  // Returns Reason::None when the sample is usable, else the fault. dt in s.
+  // Returns Reason::None when the sample is usable, else the fault. dt in s: the time this sample
+  // stands for (the stuck timer counts it; PeriodTime::evidence_s for a measured period).
   [[nodiscard]] Reason check(double value, double dt, bool armed = true) noexcept;
   void reset() noexcept;
   // The reading has not changed for suspect_samples() comparisons: do not act on it upward.

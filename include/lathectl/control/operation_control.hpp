@@ -143,7 +143,9 @@ class PathBreakage {
   };
   void configure(const Params& p) noexcept { p_ = p; reset(); }
   void reset() noexcept { high_since_s_ = 1e9; depth_high_ = 0.0; }
-  // True in the period a collapse with engagement predicted is seen.
+  // True in the period a collapse with engagement predicted is seen. dt: the time since the last
+  // call as measured (PeriodTime::elapsed_s), never the thread's nominal period: after a late
+  // period the fall of the load took that much longer than the number of calls says.
   bool update(double load, double limit, double predicted_depth_mm, double dt) noexcept;
 
  private:

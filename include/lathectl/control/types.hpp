@@ -29,6 +29,7 @@ enum class Reason : std::uint16_t {
   SensorSuspect = 13,      // sensor sample unchanged for a few samples: output held, not raised
   Overload = 20,           // force above limit too long with feed already at minimum
   ToolBreakage = 21,       // sudden force drop or spike
+  ToolDataChanged = 22,    // the tool's number, offsets or table row changed inside a feed move
   AirCut = 30,             // tool not in the cut: air feed
   Engaged = 31,            // tool entered the cut: feed dropped to the programmed value, PI preset
   NotInFeedBlock = 32,     // rapid / non-cutting block: adaptive control inactive
@@ -64,6 +65,8 @@ constexpr std::string_view reason_name(Reason r) noexcept {
       return "overload";
     case Reason::ToolBreakage:
       return "tool_breakage";
+    case Reason::ToolDataChanged:
+      return "tool_data_changed";
     case Reason::AirCut:
       return "air_cut";
     case Reason::Engaged:
@@ -93,6 +96,7 @@ constexpr std::string_view reason_name(Reason r) noexcept {
 constexpr bool is_alarm(Reason r) noexcept {
   return r == Reason::SensorNotFinite || r == Reason::SensorOutOfRange ||
          r == Reason::SensorStuck || r == Reason::Overload || r == Reason::ToolBreakage ||
+         r == Reason::ToolDataChanged ||
          r == Reason::GaugeBackstop;
 }
 
