@@ -703,6 +703,9 @@ std::vector<std::string> TableReader::choices(std::string_view key,
     }
     out.push_back(v);
   }
+  std::string shown;
+  for (const auto& v : out) shown += (shown.empty() ? "" : ", ") + v;
+  log(key, "array of strings", "each one of " + list, "", true, "", "[" + shown + "]");
   return out;
 }
 
