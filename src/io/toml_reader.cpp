@@ -809,7 +809,7 @@ void TableReader::fail_unknown(std::string_view user, std::string_view known) co
     else if (!m->user_unit.empty())
       msg += " (" + m->user_unit + " is not a unit of it)";
   } else {
-    msg += " — did you mean '" + std::string(known) + "'?";
+    msg += " — did you mean '" + full_key(known) + "'?";  // the full key, as every message
   }
   throw InputError(located(file_, static_cast<int>(src.line), static_cast<int>(src.column), msg));
 }

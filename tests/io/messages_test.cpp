@@ -80,13 +80,13 @@ TEST(Messages, MisspeltRequiredKeyIsReportedNotTheMissingOne) {
   const auto t = e_with("planned_depth_mm = 3.0", "planned_depht_mm = 3.0");
   EXPECT_EQ(error_of(t), at(t, "planned_depht_mm") +
                              "unknown key 'controller.planned_depht_mm' — did you mean "
-                             "'planned_depth_mm'?");
+                             "'controller.planned_depth_mm'?");
 }
 
 TEST(Messages, MisspeltOptionalKeyAndTableSuggestTheNearest) {
   auto t = e_with("approach_mm = 2.0", "aproach_mm = 2.0");
-  EXPECT_EQ(error_of(t),
-            at(t, "aproach_mm") + "unknown key 'stock.aproach_mm' — did you mean 'approach_mm'?");
+  EXPECT_EQ(error_of(t), at(t, "aproach_mm") +
+                             "unknown key 'stock.aproach_mm' — did you mean 'stock.approach_mm'?");
   t = e_with("[cost]", "[cots]");
   EXPECT_EQ(error_of(t), at(t, "[cots]") + "unknown table 'cots' — did you mean 'cost'?");
   // Nothing near: the list of the table's keys, as before.
