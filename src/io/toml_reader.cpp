@@ -252,7 +252,9 @@ std::string nearest_name(std::string_view word, const std::vector<std::string>& 
   std::string best;
   std::size_t best_d = allowed + 1;
   for (const auto& k : known) {
-    if (k == word) continue;
+    // At least |Δlength| edits: skip the far ones before the quadratic table (fuzzed input).
+    const std::size_t gap = k.size() > w.size() ? k.size() - w.size() : w.size() - k.size();
+    if (k == word || gap > allowed) continue;
     const std::size_t d = edit_distance(w, lower(k));
     if (d < best_d) {
       best_d = d;
@@ -715,6 +717,8 @@ std::optional<TableReader> TableReader::table(std::string_view key, bool require
     log(key, "table", "", required ? "" : "absent", required, "", "");
     return describing(full_key(key), log_, variant_);
   }
+  // A heading in the run's settings, as in the reference (the settings table leaves it out).
+  log(key, "table", "", required ? "" : "absent", required, "", "");
   if (!n) {
     if (required) fail(key, "missing table");
     return std::nullopt;
@@ -735,6 +739,7 @@ std::vector<TableReader> TableReader::tables(std::string_view key) {
     out.push_back(describing(full_key(key) + "[]", log_, variant_));
     return out;
   }
+  log(key, "array of tables", "", "none", false, "", "");
   if (!n) return out;
   auto a = n->as_array();
   if (!a) fail(key, "expected an array of tables, got " + type_name(*n));
