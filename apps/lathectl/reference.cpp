@@ -28,11 +28,6 @@ namespace fs = std::filesystem;
 namespace lathectl::cli {
 namespace {
 
-// The unit a key's name carries (io::unit_of_key, the one the report uses too).
-std::string unit_of(const std::string& full_key) {
-  return io::unit_of_key(full_key.substr(full_key.rfind('.') + 1));
-}
-
 std::string table_of(const std::string& key) {
   const auto dot = key.rfind('.');
   return dot == std::string::npos ? "" : key.substr(0, dot);
@@ -61,8 +56,10 @@ std::string tables_markdown(const io::ParamLog& log, const std::set<std::string>
     if (is_table(r) || skip.count(r.key)) continue;
     const std::string t = table_of(r.key);
     if (!rows.count(t)) order.push_back(t);
-    rows[t].push_back({"`" + r.key.substr(t.empty() ? 0 : t.size() + 1) + "`", r.kind,
-                       unit_of(r.key), r.range, r.required ? "—" : r.fallback,
+    // The unit and default as the key's description gives them (the report's settings too).
+    rows[t].push_back({"`" + r.key.substr(t.empty() ? 0 : t.size() + 1) + "`", r.kind, r.unit,
+                       r.plausible.empty() ? r.range : r.range + "; usually " + r.plausible,
+                       r.required ? "—" : r.fallback,
                        r.rules.empty() ? r.doc : r.doc + " (rule: " + r.rules + ")"});
   }
   std::string out;

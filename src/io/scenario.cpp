@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <stdexcept>
 
@@ -38,8 +39,10 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
   const TomlDocument doc = TomlDocument::parse(text, label);
   auto keys = std::make_shared<KeyLocations>(label);
   auto params = std::make_shared<ParamLog>();
+  auto warnings = std::make_shared<std::vector<std::string>>();
   TableReader root(doc.root(), label, "", keys);
   root.record_into(params);
+  root.warn_into(warnings);
   Scenario sc;
   sc.file = label;
   sc.keys = keys;
@@ -51,6 +54,7 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
   sc.settings.reset(section->read(root, sc, lib));
   root.finish();
   if (section->validate) section->validate(sc);
+  sc.warnings = *warnings;
   return sc;
 }
 
@@ -61,12 +65,18 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
 
 Scenario load_scenario(const std::string& path, const MaterialLibrary& lib,
                        const Section& section) {
-  return parse_scenario(read_scenario_text(path), path, lib, section);
+  Scenario sc = parse_scenario(read_scenario_text(path), path, lib, section);
+  print_warnings(sc);
+  return sc;
 }
 
-ParamLog describe_section(const Section& section, const MaterialLibrary& lib) {
+void print_warnings(const Scenario& sc) {
+  for (const auto& w : sc.warnings) std::cerr << "warning: " << w << "\n";
+}
+
+ParamLog describe_section(const Section& section, const MaterialLibrary& lib, int variant) {
   auto log = std::make_shared<ParamLog>();
-  TableReader root = TableReader::describing("", log);
+  TableReader root = TableReader::describing("", log, variant);
   Scenario sc;
   sc.file = "(reference)";
   sc.keys = std::make_shared<KeyLocations>(sc.file);

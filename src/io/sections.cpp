@@ -52,8 +52,11 @@ void read_material_tool(TableReader& root, const MaterialLibrary& lib,
 
   if (auto tool = root.table("tool")) {
     root.document("tool", "the insert's geometry (and, where the system models it, its wear)");
-    cutting.nose_radius_mm = tool->number("nose_radius_mm", {0.0, 10.0, true, false}, 0.8);
-    tool->document("nose_radius_mm", "r_ε: with the feed, sets the chip and the roughness");
+    tool->read({.key = "nose_radius_mm",
+                .range = {0.0, 10.0, true, false},
+                .doc = "r_ε: with the feed, sets the chip and the roughness",
+                .plausible = Range::closed(0.05, 4.0)},
+               cutting.nose_radius_mm);
     cutting.approach_angle_deg = tool->number("approach_angle_deg", {0.0, 90.0, true, false}, 90.0);
     tool->document("approach_angle_deg", "κ_r: splits the chip into width b = t/sin κ and h = s·sin κ");
     if (wear) {
@@ -100,7 +103,11 @@ void read_spindle(TableReader& sp, drives::SpindleDrive::Params& s, bool default
   const P inertia{"inertia_kg_m2", Range::positive(),
                   "J: spindle, chuck and part reduced to the spindle"};
   const P torque{"max_torque_N_m", Range::positive(), "T_max of the drive"};
-  const P power{"max_power_kW", Range::positive(), "P_max, mechanical, at the spindle", 1e3};
+  const P power{.key = "max_power_kW",
+                .range = Range::positive(),
+                .doc = "P_max, mechanical, at the spindle",
+                .scale = 1e3,
+                .plausible = Range::closed(0.1, 500.0)};
   if (defaults) {
     sp.read(inertia, s.inertia_kg_m2);
     sp.read(torque, s.max_torque_N_m);
@@ -122,7 +129,11 @@ void read_spindle(TableReader& sp, drives::SpindleDrive::Params& s, bool default
   sp.read({"max_accel_rpm_per_s", Range::positive(), "speed command ramp"},
           s.max_accel_rpm_per_s);
   sp.read({"min_rpm", Range::positive(), "lowest speed the drive holds"}, s.min_rpm);
-  sp.read({"max_rpm", Range::positive(), "highest speed"}, s.max_rpm);
+  sp.read({.key = "max_rpm",
+           .range = Range::positive(),
+           .doc = "highest speed",
+           .plausible = Range::closed(10.0, 2e4)},
+          s.max_rpm);
   sp.check(s.max_rpm > s.min_rpm, "max_rpm", "must exceed min_rpm");
   sp.finish();
 }
@@ -140,13 +151,22 @@ std::vector<dynamics::Mode> read_modes(TableReader& root) {
   std::vector<dynamics::Mode> modes;
   for (auto& m : root.tables("mode")) {
     dynamics::Mode md;
-    m.require({"stiffness_N_per_m", {0.0, 1e13, true, false}, "k, the mode's stiffness"},
+    // Plausible: a lathe's tool, turret or part mode (6 N/µm written as 6 would be 6 N/m).
+    m.require({.key = "stiffness_N_per_m",
+               .range = {0.0, 1e13, true, false},
+               .doc = "k, the mode's stiffness",
+               .plausible = Range::closed(1e5, 1e11)},
               md.stiffness_N_per_m);
-    m.require({"damping_ratio", {0.0, 1.0, true, true}, "ζ, the mode's damping ratio"},
+    m.require({.key = "damping_ratio",
+               .range = {0.0, 1.0, true, true},
+               .doc = "ζ, the mode's damping ratio",
+               .plausible = Range::closed(1e-4, 0.3)},
               md.damping_ratio);
-    m.require(
-        {"natural_frequency_Hz", {0.0, 1e6, true, false}, "f_n, the mode's natural frequency"},
-        md.natural_frequency_Hz);
+    m.require({.key = "natural_frequency_Hz",
+               .range = {0.0, 1e6, true, false},
+               .doc = "f_n, the mode's natural frequency",
+               .plausible = Range::closed(1.0, 2e4)},
+              md.natural_frequency_Hz);
     md.angle_rad = read_angle_rad(m, "θ, the mode's direction to the chip-thickness direction");
     m.finish();
     modes.push_back(md);

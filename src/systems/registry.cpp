@@ -53,7 +53,9 @@ Scenario parse_scenario(std::string_view text, const std::string& label,
 }
 
 Scenario load_scenario(const std::string& path, const MaterialLibrary& lib) {
-  return parse_scenario(read_scenario_text(path), path, lib);
+  Scenario sc = parse_scenario(read_scenario_text(path), path, lib);
+  print_warnings(sc);
+  return sc;
 }
 
 }  // namespace lathectl::io

@@ -17,18 +17,23 @@ RunOutput run_system(const Scenario& sc) {
   return s->run(sc);
 }
 
+// A settings row is a key, not a table heading; the description is the report's introduction.
+bool is_setting(const ParamRecord& p) {
+  return p.kind != "table" && p.kind != "array of tables" && p.key != "description";
+}
 
 // Every key the scenario's reader read (defaults included), in the file's units: summary.json's
-// "settings" and the report's last table, so a user sees what a run really used.
+// "settings" and the report's last table, so a user sees what a run really used. The scenario's
+// warnings (values a shop would not mean) go to the summary and the report's notes.
 void add_settings(const Scenario& sc, RunOutput& out) {
+  if (!sc.warnings.empty()) {
+    out.summary["warnings"] = sc.warnings;
+    for (const auto& w : sc.warnings) out.report.notes.push_back("⚠ warning: " + w);
+  }
   if (!sc.params || sc.params->empty()) return;
   nlohmann::json js = nlohmann::json::object();
-  Table t{"Settings: every key the run used (defaults included), in the file's units",
-          {"key", "value", "unit", "default", "meaning"},
-          {}};
   for (const auto& p : *sc.params) {
-    // Tables are headings, not settings; the description is the report's introduction already.
-    if (p.kind == "table" || p.kind == "array of tables" || p.key == "description") continue;
+    if (!is_setting(p)) continue;
     char* end = nullptr;
     const double v = std::strtod(p.value.c_str(), &end);
     const bool numeric = !p.value.empty() && end && *end == '\0' && p.kind != "string";
@@ -40,13 +45,22 @@ void add_settings(const Scenario& sc, RunOutput& out) {
       js[p.key] = json_number(v);
     else
       js[p.key] = p.value;
-    t.rows.push_back({p.key, p.value, unit_of_key(p.key.substr(p.key.rfind('.') + 1)),
-                      p.required ? "required" : p.fallback, p.doc});
   }
   out.summary["settings"] = std::move(js);
-  out.report.tables.push_back(std::move(t));
+  out.report.tables.push_back(settings_table(sc));
 }
 }  // namespace
+
+Table settings_table(const Scenario& sc) {
+  Table t{"Settings: every key the run used (defaults included), in the file's units",
+          {"key", "value", "unit", "default", "meaning"},
+          {}};
+  if (sc.params)
+    for (const auto& p : *sc.params)
+      if (is_setting(p))
+        t.rows.push_back({p.key, p.value, p.unit, p.required ? "required" : p.fallback, p.doc});
+  return t;
+}
 
 RunOutput run_scenario(const Scenario& sc) {
   RunOutput out = run_system(sc);

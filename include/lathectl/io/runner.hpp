@@ -33,6 +33,9 @@ struct RunOutput {
 // Throws InputError (bad scenario) or std::runtime_error (numerical failure: NaN, divergence).
 // The verdict is filled in, added to the summary and shown at the top of the report.
 RunOutput run_scenario(const Scenario& sc);
+// The report's settings table: every key the scenario's reader read, in the file's units, with
+// the unit and default its description gives (run_scenario adds it; tests compare it).
+Table settings_table(const Scenario& sc);
 // index_href: the demo's index.html relative to dir ("../index.html"), linked from the report;
 // empty for a single run.
 void write_outputs(const RunOutput& out, const std::filesystem::path& dir,

@@ -65,6 +65,9 @@ struct Scenario {
   std::string description;
   RunSettings run;
   std::shared_ptr<const ParamLog> params;  // every key read, with its value (the report's table)
+  // Values read but not ones a shop would mean ("file:line:col: key 'k': ..."): printed on
+  // stderr by load_scenario ("warning: ..."), listed in the report and summary.json.
+  std::vector<std::string> warnings;
   SettingsSlot settings;                   // the system's own (get<T>())
 
   // The system's settings as its type; a logic_error if the scenario is another system's.
@@ -107,7 +110,11 @@ Scenario parse_scenario(std::string_view text, const std::string& file_label,
 // The text of a scenario file (InputError when it is a directory or cannot be read).
 std::string read_scenario_text(const std::string& path);
 // The reference of a system's keys: its section reader run in describe mode (common part first).
-ParamLog describe_section(const Section& section, const MaterialLibrary& materials);
+// `variant` 1: required keys get other in-range values (TableReader::describing).
+ParamLog describe_section(const Section& section, const MaterialLibrary& materials,
+                          int variant = 0);
+// Prints the scenario's warnings on stderr, "warning: " and one a line (load_scenario does).
+void print_warnings(const Scenario& sc);
 
 // A rig's (or a model's) rejection of a parsed scenario, as the InputError a user reads: a
 // sim::ConfigError at the key it names, any other std::invalid_argument at `fallback_key` (a

@@ -35,6 +35,7 @@ struct Range {
   static constexpr Range any() { return {}; }
   [[nodiscard]] bool contains(double v) const noexcept;
   [[nodiscard]] std::string describe() const;
+  [[nodiscard]] bool is_any() const noexcept { return lo <= -1e299 && hi >= 1e299; }
 };
 
 // One parameter, described once: its key (the file's unit is in the name: _mm, _MPa, _ms, ...),
@@ -47,11 +48,23 @@ struct Range {
 // defaults and cross-checks read as code), while every key it reads goes through one call that
 // carries the whole description. Run in describe mode (TableReader::describing), the same function
 // yields the reference tables; run on a file, it yields the effective settings a report shows.
+//
+// Three optional parts, for the keys that need them (designated initializers read best:
+// {.key = "sensor_min", .range = ..., .doc = ..., .unit = "N or W"}):
+//   unit:      when the name cannot carry it (a reading in the unit of the sensor chosen);
+//   derived:   a default computed from other keys, as a formula ("feed_mm_per_rev"): the reference
+//              shows it instead of a number the describe run made up, a run's settings show
+//              "formula = value";
+//   plausible: the values a shop would mean; a value inside `range` but outside it is read, and
+//              a warning naming the key goes to stderr and into the report.
 struct Param {
   std::string_view key;
   Range range = {};
   std::string_view doc = {};
   double scale = 1.0;  // value in the file × scale = value in the struct
+  std::string_view unit = {};
+  std::string_view derived = {};
+  Range plausible = {};
 };
 
 // What a reader read (or, describing, would read): one row of the reference or of the effective
@@ -65,12 +78,31 @@ struct ParamRecord {
   std::string doc;
   std::string value;  // as read (empty when describing)
   std::string rules;  // cross-field rules (check()), for the reference
+  std::string unit;   // the key's unit as a person writes it (Param::unit, else unit_of_key)
+  std::string plausible;  // Param::plausible described, empty when any value in range is
 };
 using ParamLog = std::vector<ParamRecord>;
 
 // The unit a key carries in its name, as a person writes it: "feed_mm_per_rev" → "mm/rev",
 // "holder_stiffness_N_per_um" → "N/µm", "inertia_kg_m2" → "kg·m²", "damping_ratio" → "".
+// "min" right after the quantity and before a unit is a minimum ("feed_min_mm_per_rev" → mm/rev);
+// as the last token it is minutes ("tool_change_min").
 std::string unit_of_key(std::string_view key);
+
+// The known name nearest to `word` (a misspelling: a few letters added, dropped, changed or
+// swapped, case ignored), or "" when none is near.
+std::string nearest_name(std::string_view word, const std::vector<std::string>& known);
+
+// A key the user wrote in another unit of the same quantity ("stiffness_N_per_um" for
+// "stiffness_N_per_m"): `factor` turns the user's number into the known key's unit (1e6 here);
+// nullopt when the names differ in more than the unit or the units measure different things.
+struct UnitMismatch {
+  std::string quantity;   // "stiffness"
+  std::string user_unit;  // "N/µm"
+  std::string unit;       // "N/m"
+  double factor = 0.0;    // NaN when the units cannot be converted (mm/rev for mm/min)
+};
+std::optional<UnitMismatch> unit_mismatch(std::string_view user_key, std::string_view known_key);
 
 // A parsed TOML document that owns its tree.
 class TomlDocument {
@@ -94,10 +126,17 @@ class TableReader {
   // A reader of no file that records every key it is asked for into `log` and answers with the
   // caller's default (or, for a required key, a value inside its range): running a section reader
   // on it lists that section's keys for the reference. check() never fails while describing.
-  static TableReader describing(std::string prefix, std::shared_ptr<ParamLog> log);
+  // `variant` 1 answers required keys with other in-range values: a default that changes with it
+  // is derived from a required key and must say so (Param::derived; the reference test).
+  static TableReader describing(std::string prefix, std::shared_ptr<ParamLog> log, int variant = 0);
   [[nodiscard]] bool is_describing() const { return table_ == nullptr; }
   // Every key read from now on is also recorded (value as written, or the default) into `log`.
   void record_into(std::shared_ptr<ParamLog> log) { log_ = std::move(log); }
+  // Warnings (implausible values, "file:line:col: key 'k': ...") go into `sink`;
+  // tables opened from this one share it.
+  void warn_into(std::shared_ptr<std::vector<std::string>> sink) { warnings_ = std::move(sink); }
+  // A warning located at `key` (a value read but not one a shop would mean). Describing: nothing.
+  void warn(std::string_view key, const std::string& message) const;
 
   // The described way to read a key (see Param): absent → `field` keeps its value (the struct's
   // default); present → checked against p.range, times p.scale, stored.
@@ -145,7 +184,10 @@ class TableReader {
   [[nodiscard]] const std::string& file() const { return file_; }
   [[nodiscard]] std::string full_key(std::string_view key) const;
   [[nodiscard]] int line() const;
-  // InputError located at `key` (or at the table when the key is absent).
+  // InputError located at `key` (or at the table when the key is absent). When the key is
+  // absent and the file writes an unread key that is a misspelling of it (or the same quantity
+  // in another unit), the error is that key's, at its own line: the user's mistake, not its
+  // consequence.
   [[noreturn]] void fail(std::string_view key, const std::string& message) const;
 
  private:
@@ -159,13 +201,21 @@ class TableReader {
   std::string choice_value(std::string_view key, const std::vector<std::string>& choices,
                            std::optional<std::string> fallback);
   void log(std::string_view key, std::string kind, std::string range, std::string fallback,
-           bool required, std::string_view doc, std::string value) const;
+           bool required, std::string_view doc, std::string value,
+           std::string_view unit = {}) const;
+  void check_plausible(const Param& p, double v) const;
+  // Completes the row of a described key: its unit, plausible range and derived default.
+  void describe_row(const Param& p, const std::string& value_default) const;
+  // The error for the file's key `user` (unread) that stands for the reader's key `known`.
+  [[noreturn]] void fail_unknown(std::string_view user, std::string_view known) const;
   const toml::table* table_ = nullptr;  // null when describing
   std::string file_;
   std::string prefix_;
   std::set<std::string, std::less<>> used_;
   std::shared_ptr<KeyLocations> locations_;
   std::shared_ptr<ParamLog> log_;
+  std::shared_ptr<std::vector<std::string>> warnings_;
+  int variant_ = 0;  // describing: which in-range value a required key gets
 };
 
 }  // namespace lathectl::io

@@ -165,9 +165,11 @@ void read_eccentric(TableReader& root, sim::RigAConfig& a) {
     // Shop units here: the circular profile is built from them (default: max_slot_mm / 2).
     double ecc_mm = a.regulator.max_slot_m / 2e-3;
     double base_mm = 0.0;
-    t->read(
-        {"eccentricity_mm", {0.0, 10.0, true, false}, "circular profile (default max_slot_mm/2)"},
-        ecc_mm);
+    t->read({.key = "eccentricity_mm",
+             .range = {0.0, 10.0, true, false},
+             .doc = "circular profile (default max_slot_mm/2)",
+             .derived = "regulator.max_slot_mm/2"},
+            ecc_mm);
     t->read({"base_slot_mm", Range::closed(0, 10), "slot at angle 0 (circular profile)"}, base_mm);
     drives::EccentricDrive::circular_profile(base_mm * kMm, ecc_mm * kMm, 91, e);
   }
@@ -270,7 +272,11 @@ void read_controller(TableReader& root, sim::RigAConfig& a) {
           p.feed_min_fraction);
   c->read({"slot_min_mm", Range::closed(0, 10), "AIM: smallest slot", kMm}, p.slot_min_m);
   p.slot_max_m = a.regulator.max_slot_m;
-  c->read({"slot_max_mm", {0.0, 10.0, true, false}, "AIM: largest slot (default max_slot_mm)", kMm},
+  c->read({.key = "slot_max_mm",
+           .range = {0.0, 10.0, true, false},
+           .doc = "AIM: largest slot (default max_slot_mm)",
+           .scale = kMm,
+           .derived = "regulator.max_slot_mm"},
           p.slot_max_m);
   c->read({"frequency_min_Hz", Range::closed(0, 1e4), "FIM: lowest frequency"}, p.frequency_min_Hz);
   c->read({"frequency_max_Hz", {0.0, 1e4, true, false}, "FIM: highest frequency"},

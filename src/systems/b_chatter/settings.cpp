@@ -183,13 +183,15 @@ void read_modulation(TableReader& md, sim::RigBConfig& b) {
                "a0·m_d·|ω_d² − ω_m²|/c (divide: B ≥ a0/√2, the threshold itself)"},
               {"multiply", "divide"}, b.seed_divides ? "divide" : "multiply") == "divide";
   m.coefficient = b.module_coefficient();
-  md.read({"part_mass_kg",
-           {0.0, 1e6, true, false},
-           "m_d; by default the first mode's modal mass at mid-cut"},
+  md.read({.key = "part_mass_kg",
+           .range = {0.0, 1e6, true, false},
+           .doc = "m_d; by default the first mode's modal mass at mid-cut",
+           .derived = "the part's first modal mass at mid-cut"},
           m.part_mass_kg);
-  md.read({"radial_force_ratio",
-           {0.0, 10.0, true, false},
-           "r; by default the Kienzle F_p/F_c at the programmed chip"},
+  md.read({.key = "radial_force_ratio",
+           .range = {0.0, 10.0, true, false},
+           .doc = "r; by default the Kienzle F_p/F_c at the programmed chip",
+           .derived = "Kienzle F_p/F_c at the programmed chip"},
           m.radial_force_ratio);
   md.read({"force_feed_exponent",
            {0.0, 1.5, true, true},

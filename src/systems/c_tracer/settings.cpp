@@ -210,7 +210,10 @@ void read_friction_cutting(TableReader& root, const io::MaterialLibrary& lib, si
     root.document("friction", "the slide's friction (nonlinear servo): Stribeck, with stiction");
     fr->read({"coulomb_N", Range::closed(0, 1e6), "F_c, Coulomb friction"}, c.coulomb_N);
     c.static_N = c.coulomb_N;
-    fr->read({"static_N", Range::closed(0, 1e6), "F_s, static friction (default coulomb_N)"},
+    fr->read({.key = "static_N",
+              .range = Range::closed(0, 1e6),
+              .doc = "F_s, static friction (default coulomb_N)",
+              .derived = "coulomb_N"},
              c.static_N);
     fr->check(c.static_N >= c.coulomb_N, "static_N", "must be ≥ coulomb_N (falling friction)");
     fr->read(

@@ -37,7 +37,12 @@ void read_process(TableReader& root, Settings& d) {
            p.noise_beta_per_s);
   pr->read({"relay_response_ms", Range::closed(0, 1e4), "t_r, the relay's response time", kMs},
            p.relay_response_s);
-  pr->require({"tolerance_um", {0.0, 1e5, true, false}, "± about the target; for Cp and Cpk", kUm},
+  // A gauged shop tolerance is microns to millimetres; 0.005 µm is a unit slip (mm for µm?).
+  pr->require({.key = "tolerance_um",
+               .range = {0.0, 1e5, true, false},
+               .doc = "± about the target; for Cp and Cpk",
+               .scale = kUm,
+               .plausible = Range::closed(0.5, 5000.0)},
               d.tolerance_m);
   // The derived default is set before the read, so the run's settings record shows the value used.
   if (std::isnan(p.backstop_m) && !pr->is_describing()) p.backstop_m = p.target_m - d.tolerance_m;

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <sstream>
 
+#include "lathectl/cutting/cutting_model.hpp"
+#include "lathectl/cutting/stock.hpp"
 #include "lathectl/io/sections.hpp"
 #include "lathectl/io/toml_reader.hpp"
 
@@ -45,6 +48,32 @@ void read_profile(TableReader& t, std::string_view key, std::string_view value_k
     t.check(out[i].at_mm > out[i - 1].at_mm, key, "at_mm must increase from point to point");
 }
 
+// A pass that meets no material anywhere on its way (its diameter at or above the surface the
+// earlier passes left, eccentricity included) is a mistake a shop would not make on purpose.
+void warn_pass_in_air(const TableReader& p, const sim::RigEConfig& e, std::size_t k) {
+  if (p.is_describing() || e.stock.blank_diameter_mm.empty()) return;
+  cutting::Stock stock;
+  try {
+    stock.configure(e.stock);
+  } catch (const std::exception&) {
+    return;  // the rig's validation reports it
+  }
+  const auto& q = e.stock.passes[k];
+  constexpr int kSamples = 256;
+  double highest = 0.0;
+  for (int i = 0; i <= kSamples; ++i) {
+    const double z = q.z_start_mm + (q.z_end_mm - q.z_start_mm) * i / kSamples;
+    const double d = stock.surface_diameter_mm(k, z) +
+                     (stock.blank_surface(k, z) ? 2.0 * e.stock.eccentricity_mm : 0.0);
+    highest = std::max(highest, d);
+  }
+  if (q.diameter_mm >= highest)
+    p.warn("diameter_mm", "the pass cuts nothing: " + fmt_number(q.diameter_mm) +
+                              " mm is at or above the largest diameter in front of it on z = [" +
+                              fmt_number(q.z_start_mm) + ", " + fmt_number(q.z_end_mm) + "] mm (" +
+                              fmt_number(highest) + " mm): it runs entirely in air");
+}
+
 void read_stock(TableReader& root, sim::RigEConfig& e, std::uint64_t seed) {
   auto st = root.table("stock", true);
   read_profile(*st, "blank", "diameter_mm", {0.0, 5000.0, true, false},
@@ -70,6 +99,7 @@ void read_stock(TableReader& root, sim::RigEConfig& e, std::uint64_t seed) {
     p.check(k.z_end_mm > k.z_start_mm, "z_end_mm", "must exceed z_start_mm");
     p.finish();
     e.stock.passes.push_back(k);
+    warn_pass_in_air(p, e, e.stock.passes.size() - 1);
   }
   st->check(!e.stock.passes.empty(), "passes",
             "at least one pass {z_start_mm, z_end_mm, diameter_mm}");
@@ -169,6 +199,35 @@ void use_depth_corrected_law(sim::RigEConfig& e) {
 
 namespace {
 
+std::string two_digits(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2g", v);
+  return buf;
+}
+
+// V_p that no carbide edge survives on this material: the planned tool life T(V_p, S_p, t_p)
+// of the extended Taylor law under a minute (1600 m/min on steel 45 gives about 0.2 s).
+void warn_short_tool_life(const TableReader& c, const sim::RigEConfig& e) {
+  if (c.is_describing()) return;
+  const auto& p = e.controller;
+  cutting::CuttingModel model;
+  try {
+    model.configure(e.cutting);
+  } catch (const std::exception&) {
+    return;
+  }
+  const double life_min = model.tool_life_min(p.speed_programmed_m_per_min,
+                                              p.feed_planned_mm_per_rev, e.planned_depth_mm);
+  if (!(life_min < 1.0)) return;
+  const double v1 = model.speed_for_life(15.0, p.feed_planned_mm_per_rev, e.planned_depth_mm);
+  c.warn("speed_m_per_min",
+         "at V_p = " + fmt_number(p.speed_programmed_m_per_min) +
+             " m/min (S_p = " + fmt_number(p.feed_planned_mm_per_rev) + " mm/rev, t_p = " +
+             fmt_number(e.planned_depth_mm) + " mm) the tool life on " + e.cutting.material.name +
+             " would be " + two_digits(life_min * 60.0) + " s; a 15 min edge runs at about " +
+             fmt_number(std::round(v1)) + " m/min. Check the speed (it is m/min, not rpm)");
+}
+
 void read_controller(TableReader& root, sim::RigEConfig& e) {
   auto c = root.table("controller", true);
   auto& p = e.controller;
@@ -191,9 +250,13 @@ void read_controller(TableReader& root, sim::RigEConfig& e) {
           p.feed_max_mm_per_rev);
   c->check(p.feed_max_mm_per_rev > p.feed_min_mm_per_rev, "feed_max_mm_per_rev",
            "must exceed feed_min_mm_per_rev");
-  const Param feed{"feed_mm_per_rev", {0.0, 10.0, true, false},
-                   "programmed feed (with worst_case_feed: optional, default "
-                   "feed_min_mm_per_rev, and chosen by the rig)"};
+  const Param feed{.key = "feed_mm_per_rev",
+                   .range = {0.0, 10.0, true, false},
+                   .doc =
+                       "programmed feed (with worst_case_feed: optional, default "
+                       "feed_min_mm_per_rev, and chosen by the rig)",
+                   .derived = "feed_min_mm_per_rev",
+                   .plausible = Range::closed(0.01, 2.0)};
   if (e.worst_case_feed) {
     p.feed_programmed_mm_per_rev = p.feed_min_mm_per_rev;
     c->read(feed, p.feed_programmed_mm_per_rev);
@@ -210,15 +273,20 @@ void read_controller(TableReader& root, sim::RigEConfig& e) {
            "false: the raw signal"},
           p.average_per_revolution);
   p.air_feed_mm_per_rev = p.feed_programmed_mm_per_rev;
-  c->read({"air_feed_mm_per_rev", {0.0, 10.0, true, false},
-           "feed in air (default: feed_mm_per_rev)"},
+  c->read({.key = "air_feed_mm_per_rev",
+           .range = {0.0, 10.0, true, false},
+           .doc = "feed in air (default: feed_mm_per_rev)",
+           .derived = "feed_mm_per_rev"},
           p.air_feed_mm_per_rev);
   // Entry feed: what the feed drops to at contact before the PI takes over. Default
   // max(0.05 mm/rev, s_min): a light chip for the first revolution, never below the limiter's
   // floor (the controller would reject it). Checked here so the error names this key.
   p.entry_feed_mm_per_rev = std::max(0.05, p.feed_min_mm_per_rev);
-  c->read({"entry_feed_mm_per_rev", {0.0, 10.0, true, false},
-           "feed at contact before the PI takes over (default: max(0.05, feed_min_mm_per_rev))"},
+  c->read({.key = "entry_feed_mm_per_rev",
+           .range = {0.0, 10.0, true, false},
+           .doc = "feed at contact before the PI takes over (default: max(0.05, "
+                  "feed_min_mm_per_rev))",
+           .derived = "max(0.05, feed_min_mm_per_rev)"},
           p.entry_feed_mm_per_rev);
   c->check(p.entry_feed_mm_per_rev >= p.feed_min_mm_per_rev &&
                p.entry_feed_mm_per_rev <= p.feed_max_mm_per_rev,
@@ -226,25 +294,36 @@ void read_controller(TableReader& root, sim::RigEConfig& e) {
            "must lie in [feed_min_mm_per_rev, feed_max_mm_per_rev] = [" +
                fmt_number(p.feed_min_mm_per_rev) + ", " + fmt_number(p.feed_max_mm_per_rev) +
                "], got " + fmt_number(p.entry_feed_mm_per_rev));
-  c->require({"speed_m_per_min", {0.0, 2000.0, true, false}, "V_p, setter 18"},
+  c->require({.key = "speed_m_per_min",
+              .range = {0.0, 2000.0, true, false},
+              .doc = "V_p, setter 18",
+              .plausible = Range::closed(10.0, 600.0)},
              p.speed_programmed_m_per_min);
   p.feed_planned_mm_per_rev = p.feed_programmed_mm_per_rev;
-  c->read({"planned_feed_mm_per_rev", {0.0, 10.0, true, false},
-           "S_p, setter 15 (default: feed_mm_per_rev)"},
+  c->read({.key = "planned_feed_mm_per_rev",
+           .range = {0.0, 10.0, true, false},
+           .doc = "S_p, setter 15 (default: feed_mm_per_rev)",
+           .derived = "feed_mm_per_rev",
+           .plausible = Range::closed(0.01, 2.0)},
           p.feed_planned_mm_per_rev);
-  c->require({"planned_depth_mm", {0.0, 50.0, true, false},
-              "t_p: the depth at which V_p and S_p give the planned tool life"},
+  c->require({.key = "planned_depth_mm",
+              .range = {0.0, 50.0, true, false},
+              .doc = "t_p: the depth at which V_p and S_p give the planned tool life",
+              .plausible = Range::closed(0.05, 20.0)},
              e.planned_depth_mm);
+  warn_short_tool_life(*c, e);
   const auto& m = e.cutting.material;
   p.y_v = tool_life_exponent(m, p.feed_planned_mm_per_rev, &cutting::ToolLifeRange::yv, 0.2);
   // Issue 17: by default the speed law takes y_v (and Cv) from the material's feed ranges, the
   // table the tool-life law uses; a y_v given here is one exponent for every feed (the seed's
   // law as written).
   const bool single_yv = c->has("y_v");
-  c->read({"y_v", Range::closed(0, 1.5),
-           "one tool-life exponent of the feed for every feed (default: none; the speed law "
-           "takes y_v and Cv from the material's range containing each feed, as the tool-life "
-           "law does)"},
+  c->read({.key = "y_v",
+           .range = Range::closed(0, 1.5),
+           .doc = "one tool-life exponent of the feed for every feed (default: none; the speed "
+                  "law takes y_v and Cv from the material's range containing each feed, as the "
+                  "tool-life law does)",
+           .derived = "none: the material's y_v of planned_feed_mm_per_rev's range"},
           p.y_v);
   p.y_v_ranges = 0;
   if (!single_yv)
@@ -297,16 +376,30 @@ void read_controller(TableReader& root, sim::RigEConfig& e) {
   p.rpm_min = s.min_rpm;
   p.rpm_max = s.max_rpm;
   p.cut_power_max_W = 0.9 * s.max_power_W * s.efficiency / 1e3 * 1e3;
-  c->read({"cut_power_max_kW", {0.0, 1e4, true, false},
-           "power available for cutting, the speed law's clamp (default: 0.9·max_power_kW·"
-           "efficiency)",
-           1e3},
+  c->read({.key = "cut_power_max_kW",
+           .range = {0.0, 1e4, true, false},
+           .doc = "power available for cutting, the speed law's clamp (default: "
+                  "0.9·max_power_kW·efficiency)",
+           .scale = 1e3,
+           .derived = "0.9·spindle.max_power_kW·spindle.efficiency"},
           p.cut_power_max_W);
+  // The monitor's limits are readings of the chosen sensor: N for Pz/Py, W for power.
+  const std::string_view reading_unit = c->is_describing() ? "N (Pz, Py) or W (power)"
+                                        : power            ? "W"
+                                                           : "N";
   p.sensor_monitor.min = -0.2 * p.force_limit;
-  c->read({"sensor_min", Range::any(), "lowest plausible reading (default: −0.2·limit)"},
+  c->read({.key = "sensor_min",
+           .range = Range::any(),
+           .doc = "lowest plausible reading (default: −0.2·limit)",
+           .unit = reading_unit,
+           .derived = "−0.2·(force_limit_N or cut_power_limit_kW in W)"},
           p.sensor_monitor.min);
   p.sensor_monitor.max = e.force_sensor.range;
-  c->read({"sensor_max", Range::any(), "highest plausible reading (default: the sensor's range)"},
+  c->read({.key = "sensor_max",
+           .range = Range::any(),
+           .doc = "highest plausible reading (default: the sensor's range)",
+           .unit = reading_unit,
+           .derived = "sensor.range_N or sensor.range_W"},
           p.sensor_monitor.max);
   c->read({"sensor_stuck_ms", Range::closed(0, 1e5),
            "an unchanged reading this long is a stuck sensor", kMs},

@@ -24,6 +24,16 @@ using namespace io;
 namespace {
 using nlohmann::json;
 
+// A cycle time only when the part was finished; else where the run stopped (run.duration_s).
+std::string cycle_cell(const sim::MetricsE& m) {
+  return m.finished ? fmt(m.cycle_time_s, "%.1f")
+                    : "not finished (stopped at " + fmt(m.cycle_time_s, "%.1f") + ")";
+}
+std::string cycle_phrase(const sim::MetricsE& m) {
+  return m.finished ? "cycle " + fmt(m.cycle_time_s, "%.1f") + " s"
+                    : "part not finished, the run stopped at " + fmt(m.cycle_time_s, "%.1f") + " s";
+}
+
 struct Run {
   sim::RigE rig;
   std::unique_ptr<sim::MetricsEAccumulator> acc;  // fed as the rig records
@@ -209,7 +219,7 @@ RunOutput run(const Scenario& sc) {
         "seed 004: tool-life consumption against plan (∫dt/T over time-in-cut/T_plan), within 15 %",
         ratio, std::abs(ratio - 1.0) <= 0.15);
     const auto& m2 = by_mode[2]->m;
-    claims.note("of that, the part's hardness (factor " + fmt(m2.tool_life_used_fraction /
+    claims.note("of that, hardness (tool-life factor " + fmt(m2.tool_life_used_fraction /
                                                           m2.tool_life_used_nominal_hardness_fraction,
                                                           "%.3f") +
                 "; T ∝ h^(−n_v/m), the handbook's K_mv): at nominal hardness the same run uses " +
@@ -284,7 +294,7 @@ RunOutput run(const Scenario& sc) {
                    {}};
   for (const auto& r : runs) {
     const PartCost pc = part_cost(r->m, set.cost);
-    cost_table.rows.push_back({r->label, fmt(r->m.cycle_time_s, "%.1f"),
+    cost_table.rows.push_back({r->label, cycle_cell(r->m),
                                fmt(r->m.tool_life_used_fraction, "%.4f"), fmt(pc.machine, "%.3f"),
                                fmt(pc.tool, "%.3f"), fmt(pc.total, "%.3f")});
   }
@@ -422,7 +432,12 @@ RunOutput run(const Scenario& sc) {
   auto add = [&](const std::string& k, double v, const char* f = "%.4g") {
     rep.metrics.emplace_back(k, fmt(v, f));
   };
-  add("cycle time [s]", main.m.cycle_time_s);
+  // An unfinished part has no cycle time: the run stopped at run.duration_s.
+  if (main.m.finished)
+    add("cycle time [s]", main.m.cycle_time_s);
+  else
+    rep.metrics.emplace_back("cycle time [s]", "part not finished: the run stopped at " +
+                                                   fmt(main.m.cycle_time_s, "%.1f") + " s");
   add("time in cut [s]", main.m.time_in_cut_s);
   add(pname + " limit [" + unit + "]", main.m.force_limit);
   add("peak per-revolution " + pname + " [" + unit + "]", main.m.force_peak_rev_mean);
@@ -436,7 +451,8 @@ RunOutput run(const Scenario& sc) {
   add("mean feed in cut [mm/rev]", main.m.feed_mean_mm_per_rev);
   add("programmed feed [mm/rev]", main.m.feed_programmed_mm_per_rev);
   add("mean cutting speed in cut [m/min]", main.m.speed_mean_m_per_min);
-  add("peak spindle power [kW]", main.m.spindle_power_peak_kW);
+  add("peak spindle input power (electrical, incl. acceleration) [kW]",
+      main.m.spindle_power_peak_kW);
   for (const auto& a : main.m.alarms)
     rep.metrics.emplace_back(
         "alarm at " + fmt(a.time_s) + " s",
@@ -459,7 +475,7 @@ RunOutput run(const Scenario& sc) {
         {short_name(r->mode) + (r->mode == Mode::Fixed
                                     ? " (s = " + fmt(r->m.feed_programmed_mm_per_rev, "%.3f") + ")"
                                     : ""),
-         fmt(r->m.cycle_time_s, "%.1f"), fmt(r->m.feed_mean_mm_per_rev, "%.3f"),
+         cycle_cell(r->m), fmt(r->m.feed_mean_mm_per_rev, "%.3f"),
          fmt(r->m.speed_mean_m_per_min, "%.1f"), fmt(r->m.tool_life_used_fraction, "%.4f"),
          fmt(r->m.tool_life_plan_fraction, "%.4f"),
          fmt(r->m.tool_life_used_fraction / r->m.tool_life_plan_fraction, "%.3f"),
@@ -496,12 +512,12 @@ RunOutput run(const Scenario& sc) {
   // In memory only without a stage (library callers, tests); else on disk already.
   out.channels_csv = main.csv->take_text();
   if (runs.size() > 1) out.compare_csv = runs[1]->csv->take_text();
-  out.headline = main.label + ": cycle " + fmt(main.m.cycle_time_s, "%.1f") +
-                 " s, tool life used " + fmt(main.m.tool_life_used_fraction, "%.4f") + " (plan " +
+  out.headline = main.label + ": " + cycle_phrase(main.m) + ", tool life used " +
+                 fmt(main.m.tool_life_used_fraction, "%.4f") + " (plan " +
                  fmt(main.m.tool_life_plan_fraction, "%.4f") + "), peak per-rev " + pname + " " +
                  fmt(main.m.force_peak_rev_mean, "%.0f") + " " + unit;
   for (std::size_t i = 1; i < runs.size(); ++i)
-    out.headline += "; " + runs[i]->label + " " + fmt(runs[i]->m.cycle_time_s, "%.1f") + " s";
+    out.headline += "; " + runs[i]->label + " " + cycle_phrase(runs[i]->m);
   return out;
 }
 
