@@ -204,6 +204,20 @@ grep -q "^error: design gauge: --probe-mass-g" "$work/err.txt" || bad "gauge mas
 expect_rc 2 "design gauge not a number" $bin design gauge --filter-ms fast
 [ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "gauge non-number message is not one line"
 expect_rc 2 "design gauge zero tolerance" $bin design gauge --tolerance-um 0
+# issue 28: hostile numbers end in one line naming the flag, at once (tests/cli/design_hostile.sh
+# tries every flag of every calculator with 0, -1, nan, inf, 1e300, 1e-300)
+expect_rc 2 "design pulse dt > T" $bin design pulse-regulator --dt-ms 60 --T-ms 50
+grep -q "^error: design pulse-regulator: --dt-ms 60 exceeds the period --T-ms 50" "$work/err.txt" || bad "pulse dt > T: $(cat "$work/err.txt")"
+expect_rc 2 "design pulse dt > 1/f" $bin design pulse-regulator --dt-ms 60 --f-Hz 20
+grep -q "^error: design pulse-regulator: --dt-ms 60 exceeds the period 1/--f-Hz" "$work/err.txt" || bad "pulse dt > 1/f: $(cat "$work/err.txt")"
+expect_rc 2 "design gauge slow filter, at once" timeout 5 $bin design gauge --filter-ms 1e6
+grep -q "^error: design gauge: --filter-ms 1e6: expected a finite number in (0, 10000\]" "$work/err.txt" || bad "gauge slow filter: $(cat "$work/err.txt")"
+expect_rc 2 "design gauge stiff contact, at once" timeout 5 $bin design gauge --contact-stiffness-N-per-mm 1e7 --probe-mass-g 0.01
+grep -q "^error: design gauge: --contact-stiffness-N-per-mm, --probe-mass-g, --supply-Hz: the full model would simulate" "$work/err.txt" || bad "gauge stiff contact: $(cat "$work/err.txt")"
+expect_rc 2 "design planned-mode tool life 1e-300" $bin design planned-mode --material steel_45 --t 3 --T-life 1e-300 --D-mm 80
+grep -q "^error: design planned-mode: --T-life 1e-300: expected a finite number in \[0.1, 100000\]" "$work/err.txt" || bad "planned-mode T-life: $(cat "$work/err.txt")"
+expect_rc 2 "design planned-mode limit at the smallest feed" $bin design planned-mode --material steel_45 --t 3 --force-limit 1
+grep -q "^error: design planned-mode: even the smallest feed breaks the force limit (--force-limit)" "$work/err.txt" || bad "planned-mode smallest feed: $(cat "$work/err.txt")"
 # Issue 16: a threshold below the probe's bounce floor is refused (and --force computes it);
 # `check` refuses the same set-up at process.target_um, runs it with gauge.force_threshold.
 expect_rc 2 "design gauge near A0" $bin design gauge --allowance-um 290 --target-um 254
