@@ -94,7 +94,9 @@ TEST(LobesInput, EveryKeyOfTheMachineFileIsDescribed) {
 // tests/cli/lobes_regressions/ (the CLI test runs each too).
 namespace {
 std::string regression_error(const std::string& name) {
-  const std::string path = std::string(LATHECTL_SOURCE_DIR) + "/tests/cli/lobes_regressions/" + name;
+  std::string path = LATHECTL_SOURCE_DIR;  // (one + chain trips GCC 12's -Warray-bounds)
+  path += "/tests/cli/lobes_regressions/";
+  path += name;
   try {
     (void)b_chatter::load_lobes_input(path);
   } catch (const io::InputError& e) {
@@ -129,10 +131,7 @@ TEST(LobesInputIssue28, PositionsNearACentreAreRefusedNotCrashed) {
 
 TEST(LobesInputIssue28, DegenerateStiffnessAndPartAreRefused) {
   auto m = regression_error("stiffness_1e-300.toml");
-  EXPECT_TRUE(located_at(m, "stiffness_1e-300.toml", "mode[1].stiffness_N_per_m") ||
-              located_at(m, "stiffness_1e-300.toml", "mode.stiffness_N_per_m") ||
-              m.find("stiffness_N_per_m") != std::string::npos)
-      << m;
+  EXPECT_TRUE(located_at(m, "stiffness_1e-300.toml", "mode[0].stiffness_N_per_m")) << m;
   m = regression_error("part_1nm.toml");
   EXPECT_TRUE(located_at(m, "part_1nm.toml", "part.length_mm")) << m;
 }
