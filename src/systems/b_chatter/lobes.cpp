@@ -41,11 +41,12 @@ constexpr int kFrequencyPoints = 40000;
 //   lobe point (a LobePoint and its grid index; the vectors double as they grow, but the
 //   capacity beyond the size is never touched, so the resident memory is about the size).
 // Measured peak resident memory (/usr/bin/time): 14 MB for a small run, + 52 B per chart cell,
-// + 25 B per lobe point (b_slow_high_freq.toml: 1.8e6 points, 58 MB).
+// + 25 B per lobe point (b_slow_high_freq.toml: 1.8e6 points, 58 MB; one 500 Hz mode over
+// 20–100 000 rpm: 4.1e7 points, 1172 MB measured, 1168 MB estimated, 1.9 s user + 2.0 s sys).
 constexpr double kCellSeconds = 10e-6;
 constexpr double kSampleSeconds = 15e-9;
 constexpr double kSampleSecondsPerD2 = 36e-9;
-constexpr double kFdPointSeconds = 10e-9;      // per stored lobe point
+constexpr double kFdPointSeconds = 95e-9;      // per stored lobe point (half of it page faults)
 constexpr double kFdFrequencySeconds = 60e-9;  // per frequency and mode
 constexpr double kFdPointBytes = sizeof(dynamics::LobePoint) + sizeof(int);
 constexpr double kChartCellBytes = sizeof(int) + 3.0 * 20.0;  // its int, its CSV row (~20 B) ×3
