@@ -33,7 +33,7 @@ int lobes(const std::string& file, const std::string& out) {
   }
   nlohmann::json j;
   {
-    io::Progress progress("lobes", io::Progress::stderr_is_terminal(), 10.0);
+    io::Progress progress("lobes");  // a line every 10 s in a pipe or a log (kPlainInterval)
     j = b_chatter::run_lobes(in, out, &progress);
   }
   for (const auto& w : j["warnings"]) std::cerr << "warning: " << w.get<std::string>() << "\n";
