@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "cli.hpp"
+#include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/toml_reader.hpp"
 
@@ -164,6 +165,21 @@ void print_outputs(const R& r, std::span<const Output<R>> outputs) {
       std::printf("  %-34s %14s\n", std::string(o.label).c_str(), *v != 0.0 ? "yes" : "no");
     else
       print_row(o.label, *v, o.si_unit, *v * o.shop_per_si, o.shop_unit);
+  }
+}
+
+// The last word on a result: every output present must be finite. The flags' ranges keep each
+// input sensible, but a combination can still overflow ((Cv/V)^(1/m) with a small m); then the
+// error names the output and `flags`, the inputs it comes from, rather than printing inf or nan.
+template <class R>
+void require_finite(const std::string& who, const R& r, std::span<const Output<R>> outputs,
+                    std::string_view flags) {
+  for (const auto& o : outputs) {
+    const auto v = output_value(r, o);
+    if (!v || std::isfinite(*v)) continue;
+    throw io::InputError(who + "the " + std::string(o.label) + " comes out " +
+                         (std::isnan(*v) ? "undefined (nan)" : "infinite") +
+                         " for these inputs: " + std::string(flags) + " are too far apart");
   }
 }
 

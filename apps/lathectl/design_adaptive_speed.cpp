@@ -29,35 +29,39 @@ struct Args {                 // shop units, as the flags; none has a default
   bool json = false;
 };
 
-const Range kPos = Range::positive(), kNonNeg = Range::non_negative();
+// Ranges: what a lathe cuts (speeds of 1 mm/min to 100 km/min, feeds of 0.1 µm to 100 mm/rev,
+// depths of 1 µm to 100 mm, lives of 6 s to 10⁵ min) and the handbook's exponents (m of 0.01 to
+// 10, x_v and y_v of 0 to 10): beyond them the power laws overflow to inf.
+const Range kSpeed = Range::closed(1e-3, 1e5), kFeed = Range::closed(1e-4, 100),
+            kExponent = Range::closed(0, 10);
 const Input<Args> kInputs[] = {
-    {"--Vp", {"Vp_m_per_min", kPos, "computed (planned) cutting speed V_p"}, "m/min", &Args::Vp},
-    {"--Sp", {"Sp_mm_per_rev", kPos, "computed (planned) feed S_p"}, "mm/rev", &Args::Sp},
-    {"--yv", {"yv", kNonNeg, "feed exponent y_v of the tool-life formula"}, "", &Args::yv},
-    {"--S", {"S_mm_per_rev", kPos, "current feed S"}, "mm/rev", &Args::S, "(for V_opt)"},
-    {"--Cv", {"Cv", kPos, "tool-life coefficient Cv"}, "", &Args::Cv},
-    {"--m", {"m", kPos, "tool-life exponent m"}, "", &Args::m},
-    {"--xv", {"xv", kNonNeg, "depth exponent x_v"}, "", &Args::xv},
-    {"--t", {"t_mm", kPos, "depth of cut t"}, "mm", &Args::t},
+    {"--Vp", {"Vp_m_per_min", kSpeed, "computed (planned) cutting speed V_p"}, "m/min", &Args::Vp},
+    {"--Sp", {"Sp_mm_per_rev", kFeed, "computed (planned) feed S_p"}, "mm/rev", &Args::Sp},
+    {"--yv", {"yv", kExponent, "feed exponent y_v of the tool-life formula"}, "", &Args::yv},
+    {"--S", {"S_mm_per_rev", kFeed, "current feed S"}, "mm/rev", &Args::S, "(for V_opt)"},
+    {"--Cv", {"Cv", Range::closed(1e-3, 1e6), "tool-life coefficient Cv"}, "", &Args::Cv},
+    {"--m", {"m", Range::closed(0.01, 10), "tool-life exponent m"}, "", &Args::m},
+    {"--xv", {"xv", kExponent, "depth exponent x_v"}, "", &Args::xv},
+    {"--t", {"t_mm", Range::closed(1e-3, 100), "depth of cut t"}, "mm", &Args::t},
     {"--s",
-     {"s_mm_per_rev", kPos, "feed s"},
+     {"s_mm_per_rev", kFeed, "feed s"},
      "mm/rev",
      &Args::s,
      "(for tool life and speed for life)"},
-    {"--V", {"V_m_per_min", kPos, "cutting speed V"}, "m/min", &Args::V, "→ tool life T [min]"},
+    {"--V", {"V_m_per_min", kSpeed, "cutting speed V"}, "m/min", &Args::V, "→ tool life T [min]"},
     {"--T-target",
-     {"T_target_min", kPos, "target tool life T"},
+     {"T_target_min", Range::closed(0.1, 1e5), "target tool life T"},
      "min",
      &Args::T,
      "→ speed for that life [m/min]"},
     {"--F",
-     {"F_mm_per_min", kPos, "feed rate F"},
+     {"F_mm_per_min", Range::closed(1e-3, 1e6), "feed rate F"},
      "mm/min",
      &Args::F,
      "(with --n → feed per revolution)"},
-    {"--n", {"n_rpm", kPos, "spindle speed n"}, "rpm", &Args::n},
+    {"--n", {"n_rpm", Range::closed(1e-2, 1e6), "spindle speed n"}, "rpm", &Args::n},
     {"--D-mm",
-     {"D_mm", kPos, "workpiece diameter D"},
+     {"D_mm", Range::closed(0.1, 1e5), "workpiece diameter D"},
      "mm",
      &Args::D,
      "(with V_opt → its spindle speed)"},
@@ -160,6 +164,9 @@ int compute(const Args& a) {
   } catch (const std::invalid_argument& e) {
     throw io::InputError(who + e.what());
   }
+  require_finite<Result>(who, r, kOutputs,
+                         "--Vp, --Sp, --S, --yv (V_opt); --Cv, --m, --xv, --yv, --t, --s, --V, "
+                         "--T-target (tool life)");
 
   if (a.json) {
     nlohmann::json in = inputs_json<Args>(a, kInputs);

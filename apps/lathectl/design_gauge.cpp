@@ -1,6 +1,7 @@
 // `lathectl design gauge`: seed 003's linearised vibro-contact gauging, (20)-(25)
 // (design/vibro_gauge.hpp). Every input and output is one row below.
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <limits>
 #include <memory>
@@ -33,82 +34,86 @@ struct Args {  // shop units, as the flags; the initial values are the defaults
   bool json = false;
 };
 
-const Range kPos = Range::positive(), kNonNeg = Range::non_negative();
+// Ranges: what a vibro-contact gauge can be (probes of 10 mg to 10 kg, coils of 1 µH to 1 kH,
+// supplies up to 10 kV and 10 kHz, times up to 10 s, allowances and sizes up to 10 mm): beyond
+// them the results overflow or the full model's simulation runs for hours.
+// 50 times the default's 40 000 (0.8 s at 20 µs): a few seconds at most for the whole range.
+constexpr double kMaxStepsPerLevel = 2e6;
 const Input<Args> kInputs[] = {
-    {"--supply-V", {"supply_V", kPos, "electromagnet supply amplitude V"}, "V", &Args::supply_V},
+    {"--supply-V", {"supply_V", Range{0.0, 1e4, true, false}, "electromagnet supply amplitude V"}, "V", &Args::supply_V},
     {"--supply-Hz",
-     {"supply_Hz", kPos, "supply frequency ω/2π"},
+     {"supply_Hz", Range{0.0, 1e4, true, false}, "supply frequency ω/2π"},
      "Hz",
      &Args::supply_Hz,
      "(the probe runs at 2ω)"},
-    {"--coil-turns", {"coil_turns", kPos, "electromagnet coil turns W"}, "", &Args::coil_turns},
-    {"--coil-ohm", {"coil_ohm", kPos, "coil resistance r"}, "Ω", &Args::coil_ohm},
-    {"--coil-H", {"coil_H", kPos, "coil inductance L"}, "H", &Args::coil_H},
+    {"--coil-turns", {"coil_turns", Range::closed(1, 1e6), "electromagnet coil turns W"}, "", &Args::coil_turns},
+    {"--coil-ohm", {"coil_ohm", Range::closed(1e-3, 1e6), "coil resistance r"}, "Ω", &Args::coil_ohm},
+    {"--coil-H", {"coil_H", Range::closed(1e-6, 1e3), "coil inductance L"}, "H", &Args::coil_H},
     {"--force-coeff",
-     {"force_coeff_N_per_Wb2", kPos, "magnet force coefficient a, F = a·Φ²"},
+     {"force_coeff_N_per_Wb2", Range::closed(1, 1e12), "magnet force coefficient a, F = a·Φ²"},
      "N/Wb²",
      &Args::force_coeff_N_per_Wb2},
-    {"--probe-mass-g", {"probe_mass_g", kPos, "probe mass M"}, "g", &Args::probe_mass_g},
+    {"--probe-mass-g", {"probe_mass_g", Range::closed(0.01, 1e4), "probe mass M"}, "g", &Args::probe_mass_g},
     {"--probe-damping",
-     {"probe_damping_N_s_per_m", kNonNeg, "probe damping h"},
+     {"probe_damping_N_s_per_m", Range::closed(0, 1e4), "probe damping h"},
      "N·s/m",
      &Args::probe_damping_N_s_per_m},
     {"--probe-stiffness-N-per-mm",
-     {"probe_stiffness_N_per_mm", kPos, "probe spring stiffness k"},
+     {"probe_stiffness_N_per_mm", Range::closed(1e-3, 1e6), "probe spring stiffness k"},
      "N/mm",
      &Args::probe_stiffness_N_per_mm},
     {"--contact-stiffness-N-per-mm",
-     {"contact_stiffness_N_per_mm", kPos, "probe-part contact stiffness k_c"},
+     {"contact_stiffness_N_per_mm", Range::closed(1e-3, 1e7), "probe-part contact stiffness k_c"},
      "N/mm",
      &Args::contact_stiffness_N_per_mm},
     {"--contact-damping",
-     {"contact_damping_N_s_per_m", kNonNeg, "probe-part contact damping c_c"},
+     {"contact_damping_N_s_per_m", Range::closed(0, 1e5), "probe-part contact damping c_c"},
      "N·s/m",
      &Args::contact_damping_N_s_per_m},
     {"--generator",
-     {"generator_V_per_m_per_s", kPos, "sensor-generator constant K_g"},
+     {"generator_V_per_m_per_s", Range::closed(1e-3, 1e6), "sensor-generator constant K_g"},
      "V per m/s",
      &Args::generator_V_per_m_per_s},
     {"--generator-ms",
-     {"generator_ms", kNonNeg, "generator time constant T_g"},
+     {"generator_ms", Range::closed(0, 1e4), "generator time constant T_g"},
      "ms",
      &Args::generator_ms},
     {"--filter-ms",
-     {"filter_ms", kPos, "smoothing filter time constant T_f"},
+     {"filter_ms", Range{0.0, 1e4, true, false}, "smoothing filter time constant T_f"},
      "ms",
      &Args::filter_ms},
     {"--magnet-gap-mm",
-     {"magnet_gap_mm", kNonNeg, "electromagnet air gap δ of (6) Φ = (L·i/W)·δ/(δ − z); 0: linear"},
+     {"magnet_gap_mm", Range::closed(0, 100), "electromagnet air gap δ of (6) Φ = (L·i/W)·δ/(δ − z); 0: linear"},
      "mm",
      &Args::magnet_gap_mm},
     {"--pm-force-N",
-     {"pm_force_N", kNonNeg, "permanent magnet's pull at rest F_M0, (9)-(10)"},
+     {"pm_force_N", Range::closed(0, 1e4), "permanent magnet's pull at rest F_M0, (9)-(10)"},
      "N",
      &Args::pm_force_N},
     {"--pm-gap-mm",
-     {"pm_gap_mm", kNonNeg, "permanent magnet's gap b₂ of (11); 0: linear generator"},
+     {"pm_gap_mm", Range::closed(0, 100), "permanent magnet's gap b₂ of (11); 0: linear generator"},
      "mm",
      &Args::pm_gap_mm},
-    {"--relay-ms", {"relay_ms", kNonNeg, "relay/command response time t_r"}, "ms", &Args::relay_ms},
+    {"--relay-ms", {"relay_ms", Range::closed(0, 1e4), "relay/command response time t_r"}, "ms", &Args::relay_ms},
     {"--allowance-um",
-     {"allowance_um", kPos, "controlled allowance at the start m_x"},
+     {"allowance_um", Range{0.0, 1e4, true, false}, "controlled allowance at the start m_x"},
      "µm",
      &Args::allowance_um},
     {"--removal-um-per-s",
-     {"removal_um_per_s", kPos, "removal rate a"},
+     {"removal_um_per_s", Range{0.0, 1e4, true, false}, "removal rate a"},
      "µm/s",
      &Args::removal_um_per_s},
-    {"--target-um", {"target_um", kNonNeg, "final controlled size x_k"}, "µm", &Args::target_um},
+    {"--target-um", {"target_um", Range::closed(0, 1e4), "final controlled size x_k"}, "µm", &Args::target_um},
     {"--noise-sigma-um",
-     {"noise_sigma_um", kNonNeg, "disturbance σ = sqrt(D)"},
+     {"noise_sigma_um", Range::closed(0, 1e3), "disturbance σ = sqrt(D)"},
      "µm",
      &Args::noise_sigma_um},
     {"--noise-beta",
-     {"noise_beta_per_s", kNonNeg, "disturbance correlation decay β, R = D·e^(−β|τ|)"},
+     {"noise_beta_per_s", Range::closed(0, 1e6), "disturbance correlation decay β, R = D·e^(−β|τ|)"},
      "1/s",
      &Args::noise_beta_per_s},
     {"--tolerance-um",
-     {"tolerance_um", kPos, "± size tolerance"},
+     {"tolerance_um", Range{0.0, 1e4, true, false}, "± size tolerance"},
      "µm",
      &Args::tolerance_um,
      "→ also Cp = 2·tol/(6·σ_x)"},
@@ -191,27 +196,56 @@ int compute(const Args& a) {
                   a.target_um, a.allowance_um);
     throw io::InputError(who + buf);
   }
+  // The full model is simulated at every level of the range and the trip (~60 levels), each for
+  // the settling time 8·T_f at a step that resolves the contact and the supply: count the steps
+  // first, and refuse at once what would run for minutes (--filter-ms 1e6 did, then failed).
+  {
+    sensors::VibroContactGauge::Params p;
+    p.supply_Hz = in.supply_Hz;
+    p.contact_stiffness_N_per_m = in.contact_stiffness_N_per_m;
+    p.probe_mass_kg = in.probe_mass_kg;
+    p.filter_time_constant_s = in.filter_time_constant_s;
+    const double step = design::full_model_step(p), settle = design::full_model_settle(p);
+    const double steps = settle / step;
+    if (!(steps <= kMaxStepsPerLevel)) {
+      const bool slow_filter = settle > 0.8;
+      std::snprintf(buf, sizeof buf,
+                    "%s: the full model would simulate %.3g steps per signal level (settling "
+                    "%.3g s at a step of %.3g s), over %.3g: %s",
+                    slow_filter ? "--filter-ms" : "--contact-stiffness-N-per-mm, --probe-mass-g, "
+                                                  "--supply-Hz",
+                    steps, settle, step, kMaxStepsPerLevel,
+                    slow_filter ? ("the settling time is 8·T_f; at this step a filter of at "
+                                   "most " + format_number(kMaxStepsPerLevel * step / 8.0 * 1e3) +
+                                   " ms").c_str()
+                                : "the step resolves the contact frequency sqrt(k_c/M) and the "
+                                  "supply; a softer contact, a heavier probe or a lower supply "
+                                  "frequency");
+      throw io::InputError(who + buf);
+    }
+  }
   Result r;
   try {
     static_cast<design::GaugeResult&>(r) = design::gauge(in);
   } catch (const std::invalid_argument& e) {
-    throw io::InputError(who + e.what());
+    const std::string m = e.what();
+    const char* flags = m.find("gap") != std::string::npos ? " (--magnet-gap-mm, --pm-gap-mm)"
+                        : m.find("noise") != std::string::npos ? " (--noise-sigma-um, --noise-beta)"
+                                                               : "";
+    throw io::InputError(who + m + flags);
   }
   if (!(r.threshold_V > 0.0)) {
     std::snprintf(
         buf, sizeof buf,
         "no usable threshold: S_th = %.4g V <= 0, since x_k + a·(T_f + t_r) = %.4g µm "
-        "reaches the free amplitude A0 = %.4g µm",
+        "reaches the free amplitude A0 = %.4g µm: lower --target-um, --removal-um-per-s, "
+        "--filter-ms or --relay-ms, or raise A0 (--supply-V, --coil-*, --force-coeff, --probe-*)",
         r.threshold_V,
         (in.target_m + in.removal_m_per_s * (in.filter_time_constant_s + in.relay_response_s)) *
             1e6,
         r.free_amplitude_m * 1e6);
     throw io::InputError(who + buf);
   }
-  if (in.allowance_m > r.free_amplitude_m)
-    std::cerr << "note: allowance " << a.allowance_um
-              << " µm exceeds the largest measurable A0 = " << r.free_amplitude_m * 1e6
-              << " µm; the gauge reads nothing until x < A0\n";
   r.floor_V = r.range.floor_V;
   r.floor_start_m = r.range.floor_start_m;
   r.low_V = r.range.low_V;
@@ -229,12 +263,19 @@ int compute(const Args& a) {
                   r.largest_target_m * 1e6);
     throw io::InputError(who + buf);
   }
+  r.sigma_y_V = std::sqrt(r.noise_variance_V2);
+  require_finite<Result>(who, r, kOutputs,
+                         "the transducer's (--supply-V, --coil-*, --force-coeff, --probe-*, "
+                         "--generator) and the cut's (--allowance-um, --removal-um-per-s)");
+  if (in.allowance_m > r.free_amplitude_m)
+    std::cerr << "note: allowance " << a.allowance_um
+              << " µm exceeds the largest measurable A0 = " << r.free_amplitude_m * 1e6
+              << " µm; the gauge reads nothing until x < A0\n";
   if (!r.regular)
     std::cerr << "note: the probe is not regular at the trip point (Poincaré spread "
               << r.trip_spread_m * 1e6 << " µm > 3 % of A0): its period-doubled impacts make the "
               << "trip time erratic; damp the contact (ζ_c ≥ 0.35), soften it, or put the "
               << "resonance at or below 2ω\n";
-  r.sigma_y_V = std::sqrt(r.noise_variance_V2);
   if (a.tolerance_um)  // unbounded without noise (JSON null)
     r.Cp = r.size_sigma_m > 0.0 ? 2.0 * *a.tolerance_um * 1e-6 / (6.0 * r.size_sigma_m)
                                 : std::numeric_limits<double>::infinity();

@@ -32,25 +32,28 @@ struct Args {  // shop units, as the flags; the initial values are the defaults
   bool json = false;
 };
 
-const Range kPos = Range::positive();
+// Ranges: what a lathe turns (depths of 1 µm to 100 mm, feeds of 0.1 µm to 100 mm/rev, tool
+// lives of 6 s to 10⁵ min, parts of 0.1 mm to 100 m), and a hardness factor within a decade
+// either way of the material's: beyond them the handbook's power laws give inf (a tool life of
+// 1e-300 min made V_p and the spindle speed inf rpm, printed with exit 0).
 const Input<Args> kInputs[] = {
-    {"--t", {"t_mm", kPos, "planned depth of cut t_p"}, "mm", &Args::t, "(required)"},
-    {"--T-life", {"T_min", kPos, "planned tool life T"}, "min", &Args::T},
+    {"--t", {"t_mm", Range::closed(1e-3, 100), "planned depth of cut t_p"}, "mm", &Args::t, "(required)"},
+    {"--T-life", {"T_min", Range::closed(0.1, 1e5), "planned tool life T"}, "min", &Args::T},
     {"--force-limit",
-     {"force_limit_N", kPos, "largest tangential force Pz (setter 6)"},
+     {"force_limit_N", Range{0.0, 1e7, true, false}, "largest tangential force Pz (setter 6)"},
      "N",
      &Args::force},
-    {"--power-limit", {"power_limit_kW", kPos, "largest cutting power Pz·V"}, "kW", &Args::power},
-    {"--Rz-limit", {"Rz_limit_um", kPos, "largest theoretical roughness s²/(8r)"}, "µm", &Args::Rz},
-    {"--r-mm", {"r_mm", kPos, "tool nose radius r"}, "mm", &Args::r},
-    {"--s-min", {"s_min_mm_per_rev", kPos, "smallest feed (setter 10)"}, "mm/rev", &Args::s_min},
-    {"--s-max", {"s_max_mm_per_rev", kPos, "largest feed (setter 9)"}, "mm/rev", &Args::s_max},
+    {"--power-limit", {"power_limit_kW", Range{0.0, 1e4, true, false}, "largest cutting power Pz·V"}, "kW", &Args::power},
+    {"--Rz-limit", {"Rz_limit_um", Range{0.0, 1e4, true, false}, "largest theoretical roughness s²/(8r)"}, "µm", &Args::Rz},
+    {"--r-mm", {"r_mm", Range::closed(0.01, 100), "tool nose radius r"}, "mm", &Args::r},
+    {"--s-min", {"s_min_mm_per_rev", Range::closed(1e-4, 100), "smallest feed (setter 10)"}, "mm/rev", &Args::s_min},
+    {"--s-max", {"s_max_mm_per_rev", Range::closed(1e-4, 100), "largest feed (setter 9)"}, "mm/rev", &Args::s_max},
     {"--hardness",
-     {"hardness_factor", kPos, "strength of the part relative to the material's"},
+     {"hardness_factor", Range::closed(0.1, 10), "strength of the part relative to the material's"},
      "",
      &Args::h,
      "(Kp = h^kmp_exponent, Kv = h^(−kmv_exponent))"},
-    {"--D-mm", {"D_mm", kPos, "workpiece diameter D"}, "mm", &Args::D, "(→ spindle speed)"},
+    {"--D-mm", {"D_mm", Range::closed(0.1, 1e5), "workpiece diameter D"}, "mm", &Args::D, "(→ spindle speed)"},
 };
 
 struct Result {
@@ -108,11 +111,28 @@ int compute(const Args& a) {
   try {
     pm = design::planned_mode(in);
   } catch (const std::invalid_argument& e) {
-    throw io::InputError(who + e.what());
+    // The one rule between flags the handbook can break: name them.
+    const std::string m = e.what();
+    const char* flag = m.find("force limit") != std::string::npos   ? "--force-limit"
+                       : m.find("power limit") != std::string::npos ? "--power-limit"
+                       : m.find("roughness limit") != std::string::npos ? "--Rz-limit"
+                                                                        : nullptr;
+    if (flag)
+      throw io::InputError(who + m + " (" + flag + "): even --s-min " + format_number(a.s_min) +
+                           " mm/rev breaks it at t_p = " + format_number(*a.t) +
+                           " mm; raise " + flag + " or lower --s-min or --t");
+    throw io::InputError(who + m);
   }
   Result r{pm.feed_mm_per_rev, pm.speed_m_per_min, pm.force_N, pm.power_kW, pm.Rz_um,
            pm.mrr_cm3_per_min, std::nullopt};
   if (a.D) r.n = 1000.0 * pm.speed_m_per_min / (3.14159265358979323846 * *a.D);
+  require_finite<Result>(who, r, kOutputs,
+                         "--t, --T-life, --s-min, --s-max, --hardness, --D-mm and the material's "
+                         "tables");
+  if (!(pm.speed_m_per_min > 0.0))
+    throw io::InputError(who + "the planned speed V_p comes out " + format_number(pm.speed_m_per_min) +
+                         " m/min: --t, --T-life and --hardness are too far from the material's "
+                         "tables");
   if (a.json) {
     nlohmann::json j;
     j["inputs"] = inputs_json<Args>(a, kInputs);

@@ -1,5 +1,6 @@
 // `lathectl design pulse-regulator`: seed 000's pulsed flow regulator, formulas (1)-(7)
 // (design/pulse_regulator.hpp). Every input and output is one row below.
+#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -22,29 +23,32 @@ struct Args {  // shop units, as the flags; the initial values are the defaults
   bool json = false;
 };
 
+// Ranges: what a hydraulic feed regulator can be (and what keeps every result finite): a spool of
+// 1 µm to 1 m, slots of 0.1 µm to 100 mm, 1 kPa to 1000 MPa, liquids of 100 to 20 000 kg/m³,
+// pulses and periods of 1 µs to 1000 s, pistons of 1 mm² to 10 m², forces up to 10 MN.
 const Input<Args> kInputs[] = {
-    {"--d-mm", {"d_mm", Range::positive(), "spool diameter d"}, "mm", &Args::d_mm},
-    {"--h-mm", {"h_mm", Range::positive(), "slot opening h"}, "mm", &Args::h_mm},
+    {"--d-mm", {"d_mm", Range::closed(1e-3, 1e3), "spool diameter d"}, "mm", &Args::d_mm},
+    {"--h-mm", {"h_mm", Range::closed(1e-4, 100), "slot opening h"}, "mm", &Args::h_mm},
     {"--dp-MPa",
-     {"dp_MPa", Range::positive(), "pressure drop Δp across the regulator"},
+     {"dp_MPa", Range::closed(1e-3, 1e3), "pressure drop Δp across the regulator"},
      "MPa",
      &Args::dp_MPa},
-    {"--rho", {"rho_kg_per_m3", Range::positive(), "oil density ρ"}, "kg/m³", &Args::rho_kg_per_m3},
+    {"--rho", {"rho_kg_per_m3", Range::closed(100, 2e4), "oil density ρ"}, "kg/m³", &Args::rho_kg_per_m3},
     {"--mu", {"mu", Range{0.0, 1.0, true, false}, "discharge coefficient μ"}, "", &Args::mu},
-    {"--dt-ms", {"dt_ms", Range::positive(), "pulse width Δt"}, "ms", &Args::dt_ms},
-    {"--T-ms", {"T_ms", Range::positive(), "pulse period T"}, "ms", &Args::T_ms},
+    {"--dt-ms", {"dt_ms", Range::closed(1e-3, 1e6), "pulse width Δt"}, "ms", &Args::dt_ms},
+    {"--T-ms", {"T_ms", Range::closed(1e-3, 1e6), "pulse period T"}, "ms", &Args::T_ms},
     {"--f-Hz",
-     {"f_Hz", Range::positive(), "pulse frequency f"},
+     {"f_Hz", Range::closed(1e-3, 1e6), "pulse frequency f"},
      "Hz",
      &Args::f_Hz,
      "(instead of T)"},
-    {"--F-cm2", {"F_cm2", Range::positive(), "effective piston area F"}, "cm²", &Args::F_cm2},
+    {"--F-cm2", {"F_cm2", Range::closed(1e-2, 1e5), "effective piston area F"}, "cm²", &Args::F_cm2},
     {"--leak",
-     {"leak_cm3_per_min_per_MPa", Range::non_negative(), "leakage K_leak"},
+     {"leak_cm3_per_min_per_MPa", Range::closed(0, 1e6), "leakage K_leak"},
      "cm³/min per MPa",
      &Args::leak_cm3_per_min_per_MPa},
-    {"--Py", {"Py_N", Range::any(), "radial cutting force Py"}, "N", &Args::Py_N},
-    {"--dPy", {"dPy_N", Range::any(), "force change ΔPy"}, "N", &Args::dPy_N},
+    {"--Py", {"Py_N", Range::closed(-1e7, 1e7), "radial cutting force Py"}, "N", &Args::Py_N},
+    {"--dPy", {"dPy_N", Range::closed(-1e7, 1e7), "force change ΔPy"}, "N", &Args::dPy_N},
 };
 
 using R = design::PulseRegulatorResult;
@@ -65,7 +69,20 @@ const Output<R> kOutputs[] = {
 };
 
 int compute(const Args& a) {
-  if (!a.T_ms && !a.f_Hz) throw io::InputError("design pulse-regulator: give --T-ms or --f-Hz");
+  const std::string who = "design pulse-regulator: ";
+  if (!a.T_ms && !a.f_Hz) throw io::InputError(who + "give --T-ms or --f-Hz");
+  const double period_ms = a.T_ms ? *a.T_ms : 1e3 / *a.f_Hz;
+  if (a.dt_ms > period_ms) {
+    char buf[200];
+    if (a.T_ms)
+      std::snprintf(buf, sizeof buf, "--dt-ms %g exceeds the period --T-ms %g: a pulse is open "
+                    "for at most its whole period", a.dt_ms, *a.T_ms);
+    else
+      std::snprintf(buf, sizeof buf, "--dt-ms %g exceeds the period 1/--f-Hz = %g ms: a pulse is "
+                    "open for at most its whole period (lower --f-Hz or --dt-ms)", a.dt_ms,
+                    period_ms);
+    throw io::InputError(who + buf);
+  }
   design::PulseRegulatorInput in;
   in.spool_diameter_m = a.d_mm * 1e-3;
   in.slot_m = a.h_mm * 1e-3;
@@ -82,8 +99,9 @@ int compute(const Args& a) {
   try {
     r = design::pulse_regulator(in);
   } catch (const std::invalid_argument& e) {
-    throw io::InputError(std::string("design pulse-regulator: ") + e.what());
+    throw io::InputError(who + e.what());
   }
+  require_finite<R>(who, r, kOutputs, "--d-mm, --h-mm, --dp-MPa, --dt-ms, --F-cm2, --leak, --Py, --dPy");
   return print_result<Args, R>(a, kInputs, r, kOutputs, "Pulsed flow regulator (seed 000)");
 }
 

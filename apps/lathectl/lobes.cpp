@@ -1,4 +1,6 @@
 // `lathectl lobes MACHINE`: stability lobes of a chatter model → lobes.json, lobes.csv, lobes.html.
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -12,17 +14,37 @@
 namespace lathectl::cli {
 namespace {
 
+constexpr double kAnnounceSeconds = 5.0;  // estimated runs longer than this are announced
+
 int lobes(const std::string& file, const std::string& out) {
-  const auto in = b_chatter::load_lobes_input(file);
+  const auto in = b_chatter::load_lobes_input(file);  // refuses work over its bounds
   io::prepare_output_dir(out, "--out");
+  // A run longer than a few seconds says first what it will cost (estimated before computing),
+  // then shows its progress: a bar on a terminal, a line every 10 s in a pipe or a log.
+  const auto cost = b_chatter::lobes_cost(in);
+  if (cost.seconds > kAnnounceSeconds) {
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "lobes: estimated %.0f s on %u threads and %.0f MB (%.3g frequency-domain "
+                  "points, %.3g semi-discretization cells up to %d steps per revolution)\n",
+                  cost.seconds, cost.threads, cost.bytes / 1e6, cost.fd_points,
+                  cost.sd_cells + cost.chart_cells, cost.max_steps);
+    std::cerr << buf << std::flush;
+  }
   nlohmann::json j;
   {
-    io::Progress progress("lobes");
+    io::Progress progress("lobes");  // a line every 10 s in a pipe or a log (kPlainInterval)
     j = b_chatter::run_lobes(in, out, &progress);
   }
   for (const auto& w : j["warnings"]) std::cerr << "warning: " << w.get<std::string>() << "\n";
-  std::cout << "critical depth " << j["critical_depth_mm"].get<double>() << " mm at "
-            << j["chatter_frequency_Hz"].get<double>() << " Hz; " << j["lobes"].size()
+  // No lobe at all (every mode across the chip thickness): JSON null, said in words.
+  const auto& crit = j["critical_depth_mm"];
+  if (crit.is_number() && std::isfinite(crit.get<double>()))
+    std::cout << "critical depth " << crit.get<double>() << " mm at "
+              << j["chatter_frequency_Hz"].get<double>() << " Hz; ";
+  else
+    std::cout << "no critical depth (no mode can chatter); ";
+  std::cout << j["lobes"].size()
             << " lobes (" << j["lobes_with_minimum_in_range"].get<int>()
             << " with their minimum inside the speed range) → "
             << (std::filesystem::path(out) / "lobes.html").string() << "\n";

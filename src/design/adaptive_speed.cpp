@@ -108,8 +108,12 @@ PlannedMode planned_mode(const PlannedModeInput& in) {
   };
   PlannedMode hi = mode(in.feed_max_mm_per_rev);
   if (broken(hi) == PlanLimit::FeedMax) return hi;
-  if (broken(mode(in.feed_min_mm_per_rev)) != PlanLimit::FeedMax)
-    throw std::invalid_argument("even the smallest feed breaks a limit (force, power or Rz)");
+  if (const PlanLimit b = broken(mode(in.feed_min_mm_per_rev)); b != PlanLimit::FeedMax)
+    throw std::invalid_argument(std::string("even the smallest feed breaks the ") +
+                                (b == PlanLimit::Force   ? "force"
+                                 : b == PlanLimit::Power ? "power"
+                                                         : "roughness") +
+                                " limit");
   // Force, power and Rz all rise with the feed along V(s) (Pz ∝ s^(y − n·yv), n < 0): bisect.
   double lo = in.feed_min_mm_per_rev, up = in.feed_max_mm_per_rev;
   PlanLimit limit = broken(hi);

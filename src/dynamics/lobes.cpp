@@ -40,11 +40,37 @@ std::complex<double> oriented_frf(const ChatterSystem& sys, double w) {
 }
 }  // namespace
 
+double frequency_domain_point_count(const ChatterSystem& sys, double min_rpm, double max_rpm,
+                                    int max_lobes, int points) {
+  check(sys);
+  if (!(min_rpm > 0.0) || !(max_rpm > min_rpm) || max_lobes < 1 || points < 1)
+    throw std::invalid_argument("speed range: 0 < min < max; ≥ 1 lobe and frequency point");
+  double f_lo = 1e300, f_hi = 0.0;
+  for (const auto& m : sys.modes) {
+    f_lo = std::min(f_lo, m.natural_frequency_Hz);
+    f_hi = std::max(f_hi, m.natural_frequency_Hz);
+  }
+  const double w0 = 2.0 * kPi * 0.5 * f_lo, w1 = 2.0 * kPi * 2.0 * f_hi;
+  double count = 0.0;
+  for (int k = 0; k <= points; ++k) {  // as frequency_domain_lobes: N with n in the range
+    const double w = w0 + (w1 - w0) * k / points;
+    const auto phi = oriented_frf(sys, w);
+    if (!(phi.real() < 0.0)) continue;
+    double eps = std::fmod(3.0 * kPi + 2.0 * std::atan2(phi.imag(), phi.real()), 2.0 * kPi);
+    if (eps <= 0.0) eps += 2.0 * kPi;
+    const double lo = std::max(0.0, std::ceil((60.0 * w / max_rpm - eps) / (2.0 * kPi)));
+    const double hi = std::min(static_cast<double>(max_lobes - 1),
+                               std::floor((60.0 * w / min_rpm - eps) / (2.0 * kPi)));
+    if (hi >= lo) count += hi - lo + 1.0;
+  }
+  return count;
+}
+
 FrequencyDomainResult frequency_domain_lobes(const ChatterSystem& sys, double min_rpm,
                                              double max_rpm, int max_lobes, int points) {
   check(sys);
-  if (!(min_rpm > 0.0) || !(max_rpm > min_rpm))
-    throw std::invalid_argument("speed range: 0 < min < max");
+  if (!(min_rpm > 0.0) || !(max_rpm > min_rpm) || max_lobes < 1 || points < 1)
+    throw std::invalid_argument("speed range: 0 < min < max; ≥ 1 lobe and frequency point");
   double f_lo = 1e300, f_hi = 0.0;
   for (const auto& m : sys.modes) {
     f_lo = std::min(f_lo, m.natural_frequency_Hz);
@@ -473,7 +499,9 @@ SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_
           c.boundary_depth_m[i] = 0.0;
         } else if (first < nd) {  // the SD map's own boundary between the two grid depths
           double lo = c.depth_m[first - 1], hi = c.depth_m[first];
-          while (hi - lo > o.boundary_rel_tol * hi) {
+          // At most 64 halvings: with depths near the denormals (a stiffness of 1e-300 N/m) the
+          // midpoint stops moving and the tolerance is never met (it hung).
+          for (int it = 0; it < 64 && hi - lo > o.boundary_rel_tol * hi; ++it) {
             const double mid = 0.5 * (lo + hi);
             (count(mid) > 0 ? hi : lo) = mid;
           }
@@ -496,9 +524,11 @@ double sd_limit_depth(const ChatterSystem& sys, double n, double b_hi, int m, do
   auto stable = [&](double b) {
     return sd_unstable_count(model, sys.kf_N_per_m2 * b, dt, m, order) == 0;
   };
+  if (!(b_hi > 0.0) || !std::isfinite(b_hi) || !(rel_tol > 0.0))
+    throw std::invalid_argument("semi-discretization: 0 < depth_hi < ∞, rel_tol > 0");
   double lo = 0.0, hi = b_hi;
   if (stable(hi)) return std::numeric_limits<double>::infinity();
-  while (hi - lo > rel_tol * hi) {
+  for (int it = 0; it < 64 && hi - lo > rel_tol * hi; ++it) {  // capped: see the chart's
     const double mid = 0.5 * (lo + hi);
     (stable(mid) ? lo : hi) = mid;
   }

@@ -226,3 +226,19 @@ TEST(SdChart, BadGridIsRejected) {
   o.interpolation_order = 2;
   EXPECT_THROW(sd_stability_chart(sdof(), 1000, 2000, 10, 0.01, 10, o), std::invalid_argument);
 }
+
+// Issue 28: with depths near the denormals (a stiffness of 1e-300 N/m) the bisections' midpoint
+// stops moving; they end anyway (they hung), and a top of inf is refused, not bisected.
+TEST(SdBisection, EndsAtDenormalDepths) {
+  ChatterSystem s;
+  s.kf_N_per_m2 = 2e9;
+  s.modes = {{1e-300, 0.03, 800.0, 0.0}};
+  const double b = sd_limit_depth(s, 2000.0, 1e-305, 30, 1e-3, 5);
+  EXPECT_FALSE(std::isnan(b));
+  EXPECT_THROW((void)sd_limit_depth(s, 2000.0, std::numeric_limits<double>::infinity(), 30),
+               std::invalid_argument);
+  SdChartOptions o;
+  o.threads = 1;
+  const auto c = sd_stability_chart(s, 1000.0, 3000.0, 2, 1e-305, 3, o);
+  EXPECT_EQ(c.boundary_depth_m.size(), 2u);
+}

@@ -78,6 +78,11 @@ struct FrequencyDomainResult {
 FrequencyDomainResult frequency_domain_lobes(const ChatterSystem& sys, double min_rpm,
                                              double max_rpm, int max_lobes = 40,
                                              int frequency_points = 4000);
+// The points frequency_domain_lobes would store over all its lobes, counted without storing
+// them (O(frequency_points · modes)): its memory and time grow with this count, which a wide
+// speed range of dense lobes makes billions (1–100 000 rpm on one 500 Hz mode: 10⁹, 24 GB).
+double frequency_domain_point_count(const ChatterSystem& sys, double min_rpm, double max_rpm,
+                                    int max_lobes = 40, int frequency_points = 4000);
 // Limit depth at one speed from the lobes (lower envelope of all lobes at that speed): the least,
 // over every lobe segment whose speeds bracket speed_rpm (ends included), of the depth linearly
 // interpolated in speed; +inf where no segment does. Uses fd.envelope_runs when present (binary

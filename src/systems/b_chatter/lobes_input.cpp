@@ -6,7 +6,9 @@
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/sections.hpp"
@@ -58,14 +60,34 @@ void read_part(TableReader& p, LobesInput& in) {
   io::read_beam_material(p, b, false);
   p.read({"modes", Range::closed(1, 50), "bending modes (at most 6 in a system-B scenario)"},
          part.modes);
-  const Range inside{0.0, b.length_m * 1e3, true, true};  // between the centres
-  p.require(
-      {"position_mm", inside,
-       "where the lobes are computed, from the headstock (left) centre; in (0, length_mm)", 1e-3},
-      part.position_m);
+  // Between the centres, and kCentreMargin of the length away from each: closer, mode j is seen
+  // 1/sin²(jπx/L) stiffer than mid-span (10⁴ times at 1 %), the centres' own compliance (not
+  // modelled) is what the tool feels, and at the centre itself no mode is seen at all.
+  const double length_mm = b.length_m * 1e3;
+  const Range inside =
+      Range::closed(kCentreMargin * length_mm, (1.0 - kCentreMargin) * length_mm);
+  p.require({"position_mm", inside,
+             "where the lobes are computed, from the headstock (left) centre; at least 1 % of "
+             "length_mm from either centre",
+             1e-3},
+            part.position_m);
   part.positions_m = p.numbers(
       {"positions_mm", inside,
-       "the critical depth along the part at these positions, each in (0, length_mm)", 1e-3});
+       "the critical depth along the part at these positions, each at least 1 % of length_mm "
+       "from either centre",
+       1e-3});
+  p.check(part.positions_m.size() <= kMaxPositions, "positions_mm",
+          "at most " + std::to_string(kMaxPositions) + " positions (each costs a set of lobes)");
+  // The part's highest mode within the [[mode]] bound on frequencies (a part of a few µm, or a
+  // thick stub, would put it at 10¹⁵ Hz and the lobes' count with it).
+  if (!p.is_describing()) {
+    const double f_top = dynamics::beam_mode_at(b, 0.5 * b.length_m, part.modes)
+                             .mode.natural_frequency_Hz;
+    p.check(std::isfinite(f_top) && f_top <= kMaxModeHz, "length_mm",
+            "the part's mode " + std::to_string(part.modes) + " lies at " + io::fmt(f_top) +
+                " Hz, above " + io::fmt(kMaxModeHz) +
+                " Hz (the [[mode]] bound): a longer or thinner part, or fewer modes");
+  }
   p.finish();
   in.part = part;
 }
@@ -74,8 +96,9 @@ void read_part(TableReader& p, LobesInput& in) {
 int read_tables(TableReader& root, LobesInput& in, std::optional<TableReader>& lobes) {
   auto c = root.table("cutting", true);
   c->require({"kf_N_per_mm2",
-              {0.0, 1e6, true, false},
-              "K_f, the cutting-force coefficient along the chip thickness",
+              Range::closed(1.0, 1e6),
+              "K_f, the cutting-force coefficient along the chip thickness (1 N/mm² and up: "
+              "below, the limit depths overflow)",
               1e6},
              in.system.kf_N_per_m2);
   c->finish();
@@ -92,7 +115,7 @@ int read_tables(TableReader& root, LobesInput& in, std::optional<TableReader>& l
   int max_lobes = 0;
   lobes = root.table("lobes");
   if (auto& l = lobes) {
-    l->read({"max_lobes", Range::closed(1, 5000),
+    l->read({"max_lobes", Range::closed(1, kMaxLobes),
              "lobes computed; by default (0) as many as reach min_rpm (at least 40)"},
             max_lobes);
     l->read({"sd_speeds", Range::closed(0, 2000),
@@ -117,13 +140,122 @@ int read_tables(TableReader& root, LobesInput& in, std::optional<TableReader>& l
   return max_lobes;
 }
 
+// The SDOF limit 2kζ(1+ζ)/(K_f·cos²θ) of a mode [m] (cos²θ kept ≥ 1e-12 as in reference_Hz).
+double sdof_limit_m(const dynamics::Mode& m, double kf) {
+  const double c2 = std::max(std::cos(m.angle_rad) * std::cos(m.angle_rad), 1e-12);
+  return 2.0 * m.stiffness_N_per_m * m.damping_ratio * (1.0 + m.damping_ratio) / (kf * c2);
+}
+
+// Every mode the lobes will see (the tool's, and the part's at each position) has an SDOF limit
+// of at least kMinLimitDepth_m: below it the depths underflow towards denormals, where the
+// bisections stop converging (a stiffness of 1e-300 N/m hung the chart).
+void check_limits(TableReader& root, std::optional<TableReader>& part_table, const LobesInput& in) {
+  const double kf = in.system.kf_N_per_m2;
+  auto tables = root.tables("mode");
+  for (std::size_t i = 0; i < in.tool_modes.size() && i < tables.size(); ++i) {
+    const double b = sdof_limit_m(in.tool_modes[i], kf);
+    if (!(b >= kMinLimitDepth_m))
+      tables[i].fail("stiffness_N_per_m",
+                     "this mode's limit depth 2kζ(1+ζ)/(K_f·cos²θ) = " + io::fmt(b) +
+                         " m is below " + io::fmt(kMinLimitDepth_m) +
+                         " m: no lathe's mode is that soft for this K_f ([cutting] kf_N_per_mm2)");
+  }
+  if (!in.part) return;
+  std::vector<double> xs{in.part->position_m};
+  xs.insert(xs.end(), in.part->positions_m.begin(), in.part->positions_m.end());
+  for (std::size_t k = 0; k < xs.size(); ++k) {
+    const auto modes = dynamics::beam_modes_at(in.part->beam, xs[k], in.part->modes);
+    double b = std::numeric_limits<double>::infinity();
+    for (const auto& m : modes) b = std::min(b, sdof_limit_m(m, kf));
+    if (!(b >= kMinLimitDepth_m))
+      part_table->fail(
+          k == 0 ? "position_mm" : "positions_mm",
+          "at " + io::fmt(xs[k] * 1e3) + " mm the part's softest mode has a limit depth of " +
+              io::fmt(b) + " m, below " + io::fmt(kMinLimitDepth_m) +
+              " m: the part (diameter_mm, length_mm, youngs_modulus_GPa) is too slender for any "
+              "cut, or K_f ([cutting] kf_N_per_mm2) too large");
+  }
+}
+
+std::string gigabytes(double bytes) { return io::fmt(bytes / 1e9, "%.2g") + " GB"; }
+std::string duration(double s) {
+  return s < 120.0 ? io::fmt(s, "%.0f") + " s"
+         : s < 7200.0 ? io::fmt(s / 60.0, "%.0f") + " min"
+                      : io::fmt(s / 3600.0, "%.1f") + " h";
+}
+
+// The work, estimated before anything is allocated (lobes_cost), within kMaxBytes and
+// kMaxSeconds; over either, the error names the keys that would bring it down.
+void check_cost(TableReader& root, std::optional<TableReader>& lobes, const LobesInput& in) {
+  const LobesCost c = lobes_cost(in);
+  auto speed = root.table("speed", true);
+  if (c.bytes > kMaxBytes && c.sd_bytes > c.fd_bytes) {
+    root.fail("mode", std::to_string(in.system.modes.size()) +
+                          " modes at the tool would need about " + gigabytes(c.bytes) +
+                          " of memory for the semi-discretization's matrices, over the " +
+                          gigabytes(kMaxBytes) + " bound: fewer [[mode]]s or [part] modes");
+  }
+  if (c.bytes > kMaxBytes) {
+    speed->fail("min_rpm",
+                "the frequency-domain lobes from min_rpm = " + io::fmt(in.min_rpm) +
+                    " to max_rpm = " + io::fmt(in.max_rpm) + " rpm (" +
+                    std::to_string(in.max_lobes) + " lobes) would hold " +
+                    io::fmt(c.fd_points, "%.3g") + " points, about " + gigabytes(c.bytes) +
+                    " of memory, over the " + gigabytes(kMaxBytes) +
+                    " bound: narrow the speed range (raise min_rpm, lower max_rpm)");
+  }
+  if (c.seconds > kMaxSeconds) {
+    const std::string what = "about " + duration(c.seconds) + " on " +
+                             std::to_string(c.threads) + " threads, over the " +
+                             duration(kMaxSeconds) + " bound";
+    const double chart_s = c.cell_seconds / c.threads *
+                           (c.chart_cells > 0 ? c.chart_cells / (c.chart_cells + c.sd_cells) : 0);
+    if (lobes && chart_s > 0.5 * c.seconds)
+      lobes->fail(lobes->has("chart_speeds") ? "chart_speeds" : "chart_depths",
+                  "the SD chart of " + std::to_string(in.chart_speeds) + " × " +
+                      std::to_string(in.chart_depths) + " cells, up to " +
+                      std::to_string(c.max_steps) + " steps per revolution, would take " + what +
+                      ": ask for a coarser chart (chart_speeds, chart_depths), fewer "
+                      "chart_steps_per_period, or a higher [speed] min_rpm");
+    if (lobes && c.sd_cells > 0 && c.fd_seconds < 0.5 * c.seconds)
+      lobes->fail("sd_speeds", "the semi-discretization limits at " +
+                                   std::to_string(in.sd_speeds) + " speeds and the chart, up to " +
+                                   std::to_string(c.max_steps) +
+                                   " steps per revolution, would take " + what +
+                                   ": fewer sd_speeds, a coarser chart, or a higher [speed] "
+                                   "min_rpm");
+    speed->fail("min_rpm", "the lobes (" + std::to_string(in.max_lobes) + " lobes, " +
+                               io::fmt(c.fd_point_visits, "%.3g") +
+                               " points over every position; semi-discretization up to " +
+                               std::to_string(c.max_steps) +
+                               " steps per revolution) would take " + what +
+                               ": raise min_rpm, or set a smaller [lobes] chart and sd_speeds");
+  }
+}
+
 LobesInput read_lobes_input(const io::TomlDocument& doc) {
   TableReader root(doc.root(), doc.file(), "");
   LobesInput in;
   std::optional<TableReader> lobes;
   const int max_lobes = read_tables(root, in, lobes);
   root.finish();
+  {
+    auto part_table = root.table("part");
+    check_limits(root, part_table, in);
+  }
   in.system = lobes_system_at(in, in.part ? in.part->position_m : 0.0);
+  // The lobes down to min_rpm, counted before they are allocated (as a double: a part of a few
+  // µm once made this an int overflow and a resize of billions of lobes).
+  const double needed_lobes = lobes_needed_count(in);
+  if (!(needed_lobes <= kMaxLobes)) {
+    auto speed = root.table("speed", true);
+    speed->fail("min_rpm", "the lobes down to min_rpm = " + io::fmt(in.min_rpm) + " rpm number " +
+                               io::fmt(needed_lobes, "%.0f") + " (60·f_c/min_rpm at the chatter "
+                               "frequency f_c = " + io::fmt(lobes_reference_Hz(in)) +
+                               " Hz), over " + std::to_string(kMaxLobes) +
+                               ": raise min_rpm to at least " +
+                               io::fmt(60.0 * lobes_reference_Hz(in) / (kMaxLobes - 2), "%.0f"));
+  }
   // Never fewer than the former fixed default of 40: existing machine files keep their rows.
   const int needed = std::max(40, lobes_needed(in));
   if (max_lobes > 0 && max_lobes < needed)
@@ -133,6 +265,7 @@ LobesInput read_lobes_input(const io::TomlDocument& doc) {
                                  io::fmt(60.0 * lobes_reference_Hz(in) / max_lobes, "%.0f") +
                                  " rpm would be missing); leave it out for that default");
   in.max_lobes = max_lobes > 0 ? max_lobes : needed;
+  check_cost(root, lobes, in);
   return in;
 }
 
@@ -155,8 +288,15 @@ io::ParamLog describe_machine_file() {
   return *log;
 }
 
+double lobes_needed_count(const LobesInput& in) {
+  return std::ceil(60.0 * lobes_reference_Hz(in) / in.min_rpm) + 2.0;
+}
+
 int lobes_needed(const LobesInput& in) {
-  return static_cast<int>(std::ceil(60.0 * lobes_reference_Hz(in) / in.min_rpm)) + 2;
+  // Saturated, never an overflow (the cast of 10¹⁵ lobes was undefined); the reader refuses a
+  // file over kMaxLobes, and `optimize` (src/optimize/chatter.cpp) asks at real spindle speeds.
+  const double n = lobes_needed_count(in);
+  return static_cast<int>(std::min(n, static_cast<double>(std::numeric_limits<int>::max() / 2)));
 }
 
 dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m) {
