@@ -59,8 +59,7 @@ io::IndexEntry index_entry(const io::Scenario& sc, const io::RunOutput& r) {
   for (const auto& l : r.verdict.unfinished)
     e.problems.push_back({"part not finished: " + l, e.href + "#verdict"});
   for (const auto& u : r.verdict.unmet)
-    e.problems.push_back(
-        {"model check ✘ " + u.text, e.href + "#claim-" + std::to_string(u.index)});
+    e.problems.push_back({"model check ✘ " + u.text, e.href + "#claim-" + std::to_string(u.index)});
   return e;
 }
 

@@ -36,16 +36,17 @@ bool Acceptance::judge(std::string_view key, double value) {
     if (c.key == key) k = &c;
   if (!k) return true;
   const double limit = limits_.limit(key);
-  if (limit == 0.0 || std::isnan(limit)) return true;  // not judged
+  if (limit == 0.0 || std::isnan(limit)) return true;              // not judged
   const bool met = k->at_least ? value >= limit : value <= limit;  // NaN meets neither
-  criteria_.push_back({{"key", std::string(key)},
-                       {"criterion", std::string(k->label)},
-                       {"value", std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr)},
-                       {"limit", limit},
-                       {"comparison", k->at_least ? "≥" : "≤"},
-                       {"unit", unit_of_key(key)},
-                       {"source", limits_.stated(key) ? "scenario" : "default"},
-                       {"met", met}});
+  criteria_.push_back(
+      {{"key", std::string(key)},
+       {"criterion", std::string(k->label)},
+       {"value", std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr)},
+       {"limit", limit},
+       {"comparison", k->at_least ? "≥" : "≤"},
+       {"unit", unit_of_key(key)},
+       {"source", limits_.stated(key) ? "scenario" : "default"},
+       {"met", met}});
   return met;
 }
 
@@ -157,7 +158,8 @@ std::string Verdict::model_checks_line(bool names) const {
                     std::to_string(claims) + " met";
   if (names && !unmet.empty()) {
     out += " (not met: ";
-    for (std::size_t i = 0; i < unmet.size(); ++i) out += (i ? "; " : "") + claim_name(unmet[i].text);
+    for (std::size_t i = 0; i < unmet.size(); ++i)
+      out += (i ? "; " : "") + claim_name(unmet[i].text);
     out += ")";
   }
   return out;

@@ -67,19 +67,18 @@ void add_verdict(RunOutput& out) {
   };
   if (s.contains("acceptance") && s["acceptance"].contains("criteria"))
     for (const auto& c : s["acceptance"]["criteria"])
-      t.rows.push_back(
-          {c.value("criterion", std::string()), with_unit(c, "value"),
-           c.value("comparison", std::string()) + " " + with_unit(c, "limit"),
-           c.value("met", false) ? "✔" : "✘",
-           c.value("source", std::string()) == "scenario"
-               ? "[acceptance] " + c.value("key", std::string())
-               : "default (" + c.value("key", std::string()) + ")"});
+      t.rows.push_back({c.value("criterion", std::string()), with_unit(c, "value"),
+                        c.value("comparison", std::string()) + " " + with_unit(c, "limit"),
+                        c.value("met", false) ? "✔" : "✘",
+                        c.value("source", std::string()) == "scenario"
+                            ? "[acceptance] " + c.value("key", std::string())
+                            : "default (" + c.value("key", std::string()) + ")"});
   t.rows.push_back({"alarms raised", std::to_string(v.alarms.size()), "= 0",
                     v.alarms.empty() ? "✔" : "✘", "always"});
   if (s.contains("metrics") && s["metrics"].contains("finished"))
     t.rows.push_back({"parts not finished within run.duration_s",
-                      std::to_string(v.unfinished.size()), "= 0",
-                      v.unfinished.empty() ? "✔" : "✘", "always"});
+                      std::to_string(v.unfinished.size()), "= 0", v.unfinished.empty() ? "✔" : "✘",
+                      "always"});
   for (const auto& a : v.alarms) rep.verdict_items.push_back({"alarm: " + a, ""});
   for (const auto& l : v.unfinished)
     rep.verdict_items.push_back({"part not finished within run.duration_s: " + l, ""});

@@ -213,7 +213,8 @@ io::RunOutput run(const io::Scenario& sc) {
   if (cmp) s["comparison"] = {{"label", cmp->label}, {"metrics", metrics_json(cmp->metrics)}};
   if (!sweep.empty()) s["sweep"] = sweep;
 
-  const bool roughing = settings.rig.controller.mode == control::PulseFeedController::Mode::Roughing;
+  const bool roughing =
+      settings.rig.controller.mode == control::PulseFeedController::Mode::Roughing;
   {  // The user's cut is the main run's; each mode is judged by what it holds.
     Acceptance acceptance(settings.acceptance);
     if (roughing)

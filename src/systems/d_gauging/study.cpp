@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <memory>
 #include <cstdio>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 
