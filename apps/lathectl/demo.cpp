@@ -44,7 +44,8 @@ std::string first_sentence(const std::string& d) {
   return d.substr(0, cut == std::string::npos ? 140 : cut) + " …";
 }
 
-// The demo index's entry for a run: ✔/✘ and a link to each unmet claim in its report.
+// The demo index's entry for a run: ✔/✘ of its acceptance, what failed it, and a link to each
+// unmet model check in its report (which does not decide the mark).
 io::IndexEntry index_entry(const io::Scenario& sc, const io::RunOutput& r) {
   io::IndexEntry e;
   e.title = sc.name + " — " + first_sentence(sc.description);
@@ -52,11 +53,13 @@ io::IndexEntry index_entry(const io::Scenario& sc, const io::RunOutput& r) {
   e.summary = r.headline;
   e.status = r.verdict.ok() ? 1 : -1;
   e.verdict = r.verdict.line(false);
-  for (const auto& u : r.verdict.unmet)
-    e.problems.push_back({"✘ " + u.text, e.href + "#claim-" + std::to_string(u.index)});
+  for (const auto& c : r.verdict.criteria)
+    if (!c.met) e.problems.push_back({"✘ " + c.text, e.href + "#verdict"});
   for (const auto& a : r.verdict.alarms) e.problems.push_back({"alarm: " + a, e.href + "#verdict"});
   for (const auto& l : r.verdict.unfinished)
     e.problems.push_back({"part not finished: " + l, e.href + "#verdict"});
+  for (const auto& u : r.verdict.unmet)
+    e.problems.push_back({"model check ✘ " + u.text, e.href + "#claim-" + std::to_string(u.index)});
   return e;
 }
 
@@ -140,7 +143,7 @@ int demo(const std::string& out, const std::string& dir, const std::vector<std::
   for (std::size_t i = 0; i < n; ++i)
     if (failed[i]) which += (n_failed++ ? ", " : "") + scenarios[i].name;
   std::cout << "demo: " << n << " scenarios, " << n_failed
-            << " with unmet claims, alarms or unfinished parts"
+            << " with unmet acceptance criteria, alarms or unfinished parts"
             << (n_failed ? " (" + which + ")" : "") << " → "
             << (fs::path(out) / "index.html").string() << "\n";
   return strict && n_failed > 0 ? kStrictFailure : 0;
@@ -162,7 +165,8 @@ void add_demo(CLI::App& app, Commands& out) {
   sub->add_option("names", a->only,
                   "run only these examples (file names without .toml; default: all)");
   sub->add_flag("--strict", a->strict,
-                "exit 3 when any scenario has a claim not met, an alarm or an unfinished part");
+                "exit 3 when any scenario has an acceptance criterion not met, an alarm or an "
+                "unfinished part (the model checks, the seeds' claims, do not count)");
   out.push_back({sub, [a] { return demo(a->out, a->dir, a->only, a->strict); }});
 }
 

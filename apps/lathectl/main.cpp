@@ -25,8 +25,8 @@ int main(int argc, char** argv) {
   // inherit the footer; the ones with a page of their own name it).
   app.footer(
       "Exit codes: 0 success; 1 internal failure; 2 bad input (one message naming file, line and "
-      "key); 3 with --strict (run, demo): a claim not met, an alarm raised or a part not "
-      "finished.\n"
+      "key); 3 with --strict (run, demo): an acceptance criterion not met, an alarm raised or a "
+      "part not finished.\n"
       "Seed numbers (000–004), formula numbers such as (23) and block numbers such as \"sensor "
       "4\" refer to the five original documents, explained in " +
       cli::doc("README.md") + ".");

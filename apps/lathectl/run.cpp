@@ -59,8 +59,9 @@ void add_run(CLI::App& app, Commands& out) {
   sub->add_option("scenario", a->scenario, "scenario file (TOML)")->required();
   sub->add_option("--out", a->out, "output directory")->capture_default_str();
   sub->add_flag("--strict", a->strict,
-                "exit 3 when a claim is not met, an alarm fired (expected or not) or the part was "
-                "not finished");
+                "exit 3 when an acceptance criterion ([acceptance], or the system's defaults) is "
+                "not met, an alarm fired (expected or not) or the part was not finished; the "
+                "model checks (the seeds' claims) do not count");
   sub->footer("Scenario files: " + doc("scenario-reference.md") + ".");
   out.push_back({sub, [a] { return run(a->scenario, a->out, a->strict); }});
 }

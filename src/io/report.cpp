@@ -207,10 +207,9 @@ std::vector<bool> numeric_columns(const Table& table) {
   return numeric;
 }
 
-void render_table(std::string& out, const Table& table) {
+// The table alone (no section, no title).
+void table_html(std::string& out, const Table& table) {
   const std::vector<bool> numeric = numeric_columns(table);
-  out += "<section class=\"table\">\n";
-  if (!table.title.empty()) out += "<h2>" + escape(table.title) + "</h2>\n";
   out += "<div class=\"table-wrap\"><table class=\"data\">\n";
   if (!table.header.empty()) {
     out += "<thead><tr>";
@@ -230,7 +229,14 @@ void render_table(std::string& out, const Table& table) {
     for (std::size_t c = row.size(); c < table.header.size(); ++c) out += "<td></td>";
     out += "</tr>\n";
   }
-  out += "</tbody></table></div>\n</section>\n";
+  out += "</tbody></table></div>\n";
+}
+
+void render_table(std::string& out, const Table& table) {
+  out += "<section class=\"table\">\n";
+  if (!table.title.empty()) out += "<h2>" + escape(table.title) + "</h2>\n";
+  table_html(out, table);
+  out += "</section>\n";
 }
 
 }  // namespace
@@ -261,9 +267,19 @@ std::string render_html(const Report& report, std::size_t max_points) {
 
   if (!report.verdict.empty()) {
     out += std::string("<section class=\"verdict ") + (report.verdict_ok ? "ok" : "bad") +
-           "\" id=\"verdict\">\n<h2>Verdict</h2>\n<p class=\"mark\">" + escape(report.verdict) +
-           "</p>\n";
+           "\" id=\"verdict\">\n<h2>" +
+           escape(report.verdict_table.title.empty() ? std::string("Verdict")
+                                                     : report.verdict_table.title) +
+           "</h2>\n<p class=\"mark\">" + escape(report.verdict) + "</p>\n";
+    if (!report.verdict_table.rows.empty()) table_html(out, report.verdict_table);
     link_list(out, report.verdict_items, "notes");
+    out += "</section>\n";
+  }
+  if (!report.model_checks.empty()) {
+    out += std::string("<section class=\"model-checks ") + (report.model_checks_ok ? "ok" : "bad") +
+           "\" id=\"model-checks\">\n<h2>Model checks: the seed's claims</h2>\n<p>" +
+           escape(report.model_checks) + "</p>\n";
+    link_list(out, report.model_check_items, "notes");
     out += "</section>\n";
   }
 

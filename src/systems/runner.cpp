@@ -49,6 +49,51 @@ void add_settings(const Scenario& sc, RunOutput& out) {
   out.summary["settings"] = std::move(js);
   out.report.tables.push_back(settings_table(sc));
 }
+
+// The report's first section: the acceptance criteria as a table (each with its value, limit,
+// where the limit came from and ✔/✘), then the alarms and the parts not finished, which decide
+// the verdict too; the model checks in a section of their own after it.
+void add_verdict(RunOutput& out) {
+  const nlohmann::json& s = out.summary;
+  const Verdict& v = out.verdict;
+  Report& rep = out.report;
+  rep.verdict = v.acceptance_line(false);
+  rep.verdict_ok = v.ok();
+  Table& t = rep.verdict_table;
+  t.title = "Verdict: acceptance criteria";
+  t.header = {"criterion", "value", "limit", "", "limit from"};
+  const auto with_unit = [](const nlohmann::json& c, const char* key) {
+    const nlohmann::json& x = c.contains(key) ? c[key] : nlohmann::json(nullptr);
+    const std::string n = x.is_number() ? fmt(x.get<double>()) : std::string("—");
+    const std::string unit = c.value("unit", std::string());
+    return unit.empty() || n == "—" ? n : n + " " + unit;
+  };
+  if (s.contains("acceptance") && s["acceptance"].contains("criteria"))
+    for (const auto& c : s["acceptance"]["criteria"])
+      t.rows.push_back({c.value("criterion", std::string()), with_unit(c, "value"),
+                        c.value("comparison", std::string()) + " " + with_unit(c, "limit"),
+                        c.value("met", false) ? "✔" : "✘",
+                        c.value("source", std::string()) == "scenario"
+                            ? "[acceptance] " + c.value("key", std::string())
+                            : "default (" + c.value("key", std::string()) + ")"});
+  t.rows.push_back({"alarms raised", std::to_string(v.alarms.size()), "= 0",
+                    v.alarms.empty() ? "✔" : "✘", "always"});
+  if (s.contains("metrics") && s["metrics"].contains("finished"))
+    t.rows.push_back({"parts not finished within run.duration_s",
+                      std::to_string(v.unfinished.size()), "= 0", v.unfinished.empty() ? "✔" : "✘",
+                      "always"});
+  for (const auto& a : v.alarms) rep.verdict_items.push_back({"alarm: " + a, ""});
+  for (const auto& l : v.unfinished)
+    rep.verdict_items.push_back({"part not finished within run.duration_s: " + l, ""});
+  rep.model_checks = v.model_checks_line(false);
+  if (!rep.model_checks.empty())
+    rep.model_checks +=
+        ". They say whether the model reproduces what the seed document states, not whether "
+        "this part is good; they do not decide --strict.";
+  rep.model_checks_ok = v.model_checks_ok();
+  for (const auto& u : v.unmet)
+    rep.model_check_items.push_back({"✘ " + u.text, "#claim-" + std::to_string(u.index)});
+}
 }  // namespace
 
 Table settings_table(const Scenario& sc) {
@@ -65,16 +110,11 @@ Table settings_table(const Scenario& sc) {
 RunOutput run_scenario(const Scenario& sc) {
   RunOutput out = run_system(sc);
   add_settings(sc, out);
+  // The seed's claims are the model checks; "claims" stays for the readers that know it.
+  if (out.summary.contains("claims")) out.summary["model_checks"] = out.summary["claims"];
   out.verdict = verdict_of(out.summary);
   out.summary["verdict"] = out.verdict.json();
-  Report& rep = out.report;
-  rep.verdict = out.verdict.line(false);
-  rep.verdict_ok = out.verdict.ok();
-  for (const auto& u : out.verdict.unmet)
-    rep.verdict_items.push_back({"✘ " + u.text, "#claim-" + std::to_string(u.index)});
-  for (const auto& a : out.verdict.alarms) rep.verdict_items.push_back({"alarm: " + a, ""});
-  for (const auto& l : out.verdict.unfinished)
-    rep.verdict_items.push_back({"part not finished within run.duration_s: " + l, ""});
+  add_verdict(out);
   return out;
 }
 

@@ -6,7 +6,8 @@ each machine file's lobes.json, as main produced them before the layout changed 
 A run now must give the same document: the same keys and exactly the same numbers. Three things may
 differ: "file" (where the scenario was read from), keys the golden copy does not have inside a
 claim or the verdict (new structured fields such as a claim's threshold and comparison), and the
-new top-level "settings" (every key the run used).
+new top-level "settings" (every key the run used), "acceptance" (the verdict's criteria) and
+"model_checks" (the claims under their new name).
 A deliberate change of a number updates the golden file in the same commit, saying why.
 
 usage: compare.py GOLDEN_DIR NEW_DIR [NAME_PATTERN]   (NEW_DIR/<name>/<file>.json)
@@ -17,7 +18,9 @@ import sys
 from pathlib import Path
 
 ADDITIVE = ("claims", "verdict")  # objects below these may gain keys
-NEW_TOP = ("settings",)  # new top-level keys (every key the run used, issue 12)
+# New top-level keys: every key the run used (issue 12); the acceptance criteria and the claims
+# under their new name, model checks (issue 28).
+NEW_TOP = ("settings", "acceptance", "model_checks")
 
 
 def diff(old, new, path, additive, out):

@@ -70,11 +70,19 @@ struct Report {
   std::vector<std::string> notes;                            // findings, each a short paragraph
   // Parallel to notes (may be shorter): an id for the note's <li>, e.g. "claim-3", "" for none.
   std::vector<std::string> note_ids;
-  // The run's verdict, shown first: a headline ("✔ 5 of 5 claims met" / "✘ …") and what went
-  // wrong, each item linking to its note when it has one (href "#claim-3"). Empty: no section.
+  // The run's verdict, shown first: a headline ("✔ 3 of 3 acceptance criteria met" / "✘ …"),
+  // the criteria as a table (criterion, value, limit, ✔/✘; empty: none) and what went wrong,
+  // each item linking to its note when it has one. Empty headline: no section.
   std::string verdict;
   bool verdict_ok = true;
   std::vector<Link> verdict_items;
+  Table verdict_table = {};
+  // The model checks (the seed's claims: does the model reproduce the document?), shown after
+  // the verdict and apart from it: a headline and the unmet ones, each linking to its note
+  // (href "#claim-3"). Empty headline: no section.
+  std::string model_checks = {};
+  bool model_checks_ok = true;
+  std::vector<Link> model_check_items = {};
   std::vector<Table> tables;
   std::vector<Plot> plots;
   // Page of docs/ that explains the seed, formula and block numbers the report cites (e.g.

@@ -396,6 +396,23 @@ void read_options(TableReader& root, Settings& st) {
 
 }  // namespace
 
+const std::array<io::CriterionKey, 3> kAcceptanceKeys{{
+    {"max_feed_deviation_pct", "largest feed deviation after the disturbance (finishing)", false,
+     5.0, Range::closed(0, 1000),
+     "finishing mode: largest |S − S_ref|/S_ref of the feed after the tool meets the first "
+     "disturbance, transient included, % (default 5; not judged in roughing, whose law lowers "
+     "the feed on purpose)"},
+    {"max_force_over_set_pct", "largest force above its set value (roughing)", false, 25.0,
+     Range::closed(0, 1000),
+     "roughing mode: largest cutting force Py above controller.force_set_N, the transient of a "
+     "disturbance included, % (default 25: the slide answers a step in about a second; not "
+     "judged in finishing)"},
+    {"max_size_error_um", "steady diameter error from the holder's deflection", false, 0.0,
+     Range::closed(0, 1e4),
+     "largest |steady diameter error| 2·ΔPy/k the holder's deflection leaves after the "
+     "disturbance (0: not judged, the default)"},
+}};
+
 std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenario& sc,
                                                   const io::MaterialLibrary& lib) {
   auto st = std::make_unique<Settings>();
@@ -407,6 +424,7 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
   read_sensor(root, a, sc.run.seed);
   read_controller(root, a);
   read_options(root, *st);
+  io::read_acceptance(root, st->acceptance);
   return st;
 }
 

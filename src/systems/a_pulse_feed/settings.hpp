@@ -4,11 +4,13 @@
 // [compare], [sweep], [metrics], [[fault]]; docs/scenario-reference.md). The defaults are the
 // member initialisers (here and in sim::RigAConfig): the reader keeps them for an absent key.
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "lathectl/io/acceptance.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "systems/a_pulse_feed/rig.hpp"
 
@@ -34,6 +36,9 @@ struct ToleranceStudy {
   double flow_tolerance = 0.05; // relative flow error a sample may make
 };
 
+// [acceptance]: what the cut must achieve (settings.cpp describes each key).
+extern const std::array<io::CriterionKey, 3> kAcceptanceKeys;
+
 struct Settings : io::SettingsOf<Settings> {
   sim::RigAConfig rig;
   std::optional<Comparison> compare;               // [compare]
@@ -41,6 +46,7 @@ struct Settings : io::SettingsOf<Settings> {
   std::vector<double> obliteration_removal;        // [obliteration_study] removal_per_stroke
   std::vector<double> obliteration_layer_m;        // [obliteration_study] layer_um (at η = 0)
   std::optional<ToleranceStudy> tolerance;         // [tolerance]
+  io::AcceptanceLimits acceptance{kAcceptanceKeys};  // [acceptance], or the defaults
 };
 
 // Reads A's tables into Settings (the common part, [run], is read before).

@@ -14,6 +14,7 @@
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/study.hpp"
+#include "lathectl/io/verdict.hpp"
 #include "systems/a_pulse_feed/metrics.hpp"
 #include "systems/a_pulse_feed/regulator_studies.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
@@ -212,9 +213,21 @@ io::RunOutput run(const io::Scenario& sc) {
   if (cmp) s["comparison"] = {{"label", cmp->label}, {"metrics", metrics_json(cmp->metrics)}};
   if (!sweep.empty()) s["sweep"] = sweep;
 
+  const bool roughing =
+      settings.rig.controller.mode == control::PulseFeedController::Mode::Roughing;
+  {  // The user's cut is the main run's; each mode is judged by what it holds.
+    Acceptance acceptance(settings.acceptance);
+    if (roughing)
+      acceptance.judge("max_force_over_set_pct",
+                       100.0 * (m.force_peak_N / m.force_setpoint_N - 1.0));
+    else
+      acceptance.judge("max_feed_deviation_pct", m.feed_rate_deviation_pct);
+    acceptance.judge("max_size_error_um", std::abs(m.size_error_diameter_um));
+    s["acceptance"] = acceptance.json();
+  }
+
   // Claims this run can answer, each with its number.
   Claims claims;
-  const bool roughing = settings.rig.controller.mode == control::PulseFeedController::Mode::Roughing;
   if (cmp && settings.rig.controller_kind != ControllerKind::None &&
       cmp->rig.config().controller_kind == ControllerKind::None) {
     if (!roughing) {

@@ -1,6 +1,7 @@
 #include "systems/b_chatter/settings.hpp"
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -299,6 +300,18 @@ void read_tables(TableReader& root, io::Scenario& sc, const io::MaterialLibrary&
 
 }  // namespace
 
+const std::array<io::CriterionKey, 2> kAcceptanceKeys{{
+    {"max_vibration_um", "steady vibration amplitude of the part", false,
+     std::numeric_limits<double>::quiet_NaN(), Range::closed(0, 1e5),
+     "largest steady vibration amplitude of the part over the last 30 % of the cut (with the "
+     "scenario's modulation, if any), µm (default: vibration_sensor.dead_zone_um, the vibration "
+     "the machine's setter 18 tolerates; 0: not judged)"},
+    {"min_mean_feed_pct", "mean feed of the modulated turret, % of programmed", true, 90.0,
+     Range::closed(0, 1000),
+     "smallest mean feed of the modulated turret against the programmed feed, %: the "
+     "productivity the modulation may cost (default 90; judged only with modulation)"},
+}};
+
 std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenario& sc,
                                                   const io::MaterialLibrary& lib) {
   auto s = std::make_unique<Settings>();
@@ -307,6 +320,10 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
   } catch (const std::invalid_argument& e) {  // the part's beam model refuses it
     io::throw_at_key(sc, e, "part");
   }
+  // The derived default is set before the read, so the run's settings show the value used.
+  if (!root.is_describing())
+    s->acceptance.set_default("max_vibration_um", s->rig.vibration.dead_zone_m * 1e6);
+  io::read_acceptance(root, s->acceptance);
   return s;
 }
 

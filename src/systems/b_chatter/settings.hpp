@@ -5,18 +5,24 @@
 // (settings.cpp) reads the file's [part], [material], [tool], [cut], [spindle],
 // [vibration_sensor], [power_sensor], [modulation] and [study] over them.
 
+#include <array>
 #include <memory>
 #include <vector>
 
+#include "lathectl/io/acceptance.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "systems/b_chatter/rig.hpp"
 
 namespace lathectl::b_chatter {
 
+// [acceptance]: what the cut must achieve (settings.cpp describes each key).
+extern const std::array<io::CriterionKey, 2> kAcceptanceKeys;
+
 struct Settings : io::SettingsOf<Settings> {
   sim::RigBConfig rig;
   bool compare = true;                        // [study] also run without modulation
   std::vector<double> sweep_feed_mm_per_rev;  // [study] feeds of the with/without sweep
+  io::AcceptanceLimits acceptance{kAcceptanceKeys};  // [acceptance], or the defaults
 };
 
 // The section reader (settings.cpp): the settings from the file's tables.

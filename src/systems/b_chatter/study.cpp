@@ -11,6 +11,7 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
+#include "lathectl/io/verdict.hpp"
 #include "lathectl/sim/parallel.hpp"
 #include "systems/b_chatter/metrics.hpp"
 #include "systems/b_chatter/settings.hpp"
@@ -253,6 +254,13 @@ io::RunOutput run(const io::Scenario& sc) {
                                             ? json_number(p->on.feed_mean[t] / (p->feed * b.rpm))
                                             : json(nullptr)}});
     s["metrics"]["sweep"] = sw;
+  }
+
+  {  // The user's cut is the main run's (with its modulation, if any).
+    io::Acceptance acceptance(settings.acceptance);
+    acceptance.judge("max_vibration_um", main.vibration_um);
+    if (modulated) acceptance.judge("min_mean_feed_pct", 100.0 * main.feed_mean[t] / s_prog);
+    s["acceptance"] = acceptance.json();
   }
 
   Claims claims;

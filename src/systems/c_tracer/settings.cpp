@@ -261,6 +261,21 @@ void read_all(TableReader& root, const io::Scenario& sc, const io::MaterialLibra
 
 }  // namespace
 
+const std::array<io::CriterionKey, 3> kAcceptanceKeys{{
+    {"max_profile_error_um", "largest radial profile error |δy| at equal x", false, 100.0,
+     Range::closed(0, 1e5),
+     "largest |δy|, the part's radius against the template's at equal x, over the whole "
+     "template (shoulders masked as in the report), µm (default 100: 0.1 mm, a copying "
+     "slide's usual accuracy)"},
+    {"max_axial_error_um", "largest axial profile error |δx| at equal y", false, 0.0,
+     Range::closed(0, 1e5),
+     "largest |δx| where the template slopes by more than 10° (0: not judged, the default)"},
+    {"max_waviness_um", "largest cone waviness (peak-to-peak δy)", false, 0.0,
+     Range::closed(0, 1e5),
+     "largest peak-to-peak δy about its trend over a cone's second half, the stick-slip's "
+     "trace (0: not judged, the default)"},
+}};
+
 std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenario& sc,
                                                   const io::MaterialLibrary& lib) {
   auto st = std::make_unique<Settings>();
@@ -269,6 +284,7 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
   } catch (const std::invalid_argument& e) {  // the template's points, rejected by the profile
     io::throw_at_key(sc, e, "template");
   }
+  io::read_acceptance(root, st->acceptance);
   return st;
 }
 

@@ -4,17 +4,23 @@
 // docs/scenario-reference.md). The defaults are the member initialisers (sim::RigCConfig): the
 // reader keeps them for an absent key.
 
+#include <array>
 #include <memory>
 #include <string>
 
+#include "lathectl/io/acceptance.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "systems/c_tracer/rig.hpp"
 
 namespace lathectl::systems::c_tracer {
 
+// [acceptance]: what the copied profile must achieve (settings.cpp describes each key).
+extern const std::array<io::CriterionKey, 3> kAcceptanceKeys;
+
 struct Settings : io::SettingsOf<Settings> {
   sim::RigCConfig rig;
   std::string compare;  // [model] compare: "", "linear" or "nonlinear", a second run overlaid
+  io::AcceptanceLimits acceptance{kAcceptanceKeys};  // [acceptance], or the defaults
 };
 
 // Reads C's tables into Settings (the common part, [run], is read before).

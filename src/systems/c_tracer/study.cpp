@@ -11,6 +11,7 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
+#include "lathectl/io/verdict.hpp"
 #include "systems/c_tracer/metrics.hpp"
 #include "systems/c_tracer/settings.hpp"
 
@@ -163,6 +164,14 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_rows) {
   s["metrics"] = metrics(main);
   if (runs.size() > 1)
     s["comparison"] = {{"label", runs[1]->label}, {"metrics", metrics(*runs[1])}};
+
+  {  // The user's part is the main run's.
+    Acceptance acceptance(st.acceptance);
+    acceptance.judge("max_profile_error_um", main.max_dy_um);
+    acceptance.judge("max_axial_error_um", main.max_dx_um);
+    acceptance.judge("max_waviness_um", main.waviness_um);
+    s["acceptance"] = acceptance.json();
+  }
 
   Claims claims;
   if (!std::isnan(alpha) && !st.rig.nonlinear) {

@@ -199,6 +199,15 @@ void validate(const io::Scenario& sc) {
 
 }  // namespace
 
+const std::array<io::CriterionKey, 2> kAcceptanceKeys{{
+    {"min_cpk", "Cpk of the finished sizes", true, 1.33, Range::closed(0, 100),
+     "smallest Cpk = min(USL − mean, mean − LSL)/3σ of the Monte Carlo's finished sizes, the "
+     "limits target_um ± tolerance_um (default 1.33, a capable process)"},
+    {"max_mean_error_um", "|mean finished size − target|", false, 0.0, Range::closed(0, 1e4),
+     "largest |mean finished size − target_um| of the Monte Carlo's parts (0: not judged, the "
+     "default: Cpk already counts the mean's offset)"},
+}};
+
 ThresholdPlan plan_threshold(const Settings& d, double dt) {
   const auto& p = d.process;
   const auto& t = d.transducer;
@@ -231,6 +240,7 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
   read_process(root, *d);
   read_transducer(root, d->transducer);
   read_gauge(root, *d);
+  io::read_acceptance(root, d->acceptance);
   return d;
 }
 

@@ -4,17 +4,22 @@
 // member initialiser here or in the structs it holds; the section reader (settings.cpp) reads
 // [process], [transducer], [gauge] and [monte_carlo] over them.
 
+#include <array>
 #include <cstddef>
 #include <limits>
 #include <memory>
 #include <string>
 
 #include "lathectl/design/vibro_gauge.hpp"
+#include "lathectl/io/acceptance.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
 #include "systems/d_gauging/gauging.hpp"
 
 namespace lathectl::d_gauging {
+
+// [acceptance]: what the finished parts must achieve (settings.cpp describes each key).
+extern const std::array<io::CriterionKey, 2> kAcceptanceKeys;
 
 struct Settings : io::SettingsOf<Settings> {
   // The reader's disturbance is none unless [process] noise_sigma_um gives one.
@@ -31,6 +36,7 @@ struct Settings : io::SettingsOf<Settings> {
   std::size_t calibration_parts_max = 96;  // calibrated_dynamic: the most full-model parts
   std::size_t parts = 100000;              // linearised Monte Carlo
   std::size_t full_parts = 8;              // full-model Monte Carlo
+  io::AcceptanceLimits acceptance{kAcceptanceKeys};  // [acceptance], or the defaults
 };
 
 // The relay's threshold and what bounds it, from the settings and the full model (settings.cpp):

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <memory>
 #include <cstdio>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 
@@ -13,6 +13,7 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
+#include "lathectl/io/verdict.hpp"
 #include "lathectl/sim/config_error.hpp"
 #include "lathectl/sim/parallel.hpp"
 #include "systems/d_gauging/gauging.hpp"
@@ -350,6 +351,10 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
                   {"alarms", alarms}};
   s["outside_range"] = cases_json;
   s["error_cause"] = cause_json;
+  io::Acceptance acceptance(d.acceptance);
+  acceptance.judge("min_cpk", cpk);
+  acceptance.judge("max_mean_error_um", std::abs(st.mean - p.target_m) * kUm);
+  s["acceptance"] = acceptance.json();
 
   Claims claims;
   claims.check(

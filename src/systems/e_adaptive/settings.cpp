@@ -438,6 +438,20 @@ void read_chatter(TableReader& c, Chatter& ch) {
 
 }  // namespace
 
+const std::array<io::CriterionKey, 3> kAcceptanceKeys{{
+    {"max_force_over_limit_pct", "largest per-revolution force (or power) above its limit", false,
+     10.0, Range::closed(0, 1000),
+     "largest per-revolution mean of the controlled parameter (Pz, Py or cutting power) above "
+     "controller's limit in steady cutting, % (default 10: a per-revolution regulator overshoots "
+     "a depth step by a few %; a part never cut has no value and fails it)"},
+    {"max_cycle_time_s", "cycle time", false, 0.0, Range::closed(0, 1e6),
+     "longest cycle time, approach and every pass (0: not judged, the default)"},
+    {"max_tool_life_used_pct", "share of a cutting edge's life used (∫dt/T)", false, 0.0,
+     Range::closed(0, 1e4),
+     "largest share of an edge's tool life the part may use (0: not judged, "
+     "the default)"},
+}};
+
 std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenario& sc,
                                                   const io::MaterialLibrary& lib) {
   auto out = std::make_unique<Settings>();
@@ -490,6 +504,7 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
     read_chatter(*ch, out->chatter);
   }
   e.faults = io::read_faults(root);
+  io::read_acceptance(root, out->acceptance);
   return out;
 }
 

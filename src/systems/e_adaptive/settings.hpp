@@ -4,6 +4,7 @@
 // a system-E scenario by kReadSection (what the HAL components link) and, for the program, by
 // kSection (the same reader, then a probe of the rig). Defaults are the members' initialisers.
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "lathectl/control/adaptive_feed_controller.hpp"
 #include "lathectl/dynamics/beam.hpp"
 #include "lathectl/dynamics/lobes.hpp"
+#include "lathectl/io/acceptance.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "systems/e_adaptive/rig.hpp"
 
@@ -41,6 +43,9 @@ struct Chatter {
   [[nodiscard]] bool enabled() const { return part || !tool_modes.empty(); }
 };
 
+// [acceptance]: what the part must achieve (settings.cpp describes each key).
+extern const std::array<io::CriterionKey, 3> kAcceptanceKeys;
+
 struct Settings : io::SettingsOf<Settings> {
   sim::RigEConfig rig;
   std::vector<Mode> compare_modes;  // [compare] controllers: extra runs overlaid in the report
@@ -49,6 +54,7 @@ struct Settings : io::SettingsOf<Settings> {
   // law (exact from the main run: it never reads t_p) and the depth-corrected law (one run each).
   std::vector<double> sweep_planned_depth_mm;
   Chatter chatter;  // [chatter]
+  io::AcceptanceLimits acceptance{kAcceptanceKeys};  // [acceptance], or the defaults
 };
 
 // Reads system E's tables of a scenario (after its common part) into a Settings.

@@ -12,6 +12,7 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
+#include "lathectl/io/verdict.hpp"
 #include "lathectl/sim/parallel.hpp"
 #include "systems/e_adaptive/metrics.hpp"
 #include "systems/e_adaptive/plots.hpp"
@@ -178,6 +179,15 @@ RunOutput run(const Scenario& sc) {
     cmp.push_back(
         {{"label", runs[i]->label}, {"metrics", metrics_json(*runs[i], unit, set.cost)}});
   if (!cmp.empty()) s["comparisons"] = cmp;
+  {  // The user's part is the main run's (the comparisons are for reference).
+    Acceptance acceptance(set.acceptance);
+    const double nan = std::nan("");
+    acceptance.judge("max_force_over_limit_pct",
+                     main.m.time_in_cut_s > 0.0 ? main.m.force_overshoot_pct : nan);
+    acceptance.judge("max_cycle_time_s", main.m.finished ? main.m.cycle_time_s : nan);
+    acceptance.judge("max_tool_life_used_pct", 100.0 * main.m.tool_life_used_fraction);
+    s["acceptance"] = acceptance.json();
+  }
 
   Claims claims;
   auto claim = [&](const std::string& text, double value, bool met) {
