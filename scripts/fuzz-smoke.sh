@@ -1,11 +1,37 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets with clang and runs each for a while on a corpus seeded from the
-# examples. `make test` runs it briefly; `make fuzz` (or a larger SECONDS) runs it longer.
+# The libFuzzer targets (fuzz/*.cpp, one per parser), built with clang.
+#
+#   scripts/fuzz-smoke.sh            make test's step: deterministic. Every target first replays
+#                                    its committed regression corpus (fuzz/regressions/<target>/:
+#                                    every input that ever crashed it) and its seed corpus (the
+#                                    project's own examples), then fuzzes a fixed number of runs
+#                                    from a fixed seed. The same commit gives the same result
+#                                    every time, on any machine: a finding is a defect of this
+#                                    commit, not luck.
+#   scripts/fuzz-smoke.sh --explore [SECONDS]
+#                                    make fuzz: random seeds, SECONDS per target (default 600),
+#                                    a corpus kept between runs in build/fuzz/explore/. What it
+#                                    finds is saved as build/fuzz/<target>-crash-*: fix it and
+#                                    add the input to fuzz/regressions/<target>/ in the same
+#                                    commit, so make test replays it from then on.
 set -euo pipefail
-SECONDS_PER_TARGET=${1:-20}
 cd "$(dirname "$0")/.."
-cmake --preset fuzz -DLATHECTL_WERROR="${LATHECTL_WERROR:-OFF}" >/dev/null
+mode=replay
+seconds=600
+case "${1:-}" in
+  "") ;;
+  --explore) mode=explore; seconds=${2:-600} ;;
+  *) echo "usage: scripts/fuzz-smoke.sh [--explore [SECONDS]]" >&2; exit 2 ;;
+esac
+# The fixed seed and the runs per target of make test's step: each about 5-25 s of one core on
+# the 2-core CI machine (measured 2026-11-26; about 100 s of CPU in all, 60 s on two cores). The
+# budget is runs, not seconds, so a slow or loaded machine does the same work and finds the same.
+SEED=20261126
+declare -A RUNS=([scenario]=8000 [materials]=60000 [lobes]=6000 [tool_limits]=100000
+                 [channels_csv]=200000 [canon]=50000 [json_file]=30000)
 targets=(scenario materials lobes tool_limits channels_csv canon json_file)
+
+cmake --preset fuzz -DLATHECTL_WERROR="${LATHECTL_WERROR:-OFF}" >/dev/null
 # Only the fuzz targets and what they link (not the program): the libraries are built with
 # -fsanitize=fuzzer-no-link (CMakePresets.json), so the parsers in them are what libFuzzer's
 # coverage and ASan/UBSan see.
@@ -13,47 +39,71 @@ cmake --build --preset fuzz -j "$(nproc)" --target "${targets[@]/%/_fuzz}" >/dev
   echo "fuzz: the clang build of the fuzz targets failed; rerun: cmake --build --preset fuzz" >&2
   exit 1
 }
-work=build/fuzz/corpus
-mkdir -p "$work/scenario" "$work/materials" "$work/lobes" "$work/tool_limits" "$work/channels_csv" \
-  "$work/canon" "$work/json_file"
-cp examples/scenarios/*.toml examples/linuxcnc/step_allowance_modes.toml "$work/scenario/"
-cp data/materials.toml "$work/materials/"
-cp examples/machines/*.toml "$work/lobes/"
-cp hal/config/lathectl-tools.toml "$work/tool_limits/"
+
+# The seed corpus: inputs as the project writes them.
+seeds=build/fuzz/seeds
+rm -rf "$seeds"
+mkdir -p "${targets[@]/#/$seeds/}"
+cp examples/scenarios/*.toml examples/linuxcnc/*.toml "$seeds/scenario/"
+cp data/materials.toml "$seeds/materials/"
+cp examples/machines/*.toml "$seeds/lobes/"
+cp hal/config/lathectl-tools.toml "$seeds/tool_limits/"
 # A few rows of a channels.csv as lathectl writes it (header, numbers, nan, inf).
-printf 'time_s,x_mm,force_N\n0,1.5,-2e-05\n0.001,nan,inf\n0.002,-inf,3\n' >"$work/channels_csv/seed.csv"
-cp tests/optimize/canon_example.txt "$work/canon/"
+printf 'time_s,x_mm,force_N\n0,1.5,-2e-05\n0.001,nan,inf\n0.002,-inf,3\n' >"$seeds/channels_csv/seed.csv"
+cp tests/optimize/canon_example.txt "$seeds/canon/"
 # An operation log lathectl_oplog wrote in a LinuxCNC session, and two runs' summary.json.
 cp tests/cli/operations_two_tool.json tests/golden/summaries/{c_csv_template,a_regulator_flow}.json \
-  "$work/json_file/"
-# One target per core at a time: each libFuzzer run is single-threaded.
+  "$seeds/json_file/"
+
+if [[ $mode == replay ]]; then
+  work=build/fuzz/replay
+  rm -rf "$work"  # a fresh working corpus every time: what an earlier run added changes nothing
+else
+  work=build/fuzz/explore  # kept: a long campaign continues where the last one stopped
+fi
+mkdir -p "${targets[@]/#/$work/}"
+
 fuzz_one() {
-  local target=$1 seconds=$SECONDS_PER_TARGET
-  # The CSV, canonical-command and JSON readers are small grammars: a quarter of the time covers
-  # them (make test: 5 s each).
-  [[ $target == channels_csv || $target == canon || $target == json_file ]] &&
-    seconds=$(((SECONDS_PER_TARGET + 3) / 4))
-  ./build/fuzz/fuzz/${target}_fuzz -max_total_time="$seconds" -max_len=16384 \
-    -timeout=10 -rss_limit_mb=4096 -print_final_stats=0 "$work/$target" \
-    -artifact_prefix=build/fuzz/${target}- >"$work/$target.log" 2>&1
+  local target=$1 bin=./build/fuzz/fuzz/${1}_fuzz
+  local regress=fuzz/regressions/$target args=()
+  mkdir -p "$regress"
+  if [[ $mode == replay ]]; then
+    args=(-seed="$SEED" -runs="${RUNS[$target]}")
+  else
+    args=(-seed=0 -max_total_time="$seconds")
+  fi
+  # New inputs go to the first directory ($work); the others are read only. Loading the corpus
+  # runs every input in it first: the regressions and seeds are replayed before any mutation.
+  "$bin" "${args[@]}" -max_len=16384 -timeout=10 -rss_limit_mb=4096 -print_final_stats=1 \
+    -artifact_prefix="build/fuzz/${target}-" "$work/$target" "$seeds/$target" "$regress" \
+    >"$work/$target.log" 2>&1
   echo $? >"$work/$target.rc"
 }
 export -f fuzz_one
-export SECONDS_PER_TARGET work
+export mode seconds SEED work seeds
+export RUNS_DECL="$(declare -p RUNS)"
 rm -f "$work"/*.rc
-printf '%s\n' "${targets[@]}" | xargs -P "$(nproc)" -I{} bash -c 'fuzz_one {}'
+# One target per core at a time: each libFuzzer run is single-threaded.
+printf '%s\n' "${targets[@]}" |
+  xargs -P "$(nproc)" -I{} bash -c 'eval "$RUNS_DECL"; fuzz_one {}'
 failed=0
 for target in "${targets[@]}"; do
+  log=$work/$target.log
+  replayed=$(find fuzz/regressions/$target "$seeds/$target" -type f | wc -l)
+  runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
   if [[ $(cat "$work/$target.rc" 2>/dev/null) != 0 ]]; then
-    echo "fuzz: ${target}_fuzz failed ($work/$target.log):" >&2
-    tail -n 40 "$work/$target.log" >&2
+    echo "fuzz: ${target}_fuzz failed ($log):" >&2
+    tail -n 40 "$log" >&2
     failed=1
   else
-    echo "fuzz: ${target}_fuzz: $(tail -n 1 "$work/$target.log")"
+    echo "fuzz: ${target}_fuzz: $replayed inputs replayed, ${runs:-?} runs" \
+      "$([[ $mode == replay ]] && echo "(seed $SEED)" || echo "in $seconds s")"
   fi
 done
 if ((failed)); then
-  echo "fuzz: a target failed; its input is in build/fuzz/<target>-crash-* (rerun the target on it)" >&2
+  echo "fuzz: a target failed; its input is build/fuzz/<target>-crash-* (rerun: the target binary" \
+    "in build/fuzz/fuzz/ with that file). Fix the defect and add the input to" \
+    "fuzz/regressions/<target>/ in the same commit." >&2
   exit 1
 fi
 echo "fuzz: no crashes"

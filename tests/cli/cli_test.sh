@@ -3,6 +3,7 @@
 # Usage: cli_test.sh LATHECTL SOURCE_DIR WORK_DIR
 set -uo pipefail
 bin=$1; src=$2; work=$3
+umount "$work/full" 2>/dev/null  # the full-disk case's tmpfs, had a run been killed inside it
 rm -rf "$work"; mkdir -p "$work"
 fail=0; pass=0
 ok() { pass=$((pass+1)); }
@@ -359,7 +360,7 @@ grep -q "key 'lobes.chart_speeds'" "$work/err.txt" || bad "chart speeds message:
 [ ! -e "$work/never" ] || bad "a failed lobes run wrote output"
 # issue 28: machine files that ended in "internal error", SIGSEGV, a hang or the OOM killer: each
 # is one line at file:line:col naming its key, exit 2, before anything is computed or written.
-for f in "$src"/tests/cli/lobes_regressions/*.toml; do
+for f in "$src"/fuzz/regressions/lobes/*.toml; do
   expect_rc 2 "lobes regression $(basename "$f")" $bin lobes "$f" --out "$work/never"
   grep -q "^error: $f:[0-9]*:[0-9]*: key '" "$work/err.txt" || bad "lobes regression $(basename "$f"): $(cat "$work/err.txt")"
   [ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "lobes regression $(basename "$f"): not one line"
@@ -543,8 +544,72 @@ printf '{"rows": [\n' > "$work/oplog_syntax.json"
 expect_rc 2 "report with broken JSON" $bin report "$work/oplog_syntax.json"
 grep -q "oplog_syntax.json:2:1: not JSON" "$work/err.txt" || bad "report syntax message: $(cat "$work/err.txt")"
 
+# hostile inputs and outputs (issue 28): one line, exit 2, never "internal error", nothing replaced
+for dev in /dev/zero /dev/urandom; do
+  expect_rc 2 "run $dev" timeout 20 $bin run "$dev" --out "$work/never"
+  grep -qx "error: $dev: is a character device, expected a scenario file (.toml)" "$work/err.txt" || bad "run $dev: $(cat "$work/err.txt")"
+  expect_rc 2 "report $dev" timeout 20 $bin report "$dev" --out "$work/never.html"
+done
+mkfifo "$work/fifo.toml"
+expect_rc 2 "check a FIFO" timeout 20 $bin check "$work/fifo.toml"
+grep -q "fifo.toml: is a FIFO (named pipe), expected" "$work/err.txt" || bad "check FIFO: $(cat "$work/err.txt")"
+expect_rc 2 "report a FIFO" timeout 20 $bin report "$work/fifo.toml"
+head -c 17000000 /dev/zero | tr '\0' '#' > "$work/huge.toml"
+expect_rc 2 "check a 17 MB file" $bin check "$work/huge.toml"
+grep -q "huge.toml: 16.2 MiB, more than the 16 MiB a TOML file may have" "$work/err.txt" || bad "huge: $(cat "$work/err.txt")"
+rm -f "$work/huge.toml"
+# report --out: never over a device, a directory, the log itself or a file lathectl did not write
+cp "$src/tests/cli/operations_two_tool.json" "$work/log_keep.json"
+if [ "$(id -u)" -eq 0 ]; then  # only root could replace /dev/null
+  expect_rc 2 "report --out /dev/null" $bin report "$work/log_keep.json" --out /dev/null
+  [ -c /dev/null ] || bad "report --out /dev/null replaced the device node"
+fi
+expect_rc 2 "report --out the log" $bin report "$work/log_keep.json" --out "$work/log_keep.json"
+grep -q "is the input" "$work/err.txt" || bad "report --out log: $(cat "$work/err.txt")"
+cmp -s "$work/log_keep.json" "$src/tests/cli/operations_two_tool.json" || bad "report --out LOG changed the log"
+mkdir -p "$work/a_dir"
+expect_rc 2 "report --out a directory" $bin report "$work/log_keep.json" --out "$work/a_dir"
+echo "my notes" > "$work/notes.html"
+expect_rc 2 "report --out a user's file" $bin report "$work/log_keep.json" --out "$work/notes.html"
+grep -qx "my notes" "$work/notes.html" || bad "report replaced a user's file"
+expect_rc 0 "report --out a new file" $bin report "$work/log_keep.json" --out "$work/mine.html"
+expect_rc 0 "report --out its own earlier page" $bin report "$work/log_keep.json" --out "$work/mine.html"
+# a full disk: one line naming the place and the reason, nothing half written (root: a 64 kB tmpfs)
+trap 'umount "$work/full" 2>/dev/null' EXIT
+if [ "$(id -u)" -eq 0 ] && mkdir -p "$work/full" && mount -t tmpfs -o size=64k tmpfs "$work/full" 2>/dev/null; then
+  head -c 61440 /dev/zero > "$work/full/.filler"  # 4 kB left: less than any report
+  expect_rc 2 "report on a full disk" $bin report "$work/log_keep.json" --out "$work/full/r.html"
+  grep -q "No space left on device" "$work/err.txt" || bad "report full disk: $(cat "$work/err.txt")"
+  expect_rc 2 "run on a full disk" $bin run "$src/examples/scenarios/a_regulator_flow.toml" --out "$work/full/run"
+  grep -q "^error: .*\(No space left on device\|free on the output's file system\)" "$work/err.txt" || bad "run full disk: $(cat "$work/err.txt")"
+  expect_rc 2 "lobes on a full disk" $bin lobes "$src/examples/machines/b_sdof.toml" --out "$work/full/lobes"
+  grep -q "^error: .*No space left on device" "$work/err.txt" || bad "lobes full disk: $(cat "$work/err.txt")"
+  [ "$(ls -A "$work/full")" = ".filler" ] || bad "a full disk kept half-written files: $(ls -A "$work/full")"
+  umount "$work/full"
+fi
+# compare: runs of different systems are refused with both named
+expect_rc 0 "run for compare (A)" $bin run "$src/examples/scenarios/a_regulator_flow.toml" --out "$work/cmp_a"
+expect_rc 0 "run for compare (C)" $bin run "$src/examples/scenarios/c_near_aperiodic.toml" --out "$work/cmp_c"
+expect_rc 2 "compare A with C" $bin compare "$work/cmp_a" "$work/cmp_c" --out "$work/cmp_out"
+grep -q "is a run of system A, .*cmp_c of system C" "$work/err.txt" || bad "compare A/C: $(cat "$work/err.txt")"
+
+# check: lathectl_adaptive's tools and taught files, told apart by what they hold
+expect_rc 0 "check the sample tools file" $bin check "$src/hal/config/lathectl-tools.toml"
+grep -q "OK (lathectl_adaptive tools file: 2 tools" "$work/out.txt" || bad "check tools: $(cat "$work/out.txt")"
+printf '[machine]\nlimit_max = 5000.0\n[[tool]]\nnumber = 1\nlimit = 6000.0\n' > "$work/tools_bad.toml"
+expect_rc 2 "check a tools file over the rating" $bin check "$work/tools_bad.toml"
+grep -q "tools_bad.toml:5:[0-9]*: .*limit.*above the machine's limit_max" "$work/err.txt" || bad "check tools_bad: $(cat "$work/err.txt")"
+printf '[[taught]]\ntool = 1\noperation = 2\nreference = 1432.7\nunit = "N"\n' > "$work/taught.toml"
+expect_rc 0 "check a taught file" $bin check "$work/taught.toml"
+grep -q "taught file: 1 references" "$work/out.txt" || bad "check taught: $(cat "$work/out.txt")"
+printf '[[taught]]\ntool = 1\nreference = 1432.7\nunit = "kN"\n' > "$work/taught_bad.toml"
+expect_rc 2 "check a taught file with a bad unit" $bin check "$work/taught_bad.toml"
+grep -q "taught_bad.toml:4:" "$work/err.txt" || bad "check taught_bad: $(cat "$work/err.txt")"
+
 # inputs the fuzzer once crashed on: each must be a clean input error now
-for f in "$src"/tests/cli/fuzz_regressions/*.toml; do expect_rc 2 "fuzz regression $(basename "$f")" $bin check "$f"; done
+# (fuzz/regressions/<target>/, which make test's fuzz step also replays through the fuzz targets;
+# the lobes ones run above): through the program itself, each one line and exit 2
+for f in "$src"/fuzz/regressions/scenario/*.toml; do expect_rc 2 "fuzz regression $(basename "$f")" $bin check "$f"; done
 
 echo "cli: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -91,11 +91,11 @@ TEST(LobesInput, EveryKeyOfTheMachineFileIsDescribed) {
 
 // Issue 28: every path from a machine file to "internal error", a crash or a hang ends in an
 // InputError at file:line:col naming the key instead. The offending files are committed in
-// tests/cli/lobes_regressions/ (the CLI test runs each too).
+// fuzz/regressions/lobes/ (the CLI test runs each too).
 namespace {
 std::string regression_error(const std::string& name) {
   std::string path = LATHECTL_SOURCE_DIR;  // (one + chain trips GCC 12's -Warray-bounds)
-  path += "/tests/cli/lobes_regressions/";
+  path += "/fuzz/regressions/lobes/";
   path += name;
   try {
     (void)b_chatter::load_lobes_input(path);
