@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <unsupported/Eigen/MatrixFunctions>
 
 namespace lathectl::dynamics {
@@ -40,8 +41,11 @@ std::complex<double> oriented_frf(const ChatterSystem& sys, double w) {
 }
 }  // namespace
 
-double frequency_domain_point_count(const ChatterSystem& sys, double min_rpm, double max_rpm,
-                                    int max_lobes, int points) {
+namespace {
+// The chatter frequencies both the solver and its counter walk: half the lowest mode's natural
+// frequency to twice the highest's [rad/s], after the inputs are checked.
+std::pair<double, double> frequency_band(const ChatterSystem& sys, double min_rpm, double max_rpm,
+                                         int max_lobes, int points) {
   check(sys);
   if (!(min_rpm > 0.0) || !(max_rpm > min_rpm) || max_lobes < 1 || points < 1)
     throw std::invalid_argument("speed range: 0 < min < max; ≥ 1 lobe and frequency point");
@@ -50,7 +54,13 @@ double frequency_domain_point_count(const ChatterSystem& sys, double min_rpm, do
     f_lo = std::min(f_lo, m.natural_frequency_Hz);
     f_hi = std::max(f_hi, m.natural_frequency_Hz);
   }
-  const double w0 = 2.0 * kPi * 0.5 * f_lo, w1 = 2.0 * kPi * 2.0 * f_hi;
+  return {2.0 * kPi * 0.5 * f_lo, 2.0 * kPi * 2.0 * f_hi};
+}
+}  // namespace
+
+double frequency_domain_point_count(const ChatterSystem& sys, double min_rpm, double max_rpm,
+                                    int max_lobes, int points) {
+  const auto [w0, w1] = frequency_band(sys, min_rpm, max_rpm, max_lobes, points);
   double count = 0.0;
   for (int k = 0; k <= points; ++k) {  // as frequency_domain_lobes: N with n in the range
     const double w = w0 + (w1 - w0) * k / points;
@@ -68,14 +78,7 @@ double frequency_domain_point_count(const ChatterSystem& sys, double min_rpm, do
 
 FrequencyDomainResult frequency_domain_lobes(const ChatterSystem& sys, double min_rpm,
                                              double max_rpm, int max_lobes, int points) {
-  check(sys);
-  if (!(min_rpm > 0.0) || !(max_rpm > min_rpm) || max_lobes < 1 || points < 1)
-    throw std::invalid_argument("speed range: 0 < min < max; ≥ 1 lobe and frequency point");
-  double f_lo = 1e300, f_hi = 0.0;
-  for (const auto& m : sys.modes) {
-    f_lo = std::min(f_lo, m.natural_frequency_Hz);
-    f_hi = std::max(f_hi, m.natural_frequency_Hz);
-  }
+  const auto [w0, w1] = frequency_band(sys, min_rpm, max_rpm, max_lobes, points);
   FrequencyDomainResult r;
   r.critical_depth_m = std::numeric_limits<double>::infinity();
   r.lobes.resize(static_cast<std::size_t>(max_lobes));
@@ -83,7 +86,6 @@ FrequencyDomainResult frequency_domain_lobes(const ChatterSystem& sys, double mi
     r.lobes[static_cast<std::size_t>(N)].N = N;
     r.lobes[static_cast<std::size_t>(N)].minimum.depth_m = std::numeric_limits<double>::infinity();
   }
-  const double w0 = 2.0 * kPi * 0.5 * f_lo, w1 = 2.0 * kPi * 2.0 * f_hi;
   std::vector<std::vector<int>> grid(static_cast<std::size_t>(max_lobes));  // k of each point
   for (int k = 0; k <= points; ++k) {
     const double w = w0 + (w1 - w0) * k / points;
