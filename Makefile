@@ -29,9 +29,9 @@ demo:
 	echo "demo: dependencies $$((t1 - t0)) s, build $$((t2 - t1)) s, run $$((t3 - t2)) s"; \
 	[ $$rc -eq 0 ] && echo "open demo-out/index.html"; exit $$rc
 
-# The fuzz step runs first so that ctest's summary line closes the output. It is deterministic:
-# the committed regression corpus and the seed corpus, then a fixed seed for a fixed number of
-# runs per target (scripts/fuzz-smoke.sh); open-ended fuzzing is make fuzz.
+# The fuzz step runs first so that ctest's summary line closes the output: the committed
+# regression corpus and the seed corpus replayed, then a fixed seed for a fixed number of runs
+# per target (scripts/fuzz-smoke.sh); open-ended fuzzing is make fuzz.
 test: deps-test
 	@LATHECTL_WERROR=ON bash scripts/fuzz-smoke.sh
 	@cmake --preset default -DLATHECTL_HAL=ON -DLATHECTL_WERROR=ON >/dev/null
