@@ -204,6 +204,10 @@ CanonProgram parse_canon(std::string_view text, const std::string& label, double
       state.synced = true;
     } else if (name == "SELECT_TOOL") {
       need(1);
+      // A pocket number LinuxCNC's tool table can hold; anything else (a fuzzer's 2.9e54) would
+      // be undefined behaviour in the conversion to int.
+      if (!(a.v[0] >= 0.0 && a.v[0] <= 99999.0))
+        fail("SELECT_TOOL: tool number " + std::to_string(a.v[0]) + " outside [0, 99999]");
       state.tool = static_cast<int>(a.v[0]);
     }
   }

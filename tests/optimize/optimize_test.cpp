@@ -105,6 +105,11 @@ TEST(Canon, RefusesWhatItCannotRead) {
                                "t"),
                io::InputError);
   EXPECT_NO_THROW(io::parse_canon("garbage\n  \n 12 N5 SOMETHING_NEW(1,2)\n", "t"));
+  // make test's fuzz step (run 5 of 10, 2026-11-26): a tool number of 2.9e54 was undefined
+  // behaviour in its conversion to int (fuzz/regressions/canon/select_tool_2.9e54.txt).
+  EXPECT_THROW(io::parse_canon("1 N..... SELECT_TOOL(2.88889e+54)\n", "t"), io::InputError);
+  EXPECT_THROW(io::parse_canon("1 N..... SELECT_TOOL(-1)\n", "t"), io::InputError);
+  EXPECT_NO_THROW(io::parse_canon("1 N..... SELECT_TOOL(2)\n", "t"));
 }
 
 TEST(Text, FeedWordsAndMarkers) {
