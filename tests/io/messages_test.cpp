@@ -16,6 +16,7 @@
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/io/toml_reader.hpp"
 #include "support/library.hpp"
+#include "support/scenario_text.hpp"
 #include "systems/b_chatter/lobes.hpp"
 
 namespace lathectl::io {
@@ -32,20 +33,10 @@ std::string read_example(const std::string& name) {
 
 // The E example with `from` (occurring once) replaced by `to`.
 std::string e_with(const std::string& from, const std::string& to) {
-  std::string t = read_example("scenarios/e_stepped_seed004.toml");
-  const auto pos = t.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  EXPECT_EQ(t.find(from, pos + 1), std::string::npos) << "ambiguous: " << from;
-  if (pos != std::string::npos) t.replace(pos, from.size(), to);
-  return t;
+  return test::edited_once(read_example("scenarios/e_stepped_seed004.toml"), from, to);
 }
 
-int line_of(const std::string& text, const std::string& needle) {
-  const auto pos = text.find(needle);
-  EXPECT_NE(pos, std::string::npos) << needle;
-  return 1 +
-         static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(pos), '\n'));
-}
+using test::line_of;
 
 // "mem.toml:L:C: " of a table header `needle`, or of the value of the key `needle` (the reader
 // locates a key at its value, as toml++ records it).

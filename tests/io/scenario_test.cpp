@@ -3,6 +3,7 @@
 // files and outputs").
 
 #include "support/library.hpp"
+#include "support/scenario_text.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "systems/e_adaptive/settings.hpp"
 
@@ -41,21 +42,10 @@ const std::string& finishing_text() {
 
 // Replaces the one occurrence of `from` (it must occur exactly once).
 std::string edit(const std::string& from, const std::string& to) {
-  std::string t = finishing_text();
-  const auto pos = t.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  EXPECT_EQ(t.find(from, pos + 1), std::string::npos) << "ambiguous edit: " << from;
-  if (pos != std::string::npos) t.replace(pos, from.size(), to);
-  return t;
+  return test::edited_once(finishing_text(), from, to);
 }
 
-// 1-based line of the first occurrence of `needle` in `text`.
-int line_of(const std::string& text, const std::string& needle) {
-  const auto pos = text.find(needle);
-  EXPECT_NE(pos, std::string::npos) << needle;
-  return 1 +
-         static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(pos), '\n'));
-}
+using test::line_of;
 
 // Parses `text` as "mem.toml" and returns the InputError message ("" if it did not throw).
 std::string error_of(const std::string& text) {
