@@ -43,7 +43,7 @@
 #include "lathectl/control/adaptive_input.hpp"
 #include "lathectl/control/operation_control.hpp"
 #include "lathectl/drives/spindle_drive.hpp"
-#include "lathectl/sim/lathe_plant.hpp"
+#include "lathectl/cutting/lathe_plant.hpp"
 #include "lathectl_hal.hpp"
 #include "lathectl_tool_limits.hpp"
 #include "systems/e_adaptive/settings.hpp"
@@ -268,7 +268,7 @@ struct State {
   bool overload_latched = false;
   // The stock model (z_origin_mm given): the scenario's blank cut down by the tool's path; its
   // depth of cut is the engagement the path-aware breakage detector expects.
-  std::unique_ptr<lathectl::sim::LathePlant> stock;
+  std::unique_ptr<lathectl::cutting::LathePlant> stock;
   lathectl::control::PathBreakage breakage;
   bool breakage_latched = false;
   // The measured period (rtapi_get_time() at the last call, and at the last control update).
@@ -509,12 +509,12 @@ void update(void*, long period_ns) {
     }
   }
   if (s.stock) {  // every servo period: the stop comes in the period the load collapses
-    lathectl::sim::LathePlant::Input si;
+    lathectl::cutting::LathePlant::Input si;
     const bool homed = s.homed_gate(*p.homed, *p.x_pos, *p.z_pos);
     si.x_mm = homed ? *p.x_pos : std::nan("");
     si.z_mm = homed ? *p.z_pos : std::nan("");
     si.rpm = *p.rpm;
-    lathectl::sim::LathePlant::Output so;
+    lathectl::cutting::LathePlant::Output so;
     s.stock->step(si, period.elapsed_s, so);  // the spindle turned for the time that passed
     const double depth = so.in_contact ? so.depth_mm : 0.0;
     *p.predicted_depth = depth;
@@ -735,9 +735,9 @@ extern "C" int rtapi_app_main(void) {
     }
     if (z_origin_mm != nullptr && *z_origin_mm != '\0') {
       // The path-aware detector replaces the controller's collapse detector (its spike stays).
-      lathectl::sim::LathePlant::Params sp;
+      lathectl::cutting::LathePlant::Params sp;
       sp.z_origin_mm = lathectl::hal::number_param(z_origin_mm, "z_origin_mm", 0.0);
-      state->stock = std::make_unique<lathectl::sim::LathePlant>();
+      state->stock = std::make_unique<lathectl::cutting::LathePlant>();
       state->stock->configure(e, sp);
       lathectl::control::PathBreakage::Params bp;
       bp.window_s = c.breakage_drop_window_s;

@@ -1,6 +1,6 @@
 // lathectl_plant — the cutting process of a system-E scenario as a HAL component, so the
 // adaptive loop closes inside LinuxCNC on a simulated machine. A thin wrapper over
-// sim::LathePlant (cutting model, stock, disturbances and force sensor of the library).
+// cutting::LathePlant (cutting model, stock, disturbances and force sensor of the library).
 //
 //   loadrt lathectl_plant scenario=PATH [z_origin_mm=0] [cell_mm=0.01] [warmup_s=120]
 //                         [idle_drift=0.15]
@@ -23,7 +23,7 @@
 
 #include "lathectl/drives/spindle_drive.hpp"
 
-#include "lathectl/sim/lathe_plant.hpp"
+#include "lathectl/cutting/lathe_plant.hpp"
 #include "lathectl_hal.hpp"
 #include "systems/e_adaptive/settings.hpp"
 
@@ -78,7 +78,7 @@ struct Pins {
 
 int comp_id = -1;
 Pins* pins = nullptr;
-std::unique_ptr<lathectl::sim::LathePlant> plant;
+std::unique_ptr<lathectl::cutting::LathePlant> plant;
 struct Drive {
   lathectl::drives::SpindleDrive::Params spindle;
   double warmup_s = 120.0;
@@ -103,14 +103,14 @@ lathectl::hal::HomedGate homed_gate;
 
 void update(void*, long period_ns) {
   timer.start();
-  lathectl::sim::LathePlant::Input in;
+  lathectl::cutting::LathePlant::Input in;
   // Disabled (e.g. before homing, positions mean nothing): no position, nothing is cut; the
   // sensor keeps reading (noise), as a live dynamometer does.
   const bool on = homed_gate(*pins->enable, *pins->x_pos, *pins->z_pos);
   in.x_mm = on ? *pins->x_pos : std::nan("");
   in.z_mm = on ? *pins->z_pos : std::nan("");
   in.rpm = *pins->rpm;
-  lathectl::sim::LathePlant::Output out;
+  lathectl::cutting::LathePlant::Output out;
   plant->step(in, static_cast<double>(period_ns) * 1e-9, out);
   if (break_at > 0.0 && out.time_in_cut_s >= break_at) {  // a broken tool: nothing is cut
     out.force_measured = out.force_parameter = out.Pz_N = out.Py_N = out.cut_power_W = 0.0;
@@ -158,10 +158,10 @@ extern "C" int rtapi_app_main(void) {
     using lathectl::hal::pin;
     namespace e_adaptive = lathectl::systems::e_adaptive;
     const auto sc = lathectl::hal::load_system(scenario, e_adaptive::kReadSection);
-    lathectl::sim::LathePlant::Params p;
+    lathectl::cutting::LathePlant::Params p;
     p.z_origin_mm = lathectl::hal::number_param(z_origin_mm, "z_origin_mm", 0.0);
     p.cell_mm = lathectl::hal::number_param(cell_mm, "cell_mm", 0.01);
-    auto model = std::make_unique<lathectl::sim::LathePlant>();
+    auto model = std::make_unique<lathectl::cutting::LathePlant>();
     model->configure(sc.get<e_adaptive::Settings>().rig, p);
     drive.spindle = sc.get<e_adaptive::Settings>().rig.spindle;
     drive.warmup_s = lathectl::hal::number_param(warmup_s, "warmup_s", 120.0);

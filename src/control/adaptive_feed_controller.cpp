@@ -66,9 +66,9 @@ void AdaptiveFeedController::configure(const Params& p) {
   feed_ramp_.reset(s_prog);
   speed_ramp_.reset(p.speed_programmed_m_per_min);
   pi_.preset(s_prog);
-  in_cut_ = false;
+  contact_.reset();
   was_block_ = false;
-  below_air_s_ = over_s_ = 0.0;
+  over_s_ = 0.0;
   high_since_s_ = 1e9;
   alarm_ = false;
   alarm_reason_ = Reason::None;
@@ -78,9 +78,7 @@ void AdaptiveFeedController::configure(const Params& p) {
       p.speed_law_filter_s > 0.0 ? 1.0 - std::exp(-p.period_s / p.speed_law_filter_s) : 1.0;
   s_cur_filtered_ = p.feed_planned_mm_per_rev;
   // one revolution at the lowest speed, in control periods (allocated here, never in update())
-  prefix_.assign(static_cast<std::size_t>(std::ceil(60.0 / p.rpm_min / p.period_s)) + 2, 0.0);
-  prefix_head_ = prefix_count_ = 0;
-  prefix_sum_ = 0.0;
+  rev_mean_ = PerRevolutionMean(p.period_s, p.rpm_min);
   configured_ = true;
 }
 
@@ -110,8 +108,7 @@ bool AdaptiveFeedController::set_operation(double force_limit, double feed_min_m
 
 void AdaptiveFeedController::reset_alarm() noexcept {
   alarm_ = false;
-  prefix_count_ = 0;
-  prefix_sum_ = 0.0;
+  rev_mean_.restart();
   alarm_reason_ = Reason::None;
   monitor_.reset();
   over_s_ = 0.0;
@@ -144,7 +141,7 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     // A constant reading is legitimate with the tool in air (a zero-suppressed dynamometer reads
     // exactly 0 there) and in rapids: the stuck timer runs only while the controller acts on
     // the force in a cut — in cut, or a reading above the air threshold.
-    const bool armed = in.feed_block && (in_cut_ || in.force > p_.air_threshold * limit);
+    const bool armed = in.feed_block && (contact_.in_cut() || in.force > p_.air_threshold * limit);
     fault = monitor_.check(in.force, measured.evidence_s, armed);
     if (fault != Reason::None) raise(fault);
     suspect = monitor_.suspect();
@@ -153,26 +150,20 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
   const bool sensor_ok = std::isfinite(in.force) && fault == Reason::None;
 
   if (!in.feed_block) {  // rapid: inactive, restart bumpless at the next feed block
-    in_cut_ = false;
-    below_air_s_ = over_s_ = 0.0;
+    contact_.reset();
+    over_s_ = 0.0;
     high_since_s_ = 1e9;
     pi_.preset(s_prog);
     feed_ramp_.reset(s_prog);
     reason = Reason::NotInFeedBlock;
   } else if (adaptive && sensor_ok && !alarm_) {
     const double air = p_.air_threshold * limit;
-    if (in.force > air) {
-      if (!in_cut_) {  // contact: drop to the entry feed at once, preset the PI there
-        in_cut_ = true;
-        const double entry = std::min({feed_ramp_.value(), s_prog, p_.entry_feed_mm_per_rev});
-        pi_.preset(entry);
-        feed_ramp_.reset(entry);
-        reason = Reason::Engaged;
-      }
-      below_air_s_ = 0.0;
-    } else if (in_cut_) {
-      below_air_s_ += dt;
-      if (below_air_s_ >= p_.air_time_s) in_cut_ = false;
+    if (contact_.update(in.force, air, p_.air_time_s, dt, true)) {
+      // contact: drop to the entry feed at once, preset the PI there
+      const double entry = std::min({feed_ramp_.value(), s_prog, p_.entry_feed_mm_per_rev});
+      pi_.preset(entry);
+      feed_ramp_.reset(entry);
+      reason = Reason::Engaged;
     }
     // Breakage: a spike, or a collapse from a loaded cut to nothing within a few ms.
     if (in.force > p_.breakage_spike * limit) raise(Reason::ToolBreakage);
@@ -190,20 +181,10 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
   // The regulated force: the mean over the last revolution (or the raw sample).
   double regulated = in.force;
   if (sensor_ok) {
-    const std::size_t n = prefix_.size();
-    prefix_sum_ += in.force;
-    prefix_head_ = (prefix_head_ + 1) % n;
-    prefix_[prefix_head_] = prefix_sum_;
-    if (prefix_count_ < n - 1) ++prefix_count_;
-    if (p_.average_per_revolution && in.rpm > 0.0) {
-      const auto w =
-          std::clamp<std::size_t>(static_cast<std::size_t>(std::llround(60.0 / in.rpm / dt)), 1,
-                                  prefix_count_ > 0 ? prefix_count_ : 1);
-      if (prefix_count_ >= 1)
-        regulated = (prefix_sum_ - prefix_[(prefix_head_ + n - w) % n]) / static_cast<double>(w);
-    }
+    const double mean = rev_mean_.push(in.force, in.rpm);
+    if (p_.average_per_revolution && in.rpm > 0.0) regulated = mean;
   }
-  if (!in.feed_block || !in_cut_) prefix_count_ = 0;  // a new cut starts a new average
+  if (!in.feed_block || !contact_.in_cut()) rev_mean_.restart();  // a new cut, a new average
 
   // Feed per revolution.
   double s = s_prog;
@@ -211,7 +192,7 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     double target = s_prog;
     const double error = (limit - regulated) / limit;
     const PiRegulator pi_before = pi_;
-    if (in_cut_) {
+    if (contact_.in_cut()) {
       Reason lim = Reason::None;
       target = pi_.update(error, dt, lim);
       if (reason == Reason::None) reason = lim;
@@ -237,7 +218,7 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
         // the target rises through the shrinking P term alone; a preset there (output at zero
         // error) dropped the next output by kp·|error|, and the feed ratcheted down to s_min in
         // steps of a few percent (found in LinuxCNC runs at an allowance step).
-        if (in_cut_ && error > 0.0) pi_.preset(feed_ramp_.value());
+        if (contact_.in_cut() && error > 0.0) pi_.preset(feed_ramp_.value());
         if (reason == Reason::None) reason = Reason::RateLimited;
       }
     }
@@ -248,7 +229,7 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
   double v_opt = p_.speed_programmed_m_per_min;
   double v_target = p_.speed_programmed_m_per_min;
   if (p_.mode == Mode::ForceFeedSpeed) {
-    if (in_cut_ && in.rpm > 0.0 && in.feed_rate_mm_per_min > 0.0) {
+    if (contact_.in_cut() && in.rpm > 0.0 && in.feed_rate_mm_per_min > 0.0) {
       const double s_meas = std::clamp(in.feed_rate_mm_per_min / in.rpm, p_.feed_min_mm_per_rev,
                                        p_.feed_max_mm_per_rev);  // computer 11
       s_cur_filtered_ += speed_filter_a_ * (s_meas - s_cur_filtered_);
@@ -291,7 +272,8 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     if (reason == Reason::None) reason = Reason::SpindleSpeedLimit;
   }
 
-  out.in_cut = in_cut_;
+  out.in_cut = contact_.in_cut();
+  out.force_rev = regulated;
   out.speed_opt_m_per_min = v_opt;
   out.depth_estimate_mm = depth_estimate_;
   out.speed_m_per_min = v_cmd;

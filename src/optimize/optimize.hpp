@@ -4,7 +4,7 @@
 //
 //   1. LinuxCNC's own interpreter (rs274) reads the program (interpret): the moves as LinuxCNC
 //      runs them, each with its program line (io::parse_canon).
-//   2. predict: the moves are run through sim::LathePlant, the cutting process the LinuxCNC
+//   2. predict: the moves are run through cutting::LathePlant, the cutting process the LinuxCNC
 //      plant component (hal/lathectl_plant) runs, at its servo period: the same stock
 //      bookkeeping, cutting model and disturbances, so depth, chip, Pz/Py/power, torque, time and
 //      tool-life use per move are what the plant will produce.

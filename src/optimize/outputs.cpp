@@ -9,7 +9,7 @@
 
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/report.hpp"
-#include "lathectl/sim/per_revolution.hpp"
+#include "lathectl/control/per_revolution.hpp"
 #include "optimize/path.hpp"
 #include "optimize/plan.hpp"
 
@@ -33,7 +33,7 @@ std::vector<double> rev_param(const io::CanonProgram& prog, const Samples& s) {
     f[i] = prog.moves[static_cast<std::size_t>(s.move[i])].kind == CanonMove::Kind::Traverse
                ? 0.0
                : s.param[i];
-  return sim::per_revolution_mean(f, s.rpm, s.dt_s);
+  return control::per_revolution_mean(f, s.rpm, s.dt_s);
 }
 double feed_peak(const io::CanonProgram& prog, const Samples& s, const std::vector<double>& rev) {
   double peak = 0.0;
@@ -236,7 +236,7 @@ std::vector<std::pair<std::string, std::string>> output_files(
   rep.subtitle = "scenario " + scenario_file + " (system E)";
   rep.description =
       "The program as LinuxCNC's interpreter (rs274) runs it, predicted on the scenario's blank "
-      "by the cutting process of the LinuxCNC plant (sim::LathePlant) at the servo period, and "
+      "by the cutting process of the LinuxCNC plant (cutting::LathePlant) at the servo period, and "
       "the same program with the largest feed per piece that keeps force, power and torque "
       "within the limits. " +
       std::string(v ? "Verified in LinuxCNC's simulated lathe (scripts/linuxcnc-sim)."

@@ -10,7 +10,7 @@
 
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/cutting/force_parameter.hpp"
-#include "lathectl/sim/per_revolution.hpp"
+#include "lathectl/control/per_revolution.hpp"
 #include "optimize/chatter.hpp"
 #include "optimize/path.hpp"
 
@@ -220,7 +220,7 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
   cutting::CuttingModel cut;
   cut.configure(e.rig.cutting);
   const double r_nose = e.rig.cutting.nose_radius_mm;
-  const FeedContext ctx{cut, e, opt, lim, r_nose, sim::per_revolution_mean(s.depth, s.rpm, s.dt_s)};
+  const FeedContext ctx{cut, e, opt, lim, r_nose, control::per_revolution_mean(s.depth, s.rpm, s.dt_s)};
   const auto& rev_depth = ctx.rev_depth;
   const std::vector<char> near = near_material(s, 2.0 * r_nose + lim.air + 0.5);
   const auto ranges = move_ranges(s, prog.moves.size());
@@ -316,7 +316,7 @@ void refeed(const io::CanonProgram& prog, Plan& plan, const Prediction& trial,
   cut.configure(e.rig.cutting);
   const FeedLimits lim = feed_limits(e, opt);
   const double r_nose = e.rig.cutting.nose_radius_mm;
-  const FeedContext ctx{cut, e, opt, lim, r_nose, sim::per_revolution_mean(s.depth, s.rpm, s.dt_s)};
+  const FeedContext ctx{cut, e, opt, lim, r_nose, control::per_revolution_mean(s.depth, s.rpm, s.dt_s)};
   const std::vector<char> near = near_material(s, 2.0 * r_nose + lim.air + 0.5);
   // A piece's samples are contiguous: a blend arc's come just before the piece it counts to.
   for (std::size_t i = 0; i < s.move.size();) {

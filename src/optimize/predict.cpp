@@ -1,4 +1,4 @@
-// Prediction: the program's moves run through sim::LathePlant — the cutting process of the
+// Prediction: the program's moves run through cutting::LathePlant — the cutting process of the
 // LinuxCNC plant component — at LinuxCNC's servo period (1 ms, hal/config/lathectl-lathe.ini),
 // the tool moving along each move at its programmed velocity, with LinuxCNC's G64 blend arcs at
 // the corners (blend.hpp): the path the tool takes there, at the feed LinuxCNC runs it. The time
@@ -16,7 +16,7 @@
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/cutting/disturbances.hpp"
 #include "lathectl/io/errors.hpp"
-#include "lathectl/sim/lathe_plant.hpp"
+#include "lathectl/cutting/lathe_plant.hpp"
 #include "optimize/optimize.hpp"
 #include "optimize/blend.hpp"
 #include "optimize/path.hpp"
@@ -37,8 +37,8 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
   Prediction pr;
   Samples& s = pr.s;
   s.dt_s = 0.001;  // LinuxCNC's servo period in the simulated lathe
-  sim::LathePlant plant;
-  plant.configure(e.rig, sim::LathePlant::Params{.cell_mm = 0.01, .z_origin_mm = opt.z_origin_mm});
+  cutting::LathePlant plant;
+  plant.configure(e.rig, cutting::LathePlant::Params{.cell_mm = 0.01, .z_origin_mm = opt.z_origin_mm});
   cutting::CuttingModel cut;
   cut.configure(e.rig.cutting);
   cutting::Disturbances wear;  // the plant's wear law (its force factor from the time in cut)
@@ -140,7 +140,7 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
       }
       u += step_u;
       const auto [x1, z1] = point_at(m, u);
-      sim::LathePlant::Output out;
+      cutting::LathePlant::Output out;
       plant.step({.x_mm = x1, .z_mm = z1, .rpm = rpm}, dt, out);
       path += step_u * len;
       s.move.push_back(static_cast<int>(mi));

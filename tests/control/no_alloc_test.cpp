@@ -18,7 +18,7 @@
 #include "lathectl/control/pulse_feed_controller.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
-#include "lathectl/sim/lathe_plant.hpp"
+#include "lathectl/cutting/lathe_plant.hpp"
 #include "systems/e_adaptive/settings.hpp"
 #include "lathectl/sensors/vibration_chain.hpp"
 #include "support/sample_controller.hpp"
@@ -207,12 +207,12 @@ TEST(NoAlloc, LathePlantStepNeverAllocates) {
   const auto lib = lathectl::io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
   auto sc = lathectl::io::load_scenario(
       LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance_sensor_fault.toml", lib);
-  lathectl::sim::LathePlant plant;
+  lathectl::cutting::LathePlant plant;
   plant.configure(sc.get<lathectl::systems::e_adaptive::Settings>().rig, {});  // may allocate
-  lathectl::sim::LathePlant::Output out;
+  lathectl::cutting::LathePlant::Output out;
   const long before = g_allocations.load();
   for (int k = 0; k < 20000; ++k) {  // 20 s: air, cut, the collar, the sensor fault, unhomed
-    lathectl::sim::LathePlant::Input in{18.0, 2.0 - 0.005 * k, 1000.0};
+    lathectl::cutting::LathePlant::Input in{18.0, 2.0 - 0.005 * k, 1000.0};
     if (k > 19000) in.x_mm = std::nan("");
     plant.step(in, 1e-3, out);
   }

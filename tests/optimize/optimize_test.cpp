@@ -14,7 +14,7 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
-#include "lathectl/sim/per_revolution.hpp"
+#include "lathectl/control/per_revolution.hpp"
 #include "optimize/path.hpp"
 #include "optimize/plan.hpp"
 #include "optimize/text.hpp"
@@ -225,7 +225,7 @@ TEST(Optimize, RewriteRespectsTheLimits) {
     }
   }
   const auto& s = r.after.s;
-  const auto rev = sim::per_revolution_mean(s.param, s.rpm, s.dt_s);
+  const auto rev = control::per_revolution_mean(s.param, s.rpm, s.dt_s);
   for (double x : rev) EXPECT_LE(x, c.force_limit);
   EXPECT_LT(r.after.cycle_time_s, 0.75 * r.before.cycle_time_s);
   EXPECT_FALSE(r.splits_dropped);

@@ -4,7 +4,7 @@
 // chip up; the workpiece keeps what earlier passes cut (with their feed marks); bad stock is
 // refused.
 
-#include "lathectl/sim/lathe_plant.hpp"
+#include "lathectl/cutting/lathe_plant.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,6 +17,7 @@
 #include "systems/e_adaptive/settings.hpp"
 
 namespace lathectl::sim {
+using cutting::LathePlant;
 namespace {
 
 RigEConfig config() {

@@ -13,7 +13,7 @@
 #include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/sim/metrics.hpp"
-#include "lathectl/sim/per_revolution.hpp"
+#include "lathectl/control/per_revolution.hpp"
 
 namespace lathectl::sim {
 namespace {
@@ -100,15 +100,15 @@ TEST(OnlineMetrics, MatchTheWholeRecordFormsBitForBit) {
     rpm.push_back(i < 2000 ? 600.0 : 900.0 + 0.1 * i);
     alarm.push_back((i / 700) % 2 ? 1.0 : 0.0);
   }
-  const auto batch_rev = per_revolution_mean(x, rpm, t[1] - t[0]);
-  PerRevolutionMean rev;  // the interval given at the second sample, as a run learns it
+  const auto batch_rev = control::per_revolution_mean(x, rpm, t[1] - t[0]);
+  control::PerRevolutionMean rev;  // the interval given at the second sample, as a run learns it
   const auto batch_avg = moving_average(x, 37);
   MovingAverage avg(37);
   MeanBetween mb{1.0, 7.5};
   const std::vector<SensorFault> faults{SensorFault{}};
   AlarmOnsets onsets(faults);
   for (std::size_t i = 0; i < x.size(); ++i) {
-    if (i == 1) rev.set_dt(t[1] - t[0]);
+    if (i == 1) rev.configure(t[1] - t[0]);
     ASSERT_EQ(rev.push(x[i], rpm[i]), batch_rev[i]) << i;
     ASSERT_EQ(avg.push(x[i]), batch_avg[i]) << i;
     mb.push(t[i], x[i]);

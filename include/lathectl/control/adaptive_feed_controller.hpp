@@ -47,6 +47,8 @@
 #include <vector>
 
 #include "lathectl/control/building_blocks.hpp"
+#include "lathectl/control/contact.hpp"
+#include "lathectl/control/per_revolution.hpp"
 #include "lathectl/control/types.hpp"
 
 namespace lathectl::control {
@@ -135,6 +137,9 @@ class AdaptiveFeedController {
     double rpm = 0.0;                   // to the spindle drive
     double speed_opt_m_per_min = 0.0;   // V_opt by seed 004 (for the record)
     double depth_estimate_mm = 0.0;     // t̂ (depth-corrected law only)
+    // The force regulated: its mean over the last revolution since the cut began
+    // (average_per_revolution), else the accepted sample.
+    double force_rev = 0.0;
     bool in_cut = false;
     bool feed_hold = false;
     Reason reason = Reason::None;  // why the output is what it is
@@ -164,9 +169,8 @@ class AdaptiveFeedController {
   PiRegulator pi_;
   RateLimiter feed_ramp_;
   RateLimiter speed_ramp_;
-  bool in_cut_ = false;
+  ContactDetector contact_;
   bool was_block_ = false;
-  double below_air_s_ = 0.0;
   double over_s_ = 0.0;
   double high_since_s_ = 1e9;  // time since the force was last above half the limit
   bool alarm_ = false;
@@ -175,10 +179,7 @@ class AdaptiveFeedController {
   double depth_estimate_ = 0.0;
   double s_cur_filtered_ = 0.0;
   double speed_filter_a_ = 1.0;
-  std::vector<double> prefix_;  // ring of cumulative force sums (per-revolution mean)
-  std::size_t prefix_head_ = 0;
-  std::size_t prefix_count_ = 0;
-  double prefix_sum_ = 0.0;
+  PerRevolutionMean rev_mean_;  // of the accepted readings, since the cut began
 };
 
 }  // namespace lathectl::control

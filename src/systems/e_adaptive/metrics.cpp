@@ -43,7 +43,7 @@ void MetricsEAccumulator::row(std::span<const double> v) noexcept {
   if (i == 0) t0_ = t;
   if (i == 1) {
     dt_rec_ = t - t0_;
-    f_rev_.set_dt(dt_rec_);
+    f_rev_.configure(dt_rec_);
     if (first_row_code_pending_) reason_entry(prev_code_).total_s += dt_rec_;
   }
   const double f_rev = f_rev_.push(v[f_], v[rpm_]);

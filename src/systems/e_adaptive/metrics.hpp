@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "lathectl/sim/metrics.hpp"
-#include "lathectl/sim/per_revolution.hpp"
+#include "lathectl/control/per_revolution.hpp"
 #include "lathectl/sim/recorder.hpp"
 #include "systems/e_adaptive/rig.hpp"
 
@@ -73,7 +73,7 @@ class MetricsEAccumulator final : public RowSink {
   std::size_t t_, f_, pz_, rpm_, in_cut_, depth_, s_, s_cmd_, v_, power_, alarm_, hold_, reason_;
   double settle_s_, limit_, ceiling_, feed_min_;
   MetricsE m_;
-  PerRevolutionMean f_rev_;
+  control::PerRevolutionMean f_rev_;
   AlarmOnsets onsets_;
   std::size_t n_ = 0;
   double t0_ = 0.0, dt_rec_ = 0.0;

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "lathectl/io/report.hpp"
-#include "lathectl/sim/per_revolution.hpp"
+#include "lathectl/control/per_revolution.hpp"
 #include "lathectl/sim/recorder.hpp"
 #include "systems/e_adaptive/metrics.hpp"
 
@@ -22,7 +22,7 @@ namespace lathectl::systems::e_adaptive {
 class PathPlots final : public sim::RowSink {
  public:
   // The compared channels; kForceRev is the per-revolution mean of the true force parameter
-  // (sim::PerRevolutionMean, as the claims compute it).
+  // (control::PerRevolutionMean, as the claims compute it).
   enum Which { kForceRev, kFeedRev, kSpeed, kSpeedOpt, kPower, kToolLife, kCount };
   explicit PathPlots(const sim::Recorder& rec);
   void row(std::span<const double> v) noexcept override;
@@ -37,7 +37,7 @@ class PathPlots final : public sim::RowSink {
   std::array<std::size_t, kCount> ch_{};
   double path_ = 0.0, z_prev_ = 0.0, pass_prev_ = 0.0, t0_ = 0.0, t_last_ = 0.0;
   std::size_t n_ = 0;
-  sim::PerRevolutionMean f_rev_;
+  control::PerRevolutionMean f_rev_;
   std::size_t rpm_;
   std::array<sim::PlotPyramid, kCount> plots_;
   sim::PlotPyramid path_t_;

@@ -27,10 +27,13 @@
 #include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/sensors/force_sensor.hpp"
 #include "lathectl/sim/faults.hpp"
-#include "lathectl/sim/lathe_plant.hpp"
+#include "lathectl/cutting/lathe_plant.hpp"
 #include "lathectl/sim/recorder.hpp"
 
 namespace lathectl::sim {
+
+using ForceParameter = cutting::ForceParameter;
+using cutting::CuttingProcess;
 
 // The cutting process (material, tool, stock, disturbances, sensor 4, faults: what the LinuxCNC
 // plant models too) and the machine around it. Defaults are a system-E scenario's: where a

@@ -1,4 +1,4 @@
-#include "lathectl/sim/lathe_plant.hpp"
+#include "lathectl/cutting/lathe_plant.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace lathectl::sim {
+namespace lathectl::cutting {
 
 void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   if (!(p.cell_mm > 0.0)) throw std::invalid_argument("lathe plant: cell_mm must be > 0");
@@ -146,7 +146,7 @@ void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
   }
   const double v = std::numbers::pi * 2.0 * (x + t) * rpm / 1000.0;
   const double strength = dist_.strength_factor(z);
-  cutting::Forces f{};
+  Forces f{};
   if (t > 0.0 && s > 0.0 && v > 0.0) {
     f = cut_.forces({t, s, v, strength, dist_.wear_factor(t_cut_)});
     t_cut_ += dt;
@@ -173,4 +173,4 @@ void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
   out.time_in_cut_s = t_cut_;
 }
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::cutting

@@ -1,7 +1,7 @@
-// sim::per_revolution_mean: the trailing mean over one revolution at each sample's speed.
+// control::per_revolution_mean: the trailing mean over one revolution at each sample's speed.
 // 600 rpm at Δt = 0.01 s is 10 samples a revolution; 1200 rpm is 5.
 
-#include "lathectl/sim/per_revolution.hpp"
+#include "lathectl/control/per_revolution.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <numbers>
 #include <vector>
 
-namespace lathectl::sim {
+namespace lathectl::control {
 namespace {
 
 TEST(PerRevolutionMean, RemovesAOncePerRevolutionSwing) {
@@ -41,4 +41,4 @@ TEST(PerRevolutionMean, AStoppedSpindleCountsAsOneRpm) {
 }
 
 }  // namespace
-}  // namespace lathectl::sim
+}  // namespace lathectl::control

@@ -34,25 +34,23 @@
 #include "lathectl/cutting/force_parameter.hpp"
 #include "lathectl/sim/faults.hpp"
 
-namespace lathectl::sim {
-
-using ForceParameter = cutting::ForceParameter;
+namespace lathectl::cutting {
 
 // The cutting process of a system-E scenario: what the tool meets and what sensor 4 reads.
 // Defaults are the scenario's (a random allowance correlated over 20 mm, a dynamometer that
 // saturates at 10⁵ N); RigEConfig adds the machine around it.
 struct CuttingProcess {
-  cutting::CuttingModel::Params cutting;
-  cutting::StockParams stock;
+  CuttingModel::Params cutting;
+  StockParams stock;
   // random allowance, hardness, wear (no depth steps: the stock's passes make the depth)
-  cutting::DisturbanceParams disturbances = [] {
-    cutting::DisturbanceParams d;
+  DisturbanceParams disturbances = [] {
+    DisturbanceParams d;
     d.random_correlation_mm = 20.0;
     return d;
   }();
   ForceParameter force_parameter = ForceParameter::Pz;
   sensors::LaggedNoisySensor::Params force_sensor{.range = 1e5};  // N (dynamometer) or W (power)
-  std::vector<SensorFault> faults;
+  std::vector<sim::SensorFault> faults;
 };
 
 class LathePlant {
@@ -100,11 +98,11 @@ class LathePlant {
   double z0_ = 0.0;  // stock z of the first cell
   std::vector<double> r_;
   std::vector<double> r_blank_low_;  // lowest point of the eccentric blank per cell
-  cutting::CuttingModel cut_;
-  cutting::Stock stock_;
-  cutting::Disturbances dist_;
+  CuttingModel cut_;
+  Stock stock_;
+  Disturbances dist_;
   sensors::LaggedNoisySensor sensor_;
-  FaultInjector faults_;
+  sim::FaultInjector faults_;
   std::array<double, kBins> bin_area_{};
   std::array<double, kBins> bin_travel_{};
   double area_rev_ = 0.0;
@@ -118,4 +116,4 @@ class LathePlant {
   double t_since_contact_ = -1.0;
 };
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::cutting

@@ -1,0 +1,50 @@
+#pragma once
+// The per-revolution mean: at each sample, the mean over the trailing window of one spindle
+// revolution at that sample's speed, w = round(60 / max(n, n_min) / Δt) samples (at least 1, at
+// most the samples since the last restart). A feed drive cannot act within a revolution, so this
+// is the force a feed controller answers for. One class for the controller's regulated force, the
+// machine side's overload levels and operation log (AdaptiveMachine), and every claim, metric and
+// plot of a run that shows it — so what a machine limits is what a simulation reports.
+//
+// It keeps the cumulative sums of the longest window (one revolution at n_min) in a ring
+// allocated by configure(); push() never allocates. A recorded signal whose interval is known
+// only at its second sample may push the first sample before configure() (its mean is itself).
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+namespace lathectl::control {
+
+class PerRevolutionMean {
+ public:
+  PerRevolutionMean() = default;
+  explicit PerRevolutionMean(double dt_s, double rpm_min = 1.0) { configure(dt_s, rpm_min); }
+  // Allocates the ring for one revolution at rpm_min (> 0) at dt_s (> 0); keeps what was pushed
+  // before. Throws std::invalid_argument on a non-positive interval or speed.
+  void configure(double dt_s, double rpm_min = 1.0);
+  [[nodiscard]] bool configured() const noexcept { return dt_ > 0.0; }
+  // Forget the samples so far: the next one starts a new mean (a new cut).
+  void restart() noexcept { since_restart_ = 0; }
+  // Adds a sample at the spindle speed rpm (sign ignored) and returns the mean of the trailing
+  // revolution ending with it.
+  double push(double x, double rpm) noexcept;
+  [[nodiscard]] double value() const noexcept { return value_; }
+  [[nodiscard]] std::size_t samples() const noexcept { return since_restart_; }
+
+ private:
+  std::vector<double> cum_;  // ring: cum_[k % m_] = Σ x[0..k−1]
+  std::size_t m_ = 0;
+  double dt_ = 0.0;
+  double rpm_min_ = 1.0;
+  double sum_ = 0.0;
+  std::size_t n_ = 0;              // samples pushed in all
+  std::size_t since_restart_ = 0;  // of them since restart(), at most m_ − 1
+  double value_ = 0.0;
+};
+
+// The same mean over a whole record sampled every dt_s (x and rpm of the same length).
+std::vector<double> per_revolution_mean(std::span<const double> x, std::span<const double> rpm,
+                                        double dt_s);
+
+}  // namespace lathectl::control

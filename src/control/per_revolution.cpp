@@ -1,0 +1,49 @@
+#include "lathectl/control/per_revolution.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace lathectl::control {
+
+void PerRevolutionMean::configure(double dt_s, double rpm_min) {
+  if (!(dt_s > 0.0) || !(rpm_min > 0.0) || !std::isfinite(60.0 / rpm_min / dt_s))
+    throw std::invalid_argument("per-revolution mean: need an interval > 0 and a speed > 0");
+  dt_ = dt_s;
+  rpm_min_ = rpm_min;
+  m_ = static_cast<std::size_t>(std::max(1.0, std::ceil(60.0 / rpm_min / dt_s))) + 2;
+  cum_.assign(m_, 0.0);
+  if (n_ == 1) {  // the first sample, pushed before the interval was known
+    cum_[1 % m_] = sum_;
+    since_restart_ = 1;
+  } else {
+    since_restart_ = 0;  // (more than one: they are forgotten)
+  }
+}
+
+double PerRevolutionMean::push(double x, double rpm) noexcept {
+  sum_ += x;  // Σ x[0..n] = cum[n + 1], summed in the order of the record
+  ++n_;
+  if (m_ == 0) {  // the interval is not known yet: the sample's mean is itself
+    since_restart_ = 1;
+    value_ = x;
+    return value_;
+  }
+  cum_[n_ % m_] = sum_;
+  if (since_restart_ < m_ - 1) ++since_restart_;
+  const double n_rpm = std::max(std::abs(rpm), rpm_min_);
+  const auto w = std::clamp<std::size_t>(
+      static_cast<std::size_t>(std::max(1.0, std::round(60.0 / n_rpm / dt_))), 1, since_restart_);
+  value_ = (sum_ - cum_[(n_ - w) % m_]) / static_cast<double>(w);
+  return value_;
+}
+
+std::vector<double> per_revolution_mean(std::span<const double> x, std::span<const double> rpm,
+                                        double dt_s) {
+  PerRevolutionMean mean(dt_s);
+  std::vector<double> out(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) out[i] = mean.push(x[i], rpm[i]);
+  return out;
+}
+
+}  // namespace lathectl::control
