@@ -12,7 +12,7 @@
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/io/toml_reader.hpp"
-#include "lathectl_tool_limits.hpp"
+#include "systems/e_adaptive/tool_limits.hpp"
 #include "systems/estimate.hpp"
 
 namespace lathectl::cli {
@@ -41,14 +41,14 @@ int check(const std::string& file) {
   const std::string text = io::read_input_file(file, "a TOML file", io::kMaxTomlBytes);
   switch (kind_of(io::TomlDocument::parse(text, file))) {
     case Kind::Tools: {
-      const auto t = hal::read_tool_table(text, file);
+      const auto t = systems::e_adaptive::read_tool_table(text, file);
       std::cout << file << ": OK (lathectl_adaptive tools file: " << t.tools.size() << " tools"
                 << (t.limit_max > 0.0 ? ", machine limit_max " + fmt_g(t.limit_max) : "")
                 << ")\n";
       return 0;
     }
     case Kind::Taught: {
-      const auto t = hal::read_taught(text, file);
+      const auto t = systems::e_adaptive::read_taught(text, file);
       std::cout << file << ": OK (lathectl_adaptive taught file: " << t.size()
                 << " references)\n";
       return 0;

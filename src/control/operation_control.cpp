@@ -206,27 +206,15 @@ bool TeachIn::sample(double load, double rpm, double dt, bool in_cut) noexcept {
   return false;
 }
 
-void OperationStats::sample(double load, double feed_factor, double rpm, double dt,
-                            bool in_cut) noexcept {
+void OperationStats::sample(double load, double load_rev, bool whole_rev, double feed_factor,
+                            double dt, bool in_cut) noexcept {
   t_ += dt;
-  if (!in_cut || !std::isfinite(load) || !(rpm > 0.0)) {
-    rev_phase_ = cur_sum_ = cur_n_ = 0.0;
-    return;
-  }
+  if (!in_cut || !std::isfinite(load)) return;
   t_cut_ += dt;
   feed_min_ = std::min(feed_min_, feed_factor);
   feed_int_ += feed_factor * dt;
-  cur_sum_ += load;
-  cur_n_ += 1.0;
-  rev_phase_ += dt * rpm / 60.0;
-  if (rev_phase_ >= 1.0) {
-    rev_phase_ -= 1.0;
-    const double m = cur_sum_ / cur_n_;
-    rev_sum_ += m;
-    revs_ += 1.0;
-    rev_peak_ = std::max(rev_peak_, m);
-    cur_sum_ = cur_n_ = 0.0;
-  }
+  load_int_ += load * dt;
+  if (whole_rev && std::isfinite(load_rev)) rev_peak_ = std::max(rev_peak_, load_rev);
 }
 
 bool PathBreakage::update(double load, double limit, double predicted_depth_mm,

@@ -32,8 +32,10 @@ double PerRevolutionMean::push(double x, double rpm) noexcept {
   cum_[n_ % m_] = sum_;
   if (since_restart_ < m_ - 1) ++since_restart_;
   const double n_rpm = std::max(std::abs(rpm), rpm_min_);
-  const auto w = std::clamp<std::size_t>(
-      static_cast<std::size_t>(std::max(1.0, std::round(60.0 / n_rpm / dt_))), 1, since_restart_);
+  const auto want =
+      static_cast<std::size_t>(std::max(1.0, std::round(60.0 / n_rpm / dt_)));
+  const auto w = std::clamp<std::size_t>(want, 1, since_restart_);
+  full_ = want <= since_restart_;
   value_ = (sum_ - cum_[(n_ - w) % m_]) / static_cast<double>(w);
   return value_;
 }

@@ -13,6 +13,7 @@
 
 #include "lathectl/control/adaptive_feed_controller.hpp"
 #include "lathectl/control/adaptive_input.hpp"
+#include "lathectl/control/adaptive_machine.hpp"
 #include "lathectl/control/modulated_feed.hpp"
 #include "lathectl/control/operation_control.hpp"
 #include "lathectl/control/pulse_feed_controller.hpp"
@@ -105,7 +106,7 @@ TEST(NoAlloc, OperationControlNeverAllocates) {
     (void)tare.covers(rpm);
     refs += teach.sample(load, rpm, 0.002, cut) ? 1 : 0;
     if (!teach.running()) teach.start();
-    stats.sample(load, 0.8, rpm, 0.002, cut);
+    stats.sample(load, load, cut, 0.8, 0.002, cut);
     if (k % 4000 == 0) stats.reset();
     AdaptiveFeedController::Input in;
     in.force = load;
@@ -218,6 +219,72 @@ TEST(NoAlloc, LathePlantStepNeverAllocates) {
   }
   EXPECT_EQ(g_allocations.load() - before, 0);
   EXPECT_GT(out.time_in_cut_s, 10.0);
+}
+
+// System E's machine side through every path: force and power sensors, the stock model's
+// path-aware breakage, the program's settings (good, bad, taught percentages), teach-in, the
+// tool table's overload levels, tool changes, the tool data changing in a feed move, rapids,
+// arcs, G94 and G95, the operator's knob, resets, and operation records.
+TEST(NoAlloc, AdaptiveMachineUpdateNeverAllocates) {
+  using lathectl::control::AdaptiveMachine;
+  const auto lib = lathectl::io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
+  auto sc = lathectl::io::load_scenario(
+      LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance_sensor_fault.toml", lib);
+  const auto& rig = sc.get<lathectl::systems::e_adaptive::Settings>().rig;
+  for (bool power : {false, true}) {
+    AdaptiveMachine::Params mp;
+    mp.controller = rig.controller;
+    mp.controller.period_s = 0.002;
+    mp.power_sensor = power;
+    mp.spindle = rig.spindle;
+    mp.power_lag_s = 0.02;
+    mp.rating = {5000.0, 0.8, 200.0};
+    mp.tools = {{.number = 1, .limit = 1200.0, .warn_pct = 110.0, .hold_pct = 300.0},
+                {.number = 2, .adaptive = false}};
+    mp.taught = {{1, 3, 1000.0}};
+    mp.stock_model = true;
+    mp.process = rig;
+    mp.z_origin_mm = 0.0;
+    AdaptiveMachine m;
+    m.configure(mp);  // may allocate
+    AdaptiveMachine::Output out;
+    int records = 0;
+    const long before = g_allocations.load();
+    for (int k = 0; k < 40000; ++k) {  // 40 s at 1 ms
+      AdaptiveMachine::Input in;
+      in.nominal_period_s = 0.001;
+      in.elapsed_s = k % 997 == 0 ? 0.004 : 0.001;  // a late period now and then
+      const int phase = k / 2000;  // 2 s each
+      const bool cut = k % 2000 > 300;
+      in.motion_type = cut ? (phase % 5 == 4 ? 3 : 2) : 1;
+      in.per_rev = phase % 3 != 2;
+      in.rpm = 800.0 + 100.0 * (phase % 4);
+      in.rpm_programmed = phase % 7 == 6 ? -in.rpm : in.rpm;
+      in.requested_vel = in.per_rev ? 0.3 : 4.0;
+      in.feed_upm = 240.0;
+      in.current_vel_mm_s = 4.0;
+      in.x_mm = 18.0;
+      in.z_mm = 2.0 - 0.004 * (k % 2000);
+      in.force = cut ? 1000.0 + 60.0 * std::sin(k * 0.3) : (phase == 9 ? 0.0 : 5.0);
+      in.spindle_power_W = 500.0 + (cut ? 4000.0 : 0.0) + 10.0 * std::sin(k * 0.7);
+      in.mode_cmd = phase % 6 == 1 ? 3.0 : phase % 6 == 2 ? 4.0 : phase % 6 == 3 ? 0.5 : 0.0;
+      in.operation_cmd = 3.0;
+      in.limit_cmd = phase % 8 == 5 ? -1.0 : 0.0;
+      in.tool_number = phase % 5 == 3 ? 2 : 1;
+      in.program_line = 10 + phase;
+      in.tool_diameter = phase == 12 && k % 2000 == 1000 ? 0.5 : 0.0;
+      in.knob = phase % 4 == 1 ? 0.5 : 1.0;
+      in.max_override = 1.5;
+      in.scale_in_motion = 1.0;
+      in.reset = k % 5000 == 0;
+      in.enable = phase != 15;
+      m.update(in, out);
+      records = out.op.seq;
+    }
+    m.end_operation(out);
+    EXPECT_EQ(g_allocations.load() - before, 0) << (power ? "power" : "force");
+    EXPECT_GT(records, 10);
+  }
 }
 
 // Seed 001's module and its measurement chain through every path: below the dead zone, engaging,

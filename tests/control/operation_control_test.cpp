@@ -109,10 +109,16 @@ TEST(TeachIn, TooShortACutTeachesNothing) {
 }
 
 TEST(OperationStats, PerRevolutionMeanPeakAndFeed) {
+  // The per-revolution mean comes from the one PerRevolutionMean (0.001 s samples at 600 rpm:
+  // 100 a revolution); the peak counts only whole revolutions.
   OperationStats s;
-  for (int k = 0; k < 100; ++k) s.sample(0.0, 1.0, 600.0, 0.001, false);  // approach
-  for (int k = 0; k < 1000; ++k)  // 10 revolutions at 600 rpm: 800 N then 1200 N
-    s.sample(k < 500 ? 800.0 : 1200.0, k < 500 ? 1.0 : 0.5, 600.0, 0.001, true);
+  lathectl::control::PerRevolutionMean rev(0.001, 10.0);
+  for (int k = 0; k < 100; ++k) s.sample(0.0, 0.0, false, 1.0, 0.001, false);  // approach
+  for (int k = 0; k < 1000; ++k) {  // 10 revolutions at 600 rpm: 800 N then 1200 N
+    const double load = k < 500 ? 800.0 : 1200.0;
+    const double m = rev.push(k == 0 ? 5000.0 : load, 600.0);  // an entry spike: no whole rev
+    s.sample(load, m, rev.full(), k < 500 ? 1.0 : 0.5, 0.001, true);
+  }
   EXPECT_NEAR(s.mean_load(), 1000.0, 1e-9);
   EXPECT_NEAR(s.peak_load(), 1200.0, 1e-9);
   EXPECT_NEAR(s.feed_min(), 0.5, 1e-12);

@@ -15,8 +15,9 @@
 //                   without the exit (the last revolutions before the tool left the cut: held
 //                   back kHeld revolutions, taken at the end up to the first whose mean leaves
 //                   the steady mean by more than steady_tol, and never the last whole one).
-//   OperationStats  one operation's record for the log: per-revolution mean load (mean and
-//                   peak), the adaptive feed factor (min and mean) and the time in cut.
+//   OperationStats  one operation's record for the log: the mean load in cut, the peak of its
+//                   per-revolution mean (PerRevolutionMean, whole revolutions only), the
+//                   adaptive feed factor (min and mean) and the time in cut.
 //   check_operation the per-operation settings a program or a tool table gives, against the
 //                   machine's rating: a code naming what is wrong, never a silently used value.
 //   split_feed_override  a feed above the program's: the net override (operator's knob times
@@ -110,9 +111,11 @@ class TeachIn {
 class OperationStats {
  public:
   void reset() noexcept { *this = OperationStats{}; }
-  // One control period: load, adaptive feed factor, in a cut (feed block, tool in contact).
-  void sample(double load, double feed_factor, double rpm, double dt, bool in_cut) noexcept;
-  [[nodiscard]] double mean_load() const noexcept { return revs_ > 0 ? rev_sum_ / revs_ : 0.0; }
+  // One control period: the load, its per-revolution mean and whether that spans a whole
+  // revolution, the adaptive feed factor, in a cut (feed block, tool in contact).
+  void sample(double load, double load_rev, bool whole_rev, double feed_factor, double dt,
+              bool in_cut) noexcept;
+  [[nodiscard]] double mean_load() const noexcept { return t_cut_ > 0.0 ? load_int_ / t_cut_ : 0.0; }
   [[nodiscard]] double peak_load() const noexcept { return rev_peak_; }
   [[nodiscard]] double feed_min() const noexcept { return t_cut_ > 0.0 ? feed_min_ : 1.0; }
   [[nodiscard]] double feed_mean() const noexcept {
@@ -124,8 +127,21 @@ class OperationStats {
  private:
   double t_ = 0.0, t_cut_ = 0.0;
   double feed_min_ = 1e300, feed_int_ = 0.0;
-  double rev_phase_ = 0.0, cur_sum_ = 0.0, cur_n_ = 0.0;
-  double rev_sum_ = 0.0, revs_ = 0.0, rev_peak_ = 0.0;
+  double load_int_ = 0.0, rev_peak_ = 0.0;
+};
+
+// A tool's row of the per-tool limits table (lathectl_adaptive's tools= file; AFC keeps these in
+// the tool table): the defaults a program that sets nothing runs with, and the overload levels
+// as percentages of the reference.
+struct ToolLimits {
+  int number = 0;
+  double limit = 0.0;  // 0: the scenario's
+  double feed_min_mm_per_rev = 0.0;
+  double feed_max_mm_per_rev = 0.0;
+  bool adaptive = true;
+  double reference_pct = 100.0;
+  double warn_pct = 0.0;  // 0: off
+  double hold_pct = 0.0;
 };
 
 // Tool breakage by load collapse that knows the path: a load that falls from above half the limit

@@ -25,12 +25,17 @@ class PerRevolutionMean {
   void configure(double dt_s, double rpm_min = 1.0);
   [[nodiscard]] bool configured() const noexcept { return dt_ > 0.0; }
   // Forget the samples so far: the next one starts a new mean (a new cut).
-  void restart() noexcept { since_restart_ = 0; }
+  void restart() noexcept {
+    since_restart_ = 0;
+    full_ = false;
+  }
   // Adds a sample at the spindle speed rpm (sign ignored) and returns the mean of the trailing
   // revolution ending with it.
   double push(double x, double rpm) noexcept;
   [[nodiscard]] double value() const noexcept { return value_; }
   [[nodiscard]] std::size_t samples() const noexcept { return since_restart_; }
+  // The last mean spans a whole revolution (not fewer samples since the restart).
+  [[nodiscard]] bool full() const noexcept { return full_; }
 
  private:
   std::vector<double> cum_;  // ring: cum_[k % m_] = Σ x[0..k−1]
@@ -41,6 +46,7 @@ class PerRevolutionMean {
   std::size_t n_ = 0;              // samples pushed in all
   std::size_t since_restart_ = 0;  // of them since restart(), at most m_ − 1
   double value_ = 0.0;
+  bool full_ = false;
 };
 
 // The same mean over a whole record sampled every dt_s (x and rpm of the same length).
