@@ -420,8 +420,10 @@ TEST(RigE, FrozenReadingAboveTheLimitNeverRaisesTheFeed) {
     if (std::isnan(frozen)) frozen = force[i];
     if (std::isnan(alarm_at) && alarm[i] > 0.5) alarm_at = t[i];
     // From the third equal sample on (suspect after 2 unchanged comparisons) the feed only holds
-    // or falls — on every recorded row to the alarm and after it.
-    if (t[i] >= fault_at + 2.0 * period + 1e-9) {
+    // or falls — on every pair of recorded rows both taken after it, to the alarm and after it.
+    // (Sensor 4 is sampled at the control period, up to a period after the fault: the third
+    // frozen sample comes by fault + 3 periods.)
+    if (t[i - 1] >= fault_at + 3.0 * period + 1e-9) {
       ASSERT_LE(cmd[i], cmd[i - 1] + 1e-12) << "t = " << t[i] << " s";
     }
   }

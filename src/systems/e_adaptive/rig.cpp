@@ -90,9 +90,24 @@ void RigE::configure(const RigEConfig& cfg, double dt, double record_interval,
     cp.feed_min_mm_per_rev = std::min(cp.feed_min_mm_per_rev, cp.feed_programmed_mm_per_rev);
   }
   cp.air_feed_mm_per_rev = std::max(cp.air_feed_mm_per_rev, 1e-6);
-  configure_as("controller", [&] { ctl_.configure(cp); });
   control_every_ =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cp.period_s / dt)));
+  if (std::abs(static_cast<double>(control_every_) * dt - cp.period_s) > 0.01 * cp.period_s)
+    throw ConfigError("run.step_s", "the control period (controller.period_ms) must be a whole "
+                                    "number of steps, as on a machine's servo thread");
+  // The machine side a lathe runs (the LinuxCNC component runs the same object): sensor 4 is
+  // the dynamometer, or the spindle drive's power meter (the cutting power at the spindle).
+  control::AdaptiveMachine::Params mp;
+  mp.controller = cp;
+  mp.parameter = cfg.force_parameter;
+  mp.power_sensor = cfg.force_parameter == ForceParameter::Power;
+  mp.spindle = cfg.spindle;
+  mp.power_lag_s = cfg.power_meter.time_constant_s;
+  mp.rating.limit_max = 1e300;  // the program sets nothing: the scenario's settings
+  mp.rating.feed_max_mm_per_rev = 1e300;
+  configure_as("controller", [&] { machine_.configure(mp); });
+  mout_ = {};
+  sensor_held_ = 0.0;
   life_plan_min_ = cut_.tool_life_min(cp.speed_programmed_m_per_min, cp.feed_planned_mm_per_rev,
                                       cfg.planned_depth_mm);
 
@@ -118,10 +133,7 @@ void RigE::configure(const RigEConfig& cfg, double dt, double record_interval,
   contact_ = false;
   configure_as("sensor", [&] { power_meter_.configure(cfg.power_meter); });
   power_meter_.reset(spindle_.electrical_power_W());
-  out_ = {};
-  out_.rpm = rpm0;
-  out_.feed_per_rev_mm = cp.feed_programmed_mm_per_rev;
-  out_.speed_m_per_min = cp.speed_programmed_m_per_min;
+  rpm_cmd_ = rpm0;
   in_block_ = true;
   force_seen_ = 0.0;
   faults_.reset(0.0);
@@ -197,34 +209,53 @@ bool RigE::step() noexcept {
     removed_mm3_ += depth * s * (rpm / 60.0) * std::numbers::pi * (d_surface - depth) * dt_;
   }
   const double cut_power = cut_.power_W(f, v);
-  const double torque = f.Pz * 0.5 * (d_surface - depth) * 1e-3;
-  spindle_.step(dt_, out_.rpm, torque);
+  // The torque that supplies the cutting power Pz·V (V at the surface, as the LinuxCNC plant
+  // and the handbook count it): one radius for the power and the torque.
+  const double torque = f.Pz * 0.5 * d_surface * 1e-3;
+  spindle_.step(dt_, rpm_cmd_, torque);
   const double true_param = cutting::force_parameter(cfg_.force_parameter, f, cut_power);
   power_meter_.step(dt_, spindle_.electrical_power_W());
   if (cfg_.force_parameter != ForceParameter::Power) force_sensor_.step(dt_, true_param);
 
-  if (step_ % control_every_ == 0) {
-    control::AdaptiveSignals sig;
-    sig.spindle_power_W = power_meter_.sample();
-    sig.idle_power_W = drives::idle_power_W(cfg_.spindle, spindle_.rpm());
-    // Sensor 4: the dynamometer, or the power meter minus the idle power at this speed.
+  // The program: G95 at the programmed feed, G96 at V_p (the CNC's constant surface speed at
+  // the tool's diameter), one program line per pass. Sensor 4 is sampled at the control period
+  // (its noise is drawn per sample) and held between.
+  if ((step_ - 1) % control_every_ == 0) {
     const double measured = cfg_.force_parameter == ForceParameter::Power
-                                ? sig.spindle_power_W - sig.idle_power_W
+                                ? power_meter_.sample()
                                 : force_sensor_.sample();
-    force_seen_ = faults_.apply(cfg_.faults, t_, measured, cfg_.force_sensor.range * 2.0 + 1.0);
-    sig.force = force_seen_;
-    sig.feed_rate_mm_per_min = axis_.measured_velocity_m_per_s() * 60000.0;
-    sig.rpm = spindle_.rpm();
-    sig.speed_m_per_min = std::numbers::pi * d_surface * spindle_.rpm() / 1000.0;
-    sig.feed_block = in_block_;
-    (void)ctl_.update(control::adaptive_input(cfg_.force_parameter, sig), out_);
-    if (out_.feed_hold && first_hold_s_ < 0.0) first_hold_s_ = t_;
+    sensor_held_ = faults_.apply(cfg_.faults, t_, measured, cfg_.force_sensor.range * 2.0 + 1.0);
   }
+  const auto& cp = machine_.controller().params();
+  control::AdaptiveMachine::Input in;
+  in.nominal_period_s = dt_;
+  in.force = sensor_held_;
+  in.spindle_power_W = sensor_held_;
+  if (cfg_.force_parameter != ForceParameter::Power) in.spindle_power_W = power_meter_.lagged();
+  in.rpm = spindle_.rpm();
+  in.rpm_programmed = std::clamp(cp.speed_programmed_m_per_min * 1000.0 /
+                                     (std::numbers::pi * std::max(d_surface, 1e-3)),
+                                 cfg_.spindle.min_rpm, cfg_.spindle.max_rpm);
+  in.current_vel_mm_s = axis_.measured_velocity_m_per_s() * 1000.0;
+  in.requested_vel = cp.feed_programmed_mm_per_rev;
+  in.motion_type = static_cast<std::int32_t>(in_block_ ? control::AdaptiveMachine::Motion::Feed
+                                                       : control::AdaptiveMachine::Motion::Traverse);
+  in.per_rev = true;
+  in.x_mm = 0.5 * d_surface;
+  in.z_mm = z_mm;
+  in.cutting_speed_m_per_min = std::numbers::pi * d_surface * spindle_.rpm() / 1000.0;
+  in.tool_number = 1;
+  in.program_line = static_cast<std::int32_t>(pass_) + 1;
+  in.max_override = cp.feed_max_mm_per_rev / cp.feed_programmed_mm_per_rev;
+  machine_.update(in, mout_);
+  force_seen_ = mout_.load;
+  if (mout_.control_period) rpm_cmd_ = mout_.spindle_speed_out;
+  if (mout_.feed_hold && first_hold_s_ < 0.0) first_hold_s_ = t_;
   double v_cmd = 0.0;
   if (!in_block_) {
     v_cmd = -cfg_.rapid_m_per_s;
-  } else if (!out_.feed_hold) {
-    v_cmd = out_.feed_per_rev_mm * 1e-3 * spindle_.rpm() / 60.0;
+  } else if (!mout_.feed_hold) {
+    v_cmd = mout_.feed_per_rev_mm * 1e-3 * spindle_.rpm() / 60.0;
   }
   axis_.step(v_cmd);
 
@@ -251,14 +282,16 @@ bool RigE::step() noexcept {
                                             spindle_.electrical_power_W() * 1e-3,
                                             spindle_.rpm(),
                                             v,
-                                            out_.speed_opt_m_per_min,
-                                            out_.feed_per_rev_mm,
+                                            mout_.speed_opt_m_per_min,
+                                            mout_.feed_per_rev_mm,
                                             life_used_,
                                             strength,
-                                            static_cast<double>(out_.reason),
-                                            out_.alarm ? 1.0 : 0.0,
-                                            out_.feed_hold ? 1.0 : 0.0,
-                                            out_.in_cut ? 1.0 : 0.0};
+                                            static_cast<double>(mout_.alarm
+                                                                    ? mout_.alarm_reason
+                                                                    : mout_.reason),
+                                            mout_.alarm ? 1.0 : 0.0,
+                                            mout_.feed_hold ? 1.0 : 0.0,
+                                            mout_.in_cut ? 1.0 : 0.0};
     rec_.push_row(row);
     acc_param_ = acc_pz_ = acc_py_ = acc_depth_ = acc_power_ = 0.0;
     acc_n_ = 0;

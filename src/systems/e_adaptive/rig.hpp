@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "lathectl/control/adaptive_feed_controller.hpp"
+#include "lathectl/control/adaptive_machine.hpp"
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/cutting/disturbances.hpp"
 #include "lathectl/cutting/stock.hpp"
@@ -78,9 +79,11 @@ class RigE {
   [[nodiscard]] double tool_life_planned_min() const noexcept { return life_plan_min_; }
   [[nodiscard]] double material_removed_cm3() const noexcept { return removed_mm3_ / 1000.0; }
   [[nodiscard]] double programmed_feed() const noexcept {
-    return ctl_.params().feed_programmed_mm_per_rev;
+    return machine_.controller().params().feed_programmed_mm_per_rev;
   }
-  [[nodiscard]] double force_limit() const noexcept { return ctl_.params().force_limit; }
+  [[nodiscard]] double force_limit() const noexcept {
+    return machine_.controller().params().force_limit;
+  }
   [[nodiscard]] bool numerically_sound() const noexcept { return sound_; }
   // Time the controller first held the feed (feed command 0), or −1; exact, not recorded.
   [[nodiscard]] double first_feed_hold_s() const noexcept { return first_hold_s_; }
@@ -128,8 +131,10 @@ class RigE {
   drives::SpindleDrive spindle_;
   sensors::LaggedNoisySensor force_sensor_;
   sensors::LaggedNoisySensor power_meter_;
-  control::AdaptiveFeedController ctl_;
-  control::AdaptiveFeedController::Output out_{};
+  control::AdaptiveMachine machine_;  // what the lathe runs: the same object as LinuxCNC's
+  control::AdaptiveMachine::Output mout_{};
+  double sensor_held_ = 0.0;  // sensor 4's last sample (taken every control period)
+  double rpm_cmd_ = 0.0;      // the spindle's speed command
   // accumulators over a record interval
   double acc_param_ = 0.0;
   double acc_pz_ = 0.0;
