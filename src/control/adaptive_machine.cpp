@@ -312,6 +312,7 @@ void AdaptiveMachine::update(const Input& in, Output& out) noexcept {
   op_limit_ = applied_.limit;
 
   const bool feed_move = in.enable && feed_motion(in.motion_type);
+  if (p_.power_sensor) acceleration_power(in.rpm, period.elapsed_s);
   // Every servo period: the stop comes in the period the data changes.
   if (tool_watch_.update(tool, in.tool_diameter, in.tool_offset_x, in.tool_offset_z, feed_move,
                          period.elapsed_s) &&
@@ -373,19 +374,29 @@ double AdaptiveMachine::measured_load(const Input& in, bool feed_move, double rp
   out.idle_power_W = std::isfinite(idle) ? idle : 0.0;
   out.idle_law = tare_.coefficients();
   out.tare_ready = learned;
-  // The power that accelerates the spindle: J·ω·dω/dt [W], lagged as the meter lags.
-  const double omega = rpm * 2.0 * std::numbers::pi / 60.0;
-  double accel = 0.0;
-  if (omega_known_ && dt > 0.0) accel = p_.spindle.inertia_kg_m2 * omega * (omega - omega_prev_) / dt;
-  omega_prev_ = omega;
-  omega_known_ = true;
-  const double a = p_.power_lag_s > 0.0 ? 1.0 - std::exp(-dt / p_.power_lag_s) : 1.0;
-  accel_lagged_W_ += a * (accel - accel_lagged_W_);
-  out.acceleration_power_W = accel_lagged_W_;
-  double load = (in.spindle_power_W - out.idle_power_W) * p_.spindle.efficiency - accel_lagged_W_;
+  out.acceleration_power_W = accel_lagged_W_;  // (acceleration_power(), every servo period)
+  // The mechanical power at the spindle: a motoring drive draws it over η, a braking one returns
+  // η of it (regeneration).
+  const double drawn = in.spindle_power_W - out.idle_power_W;
+  const double eta = p_.spindle.efficiency;
+  double load = (drawn >= 0.0 ? drawn * eta : drawn / eta) - accel_lagged_W_;
   // Outside feed moves nothing is cut: what is left is not a load.
   if (!feed_move) load = std::max(load, 0.0);
   return load;
+}
+
+// The power that accelerates the spindle, J·ω·dω/dt [W], from the measured speed over the last
+// servo period (the nearest in time to the power reading), lagged as the power meter lags.
+void AdaptiveMachine::acceleration_power(double rpm, double dt) noexcept {
+  const double omega = std::abs(rpm) * 2.0 * std::numbers::pi / 60.0;
+  double accel = 0.0;
+  if (omega_known_ && dt > 0.0)
+    accel = p_.spindle.inertia_kg_m2 * omega * (omega - omega_prev_) / dt;
+  omega_prev_ = omega;
+  omega_known_ = std::isfinite(omega);
+  if (!std::isfinite(accel)) accel = 0.0;
+  const double a = p_.power_lag_s > 0.0 ? 1.0 - std::exp(-dt / p_.power_lag_s) : 1.0;
+  accel_lagged_W_ += a * (accel - accel_lagged_W_);
 }
 
 void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) noexcept {

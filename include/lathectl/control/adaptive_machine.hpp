@@ -9,7 +9,7 @@
 //                table, else the scenario's; a bad value is never used (the last good settings
 //                stay, the feed holds, bad_code/bad_line/bad_value say what and where)
 //   load         sensor 4 (force), or with the power sensor the cutting power at the spindle:
-//                  P_cut = η·(P_drive − P_idle(n)) − J·ω·dω/dt
+//                  P_cut = η·(P_drive − P_idle(n)) − J·ω·dω/dt   (braking: (P_drive − P_idle)/η)
 //                P_idle learned outside feed moves at steady speed (IdleTare; the scenario's
 //                law until a bin near the speed is learned), and the power that accelerates
 //                the spindle's inertia J taken off (ω from the measured speed, its derivative
@@ -228,6 +228,7 @@ class AdaptiveMachine {
   double measured_load(const Input& in, bool feed_move, double rpm, double dt, Output& out,
                        bool& sensing) noexcept;
   void control(const Input& in, Output& out, double dt_measured) noexcept;
+  void acceleration_power(double rpm, double dt) noexcept;
 
   Params p_{};
   AdaptiveFeedController ctl_;

@@ -1,0 +1,64 @@
+// control::AdaptiveMachine: the machine side of system E that `lathectl run`, LinuxCNC's
+// lathectl_adaptive and the optimiser run. The pin-level behaviour is proved in halrun
+// (tests/hal); here what is physics: the cutting power a power sensor gives.
+
+#include "lathectl/control/adaptive_machine.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "lathectl/drives/spindle_drive.hpp"
+
+namespace lathectl::control {
+namespace {
+
+// The drive draws P_el = T_m·ω/η + P_idle(n) with T_m = J·dω/dt + T_cut (no viscous loss here):
+// the cutting power is η·(P_el − P_idle) − J·ω·dω/dt exactly. A run-up from 500 to 1500 rpm in a
+// feed move in air (the speed law's change, a pass change's CSS jump) must read as no load —
+// without the inertia term it reads as J·ω·dω/dt, several kW.
+TEST(AdaptiveMachine, SpindleAccelerationIsNotCuttingPower) {
+  drives::SpindleDrive::Params sp;
+  sp.inertia_kg_m2 = 2.0;
+  sp.viscous_N_m_s = 0.0;
+  sp.efficiency = 0.85;
+  sp.max_accel_rpm_per_s = 1500.0;
+  drives::SpindleDrive drive;
+  drive.configure(sp);
+  drive.reset(500.0);
+  AdaptiveMachine::Params p;
+  p.controller.force_limit = 6000.0;
+  p.controller.sensor_monitor.min = -1200.0;
+  p.controller.period_s = 0.002;
+  p.power_sensor = true;
+  p.spindle = sp;
+  p.rating = {22000.0, 1.0, 200.0};
+  AdaptiveMachine m;
+  m.configure(p);
+  AdaptiveMachine::Output out;
+  double worst = 0.0, accel_peak = 0.0;
+  for (int k = 0; k < 2000; ++k) {  // 2 s at 1 ms: the drive ramps for 0.67 s
+    drive.step(0.001, 1500.0, 0.0);
+    AdaptiveMachine::Input in;
+    in.nominal_period_s = 0.001;
+    in.motion_type = static_cast<std::int32_t>(AdaptiveMachine::Motion::Feed);
+    in.rpm = drive.rpm();
+    in.rpm_programmed = 1500.0;
+    in.requested_vel = 0.3;
+    in.spindle_power_W = drive.electrical_power_W();
+    in.x_mm = 30.0;
+    m.update(in, out);
+    if (out.control_period && k > 10) {
+      worst = std::max(worst, std::abs(out.load));
+      accel_peak = std::max(accel_peak, out.acceleration_power_W);
+    }
+  }
+  EXPECT_GT(accel_peak, 10000.0);  // J·ω·dω/dt, held by the drive's 15 kW power limit
+  // Motoring and braking (the overshoot at 1500 rpm regenerates): exact up to the difference.
+  EXPECT_LT(worst, 0.01 * accel_peak);
+  EXPECT_FALSE(out.alarm);
+}
+
+}  // namespace
+}  // namespace lathectl::control
