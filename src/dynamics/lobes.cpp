@@ -1,6 +1,6 @@
 #include "lathectl/dynamics/lobes.hpp"
 
-#include "lathectl/sim/parallel.hpp"
+#include "lathectl/core/parallel.hpp"
 
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
@@ -484,7 +484,7 @@ SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_
   // The cost per speed grows as m and m as 1/speed: the speeds ascend, so the slow ones are
   // handed out first and the cheap ones fill the gaps at the end.
   std::atomic<std::size_t> finished{0};
-  sim::parallel_for(
+  core::parallel_for(
       ns,
       [&](std::size_t i) {
         const int m = c.steps[i];

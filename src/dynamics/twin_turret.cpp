@@ -1,6 +1,6 @@
 #include "lathectl/dynamics/twin_turret.hpp"
 
-#include "lathectl/sim/config_error.hpp"
+#include "lathectl/core/parameter_error.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -48,14 +48,14 @@ void TwinTurretCut::configure(const Params& p, double dt) {
   const int lag_revs =
       depth ? static_cast<int>(std::lround(p.tool2_lag_mm / p.feed_mm_per_rev)) : 0;
   if (lag_revs > 200)
-    throw sim::ConfigError("cut.tool2_lag_mm", "tool2_lag_mm is more than 200 revolutions of feed");
+    throw core::ParameterError("tool2_lag_mm", "tool2_lag_mm is more than 200 revolutions of feed");
   // The axial-position search needs every pass of tool 1 within the lag, at its slowest feed.
   const double mem_revs =
       axial ? std::ceil(p.tool2_lag_mm / (p.feed_mm_per_rev * p.slowest_feed_fraction)) + 3.0
             : lag_revs + 2.0;
   if (!(static_cast<double>(cells_per_rev_) * mem_revs <= 4e6))
-    throw sim::ConfigError(
-        "run.step_s",
+    throw core::ParameterError(
+        "step",
         "the surface memory (revolutions × steps per revolution) exceeds 4e6 cells: raise the "
         "step, the speed, or shorten tool2_lag_mm");
   ring_cells_ = cells_per_rev_ * static_cast<std::size_t>(mem_revs);

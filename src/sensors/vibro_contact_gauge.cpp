@@ -7,7 +7,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "lathectl/sim/config_error.hpp"
+#include "lathectl/core/parameter_error.hpp"
 
 namespace lathectl::sensors {
 
@@ -35,16 +35,15 @@ void VibroContactGauge::configure(const Params& p, double dt) {
         "vibro-contact gauge: damping, time constants and gaps must be finite and ≥ 0");
   const double wc = std::sqrt(p.contact_stiffness_N_per_m / p.probe_mass_kg);
   if (wc * dt > 0.5)
-    throw sim::ConfigError(
-        "run.step_s",
-        "vibro-contact gauge: step too coarse for the contact stiffness (use step_s ≤ " +
-            std::to_string(0.5 / wc) + ")");
+    throw core::ParameterError(
+        "step", "vibro-contact gauge: step too coarse for the contact stiffness (use a step ≤ " +
+                    std::to_string(0.5 / wc) + " s)");
   const double w = 2.0 * std::numbers::pi * p.supply_Hz;
   if (w * dt > 0.05)
-    throw sim::ConfigError("run.step_s",
-                           "vibro-contact gauge: step too coarse for the supply frequency (use "
-                           "step_s ≤ " +
-                               std::to_string(0.05 / w) + ")");
+    throw core::ParameterError("step",
+                               "vibro-contact gauge: step too coarse for the supply frequency (use "
+                               "a step ≤ " +
+                                   std::to_string(0.05 / w) + " s)");
   p_ = p;
   dt_ = dt;
   omega_ = w;
@@ -71,8 +70,8 @@ void VibroContactGauge::configure(const Params& p, double dt) {
     const double crest = z_eq_ + a0_;
     for (double gap : {p.magnet_gap_m, p.pm_gap_m})
       if (gap > 0.0 && gap < 2.0 * crest)
-        throw sim::ConfigError(
-            gap == p.magnet_gap_m ? "transducer.magnet_gap_mm" : "transducer.pm_gap_mm",
+        throw core::ParameterError(
+            gap == p.magnet_gap_m ? "magnet_gap_m" : "pm_gap_m",
             "vibro-contact gauge: the gap must exceed twice the probe's crest "
             "excursion, " +
                 std::to_string(2.0 * crest * 1e3) + " mm");

@@ -397,10 +397,15 @@ sed -e 's/^step_s = .*/step_s = 0.01/' -e 's/^record_interval_s = .*/record_inte
 sed -e 's/^step_s = .*/step_s = 0.005/' -e 's/^record_interval_s = .*/record_interval_s = 0.005/' "$scn/c_dead_zone.toml" > "$work/coarse_c.toml"
 sed -e 's/^step_s = .*/step_s = 1e-3\nrecord_interval_s = 1e-3/' "$scn/d_gauging.toml" > "$work/coarse_d.toml"
 sed -e '/^\[regulator\]/,/^\[/ s/^type = "pulsed"/type = "throttle"/' "$scn/a_finishing_aim.toml" > "$work/throttle_aim.toml"
+# the core names its own parameter (tool2_lag_mm, magnet_gap_m); the system maps it to its key
+sed -e 's/^tool2_lag_mm = .*/tool2_lag_mm = 30.0/' "$scn/b_twin_depth_division.toml" > "$work/lag_b.toml"
+sed -e 's/^magnet_gap_mm = .*/magnet_gap_mm = 0.1/' "$scn/d_gauging.toml" > "$work/gap_d.toml"
 for c in "coarse_a.toml:9:[0-9]*: key 'run.step_s': step_s .* too coarse" \
          "coarse_c.toml:7:[0-9]*: key 'run.step_s': step too coarse" \
          "coarse_d.toml:16:[0-9]*: key 'run.step_s': vibro-contact gauge: step too coarse" \
-         "throttle_aim.toml:66:[0-9]*: key 'controller.type': a continuous throttle"; do
+         "throttle_aim.toml:66:[0-9]*: key 'controller.type': a continuous throttle" \
+         "lag_b.toml:41:[0-9]*: key 'cut.tool2_lag_mm': tool2_lag_mm is more than 200 revolutions" \
+         "gap_d.toml:44:[0-9]*: key 'transducer.magnet_gap_mm': vibro-contact gauge: the gap"; do
   f=${c%%:*}
   expect_rc 2 "cross-field $f" $bin check "$work/$f"
   grep -q "^error: $work/$c" "$work/err.txt" || bad "cross-field $f: $(cat "$work/err.txt")"

@@ -32,7 +32,7 @@
 #include "lathectl/cutting/stock.hpp"
 #include "lathectl/sensors/force_sensor.hpp"
 #include "lathectl/cutting/force_parameter.hpp"
-#include "lathectl/sim/faults.hpp"
+#include "lathectl/sensors/faults.hpp"
 
 namespace lathectl::cutting {
 
@@ -50,7 +50,7 @@ struct CuttingProcess {
   }();
   ForceParameter force_parameter = ForceParameter::Pz;
   sensors::LaggedNoisySensor::Params force_sensor{.range = 1e5};  // N (dynamometer) or W (power)
-  std::vector<sim::SensorFault> faults;
+  std::vector<sensors::SensorFault> faults;
 };
 
 class LathePlant {
@@ -102,7 +102,7 @@ class LathePlant {
   Stock stock_;
   Disturbances dist_;
   sensors::LaggedNoisySensor sensor_;
-  sim::FaultInjector faults_;
+  sensors::FaultInjector faults_;
   std::array<double, kBins> bin_area_{};
   std::array<double, kBins> bin_travel_{};
   double area_rev_ = 0.0;

@@ -66,6 +66,8 @@ dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m);
 // lowest mode's (a stiff mode far above cannot lower the envelope), at every position.
 int lobes_needed(const LobesInput& in);  // saturates at INT_MAX/2 (the reader: ≤ kMaxLobes)
 double lobes_needed_count(const LobesInput& in);  // the same as a double, never overflowing
+// f_c above, the highest over the part's positions.
+double lobes_reference_Hz(const LobesInput& in);
 
 // What run_lobes will cost, estimated before anything is allocated (lobes.cpp says how):
 // the frequency-domain lobe points (their memory), the semi-discretization cells (each a root

@@ -24,27 +24,6 @@ using io::Param;
 using io::Range;
 using io::TableReader;
 
-// The chatter frequency f_n·√(1+2ζ) of the highest mode that can chatter (see lobes_needed).
-double reference_Hz(const dynamics::ChatterSystem& sys) {
-  double lowest = std::numeric_limits<double>::infinity();
-  auto limit = [&](const dynamics::Mode& m) {
-    const double c2 = std::max(std::cos(m.angle_rad) * std::cos(m.angle_rad), 1e-12);
-    return 2.0 * m.stiffness_N_per_m * m.damping_ratio * (1.0 + m.damping_ratio) / c2;
-  };
-  for (const auto& m : sys.modes) lowest = std::min(lowest, limit(m));
-  double f = 0.0;
-  for (const auto& m : sys.modes)
-    if (limit(m) <= 3.0 * lowest)
-      f = std::max(f, m.natural_frequency_Hz * std::sqrt(1.0 + 2.0 * m.damping_ratio));
-  return f;
-}
-double lobes_reference_Hz(const LobesInput& in) {
-  double f = reference_Hz(in.system);
-  if (in.part)
-    for (double x : in.part->positions_m) f = std::max(f, reference_Hz(lobes_system_at(in, x)));
-  return f;
-}
-
 void read_modes(TableReader& root, LobesInput& in) {
   const auto modes = io::read_modes(root);
   in.tool_modes.insert(in.tool_modes.end(), modes.begin(), modes.end());
@@ -286,25 +265,6 @@ io::ParamLog describe_machine_file() {
   std::optional<TableReader> lobes;
   (void)read_tables(root, in, lobes);
   return *log;
-}
-
-double lobes_needed_count(const LobesInput& in) {
-  return std::ceil(60.0 * lobes_reference_Hz(in) / in.min_rpm) + 2.0;
-}
-
-int lobes_needed(const LobesInput& in) {
-  // Saturated, never an overflow (the cast of 10¹⁵ lobes was undefined); the reader refuses a
-  // file over kMaxLobes, and `optimize` (src/optimize/chatter.cpp) asks at real spindle speeds.
-  const double n = lobes_needed_count(in);
-  return static_cast<int>(std::min(n, static_cast<double>(std::numeric_limits<int>::max() / 2)));
-}
-
-dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m) {
-  dynamics::ChatterSystem sys;
-  sys.kf_N_per_m2 = in.system.kf_N_per_m2;
-  if (in.part) sys.modes = dynamics::beam_modes_at(in.part->beam, x_m, in.part->modes);
-  sys.modes.insert(sys.modes.end(), in.tool_modes.begin(), in.tool_modes.end());
-  return sys;
 }
 
 }  // namespace lathectl::b_chatter

@@ -126,7 +126,8 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
   else if (cfg.source == control::ModulationSource::Programmed)
     pp.slowest_feed_fraction =
         std::clamp(cfg.programmed.s_min_mm_per_min / (cfg.feed_mm_per_rev * cfg.rpm), 0.05, 1.0);
-  configure_as("cut", [&] { process_.configure(pp, dt); });
+  configure_as("cut", {{"tool2_lag_mm", "cut.tool2_lag_mm"}, {"step", "run.step_s"}},
+               [&] { process_.configure(pp, dt); });
   n_tools_ = process_.tools();
   for (int i = 0; i < 2; ++i) {
     turrets_[i] = Turret{};

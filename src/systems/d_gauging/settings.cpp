@@ -6,6 +6,7 @@
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/toml_reader.hpp"
+#include "lathectl/sim/config_error.hpp"
 
 namespace lathectl::d_gauging {
 
@@ -169,11 +170,7 @@ std::string um(double m) {
 void validate(const io::Scenario& sc) {
   const auto& d = sc.get<Settings>();
   sensors::VibroContactGauge probe;
-  try {
-    probe.configure(d.transducer, sc.run.step_s);
-  } catch (const std::invalid_argument& e) {
-    io::throw_at_key(sc, e, "transducer");
-  }
+  configure_transducer(sc, probe);
   // The transducer reads nothing above its free amplitude: found here, not after a run.
   if (d.process.allowance_m > probe.free_amplitude_m())
     sc.keys->fail("process.allowance_um",
@@ -207,6 +204,18 @@ const std::array<io::CriterionKey, 2> kAcceptanceKeys{{
      "largest |mean finished size − target_um| of the Monte Carlo's parts (0: not judged, the "
      "default: Cpk already counts the mean's offset)"},
 }};
+
+void configure_transducer(const io::Scenario& sc, sensors::VibroContactGauge& gauge) {
+  try {
+    sim::configure_as("transducer",
+                      {{"step", "run.step_s"},
+                       {"magnet_gap_m", "transducer.magnet_gap_mm"},
+                       {"pm_gap_m", "transducer.pm_gap_mm"}},
+                      [&] { gauge.configure(sc.get<Settings>().transducer, sc.run.step_s); });
+  } catch (const std::invalid_argument& e) {
+    io::throw_at_key(sc, e, "transducer");
+  }
+}
 
 ThresholdPlan plan_threshold(const Settings& d, double dt) {
   const auto& p = d.process;

@@ -53,6 +53,11 @@ struct ThresholdPlan {
 };
 ThresholdPlan plan_threshold(const Settings& d, double dt_s);
 
+// The scenario's transducer on its step (run.step_s): what the model refuses is located at the
+// scenario key of the parameter it names (run.step_s, transducer.magnet_gap_mm, ...; [transducer]
+// for the rest) and thrown as io::InputError. The check (validate) and the run configure it so.
+void configure_transducer(const io::Scenario& sc, sensors::VibroContactGauge& gauge);
+
 // The section reader (settings.cpp): the settings from the file's tables.
 std::unique_ptr<io::SystemSettings> read_settings(io::TableReader& root, io::Scenario& sc,
                                                   const io::MaterialLibrary& lib);

@@ -61,11 +61,7 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
   const auto& d = sc.get<Settings>();
   const double dt = sc.run.step_s;
   sensors::VibroContactGauge gauge;
-  try {
-    gauge.configure(d.transducer, dt);
-  } catch (const std::invalid_argument& e) {
-    io::throw_at_key(sc, e, "transducer");
-  }
+  configure_transducer(sc, gauge);
   const double A0 = gauge.free_amplitude_m(), K = gauge.signal_gain_V_per_m();
   const auto& p = d.process;
   if (p.allowance_m > A0)
