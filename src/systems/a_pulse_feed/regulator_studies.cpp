@@ -56,7 +56,7 @@ Errors draw(const Settings& st, const ToleranceStudy& t, double slot, double gap
       p.closing_time_s = std::max(p.closing_time_s * (1.0 + dsw_c), 0.0);
     }
     const double h = std::clamp(slot + (sources[0] ? dh : 0.0), 0.0, p.max_slot_m);
-    const double q = sim::regulator_characteristic(p, h, a.frequency_Hz, {a.pulse_width_s}, 6).front();
+    const double q = regulator_characteristic(p, h, a.frequency_Hz, {a.pulse_width_s}, 6).front();
     e.pulsed.push_back(q / q_nom - 1.0);
     hydraulics::Throttle thr;
     thr.configure({p.orifice, {}});  // no silting here: a new throttle
@@ -72,7 +72,7 @@ void tolerance_study(const Settings& st, const ToleranceStudy& t, double slot_m,
   const auto& a = st.rig;
   // Nominal: the pulsed regulator's simulated mean flow, and the throttle gap that gives it.
   const double q_nom =
-      sim::regulator_characteristic(a.regulator, slot_m, a.frequency_Hz, {a.pulse_width_s}, 6)
+      regulator_characteristic(a.regulator, slot_m, a.frequency_Hz, {a.pulse_width_s}, 6)
           .front();
   const double gap = q_nom / a.regulator.orifice.gain_per_m();
   const char* names[] = {"slot / gap opening", "spool diameter", "discharge coefficient μ",

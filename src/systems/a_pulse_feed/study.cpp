@@ -24,10 +24,8 @@ namespace lathectl::systems::a_pulse_feed {
 namespace {
 using namespace io;
 using nlohmann::json;
-using sim::ControllerKind;
-using sim::RegulatorKind;
 
-json metrics_json(const sim::MetricsA& m) {
+json metrics_json(const Metrics& m) {
   json alarms = json::array();
   for (const auto& a : m.alarms)
     alarms.push_back(
@@ -60,15 +58,15 @@ json metrics_json(const sim::MetricsA& m) {
 }
 
 struct Run {
-  sim::RigA rig;
-  std::unique_ptr<sim::MetricsAAccumulator> acc;  // fed as the rig records
-  std::unique_ptr<sim::PulseMeanFlowPlot> pulse;  // the flow over whole pulses, for the plot
+  Rig rig;
+  std::unique_ptr<MetricsAccumulator> acc;  // fed as the rig records
+  std::unique_ptr<PulseMeanFlowPlot> pulse;  // the flow over whole pulses, for the plot
   std::unique_ptr<io::ChannelStream> csv;          // channels.csv / channels_compare.csv
-  sim::MetricsA metrics;
+  Metrics metrics;
   std::string label;
 };
 
-std::string label_of(const sim::RigAConfig& a) {
+std::string label_of(const RigConfig& a) {
   if (a.regulator_kind == RegulatorKind::Throttle) return "continuous throttle";
   return a.controller_kind == ControllerKind::None ? "pulsed, no control"
                                                    : controller_kind_name(a.controller_kind);
@@ -76,13 +74,13 @@ std::string label_of(const sim::RigAConfig& a) {
 
 // The rig records streamed (its memory bounded whatever run.duration_s): the metrics are
 // computed row by row, csv (nullptr: none) is written into `stage` as the rows come.
-void run_one(const io::Scenario& sc, const sim::RigAConfig& cfg, Run& r, const char* csv = nullptr,
+void run_one(const io::Scenario& sc, const RigConfig& cfg, Run& r, const char* csv = nullptr,
              io::OutputStage* stage = nullptr) {
   r.rig.set_streamed(true);
   io::configure_rig(sc, r.rig, cfg);
-  r.acc = std::make_unique<sim::MetricsAAccumulator>(r.rig, r.rig.last_record_time());
+  r.acc = std::make_unique<MetricsAccumulator>(r.rig, r.rig.last_record_time());
   r.rig.attach(r.acc.get());
-  r.pulse = std::make_unique<sim::PulseMeanFlowPlot>(r.rig.recorder(), cfg.feed_window_s);
+  r.pulse = std::make_unique<PulseMeanFlowPlot>(r.rig.recorder(), cfg.feed_window_s);
   r.rig.attach(r.pulse.get());
   if (csv) {
     try {
@@ -409,7 +407,7 @@ io::RunOutput run(const io::Scenario& sc) {
             {},
             mk};
   const auto smooth = [&](const Run& r, Series sr) {
-    // whole pulses (sim::PulseMeanFlowPlot); a flow that never stops: the trailing window mean
+    // whole pulses (PulseMeanFlowPlot); a flow that never stops: the trailing window mean
     auto p = r.pulse->plot();
     if (!p) p = r.acc->flow_smoothed_plot().finished();
     p->points(sr.x, sr.y);
@@ -457,8 +455,8 @@ io::RunOutput run(const io::Scenario& sc) {
     }
     auto ideal_p = settings.rig.regulator;
     ideal_p.opening_time_s = ideal_p.closing_time_s = ideal_p.lap_m = 0.0;
-    const auto q_real = sim::regulator_characteristic(settings.rig.regulator, h, f, widths);
-    const auto q_ideal_sim = sim::regulator_characteristic(ideal_p, h, f, widths);
+    const auto q_real = regulator_characteristic(settings.rig.regulator, h, f, widths);
+    const auto q_ideal_sim = regulator_characteristic(ideal_p, h, f, widths);
     Plot ch{"Regulator characteristic at h = " + fmt(h * 1e6) + " µm, f = " + fmt(f) + " Hz",
             "duty Δt/T",
             "mean flow [cm³/min]",
@@ -491,7 +489,7 @@ io::RunOutput run(const io::Scenario& sc) {
     const double travel = rp.lap_m + rp.max_slot_m;
     const double dead_theory = rp.opening_time_s * rp.lap_m / travel * f;
     const double sat_theory = 1.0 - rp.closing_time_s * (h + rp.lap_m) / travel * f;
-    const auto lim = sim::regulator_switching_limits(rp, h, f);
+    const auto lim = regulator_switching_limits(rp, h, f);
     const double dead_sim = lim.dead_zone_duty, sat_sim = lim.saturation_duty;
     s["metrics"]["regulator_dead_zone_duty"] = dead_theory;
     s["metrics"]["regulator_dead_zone_duty_simulated"] = dead_sim;

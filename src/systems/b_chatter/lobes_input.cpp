@@ -16,7 +16,7 @@
 #include "lathectl/io/toml_reader.hpp"
 #include "systems/b_chatter/lobes.hpp"
 
-namespace lathectl::b_chatter {
+namespace lathectl::systems::b_chatter {
 
 namespace {
 
@@ -307,4 +307,4 @@ dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m) {
   return sys;
 }
 
-}  // namespace lathectl::b_chatter
+}  // namespace lathectl::systems::b_chatter

@@ -16,7 +16,7 @@
 #include "systems/b_chatter/metrics.hpp"
 #include "systems/b_chatter/settings.hpp"
 
-namespace lathectl::b_chatter {
+namespace lathectl::systems::b_chatter {
 
 namespace {
 using io::Claims;
@@ -31,7 +31,7 @@ using nlohmann::json;
 // The rig records streamed (its memory bounded whatever the cut's length): the measures are taken
 // row by row, csv (nullptr: none) is written into `stage` as the rows come. Without csv the run is
 // only measured (the sweep): no plots are kept either.
-void run_one(const io::Scenario& sc, const sim::RigBConfig& cfg, Run& r, io::OutputStage* stage,
+void run_one(const io::Scenario& sc, const RigConfig& cfg, Run& r, io::OutputStage* stage,
              const char* csv = nullptr) {
   r.rig.set_streamed(true, csv != nullptr);
   io::configure_rig(sc, r.rig, cfg);
@@ -39,7 +39,7 @@ void run_one(const io::Scenario& sc, const sim::RigBConfig& cfg, Run& r, io::Out
     if (csv)
       r.csv =
           io::open_channel_stream(stage, csv, r.rig.recorder().channels(), r.rig.max_record_rows());
-    r.measure = std::make_unique<Measure>(r.rig, cfg.setup != sim::TwinSetup::Single, stage);
+    r.measure = std::make_unique<Measure>(r.rig, cfg.setup != dynamics::TwinSetup::Single, stage);
   } catch (const std::invalid_argument& e) {
     io::throw_at_key(sc, e);
   }
@@ -60,8 +60,8 @@ std::string source_name(control::ModulationSource s) {
 
 io::RunOutput run(const io::Scenario& sc) {
   const Settings& settings = sc.get<Settings>();
-  const sim::RigBConfig& b = settings.rig;
-  const bool twin = b.setup != sim::TwinSetup::Single;
+  const RigConfig& b = settings.rig;
+  const bool twin = b.setup != dynamics::TwinSetup::Single;
   const bool modulated = b.source != control::ModulationSource::None;
   auto with = std::make_unique<Run>();
   auto without = std::make_unique<Run>();
@@ -73,7 +73,7 @@ io::RunOutput run(const io::Scenario& sc) {
     // The run as programmed and, to compare, the same without modulation: side by side (the one
     // on the calling thread moves its progress line; both are as long).
     // channels.csv and channels_compare.csv stream into the output set's stage as they record.
-    sim::RigBConfig off = b;
+    RigConfig off = b;
     off.source = control::ModulationSource::None;
     sim::parallel_for(
         compared ? 2 : 1,
@@ -103,7 +103,7 @@ io::RunOutput run(const io::Scenario& sc) {
         2 * sweep.size(),
         [&](std::size_t j) {
           SweepPoint& p = *sweep[j / 2];
-          sim::RigBConfig c = b;
+          RigConfig c = b;
           c.feed_mm_per_rev = p.feed;
           if (j % 2 == 1) c.source = control::ModulationSource::None;
           if (c.source == control::ModulationSource::None && j % 2 == 0 && !modulated) return;
@@ -119,9 +119,9 @@ io::RunOutput run(const io::Scenario& sc) {
     const double x = b.z_start_mm + (b.z_end_mm - b.z_start_mm) * k / 10.0;
     const Limits l = linear_limits(b, x, b.rpm);
     const double key =
-        twin && b.setup == sim::TwinSetup::FeedDivision ? l.twin_feed : l.single_feed;
+        twin && b.setup == dynamics::TwinSetup::FeedDivision ? l.twin_feed : l.single_feed;
     const double best =
-        twin && b.setup == sim::TwinSetup::FeedDivision ? lim.twin_feed : lim.single_feed;
+        twin && b.setup == dynamics::TwinSetup::FeedDivision ? lim.twin_feed : lim.single_feed;
     if (std::isnan(best) || key < best) {
       lim = l;
       lim_x = x;
@@ -224,7 +224,7 @@ io::RunOutput run(const io::Scenario& sc) {
         {"at_planned_a0", reading(k_planned, a0_plan_um)},
         {"at_steady_a0", reading(k_steady, a0_steady_um)}};
   }
-  if (b.setup == sim::TwinSetup::DepthDivision) {
+  if (b.setup == dynamics::TwinSetup::DepthDivision) {
     const auto& pc = main.rig.process();
     s["metrics"]["inter_tool_delay"] = {
         {"model", b.inter_tool_delay == dynamics::InterToolDelay::Fixed ? "fixed"
@@ -327,7 +327,7 @@ io::RunOutput run(const io::Scenario& sc) {
                    "): the document's rule, read either way, asks a feed drive for a force "
                    "swing it cannot make once chatter is developed."
              : std::string()));
-  if (b.setup == sim::TwinSetup::DepthDivision &&
+  if (b.setup == dynamics::TwinSetup::DepthDivision &&
       b.inter_tool_delay == dynamics::InterToolDelay::AxialPositions)
     claims.note("Inter-tool delay from the tools' axial positions: tool 2 met the surface tool 1 "
                 "left " +
@@ -339,7 +339,7 @@ io::RunOutput run(const io::Scenario& sc) {
                 fmt(b.process_damping.k_sp_N_per_m3 * 1e-9, "%.3g") + " N/mm³, VB = " +
                 fmt(b.process_damping.wear_land_mm) + " mm, γ = " +
                 fmt(b.process_damping.clearance_deg) + "°) is on: beyond the seed's model.");
-  if (b.setup == sim::TwinSetup::FeedDivision)
+  if (b.setup == dynamics::TwinSetup::FeedDivision)
     claims.note("Linear limits at z = " + fmt(lim_x) + " mm, " + fmt(b.rpm) +
                 " rpm: feed division chatters above s = " + fmt(lim.twin_feed, "%.3f") +
                 " mm/rev (each tool s/2 of the surface the other left half a turn earlier); one "
@@ -369,8 +369,8 @@ io::RunOutput run(const io::Scenario& sc) {
   rep.title = "System B — " + sc.name;
   rep.doc_page = "system-b-chatter.md";
   rep.subtitle = sc.file + " · " + main.label +
-                 (b.setup == sim::TwinSetup::FeedDivision    ? " · feed division"
-                  : b.setup == sim::TwinSetup::DepthDivision ? " · depth division"
+                 (b.setup == dynamics::TwinSetup::FeedDivision    ? " · feed division"
+                  : b.setup == dynamics::TwinSetup::DepthDivision ? " · depth division"
                                                              : " · one tool");
   rep.description = sc.description;
   auto add = [&](const std::string& k, double v, const char* f = "%.4g") {
@@ -525,4 +525,4 @@ io::RunOutput run(const io::Scenario& sc) {
   return out;
 }
 
-}  // namespace lathectl::b_chatter
+}  // namespace lathectl::systems::b_chatter

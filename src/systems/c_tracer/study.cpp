@@ -22,7 +22,7 @@ using namespace io;
 using nlohmann::json;
 
 struct Run {
-  sim::RigC rig;
+  Rig rig;
   std::unique_ptr<TracerMetrics> acc;        // fed as the rig records
   std::unique_ptr<io::ChannelStream> csv;    // channels.csv / channels_compare.csv
   std::string label;
@@ -33,7 +33,7 @@ struct Run {
 // The rig records streamed (its memory bounded whatever the template's length, the feed and the
 // record interval): the metrics are accumulated row by row, the result file `csv` is written into
 // `stage` as the rows come (in memory without one). kept_rows: TracerMetrics' budget of cone rows.
-void run_one(const io::Scenario& sc, sim::RigCConfig cfg, bool nonlinear, Run& r,
+void run_one(const io::Scenario& sc, RigConfig cfg, bool nonlinear, Run& r,
              std::size_t kept_rows, const char* csv, io::OutputStage* stage) {
   cfg.nonlinear = nonlinear;
   r.rig.set_streamed(true);
@@ -49,7 +49,7 @@ void run_one(const io::Scenario& sc, sim::RigCConfig cfg, bool nonlinear, Run& r
   r.csv->finish();
   if (!r.acc->finish()) {
     // More rows in a cone's window than were kept: the residuals from a second, identical run.
-    sim::RigC again;
+    Rig again;
     again.set_streamed(true);
     configure_rig(sc, again, cfg);
     again.attach(&r.acc->residuals());

@@ -16,10 +16,10 @@
 #include "lathectl/io/verdict.hpp"
 #include "lathectl/sim/config_error.hpp"
 #include "lathectl/sim/parallel.hpp"
-#include "systems/d_gauging/gauging.hpp"
+#include "systems/d_gauging/rig.hpp"
 #include "systems/d_gauging/settings.hpp"
 
-namespace lathectl::d_gauging {
+namespace lathectl::systems::d_gauging {
 
 namespace {
 using io::Claims;
@@ -50,12 +50,12 @@ const char* filter_name(sensors::VibroContactGauge::Params::Filter f) {
 }
 
 // Trip time of the linear model without noise: S_det(t) = S_th.
-double linear_trip(const sim::GaugingProcess& p, const sim::LinearGauge& g, double s_th) {
+double linear_trip(const GaugingProcess& p, const LinearGauge& g, double s_th) {
   return (s_th / g.gain_V_per_m - g.intercept_m + p.allowance_m) / p.removal_m_per_s + g.lag_s();
 }
 }  // namespace
 
-io::RunOutput run(const io::Scenario& sc) { return run(sc, sim::LinearParts::kKeptParts); }
+io::RunOutput run(const io::Scenario& sc) { return run(sc, LinearParts::kKeptParts); }
 
 io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
   const auto& d = sc.get<Settings>();
@@ -94,15 +94,15 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
   for (int i = 0; i <= 16; ++i) xs.push_back(A0 * (-0.05 + 1.0 * i / 16.0));
   std::vector<double> sig(xs.size());
   sim::parallel_for(xs.size(), [&](std::size_t i) {
-    sig[i] = sim::full_model_mean_signal(d.transducer, dt, xs[i], settle);
+    sig[i] = full_model_mean_signal(d.transducer, dt, xs[i], settle);
   });
   s_full = sig;
   const ThresholdPlan plan = plan_threshold(d, dt);
-  const sim::LinearGauge seed_line = sim::linear_gauge({K, A0}, d.transducer);
-  const sim::LinearGauge cal_line = sim::linear_gauge(plan.calibrated_line, d.transducer);
-  const sim::LinearGauge& line = d.threshold == "seed" ? seed_line : cal_line;
+  const LinearGauge seed_line = linear_gauge({K, A0}, d.transducer);
+  const LinearGauge cal_line = linear_gauge(plan.calibrated_line, d.transducer);
+  const LinearGauge& line = d.threshold == "seed" ? seed_line : cal_line;
   const double x_trip = plan.x_trip_m;
-  const auto level_at_trip = sim::full_model_signal(d.transducer, dt, x_trip, settle);
+  const auto level_at_trip = full_model_signal(d.transducer, dt, x_trip, settle);
   const double s_full_at_trip = level_at_trip.mean_V;
   // The first-passage bias of (23): the relay trips at the FIRST upward crossing of the noisy
   // signal, on average before the mean crossing (23) places, so the part is left large. No closed
@@ -116,20 +116,20 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
   const bool calibrated = d.threshold == "calibrated" || d.threshold == "calibrated_dynamic";
   double bias_m = 0.0, bias_se_m = 0.0, s_static = plan.threshold_V;
   if (calibrated && p.noise_variance_m2 > 0.0) {
-    sim::LinearParts cal(p, line, plan.threshold_V, d.parts, sc.run.seed + 1000003, kept_parts);
-    const auto bias = sim::first_passage_bias(cal, p.target_m, line.gain_V_per_m);
+    LinearParts cal(p, line, plan.threshold_V, d.parts, sc.run.seed + 1000003, kept_parts);
+    const auto bias = first_passage_bias(cal, p.target_m, line.gain_V_per_m);
     bias_m = bias.bias_m;
     bias_se_m = bias.standard_error_m;
-    s_static = sim::threshold_23(line, [&] {
+    s_static = threshold_23(line, [&] {
       auto q = p;
       q.target_m -= bias_m;
       return q;
     }());
   }
   // calibrated_dynamic: S_th moved until full-model parts (with noise) finish on target.
-  sim::DynamicCalibration dyn;
+  DynamicCalibration dyn;
   if (d.threshold == "calibrated_dynamic")
-    dyn = sim::calibrate_dynamic(p, d.transducer, dt, s_static, cal_line.gain_V_per_m,
+    dyn = calibrate_dynamic(p, d.transducer, dt, s_static, cal_line.gain_V_per_m,
                                  d.calibration_parts_max, 0.025 * d.tolerance_m, sc.run.seed + 17,
                                  sc.run.duration_s);
   const double s_th = d.threshold == "calibrated_dynamic" ? dyn.threshold_V : s_static;
@@ -139,7 +139,7 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
   auto quiet = p;
   quiet.noise_variance_m2 = 0.0;
   rec.attach(rec_csv.get());
-  const auto full = sim::machine_part_full(quiet, d.transducer, dt, s_th, sc.run.seed, &rec, 50,
+  const auto full = machine_part_full(quiet, d.transducer, dt, s_th, sc.run.seed, &rec, 50,
                                            sc.run.duration_s);
   rec_csv->finish();
   const double trip_lin = linear_trip(p, line, s_th);
@@ -148,7 +148,7 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
   // 3. Outside the range: fast removal, long filter, target near A0 — each with its own (23).
   struct Case {
     std::string name;
-    sim::GaugingProcess proc;
+    GaugingProcess proc;
     sensors::VibroContactGauge::Params tp;
   };
   std::vector<Case> cases;
@@ -179,12 +179,12 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
       {}};
   json cases_json = json::array();
   for (const auto& c : cases) {
-    const sim::LinearGauge lg = sim::linear_gauge({K, A0}, c.tp);
-    const double th = sim::threshold_23(lg, c.proc);
+    const LinearGauge lg = linear_gauge({K, A0}, c.tp);
+    const double th = threshold_23(lg, c.proc);
     const double t_lin = linear_trip(c.proc, lg, th);
     const double horizon = 3.0 * (c.proc.allowance_m - c.proc.target_m) / c.proc.removal_m_per_s +
                            20.0 * lg.lag_s() + 1.0;
-    const auto r = sim::machine_part_full(c.proc, c.tp, dt, th, sc.run.seed, nullptr, 50, horizon);
+    const auto r = machine_part_full(c.proc, c.tp, dt, th, sc.run.seed, nullptr, 50, horizon);
     const double err = (r.finished_m - c.proc.target_m) * kUm;
     outside.rows.push_back({c.name, fmt(t_lin, "%.3f"), fmt(r.trip_s, "%.3f"), fmt(err, "%.2f"),
                             r.backstop ? "backstop (alarm)" : "relay"});
@@ -217,9 +217,9 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
         v.filter = f;
         variants.push_back(v);
       }
-    std::vector<sim::NoiselessPart> res(variants.size());
+    std::vector<NoiselessPart> res(variants.size());
     sim::parallel_for(variants.size(), [&](std::size_t i) {
-      res[i] = sim::noiseless_part(quiet, variants[i], dt, sc.run.seed, sc.run.duration_s);
+      res[i] = noiseless_part(quiet, variants[i], dt, sc.run.seed, sc.run.duration_s);
     });
     for (std::size_t i = 0; i < variants.size(); ++i) {
       cause.rows.push_back({filter_name(variants[i].filter),
@@ -237,16 +237,16 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
   // 4. Linearised Monte Carlo of finished sizes.
   // In passes over the parts (LinearParts): the first writes channels.csv (one row a part) and
   // sums the sizes, the second their spread about the mean, the third (the report) the histogram.
-  sim::LinearParts parts(p, line, s_th, d.parts, sc.run.seed, kept_parts);
+  LinearParts parts(p, line, s_th, d.parts, sc.run.seed, kept_parts);
   const auto each_size = [&](auto&& f) {  // the finished sizes (the backstop's included)
-    parts.for_each([&](std::size_t, const sim::PartResult& r) {
+    parts.for_each([&](std::size_t, const PartResult& r) {
       if (std::isfinite(r.finished_m)) f(r.finished_m);
     });
   };
   std::size_t n_sizes = 0, never = 0, backstops = 0;
   Stats st;
   double smallest = full.finished_m;
-  parts.for_each([&](std::size_t i, const sim::PartResult& r) {
+  parts.for_each([&](std::size_t i, const PartResult& r) {
     const std::array<double, 4> row{static_cast<double>(i), r.trip_s, r.stop_s,
                                     r.finished_m * kUm};
     parts_csv->row(row);
@@ -275,7 +275,7 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
 
   // 5. Seed (25) by Monte Carlo: filter-output noise, 1e5 samples far enough apart.
   const double spacing = 5.0 * std::max(line.lag_s(), 1.0 / p.noise_beta_per_s);
-  const auto eps = sim::filter_noise_samples(p, line, 100000, spacing, sc.run.seed + 1);
+  const auto eps = filter_noise_samples(p, line, 100000, spacing, sc.run.seed + 1);
   double v2 = 0.0;
   for (double e : eps) v2 += e * e;
   const double noise_sigma = std::sqrt(v2 / static_cast<double>(eps.size()));
@@ -286,7 +286,7 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
   std::vector<double> full_sizes(d.full_parts, 0.0);
   std::vector<char> full_backstop(d.full_parts, 0);
   sim::parallel_for(full_sizes.size(), [&](std::size_t i) {  // part i: its own seed
-    const auto r = sim::machine_part_full(p, d.transducer, dt, s_th, sc.run.seed * 7919 + i,
+    const auto r = machine_part_full(p, d.transducer, dt, s_th, sc.run.seed * 7919 + i,
                                           nullptr, 50, sc.run.duration_s);
     full_sizes[i] = r.finished_m;
     full_backstop[i] = r.backstop ? 1 : 0;
@@ -587,4 +587,4 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
   return out;
 }
 
-}  // namespace lathectl::d_gauging
+}  // namespace lathectl::systems::d_gauging
