@@ -53,9 +53,9 @@ TEST(Study, RunsThePhasesInOrderAndPutsTheExtraStudiesAfterTheReportsOwn) {
   sc.description = "what it is";
   Recording study(sc);
   const RunOutput out = study.run();
-  EXPECT_EQ(study.order, (std::vector<std::string>{"run_controllers", "check_claims",
-                                                   "extra_studies", "summary", "report",
-                                                   "finish"}));
+  EXPECT_EQ(study.order,
+            (std::vector<std::string>{"run_controllers", "check_claims", "extra_studies", "summary",
+                                      "report", "finish"}));
   EXPECT_EQ(out.summary["system"], "A");
   EXPECT_EQ(out.summary["scenario"], "probe");
   EXPECT_EQ(out.summary["file"], "probe.toml");

@@ -12,8 +12,6 @@
 // Standard errors: the sample σ of N independent normals is within σ/sqrt(2N) (1e5: 0.22 %,
 // 2e4: 0.5 %), so 3 % is a ≥ 6-standard-error bound for independent samples.
 
-#include "systems/d_gauging/rig.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,6 +19,7 @@
 #include <vector>
 
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
+#include "systems/d_gauging/rig.hpp"
 
 namespace lathectl::systems::d_gauging {
 namespace {

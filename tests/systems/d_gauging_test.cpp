@@ -56,8 +56,8 @@ TEST(SystemDSafety, ThresholdBelowTheBounceFloorIsRefusedAtTheTarget) {
   refused(t, "seed");
   EXPECT_NO_THROW((void)io::parse_scenario(t, "mem.toml", library(), systems::d_gauging::kSection));
   // Forced, it parses; the example near A0 is that set-up.
-  EXPECT_NO_THROW(
-      (void)io::parse_scenario(example("d_near_a0"), "mem.toml", library(), systems::d_gauging::kSection));
+  EXPECT_NO_THROW((void)io::parse_scenario(example("d_near_a0"), "mem.toml", library(),
+                                           systems::d_gauging::kSection));
 }
 
 TEST(SystemDSafety, GivenThresholdAboveTheFreeSignalIsRefusedAtItsKey) {
@@ -73,7 +73,8 @@ TEST(SystemDSafety, GivenThresholdAboveTheFreeSignalIsRefusedAtItsKey) {
 
 TEST(SystemDSafety, ExamplesThresholdsLieInTheSafeRange) {
   for (const char* name : {"d_gauging", "d_low_resonance"}) {
-    const auto sc = io::parse_scenario(example(name), "mem.toml", library(), systems::d_gauging::kSection);
+    const auto sc =
+        io::parse_scenario(example(name), "mem.toml", library(), systems::d_gauging::kSection);
     const auto& d = sc.get<systems::d_gauging::Settings>();
     const auto plan = systems::d_gauging::plan_threshold(d, sc.run.step_s);
     EXPECT_TRUE(plan.safe()) << name;
@@ -100,7 +101,8 @@ systems::d_gauging::GaugingProcess process() {
 TEST(SystemDBackstop, EndsTheLinearCutsTheRelayDoesNot) {
   const auto p = process();
   const systems::d_gauging::LinearGauge g{19844.0, 298e-6, 0.1};
-  const auto parts = systems::d_gauging::monte_carlo_linear(p, g, 100.0, 200, 5);  // S_th never reached
+  const auto parts =
+      systems::d_gauging::monte_carlo_linear(p, g, 100.0, 200, 5);  // S_th never reached
   for (const auto& r : parts) {
     EXPECT_TRUE(r.backstop);
     EXPECT_TRUE(std::isnan(r.trip_s));
@@ -149,14 +151,15 @@ TEST(SystemDCalibration, DynamicCalibrationWithoutNoiseLandsOnTarget) {
   gp.contact_damping_N_s_per_m = 200.0;  // regular probe (the design rule)
   gp.filter = sensors::VibroContactGauge::Params::Filter::SecondOrder;
   const auto st = sensors::VibroContactGauge::steady(gp);
-  const systems::d_gauging::LinearGauge g{st.signal_gain_V_per_m, st.free_amplitude_m, 0.1, gp.filter,
-                           gp.supply_Hz};
+  const systems::d_gauging::LinearGauge g{st.signal_gain_V_per_m, st.free_amplitude_m, 0.1,
+                                          gp.filter, gp.supply_Hz};
   const double th0 = systems::d_gauging::threshold_23(g, p) + 0.1;  // started 5 µm off
-  const auto c =
-      systems::d_gauging::calibrate_dynamic(p, gp, 2e-5, th0, st.signal_gain_V_per_m, 8, 0.2e-6, 3, 12.0);
+  const auto c = systems::d_gauging::calibrate_dynamic(p, gp, 2e-5, th0, st.signal_gain_V_per_m, 8,
+                                                       0.2e-6, 3, 12.0);
   EXPECT_TRUE(c.converged);
   EXPECT_LE(c.parts, 8u);
-  const auto r = systems::d_gauging::machine_part_full(p, gp, 2e-5, c.threshold_V, 3, nullptr, 50, 12.0);
+  const auto r =
+      systems::d_gauging::machine_part_full(p, gp, 2e-5, c.threshold_V, 3, nullptr, 50, 12.0);
   EXPECT_NEAR((r.finished_m - p.target_m) * 1e6, 0.0, 0.1);
 }
 

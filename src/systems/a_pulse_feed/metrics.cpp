@@ -112,7 +112,7 @@ void MetricsAccumulator::row(std::span<const double> v) noexcept {
 
 // A row at t ≥ t_d.
 void MetricsAccumulator::late_row(double t, double feed, double, double f_rev, double py,
-                                   std::size_t i) {
+                                  std::size_t i) {
   dev_ = std::max(dev_, std::abs(feed - ref_));
   if (i >= w_) peak_ = std::max(peak_, std::abs(py / k_um_ - d_ref_));
   if (roughing_ && std::abs(f_rev - set_) > 0.05 * set_) last_out_ = t;

@@ -90,8 +90,7 @@ void characteristic_study(const Settings& st, double slot_m, double frequency_Hz
   io::Series ideal{"simulated, instantaneous switching", duty, {}, "#2ca02c", false, true};
   for (double q : q_ideal_sim) ideal.y.push_back(q * 6e7);
   io::Series real{"simulated, opening " + fmt(rp.opening_time_s * 1e3) + " ms / closing " +
-                      fmt(rp.closing_time_s * 1e3) + " ms, overlap " + fmt(rp.lap_m * 1e6) +
-                      " µm",
+                      fmt(rp.closing_time_s * 1e3) + " ms, overlap " + fmt(rp.lap_m * 1e6) + " µm",
                   duty,
                   {},
                   "#1f77b4",
@@ -102,8 +101,8 @@ void characteristic_study(const Settings& st, double slot_m, double frequency_Hz
   out.report.plots.push_back(ch);
   double worst = 0.0;
   for (std::size_t k = 1; k < duty.size() - 1; ++k)
-    worst = std::max(worst,
-                     std::abs(q_ideal_sim[k] / (rp.orifice.gain_per_m() * h * duty[k]) - 1.0));
+    worst =
+        std::max(worst, std::abs(q_ideal_sim[k] / (rp.orifice.gain_per_m() * h * duty[k]) - 1.0));
   json& m = out.summary["metrics"];
   m["regulator_ideal_flow_max_error_pct"] = 100.0 * worst;
   // Dead zone and saturation from the switching model, closed form against simulation:
@@ -129,8 +128,7 @@ void tolerance_study(const Settings& st, const ToleranceStudy& t, double slot_m,
   const auto& a = st.rig;
   // Nominal: the pulsed regulator's simulated mean flow, and the throttle gap that gives it.
   const double q_nom =
-      regulator_characteristic(a.regulator, slot_m, a.frequency_Hz, {a.pulse_width_s}, 6)
-          .front();
+      regulator_characteristic(a.regulator, slot_m, a.frequency_Hz, {a.pulse_width_s}, 6).front();
   const double gap = q_nom / a.regulator.orifice.gain_per_m();
   const char* names[] = {"slot / gap opening", "spool diameter", "discharge coefficient μ",
                          "spool overlap (pulsed only)", "switching times (pulsed only)"};

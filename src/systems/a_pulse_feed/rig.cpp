@@ -41,7 +41,7 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
     throw std::invalid_argument("run: need step > 0, record interval ≥ step, duration > 0");
   if (cfg.regulator_kind == RegulatorKind::Throttle && cfg.controller_kind != ControllerKind::None)
     throw sim::ConfigError("controller.type",
-                      "a continuous throttle has no pulse actuator: controller must be none");
+                           "a continuous throttle has no pulse actuator: controller must be none");
   if (!(cfg.spindle_rpm > 0.0) || !(cfg.diameter_m > 0.0))
     throw std::invalid_argument("spindle speed and part diameter must be > 0");
   if (!(cfg.pulse_width_s > 0.0) || !(cfg.frequency_Hz > 0.0) || !(cfg.slot_m > 0.0))
@@ -75,10 +75,10 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   const double wh = slide_.hydraulic_omega();
   if (wh * dt > 0.5)
     throw sim::ConfigError("run.step_s", "step_s " + std::to_string(dt) +
-                                " too coarse for the slide's hydraulic "
-                                "natural frequency " +
-                                std::to_string(wh / 2 / std::numbers::pi) + " Hz: use step_s ≤ " +
-                                std::to_string(0.5 / wh));
+                                             " too coarse for the slide's hydraulic "
+                                             "natural frequency " +
+                                             std::to_string(wh / 2 / std::numbers::pi) +
+                                             " Hz: use step_s ≤ " + std::to_string(0.5 / wh));
   if (cfg.slide.damper_capacitance_m3_per_Pa > 0.0) {
     const double tau_d =
         cfg.slide.damper_capacitance_m3_per_Pa * cfg.slide.damper_resistance_Pa_s_per_m3;
@@ -86,7 +86,7 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
                          cfg.slide.damper_resistance_Pa_s_per_m3;
     if (dt > 0.5 * std::min(tau_d, tau_c))
       throw sim::ConfigError("run.step_s", "step_s too coarse for the damper: use step_s ≤ " +
-                                  std::to_string(0.5 * std::min(tau_d, tau_c)));
+                                               std::to_string(0.5 * std::min(tau_d, tau_c)));
   }
 
   sim::configure_as("regulator", [&] {
@@ -149,7 +149,7 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
         "increase step_s or the spindle speed, or shorten feed_window_s");
   if (!streamed_ && duration / (dt * static_cast<double>(record_every_)) > 5e7)
     throw sim::ConfigError("run.record_interval_s",
-                      "more than 5e7 recorded rows: increase record_interval_s");
+                           "more than 5e7 recorded rows: increase record_interval_s");
   // Warm-up: the slide was already feeding before t = 0. Run regulator, damper and slide at the
   // nominal load until the pulsed flow is periodic, then put the slide back at x = 0, so the
   // run starts in the pulsing steady state rather than with a start-up surge.

@@ -304,9 +304,7 @@ void read_controller(TableReader& root, RigConfig& a) {
 }
 
 ControllerKind controller_from(const std::string& s) {
-  return s == "aim"   ? ControllerKind::Aim
-         : s == "fim" ? ControllerKind::Fim
-                      : ControllerKind::None;
+  return s == "aim" ? ControllerKind::Aim : s == "fim" ? ControllerKind::Fim : ControllerKind::None;
 }
 
 void read_options(TableReader& root, Settings& st) {
@@ -427,7 +425,6 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
   io::read_acceptance(root, st->acceptance);
   return st;
 }
-
 
 std::string controller_kind_name(ControllerKind k) {
   switch (k) {

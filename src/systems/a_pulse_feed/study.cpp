@@ -53,8 +53,8 @@ json metrics_json(const Metrics& m) {
 
 struct Run {
   Rig rig;
-  std::unique_ptr<MetricsAccumulator> acc;  // fed as the rig records
-  std::unique_ptr<PulseMeanFlowPlot> pulse;  // the flow over whole pulses, for the plot
+  std::unique_ptr<MetricsAccumulator> acc;         // fed as the rig records
+  std::unique_ptr<PulseMeanFlowPlot> pulse;        // the flow over whole pulses, for the plot
   std::unique_ptr<io::ChannelStream> csv;          // channels.csv / channels_compare.csv
   Metrics metrics;
   std::string label;
@@ -201,11 +201,11 @@ void PulseFeedStudy::run_sweep() {
     Run r;
     run_one(sc_, c, r);
     const double ratio = r.metrics.feed_rate_steady_deviation_pct / base;
-    sweep_.push_back({{"leak_estimate_factor", f},
-                      {"feed_rate_deviation_pct", json_number(r.metrics.feed_rate_deviation_pct)},
-                      {"feed_rate_steady_deviation_pct",
-                       json_number(r.metrics.feed_rate_steady_deviation_pct)},
-                      {"steady_ratio_to_uncontrolled", json_number(ratio)}});
+    sweep_.push_back(
+        {{"leak_estimate_factor", f},
+         {"feed_rate_deviation_pct", json_number(r.metrics.feed_rate_deviation_pct)},
+         {"feed_rate_steady_deviation_pct", json_number(r.metrics.feed_rate_steady_deviation_pct)},
+         {"steady_ratio_to_uncontrolled", json_number(ratio)}});
     sweep_table_.rows.push_back({fmt(f), fmt(r.metrics.feed_rate_deviation_pct),
                                  fmt(r.metrics.feed_rate_steady_deviation_pct),
                                  fmt(ratio, "%.3f")});
@@ -244,11 +244,12 @@ void PulseFeedStudy::check_claims(Claims& claims) {
   if (against_throttle()) {
     claims.check("obliteration: continuous throttle feed drift over the run, % (|drift| > 5)",
                  cmp_->metrics.feed_drift_pct, Compare::Outside, 5.0);
-    claims.check("obliteration: pulsed regulator feed drift over the run, % (|drift| < 1; rests "
-                 "on each closing stroke sweeping off the share " +
-                     fmt(st_.rig.regulator.obliteration.removal_per_stroke) +
-                     " of the layer, an assumption: see the η sweep when given)",
-                 mm.feed_drift_pct, Compare::Within, 1.0);
+    claims.check(
+        "obliteration: pulsed regulator feed drift over the run, % (|drift| < 1; rests "
+        "on each closing stroke sweeping off the share " +
+            fmt(st_.rig.regulator.obliteration.removal_per_stroke) +
+            " of the layer, an assumption: see the η sweep when given)",
+        mm.feed_drift_pct, Compare::Within, 1.0);
   }
   if (!std::isnan(mm.flow_formula_error_pct))
     claims.note("mean flow " + fmt(mm.flow_mean_cm3_per_min) + " cm³/min against formula (1) " +
@@ -273,8 +274,8 @@ void PulseFeedStudy::finishing_claims(Claims& claims) const {
       mm.feed_rate_steady_deviation_pct / c.feed_rate_steady_deviation_pct, Compare::AtMost, 0.2);
   // Issue 17: the finishing mode exists for the size; holding the feed does not hold it.
   claims.note(
-      "size: the holder deflection Py/k goes " + fmt(mm.deflection_reference_um, "%.3g") +
-      " → " + fmt(mm.deflection_end_um, "%.3g") + " µm with control (" +
+      "size: the holder deflection Py/k goes " + fmt(mm.deflection_reference_um, "%.3g") + " → " +
+      fmt(mm.deflection_end_um, "%.3g") + " µm with control (" +
       fmt(c.deflection_reference_um, "%.3g") + " → " + fmt(c.deflection_end_um, "%.3g") +
       " µm without), so the diameter grows by " + fmt(mm.size_error_diameter_um, "%.3g") +
       " µm with control and " + fmt(c.size_error_diameter_um, "%.3g") +
@@ -333,8 +334,8 @@ void PulseFeedStudy::summary(json& s) {
 void PulseFeedStudy::report(Report& rep) {
   rep.title = "System A — " + sc_.name;
   rep.doc_page = "system-a-pulse-feed.md";
-  rep.subtitle = sc_.file + " · " + main_->label + (cmp_ ? " against " + cmp_->label : "") +
-                 " · " + std::string(roughing() ? "roughing" : "finishing") + " mode";
+  rep.subtitle = sc_.file + " · " + main_->label + (cmp_ ? " against " + cmp_->label : "") + " · " +
+                 std::string(roughing() ? "roughing" : "finishing") + " mode";
   report_metrics(rep);
   if (!sweep_.empty()) rep.tables.push_back(sweep_table_);
   report_plots(rep);
@@ -394,9 +395,9 @@ void PulseFeedStudy::report_plots(Report& rep) const {
     span_run(p, main);
     rep.plots.push_back(std::move(p));
   };
-  Plot feed = panel("Feed rate (averaged over the whole pulse periods nearest " +
-                        fmt(window_s * 1000) + " ms)",
-                    "feed [mm/min]");
+  Plot feed = panel(
+      "Feed rate (averaged over the whole pulse periods nearest " + fmt(window_s * 1000) + " ms)",
+      "feed [mm/min]");
   // The rig's feed channel from its first full window on (before, the mean mixes in the assumed
   // steady motion before t = 0: a ripple that is not the run's).
   const auto from_full_window = [&](Series sr) {
@@ -431,9 +432,8 @@ void PulseFeedStudy::report_plots(Report& rep) const {
   sens.series.push_back(series(main, "sensor_V", main.label, kMain));
   push(sens);
 
-  Plot flow =
-      panel("Regulator flow (averaged over whole pulse periods) and internal leakage",
-            "flow [cm³/min]");
+  Plot flow = panel("Regulator flow (averaged over whole pulse periods) and internal leakage",
+                    "flow [cm³/min]");
   const auto smooth = [&](const Run& r, Series sr) {
     // whole pulses (PulseMeanFlowPlot); a flow that never stops: the trailing window mean
     auto p = r.pulse->plot();
@@ -481,6 +481,8 @@ void PulseFeedStudy::finish(RunOutput& out) {
 }
 }  // namespace
 
-io::RunOutput run(const io::Scenario& sc) { return PulseFeedStudy(sc).run(); }
+io::RunOutput run(const io::Scenario& sc) {
+  return PulseFeedStudy(sc).run();
+}
 
 }  // namespace lathectl::systems::a_pulse_feed

@@ -11,8 +11,7 @@
 
 namespace lathectl::systems::b_chatter {
 
-Measure::Measure(const Rig& rig, bool twin, io::OutputStage* stage,
-                 std::size_t spill_block_rows)
+Measure::Measure(const Rig& rig, bool twin, io::OutputStage* stage, std::size_t spill_block_rows)
     : rig_(&rig), twin_(twin) {
   const std::pair<std::size_t*, const char*> read[] = {{&t_, "time_s"},
                                                        {&y_, "y_um"},

@@ -52,7 +52,7 @@ double Rig::max_step_s(const RigConfig& cfg, double* f_Hz) {
   const double L_mm = cfg.part.length_m * 1e3;
   if (!(cfg.z_end_mm < L_mm && cfg.z_end_mm > cfg.z_start_mm))
     throw sim::ConfigError("cut.z_end_mm",
-                      "the cut must run between the centres: 0 < z_start < z_end < length");
+                           "the cut must run between the centres: 0 < z_start < z_end < length");
   if (!(cfg.modes >= 1 && cfg.modes <= dynamics::TwinTurretCut::kMaxModes))
     throw sim::ConfigError("part.modes", "modes must be in 1..6");
   (void)dynamics::beam_modes_at(cfg.part, cfg.z_start_mm * 1e-3, cfg.modes);  // validates
@@ -84,23 +84,23 @@ double Rig::max_step_s(const RigConfig& cfg, double* f_Hz) {
   return 0.2 / (2.0 * kPi * f_ref);
 }
 
-void Rig::configure(const RigConfig& cfg, double dt, double record_interval,
-                     double max_duration) {
+void Rig::configure(const RigConfig& cfg, double dt, double record_interval, double max_duration) {
   if (!(dt > 0.0 && record_interval >= dt && max_duration > 0.0))
-    throw sim::ConfigError("run.record_interval_s",
-                      "dt, record interval and duration must be positive (record interval ≥ dt)");
+    throw sim::ConfigError(
+        "run.record_interval_s",
+        "dt, record interval and duration must be positive (record interval ≥ dt)");
   const double L_mm = cfg.part.length_m * 1e3;
   if (!(cfg.z_end_mm < L_mm && cfg.z_end_mm > cfg.z_start_mm))
     throw sim::ConfigError("cut.z_end_mm",
-                      "the cut must run between the centres: 0 < z_start < z_end < length");
+                           "the cut must run between the centres: 0 < z_start < z_end < length");
   {
     double f = 0.0;
     const double lim = max_step_s(cfg, &f);
     if (!(dt <= lim))
       throw sim::ConfigError("run.step_s", "step " + std::to_string(dt) +
-                                          " s too coarse for the part's chatter near " +
-                                          std::to_string(f) + " Hz: use a step ≤ " +
-                                          std::to_string(lim) + " s");
+                                               " s too coarse for the part's chatter near " +
+                                               std::to_string(f) + " Hz: use a step ≤ " +
+                                               std::to_string(lim) + " s");
   }
   if (!(cfg.approach_mm >= 0.0 && cfg.idle_block_s >= 0.0))
     throw sim::ConfigError("cut", "approach and idle block must be non-negative");
@@ -145,7 +145,7 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval,
   sim::configure_as("spindle", [&] { spindle_.configure(cfg.spindle); });
   spindle_.reset(cfg.rpm);
   sim::configure_as("power_sensor",
-               [&] { power_.configure(cfg.power, dt * static_cast<double>(control_every_)); });
+                    [&] { power_.configure(cfg.power, dt * static_cast<double>(control_every_)); });
   auto mp = cfg.module;
   mp.period_s = dt * static_cast<double>(control_every_);
   sim::configure_as("modulation", [&] { module_.configure(mp); });
@@ -163,7 +163,7 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval,
   }
   if (!(max_rows_ <= 5e6))
     throw sim::ConfigError("run.record_interval_s",
-                      "more than 5e6 recorded rows: raise run.record_interval_s");
+                           "more than 5e6 recorded rows: raise run.record_interval_s");
   rec_ = sim::Recorder(rig_b_channels(), static_cast<std::size_t>(max_rows_));
 }
 

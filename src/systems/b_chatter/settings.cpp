@@ -327,5 +327,4 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
   return s;
 }
 
-
 }  // namespace lathectl::systems::b_chatter

@@ -31,7 +31,8 @@ std::unique_ptr<io::SystemSettings> read_settings(io::TableReader& root, io::Sce
 // The section reader alone: what a component that only reads B's settings links (its
 // lathectl_b_chatter_settings). The one place the system's letter is written.
 inline constexpr io::Section kReadSection{"B", &read_settings, nullptr};
-// The cross-checks that need the whole scenario (validate.cpp: the step against the part's chatter, the rig configured once as a probe).
+// The cross-checks that need the whole scenario (validate.cpp: the step against the part's chatter,
+// the rig configured once as a probe).
 void validate(const io::Scenario& sc);
 // Reader and validation: the registry's entry.
 inline constexpr io::Section kSection{kReadSection.system, &read_settings, &validate};

@@ -56,7 +56,6 @@ std::string source_name(control::ModulationSource s) {
                                                       : "no modulation";
 }
 
-
 const char* const kColors[] = {"#d62728", "#1f77b4"};
 
 // One feed of the sweep: with and without modulation.
@@ -116,14 +115,14 @@ class ChatterStudy final : public io::Study {
   const Settings& st_;
   const RigConfig& b_;
   const bool twin_, modulated_, compared_;
-  const int turret_;            // the modulated turret's index
-  const double s_prog_;         // mm/min per turret
+  const int turret_;     // the modulated turret's index
+  const double s_prog_;  // mm/min per turret
   const double dead_zone_um_;
   std::unique_ptr<Run> with_ = std::make_unique<Run>(), without_ = std::make_unique<Run>();
   const Run* off_ = nullptr;  // the run without modulation, if any
   Limits lim_;                // at the softest position of the cut, lim_x_
   double lim_x_ = 0.0;
-  double vdp_B_ = 0.0;        // van der Pol: the measured quenching threshold (a0 = 2)
+  double vdp_B_ = 0.0;  // van der Pol: the measured quenching threshold (a0 = 2)
   Quenching quench_;
   std::vector<std::unique_ptr<SweepPoint>> sweep_;
 };
@@ -216,11 +215,11 @@ void ChatterStudy::extra_studies(io::RunOutput& out, Claims& /*claims*/) {
            {}};
   for (const auto& q : sweep_) {
     const double feed_ratio = q->on.feed_mean[turret_] / (q->feed * b_.rpm);
-    sw.push_back({{"feed_mm_per_rev", q->feed},
-                  {"without_um", q->off.vibration_um},
-                  {"with_um", json_number(modulated_ ? q->on.vibration_um : kNaN)},
-                  {"mean_feed_ratio",
-                   modulated_ && q->feed > 0 ? json_number(feed_ratio) : json(nullptr)}});
+    sw.push_back(
+        {{"feed_mm_per_rev", q->feed},
+         {"without_um", q->off.vibration_um},
+         {"with_um", json_number(modulated_ ? q->on.vibration_um : kNaN)},
+         {"mean_feed_ratio", modulated_ && q->feed > 0 ? json_number(feed_ratio) : json(nullptr)}});
     s0.x.push_back(q->feed);
     s0.y.push_back(q->off.vibration_um);
     if (modulated_) {
@@ -250,14 +249,13 @@ void ChatterStudy::check_claims(Claims& claims) {
             fmt(dead_zone_um_) + " µm)",
         off_->vibration_um, Compare::Above, dead_zone_um_);
   else if (!modulated_)
-    claims.note("No modulation in this scenario: steady vibration " +
-                fmt(m.vibration_um, "%.3g") + " µm against the dead zone of " +
-                fmt(dead_zone_um_) + " µm — the part " +
+    claims.note("No modulation in this scenario: steady vibration " + fmt(m.vibration_um, "%.3g") +
+                " µm against the dead zone of " + fmt(dead_zone_um_) + " µm — the part " +
                 (m.vibration_um > dead_zone_um_ ? "chatters." : "does not chatter."));
   if (modulated_ && off_) {
     const double ratio = off_->vibration_um / std::max(m.vibration_um, 1e-9);
-    claims.add("with " + m.label + ": vibration below the dead zone or reduced ≥ 5× (ratio)",
-               ratio, m.vibration_um < dead_zone_um_ || ratio >= 5.0);
+    claims.add("with " + m.label + ": vibration below the dead zone or reduced ≥ 5× (ratio)", ratio,
+               m.vibration_um < dead_zone_um_ || ratio >= 5.0);
   }
   if (modulated_)
     claims.check("mean feed of the modulated turret / programmed (within 10 %)",
@@ -276,8 +274,7 @@ void ChatterStudy::quenching_claims(Claims& claims) const {
                  Compare::AtLeast, 1.0 - 1e-3);
     if (o.force_amplitude_planned_N < o.force_amplitude_required_N)
       claims.note(
-          "The quenching condition asks for a force swing of " +
-          fmt(o.force_amplitude_required_N) +
+          "The quenching condition asks for a force swing of " + fmt(o.force_amplitude_required_N) +
           " N against the measured a0; feed modulation between S_min and S_max can swing the "
           "radial "
           "force by " +
@@ -295,23 +292,22 @@ void ChatterStudy::quenching_claims(Claims& claims) const {
   if (!automatic_engaged()) return;
   const double c_seed = b_.seed_coefficient;
   const auto& q = quench_;
-  claims.note(
-      "The seed's 1.41, read both ways (coefficient_reading = \"" +
-      std::string(b_.seed_divides ? "divide" : "multiply") +
-      "\" here). At the a0 the module planned on (just above the dead zone): required " +
-      fmt(c_seed * q.k_planned) + " N multiplying, " + fmt(q.k_planned / c_seed) +
-      " N dividing, against " + fmt(o.force_amplitude_planned_N) + " N planned (ratio " +
-      fmt(o.force_amplitude_planned_N / (c_seed * q.k_planned), "%.2f") + " or " +
-      fmt(o.force_amplitude_planned_N * c_seed / q.k_planned, "%.2f") + ")." +
-      (std::isfinite(q.k_steady)
-           ? " At the document's a0, the steady amplitude without modulation (" +
-                 fmt(q.a0_steady_um, "%.0f") + " µm): " + fmt(c_seed * q.k_steady, "%.0f") +
-                 " N or " + fmt(q.k_steady / c_seed, "%.0f") + " N (ratio " +
-                 fmt(o.force_amplitude_planned_N / (c_seed * q.k_steady), "%.3f") + " or " +
-                 fmt(o.force_amplitude_planned_N * c_seed / q.k_steady, "%.3f") +
-                 "): the document's rule, read either way, asks a feed drive for a force "
-                 "swing it cannot make once chatter is developed."
-           : std::string()));
+  claims.note("The seed's 1.41, read both ways (coefficient_reading = \"" +
+              std::string(b_.seed_divides ? "divide" : "multiply") +
+              "\" here). At the a0 the module planned on (just above the dead zone): required " +
+              fmt(c_seed * q.k_planned) + " N multiplying, " + fmt(q.k_planned / c_seed) +
+              " N dividing, against " + fmt(o.force_amplitude_planned_N) + " N planned (ratio " +
+              fmt(o.force_amplitude_planned_N / (c_seed * q.k_planned), "%.2f") + " or " +
+              fmt(o.force_amplitude_planned_N * c_seed / q.k_planned, "%.2f") + ")." +
+              (std::isfinite(q.k_steady)
+                   ? " At the document's a0, the steady amplitude without modulation (" +
+                         fmt(q.a0_steady_um, "%.0f") + " µm): " + fmt(c_seed * q.k_steady, "%.0f") +
+                         " N or " + fmt(q.k_steady / c_seed, "%.0f") + " N (ratio " +
+                         fmt(o.force_amplitude_planned_N / (c_seed * q.k_steady), "%.3f") + " or " +
+                         fmt(o.force_amplitude_planned_N * c_seed / q.k_steady, "%.3f") +
+                         "): the document's rule, read either way, asks a feed drive for a force "
+                         "swing it cannot make once chatter is developed."
+                   : std::string()));
 }
 
 // What the set-up adds: the inter-tool delay, process damping, the linear limits, the turrets.
@@ -319,15 +315,16 @@ void ChatterStudy::setup_notes(Claims& claims) const {
   const Run& m = main();
   if (b_.setup == TwinSetup::DepthDivision &&
       b_.inter_tool_delay == dynamics::InterToolDelay::AxialPositions)
-    claims.note("Inter-tool delay from the tools' axial positions: tool 2 met the surface tool 1 "
-                "left " +
-                fmt(m.delay_min_rev, "%.2f") + " … " + fmt(m.delay_max_rev, "%.2f") +
-                " revolutions earlier over the steady window (frozen model: round(lag/s) + ½ = " +
-                fmt(std::round(b_.tool2_lag_mm / b_.feed_mm_per_rev) + 0.5, "%.1f") + ").");
+    claims.note(
+        "Inter-tool delay from the tools' axial positions: tool 2 met the surface tool 1 "
+        "left " +
+        fmt(m.delay_min_rev, "%.2f") + " … " + fmt(m.delay_max_rev, "%.2f") +
+        " revolutions earlier over the steady window (frozen model: round(lag/s) + ½ = " +
+        fmt(std::round(b_.tool2_lag_mm / b_.feed_mm_per_rev) + 0.5, "%.1f") + ").");
   if (b_.process_damping.on())
     claims.note("Process damping (flank indentation, K_sp = " +
-                fmt(b_.process_damping.k_sp_N_per_m3 * 1e-9, "%.3g") + " N/mm³, VB = " +
-                fmt(b_.process_damping.wear_land_mm) + " mm, γ = " +
+                fmt(b_.process_damping.k_sp_N_per_m3 * 1e-9, "%.3g") +
+                " N/mm³, VB = " + fmt(b_.process_damping.wear_land_mm) + " mm, γ = " +
                 fmt(b_.process_damping.clearance_deg) + "°) is on: beyond the seed's model.");
   if (b_.setup == TwinSetup::FeedDivision)
     claims.note("Linear limits at z = " + fmt(lim_x_) + " mm, " + fmt(b_.rpm) +
@@ -362,7 +359,8 @@ void ChatterStudy::summary(json& s) {
   // The user's cut is the main run's (with its modulation, if any).
   io::Acceptance acceptance(st_.acceptance);
   acceptance.judge("max_vibration_um", main().vibration_um);
-  if (modulated_) acceptance.judge("min_mean_feed_pct", 100.0 * main().feed_mean[turret_] / s_prog_);
+  if (modulated_)
+    acceptance.judge("min_mean_feed_pct", 100.0 * main().feed_mean[turret_] / s_prog_);
   s["acceptance"] = acceptance.json();
 }
 
@@ -378,43 +376,42 @@ json ChatterStudy::run_metrics() const {
   };
   const Run& chat = off_ ? *off_ : m;
   const auto& o = mo();
-  return {
-      {"vibration_amplitude_um", both(&Run::vibration_um)},
-      {"forced_deflection_um", both(&Run::forced_um)},
-      {"static_deflection_um", both(&Run::static_um)},
-      {"chatter_frequency_Hz", json_number(chat.chatter_Hz)},
-      {"modulation",
-       {{"S_min_mm_per_min", o.plan.s_min_mm_per_min},
-        {"dS_mm_per_min", o.plan.ds_mm_per_min},
-        {"dl_mm", o.plan.dl_mm},
-        {"n_s", o.plan.n_s},
-        {"S_max_mm_per_min", o.plan.active() ? o.plan.s_max_mm_per_min() : 0.0},
-        {"omega_m_Hz", o.omega_m_rad_per_s / (2.0 * std::numbers::pi)},
-        {"turret", turret_ == 0 ? "right" : "left"},
-        {"engaged", o.engaged},
-        {"engaged_at_s", json_number(m.rig.engaged_at_s() >= 0 ? m.rig.engaged_at_s() : kNaN)},
-        {"force_amplitude_required_N", o.force_amplitude_required_N},
-        {"force_amplitude_planned_N", o.force_amplitude_planned_N},
-        {"reason", std::string(control::reason_name(o.reason))}}},
-      {"mean_feed_mm_per_min",
-       {{"programmed", s_prog_},
-        {"right", m.feed_mean[0]},
-        {"left", twin_ ? json_number(m.feed_mean[1]) : json(nullptr)}}},
-      {"cutting_power_W", {{"true", m.cut_power_W}, {"measured", m.cut_power_measured_W}}},
-      {"one_turret_out_of_cut_share",
-       modulated_ ? json{{"with", m.one_out_share},
-                         {"without", off_ ? json_number(off_->one_out_share) : json(nullptr)}}
-                  : json{{"without", m.one_out_share}}},
-      {"linear_limits",
-       {{"at_mm", lim_x_},
-        {"single_tool_feed_mm_per_rev", json_number(lim_.single_feed)},
-        {"feed_division_feed_mm_per_rev", json_number(lim_.twin_feed)},
-        {"chatter_Hz", json_number(lim_.chatter_Hz)},
-        {"programmed_feed_mm_per_rev", b_.feed_mm_per_rev}}},
-      {"quenching_check",
-       {{"van_der_pol_threshold_B_over_a0", vdp_B_ / 2.0},
-        {"averaging_theory", 1.0 / std::numbers::sqrt2},
-        {"seed_coefficient", b_.seed_coefficient}}}};
+  return {{"vibration_amplitude_um", both(&Run::vibration_um)},
+          {"forced_deflection_um", both(&Run::forced_um)},
+          {"static_deflection_um", both(&Run::static_um)},
+          {"chatter_frequency_Hz", json_number(chat.chatter_Hz)},
+          {"modulation",
+           {{"S_min_mm_per_min", o.plan.s_min_mm_per_min},
+            {"dS_mm_per_min", o.plan.ds_mm_per_min},
+            {"dl_mm", o.plan.dl_mm},
+            {"n_s", o.plan.n_s},
+            {"S_max_mm_per_min", o.plan.active() ? o.plan.s_max_mm_per_min() : 0.0},
+            {"omega_m_Hz", o.omega_m_rad_per_s / (2.0 * std::numbers::pi)},
+            {"turret", turret_ == 0 ? "right" : "left"},
+            {"engaged", o.engaged},
+            {"engaged_at_s", json_number(m.rig.engaged_at_s() >= 0 ? m.rig.engaged_at_s() : kNaN)},
+            {"force_amplitude_required_N", o.force_amplitude_required_N},
+            {"force_amplitude_planned_N", o.force_amplitude_planned_N},
+            {"reason", std::string(control::reason_name(o.reason))}}},
+          {"mean_feed_mm_per_min",
+           {{"programmed", s_prog_},
+            {"right", m.feed_mean[0]},
+            {"left", twin_ ? json_number(m.feed_mean[1]) : json(nullptr)}}},
+          {"cutting_power_W", {{"true", m.cut_power_W}, {"measured", m.cut_power_measured_W}}},
+          {"one_turret_out_of_cut_share",
+           modulated_ ? json{{"with", m.one_out_share},
+                             {"without", off_ ? json_number(off_->one_out_share) : json(nullptr)}}
+                      : json{{"without", m.one_out_share}}},
+          {"linear_limits",
+           {{"at_mm", lim_x_},
+            {"single_tool_feed_mm_per_rev", json_number(lim_.single_feed)},
+            {"feed_division_feed_mm_per_rev", json_number(lim_.twin_feed)},
+            {"chatter_Hz", json_number(lim_.chatter_Hz)},
+            {"programmed_feed_mm_per_rev", b_.feed_mm_per_rev}}},
+          {"quenching_check",
+           {{"van_der_pol_threshold_B_over_a0", vdp_B_ / 2.0},
+            {"averaging_theory", 1.0 / std::numbers::sqrt2},
+            {"seed_coefficient", b_.seed_coefficient}}}};
 }
 
 // The quenching condition read both ways, the inter-tool delay, process damping.
@@ -429,31 +426,31 @@ void ChatterStudy::model_metrics(json& m) const {
                   {"ratio_multiply", json_number(planned / (c_seed * k))},
                   {"ratio_divide", json_number(planned * c_seed / k)}};
     };
-    m["quenching_condition"] = {{"reading", b_.seed_divides ? "divide" : "multiply"},
-                                {"planned_N", planned},
-                                {"at_planned_a0", reading(quench_.k_planned, quench_.a0_planned_um)},
-                                {"at_steady_a0", reading(quench_.k_steady, quench_.a0_steady_um)}};
+    m["quenching_condition"] = {
+        {"reading", b_.seed_divides ? "divide" : "multiply"},
+        {"planned_N", planned},
+        {"at_planned_a0", reading(quench_.k_planned, quench_.a0_planned_um)},
+        {"at_steady_a0", reading(quench_.k_steady, quench_.a0_steady_um)}};
   }
   if (b_.setup == TwinSetup::DepthDivision) {
     const auto& pc = main().rig.process();
     m["inter_tool_delay"] = {
-        {"model", b_.inter_tool_delay == dynamics::InterToolDelay::Fixed ? "fixed"
-                                                                          : "axial_positions"},
+        {"model",
+         b_.inter_tool_delay == dynamics::InterToolDelay::Fixed ? "fixed" : "axial_positions"},
         {"min_rev", json_number(main().delay_min_rev)},
         {"max_rev", json_number(main().delay_max_rev)},
         {"uncut_reads", pc.uncut_reads()},
         {"clipped_reads", pc.clipped_reads()}};
   }
   if (b_.process_damping.on())
-    m["process_damping"] = {
-        {"model", "indentation"},
-        {"K_sp_N_per_mm3", b_.process_damping.k_sp_N_per_m3 * 1e-9},
-        {"wear_land_mm", b_.process_damping.wear_land_mm},
-        {"clearance_deg", b_.process_damping.clearance_deg},
-        {"linear_equivalent_N_s_per_m",
-         b_.process_damping.k_sp_N_per_m3 * b_.depth_mm[0] * 1e-3 *
-             std::pow(b_.process_damping.wear_land_mm * 1e-3, 2) /
-             (4.0 * std::numbers::pi * b_.part.diameter_m * b_.rpm / 60.0)}};
+    m["process_damping"] = {{"model", "indentation"},
+                            {"K_sp_N_per_mm3", b_.process_damping.k_sp_N_per_m3 * 1e-9},
+                            {"wear_land_mm", b_.process_damping.wear_land_mm},
+                            {"clearance_deg", b_.process_damping.clearance_deg},
+                            {"linear_equivalent_N_s_per_m",
+                             b_.process_damping.k_sp_N_per_m3 * b_.depth_mm[0] * 1e-3 *
+                                 std::pow(b_.process_damping.wear_land_mm * 1e-3, 2) /
+                                 (4.0 * std::numbers::pi * b_.part.diameter_m * b_.rpm / 60.0)}};
 }
 
 void ChatterStudy::report(io::Report& rep) {
@@ -586,13 +583,15 @@ void ChatterStudy::finish(io::RunOutput& out) {
   if (compared_) out.compare_csv = without_->csv->take_text();
   out.headline =
       (off_ ? "no modulation " + fmt(off_->vibration_um, "%.3g") + " µm" : std::string()) +
-      (modulated_ ? (off_ ? "; " : "") + m.label + " " + fmt(m.vibration_um, "%.3g") +
-                        " µm, mean feed " + fmt(m.feed_mean[turret_] / s_prog_, "%.3f") +
-                        "× programmed"
-                  : std::string());
+      (modulated_
+           ? (off_ ? "; " : "") + m.label + " " + fmt(m.vibration_um, "%.3g") + " µm, mean feed " +
+                 fmt(m.feed_mean[turret_] / s_prog_, "%.3f") + "× programmed"
+           : std::string());
 }
 }  // namespace
 
-io::RunOutput run(const io::Scenario& sc) { return ChatterStudy(sc).run(); }
+io::RunOutput run(const io::Scenario& sc) {
+  return ChatterStudy(sc).run();
+}
 
 }  // namespace lathectl::systems::b_chatter

@@ -83,7 +83,8 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval) {
   if (!(dt > 0.0) || record_interval < dt)
     throw sim::ConfigError("run.record_interval_s", "step > 0 and record interval ≥ step");
   cfg_ = cfg;
-  if (cfg.blank_diameter_m > 0.0) sim::configure_as("material", [&] { cut_.configure(cfg.cutting); });
+  if (cfg.blank_diameter_m > 0.0)
+    sim::configure_as("material", [&] { cut_.configure(cfg.cutting); });
   dt_ = dt;
   record_every_ =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(record_interval / dt)));
@@ -101,9 +102,10 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval) {
   s_hi_ = span;
   const auto lin = linearisation();
   if (lin.omega_n() * dt > 0.2)
-    throw sim::ConfigError("run.step_s", "step too coarse for the slide's natural frequency (" +
-                        std::to_string(lin.omega_n() / (2.0 * std::numbers::pi)) +
-                        " Hz): use step_s ≤ " + std::to_string(0.2 / lin.omega_n()));
+    throw sim::ConfigError("run.step_s",
+                           "step too coarse for the slide's natural frequency (" +
+                               std::to_string(lin.omega_n() / (2.0 * std::numbers::pi)) +
+                               " Hz): use step_s ≤ " + std::to_string(0.2 / lin.omega_n()));
   t_ = 0.0;
   sound_ = true;
   if (!cfg.nonlinear) {
@@ -121,13 +123,15 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval) {
     const double fluid_w =
         std::sqrt(4.0 * cfg.bulk_modulus_Pa * A * A / (cfg.total_volume_m3 * l.mass_kg));
     if (fluid_w * dt > 0.2)
-      throw sim::ConfigError("run.step_s", "step too coarse for the hydraulic natural frequency: use step_s ≤ " +
-                        std::to_string(0.2 / fluid_w));
+      throw sim::ConfigError("run.step_s",
+                             "step too coarse for the hydraulic natural frequency: use step_s ≤ " +
+                                 std::to_string(0.2 / fluid_w));
   }
   s_ = target(x0_) - q_static_;
   v_ = 0.0;
   max_rows_ = static_cast<std::size_t>(t_end_ / (dt * static_cast<double>(record_every_))) + 4;
-  rec_ = streamed_ ? sim::Recorder::streamed(rig_c_channels()) : sim::Recorder(rig_c_channels(), max_rows_);
+  rec_ = streamed_ ? sim::Recorder::streamed(rig_c_channels())
+                   : sim::Recorder(rig_c_channels(), max_rows_);
 }
 
 void Rig::run() noexcept {

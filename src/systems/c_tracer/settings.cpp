@@ -288,5 +288,4 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
   return st;
 }
 
-
 }  // namespace lathectl::systems::c_tracer

@@ -33,8 +33,8 @@ struct Run {
 // The rig records streamed (its memory bounded whatever the template's length, the feed and the
 // record interval): the metrics are accumulated row by row, the result file `csv` is written into
 // `stage` as the rows come (in memory without one). kept_rows: TracerMetrics' budget of cone rows.
-void run_one(const io::Scenario& sc, RigConfig cfg, bool nonlinear, Run& r,
-             std::size_t kept_rows, const char* csv, io::OutputStage* stage) {
+void run_one(const io::Scenario& sc, RigConfig cfg, bool nonlinear, Run& r, std::size_t kept_rows,
+             const char* csv, io::OutputStage* stage) {
   cfg.nonlinear = nonlinear;
   r.rig.set_streamed(true);
   configure_rig(sc, r.rig, cfg);
@@ -145,8 +145,8 @@ void TracerStudy::run_controllers() {
           st_.rig.coulomb_N + (st_.rig.blank_diameter_m > 0.0 ? main().acc->first_load_N() : 0.0);
     }
     runs_.push_back(std::make_unique<Run>());
-    run_one(sc_, cfg, st_.compare == "nonlinear", *runs_.back(), kept_rows_,
-            "channels_compare.csv", stage);
+    run_one(sc_, cfg, st_.compare == "nonlinear", *runs_.back(), kept_rows_, "channels_compare.csv",
+            stage);
   }
   closed_form();
 }
@@ -207,9 +207,8 @@ void TracerStudy::comparison_claims(Claims& claims) const {
                      fmt(expect) + " µm (ratio)",
                  (nl.max_dy_um - li.max_dy_um) / expect, Compare::RatioWithin, 0.1);
   }
-  claims.note("Largest errors: nonlinear δx " + fmt(nl.max_dx_um) + " µm, δy " +
-              fmt(nl.max_dy_um) + " µm; linear δx " + fmt(li.max_dx_um) + " µm, δy " +
-              fmt(li.max_dy_um) + " µm.");
+  claims.note("Largest errors: nonlinear δx " + fmt(nl.max_dx_um) + " µm, δy " + fmt(nl.max_dy_um) +
+              " µm; linear δx " + fmt(li.max_dx_um) + " µm, δy " + fmt(li.max_dy_um) + " µm.");
 }
 
 json TracerStudy::metrics(const Run& r) const {
@@ -251,8 +250,7 @@ void TracerStudy::report(Report& rep) {
   report_metrics(rep);
   feature_tables(rep);
   // The plots along x share the template's x range, so they line up one under the other.
-  const double x_lo = st_.rig.profile.xs().front() * 1e3,
-               x_hi = st_.rig.profile.xs().back() * 1e3;
+  const double x_lo = st_.rig.profile.xs().front() * 1e3, x_hi = st_.rig.profile.xs().back() * 1e3;
   profile_plot(rep, x_lo, x_hi);
   error_plots(rep, x_lo, x_hi);
 }
@@ -382,12 +380,13 @@ void TracerStudy::finish(RunOutput& out) {
   out.headline =
       main().label + ": max δx " + fmt(main().max_dx_um) + " µm, δy " + fmt(main().max_dy_um) +
       " µm, ζ " + fmt(lin_.zeta(), "%.2f") +
-      (runs_.size() > 1 ? "; " + runs_[1]->label + " δy " + fmt(runs_[1]->max_dy_um) + " µm"
-                        : "");
+      (runs_.size() > 1 ? "; " + runs_[1]->label + " δy " + fmt(runs_[1]->max_dy_um) + " µm" : "");
 }
 }  // namespace
 
-io::RunOutput run(const io::Scenario& sc) { return run(sc, TracerMetrics::kKeptRows); }
+io::RunOutput run(const io::Scenario& sc) {
+  return run(sc, TracerMetrics::kKeptRows);
+}
 
 io::RunOutput run(const io::Scenario& sc, std::size_t kept_rows) {
   return TracerStudy(sc, kept_rows).run();

@@ -15,9 +15,9 @@
 // stops t_r later, or at the backstop if x reaches it first. The finished size is the true size
 // then: ξ disturbs the measurement, not the part.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <algorithm>
 #include <limits>
 #include <span>
 #include <vector>

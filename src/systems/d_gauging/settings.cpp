@@ -198,5 +198,4 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
   return d;
 }
 
-
 }  // namespace lathectl::systems::d_gauging

@@ -25,7 +25,7 @@ struct Settings : io::SettingsOf<Settings> {
   // The reader's disturbance is none unless [process] noise_sigma_um gives one.
   // The backstop is NaN until read: absent, it is target − tolerance (the lower tolerance limit).
   GaugingProcess process{.noise_variance_m2 = 0.0,
-                              .backstop_m = std::numeric_limits<double>::quiet_NaN()};
+                         .backstop_m = std::numeric_limits<double>::quiet_NaN()};
   sensors::VibroContactGauge::Params transducer;
   double tolerance_m = 10e-6;              // ± about the target
   std::string threshold = "calibrated";    // "seed" (23 with A0, K), "calibrated" (23 with the
@@ -59,7 +59,8 @@ std::unique_ptr<io::SystemSettings> read_settings(io::TableReader& root, io::Sce
 // The section reader alone: what a component that only reads D's settings links (its
 // lathectl_d_gauging_settings). The one place the system's letter is written.
 inline constexpr io::Section kReadSection{"D", &read_settings, nullptr};
-// The cross-checks that need the whole scenario (validate.cpp: the transducer's probe, the allowance against its free amplitude, the threshold against the signal's safe range).
+// The cross-checks that need the whole scenario (validate.cpp: the transducer's probe, the
+// allowance against its free amplitude, the threshold against the signal's safe range).
 void validate(const io::Scenario& sc);
 // Reader and validation: the registry's entry.
 inline constexpr io::Section kSection{kReadSection.system, &read_settings, &validate};

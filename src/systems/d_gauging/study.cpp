@@ -61,7 +61,10 @@ double linear_trip(const GaugingProcess& p, const LinearGauge& g, double s_th) {
 class GaugingStudy final : public io::Study {
  public:
   GaugingStudy(const io::Scenario& sc, std::size_t kept_parts)
-      : Study(sc), d_(sc.get<Settings>()), p_(d_.process), dt_(sc.run.step_s),
+      : Study(sc),
+        d_(sc.get<Settings>()),
+        p_(d_.process),
+        dt_(sc.run.step_s),
         kept_parts_(kept_parts) {}
 
  private:
@@ -108,11 +111,14 @@ class GaugingStudy final : public io::Study {
   const GaugingProcess& p_;
   const double dt_;
   const std::size_t kept_parts_;
-  GaugingProcess quiet_;                     // the process without noise
-  double A0_ = 0.0, K_ = 0.0;                // free amplitude, the seed's signal gain
+  GaugingProcess quiet_;       // the process without noise
+  double A0_ = 0.0, K_ = 0.0;  // free amplitude, the seed's signal gain
   std::unique_ptr<io::ChannelStream> parts_csv_, rec_csv_;
-  sim::Recorder rec_ = sim::Recorder::streamed(
-      {{"time_s", "s"}, {"x_um", "µm"}, {"x_seen_um", "µm"}, {"signal_V", "V"}, {"probe_um", "µm"}});
+  sim::Recorder rec_ = sim::Recorder::streamed({{"time_s", "s"},
+                                                {"x_um", "µm"},
+                                                {"x_seen_um", "µm"},
+                                                {"signal_V", "V"},
+                                                {"probe_um", "µm"}});
   // 1. Calibration.
   std::vector<double> xs_, s_full_;  // the full model's settled mean signal against x
   ThresholdPlan plan_;
@@ -200,8 +206,8 @@ void GaugingStudy::calibrate() {
                              d_.calibration_parts_max, 0.025 * d_.tolerance_m, sc_.run.seed + 17,
                              sc_.run.duration_s);
   s_th_ = d_.threshold == "calibrated_dynamic" ? dyn_.threshold_V : s_static_;
-  seed_signal_dev_pct_ = 100.0 * (K_ * (A0_ - plan_.x_trip_m) - level_at_trip_.mean_V) /
-                         level_at_trip_.mean_V;
+  seed_signal_dev_pct_ =
+      100.0 * (K_ * (A0_ - plan_.x_trip_m) - level_at_trip_.mean_V) / level_at_trip_.mean_V;
 }
 
 // The first-passage bias of (23): the relay trips at the FIRST upward crossing of the noisy
@@ -241,8 +247,7 @@ void GaugingStudy::linear_monte_carlo() {
   parts_ = std::make_unique<LinearParts>(p_, line(), s_th_, d_.parts, sc_.run.seed, kept_parts_);
   smallest_ = full_.finished_m;
   parts_->for_each([&](std::size_t i, const PartResult& r) {
-    const std::array<double, 4> row{static_cast<double>(i), r.trip_s, r.stop_s,
-                                    r.finished_m * kUm};
+    const std::array<double, 4> row{static_cast<double>(i), r.trip_s, r.stop_s, r.finished_m * kUm};
     parts_csv_->row(row);
     never_ += std::isnan(r.trip_s) ? 1 : 0;
     backstops_ += r.backstop ? 1 : 0;
@@ -395,8 +400,8 @@ void GaugingStudy::check_claims(Claims& claims) {
   claims.check(
       "(25): Monte Carlo σ of the filter-output noise / predicted (1e5 samples; within 3 %)",
       noise_sigma_ / noise_pred_, Compare::RatioWithin, 0.03);
-  claims.check("σ of finished size / sqrt(D/(1+βT_f))", st_.sigma / pred_sigma_, Compare::RatioWithin,
-               0.05);
+  claims.check("σ of finished size / sqrt(D/(1+βT_f))", st_.sigma / pred_sigma_,
+               Compare::RatioWithin, 0.05);
   const double bias_in_se = (st_.mean - p_.target_m) / se_;
   // calibrated_dynamic aims the full model, not the linearised one: its linear mean is a note.
   if (d_.threshold != "calibrated_dynamic")
@@ -427,8 +432,8 @@ void GaugingStudy::check_claims(Claims& claims) {
               " µm: full model " + fmt(level_at_trip_.mean_V) + " V, the seed's K·(A0 − x) " +
               fmt(K_ * (A0_ - plan_.x_trip_m)) + " V (" + fmt(seed_signal_dev_pct_, "%.2f") +
               " %); the local calibration gives K = " + fmt(cal_line_.gain_V_per_m * 1e-3) +
-              " mV/µm (seed: " + fmt(K_ * 1e-3) + "), intercept " + fmt(cal_line_.intercept_m * kUm) +
-              " µm (seed: A0 = " + fmt(A0_ * kUm) + ").");
+              " mV/µm (seed: " + fmt(K_ * 1e-3) + "), intercept " +
+              fmt(cal_line_.intercept_m * kUm) + " µm (seed: A0 = " + fmt(A0_ * kUm) + ").");
   bias_notes(claims);
   if (full_sizes_.size() >= 30) {  // enough parts for their mean and σ to mean something
     claims.check("full model with noise: mean finished size − target [µm] (|·| ≤ 0.5)",
@@ -485,59 +490,61 @@ void GaugingStudy::bias_notes(Claims& claims) const {
         "first-passage "
         "bias of " +
         fmt((st_.mean - p_.target_m) * kUm, "%.4f") + " µm here (" + fmt(bias_in_se, "%.1f") +
-        " standard errors of the mean, " + fmt(100.0 * (st_.mean - p_.target_m) / st_.sigma, "%.2f") +
-        " % of σ).");
+        " standard errors of the mean, " +
+        fmt(100.0 * (st_.mean - p_.target_m) / st_.sigma, "%.2f") + " % of σ).");
 }
 
 void GaugingStudy::summary(json& s) {
   // The one part of the run: ended by its backstop, it raises the gauging cycle's alarm.
   json alarms = json::array();
   if (full_.backstop)
-    alarms.push_back({{"time_s", json_number(full_.stop_s)},
-                      {"code", static_cast<int>(control::Reason::GaugeBackstop)},
-                      {"reason", std::string(control::reason_name(control::Reason::GaugeBackstop))}});
-  s["metrics"] = {{"parts", n_sizes_},
-                  {"parts_never_tripped", never_},
-                  {"size_mean_error_um", json_number((st_.mean - p_.target_m) * kUm)},
-                  {"size_sigma_um", json_number(st_.sigma * kUm)},
-                  {"predicted_sigma_um", json_number(pred_sigma_ * kUm)},
-                  {"size_mean_standard_error_um", json_number(se_ * kUm)},
-                  {"cp", json_number(cp_)},
-                  {"cpk", json_number(cpk_)},
-                  {"tolerance_um", json_number(d_.tolerance_m * kUm)},
-                  {"threshold_V", json_number(s_th_)},
-                  {"threshold_kind", d_.threshold},
-                  {"free_amplitude_um", json_number(A0_ * kUm)},
-                  {"signal_gain_mV_per_um", json_number(K_ * 1e-3)},
-                  {"calibrated_gain_mV_per_um", json_number(cal_line_.gain_V_per_m * 1e-3)},
-                  {"calibrated_intercept_um", json_number(cal_line_.intercept_m * kUm)},
-                  {"seed_signal_deviation_at_trip_pct", json_number(seed_signal_dev_pct_)},
-                  {"signal_ripple_at_trip_V", json_number(level_at_trip_.ripple_V)},
-                  {"noise_sigma_V", json_number(noise_sigma_)},
-                  {"noise_sigma_predicted_V", json_number(noise_pred_)},
-                  {"full_trip_time_s", json_number(full_.trip_s)},
-                  {"linear_trip_time_s", json_number(trip_lin_)},
-                  {"full_finished_error_um", json_number(full_err_um_)},
-                  {"full_mc_parts", full_sizes_.size()},
-                  {"full_mc_mean_error_um",
-                   json_number(full_sizes_.empty() ? NAN : (fst_.mean - p_.target_m) * kUm)},
-                  {"full_mc_sigma_um", json_number(full_sizes_.size() > 1 ? fst_.sigma * kUm : NAN)},
-                  {"backstop_um", json_number(p_.backstop_m * kUm)},
-                  {"filter", filter_name(d_.transducer.filter)},
-                  {"filter_lag_s", json_number(line().lag_s())},
-                  {"bias_correction_um", json_number(bias_m_ * kUm)},
-                  {"bias_correction_standard_error_um", json_number(bias_se_m_ * kUm)},
-                  {"calibration_parts", dyn_.parts},
-                  {"probe_spread_at_trip_um", json_number(plan_.calibrated_line.spread_m * kUm)},
-                  {"probe_regular", regular()},
-                  {"backstop_trips", backstops_},
-                  {"threshold_forced", d_.force_threshold && !plan_.safe()},
-                  {"safe_threshold_low_V", json_number(plan_.range.low_V)},
-                  {"safe_threshold_high_V", json_number(plan_.range.high_V)},
-                  {"signal_floor_V", json_number(plan_.range.floor_V)},
-                  {"signal_floor_from_um", json_number(plan_.range.floor_start_m * kUm)},
-                  {"largest_safe_target_um", json_number(plan_.largest_target_m * kUm)},
-                  {"alarms", alarms}};
+    alarms.push_back(
+        {{"time_s", json_number(full_.stop_s)},
+         {"code", static_cast<int>(control::Reason::GaugeBackstop)},
+         {"reason", std::string(control::reason_name(control::Reason::GaugeBackstop))}});
+  s["metrics"] = {
+      {"parts", n_sizes_},
+      {"parts_never_tripped", never_},
+      {"size_mean_error_um", json_number((st_.mean - p_.target_m) * kUm)},
+      {"size_sigma_um", json_number(st_.sigma * kUm)},
+      {"predicted_sigma_um", json_number(pred_sigma_ * kUm)},
+      {"size_mean_standard_error_um", json_number(se_ * kUm)},
+      {"cp", json_number(cp_)},
+      {"cpk", json_number(cpk_)},
+      {"tolerance_um", json_number(d_.tolerance_m * kUm)},
+      {"threshold_V", json_number(s_th_)},
+      {"threshold_kind", d_.threshold},
+      {"free_amplitude_um", json_number(A0_ * kUm)},
+      {"signal_gain_mV_per_um", json_number(K_ * 1e-3)},
+      {"calibrated_gain_mV_per_um", json_number(cal_line_.gain_V_per_m * 1e-3)},
+      {"calibrated_intercept_um", json_number(cal_line_.intercept_m * kUm)},
+      {"seed_signal_deviation_at_trip_pct", json_number(seed_signal_dev_pct_)},
+      {"signal_ripple_at_trip_V", json_number(level_at_trip_.ripple_V)},
+      {"noise_sigma_V", json_number(noise_sigma_)},
+      {"noise_sigma_predicted_V", json_number(noise_pred_)},
+      {"full_trip_time_s", json_number(full_.trip_s)},
+      {"linear_trip_time_s", json_number(trip_lin_)},
+      {"full_finished_error_um", json_number(full_err_um_)},
+      {"full_mc_parts", full_sizes_.size()},
+      {"full_mc_mean_error_um",
+       json_number(full_sizes_.empty() ? NAN : (fst_.mean - p_.target_m) * kUm)},
+      {"full_mc_sigma_um", json_number(full_sizes_.size() > 1 ? fst_.sigma * kUm : NAN)},
+      {"backstop_um", json_number(p_.backstop_m * kUm)},
+      {"filter", filter_name(d_.transducer.filter)},
+      {"filter_lag_s", json_number(line().lag_s())},
+      {"bias_correction_um", json_number(bias_m_ * kUm)},
+      {"bias_correction_standard_error_um", json_number(bias_se_m_ * kUm)},
+      {"calibration_parts", dyn_.parts},
+      {"probe_spread_at_trip_um", json_number(plan_.calibrated_line.spread_m * kUm)},
+      {"probe_regular", regular()},
+      {"backstop_trips", backstops_},
+      {"threshold_forced", d_.force_threshold && !plan_.safe()},
+      {"safe_threshold_low_V", json_number(plan_.range.low_V)},
+      {"safe_threshold_high_V", json_number(plan_.range.high_V)},
+      {"signal_floor_V", json_number(plan_.range.floor_V)},
+      {"signal_floor_from_um", json_number(plan_.range.floor_start_m * kUm)},
+      {"largest_safe_target_um", json_number(plan_.largest_target_m * kUm)},
+      {"alarms", alarms}};
   io::Acceptance acceptance(d_.acceptance);
   acceptance.judge("min_cpk", cpk_);
   acceptance.judge("max_mean_error_um", std::abs(st_.mean - p_.target_m) * kUm);
@@ -598,12 +605,8 @@ void GaugingStudy::size_histogram(io::Report& rep) {
     const int b = static_cast<int>((v - lo) / w);
     if (b >= 0 && b < bins) counts[static_cast<std::size_t>(b)] += 1.0;
   });
-  Series hist{"finished sizes (" + std::to_string(n_sizes_) + " parts)",
-              {},
-              {},
-              "#1f77b4",
-              false,
-              false};
+  Series hist{
+      "finished sizes (" + std::to_string(n_sizes_) + " parts)", {}, {}, "#1f77b4", false, false};
   for (int b = 0; b < bins; ++b) {
     hist.x.push_back((lo + b * w) * kUm);
     hist.y.push_back(counts[static_cast<std::size_t>(b)]);
@@ -633,7 +636,8 @@ void GaugingStudy::signal_plots(io::Report& rep) const {
       full_s.x.push_back(xs_[i] * kUm);
       full_s.y.push_back(s_full_[i]);
     }
-    Series seed_s{"seed (20): K·(A0 − x)", {0.0, A0_ * kUm}, {K_ * A0_, 0.0}, "#d62728", true, false};
+    Series seed_s{
+        "seed (20): K·(A0 − x)", {0.0, A0_ * kUm}, {K_ * A0_, 0.0}, "#d62728", true, false};
     Series cal_s{"calibrated at the trip point",
                  {0.0, A0_ * kUm},
                  {cal_line_.gain_V_per_m * cal_line_.intercept_m,
@@ -665,15 +669,13 @@ void GaugingStudy::signal_plots(io::Report& rep) const {
                              {sig_s, th},
                              {{full_.trip_s, "relay trips"}, {full_.stop_s, "cut ends"}}});
     Series xx = along_time("x_um", "x(t)", "#8c564b");
-    Series tg{
-        "target", {0.0, t_end}, {p_.target_m * kUm, p_.target_m * kUm}, "#555", true, false};
+    Series tg{"target", {0.0, t_end}, {p_.target_m * kUm, p_.target_m * kUm}, "#555", true, false};
     rep.plots.push_back(Plot{"One part: the controlled size x(t)",
                              "time [s]",
                              "x [µm]",
                              {xx, tg},
                              {{full_.stop_s, "cut ends"}}});
   }
-
 }
 
 void GaugingStudy::finish(io::RunOutput& out) {
@@ -688,7 +690,9 @@ void GaugingStudy::finish(io::RunOutput& out) {
 }
 }  // namespace
 
-io::RunOutput run(const io::Scenario& sc) { return run(sc, LinearParts::kKeptParts); }
+io::RunOutput run(const io::Scenario& sc) {
+  return run(sc, LinearParts::kKeptParts);
+}
 
 io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
   return GaugingStudy(sc, kept_parts).run();

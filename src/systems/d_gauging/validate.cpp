@@ -59,5 +59,4 @@ void validate(const io::Scenario& sc) {
   sc.keys->fail(d.threshold == "given" ? "gauge.threshold_V" : "process.target_um", why);
 }
 
-
 }  // namespace lathectl::systems::d_gauging
