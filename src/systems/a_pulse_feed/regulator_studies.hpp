@@ -17,6 +17,7 @@
 // balance of hydraulics/orifice.hpp beside it.
 
 #include <cstdint>
+#include <string>
 
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/study.hpp"
@@ -24,10 +25,11 @@
 
 namespace lathectl::systems::a_pulse_feed {
 
-// Adds the characteristic's plot, its metrics (summary "metrics": regulator_*) and its note at
-// the scenario's slot and pulse frequency.
-void characteristic_study(const Settings& st, double slot_m, double frequency_Hz,
-                          io::RunOutput& out, io::Claims& claims);
+// Adds the characteristic's plot and its metrics (summary "metrics": regulator_*) at the
+// scenario's slot and pulse frequency. Returns its note on the dead zone and saturation ("" when
+// the switching is instantaneous), which the report lists after the other studies' claims.
+std::string characteristic_study(const Settings& st, double slot_m, double frequency_Hz,
+                                 io::RunOutput& out);
 
 // Adds the study's summary entry ("tolerance_study"), table, plot and claim to `out`/`claims`.
 // slot_m: the pulsed regulator's slot in the scenario (the uncontrolled run's fixed actuator).

@@ -298,13 +298,13 @@ void PulseFeedStudy::extra_studies(RunOutput& out, Claims& claims) {
                                       st_.rig.controller.feed_m_per_s, m().force_nominal_N),
                                   1.0)
                        : st_.rig.frequency_Hz;
-  characteristic_study(st_, fim ? st_.rig.slot_m : main_->rig.fixed_actuator(), f, out, claims);
-  if (st_.tolerance)
-    tolerance_study(st_, *st_.tolerance, fim ? st_.rig.slot_m : main_->rig.fixed_actuator(),
-                    sc_.run.seed, out, claims);
+  const double slot = fim ? st_.rig.slot_m : main_->rig.fixed_actuator();
+  const std::string note = characteristic_study(st_, slot, f, out);
+  if (st_.tolerance) tolerance_study(st_, *st_.tolerance, slot, sc_.run.seed, out, claims);
   if (!st_.obliteration_removal.empty() && against_throttle())
     obliteration_study(st_, main_->rig.fixed_actuator(), cmp_->rig.fixed_actuator(),
                        sc_.run.duration_s, out, claims);
+  if (!note.empty()) claims.note(note);
 }
 
 void PulseFeedStudy::summary(json& s) {
