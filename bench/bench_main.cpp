@@ -6,11 +6,10 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-#include <chrono>
-#include <filesystem>
-
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 
 #include "lathectl/control/adaptive_feed_controller.hpp"
@@ -22,16 +21,16 @@
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/sim/recorder.hpp"
-#include "systems/b_chatter/lobes.hpp"
-#include "systems/e_adaptive/rig.hpp"
-#include "systems/e_adaptive/settings.hpp"
 #include "support/sample_controller.hpp"
 #include "systems/a_pulse_feed/rig.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
+#include "systems/b_chatter/lobes.hpp"
 #include "systems/b_chatter/rig.hpp"
 #include "systems/b_chatter/settings.hpp"
-#include "systems/d_gauging/gauging.hpp"
+#include "systems/d_gauging/rig.hpp"
 #include "systems/d_gauging/settings.hpp"
+#include "systems/e_adaptive/rig.hpp"
+#include "systems/e_adaptive/settings.hpp"
 
 using namespace lathectl;
 
@@ -45,7 +44,7 @@ void BM_RigA_60s(benchmark::State& state, const char* scenario) {
   const auto sc = load(scenario);
   const double duration = 60.0;
   for (auto _ : state) {
-    sim::RigA rig;
+    systems::a_pulse_feed::Rig rig;
     rig.configure(sc.get<systems::a_pulse_feed::Settings>().rig, sc.run.step_s,
                   sc.run.record_interval_s, duration);
     rig.run();
@@ -86,13 +85,13 @@ BENCHMARK_CAPTURE(BM_RigE_Part, fixed_worst_case, "e_stepped_fixed.toml")
     ->Unit(benchmark::kMillisecond);
 
 // The seed's linearisation (A0, K) of a gauging scenario's transducer and its threshold (23).
-std::pair<sim::LinearGauge, double> seed_line(const io::Scenario& sc) {
-  const auto& d = sc.get<d_gauging::Settings>();
+std::pair<systems::d_gauging::LinearGauge, double> seed_line(const io::Scenario& sc) {
+  const auto& d = sc.get<systems::d_gauging::Settings>();
   const auto st = sensors::VibroContactGauge::steady(d.transducer);
   // With the scenario's filter (d_gauging: synchronous, simulated by steps; issue 16).
-  const sim::LinearGauge lg =
-      sim::linear_gauge({st.signal_gain_V_per_m, st.free_amplitude_m}, d.transducer);
-  return {lg, sim::threshold_23(lg, d.process)};
+  const systems::d_gauging::LinearGauge lg =
+      systems::d_gauging::linear_gauge({st.signal_gain_V_per_m, st.free_amplitude_m}, d.transducer);
+  return {lg, systems::d_gauging::threshold_23(lg, d.process)};
 }
 
 // System D: 10^5 parts by the linearised model (target < 2 s), one part by the full
@@ -101,9 +100,9 @@ void BM_Gauging_LinearMonteCarlo(benchmark::State& state) {
   const auto sc = load("d_gauging.toml");
   const auto [lg, th] = seed_line(sc);
   for (auto _ : state) {
-    auto r = sim::monte_carlo_linear(sc.get<d_gauging::Settings>().process, lg, th,
-                                     static_cast<std::size_t>(state.range(0)), 7,
-                                     static_cast<unsigned>(state.range(1)));
+    auto r = systems::d_gauging::monte_carlo_linear(
+        sc.get<systems::d_gauging::Settings>().process, lg, th,
+        static_cast<std::size_t>(state.range(0)), 7, static_cast<unsigned>(state.range(1)));
     benchmark::DoNotOptimize(r.data());
   }
 }
@@ -116,10 +115,11 @@ BENCHMARK(BM_Gauging_LinearMonteCarlo)
 void BM_Gauging_FullModelPart(benchmark::State& state) {
   const auto sc = load("d_gauging.toml");
   const auto [lg, th] = seed_line(sc);
-  const auto& d = sc.get<d_gauging::Settings>();
+  const auto& d = sc.get<systems::d_gauging::Settings>();
   std::uint64_t seed = 1;
   for (auto _ : state) {
-    auto r = sim::machine_part_full(d.process, d.transducer, sc.run.step_s, th, seed++);
+    auto r =
+        systems::d_gauging::machine_part_full(d.process, d.transducer, sc.run.step_s, th, seed++);
     benchmark::DoNotOptimize(r);
   }
 }
@@ -179,8 +179,8 @@ BENCHMARK(BM_Lobes_SdCellCount)->Arg(54)->Arg(101)->Arg(201)->Arg(400)->ArgName(
 // speeds × depths, top 4 × the absolute limit unless the file sets it) on 2 threads (target:
 // under 5 s for any machine file). b_slow_high_freq: one 650 Hz mode at 500–4000 rpm.
 void BM_Lobes_SdChartMachine(benchmark::State& state, const char* machine) {
-  const auto in = b_chatter::load_lobes_input(std::string(LATHECTL_SOURCE_DIR "/examples/machines/") +
-                                              machine);
+  const auto in = systems::b_chatter::load_lobes_input(
+      std::string(LATHECTL_SOURCE_DIR "/examples/machines/") + machine);
   const auto fd = dynamics::frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm, in.max_lobes,
                                                    40000);
   const double top = in.chart_max_depth_m > 0.0 ? in.chart_max_depth_m : 4.0 * fd.critical_depth_m;
@@ -209,8 +209,8 @@ BENCHMARK_CAPTURE(BM_Lobes_SdChartMachine, b_slow_high_freq, "b_slow_high_freq.t
 // Issue 19: the limit depth at one speed read off the frequency-domain lobes (`lobes` asks it
 // 1001 times for lobes.csv, and once per SD speed); b_part's lobes (60 lobes, 40000 points).
 void BM_Lobes_EnvelopeDepth(benchmark::State& state) {
-  const auto in =
-      b_chatter::load_lobes_input(std::string(LATHECTL_SOURCE_DIR "/examples/machines/b_part.toml"));
+  const auto in = systems::b_chatter::load_lobes_input(
+      std::string(LATHECTL_SOURCE_DIR "/examples/machines/b_part.toml"));
   const auto fd = dynamics::frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm, in.max_lobes,
                                                    40000);
   std::size_t points = 0;
@@ -367,11 +367,11 @@ BENCHMARK(BM_CuttingModel_RadialForce);
 // (target: 10 s at ≥ 50 steps per period in < 0.5 s).
 void BM_RigB_TwinTurret10s(benchmark::State& state) {
   const auto sc = load("b_twin_feed_division.toml");
-  auto b = sc.get<b_chatter::Settings>().rig;
+  auto b = sc.get<systems::b_chatter::Settings>().rig;
   b.z_end_mm = b.z_start_mm + b.feed_mm_per_rev * b.rpm / 60.0 * 10.0;
   b.idle_block_s = 0.0;
   for (auto _ : state) {
-    sim::RigB rig;
+    systems::b_chatter::Rig rig;
     rig.configure(b, sc.run.step_s, sc.run.record_interval_s, 12.0);
     rig.run();
     benchmark::DoNotOptimize(rig.recorder().rows());

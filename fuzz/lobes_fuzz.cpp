@@ -24,15 +24,15 @@ void check(bool ok) {
   if (!ok) std::abort();
 }
 
-void exercise(const b_chatter::LobesInput& in) {
+void exercise(const systems::b_chatter::LobesInput& in) {
   check(!in.system.modes.empty() && in.system.kf_N_per_m2 > 0.0 && in.max_rpm > in.min_rpm);
   for (const auto& m : in.system.modes)
     check(m.stiffness_N_per_m > 0.0 && m.natural_frequency_Hz > 0.0 &&
           std::isfinite(m.stiffness_N_per_m));
-  check(b_chatter::lobes_needed(in) <= b_chatter::kMaxLobes);
-  const auto cost = b_chatter::lobes_cost(in, 2);
-  check(std::isfinite(cost.seconds) && cost.seconds <= b_chatter::kMaxSeconds);
-  check(std::isfinite(cost.bytes) && cost.bytes <= b_chatter::kMaxBytes);
+  check(systems::b_chatter::lobes_needed(in) <= systems::b_chatter::kMaxLobes);
+  const auto cost = systems::b_chatter::lobes_cost(in, 2);
+  check(std::isfinite(cost.seconds) && cost.seconds <= systems::b_chatter::kMaxSeconds);
+  check(std::isfinite(cost.bytes) && cost.bytes <= systems::b_chatter::kMaxBytes);
 
   std::vector<double> xs;
   if (in.part) {
@@ -44,7 +44,7 @@ void exercise(const b_chatter::LobesInput& in) {
   for (double x : xs) {
     check(!dynamics::beam_modes_at(in.part->beam, x, in.part->modes).empty());
     check(std::isfinite(dynamics::beam_static_stiffness(in.part->beam, x)));
-    const auto sys = b_chatter::lobes_system_at(in, x);
+    const auto sys = systems::b_chatter::lobes_system_at(in, x);
     const auto fd =
         dynamics::frequency_domain_lobes(sys, in.min_rpm, in.max_rpm, in.max_lobes, 400);
     (void)dynamics::envelope_depth(fd, 0.5 * (in.min_rpm + in.max_rpm));
@@ -66,9 +66,9 @@ void exercise(const b_chatter::LobesInput& in) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
-  b_chatter::LobesInput in;
+  systems::b_chatter::LobesInput in;
   try {
-    in = b_chatter::parse_lobes_input(text, "fuzz.toml");
+    in = systems::b_chatter::parse_lobes_input(text, "fuzz.toml");
   } catch (const io::InputError& e) {
     if (std::string_view(e.what()).find("fuzz.toml") == std::string_view::npos) std::abort();
     return 0;

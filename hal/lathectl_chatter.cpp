@@ -130,8 +130,8 @@ extern "C" int rtapi_app_main(void) {
   if (comp_id < 0) return comp_id;
   return lathectl::hal::guarded_load(kName, comp_id, [] {
     using lathectl::hal::pin;
-    const auto sc = lathectl::hal::load_system(scenario, lathectl::b_chatter::kReadSection);
-    const auto& b = sc.get<lathectl::b_chatter::Settings>().rig;
+    const auto sc = lathectl::hal::load_system(scenario, lathectl::systems::b_chatter::kReadSection);
+    const auto& b = sc.get<lathectl::systems::b_chatter::Settings>().rig;
     if (b.setup != lathectl::dynamics::TwinSetup::Single)
       throw lathectl::hal::Error(std::string(scenario) +
                                  ": cut.setup must be \"single\" (LinuxCNC's lathe has one tool "
@@ -145,7 +145,7 @@ extern "C" int rtapi_app_main(void) {
     state->substeps = std::max(1, static_cast<int>(std::lround(period * 1e-9 / sc.run.step_s)));
     const double dt = period * 1e-9 / state->substeps;
     // The scenario's process (process damping included) as the rig maps it; one tool here.
-    auto pp = lathectl::sim::cut_params(b);
+    auto pp = lathectl::systems::b_chatter::cut_params(b);
     pp.depth_mm[1] = b.depth_mm[0];
     pp.tool2_lag_mm = 0.0;
     state->cut.configure(pp, dt);

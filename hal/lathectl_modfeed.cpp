@@ -191,8 +191,8 @@ extern "C" int rtapi_app_main(void) {
   return lathectl::hal::guarded_load(kName, comp_id, [] {
     using lathectl::hal::param;
     using lathectl::hal::pin;
-    const auto sc = lathectl::hal::load_system(scenario, lathectl::b_chatter::kReadSection);
-    const auto& b = sc.get<lathectl::b_chatter::Settings>().rig;
+    const auto sc = lathectl::hal::load_system(scenario, lathectl::systems::b_chatter::kReadSection);
+    const auto& b = sc.get<lathectl::systems::b_chatter::Settings>().rig;
     const double c = lathectl::hal::number_param(ceiling, "ceiling", 2.0);
     if (!(c >= 1.0 && c <= 100.0))
       throw lathectl::hal::Error("module parameter ceiling: expected 1 … 100");

@@ -17,11 +17,11 @@ namespace {
 constexpr double kAnnounceSeconds = 5.0;  // estimated runs longer than this are announced
 
 int lobes(const std::string& file, const std::string& out) {
-  const auto in = b_chatter::load_lobes_input(file);  // refuses work over its bounds
+  const auto in = systems::b_chatter::load_lobes_input(file);  // refuses work over its bounds
   io::prepare_output_dir(out, "--out");
   // A run longer than a few seconds says first what it will cost (estimated before computing),
   // then shows its progress: a bar on a terminal, a line every 10 s in a pipe or a log.
-  const auto cost = b_chatter::lobes_cost(in);
+  const auto cost = systems::b_chatter::lobes_cost(in);
   if (cost.seconds > kAnnounceSeconds) {
     char buf[320];
     std::snprintf(buf, sizeof buf,
@@ -34,7 +34,7 @@ int lobes(const std::string& file, const std::string& out) {
   nlohmann::json j;
   {
     io::Progress progress("lobes");  // a line every 10 s in a pipe or a log (kPlainInterval)
-    j = b_chatter::run_lobes(in, out, &progress);
+    j = systems::b_chatter::run_lobes(in, out, &progress);
   }
   for (const auto& w : j["warnings"]) std::cerr << "warning: " << w.get<std::string>() << "\n";
   // No lobe at all (every mode across the chip thickness): JSON null, said in words.

@@ -1,5 +1,6 @@
 #include "lathectl/io/study.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <utility>
@@ -100,6 +101,35 @@ void Claims::add(const std::string& text, double value, bool met) {
   ids_.push_back("claim-" + std::to_string(json_.size()));
   json_.push_back({{"claim", text}, {"value", json_number(value)}, {"met", met}});
   notes_.push_back(std::string(met ? "✔ " : "✘ ") + text + ": " + fmt(value));
+}
+
+}  // namespace lathectl::io
+
+namespace lathectl::io {
+
+RunOutput Study::run() {
+  RunOutput out;
+  Claims claims;
+  run_controllers();
+  check_claims(claims);
+  extra_studies(out, claims);
+  const auto extra_tables = static_cast<std::ptrdiff_t>(out.report.tables.size());
+  const auto extra_plots = static_cast<std::ptrdiff_t>(out.report.plots.size());
+  out.summary["system"] = sc_.system;
+  out.summary["scenario"] = sc_.name;
+  out.summary["file"] = sc_.file;
+  summary(out.summary);
+  out.summary["claims"] = claims.json();
+  out.report.description = sc_.description;
+  report(out.report);
+  out.report.notes = claims.notes();
+  out.report.note_ids = claims.note_ids();
+  auto& tables = out.report.tables;
+  auto& plots = out.report.plots;
+  std::rotate(tables.begin(), tables.begin() + extra_tables, tables.end());
+  std::rotate(plots.begin(), plots.begin() + extra_plots, plots.end());
+  finish(out);
+  return out;
 }
 
 }  // namespace lathectl::io

@@ -43,20 +43,20 @@ double chatter_margin(double k_lim, const ChipStiffness& g) noexcept {
 }
 
 dynamics::ChatterSystem ChatterLimit::system_at(double z_stock_mm, double diameter_mm) const {
-  b_chatter::LobesInput in;
+  systems::b_chatter::LobesInput in;
   in.system.kf_N_per_m2 = 1.0;
   in.tool_modes = ch_.tool_modes;
   const double x_m = (z_stock_mm - ch_.tailstock_at_mm) * 1e-3;
   // Part modes while the tool is between the centres on material (at a centre the part rests on it).
   if (ch_.part && diameter_mm > 0.0 && x_m > 0.0 && x_m < ch_.beam.length_m) {
-    b_chatter::LobesPart part;
+    systems::b_chatter::LobesPart part;
     part.beam = ch_.beam;
     part.beam.diameter_m = diameter_mm * 1e-3;
     part.modes = ch_.part_modes;
     part.position_m = x_m;
     in.part = part;
   }
-  return b_chatter::lobes_system_at(in, x_m);
+  return systems::b_chatter::lobes_system_at(in, x_m);
 }
 
 double ChatterLimit::critical_stiffness(double z_stock_mm, double diameter_mm, double rpm) {
@@ -70,7 +70,7 @@ double ChatterLimit::critical_stiffness(double z_stock_mm, double diameter_mm, d
   if (it == cache_.end()) {
     // The band's lobes with a margin on both sides, at the key's position and diameter.
     const double lo = std::pow(1.0 + kBand, static_cast<double>(band));
-    b_chatter::LobesInput in;
+    systems::b_chatter::LobesInput in;
     in.system = system_at(part ? static_cast<double>(std::get<1>(key)) : z_stock_mm,
                           part ? 0.1 * static_cast<double>(std::get<2>(key)) : 0.0);
     dynamics::FrequencyDomainResult fd;
@@ -78,7 +78,7 @@ double ChatterLimit::critical_stiffness(double z_stock_mm, double diameter_mm, d
       in.min_rpm = lo / 1.05;
       in.max_rpm = lo * (1.0 + kBand) * 1.05;
       fd = dynamics::frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm,
-                                            b_chatter::lobes_needed(in));
+                                            systems::b_chatter::lobes_needed(in));
     }
     it = cache_.emplace(key, std::move(fd)).first;
   }

@@ -102,7 +102,7 @@ RunEstimate estimate(const io::Scenario& sc) {
     rig_runs(e, sc, 1.0 + cmp + static_cast<double>(s.sweep_leak_estimate_factor.size()), 1.0,
              kA, 1.0 + cmp);
   } else if (sc.system == "B") {
-    const auto& s = sc.get<b_chatter::Settings>();
+    const auto& s = sc.get<systems::b_chatter::Settings>();
     const bool modulated = s.rig.source != control::ModulationSource::None;
     const double main = modulated && s.compare ? 2.0 : 1.0;
     rig_runs(e, sc, main, 2.0, kB, main);
@@ -120,7 +120,7 @@ RunEstimate estimate(const io::Scenario& sc) {
       traced.run.duration_s = (r.profile.xs().back() - r.profile.xs().front()) / v;
     rig_runs(e, traced, runs, 1.0, kC, runs);
   } else if (sc.system == "D") {
-    const auto& s = sc.get<d_gauging::Settings>();
+    const auto& s = sc.get<systems::d_gauging::Settings>();
     // Full model: the recorded part, the one without noise, the noisy parts and (calibrated_
     // dynamic) up to calibration_parts_max more, each at most run.duration_s long, on all cores.
     const double full = 2.0 + static_cast<double>(s.full_parts) +

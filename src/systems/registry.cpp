@@ -17,13 +17,15 @@ namespace lathectl::systems {
 
 namespace {
 const std::array<System, 5> kSystems{{
-    {"A", "a_pulse_feed", "hydraulic feed slide with pulse regulation (seed 000)",
-     &a_pulse_feed::kSection, &a_pulse_feed::run},
-    {"B", "b_chatter", "twin-turret chatter and modulated feed (seed 001)", &b_chatter::kSection,
-     &b_chatter::run},
-    {"C", "c_tracer", "hydraulic copying slide (seed 002)", &c_tracer::kSection, &c_tracer::run},
-    {"D", "d_gauging", "vibro-contact in-process gauging (seed 003)", &d_gauging::kSection,
-     &d_gauging::run},
+    {a_pulse_feed::kSection.system, "a_pulse_feed",
+     "hydraulic feed slide with pulse regulation (seed 000)", &a_pulse_feed::kSection,
+     &a_pulse_feed::run},
+    {b_chatter::kSection.system, "b_chatter", "twin-turret chatter and modulated feed (seed 001)",
+     &b_chatter::kSection, &b_chatter::run},
+    {c_tracer::kSection.system, "c_tracer", "hydraulic copying slide (seed 002)",
+     &c_tracer::kSection, &c_tracer::run},
+    {d_gauging::kSection.system, "d_gauging", "vibro-contact in-process gauging (seed 003)",
+     &d_gauging::kSection, &d_gauging::run},
     {"E", "e_adaptive", "adaptive control of force by feed and speed (seed 004)",
      &e_adaptive::kSection, &e_adaptive::run},
 }};

@@ -1,7 +1,8 @@
 #pragma once
 // The systems lathectl knows: the only central list. A new system is a folder
-// (src/systems/<x>/: settings and their section reader, rig, metrics, study, claims, report
-// layout, CMakeLists.txt) plus one line here, in registry.cpp, and in src/systems/CMakeLists.txt.
+// (src/systems/<x>/: settings.{hpp,cpp} with the section reader and kSection, validate.cpp,
+// rig.{hpp,cpp}, metrics.{hpp,cpp}, study.{hpp,cpp}, CMakeLists.txt; docs/code-layout.md) plus
+// one entry in registry.cpp.
 
 #include <span>
 #include <string_view>
@@ -12,7 +13,7 @@
 namespace lathectl::systems {
 
 struct System {
-  std::string_view id;      // the scenario's `system = "E"`
+  std::string_view id;      // the scenario's `system = "E"` (its section's letter)
   std::string_view folder;  // src/systems/<folder>/, docs/<page>
   std::string_view title;   // "adaptive control (seed 004)"
   const io::Section* section;

@@ -171,7 +171,7 @@ TEST(SdChart, HigherOrderInterpolationConvergesFaster) {
 // frequency-domain envelope at every speed where the envelope lies inside the chart, and the
 // steps per delay not capped below 7 per period.
 TEST(SdChart, SlowHighFrequencyMachineAgreesWithFrequencyDomain) {
-  const auto in = lathectl::b_chatter::load_lobes_input(
+  const auto in = lathectl::systems::b_chatter::load_lobes_input(
       LATHECTL_SOURCE_DIR "/examples/machines/b_slow_high_freq.toml");
   const auto fd =
       frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm, in.max_lobes, 40000);
@@ -198,7 +198,7 @@ TEST(SdChart, SlowHighFrequencyMachineAgreesWithFrequencyDomain) {
 // lobe points' own speeds (shared ends of two segments) and outside the range.
 TEST(Lobes, IndexedEnvelopeEqualsScan) {
   const auto in =
-      lathectl::b_chatter::load_lobes_input(LATHECTL_SOURCE_DIR "/examples/machines/b_part.toml");
+      lathectl::systems::b_chatter::load_lobes_input(LATHECTL_SOURCE_DIR "/examples/machines/b_part.toml");
   const auto fd = frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm, in.max_lobes, 40000);
   ASSERT_FALSE(fd.envelope_runs.empty());
   auto scan = fd;

@@ -117,12 +117,12 @@ TEST(Acceptance, ModelChecksDoNotDecideTheVerdictButAlarmsAndUnfinishedPartsDo) 
 TEST(Acceptance, ScenarioTableIsReadCheckedAndDescribed) {
   const std::string d = example("d_gauging.toml");
   const Scenario plain = parse_scenario(d, "d.toml", library());
-  const auto& lim = plain.get<d_gauging::Settings>().acceptance;
+  const auto& lim = plain.get<systems::d_gauging::Settings>().acceptance;
   EXPECT_EQ(lim.limit("min_cpk"), 1.33);
   EXPECT_FALSE(lim.stated("min_cpk"));
   const Scenario stated = parse_scenario(
       d + "\n[acceptance]\nmin_cpk = 1.67\nmax_mean_error_um = 0.5\n", "d.toml", library());
-  const auto& l2 = stated.get<d_gauging::Settings>().acceptance;
+  const auto& l2 = stated.get<systems::d_gauging::Settings>().acceptance;
   EXPECT_EQ(l2.limit("min_cpk"), 1.67);
   EXPECT_TRUE(l2.stated("min_cpk"));
   EXPECT_EQ(l2.limit("max_mean_error_um"), 0.5);
@@ -142,14 +142,14 @@ TEST(Acceptance, ScenarioTableIsReadCheckedAndDescribed) {
   // The reference lists every key with its default: B's vibration limit is derived (the dead
   // zone), and a run shows the value it used.
   bool cpk = false, vib = false;
-  for (const auto& r : describe_section(d_gauging::kSection, library()))
+  for (const auto& r : describe_section(systems::d_gauging::kSection, library()))
     if (r.key == "acceptance.min_cpk") cpk = r.fallback == "1.33" && !r.doc.empty();
-  for (const auto& r : describe_section(b_chatter::kSection, library()))
+  for (const auto& r : describe_section(systems::b_chatter::kSection, library()))
     if (r.key == "acceptance.max_vibration_um") vib = r.fallback == "derived" && !r.doc.empty();
   EXPECT_TRUE(cpk);
   EXPECT_TRUE(vib);
   const Scenario b = parse_scenario(example("b_twin_feed_division.toml"), "b.toml", library());
-  EXPECT_EQ(b.get<b_chatter::Settings>().acceptance.limit("max_vibration_um"), 5.0);
+  EXPECT_EQ(b.get<systems::b_chatter::Settings>().acceptance.limit("max_vibration_um"), 5.0);
 }
 
 TEST(Acceptance, GaugeWithAHighCpkIsAcceptedWhateverTheThresholdCheckSays) {

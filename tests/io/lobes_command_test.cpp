@@ -22,7 +22,7 @@ const std::string kTool =
 }  // namespace
 
 TEST(LobesInput, ModesAloneAsBefore) {
-  const auto in = b_chatter::parse_lobes_input(kHead + kTool, "m.toml");
+  const auto in = systems::b_chatter::parse_lobes_input(kHead + kTool, "m.toml");
   ASSERT_EQ(in.system.modes.size(), 1u);
   EXPECT_FALSE(in.part.has_value());
   EXPECT_DOUBLE_EQ(in.system.modes[0].natural_frequency_Hz, 800.0);
@@ -34,7 +34,7 @@ TEST(LobesInput, ModesAloneAsBefore) {
 // The part's modes at the cutting position come first, the tool's are added: the relative
 // tool–part displacement is the sum of both receptances.
 TEST(LobesInput, PartAndToolModesAtTheCuttingPosition) {
-  const auto in = b_chatter::parse_lobes_input(kHead + kPart + kTool, "m.toml");
+  const auto in = systems::b_chatter::parse_lobes_input(kHead + kPart + kTool, "m.toml");
   ASSERT_TRUE(in.part.has_value());
   EXPECT_EQ(in.part->modes, 3);
   EXPECT_DOUBLE_EQ(in.part->beam.youngs_modulus_Pa, 210e9);
@@ -43,14 +43,14 @@ TEST(LobesInput, PartAndToolModesAtTheCuttingPosition) {
   for (std::size_t i = 0; i < beam.size(); ++i)
     EXPECT_DOUBLE_EQ(in.system.modes[i].stiffness_N_per_m, beam[i].stiffness_N_per_m);
   EXPECT_DOUBLE_EQ(in.system.modes.back().stiffness_N_per_m, 5e7);
-  const auto mid = b_chatter::lobes_system_at(in, 0.25);
+  const auto mid = systems::b_chatter::lobes_system_at(in, 0.25);
   EXPECT_EQ(mid.modes.size(), 3u);  // mode 2 has a node mid-span
 }
 
 // The SD chart resolves the mode that can chatter, not the part's stiff third mode at 9·f1.
 TEST(LobesInput, ChartStepsFollowTheChatteringMode) {
-  auto in = b_chatter::parse_lobes_input(kHead + kPart, "m.toml");
-  const auto sys = b_chatter::lobes_system_at(in, 0.25);
+  auto in = systems::b_chatter::parse_lobes_input(kHead + kPart, "m.toml");
+  const auto sys = systems::b_chatter::lobes_system_at(in, 0.25);
   const double f1 = sys.modes[0].natural_frequency_Hz;
   EXPECT_EQ(dynamics::sd_steps_per_delay(sys, 1200.0, 0.27e-3),
             static_cast<int>(std::ceil(0.05 * f1 * dynamics::SdChartOptions{}.steps_per_period)));
@@ -59,7 +59,7 @@ TEST(LobesInput, ChartStepsFollowTheChatteringMode) {
 TEST(LobesInput, LocatedErrors) {
   auto message = [](const std::string& text) {
     try {
-      (void)b_chatter::parse_lobes_input(text, "m.toml");
+      (void)systems::b_chatter::parse_lobes_input(text, "m.toml");
     } catch (const io::InputError& e) {
       return std::string(e.what());
     }
@@ -79,7 +79,7 @@ TEST(LobesInput, LocatedErrors) {
 }
 
 TEST(LobesInput, EveryKeyOfTheMachineFileIsDescribed) {
-  const auto rows = b_chatter::describe_machine_file();
+  const auto rows = systems::b_chatter::describe_machine_file();
   std::size_t keys = 0;
   for (const auto& r : rows) {
     if (r.kind == "table" || r.kind == "array of tables") continue;
@@ -98,7 +98,7 @@ std::string regression_error(const std::string& name) {
   path += "/fuzz/regressions/lobes/";
   path += name;
   try {
-    (void)b_chatter::load_lobes_input(path);
+    (void)systems::b_chatter::load_lobes_input(path);
   } catch (const io::InputError& e) {
     return e.what();
   }
@@ -123,7 +123,7 @@ TEST(LobesInputIssue28, PositionsNearACentreAreRefusedNotCrashed) {
   m = regression_error("cutting_position_near_centre.toml");
   EXPECT_TRUE(located_at(m, "cutting_position_near_centre.toml", "part.position_mm")) << m;
   // 1 % of the length from a centre is the edge of the range: accepted, every mode seen there.
-  const auto in = b_chatter::parse_lobes_input(
+  const auto in = systems::b_chatter::parse_lobes_input(
       kHead + kPart + "positions_mm = [5, 495]\n", "m.toml");
   for (double x : in.part->positions_m)
     EXPECT_EQ(dynamics::beam_modes_at(in.part->beam, x, 3).size(), 3u);
@@ -149,17 +149,17 @@ TEST(LobesInputIssue28, WorkOverTheBoundsIsRefusedNamingTheKeys) {
 
 // A 10⁶-cell chart is a valid input: its estimate is within the bounds.
 TEST(LobesInputIssue28, AMillionCellChartIsAccepted) {
-  const auto in = b_chatter::parse_lobes_input(
+  const auto in = systems::b_chatter::parse_lobes_input(
       kHead + kTool + "[lobes]\nchart_speeds = 1000\nchart_depths = 1000\n", "m.toml");
-  const auto c = b_chatter::lobes_cost(in, 2);
+  const auto c = systems::b_chatter::lobes_cost(in, 2);
   EXPECT_DOUBLE_EQ(c.chart_cells, 1000.0 * (1000 + 17));
-  EXPECT_LT(c.bytes, b_chatter::kMaxBytes);
-  EXPECT_LT(c.seconds, b_chatter::kMaxSeconds);
+  EXPECT_LT(c.bytes, systems::b_chatter::kMaxBytes);
+  EXPECT_LT(c.seconds, systems::b_chatter::kMaxSeconds);
 }
 
 // The estimate counts the frequency-domain points exactly (what the memory grows with).
 TEST(LobesInputIssue28, FrequencyDomainPointCountIsExact) {
-  const auto in = b_chatter::parse_lobes_input(kHead + kPart + kTool, "m.toml");
+  const auto in = systems::b_chatter::parse_lobes_input(kHead + kPart + kTool, "m.toml");
   const auto fd = dynamics::frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm,
                                                    in.max_lobes, 40000);
   double stored = 0.0;

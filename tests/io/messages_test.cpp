@@ -117,7 +117,7 @@ TEST(Messages, TheLobesMachineFileReaderSaysTheSame) {
   std::string t = read_example("machines/b_sdof.toml");
   t.replace(t.find("stiffness_N_per_m = 2.26e8"), 26, "stiffness_N_per_um = 226");
   try {
-    (void)b_chatter::parse_lobes_input(t, "m.toml");
+    (void)systems::b_chatter::parse_lobes_input(t, "m.toml");
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),

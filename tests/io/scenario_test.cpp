@@ -113,12 +113,12 @@ TEST(Scenario, ShopUnitsConvertedToSi) {
   EXPECT_NEAR(a.slide.damper_resistance_Pa_s_per_m3, 6e10, 1e-3);
   EXPECT_NEAR(a.sensor.holder_stiffness_N_per_m, 20e6, 1e-6);  // 20 N/µm
   EXPECT_NEAR(a.sensor.gain_V_per_m, 0.1e6, 1e-6);             // 0.1 V/µm
-  EXPECT_EQ(a.controller_kind, sim::ControllerKind::Aim);
+  EXPECT_EQ(a.controller_kind, systems::a_pulse_feed::ControllerKind::Aim);
   EXPECT_NEAR(a.controller.feed_m_per_s, 1e-3, 1e-15);  // 60 mm/min
   EXPECT_NEAR(a.controller.force_filter_s, 0.02, 1e-15);
   EXPECT_NEAR(a.feed_window_s, 0.5, 1e-15);
   ASSERT_TRUE(st.compare.has_value());
-  EXPECT_EQ(st.compare->controller, sim::ControllerKind::None);
+  EXPECT_EQ(st.compare->controller, systems::a_pulse_feed::ControllerKind::None);
   EXPECT_EQ(st.sweep_leak_estimate_factor, (std::vector<double>{0.5, 0.75, 1.0, 1.25, 1.5}));
 }
 
@@ -284,11 +284,11 @@ std::string b_error(const std::string& from, const std::string& to) {
 TEST(ScenarioB, ShopUnitsAndDefaultsFromTheMaterial) {
   const Scenario sc = parse_scenario(twin_text(), "b.toml", library());
   EXPECT_EQ(sc.system, "B");
-  const auto& settings = sc.get<b_chatter::Settings>();
-  const sim::RigBConfig& b = settings.rig;
+  const auto& settings = sc.get<systems::b_chatter::Settings>();
+  const systems::b_chatter::RigConfig& b = settings.rig;
   EXPECT_DOUBLE_EQ(b.part.length_m, 0.6);
   EXPECT_DOUBLE_EQ(b.part.youngs_modulus_Pa, 210e9);
-  EXPECT_EQ(b.setup, sim::TwinSetup::FeedDivision);
+  EXPECT_EQ(b.setup, dynamics::TwinSetup::FeedDivision);
   EXPECT_EQ(b.cutting.form, cutting::ForceForm::Kienzle);
   EXPECT_DOUBLE_EQ(b.vibration.dead_zone_m, 5e-6);
   EXPECT_EQ(b.source, control::ModulationSource::Automatic);
@@ -361,7 +361,7 @@ bool described(const std::vector<ParamRecord>& rows, const std::string& key) {
 
 TEST(ScenarioB, EveryKeyOfItsTablesIsDescribed) {
   const auto rows =
-      own_rows(b_chatter::kSection, {"part", "cut", "vibration_sensor", "power_sensor",
+      own_rows(systems::b_chatter::kSection, {"part", "cut", "vibration_sensor", "power_sensor",
                                      "modulation", "process_damping", "study"});
   // part 6, cut 13, sensors 6 + 6, modulation 20, process damping 5, study 2
   EXPECT_EQ(rows.size(), 58u);
@@ -382,7 +382,7 @@ TEST(ScenarioB, EveryKeyOfItsTablesIsDescribed) {
 
 TEST(ScenarioD, EveryKeyOfItsTablesIsDescribed) {
   const auto rows =
-      own_rows(d_gauging::kSection, {"process", "transducer", "gauge", "monte_carlo"});
+      own_rows(systems::d_gauging::kSection, {"process", "transducer", "gauge", "monte_carlo"});
   EXPECT_EQ(rows.size(), 32u);  // process 8, transducer 18, gauge 4, monte_carlo 2
   for (const auto& r : rows) EXPECT_FALSE(r.doc.empty()) << r.key;
   EXPECT_TRUE(described(rows, "gauge.threshold_V"));

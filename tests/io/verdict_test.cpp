@@ -25,9 +25,9 @@
 
 using namespace lathectl;
 using namespace lathectl::io;
-using lathectl::b_chatter::lobes_needed;
-using lathectl::b_chatter::LobesInput;
-using lathectl::b_chatter::parse_lobes_input;
+using lathectl::systems::b_chatter::lobes_needed;
+using lathectl::systems::b_chatter::LobesInput;
+using lathectl::systems::b_chatter::parse_lobes_input;
 
 namespace {
 using lathectl::test::library;
@@ -122,7 +122,7 @@ TEST(Verdict, BRefusesAStepTooCoarseForItsChatter) {
   const std::string good = example("b_twin_feed_division.toml");
   const Scenario sc = parse_scenario(good, "b.toml", library());
   double f = 0.0;
-  const double lim = sim::RigB::max_step_s(sc.get<b_chatter::Settings>().rig, &f);
+  const double lim = systems::b_chatter::Rig::max_step_s(sc.get<systems::b_chatter::Settings>().rig, &f);
   // The 600 × 40 mm part's first mode, 226 Hz, chatters near f·√(1+2ζ); ω·dt ≤ 0.2.
   EXPECT_NEAR(f, 227.6, 1.0);
   EXPECT_NEAR(lim, 0.2 / (2 * M_PI * f), 1e-12);

@@ -1,4 +1,4 @@
-// In-process gauging, system D (src/systems/d_gauging/gauging.hpp): threshold (23), the exact
+// In-process gauging, system D (src/systems/d_gauging/rig.hpp): threshold (23), the exact
 // (ξ, ε) Gauss–Markov transition against the seed's (25), the linearised Monte Carlo of finished
 // sizes, and the full electromechanical part against the linear predictions.
 //
@@ -12,8 +12,6 @@
 // Standard errors: the sample σ of N independent normals is within σ/sqrt(2N) (1e5: 0.22 %,
 // 2e4: 0.5 %), so 3 % is a ≥ 6-standard-error bound for independent samples.
 
-#include "systems/d_gauging/gauging.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,8 +19,9 @@
 #include <vector>
 
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
+#include "systems/d_gauging/rig.hpp"
 
-namespace lathectl::sim {
+namespace lathectl::systems::d_gauging {
 namespace {
 
 LinearGauge default_linear_gauge(const sensors::VibroContactGauge::Params& gp = {}) {
@@ -190,4 +189,4 @@ TEST(Gauging, FullModelStaticCalibrationNearLinear) {
 }
 
 }  // namespace
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::d_gauging

@@ -21,7 +21,7 @@
 #include "systems/a_pulse_feed/metrics.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
 
-namespace lathectl::sim {
+namespace lathectl::systems::a_pulse_feed {
 namespace {
 
 using lathectl::test::library;
@@ -31,8 +31,8 @@ io::Scenario scenario(const std::string& name) {
 }
 
 // The scenario's rig configuration (system A's settings).
-const RigAConfig& config(const io::Scenario& sc) {
-  return sc.get<systems::a_pulse_feed::Settings>().rig;
+const RigConfig& config(const io::Scenario& sc) {
+  return sc.get<Settings>().rig;
 }
 
 // The claim whose text starts with `prefix` (summary["claims"]): its value, threshold and verdict.
@@ -44,13 +44,13 @@ const nlohmann::json& claim(const nlohmann::json& summary, const std::string& pr
   return none;
 }
 
-void run_rig(const io::Scenario& sc, const RigAConfig& cfg, RigA& rig) {
+void run_rig(const io::Scenario& sc, const RigConfig& cfg, Rig& rig) {
   rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
   rig.run();
   ASSERT_TRUE(rig.numerically_sound());
 }
 
-TEST(RigA, FinishingAimHoldsFeedFiveTimesBetterThanUncontrolled) {
+TEST(Rig, FinishingAimHoldsFeedFiveTimesBetterThanUncontrolled) {
   const auto sc = scenario("a_finishing_aim");
   const auto out = io::run_scenario(sc);
   const auto& s = out.summary;
@@ -77,13 +77,13 @@ TEST(RigA, FinishingAimHoldsFeedFiveTimesBetterThanUncontrolled) {
                 s["comparison"]["metrics"]["feed_rate_steady_deviation_pct"].get<double>());
 }
 
-TEST(RigA, UncontrolledFeedLossMatchesSeedFormula3) {
+TEST(Rig, UncontrolledFeedLossMatchesSeedFormula3) {
   const auto sc = scenario("a_finishing_aim");
-  RigAConfig cfg = config(sc);
+  RigConfig cfg = config(sc);
   cfg.controller_kind = ControllerKind::None;
-  RigA rig;
+  Rig rig;
   run_rig(sc, cfg, rig);
-  const auto m = compute_metrics_a(rig);
+  const auto m = compute_metrics(rig);
   const auto& rec = rig.recorder();
   const auto t = rec.column("time_s");
   const auto force = rec.column("force_Py_N");
@@ -92,8 +92,8 @@ TEST(RigA, UncontrolledFeedLossMatchesSeedFormula3) {
   ASSERT_GT(td, 1.0);
   // ΔP: mean radial force over the last 10 % of the run (where the steady deviation is measured)
   // minus the mean over the second before the disturbance (where S_ref is measured).
-  const double p_before = mean_between(t, force, td - 1.0, td);
-  const double p_after = mean_between(t, force, 0.9 * T, T + 1.0);
+  const double p_before = sim::mean_between(t, force, td - 1.0, td);
+  const double p_after = sim::mean_between(t, force, 0.9 * T, T + 1.0);
   const double dP = p_after - p_before;
   EXPECT_GT(dP, 50.0);
   // Seed (3): S = Q/F − K_leak·Py/F² at constant Q, so ΔS = −K_leak·ΔPy/F².
@@ -110,16 +110,16 @@ TEST(RigA, UncontrolledFeedLossMatchesSeedFormula3) {
   EXPECT_NEAR(m.feed_rate_steady_deviation_pct, dS_visc_pct, 0.02 * dS_visc_pct);
   // And it is a loss: the feed falls.
   const auto feed = rec.column("feed_mm_per_min");
-  EXPECT_LT(mean_between(t, feed, 0.9 * T, T + 1.0), m.feed_rate_reference_mm_per_min);
+  EXPECT_LT(sim::mean_between(t, feed, 0.9 * T, T + 1.0), m.feed_rate_reference_mm_per_min);
 }
 
 // Regression (found by this test, fixed): The uncontrolled slot is "set once for
-// the programmed feed at the nominal force" (a_finishing_none.toml), but RigA::configure computes
+// the programmed feed at the nominal force" (a_finishing_none.toml), but Rig::configure computes
 // it from q = S·F + K_leak·(P + F_c)/F without the viscous friction b·S (20000 N·s/m · 1 mm/s = 20
 // N here), and the controller's load model (friction_N = F_c only) leaves it out too. The slide
 // then runs 2.4–2.6 % below the programmed feed before any disturbance, with or without control
 // (a_regulator_flow: 58.61 mm/min for 60; the predicted shortfall is K_leak·b·S/F² = 2.6 %).
-TEST(RigA, UndisturbedSlideRunsAtProgrammedFeed) {
+TEST(Rig, UndisturbedSlideRunsAtProgrammedFeed) {
   const auto sc = scenario("a_regulator_flow");
   const auto out = io::run_scenario(sc);
   const double programmed = out.summary["metrics"]["feed_rate_programmed_mm_per_min"].get<double>();
@@ -127,7 +127,7 @@ TEST(RigA, UndisturbedSlideRunsAtProgrammedFeed) {
   EXPECT_NEAR(mean, programmed, 0.005 * programmed);
 }
 
-TEST(RigA, RoughingAimHoldsForceAtSetValue) {
+TEST(Rig, RoughingAimHoldsForceAtSetValue) {
   const auto sc = scenario("a_roughing_aim");
   const auto out = io::run_scenario(sc);
   const auto& m = out.summary["metrics"];
@@ -150,16 +150,16 @@ TEST(RigA, RoughingAimHoldsForceAtSetValue) {
             m["feed_rate_programmed_mm_per_min"].get<double>());
 }
 
-TEST(RigA, RoughingAimNeverFeedsFasterThanProgrammed) {
+TEST(Rig, RoughingAimNeverFeedsFasterThanProgrammed) {
   const auto sc = scenario("a_roughing_aim");
-  RigA rig;
+  Rig rig;
   run_rig(sc, config(sc), rig);
   const auto& rec = rig.recorder();
   const auto feed = rec.column("feed_mm_per_min");
   const auto t = rec.column("time_s");
   const double programmed = config(sc).controller.feed_m_per_s * 60000.0;
   // The recorded feed is averaged over whole pulse periods; allow 1 % for slide dynamics. The
-  // first 0.5 s are skipped, as compute_metrics_a skips them: the rig starts the pulse train
+  // first 0.5 s are skipped, as compute_metrics skips them: the rig starts the pulse train
   // "on" from the mean damper state and the feed overshoots by ~15 % for ~0.1 s (see report).
   double peak = 0.0;
   for (std::size_t i = 0; i < t.size(); ++i)
@@ -167,7 +167,7 @@ TEST(RigA, RoughingAimNeverFeedsFasterThanProgrammed) {
   EXPECT_LE(peak, 1.01 * programmed);
 }
 
-TEST(RigA, SensorDropoutAlarmsWithinOnePeriodAndStopsFeed) {
+TEST(Rig, SensorDropoutAlarmsWithinOnePeriodAndStopsFeed) {
   const auto sc = scenario("a_sensor_dropout");
   ASSERT_EQ(config(sc).faults.size(), 1u);
   const double fault_at = config(sc).faults[0].at_s;
@@ -183,7 +183,7 @@ TEST(RigA, SensorDropoutAlarmsWithinOnePeriodAndStopsFeed) {
 
   // The feed stops: the last recorded feed is below 1 % of the programmed one, and the alarm
   // stays latched to the end.
-  RigA rig;
+  Rig rig;
   run_rig(sc, config(sc), rig);
   const auto& rec = rig.recorder();
   const auto feed = rec.column("feed_mm_per_min");
@@ -205,14 +205,14 @@ TEST(RigA, SensorDropoutAlarmsWithinOnePeriodAndStopsFeed) {
   EXPECT_LT(slot.back(), 0.5);  // µm
 }
 
-TEST(RigA, RegulatorFlowMatchesFormula1) {
+TEST(Rig, RegulatorFlowMatchesFormula1) {
   const auto sc = scenario("a_regulator_flow");
   const auto out = io::run_scenario(sc);
   const auto& m = out.summary["metrics"];
   ASSERT_FALSE(m["flow_formula_error_pct"].is_null());
   EXPECT_LT(std::abs(m["flow_formula_error_pct"].get<double>()), 1.0);
   // Formula (1) at the rig's slot: μπd·h·sqrt(2Δp/ρ)·Δt/T in cm³/min.
-  RigA rig;
+  Rig rig;
   rig.configure(config(sc), sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
   const double q1 = config(sc).regulator.orifice.gain_per_m() * rig.fixed_actuator() *
                     config(sc).pulse_width_s * config(sc).frequency_Hz * 6e7;
@@ -227,7 +227,7 @@ TEST(RigA, RegulatorFlowMatchesFormula1) {
 // rows). Now the void is refilled before the pressure rises again (p = 0 on 24 % of the rows:
 // 63.75 mm/min of travel on 63.87), so
 //   ∫(q − q_leak) dt = F·Δx + storage,   mean velocity = (Q − q_leak)/F.
-TEST(RigA, UndampedSlideConservesOilThroughCavitation) {
+TEST(Rig, UndampedSlideConservesOilThroughCavitation) {
   std::ifstream in(LATHECTL_SOURCE_DIR "/examples/scenarios/a_finishing_aim.toml", std::ios::binary);
   std::ostringstream ss;
   ss << in.rdbuf();
@@ -240,7 +240,7 @@ TEST(RigA, UndampedSlideConservesOilThroughCavitation) {
   replace("damper_capacitance_cm3_per_MPa = 0.5", "damper_capacitance_cm3_per_MPa = 0.0");
   replace("viscous_friction_N_s_per_m = 20000.0", "viscous_friction_N_s_per_m = 2000.0");
   const auto sc = io::parse_scenario(text, "a_undamped.toml", library());
-  RigA rig;
+  Rig rig;
   run_rig(sc, config(sc), rig);
   const auto& rec = rig.recorder();
   const auto t = rec.column("time_s");
@@ -273,4 +273,4 @@ TEST(RigA, UndampedSlideConservesOilThroughCavitation) {
 }
 
 }  // namespace
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::a_pulse_feed

@@ -21,13 +21,13 @@
 #include "lathectl/dynamics/lobes.hpp"
 #include "lathectl/io/materials.hpp"
 
-namespace lathectl::sim {
+namespace lathectl::systems::b_chatter {
 namespace {
 
 using lathectl::test::library;
 
-RigBConfig base(TwinSetup setup) {
-  RigBConfig c;
+RigConfig base(TwinSetup setup) {
+  RigConfig c;
   c.part.length_m = 0.6;
   c.part.diameter_m = 0.04;
   c.part.damping_ratio = 0.012;
@@ -47,7 +47,7 @@ RigBConfig base(TwinSetup setup) {
 }
 
 // Peak |y_highpass| over [t0, t1] s after the cut started.
-double peak(const RigB& rig, double t0, double t1) {
+double peak(const Rig& rig, double t0, double t1) {
   const auto t = rig.recorder().column("time_s");
   const auto y = rig.recorder().column("y_highpass_um");
   double m = 0.0;
@@ -73,8 +73,8 @@ std::pair<double, double> lobe_minimum(const std::vector<dynamics::Mode>& modes,
   return {best_n, best_g};
 }
 
-TEST(RigB, DirectRootSearchAgreesWithTheLobeConstruction) {
-  const RigBConfig c = base(TwinSetup::Single);
+TEST(Rig, DirectRootSearchAgreesWithTheLobeConstruction) {
+  const RigConfig c = base(TwinSetup::Single);
   dynamics::ChatterSystem sys;
   sys.modes = dynamics::beam_modes_at(c.part, 0.3, 1);
   sys.kf_N_per_m2 = 1.0;  // depth ≡ gain
@@ -93,19 +93,19 @@ TEST(RigB, DirectRootSearchAgreesWithTheLobeConstruction) {
 struct Growth {
   double early, late;
 };
-Growth run(RigBConfig c, double feed, double rpm) {
+Growth run(RigConfig c, double feed, double rpm) {
   c.feed_mm_per_rev = feed;
   c.rpm = rpm;
   c.z_end_mm = c.z_start_mm + feed * rpm / 60.0 * 14.0;
-  RigB rig;
+  Rig rig;
   rig.configure(c, 2e-5, 5e-4, 20.0);
   rig.run();
   EXPECT_TRUE(rig.numerically_sound());
   return {peak(rig, 3.0, 5.0), peak(rig, 11.0, 13.0)};
 }
 
-TEST(RigB, SingleToolGrowsJustAboveTheLobeAndDecaysJustBelow) {
-  const RigBConfig c = base(TwinSetup::Single);
+TEST(Rig, SingleToolGrowsJustAboveTheLobeAndDecaysJustBelow) {
+  const RigConfig c = base(TwinSetup::Single);
   const auto modes = dynamics::beam_modes_at(c.part, 0.3, 1);
   const auto [n, g] = lobe_minimum(modes, 1.0, 1.0);
   const Growth below = run(c, chip_for_gain(0.97 * g), n);
@@ -114,9 +114,9 @@ TEST(RigB, SingleToolGrowsJustAboveTheLobeAndDecaysJustBelow) {
   EXPECT_GT(above.late, 1.5 * above.early) << above.early << " → " << above.late;
 }
 
-TEST(RigB, FeedDivisionGrowsJustAboveItsLimitAndDecaysJustBelow) {
+TEST(Rig, FeedDivisionGrowsJustAboveItsLimitAndDecaysJustBelow) {
   // Both tools take s/2: total gain 2·g(s/2) against the loop with τ/2 and coupling −1.
-  const RigBConfig c = base(TwinSetup::FeedDivision);
+  const RigConfig c = base(TwinSetup::FeedDivision);
   const auto modes = dynamics::beam_modes_at(c.part, 0.3, 1);
   const auto [n, g] = lobe_minimum(modes, 0.5, -1.0);
   const Growth below = run(c, 2.0 * chip_for_gain(0.97 * g / 2.0), n);
@@ -129,12 +129,12 @@ TEST(RigB, FeedDivisionGrowsJustAboveItsLimitAndDecaysJustBelow) {
   EXPECT_LT(2.0 * chip_for_gain(g / 2.0), chip_for_gain(single.gain_N_per_m));
 }
 
-TEST(RigB, FeedDivisionSplitsTheChipAndBalancesTheRadialForces) {
-  RigBConfig c = base(TwinSetup::FeedDivision);
+TEST(Rig, FeedDivisionSplitsTheChipAndBalancesTheRadialForces) {
+  RigConfig c = base(TwinSetup::FeedDivision);
   c.feed_mm_per_rev = 0.06;  // stable
   c.rpm = 820.0;
   c.z_end_mm = c.z_start_mm + 5.0;
-  RigB rig;
+  Rig rig;
   rig.configure(c, 2e-5, 1e-3, 20.0);
   rig.run();
   const auto& r = rig.recorder();
@@ -145,16 +145,16 @@ TEST(RigB, FeedDivisionSplitsTheChipAndBalancesTheRadialForces) {
   EXPECT_LT(std::abs(r.column("y_um")[i]), 0.1);
 }
 
-TEST(RigB, StaticDeflectionFollowsTheBeamAlongThePart) {
+TEST(Rig, StaticDeflectionFollowsTheBeamAlongThePart) {
   // One tool, stable: y = −F_p / k(x), with k(x) = 3EIL/(x²(L−x)²); five modes carry it to < 1 %.
   for (double x_mm : {300.0, 150.0}) {
-    RigBConfig c = base(TwinSetup::Single);
+    RigConfig c = base(TwinSetup::Single);
     c.modes = 5;
     c.z_start_mm = x_mm;
     c.feed_mm_per_rev = 0.05;
     c.rpm = 600.0;
     c.z_end_mm = x_mm + 3.0;
-    RigB rig;
+    Rig rig;
     rig.configure(c, 2e-5, 1e-3, 20.0);
     rig.run();
     const auto& r = rig.recorder();
@@ -164,14 +164,14 @@ TEST(RigB, StaticDeflectionFollowsTheBeamAlongThePart) {
   }
 }
 
-TEST(RigB, ChatterSaturatesBecauseTheToolLeavesTheCut) {
-  RigBConfig c = base(TwinSetup::Single);
+TEST(Rig, ChatterSaturatesBecauseTheToolLeavesTheCut) {
+  RigConfig c = base(TwinSetup::Single);
   const auto modes = dynamics::beam_modes_at(c.part, 0.3, 1);
   const auto [n, g] = lobe_minimum(modes, 1.0, 1.0);
   c.feed_mm_per_rev = chip_for_gain(1.3 * g);
   c.rpm = n;
   c.z_end_mm = c.z_start_mm + c.feed_mm_per_rev * n / 60.0 * 8.0;
-  RigB rig;
+  Rig rig;
   rig.configure(c, 2e-5, 1e-4, 20.0);
   rig.run();
   ASSERT_TRUE(rig.numerically_sound());
@@ -189,11 +189,11 @@ TEST(RigB, ChatterSaturatesBecauseTheToolLeavesTheCut) {
   EXPECT_LT(out, all);
 }
 
-TEST(RigB, DelaysFollowTheSpindleSpeedIntoAStabilityPocket) {
+TEST(Rig, DelaysFollowTheSpindleSpeedIntoAStabilityPocket) {
   // The same cut, 30 % above the lobe minimum's limit: at the minimum's speed it chatters; at a
   // speed where the direct root search gives a limit above the cut's gain it does not. Only the
   // delay τ = 60/n differs between the two runs.
-  const RigBConfig c = base(TwinSetup::Single);
+  const RigConfig c = base(TwinSetup::Single);
   const auto modes = dynamics::beam_modes_at(c.part, 0.3, 1);
   const auto [n_min, g] = lobe_minimum(modes, 1.0, 1.0);
   double n_pocket = 0.0;
@@ -210,9 +210,9 @@ TEST(RigB, DelaysFollowTheSpindleSpeedIntoAStabilityPocket) {
   EXPECT_LT(in_pocket.late, 0.01);
 }
 
-TEST(RigB, RejectsBadConfiguration) {
-  RigB rig;
-  RigBConfig c = base(TwinSetup::Single);
+TEST(Rig, RejectsBadConfiguration) {
+  Rig rig;
+  RigConfig c = base(TwinSetup::Single);
   c.z_end_mm = 700.0;  // beyond the tailstock centre
   EXPECT_THROW(rig.configure(c, 2e-5, 1e-3, 10.0), std::invalid_argument);
   c = base(TwinSetup::Single);
@@ -224,4 +224,4 @@ TEST(RigB, RejectsBadConfiguration) {
 }
 
 }  // namespace
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::b_chatter

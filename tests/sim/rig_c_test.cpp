@@ -22,16 +22,16 @@
 
 namespace {
 
-using lathectl::sim::RigC;
-using lathectl::sim::RigCConfig;
+using lathectl::systems::c_tracer::Rig;
+using lathectl::systems::c_tracer::RigConfig;
 
 constexpr double kDt = 1e-4;
 constexpr double kCorner = 0.3e-3;  // cylinder 0 … 0.3 mm, then the cone: t0 = 0.1 s, a step edge
 constexpr double kEnd = 1.0e-3;     // template length: 1/3 s of feed at V_pr = 3 mm/s
 constexpr double kY0 = 0.020;
 
-RigCConfig cone_config(double alpha_deg, double beta_deg) {
-  RigCConfig c;
+RigConfig cone_config(double alpha_deg, double beta_deg) {
+  RigConfig c;
   const double al = alpha_deg * std::numbers::pi / 180.0;
   c.profile.add_point(0.0, kY0);
   c.profile.add_point(kCorner, kY0);
@@ -52,8 +52,8 @@ class RigCCone : public ::testing::TestWithParam<Angles> {};
 
 TEST_P(RigCCone, LinearSimulationEqualsClosedForm) {
   const auto [alpha_deg, beta_deg] = GetParam();
-  const RigCConfig cfg = cone_config(alpha_deg, beta_deg);
-  RigC rig;
+  const RigConfig cfg = cone_config(alpha_deg, beta_deg);
+  Rig rig;
   rig.configure(cfg, kDt, kDt);
   rig.run();
   ASSERT_TRUE(rig.numerically_sound());
@@ -88,8 +88,8 @@ TEST_P(RigCCone, LinearSimulationEqualsClosedForm) {
 
 TEST_P(RigCCone, SteadyProfileErrorOnTheCone) {
   const auto [alpha_deg, beta_deg] = GetParam();
-  const RigCConfig cfg = cone_config(alpha_deg, beta_deg);
-  RigC rig;
+  const RigConfig cfg = cone_config(alpha_deg, beta_deg);
+  Rig rig;
   rig.configure(cfg, kDt, kDt);
   rig.run();
   ASSERT_TRUE(rig.numerically_sound());

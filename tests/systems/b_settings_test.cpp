@@ -18,7 +18,9 @@ namespace {
 using test::edited;
 using test::library;
 
-const sim::RigBConfig& rig(const io::Scenario& sc) { return sc.get<b_chatter::Settings>().rig; }
+const systems::b_chatter::RigConfig& rig(const io::Scenario& sc) {
+  return sc.get<systems::b_chatter::Settings>().rig;
+}
 
 TEST(SystemBSettings, DefaultsKeepTheModelOfTheGoldenRuns) {
   const auto sc = io::parse_scenario(test::example_text("b_twin_depth_division"), "mem.toml", library());

@@ -74,23 +74,23 @@ TEST(SystemBStreamed, ChannelsAndMeasuresEqualTheColumnsRecord) {
   // The example's twin turrets with the automatic module, over 4 mm of the cut (about 2.6 s).
   const auto sc =
       io::parse_scenario(test::example_text("b_twin_feed_division"), "mem.toml", library());
-  sim::RigBConfig b = sc.get<b_chatter::Settings>().rig;
+  systems::b_chatter::RigConfig b = sc.get<systems::b_chatter::Settings>().rig;
   b.z_end_mm = b.z_start_mm + 4.0;
   const double dead_zone_um = b.vibration.dead_zone_m * 1e6;
 
-  b_chatter::Run cols;  // columns, measured by replaying its rows
+  systems::b_chatter::Run cols;  // columns, measured by replaying its rows
   cols.rig.configure(b, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
   cols.rig.run();
-  cols.measure = std::make_unique<b_chatter::Measure>(cols.rig, true, nullptr);
+  cols.measure = std::make_unique<systems::b_chatter::Measure>(cols.rig, true, nullptr);
   cols.rig.recorder().replay(*cols.measure);
   cols.measure->result(cols, dead_zone_um);
 
   const fs::path dir = scratch("set");
   io::OutputStage stage(dir);
-  b_chatter::Run st;  // streamed: channels.csv and the window's rows into the stage
+  systems::b_chatter::Run st;  // streamed: channels.csv and the window's rows into the stage
   st.rig.set_streamed(true);
   st.rig.configure(b, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
-  st.measure = std::make_unique<b_chatter::Measure>(st.rig, true, &stage, 100);
+  st.measure = std::make_unique<systems::b_chatter::Measure>(st.rig, true, &stage, 100);
   st.csv = io::open_channel_stream(&stage, "channels.csv", st.rig.recorder().channels(),
                                    st.rig.max_record_rows());
   st.rig.attach(st.measure.get());

@@ -14,7 +14,7 @@
 #include "support/scenario_text.hpp"
 #include "systems/c_tracer/settings.hpp"
 #include "systems/c_tracer/study.hpp"
-#include "systems/d_gauging/gauging.hpp"
+#include "systems/d_gauging/rig.hpp"
 
 namespace lathectl {
 namespace {
@@ -34,16 +34,16 @@ std::uint64_t bits(double v) { return std::bit_cast<std::uint64_t>(v); }
 
 TEST(SystemDStreamed, PartsMachinedAgainBlockByBlockAreTheSameParts) {
   using F = sensors::VibroContactGauge::Params::Filter;
-  sim::GaugingProcess p;  // the defaults: noise D = 4 µm², β = 5/s
+  systems::d_gauging::GaugingProcess p;  // the defaults: noise D = 4 µm², β = 5/s
   p.backstop_m = 45e-6;
   for (F f : {F::FirstOrder, F::Synchronous}) {
-    const sim::LinearGauge g{19844.0, 298e-6, 0.1, f, 50.0};
-    const double th = sim::threshold_23(g, p);
-    const auto all = sim::monte_carlo_linear(p, g, th, 3000, 7);
-    sim::LinearParts again(p, g, th, 3000, 7, /*kept=*/0, /*block=*/1024);
+    const systems::d_gauging::LinearGauge g{19844.0, 298e-6, 0.1, f, 50.0};
+    const double th = systems::d_gauging::threshold_23(g, p);
+    const auto all = systems::d_gauging::monte_carlo_linear(p, g, th, 3000, 7);
+    systems::d_gauging::LinearParts again(p, g, th, 3000, 7, /*kept=*/0, /*block=*/1024);
     for (int pass = 0; pass < 2; ++pass) {
       std::size_t n = 0;
-      again.for_each([&](std::size_t i, const sim::PartResult& r) {
+      again.for_each([&](std::size_t i, const systems::d_gauging::PartResult& r) {
         ASSERT_EQ(i, n++);
         EXPECT_EQ(bits(r.trip_s), bits(all[i].trip_s)) << i;
         EXPECT_EQ(bits(r.stop_s), bits(all[i].stop_s)) << i;

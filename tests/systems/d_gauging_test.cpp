@@ -15,7 +15,7 @@
 #include "lathectl/io/scenario.hpp"
 #include "support/library.hpp"
 #include "support/scenario_text.hpp"
-#include "systems/d_gauging/gauging.hpp"
+#include "systems/d_gauging/rig.hpp"
 #include "systems/d_gauging/settings.hpp"
 
 namespace lathectl {
@@ -41,7 +41,7 @@ TEST(SystemDSafety, ThresholdBelowTheBounceFloorIsRefusedAtTheTarget) {
     const std::string k =
         edited(text, "threshold = \"calibrated\"", std::string("threshold = \"") + kind + "\"");
     try {
-      (void)io::parse_scenario(k, "mem.toml", library(), d_gauging::kSection);
+      (void)io::parse_scenario(k, "mem.toml", library(), systems::d_gauging::kSection);
       ADD_FAILURE() << kind << ": not refused";
     } catch (const io::InputError& e) {
       const std::string msg = e.what();
@@ -54,17 +54,17 @@ TEST(SystemDSafety, ThresholdBelowTheBounceFloorIsRefusedAtTheTarget) {
   refused(seed_tr, "seed");
   refused(seed_tr, "calibrated");
   refused(t, "seed");
-  EXPECT_NO_THROW((void)io::parse_scenario(t, "mem.toml", library(), d_gauging::kSection));
+  EXPECT_NO_THROW((void)io::parse_scenario(t, "mem.toml", library(), systems::d_gauging::kSection));
   // Forced, it parses; the example near A0 is that set-up.
-  EXPECT_NO_THROW(
-      (void)io::parse_scenario(example("d_near_a0"), "mem.toml", library(), d_gauging::kSection));
+  EXPECT_NO_THROW((void)io::parse_scenario(example("d_near_a0"), "mem.toml", library(),
+                                           systems::d_gauging::kSection));
 }
 
 TEST(SystemDSafety, GivenThresholdAboveTheFreeSignalIsRefusedAtItsKey) {
   std::string t = edited(example("d_gauging"), "threshold = \"calibrated\"",
                          "threshold = \"given\"\nthreshold_V = 50.0");
   try {
-    (void)io::parse_scenario(t, "mem.toml", library(), d_gauging::kSection);
+    (void)io::parse_scenario(t, "mem.toml", library(), systems::d_gauging::kSection);
     ADD_FAILURE() << "not refused";
   } catch (const io::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("gauge.threshold_V"), std::string::npos) << e.what();
@@ -73,9 +73,10 @@ TEST(SystemDSafety, GivenThresholdAboveTheFreeSignalIsRefusedAtItsKey) {
 
 TEST(SystemDSafety, ExamplesThresholdsLieInTheSafeRange) {
   for (const char* name : {"d_gauging", "d_low_resonance"}) {
-    const auto sc = io::parse_scenario(example(name), "mem.toml", library(), d_gauging::kSection);
-    const auto& d = sc.get<d_gauging::Settings>();
-    const auto plan = d_gauging::plan_threshold(d, sc.run.step_s);
+    const auto sc =
+        io::parse_scenario(example(name), "mem.toml", library(), systems::d_gauging::kSection);
+    const auto& d = sc.get<systems::d_gauging::Settings>();
+    const auto plan = systems::d_gauging::plan_threshold(d, sc.run.step_s);
     EXPECT_TRUE(plan.safe()) << name;
     // The floor at the start of the cut is about 1-2 V (issue 16), not (20)'s K·(A0 − x).
     EXPECT_GT(plan.range.floor_V, 0.9) << name;
@@ -87,8 +88,8 @@ TEST(SystemDSafety, ExamplesThresholdsLieInTheSafeRange) {
   }
 }
 
-sim::GaugingProcess process() {
-  sim::GaugingProcess p;
+systems::d_gauging::GaugingProcess process() {
+  systems::d_gauging::GaugingProcess p;
   p.allowance_m = 250e-6;
   p.removal_m_per_s = 20e-6;
   p.target_m = 100e-6;
@@ -99,8 +100,9 @@ sim::GaugingProcess process() {
 
 TEST(SystemDBackstop, EndsTheLinearCutsTheRelayDoesNot) {
   const auto p = process();
-  const sim::LinearGauge g{19844.0, 298e-6, 0.1};
-  const auto parts = sim::monte_carlo_linear(p, g, 100.0, 200, 5);  // S_th never reached
+  const systems::d_gauging::LinearGauge g{19844.0, 298e-6, 0.1};
+  const auto parts =
+      systems::d_gauging::monte_carlo_linear(p, g, 100.0, 200, 5);  // S_th never reached
   for (const auto& r : parts) {
     EXPECT_TRUE(r.backstop);
     EXPECT_TRUE(std::isnan(r.trip_s));
@@ -112,7 +114,7 @@ TEST(SystemDBackstop, EndsTheFullModelCutAtItsLimit) {
   auto p = process();
   p.noise_variance_m2 = 0.0;
   sensors::VibroContactGauge::Params gp;
-  const auto r = sim::machine_part_full(p, gp, 2e-5, 100.0, 1, nullptr, 50, 12.0);
+  const auto r = systems::d_gauging::machine_part_full(p, gp, 2e-5, 100.0, 1, nullptr, 50, 12.0);
   EXPECT_TRUE(r.backstop);
   EXPECT_NEAR(r.finished_m, p.backstop_m, 1e-12);
   EXPECT_NEAR(r.stop_s, (p.allowance_m - p.backstop_m) / p.removal_m_per_s, 1e-12);
@@ -124,9 +126,9 @@ TEST(SystemDFilters, LinearMonteCarloScatterMatchesExtended25) {
   using F = sensors::VibroContactGauge::Params::Filter;
   const auto p = process();
   for (F f : {F::SecondOrder, F::Synchronous}) {
-    sim::LinearGauge g{19844.0, 298e-6, 0.1, f, 50.0};
-    const double th = sim::threshold_23(g, p);
-    const auto parts = sim::monte_carlo_linear(p, g, th, 20000, 11);
+    systems::d_gauging::LinearGauge g{19844.0, 298e-6, 0.1, f, 50.0};
+    const double th = systems::d_gauging::threshold_23(g, p);
+    const auto parts = systems::d_gauging::monte_carlo_linear(p, g, th, 20000, 11);
     double m = 0.0, ss = 0.0;
     for (const auto& r : parts) m += r.finished_m;
     m /= static_cast<double>(parts.size());
@@ -149,14 +151,15 @@ TEST(SystemDCalibration, DynamicCalibrationWithoutNoiseLandsOnTarget) {
   gp.contact_damping_N_s_per_m = 200.0;  // regular probe (the design rule)
   gp.filter = sensors::VibroContactGauge::Params::Filter::SecondOrder;
   const auto st = sensors::VibroContactGauge::steady(gp);
-  const sim::LinearGauge g{st.signal_gain_V_per_m, st.free_amplitude_m, 0.1, gp.filter,
-                           gp.supply_Hz};
-  const double th0 = sim::threshold_23(g, p) + 0.1;  // started 5 µm off
-  const auto c =
-      sim::calibrate_dynamic(p, gp, 2e-5, th0, st.signal_gain_V_per_m, 8, 0.2e-6, 3, 12.0);
+  const systems::d_gauging::LinearGauge g{st.signal_gain_V_per_m, st.free_amplitude_m, 0.1,
+                                          gp.filter, gp.supply_Hz};
+  const double th0 = systems::d_gauging::threshold_23(g, p) + 0.1;  // started 5 µm off
+  const auto c = systems::d_gauging::calibrate_dynamic(p, gp, 2e-5, th0, st.signal_gain_V_per_m, 8,
+                                                       0.2e-6, 3, 12.0);
   EXPECT_TRUE(c.converged);
   EXPECT_LE(c.parts, 8u);
-  const auto r = sim::machine_part_full(p, gp, 2e-5, c.threshold_V, 3, nullptr, 50, 12.0);
+  const auto r =
+      systems::d_gauging::machine_part_full(p, gp, 2e-5, c.threshold_V, 3, nullptr, 50, 12.0);
   EXPECT_NEAR((r.finished_m - p.target_m) * 1e6, 0.0, 0.1);
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 // The cutting process of seed 001's twin-turret lathe: a slender part between centres cut by one
-// or two tools, with regeneration — the plant that sim::RigB drives and that the LinuxCNC
+// or two tools, with regeneration — the plant that systems::b_chatter::Rig drives and that the LinuxCNC
 // component drives from the machine's own axis and spindle positions.
 //
 // Part: a pinned-pinned Euler–Bernoulli beam (dynamics/beam.hpp); its first n modes seen at the

@@ -1,13 +1,16 @@
 #pragma once
-// Small pieces every system's study (system_a.cpp, system_e.cpp, ...) uses to turn runs into a
-// summary and a report: number formatting, JSON numbers without NaN, recorded columns, alarm
-// lists, and the claims list (each claim with its number and whether it was met).
+// What every system's study (src/systems/<folder>/study.cpp) is made of: the phases it goes
+// through (Study), and the small pieces it uses to turn runs into a summary and a report: number
+// formatting, JSON numbers without NaN, recorded columns, alarm lists, and the claims list (each
+// claim with its number and whether it was met).
 
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "lathectl/io/report.hpp"
+#include "lathectl/io/runner.hpp"
+#include "lathectl/io/scenario.hpp"
 #include "lathectl/sim/metrics.hpp"
 #include "lathectl/sim/recorder.hpp"
 
@@ -54,6 +57,37 @@ class Claims {
   nlohmann::json json_ = nlohmann::json::array();
   std::vector<std::string> notes_;
   std::vector<std::string> ids_;
+};
+
+// A system's study: one scenario's runs turned into summary.json, the report and the result files,
+// in named phases. A system derives from it, keeps what the phases share as members, and its
+// run() is `return MyStudy(sc).run();`. run() calls the phases in this order:
+class Study {
+ public:
+  explicit Study(const Scenario& sc) : sc_(sc) {}
+  Study(const Study&) = delete;
+  Study& operator=(const Study&) = delete;
+  virtual ~Study() = default;
+  RunOutput run();
+
+ protected:
+  // 1. The controllers on the rig: the scenario's run, its comparison, sweeps of the same rig.
+  virtual void run_controllers() = 0;
+  // 2. The claims the runs answer, each with its number.
+  virtual void check_claims(Claims& claims) = 0;
+  // 3. Each study beside the runs: its own summary entry, claims, tables and plots (these follow
+  //    the report's own).
+  virtual void extra_studies(RunOutput& /*out*/, Claims& /*claims*/) {}
+  // 4. summary.json: the metrics, the comparison's, the acceptance (system, scenario and file are
+  //    set before, the claims after). An extra study's entries may already be in it.
+  virtual void summary(nlohmann::json& s) = 0;
+  // 5. The report: title, subtitle, metrics, tables, plots (the claims become its notes after).
+  virtual void report(Report& rep) = 0;
+  // 6. channels.csv / channels_compare.csv (on disk already when streamed to a stage) and the
+  //    one-line headline.
+  virtual void finish(RunOutput& out) = 0;
+
+  const Scenario& sc_;
 };
 
 }  // namespace lathectl::io

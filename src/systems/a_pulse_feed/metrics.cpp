@@ -5,9 +5,9 @@
 #include <cmath>
 #include <limits>
 
-namespace lathectl::sim {
+namespace lathectl::systems::a_pulse_feed {
 
-MetricsAAccumulator::MetricsAAccumulator(const RigA& rig, double last_t)
+MetricsAccumulator::MetricsAccumulator(const Rig& rig, double last_t)
     : rig_(&rig), onsets_(rig.config().faults) {
   const auto& rec = rig.recorder();
   const auto& cfg = rig.config();
@@ -37,13 +37,13 @@ MetricsAAccumulator::MetricsAAccumulator(const RigA& rig, double last_t)
   past_.resize(static_cast<std::size_t>(std::ceil(1.0 / (ri > 0.0 ? ri : 1.0))) + 4);
 }
 
-void MetricsAAccumulator::start_windows(double dt_rec) {
+void MetricsAccumulator::start_windows(double dt_rec) {
   w_ = static_cast<std::size_t>(std::max(1.0, std::round(feed_window_s_ / dt_rec)));
   rev_ = static_cast<std::size_t>(std::llround(60.0 / rpm_ / dt_rec));
   w_flow_ = static_cast<std::size_t>(std::max(1.0, feed_window_s_ / dt_rec));
-  py_ = MovingAverage(w_);
-  f_rev_ = MovingAverage(rev_);
-  flow_avg_ = MovingAverage(w_flow_);
+  py_ = sim::MovingAverage(w_);
+  f_rev_ = sim::MovingAverage(rev_);
+  flow_avg_ = sim::MovingAverage(w_flow_);
   // the first row again, now that the windows are known (its means are itself)
   (void)py_.push(row0_force_);
   (void)f_rev_.push(row0_force_);
@@ -52,10 +52,10 @@ void MetricsAAccumulator::start_windows(double dt_rec) {
 }
 
 // The means over the second before t_d, from the rows kept (all earlier than t_d).
-void MetricsAAccumulator::on_disturbance(double t_settle) {
+void MetricsAccumulator::on_disturbance(double t_settle) {
   td_seen_ = true;
   const double t0 = std::max(t_settle, td_ - 1.0);
-  MeanBetween feed{t0, td_}, force{t0, td_};
+  sim::MeanBetween feed{t0, td_}, force{t0, td_};
   const std::size_t cap = past_.size(), kept = std::min(past_n_, cap);
   for (std::size_t k = past_n_ - kept; k < past_n_; ++k) {
     const Past& p = past_[k % cap];
@@ -67,7 +67,7 @@ void MetricsAAccumulator::on_disturbance(double t_settle) {
   last_out_ = td_;
 }
 
-void MetricsAAccumulator::row(std::span<const double> v) noexcept {
+void MetricsAccumulator::row(std::span<const double> v) noexcept {
   const std::size_t i = n_++;
   const double t = v[t_], feed = v[feed_], force = v[force_], flow = v[flow_];
   t_last_ = t;
@@ -111,23 +111,23 @@ void MetricsAAccumulator::row(std::span<const double> v) noexcept {
 }
 
 // A row at t ≥ t_d.
-void MetricsAAccumulator::late_row(double t, double feed, double, double f_rev, double py,
-                                   std::size_t i) {
+void MetricsAccumulator::late_row(double t, double feed, double, double f_rev, double py,
+                                  std::size_t i) {
   dev_ = std::max(dev_, std::abs(feed - ref_));
   if (i >= w_) peak_ = std::max(peak_, std::abs(py / k_um_ - d_ref_));
   if (roughing_ && std::abs(f_rev - set_) > 0.05 * set_) last_out_ = t;
 }
 
-MetricsA MetricsAAccumulator::result(const RigA& rig) const {
+Metrics MetricsAccumulator::result(const Rig& rig) const {
   const auto& cfg = rig.config();
-  MetricsA m;
+  Metrics m;
   {
     const auto vb = rig.volume_balance();
     m.volume_balance_pct = vb.travel_unexplained_pct;
     m.volume_conservation_error_pct = vb.conservation_error_pct;
   }
   if (n_ == 0) return m;
-  MetricsAAccumulator last = *this;  // (t_d may still have to be closed below)
+  MetricsAccumulator last = *this;  // (t_d may still have to be closed below)
   const double T = T_;
   const double td = rig.first_disturbance_time();
   // t_d after the last row: the second before it is all in the ring.
@@ -185,9 +185,9 @@ MetricsA MetricsAAccumulator::result(const RigA& rig) const {
   return m;
 }
 
-MetricsA compute_metrics_a(const RigA& rig) {
+Metrics compute_metrics(const Rig& rig) {
   const auto t = rig.recorder().column("time_s");
-  MetricsAAccumulator acc(rig, t.empty() ? -1.0 : t.back());
+  MetricsAccumulator acc(rig, t.empty() ? -1.0 : t.back());
   rig.recorder().replay(acc);
   return acc.result(rig);
 }
@@ -251,7 +251,7 @@ SwitchingLimits regulator_switching_limits(const hydraulics::PulseRegulator::Par
   return lim;
 }
 
-PulseMeanFlowPlot::PulseMeanFlowPlot(const Recorder& rec, double window_s)
+PulseMeanFlowPlot::PulseMeanFlowPlot(const sim::Recorder& rec, double window_s)
     : t_(rec.index("time_s")),
       flow_(rec.index("flow_cm3_per_min")),
       freq_(rec.index("frequency_Hz")),
@@ -281,9 +281,9 @@ void PulseMeanFlowPlot::row(std::span<const double> v) noexcept {
   ++n_;
 }
 
-std::shared_ptr<const PlotPyramid> PulseMeanFlowPlot::plot() const {
+std::shared_ptr<const sim::PlotPyramid> PulseMeanFlowPlot::plot() const {
   if (opens_seen_ < 2) return nullptr;
   return plot_.finished();
 }
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::a_pulse_feed

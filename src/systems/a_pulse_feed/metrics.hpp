@@ -19,9 +19,9 @@
 #include "lathectl/sim/recorder.hpp"
 #include "systems/a_pulse_feed/rig.hpp"
 
-namespace lathectl::sim {
+namespace lathectl::systems::a_pulse_feed {
 
-struct MetricsA {
+struct Metrics {
   double feed_rate_programmed_mm_per_min = 0.0;
   double feed_rate_mean_mm_per_min = 0.0;
   double feed_rate_reference_mm_per_min = 0.0;
@@ -45,32 +45,32 @@ struct MetricsA {
   double deflection_end_um = std::numeric_limits<double>::quiet_NaN();   // last 10 % of the run
   double size_error_diameter_um = std::numeric_limits<double>::quiet_NaN();       // 2·(end − ref)
   double size_error_peak_diameter_um = std::numeric_limits<double>::quiet_NaN();  // max 2·|δ−ref|
-  std::vector<AlarmEvent> alarms;
+  std::vector<sim::AlarmEvent> alarms;
   double first_alarm_delay_s = std::numeric_limits<double>::quiet_NaN();  // after the first fault
-  // Oil balance (RigA::volume_balance): travel not explained by the net inflow, and oil the
+  // Oil balance (Rig::volume_balance): travel not explained by the net inflow, and oil the
   // model made or lost, both as % of the delivered volume.
   double volume_balance_pct = 0.0;
   double volume_conservation_error_pct = 0.0;
 };
 
-// From a finished rig with columns (its rows replayed through MetricsAAccumulator).
-MetricsA compute_metrics_a(const RigA& rig);
+// From a finished rig with columns (its rows replayed through MetricsAccumulator).
+Metrics compute_metrics(const Rig& rig);
 
-// The same metrics row by row as the rig records (a RowSink attached to a streamed RigA between
+// The same metrics row by row as the rig records (a RowSink attached to a streamed Rig between
 // configure and run): the windows relative to the run's end are known before it starts (the last
-// row's time, RigA::last_record_time), the second before t_d is kept in a ring of rows, the
+// row's time, Rig::last_record_time), the second before t_d is kept in a ring of rows, the
 // largest deviation from a mean known only at the end by the extremes (|x − ref| is largest at
 // the largest or the smallest x). Memory is bounded by the record interval, not the duration.
-class MetricsAAccumulator final : public RowSink {
+class MetricsAccumulator final : public sim::RowSink {
  public:
-  // rig: configured; last_t: the time of the last row it will record (RigA::last_record_time()
+  // rig: configured; last_t: the time of the last row it will record (Rig::last_record_time()
   // for run()).
-  MetricsAAccumulator(const RigA& rig, double last_t);
+  MetricsAccumulator(const Rig& rig, double last_t);
   void row(std::span<const double> v) noexcept override;
-  [[nodiscard]] MetricsA result(const RigA& rig) const;
+  [[nodiscard]] Metrics result(const Rig& rig) const;
   // The regulator flow averaged over the feed window (NaN over the first, partial window),
   // decimated for the report's plot.
-  [[nodiscard]] const PlotPyramid& flow_smoothed_plot() const noexcept { return flow_plot_; }
+  [[nodiscard]] const sim::PlotPyramid& flow_smoothed_plot() const noexcept { return flow_plot_; }
   [[nodiscard]] double first_time() const noexcept { return t_first_; }
   [[nodiscard]] double last_time() const noexcept { return t_last_; }
 
@@ -81,11 +81,11 @@ class MetricsAAccumulator final : public RowSink {
   void start_windows(double dt_rec);
   void on_disturbance(double t_settle);
   void late_row(double t, double feed, double force, double f_rev, double py, std::size_t i);
-  const RigA* rig_;
+  const Rig* rig_;
   std::size_t t_, feed_, force_, flow_, alarm_, reason_;
   bool roughing_;
   double T_, t_settle_, set_, k_um_, feed_window_s_, rpm_;
-  MeanBetween feed_all_, feed_end90_, feed_end95_, feed_early_, force_end90_, flow_all_,
+  sim::MeanBetween feed_all_, feed_end90_, feed_end95_, feed_early_, force_end90_, flow_all_,
       f_rev_end90_;
   double force_peak_ = 0.0;
   double feed_max_ = -std::numeric_limits<double>::infinity();
@@ -98,9 +98,9 @@ class MetricsAAccumulator final : public RowSink {
   std::size_t past_n_ = 0;
   // moving averages (windows from the first two rows' times)
   std::size_t w_ = 1, rev_ = 1, w_flow_ = 1;
-  MovingAverage py_, f_rev_, flow_avg_;
-  PlotPyramid flow_plot_;
-  AlarmOnsets onsets_;
+  sim::MovingAverage py_, f_rev_, flow_avg_;
+  sim::PlotPyramid flow_plot_;
+  sim::AlarmOnsets onsets_;
   std::size_t n_ = 0;
   double row0_force_ = 0.0, row0_flow_ = 0.0, t_first_ = 0.0, t_last_ = 0.0;
 };
@@ -114,13 +114,13 @@ class MetricsAAccumulator final : public RowSink {
 // N pulses have been seen). Where the flow never stops (fewer than two openings: the continuous
 // throttle) the caller plots the trailing mean over the window instead (plot() returns null).
 // Memory: the last kMaxPeriods openings (a window of up to 4096 pulses), whatever the duration.
-class PulseMeanFlowPlot final : public RowSink {
+class PulseMeanFlowPlot final : public sim::RowSink {
  public:
   static constexpr std::size_t kMaxPeriods = 4096;
-  PulseMeanFlowPlot(const Recorder& rec, double window_s);
+  PulseMeanFlowPlot(const sim::Recorder& rec, double window_s);
   void row(std::span<const double> v) noexcept override;
   // The plot's finished pyramid; null when the flow had fewer than two openings.
-  [[nodiscard]] std::shared_ptr<const PlotPyramid> plot() const;
+  [[nodiscard]] std::shared_ptr<const sim::PlotPyramid> plot() const;
 
  private:
   std::size_t t_, flow_, freq_;
@@ -128,7 +128,7 @@ class PulseMeanFlowPlot final : public RowSink {
   double sum_ = 0.0, prev_flow_ = 0.0, value_;
   std::size_t n_ = 0, opens_seen_ = 0;
   std::vector<std::pair<std::size_t, double>> opens_;  // ring: (sample index, sum before it)
-  PlotPyramid plot_;
+  sim::PlotPyramid plot_;
 };
 
 // Simulated mean flow of a pulsed regulator at slot h and frequency f for each pulse width,
@@ -148,4 +148,4 @@ struct SwitchingLimits {
 SwitchingLimits regulator_switching_limits(const hydraulics::PulseRegulator::Params& p,
                                            double slot_m, double frequency_Hz);
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::a_pulse_feed

@@ -56,7 +56,7 @@ Errors draw(const Settings& st, const ToleranceStudy& t, double slot, double gap
       p.closing_time_s = std::max(p.closing_time_s * (1.0 + dsw_c), 0.0);
     }
     const double h = std::clamp(slot + (sources[0] ? dh : 0.0), 0.0, p.max_slot_m);
-    const double q = sim::regulator_characteristic(p, h, a.frequency_Hz, {a.pulse_width_s}, 6).front();
+    const double q = regulator_characteristic(p, h, a.frequency_Hz, {a.pulse_width_s}, 6).front();
     e.pulsed.push_back(q / q_nom - 1.0);
     hydraulics::Throttle thr;
     thr.configure({p.orifice, {}});  // no silting here: a new throttle
@@ -67,13 +67,68 @@ Errors draw(const Settings& st, const ToleranceStudy& t, double slot, double gap
 }
 }  // namespace
 
+std::string characteristic_study(const Settings& st, double slot_m, double frequency_Hz,
+                                 io::RunOutput& out) {
+  const auto& rp = st.rig.regulator;
+  const double h = slot_m, f = frequency_Hz;
+  std::vector<double> widths, duty;
+  for (int k = 0; k <= 40; ++k) {
+    duty.push_back(k / 40.0);
+    widths.push_back(k / 40.0 / f);
+  }
+  auto ideal_p = rp;
+  ideal_p.opening_time_s = ideal_p.closing_time_s = ideal_p.lap_m = 0.0;
+  const auto q_real = regulator_characteristic(rp, h, f, widths);
+  const auto q_ideal_sim = regulator_characteristic(ideal_p, h, f, widths);
+  io::Plot ch{"Regulator characteristic at h = " + fmt(h * 1e6) + " µm, f = " + fmt(f) + " Hz",
+              "duty Δt/T",
+              "mean flow [cm³/min]",
+              {},
+              {}};
+  io::Series formula{"formula (1): μπd·h·√(2Δp/ρ)·Δt/T", duty, {}, "#555", true, false};
+  for (double d : duty) formula.y.push_back(rp.orifice.gain_per_m() * h * d * 6e7);
+  io::Series ideal{"simulated, instantaneous switching", duty, {}, "#2ca02c", false, true};
+  for (double q : q_ideal_sim) ideal.y.push_back(q * 6e7);
+  io::Series real{"simulated, opening " + fmt(rp.opening_time_s * 1e3) + " ms / closing " +
+                      fmt(rp.closing_time_s * 1e3) + " ms, overlap " + fmt(rp.lap_m * 1e6) + " µm",
+                  duty,
+                  {},
+                  "#1f77b4",
+                  false,
+                  false};
+  for (double q : q_real) real.y.push_back(q * 6e7);
+  ch.series = {formula, ideal, real};
+  out.report.plots.push_back(ch);
+  double worst = 0.0;
+  for (std::size_t k = 1; k < duty.size() - 1; ++k)
+    worst =
+        std::max(worst, std::abs(q_ideal_sim[k] / (rp.orifice.gain_per_m() * h * duty[k]) - 1.0));
+  json& m = out.summary["metrics"];
+  m["regulator_ideal_flow_max_error_pct"] = 100.0 * worst;
+  // Dead zone and saturation from the switching model, closed form against simulation:
+  //   no flow while Δt < lap/v_open;  full flow once T − Δt < (h + lap)/v_close.
+  const double travel = rp.lap_m + rp.max_slot_m;
+  const double dead_theory = rp.opening_time_s * rp.lap_m / travel * f;
+  const double sat_theory = 1.0 - rp.closing_time_s * (h + rp.lap_m) / travel * f;
+  const auto lim = regulator_switching_limits(rp, h, f);
+  const double dead_sim = lim.dead_zone_duty, sat_sim = lim.saturation_duty;
+  m["regulator_dead_zone_duty"] = dead_theory;
+  m["regulator_dead_zone_duty_simulated"] = dead_sim;
+  m["regulator_saturation_duty"] = sat_theory;
+  m["regulator_saturation_duty_simulated"] = sat_sim;
+  if (!(rp.opening_time_s > 0.0 || rp.closing_time_s > 0.0 || rp.lap_m > 0.0)) return {};
+  return "regulator dead zone: no flow below duty " + fmt(dead_theory, "%.3f") +
+         " (closed form; simulated " + fmt(dead_sim, "%.5f") +
+         "); the spool stops closing between pulses from duty " + fmt(sat_theory, "%.4f") +
+         " (closed form; simulated " + fmt(sat_sim, "%.5f") + ")";
+}
+
 void tolerance_study(const Settings& st, const ToleranceStudy& t, double slot_m,
                      std::uint64_t seed, io::RunOutput& out, io::Claims& claims) {
   const auto& a = st.rig;
   // Nominal: the pulsed regulator's simulated mean flow, and the throttle gap that gives it.
   const double q_nom =
-      sim::regulator_characteristic(a.regulator, slot_m, a.frequency_Hz, {a.pulse_width_s}, 6)
-          .front();
+      regulator_characteristic(a.regulator, slot_m, a.frequency_Hz, {a.pulse_width_s}, 6).front();
   const double gap = q_nom / a.regulator.orifice.gain_per_m();
   const char* names[] = {"slot / gap opening", "spool diameter", "discharge coefficient μ",
                          "spool overlap (pulsed only)", "switching times (pulsed only)"};
@@ -151,14 +206,17 @@ void tolerance_study(const Settings& st, const ToleranceStudy& t, double slot_m,
               "overlap and switching times (rows of the table)");
 }
 
-void obliteration_study(const Settings& st, double slot_m, double gap_m, double duration_s,
-                        io::RunOutput& out, io::Claims& claims) {
-  const auto& a = st.rig;
-  const double f = a.frequency_Hz, width = a.pulse_width_s;
-  const double dt = 0.25 / f;  // exact within a step (closed-form segments); 4 steps a period
-  const auto n = static_cast<std::size_t>(std::ceil(duration_s / dt));
-  // Flow drift of a flow history: last 5 % against 5–10 % (feed_drift_pct's definition).
-  auto drift = [&](const std::vector<double>& q) {
+namespace {
+// The regulators alone over a duration, in steps of a quarter pulse period (exact within a step:
+// closed-form segments), and the flow drift of each: last 5 % against 5–10 % (feed_drift_pct's
+// definition).
+struct AloneOverTheRun {
+  double slot_m, gap_m, frequency_Hz, width_s, duration_s;
+  [[nodiscard]] double dt() const { return 0.25 / frequency_Hz; }
+  [[nodiscard]] std::size_t steps() const {
+    return static_cast<std::size_t>(std::ceil(duration_s / dt()));
+  }
+  static double drift(const std::vector<double>& q) {
     double early = 0.0, late = 0.0, ne = 0.0, nl = 0.0;
     for (std::size_t i = 0; i < q.size(); ++i) {
       const double x = static_cast<double>(i) / static_cast<double>(q.size());
@@ -166,80 +224,54 @@ void obliteration_study(const Settings& st, double slot_m, double gap_m, double 
       if (x >= 0.95) late += q[i], nl += 1.0;
     }
     return 100.0 * (late / nl - early / ne) / (early / ne);
-  };
-  std::vector<double> q(n);
-  hydraulics::Throttle thr;
-  thr.configure({a.regulator.orifice, a.regulator.obliteration});
-  for (std::size_t i = 0; i < n; ++i) q[i] = thr.step(dt, gap_m);
-  const double thr_drift = drift(q);
-  const auto& ob = a.regulator.obliteration;
-  io::Table tab{"Obliteration against the share η of the layer a closing stroke removes "
-                "(regulators alone, " + fmt(duration_s / 60.0) + " min; layer " +
-                    fmt(ob.layer_max_m * 1e6) + " µm per wall, τ = " +
-                    fmt(ob.time_constant_s / 60.0) + " min, critical gap " +
-                    fmt(ob.critical_gap_m * 1e6) + " µm)",
-                {"η", "pulsed flow drift [%]", "closed form (layer at the windows' middles) [%]",
-                 "throttle flow drift [%]",
-                 "pulsed keeps its flow (|drift| < 1 %)"},
-                {}};
-  io::Plot plot{"Pulsed regulator's flow drift against η (the throttle's for reference)",
-                "log10 η (share removed per closing stroke)", "flow drift over the run [%]", {}, {}};
-  io::Series sp{"pulsed regulator", {}, {}, "#1f77b4", false, true};
-  io::Series st_{"continuous throttle", {}, {}, "#d62728", true, false};
-  json rows = json::array();
-  double eta_min_holding = std::nan("");
-  const double T = 1.0 / f;
-  for (const double eta : st.obliteration_removal) {
-    auto p = a.regulator;
-    p.obliteration.removal_per_stroke = eta;
+  }
+  [[nodiscard]] double pulsed_drift(const hydraulics::PulseRegulator::Params& p) const {
     hydraulics::PulseRegulator reg;
     reg.configure(p);
-    for (std::size_t i = 0; i < n; ++i) q[i] = reg.step(dt, slot_m, f, width);
-    const double d = drift(q);
-    // Closed form (below the critical gap): the layer grows while the slot is open (≈ Δt a
-    // period, g = 1 − e^(−Δt/τ)) and a stroke removes η of it, so after each pulse
-    //   δ_{k+1} = (1 − η)·δ_k + (δ_max − (1 − η)·δ_k)·g  →  δ* = δ_max·g/(η + (1 − η)·g),
-    // δ(t) = δ*·(1 − r^(t/T)), r = (1 − η)(1 − g) (δ_max·(1 − e^(−duty·t/τ)) at η = 0). The flow
-    // is scaled by 1 − 2δ/h: the drift between the windows' middles (7.5 % and 97.5 % of the run).
-    const double g = 1.0 - std::exp(-width / ob.time_constant_s);
+    std::vector<double> q(steps());
+    for (double& v : q) v = reg.step(dt(), slot_m, frequency_Hz, width_s);
+    return drift(q);
+  }
+  [[nodiscard]] double throttle_drift(const hydraulics::PulseRegulator::Params& p) const {
+    hydraulics::Throttle thr;
+    thr.configure({p.orifice, p.obliteration});
+    std::vector<double> q(steps());
+    for (double& v : q) v = thr.step(dt(), gap_m);
+    return drift(q);
+  }
+  // Closed form (below the critical gap): the layer grows while the slot is open (≈ Δt a period,
+  // g = 1 − e^(−Δt/τ)) and a stroke removes η of it, so after each pulse
+  //   δ_{k+1} = (1 − η)·δ_k + (δ_max − (1 − η)·δ_k)·g  →  δ* = δ_max·g/(η + (1 − η)·g),
+  // δ(t) = δ*·(1 − r^(t/T)), r = (1 − η)(1 − g) (δ_max·(1 − e^(−duty·t/τ)) at η = 0). The flow is
+  // scaled by 1 − 2δ/h: the drift between the windows' middles (7.5 % and 97.5 % of the run).
+  [[nodiscard]] double closed_form_drift(const hydraulics::ObliterationParams& ob,
+                                         double eta) const {
+    const double g = 1.0 - std::exp(-width_s / ob.time_constant_s);
     const double r = (1.0 - eta) * (1.0 - g);
     const double d_star = g * ob.layer_max_m / (eta + (1.0 - eta) * g);
+    const double T = 1.0 / frequency_Hz;
     auto layer = [&](double time) {
       return slot_m >= ob.critical_gap_m ? 0.0 : d_star * (1.0 - std::pow(r, time / T));
     };
     const double q_early = std::max(1.0 - 2.0 * layer(0.075 * duration_s) / slot_m, 0.0);
     const double q_late = std::max(1.0 - 2.0 * layer(0.975 * duration_s) / slot_m, 0.0);
-    const double closed = 100.0 * (q_late - q_early) / q_early;
-    const bool holds = std::abs(d) < 1.0;
-    if (holds && (std::isnan(eta_min_holding) || eta < eta_min_holding)) eta_min_holding = eta;
-    tab.rows.push_back({fmt(eta, "%.3g"), fmt(d, "%.3g"), fmt(closed, "%.3g"),
-                        fmt(thr_drift, "%.3g"), holds ? "yes" : "no"});
-    rows.push_back({{"removal_per_stroke", eta},
-                    {"pulsed_flow_drift_pct", json_number(d)},
-                    {"pulsed_flow_drift_closed_form_pct", json_number(closed)}});
-    if (eta > 0.0) {
-      sp.x.push_back(std::log10(eta));
-      sp.y.push_back(d);
-    }
+    return 100.0 * (q_late - q_early) / q_early;
   }
-  // Where the advantage ends: no sweeping at all (η = 0) and thicker layers.
+};
+
+// Where the advantage ends: no sweeping at all (η = 0) and thicker layers.
+void no_sweep_by_layer(const Settings& st, const AloneOverTheRun& alone, io::RunOutput& out) {
   io::Table layers{"Worst case, no sweeping (η = 0): flow drift against the layer δ_max per wall",
                    {"δ_max [µm]", "pulsed flow drift [%]", "throttle flow drift [%]",
                     "pulsed keeps its flow (|drift| < 1 %)", "throttle / pulsed drift"},
                    {}};
   json layer_rows = json::array();
   for (const double dm : st.obliteration_layer_m) {
-    auto p = a.regulator;
+    auto p = st.rig.regulator;
     p.obliteration.removal_per_stroke = 0.0;
     p.obliteration.layer_max_m = dm;
-    hydraulics::PulseRegulator reg;
-    reg.configure(p);
-    for (std::size_t i = 0; i < n; ++i) q[i] = reg.step(dt, slot_m, f, width);
-    const double dp = drift(q);
-    hydraulics::Throttle th;
-    th.configure({p.orifice, p.obliteration});
-    for (std::size_t i = 0; i < n; ++i) q[i] = th.step(dt, gap_m);
-    const double dtr = drift(q);
+    const double dp = alone.pulsed_drift(p);
+    const double dtr = alone.throttle_drift(p);
     layers.rows.push_back({fmt(dm * 1e6), fmt(dp, "%.3g"), fmt(dtr, "%.3g"),
                            std::abs(dp) < 1.0 ? "yes" : "no",
                            dp != 0.0 ? fmt(dtr / dp, "%.3g") : "—"});
@@ -247,21 +279,14 @@ void obliteration_study(const Settings& st, double slot_m, double gap_m, double 
                           {"pulsed_flow_drift_pct", json_number(dp)},
                           {"throttle_flow_drift_pct", json_number(dtr)}});
   }
-  if (!sp.x.empty()) {
-    const auto [lo, hi] = std::minmax_element(sp.x.begin(), sp.x.end());
-    st_.x = {*lo, *hi};
-    st_.y = {thr_drift, thr_drift};
-  }
-  plot.series = {sp, st_};
-  out.summary["obliteration_study"] = {{"throttle_flow_drift_pct", json_number(thr_drift)},
-                                       {"pulsed_slot_um", json_number(slot_m * 1e6)},
-                                       {"throttle_gap_um", json_number(gap_m * 1e6)},
-                                       {"smallest_removal_keeping_flow", json_number(eta_min_holding)},
-                                       {"by_removal", rows}};
-  if (!layer_rows.empty()) out.summary["obliteration_study"]["no_sweep_by_layer"] = layer_rows;
-  out.report.tables.push_back(tab);
-  if (!layers.rows.empty()) out.report.tables.push_back(layers);
-  out.report.plots.push_back(plot);
+  if (layer_rows.empty()) return;
+  out.summary["obliteration_study"]["no_sweep_by_layer"] = layer_rows;
+  out.report.tables.push_back(layers);
+}
+
+void obliteration_note(const hydraulics::ObliterationParams& ob, const AloneOverTheRun& alone,
+                       double eta_min_holding, io::Claims& claims) {
+  const double slot_m = alone.slot_m, gap_m = alone.gap_m;
   const double loss_slot = 100.0 * std::min(2.0 * ob.layer_max_m / slot_m, 1.0);
   const double loss_gap = 100.0 * std::min(2.0 * ob.layer_max_m / gap_m, 1.0);
   claims.note(
@@ -282,6 +307,62 @@ void obliteration_study(const Settings& st, double slot_m, double gap_m, double 
       "δ_max ≈ h/2 = " + fmt(slot_m * 1e6 / 2.0, "%.3g") + " µm, or for a slot built as small "
       "as the throttle's gap. Slots at or above the critical gap (" +
       fmt(ob.critical_gap_m * 1e6) + " µm here) do not silt at all in this model");
+}
+}  // namespace
+
+void obliteration_study(const Settings& st, double slot_m, double gap_m, double duration_s,
+                        io::RunOutput& out, io::Claims& claims) {
+  const auto& a = st.rig;
+  const auto& ob = a.regulator.obliteration;
+  const AloneOverTheRun alone{slot_m, gap_m, a.frequency_Hz, a.pulse_width_s, duration_s};
+  const double thr_drift = alone.throttle_drift(a.regulator);
+  io::Table tab{"Obliteration against the share η of the layer a closing stroke removes "
+                "(regulators alone, " + fmt(duration_s / 60.0) + " min; layer " +
+                    fmt(ob.layer_max_m * 1e6) + " µm per wall, τ = " +
+                    fmt(ob.time_constant_s / 60.0) + " min, critical gap " +
+                    fmt(ob.critical_gap_m * 1e6) + " µm)",
+                {"η", "pulsed flow drift [%]", "closed form (layer at the windows' middles) [%]",
+                 "throttle flow drift [%]", "pulsed keeps its flow (|drift| < 1 %)"},
+                {}};
+  io::Plot plot{"Pulsed regulator's flow drift against η (the throttle's for reference)",
+                "log10 η (share removed per closing stroke)", "flow drift over the run [%]", {}, {}};
+  io::Series sp{"pulsed regulator", {}, {}, "#1f77b4", false, true};
+  io::Series thr{"continuous throttle", {}, {}, "#d62728", true, false};
+  json rows = json::array();
+  double eta_min_holding = std::nan("");
+  for (const double eta : st.obliteration_removal) {
+    auto p = a.regulator;
+    p.obliteration.removal_per_stroke = eta;
+    const double d = alone.pulsed_drift(p);
+    const double closed = alone.closed_form_drift(ob, eta);
+    const bool holds = std::abs(d) < 1.0;
+    if (holds && (std::isnan(eta_min_holding) || eta < eta_min_holding)) eta_min_holding = eta;
+    tab.rows.push_back({fmt(eta, "%.3g"), fmt(d, "%.3g"), fmt(closed, "%.3g"),
+                        fmt(thr_drift, "%.3g"), holds ? "yes" : "no"});
+    rows.push_back({{"removal_per_stroke", eta},
+                    {"pulsed_flow_drift_pct", json_number(d)},
+                    {"pulsed_flow_drift_closed_form_pct", json_number(closed)}});
+    if (eta > 0.0) {
+      sp.x.push_back(std::log10(eta));
+      sp.y.push_back(d);
+    }
+  }
+  if (!sp.x.empty()) {
+    const auto [lo, hi] = std::minmax_element(sp.x.begin(), sp.x.end());
+    thr.x = {*lo, *hi};
+    thr.y = {thr_drift, thr_drift};
+  }
+  plot.series = {sp, thr};
+  out.summary["obliteration_study"] = {
+      {"throttle_flow_drift_pct", json_number(thr_drift)},
+      {"pulsed_slot_um", json_number(slot_m * 1e6)},
+      {"throttle_gap_um", json_number(gap_m * 1e6)},
+      {"smallest_removal_keeping_flow", json_number(eta_min_holding)},
+      {"by_removal", rows}};
+  out.report.tables.push_back(tab);
+  no_sweep_by_layer(st, alone, out);
+  out.report.plots.push_back(plot);
+  obliteration_note(ob, alone, eta_min_holding, claims);
 }
 
 }  // namespace lathectl::systems::a_pulse_feed

@@ -1,6 +1,10 @@
 #pragma once
 // System A's studies of the regulator alone (issue 17, items 4 and 8): what the seed's
-// advantages 4 (no obliteration) and 5 (coarse manufacturing) rest on.
+// advantages 4 (no obliteration) and 5 (coarse manufacturing) rest on, and its characteristic.
+//
+// Characteristic: the simulated mean flow against formula (1) over the duty range, with and
+// without the switching times and overlap; the dead zone and saturation they make, closed form
+// against simulation.
 //
 // Tolerance: manufacturing errors drawn (normal, σ each, [tolerance]) through the pulsed
 // regulator's model (hydraulics::PulseRegulator, simulated mean flow with its switching) and
@@ -13,12 +17,19 @@
 // balance of hydraulics/orifice.hpp beside it.
 
 #include <cstdint>
+#include <string>
 
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/study.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
 
 namespace lathectl::systems::a_pulse_feed {
+
+// Adds the characteristic's plot and its metrics (summary "metrics": regulator_*) at the
+// scenario's slot and pulse frequency. Returns its note on the dead zone and saturation ("" when
+// the switching is instantaneous), which the report lists after the other studies' claims.
+std::string characteristic_study(const Settings& st, double slot_m, double frequency_Hz,
+                                 io::RunOutput& out);
 
 // Adds the study's summary entry ("tolerance_study"), table, plot and claim to `out`/`claims`.
 // slot_m: the pulsed regulator's slot in the scenario (the uncontrolled run's fixed actuator).

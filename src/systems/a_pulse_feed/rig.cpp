@@ -9,12 +9,12 @@
 #include <stdexcept>
 #include <string>
 
-namespace lathectl::sim {
+namespace lathectl::systems::a_pulse_feed {
 
 namespace {
 constexpr std::size_t kChannels = 17;
 
-std::vector<Channel> rig_a_channels() {
+std::vector<sim::Channel> rig_a_channels() {
   return {{"time_s", "s"},
           {"travel_mm", "mm"},
           {"feed_mm_per_min", "mm/min"},
@@ -36,12 +36,12 @@ std::vector<Channel> rig_a_channels() {
 constexpr double kM3sToCm3min = 1e6 * 60.0;
 }  // namespace
 
-void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, double duration) {
+void Rig::configure(const RigConfig& cfg, double dt, double record_interval, double duration) {
   if (!(dt > 0.0) || !(record_interval >= dt) || !(duration > 0.0))
     throw std::invalid_argument("run: need step > 0, record interval ≥ step, duration > 0");
   if (cfg.regulator_kind == RegulatorKind::Throttle && cfg.controller_kind != ControllerKind::None)
-    throw ConfigError("controller.type",
-                      "a continuous throttle has no pulse actuator: controller must be none");
+    throw sim::ConfigError("controller.type",
+                           "a continuous throttle has no pulse actuator: controller must be none");
   if (!(cfg.spindle_rpm > 0.0) || !(cfg.diameter_m > 0.0))
     throw std::invalid_argument("spindle speed and part diameter must be > 0");
   if (!(cfg.pulse_width_s > 0.0) || !(cfg.frequency_Hz > 0.0) || !(cfg.slot_m > 0.0))
@@ -57,43 +57,43 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
   record_every_ =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(record_interval / dt)));
 
-  configure_as("material", [&] { cut_.configure(cfg.cutting); });
-  configure_as("part", [&] { dist_.configure(cfg.part); });
+  sim::configure_as("material", [&] { cut_.configure(cfg.cutting); });
+  sim::configure_as("part", [&] { dist_.configure(cfg.part); });
   first_change_mm_ = dist_.first_change_mm();
   rev_per_s_ = cfg.spindle_rpm / 60.0;
   speed_m_per_min_ = std::numbers::pi * cfg.diameter_m * cfg.spindle_rpm;
 
   const double feed = cfg.controller.feed_m_per_s;
-  if (!(feed > 0.0)) throw ConfigError("controller.feed_mm_per_min", "must be > 0");
+  if (!(feed > 0.0)) throw sim::ConfigError("controller.feed_mm_per_min", "must be > 0");
   const double s_rev = feed * 1000.0 / rev_per_s_;
   // Nominal force: the programmed feed on the deterministic part of the blank at its start.
   force_nominal_ = cut_.radial_force({dist_.depth_profile(0.0), s_rev, speed_m_per_min_,
                                       dist_.strength_factor(0.0), dist_.wear_factor(0.0)});
 
-  configure_as("slide", [&] { slide_.configure(cfg.slide); });
+  sim::configure_as("slide", [&] { slide_.configure(cfg.slide); });
   slide_.set_steady(feed, force_nominal_);
   const double wh = slide_.hydraulic_omega();
   if (wh * dt > 0.5)
-    throw ConfigError("run.step_s", "step_s " + std::to_string(dt) +
-                                " too coarse for the slide's hydraulic "
-                                "natural frequency " +
-                                std::to_string(wh / 2 / std::numbers::pi) + " Hz: use step_s ≤ " +
-                                std::to_string(0.5 / wh));
+    throw sim::ConfigError("run.step_s", "step_s " + std::to_string(dt) +
+                                             " too coarse for the slide's hydraulic "
+                                             "natural frequency " +
+                                             std::to_string(wh / 2 / std::numbers::pi) +
+                                             " Hz: use step_s ≤ " + std::to_string(0.5 / wh));
   if (cfg.slide.damper_capacitance_m3_per_Pa > 0.0) {
     const double tau_d =
         cfg.slide.damper_capacitance_m3_per_Pa * cfg.slide.damper_resistance_Pa_s_per_m3;
     const double tau_c = cfg.slide.dead_volume_m3 / cfg.slide.bulk_modulus_Pa *
                          cfg.slide.damper_resistance_Pa_s_per_m3;
     if (dt > 0.5 * std::min(tau_d, tau_c))
-      throw ConfigError("run.step_s", "step_s too coarse for the damper: use step_s ≤ " +
-                                  std::to_string(0.5 * std::min(tau_d, tau_c)));
+      throw sim::ConfigError("run.step_s", "step_s too coarse for the damper: use step_s ≤ " +
+                                               std::to_string(0.5 * std::min(tau_d, tau_c)));
   }
 
-  configure_as("regulator", [&] {
+  sim::configure_as("regulator", [&] {
     reg_.configure(cfg.regulator);
     thr_.configure({cfg.regulator.orifice, cfg.regulator.obliteration});
   });
-  configure_as("sensor", [&] { sensor_.configure(cfg.sensor); });
+  sim::configure_as("sensor", [&] { sensor_.configure(cfg.sensor); });
   sensor_.set_steady(force_nominal_);
 
   const double F = cfg.slide.piston_area_m2;
@@ -123,7 +123,7 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
                       ? control::PulseFeedController::Modulation::Frequency
                       : control::PulseFeedController::Modulation::Amplitude;
   if (cp.slot_max_m > cfg.regulator.max_slot_m) cp.slot_max_m = cfg.regulator.max_slot_m;
-  configure_as("controller", [&] { ctl_.configure(cp); });
+  sim::configure_as("controller", [&] { ctl_.configure(cp); });
   ctl_.start(force_nominal_);
   ctl_out_ = {};
   ctl_out_.slot_m =
@@ -137,19 +137,19 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cp.period_s / dt)));
   if (cfg.controller_kind == ControllerKind::Aim) {
     auto ep = cfg.eccentric;
-    configure_as("eccentric", [&] { ecc_.configure(ep); });
+    sim::configure_as("eccentric", [&] { ecc_.configure(ep); });
     ecc_.set_slot(ctl_out_.slot_m);
   }
 
   constexpr double kMaxBufferSteps = 2e7;  // history buffers beyond this mean a nonsensical step
   if (1.0 / rev_per_s_ / dt > kMaxBufferSteps || cfg.feed_window_s / dt > kMaxBufferSteps / 2)
-    throw ConfigError(
+    throw sim::ConfigError(
         1.0 / rev_per_s_ / dt > kMaxBufferSteps ? "run.step_s" : "metrics.feed_window_s",
         "one spindle revolution or the feed window spans more than 2e7 steps: "
         "increase step_s or the spindle speed, or shorten feed_window_s");
   if (!streamed_ && duration / (dt * static_cast<double>(record_every_)) > 5e7)
-    throw ConfigError("run.record_interval_s",
-                      "more than 5e7 recorded rows: increase record_interval_s");
+    throw sim::ConfigError("run.record_interval_s",
+                           "more than 5e7 recorded rows: increase record_interval_s");
   // Warm-up: the slide was already feeding before t = 0. Run regulator, damper and slide at the
   // nominal load until the pulsed flow is periodic, then put the slide back at x = 0, so the
   // run starts in the pulsing steady state rather than with a start-up surge.
@@ -188,15 +188,15 @@ void RigA::configure(const RigAConfig& cfg, double dt, double record_interval, d
   last_flow_ = q_needed;
 
   if (streamed_) {
-    rec_ = Recorder::streamed(rig_a_channels());
+    rec_ = sim::Recorder::streamed(rig_a_channels());
     return;
   }
   const auto rows =
       static_cast<std::size_t>(duration / (dt * static_cast<double>(record_every_))) + 2;
-  rec_ = Recorder(rig_a_channels(), rows);
+  rec_ = sim::Recorder(rig_a_channels(), rows);
 }
 
-double RigA::last_record_time() const noexcept {
+double Rig::last_record_time() const noexcept {
   // run() takes llround(duration/dt) steps of t += dt from 0 and records every record_every_-th.
   const auto steps = static_cast<std::size_t>(std::llround(duration_ / dt_));
   const std::size_t last = steps / record_every_ * record_every_;
@@ -206,16 +206,16 @@ double RigA::last_record_time() const noexcept {
   return t;
 }
 
-double RigA::position_ago(std::size_t steps) const noexcept {
+double Rig::position_ago(std::size_t steps) const noexcept {
   const std::size_t n = x_hist_.size();
   return x_hist_[(hist_head_ + n - steps % n) % n];
 }
 
-double RigA::chip_feed_mm_per_rev() const noexcept {
+double Rig::chip_feed_mm_per_rev() const noexcept {
   return std::max((slide_.state().x_m - position_ago(rev_steps_)) * 1000.0, 0.0);
 }
 
-void RigA::step() noexcept {
+void Rig::step() noexcept {
   t_ += dt_;
   ++step_;
   phi_ += 2.0 * std::numbers::pi * rev_per_s_ * dt_;
@@ -310,7 +310,7 @@ void RigA::step() noexcept {
   acc_n_ = 0;
 }
 
-RigA::VolumeBalance RigA::volume_balance() const noexcept {
+Rig::VolumeBalance Rig::volume_balance() const noexcept {
   VolumeBalance b;
   const auto& l = slide_.ledger();
   b.delivered_m3 = l.delivered_m3;
@@ -326,9 +326,9 @@ RigA::VolumeBalance RigA::volume_balance() const noexcept {
   return b;
 }
 
-void RigA::run() noexcept {
+void Rig::run() noexcept {
   const auto steps = static_cast<std::size_t>(std::llround(duration_ / dt_));
   for (std::size_t i = 0; i < steps; ++i) step();
 }
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::a_pulse_feed

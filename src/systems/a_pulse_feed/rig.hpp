@@ -26,12 +26,12 @@
 #include "lathectl/sim/faults.hpp"
 #include "lathectl/sim/recorder.hpp"
 
-namespace lathectl::sim {
+namespace lathectl::systems::a_pulse_feed {
 
 enum class RegulatorKind { Pulsed, Throttle };
 enum class ControllerKind { None, Aim, Fim };
 
-struct RigAConfig {
+struct RigConfig {
   double spindle_rpm = 500.0;
   double diameter_m = 0.06;
   cutting::CuttingModel::Params cutting;
@@ -58,24 +58,24 @@ struct RigAConfig {
       .frequency_ramp_Hz_per_s = 500.0};
   double leak_estimate_factor = 1.0;                // controller's K_leak = factor × the plant's
   bool compensate_compliance = true;                // finishing: add C·dp/dt (beyond the seed)
-  std::vector<SensorFault> faults;
+  std::vector<sim::SensorFault> faults;
   double feed_window_s = 0.1;  // moving average of the recorded feed rate
 };
 
-class RigA {
+class Rig {
  public:
   // Builds and checks the rig; throws std::invalid_argument on an inconsistent configuration or a
   // step too coarse for the hydraulics (ω_h·dt, damper and chamber time constants).
-  void configure(const RigAConfig& cfg, double dt_s, double record_interval_s, double duration_s);
+  void configure(const RigConfig& cfg, double dt_s, double record_interval_s, double duration_s);
   // One plant step of dt; records a row every record interval.
   void step() noexcept;
   void run() noexcept;  // to the configured duration
 
-  [[nodiscard]] const Recorder& recorder() const noexcept { return rec_; }
+  [[nodiscard]] const sim::Recorder& recorder() const noexcept { return rec_; }
   // Streamed recording (set before configure): no columns, rows to the attached sinks (metrics,
   // channels.csv) — the memory of a run of any duration is bounded (issue 19). Default: columns.
   void set_streamed(bool streamed) noexcept { streamed_ = streamed; }
-  void attach(RowSink* sink) { rec_.attach(sink); }
+  void attach(sim::RowSink* sink) { rec_.attach(sink); }
   // Time of the last row run() will record (the clock's own sums; −1 when it records none).
   [[nodiscard]] double last_record_time() const noexcept;
   [[nodiscard]] double record_interval() const noexcept {
@@ -88,7 +88,7 @@ class RigA {
   // Actuator setting of the uncontrolled machine: slot [m] (pulsed), opening [m] (throttle).
   [[nodiscard]] double fixed_actuator() const noexcept { return fixed_actuator_; }
   [[nodiscard]] const control::PulseFeedController& controller() const noexcept { return ctl_; }
-  [[nodiscard]] const RigAConfig& config() const noexcept { return cfg_; }
+  [[nodiscard]] const RigConfig& config() const noexcept { return cfg_; }
   [[nodiscard]] bool numerically_sound() const noexcept { return sound_; }
   // Oil balance of the slide since t = 0 (see hydraulics/feed_slide.hpp):
   //   delivered − leaked = swept + stored, stored = ΔW + C_d·Δp_d − ΔV_void.
@@ -109,7 +109,7 @@ class RigA {
   double chip_feed_mm_per_rev() const noexcept;
   double position_ago(std::size_t steps) const noexcept;
 
-  RigAConfig cfg_{};
+  RigConfig cfg_{};
   double dt_ = 1e-4;
   double t_ = 0.0;
   double duration_ = 0.0;
@@ -144,14 +144,14 @@ class RigA {
   double force_ = 0.0;
   double depth_ = 0.0;
   double sensor_u_ = 0.0;
-  FaultInjector faults_;
+  sim::FaultInjector faults_;
   double flow_acc_ = 0.0;
   double force_acc_ = 0.0;
   std::size_t acc_n_ = 0;
   double last_flow_ = 0.0;
   double damper_volume0_ = 0.0;  // storage at t = 0, for the volume balance
   double void0_ = 0.0;
-  Recorder rec_;
+  sim::Recorder rec_;
 };
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::a_pulse_feed

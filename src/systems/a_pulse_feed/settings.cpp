@@ -24,7 +24,7 @@ constexpr double kMs = 1e-3;
 constexpr double kMPa = 1e6;
 constexpr double kCm3 = 1e-6;
 
-void read_cutting(TableReader& root, const io::MaterialLibrary& lib, sim::RigAConfig& a,
+void read_cutting(TableReader& root, const io::MaterialLibrary& lib, RigConfig& a,
                   std::uint64_t seed) {
   auto m = root.table("machine", true);
   root.document("machine", "the lathe's spindle");
@@ -87,14 +87,14 @@ void read_cutting(TableReader& root, const io::MaterialLibrary& lib, sim::RigACo
   part->finish();
 }
 
-void read_regulator(TableReader& root, sim::RigAConfig& a) {
+void read_regulator(TableReader& root, RigConfig& a) {
   auto r = root.table("regulator", true);
   root.document("regulator", "discrete regulator 5, or the continuous throttle");
   a.regulator_kind =
       r->pick({"type", {}, "the pulsed regulator of the seed, or a continuous throttle"},
               {"pulsed", "throttle"}) == "throttle"
-          ? sim::RegulatorKind::Throttle
-          : sim::RegulatorKind::Pulsed;
+          ? RegulatorKind::Throttle
+          : RegulatorKind::Pulsed;
   auto& o = a.regulator.orifice;
   r->require({"spool_diameter_mm", {0.0, 100.0, true, false}, "d", kMm}, o.spool_diameter_m);
   r->read({"discharge_coefficient", {0.0, 1.0, true, false}, "μ"}, o.discharge_coefficient);
@@ -137,7 +137,7 @@ void read_regulator(TableReader& root, sim::RigAConfig& a) {
   r->finish();
 }
 
-void read_eccentric(TableReader& root, sim::RigAConfig& a) {
+void read_eccentric(TableReader& root, RigConfig& a) {
   auto& e = a.eccentric;
   auto t = root.table("eccentric");
   if (!t) {  // a circular profile from 0 to max_slot_mm, the drive's defaults
@@ -186,7 +186,7 @@ void read_eccentric(TableReader& root, sim::RigAConfig& a) {
   t->finish();
 }
 
-void read_slide(TableReader& root, sim::RigAConfig& a) {
+void read_slide(TableReader& root, RigConfig& a) {
   auto s = root.table("slide", true);
   root.document("slide", "slide 2, cylinder 3 and damper 6");
   auto& p = a.slide;
@@ -215,7 +215,7 @@ void read_slide(TableReader& root, sim::RigAConfig& a) {
   s->finish();
 }
 
-void read_sensor(TableReader& root, sim::RigAConfig& a, std::uint64_t seed) {
+void read_sensor(TableReader& root, RigConfig& a, std::uint64_t seed) {
   auto s = root.table("sensor", true);
   root.document("sensor", "inductive sensor Д");
   auto& p = a.sensor;
@@ -231,16 +231,16 @@ void read_sensor(TableReader& root, sim::RigAConfig& a, std::uint64_t seed) {
   s->finish();
 }
 
-void read_controller(TableReader& root, sim::RigAConfig& a) {
+void read_controller(TableReader& root, RigConfig& a) {
   auto c = root.table("controller", true);
   root.document("controller",
       "read even with type = \"none\" (then it only matters for [compare] and [sweep])");
   const std::string kind =
       c->pick({"type", {}, "no control, AIM (amplitude-pulse) or FIM (frequency-pulse)"},
               {"none", "aim", "fim"});
-  a.controller_kind = kind == "aim"   ? sim::ControllerKind::Aim
-                      : kind == "fim" ? sim::ControllerKind::Fim
-                                      : sim::ControllerKind::None;
+  a.controller_kind = kind == "aim"   ? ControllerKind::Aim
+                      : kind == "fim" ? ControllerKind::Fim
+                                      : ControllerKind::None;
   auto& p = a.controller;
   p.mode = c->pick({"mode", {}, "finishing holds the feed, roughing the force"},
                    {"finishing", "roughing"}, "finishing") == "roughing"
@@ -303,10 +303,8 @@ void read_controller(TableReader& root, sim::RigAConfig& a) {
   c->finish();
 }
 
-sim::ControllerKind controller_from(const std::string& s) {
-  return s == "aim"   ? sim::ControllerKind::Aim
-         : s == "fim" ? sim::ControllerKind::Fim
-                      : sim::ControllerKind::None;
+ControllerKind controller_from(const std::string& s) {
+  return s == "aim" ? ControllerKind::Aim : s == "fim" ? ControllerKind::Fim : ControllerKind::None;
 }
 
 void read_options(TableReader& root, Settings& st) {
@@ -330,7 +328,7 @@ void read_options(TableReader& root, Settings& st) {
         cmp->pick({"regulator", {}, "… or with this regulator; give at least one of the two"},
                   {"pulsed", "throttle"}, "");
     if (!reg.empty())
-      c.regulator = reg == "throttle" ? sim::RegulatorKind::Throttle : sim::RegulatorKind::Pulsed;
+      c.regulator = reg == "throttle" ? RegulatorKind::Throttle : RegulatorKind::Pulsed;
     cmp->check(c.controller || c.regulator, "controller",
                "give controller and/or regulator to compare with");
     c.label = cmp->string("label", "");
@@ -346,7 +344,7 @@ void read_options(TableReader& root, Settings& st) {
         1);
     sw->document("leak_estimate_factor",
         "reruns with the controller's K_leak off by these factors");
-    sw->check(a.controller_kind != sim::ControllerKind::None, "leak_estimate_factor",
+    sw->check(a.controller_kind != ControllerKind::None, "leak_estimate_factor",
               "a sweep of the controller's K_leak needs a controller");
     sw->finish();
   }
@@ -428,22 +426,20 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
   return st;
 }
 
-const io::Section kReadSection{"A", &read_settings, nullptr};
-
-std::string controller_kind_name(sim::ControllerKind k) {
+std::string controller_kind_name(ControllerKind k) {
   switch (k) {
-    case sim::ControllerKind::Aim:
+    case ControllerKind::Aim:
       return "AIM (amplitude-pulse)";
-    case sim::ControllerKind::Fim:
+    case ControllerKind::Fim:
       return "FIM (frequency-pulse)";
-    case sim::ControllerKind::None:
+    case ControllerKind::None:
       return "no control";
   }
   return "?";
 }
 
-std::string regulator_kind_name(sim::RegulatorKind k) {
-  return k == sim::RegulatorKind::Throttle ? "continuous throttle" : "pulsed regulator";
+std::string regulator_kind_name(RegulatorKind k) {
+  return k == RegulatorKind::Throttle ? "continuous throttle" : "pulsed regulator";
 }
 
 }  // namespace lathectl::systems::a_pulse_feed

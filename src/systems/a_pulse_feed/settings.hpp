@@ -2,7 +2,7 @@
 // System A (seed 000), the hydraulic feed slide with pulse regulation: its settings, as a scenario
 // file gives them ([machine], [part], [regulator], [eccentric], [slide], [sensor], [controller],
 // [compare], [sweep], [metrics], [[fault]]; docs/scenario-reference.md). The defaults are the
-// member initialisers (here and in sim::RigAConfig): the reader keeps them for an absent key.
+// member initialisers (here and in RigConfig): the reader keeps them for an absent key.
 
 #include <array>
 #include <memory>
@@ -19,8 +19,8 @@ namespace lathectl::systems::a_pulse_feed {
 // A second run of the same scenario with something swapped, overlaid in the report.
 struct Comparison {
   std::string label;
-  std::optional<sim::ControllerKind> controller;
-  std::optional<sim::RegulatorKind> regulator;
+  std::optional<ControllerKind> controller;
+  std::optional<RegulatorKind> regulator;
 };
 
 // [tolerance]: manufacturing errors (normal, σ each) drawn for a Monte Carlo of the mean flow of
@@ -40,7 +40,7 @@ struct ToleranceStudy {
 extern const std::array<io::CriterionKey, 3> kAcceptanceKeys;
 
 struct Settings : io::SettingsOf<Settings> {
-  sim::RigAConfig rig;
+  RigConfig rig;
   std::optional<Comparison> compare;               // [compare]
   std::vector<double> sweep_leak_estimate_factor;  // [sweep]: controller K_leak / true K_leak
   std::vector<double> obliteration_removal;        // [obliteration_study] removal_per_stroke
@@ -52,12 +52,15 @@ struct Settings : io::SettingsOf<Settings> {
 // Reads A's tables into Settings (the common part, [run], is read before).
 std::unique_ptr<io::SystemSettings> read_settings(io::TableReader& root, io::Scenario& sc,
                                                   const io::MaterialLibrary& lib);
-// The section reader alone (no rig probe): what a component that only reads A's settings links.
-extern const io::Section kReadSection;
-// Reader and validation (the rig configured once as a probe): the registry's entry.
-extern const io::Section kSection;
+// The section reader alone: what a component that only reads A's settings links (its
+// lathectl_a_pulse_feed_settings). The one place the system's letter is written.
+inline constexpr io::Section kReadSection{"A", &read_settings, nullptr};
+// The cross-checks that need the whole scenario (validate.cpp: the rig configured once as a probe).
+void validate(const io::Scenario& sc);
+// Reader and validation: the registry's entry.
+inline constexpr io::Section kSection{kReadSection.system, &read_settings, &validate};
 
-std::string controller_kind_name(sim::ControllerKind k);
-std::string regulator_kind_name(sim::RegulatorKind k);
+std::string controller_kind_name(ControllerKind k);
+std::string regulator_kind_name(RegulatorKind k);
 
 }  // namespace lathectl::systems::a_pulse_feed

@@ -16,7 +16,7 @@
 #include "lathectl/io/study.hpp"
 #include "lathectl/sim/parallel.hpp"
 
-namespace lathectl::b_chatter {
+namespace lathectl::systems::b_chatter {
 
 namespace {
 using io::fmt;
@@ -440,4 +440,4 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
   return j;
 }
 
-}  // namespace lathectl::b_chatter
+}  // namespace lathectl::systems::b_chatter

@@ -22,7 +22,7 @@ namespace lathectl::io {
 class Progress;
 }  // namespace lathectl::io
 
-namespace lathectl::b_chatter {
+namespace lathectl::systems::b_chatter {
 
 // Ranges the machine file keeps to beyond each key's own (docs/machine-file-reference.md,
 // "Ranges and cost"), each where the model stops meaning anything or the work stops being bounded:
@@ -91,4 +91,4 @@ LobesCost lobes_cost(const LobesInput& in, unsigned threads = 0);  // 0: hardwar
 nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_dir,
                          io::Progress* progress = nullptr);
 
-}  // namespace lathectl::b_chatter
+}  // namespace lathectl::systems::b_chatter

@@ -16,7 +16,7 @@
 #include "lathectl/io/toml_reader.hpp"
 #include "systems/b_chatter/lobes.hpp"
 
-namespace lathectl::b_chatter {
+namespace lathectl::systems::b_chatter {
 
 namespace {
 
@@ -267,4 +267,4 @@ io::ParamLog describe_machine_file() {
   return *log;
 }
 
-}  // namespace lathectl::b_chatter
+}  // namespace lathectl::systems::b_chatter

@@ -7,7 +7,7 @@
 // The modes a lobe chart or the optimiser's chatter margin sees (lobes.hpp): no file, no TOML, in
 // the settings library, so that lathectl optimize links no more of system B than this.
 
-namespace lathectl::b_chatter {
+namespace lathectl::systems::b_chatter {
 
 namespace {
 
@@ -54,4 +54,4 @@ dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m) {
   return sys;
 }
 
-}  // namespace lathectl::b_chatter
+}  // namespace lathectl::systems::b_chatter

@@ -9,10 +9,9 @@
 #include "lathectl/dynamics/beam.hpp"
 #include "lathectl/dynamics/delayed_coupling.hpp"
 
-namespace lathectl::b_chatter {
+namespace lathectl::systems::b_chatter {
 
-Measure::Measure(const sim::RigB& rig, bool twin, io::OutputStage* stage,
-                 std::size_t spill_block_rows)
+Measure::Measure(const Rig& rig, bool twin, io::OutputStage* stage, std::size_t spill_block_rows)
     : rig_(&rig), twin_(twin) {
   const std::pair<std::size_t*, const char*> read[] = {{&t_, "time_s"},
                                                        {&y_, "y_um"},
@@ -136,7 +135,7 @@ void Measure::result(Run& r, double dead_zone_um) {
   spill_.reset();
 }
 
-Limits linear_limits(const sim::RigBConfig& b, double x_mm, double rpm, int points) {
+Limits linear_limits(const RigConfig& b, double x_mm, double rpm, int points) {
   const auto modes = dynamics::beam_modes_at(b.part, x_mm * 1e-3, b.modes);
   double f_max = 0.0;
   for (const auto& m : modes) f_max = std::max(f_max, m.natural_frequency_Hz);
@@ -152,7 +151,7 @@ Limits linear_limits(const sim::RigBConfig& b, double x_mm, double rpm, int poin
   const auto one = dynamics::critical_gain(modes, tau, b.overlap, 5.0, 2.5 * f_max, points);
   l.single_feed = chip_for_gain(one.gain_N_per_m);
   l.chatter_Hz = one.chatter_Hz;
-  if (b.setup == sim::TwinSetup::FeedDivision) {
+  if (b.setup == dynamics::TwinSetup::FeedDivision) {
     const auto two =
         dynamics::critical_gain(modes, 0.5 * tau, -b.overlap, 5.0, 2.5 * f_max, points);
     l.twin_feed = 2.0 * chip_for_gain(0.5 * two.gain_N_per_m);
@@ -161,4 +160,4 @@ Limits linear_limits(const sim::RigBConfig& b, double x_mm, double rpm, int poin
   return l;
 }
 
-}  // namespace lathectl::b_chatter
+}  // namespace lathectl::systems::b_chatter

@@ -10,14 +10,14 @@
 #include "lathectl/io/channel_stream.hpp"
 #include "systems/b_chatter/rig.hpp"
 
-namespace lathectl::b_chatter {
+namespace lathectl::systems::b_chatter {
 
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct Run;
 
 // What system B's study measures on a run, row by row as the rig records (a RowSink attached to a
-// streamed RigB between configure and run). The window, the last 30 % of the cut up to 50 ms
+// streamed Rig between configure and run). The window, the last 30 % of the cut up to 50 ms
 // before its end, is placed by the end of the cut, which only the run finds (the turrets reach
 // z_end when the modulated feed gets them there): the few values the window's measures read are
 // kept bit for bit in an io::RowSpill (on disk beside channels.csv when the run streams into an
@@ -27,7 +27,7 @@ class Measure final : public sim::RowSink {
  public:
   // rig: configured; stage: where the window's rows go (nullptr: memory), spill_block_rows at a
   // time.
-  Measure(const sim::RigB& rig, bool twin, io::OutputStage* stage,
+  Measure(const Rig& rig, bool twin, io::OutputStage* stage,
           std::size_t spill_block_rows = io::RowSpill::kBlockRows);
   void row(std::span<const double> v) noexcept override;
   // Fills r's measures (after the run; the kept rows are released). The chatter frequency only
@@ -36,7 +36,7 @@ class Measure final : public sim::RowSink {
 
  private:
   enum : std::size_t { kT, kY, kYh, kPower, kPowerMeasured, kDelay, kOneOut, kWidth };
-  const sim::RigB* rig_;
+  const Rig* rig_;
   bool twin_;
   std::size_t t_, y_, yh_, c1_, c2_, pw_, pwm_, dl_, z1_, z2_;
   std::unique_ptr<io::RowSpill> spill_;
@@ -47,7 +47,7 @@ class Measure final : public sim::RowSink {
 
 // What one run of the rig answers, measured over the last 30 % of the cut (the steady state).
 struct Run {
-  sim::RigB rig;
+  Rig rig;
   std::string label;
   std::unique_ptr<Measure> measure;        // fed as the rig records
   std::unique_ptr<io::ChannelStream> csv;  // channels.csv / channels_compare.csv (or none)
@@ -69,6 +69,6 @@ struct Run {
 struct Limits {
   double single_feed = kNaN, twin_feed = kNaN, chatter_Hz = kNaN;
 };
-Limits linear_limits(const sim::RigBConfig& b, double x_mm, double rpm, int points = 20000);
+Limits linear_limits(const RigConfig& b, double x_mm, double rpm, int points = 20000);
 
-}  // namespace lathectl::b_chatter
+}  // namespace lathectl::systems::b_chatter

@@ -9,13 +9,13 @@
 
 #include "lathectl/sim/config_error.hpp"
 
-namespace lathectl::sim {
+namespace lathectl::systems::b_chatter {
 
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-std::vector<Channel> rig_b_channels() {
+std::vector<sim::Channel> rig_b_channels() {
   return {{"time_s", "s"},
           {"z1_mm", "mm"},
           {"z2_mm", "mm"},
@@ -48,13 +48,13 @@ std::vector<Channel> rig_b_channels() {
 
 }  // namespace
 
-double RigB::max_step_s(const RigBConfig& cfg, double* f_Hz) {
+double Rig::max_step_s(const RigConfig& cfg, double* f_Hz) {
   const double L_mm = cfg.part.length_m * 1e3;
   if (!(cfg.z_end_mm < L_mm && cfg.z_end_mm > cfg.z_start_mm))
-    throw ConfigError("cut.z_end_mm",
-                      "the cut must run between the centres: 0 < z_start < z_end < length");
+    throw sim::ConfigError("cut.z_end_mm",
+                           "the cut must run between the centres: 0 < z_start < z_end < length");
   if (!(cfg.modes >= 1 && cfg.modes <= dynamics::TwinTurretCut::kMaxModes))
-    throw ConfigError("part.modes", "modes must be in 1..6");
+    throw sim::ConfigError("part.modes", "modes must be in 1..6");
   (void)dynamics::beam_modes_at(cfg.part, cfg.z_start_mm * 1e-3, cfg.modes);  // validates
   // Process stiffness: the radial force per metre of depth (Kienzle: linear in the depth) at the
   // whole programmed feed per tool (an upper bound for feed division's half chips).
@@ -84,28 +84,28 @@ double RigB::max_step_s(const RigBConfig& cfg, double* f_Hz) {
   return 0.2 / (2.0 * kPi * f_ref);
 }
 
-void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
-                     double max_duration) {
+void Rig::configure(const RigConfig& cfg, double dt, double record_interval, double max_duration) {
   if (!(dt > 0.0 && record_interval >= dt && max_duration > 0.0))
-    throw ConfigError("run.record_interval_s",
-                      "dt, record interval and duration must be positive (record interval ≥ dt)");
+    throw sim::ConfigError(
+        "run.record_interval_s",
+        "dt, record interval and duration must be positive (record interval ≥ dt)");
   const double L_mm = cfg.part.length_m * 1e3;
   if (!(cfg.z_end_mm < L_mm && cfg.z_end_mm > cfg.z_start_mm))
-    throw ConfigError("cut.z_end_mm",
-                      "the cut must run between the centres: 0 < z_start < z_end < length");
+    throw sim::ConfigError("cut.z_end_mm",
+                           "the cut must run between the centres: 0 < z_start < z_end < length");
   {
     double f = 0.0;
     const double lim = max_step_s(cfg, &f);
     if (!(dt <= lim))
-      throw ConfigError("run.step_s", "step " + std::to_string(dt) +
-                                          " s too coarse for the part's chatter near " +
-                                          std::to_string(f) + " Hz: use a step ≤ " +
-                                          std::to_string(lim) + " s");
+      throw sim::ConfigError("run.step_s", "step " + std::to_string(dt) +
+                                               " s too coarse for the part's chatter near " +
+                                               std::to_string(f) + " Hz: use a step ≤ " +
+                                               std::to_string(lim) + " s");
   }
   if (!(cfg.approach_mm >= 0.0 && cfg.idle_block_s >= 0.0))
-    throw ConfigError("cut", "approach and idle block must be non-negative");
+    throw sim::ConfigError("cut", "approach and idle block must be non-negative");
   if (!(cfg.feed_drive_bandwidth_Hz > 0.0))
-    throw ConfigError("cut.feed_drive_bandwidth_Hz", "feed drive bandwidth must be positive");
+    throw sim::ConfigError("cut.feed_drive_bandwidth_Hz", "feed drive bandwidth must be positive");
   cfg_ = cfg;
   dt_ = dt;
   max_t_ = max_duration;
@@ -126,7 +126,7 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
   else if (cfg.source == control::ModulationSource::Programmed)
     pp.slowest_feed_fraction =
         std::clamp(cfg.programmed.s_min_mm_per_min / (cfg.feed_mm_per_rev * cfg.rpm), 0.05, 1.0);
-  configure_as("cut", {{"tool2_lag_mm", "cut.tool2_lag_mm"}, {"step", "run.step_s"}},
+  sim::configure_as("cut", {{"tool2_lag_mm", "cut.tool2_lag_mm"}, {"step", "run.step_s"}},
                [&] { process_.configure(pp, dt); });
   n_tools_ = process_.tools();
   for (int i = 0; i < 2; ++i) {
@@ -137,19 +137,19 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
   for (Turret& tu : turrets_) tu.z_mm = tu.z0_mm;
 
   cfg_.vibration.sample_period_s = dt * static_cast<double>(chain_every_);
-  configure_as("vibration_sensor", [&] {
+  sim::configure_as("vibration_sensor", [&] {
     chain_.configure(cfg_.vibration);
     highpass_.configure(cfg_.vibration.highpass_Hz, dt);
   });
   y_hp_ = 0.0;
 
-  configure_as("spindle", [&] { spindle_.configure(cfg.spindle); });
+  sim::configure_as("spindle", [&] { spindle_.configure(cfg.spindle); });
   spindle_.reset(cfg.rpm);
-  configure_as("power_sensor",
-               [&] { power_.configure(cfg.power, dt * static_cast<double>(control_every_)); });
+  sim::configure_as("power_sensor",
+                    [&] { power_.configure(cfg.power, dt * static_cast<double>(control_every_)); });
   auto mp = cfg.module;
   mp.period_s = dt * static_cast<double>(control_every_);
-  configure_as("modulation", [&] { module_.configure(mp); });
+  sim::configure_as("modulation", [&] { module_.configure(mp); });
   mod_out_ = {};
   const double cut_time = (cfg.z_end_mm - cfg.z_start_mm + cfg.approach_mm + cfg.tool2_lag_mm) /
                           (cfg.feed_mm_per_rev * cfg.rpm / 60.0);
@@ -159,16 +159,16 @@ void RigB::configure(const RigBConfig& cfg, double dt, double record_interval,
     // 2^16 values per level (A and E: 2^14): B's chatter (hundreds of Hz at 1 kHz recording)
     // shows only in the recorded samples, and its examples record up to 45 000 rows; 28 channels
     // of float pairs keep ~0.7 MB each.
-    rec_ = Recorder::streamed(rig_b_channels(), {}, plots_ ? std::size_t{1} << 16 : 0);
+    rec_ = sim::Recorder::streamed(rig_b_channels(), {}, plots_ ? std::size_t{1} << 16 : 0);
     return;
   }
   if (!(max_rows_ <= 5e6))
-    throw ConfigError("run.record_interval_s",
-                      "more than 5e6 recorded rows: raise run.record_interval_s");
-  rec_ = Recorder(rig_b_channels(), static_cast<std::size_t>(max_rows_));
+    throw sim::ConfigError("run.record_interval_s",
+                           "more than 5e6 recorded rows: raise run.record_interval_s");
+  rec_ = sim::Recorder(rig_b_channels(), static_cast<std::size_t>(max_rows_));
 }
 
-bool RigB::step() noexcept {
+bool Rig::step() noexcept {
   if (done_ || t_ >= max_t_ || !process_.sound()) return false;
   const bool idle_block = t_ < cfg_.idle_block_s;
   const bool feed_block = !idle_block;
@@ -256,9 +256,9 @@ bool RigB::step() noexcept {
   return !done_;
 }
 
-void RigB::run() noexcept {
+void Rig::run() noexcept {
   while (step()) {
   }
 }
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::b_chatter

@@ -21,11 +21,11 @@
 #include "lathectl/sensors/vibration_chain.hpp"
 #include "lathectl/sim/recorder.hpp"
 
-namespace lathectl::sim {
+namespace lathectl::systems::b_chatter {
 
 using TwinSetup = dynamics::TwinSetup;
 
-struct RigBConfig {
+struct RigConfig {
   dynamics::BeamPart part;
   int modes = 2;
   cutting::CuttingModel::Params cutting;  // Kienzle form
@@ -71,7 +71,7 @@ struct RigBConfig {
 
 // The cutting process's parameters as the scenario gives them: the one mapping the rig and the
 // HAL component (hal/lathectl_chatter.cpp) both use, so a new process option reaches both.
-inline dynamics::TwinTurretCut::Params cut_params(const RigBConfig& cfg) {
+inline dynamics::TwinTurretCut::Params cut_params(const RigConfig& cfg) {
   dynamics::TwinTurretCut::Params pp;
   pp.part = cfg.part;
   pp.modes = cfg.modes;
@@ -91,15 +91,15 @@ inline dynamics::TwinTurretCut::Params cut_params(const RigBConfig& cfg) {
   return pp;
 }
 
-class RigB {
+class Rig {
  public:
   // dt_s: integration step; record_interval_s: recorder row interval.
-  void configure(const RigBConfig& cfg, double dt_s, double record_interval_s,
+  void configure(const RigConfig& cfg, double dt_s, double record_interval_s,
                  double max_duration_s);
   void run() noexcept;
   [[nodiscard]] bool step() noexcept;  // false when the cut is finished
 
-  [[nodiscard]] const Recorder& recorder() const noexcept { return rec_; }
+  [[nodiscard]] const sim::Recorder& recorder() const noexcept { return rec_; }
   // Streamed recording (set before configure): no columns, rows to the attached sinks (the
   // study's measures, channels.csv), so memory does not grow with the cut's duration; columns
   // (the default) keep every row, at most 5e6. plots false: streamed without the plots' pyramids
@@ -108,10 +108,10 @@ class RigB {
     streamed_ = streamed;
     plots_ = plots;
   }
-  void attach(RowSink* sink) { rec_.attach(sink); }
+  void attach(sim::RowSink* sink) { rec_.attach(sink); }
   // The most rows the configured run can record (its time bound over the record interval).
   [[nodiscard]] double max_record_rows() const noexcept { return max_rows_; }
-  [[nodiscard]] const RigBConfig& config() const noexcept { return cfg_; }
+  [[nodiscard]] const RigConfig& config() const noexcept { return cfg_; }
   [[nodiscard]] double time_s() const noexcept { return t_; }
   [[nodiscard]] double cut_start_s() const noexcept { return t_cut_start_; }
   [[nodiscard]] bool numerically_sound() const noexcept { return process_.sound(); }
@@ -125,7 +125,7 @@ class RigB {
   // whose SDOF limit 2k(x)ζ(1+ζ) is below 4× the process stiffness Σ∂P_y/∂b of the tools, with
   // k(x) its least modal stiffness over the cut. Stiffer modes are integrated exactly and cannot
   // regenerate, so they do not bind the step. f_Hz (optional) receives that chatter frequency.
-  [[nodiscard]] static double max_step_s(const RigBConfig& cfg, double* f_Hz = nullptr);
+  [[nodiscard]] static double max_step_s(const RigConfig& cfg, double* f_Hz = nullptr);
   // The part's modal mass at x_c for the first mode (the m_d a user would enter). Inline: the
   // section reader, which a HAL component links without the rig, derives a default from it.
   [[nodiscard]] static double modal_mass_kg(const dynamics::BeamPart& part, double x_c_m) {
@@ -144,7 +144,7 @@ class RigB {
     double cmd_mm_per_min = 0.0;
   };
 
-  RigBConfig cfg_{};
+  RigConfig cfg_{};
   double dt_ = 2e-5;
   double t_ = 0.0;
   double max_t_ = 0.0;
@@ -169,7 +169,7 @@ class RigB {
   sensors::PowerSensor power_;
   control::ModulatedFeedController module_;
   control::ModulatedFeedController::Output mod_out_{};
-  Recorder rec_;
+  sim::Recorder rec_;
 };
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::b_chatter

@@ -10,7 +10,7 @@
 #include "lathectl/io/sections.hpp"
 #include "lathectl/io/toml_reader.hpp"
 
-namespace lathectl::b_chatter {
+namespace lathectl::systems::b_chatter {
 
 namespace {
 
@@ -22,7 +22,7 @@ constexpr double kUm = 1e-6;  // µm → m
 constexpr double kMs = 1e-3;  // ms → s
 
 // [part]: the slender part between centres, a pinned-pinned beam.
-void read_part(TableReader& root, sim::RigBConfig& b) {
+void read_part(TableReader& root, RigConfig& b) {
   auto pt = root.table("part", true);
   pt->require({"length_mm", {0.0, 1e5, true, false}, "distance between the centres", kMm},
               b.part.length_m);
@@ -39,14 +39,14 @@ void read_part(TableReader& root, sim::RigBConfig& b) {
 }
 
 // [cut]: the set-up and the NC program's one cutting block.
-void read_cut(TableReader& root, sim::RigBConfig& b) {
+void read_cut(TableReader& root, RigConfig& b) {
   auto c = root.table("cut", true);
   const std::string setup =
       c->pick({"setup", {}, "one tool, or twin turrets dividing the feed or the depth"},
               {"single", "feed_division", "depth_division"});
-  b.setup = setup == "single"          ? sim::TwinSetup::Single
-            : setup == "feed_division" ? sim::TwinSetup::FeedDivision
-                                       : sim::TwinSetup::DepthDivision;
+  b.setup = setup == "single"          ? dynamics::TwinSetup::Single
+            : setup == "feed_division" ? dynamics::TwinSetup::FeedDivision
+                                       : dynamics::TwinSetup::DepthDivision;
   const auto depth = c->numbers(
       {"depth_mm", {0.0, 50.0, true, false}, "depth of cut [right, left]; one value means both"},
       1);
@@ -65,7 +65,7 @@ void read_cut(TableReader& root, sim::RigBConfig& b) {
   c->read({"tool2_lag_mm", Range::closed(0, 1000),
            "axial lag of tool 2 behind tool 1 (not with a single tool)"},
           b.tool2_lag_mm);
-  c->check(!(b.setup == sim::TwinSetup::Single && b.tool2_lag_mm > 0.0), "tool2_lag_mm",
+  c->check(!(b.setup == dynamics::TwinSetup::Single && b.tool2_lag_mm > 0.0), "tool2_lag_mm",
            "a single-tool set-up has no second tool");
   c->require(
       {"z_start_mm", {0.0, 1e5, true, false}, "start of the cut, from the left (headstock) centre"},
@@ -146,21 +146,21 @@ void read_power(TableReader& ps, sensors::PowerSensor::Params& pw,
 
 // The module's defaults derived from the cut: F ∝ S^(1−m_p) and F_p/F_c from the Kienzle law at
 // the programmed chip, and the part's modal mass at the middle of the cut.
-void derive_module_defaults(const TableReader& root, sim::RigBConfig& b) {
+void derive_module_defaults(const TableReader& root, RigConfig& b) {
   if (root.is_describing()) return;  // the reference shows the struct's, not a neutral cut's
   auto& m = b.module;
   const auto& fp = b.cutting.material.Fp;
   const auto& fc = b.cutting.material.Fc;
   const double h =
-      b.setup == sim::TwinSetup::FeedDivision ? 0.5 * b.feed_mm_per_rev : b.feed_mm_per_rev;
+      b.setup == dynamics::TwinSetup::FeedDivision ? 0.5 * b.feed_mm_per_rev : b.feed_mm_per_rev;
   m.force_feed_exponent = 1.0 - fp.m;
   m.radial_force_ratio =
       fp.k11_N_per_mm2 * std::pow(h, 1.0 - fp.m) / (fc.k11_N_per_mm2 * std::pow(h, 1.0 - fc.m));
-  m.part_mass_kg = sim::RigB::modal_mass_kg(b.part, 0.5 * (b.z_start_mm + b.z_end_mm) * kMm);
+  m.part_mass_kg = Rig::modal_mass_kg(b.part, 0.5 * (b.z_start_mm + b.z_end_mm) * kMm);
 }
 
 // [modulation]: the CNC's modulated-feed module (or a programmed modulation).
-void read_modulation(TableReader& md, sim::RigBConfig& b) {
+void read_modulation(TableReader& md, RigConfig& b) {
   auto& m = b.module;
   const std::string src =
       md.pick({"source", {}, "who modulates the feed"}, {"automatic", "programmed", "none"});
@@ -171,7 +171,7 @@ void read_modulation(TableReader& md, sim::RigBConfig& b) {
                      {"right", "left"}, "right") == "left"
                  ? control::Turret::Left
                  : control::Turret::Right;
-  md.check(!(b.setup == sim::TwinSetup::Single && b.turret == control::Turret::Left), "turret",
+  md.check(!(b.setup == dynamics::TwinSetup::Single && b.turret == control::Turret::Left), "turret",
            "a single-tool set-up has only the right turret");
   md.read({"coefficient", {0.0, 100.0, true, false},
            "the seed formula's number c (1.41); how it enters: coefficient_reading"},
@@ -242,7 +242,7 @@ void read_modulation(TableReader& md, sim::RigBConfig& b) {
 }
 
 // [process_damping]: the flank ploughing the surface it has just cut (beyond the seed).
-void read_process_damping(TableReader& pd, sim::RigBConfig& b) {
+void read_process_damping(TableReader& pd, RigConfig& b) {
   auto& p = b.process_damping;
   p.enabled = pd.pick({"model", {}, "none, or the flank's indentation (Wu 1989; Chiou & "
                                        "Liang 1998): a radial force K_sp·w·A of the area A the "
@@ -327,6 +327,4 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
   return s;
 }
 
-const io::Section kReadSection{"B", &read_settings, nullptr};
-
-}  // namespace lathectl::b_chatter
+}  // namespace lathectl::systems::b_chatter

@@ -6,8 +6,8 @@
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
 
-namespace lathectl::b_chatter {
+namespace lathectl::systems::b_chatter {
 
 io::RunOutput run(const io::Scenario& sc);
 
-}  // namespace lathectl::b_chatter
+}  // namespace lathectl::systems::b_chatter

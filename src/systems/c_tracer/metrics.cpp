@@ -5,8 +5,7 @@
 
 namespace lathectl::systems::c_tracer {
 
-TracerMetrics::TracerMetrics(const sim::Recorder& rec,
-                             const std::vector<sim::TracerFeature>& features,
+TracerMetrics::TracerMetrics(const sim::Recorder& rec, const std::vector<TracerFeature>& features,
                              std::size_t kept_rows)
     : tx_(rec.index("tool_x_mm")),
       cx_(rec.index("carriage_mm")),

@@ -59,7 +59,7 @@ class TracerMetrics final : public sim::RowSink {
  public:
   // Rows kept for the cones' residuals, over all cones (16 B each): 8 MB.
   static constexpr std::size_t kKeptRows = std::size_t{1} << 19;
-  TracerMetrics(const sim::Recorder& rec, const std::vector<sim::TracerFeature>& features,
+  TracerMetrics(const sim::Recorder& rec, const std::vector<TracerFeature>& features,
                 std::size_t kept_rows = kKeptRows);
   void row(std::span<const double> v) noexcept override;
   // After the run: the cones' trends, and their residuals from the kept rows. False when a cone

@@ -11,11 +11,11 @@
 
 #include "lathectl/dynamics/rk4.hpp"
 
-namespace lathectl::sim {
+namespace lathectl::systems::c_tracer {
 
 namespace {
 constexpr std::size_t kChannels = 12;
-std::vector<Channel> rig_c_channels() {
+std::vector<sim::Channel> rig_c_channels() {
   return {{"time_s", "s"},           {"carriage_mm", "mm"},   {"slide_mm", "mm"},
           {"slide_target_mm", "mm"}, {"lag_um", "µm"},        {"tool_x_mm", "mm"},
           {"tool_y_mm", "mm"},       {"template_y_mm", "mm"}, {"dy_um", "µm"},
@@ -46,7 +46,7 @@ double template_x_at(const hydraulics::TemplateProfile& tp, double y, double x_h
 }
 }  // namespace
 
-hydraulics::TracerLinear RigC::linearisation() const noexcept {
+hydraulics::TracerLinear Rig::linearisation() const noexcept {
   if (!cfg_.nonlinear) return cfg_.linear;
   hydraulics::TracerLinear l = cfg_.linear;
   const double kq = cfg_.discharge_coefficient * cfg_.area_gradient_m *
@@ -56,11 +56,11 @@ hydraulics::TracerLinear RigC::linearisation() const noexcept {
   return l;
 }
 
-double RigC::target(double x_c) const noexcept {
+double Rig::target(double x_c) const noexcept {
   return hydraulics::slide_target(cfg_.profile, x_c, y0_, cfg_.beta_rad, s_lo_, s_hi_);
 }
 
-double RigC::load_N(double y_tool) const noexcept {
+double Rig::load_N(double y_tool) const noexcept {
   if (cfg_.blank_diameter_m <= 0.0) return cfg_.linear.P0_N;
   const double depth_mm = (0.5 * cfg_.blank_diameter_m - y_tool) * 1e3;
   if (depth_mm <= 0.0) return 0.0;
@@ -70,20 +70,21 @@ double RigC::load_N(double y_tool) const noexcept {
   return f.Px * std::cos(cfg_.beta_rad) + f.Py * std::sin(cfg_.beta_rad);
 }
 
-void RigC::configure(const RigCConfig& cfg, double dt, double record_interval) {
-  if (cfg.profile.xs().size() < 2) throw ConfigError("template", "at least two points");
+void Rig::configure(const RigConfig& cfg, double dt, double record_interval) {
+  if (cfg.profile.xs().size() < 2) throw sim::ConfigError("template", "at least two points");
   if (!(cfg.beta_rad > 0.0 && cfg.beta_rad < std::numbers::pi / 2.0 + 1e-9))
-    throw ConfigError("slide.guide_angle_deg", "guide angle β must be in (0, 90°]");
+    throw sim::ConfigError("slide.guide_angle_deg", "guide angle β must be in (0, 90°]");
   if (!(cfg.feed_m_per_rev > 0.0) || !(cfg.spindle_rpm > 0.0))
-    throw ConfigError("machine", "feed and speed must be > 0");
+    throw sim::ConfigError("machine", "feed and speed must be > 0");
   const auto& l = cfg.linear;
   if (!(l.E0_N_per_m > 0.0 && l.C0_per_s > 0.0 && l.mass_kg > 0.0 && l.lever_ratio > 0.0) ||
       l.P0_N < 0.0)
-    throw ConfigError("linear", "tracer: E0, C0, M, i must be > 0 and P0 ≥ 0");
+    throw sim::ConfigError("linear", "tracer: E0, C0, M, i must be > 0 and P0 ≥ 0");
   if (!(dt > 0.0) || record_interval < dt)
-    throw ConfigError("run.record_interval_s", "step > 0 and record interval ≥ step");
+    throw sim::ConfigError("run.record_interval_s", "step > 0 and record interval ≥ step");
   cfg_ = cfg;
-  if (cfg.blank_diameter_m > 0.0) configure_as("material", [&] { cut_.configure(cfg.cutting); });
+  if (cfg.blank_diameter_m > 0.0)
+    sim::configure_as("material", [&] { cut_.configure(cfg.cutting); });
   dt_ = dt;
   record_every_ =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(record_interval / dt)));
@@ -101,9 +102,10 @@ void RigC::configure(const RigCConfig& cfg, double dt, double record_interval) {
   s_hi_ = span;
   const auto lin = linearisation();
   if (lin.omega_n() * dt > 0.2)
-    throw ConfigError("run.step_s", "step too coarse for the slide's natural frequency (" +
-                        std::to_string(lin.omega_n() / (2.0 * std::numbers::pi)) +
-                        " Hz): use step_s ≤ " + std::to_string(0.2 / lin.omega_n()));
+    throw sim::ConfigError("run.step_s",
+                           "step too coarse for the slide's natural frequency (" +
+                               std::to_string(lin.omega_n() / (2.0 * std::numbers::pi)) +
+                               " Hz): use step_s ≤ " + std::to_string(0.2 / lin.omega_n()));
   t_ = 0.0;
   sound_ = true;
   if (!cfg.nonlinear) {
@@ -121,16 +123,18 @@ void RigC::configure(const RigCConfig& cfg, double dt, double record_interval) {
     const double fluid_w =
         std::sqrt(4.0 * cfg.bulk_modulus_Pa * A * A / (cfg.total_volume_m3 * l.mass_kg));
     if (fluid_w * dt > 0.2)
-      throw ConfigError("run.step_s", "step too coarse for the hydraulic natural frequency: use step_s ≤ " +
-                        std::to_string(0.2 / fluid_w));
+      throw sim::ConfigError("run.step_s",
+                             "step too coarse for the hydraulic natural frequency: use step_s ≤ " +
+                                 std::to_string(0.2 / fluid_w));
   }
   s_ = target(x0_) - q_static_;
   v_ = 0.0;
   max_rows_ = static_cast<std::size_t>(t_end_ / (dt * static_cast<double>(record_every_))) + 4;
-  rec_ = streamed_ ? Recorder::streamed(rig_c_channels()) : Recorder(rig_c_channels(), max_rows_);
+  rec_ = streamed_ ? sim::Recorder::streamed(rig_c_channels())
+                   : sim::Recorder(rig_c_channels(), max_rows_);
 }
 
-void RigC::run() noexcept {
+void Rig::run() noexcept {
   const auto& c = cfg_;
   const double cb = std::cos(c.beta_rad), sb = std::sin(c.beta_rad);
   const auto& l = c.linear;
@@ -217,4 +221,4 @@ void RigC::run() noexcept {
   }
 }
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::c_tracer

@@ -19,7 +19,7 @@
 #include "lathectl/hydraulics/tracer.hpp"
 #include "lathectl/sim/recorder.hpp"
 
-namespace lathectl::sim {
+namespace lathectl::systems::c_tracer {
 
 struct TracerFeature {
   std::string kind;        // "line", "cone", "step", "arc"
@@ -27,7 +27,7 @@ struct TracerFeature {
   double x_end_m = 0.0;
 };
 
-struct RigCConfig {
+struct RigConfig {
   hydraulics::TemplateProfile profile;
   std::vector<TracerFeature> features;
   double beta_rad = 1.0;           // guide inclination β
@@ -56,18 +56,18 @@ struct RigCConfig {
   double blank_diameter_m = 0.0;
 };
 
-class RigC {
+class Rig {
  public:
-  void configure(const RigCConfig& cfg, double dt_s, double record_interval_s);  // throws
+  void configure(const RigConfig& cfg, double dt_s, double record_interval_s);  // throws
   void run() noexcept;  // across the template
-  [[nodiscard]] const Recorder& recorder() const noexcept { return rec_; }
+  [[nodiscard]] const sim::Recorder& recorder() const noexcept { return rec_; }
   // Streamed recording (set before configure): no columns, rows to the sinks attached between
   // configure() and run() (metrics, channels.csv), so memory does not grow with the run's length.
   void set_streamed(bool streamed) noexcept { streamed_ = streamed; }
-  void attach(RowSink* sink) { rec_.attach(sink); }
+  void attach(sim::RowSink* sink) { rec_.attach(sink); }
   // The most rows run() records (the columns' capacity; channels.csv's disk-space check).
   [[nodiscard]] std::size_t max_rows() const noexcept { return max_rows_; }
-  [[nodiscard]] const RigCConfig& config() const noexcept { return cfg_; }
+  [[nodiscard]] const RigConfig& config() const noexcept { return cfg_; }
   [[nodiscard]] double carriage_speed() const noexcept { return v_pr_; }
   // The nonlinear servo's linearisation at the centre (C0, E0), for comparison.
   [[nodiscard]] hydraulics::TracerLinear linearisation() const noexcept;
@@ -77,14 +77,14 @@ class RigC {
  private:
   double target(double x_c) const noexcept;
   double load_N(double y_tool_m) const noexcept;  // cutting force along the slide
-  RigCConfig cfg_{};
+  RigConfig cfg_{};
   double dt_ = 1e-4, t_ = 0.0, t_end_ = 0.0, v_pr_ = 0.0, y0_ = 0.0, x0_ = 0.0;
   double s_ = 0.0, v_ = 0.0, p_ = 0.0, q_static_ = 0.0;
   double s_lo_ = -1.0, s_hi_ = 1.0;
   std::size_t record_every_ = 1, max_rows_ = 0;
   bool sound_ = true, streamed_ = false;
   cutting::CuttingModel cut_;
-  Recorder rec_;
+  sim::Recorder rec_;
 };
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::c_tracer

@@ -28,7 +28,7 @@ constexpr double kMm = 1e-3;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 // template.csv: one point x_mm,diameter_mm a line; empty lines, # comments and a header skipped.
-void read_csv(TableReader& tp, const std::string& scenario_file, sim::RigCConfig& c) {
+void read_csv(TableReader& tp, const std::string& scenario_file, RigConfig& c) {
   tp.check(!tp.has("features"), "csv", "give either csv or features");
   const std::string rel = tp.string("csv");
   tp.document("csv",
@@ -62,7 +62,7 @@ void read_csv(TableReader& tp, const std::string& scenario_file, sim::RigCConfig
 }
 
 // One feature from the current point (x, y), which it moves to its end.
-void read_feature(TableReader& f, sim::RigCConfig& c, double& x, double& y) {
+void read_feature(TableReader& f, RigConfig& c, double& x, double& y) {
   const std::string kind =
       f.pick({"type", {}, "line (cylinder), cone, step or arc"}, {"line", "cone", "step", "arc"});
   const bool all = f.is_describing();  // describing: every feature's keys
@@ -86,7 +86,7 @@ void read_feature(TableReader& f, sim::RigCConfig& c, double& x, double& y) {
                "arc: convex circle through both ends, ≥ half the chord",
                kMm},
               r);
-  sim::TracerFeature feat{kind, x, x};
+  TracerFeature feat{kind, x, x};
   if (kind == "line") {
     x += len;
     c.profile.add_point(x, y);
@@ -127,7 +127,7 @@ void read_feature(TableReader& f, sim::RigCConfig& c, double& x, double& y) {
   c.features.push_back(feat);
 }
 
-void read_template(TableReader& root, const std::string& scenario_file, sim::RigCConfig& c) {
+void read_template(TableReader& root, const std::string& scenario_file, RigConfig& c) {
   auto tp = root.table("template", true);
   root.document("template", "the template the stylus follows: features or a CSV file");
   const bool csv = tp->has("csv");
@@ -205,7 +205,7 @@ void read_models(TableReader& root, Settings& st) {
   }
 }
 
-void read_friction_cutting(TableReader& root, const io::MaterialLibrary& lib, sim::RigCConfig& c) {
+void read_friction_cutting(TableReader& root, const io::MaterialLibrary& lib, RigConfig& c) {
   if (auto fr = root.table("friction")) {
     root.document("friction", "the slide's friction (nonlinear servo): Stribeck, with stiction");
     fr->read({"coulomb_N", Range::closed(0, 1e6), "F_c, Coulomb friction"}, c.coulomb_N);
@@ -287,7 +287,5 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
   io::read_acceptance(root, st->acceptance);
   return st;
 }
-
-const io::Section kReadSection{"C", &read_settings, nullptr};
 
 }  // namespace lathectl::systems::c_tracer

@@ -22,7 +22,7 @@ using namespace io;
 using nlohmann::json;
 
 struct Run {
-  sim::RigC rig;
+  Rig rig;
   std::unique_ptr<TracerMetrics> acc;        // fed as the rig records
   std::unique_ptr<io::ChannelStream> csv;    // channels.csv / channels_compare.csv
   std::string label;
@@ -33,8 +33,8 @@ struct Run {
 // The rig records streamed (its memory bounded whatever the template's length, the feed and the
 // record interval): the metrics are accumulated row by row, the result file `csv` is written into
 // `stage` as the rows come (in memory without one). kept_rows: TracerMetrics' budget of cone rows.
-void run_one(const io::Scenario& sc, sim::RigCConfig cfg, bool nonlinear, Run& r,
-             std::size_t kept_rows, const char* csv, io::OutputStage* stage) {
+void run_one(const io::Scenario& sc, RigConfig cfg, bool nonlinear, Run& r, std::size_t kept_rows,
+             const char* csv, io::OutputStage* stage) {
   cfg.nonlinear = nonlinear;
   r.rig.set_streamed(true);
   configure_rig(sc, r.rig, cfg);
@@ -49,7 +49,7 @@ void run_one(const io::Scenario& sc, sim::RigCConfig cfg, bool nonlinear, Run& r
   r.csv->finish();
   if (!r.acc->finish()) {
     // More rows in a cone's window than were kept: the residuals from a second, identical run.
-    sim::RigC again;
+    Rig again;
     again.set_streamed(true);
     configure_rig(sc, again, cfg);
     again.attach(&r.acc->residuals());
@@ -97,150 +97,187 @@ Series along_x(const sim::PlotPyramid& p, std::string name, std::string color) {
   s.pyramid->points(s.x, s.y);
   return s;
 }
-}  // namespace
 
-io::RunOutput run(const io::Scenario& sc) { return run(sc, TracerMetrics::kKeptRows); }
+const char* const kColors[] = {"#1f77b4", "#d62728"};
 
-io::RunOutput run(const io::Scenario& sc, std::size_t kept_rows) {
-  using namespace io;
-  const Settings& st = sc.get<Settings>();
+// The template copied by the slide (the scenario's model and, to compare, the other one), the
+// closed-form lag on the first cone beside it.
+class TracerStudy final : public io::Study {
+ public:
+  TracerStudy(const io::Scenario& sc, std::size_t kept_rows)
+      : Study(sc), st_(sc.get<Settings>()), kept_rows_(kept_rows) {}
+
+ private:
+  void run_controllers() override;
+  void check_claims(Claims& claims) override;
+  void summary(json& s) override;
+  void report(Report& rep) override;
+  void finish(RunOutput& out) override;
+
+  void closed_form();
+  void comparison_claims(Claims& claims) const;
+  [[nodiscard]] json metrics(const Run& r) const;
+  void report_metrics(Report& rep) const;
+  void feature_tables(Report& rep) const;
+  void profile_plot(Report& rep, double x_lo, double x_hi) const;
+  void error_plots(Report& rep, double x_lo, double x_hi) const;
+  [[nodiscard]] const Run& main() const { return *runs_.front(); }
+
+  const Settings& st_;
+  std::size_t kept_rows_;
+  std::vector<std::unique_ptr<Run>> runs_;  // the scenario's model, then the other one
+  hydraulics::TracerLinear lin_;            // the main run's linear(ised) slide
+  double v_pr_ = 0.0;                       // carriage speed
+  double alpha_ = std::nan("");             // the first cone's angle
+  double q_dyn_ = 0.0;  // its closed-form steady lag beyond the setup offset, (V_k/C0)/i
+  hydraulics::TracerLinear::Transient tr_;  // at the cylinder→cone corner
+};
+
+void TracerStudy::run_controllers() {
   OutputStage* stage = StreamScope::current();
-  std::vector<std::unique_ptr<Run>> runs;
-  runs.push_back(std::make_unique<Run>());
-  run_one(sc, st.rig, st.rig.nonlinear, *runs.back(), kept_rows, "channels.csv", stage);
-  if (!st.compare.empty() && (st.compare == "nonlinear") != st.rig.nonlinear) {
-    auto cfg = st.rig;
-    if (st.rig.nonlinear) {  // compare with the nonlinear servo's own linearisation
-      cfg.linear = runs.front()->rig.linearisation();
+  runs_.push_back(std::make_unique<Run>());
+  run_one(sc_, st_.rig, st_.rig.nonlinear, *runs_.back(), kept_rows_, "channels.csv", stage);
+  if (!st_.compare.empty() && (st_.compare == "nonlinear") != st_.rig.nonlinear) {
+    auto cfg = st_.rig;
+    if (st_.rig.nonlinear) {  // compare with the nonlinear servo's own linearisation
+      cfg.linear = main().rig.linearisation();
       cfg.linear.P0_N =
-          st.rig.coulomb_N +
-          (st.rig.blank_diameter_m > 0.0 ? runs.front()->acc->first_load_N() : 0.0);
+          st_.rig.coulomb_N + (st_.rig.blank_diameter_m > 0.0 ? main().acc->first_load_N() : 0.0);
     }
-    runs.push_back(std::make_unique<Run>());
-    run_one(sc, cfg, st.compare == "nonlinear", *runs.back(), kept_rows, "channels_compare.csv",
+    runs_.push_back(std::make_unique<Run>());
+    run_one(sc_, cfg, st_.compare == "nonlinear", *runs_.back(), kept_rows_, "channels_compare.csv",
             stage);
   }
-  const Run& main = *runs.front();
-  const auto lin = main.rig.linearisation();
-  const double v_pr = main.rig.carriage_speed();
+  closed_form();
+}
 
-  // The first cone's closed-form steady lag (on the linear(ised) model).
-  double alpha = std::nan("");
-  for (const auto& f : st.rig.features)
+// The first cone's closed-form steady lag (on the linear(ised) model).
+void TracerStudy::closed_form() {
+  lin_ = main().rig.linearisation();
+  v_pr_ = main().rig.carriage_speed();
+  for (const auto& f : st_.rig.features)
     if (f.kind == "cone") {
-      const double y0 = st.rig.profile.y_at(f.x_start_m + 1e-12),
-                   y1 = st.rig.profile.y_at(f.x_end_m - 1e-12);
-      alpha = std::atan2(y1 - y0, f.x_end_m - f.x_start_m);
+      const double y0 = st_.rig.profile.y_at(f.x_start_m + 1e-12),
+                   y1 = st_.rig.profile.y_at(f.x_end_m - 1e-12);
+      alpha_ = std::atan2(y1 - y0, f.x_end_m - f.x_start_m);
       break;
     }
   const double v_t =
-      std::isnan(alpha) ? 0.0 : v_pr * std::sin(alpha) / std::sin(alpha + st.rig.beta_rad);
-  const double q_dyn = v_t / (lin.C0_per_s * lin.lever_ratio);  // the part beyond the setup offset
-  const auto tr = lin.transient(0.0, v_t, v_t);
+      std::isnan(alpha_) ? 0.0 : v_pr_ * std::sin(alpha_) / std::sin(alpha_ + st_.rig.beta_rad);
+  q_dyn_ = v_t / (lin_.C0_per_s * lin_.lever_ratio);  // the part beyond the setup offset
+  tr_ = lin_.transient(0.0, v_t, v_t);
+}
 
-  RunOutput out;
-  json& s = out.summary;
-  s["system"] = sc.system;
-  s["scenario"] = sc.name;
-  s["file"] = sc.file;
-  s["label"] = main.label;
-  auto metrics = [&](const Run& r) {
-    const auto l = r.rig.linearisation();
-    return json{{"steady_error_um", json_number(r.steady_lag_um)},
-                {"steady_error_formula_um", json_number(q_dyn * 1e6)},
-                {"static_offset_um", json_number(r.rig.static_offset_m() * 1e6)},
-                {"max_dx_um", json_number(r.max_dx_um)},
-                {"max_dy_um", json_number(r.max_dy_um)},
-                {"cone_waviness_um", json_number(r.waviness_um)},
-                {"damping_ratio", json_number(l.zeta())},
-                {"natural_frequency_Hz", json_number(l.omega_n() / (2.0 * std::numbers::pi))},
-                {"aperiodic", l.aperiodic()},
-                {"E0_N_per_mm", json_number(l.E0_N_per_m * 1e-3)},
-                {"C0_per_s", json_number(l.C0_per_s)},
-                {"transient_peak_lag_um", json_number(tr.peak_m * 1e6)},
-                {"settling_time_s", json_number(tr.settling_s)},
-                {"features", r.features}};
-  };
-  s["metrics"] = metrics(main);
-  if (runs.size() > 1)
-    s["comparison"] = {{"label", runs[1]->label}, {"metrics", metrics(*runs[1])}};
-
-  {  // The user's part is the main run's.
-    Acceptance acceptance(st.acceptance);
-    acceptance.judge("max_profile_error_um", main.max_dy_um);
-    acceptance.judge("max_axial_error_um", main.max_dx_um);
-    acceptance.judge("max_waviness_um", main.waviness_um);
-    s["acceptance"] = acceptance.json();
-  }
-
-  Claims claims;
-  if (!std::isnan(alpha) && !st.rig.nonlinear) {
+void TracerStudy::check_claims(Claims& claims) {
+  if (!std::isnan(alpha_) && !st_.rig.nonlinear) {
     // Steady error on the cone = (P0/E0 + V_k/C0)/i; with the setup on the first cylinder the
     // P0/E0 part is tuned out, leaving V_k/(C0·i).
     claims.check("linear: steady lag on the first cone, simulated / (V_k/C0)/i",
-                 main.steady_lag_um / (q_dyn * 1e6), Compare::RatioWithin, 1e-3);
+                 main().steady_lag_um / (q_dyn_ * 1e6), Compare::RatioWithin, 1e-3);
   }
-  if (runs.size() > 1) {
-    const Run& nl = st.rig.nonlinear ? main : *runs[1];
-    const Run& li = st.rig.nonlinear ? *runs[1] : main;
-    claims.note(
-        "Cone waviness (peak-to-peak δy over each cone's second half): nonlinear " +
-        fmt(nl.waviness_um) + " µm, linear " + fmt(li.waviness_um, "%.3g") + " µm" +
-        (nl.waviness_um > 5.0 * std::max(li.waviness_um, 0.01)
-             ? " — the falling friction makes the slide stick and slip; the linear model cannot."
-             : "."));
-    if (st.rig.static_N > st.rig.coulomb_N)
-      claims.add(
-          "falling friction: cone waviness nonlinear / linear model (stick-slip the linearisation "
-          "misses: > 5 and > 1 µm)",
-          nl.waviness_um / std::max(li.waviness_um, 1e-3),
-          nl.waviness_um > 1.0 && nl.waviness_um > 5.0 * li.waviness_um);
-    if (st.rig.overlap_m > 0.0 && !std::isnan(alpha)) {
-      // An extra lag u/i along d shows as δy = −(u/i)·sin(α+β)/cos α at equal x.
-      const double expect = st.rig.overlap_m / st.rig.linear.lever_ratio *
-                            std::sin(alpha + st.rig.beta_rad) / std::cos(alpha) * 1e6;
-      claims.check("dead zone: extra |δy| on the slow cone against (u/i)·sin(α+β)/cos α = " +
-                       fmt(expect) + " µm (ratio)",
-                   (nl.max_dy_um - li.max_dy_um) / expect, Compare::RatioWithin, 0.1);
-    }
-    claims.note("Largest errors: nonlinear δx " + fmt(nl.max_dx_um) + " µm, δy " +
-                fmt(nl.max_dy_um) + " µm; linear δx " + fmt(li.max_dx_um) + " µm, δy " +
-                fmt(li.max_dy_um) + " µm.");
-  }
-  claims.note("Linear(ised) slide: ζ = " + fmt(lin.zeta(), "%.3f") +
-              (lin.aperiodic() ? " (aperiodic)" : " (oscillatory)") +
-              ", f_n = " + fmt(lin.omega_n() / (2.0 * std::numbers::pi)) +
-              " Hz; at the cylinder→cone corner the lag peaks at " + fmt(tr.peak_m * 1e6) +
-              " µm and settles (2 %) in " + fmt(tr.settling_s, "%.3f") + " s.");
-  s["claims"] = claims.json();
+  if (runs_.size() > 1) comparison_claims(claims);
+  claims.note("Linear(ised) slide: ζ = " + fmt(lin_.zeta(), "%.3f") +
+              (lin_.aperiodic() ? " (aperiodic)" : " (oscillatory)") +
+              ", f_n = " + fmt(lin_.omega_n() / (2.0 * std::numbers::pi)) +
+              " Hz; at the cylinder→cone corner the lag peaks at " + fmt(tr_.peak_m * 1e6) +
+              " µm and settles (2 %) in " + fmt(tr_.settling_s, "%.3f") + " s.");
+}
 
-  Report& rep = out.report;
-  rep.title = "System C — " + sc.name;
+// The nonlinear servo against the linear model.
+void TracerStudy::comparison_claims(Claims& claims) const {
+  const Run& nl = st_.rig.nonlinear ? main() : *runs_[1];
+  const Run& li = st_.rig.nonlinear ? *runs_[1] : main();
+  claims.note(
+      "Cone waviness (peak-to-peak δy over each cone's second half): nonlinear " +
+      fmt(nl.waviness_um) + " µm, linear " + fmt(li.waviness_um, "%.3g") + " µm" +
+      (nl.waviness_um > 5.0 * std::max(li.waviness_um, 0.01)
+           ? " — the falling friction makes the slide stick and slip; the linear model cannot."
+           : "."));
+  if (st_.rig.static_N > st_.rig.coulomb_N)
+    claims.add(
+        "falling friction: cone waviness nonlinear / linear model (stick-slip the linearisation "
+        "misses: > 5 and > 1 µm)",
+        nl.waviness_um / std::max(li.waviness_um, 1e-3),
+        nl.waviness_um > 1.0 && nl.waviness_um > 5.0 * li.waviness_um);
+  if (st_.rig.overlap_m > 0.0 && !std::isnan(alpha_)) {
+    // An extra lag u/i along d shows as δy = −(u/i)·sin(α+β)/cos α at equal x.
+    const double expect = st_.rig.overlap_m / st_.rig.linear.lever_ratio *
+                          std::sin(alpha_ + st_.rig.beta_rad) / std::cos(alpha_) * 1e6;
+    claims.check("dead zone: extra |δy| on the slow cone against (u/i)·sin(α+β)/cos α = " +
+                     fmt(expect) + " µm (ratio)",
+                 (nl.max_dy_um - li.max_dy_um) / expect, Compare::RatioWithin, 0.1);
+  }
+  claims.note("Largest errors: nonlinear δx " + fmt(nl.max_dx_um) + " µm, δy " + fmt(nl.max_dy_um) +
+              " µm; linear δx " + fmt(li.max_dx_um) + " µm, δy " + fmt(li.max_dy_um) + " µm.");
+}
+
+json TracerStudy::metrics(const Run& r) const {
+  const auto l = r.rig.linearisation();
+  return json{{"steady_error_um", json_number(r.steady_lag_um)},
+              {"steady_error_formula_um", json_number(q_dyn_ * 1e6)},
+              {"static_offset_um", json_number(r.rig.static_offset_m() * 1e6)},
+              {"max_dx_um", json_number(r.max_dx_um)},
+              {"max_dy_um", json_number(r.max_dy_um)},
+              {"cone_waviness_um", json_number(r.waviness_um)},
+              {"damping_ratio", json_number(l.zeta())},
+              {"natural_frequency_Hz", json_number(l.omega_n() / (2.0 * std::numbers::pi))},
+              {"aperiodic", l.aperiodic()},
+              {"E0_N_per_mm", json_number(l.E0_N_per_m * 1e-3)},
+              {"C0_per_s", json_number(l.C0_per_s)},
+              {"transient_peak_lag_um", json_number(tr_.peak_m * 1e6)},
+              {"settling_time_s", json_number(tr_.settling_s)},
+              {"features", r.features}};
+}
+
+void TracerStudy::summary(json& s) {
+  s["label"] = main().label;
+  s["metrics"] = metrics(main());
+  if (runs_.size() > 1)
+    s["comparison"] = {{"label", runs_[1]->label}, {"metrics", metrics(*runs_[1])}};
+  // The user's part is the main run's.
+  Acceptance acceptance(st_.acceptance);
+  acceptance.judge("max_profile_error_um", main().max_dy_um);
+  acceptance.judge("max_axial_error_um", main().max_dx_um);
+  acceptance.judge("max_waviness_um", main().waviness_um);
+  s["acceptance"] = acceptance.json();
+}
+
+void TracerStudy::report(Report& rep) {
+  rep.title = "System C — " + sc_.name;
   rep.doc_page = "system-c-tracer.md";
   rep.subtitle =
-      sc.file + " · " + main.label + (runs.size() > 1 ? " against " + runs[1]->label : "");
-  rep.description = sc.description;
+      sc_.file + " · " + main().label + (runs_.size() > 1 ? " against " + runs_[1]->label : "");
+  report_metrics(rep);
+  feature_tables(rep);
+  // The plots along x share the template's x range, so they line up one under the other.
+  const double x_lo = st_.rig.profile.xs().front() * 1e3, x_hi = st_.rig.profile.xs().back() * 1e3;
+  profile_plot(rep, x_lo, x_hi);
+  error_plots(rep, x_lo, x_hi);
+}
+
+void TracerStudy::report_metrics(Report& rep) const {
   auto add = [&](const std::string& k, double v, const char* f = "%.4g") {
     rep.metrics.emplace_back(k, fmt(v, f));
   };
-  add("carriage speed V_pr [mm/s]", v_pr * 1e3);
-  add("steady lag on the first cone, simulated [µm]", main.steady_lag_um);
-  add("steady lag, (V_k/C0)/i [µm]", q_dyn * 1e6);
+  add("carriage speed V_pr [mm/s]", v_pr_ * 1e3);
+  add("steady lag on the first cone, simulated [µm]", main().steady_lag_um);
+  add("steady lag, (V_k/C0)/i [µm]", q_dyn_ * 1e6);
   add("static offset P0/(E0·i), set up on the first cylinder [µm]",
-      main.rig.static_offset_m() * 1e6);
-  add("max |δx| [µm]", main.max_dx_um);
-  add("max |δy| [µm]", main.max_dy_um);
-  add("damping ratio ζ", lin.zeta(), "%.3f");
-  add("natural frequency [Hz]", lin.omega_n() / (2.0 * std::numbers::pi));
-  add("peak lag at cylinder→cone [µm]", tr.peak_m * 1e6);
-  add("settling time [s]", tr.settling_s, "%.3f");
-  if (runs.size() > 1) {
-    add("max |δx|, " + runs[1]->label + " [µm]", runs[1]->max_dx_um);
-    add("max |δy|, " + runs[1]->label + " [µm]", runs[1]->max_dy_um);
+      main().rig.static_offset_m() * 1e6);
+  add("max |δx| [µm]", main().max_dx_um);
+  add("max |δy| [µm]", main().max_dy_um);
+  add("damping ratio ζ", lin_.zeta(), "%.3f");
+  add("natural frequency [Hz]", lin_.omega_n() / (2.0 * std::numbers::pi));
+  add("peak lag at cylinder→cone [µm]", tr_.peak_m * 1e6);
+  add("settling time [s]", tr_.settling_s, "%.3f");
+  if (runs_.size() > 1) {
+    add("max |δx|, " + runs_[1]->label + " [µm]", runs_[1]->max_dx_um);
+    add("max |δy|, " + runs_[1]->label + " [µm]", runs_[1]->max_dy_um);
   }
-  rep.notes = claims.notes();
-  rep.note_ids = claims.note_ids();
-  for (const auto& r : runs) {
+}
+
+void TracerStudy::feature_tables(Report& rep) const {
+  for (const auto& r : runs_) {
     Table t{"Errors per feature — " + r->label,
             {"feature", "from [mm]", "to [mm]", "max |δx| [µm]", "max |δy| [µm]", "waviness [µm]"},
             {}};
@@ -258,49 +295,51 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_rows) {
     }
     rep.tables.push_back(t);
   }
-  const char* colors[] = {"#1f77b4", "#d62728"};
-  // The plots along x share the template's x range, so they line up one under the other.
-  const double x_lo = st.rig.profile.xs().front() * 1e3, x_hi = st.rig.profile.xs().back() * 1e3;
-  // Profiles with the error magnified so it shows at the scale of the part.
-  {
-    double ymin = 1e300, ymax = -1e300;
-    for (double y : st.rig.profile.ys()) {
-      ymin = std::min(ymin, y);
-      ymax = std::max(ymax, y);
-    }
-    const double err = std::max(main.max_dy_um, 1e-3) * 1e-6;
-    const double k =
-        std::max(1.0, std::pow(10.0, std::floor(std::log10(0.1 * (ymax - ymin + 1e-3) / err))));
-    Plot pp{"Template and part profile (radius), error magnified ×" + fmt(k, "%.0f"),
-            "x [mm]",
-            "radius [mm]",
-            {},
-            {}};
-    Series tpl{"template", {}, {}, "#555", true, false};
-    for (std::size_t i = 0; i < st.rig.profile.xs().size(); ++i) {
-      tpl.x.push_back(st.rig.profile.xs()[i] * 1e3);
-      tpl.y.push_back(st.rig.profile.ys()[i] * 1e3);
-    }
-    pp.series.push_back(tpl);
-    for (std::size_t j = 0; j < runs.size(); ++j) {
-      // The template under the tool plus the magnified δy, at δy's decimated points (its
-      // pyramid's extremes: the template changes little within a bucket).
-      Series part{"part, " + runs[j]->label + " (error ×" + fmt(k, "%.0f") + ")",
-                  {},
-                  {},
-                  colors[j % 2],
-                  false,
-                  false};
-      runs[j]->acc->dy_along_x().points(part.x, part.y);
-      for (std::size_t i = 0; i < part.y.size(); ++i)
-        part.y[i] = st.rig.profile.y_at(part.x[i] * 1e-3) * 1e3 + k * part.y[i] * 1e-3;
-      pp.series.push_back(part);
-    }
-    for (const auto& f : st.rig.features) pp.markers.push_back({f.x_start_m * 1e3, f.kind});
-    pp.x_min = x_lo;
-    pp.x_max = x_hi;
-    rep.plots.push_back(pp);
+}
+
+// Profiles with the error magnified so it shows at the scale of the part.
+void TracerStudy::profile_plot(Report& rep, double x_lo, double x_hi) const {
+  const auto& profile = st_.rig.profile;
+  double ymin = 1e300, ymax = -1e300;
+  for (double y : profile.ys()) {
+    ymin = std::min(ymin, y);
+    ymax = std::max(ymax, y);
   }
+  const double err = std::max(main().max_dy_um, 1e-3) * 1e-6;
+  const double k =
+      std::max(1.0, std::pow(10.0, std::floor(std::log10(0.1 * (ymax - ymin + 1e-3) / err))));
+  Plot pp{"Template and part profile (radius), error magnified ×" + fmt(k, "%.0f"),
+          "x [mm]",
+          "radius [mm]",
+          {},
+          {}};
+  Series tpl{"template", {}, {}, "#555", true, false};
+  for (std::size_t i = 0; i < profile.xs().size(); ++i) {
+    tpl.x.push_back(profile.xs()[i] * 1e3);
+    tpl.y.push_back(profile.ys()[i] * 1e3);
+  }
+  pp.series.push_back(tpl);
+  for (std::size_t j = 0; j < runs_.size(); ++j) {
+    // The template under the tool plus the magnified δy, at δy's decimated points (its
+    // pyramid's extremes: the template changes little within a bucket).
+    Series part{"part, " + runs_[j]->label + " (error ×" + fmt(k, "%.0f") + ")",
+                {},
+                {},
+                kColors[j % 2],
+                false,
+                false};
+    runs_[j]->acc->dy_along_x().points(part.x, part.y);
+    for (std::size_t i = 0; i < part.y.size(); ++i)
+      part.y[i] = profile.y_at(part.x[i] * 1e-3) * 1e3 + k * part.y[i] * 1e-3;
+    pp.series.push_back(part);
+  }
+  for (const auto& f : st_.rig.features) pp.markers.push_back({f.x_start_m * 1e3, f.kind});
+  pp.x_min = x_lo;
+  pp.x_max = x_hi;
+  rep.plots.push_back(pp);
+}
+
+void TracerStudy::error_plots(Report& rep, double x_lo, double x_hi) const {
   Plot pdy{"Radial error δy(x) at equal x", "x [mm]", "δy [µm]", {}, {}};
   Plot pdx{"Axial error δx(y) at equal y (on sloped features)", "x [mm]", "δx [µm]", {}, {}};
   Plot plag{"Following lag along the slide, s_T − s (setup offset removed)",
@@ -310,15 +349,15 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_rows) {
             {}};
   Plot pv{"Slide speed", "time [s]", "speed [mm/s]", {}, {}};
   bool any_dx = false;
-  for (std::size_t j = 0; j < runs.size(); ++j) {
-    const Run& r = *runs[j];
-    pdy.series.push_back(along_x(r.acc->dy_along_x(), r.label, colors[j % 2]));
-    pdx.series.push_back(along_x(r.acc->dx_along_x(), r.label, colors[j % 2]));
-    plag.series.push_back(along_time(r, "lag_um", r.label, colors[j % 2]));
-    pv.series.push_back(along_time(r, "slide_speed_mm_per_s", r.label, colors[j % 2]));
+  for (std::size_t j = 0; j < runs_.size(); ++j) {
+    const Run& r = *runs_[j];
+    pdy.series.push_back(along_x(r.acc->dy_along_x(), r.label, kColors[j % 2]));
+    pdx.series.push_back(along_x(r.acc->dx_along_x(), r.label, kColors[j % 2]));
+    plag.series.push_back(along_time(r, "lag_um", r.label, kColors[j % 2]));
+    pv.series.push_back(along_time(r, "slide_speed_mm_per_s", r.label, kColors[j % 2]));
     any_dx = any_dx || r.acc->any_dx();
   }
-  for (const auto& f : st.rig.features) {
+  for (const auto& f : st_.rig.features) {
     pdy.markers.push_back({f.x_start_m * 1e3, f.kind});
     pdx.markers.push_back({f.x_start_m * 1e3, f.kind});
   }
@@ -331,16 +370,26 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_rows) {
   if (any_dx) rep.plots.push_back(pdx);
   rep.plots.push_back(plag);
   rep.plots.push_back(pv);
+}
 
+void TracerStudy::finish(RunOutput& out) {
   // channels.csv (and channels_compare.csv) were streamed into the stage; without one (a
   // library caller) they were collected in memory.
-  out.channels_csv = main.csv->take_text();
-  if (runs.size() > 1) out.compare_csv = runs[1]->csv->take_text();
+  out.channels_csv = main().csv->take_text();
+  if (runs_.size() > 1) out.compare_csv = runs_[1]->csv->take_text();
   out.headline =
-      main.label + ": max δx " + fmt(main.max_dx_um) + " µm, δy " + fmt(main.max_dy_um) +
-      " µm, ζ " + fmt(lin.zeta(), "%.2f") +
-      (runs.size() > 1 ? "; " + runs[1]->label + " δy " + fmt(runs[1]->max_dy_um) + " µm" : "");
-  return out;
+      main().label + ": max δx " + fmt(main().max_dx_um) + " µm, δy " + fmt(main().max_dy_um) +
+      " µm, ζ " + fmt(lin_.zeta(), "%.2f") +
+      (runs_.size() > 1 ? "; " + runs_[1]->label + " δy " + fmt(runs_[1]->max_dy_um) + " µm" : "");
+}
+}  // namespace
+
+io::RunOutput run(const io::Scenario& sc) {
+  return run(sc, TracerMetrics::kKeptRows);
+}
+
+io::RunOutput run(const io::Scenario& sc, std::size_t kept_rows) {
+  return TracerStudy(sc, kept_rows).run();
 }
 
 }  // namespace lathectl::systems::c_tracer

@@ -1,14 +1,14 @@
 // threshold = "calibrated_dynamic": S_th adjusted on parts machined with the full model
-// (gauging.hpp says how).
+// (rig.hpp says how).
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "lathectl/design/vibro_gauge.hpp"
 #include "lathectl/sim/parallel.hpp"
-#include "systems/d_gauging/gauging.hpp"
+#include "systems/d_gauging/rig.hpp"
 
-namespace lathectl::sim {
+namespace lathectl::systems::d_gauging {
 
 DynamicCalibration calibrate_dynamic(const GaugingProcess& p,
                                      const sensors::VibroContactGauge::Params& gp, double dt,
@@ -81,4 +81,4 @@ NoiselessPart noiseless_part(const GaugingProcess& quiet,
   return {r.finished_m - quiet.target_m, line.spread_m, lv.ripple_V};
 }
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::d_gauging

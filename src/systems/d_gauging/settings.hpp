@@ -14,9 +14,9 @@
 #include "lathectl/io/acceptance.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
-#include "systems/d_gauging/gauging.hpp"
+#include "systems/d_gauging/rig.hpp"
 
-namespace lathectl::d_gauging {
+namespace lathectl::systems::d_gauging {
 
 // [acceptance]: what the finished parts must achieve (settings.cpp describes each key).
 extern const std::array<io::CriterionKey, 2> kAcceptanceKeys;
@@ -24,8 +24,8 @@ extern const std::array<io::CriterionKey, 2> kAcceptanceKeys;
 struct Settings : io::SettingsOf<Settings> {
   // The reader's disturbance is none unless [process] noise_sigma_um gives one.
   // The backstop is NaN until read: absent, it is target − tolerance (the lower tolerance limit).
-  sim::GaugingProcess process{.noise_variance_m2 = 0.0,
-                              .backstop_m = std::numeric_limits<double>::quiet_NaN()};
+  GaugingProcess process{.noise_variance_m2 = 0.0,
+                         .backstop_m = std::numeric_limits<double>::quiet_NaN()};
   sensors::VibroContactGauge::Params transducer;
   double tolerance_m = 10e-6;              // ± about the target
   std::string threshold = "calibrated";    // "seed" (23 with A0, K), "calibrated" (23 with the
@@ -61,9 +61,13 @@ void configure_transducer(const io::Scenario& sc, sensors::VibroContactGauge& ga
 // The section reader (settings.cpp): the settings from the file's tables.
 std::unique_ptr<io::SystemSettings> read_settings(io::TableReader& root, io::Scenario& sc,
                                                   const io::MaterialLibrary& lib);
-// The reader alone, and the reader with the transducer's probe (its own checks, and the allowance
-// against its free amplitude): the registry's.
-extern const io::Section kReadSection;
-extern const io::Section kSection;
+// The section reader alone: what a component that only reads D's settings links (its
+// lathectl_d_gauging_settings). The one place the system's letter is written.
+inline constexpr io::Section kReadSection{"D", &read_settings, nullptr};
+// The cross-checks that need the whole scenario (validate.cpp: the transducer's probe, the
+// allowance against its free amplitude, the threshold against the signal's safe range).
+void validate(const io::Scenario& sc);
+// Reader and validation: the registry's entry.
+inline constexpr io::Section kSection{kReadSection.system, &read_settings, &validate};
 
-}  // namespace lathectl::d_gauging
+}  // namespace lathectl::systems::d_gauging

@@ -8,11 +8,11 @@
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
 
-namespace lathectl::d_gauging {
+namespace lathectl::systems::d_gauging {
 
 io::RunOutput run(const io::Scenario& sc);
-// The same with another budget of kept linearised parts than sim::LinearParts::kKeptParts (a
+// The same with another budget of kept linearised parts than LinearParts::kKeptParts (a
 // test: beyond it the parts are machined again for each pass, which must give the same numbers).
 io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts);
 
-}  // namespace lathectl::d_gauging
+}  // namespace lathectl::systems::d_gauging

@@ -15,9 +15,9 @@
 // stops t_r later, or at the backstop if x reaches it first. The finished size is the true size
 // then: ξ disturbs the measurement, not the part.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <algorithm>
 #include <limits>
 #include <span>
 #include <vector>
@@ -26,7 +26,7 @@
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
 #include "lathectl/sim/recorder.hpp"
 
-namespace lathectl::sim {
+namespace lathectl::systems::d_gauging {
 
 struct GaugingProcess {
   double allowance_m = 200e-6;       // m_x
@@ -166,7 +166,7 @@ std::vector<double> filter_noise_samples(const GaugingProcess& p, const LinearGa
 // acts on the simulated S(t). Optionally records (time, x, S, probe z) every `record_every`.
 PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContactGauge::Params& gp,
                              double step_s, double threshold_V, std::uint64_t seed,
-                             Recorder* rec = nullptr, std::size_t record_every = 50,
+                             sim::Recorder* rec = nullptr, std::size_t record_every = 50,
                              double max_time_s = 0.0);
 
 // Full model, static calibration at fixed x (no removal, no noise): the settled mean of S and
@@ -212,4 +212,4 @@ NoiselessPart noiseless_part(const GaugingProcess& quiet,
                              const sensors::VibroContactGauge::Params& gp, double dt,
                              std::uint64_t seed, double max_time_s);
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::d_gauging

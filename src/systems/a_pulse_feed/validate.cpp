@@ -1,5 +1,5 @@
-// System A's registry entry: its reader, and the cross-checks that need the whole scenario (the
-// rig configured once as a probe, its rejection reported at the key it names).
+// System A's cross-checks once the whole scenario is read: the rig configured once as a probe,
+// its rejection reported at the key it names.
 #include <algorithm>
 #include <stdexcept>
 
@@ -8,9 +8,8 @@
 
 namespace lathectl::systems::a_pulse_feed {
 
-namespace {
 void validate(const io::Scenario& sc) {
-  sim::RigA probe;
+  Rig probe;
   try {
     probe.configure(sc.get<Settings>().rig, sc.run.step_s, sc.run.record_interval_s,
                     std::min(sc.run.duration_s, sc.run.step_s * 4));
@@ -18,8 +17,5 @@ void validate(const io::Scenario& sc) {
     io::throw_at_key(sc, e);
   }
 }
-}  // namespace
-
-const io::Section kSection{"A", &read_settings, &validate};
 
 }  // namespace lathectl::systems::a_pulse_feed

@@ -1,4 +1,4 @@
-#include "systems/d_gauging/gauging.hpp"
+#include "systems/d_gauging/rig.hpp"
 
 #include <algorithm>
 #include <array>
@@ -10,7 +10,7 @@
 #include "lathectl/design/vibro_gauge.hpp"
 #include "lathectl/sim/parallel.hpp"
 
-namespace lathectl::sim {
+namespace lathectl::systems::d_gauging {
 
 namespace {
 
@@ -327,7 +327,7 @@ std::vector<double> filter_noise_samples(const GaugingProcess& p, const LinearGa
 }
 
 PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContactGauge::Params& gp,
-                             double dt, double s_th, std::uint64_t seed, Recorder* rec,
+                             double dt, double s_th, std::uint64_t seed, sim::Recorder* rec,
                              std::size_t record_every, double max_time_s) {
   sensors::VibroContactGauge g;
   g.configure(gp, dt);
@@ -384,4 +384,4 @@ SignalLevel full_model_signal(const sensors::VibroContactGauge::Params& gp, doub
   return {l.mean_V, l.ripple_V};
 }
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::d_gauging

@@ -1,5 +1,5 @@
-// System C's registry entry: its reader, and the cross-checks that need the whole scenario (the
-// rig configured once as a probe, its rejection reported at the key it names).
+// System C's cross-checks once the whole scenario is read: the rig configured once as a probe,
+// its rejection reported at the key it names.
 #include <stdexcept>
 
 #include "systems/c_tracer/rig.hpp"
@@ -7,9 +7,8 @@
 
 namespace lathectl::systems::c_tracer {
 
-namespace {
 void validate(const io::Scenario& sc) {
-  sim::RigC probe;
+  Rig probe;
   probe.set_streamed(true);  // no columns: the probe records nothing
   try {
     probe.configure(sc.get<Settings>().rig, sc.run.step_s, sc.run.record_interval_s);
@@ -17,8 +16,5 @@ void validate(const io::Scenario& sc) {
     io::throw_at_key(sc, e);
   }
 }
-}  // namespace
-
-const io::Section kSection{"C", &read_settings, &validate};
 
 }  // namespace lathectl::systems::c_tracer
