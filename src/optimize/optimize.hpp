@@ -44,6 +44,10 @@ struct Options {
   double start_z_mm = 60.0;
   Machine machine;      // the planner's limits for the blends (blend.hpp)
   bool blends = true;   // predict LinuxCNC's G64 blend arcs (false: the programmed corners)
+  // Predict the program run with system E's machine side on (lathectl_adaptive in LinuxCNC:
+  // control::AdaptiveMachine, the same object), its feed factor scaling every feed move, at
+  // the sample configuration's MAX_FEED_OVERRIDE of 1 (never above the program's feed).
+  bool adaptive = false;
   std::string label;  // the program's file, for messages
 };
 
@@ -103,6 +107,10 @@ struct Prediction {
   // and the line whose end that corner is (0: none).
   double blend_inside_max_mm = 0.0;
   int blend_inside_line = 0;
+  // With Options::adaptive: the machine side's commanded feed per revolution [mm/rev] and its
+  // feed factor per sample (empty otherwise), and its first alarm's reason code (0: none).
+  std::vector<double> adaptive_feed_rev, adaptive_factor;
+  int adaptive_alarm = 0;
 };
 Prediction predict(const io::CanonProgram& prog, const Plan& plan,
                    const systems::e_adaptive::Settings& e, const Options& opt);

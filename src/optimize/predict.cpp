@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "lathectl/control/adaptive_machine.hpp"
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/cutting/disturbances.hpp"
 #include "lathectl/io/errors.hpp"
@@ -44,6 +45,19 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
   cutting::Disturbances wear;  // the plant's wear law (its force factor from the time in cut)
   wear.configure(e.rig.disturbances);
   const double rapid = e.rig.rapid_m_per_s * 1000.0;  // mm/s, also the top feed velocity
+  // System E's machine side in the loop (Options::adaptive), as lathectl_adaptive runs it.
+  control::AdaptiveMachine machine;
+  control::AdaptiveMachine::Output mo;
+  if (opt.adaptive) {
+    control::AdaptiveMachine::Params mp;
+    mp.controller = e.rig.controller;
+    mp.controller.air_feed_mm_per_rev = std::max(mp.controller.air_feed_mm_per_rev, 1e-6);
+    mp.parameter = e.rig.force_parameter;  // the plant's sensor 4 (N, or W for the power)
+    mp.spindle = e.rig.spindle;
+    mp.rating.limit_max = 1e300;  // the program sets nothing: the scenario's settings
+    mp.rating.feed_max_mm_per_rev = 1e300;
+    machine.configure(mp);
+  }
   {  // reserve the samples: the moves' times at their start speeds, plus a margin
     double t = 0.0;
     for (std::size_t mi = 0; mi < prog.moves.size(); ++mi) {
@@ -120,8 +134,11 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
       const auto [x, z] = point_at(m, u);
       const double rpm = spindle_rpm(m, x);
       double v = rapid;
+      const double rpm_run = opt.adaptive && mo.control_period && mo.spindle_speed_out != 0.0
+                                 ? std::abs(mo.spindle_speed_out)
+                                 : rpm;
       if (!rapid_move) {
-        v = m.per_rev ? feed * rpm / 60.0 : feed / 60.0;
+        v = m.per_rev ? feed * rpm_run / 60.0 : feed / 60.0;
         if (!(v > 0.0))
           throw io::InputError(
               io::located(opt.label, m.line, 0,
@@ -130,8 +147,10 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
                                 "LinuxCNC would wait for ever (start it, or --spindle-rpm N)"
                               : "a feed move with no feed rate (F0)"));
         v = std::min(v, rapid);
+        if (opt.adaptive) v *= mo.feed_factor;  // motion's feed scale × adaptive-feed
       }
       v = std::min(v, v_cap);
+      if (opt.adaptive && (mo.alarm || !(v > 0.0))) return;  // held: the prediction ends here
       double dt = s.dt_s;
       double step_u = v * dt * du_len;
       if (u + step_u > u_to) {
@@ -141,7 +160,32 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
       u += step_u;
       const auto [x1, z1] = point_at(m, u);
       cutting::LathePlant::Output out;
-      plant.step({.x_mm = x1, .z_mm = z1, .rpm = rpm}, dt, out);
+      plant.step({.x_mm = x1, .z_mm = z1, .rpm = rpm_run}, dt, out);
+      if (opt.adaptive) {
+        control::AdaptiveMachine::Input in;
+        in.nominal_period_s = s.dt_s;
+        in.elapsed_s = dt;
+        in.force = out.force_measured;
+        in.rpm = rpm_run;
+        in.rpm_programmed = rpm;
+        in.current_vel_mm_s = v;
+        in.requested_vel = m.per_rev ? feed : feed / 60.0;
+        in.motion_type = static_cast<std::int32_t>(
+            rapid_move                            ? control::AdaptiveMachine::Motion::Traverse
+            : m.kind == CanonMove::Kind::Arc      ? control::AdaptiveMachine::Motion::Arc
+                                                  : control::AdaptiveMachine::Motion::Feed);
+        in.feed_upm = m.per_rev ? feed * rpm_run * mo.feed_factor : feed * mo.feed_factor;
+        in.per_rev = m.per_rev;
+        in.x_mm = x1;
+        in.z_mm = z1;
+        in.tool_number = m.tool;
+        in.program_line = m.line;
+        machine.update(in, mo);
+        pr.adaptive_feed_rev.push_back(mo.feed_hold ? 0.0 : mo.feed_per_rev_mm);
+        pr.adaptive_factor.push_back(mo.feed_factor);
+        if (mo.alarm && pr.adaptive_alarm == 0)
+          pr.adaptive_alarm = static_cast<int>(mo.alarm_reason);
+      }
       path += step_u * len;
       s.move.push_back(static_cast<int>(mi));
       s.piece.push_back(static_cast<int>(pi));

@@ -9,8 +9,12 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <sstream>
+#include <tuple>
 
 #include "lathectl/io/canon.hpp"
+#include "lathectl/io/channels_reader.hpp"
+#include "lathectl/io/runner.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
@@ -302,5 +306,65 @@ TEST(Accel, SplitPiecesRunOnAndARapidStopsBeforeTheCut) {
               rapid_len / v_rapid + 14.0 / v_feed + p_whole.accel_time_s, 2e-3);
 }
 
+}  // namespace
+}  // namespace lathectl::optimize
+
+namespace lathectl::optimize {
+namespace {
+// One machine side everywhere: the optimiser's prediction with system E's machine side in the
+// loop (Options::adaptive, control::AdaptiveMachine) against `lathectl run` (rig E, the same
+// object) on the allowance step, in the windows and to the tolerances LinuxCNC's session test
+// holds the rig to (tests/hal/linuxcnc_session_test.py: ±1 % of the limit in force, ±2 % in
+// feed): before the collar, on it, after it. Stock z = −machine z (the face at machine Z0).
+// Measured: force 1136.2 / 1143.2, 1597.0 / 1599.6, 1137.0 / 1144.8 N; feed on the collar
+// 0.1920 / 0.1884 mm/rev (1.9 %: the rig's point tool against the plant's round nose).
+TEST(Predict, AdaptiveAgreesWithLathectlRunOnTheAllowanceStep) {
+  if (!have_rs274()) GTEST_SKIP() << "needs LinuxCNC's rs274";
+  static const auto lib = io::MaterialLibrary::load_default();
+  const auto sc =
+      io::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.toml", lib);
+  const auto& e = sc.get<systems::e_adaptive::Settings>();
+  auto opt = options();
+  opt.adaptive = true;
+  const auto prog = read_program(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.ngc", opt);
+  const auto pr = predict(prog.canon, programmed(prog.canon), e, opt);
+  EXPECT_EQ(pr.adaptive_alarm, 0);
+  ASSERT_EQ(pr.adaptive_feed_rev.size(), pr.s.z.size());
+
+  const auto run = io::run_scenario(sc);
+  std::istringstream csv(run.channels_csv);
+  const auto rig = io::read_channels_csv(csv, "channels.csv");
+  auto col = [&](const std::string& n) -> const std::vector<double>& {
+    for (std::size_t i = 0; i < rig.names.size(); ++i)
+      if (rig.names[i] == n) return rig.columns[i];
+    throw std::runtime_error("no column " + n);
+  };
+  const auto &rz = col("z_mm"), &rpass = col("pass"), &rf = col("force_parameter_true"),
+             &rs = col("feed_cmd_mm_per_rev");
+  const double limit = e.rig.controller.force_limit;
+  for (const auto& [name, lo, hi] : {std::tuple{"before", 9.0, 14.0},
+                                     std::tuple{"collar", 19.0, 29.0},
+                                     std::tuple{"after", 38.0, 48.0}}) {
+    double fa = 0, sa = 0, na = 0, fb = 0, sb = 0, nb = 0;
+    for (std::size_t i = 0; i < pr.s.z.size(); ++i) {
+      const double zs = -pr.s.z[i];
+      if (zs < lo || zs > hi || pr.s.depth[i] <= 0.0) continue;
+      fa += pr.s.param[i];
+      sa += pr.adaptive_feed_rev[i];
+      ++na;
+    }
+    for (std::size_t i = 0; i < rz.size(); ++i) {
+      if (rpass[i] != 0.0 || rz[i] < lo || rz[i] > hi) continue;
+      fb += rf[i];
+      sb += rs[i];
+      ++nb;
+    }
+    ASSERT_GT(na, 0);
+    ASSERT_GT(nb, 0);
+    fa /= na, sa /= na, fb /= nb, sb /= nb;
+    EXPECT_NEAR(fa, fb, 0.01 * limit) << name << ": force, optimize / lathectl run";
+    EXPECT_NEAR(sa, sb, 0.02 * sb) << name << ": feed, optimize / lathectl run";
+  }
+}
 }  // namespace
 }  // namespace lathectl::optimize
