@@ -144,7 +144,9 @@ void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
     if (on_blank) t += cfg_.stock.eccentricity_mm * std::sin(phi);
     t = std::max(t + dist_.random_allowance_mm(z), 0.0);
   }
-  const double v = std::numbers::pi * 2.0 * (x + t) * rpm / 1000.0;
+  // No position (not homed): no cutting speed either — a NaN here made the cutting power, and
+  // the LinuxCNC plant's drive-power pin, NaN until homing: a sensor_not_finite alarm at start.
+  const double v = std::isfinite(x) ? std::numbers::pi * 2.0 * (x + t) * rpm / 1000.0 : 0.0;
   const double strength = dist_.strength_factor(z);
   Forces f{};
   if (t > 0.0 && s > 0.0 && v > 0.0) {

@@ -93,6 +93,19 @@ TEST(LathePlant, SteadyTurningGivesTheHandbookForceAtTheUncutDiameter) {
 
 // The chip window is one revolution whatever the step: at 3000 rpm a 1 ms step is 18° of the
 // spindle, and the feed per revolution must still be the path travelled in one turn.
+// Not homed (no position): nothing is cut and every output is a number — the LinuxCNC plant's
+// drive-power pin is built from the cutting power, and a NaN there alarmed the power sensor.
+TEST(LathePlant, NoPositionCutsNothingAndGivesNumbers) {
+  LathePlant p;
+  p.configure(config(), {});
+  LathePlant::Output out;
+  for (int k = 0; k < 100; ++k) p.step({std::nan(""), std::nan(""), 800.0}, 1e-3, out);
+  EXPECT_EQ(out.cut_power_W, 0.0);
+  EXPECT_EQ(out.speed_m_per_min, 0.0);
+  EXPECT_FALSE(out.in_contact);
+  EXPECT_TRUE(std::isfinite(out.force_measured));
+}
+
 TEST(LathePlant, FeedPerRevolutionIsExactAtHighSpeed) {
   const auto c = config();
   for (double rpm : {300.0, 1222.0, 3000.0}) {
