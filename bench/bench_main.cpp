@@ -70,7 +70,7 @@ void BM_RigE_Part(benchmark::State& state, const char* scenario) {
   const auto sc = load(scenario);
   double cycle = 0.0;
   for (auto _ : state) {
-    sim::RigE rig;
+    systems::e_adaptive::Rig rig;
     rig.configure(sc.get<systems::e_adaptive::Settings>().rig, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
     rig.run();
     cycle = rig.cycle_time_s();

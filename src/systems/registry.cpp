@@ -11,6 +11,7 @@
 #include "systems/c_tracer/study.hpp"
 #include "systems/d_gauging/settings.hpp"
 #include "systems/d_gauging/study.hpp"
+#include "systems/e_adaptive/settings.hpp"
 #include "systems/e_adaptive/study.hpp"
 
 namespace lathectl::systems {
@@ -26,8 +27,9 @@ const std::array<System, 5> kSystems{{
      &c_tracer::kSection, &c_tracer::run},
     {d_gauging::kSection.system, "d_gauging", "vibro-contact in-process gauging (seed 003)",
      &d_gauging::kSection, &d_gauging::run},
-    {"E", "e_adaptive", "adaptive control of force by feed and speed (seed 004)",
-     &e_adaptive::kSection, &e_adaptive::run},
+    {e_adaptive::kSection.system, "e_adaptive",
+     "adaptive control of force by feed and speed (seed 004)", &e_adaptive::kSection,
+     &e_adaptive::run},
 }};
 
 std::vector<const io::Section*> sections() {

@@ -18,9 +18,10 @@
 
 namespace lathectl::sim {
 using cutting::LathePlant;
+using systems::e_adaptive::RigConfig;
 namespace {
 
-RigEConfig config() {
+RigConfig config() {
   static const io::MaterialLibrary lib =
       io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
   const auto sc =
@@ -69,7 +70,7 @@ RevMean move_mean(LathePlant& p, double x, double z0, double z1, double rpm, dou
   return m;
 }
 
-double handbook_pz(const RigEConfig& c, double t, double s, double v) {
+double handbook_pz(const RigConfig& c, double t, double s, double v) {
   cutting::CuttingModel m;
   m.configure(c.cutting);
   return m.forces({t, s, v, 1.0, 1.0}).Pz;

@@ -27,15 +27,13 @@
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
 
-namespace lathectl::sim {
+namespace lathectl::systems::e_adaptive {
 namespace {
-
-using Mode = control::AdaptiveFeedController::Mode;
 
 using lathectl::test::library;
 
-const RigEConfig& rig_of(const io::Scenario& sc) {
-  return sc.get<systems::e_adaptive::Settings>().rig;
+const RigConfig& rig_of(const io::Scenario& sc) {
+  return sc.get<Settings>().rig;
 }
 
 // The main run's recorded channels, parsed back from channels.csv.
@@ -83,7 +81,7 @@ const Result& result(const std::string& name) {
 
 // Metrics of the run with this controller (main or comparison), or null.
 const nlohmann::json* metrics_of(const nlohmann::json& summary, Mode mode) {
-  const std::string label = systems::e_adaptive::mode_name(mode);
+  const std::string label = mode_name(mode);
   if (summary["label"].get<std::string>() == label) return &summary["metrics"];
   if (summary.contains("comparisons"))
     for (const auto& c : summary["comparisons"])
@@ -111,11 +109,11 @@ void seed004_force_held_at_limit() {
   // per-revolution force at most 15 % above the limit anywhere in cut.
   for (Mode mode : {Mode::ForceFeedSpeed, Mode::ForceFeed}) {
     const auto* m = metrics_of(r.out.summary, mode);
-    ASSERT_NE(m, nullptr) << systems::e_adaptive::mode_name(mode);
-    EXPECT_TRUE((*m)["finished"].get<bool>()) << systems::e_adaptive::mode_name(mode);
-    EXPECT_GE(get(*m, "force_within_5pct_fraction"), 0.95) << systems::e_adaptive::mode_name(mode);
-    EXPECT_LE(get(*m, "force_overshoot_pct"), 15.0) << systems::e_adaptive::mode_name(mode);
-    EXPECT_TRUE((*m)["alarms"].empty()) << systems::e_adaptive::mode_name(mode);
+    ASSERT_NE(m, nullptr) << mode_name(mode);
+    EXPECT_TRUE((*m)["finished"].get<bool>()) << mode_name(mode);
+    EXPECT_GE(get(*m, "force_within_5pct_fraction"), 0.95) << mode_name(mode);
+    EXPECT_LE(get(*m, "force_overshoot_pct"), 15.0) << mode_name(mode);
+    EXPECT_TRUE((*m)["alarms"].empty()) << mode_name(mode);
   }
 }
 
@@ -141,7 +139,7 @@ void seed004_material_removed_is_stock_volume() {
   for (Mode mode : {Mode::ForceFeedSpeed, Mode::ForceFeed, Mode::Fixed}) {
     const auto* m = metrics_of(r.out.summary, mode);
     ASSERT_NE(m, nullptr);
-    EXPECT_NEAR(get(*m, "material_removed_cm3"), v, 0.03 * v) << systems::e_adaptive::mode_name(mode);
+    EXPECT_NEAR(get(*m, "material_removed_cm3"), v, 0.03 * v) << mode_name(mode);
   }
 }
 
@@ -194,7 +192,7 @@ void seed004_speed_rises_when_feed_falls() {
 }
 
 void seed004_fixed_comparison_is_worst_case() {
-  // e_adaptive::run sets the fixed comparison for the worst case (RigE::worst_case_feed).
+  // e_adaptive::run sets the fixed comparison for the worst case (Rig::worst_case_feed).
   const auto& r = result("e_stepped_seed004");
   cutting::CuttingModel cut;
   cut.configure(rig_of(r.sc).cutting);
@@ -202,8 +200,8 @@ void seed004_fixed_comparison_is_worst_case() {
   stock.configure(rig_of(r.sc).stock);
   const auto* fixed = metrics_of(r.out.summary, Mode::Fixed);
   ASSERT_NE(fixed, nullptr);
-  EXPECT_NEAR(get(*fixed, "feed_programmed_mm_per_rev"), RigE::worst_case_feed(rig_of(r.sc), cut, stock),
-              1e-12);
+  EXPECT_NEAR(get(*fixed, "feed_programmed_mm_per_rev"),
+              Rig::worst_case_feed(rig_of(r.sc), cut, stock), 1e-12);
   EXPECT_LE(get(*fixed, "force_peak_rev_mean_N"), get(*fixed, "force_limit_N"));
 }
 
@@ -339,7 +337,7 @@ TEST(RigE, SteppedFixedUsesWorstCaseFeedAndStaysBelowLimit) {
   cut.configure(rig_of(r.sc).cutting);
   cutting::Stock stock;
   stock.configure(rig_of(r.sc).stock);
-  const double s_wc = RigE::worst_case_feed(rig_of(r.sc), cut, stock);
+  const double s_wc = Rig::worst_case_feed(rig_of(r.sc), cut, stock);
   const auto& m = r.out.summary["metrics"];
   EXPECT_NEAR(get(m, "feed_programmed_mm_per_rev"), s_wc, 1e-12);
   EXPECT_GT(s_wc, rig_of(r.sc).controller.feed_min_mm_per_rev);  // a real bisection, not a clamp
@@ -453,9 +451,9 @@ TEST(RigE, ExactZeroInAirIsAirNotAStuckSensor) {
 }
 
 }  // namespace
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::e_adaptive
 
-namespace lathectl::sim {
+namespace lathectl::systems::e_adaptive {
 namespace {
 
 // ---------------------------------------------------------------------------------------------
@@ -495,9 +493,9 @@ TEST(RigE, PySensorHoldsPyAndThePowerLimitSeesTheMeter) {
 }
 
 }  // namespace
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::e_adaptive
 
-namespace lathectl::sim {
+namespace lathectl::systems::e_adaptive {
 namespace {
 // Issue 29's user: e_stepped_seed004 with only sensor 4 swapped for the spindle's power (the
 // sensor most shops have). The spindle's speed changes at every pass change and under the speed
@@ -513,11 +511,11 @@ TEST(RigE, PowerSensorFinishesSeed004WithNoAlarm) {
   for (Mode mode : {Mode::ForceFeedSpeed, Mode::ForceFeed}) {
     const auto* m = metrics_of(r.out.summary, mode);
     ASSERT_NE(m, nullptr);
-    EXPECT_TRUE((*m)["finished"].get<bool>()) << systems::e_adaptive::mode_name(mode);
-    EXPECT_TRUE((*m)["alarms"].empty()) << systems::e_adaptive::mode_name(mode);
+    EXPECT_TRUE((*m)["finished"].get<bool>()) << mode_name(mode);
+    EXPECT_TRUE((*m)["alarms"].empty()) << mode_name(mode);
     // The acceptance default (≤ 10 % above the limit per revolution); 8.1 % measured.
-    EXPECT_LE(get(*m, "force_overshoot_pct"), 10.0) << systems::e_adaptive::mode_name(mode);
+    EXPECT_LE(get(*m, "force_overshoot_pct"), 10.0) << mode_name(mode);
   }
 }
 }  // namespace
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::e_adaptive

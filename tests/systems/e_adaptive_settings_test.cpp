@@ -2,8 +2,6 @@
 // defaults of a scenario that gives only the required keys are the ones the old reader used
 // (where a library struct's own default differs, E's settings carry E's value).
 
-#include "systems/e_adaptive/settings.hpp"
-
 #include <gtest/gtest.h>
 
 #include <set>
@@ -11,7 +9,7 @@
 
 #include "lathectl/io/scenario.hpp"
 #include "support/library.hpp"
-#include "systems/e_adaptive/study.hpp"
+#include "systems/e_adaptive/settings.hpp"
 
 namespace lathectl::systems::e_adaptive {
 namespace {
@@ -96,7 +94,7 @@ TEST(ESettings, PowerSensorReadsItsKeysInWatts) {
   text.replace(text.find("force_limit_N = 1500.0"), 22, "cut_power_limit_kW = 4.5");
   const auto sc = io::parse_scenario(text, "power.toml", library(), kReadSection);
   const auto& e = sc.get<Settings>().rig;
-  EXPECT_EQ(e.force_parameter, sim::ForceParameter::Power);
+  EXPECT_EQ(e.force_parameter, cutting::ForceParameter::Power);
   EXPECT_EQ(e.controller.force_limit, 4500.0);
   EXPECT_EQ(e.force_sensor.range, 9000.0);
   // A force key with a power sensor is unknown.

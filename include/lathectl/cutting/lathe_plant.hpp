@@ -38,7 +38,7 @@ namespace lathectl::cutting {
 
 // The cutting process of a system-E scenario: what the tool meets and what sensor 4 reads.
 // Defaults are the scenario's (a random allowance correlated over 20 mm, a dynamometer that
-// saturates at 10⁵ N); RigEConfig adds the machine around it.
+// saturates at 10⁵ N); systems::e_adaptive::RigConfig adds the machine around it.
 struct CuttingProcess {
   CuttingModel::Params cutting;
   StockParams stock;

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-namespace lathectl::sim {
+namespace lathectl::systems::e_adaptive {
 
-MetricsEAccumulator::MetricsEAccumulator(const RigE& rig, double settle_s)
+MetricsAccumulator::MetricsAccumulator(const Rig& rig, double settle_s)
     : settle_s_(settle_s), onsets_(rig.config().faults) {
   const auto& rec = rig.recorder();
   const auto& cfg = rig.config();
@@ -28,7 +28,7 @@ MetricsEAccumulator::MetricsEAccumulator(const RigE& rig, double settle_s)
   feed_min_ = cfg.controller.feed_min_mm_per_rev;
 }
 
-MetricsEAccumulator::ReasonSpan& MetricsEAccumulator::reason_entry(int code) {
+MetricsAccumulator::ReasonSpan& MetricsAccumulator::reason_entry(int code) {
   auto it = std::find_if(reasons_.begin(), reasons_.end(),
                          [&](const ReasonSpan& a) { return a.code == code; });
   if (it != reasons_.end()) return *it;
@@ -36,7 +36,7 @@ MetricsEAccumulator::ReasonSpan& MetricsEAccumulator::reason_entry(int code) {
   return reasons_.back();
 }
 
-void MetricsEAccumulator::row(std::span<const double> v) noexcept {
+void MetricsAccumulator::row(std::span<const double> v) noexcept {
   const std::size_t i = n_++;
   const double t = v[t_];
   // The record interval, as the whole-record forms took it: t[1] − t[0].
@@ -84,15 +84,15 @@ void MetricsEAccumulator::row(std::span<const double> v) noexcept {
   }
 }
 
-std::vector<MetricsEAccumulator::ReasonSpan> MetricsEAccumulator::reasons() const {
+std::vector<MetricsAccumulator::ReasonSpan> MetricsAccumulator::reasons() const {
   auto out = reasons_;
   std::sort(out.begin(), out.end(),
             [](const ReasonSpan& a, const ReasonSpan& b) { return a.code < b.code; });
   return out;
 }
 
-MetricsE MetricsEAccumulator::result(const RigE& rig) const {
-  MetricsE m;
+Metrics MetricsAccumulator::result(const Rig& rig) const {
+  Metrics m;
   const auto& cfg = rig.config();
   m.finished = rig.finished();
   m.cycle_time_s = rig.cycle_time_s();
@@ -129,4 +129,4 @@ MetricsE MetricsEAccumulator::result(const RigE& rig) const {
   return m;
 }
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::e_adaptive

@@ -1,5 +1,5 @@
 #pragma once
-// Metrics that answer system E's claims, from a RigE run (row by row as it records). Definitions:
+// Metrics that answer system E's claims, from a Rig run (row by row as it records). Definitions:
 //   force (per revolution): the true force parameter averaged over one spindle revolution — a
 //     feed drive cannot act within a revolution (the chip is the travel over the last one), so
 //     runout of an eccentric blank swings the instantaneous force around this mean; the raw
@@ -20,9 +20,9 @@
 #include "lathectl/sim/recorder.hpp"
 #include "systems/e_adaptive/rig.hpp"
 
-namespace lathectl::sim {
+namespace lathectl::systems::e_adaptive {
 
-struct MetricsE {
+struct Metrics {
   bool finished = false;
   double cycle_time_s = 0.0;
   double time_in_cut_s = 0.0;
@@ -43,7 +43,7 @@ struct MetricsE {
   double speed_mean_m_per_min = 0.0;  // in cut
   double feed_programmed_mm_per_rev = 0.0;
   double spindle_power_peak_kW = 0.0;
-  std::vector<AlarmEvent> alarms;
+  std::vector<sim::AlarmEvent> alarms;
   double first_alarm_delay_s = std::numeric_limits<double>::quiet_NaN();
   double feed_hold_delay_s = std::numeric_limits<double>::quiet_NaN();  // fault → feed command 0
 };
@@ -52,13 +52,13 @@ struct MetricsE {
 // recorder between configure and run): nothing of the record is kept but a few sums, the
 // per-revolution window and a bounded plot of the per-revolution mean, so a run of any length
 // takes the same memory (issue 19).
-class MetricsEAccumulator final : public RowSink {
+class MetricsAccumulator final : public sim::RowSink {
  public:
   // rig: configured (its configuration and controller limits are read here).
-  explicit MetricsEAccumulator(const RigE& rig, double settle_s = 0.5);
+  explicit MetricsAccumulator(const Rig& rig, double settle_s = 0.5);
   void row(std::span<const double> v) noexcept override;
   // After the run.
-  [[nodiscard]] MetricsE result(const RigE& rig) const;
+  [[nodiscard]] Metrics result(const Rig& rig) const;
   // How long each non-zero reason code held in the record (rows × record interval), in how many
   // episodes, first and last time; sorted by code.
   struct ReasonSpan {
@@ -72,9 +72,9 @@ class MetricsEAccumulator final : public RowSink {
   ReasonSpan& reason_entry(int code);
   std::size_t t_, f_, pz_, rpm_, in_cut_, depth_, s_, s_cmd_, v_, power_, alarm_, hold_, reason_;
   double settle_s_, limit_, ceiling_, feed_min_;
-  MetricsE m_;
+  Metrics m_;
   control::PerRevolutionMean f_rev_;
-  AlarmOnsets onsets_;
+  sim::AlarmOnsets onsets_;
   std::size_t n_ = 0;
   double t0_ = 0.0, dt_rec_ = 0.0;
   double contact_t_ = -1e9, steady_n_ = 0, within_n_ = 0, steady_sum_ = 0, cut_n_ = 0, s_sum_ = 0,
@@ -85,4 +85,4 @@ class MetricsEAccumulator final : public RowSink {
   std::vector<ReasonSpan> reasons_;
 };
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::e_adaptive

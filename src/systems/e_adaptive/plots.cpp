@@ -35,7 +35,7 @@ void PathPlots::row(std::span<const double> v) noexcept {
   const double t = v[t_];
   if (i == 0) t0_ = t;
   t_last_ = t;
-  if (i == 1) f_rev_.configure(t - t0_);  // the record interval, as MetricsEAccumulator takes it
+  if (i == 1) f_rev_.configure(t - t0_);  // the record interval, as MetricsAccumulator takes it
   // Not the return to the next pass's start.
   if (i > 0 && v[pass_] == pass_prev_) path_ += std::max(v[z_] - z_prev_, 0.0);
   z_prev_ = v[z_];

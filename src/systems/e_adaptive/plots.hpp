@@ -46,8 +46,8 @@ class PathPlots final : public sim::RowSink {
 struct PlotRun {
   const sim::Recorder* rec = nullptr;  // streamed: its decimated plot per channel against time
   const PathPlots* path = nullptr;
-  const sim::MetricsEAccumulator* acc = nullptr;
-  const sim::MetricsE* m = nullptr;
+  const MetricsAccumulator* acc = nullptr;
+  const Metrics* m = nullptr;
   std::string label;
   bool speed_law = false;  // seed 004's V_opt is recorded
 };

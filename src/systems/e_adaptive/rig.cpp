@@ -9,11 +9,11 @@
 #include <numbers>
 #include <stdexcept>
 
-namespace lathectl::sim {
+namespace lathectl::systems::e_adaptive {
 
 namespace {
 constexpr std::size_t kChannels = 22;
-std::vector<Channel> rig_e_channels() {
+std::vector<sim::Channel> rig_channels() {
   return {{"time_s", "s"},
           {"z_mm", "mm"},
           {"pass", ""},
@@ -39,8 +39,8 @@ std::vector<Channel> rig_e_channels() {
 }
 }  // namespace
 
-double RigE::worst_case_feed(const RigEConfig& cfg, const cutting::CuttingModel& cut,
-                             const cutting::Stock& stock) {
+double Rig::worst_case_feed(const RigConfig& cfg, const cutting::CuttingModel& cut,
+                            const cutting::Stock& stock) {
   const auto& d = cfg.disturbances;
   double hard = 1.0;
   for (const auto& h : d.hardness) hard = std::max(hard, h.value);
@@ -61,11 +61,10 @@ double RigE::worst_case_feed(const RigEConfig& cfg, const cutting::CuttingModel&
   return lo;
 }
 
-void RigE::configure(const RigEConfig& cfg, double dt, double record_interval,
-                     double max_duration) {
+void Rig::configure(const RigConfig& cfg, double dt, double record_interval, double max_duration) {
   if (!(dt > 0.0) || !(record_interval >= dt) || !(max_duration > 0.0))
-    throw ConfigError("run.record_interval_s",
-                      "need step > 0, record interval ≥ step, duration > 0");
+    throw sim::ConfigError("run.record_interval_s",
+                           "need step > 0, record interval ≥ step, duration > 0");
   cfg_ = cfg;
   dt_ = dt;
   max_t_ = max_duration;
@@ -77,12 +76,12 @@ void RigE::configure(const RigEConfig& cfg, double dt, double record_interval,
   first_hold_s_ = -1.0;
   record_every_ =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(record_interval / dt)));
-  configure_as("material", [&] { cut_.configure(cfg.cutting); });
-  configure_as("stock", [&] { stock_.configure(cfg.stock); });
+  sim::configure_as("material", [&] { cut_.configure(cfg.cutting); });
+  sim::configure_as("stock", [&] { stock_.configure(cfg.stock); });
   auto dp = cfg.disturbances;
   dp.depth_steps.clear();
   dp.runout_mm = 0.0;
-  configure_as("stock", [&] { dist_.configure(dp); });
+  sim::configure_as("stock", [&] { dist_.configure(dp); });
 
   auto cp = cfg.controller;
   if (cfg.worst_case_feed) {
@@ -93,45 +92,46 @@ void RigE::configure(const RigEConfig& cfg, double dt, double record_interval,
   control_every_ =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cp.period_s / dt)));
   if (std::abs(static_cast<double>(control_every_) * dt - cp.period_s) > 0.01 * cp.period_s)
-    throw ConfigError("run.step_s", "the control period (controller.period_ms) must be a whole "
-                                    "number of steps, as on a machine's servo thread");
+    throw sim::ConfigError("run.step_s",
+                           "the control period (controller.period_ms) must be a whole "
+                           "number of steps, as on a machine's servo thread");
   // The machine side a lathe runs (the LinuxCNC component runs the same object): sensor 4 is
   // the dynamometer, or the spindle drive's power meter (the cutting power at the spindle).
   control::AdaptiveMachine::Params mp;
   mp.controller = cp;
   mp.parameter = cfg.force_parameter;
-  mp.power_sensor = cfg.force_parameter == ForceParameter::Power;
+  mp.power_sensor = cfg.force_parameter == cutting::ForceParameter::Power;
   mp.spindle = cfg.spindle;
   mp.power_lag_s = cfg.power_meter.time_constant_s;
   mp.rating.limit_max = 1e300;  // the program sets nothing: the scenario's settings
   mp.rating.feed_max_mm_per_rev = 1e300;
-  configure_as("controller", [&] { machine_.configure(mp); });
+  sim::configure_as("controller", [&] { machine_.configure(mp); });
   mout_ = {};
   sensor_held_ = 0.0;
   life_plan_min_ = cut_.tool_life_min(cp.speed_programmed_m_per_min, cp.feed_planned_mm_per_rev,
                                       cfg.planned_depth_mm);
 
-  configure_as("feed_axis", [&] { axis_.configure(cfg.axis, dt); });
+  sim::configure_as("feed_axis", [&] { axis_.configure(cfg.axis, dt); });
   const auto& first = cfg.stock.passes.front();
   axis_.reset((first.z_start_mm - cfg.approach_mm) * 1e-3, 0.0);
-  configure_as("spindle", [&] { spindle_.configure(cfg.spindle); });
+  sim::configure_as("spindle", [&] { spindle_.configure(cfg.spindle); });
   const double d0 = stock_.surface_diameter_mm(0, first.z_start_mm);
   const double rpm0 = std::clamp(cp.speed_programmed_m_per_min * 1000.0 / (std::numbers::pi * d0),
                                  cfg.spindle.min_rpm, cfg.spindle.max_rpm);
   spindle_.reset(rpm0);
-  configure_as("sensor", [&] { force_sensor_.configure(cfg.force_sensor); });
+  sim::configure_as("sensor", [&] { force_sensor_.configure(cfg.force_sensor); });
   force_sensor_.reset(0.0);
   const double rev_steps = 60.0 / cfg.spindle.min_rpm / dt;
   if (rev_steps > 2e7)
-    throw ConfigError("run.step_s",
-                      "one revolution at the spindle's min_rpm spans more than 2e7 steps");
+    throw sim::ConfigError("run.step_s",
+                           "one revolution at the spindle's min_rpm spans more than 2e7 steps");
   const auto hist = static_cast<std::size_t>(rev_steps) + 8;
   hist_theta_.assign(hist, 0.0);
   hist_z_.assign(hist, 0.0);
   head_ = tail_ = count_ = 0;
   theta_ = 0.0;
   contact_ = false;
-  configure_as("sensor", [&] { power_meter_.configure(cfg.power_meter); });
+  sim::configure_as("sensor", [&] { power_meter_.configure(cfg.power_meter); });
   power_meter_.reset(spindle_.electrical_power_W());
   rpm_cmd_ = rpm0;
   in_block_ = true;
@@ -141,10 +141,10 @@ void RigE::configure(const RigEConfig& cfg, double dt, double record_interval,
   acc_n_ = 0;
   // Streamed: rows go to the sinks the study attaches (metrics, channels.csv), not to memory;
   // the disk-space check of channels.csv bounds the duration instead of a row limit.
-  rec_ = Recorder::streamed(rig_e_channels());
+  rec_ = sim::Recorder::streamed(rig_channels());
 }
 
-double RigE::chip_thickness_mm(double z_mm) noexcept {
+double Rig::chip_thickness_mm(double z_mm) noexcept {
   const std::size_t n = hist_theta_.size();
   head_ = (head_ + 1) % n;
   hist_theta_[head_] = theta_;
@@ -164,7 +164,7 @@ double RigE::chip_thickness_mm(double z_mm) noexcept {
   return std::max(z_mm - z_back, 0.0);
 }
 
-bool RigE::step() noexcept {
+bool Rig::step() noexcept {
   if (finished() || t_ >= max_t_) return false;
   t_ += dt_;
   ++step_;
@@ -215,13 +215,13 @@ bool RigE::step() noexcept {
   spindle_.step(dt_, rpm_cmd_, torque);
   const double true_param = cutting::force_parameter(cfg_.force_parameter, f, cut_power);
   power_meter_.step(dt_, spindle_.electrical_power_W());
-  if (cfg_.force_parameter != ForceParameter::Power) force_sensor_.step(dt_, true_param);
+  if (cfg_.force_parameter != cutting::ForceParameter::Power) force_sensor_.step(dt_, true_param);
 
   // The program: G95 at the programmed feed, G96 at V_p (the CNC's constant surface speed at
   // the tool's diameter), one program line per pass. Sensor 4 is sampled at the control period
   // (its noise is drawn per sample) and held between.
   if ((step_ - 1) % control_every_ == 0) {
-    const double measured = cfg_.force_parameter == ForceParameter::Power
+    const double measured = cfg_.force_parameter == cutting::ForceParameter::Power
                                 ? power_meter_.sample()
                                 : force_sensor_.sample();
     sensor_held_ = faults_.apply(cfg_.faults, t_, measured, cfg_.force_sensor.range * 2.0 + 1.0);
@@ -231,7 +231,8 @@ bool RigE::step() noexcept {
   in.nominal_period_s = dt_;
   in.force = sensor_held_;
   in.spindle_power_W = sensor_held_;
-  if (cfg_.force_parameter != ForceParameter::Power) in.spindle_power_W = power_meter_.lagged();
+  if (cfg_.force_parameter != cutting::ForceParameter::Power)
+    in.spindle_power_W = power_meter_.lagged();
   in.rpm = spindle_.rpm();
   in.rpm_programmed = std::clamp(cp.speed_programmed_m_per_min * 1000.0 /
                                      (std::numbers::pi * std::max(d_surface, 1e-3)),
@@ -299,9 +300,9 @@ bool RigE::step() noexcept {
   return true;
 }
 
-void RigE::run() noexcept {
+void Rig::run() noexcept {
   while (step()) {
   }
 }
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::e_adaptive

@@ -23,23 +23,20 @@
 #include "lathectl/control/adaptive_machine.hpp"
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/cutting/disturbances.hpp"
+#include "lathectl/cutting/lathe_plant.hpp"
 #include "lathectl/cutting/stock.hpp"
 #include "lathectl/drives/feed_axis.hpp"
 #include "lathectl/drives/spindle_drive.hpp"
+#include "lathectl/sensors/faults.hpp"
 #include "lathectl/sensors/force_sensor.hpp"
-#include "lathectl/sim/faults.hpp"
-#include "lathectl/cutting/lathe_plant.hpp"
 #include "lathectl/sim/recorder.hpp"
 
-namespace lathectl::sim {
-
-using ForceParameter = cutting::ForceParameter;
-using cutting::CuttingProcess;
+namespace lathectl::systems::e_adaptive {
 
 // The cutting process (material, tool, stock, disturbances, sensor 4, faults: what the LinuxCNC
 // plant models too) and the machine around it. Defaults are a system-E scenario's: where a
 // library struct's own default differs, the member initialiser says so.
-struct RigEConfig : CuttingProcess {
+struct RigConfig : cutting::CuttingProcess {
   // The measured feed rate over 20 ms (the struct's 10 ms is the bare axis's).
   drives::FeedAxis::Params axis{.velocity_window_s = 0.02};
   // No idle losses unless the scenario gives them (the struct's 300 W + 0.3·n + 1e-4·n² are the
@@ -55,18 +52,18 @@ struct RigEConfig : CuttingProcess {
   double rapid_m_per_s = 0.1;
 };
 
-class RigE {
+class Rig {
  public:
   // Throws std::invalid_argument on an inconsistent configuration.
-  void configure(const RigEConfig& cfg, double dt_s, double record_interval_s,
+  void configure(const RigConfig& cfg, double dt_s, double record_interval_s,
                  double max_duration_s);
   void run() noexcept;                 // until the last pass ends or max_duration_s
   [[nodiscard]] bool step() noexcept;  // false when finished
 
   // Streamed (no columns): attach sinks between configure() and run().
-  [[nodiscard]] const Recorder& recorder() const noexcept { return rec_; }
-  void attach(RowSink* sink) { rec_.attach(sink); }
-  [[nodiscard]] const RigEConfig& config() const noexcept { return cfg_; }
+  [[nodiscard]] const sim::Recorder& recorder() const noexcept { return rec_; }
+  void attach(sim::RowSink* sink) { rec_.attach(sink); }
+  [[nodiscard]] const RigConfig& config() const noexcept { return cfg_; }
   [[nodiscard]] bool finished() const noexcept { return pass_ >= cfg_.stock.passes.size(); }
   [[nodiscard]] double cycle_time_s() const noexcept { return t_; }
   [[nodiscard]] double time_in_cut_s() const noexcept { return t_cut_; }
@@ -88,7 +85,7 @@ class RigE {
   // Time the controller first held the feed (feed command 0), or −1; exact, not recorded.
   [[nodiscard]] double first_feed_hold_s() const noexcept { return first_hold_s_; }
   // Worst-case feed: the largest s whose worst-case force parameter stays at the limit.
-  [[nodiscard]] static double worst_case_feed(const RigEConfig& cfg,
+  [[nodiscard]] static double worst_case_feed(const RigConfig& cfg,
                                               const cutting::CuttingModel& cut,
                                               const cutting::Stock& stock);
 
@@ -97,7 +94,7 @@ class RigE {
   // the tool met material in this pass (so the first revolution builds the chip up).
   double chip_thickness_mm(double z_mm) noexcept;
 
-  RigEConfig cfg_{};
+  RigConfig cfg_{};
   double dt_ = 5e-4;
   double t_ = 0.0;
   double max_t_ = 0.0;
@@ -112,7 +109,7 @@ class RigE {
   double life_used_nominal_ = 0.0;
   double life_plan_min_ = 0.0;
   double removed_mm3_ = 0.0;
-  FaultInjector faults_;
+  sensors::FaultInjector faults_;
   double force_seen_ = 0.0;
   bool sound_ = true;
   double first_hold_s_ = -1.0;
@@ -142,7 +139,7 @@ class RigE {
   double acc_depth_ = 0.0;
   double acc_power_ = 0.0;
   std::size_t acc_n_ = 0;
-  Recorder rec_;
+  sim::Recorder rec_;
 };
 
-}  // namespace lathectl::sim
+}  // namespace lathectl::systems::e_adaptive

@@ -50,7 +50,7 @@ void read_profile(TableReader& t, std::string_view key, std::string_view value_k
 
 // A pass that meets no material anywhere on its way (its diameter at or above the surface the
 // earlier passes left, eccentricity included) is a mistake a shop would not make on purpose.
-void warn_pass_in_air(const TableReader& p, const sim::RigEConfig& e, std::size_t k) {
+void warn_pass_in_air(const TableReader& p, const RigConfig& e, std::size_t k) {
   if (p.is_describing() || e.stock.blank_diameter_mm.empty()) return;
   cutting::Stock stock;
   try {
@@ -74,7 +74,7 @@ void warn_pass_in_air(const TableReader& p, const sim::RigEConfig& e, std::size_
                               fmt_number(highest) + " mm): it runs entirely in air");
 }
 
-void read_stock(TableReader& root, sim::RigEConfig& e, std::uint64_t seed) {
+void read_stock(TableReader& root, RigConfig& e, std::uint64_t seed) {
   auto st = root.table("stock", true);
   read_profile(*st, "blank", "diameter_mm", {0.0, 5000.0, true, false},
                "blank diameter there; piecewise linear between points", e.stock.blank_diameter_mm);
@@ -115,7 +115,7 @@ void read_stock(TableReader& root, sim::RigEConfig& e, std::uint64_t seed) {
   st->finish();
 }
 
-void read_feed_axis(TableReader& root, sim::RigEConfig& e) {
+void read_feed_axis(TableReader& root, RigConfig& e) {
   auto ax = root.table("feed_axis", true);
   ax->read({"time_constant_ms", {0.0, 1000.0, true, false}, "velocity-loop lag of drive 1", kMs},
            e.axis.time_constant_s);
@@ -134,17 +134,17 @@ void read_feed_axis(TableReader& root, sim::RigEConfig& e) {
   ax->finish();
 }
 
-void read_sensor(TableReader& root, sim::RigEConfig& e, std::uint64_t seed) {
+void read_sensor(TableReader& root, RigConfig& e, std::uint64_t seed) {
   auto se = root.table("sensor", true);
   const std::string param =
       se->pick({"parameter", {},
                 "the force parameter sensor 4 measures; \"power\" = spindle electrical power "
                 "minus its idle power"},
                {"Pz", "Py", "power"});
-  e.force_parameter = param == "Pz"   ? sim::ForceParameter::Pz
-                      : param == "Py" ? sim::ForceParameter::Py
-                                      : sim::ForceParameter::Power;
-  const bool power = e.force_parameter == sim::ForceParameter::Power;
+  e.force_parameter = param == "Pz"   ? cutting::ForceParameter::Pz
+                      : param == "Py" ? cutting::ForceParameter::Py
+                                      : cutting::ForceParameter::Power;
+  const bool power = e.force_parameter == cutting::ForceParameter::Power;
   se->read({"time_constant_ms", Range::closed(0, 1e4), "lag of sensor 4", kMs},
            e.force_sensor.time_constant_s);
   // The unit is in the key: N for a dynamometer, W for the power sensor (both described).
@@ -182,7 +182,7 @@ double tool_life_exponent(const cutting::Material& m, double feed, Field field, 
 
 }  // namespace
 
-void use_depth_corrected_law(sim::RigEConfig& e) {
+void use_depth_corrected_law(RigConfig& e) {
   auto& p = e.controller;
   const auto& m = e.cutting.material;
   p.depth_exponent_xv =
@@ -190,7 +190,7 @@ void use_depth_corrected_law(sim::RigEConfig& e) {
   p.depth_planned_mm = e.planned_depth_mm;
   // The design model: the handbook law of the measured component at the material's nominal
   // strength (the controller cannot know the local hardness; it shows up in t̂).
-  const auto& law = e.force_parameter == sim::ForceParameter::Pz ? m.Pz : m.Py;
+  const auto& law = e.force_parameter == cutting::ForceParameter::Pz ? m.Pz : m.Py;
   p.force_model_C = 10.0 * law.Cp * std::pow(m.strength / m.strength_base, m.kmp_exponent);
   p.force_model_x = law.x;
   p.force_model_y = law.y;
@@ -207,7 +207,7 @@ std::string two_digits(double v) {
 
 // V_p that no carbide edge survives on this material: the planned tool life T(V_p, S_p, t_p)
 // of the extended Taylor law under a minute (1600 m/min on steel 45 gives about 0.2 s).
-void warn_short_tool_life(const TableReader& c, const sim::RigEConfig& e) {
+void warn_short_tool_life(const TableReader& c, const RigConfig& e) {
   if (c.is_describing()) return;
   const auto& p = e.controller;
   cutting::CuttingModel model;
@@ -228,10 +228,10 @@ void warn_short_tool_life(const TableReader& c, const sim::RigEConfig& e) {
              fmt_number(std::round(v1)) + " m/min. Check the speed (it is m/min, not rpm)");
 }
 
-void read_controller(TableReader& root, sim::RigEConfig& e) {
+void read_controller(TableReader& root, RigConfig& e) {
   auto c = root.table("controller", true);
   auto& p = e.controller;
-  const bool power = e.force_parameter == sim::ForceParameter::Power;
+  const bool power = e.force_parameter == cutting::ForceParameter::Power;
   p.mode = mode_from(c->pick({"type", {}, "baseline (fixed), prior art (force_feed) or seed 004 "
                                           "(force_speed)"},
                              kModes));
@@ -491,7 +491,8 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
         {"planned_depth_mm", {0.0, 50.0, true, false},
          "planned depths t_p: the seed law's used/plan from the main run, the depth-corrected "
          "law run at each"});
-    sw->check(e.controller.mode == Mode::ForceFeedSpeed && e.force_parameter != sim::ForceParameter::Power,
+    sw->check(e.controller.mode == Mode::ForceFeedSpeed &&
+                  e.force_parameter != cutting::ForceParameter::Power,
               "planned_depth_mm",
               "the planned-depth sweep needs controller.type = \"force_speed\" and a Pz or Py "
               "sensor (the depth-corrected law estimates the depth from the force)");
@@ -507,8 +508,6 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
   io::read_acceptance(root, out->acceptance);
   return out;
 }
-
-const io::Section kReadSection{"E", &read_settings, nullptr};
 
 std::string mode_name(Mode m) {
   switch (m) {

@@ -1,5 +1,5 @@
 #pragma once
-// System E's settings: the rig's configuration (sim::RigEConfig: cutting process, drives,
+// System E's settings: the rig's configuration (RigConfig: cutting process, drives,
 // sensors, controller, faults) and the scenario's options (the controllers compared), read from
 // a system-E scenario by kReadSection (what the HAL components link) and, for the program, by
 // kSection (the same reader, then a probe of the rig). Defaults are the members' initialisers.
@@ -47,7 +47,7 @@ struct Chatter {
 extern const std::array<io::CriterionKey, 3> kAcceptanceKeys;
 
 struct Settings : io::SettingsOf<Settings> {
-  sim::RigEConfig rig;
+  RigConfig rig;
   std::vector<Mode> compare_modes;  // [compare] controllers: extra runs overlaid in the report
   Cost cost;                        // [cost]
   // [sweep] planned_depth_mm: the tool-life verdict against the planned depth t_p, for the seed
@@ -60,14 +60,18 @@ struct Settings : io::SettingsOf<Settings> {
 // Reads system E's tables of a scenario (after its common part) into a Settings.
 std::unique_ptr<io::SystemSettings> read_settings(io::TableReader& root, io::Scenario& sc,
                                                   const io::MaterialLibrary& lib);
-// The reader only (validate = nullptr): what a HAL component links. The registry's kSection
-// (study.hpp) adds the rig's cross-checks.
-extern const io::Section kReadSection;
+// The section reader alone (validate = nullptr): what a HAL component links (its
+// lathectl_e_adaptive_settings). The one place the system's letter is written.
+inline constexpr io::Section kReadSection{"E", &read_settings, nullptr};
+// The cross-checks that need the whole scenario (validate.cpp: the rig configured once as a probe).
+void validate(const io::Scenario& sc);
+// Reader and validation: the registry's entry.
+inline constexpr io::Section kSection{kReadSection.system, &read_settings, &validate};
 
 // Switches the controller to the depth-corrected speed law V·(t_p/t̂)^{x_v} at e.planned_depth_mm:
 // x_v from the material's range containing S_p, the depth estimate from the handbook law of the
 // measured force (Pz or Py) at the nominal strength.
-void use_depth_corrected_law(sim::RigEConfig& e);
+void use_depth_corrected_law(RigConfig& e);
 
 // "force by feed + speed law (seed 004)", ...: a mode as reports name it.
 std::string mode_name(Mode m);

@@ -1,6 +1,11 @@
+// System E (seed 004): runs the scenario's controller and those it is compared with, the prior art
+// at seed 004's tool budget and the planned-depth sweep, computes the claims they answer (force
+// held, productivity order, tool life against plan, sensor faults, cost per part) and lays out
+// the report (the phases of io::Study).
 #include "systems/e_adaptive/study.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -8,51 +13,56 @@
 #include <stdexcept>
 
 #include "lathectl/control/types.hpp"
+#include "lathectl/core/parallel.hpp"
 #include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
 #include "lathectl/io/verdict.hpp"
-#include "lathectl/sim/parallel.hpp"
 #include "systems/e_adaptive/metrics.hpp"
 #include "systems/e_adaptive/plots.hpp"
 #include "systems/e_adaptive/settings.hpp"
 
 namespace lathectl::systems::e_adaptive {
 
-using namespace io;
-
 namespace {
+using namespace io;
 using nlohmann::json;
 
 // A cycle time only when the part was finished; else where the run stopped (run.duration_s).
-std::string cycle_cell(const sim::MetricsE& m) {
+std::string cycle_cell(const Metrics& m) {
   return m.finished ? fmt(m.cycle_time_s, "%.1f")
                     : "not finished (stopped at " + fmt(m.cycle_time_s, "%.1f") + ")";
 }
-std::string cycle_phrase(const sim::MetricsE& m) {
+std::string cycle_phrase(const Metrics& m) {
   return m.finished ? "cycle " + fmt(m.cycle_time_s, "%.1f") + " s"
                     : "part not finished, the run stopped at " + fmt(m.cycle_time_s, "%.1f") + " s";
 }
+// A controller as the controllers' table names it.
+std::string short_name(Mode m) {
+  return m == Mode::Fixed       ? std::string("fixed")
+         : m == Mode::ForceFeed ? std::string("prior art")
+                                : std::string("seed 004");
+}
 
 struct Run {
-  sim::RigE rig;
-  std::unique_ptr<sim::MetricsEAccumulator> acc;  // fed as the rig records
-  std::unique_ptr<PathPlots> path;                 // the compared plots, along the part
-  std::unique_ptr<ChannelStream> csv;              // channels.csv / channels_compare.csv
-  sim::MetricsE m;
+  Rig rig;
+  std::unique_ptr<MetricsAccumulator> acc;  // fed as the rig records
+  std::unique_ptr<PathPlots> path;          // the compared plots, along the part
+  std::unique_ptr<ChannelStream> csv;       // channels.csv / channels_compare.csv
+  Metrics m;
   Mode mode = Mode::Fixed;
   std::string label;
 };
 
 // csv: the result file the run's channels go to (nullptr: none), streamed into `stage`.
-void run_one(const Scenario& sc, sim::RigEConfig cfg, Mode mode, bool as_comparison, Run& r,
+void run_one(const Scenario& sc, RigConfig cfg, Mode mode, bool as_comparison, Run& r,
              const char* csv = nullptr, OutputStage* stage = nullptr) {
   cfg.controller.mode = mode;
   // The baseline must be set for the worst case to avoid overload: that is what makes it slow.
   if (mode == Mode::Fixed && as_comparison) cfg.worst_case_feed = true;
   configure_rig(sc, r.rig, cfg);
-  r.acc = std::make_unique<sim::MetricsEAccumulator>(r.rig);
+  r.acc = std::make_unique<MetricsAccumulator>(r.rig);
   r.rig.attach(r.acc.get());
   r.path = std::make_unique<PathPlots>(r.rig.recorder());
   r.rig.attach(r.path.get());
@@ -76,7 +86,7 @@ void run_one(const Scenario& sc, sim::RigEConfig cfg, Mode mode, bool as_compari
 struct PartCost {
   double machine = 0.0, tool = 0.0, total = 0.0;
 };
-PartCost part_cost(const sim::MetricsE& m, const Cost& c) {
+PartCost part_cost(const Metrics& m, const Cost& c) {
   PartCost pc;
   pc.machine = m.cycle_time_s / 3600.0 * c.machine_rate_per_h;
   pc.tool = m.tool_life_used_fraction *
@@ -127,408 +137,515 @@ constexpr const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd"};
 Series constant(double x0, double x1, double y, const std::string& name) {
   return Series{name, {x0, x1}, {y, y}, "#555", true, false};
 }
-// Cross-checks that need the whole scenario: the rig configured once, as a probe.
-void validate(const Scenario& sc) {
-  sim::RigE probe;
-  try {
-    probe.configure(sc.get<Settings>().rig, sc.run.step_s, sc.run.record_interval_s,
-                    sc.run.step_s * 4);
-  } catch (const std::invalid_argument& e) {
-    throw_at_key(sc, e);
-  }
+
+std::string alarm_name(const sim::AlarmEvent& a) {
+  return std::string(control::reason_name(static_cast<control::Reason>(a.code)));
 }
-}  // namespace
 
-const Section kSection{"E", &read_settings, &validate};
+// One planned depth t_p of the sweep: the tool-life verdicts (used / plan) of the seed law and
+// of the depth-corrected law, at the part's hardness and at nominal hardness.
+struct DepthVerdict {
+  double depth_mm = 0.0, plan_min = 0.0;  // t_p, T(V_p, S_p, t_p)
+  double seed = 0.0, seed_nominal = 0.0, corrected = 0.0, corrected_nominal = 0.0;
+  double cycle_s = 0.0, edge_used = 0.0;  // the depth-corrected run's
+};
+json depth_json(const std::vector<DepthVerdict>& v);
 
-RunOutput run(const Scenario& sc) {
-  const Settings& set = sc.get<Settings>();
-  const sim::RigEConfig& e = set.rig;
-  RunOutput out;
-  std::vector<std::unique_ptr<Run>> runs;
-  std::vector<Mode> modes{e.controller.mode};
-  for (const Mode m : set.compare_modes)
-    if (m != e.controller.mode) modes.push_back(m);
-  for (std::size_t i = 0; i < modes.size(); ++i) runs.push_back(std::make_unique<Run>());
+// The scenario's controller and those compared with it on the same part; beside them the prior
+// art given seed 004's tool-life budget (issue 17, item 7) and the tool-life verdict against the
+// planned depth (item 5). The extra studies' tables and plot keep their places among the
+// report's own (report() lays them out), where E's report has always shown them.
+class EStudy final : public io::Study {
+ public:
+  explicit EStudy(const Scenario& sc)
+      : Study(sc),
+        st_(sc.get<Settings>()),
+        power_(st_.rig.force_parameter == cutting::ForceParameter::Power),
+        unit_(power_ ? "W" : "N"),
+        pname_(power_ ? "cutting power"
+                      : (st_.rig.force_parameter == cutting::ForceParameter::Pz ? "force Pz"
+                                                                                : "force Py")) {}
+
+ private:
+  void run_controllers() override;
+  void check_claims(Claims& claims) override;
+  void extra_studies(RunOutput& out, Claims& claims) override;
+  void summary(json& s) override;
+  void report(Report& rep) override;
+  void finish(RunOutput& out) override;
+
+  void run_beside();
+  void force_claims(const Run& r, Claims& claims) const;
+  void productivity_claim(Claims& claims) const;
+  void tool_life_claims(Claims& claims) const;
+  void fault_claims(Claims& claims) const;
+  void tradeoff_study(json& s, Claims& claims) const;
+  void depth_study(json& s, Claims& claims);
+  [[nodiscard]] std::vector<DepthVerdict> depth_verdicts() const;
+  void depth_table_and_plot(const std::vector<DepthVerdict>& v);
+  void depth_claims(const std::vector<DepthVerdict>& v, Claims& claims) const;
+  void report_metrics(Report& rep) const;
+  [[nodiscard]] Table controllers_table() const;
+  [[nodiscard]] Table cost_table() const;
+  void reasons_table(Report& rep) const;
+  void run_plots(Report& rep) const;
+  [[nodiscard]] const RigConfig& e() const { return st_.rig; }
+  [[nodiscard]] const Run& main() const { return *runs_.front(); }
+  [[nodiscard]] const std::vector<double>& depths() const { return st_.sweep_planned_depth_mm; }
+  // The prior art at seed 004's tool budget: what its speed is raised to.
+  [[nodiscard]] double budget_speed() const {
+    return e().controller.speed_programmed_m_per_min * budget_speed_factor_;
+  }
+
+  const Settings& st_;
+  const bool power_;
+  const std::string unit_, pname_;          // the force parameter's unit and name
+  std::vector<std::unique_ptr<Run>> runs_;  // the scenario's controller, then the compared
+  std::array<const Run*, 3> by_mode_{};     // each controller's run (Mode's order), or null
+  // Issue 17, item 7: seed 004 and the prior art both finished, the prior art run again at the
+  // speed that uses seed 004's share of an edge.
+  bool tradeoff_ = false;
+  Run budget_;
+  double budget_speed_factor_ = std::nan("");
+  // Item 5: the depth-corrected law at each planned depth; the seed law once (from the main run
+  // when it is the seed law: it never reads t_p).
+  bool main_seed_law_ = false;
+  std::vector<std::unique_ptr<Run>> corrected_;
+  Run seed_law_;
+  Table depth_table_{
+      "Tool-life verdict against the planned depth t_p (used / plan = ∫dt/T over "
+      "time in cut / T(V_p, S_p, t_p))",
+      {"t_p [mm]", "T plan [min]", "seed law used/plan", "seed law, nominal hardness",
+       "depth-corrected used/plan", "depth-corrected, nominal hardness",
+       "depth-corrected cycle [s]", "depth-corrected edge used"},
+      {}};
+  Plot depth_plot_{"Tool-life use against plan vs the planned depth",
+                   "planned depth t_p [mm]",
+                   "used / plan",
+                   {},
+                   {}};
+};
+
+void EStudy::run_controllers() {
+  std::vector<Mode> modes{e().controller.mode};
+  for (const Mode m : st_.compare_modes)
+    if (m != e().controller.mode) modes.push_back(m);
+  for (std::size_t i = 0; i < modes.size(); ++i) runs_.push_back(std::make_unique<Run>());
   // The runs are independent: side by side on two cores (each is one core's work).
   // channels.csv (main run) and channels_compare.csv (first comparison) stream into the output
   // set's stage as the runs record.
   OutputStage* stage = StreamScope::current();
-  sim::parallel_for(
+  core::parallel_for(
       modes.size(),
       [&](std::size_t i) {
         const char* csv = i == 0 ? "channels.csv" : i == 1 ? "channels_compare.csv" : nullptr;
-        run_one(sc, e, modes[i], i > 0, *runs[i], csv, stage);
+        run_one(sc_, e(), modes[i], i > 0, *runs_[i], csv, stage);
       },
       2);
-  const Run& main = *runs.front();
-  const bool power = e.force_parameter == sim::ForceParameter::Power;
-  const std::string unit = power ? "W" : "N";
-  const std::string pname =
-      power ? "cutting power"
-            : (e.force_parameter == sim::ForceParameter::Pz ? "force Pz" : "force Py");
+  for (const auto& r : runs_) by_mode_[static_cast<std::size_t>(r->mode)] = r.get();
+  run_beside();
+}
 
-  json& s = out.summary;
-  s["system"] = sc.system;
-  s["scenario"] = sc.name;
-  s["file"] = sc.file;
-  s["label"] = main.label;
-  s["metrics"] = metrics_json(main, unit, set.cost);
-  json cmp = json::array();
-  for (std::size_t i = 1; i < runs.size(); ++i)
-    cmp.push_back(
-        {{"label", runs[i]->label}, {"metrics", metrics_json(*runs[i], unit, set.cost)}});
-  if (!cmp.empty()) s["comparisons"] = cmp;
-  {  // The user's part is the main run's (the comparisons are for reference).
-    Acceptance acceptance(set.acceptance);
-    const double nan = std::nan("");
-    acceptance.judge("max_force_over_limit_pct",
-                     main.m.time_in_cut_s > 0.0 ? main.m.force_overshoot_pct : nan);
-    acceptance.judge("max_cycle_time_s", main.m.finished ? main.m.cycle_time_s : nan);
-    acceptance.judge("max_tool_life_used_pct", 100.0 * main.m.tool_life_used_fraction);
-    s["acceptance"] = acceptance.json();
-  }
-
-  Claims claims;
-  auto claim = [&](const std::string& text, double value, bool met) {
-    claims.add(text, value, met);
-  };
-  const Run* by_mode[3] = {nullptr, nullptr, nullptr};
-  for (const auto& r : runs) by_mode[static_cast<int>(r->mode)] = r.get();
-  for (const auto& r : runs) {
-    if (!r->m.finished)
-      claims.note("✘ " + r->label + ": the part was not finished within run.duration_s");
-    if (r->mode == Mode::Fixed || !e.faults.empty()) continue;
-    // A part never cut holds no force at its limit and so cannot keep it: these claims are not
-    // met (no number), however far below the limit a force of zero is.
-    const bool cut = r->m.time_in_cut_s > 0.0;
-    if (!cut)
-      claims.note("✘ " + r->label +
-                  ": the tool never cut the part, so the force claims below do not apply");
-    const double nan = std::nan("");
-    // Not cut: the value is NaN, which meets no threshold.
-    claims.check(r->label + ": share of steady cutting with the per-revolution " + pname +
-                     " within 5 % of its limit (≥ 0.95)",
-                 cut ? r->m.force_within_5pct_fraction : nan, Compare::AtLeast, 0.95);
-    claims.check(r->label + ": largest per-revolution " + pname + " above its limit, % (≤ 15)",
-                 cut ? r->m.force_overshoot_pct : nan, Compare::AtMost, 15.0);
-  }
-  if (by_mode[0] && by_mode[1] && by_mode[2]) {
-    const double c0 = by_mode[0]->m.cycle_time_s, c1 = by_mode[1]->m.cycle_time_s,
-                 c2 = by_mode[2]->m.cycle_time_s;
-    claim("productivity: cycle time seed 004 < prior art < fixed (" + fmt(c2) + " s < " + fmt(c1) +
-              " s < " + fmt(c0) + " s); seed 004 / prior art",
-          c2 / c1,
-          c2 < c1 && c1 < c0 && by_mode[0]->m.finished && by_mode[1]->m.finished &&
-              by_mode[2]->m.finished);
-  }
-  if (by_mode[2] && e.faults.empty()) {
-    const double ratio =
-        by_mode[2]->m.tool_life_used_fraction / by_mode[2]->m.tool_life_plan_fraction;
-    claim(
-        "seed 004: tool-life consumption against plan (∫dt/T over time-in-cut/T_plan), within 15 %",
-        ratio, std::abs(ratio - 1.0) <= 0.15);
-    const auto& m2 = by_mode[2]->m;
-    claims.note("of that, hardness (tool-life factor " + fmt(m2.tool_life_used_fraction /
-                                                          m2.tool_life_used_nominal_hardness_fraction,
-                                                          "%.3f") +
-                "; T ∝ h^(−n_v/m), the handbook's K_mv): at nominal hardness the same run uses " +
-                fmt(m2.tool_life_used_nominal_hardness_fraction / m2.tool_life_plan_fraction,
-                    "%.3f") +
-                "× the plan. No speed law that sees only force and feed can tell hardness from "
-                "depth; seed 004's raises the speed where hardness has lowered the feed");
-  }
-  if (!e.faults.empty()) {
-    // (1 ns of slack: the delay is a difference of step times)
-    claims.check("sensor fault: feed held, delay after the fault [s] (≤ one control period " +
-                     fmt(e.controller.period_s) + " s)",
-                 main.m.feed_hold_delay_s, Compare::AtMost, e.controller.period_s + 1e-9);
-    claim("sensor fault: alarm raised with a reason code (code)",
-          main.m.alarms.empty() ? std::nan("") : static_cast<double>(main.m.alarms.front().code),
-          !main.m.alarms.empty());
-  }
-
+// The runs the extra studies need, side by side: the prior art at seed 004's tool budget, the
+// depth-corrected law at each planned depth, the seed law when the main run is not it.
+void EStudy::run_beside() {
   // Issue 17, item 7: productivity at equal tool use. (a) Cost per part at the [cost] rates.
   // (b) The prior art given seed 004's tool-life budget: its speed raised until it uses as much
   // of an edge. At a held force Pz ∝ s^0.75·V^−0.15, so s ∝ V^0.2, time in cut ∝ 1/(V·s) ∝ V^−1.2
   // and T ∝ V^−5·s^(−y_v/m), so the share used ∝ V^(3.8 + y_v): one run at the speed this
   // predicts, then the cycle time interpolated log-log to the seed's use between that run and
   // the prior art at V_p (both measured).
-  const Run* seed = by_mode[2];
-  const Run* prior = by_mode[1];
-  const bool tradeoff = seed && prior && e.faults.empty() && seed->m.finished &&
-                        prior->m.finished && prior->m.tool_life_used_fraction > 0.0 &&
-                        seed->m.tool_life_used_fraction > 0.0;
-  Run budget;
-  double budget_speed_factor = std::nan("");
+  const Run* seed = by_mode_[2];
+  const Run* prior = by_mode_[1];
+  tradeoff_ = seed && prior && e().faults.empty() && seed->m.finished && prior->m.finished &&
+              prior->m.tool_life_used_fraction > 0.0 && seed->m.tool_life_used_fraction > 0.0;
   // Item 5: the used/plan verdict against the planned depth t_p (jobs: depth-corrected law at
   // each t_p; the seed law from the main run, which never reads t_p, or one run of it).
-  const auto& depths = set.sweep_planned_depth_mm;
-  const bool main_seed_law = e.controller.mode == Mode::ForceFeedSpeed &&
-                             e.controller.depth_exponent_xv == 0.0;
-  std::vector<std::unique_ptr<Run>> corrected;
-  Run seed_law;
-  {
-    std::vector<std::function<void()>> jobs;
-    if (tradeoff) {
-      budget_speed_factor =
-          std::pow(seed->m.tool_life_used_fraction / prior->m.tool_life_used_fraction,
-                   1.0 / (3.8 + e.controller.y_v));
-      jobs.push_back([&] {
-        auto c = e;
-        c.controller.speed_programmed_m_per_min *= budget_speed_factor;
-        run_one(sc, c, Mode::ForceFeed, true, budget);
-      });
-    }
-    for (const double d : depths) {
-      corrected.push_back(std::make_unique<Run>());
-      jobs.push_back([&, d, r = corrected.back().get()] {
-        auto c = e;
-        c.planned_depth_mm = d;
-        use_depth_corrected_law(c);
-        run_one(sc, c, Mode::ForceFeedSpeed, false, *r);
-      });
-    }
-    if (!depths.empty() && !main_seed_law)
-      jobs.push_back([&] {
-        auto c = e;
-        c.controller.depth_exponent_xv = 0.0;
-        run_one(sc, c, Mode::ForceFeedSpeed, false, seed_law);
-      });
-    sim::parallel_for(jobs.size(), [&](std::size_t i) { jobs[i](); }, 2);
+  main_seed_law_ =
+      e().controller.mode == Mode::ForceFeedSpeed && e().controller.depth_exponent_xv == 0.0;
+  std::vector<std::function<void()>> jobs;
+  if (tradeoff_) {
+    budget_speed_factor_ =
+        std::pow(seed->m.tool_life_used_fraction / prior->m.tool_life_used_fraction,
+                 1.0 / (3.8 + e().controller.y_v));
+    jobs.push_back([this] {
+      auto c = e();
+      c.controller.speed_programmed_m_per_min *= budget_speed_factor_;
+      run_one(sc_, c, Mode::ForceFeed, true, budget_);
+    });
   }
-  Table cost_table{"Cost per part: machine time at " + fmt(set.cost.machine_rate_per_h) +
-                       "/h, an edge " + fmt(set.cost.tool_edge_cost) + " + " +
-                       fmt(set.cost.tool_change_min) + " min to change it",
-                   {"controller", "cycle [s]", "edge used", "machine", "tool", "cost per part"},
-                   {}};
-  for (const auto& r : runs) {
-    const PartCost pc = part_cost(r->m, set.cost);
-    cost_table.rows.push_back({r->label, cycle_cell(r->m),
-                               fmt(r->m.tool_life_used_fraction, "%.4f"), fmt(pc.machine, "%.3f"),
-                               fmt(pc.tool, "%.3f"), fmt(pc.total, "%.3f")});
+  for (const double d : depths()) {
+    corrected_.push_back(std::make_unique<Run>());
+    jobs.push_back([this, d, r = corrected_.back().get()] {
+      auto c = e();
+      c.planned_depth_mm = d;
+      use_depth_corrected_law(c);
+      run_one(sc_, c, Mode::ForceFeedSpeed, false, *r);
+    });
   }
-  if (tradeoff) {
-    const PartCost cs = part_cost(seed->m, set.cost), cp = part_cost(prior->m, set.cost);
-    claims.check("cost per part (machine time + edge used), seed 004 / prior art (< 1; " +
-                     fmt(cs.total, "%.3f") + " against " + fmt(cp.total, "%.3f") + ")",
-                 cs.total / cp.total, Compare::Below, 1.0);
-    // The tool price at which the two would cost the same per part.
-    const double du = seed->m.tool_life_used_fraction - prior->m.tool_life_used_fraction;
-    const double dm = (prior->m.cycle_time_s - seed->m.cycle_time_s) / 3600.0 *
-                      set.cost.machine_rate_per_h;
-    const double breakeven = du > 0.0 ? dm / du - set.cost.tool_change_min / 60.0 *
-                                                      set.cost.machine_rate_per_h
-                                      : std::nan("");
-    const double u0 = prior->m.tool_life_used_fraction, c0 = prior->m.cycle_time_s;
-    const double u1 = budget.m.tool_life_used_fraction, c1 = budget.m.cycle_time_s;
-    const double u = seed->m.tool_life_used_fraction;
-    const double c_equal = budget.m.finished && std::abs(std::log(u1 / u0)) > 1e-9
-                               ? c0 * std::exp(std::log(c1 / c0) * std::log(u / u0) /
-                                               std::log(u1 / u0))
-                               : std::nan("");
-    s["tool_use_tradeoff"] = {
-        {"seed_to_prior_tool_use", json_number(u / u0)},
-        {"seed_to_prior_cycle_time", json_number(seed->m.cycle_time_s / c0)},
-        {"breakeven_tool_edge_cost", json_number(breakeven)},
-        {"prior_art_equal_budget",
-         {{"speed_m_per_min",
-           json_number(e.controller.speed_programmed_m_per_min * budget_speed_factor)},
-          {"cycle_time_s", json_number(c1)},
-          {"tool_life_used_fraction", json_number(u1)},
-          {"cycle_time_at_seed_tool_use_s", json_number(c_equal)}}}};
-    cost_table.rows.push_back(
-        {"prior art at V = " +
-             fmt(e.controller.speed_programmed_m_per_min * budget_speed_factor, "%.1f") +
-             " m/min (seed 004's tool budget)",
-         fmt(c1, "%.1f"), fmt(u1, "%.4f"), fmt(part_cost(budget.m, set.cost).machine, "%.3f"),
-         fmt(part_cost(budget.m, set.cost).tool, "%.3f"),
-         fmt(part_cost(budget.m, set.cost).total, "%.3f")});
-    claims.check("equal tool use: prior art given seed 004's tool-life budget (speed raised to " +
-                     fmt(e.controller.speed_programmed_m_per_min * budget_speed_factor, "%.1f") +
-                     " m/min, cycle " + fmt(c_equal, "%.1f") +
-                     " s interpolated to the seed's use); cycle time seed 004 / prior art (< 1)",
-                 seed->m.cycle_time_s / c_equal, Compare::Below, 1.0);
-    claims.note("seed 004 uses " + fmt(u / u0, "%.3f") + "× the prior art's tool life for " +
-                fmt(seed->m.cycle_time_s / c0, "%.3f") +
-                "× its cycle time; at these rates the two cost the same per part when an edge "
-                "costs " + fmt(breakeven, "%.1f") + " (the [cost] default: " +
-                fmt(set.cost.tool_edge_cost) + ")");
-  }
-  json sweep_json;
-  Table depth_table{"Tool-life verdict against the planned depth t_p (used / plan = ∫dt/T over "
-                    "time in cut / T(V_p, S_p, t_p))",
-                    {"t_p [mm]", "T plan [min]", "seed law used/plan",
-                     "seed law, nominal hardness", "depth-corrected used/plan",
-                     "depth-corrected, nominal hardness", "depth-corrected cycle [s]",
-                     "depth-corrected edge used"},
-                    {}};
-  Plot depth_plot{"Tool-life use against plan vs the planned depth", "planned depth t_p [mm]",
-                  "used / plan", {}, {}};
-  if (!depths.empty()) {
-    const Run& sl = main_seed_law ? main : seed_law;
-    cutting::CuttingModel cut;
-    cut.configure(e.cutting);
-    Series ss{"seed law V_p·(S_p/S)^y_v", {}, {}, kColors[0], false, true};
-    Series sd{"depth-corrected law ·(t_p/t̂)^x_v", {}, {}, kColors[2], false, true};
-    Series ssn{"seed law, at nominal hardness", {}, {}, kColors[0], true, true};
-    Series sdn{"depth-corrected law, at nominal hardness", {}, {}, kColors[2], true, true};
-    json jd = json::array(), js = json::array(), jc = json::array(), jcyc = json::array(),
-         jplan = json::array(), jsn = json::array(), jcn = json::array();
-    double worst = 0.0;
-    for (std::size_t k = 0; k < depths.size(); ++k) {
-      const double d = depths[k];
-      const double plan = cut.tool_life_min(e.controller.speed_programmed_m_per_min,
-                                            e.controller.feed_planned_mm_per_rev, d);
-      const double r_seed = sl.m.tool_life_used_fraction * plan * 60.0 / sl.m.time_in_cut_s;
-      const Run& rc = *corrected[k];
-      const double r_corr = rc.m.tool_life_used_fraction / rc.m.tool_life_plan_fraction;
-      const double r_seed_n =
-          sl.m.tool_life_used_nominal_hardness_fraction * plan * 60.0 / sl.m.time_in_cut_s;
-      const double r_corr_n =
-          rc.m.tool_life_used_nominal_hardness_fraction / rc.m.tool_life_plan_fraction;
-      worst = std::max(worst, std::abs(r_corr_n - 1.0));
-      ss.x.push_back(d);
-      ss.y.push_back(r_seed);
-      sd.x.push_back(d);
-      sd.y.push_back(r_corr);
-      ssn.x.push_back(d);
-      ssn.y.push_back(r_seed_n);
-      sdn.x.push_back(d);
-      sdn.y.push_back(r_corr_n);
-      jsn.push_back(json_number(r_seed_n));
-      jcn.push_back(json_number(r_corr_n));
-      jd.push_back(d);
-      jplan.push_back(json_number(plan));
-      js.push_back(json_number(r_seed));
-      jc.push_back(json_number(r_corr));
-      jcyc.push_back(json_number(rc.m.cycle_time_s));
-      depth_table.rows.push_back({fmt(d), fmt(plan, "%.1f"), fmt(r_seed, "%.3f"),
-                                  fmt(r_seed_n, "%.3f"), fmt(r_corr, "%.3f"), fmt(r_corr_n, "%.3f"),
-                                  fmt(rc.m.cycle_time_s, "%.1f"),
-                                  fmt(rc.m.tool_life_used_fraction, "%.4f")});
-    }
-    depth_plot.series = {ss, sd, ssn, sdn, constant(depths.front(), depths.back(), 1.0, "plan")};
-    sweep_json = {{"planned_depth_mm", jd},
-                  {"tool_life_planned_min", jplan},
-                  {"seed_law_used_to_plan", js},
-                  {"seed_law_used_to_plan_nominal_hardness", jsn},
-                  {"depth_corrected_used_to_plan", jc},
-                  {"depth_corrected_used_to_plan_nominal_hardness", jcn},
-                  {"depth_corrected_cycle_time_s", jcyc}};
-    s["planned_depth_sweep"] = sweep_json;
-    claims.note("the seed law's used/plan scales as t_p^(−x_v/m): its verdict is the choice of "
-                "t_p, from " + fmt(ss.y.front(), "%.2f") + " at t_p = " + fmt(depths.front()) +
-                " mm to " + fmt(ss.y.back(), "%.2f") + " at " + fmt(depths.back()) + " mm");
-    claims.check("depth-corrected law, what it is designed to hold (tool life at nominal "
-                 "hardness): largest |used/plan − 1| over the planned depths (≤ 0.15)",
-                 worst, Compare::AtMost, 0.15);
-    claims.note("with the part's hardness (1.0–1.3 along it here) in the tool-life law, the "
-                "depth-corrected law uses " + fmt(sd.y.front(), "%.2f") + "–" +
-                fmt(*std::max_element(sd.y.begin(), sd.y.end()), "%.2f") +
-                "× the plan at every t_p: hardness, which no force-only law can tell from depth, "
-                "not the planned depth, then sets the verdict");
-  }
-  s["claims"] = claims.json();
+  if (!depths().empty() && !main_seed_law_)
+    jobs.push_back([this] {
+      auto c = e();
+      c.controller.depth_exponent_xv = 0.0;
+      run_one(sc_, c, Mode::ForceFeedSpeed, false, seed_law_);
+    });
+  core::parallel_for(
+      jobs.size(), [&](std::size_t i) { jobs[i](); }, 2);
+}
 
-  Report& rep = out.report;
-  rep.title = "System E — " + sc.name;
+void EStudy::check_claims(Claims& claims) {
+  for (const auto& r : runs_) force_claims(*r, claims);
+  if (by_mode_[0] && by_mode_[1] && by_mode_[2]) productivity_claim(claims);
+  if (by_mode_[2] && e().faults.empty()) tool_life_claims(claims);
+  if (!e().faults.empty()) fault_claims(claims);
+}
+
+// An unfinished part; a controller's force held at its limit (not the fixed run's, nor under
+// sensor faults).
+void EStudy::force_claims(const Run& r, Claims& claims) const {
+  if (!r.m.finished)
+    claims.note("✘ " + r.label + ": the part was not finished within run.duration_s");
+  if (r.mode == Mode::Fixed || !e().faults.empty()) return;
+  // A part never cut holds no force at its limit and so cannot keep it: these claims are not
+  // met (no number), however far below the limit a force of zero is.
+  const bool cut = r.m.time_in_cut_s > 0.0;
+  if (!cut)
+    claims.note("✘ " + r.label +
+                ": the tool never cut the part, so the force claims below do not apply");
+  const double nan = std::nan("");
+  // Not cut: the value is NaN, which meets no threshold.
+  claims.check(r.label + ": share of steady cutting with the per-revolution " + pname_ +
+                   " within 5 % of its limit (≥ 0.95)",
+               cut ? r.m.force_within_5pct_fraction : nan, Compare::AtLeast, 0.95);
+  claims.check(r.label + ": largest per-revolution " + pname_ + " above its limit, % (≤ 15)",
+               cut ? r.m.force_overshoot_pct : nan, Compare::AtMost, 15.0);
+}
+
+void EStudy::productivity_claim(Claims& claims) const {
+  const double c0 = by_mode_[0]->m.cycle_time_s, c1 = by_mode_[1]->m.cycle_time_s,
+               c2 = by_mode_[2]->m.cycle_time_s;
+  claims.add("productivity: cycle time seed 004 < prior art < fixed (" + fmt(c2) + " s < " +
+                 fmt(c1) + " s < " + fmt(c0) + " s); seed 004 / prior art",
+             c2 / c1,
+             c2 < c1 && c1 < c0 && by_mode_[0]->m.finished && by_mode_[1]->m.finished &&
+                 by_mode_[2]->m.finished);
+}
+
+// Seed 004's tool-life use against plan, and how much of it the part's hardness takes.
+void EStudy::tool_life_claims(Claims& claims) const {
+  const auto& m2 = by_mode_[2]->m;
+  const double ratio = m2.tool_life_used_fraction / m2.tool_life_plan_fraction;
+  claims.add(
+      "seed 004: tool-life consumption against plan (∫dt/T over time-in-cut/T_plan), within 15 %",
+      ratio, std::abs(ratio - 1.0) <= 0.15);
+  claims.note(
+      "of that, hardness (tool-life factor " +
+      fmt(m2.tool_life_used_fraction / m2.tool_life_used_nominal_hardness_fraction, "%.3f") +
+      "; T ∝ h^(−n_v/m), the handbook's K_mv): at nominal hardness the same run uses " +
+      fmt(m2.tool_life_used_nominal_hardness_fraction / m2.tool_life_plan_fraction, "%.3f") +
+      "× the plan. No speed law that sees only force and feed can tell hardness from "
+      "depth; seed 004's raises the speed where hardness has lowered the feed");
+}
+
+void EStudy::fault_claims(Claims& claims) const {
+  const Metrics& m = main().m;
+  // (1 ns of slack: the delay is a difference of step times)
+  claims.check("sensor fault: feed held, delay after the fault [s] (≤ one control period " +
+                   fmt(e().controller.period_s) + " s)",
+               m.feed_hold_delay_s, Compare::AtMost, e().controller.period_s + 1e-9);
+  claims.add("sensor fault: alarm raised with a reason code (code)",
+             m.alarms.empty() ? std::nan("") : static_cast<double>(m.alarms.front().code),
+             !m.alarms.empty());
+}
+
+void EStudy::extra_studies(RunOutput& out, Claims& claims) {
+  if (tradeoff_) tradeoff_study(out.summary, claims);
+  if (!depths().empty()) depth_study(out.summary, claims);
+}
+
+// Seed 004 against the prior art at equal tool use: cost per part, the edge price at which the
+// two cost the same, the prior art's cycle time interpolated to seed 004's tool use.
+void EStudy::tradeoff_study(json& s, Claims& claims) const {
+  const Run& seed = *by_mode_[2];
+  const Run& prior = *by_mode_[1];
+  const Cost& cost = st_.cost;
+  const PartCost cs = part_cost(seed.m, cost), cp = part_cost(prior.m, cost);
+  claims.check("cost per part (machine time + edge used), seed 004 / prior art (< 1; " +
+                   fmt(cs.total, "%.3f") + " against " + fmt(cp.total, "%.3f") + ")",
+               cs.total / cp.total, Compare::Below, 1.0);
+  // The tool price at which the two would cost the same per part.
+  const double du = seed.m.tool_life_used_fraction - prior.m.tool_life_used_fraction;
+  const double dm = (prior.m.cycle_time_s - seed.m.cycle_time_s) / 3600.0 * cost.machine_rate_per_h;
+  const double breakeven =
+      du > 0.0 ? dm / du - cost.tool_change_min / 60.0 * cost.machine_rate_per_h : std::nan("");
+  const double u0 = prior.m.tool_life_used_fraction, c0 = prior.m.cycle_time_s;
+  const double u1 = budget_.m.tool_life_used_fraction, c1 = budget_.m.cycle_time_s;
+  const double u = seed.m.tool_life_used_fraction;
+  const double c_equal =
+      budget_.m.finished && std::abs(std::log(u1 / u0)) > 1e-9
+          ? c0 * std::exp(std::log(c1 / c0) * std::log(u / u0) / std::log(u1 / u0))
+          : std::nan("");
+  s["tool_use_tradeoff"] = {{"seed_to_prior_tool_use", json_number(u / u0)},
+                            {"seed_to_prior_cycle_time", json_number(seed.m.cycle_time_s / c0)},
+                            {"breakeven_tool_edge_cost", json_number(breakeven)},
+                            {"prior_art_equal_budget",
+                             {{"speed_m_per_min", json_number(budget_speed())},
+                              {"cycle_time_s", json_number(c1)},
+                              {"tool_life_used_fraction", json_number(u1)},
+                              {"cycle_time_at_seed_tool_use_s", json_number(c_equal)}}}};
+  claims.check("equal tool use: prior art given seed 004's tool-life budget (speed raised to " +
+                   fmt(budget_speed(), "%.1f") + " m/min, cycle " + fmt(c_equal, "%.1f") +
+                   " s interpolated to the seed's use); cycle time seed 004 / prior art (< 1)",
+               seed.m.cycle_time_s / c_equal, Compare::Below, 1.0);
+  claims.note("seed 004 uses " + fmt(u / u0, "%.3f") + "× the prior art's tool life for " +
+              fmt(seed.m.cycle_time_s / c0, "%.3f") +
+              "× its cycle time; at these rates the two cost the same per part when an edge "
+              "costs " +
+              fmt(breakeven, "%.1f") + " (the [cost] default: " + fmt(cost.tool_edge_cost) + ")");
+}
+
+// The tool-life verdict (used / plan) of the seed law and the depth-corrected law at each
+// planned depth t_p, at the part's hardness and at nominal hardness.
+void EStudy::depth_study(json& s, Claims& claims) {
+  const std::vector<DepthVerdict> v = depth_verdicts();
+  s["planned_depth_sweep"] = depth_json(v);
+  depth_table_and_plot(v);
+  depth_claims(v, claims);
+}
+
+std::vector<DepthVerdict> EStudy::depth_verdicts() const {
+  const Run& sl = main_seed_law_ ? main() : seed_law_;
+  cutting::CuttingModel cut;
+  cut.configure(e().cutting);
+  std::vector<DepthVerdict> v;
+  for (std::size_t k = 0; k < depths().size(); ++k) {
+    const double d = depths()[k];
+    const double plan = cut.tool_life_min(e().controller.speed_programmed_m_per_min,
+                                          e().controller.feed_planned_mm_per_rev, d);
+    const Run& rc = *corrected_[k];
+    v.push_back({.depth_mm = d,
+                 .plan_min = plan,
+                 .seed = sl.m.tool_life_used_fraction * plan * 60.0 / sl.m.time_in_cut_s,
+                 .seed_nominal = sl.m.tool_life_used_nominal_hardness_fraction * plan * 60.0 /
+                                 sl.m.time_in_cut_s,
+                 .corrected = rc.m.tool_life_used_fraction / rc.m.tool_life_plan_fraction,
+                 .corrected_nominal =
+                     rc.m.tool_life_used_nominal_hardness_fraction / rc.m.tool_life_plan_fraction,
+                 .cycle_s = rc.m.cycle_time_s,
+                 .edge_used = rc.m.tool_life_used_fraction});
+  }
+  return v;
+}
+
+json depth_json(const std::vector<DepthVerdict>& v) {
+  json jd = json::array(), js = json::array(), jc = json::array(), jcyc = json::array(),
+       jplan = json::array(), jsn = json::array(), jcn = json::array();
+  for (const DepthVerdict& p : v) {
+    jsn.push_back(json_number(p.seed_nominal));
+    jcn.push_back(json_number(p.corrected_nominal));
+    jd.push_back(p.depth_mm);
+    jplan.push_back(json_number(p.plan_min));
+    js.push_back(json_number(p.seed));
+    jc.push_back(json_number(p.corrected));
+    jcyc.push_back(json_number(p.cycle_s));
+  }
+  return {{"planned_depth_mm", jd},
+          {"tool_life_planned_min", jplan},
+          {"seed_law_used_to_plan", js},
+          {"seed_law_used_to_plan_nominal_hardness", jsn},
+          {"depth_corrected_used_to_plan", jc},
+          {"depth_corrected_used_to_plan_nominal_hardness", jcn},
+          {"depth_corrected_cycle_time_s", jcyc}};
+}
+
+void EStudy::depth_table_and_plot(const std::vector<DepthVerdict>& v) {
+  Series ss{"seed law V_p·(S_p/S)^y_v", {}, {}, kColors[0], false, true};
+  Series sd{"depth-corrected law ·(t_p/t̂)^x_v", {}, {}, kColors[2], false, true};
+  Series ssn{"seed law, at nominal hardness", {}, {}, kColors[0], true, true};
+  Series sdn{"depth-corrected law, at nominal hardness", {}, {}, kColors[2], true, true};
+  for (const DepthVerdict& p : v) {
+    for (Series* series : {&ss, &sd, &ssn, &sdn}) series->x.push_back(p.depth_mm);
+    ss.y.push_back(p.seed);
+    sd.y.push_back(p.corrected);
+    ssn.y.push_back(p.seed_nominal);
+    sdn.y.push_back(p.corrected_nominal);
+    depth_table_.rows.push_back({fmt(p.depth_mm), fmt(p.plan_min, "%.1f"), fmt(p.seed, "%.3f"),
+                                 fmt(p.seed_nominal, "%.3f"), fmt(p.corrected, "%.3f"),
+                                 fmt(p.corrected_nominal, "%.3f"), fmt(p.cycle_s, "%.1f"),
+                                 fmt(p.edge_used, "%.4f")});
+  }
+  depth_plot_.series = {ss, sd, ssn, sdn, constant(depths().front(), depths().back(), 1.0, "plan")};
+}
+
+void EStudy::depth_claims(const std::vector<DepthVerdict>& v, Claims& claims) const {
+  double worst = 0.0, corrected_max = v.front().corrected;
+  for (const DepthVerdict& p : v) {
+    worst = std::max(worst, std::abs(p.corrected_nominal - 1.0));
+    corrected_max = std::max(corrected_max, p.corrected);
+  }
+  claims.note(
+      "the seed law's used/plan scales as t_p^(−x_v/m): its verdict is the choice of "
+      "t_p, from " +
+      fmt(v.front().seed, "%.2f") + " at t_p = " + fmt(depths().front()) + " mm to " +
+      fmt(v.back().seed, "%.2f") + " at " + fmt(depths().back()) + " mm");
+  claims.check(
+      "depth-corrected law, what it is designed to hold (tool life at nominal "
+      "hardness): largest |used/plan − 1| over the planned depths (≤ 0.15)",
+      worst, Compare::AtMost, 0.15);
+  claims.note(
+      "with the part's hardness (1.0–1.3 along it here) in the tool-life law, the "
+      "depth-corrected law uses " +
+      fmt(v.front().corrected, "%.2f") + "–" + fmt(corrected_max, "%.2f") +
+      "× the plan at every t_p: hardness, which no force-only law can tell from depth, "
+      "not the planned depth, then sets the verdict");
+}
+
+void EStudy::summary(json& s) {
+  s["label"] = main().label;
+  s["metrics"] = metrics_json(main(), unit_, st_.cost);
+  json cmp = json::array();
+  for (std::size_t i = 1; i < runs_.size(); ++i)
+    cmp.push_back(
+        {{"label", runs_[i]->label}, {"metrics", metrics_json(*runs_[i], unit_, st_.cost)}});
+  if (!cmp.empty()) s["comparisons"] = cmp;
+  // The user's part is the main run's (the comparisons are for reference).
+  const Metrics& m = main().m;
+  Acceptance acceptance(st_.acceptance);
+  const double nan = std::nan("");
+  acceptance.judge("max_force_over_limit_pct", m.time_in_cut_s > 0.0 ? m.force_overshoot_pct : nan);
+  acceptance.judge("max_cycle_time_s", m.finished ? m.cycle_time_s : nan);
+  acceptance.judge("max_tool_life_used_pct", 100.0 * m.tool_life_used_fraction);
+  s["acceptance"] = acceptance.json();
+}
+
+void EStudy::report(Report& rep) {
+  rep.title = "System E — " + sc_.name;
   rep.doc_page = "system-e-adaptive.md";
   rep.subtitle =
-      sc.file + " · " + main.label +
-      (runs.size() > 1 ? " against " + std::to_string(runs.size() - 1) + " other controller(s)"
-                       : "");
-  rep.description = sc.description;
+      sc_.file + " · " + main().label +
+      (runs_.size() > 1 ? " against " + std::to_string(runs_.size() - 1) + " other controller(s)"
+                        : "");
+  report_metrics(rep);
+  rep.tables.push_back(controllers_table());
+  if (runs_.size() > 1 || tradeoff_) rep.tables.push_back(cost_table());
+  if (!depths().empty()) rep.tables.push_back(depth_table_);
+  reasons_table(rep);
+  if (!depths().empty()) rep.plots.push_back(depth_plot_);
+  run_plots(rep);
+}
+
+void EStudy::report_metrics(Report& rep) const {
+  const Metrics& m = main().m;
   auto add = [&](const std::string& k, double v, const char* f = "%.4g") {
     rep.metrics.emplace_back(k, fmt(v, f));
   };
   // An unfinished part has no cycle time: the run stopped at run.duration_s.
-  if (main.m.finished)
-    add("cycle time [s]", main.m.cycle_time_s);
+  if (m.finished)
+    add("cycle time [s]", m.cycle_time_s);
   else
     rep.metrics.emplace_back("cycle time [s]", "part not finished: the run stopped at " +
-                                                   fmt(main.m.cycle_time_s, "%.1f") + " s");
-  add("time in cut [s]", main.m.time_in_cut_s);
-  add(pname + " limit [" + unit + "]", main.m.force_limit);
-  add("peak per-revolution " + pname + " [" + unit + "]", main.m.force_peak_rev_mean);
-  add("peak " + pname + " incl. runout within a revolution [" + unit + "]", main.m.force_peak);
-  add("steady cutting within 5 % of the limit [share]", main.m.force_within_5pct_fraction, "%.3f");
-  add("tool life used [share of one edge]", main.m.tool_life_used_fraction, "%.4f");
-  add("planned tool life T(V_p, S_p, t_p) [min]", main.m.tool_life_planned_min);
-  add("tool life at plan for the time in cut [share]", main.m.tool_life_plan_fraction, "%.4f");
-  add("material removed [cm³]", main.m.material_removed_cm3);
-  add("removal rate [cm³/min]", main.m.mrr_cm3_per_min);
-  add("mean feed in cut [mm/rev]", main.m.feed_mean_mm_per_rev);
-  add("programmed feed [mm/rev]", main.m.feed_programmed_mm_per_rev);
-  add("mean cutting speed in cut [m/min]", main.m.speed_mean_m_per_min);
-  add("peak spindle input power (electrical, incl. acceleration) [kW]",
-      main.m.spindle_power_peak_kW);
-  for (const auto& a : main.m.alarms)
-    rep.metrics.emplace_back(
-        "alarm at " + fmt(a.time_s) + " s",
-        std::string(control::reason_name(static_cast<control::Reason>(a.code))) + " (code " +
-            std::to_string(a.code) + ")");
-  rep.notes = claims.notes();
-  rep.note_ids = claims.note_ids();
+                                                   fmt(m.cycle_time_s, "%.1f") + " s");
+  add("time in cut [s]", m.time_in_cut_s);
+  add(pname_ + " limit [" + unit_ + "]", m.force_limit);
+  add("peak per-revolution " + pname_ + " [" + unit_ + "]", m.force_peak_rev_mean);
+  add("peak " + pname_ + " incl. runout within a revolution [" + unit_ + "]", m.force_peak);
+  add("steady cutting within 5 % of the limit [share]", m.force_within_5pct_fraction, "%.3f");
+  add("tool life used [share of one edge]", m.tool_life_used_fraction, "%.4f");
+  add("planned tool life T(V_p, S_p, t_p) [min]", m.tool_life_planned_min);
+  add("tool life at plan for the time in cut [share]", m.tool_life_plan_fraction, "%.4f");
+  add("material removed [cm³]", m.material_removed_cm3);
+  add("removal rate [cm³/min]", m.mrr_cm3_per_min);
+  add("mean feed in cut [mm/rev]", m.feed_mean_mm_per_rev);
+  add("programmed feed [mm/rev]", m.feed_programmed_mm_per_rev);
+  add("mean cutting speed in cut [m/min]", m.speed_mean_m_per_min);
+  add("peak spindle input power (electrical, incl. acceleration) [kW]", m.spindle_power_peak_kW);
+  for (const auto& a : m.alarms)
+    rep.metrics.emplace_back("alarm at " + fmt(a.time_s) + " s",
+                             alarm_name(a) + " (code " + std::to_string(a.code) + ")");
+}
 
-  auto short_name = [](Mode m) {
-    return m == Mode::Fixed       ? std::string("fixed")
-           : m == Mode::ForceFeed ? std::string("prior art")
-                                  : std::string("seed 004");
-  };
+Table EStudy::controllers_table() const {
   Table t{"Controllers on this part",
           {"controller", "cycle [s]", "feed [mm/rev]", "V [m/min]", "life used", "plan",
-           "used/plan", "peak F_rev [" + unit + "]", "within 5 %"},
+           "used/plan", "peak F_rev [" + unit_ + "]", "within 5 %"},
           {}};
-  for (const auto& r : runs)
+  for (const auto& r : runs_) {
+    const Metrics& m = r->m;
     t.rows.push_back(
         {short_name(r->mode) + (r->mode == Mode::Fixed
-                                    ? " (s = " + fmt(r->m.feed_programmed_mm_per_rev, "%.3f") + ")"
+                                    ? " (s = " + fmt(m.feed_programmed_mm_per_rev, "%.3f") + ")"
                                     : ""),
-         cycle_cell(r->m), fmt(r->m.feed_mean_mm_per_rev, "%.3f"),
-         fmt(r->m.speed_mean_m_per_min, "%.1f"), fmt(r->m.tool_life_used_fraction, "%.4f"),
-         fmt(r->m.tool_life_plan_fraction, "%.4f"),
-         fmt(r->m.tool_life_used_fraction / r->m.tool_life_plan_fraction, "%.3f"),
-         fmt(r->m.force_peak_rev_mean, "%.0f"), fmt(r->m.force_within_5pct_fraction, "%.3f")});
-  rep.tables.push_back(t);
-  if (runs.size() > 1 || tradeoff) rep.tables.push_back(cost_table);
-  if (!depths.empty()) rep.tables.push_back(depth_table);
-
-  // Decisions of the main run, by reason code: how long each held, how often, first and last.
-  {
-    Table rt{"Decisions of the main run (reason codes, from the recorded timeline)",
-             {"reason", "code", "total time [s]", "episodes", "first at [s]", "last at [s]"},
-             {}};
-    for (const auto& a : main.acc->reasons())
-      rt.rows.push_back({std::string(control::reason_name(static_cast<control::Reason>(a.code))),
-                         std::to_string(a.code), fmt(a.total_s, "%.2f"),
-                         std::to_string(a.episodes), fmt(a.first_s, "%.2f"),
-                         fmt(a.last_s, "%.2f")});
-    if (!rt.rows.empty()) rep.tables.push_back(rt);
+         cycle_cell(m), fmt(m.feed_mean_mm_per_rev, "%.3f"), fmt(m.speed_mean_m_per_min, "%.1f"),
+         fmt(m.tool_life_used_fraction, "%.4f"), fmt(m.tool_life_plan_fraction, "%.4f"),
+         fmt(m.tool_life_used_fraction / m.tool_life_plan_fraction, "%.3f"),
+         fmt(m.force_peak_rev_mean, "%.0f"), fmt(m.force_within_5pct_fraction, "%.3f")});
   }
+  return t;
+}
 
+// Each controller's cost per part and, with the trade-off, the prior art at seed 004's budget.
+Table EStudy::cost_table() const {
+  const Cost& cost = st_.cost;
+  Table t{"Cost per part: machine time at " + fmt(cost.machine_rate_per_h) + "/h, an edge " +
+              fmt(cost.tool_edge_cost) + " + " + fmt(cost.tool_change_min) + " min to change it",
+          {"controller", "cycle [s]", "edge used", "machine", "tool", "cost per part"},
+          {}};
+  for (const auto& r : runs_) {
+    const PartCost pc = part_cost(r->m, cost);
+    t.rows.push_back({r->label, cycle_cell(r->m), fmt(r->m.tool_life_used_fraction, "%.4f"),
+                      fmt(pc.machine, "%.3f"), fmt(pc.tool, "%.3f"), fmt(pc.total, "%.3f")});
+  }
+  if (tradeoff_) {
+    const PartCost pc = part_cost(budget_.m, cost);
+    t.rows.push_back(
+        {"prior art at V = " + fmt(budget_speed(), "%.1f") + " m/min (seed 004's tool budget)",
+         fmt(budget_.m.cycle_time_s, "%.1f"), fmt(budget_.m.tool_life_used_fraction, "%.4f"),
+         fmt(pc.machine, "%.3f"), fmt(pc.tool, "%.3f"), fmt(pc.total, "%.3f")});
+  }
+  return t;
+}
+
+// Decisions of the main run, by reason code: how long each held, how often, first and last.
+void EStudy::reasons_table(Report& rep) const {
+  Table rt{"Decisions of the main run (reason codes, from the recorded timeline)",
+           {"reason", "code", "total time [s]", "episodes", "first at [s]", "last at [s]"},
+           {}};
+  for (const auto& a : main().acc->reasons())
+    rt.rows.push_back({std::string(control::reason_name(static_cast<control::Reason>(a.code))),
+                       std::to_string(a.code), fmt(a.total_s, "%.2f"), std::to_string(a.episodes),
+                       fmt(a.first_s, "%.2f"), fmt(a.last_s, "%.2f")});
+  if (!rt.rows.empty()) rep.tables.push_back(rt);
+}
+
+// The controllers compared along the part and the main run's detail, marked with its faults
+// and alarms.
+void EStudy::run_plots(Report& rep) const {
   std::vector<Marker> mk;
-  for (const auto& f : e.faults) mk.push_back({f.at_s, "sensor fault"});
-  for (const auto& a : main.m.alarms)
-    mk.push_back({a.time_s, "alarm: " + std::string(control::reason_name(
-                                            static_cast<control::Reason>(a.code)))});
-  if (!depths.empty()) rep.plots.push_back(depth_plot);
+  for (const auto& f : e().faults) mk.push_back({f.at_s, "sensor fault"});
+  for (const auto& a : main().m.alarms) mk.push_back({a.time_s, "alarm: " + alarm_name(a)});
   std::vector<PlotRun> plot_runs;
-  for (const auto& r : runs)
+  for (const auto& r : runs_)
     plot_runs.push_back({&r->rig.recorder(), r->path.get(), r->acc.get(), &r->m, r->label,
                          r->mode == Mode::ForceFeedSpeed});
-  add_run_plots(rep, plot_runs, mk, pname, unit);
+  add_run_plots(rep, plot_runs, mk, pname_, unit_);
+}
 
+void EStudy::finish(RunOutput& out) {
   // In memory only without a stage (library callers, tests); else on disk already.
-  out.channels_csv = main.csv->take_text();
-  if (runs.size() > 1) out.compare_csv = runs[1]->csv->take_text();
-  out.headline = main.label + ": " + cycle_phrase(main.m) + ", tool life used " +
-                 fmt(main.m.tool_life_used_fraction, "%.4f") + " (plan " +
-                 fmt(main.m.tool_life_plan_fraction, "%.4f") + "), peak per-rev " + pname + " " +
-                 fmt(main.m.force_peak_rev_mean, "%.0f") + " " + unit;
-  for (std::size_t i = 1; i < runs.size(); ++i)
-    out.headline += "; " + runs[i]->label + " " + cycle_phrase(runs[i]->m);
-  return out;
+  out.channels_csv = main().csv->take_text();
+  if (runs_.size() > 1) out.compare_csv = runs_[1]->csv->take_text();
+  const Metrics& m = main().m;
+  out.headline = main().label + ": " + cycle_phrase(m) + ", tool life used " +
+                 fmt(m.tool_life_used_fraction, "%.4f") + " (plan " +
+                 fmt(m.tool_life_plan_fraction, "%.4f") + "), peak per-rev " + pname_ + " " +
+                 fmt(m.force_peak_rev_mean, "%.0f") + " " + unit_;
+  for (std::size_t i = 1; i < runs_.size(); ++i)
+    out.headline += "; " + runs_[i]->label + " " + cycle_phrase(runs_[i]->m);
+}
+}  // namespace
+
+io::RunOutput run(const io::Scenario& sc) {
+  return EStudy(sc).run();
 }
 
 }  // namespace lathectl::systems::e_adaptive

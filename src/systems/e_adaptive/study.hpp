@@ -7,9 +7,6 @@
 
 namespace lathectl::systems::e_adaptive {
 
-// The scenario's reader (settings.cpp) and the rig's cross-checks: a probe configuration.
-extern const io::Section kSection;
-
 io::RunOutput run(const io::Scenario& sc);
 
 }  // namespace lathectl::systems::e_adaptive
