@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli.hpp"
+#include "lathectl/core/parallel.hpp"
 #include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/install_paths.hpp"
@@ -20,7 +21,6 @@
 #include "lathectl/io/report.hpp"
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
-#include "lathectl/sim/parallel.hpp"
 
 namespace fs = std::filesystem;
 
@@ -104,7 +104,7 @@ int demo(const std::string& out, const std::string& dir, const std::vector<std::
   std::atomic<std::size_t> done{0};
   io::Progress progress("demo");
   try {
-    sim::parallel_for(
+    core::parallel_for(
         n,
         [&](std::size_t i) {
           io::OutputStage stage(fs::path(out) / scenarios[i].name);

@@ -75,14 +75,14 @@ void read_material_tool(TableReader& root, const MaterialLibrary& lib,
   }
 }
 
-std::vector<sim::SensorFault> read_faults(TableReader& root) {
-  std::vector<sim::SensorFault> out;
+std::vector<sensors::SensorFault> read_faults(TableReader& root) {
+  std::vector<sensors::SensorFault> out;
   for (auto& f : root.tables("fault")) {
-    sim::SensorFault sf;
+    sensors::SensorFault sf;
     const std::string k = f.choice("kind", {"nan", "stuck", "out_of_range"});
-    sf.kind = k == "nan"     ? sim::SensorFault::Kind::NotFinite
-              : k == "stuck" ? sim::SensorFault::Kind::Stuck
-                             : sim::SensorFault::Kind::OutOfRange;
+    sf.kind = k == "nan"     ? sensors::SensorFault::Kind::NotFinite
+              : k == "stuck" ? sensors::SensorFault::Kind::Stuck
+                             : sensors::SensorFault::Kind::OutOfRange;
     sf.at_s = f.number("at_s", Range::non_negative());
     sf.duration_s = f.number("duration_s", Range::positive(), 1e300);
     root.document("fault", "injected sensor faults, to see the controller's monitor react");

@@ -29,7 +29,7 @@ double mean_between(std::span<const double> t, std::span<const double> x, double
   return m.value();
 }
 
-AlarmOnsets::AlarmOnsets(const std::vector<SensorFault>& faults) {
+AlarmOnsets::AlarmOnsets(const std::vector<sensors::SensorFault>& faults) {
   for (const auto& f : faults) first_fault_ = std::min(first_fault_, f.at_s);
 }
 
@@ -44,7 +44,7 @@ void AlarmOnsets::push(double t, double alarm, double reason) {
 
 std::vector<AlarmEvent> alarm_onsets(std::span<const double> t, std::span<const double> alarm,
                                      std::span<const double> reason,
-                                     const std::vector<SensorFault>& faults,
+                                     const std::vector<sensors::SensorFault>& faults,
                                      double& first_delay_s) {
   AlarmOnsets onsets(faults);
   for (std::size_t i = 0; i < t.size(); ++i) onsets.push(t[i], alarm[i], reason[i]);

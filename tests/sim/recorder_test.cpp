@@ -105,7 +105,7 @@ TEST(OnlineMetrics, MatchTheWholeRecordFormsBitForBit) {
   const auto batch_avg = moving_average(x, 37);
   MovingAverage avg(37);
   MeanBetween mb{1.0, 7.5};
-  const std::vector<SensorFault> faults{SensorFault{}};
+  const std::vector<sensors::SensorFault> faults{sensors::SensorFault{}};
   AlarmOnsets onsets(faults);
   for (std::size_t i = 0; i < x.size(); ++i) {
     if (i == 1) rev.configure(t[1] - t[0]);

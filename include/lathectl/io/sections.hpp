@@ -8,13 +8,13 @@
 
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/cutting/disturbances.hpp"
+#include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/dynamics/beam.hpp"
 #include "lathectl/dynamics/lobes.hpp"
-#include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/io/toml_reader.hpp"
-#include "lathectl/sim/faults.hpp"
+#include "lathectl/sensors/faults.hpp"
 
 namespace lathectl::io {
 
@@ -25,7 +25,7 @@ void read_material_tool(TableReader& root, const MaterialLibrary& lib,
                         cutting::CuttingModel::Params& cutting,
                         cutting::DisturbanceParams* wear = nullptr, bool kienzle_only = false);
 // [[fault]]: injected sensor faults.
-std::vector<sim::SensorFault> read_faults(TableReader& root);
+std::vector<sensors::SensorFault> read_faults(TableReader& root);
 // The spindle drive (systems B and E). With `defaults`, every key is optional and keeps the
 // value already in `s`.
 void read_spindle(TableReader& sp, drives::SpindleDrive::Params& s, bool defaults);

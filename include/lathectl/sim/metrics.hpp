@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include "lathectl/sim/faults.hpp"
+#include "lathectl/sensors/faults.hpp"
 
 namespace lathectl::sim {
 
@@ -21,11 +21,12 @@ struct AlarmEvent {
 // onset after the first injected fault (NaN if none). Shared by every system's metrics.
 std::vector<AlarmEvent> alarm_onsets(std::span<const double> t, std::span<const double> alarm,
                                      std::span<const double> reason,
-                                     const std::vector<SensorFault>& faults, double& first_delay_s);
+                                     const std::vector<sensors::SensorFault>& faults,
+                                     double& first_delay_s);
 // The same, sample by sample as a run records (a streamed Recorder keeps no columns).
 class AlarmOnsets {
  public:
-  explicit AlarmOnsets(const std::vector<SensorFault>& faults);
+  explicit AlarmOnsets(const std::vector<sensors::SensorFault>& faults);
   void push(double t, double alarm, double reason);
   [[nodiscard]] const std::vector<AlarmEvent>& events() const noexcept { return out_; }
   [[nodiscard]] double first_delay_s() const noexcept { return first_delay_s_; }

@@ -22,8 +22,8 @@
 #include "lathectl/drives/eccentric_drive.hpp"
 #include "lathectl/hydraulics/feed_slide.hpp"
 #include "lathectl/hydraulics/pulse_regulator.hpp"
+#include "lathectl/sensors/faults.hpp"
 #include "lathectl/sensors/inductive_sensor.hpp"
-#include "lathectl/sim/faults.hpp"
 #include "lathectl/sim/recorder.hpp"
 
 namespace lathectl::systems::a_pulse_feed {
@@ -58,7 +58,7 @@ struct RigConfig {
       .frequency_ramp_Hz_per_s = 500.0};
   double leak_estimate_factor = 1.0;                // controller's K_leak = factor × the plant's
   bool compensate_compliance = true;                // finishing: add C·dp/dt (beyond the seed)
-  std::vector<sim::SensorFault> faults;
+  std::vector<sensors::SensorFault> faults;
   double feed_window_s = 0.1;  // moving average of the recorded feed rate
 };
 
@@ -144,7 +144,7 @@ class Rig {
   double force_ = 0.0;
   double depth_ = 0.0;
   double sensor_u_ = 0.0;
-  sim::FaultInjector faults_;
+  sensors::FaultInjector faults_;
   double flow_acc_ = 0.0;
   double force_acc_ = 0.0;
   std::size_t acc_n_ = 0;

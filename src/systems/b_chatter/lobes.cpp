@@ -9,12 +9,12 @@
 #include <optional>
 #include <thread>
 
+#include "lathectl/core/parallel.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/progress.hpp"
 #include "lathectl/io/report.hpp"
 #include "lathectl/io/study.hpp"
-#include "lathectl/sim/parallel.hpp"
 
 namespace lathectl::systems::b_chatter {
 
@@ -147,7 +147,7 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
                                    static_cast<double>(sd_speed.size());
     fd_depth[k] = dynamics::envelope_depth(fd, sd_speed[k]);
   }
-  sim::parallel_for(sd_speed.size(), [&](std::size_t k) {
+  core::parallel_for(sd_speed.size(), [&](std::size_t k) {
     const double hi = std::isfinite(fd_depth[k]) ? 3.0 * fd_depth[k] : 100.0 * fd.critical_depth_m;
     if (!std::isfinite(hi)) {  // no lobe anywhere (every mode across the chip): nothing to bisect
       sd_depth[k] = std::numeric_limits<double>::infinity();

@@ -6,13 +6,13 @@
 #include <numbers>
 #include <thread>
 
+#include "lathectl/core/parallel.hpp"
 #include "lathectl/dynamics/van_der_pol.hpp"
 #include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
 #include "lathectl/io/verdict.hpp"
-#include "lathectl/sim/parallel.hpp"
 #include "systems/b_chatter/metrics.hpp"
 #include "systems/b_chatter/settings.hpp"
 
@@ -136,7 +136,7 @@ void ChatterStudy::run_controllers() {
   // channels.csv and channels_compare.csv stream into the output set's stage as they record.
   RigConfig off = b_;
   off.source = control::ModulationSource::None;
-  sim::parallel_for(
+  core::parallel_for(
       compared_ ? 2 : 1,
       [&](std::size_t i) {
         i == 0 ? run_one(sc_, b_, *with_, stage, "channels.csv")
@@ -192,7 +192,7 @@ void ChatterStudy::extra_studies(io::RunOutput& out, Claims& /*claims*/) {
   // Job j: feed j/2, with (even) or without (odd) modulation; each writes its own run.
   io::OutputStage* stage = io::StreamScope::current();
   const unsigned threads = std::max(1u, std::min(4u, std::thread::hardware_concurrency()));
-  sim::parallel_for(
+  core::parallel_for(
       2 * sweep_.size(),
       [&](std::size_t j) {
         SweepPoint& p = *sweep_[j / 2];

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "lathectl/core/parallel.hpp"
 #include "lathectl/design/vibro_gauge.hpp"
-#include "lathectl/sim/parallel.hpp"
 #include "systems/d_gauging/rig.hpp"
 
 namespace lathectl::systems::d_gauging {
@@ -25,7 +25,7 @@ DynamicCalibration calibrate_dynamic(const GaugingProcess& p,
     const std::size_t n = std::min(batch, max_parts - c.parts);
     std::vector<double> e(n);
     const double th = c.threshold_V;
-    sim::parallel_for(n, [&](std::size_t i) {  // part k: its own seed, apart from the study's
+    core::parallel_for(n, [&](std::size_t i) {  // part k: its own seed, apart from the study's
       const auto r =
           machine_part_full(p, gp, dt, th, seed * 104729 + c.parts + i, nullptr, 50, max_time_s);
       e[i] = r.finished_m - p.target_m;

@@ -7,8 +7,8 @@
 #include <numbers>
 #include <random>
 
+#include "lathectl/core/parallel.hpp"
 #include "lathectl/design/vibro_gauge.hpp"
-#include "lathectl/sim/parallel.hpp"
 
 namespace lathectl::systems::d_gauging {
 
@@ -226,16 +226,16 @@ void monte_carlo_linear(const GaugingProcess& p, const LinearGauge& g, double s_
   if (g.filter != LinearGauge::Filter::FirstOrder) {
     const double h = filtered_step(p, g);
     constexpr std::size_t kChunk = 256;  // divides kLinearPartChunk
-    sim::parallel_for((parts + kChunk - 1) / kChunk,
-                      [&](std::size_t c) {
-                        FilteredNoise noise(p, g, h);  // one buffer per chunk
-                        for (std::size_t i = c * kChunk; i < std::min(parts, (c + 1) * kChunk);
-                             ++i) {
-                          std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + first + i);
-                          out[i] = one_filtered_part(p, g, s_th, noise, h, rng);
-                        }
-                      },
-                      threads);
+    core::parallel_for((parts + kChunk - 1) / kChunk,
+                       [&](std::size_t c) {
+                         FilteredNoise noise(p, g, h);  // one buffer per chunk
+                         for (std::size_t i = c * kChunk; i < std::min(parts, (c + 1) * kChunk);
+                              ++i) {
+                           std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + first + i);
+                           out[i] = one_filtered_part(p, g, s_th, noise, h, rng);
+                         }
+                       },
+                       threads);
     return;
   }
   // Step: a twentieth of the shorter of the filter lag and the noise correlation time; the
@@ -246,7 +246,7 @@ void monte_carlo_linear(const GaugingProcess& p, const LinearGauge& g, double s_
   const Transition tr = transition(p, g, h);
   const Stationary st = stationary(tr);
   constexpr std::size_t kChunk = kLinearPartChunk;
-  sim::parallel_for(
+  core::parallel_for(
       (parts + kChunk - 1) / kChunk,
       [&](std::size_t c) {
         for (std::size_t i = c * kChunk; i < std::min(parts, (c + 1) * kChunk); ++i) {

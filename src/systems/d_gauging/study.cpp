@@ -9,13 +9,13 @@
 #include <stdexcept>
 
 #include "lathectl/control/types.hpp"
+#include "lathectl/core/parallel.hpp"
 #include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/study.hpp"
 #include "lathectl/io/verdict.hpp"
 #include "lathectl/sim/config_error.hpp"
-#include "lathectl/sim/parallel.hpp"
 #include "systems/d_gauging/rig.hpp"
 #include "systems/d_gauging/settings.hpp"
 
@@ -187,7 +187,7 @@ void GaugingStudy::calibrate() {
   const double settle = std::max(0.8, 8.0 * d_.transducer.filter_time_constant_s);
   for (int i = 0; i <= 16; ++i) xs_.push_back(A0_ * (-0.05 + 1.0 * i / 16.0));
   s_full_.resize(xs_.size());
-  sim::parallel_for(xs_.size(), [&](std::size_t i) {
+  core::parallel_for(xs_.size(), [&](std::size_t i) {
     s_full_[i] = full_model_mean_signal(d_.transducer, dt_, xs_[i], settle);
   });
   plan_ = plan_threshold(d_, dt_);
@@ -282,7 +282,7 @@ void GaugingStudy::noise_check() {
 void GaugingStudy::full_parts_with_noise() {
   full_sizes_.assign(d_.full_parts, 0.0);
   std::vector<char> full_backstop(d_.full_parts, 0);
-  sim::parallel_for(full_sizes_.size(), [&](std::size_t i) {  // part i: its own seed
+  core::parallel_for(full_sizes_.size(), [&](std::size_t i) {  // part i: its own seed
     const auto r = machine_part_full(p_, d_.transducer, dt_, s_th_, sc_.run.seed * 7919 + i,
                                      nullptr, 50, sc_.run.duration_s);
     full_sizes_[i] = r.finished_m;
@@ -374,7 +374,7 @@ void GaugingStudy::error_cause(io::RunOutput& out) const {
       variants.push_back(v);
     }
   std::vector<NoiselessPart> res(variants.size());
-  sim::parallel_for(variants.size(), [&](std::size_t i) {
+  core::parallel_for(variants.size(), [&](std::size_t i) {
     res[i] = noiseless_part(quiet_, variants[i], dt_, sc_.run.seed, sc_.run.duration_s);
   });
   for (std::size_t i = 0; i < variants.size(); ++i) {
