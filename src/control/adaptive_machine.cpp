@@ -16,20 +16,13 @@ namespace {
 bool whole(double v, double lo, double hi) noexcept {
   return std::isfinite(v) && v >= lo && v <= hi && v == std::floor(v);
 }
-// The operation log's bit of a reason: its position among the reasons (until the one reason
-// table lands).
+// The operation log's bit of a reason: 1 << code, as lathectl_oplog.py decodes it today. Codes
+// of 31 and above (engaged, not_in_feed_block, the spindle's limits, gauge_backstop) have no bit
+// until the one reason table (bits by position, branch i29-reasons) is merged with the oplog's
+// decoder.
 std::uint32_t reason_bit(Reason r) noexcept {
-  constexpr Reason kAll[] = {
-      Reason::None, Reason::OutputHigh, Reason::OutputLow, Reason::RateLimited,
-      Reason::SensorNotFinite, Reason::SensorOutOfRange, Reason::SensorStuck,
-      Reason::SensorSuspect, Reason::Overload, Reason::ToolBreakage, Reason::ToolDataChanged,
-      Reason::AirCut, Reason::Engaged, Reason::NotInFeedBlock, Reason::SpindleSpeedLimit,
-      Reason::SpindlePowerLimit, Reason::ModulationEngaged, Reason::ModulationReleased,
-      Reason::ModulationLimited, Reason::ModulationProgrammed, Reason::ModulationNoForce,
-      Reason::GaugeBackstop};
-  for (std::uint32_t i = 0; i < sizeof(kAll) / sizeof(kAll[0]); ++i)
-    if (kAll[i] == r) return 1u << i;
-  return 0;
+  const auto code = static_cast<unsigned>(r);
+  return code < 31 ? 1u << code : 0u;
 }
 bool feed_motion(std::int32_t type) noexcept {
   return type == static_cast<std::int32_t>(AdaptiveMachine::Motion::Feed) ||
