@@ -16,21 +16,6 @@ namespace {
 bool whole(double v, double lo, double hi) noexcept {
   return std::isfinite(v) && v >= lo && v <= hi && v == std::floor(v);
 }
-// The operation log's bit of a reason: its position among the reasons (until the one reason
-// table lands).
-std::uint32_t reason_bit(Reason r) noexcept {
-  constexpr Reason kAll[] = {
-      Reason::None, Reason::OutputHigh, Reason::OutputLow, Reason::RateLimited,
-      Reason::SensorNotFinite, Reason::SensorOutOfRange, Reason::SensorStuck,
-      Reason::SensorSuspect, Reason::Overload, Reason::ToolBreakage, Reason::ToolDataChanged,
-      Reason::AirCut, Reason::Engaged, Reason::NotInFeedBlock, Reason::SpindleSpeedLimit,
-      Reason::SpindlePowerLimit, Reason::ModulationEngaged, Reason::ModulationReleased,
-      Reason::ModulationLimited, Reason::ModulationProgrammed, Reason::ModulationNoForce,
-      Reason::GaugeBackstop};
-  for (std::uint32_t i = 0; i < sizeof(kAll) / sizeof(kAll[0]); ++i)
-    if (kAll[i] == r) return 1u << i;
-  return 0;
-}
 bool feed_motion(std::int32_t type) noexcept {
   return type == static_cast<std::int32_t>(AdaptiveMachine::Motion::Feed) ||
          type == static_cast<std::int32_t>(AdaptiveMachine::Motion::Arc);
