@@ -68,7 +68,7 @@ TEST(NoAlloc, PulseFeedControllerUpdateNeverAllocates) {
         double u = 1.0 + 0.5 * std::sin(k * 0.01);
         if (k > 15000 && k < 15010) u = std::nan("");  // fault path
         PulseFeedController::Input in{u};
-        (void)c.update(in, out);
+        c.update(in, out);
         if (k == 16000) c.reset_alarm();
       }
       EXPECT_EQ(g_allocations.load() - before, 0) << "update() allocated";
@@ -326,7 +326,7 @@ TEST(NoAlloc, ModulatedFeedControllerAndVibrationChainNeverAllocate) {
     in.programmed = {50.0, 10.0, 0.05, 4};
     in.path_mm[0] += 100.0 / 60.0 * 1e-3;
     in.path_mm[1] += 100.0 / 60.0 * 1e-3;
-    (void)m.update(in, out);
+    m.update(in, out);
     engaged += out.engaged;
   }
   EXPECT_EQ(g_allocations.load() - before, 0) << "update() allocated";
