@@ -353,7 +353,7 @@ INSTANTIATE_TEST_SUITE_P(AdaptiveFeedController, SeedSpeedLaw,
                          ::testing::Values(0.1, 0.2, 0.4, 0.55));
 
 TEST(AdaptiveFeedController, HandbookTableSpeedLawKeepsToolLifeAcrossFeedRanges) {
-  // Issue 17: y_v (and Cv) from the handbook's feed ranges, the table the tool-life law uses
+  // y_v (and Cv) from the handbook's feed ranges, the table the tool-life law uses
   // (data/materials.toml, steel_45: s ≤ 0.3: Cv 420, y_v 0.20; ≤ 0.7: 350, 0.35; above: 340,
   // 0.45). V_opt = V_p·[Cv(S)/S^{y_v(S)}]/[Cv(S_p)/S_p^{y_v(S_p)}]: the extended Taylor law then
   // gives the same T at (V_opt, S) as at (V_p, S_p), T = (Cv/(V·t^xv·s^yv))^(1/m).

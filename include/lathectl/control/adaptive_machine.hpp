@@ -268,7 +268,6 @@ class AdaptiveMachine {
   ToolWatch tool_watch_;
   bool tool_data_latched_ = false;
   bool tool_data_first_ = false;
-  bool homed_once_ = false;
   double scale_mismatch_s_ = 0.0;
   double rescale_s_ = 0.0;
 };

@@ -1,5 +1,5 @@
 #pragma once
-// System A's studies of the regulator alone (issue 17, items 4 and 8): what the seed's
+// System A's studies of the regulator alone: what the seed's
 // advantages 4 (no obliteration) and 5 (coarse manufacturing) rest on.
 //
 // Tolerance: manufacturing errors drawn (normal, σ each, [tolerance]) through the pulsed

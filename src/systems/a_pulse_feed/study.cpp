@@ -245,7 +245,7 @@ io::RunOutput run(const io::Scenario& sc) {
           "0.2)",
           r1, Compare::AtMost, 0.2);
       s["metrics"]["feed_deviation_ratio_to_uncontrolled"] = json_number(r2);
-      // Issue 17: the finishing mode exists for the size; holding the feed does not hold it.
+      // The finishing mode exists for the size; holding the feed does not hold it.
       const auto& c = cmp->metrics;
       claims.note(
           "size: the holder deflection Py/k goes " + fmt(m.deflection_reference_um, "%.3g") +
@@ -290,7 +290,7 @@ io::RunOutput run(const io::Scenario& sc) {
   if (!settings.rig.faults.empty())
     claims.add("sensor fault: alarm raised, delay after the fault [s]", m.first_alarm_delay_s,
                !std::isnan(m.first_alarm_delay_s));
-  // Issue 17: the regulator alone, where the seed's advantages 4 and 5 are decided.
+  // The regulator alone, where the seed's advantages 4 and 5 are decided.
   if (settings.tolerance && settings.rig.regulator_kind == RegulatorKind::Pulsed)
     tolerance_study(settings, *settings.tolerance,
                     settings.rig.controller_kind == ControllerKind::Fim

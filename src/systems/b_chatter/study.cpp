@@ -191,7 +191,7 @@ io::RunOutput run(const io::Scenario& sc) {
         {"seed_coefficient", b.seed_coefficient}}}};
   // The quenching condition under both readings of the seed's 1.41, for the a0 the module
   // planned on (just above the dead zone, chatter still growing) and for the document's a0, the
-  // steady amplitude without modulation (issue 17). K = a0·m_d·|ω_d² − ω_m²|: the module's
+  // steady amplitude without modulation. K = a0·m_d·|ω_d² − ω_m²|: the module's
   // required force is c·K (multiply) or K/c (divide).
   const double c_seed = b.seed_coefficient;
   const bool automatic_engaged = b.source == control::ModulationSource::Automatic && mo.engaged;

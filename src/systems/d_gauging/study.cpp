@@ -75,7 +75,7 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
                                               "can measure, A0 = " +
                                               fmt(A0 * kUm) + " µm"));
   const double settle = std::max(0.8, 8.0 * d.transducer.filter_time_constant_s);
-  // The result files stream into the stage (issue 19), their disk space checked before any work:
+  // The result files stream into the stage, their disk space checked before any work:
   // channels.csv one row a linearised part, channels_compare.csv the full-model part recorded
   // (streamed: memory bounded whatever run.duration_s; the plots from its pyramids).
   io::OutputStage* stage = io::StreamScope::current();
@@ -195,7 +195,7 @@ io::RunOutput run(const io::Scenario& sc, std::size_t kept_parts) {
                           {"backstop", r.backstop}});
   }
 
-  // 3b. The cause of the full model's error (issue 16): ripple, subharmonic motion, or both —
+  // 3b. The cause of the full model's error: ripple, subharmonic motion, or both —
   // the filters against the probe's regime (the seed's contact c_c = 5 N·s/m beside this one's).
   Table cause{
       "What the full model's error (no noise) comes from: the filter against the probe's "
