@@ -88,7 +88,7 @@ BENCHMARK_CAPTURE(BM_RigE_Part, fixed_worst_case, "e_stepped_fixed.toml")
 std::pair<systems::d_gauging::LinearGauge, double> seed_line(const io::Scenario& sc) {
   const auto& d = sc.get<systems::d_gauging::Settings>();
   const auto st = sensors::VibroContactGauge::steady(d.transducer);
-  // With the scenario's filter (d_gauging: synchronous, simulated by steps; issue 16).
+  // With the scenario's filter (d_gauging: synchronous, simulated by steps).
   const systems::d_gauging::LinearGauge lg =
       systems::d_gauging::linear_gauge({st.signal_gain_V_per_m, st.free_amplitude_m}, d.transducer);
   return {lg, systems::d_gauging::threshold_23(lg, d.process)};
@@ -156,7 +156,7 @@ void BM_Lobes_SdChart200x100(benchmark::State& state) {
 }
 BENCHMARK(BM_Lobes_SdChart200x100)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 
-// Issue 19: the cost of one SD chart cell against the steps per delay m (the eigenvalue solve of
+// The cost of one SD chart cell against the steps per delay m (the eigenvalue solve of
 // the (2 + m + 2)-dimensional map; the example mode at 6500 rpm and 5 mm).
 void BM_Lobes_SdCellEigen(benchmark::State& state) {
   const auto s = bench_sdof();
@@ -166,7 +166,7 @@ void BM_Lobes_SdCellEigen(benchmark::State& state) {
 BENCHMARK(BM_Lobes_SdCellEigen)->Arg(54)->Arg(101)->Arg(201)->Arg(400)->ArgName("m")
     ->Unit(benchmark::kMillisecond);
 // The same cell as the chart now evaluates it: the number of the SD map's roots outside the unit
-// circle by the argument principle (issue 19), cost ∝ m.
+// circle by the argument principle, cost ∝ m.
 void BM_Lobes_SdCellCount(benchmark::State& state) {
   const auto s = bench_sdof();
   const int m = static_cast<int>(state.range(0));
@@ -175,7 +175,7 @@ void BM_Lobes_SdCellCount(benchmark::State& state) {
 BENCHMARK(BM_Lobes_SdCellCount)->Arg(54)->Arg(101)->Arg(201)->Arg(400)->ArgName("m")
     ->Unit(benchmark::kMillisecond);
 
-// Issue 19: the default SD chart of each machine file (as `lathectl lobes` draws it: its own
+// The default SD chart of each machine file (as `lathectl lobes` draws it: its own
 // speeds × depths, top 4 × the absolute limit unless the file sets it) on 2 threads (target:
 // under 5 s for any machine file). b_slow_high_freq: one 650 Hz mode at 500–4000 rpm.
 void BM_Lobes_SdChartMachine(benchmark::State& state, const char* machine) {
@@ -206,7 +206,7 @@ BENCHMARK_CAPTURE(BM_Lobes_SdChartMachine, b_part, "b_part.toml")
 BENCHMARK_CAPTURE(BM_Lobes_SdChartMachine, b_slow_high_freq, "b_slow_high_freq.toml")
     ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
-// Issue 19: the limit depth at one speed read off the frequency-domain lobes (`lobes` asks it
+// The limit depth at one speed read off the frequency-domain lobes (`lobes` asks it
 // 1001 times for lobes.csv, and once per SD speed); b_part's lobes (60 lobes, 40000 points).
 void BM_Lobes_EnvelopeDepth(benchmark::State& state) {
   const auto in = systems::b_chatter::load_lobes_input(
@@ -224,7 +224,7 @@ void BM_Lobes_EnvelopeDepth(benchmark::State& state) {
 }
 BENCHMARK(BM_Lobes_EnvelopeDepth)->Unit(benchmark::kMicrosecond);
 
-// Issue 19: writing channels.csv: 100 000 rows of 12 channels (typical magnitudes).
+// Writing channels.csv: 100 000 rows of 12 channels (typical magnitudes).
 void BM_Output_ChannelsCsv(benchmark::State& state) {
   std::vector<sim::Channel> ch;
   for (int i = 0; i < 12; ++i) ch.push_back({"channel_" + std::to_string(i), ""});
@@ -252,7 +252,7 @@ void BM_Output_ChannelsCsv(benchmark::State& state) {
 }
 BENCHMARK(BM_Output_ChannelsCsv)->Unit(benchmark::kMillisecond);
 
-// Issue 19: a run's memory does not grow with its duration. Rows of system E's 22 channels pushed
+// A run's memory does not grow with its duration. Rows of system E's 22 channels pushed
 // into a streamed recorder (channels.csv written to a temporary file as they come, a bounded
 // min/max plot per channel): peak_rss_MB (the process's peak resident set so far) stays the same
 // from 1e6 to 4e6 rows (the recorder with columns held 8 B per value, channels.csv and the plot
@@ -311,7 +311,7 @@ void BM_AdaptiveFeedController_Update(benchmark::State& state) {
     in.speed_m_per_min = 160.0;
     in.cut_power_W = 6000.0;
     k += 0.01;
-    benchmark::DoNotOptimize(c.update(in, out));
+    c.update(in, out);
     benchmark::DoNotOptimize(out);
   }
 }
@@ -330,7 +330,7 @@ void BM_PulseFeedController_Update(benchmark::State& state) {
   for (auto _ : state) {
     control::PulseFeedController::Input in{1.0 + 0.2 * std::sin(k)};
     k += 0.001;
-    benchmark::DoNotOptimize(c.update(in, out));
+    c.update(in, out);
     benchmark::DoNotOptimize(out);
   }
 }
@@ -400,7 +400,8 @@ void BM_ModulatedFeedController_Update(benchmark::State& state) {
   control::ModulatedFeedController::Output out;
   for (auto _ : state) {
     in.path_mm[0] += 1.6e-3;
-    benchmark::DoNotOptimize(m.update(in, out));
+    m.update(in, out);
+    benchmark::DoNotOptimize(out);
   }
 }
 BENCHMARK(BM_ModulatedFeedController_Update);
@@ -422,7 +423,7 @@ void BM_ModulatedFeedController_Plan(benchmark::State& state) {
 }
 BENCHMARK(BM_ModulatedFeedController_Plan)->Arg(5)->Arg(32)->Arg(33)->Arg(50)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
-// Issue 19: update()'s worst case when the re-plan runs in the planner's thread
+// update()'s worst case when the re-plan runs in the planner's thread
 // (ModulationPlanner, lathectl-modfeed.plan): a0 grows every call and the re-plan period is one
 // call, so the calls alternate between posting a request and taking the finished plan (the two
 // re-plan paths); the planning in between is not timed. Manual time: the update() calls alone
@@ -448,7 +449,8 @@ void BM_ModulatedFeedController_UpdateDeferred(benchmark::State& state) {
     in.path_mm[0] += 1.6e-3;
     in.a0_m += 1e-12;
     const auto t0 = std::chrono::steady_clock::now();
-    benchmark::DoNotOptimize(m.update(in, out));
+    m.update(in, out);
+    benchmark::DoNotOptimize(out);
     const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     state.SetIterationTime(dt);
     if (ns.size() < ns.capacity()) ns.push_back(dt * 1e9);

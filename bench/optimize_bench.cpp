@@ -1,4 +1,4 @@
-// lathectl optimize's speed (issue 15): a 10-minute program optimised in under 2 s without
+// lathectl optimize's speed: a 10-minute program optimised in under 2 s without
 // --verify — LinuxCNC's interpreter twice (read, and the check of the written program), the
 // prediction at the servo period twice (programmed and optimised feeds), the feed choice.
 #include <benchmark/benchmark.h>

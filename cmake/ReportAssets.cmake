@@ -1,4 +1,4 @@
-# The reports' plotting library (issue 18): uPlot, pinned in package.json/package-lock.json at the
+# The reports' plotting library: uPlot, pinned in package.json/package-lock.json at the
 # top of the sources, installed by `npm ci` into the build tree (build/<preset>/npm/node_modules),
 # and embedded into lathectl as a generated source (report_assets.cpp), so every report.html
 # carries it inline and opens offline. There is no fallback: without npm the configure step stops

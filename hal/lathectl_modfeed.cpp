@@ -9,11 +9,11 @@
 //   loadrt threads name1=modfeed-plan period1=10000000
 //   addf lathectl-modfeed.plan modfeed-plan   (optional: the re-plan out of the servo thread)
 //
-// The re-plan (the quenching condition solved for the staircase, 9–39 µs) runs inside the servo
-// function unless `lathectl-modfeed.plan` is added to a slower thread (created after the servo
-// thread, so HAL gives it a lower priority): once that function has run, the servo function
-// only posts the request and takes the finished plan in its first period after the planner's
-// (control::ModulationPlanner; under 1 µs). plans-inline / plans-taken / plans-made count which
+// The re-plan (the quenching condition solved for the staircase; its cost: docs/linuxcnc.md) runs
+// inside the servo function unless `lathectl-modfeed.plan` is added to a slower thread (created
+// after the servo thread, so HAL gives it a lower priority): once that function has run, the
+// servo function only posts the request and takes the finished plan in its first period after
+// the planner's (control::ModulationPlanner). plans-inline / plans-taken / plans-made count which
 // way the plans went (tests/hal/modfeed_test.py plan).
 // Inputs: a0 and ω_d from the vibration chain's detectors (lathectl_chatter, or the machine's
 // own ADC channels), the main motor's electrical power, the spindle speed, the NC block's flags
@@ -156,7 +156,7 @@ void update(void*, long period_ns) {
                          : ModulationSource::None;
   in.turret = t ? Turret::Left : Turret::Right;
   in.programmed = {*p.prog_s_min, *p.prog_ds, *p.prog_dl, *p.prog_n_s};
-  (void)s.module.update(in, s.out);
+  s.module.update(in, s.out);
   const auto& o = s.out;
   const double feed = o.feed_mm_per_min[t];
   *p.feed = feed;

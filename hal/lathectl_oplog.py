@@ -43,18 +43,22 @@ BAD_WORD = {1: ("E0",), 2: ("E0",), 3: ("E0",), 4: ("E1", "E2"), 5: ("E3", "E4")
             7: ("E3",)}
 
 
-def reason_names(root):
-    """Reason code → name, from control/types.hpp (the one definition)."""
-    for base in (os.path.join(root, "include"), os.path.join(root, "share", "lathectl", "include"),
-                 os.path.join(root, "..", "include")):
-        path = os.path.join(base, "lathectl", "control", "types.hpp")
-        if os.path.exists(path):
-            text = open(path).read()
-            enum = text[text.index("enum class Reason"):]
-            codes = dict(re.findall(r"^\s*(\w+)\s*=\s*(\d+),", enum[:enum.index("};")], re.M))
-            names = dict(re.findall(r"case Reason::(\w+):\s*return \"(\w+)\";", text))
-            return {int(v): names.get(k, k) for k, v in codes.items()}
-    return {}
+def reason_table(path):
+    """{code: name} and {bit: name} from reasons.json (`lathectl reasons --json`, generated from
+    the one reason table in the core and installed beside this script)."""
+    try:
+        with open(path) as f:
+            rows = json.load(f)["reasons"]
+    except (OSError, ValueError, KeyError) as e:
+        print("lathectl_oplog: %s: %s: reasons are logged as numbers" % (path, e), file=sys.stderr)
+        return {}, {}
+    return ({r["code"]: r["name"] for r in rows}, {r["bit"]: r["name"] for r in rows})
+
+
+def reasons_of(mask, by_bit):
+    """The names of the reasons set in op-reasons (bit = the reason's position in the table)."""
+    mask &= 0xFFFFFFFF  # an s32 pin: bit 31 reads negative
+    return [by_bit.get(b, "bit%d" % b) for b in range(32) if mask >> b & 1]
 
 
 def atomic_write(path, text):
@@ -160,7 +164,7 @@ def main():
     a.taught = os.environ.get("LATHECTL_SIM_TAUGHT_WRITE") or a.taught
     os.makedirs(a.out, exist_ok=True)
     here = os.path.dirname(os.path.abspath(__file__))
-    reasons = reason_names(os.path.join(here, ".."))
+    by_code, by_bit = reason_table(os.path.join(here, "reasons.json"))
 
     c = hal.component(a.name)
     s32 = ["op-seq", "op-line", "op-tool", "op-operation", "op-mode", "op-reasons", "op-alarm",
@@ -210,7 +214,7 @@ def main():
             missed += max(0, (seq - last["op"]) - 1)
             last["op"] = seq
             limit = c["op-limit"]
-            names = [reasons.get(b, str(b)) for b in range(31) if c["op-reasons"] >> b & 1]
+            names = reasons_of(c["op-reasons"], by_bit)
             alarm = c["op-alarm"]
             row = {"seq": seq, "time_s": round(time.monotonic() - t0, 3), "tool": c["op-tool"],
                    "operation": c["op-operation"], "line": c["op-line"] - a.line_offset,
@@ -221,7 +225,7 @@ def main():
                    "feed_min": round(c["op-feed-min"], 4), "feed_mean": round(c["op-feed-mean"], 4),
                    "time_in_cut_s": round(c["op-time-in-cut"], 3),
                    "time_s_line": round(c["op-time"], 3), "reasons": " ".join(names),
-                   "alarm": reasons.get(alarm, str(alarm)) if alarm else ""}
+                   "alarm": by_code.get(alarm, str(alarm)) if alarm else ""}
             rows.append(row)
             w.writerow([row[k] for k in FIELDS])
             fcsv.flush()

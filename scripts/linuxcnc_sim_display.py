@@ -17,7 +17,6 @@ import csv
 import json
 import math
 import os
-import re
 import subprocess
 import sys
 import time
@@ -43,13 +42,11 @@ CHANNELS_0 = 21  # sampler.0's pins; the rest are sampler.1's
 
 
 def reason_names():
-    """Reason code → name, read from control/types.hpp (the one definition of both)."""
-    text = open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "include",
-                             "lathectl", "control", "types.hpp")).read()
-    enum = text[text.index("enum class Reason"):]
-    codes = dict(re.findall(r"^\s*(\w+)\s*=\s*(\d+),", enum[:enum.index("};")], re.M))
-    names = dict(re.findall(r"case Reason::(\w+):\s*return \"(\w+)\";", text))
-    return {int(v): names.get(k, k) for k, v in codes.items()}
+    """Reason code → name, from hal/reasons.json (`lathectl reasons --json`: the core's one
+    reason table, installed with the HAL package beside lathectl_oplog.py)."""
+    with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "hal",
+                           "reasons.json")) as f:
+        return {r["code"]: r["name"] for r in json.load(f)["reasons"]}
 
 
 RAW = []  # the raw recording: never left behind

@@ -1,8 +1,8 @@
 // lathectl — command-line front end: run scenarios, validate them, run the demo, stability lobes,
-// the papers' design calculators and the generated reference. One file per command
-// (run.cpp, check.cpp, demo.cpp, lobes.cpp, design*.cpp, reference.cpp); cli.hpp says what they
-// share. Exit codes: 0 success, 1 internal failure, 2 bad input (one clear message), 3 `--strict`
-// and a claim not met, an alarm raised or a part not finished.
+// the papers' design calculators, the generated reference and the reason codes. One file per
+// command (run.cpp, check.cpp, demo.cpp, lobes.cpp, design*.cpp, reference.cpp, reasons.cpp);
+// cli.hpp says what they share. Exit codes: 0 success, 1 internal failure, 2 bad input (one
+// clear message), 3 `--strict` and a claim not met, an alarm raised or a part not finished.
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   cli::add_reference(app, commands);
   cli::add_compare(app, commands);
   cli::add_optimize(app, commands);
+  cli::add_reasons(app, commands);
 
   try {
     app.parse(argc, argv);

@@ -73,7 +73,7 @@ std::string tables_markdown(const io::ParamLog& log, const std::set<std::string>
 struct Described {
   const systems::System* system;
   io::ParamLog log;
-  std::string error;  // a reader that cannot run without a file yet (issue 12, transitional)
+  std::string error;  // why a system's reader could not run without a scenario file
 };
 
 std::vector<Described> describe_all() {

@@ -67,7 +67,6 @@ void AdaptiveFeedController::configure(const Params& p) {
   speed_ramp_.reset(p.speed_programmed_m_per_min);
   pi_.preset(s_prog);
   contact_.reset();
-  was_block_ = false;
   over_s_ = 0.0;
   high_since_s_ = 1e9;
   alarm_ = false;
@@ -115,11 +114,11 @@ void AdaptiveFeedController::reset_alarm() noexcept {
   high_since_s_ = 1e9;
 }
 
-Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
+void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
   if (!configured_) {
     out = {};
     out.feed_hold = true;
-    return Status::NotConfigured;
+    return;
   }
   const double dt = p_.period_s;
   const PeriodTime measured = period_time(in.dt_s, dt);  // what the detectors count
@@ -176,7 +175,6 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
                   : 0.0;
     if (over_s_ >= p_.overload_time_s && p_.overload_time_s > 0.0) raise(Reason::Overload);
   }
-  was_block_ = in.feed_block;
 
   // The regulated force: the mean over the last revolution (or the raw sample).
   double regulated = in.force;
@@ -289,7 +287,7 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     out.alarm = true;
     out.alarm_reason = alarm_reason_;
     out.reason = alarm_reason_;
-    return Status::Hold;
+    return;
   }
   held_rpm_ = rpm;
   out.feed_per_rev_mm = s;
@@ -299,7 +297,6 @@ Status AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
   out.alarm = false;
   out.alarm_reason = Reason::None;
   out.reason = reason;
-  return reason == Reason::None || reason == Reason::Engaged ? Status::Ok : Status::Limited;
 }
 
 }  // namespace lathectl::control

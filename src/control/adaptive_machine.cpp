@@ -16,14 +16,6 @@ namespace {
 bool whole(double v, double lo, double hi) noexcept {
   return std::isfinite(v) && v >= lo && v <= hi && v == std::floor(v);
 }
-// The operation log's bit of a reason: 1 << code, as lathectl_oplog.py decodes it today. Codes
-// of 31 and above (engaged, not_in_feed_block, the spindle's limits, gauge_backstop) have no bit
-// until the one reason table (bits by position, branch i29-reasons) is merged with the oplog's
-// decoder.
-std::uint32_t reason_bit(Reason r) noexcept {
-  const auto code = static_cast<unsigned>(r);
-  return code < 31 ? 1u << code : 0u;
-}
 bool feed_motion(std::int32_t type) noexcept {
   return type == static_cast<std::int32_t>(AdaptiveMachine::Motion::Feed) ||
          type == static_cast<std::int32_t>(AdaptiveMachine::Motion::Arc);
@@ -417,7 +409,7 @@ void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) 
   sig.feed_block = feed_block;
   auto ci = adaptive_input(parameter, sig);
   ci.dt_s = dt_measured;
-  (void)ctl_.update(ci, co_);
+  ctl_.update(ci, co_);
   out.cut_power_W = ci.cut_power_W;
   out.load = load;
   const auto& o = co_;

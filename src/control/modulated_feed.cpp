@@ -309,9 +309,9 @@ bool ModulationPlanner::run(const ModulatedFeedController& c) noexcept {
   return true;
 }
 
-Status ModulatedFeedController::update(const Input& in, Output& out) noexcept {
+void ModulatedFeedController::update(const Input& in, Output& out) noexcept {
   out = Output{};
-  if (!configured_) return Status::NotConfigured;
+  if (!configured_) return;
   const int t = static_cast<int>(in.turret);
   for (int k = 0; k < 2; ++k) out.feed_mm_per_min[k] = in.feed_programmed_mm_per_min[k];
 
@@ -327,7 +327,7 @@ Status ModulatedFeedController::update(const Input& in, Output& out) noexcept {
   }
   was_block_ = in.feed_block;
   turret_ = in.turret;
-  if (!in.feed_block) return Status::Ok;
+  if (!in.feed_block) return;
   const double step = new_block ? 0.0 : in.path_mm[t] - last_path_[t];
   last_path_[0] = in.path_mm[0];
   last_path_[1] = in.path_mm[1];
@@ -343,9 +343,9 @@ Status ModulatedFeedController::update(const Input& in, Output& out) noexcept {
           2.0 * std::numbers::pi * (out.plan.time_mean_feed() / 60.0) / out.plan.cycle_length_mm();
     }
     out.reason = Reason::ModulationProgrammed;
-    return Status::Ok;
+    return;
   }
-  if (in.source == ModulationSource::None) return Status::Ok;
+  if (in.source == ModulationSource::None) return;
 
   // Automatic: a0 = 0 and ω_d = 0 below the amplifier's dead zone.
   const bool vibrating = in.a0_m > 0.0 && in.omega_d_rad_per_s > 0.0 && std::isfinite(in.a0_m) &&
@@ -360,7 +360,7 @@ Status ModulatedFeedController::update(const Input& in, Output& out) noexcept {
     a0_planned_ = 0.0;
     waiting_id_ = 0;
     out.reason = Reason::ModulationReleased;
-    return Status::Ok;
+    return;
   }
   if (planner_ && waiting_id_ != 0 && planner_->results_.fetch() &&
       planner_->results_.front().id == waiting_id_) {  // the planner's answer
@@ -405,9 +405,7 @@ Status ModulatedFeedController::update(const Input& in, Output& out) noexcept {
     out.force_amplitude_planned_N = planned_N_;
     if (out.reason == Reason::None)
       out.reason = limited_ ? Reason::ModulationLimited : Reason::ModulationEngaged;
-    return limited_ ? Status::Limited : Status::Ok;
   }
-  return Status::Ok;
 }
 
 }  // namespace lathectl::control

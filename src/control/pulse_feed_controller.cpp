@@ -83,10 +83,10 @@ void PulseFeedController::reset_alarm() noexcept {
   monitor_.reset();
 }
 
-Status PulseFeedController::update(const Input& in, Output& out) noexcept {
+void PulseFeedController::update(const Input& in, Output& out) noexcept {
   if (!configured_) {
     out = {};
-    return Status::NotConfigured;
+    return;
   }
   const Reason fault = monitor_.check(in.sensor_V, p_.period_s);
   if (fault != Reason::None && !alarm_) {
@@ -107,7 +107,7 @@ Status PulseFeedController::update(const Input& in, Output& out) noexcept {
     out.alarm = true;
     out.alarm_reason = alarm_reason_;
     last_ = out;
-    return Status::Hold;
+    return;
   }
 
   const double measured = (in.sensor_V - p_.sensor_offset_V) / p_.sensor_V_per_N;
@@ -163,7 +163,6 @@ Status PulseFeedController::update(const Input& in, Output& out) noexcept {
   }
   out.reason = reason;
   last_ = out;
-  return reason == Reason::None ? Status::Ok : Status::Limited;
 }
 
 }  // namespace lathectl::control

@@ -131,7 +131,7 @@ void begin_page(std::string& out, std::string_view title) {
 }
 
 // The interactive plots' data (min/max pyramids, base64) in one report: keeps report.html under
-// 10 MB (issue 18) with room for the page, the SVG fallback and uPlot (about 50 kB).
+// 10 MB with room for the page, the SVG fallback and uPlot (about 50 kB).
 constexpr std::size_t kPlotDataBudget = 8'000'000;
 
 // Where the documentation lives: docs/ in the sources, this directory once installed.

@@ -1,4 +1,4 @@
-// The reports' interactive plots (issue 18): which plots get a chart, their data as min/max
+// The reports' interactive plots: which plots get a chart, their data as min/max
 // pyramids (sim/plot_pyramid.hpp) in one JSON block, and the inlined uPlot library and page script
 // (report_plot_script.js), both embedded at build time (cmake/ReportAssets.cmake).
 #include "report_interactive.hpp"

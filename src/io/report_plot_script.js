@@ -1,4 +1,4 @@
-// The reports' interactive plots (issue 18), inlined into report.html after uPlot (lathectl
+// The reports' interactive plots, inlined into report.html after uPlot (lathectl
 // embeds this file at build time). Every time-axis plot of the page gets a uPlot chart; all of
 // them share one x range. Data: per series a min/max pyramid (include/lathectl/sim/plot_pyramid.hpp), of which each
 // redraw takes, for the visible range, the coarsest level that still gives about one point per

@@ -1,5 +1,5 @@
 #pragma once
-// The chatter margin of each piece (issue 15), from system B's lobes code and system E's cutting
+// The chatter margin of each piece, from system B's lobes code and system E's cutting
 // law, when the scenario has a [chatter] section (the tool's modes, the part between centres).
 //
 // Model (regenerative chatter with one delay, Tlusty & Polacek; Altintas, "Manufacturing

@@ -1,6 +1,6 @@
 #pragma once
 // `lathectl optimize PROGRAM.ngc SCENARIO.toml --out DIR [--verify]`: offline feed optimisation
-// of a turning NC program on a system-E scenario's blank (issue 15).
+// of a turning NC program on a system-E scenario's blank.
 //
 //   1. LinuxCNC's own interpreter (rs274) reads the program (interpret): the moves as LinuxCNC
 //      runs them, each with its program line (io::parse_canon).

@@ -46,14 +46,13 @@ void VibrationChain::configure(const Params& p) {
   p_ = p;
   rng_.seed(p.seed);
   highpass_.configure(p.highpass_Hz, p.sample_period_s);
-  hp_y_ = amp_ = peak_ = a_timer_ = a0_ = f_timer_ = omega_d_ = 0.0;
+  amp_ = peak_ = a_timer_ = a0_ = f_timer_ = omega_d_ = 0.0;
   crossings_ = sign_ = 0;
 }
 
 void VibrationChain::update(double x) noexcept {
   x += p_.noise_m * noise_(rng_);
   const double y = highpass_.step(x);
-  hp_y_ = y;
   amp_ = std::abs(y) < p_.dead_zone_m ? 0.0 : y;
 
   peak_ = std::max(peak_, std::abs(amp_));

@@ -205,7 +205,7 @@ grep -q "^error: design gauge: --probe-mass-g" "$work/err.txt" || bad "gauge mas
 expect_rc 2 "design gauge not a number" $bin design gauge --filter-ms fast
 [ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "gauge non-number message is not one line"
 expect_rc 2 "design gauge zero tolerance" $bin design gauge --tolerance-um 0
-# issue 28: hostile numbers end in one line naming the flag, at once (tests/cli/design_hostile.sh
+# Hostile numbers end in one line naming the flag, at once (tests/cli/design_hostile.sh
 # tries every flag of every calculator with 0, -1, nan, inf, 1e300, 1e-300)
 expect_rc 2 "design pulse dt > T" $bin design pulse-regulator --dt-ms 60 --T-ms 50
 grep -q "^error: design pulse-regulator: --dt-ms 60 exceeds the period --T-ms 50" "$work/err.txt" || bad "pulse dt > T: $(cat "$work/err.txt")"
@@ -219,7 +219,7 @@ expect_rc 2 "design planned-mode tool life 1e-300" $bin design planned-mode --ma
 grep -q "^error: design planned-mode: --T-life 1e-300: expected a finite number in \[0.1, 100000\]" "$work/err.txt" || bad "planned-mode T-life: $(cat "$work/err.txt")"
 expect_rc 2 "design planned-mode limit at the smallest feed" $bin design planned-mode --material steel_45 --t 3 --force-limit 1
 grep -q "^error: design planned-mode: even the smallest feed breaks the force limit (--force-limit)" "$work/err.txt" || bad "planned-mode smallest feed: $(cat "$work/err.txt")"
-# Issue 16: a threshold below the probe's bounce floor is refused (and --force computes it);
+# A threshold below the probe's bounce floor is refused (and --force computes it);
 # `check` refuses the same set-up at process.target_um, runs it with gauge.force_threshold.
 expect_rc 2 "design gauge near A0" $bin design gauge --allowance-um 290 --target-um 254
 grep -q "bounce floor.*safe range ends at --target-um" "$work/err.txt" || bad "gauge floor message: $(cat "$work/err.txt")"
@@ -358,7 +358,7 @@ sed 's/^chart_speeds = 60/chart_speeds = 1/' "$part" > "$work/part_chart.toml"
 expect_rc 2 "chart with one speed" $bin lobes "$work/part_chart.toml" --out "$work/never"
 grep -q "key 'lobes.chart_speeds'" "$work/err.txt" || bad "chart speeds message: $(cat "$work/err.txt")"
 [ ! -e "$work/never" ] || bad "a failed lobes run wrote output"
-# issue 28: machine files that ended in "internal error", SIGSEGV, a hang or the OOM killer: each
+# Machine files that ended in "internal error", SIGSEGV, a hang or the OOM killer: each
 # is one line at file:line:col naming its key, exit 2, before anything is computed or written.
 for f in "$src"/fuzz/regressions/lobes/*.toml; do
   expect_rc 2 "lobes regression $(basename "$f")" $bin lobes "$f" --out "$work/never"
@@ -414,7 +414,7 @@ for c in "coarse_a.toml:9:[0-9]*: key 'run.step_s': step_s .* too coarse" \
 done
 # command line: one line, the command and the flag named
 expect_rc 2 "unknown command" $bin frobnicate
-grep -qx "error: unknown command 'frobnicate' (run, check, demo, lobes, report, design, reference, compare, optimize)" "$work/err.txt" || bad "unknown command: $(cat "$work/err.txt")"
+grep -qx "error: unknown command 'frobnicate' (run, check, demo, lobes, report, design, reference, compare, optimize, reasons)" "$work/err.txt" || bad "unknown command: $(cat "$work/err.txt")"
 one_line "unknown command"
 expect_rc 2 "unknown design command" $bin design frob
 grep -qx "error: unknown command 'design frob' (pulse-regulator, adaptive-speed, planned-mode, gauge, tracer)" "$work/err.txt" || bad "unknown design command: $(cat "$work/err.txt")"
@@ -498,7 +498,7 @@ for delay in 0.05 0.1 0.15 0.2 0.25 0.3 0.35 0.4; do
 done
 left=$(ls -A "$work" | grep -E '^set\.(tmp|old)-'; ls -A "$work/set" | grep -E '\.tmp[.-]')
 [ -z "$left" ] || bad "after kill -9: temporaries left: $left"
-# channels.csv streams to disk as the run records (issue 19): a disk-space check before the run
+# channels.csv streams to disk as the run records: a disk-space check before the run
 # replaces the row limit; no room → exit 2 at run.duration_s, nothing written, no stage left
 for f in e_sensor_dropout a_finishing_aim b_twin_offset; do
   rm -rf "$work/full" "$work"/full.*
@@ -556,7 +556,7 @@ printf '{"rows": [\n' > "$work/oplog_syntax.json"
 expect_rc 2 "report with broken JSON" $bin report "$work/oplog_syntax.json"
 grep -q "oplog_syntax.json:2:1: not JSON" "$work/err.txt" || bad "report syntax message: $(cat "$work/err.txt")"
 
-# hostile inputs and outputs (issue 28): one line, exit 2, never "internal error", nothing replaced
+# hostile inputs and outputs: one line, exit 2, never "internal error", nothing replaced
 for dev in /dev/zero /dev/urandom; do
   expect_rc 2 "run $dev" timeout 20 $bin run "$dev" --out "$work/never"
   grep -qx "error: $dev: is a character device, expected a scenario file (.toml)" "$work/err.txt" || bad "run $dev: $(cat "$work/err.txt")"

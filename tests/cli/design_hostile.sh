@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 28: every `lathectl design` calculator, every number flag set to a hostile value (0, −1,
+# Every `lathectl design` calculator, every number flag set to a hostile value (0, −1,
 # nan, inf, 1e300, 1e-300) over a working set of the others: exit 0 with finite results, or exit 2
 # with one line that names a flag — never exit 1 ("internal error"), a hang (20 s), inf or nan.
 # Usage: design_hostile.sh LATHECTL WORK_DIR

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# lathectl optimize's bad inputs (issue 15): a program LinuxCNC's interpreter rejects, a program
+# lathectl optimize's bad inputs: a program LinuxCNC's interpreter rejects, a program
 # whose tool never touches the blank, a scenario of another system — each exits 2 with one line
 # on stderr naming the file, and leaves no output directory; and it leaves the user's
 # $HOME/.tool.mmap alone. Skips (77) without LinuxCNC's rs274.

@@ -87,7 +87,7 @@ TEST(AdaptiveInput, PowerSensorDrivesTheSpeedLawsPowerLimit) {
   for (int k = 0; k < 2000; ++k) {  // 4 s: the speed ramp (100 m/min/s) has long settled
     auto s = signals(3000.0 + 10.0 * std::sin(0.7 * k), 5000.0);
     s.feed_rate_mm_per_min = 0.3 * s.rpm;  // the measured feed is S_p: V_opt = V_p
-    (void)c.update(adaptive_input(ForceParameter::Power, s), out);
+    c.update(adaptive_input(ForceParameter::Power, s), out);
   }
   EXPECT_NEAR(out.speed_m_per_min, 96.0, 0.5);
   EXPECT_NEAR(out.rpm, 955.0 * 96.0 / 120.0, 4.0);

@@ -68,7 +68,7 @@ TEST(NoAlloc, PulseFeedControllerUpdateNeverAllocates) {
         double u = 1.0 + 0.5 * std::sin(k * 0.01);
         if (k > 15000 && k < 15010) u = std::nan("");  // fault path
         PulseFeedController::Input in{u};
-        (void)c.update(in, out);
+        c.update(in, out);
         if (k == 16000) c.reset_alarm();
       }
       EXPECT_EQ(g_allocations.load() - before, 0) << "update() allocated";
@@ -112,7 +112,7 @@ TEST(NoAlloc, OperationControlNeverAllocates) {
     in.force = load;
     in.rpm = rpm;
     in.feed_block = cut;
-    (void)c.update(in, out);
+    c.update(in, out);
   }
   EXPECT_EQ(g_allocations.load() - before, 0) << "allocated";
   EXPECT_GT(refs, 0);
@@ -164,7 +164,7 @@ TEST(NoAlloc, AdaptiveFeedControllerUpdateNeverAllocates) {
           in.idle_power_W = 500.0;
           in.spindle_power_W = 500.0 + in.force * in.speed_m_per_min / 60.0;
           if (k >= 12000 && k < 12005) in.force = std::nan("");  // fault path
-          (void)c.update(
+          c.update(
               lathectl::control::adaptive_input(lathectl::cutting::ForceParameter::Pz, in), out);
           feed = out.feed_per_rev_mm;
           alarms += out.alarm ? 1 : 0;
@@ -326,7 +326,7 @@ TEST(NoAlloc, ModulatedFeedControllerAndVibrationChainNeverAllocate) {
     in.programmed = {50.0, 10.0, 0.05, 4};
     in.path_mm[0] += 100.0 / 60.0 * 1e-3;
     in.path_mm[1] += 100.0 / 60.0 * 1e-3;
-    (void)m.update(in, out);
+    m.update(in, out);
     engaged += out.engaged;
   }
   EXPECT_EQ(g_allocations.load() - before, 0) << "update() allocated";

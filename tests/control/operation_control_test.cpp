@@ -168,10 +168,10 @@ TEST(AdaptiveFeedController, SetOperationChangesLimitsOnlyWhenValid) {
   in.speed_m_per_min = 150.0;
   in.feed_block = true;
   in.force = 1500.0;
-  for (int k = 0; k < 500; ++k) (void)c.update(in, out);
+  for (int k = 0; k < 500; ++k) c.update(in, out);
   EXPECT_EQ(out.feed_per_rev_mm, 0.05);
   ASSERT_TRUE(c.set_operation(1600.0, 0.05, 0.6, true));
-  for (int k = 0; k < 500; ++k) (void)c.update(in, out);
+  for (int k = 0; k < 500; ++k) c.update(in, out);
   EXPECT_GT(out.feed_per_rev_mm, 0.1);
 }
 

@@ -186,7 +186,7 @@ TEST(DesignVibroGauge, FormulasNeedNoStep) {
   EXPECT_NEAR(r.signal_gain_V_per_m / c.K, 1.0, 1e-12);
 }
 
-// The safe range from the full model (issue 16): the bounce floor, and the near-A0 target refused.
+// The safe range from the full model: the bounce floor, and the near-A0 target refused.
 TEST(DesignVibroGauge, SafeRangeFromTheFullModel) {
   GaugeInput in;
   in.force_coefficient_N_per_Wb2 = 2.11e8;  // the d_gauging transducer (A0 = 298.7 µm)

@@ -164,7 +164,7 @@ TEST(SdChart, HigherOrderInterpolationConvergesFaster) {
   EXPECT_LT(e[5], 0.002);
 }
 
-// Issue 19: a slow spindle and a high mode (examples/machines/b_slow_high_freq.toml: 650 Hz at
+// A slow spindle and a high mode (examples/machines/b_slow_high_freq.toml: 650 Hz at
 // 500–4000 rpm, 10 to 78 vibrations per revolution, m up to 546 steps per delay), whose chart by
 // the dense eigenvalue solve took 7.5 min; its cost now goes to the benchmark
 // (BM_Lobes_SdChartMachine). Here its accuracy: the chart's boundary within 0.5 % of the exact
@@ -227,7 +227,7 @@ TEST(SdChart, BadGridIsRejected) {
   EXPECT_THROW(sd_stability_chart(sdof(), 1000, 2000, 10, 0.01, 10, o), std::invalid_argument);
 }
 
-// Issue 28: with depths near the denormals (a stiffness of 1e-300 N/m) the bisections' midpoint
+// With depths near the denormals (a stiffness of 1e-300 N/m) the bisections' midpoint
 // stops moving; they end anyway (they hung), and a top of inf is refused, not bisected.
 TEST(SdBisection, EndsAtDenormalDepths) {
   ChatterSystem s;

@@ -1,4 +1,4 @@
-// dynamics::TwinTurretCut's two options of issue 17 against closed forms:
+// dynamics::TwinTurretCut's two options beyond the seed against closed forms:
 //   - depth division, inter-tool delay from the axial positions: with constant feeds the band of
 //     tool 1's passes that bounds tool 2's chip averages to a delay of exactly lag/s revolutions
 //     (the mean of ⌊x⌋ over a unit interval [a, a+1] is a); the frozen model reads round(lag/s)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Every example's numbers are what they were before the redesign (issue 12).
+"""Every example's numbers are what they were before the redesign of the settings (one reader per system).
 
 tests/golden/summaries/<example>.json is each example's summary.json and tests/golden/lobes/<m>.json
 each machine file's lobes.json, as main produced them before the layout changed (commit ca4acb7).
@@ -18,8 +18,8 @@ import sys
 from pathlib import Path
 
 ADDITIVE = ("claims", "verdict")  # objects below these may gain keys
-# New top-level keys: every key the run used (issue 12); the acceptance criteria and the claims
-# under their new name, model checks (issue 28).
+# New top-level keys: every key the run used; the acceptance criteria and the claims
+# under their new name, model checks.
 NEW_TOP = ("settings", "acceptance", "model_checks")
 
 

@@ -4,7 +4,7 @@ roughing, G71.2, G70 finishing with cutter compensation) on examples/linuxcnc/pa
 (eccentric, locally hardened bar; the program never starts the spindle, so --spindle-rpm).
 About two minutes of real time. While it runs, the servo thread is made late now and then (its
 process stopped for 40 ms every 5 s, as a loaded machine's scheduler would: LinuxCNC then runs the
-periods it missed back to back), so a late period reading as a broken tool (issue 28) fails here.
+periods it missed back to back), so a late period reading as a broken tool fails here.
 Asserts that the program runs to its end without errors or alarms, that the recording is complete, that the controller acted (adaptive feed well below 1
 where the bar is hard and deep) and that in the feed moves the force stayed within 10 % of its
 limit for at least 95 % of the time in cut.

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""`lathectl optimize --verify` end to end in LinuxCNC's simulated lathe (issue 15): a short
+"""`lathectl optimize --verify` end to end in LinuxCNC's simulated lathe: a short
 program of our own on examples/linuxcnc/step_allowance.toml's bar (tests/hal/optimize_short.ngc:
 one pass at one cautious feed into the 44 mm collar, where the depth grows from 1.5 to 3.5 mm,
 then a G2 arc out of it) optimised, then the original and the optimised program run four times

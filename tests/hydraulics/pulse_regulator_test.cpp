@@ -280,7 +280,7 @@ TEST(Obliteration, PulsedRegulatorKeepsItsFlow) {
 }
 
 TEST(Obliteration, PartialSweepsSettleAtTheClosedFormBalance) {
-  // Issue 17: a closing stroke removes only the share η of the layer, and the layer grows while
+  // A closing stroke removes only the share η of the layer, and the layer grows while
   // oil flows through the open slot. Instantaneous switching, pulse Δt = 10 ms every T = 50 ms:
   // each pulse the layer grows by (δ_max − δ)·g, g = 1 − e^(−Δt/τ), and the stroke at its end
   // removes η of it (the flow of the step sees the layer after that pulse's growth). The layer

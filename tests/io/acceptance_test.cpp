@@ -1,4 +1,4 @@
-// The verdict in the user's terms (issue 28, item 8): a scenario's [acceptance] criteria (or its
+// The verdict in the user's terms: a scenario's [acceptance] criteria (or its
 // system's defaults) decide ✔/✘ and --strict; the seeds' claims are model checks reported beside
 // them. Before, a gauge with Cpk 1.95 got ✘ for a mean 0.0076 µm off target (1.4 standard errors
 // of 1e5 parts), and a tracer without stick-slip got ✘ on the stick-slip claim.

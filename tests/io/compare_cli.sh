@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `lathectl compare` on two runs of one example that differ in one parameter (issue 18):
+# `lathectl compare` on two runs of one example that differ in one parameter:
 #
 #   tests/io/compare_cli.sh LATHECTL EXAMPLE.toml WORKDIR
 #

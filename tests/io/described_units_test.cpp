@@ -1,5 +1,5 @@
 // The reference and the run reports show each key's unit and default as its one description
-// gives them (issue 28, item 7), so they cannot drift: every key of every system is rendered from
+// gives them, so they cannot drift: every key of every system is rendered from
 // its description (describe_section) and compared with
 //   - docs/scenario-reference.md, the committed output of `lathectl reference` (the test
 //     docs_generated keeps the two equal), and
@@ -184,7 +184,7 @@ TEST(DescribedUnits, DefaultsThatFollowRequiredKeysAreDescribedAsDerived) {
   }
 }
 
-// The units the house names carry (issue 28: a minimum is not minutes).
+// The units the house names carry (a minimum is not minutes).
 TEST(DescribedUnits, NoKeyShowsMinutesForAMinimum) {
   for (const auto& s : systems::all())
     for (const auto& r : describe_section(*s.section, library())) {

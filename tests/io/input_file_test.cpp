@@ -1,4 +1,4 @@
-// The bounded input reader and the guarded single-file output (issue 28): what a user may give
+// The bounded input reader and the guarded single-file output: what a user may give
 // where a file is expected, and where a report may go.
 #include <sys/stat.h>
 #include <unistd.h>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The interactive plots of a report in headless Chromium (issue 18), through the page's own API:
+# The interactive plots of a report in headless Chromium, through the page's own API:
 #
 #   tests/io/interactive_in_browser.sh REPORT.html OUTDIR
 #

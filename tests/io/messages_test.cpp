@@ -1,4 +1,4 @@
-// Messages that name the user's mistake, not its symptom (issue 28, item 6): an unknown table or
+// Messages that name the user's mistake, not its symptom: an unknown table or
 // key is reported at its own line with the known name nearest to it, in preference to the
 // "missing" error it causes; a known quantity written in another unit is recognised and the
 // converted value given; values inside the valid range but outside what a shop would mean are

@@ -1,4 +1,4 @@
-// The interactive plots' data (issue 18): the min/max pyramid, its base64, the report's data
+// The interactive plots' data: the min/max pyramid, its base64, the report's data
 // block and size budget, and channels.csv read back for `lathectl compare`.
 #include "lathectl/io/base64.hpp"
 #include "lathectl/sim/plot_pyramid.hpp"

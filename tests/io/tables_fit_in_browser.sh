@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Tables fit the page (issue 18): each report given is loaded in headless Chromium in frames 1024
+# Tables fit the page: each report given is loaded in headless Chromium in frames 1024
 # and 1400 px wide; the page must not scroll sideways and no table may run past its card (a table
 # may scroll inside its card; those are listed).
 #

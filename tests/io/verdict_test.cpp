@@ -55,7 +55,7 @@ TEST(Verdict, ReadsClaimsAlarmsAndUnfinishedPartsFromTheSummary) {
   ASSERT_EQ(v.unmet.size(), 1u);
   EXPECT_EQ(v.unmet[0].index, 1u);
   EXPECT_FALSE(v.ok());
-  // The claims are model checks: reported after the verdict, never deciding it (issue 28).
+  // The claims are model checks: reported after the verdict, never deciding it.
   EXPECT_EQ(v.line(),
             "✘ alarm sensor_stuck (code 7) at 0.1 s · part not finished (seed 004) · "
             "model checks: 1 of 2 met (not met: run X: second one)");

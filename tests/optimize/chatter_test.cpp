@@ -1,4 +1,4 @@
-// lathectl optimize's chatter margin (issue 15; src/optimize/chatter.hpp): the limit stiffness
+// lathectl optimize's chatter margin (src/optimize/chatter.hpp): the limit stiffness
 // from B's lobes against the single-mode closed form, the cutting stiffness against E's law, the
 // limit depth rising with the feed, and the rewrite on a scenario with modes (needs rs274).
 #include "optimize/chatter.hpp"

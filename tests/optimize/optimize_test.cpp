@@ -1,4 +1,4 @@
-// lathectl optimize (issue 15): the canonical-command reader, the program text edits, the
+// lathectl optimize: the canonical-command reader, the program text edits, the
 // prediction against the cutting model's closed form, the planner's acceleration against the
 // trapezoid's, the feed solver against its inverse, and the rewrite of a real program within the
 // limits (that part needs LinuxCNC's rs274).

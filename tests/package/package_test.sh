@@ -77,7 +77,7 @@ if [ $hal -eq 1 ]; then
   for f in ./usr/lib/linuxcnc/modules/lathectl_adaptive.so ./usr/lib/linuxcnc/modules/lathectl_plant.so \
            ./usr/lib/linuxcnc/modules/lathectl_modfeed.so ./usr/lib/linuxcnc/modules/lathectl_chatter.so \
            ./usr/share/man/man9/lathectl_adaptive.9.gz ./usr/bin/lathectl-linuxcnc-sim \
-           ./usr/share/lathectl/scripts/linuxcnc_sim_display.py \
+           ./usr/share/lathectl/scripts/linuxcnc_sim_display.py ./usr/share/lathectl/hal/reasons.json \
            ./usr/share/doc/linuxcnc/examples/sample-configs/sim/lathectl/lathectl-lathe.ini \
            ./usr/share/doc/lathectl-linuxcnc/copyright; do
     grep -q " $f\$" "$work/lathectl-linuxcnc.contents" || fail "lathectl-linuxcnc: $f missing"

@@ -199,7 +199,7 @@ TEST(VibroContactGauge, ConfigureRejectsBadInput) {
   EXPECT_THROW(g.configure(p, kDt), std::invalid_argument);
 }
 
-// (6) and (9)-(11) (issue 16): gaps far larger than the excursion give back the linear model,
+// (6) and (9)-(11): gaps far larger than the excursion give back the linear model,
 // the permanent magnet's pull at rest shifts the probe by F_M0/k, and a real gap changes A0.
 TEST(VibroContactGauge, GapModelsReduceToTheLinearOneForLargeGaps) {
   VibroContactGauge::Params p;
@@ -224,7 +224,7 @@ TEST(VibroContactGauge, GapModelsReduceToTheLinearOneForLargeGaps) {
   EXPECT_THROW(make(q), std::invalid_argument);
 }
 
-// The filters (issue 16): the same mean, the 2ω ripple (here without contact: a pure rectified
+// The filters: the same mean, the 2ω ripple (here without contact: a pure rectified
 // sinusoid, ripple at 4ω) far lower for two lags, nulled by the synchronous mean.
 TEST(VibroContactGauge, FiltersKeepTheMeanAndCutTheRipple) {
   using F = VibroContactGauge::Params::Filter;
@@ -255,7 +255,7 @@ TEST(VibroContactGauge, NoiseFactorsOfTheFilters) {
   EXPECT_NEAR(VibroContactGauge::filter_noise_factor(p, 5.0), 2.0 * std::exp(-1.0), 1e-12);
 }
 
-// The Poincaré spread tells the seed's period-doubling probe from a regular one (issue 16).
+// The Poincaré spread tells the seed's period-doubling probe from a regular one.
 TEST(VibroContactGauge, PoincareSpreadShowsPeriodDoubling) {
   VibroContactGauge::Params p;
   p.force_coefficient_N_per_Wb2 = 2.11e8;

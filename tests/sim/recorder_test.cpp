@@ -1,4 +1,4 @@
-// sim::Recorder streamed (issue 19): rows go to the sinks as they come and into a bounded
+// sim::Recorder streamed: rows go to the sinks as they come and into a bounded
 // min/max pyramid per channel; the row-by-row forms of the whole-record metrics give the
 // same numbers bit for bit.
 

@@ -206,7 +206,7 @@ void seed004_fixed_comparison_is_worst_case() {
 }
 
 void seed004_cost_per_part_and_equal_tool_budget() {
-  // Issue 17: cost = cycle/3600·rate + edge used·(edge cost + change_min/60·rate), with the
+  // Cost = cycle/3600·rate + edge used·(edge cost + change_min/60·rate), with the
   // scenario's [cost] (60/h, 3 per edge, 1 min to change).
   const auto& r = result("e_stepped_seed004");
   for (Mode mode : {Mode::ForceFeedSpeed, Mode::ForceFeed, Mode::Fixed}) {
@@ -265,8 +265,8 @@ TEST(RigE, SteppedSeed004DepthKeepsToolLifeAtPlan) {
   const auto& r = result("e_stepped_seed004_depth");
   const auto& m = r.out.summary["metrics"];
   EXPECT_TRUE(m["finished"].get<bool>());
-  // The law holds the tool life it can see: the handbook law at the nominal hardness (issue 17:
-  // the part's hardness, 1.0–1.3 along it, then multiplies the use by ∫h^(nv/m)-weighted time,
+  // The law holds the tool life it can see: the handbook law at the nominal hardness (the
+  // part's hardness, 1.0–1.3 along it, then multiplies the use by ∫h^(nv/m)-weighted time,
   // which no force-only law can tell from depth; tool_life_used_to_plan carries it).
   const double ratio = get(m, "tool_life_used_nominal_hardness_to_plan");
   EXPECT_GE(ratio, 0.85);
@@ -399,7 +399,8 @@ EdRun run_text(const std::string& text, const std::string& label, bool channels 
 
 TEST(RigE, FrozenReadingAboveTheLimitNeverRaisesTheFeed) {
   // At 40 s into e_sensor_dropout the one-exponent speed law (y_v = 0.35 for every feed, the
-  // default before issue 17) has the force above its limit: the overload this test freezes.
+  // default before y_v came from the handbook's feed ranges) has the force above its limit: the
+  // overload this test freezes.
   const auto r = run_text(replaced(replaced(text_of("e_sensor_dropout"), "kind = \"nan\"",
                                             "kind = \"stuck\""),
                                    "planned_depth_mm = 3.0", "planned_depth_mm = 3.0\ny_v = 0.35"),

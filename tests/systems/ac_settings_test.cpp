@@ -66,7 +66,8 @@ TEST(SystemASettings, EveryKeyIsDescribed) {
 
 TEST(SystemASettings, EccentricDefaultsAreTheSameWithoutTheTable) {
   // One default per key: no [eccentric] now means what an [eccentric] without keys means (before
-  // issue 12 the motor's limit was 300 rad/s without the table and 3000 rpm with it).
+  // one default per key the motor's limit was 300 rad/s without the table and 3000 rpm with
+  // it).
   const std::string text = example("a_finishing_aim");
   const std::string without = edited(
       text,
@@ -117,8 +118,8 @@ TEST(SystemCSettings, EveryKeyIsDescribed) {
 }
 
 TEST(SystemCSettings, FrictionDefaultsAreTheSameWithoutTheTable) {
-  // Before issue 12 no [friction] meant 200 N Coulomb and static, 2000 N·s/m viscous, and an
-  // empty [friction] zeros: now both are the reader's zeros.
+  // Before one default per key, no [friction] meant 200 N Coulomb and static, 2000 N·s/m
+  // viscous, and an empty [friction] zeros: now both are the reader's zeros.
   const std::string text = example("c_dead_zone");
   const auto pos = text.find("[friction]");
   ASSERT_NE(pos, std::string::npos);

@@ -1,4 +1,4 @@
-// System B's section reader (src/systems/b_chatter/settings.cpp): the keys of issue 17 — the
+// System B's section reader (src/systems/b_chatter/settings.cpp): the keys beyond the seed — the
 // reading of the seed formula's 1.41, the inter-tool delay of depth division and the process
 // damping — with their defaults, what each choice sets, and a bad value refused.
 

@@ -1,4 +1,4 @@
-// System B streamed (issue 19): the rig records no columns; channels.csv is written as the rows
+// System B streamed: the rig records no columns; channels.csv is written as the rows
 // come and the study's measures are taken row by row, the steady window's rows kept on disk
 // (io::RowSpill) until the cut's end places the window. Both give what the columns record gives,
 // bit for bit (the numbers themselves are held to the runs before streaming by golden_summaries).

@@ -1,4 +1,4 @@
-// Systems C and D streamed (issue 19): the paths the golden summaries do not take give the same
+// Systems C and D streamed: the paths the golden summaries do not take give the same
 // numbers. C's cone waviness from a second run of the rig (when a cone's window has more rows
 // than TracerMetrics keeps) equals the one from the kept rows; D's linearised parts machined again
 // block by block (beyond LinearParts' budget) equal the parts machined at once. The path the

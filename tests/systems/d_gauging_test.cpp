@@ -1,4 +1,4 @@
-// System D's safety and accuracy (issue 16): the check refuses a threshold outside the signal
+// System D's safety and accuracy: the check refuses a threshold outside the signal
 // range the full model reaches, force_threshold lets it through, the backstop ends any cut the
 // relay does not, the filtered linearised Monte Carlo against the extended (25), and the dynamic
 // calibration on the full model.
@@ -78,7 +78,7 @@ TEST(SystemDSafety, ExamplesThresholdsLieInTheSafeRange) {
     const auto& d = sc.get<systems::d_gauging::Settings>();
     const auto plan = systems::d_gauging::plan_threshold(d, sc.run.step_s);
     EXPECT_TRUE(plan.safe()) << name;
-    // The floor at the start of the cut is about 1-2 V (issue 16), not (20)'s K·(A0 − x).
+    // The floor at the start of the cut is about 1-2 V, not (20)'s K·(A0 − x).
     EXPECT_GT(plan.range.floor_V, 0.9) << name;
     EXPECT_LT(plan.range.floor_V, 2.0) << name;
     EXPECT_GT(plan.largest_target_m, d.process.target_m) << name;

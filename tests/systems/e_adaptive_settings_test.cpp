@@ -102,8 +102,8 @@ TEST(ESettings, PowerSensorReadsItsKeysInWatts) {
   EXPECT_THROW(io::parse_scenario(text, "power.toml", library(), kReadSection), io::InputError);
 }
 
-// A key added to the reader in one line (issue 12's measure of the redesign): the controller
-// averages the force over a revolution unless the scenario says otherwise.
+// A key added to the reader in one line (what the one-description-per-key reader is for): the
+// controller averages the force over a revolution unless the scenario says otherwise.
 TEST(ESettings, AveragePerRevolutionIsAScenarioKey) {
   EXPECT_TRUE(io::parse_scenario(kMinimal, "m.toml", library(), kReadSection)
                   .get<Settings>()

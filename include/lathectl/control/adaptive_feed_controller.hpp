@@ -70,7 +70,7 @@ class AdaptiveFeedController {
     double speed_programmed_m_per_min = 150.0;  // V_p, setter 18 (fixed and prior art: V)
     double feed_planned_mm_per_rev = 0.4;       // S_p, setter 15
     double y_v = 0.35;                          // exponent of feed in the tool-life formula
-    // y_v from the handbook's feed ranges (issue 17): the same table as the tool-life law,
+    // y_v from the handbook's feed ranges: the same table as the tool-life law,
     // {s_max, Cv, y_v} per range. Given (y_v_ranges > 0), the speed law is the seed's with y_v
     // (and Cv) of the range that contains each feed — equal tool life at equal depth:
     //   V_opt = V_p · [Cv(S)/S^{y_v(S)}] / [Cv(S_p)/S_p^{y_v(S_p)}]
@@ -148,10 +148,11 @@ class AdaptiveFeedController {
   };
 
   void configure(const Params& p);  // throws std::invalid_argument
-  // One control period. Never allocates, throws, locks or logs. Before configure(): feed hold,
-  // Status::NotConfigured.
-  [[nodiscard]] Status update(const Input& in, Output& out) noexcept;
+  // One control period. Never allocates, throws, locks or logs. Before configure(): feed hold.
+  // Everything it decides is in the Output: the feed, the speed, the reason and the alarm.
+  void update(const Input& in, Output& out) noexcept;
   void reset_alarm() noexcept;
+  [[nodiscard]] bool configured() const noexcept { return configured_; }
   // Per-operation settings (an NC block, a tool change: lathectl_adaptive) without re-allocating:
   // the limit, the feed bounds (the configured programmed and entry feeds are clamped into them)
   // and adaptive on/off (off: the configured mode's Fixed baseline). Returns false and changes
@@ -170,7 +171,6 @@ class AdaptiveFeedController {
   RateLimiter feed_ramp_;
   RateLimiter speed_ramp_;
   ContactDetector contact_;
-  bool was_block_ = false;
   double over_s_ = 0.0;
   double high_since_s_ = 1e9;  // time since the force was last above half the limit
   bool alarm_ = false;

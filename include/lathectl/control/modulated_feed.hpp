@@ -14,12 +14,9 @@
 // the amplifier's dead zone), the part mass m_d and the cutting power N_c, it forms
 // (S_min, ΔS, Δl, n_s) for the turret the NC block flags, by the quenching condition
 //   A_P ≥ c·a0·m_d·|ω_d² − ω_m²|,   c = 1.41 by default (a parameter)
-// (our reading of the garbled seed formula: a forced vibration of amplitude
-// B = A_P/(m_d·|ω_d² − ω_m²|) ≥ c·a0 quenches the self-excited one; van der Pol averaging gives
-// c = 1/√2). The OCR admits c = 1.41 ("multiply", the default, a 2× margin over averaging) and
-// c = 1/1.41 ("divide", exactly the averaging threshold; the OCR's reversed word order puts 1,41
-// in the denominator): the scenario key [modulation] coefficient_reading chooses, and system B's
-// report gives the condition under both readings (docs/system-b-chatter.md, issue 17).
+// (a forced vibration of amplitude B = A_P/(m_d·|ω_d² − ω_m²|) ≥ c·a0 quenches the self-excited
+// one). The scenario key [modulation] coefficient_reading chooses c = 1.41 or c = 1/1.41, the
+// two readings of the seed's formula that docs/system-b-chatter.md gives with their grounds.
 // A_P, the amplitude of the force variation the
 // modulation causes, follows from the force estimated from N_c: F_c = N_c/V, the force along the
 // vibration F = r·F_c (r = radial_force_ratio), and F ∝ S^e (e = force_feed_exponent, 1 − m of
@@ -27,15 +24,13 @@
 // The levels are chosen so that the time-mean feed equals the programmed S_p (productivity kept):
 // S_min is found by bisection for the given span. The staircase sums Σ_j 1/(S_min + k_j·ΔS) are
 // taken term by term up to n_s = 32 and in closed form above (digamma ψ and trigamma ψ₁), so the
-// re-plan costs the same at n_s = 1000 as at 32 (bench: ModulatedFeedController_Plan; measured on
-// 2 shared 2.3 GHz cores, issue 19: 9 µs at n_s = 5, the worst 39 µs at n_s = 32, the last direct
-// sum, 24 µs from 33 to 1000). Inside update() (the simulation, and a HAL component without a
-// planner thread) that is its worst case, once per replan_period_s; with a ModulationPlanner
-// (lathectl_modfeed's `plan` function in a slower thread) update() only posts the request and
-// takes the finished plan (bench: ModulatedFeedController_UpdateDeferred, well under 1 µs). ω_m = 2π·S_p/(2·n_s·Δl) (path per cycle at the
-// programmed feed) is set to modulation_frequency_Hz, kept below the feed drives' bandwidth and
-// away from ω_d/3, ω_d/2, ω_d, 2ω_d, 3ω_d (entrainment instead of quenching; see
-// dynamics/van_der_pol.hpp).
+// re-plan costs the same at n_s = 1000 as at 32 (its cost: docs/linuxcnc.md). Inside update()
+// (the simulation, and a HAL component without a planner thread) that is its worst case, once
+// per replan_period_s; with a ModulationPlanner (lathectl_modfeed's `plan` function in a slower
+// thread) update() only posts the request and takes the finished plan. ω_m = 2π·S_p/(2·n_s·Δl)
+// (path per cycle at the programmed feed) is set to modulation_frequency_Hz, kept below the feed
+// drives' bandwidth and away from ω_d/3, ω_d/2, ω_d, 2ω_d, 3ω_d (entrainment instead of
+// quenching; see dynamics/van_der_pol.hpp).
 //
 // Beyond the seed — desynchronising the turrets (found in rig B; see docs/system-b-chatter.md,
 // findings): in feed division both tools share the feed, each cutting s/2 of the surface the other
@@ -183,7 +178,8 @@ class ModulatedFeedController {
   };
 
   void configure(const Params& p);  // throws std::invalid_argument
-  [[nodiscard]] Status update(const Input& in, Output& out) noexcept;
+  // One control period: out says what to apply and why. Before configure(): an empty Output.
+  void update(const Input& in, Output& out) noexcept;
   // Re-plan through `planner` (not owned; nullptr: inside update()). Set before the first update.
   void use_planner(ModulationPlanner* planner) noexcept { planner_ = planner; }
   // How the plans came since configure(): made inside update(), or taken from the planner (the

@@ -93,9 +93,9 @@ class PulseFeedController {
   };
 
   void configure(const Params& p);  // throws std::invalid_argument
-  // One control period. Never allocates, throws, locks or logs. Before configure() it returns
-  // Status::NotConfigured with the valve shut (slot 0, frequency 0).
-  [[nodiscard]] Status update(const Input& in, Output& out) noexcept;
+  // One control period: out says what to apply and why (reason, alarm). Never allocates, throws,
+  // locks or logs. Before configure() the valve stays shut (slot 0, frequency 0, feed 0).
+  void update(const Input& in, Output& out) noexcept;
   // Bumpless start from a known force (e.g. the first sensor sample).
   void start(double force_N) noexcept;
   void reset_alarm() noexcept;

@@ -1,5 +1,5 @@
 #pragma once
-// Status and reason codes shared by every controller in control/.
+// The reason codes shared by every controller in control/.
 //
 // Every decision that limits, holds or alarms sets a Reason in the controller's Output, so a log
 // (the recorder, a HAL pin) can say why the output is what it is.
@@ -9,95 +9,127 @@
 
 namespace lathectl::control {
 
-// Result of one update() call. Ruckig-style: small, [[nodiscard]], no exceptions.
-enum class Status : std::uint8_t {
-  Ok = 0,       // output follows the control law
-  Limited = 1,  // output clamped by a limit or a rate limit
-  Hold = 2,     // output frozen or feed stopped (fault or alarm)
-  NotConfigured = 3,
-};
-
 // Why the output is what it is. Values are stable: they are written to channels.csv and HAL pins.
+// What each means, and whether it is an alarm: kReasons below.
 enum class Reason : std::uint16_t {
   None = 0,
-  OutputHigh = 1,          // regulator output at its upper limit (e.g. programmed feed)
-  OutputLow = 2,           // regulator output at its lower limit
-  RateLimited = 3,         // output slew limited (motor speed, converter ramp)
-  SensorNotFinite = 10,    // sensor sample NaN or infinite
-  SensorOutOfRange = 11,   // sensor sample outside its valid range
-  SensorStuck = 12,        // sensor sample unchanged for longer than allowed
-  SensorSuspect = 13,      // sensor sample unchanged for a few samples: output held, not raised
-  Overload = 20,           // force above limit too long with feed already at minimum
-  ToolBreakage = 21,       // sudden force drop or spike
-  ToolDataChanged = 22,    // the tool's number, offsets or table row changed inside a feed move
-  AirCut = 30,             // tool not in the cut: air feed
-  Engaged = 31,            // tool entered the cut: feed dropped to the programmed value, PI preset
-  NotInFeedBlock = 32,     // rapid / non-cutting block: adaptive control inactive
-  SpindleSpeedLimit = 40,  // speed command clamped to the spindle's range
-  SpindlePowerLimit = 41,  // speed command reduced to respect the spindle's power
-  ModulationEngaged = 50,     // vibration above the dead zone: modulated feed formed and running
-  ModulationReleased = 51,    // modulation stopped (below the dead zone, or the block ended)
-  ModulationLimited = 52,     // the quenching condition needs more span than the limits allow
-  ModulationProgrammed = 53,  // the NC block's own (S_min, ΔS, Δl, n_s) are running
-  ModulationNoForce = 54,     // vibration seen but no cutting power/speed to size A_P: no plan
-  GaugeBackstop = 60,  // the gauge's relay did not end the cut: the backstop position did (system D)
+  OutputHigh = 1,
+  OutputLow = 2,
+  RateLimited = 3,
+  SensorNotFinite = 10,
+  SensorOutOfRange = 11,
+  SensorStuck = 12,
+  SensorSuspect = 13,
+  Overload = 20,
+  ToolBreakage = 21,
+  ToolDataChanged = 22,
+  AirCut = 30,
+  Engaged = 31,
+  NotInFeedBlock = 32,
+  SpindleSpeedLimit = 40,
+  SpindlePowerLimit = 41,
+  ModulationEngaged = 50,
+  ModulationReleased = 51,
+  ModulationLimited = 52,
+  ModulationProgrammed = 53,
+  ModulationNoForce = 54,
+  GaugeBackstop = 60,
 };
 
+// The one reason table: what each code means to an operator who reads it on a pin or in a log,
+// whether it latches an alarm, and which systems' controllers set it. reason_name(), is_alarm()
+// and the operation log's bits (reason_bit) are read from it; `lathectl reasons` prints it and
+// hal/reasons.json publishes it to the Python side (lathectl_oplog.py, the headless display).
+struct ReasonInfo {
+  Reason code;
+  std::string_view name;     // as written to channels.csv, operations.csv and reports
+  bool alarm;                // latches an alarm: the feed is held until the alarm is reset
+  std::string_view systems;  // the systems whose machine side sets it ("A E")
+  std::string_view meaning;  // one sentence for an operator
+};
+
+inline constexpr ReasonInfo kReasons[] = {
+    {Reason::None, "none", false, "A B D E",
+     "The output follows the control law: nothing limits or holds it."},
+    {Reason::OutputHigh, "output_high", false, "A E",
+     "The regulator's output is at its upper limit (the programmed feed, the largest slot): the "
+     "force is below its set value and cannot be raised further."},
+    {Reason::OutputLow, "output_low", false, "A E",
+     "The regulator's output is at its lower limit (the minimum feed or slot): the force stays "
+     "above its set value."},
+    {Reason::RateLimited, "rate_limited", false, "A E",
+     "The output is changing as fast as it may (feed ramp, converter ramp) and has not reached "
+     "its target yet."},
+    {Reason::SensorNotFinite, "sensor_not_finite", true, "A E",
+     "The force or power sensor reads NaN or infinity (a broken wire, a failed conversion): the "
+     "feed is held until the alarm is reset."},
+    {Reason::SensorOutOfRange, "sensor_out_of_range", true, "A E",
+     "The sensor reads outside its valid range: the feed is held until the alarm is reset."},
+    {Reason::SensorStuck, "sensor_stuck", true, "A E",
+     "The sensor's reading has not changed in a cut for longer than allowed: the feed is held "
+     "until the alarm is reset."},
+    {Reason::SensorSuspect, "sensor_suspect", false, "A E",
+     "The sensor's reading has not changed for a few samples: the feed may fall but not rise "
+     "until the reading moves again."},
+    {Reason::Overload, "overload", true, "E",
+     "The force stayed above its limit too long although the feed was already at its minimum: "
+     "the feed is held."},
+    {Reason::ToolBreakage, "tool_breakage", true, "E",
+     "The force jumped or collapsed within a few milliseconds in a cut, as when the tool "
+     "breaks: the feed is held."},
+    {Reason::ToolDataChanged, "tool_data_changed", true, "E",
+     "The tool's number, offsets or table row changed inside a feed move: the feed is held."},
+    {Reason::AirCut, "air_cut", false, "E",
+     "The tool is not in the cut: the feed runs at the air feed."},
+    {Reason::Engaged, "engaged", false, "E",
+     "The tool has just entered the cut: the feed dropped at once to the entry feed (never above "
+     "the programmed feed) and the regulator starts from there."},
+    {Reason::NotInFeedBlock, "not_in_feed_block", false, "E",
+     "A rapid or another move that does not cut: adaptive control is inactive."},
+    {Reason::SpindleSpeedLimit, "spindle_speed_limit", false, "E",
+     "The speed command is clamped to the spindle's speed range."},
+    {Reason::SpindlePowerLimit, "spindle_power_limit", false, "E",
+     "The speed command is lowered so that the cut stays within the spindle's power."},
+    {Reason::ModulationEngaged, "modulation_engaged", false, "B",
+     "Vibration above the dead zone: a modulated feed is formed and running."},
+    {Reason::ModulationReleased, "modulation_released", false, "B",
+     "The modulation stopped: the vibration fell below the dead zone, or the block ended."},
+    {Reason::ModulationLimited, "modulation_limited", false, "B",
+     "Quenching the vibration needs more feed span than the limits allow: the modulation runs at "
+     "its limits."},
+    {Reason::ModulationProgrammed, "modulation_programmed", false, "B",
+     "The NC block's own modulation (S_min, dS, dl, n_s) is running."},
+    {Reason::ModulationNoForce, "modulation_no_force", false, "B",
+     "Vibration is seen but there is no cutting power or speed to size the modulation: no plan "
+     "is made."},
+    {Reason::GaugeBackstop, "gauge_backstop", true, "D",
+     "The gauge's relay did not end the cut, the backstop position did: check the gauge."},
+};
+inline constexpr int kReasonCount = static_cast<int>(sizeof(kReasons) / sizeof(kReasons[0]));
+// The operation log ORs reason_bit() of every reason seen into one 32-bit word.
+static_assert(kReasonCount <= 32, "a reason's bit must fit the operation log's 32-bit mask");
+
+// The reason's position in kReasons (its bit in the operation log); -1 for a code not listed.
+constexpr int reason_index(Reason r) noexcept {
+  for (int i = 0; i < kReasonCount; ++i)
+    if (kReasons[i].code == r) return i;
+  return -1;
+}
+
+// The operation log's bit of a reason: 1 << its position in kReasons (0 for a code not listed).
+constexpr std::uint32_t reason_bit(Reason r) noexcept {
+  const int i = reason_index(r);
+  return i < 0 ? 0u : std::uint32_t{1} << i;
+}
+
 constexpr std::string_view reason_name(Reason r) noexcept {
-  switch (r) {
-    case Reason::None:
-      return "none";
-    case Reason::OutputHigh:
-      return "output_high";
-    case Reason::OutputLow:
-      return "output_low";
-    case Reason::RateLimited:
-      return "rate_limited";
-    case Reason::SensorNotFinite:
-      return "sensor_not_finite";
-    case Reason::SensorOutOfRange:
-      return "sensor_out_of_range";
-    case Reason::SensorStuck:
-      return "sensor_stuck";
-    case Reason::SensorSuspect:
-      return "sensor_suspect";
-    case Reason::Overload:
-      return "overload";
-    case Reason::ToolBreakage:
-      return "tool_breakage";
-    case Reason::ToolDataChanged:
-      return "tool_data_changed";
-    case Reason::AirCut:
-      return "air_cut";
-    case Reason::Engaged:
-      return "engaged";
-    case Reason::NotInFeedBlock:
-      return "not_in_feed_block";
-    case Reason::SpindleSpeedLimit:
-      return "spindle_speed_limit";
-    case Reason::SpindlePowerLimit:
-      return "spindle_power_limit";
-    case Reason::ModulationEngaged:
-      return "modulation_engaged";
-    case Reason::ModulationReleased:
-      return "modulation_released";
-    case Reason::ModulationLimited:
-      return "modulation_limited";
-    case Reason::ModulationProgrammed:
-      return "modulation_programmed";
-    case Reason::ModulationNoForce:
-      return "modulation_no_force";
-    case Reason::GaugeBackstop:
-      return "gauge_backstop";
-  }
-  return "unknown";
+  const int i = reason_index(r);
+  return i < 0 ? std::string_view("unknown") : kReasons[i].name;
 }
 
 constexpr bool is_alarm(Reason r) noexcept {
-  return r == Reason::SensorNotFinite || r == Reason::SensorOutOfRange ||
-         r == Reason::SensorStuck || r == Reason::Overload || r == Reason::ToolBreakage ||
-         r == Reason::ToolDataChanged ||
-         r == Reason::GaugeBackstop;
+  const int i = reason_index(r);
+  return i >= 0 && kReasons[i].alarm;
 }
 
 }  // namespace lathectl::control

@@ -16,7 +16,7 @@
 // relay trips on the signal rising through S_th, so S_th must lie above the signal at the start of
 // the cut and below the free (no contact) signal, each with a margin for noise and ripple. Near
 // A0 the probe bounces off the part and the signal keeps a floor (≈ 1.1 V for d_gauging, where
-// (20) says 0): a threshold below it is never crossed and the cut never ends (issue 16).
+// (20) says 0): a threshold below it is never crossed and the cut never ends.
 
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
 
@@ -97,13 +97,13 @@ struct GaugeLine {
   double intercept_m = 0.0;   // B (B0/q1)
   double spread_m = 0.0;      // calibrated: the probe's largest Poincaré spread at the points
 };
-// The design rule of issue 16: the probe must repeat its impact every drive period at the trip
-// point — its Poincaré spread at most this fraction of A0. Found by simulation (not a closed form):
-// with the seed's contact (k_c = 10⁶ N/m, c_c = 5 N·s/m: restitution e ≈ 0.95) and the resonance
-// above 2ω (110 Hz against 100 Hz) the probe period-doubles (spread 0.10-0.16·A0) and the trip
-// time is chaotic (a 1e-12 change of k moves the finished size by 0.2-0.4 µm); a damped contact
-// (c_c ≥ 100 N·s/m: ζ_c = c_c/(2·sqrt(k_c·M)) ≥ 0.35, e ≤ 0.3), a softer one (k_c = 10⁵ N/m) or a
-// resonance at or below 2ω (f_n ≤ 2f: 90-100 Hz) keeps it regular (spread ≤ 0.02·A0).
+// The design rule for a regular impact: the probe must repeat its impact every drive period at
+// the trip point — its Poincaré spread at most this fraction of A0. Found by simulation (not a
+// closed form): with the seed's contact (k_c = 10⁶ N/m, c_c = 5 N·s/m: restitution e ≈ 0.95) and
+// the resonance above 2ω (110 Hz against 100 Hz) the probe period-doubles (spread 0.10-0.16·A0) and
+// the trip time is chaotic (a 1e-12 change of k moves the finished size by 0.2-0.4 µm); a damped
+// contact (c_c ≥ 100 N·s/m: ζ_c = c_c/(2·sqrt(k_c·M)) ≥ 0.35, e ≤ 0.3), a softer one (k_c = 10⁵
+// N/m) or a resonance at or below 2ω (f_n ≤ 2f: 90-100 Hz) keeps it regular (spread ≤ 0.02·A0).
 constexpr double kRegularSpread = 0.03;
 // (23): S_th = K·(B − x_k − a·lag_s), lag_s = T_f + t_r for the first-order filter.
 double threshold_23(const GaugeLine& line, double target_m, double removal_m_per_s, double lag_s);

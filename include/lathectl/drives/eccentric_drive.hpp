@@ -31,7 +31,6 @@ class EccentricDrive {
   void set_slot(double slot_m) noexcept;  // place the eccentric at rest at this slot
   void step(double dt, double slot_cmd_m) noexcept;
   [[nodiscard]] double slot_m() const noexcept { return slot_; }
-  [[nodiscard]] double angle_rad() const noexcept { return theta_; }
   [[nodiscard]] double slot_of(double angle_rad) const noexcept;
   [[nodiscard]] double angle_of(double slot_m) const noexcept;
 

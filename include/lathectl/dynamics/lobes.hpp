@@ -115,9 +115,8 @@ double sd_limit_depth(const ChatterSystem& sys, double speed_rpm, double depth_h
 // error falls as Δt^(order+1). Quintic at 7 steps per period is within ≈ 0.1 % of the exact
 // (frequency-domain) limit (SdChart tests; at 5 steps per period 0.04 %).
 // Per cell: one (2·modes + order + 1)² matrix exponential and a root count along the unit
-// circle at ~4·m points, each a (2·modes)² complex determinant: the cost grows as m, not m³,
-// so a slow spindle or a high mode (m = 400) costs ~0.1–1 ms per cell (issue 19; before, the
-// dense eigenvalue solve of size 2·modes + m + 2 took 130 ms at m = 400).
+// circle at ~4·m points, each a (2·modes)² complex determinant: the cost grows as m, not m³, as
+// a dense eigenvalue solve of size 2·modes + m + 2 would (figures: docs/machine-file-reference.md).
 struct SdChartOptions {
   int steps_per_period = 7;     // per period of f_ref (above)
   int min_steps = 20;           // per delay (one revolution)

@@ -122,8 +122,6 @@ class TwinTurretCut {
   // yet, and steps whose search ran past the oldest pass in memory (read there).
   [[nodiscard]] long long uncut_reads() const noexcept { return uncut_reads_; }
   [[nodiscard]] long long clipped_reads() const noexcept { return clipped_reads_; }
-  // The process-damping (ploughing) share of tool i's radial force at the last step [N].
-  [[nodiscard]] double ploughing_N(int i) const noexcept { return edges_[i].fd; }
   // The revolutions back (+½) of tool 1's pass tool 2 read last (depth division): the delay.
   [[nodiscard]] double inter_tool_delay_rev() const noexcept { return delay_rev_; }
 

@@ -28,7 +28,7 @@ struct SlotOrifice {
 //   δ ← 0                   on a flush (opening ≥ critical gap),
 //   δ ← (1 − η)·δ           on a closing stroke (η = removal_per_stroke),
 //   effective opening = max(h − 2δ, 0)  (a layer on both walls).
-// Basis and its limits (issue 17): the time law (flow decaying over minutes at gaps of a few to
+// Basis and its limits: the time law (flow decaying over minutes at gaps of a few to
 // some tens of µm, with a layer of the order of a µm per wall, restored by a full opening or by
 // relative motion of the walls — why servo valves are dithered) is the textbook description of
 // obliteration (Bashta, "Mashinostroitel'naya gidravlika", 1971, obliteration of throttle gaps;

@@ -1,5 +1,5 @@
 #pragma once
-// channels.csv written as a run records it (issue 19: a run's memory must not grow with its
+// channels.csv written as a run records it (a run's memory must not grow with its
 // duration). A ChannelStream is a sim::RowSink: attached to a streamed Recorder it formats each
 // row as it comes (io::append_general, the bytes channels_csv() writes) and writes it out in
 // 1 MiB blocks, into the staging directory of the run's output set (OutputStage), so the set
@@ -33,7 +33,6 @@ class ChannelStream final : public sim::RowSink {
   // Writes what is buffered and closes the file; throws std::filesystem::filesystem_error if
   // any write failed (a full disk). In memory: nothing.
   void finish();
-  [[nodiscard]] bool to_file() const noexcept { return fd_ >= 0 || failed_errno_ != 0; }
   // The text (in memory only; empty for a file).
   [[nodiscard]] const std::string& text() const noexcept { return buf_; }
   [[nodiscard]] std::string take_text() noexcept { return std::move(buf_); }

@@ -37,7 +37,7 @@ std::string channels_csv(const sim::Recorder& rec);
 
 // Appends v as printf's "%.<digits>g" would write it in the "C" locale, byte for byte (inf,
 // -inf, nan, -nan included), by std::to_chars: about 10× faster than snprintf, which made
-// writing channels.csv most of a long run's CPU (issue 19). digits: 1..17.
+// writing channels.csv most of a long run's CPU. digits: 1..17.
 void append_general(std::string& out, double v, int digits);
 
 // Marks a directory as a lathectl output set (written first into every set): only a directory

@@ -1,7 +1,9 @@
 #pragma once
-// HTML report: a self-contained page (inline CSS + inline SVG, no scripts, no network) that opens
-// offline in any browser. Plots are drawn here, in C++, as SVG polylines, so the report needs
-// nothing installed to be read.
+// HTML report: a self-contained page (inline CSS, SVG and scripts, no network) that opens offline
+// in any browser. Every plot is drawn here, in C++, as an SVG polyline; where the browser runs
+// scripts, the interactive plots (zoom, pan, read-out: io/report_interactive.cpp, with the uPlot
+// library inlined) take its place, and without scripts the SVG stays. Nothing installed is needed
+// to read it.
 
 #include <limits>
 #include <memory>

@@ -52,7 +52,6 @@ class VibrationChain {
   };
   void configure(const Params& p);  // throws std::invalid_argument
   void update(double displacement_m) noexcept;
-  [[nodiscard]] double filtered_m() const noexcept { return hp_y_; }  // after the high-pass
   [[nodiscard]] double amplifier_m() const noexcept { return amp_; }  // after the dead zone
   [[nodiscard]] double a0_m() const noexcept { return a0_; }          // ADC 19
   [[nodiscard]] double omega_d() const noexcept { return omega_d_; }  // detector 20 [rad/s]
@@ -63,7 +62,7 @@ class VibrationChain {
   std::mt19937_64 rng_{1};
   std::normal_distribution<double> noise_{0.0, 1.0};
   HighPass2 highpass_;
-  double hp_y_ = 0.0, amp_ = 0.0;
+  double amp_ = 0.0;
   double peak_ = 0.0, a_timer_ = 0.0, a0_ = 0.0;
   int crossings_ = 0, sign_ = 0;
   double f_timer_ = 0.0, omega_d_ = 0.0;
@@ -82,7 +81,6 @@ class PowerSensor {
   void configure(const Params& p, double dt);  // throws std::invalid_argument
   // motor_power_W: the drive's true electrical power; idle_block: the NC block is flagged idle.
   void update(double motor_power_W, double rpm, bool idle_block) noexcept;
-  [[nodiscard]] double measured_W() const noexcept { return measured_; }
   [[nodiscard]] double idle_W() const noexcept { return idle_; }
   [[nodiscard]] double cutting_W() const noexcept { return cutting_; }  // N_c
   [[nodiscard]] double idle_stored_rpm() const noexcept { return idle_rpm_; }

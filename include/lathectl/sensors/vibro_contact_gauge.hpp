@@ -3,15 +3,15 @@
 // model:
 //
 //   electromagnet 2:  W·dΦ/dt + r·i = V·sin ωt         (7)
-//                     Φ = (L·i/W)·δ/(δ − z)            (6), our reading of the garbled OCR
-//                       "Φ_э(t) = a₁·i(t)/[δ − Z(t)]": the flux of a magnetic circuit whose
+//                     Φ = (L·i/W)·δ/(δ − z)            (6) as read in docs/system-d-gauging.md:
+//                       the flux of a magnetic circuit whose
 //                       reluctance is its effective air gap δ − z (iron included); L is the
 //                       inductance at rest. δ = 0 (magnet_gap_m) keeps the seed's linear coil
 //                       Φ = L·i/W. Consistent with (5): a_f = 1/(2μ₀S) and L = μ₀S·W²/δ give
 //                       δ = W²/(2·a_f·L) (4.74 mm for d_gauging).
 //                     F_m = a_f·Φ²                     (5): DC + a 2ω component
-//   permanent magnet 3 (9)-(11): F = F_m + F_M (9), F_M = a₂·Φ_M² (10), Φ_M = b₁/(b₂ − z) (11)
-//                       (OCR "Φ_M(t) = b₁/(b₂ − Z(t))"): F_M = F_M0·(b₂/(b₂ − z))², F_M0 the
+//   permanent magnet 3 (9)-(11): F = F_m + F_M (9), F_M = a₂·Φ_M² (10), Φ_M = b₁/(b₂ − z) (11):
+//                       F_M = F_M0·(b₂/(b₂ − z))², F_M0 the
 //                       pull at rest (pm_force_N), b₂ the magnet's gap (pm_gap_m; 0: none).
 //   probe 1:          M·z'' + h·z' + k·z = F − F_c     (8), z from the spring's free position,
 //                       positive towards the part and the magnets
@@ -90,7 +90,7 @@ class VibroContactGauge {
   // after `settle_s`, and its ripple (half its peak-to-peak there). Throws as configure().
   // spread_m: the spread of the probe position sampled once per 2ω period (its Poincaré
   // section) over the averaging window: ≈ 0 when the probe repeats every drive period (regular),
-  // large when it period-doubles or wanders (the impact pattern of issue 16).
+  // large when it period-doubles or wanders (a chaotic trip time: design/vibro_gauge.hpp).
   struct Level {
     double mean_V = 0.0;
     double ripple_V = 0.0;

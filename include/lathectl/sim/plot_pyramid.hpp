@@ -1,5 +1,5 @@
 #pragma once
-// Min/max pyramid of one plotted series, for the reports' interactive plots (issue 18): level 0
+// Min/max pyramid of one plotted series, for the reports' interactive plots: level 0
 // holds the samples themselves, level k ≥ 1 the minimum and the maximum of each bucket of
 // branching^k samples, in the order they occurred (so a spike or a zig-zag keeps its shape). A
 // viewer picks, for the visible x range, the coarsest level that still gives about one point per

@@ -8,8 +8,8 @@
 //  - streamed (Recorder::streamed): no row kept. Each row goes to the attached sinks as it is
 //    pushed (channels.csv written to disk, a metric's accumulator) and into a bounded min/max
 //    pyramid per channel for the plots (PlotPyramid, kPlotValuesPerLevel per level): memory does
-//    not grow with the run's duration (issue 19: 30 simulated minutes held ~0.8 GB as columns,
-//    CSV text and plot copies).
+//    not grow with the run's duration (30 simulated minutes held as columns, CSV text and plot
+//    copies took ~0.8 GB).
 
 #include <cstddef>
 #include <memory>
@@ -53,7 +53,6 @@ class Recorder {
   void push_row(std::span<const double> values) noexcept;
   [[nodiscard]] std::size_t rows() const noexcept { return rows_; }
   [[nodiscard]] std::size_t dropped() const noexcept { return dropped_; }
-  [[nodiscard]] bool is_streamed() const noexcept { return streamed_; }
   [[nodiscard]] const std::vector<Channel>& channels() const noexcept { return channels_; }
   [[nodiscard]] std::size_t index(const std::string& name) const;  // throws std::out_of_range
   // Column view of one channel (length rows()). Columns storage only (streamed: empty).

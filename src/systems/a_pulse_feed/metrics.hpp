@@ -38,7 +38,7 @@ struct Metrics {
   double flow_formula_cm3_per_min =
       std::numeric_limits<double>::quiet_NaN();  // seed (1), fixed h,f
   double flow_formula_error_pct = std::numeric_limits<double>::quiet_NaN();
-  // Size (issue 17): the radial force bends the tool holder by δ = Py/k_holder and moves the
+  // Size: the radial force bends the tool holder by δ = Py/k_holder and moves the
   // tool off the work, so the diameter grows by 2δ. Feed-window means of Py; reference: the
   // second before t_d (as the feed's). NaN without a disturbance.
   double deflection_reference_um = std::numeric_limits<double>::quiet_NaN();

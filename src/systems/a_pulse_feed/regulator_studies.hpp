@@ -1,5 +1,5 @@
 #pragma once
-// System A's studies of the regulator alone (issue 17, items 4 and 8): what the seed's
+// System A's studies of the regulator alone: what the seed's
 // advantages 4 (no obliteration) and 5 (coarse manufacturing) rest on, and its characteristic.
 //
 // Characteristic: the simulated mean flow against formula (1) over the duty range, with and

@@ -185,7 +185,6 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   faults_.reset(sensor_u_);
   flow_acc_ = force_acc_ = 0.0;
   acc_n_ = 0;
-  last_flow_ = q_needed;
 
   if (streamed_) {
     rec_ = sim::Recorder::streamed(rig_a_channels());
@@ -234,7 +233,7 @@ void Rig::step() noexcept {
         cfg_.faults, t_, sensor_.sample(),
         cfg_.sensor.saturation_V * 2.0 + 1.0);  // what the controller sees, faults included
     const control::PulseFeedController::Input in{sensor_u_};
-    (void)ctl_.update(in, ctl_out_);
+    ctl_.update(in, ctl_out_);
   }
 
   double q = 0.0;
@@ -253,7 +252,6 @@ void Rig::step() noexcept {
     }
     q = reg_.step(dt_, h, f, cfg_.pulse_width_s);
   }
-  last_flow_ = q;
   slide_.step(dt_, q, force_);
 
   hist_head_ = (hist_head_ + 1) % x_hist_.size();

@@ -43,7 +43,7 @@ struct RigConfig {
   double slot_m = 40e-6;                         // FIM fixed slot
   // The scenario reader's defaults, where they differ from the drive's and controller's own:
   // a 3000 rpm eccentric motor, a 5 ms force filter, a 500 Hz/s converter ramp, a plausible sensor
-  // range from −0.5 V to saturation + 0.5 V and a 50 ms stuck check (issue 12: one default).
+  // range from −0.5 V to saturation + 0.5 V and a 50 ms stuck check (one default).
   drives::EccentricDrive::Params eccentric = [] {
     drives::EccentricDrive::Params p;
     p.motor_max_speed_rad_per_s = 3000.0 * 2.0 * std::numbers::pi / 60.0;
@@ -73,7 +73,7 @@ class Rig {
 
   [[nodiscard]] const sim::Recorder& recorder() const noexcept { return rec_; }
   // Streamed recording (set before configure): no columns, rows to the attached sinks (metrics,
-  // channels.csv) — the memory of a run of any duration is bounded (issue 19). Default: columns.
+  // channels.csv) — the memory of a run of any duration is bounded. Default: columns.
   void set_streamed(bool streamed) noexcept { streamed_ = streamed; }
   void attach(sim::RowSink* sink) { rec_.attach(sink); }
   // Time of the last row run() will record (the clock's own sums; −1 when it records none).
@@ -148,7 +148,6 @@ class Rig {
   double flow_acc_ = 0.0;
   double force_acc_ = 0.0;
   std::size_t acc_n_ = 0;
-  double last_flow_ = 0.0;
   double damper_volume0_ = 0.0;  // storage at t = 0, for the volume balance
   double void0_ = 0.0;
   sim::Recorder rec_;

@@ -272,7 +272,7 @@ void PulseFeedStudy::finishing_claims(Claims& claims) const {
       "finishing: steady feed deviation after the force change, controlled / uncontrolled (≤ "
       "0.2)",
       mm.feed_rate_steady_deviation_pct / c.feed_rate_steady_deviation_pct, Compare::AtMost, 0.2);
-  // Issue 17: the finishing mode exists for the size; holding the feed does not hold it.
+  // The finishing mode exists for the size; holding the feed does not hold it.
   claims.note(
       "size: the holder deflection Py/k goes " + fmt(mm.deflection_reference_um, "%.3g") + " → " +
       fmt(mm.deflection_end_um, "%.3g") + " µm with control (" +
@@ -290,7 +290,7 @@ void PulseFeedStudy::finishing_claims(Claims& claims) const {
       mm.size_error_diameter_um / c.size_error_diameter_um, Compare::AtMost, 0.2);
 }
 
-// Issue 17: the regulator alone, where the seed's advantages 4 and 5 are decided.
+// The regulator alone, where the seed's advantages 4 and 5 are decided.
 void PulseFeedStudy::extra_studies(RunOutput& out, Claims& claims) {
   if (st_.rig.regulator_kind != RegulatorKind::Pulsed) return;
   const bool fim = st_.rig.controller_kind == ControllerKind::Fim;

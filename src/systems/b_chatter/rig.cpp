@@ -192,7 +192,7 @@ bool Rig::step() noexcept {
     in.source = cfg_.source;
     in.turret = cfg_.turret;
     in.programmed = cfg_.programmed;
-    (void)module_.update(in, mod_out_);
+    module_.update(in, mod_out_);
     if (mod_out_.engaged && engaged_at_ < 0.0) engaged_at_ = t_;
     for (int i = 0; i < 2; ++i)
       turrets_[i].cmd_mm_per_min = feed_block && i < n_tools_ ? mod_out_.feed_mm_per_min[i] : 0.0;

@@ -132,9 +132,6 @@ class Rig {
     (void)dynamics::beam_modes_at(part, x_c_m, 1);  // validates
     return dynamics::beam_mode_at(part, x_c_m, 1).mass_kg;
   }
-  [[nodiscard]] double programmed_feed_mm_per_min() const noexcept {
-    return cfg_.feed_mm_per_rev * cfg_.rpm;
-  }
 
  private:
   struct Turret {  // a feed drive and its slide

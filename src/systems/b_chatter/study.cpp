@@ -66,7 +66,7 @@ struct SweepPoint {
 
 // The quenching condition under both readings of the seed's 1.41, for the a0 the module planned on
 // (just above the dead zone, chatter still growing) and for the document's a0, the steady
-// amplitude without modulation (issue 17). K = a0·m_d·|ω_d² − ω_m²|: the module's required force
+// amplitude without modulation. K = a0·m_d·|ω_d² − ω_m²|: the module's required force
 // is c·K (multiply) or K/c (divide).
 struct Quenching {
   double k_planned = kNaN, k_steady = kNaN, a0_steady_um = kNaN, a0_planned_um = kNaN;

@@ -1,5 +1,5 @@
 #pragma once
-// System C's profile errors, row by row as the tracer rig records (issue 19: a RowSink on its
+// System C's profile errors, row by row as the tracer rig records (a RowSink on its
 // streamed recorder, so a run's memory does not grow with the template's length, the feed or the
 // record interval). Each number is the one the recorded columns gave, to the bit: the same rows
 // in the same order enter the same sums and extremes.

@@ -45,8 +45,9 @@ struct RigConfig {
   double piston_area_m2 = 20e-4;
   double total_volume_m3 = 200e-6;
   double bulk_modulus_Pa = 1.4e9;
-  // Friction: none unless [friction] gives it (the scenario reader's defaults; before issue 12 a
-  // scenario without the table got 200 N, 200 N and 2000 N·s/m, one with an empty table zeros).
+  // Friction: none unless [friction] gives it (the scenario reader's defaults; before one default
+  // per key, a scenario without the table got 200 N, 200 N and 2000 N·s/m, one with an empty table
+  // zeros).
   double coulomb_N = 0.0;
   double static_N = 0.0;  // ≥ coulomb_N; the reader's default is coulomb_N
   double stribeck_velocity_m_per_s = 1e-4;

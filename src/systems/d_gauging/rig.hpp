@@ -101,7 +101,7 @@ void monte_carlo_linear(const GaugingProcess& p, const LinearGauge& g, double th
                         unsigned threads = 0);
 
 // The parts of monte_carlo_linear visited in part order, as many times as a statistic needs passes
-// (a mean before the spread about it; issue 19): kept in memory up to `kept` parts, beyond that
+// (a mean before the spread about it): kept in memory up to `kept` parts, beyond that
 // machined again block by block for each visit (the same numbers: every part has its own stream),
 // so the memory stays bounded whatever the number of parts, at the cost of machining them again.
 class LinearParts {

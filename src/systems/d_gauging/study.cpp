@@ -168,7 +168,7 @@ void GaugingStudy::configure_gauge() {
   quiet_.noise_variance_m2 = 0.0;
 }
 
-// The result files stream into the stage (issue 19), their disk space checked before any work:
+// The result files stream into the stage, their disk space checked before any work:
 // channels.csv one row a linearised part, channels_compare.csv the full-model part recorded
 // (streamed: memory bounded whatever run.duration_s; the plots from its pyramids).
 void GaugingStudy::open_result_files() {
@@ -351,7 +351,7 @@ void GaugingStudy::outside_the_range(io::RunOutput& out) const {
   out.report.tables.push_back(outside);
 }
 
-// 3b. The cause of the full model's error (issue 16): ripple, subharmonic motion, or both — the
+// 3b. The cause of the full model's error: ripple, subharmonic motion, or both — the
 // filters against the probe's regime (the seed's contact c_c = 5 N·s/m beside this one's).
 void GaugingStudy::error_cause(io::RunOutput& out) const {
   Table cause{

@@ -38,7 +38,7 @@ void validate(const io::Scenario& sc) {
                   fmt_number(d.process.allowance_m * 1e6) +
                       " µm exceeds the largest allowance this transducer can measure, A0 = " +
                       fmt_number(probe.free_amplitude_m() * 1e6) + " µm");
-  // The relay must see the signal rise through its threshold (issue 16): found here, not after a
+  // The relay must see the signal rise through its threshold: found here, not after a
   // cut that never ends.
   const ThresholdPlan plan = plan_threshold(d, sc.run.step_s);
   if (plan.safe() || d.force_threshold) return;

@@ -51,7 +51,7 @@ struct Metrics {
 // The metrics computed row by row as the rig records (a RowSink attached to its streamed
 // recorder between configure and run): nothing of the record is kept but a few sums, the
 // per-revolution window and a bounded plot of the per-revolution mean, so a run of any length
-// takes the same memory (issue 19).
+// takes the same memory.
 class MetricsAccumulator final : public sim::RowSink {
  public:
   // rig: configured (its configuration and controller limits are read here).

@@ -314,7 +314,7 @@ void read_controller(TableReader& root, RigConfig& e) {
   warn_short_tool_life(*c, e);
   const auto& m = e.cutting.material;
   p.y_v = tool_life_exponent(m, p.feed_planned_mm_per_rev, &cutting::ToolLifeRange::yv, 0.2);
-  // Issue 17: by default the speed law takes y_v (and Cv) from the material's feed ranges, the
+  // By default the speed law takes y_v (and Cv) from the material's feed ranges, the
   // table the tool-life law uses; a y_v given here is one exponent for every feed (the seed's
   // law as written).
   const bool single_yv = c->has("y_v");

@@ -20,7 +20,7 @@ namespace lathectl::systems::e_adaptive {
 
 using Mode = control::AdaptiveFeedController::Mode;
 
-// [cost]: what a part costs a production engineer (issue 17): machine time at the machine-hour
+// [cost]: what a part costs a production engineer: machine time at the machine-hour
 // rate plus the share of a cutting edge used, each edge costing its price and the machine time
 // of its change. cost = cycle/3600·rate + life_used·(edge + change_min/60·rate).
 struct Cost {
@@ -29,7 +29,7 @@ struct Cost {
   double tool_change_min = 1.0;      // machine time to index or change the edge
 };
 
-// [chatter] (optional): what `lathectl optimize` needs for each piece's chatter margin (issue 15;
+// [chatter] (optional): what `lathectl optimize` needs for each piece's chatter margin (see
 // docs/optimize.md): the tool's modes and the part as system B models it, a pinned-pinned
 // Euler–Bernoulli beam between two centres (dynamics/beam.hpp), whose diameter the optimiser
 // takes from the stock as the passes leave it. The rig does not read it.

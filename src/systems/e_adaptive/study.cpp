@@ -152,7 +152,7 @@ struct DepthVerdict {
 json depth_json(const std::vector<DepthVerdict>& v);
 
 // The scenario's controller and those compared with it on the same part; beside them the prior
-// art given seed 004's tool-life budget (issue 17, item 7) and the tool-life verdict against the
+// art given seed 004's tool-life budget and the tool-life verdict against the
 // planned depth (item 5). The extra studies' tables and plot keep their places among the
 // report's own (report() lays them out), where E's report has always shown them.
 class EStudy final : public io::Study {
@@ -202,7 +202,7 @@ class EStudy final : public io::Study {
   const std::string unit_, pname_;          // the force parameter's unit and name
   std::vector<std::unique_ptr<Run>> runs_;  // the scenario's controller, then the compared
   std::array<const Run*, 3> by_mode_{};     // each controller's run (Mode's order), or null
-  // Issue 17, item 7: seed 004 and the prior art both finished, the prior art run again at the
+  // Seed 004 and the prior art both finished, the prior art run again at the
   // speed that uses seed 004's share of an edge.
   bool tradeoff_ = false;
   Run budget_;
@@ -249,7 +249,7 @@ void EStudy::run_controllers() {
 // The runs the extra studies need, side by side: the prior art at seed 004's tool budget, the
 // depth-corrected law at each planned depth, the seed law when the main run is not it.
 void EStudy::run_beside() {
-  // Issue 17, item 7: productivity at equal tool use. (a) Cost per part at the [cost] rates.
+  // Productivity at equal tool use. (a) Cost per part at the [cost] rates.
   // (b) The prior art given seed 004's tool-life budget: its speed raised until it uses as much
   // of an edge. At a held force Pz ∝ s^0.75·V^−0.15, so s ∝ V^0.2, time in cut ∝ 1/(V·s) ∝ V^−1.2
   // and T ∝ V^−5·s^(−y_v/m), so the share used ∝ V^(3.8 + y_v): one run at the speed this
