@@ -50,12 +50,24 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   has_last_ = false;
   t_cut_ = 0.0;
   t_since_contact_ = -1.0;
+  removed_mm3_ = 0.0;
 }
 
 double LathePlant::radius_mm(double z) const noexcept {
   const double u = (z - z0_) / p_.cell_mm;
   if (u < 0.0 || u > static_cast<double>(r_.size() - 1)) return 0.0;
   return r_[static_cast<std::size_t>(std::lround(u))];
+}
+
+double LathePlant::max_radius_mm(double z_lo, double z_hi) const noexcept {
+  const double last = static_cast<double>(r_.size() - 1);
+  const double u_lo = std::max((z_lo - z0_) / p_.cell_mm, 0.0);
+  const double u_hi = std::min((z_hi - z0_) / p_.cell_mm, last);
+  if (!(u_lo <= u_hi)) return 0.0;
+  double r = 0.0;
+  for (auto i = static_cast<std::size_t>(std::floor(u_lo)); i <= static_cast<std::size_t>(std::ceil(u_hi)) && i < r_.size(); ++i)
+    r = std::max(r, r_[i]);
+  return r;
 }
 
 void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
@@ -83,8 +95,10 @@ void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
       const double edge = x + r_nose_ - std::sqrt(std::max(r_nose_ * r_nose_ - dz * dz, 0.0));
       if (edge < r_[i]) {
         if (r_[i] > r_blank_low_[i]) on_blank = true;
-        removed += (r_[i] - std::max(edge, 0.0)) * p_.cell_mm;
-        r_[i] = std::max(edge, 0.0);
+        const double r_new = std::max(edge, 0.0);
+        removed += (r_[i] - r_new) * p_.cell_mm;
+        removed_mm3_ += std::numbers::pi * (r_[i] * r_[i] - r_new * r_new) * p_.cell_mm;
+        r_[i] = r_new;
       }
     }
   }
@@ -173,6 +187,7 @@ void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
   out.strength_factor = strength;
   out.in_contact = t > 0.0;
   out.time_in_cut_s = t_cut_;
+  out.removed_mm3 = removed_mm3_;
 }
 
 }  // namespace lathectl::cutting

@@ -9,8 +9,8 @@ rm -rf "$work"; mkdir -p "$work"
 fail=0
 bad() { echo "FAIL: $*"; fail=1; }
 ex=$src/examples/scenarios
-# A part never cut (0.2 s: still approaching): exit 0, but the line says so; --strict: 3.
-sed 's/^duration_s = .*/duration_s = 0.2/' "$ex/e_stepped_seed004.toml" > "$work/e.toml"
+# A part never cut (0.1 s: still approaching): exit 0, but the line says so; --strict: 3.
+sed 's/^duration_s = .*/duration_s = 0.1/' "$ex/e_stepped_seed004.toml" > "$work/e.toml"
 "$bin" run "$work/e.toml" --out "$work/e" > "$work/out.txt" 2> "$work/err.txt" || bad "run without --strict: exit $?"
 grep -q "— ✘ 1 of 1 acceptance criterion not met: largest per-revolution force (or power) above its limit — (limit ≤ 10 %, default) · part not finished (.* · model checks: 0 of 6 met (not met: " "$work/out.txt" || bad "console line: $(cat "$work/out.txt")"
 [ ! -s "$work/err.txt" ] || bad "stderr not empty off a terminal: $(cat "$work/err.txt")"

@@ -77,6 +77,7 @@ class LathePlant {
     double strength_factor = 1.0;
     bool in_contact = false;
     double time_in_cut_s = 0.0;
+    double removed_mm3 = 0.0;      // material removed since configure(), Σ π(R_old² − R_new²)·dz
   };
 
   // Throws std::invalid_argument on a stock the grid cannot hold.
@@ -89,6 +90,11 @@ class LathePlant {
   }
   // Radius of the workpiece at stock z [mm] (0 outside the stock).
   [[nodiscard]] double radius_mm(double z_stock_mm) const noexcept;
+  // The largest radius of the workpiece over stock z ∈ [lo, hi] [mm] (0 where there is none):
+  // where a tool path must clear what is left. Never allocates.
+  [[nodiscard]] double max_radius_mm(double z_lo_mm, double z_hi_mm) const noexcept;
+  // The tool nose radius the plant cuts with [mm].
+  [[nodiscard]] double nose_radius_mm() const noexcept { return r_nose_; }
 
  private:
   static constexpr std::size_t kBins = 360;
@@ -114,6 +120,7 @@ class LathePlant {
   bool has_last_ = false;
   double t_cut_ = 0.0;
   double t_since_contact_ = -1.0;
+  double removed_mm3_ = 0.0;
 };
 
 }  // namespace lathectl::cutting

@@ -71,17 +71,31 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   t_ = t_cut_ = life_used_ = life_used_nominal_ = removed_mm3_ = 0.0;
   step_ = 0;
   pass_ = 0;
-  phi_ = 0.0;
   sound_ = true;
   first_hold_s_ = -1.0;
   record_every_ =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(record_interval / dt)));
   sim::configure_as("material", [&] { cut_.configure(cfg.cutting); });
   sim::configure_as("stock", [&] { stock_.configure(cfg.stock); });
-  auto dp = cfg.disturbances;
-  dp.depth_steps.clear();
-  dp.runout_mm = 0.0;
-  sim::configure_as("stock", [&] { dist_.configure(dp); });
+  // The cutting process: the LinuxCNC plant's, its stock z the rig's z (machine z = −z). The
+  // scenario's [[fault]] times are the run's (applied below), not counted from first contact.
+  cutting::CuttingProcess process = cfg;
+  process.faults.clear();
+  // The bar the plant holds: the blank as given, extended (at its end diameters, as the stock's
+  // law reads it) over every pass, so a one-point blank is a bar from the first pass's start to
+  // the last one's end.
+  {
+    auto& b = process.stock.blank_diameter_mm;
+    double z_lo = b.front().at_mm, z_hi = b.back().at_mm;
+    for (const auto& q : cfg.stock.passes) {
+      z_lo = std::min(z_lo, q.z_start_mm);
+      z_hi = std::max(z_hi, q.z_end_mm);
+    }
+    if (z_lo < b.front().at_mm) b.insert(b.begin(), {z_lo, b.front().value});
+    if (z_hi > b.back().at_mm) b.push_back({z_hi, b.back().value});
+  }
+  sim::configure_as("stock", [&] { plant_.configure(process, {}); });
+  pout_ = {};
 
   auto cp = cfg.controller;
   if (cfg.worst_case_feed) {
@@ -113,28 +127,19 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
 
   sim::configure_as("feed_axis", [&] { axis_.configure(cfg.axis, dt); });
   const auto& first = cfg.stock.passes.front();
-  axis_.reset((first.z_start_mm - cfg.approach_mm) * 1e-3, 0.0);
+  plan_pass(0);
+  axis_.reset(z_approach_mm_ * 1e-3, 0.0);
+  x_mm_ = x_down_mm_;
+  x_rate_mm_s_ = 0.0;
+  phase_ = Phase::Descend;
   sim::configure_as("spindle", [&] { spindle_.configure(cfg.spindle); });
   const double d0 = stock_.surface_diameter_mm(0, first.z_start_mm);
   const double rpm0 = std::clamp(cp.speed_programmed_m_per_min * 1000.0 / (std::numbers::pi * d0),
                                  cfg.spindle.min_rpm, cfg.spindle.max_rpm);
   spindle_.reset(rpm0);
-  sim::configure_as("sensor", [&] { force_sensor_.configure(cfg.force_sensor); });
-  force_sensor_.reset(0.0);
-  const double rev_steps = 60.0 / cfg.spindle.min_rpm / dt;
-  if (rev_steps > 2e7)
-    throw sim::ConfigError("run.step_s",
-                           "one revolution at the spindle's min_rpm spans more than 2e7 steps");
-  const auto hist = static_cast<std::size_t>(rev_steps) + 8;
-  hist_theta_.assign(hist, 0.0);
-  hist_z_.assign(hist, 0.0);
-  head_ = tail_ = count_ = 0;
-  theta_ = 0.0;
-  contact_ = false;
   sim::configure_as("sensor", [&] { power_meter_.configure(cfg.power_meter); });
   power_meter_.reset(spindle_.electrical_power_W());
   rpm_cmd_ = rpm0;
-  in_block_ = true;
   force_seen_ = 0.0;
   faults_.reset(0.0);
   acc_param_ = acc_pz_ = acc_py_ = acc_depth_ = acc_power_ = 0.0;
@@ -144,24 +149,44 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   rec_ = sim::Recorder::streamed(rig_channels());
 }
 
-double Rig::chip_thickness_mm(double z_mm) noexcept {
-  const std::size_t n = hist_theta_.size();
-  head_ = (head_ + 1) % n;
-  hist_theta_[head_] = theta_;
-  hist_z_[head_] = z_mm;
-  if (count_ < n) ++count_;
-  const double target = theta_ - 2.0 * std::numbers::pi;
-  if (count_ < 2 || hist_theta_[(head_ + n - (count_ - 1)) % n] > target) {
-    tail_ = (head_ + n - (count_ - 1)) % n;  // less than one revolution recorded yet
-    return 0.0;
+void Rig::plan_pass(std::size_t k) noexcept {
+  const auto& q = cfg_.stock.passes[k];
+  const double r_n = plant_.nose_radius_mm();
+  x_pass_mm_ = 0.5 * q.diameter_mm;
+  // Material above the pass's radius before z_start, where the tool would come down and travel
+  // in the approach: a shoulder. Come down above it at z_start and plunge there.
+  const double before = plant_.max_radius_mm(q.z_start_mm - cfg_.approach_mm - r_n,
+                                             q.z_start_mm - r_n);
+  if (before > x_pass_mm_ + 1e-6) {
+    z_approach_mm_ = q.z_start_mm;
+    const double top = plant_.max_radius_mm(q.z_start_mm - r_n, q.z_start_mm + r_n);
+    x_down_mm_ = top + cfg_.approach_mm;
+    // The plunge's feed: what the pass's full depth takes at the limit (the handbook's force
+    // law, V_p, nominal hardness and a sharp tool), set on the plunge as its feed_max (M68 E2 on
+    // LinuxCNC). The plunge's chip is only as wide as the nose's engagement, so left free the
+    // regulator raises the feed there and carries it into the full depth at the corner: on
+    // e_worn_tool the per-revolution force then rose 10.0 % over the limit, against 7.1 %.
+    const auto& cp = machine_.controller().params();
+    const double depth = top - x_pass_mm_;
+    auto param = [&](double f_rev) {
+      const auto f = cut_.forces({depth, f_rev, cp.speed_programmed_m_per_min, 1.0, 1.0});
+      return cutting::force_parameter(cfg_.force_parameter, f,
+                                      cut_.power_W(f, cp.speed_programmed_m_per_min));
+    };
+    double lo = cp.feed_min_mm_per_rev, hi = cp.feed_max_mm_per_rev;
+    if (param(hi) <= cp.force_limit) {
+      lo = hi;
+    } else if (param(lo) < cp.force_limit) {
+      for (int i = 0; i < 50; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (param(mid) > cp.force_limit ? hi : lo) = mid;
+      }
+    }
+    plunge_feed_mm_per_rev_ = lo;
+  } else {
+    z_approach_mm_ = q.z_start_mm - cfg_.approach_mm;
+    x_down_mm_ = x_pass_mm_;
   }
-  while (hist_theta_[(tail_ + 1) % n] <= target) tail_ = (tail_ + 1) % n;
-  const std::size_t next = (tail_ + 1) % n;
-  const double span = hist_theta_[next] - hist_theta_[tail_];
-  const double w = span > 0.0 ? (target - hist_theta_[tail_]) / span : 0.0;
-  double z_back = hist_z_[tail_] + w * (hist_z_[next] - hist_z_[tail_]);
-  if (contact_) z_back = std::max(z_back, z_contact_mm_);
-  return std::max(z_mm - z_back, 0.0);
 }
 
 bool Rig::step() noexcept {
@@ -169,53 +194,62 @@ bool Rig::step() noexcept {
   t_ += dt_;
   ++step_;
   const double rpm = spindle_.rpm();
-  phi_ = std::fmod(phi_ + spindle_.omega() * dt_, 2.0 * std::numbers::pi);
-  const auto& pass = cfg_.stock.passes[pass_];
   const double z_mm = axis_.position_m() * 1000.0;
 
-  // Program: the feed block of this pass ends at its z_end; then a rapid to the next start.
-  if (in_block_ && z_mm >= pass.z_end_mm) in_block_ = false;
-  if (!in_block_) {
-    if (pass_ + 1 >= cfg_.stock.passes.size()) {
-      pass_ = cfg_.stock.passes.size();  // done
-      return false;
-    }
-    if (z_mm <= cfg_.stock.passes[pass_ + 1].z_start_mm - cfg_.approach_mm) {
-      ++pass_;
-      in_block_ = true;
-    }
+  // The program, one pass after another: the next move once this one has arrived.
+  const double settle_mm_s = 1.0;  // the z axis has arrived: within 5 µm and below 1 mm/s
+  const bool z_settled = std::abs(axis_.measured_velocity_m_per_s()) * 1e3 < settle_mm_s;
+  switch (phase_) {
+    case Phase::Plunge:
+      if (x_mm_ <= x_pass_mm_) phase_ = Phase::Turn;
+      break;
+    case Phase::Turn:
+      if (z_mm >= cfg_.stock.passes[pass_].z_end_mm) {
+        if (pass_ + 1 >= cfg_.stock.passes.size()) {
+          pass_ = cfg_.stock.passes.size();  // done
+          return false;
+        }
+        phase_ = Phase::Retract;
+        x_clear_mm_ = plant_.max_radius_mm(-1e300, 1e300) + cfg_.approach_mm;
+      }
+      break;
+    case Phase::Retract:
+      if (x_mm_ >= x_clear_mm_) {
+        plan_pass(pass_ + 1);
+        phase_ = Phase::Return;
+      }
+      break;
+    case Phase::Return:
+      if (std::abs(z_mm - z_approach_mm_) < 0.005 && z_settled) {
+        ++pass_;
+        phase_ = Phase::Descend;
+      }
+      break;
+    case Phase::Descend:
+      if (x_mm_ <= x_down_mm_) phase_ = x_down_mm_ > x_pass_mm_ ? Phase::Plunge : Phase::Turn;
+      break;
   }
 
-  // Cutting process.
-  theta_ += spindle_.omega() * dt_;
-  double depth = in_block_ ? stock_.depth_mm(pass_, z_mm, phi_) : 0.0;
-  if (depth > 0.0) depth = std::max(depth + dist_.random_allowance_mm(z_mm), 0.0);
-  if (depth > 0.0 && !contact_) {
-    contact_ = true;  // the tool meets material: the chip builds up from here
-    z_contact_mm_ = z_mm;
-  } else if (!in_block_ || stock_.depth_mm(pass_, z_mm, 0.5 * std::numbers::pi) <= 0.0) {
-    contact_ = false;  // out of material (between passes, or past the stock)
-  }
-  const double s = chip_thickness_mm(z_mm);
-  const double d_surface = stock_.surface_diameter_mm(pass_, z_mm);
-  const double v = std::numbers::pi * d_surface * rpm / 1000.0;  // sensor 20 [m/min]
-  const double strength = dist_.strength_factor(z_mm);
-  cutting::Forces f{};
-  if (depth > 0.0 && s > 0.0) {
-    f = cut_.forces({depth, s, v, strength, dist_.wear_factor(t_cut_)});
+  // The cutting process at the tool's position (machine z = −z: the plant's stock runs to −z).
+  plant_.step({x_mm_, -z_mm, rpm}, dt_, pout_);
+  const double depth = pout_.depth_mm;
+  const double s = pout_.feed_per_rev_mm;
+  const double v = pout_.speed_m_per_min;  // sensor 20 [m/min]
+  const double strength = pout_.strength_factor;
+  const cutting::Forces f{pout_.Pz_N, pout_.Py_N, 0.0};
+  if (pout_.in_contact && s > 0.0 && v > 0.0) {
     t_cut_ += dt_;
     life_used_ += dt_ / (60.0 * cut_.tool_life_min(v, s, depth, strength));
     life_used_nominal_ += dt_ / (60.0 * cut_.tool_life_min(v, s, depth));  // as if h = 1
-    removed_mm3_ += depth * s * (rpm / 60.0) * std::numbers::pi * (d_surface - depth) * dt_;
   }
-  const double cut_power = cut_.power_W(f, v);
-  // The torque that supplies the cutting power Pz·V (V at the surface, as the LinuxCNC plant
-  // and the handbook count it): one radius for the power and the torque.
-  const double torque = f.Pz * 0.5 * d_surface * 1e-3;
+  removed_mm3_ = pout_.removed_mm3;
+  const double cut_power = pout_.cut_power_W;
+  // The torque that supplies the cutting power Pz·V (V at the surface, x + t, as the plant
+  // counts it): one radius for the power and the torque.
+  const double torque = f.Pz * (x_mm_ + depth) * 1e-3;
   spindle_.step(dt_, rpm_cmd_, torque);
-  const double true_param = cutting::force_parameter(cfg_.force_parameter, f, cut_power);
+  const double true_param = pout_.force_parameter;
   power_meter_.step(dt_, spindle_.electrical_power_W());
-  if (cfg_.force_parameter != cutting::ForceParameter::Power) force_sensor_.step(dt_, true_param);
 
   // The program: G95 at the programmed feed, G96 at V_p (the CNC's constant surface speed at
   // the tool's diameter), one program line per pass. Sensor 4 is sampled at the control period
@@ -223,7 +257,7 @@ bool Rig::step() noexcept {
   if ((step_ - 1) % control_every_ == 0) {
     const double measured = cfg_.force_parameter == cutting::ForceParameter::Power
                                 ? power_meter_.sample()
-                                : force_sensor_.sample();
+                                : pout_.force_measured;
     sensor_held_ = faults_.apply(cfg_.faults, t_, measured, cfg_.force_sensor.range * 2.0 + 1.0);
   }
   const auto& cp = machine_.controller().params();
@@ -234,31 +268,56 @@ bool Rig::step() noexcept {
   if (cfg_.force_parameter != cutting::ForceParameter::Power)
     in.spindle_power_W = power_meter_.lagged();
   in.rpm = spindle_.rpm();
+  // The program's speed: V_p at the surface the pass cuts, D_prev(z), as a programmer sets S for
+  // the handbook's V at the work diameter (LinuxCNC's G96 holds V at the tool's radius x
+  // instead, (x + t)/x higher at the surface).
+  const double d_surface =
+      stock_.surface_diameter_mm(std::min(pass_, cfg_.stock.passes.size() - 1), z_mm);
   in.rpm_programmed = std::clamp(cp.speed_programmed_m_per_min * 1000.0 /
                                      (std::numbers::pi * std::max(d_surface, 1e-3)),
                                  cfg_.spindle.min_rpm, cfg_.spindle.max_rpm);
-  in.current_vel_mm_s = axis_.measured_velocity_m_per_s() * 1000.0;
+  const double x_vel_mm_s = phase_ == Phase::Plunge ? x_rate_mm_s_ : 0.0;
+  in.current_vel_mm_s = std::hypot(axis_.measured_velocity_m_per_s() * 1000.0, x_vel_mm_s);
   in.requested_vel = cp.feed_programmed_mm_per_rev;
-  in.motion_type = static_cast<std::int32_t>(in_block_ ? control::AdaptiveMachine::Motion::Feed
+  in.motion_type = static_cast<std::int32_t>(feeding() ? control::AdaptiveMachine::Motion::Feed
                                                        : control::AdaptiveMachine::Motion::Traverse);
   in.per_rev = true;
-  in.x_mm = 0.5 * d_surface;
-  in.z_mm = z_mm;
-  in.cutting_speed_m_per_min = std::numbers::pi * d_surface * spindle_.rpm() / 1000.0;
+  in.x_mm = x_mm_;
+  in.z_mm = -z_mm;
+  in.cutting_speed_m_per_min = v;
   in.tool_number = 1;
   in.program_line = static_cast<std::int32_t>(pass_) + 1;
   in.max_override = cp.feed_max_mm_per_rev / cp.feed_programmed_mm_per_rev;
+  if (phase_ == Phase::Plunge) in.feed_max_cmd = plunge_feed_mm_per_rev_;
   machine_.update(in, mout_);
   force_seen_ = mout_.load;
   if (mout_.control_period) rpm_cmd_ = mout_.spindle_speed_out;
   if (mout_.feed_hold && first_hold_s_ < 0.0) first_hold_s_ = t_;
-  double v_cmd = 0.0;
-  if (!in_block_) {
-    v_cmd = -cfg_.rapid_m_per_s;
-  } else if (!mout_.feed_hold) {
-    v_cmd = mout_.feed_per_rev_mm * 1e-3 * spindle_.rpm() / 60.0;
+  // The axes: z a servo axis with its lag and encoder; x an ideal cross slide that stops on
+  // its target.
+  const double feed_mm_s = mout_.feed_hold ? 0.0 : mout_.feed_per_rev_mm * spindle_.rpm() / 60.0;
+  const double rapid_mm_s = cfg_.rapid_m_per_s * 1e3;
+  double vz_mm_s = 0.0;
+  x_rate_mm_s_ = 0.0;
+  switch (phase_) {
+    case Phase::Plunge:
+      x_rate_mm_s_ = std::min(feed_mm_s, (x_mm_ - x_pass_mm_) / dt_);
+      x_mm_ -= x_rate_mm_s_ * dt_;
+      break;
+    case Phase::Turn:
+      vz_mm_s = feed_mm_s;
+      break;
+    case Phase::Retract:
+      x_mm_ = std::min(x_mm_ + rapid_mm_s * dt_, x_clear_mm_);
+      break;
+    case Phase::Return:  // a position loop onto the approach point (20/s: no overshoot)
+      vz_mm_s = std::clamp(20.0 * (z_approach_mm_ - z_mm), -rapid_mm_s, rapid_mm_s);
+      break;
+    case Phase::Descend:
+      x_mm_ = std::max(x_mm_ - rapid_mm_s * dt_, x_down_mm_);
+      break;
   }
-  axis_.step(v_cmd);
+  axis_.step(vz_mm_s * 1e-3);
 
   acc_param_ += true_param;
   acc_pz_ += f.Pz;

@@ -8,13 +8,19 @@
 //   ─→ force-parameter sensor 4 (dynamometer Pz or Py, or cutting power from the spindle's
 //      power meter minus its idle power), cutting-speed sensor 20 (V = π·D·n)
 //
-// Chip thickness is the axial travel over the last revolution (not the instantaneous feed), so
-// feed changes reach the force over one revolution, and entering material builds the chip up
-// over the first revolution — as in a real cut.
-// The part is roughed pass by pass; between passes the axis returns at rapid traverse outside
-// a feed block. Tool life is accounted by Palmgren–Miner: ∫ dt / T(V, s, t, h), T from the
-// material's extended Taylor law with the local hardness h (Kmv = h^(−nv)); productivity as cycle
-// time and material removed.
+// The cutting process is the LinuxCNC plant's (cutting::LathePlant): the blank on a grid along z,
+// cut down by the tool's path, the chip of the last revolution (feed = path travel, depth = area /
+// travel), so feed changes reach the force over one revolution and entering material builds the
+// chip up over the first revolution — as in a real cut, and the same integrator the simulated
+// LinuxCNC machine and the optimiser's prediction run.
+// The scenario's passes become a tool path: pass k feeds along +z from z_start to z_end at the
+// radius D_k/2. Before it the tool retracts above the part, returns at rapid traverse and comes
+// down at the approach point approach_mm before z_start; where material is left above D_k/2
+// there (a shoulder: an earlier pass stopped at z_start, or the blank steps), it comes down
+// approach_mm above the material at z_start and plunges radially at feed instead.
+// Tool life is accounted by Palmgren–Miner: ∫ dt / T(V, s, t, h), T from the material's
+// extended Taylor law with the local hardness h (Kmv = h^(−nv)); productivity as cycle time and
+// material removed.
 
 #include <cstdint>
 #include <vector>
@@ -90,9 +96,15 @@ class Rig {
                                               const cutting::Stock& stock);
 
  private:
-  // Uncut chip thickness [mm]: the axial travel over the last spindle revolution, from where
-  // the tool met material in this pass (so the first revolution builds the chip up).
-  double chip_thickness_mm(double z_mm) noexcept;
+  // Where the tool path goes: feed moves (a radial plunge at a shoulder, the pass along +z) and
+  // rapid moves between passes (retract above the part, return along −z, come down).
+  enum class Phase : std::uint8_t { Plunge, Turn, Retract, Return, Descend };
+  // The approach of pass k from the workpiece as it is now: where to come down and whether to
+  // plunge.
+  void plan_pass(std::size_t k) noexcept;
+  [[nodiscard]] bool feeding() const noexcept {
+    return phase_ == Phase::Plunge || phase_ == Phase::Turn;
+  }
 
   RigConfig cfg_{};
   double dt_ = 5e-4;
@@ -102,8 +114,14 @@ class Rig {
   std::size_t record_every_ = 1;
   std::size_t control_every_ = 1;
   std::size_t pass_ = 0;
-  bool in_block_ = false;
-  double phi_ = 0.0;
+  Phase phase_ = Phase::Turn;
+  double x_mm_ = 0.0;         // the tool's radius (an ideal position-controlled cross slide)
+  double x_pass_mm_ = 0.0;    // this pass's radius, D_k/2
+  double x_down_mm_ = 0.0;    // where the tool comes down to before the pass
+  double z_approach_mm_ = 0.0;
+  double x_clear_mm_ = 0.0;   // above the whole part: the return path
+  double x_rate_mm_s_ = 0.0;  // the cross slide's speed in the plunge
+  double plunge_feed_mm_per_rev_ = 0.0;  // the plunge's programmed feed_max
   double t_cut_ = 0.0;
   double life_used_ = 0.0;
   double life_used_nominal_ = 0.0;
@@ -113,20 +131,12 @@ class Rig {
   double force_seen_ = 0.0;
   bool sound_ = true;
   double first_hold_s_ = -1.0;
-  double theta_ = 0.0;              // cumulative spindle angle [rad]
-  std::vector<double> hist_theta_;  // ring buffer: angle and axial position per step
-  std::vector<double> hist_z_;
-  std::size_t head_ = 0;
-  std::size_t tail_ = 0;
-  std::size_t count_ = 0;
-  double z_contact_mm_ = 0.0;
-  bool contact_ = false;
-  cutting::CuttingModel cut_;
-  cutting::Stock stock_;
-  cutting::Disturbances dist_;
+  cutting::CuttingModel cut_;  // tool life and the worst-case feed
+  cutting::Stock stock_;       // the passes' geometry (the worst case; where a pass starts)
+  cutting::LathePlant plant_;  // the cutting process and sensor 4's dynamometer
+  cutting::LathePlant::Output pout_{};
   drives::FeedAxis axis_;
   drives::SpindleDrive spindle_;
-  sensors::LaggedNoisySensor force_sensor_;
   sensors::LaggedNoisySensor power_meter_;
   control::AdaptiveMachine machine_;  // what the lathe runs: the same object as LinuxCNC's
   control::AdaptiveMachine::Output mout_{};
