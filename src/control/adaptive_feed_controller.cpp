@@ -167,7 +167,11 @@ void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     // Breakage: a spike, or a collapse from a loaded cut to nothing within a few ms.
     if (in.force > p_.breakage_spike * limit) raise(Reason::ToolBreakage);
     high_since_s_ = in.force > 0.5 * limit ? 0.0 : high_since_s_ + measured.elapsed_s;
-    if (in.force < air && high_since_s_ <= p_.breakage_drop_window_s) raise(Reason::ToolBreakage);
+    // A window of 0 turns the collapse detector off (AdaptiveMachine's path-aware one replaces
+    // it): `≤ 0` still fired on a fall from half the limit to air within one control period.
+    if (p_.breakage_drop_window_s > 0.0 && in.force < air &&
+        high_since_s_ <= p_.breakage_drop_window_s)
+      raise(Reason::ToolBreakage);
     // Overload: above the limit too long although the feed is already at its minimum.
     const bool at_min = feed_ramp_.value() <= p_.feed_min_mm_per_rev * (1.0 + 1e-9);
     over_s_ = (in.force > (1.0 + p_.overload_margin) * limit && at_min)

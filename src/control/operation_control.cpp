@@ -217,17 +217,17 @@ void OperationStats::sample(double load, double load_rev, bool whole_rev, double
   if (whole_rev && std::isfinite(load_rev)) rev_peak_ = std::max(rev_peak_, load_rev);
 }
 
-bool PathBreakage::update(double load, double limit, double predicted_depth_mm,
-                          double dt) noexcept {
+bool PathBreakage::update(double load, double limit, double nominal_depth_mm,
+                          double guaranteed_depth_mm, double dt) noexcept {
   if (!std::isfinite(load) || !(limit > 0.0)) return false;
   if (load > 0.5 * limit) {
     high_since_s_ = 0.0;
-    depth_high_ = predicted_depth_mm;
+    depth_high_ = nominal_depth_mm;
     return false;
   }
   high_since_s_ += dt;
   return load < p_.air * limit && high_since_s_ <= p_.window_s &&
-         predicted_depth_mm >= std::max(p_.min_depth_mm, p_.keep * depth_high_);
+         guaranteed_depth_mm >= std::max(p_.min_depth_mm, p_.keep * depth_high_);
 }
 
 SettingError check_limit(double limit, const OperationRating& r) noexcept {

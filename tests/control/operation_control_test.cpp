@@ -257,6 +257,21 @@ TEST(PathBreakage, LatePeriodInAFallingLoadIsNoCollapse) {
     EXPECT_FALSE(exit_with_late_period(true, late)) << late;
 }
 
+// An eccentric blank (e = 1 mm) cut 1.45 mm deep: at least 0.45 − 0.3 (3σ of its random allowance)
+// = 0.15 mm is guaranteed, less than half the nominal depth, so the load falling to air once a
+// revolution is an interrupted cut. With 2 mm of the 2 mm nominal guaranteed, the same fall is a
+// broken tool.
+TEST(PathBreakage, AnInterruptedCutIsNoBreakageWhereTheBlankCanGiveNothing) {
+  PathBreakage b;
+  b.configure({});
+  for (int k = 0; k < 20; ++k) EXPECT_FALSE(b.update(1600.0, 2000.0, 1.45, 0.15, 0.0005));
+  EXPECT_FALSE(b.update(50.0, 2000.0, 1.45, 0.15, 0.0005));
+  PathBreakage sound;
+  sound.configure({});
+  for (int k = 0; k < 20; ++k) EXPECT_FALSE(sound.update(1600.0, 2000.0, 2.0, 2.0, 0.0005));
+  EXPECT_TRUE(sound.update(50.0, 2000.0, 2.0, 2.0, 0.0005));
+}
+
 TEST(PathBreakage, ABrokenToolLatchesInThePeriodTheLoadCollapses) {
   PathBreakage b;
   b.configure({});

@@ -107,7 +107,7 @@ class AdaptiveFeedController {
     double overload_margin = 0.3;
     double overload_time_s = 0.2;
     double breakage_spike = 2.5;  // fraction of force_limit
-    double breakage_drop_window_s = 0.01;
+    double breakage_drop_window_s = 0.01;  // 0: no collapse detector
     // Regulate the force averaged over one spindle revolution (window from the measured speed):
     // the feed reaches the chip only over a revolution, so within-revolution swings (runout of
     // an eccentric blank) are not the feed's to fight. Contact, air and breakage use the raw

@@ -162,7 +162,16 @@ class PathBreakage {
   // True in the period a collapse with engagement predicted is seen. dt: the time since the last
   // call as measured (PeriodTime::elapsed_s), never the thread's nominal period: after a late
   // period the fall of the load took that much longer than the number of calls says.
-  bool update(double load, double limit, double predicted_depth_mm, double dt) noexcept;
+  bool update(double load, double limit, double predicted_depth_mm, double dt) noexcept {
+    return update(load, limit, predicted_depth_mm, predicted_depth_mm, dt);
+  }
+  // With what the model cannot know: the depth it predicts (nominal) and the least the real blank
+  // can give there (guaranteed: less its eccentricity on the blank's surface, less its random
+  // allowance). A collapse is a broken tool only where the guaranteed depth is still ≥ keep × the
+  // nominal one while loaded: an eccentric blank cut shallower than its eccentricity is an
+  // interrupted cut, whose load falls to air once a revolution with a sound tool.
+  bool update(double load, double limit, double nominal_depth_mm, double guaranteed_depth_mm,
+              double dt) noexcept;
 
  private:
   Params p_{};

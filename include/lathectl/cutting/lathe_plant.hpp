@@ -78,6 +78,12 @@ class LathePlant {
     bool in_contact = false;
     double time_in_cut_s = 0.0;
     double removed_mm3 = 0.0;      // material removed since configure(), Σ π(R_old² − R_new²)·dz
+    // The depth the nose is engaged at now: the cross-section it removed over the path it
+    // travelled in the last few cells of travel (held while it does not move). depth_mm is the
+    // last revolution's chip and falls over a revolution when the tool leaves the material;
+    // this falls within 0.03 mm of travel.
+    double engaged_depth_mm = 0.0;
+    bool on_blank = false;  // the nose cut the blank's own (eccentric) surface this step
   };
 
   // Throws std::invalid_argument on a stock the grid cannot hold.
@@ -121,6 +127,9 @@ class LathePlant {
   double t_cut_ = 0.0;
   double t_since_contact_ = -1.0;
   double removed_mm3_ = 0.0;
+  double engaged_ = 0.0;
+  double engaged_area_ = 0.0;
+  double engaged_travel_ = 0.0;
 };
 
 }  // namespace lathectl::cutting

@@ -117,6 +117,12 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   mp.power_sensor = cfg.force_parameter == cutting::ForceParameter::Power;
   mp.spindle = cfg.spindle;
   mp.power_lag_s = cfg.power_meter.time_constant_s;
+  // The stock model the machine runs beside the controller (as lathectl_adaptive does with the
+  // scenario's blank): its predicted depth along the tool's path tells a planned exit (a pass
+  // running off a step into air) from a broken tool.
+  mp.stock_model = true;
+  mp.process = process;
+  mp.z_origin_mm = 0.0;
   mp.rating.limit_max = 1e300;  // the program sets nothing: the scenario's settings
   mp.rating.feed_max_mm_per_rev = 1e300;
   sim::configure_as("controller", [&] { machine_.configure(mp); });
