@@ -93,8 +93,8 @@ void AdaptiveMachine::configure(const Params& p) {
   last_reset_ = false;
   req_prev_ = req_stable_ = f_word_ = 0.0;
   bad_ = false;
-  omega_prev_ = accel_lagged_W_ = 0.0;
-  omega_known_ = false;
+  accel_lagged_W_ = accel_W_ = accel_now_s_ = 0.0;
+  accel_n_ = accel_head_ = 0;
   teach_ = TeachIn{};
   teach_tool_ = teach_op_ = -1;
   stats_.reset();
@@ -297,7 +297,7 @@ void AdaptiveMachine::update(const Input& in, Output& out) noexcept {
   op_limit_ = applied_.limit;
 
   const bool feed_move = in.enable && feed_motion(in.motion_type);
-  if (p_.power_sensor) acceleration_power(in.rpm, period.elapsed_s);
+  if (p_.power_sensor) acceleration_power(in.rpm, period.elapsed_s, in.nominal_period_s);
   // Every servo period: the stop comes in the period the data changes.
   if (tool_watch_.update(tool, in.tool_diameter, in.tool_offset_x, in.tool_offset_z, feed_move,
                          period.elapsed_s) &&
@@ -379,16 +379,37 @@ double AdaptiveMachine::measured_load(const Input& in, bool feed_move, double rp
 
 // The power that accelerates the spindle, J·ω·dω/dt [W], from the measured speed over the last
 // servo period (the nearest in time to the power reading), lagged as the power meter lags.
-void AdaptiveMachine::acceleration_power(double rpm, double dt) noexcept {
+void AdaptiveMachine::acceleration_power(double rpm, double dt, double nominal_s) noexcept {
+  // dω/dt as a difference over at least one nominal period of measured time: on time, the last
+  // period's, as before. Under a loaded LinuxCNC a late period is followed by short catch-up
+  // calls, each with one period's speed change over a fraction of a period: a braking spindle
+  // read 29 kW for one sample (sensor_out_of_range in the shop session's idle sweep). Then the
+  // difference reaches back over the late period.
   const double omega = std::abs(rpm) * 2.0 * std::numbers::pi / 60.0;
-  double accel = 0.0;
-  if (omega_known_ && dt > 0.0)
-    accel = p_.spindle.inertia_kg_m2 * omega * (omega - omega_prev_) / dt;
-  omega_prev_ = omega;
-  omega_known_ = std::isfinite(omega);
-  if (!std::isfinite(accel)) accel = 0.0;
+  if (!std::isfinite(omega)) {
+    accel_n_ = 0;
+  } else {
+    accel_now_s_ += dt > 0.0 ? dt : nominal_s;
+    double accel = 0.0;
+    if (accel_n_ > 0) {
+      // the newest sample at least a nominal period back (else the oldest kept)
+      std::size_t k = 0;
+      for (; k + 1 < accel_n_; ++k)
+        if (accel_now_s_ - accel_t_[(accel_head_ + kAccelRing - k) % kAccelRing] >=
+            nominal_s * (1.0 - 1e-9))
+          break;
+      const std::size_t i = (accel_head_ + kAccelRing - k) % kAccelRing;
+      const double span = accel_now_s_ - accel_t_[i];
+      if (span > 0.0) accel = p_.spindle.inertia_kg_m2 * omega * (omega - accel_w_[i]) / span;
+    }
+    accel_head_ = (accel_head_ + 1) % kAccelRing;
+    accel_t_[accel_head_] = accel_now_s_;
+    accel_w_[accel_head_] = omega;
+    if (accel_n_ < kAccelRing) ++accel_n_;
+    if (std::isfinite(accel)) accel_W_ = accel;
+  }
   const double a = p_.power_lag_s > 0.0 ? 1.0 - std::exp(-dt / p_.power_lag_s) : 1.0;
-  accel_lagged_W_ += a * (accel - accel_lagged_W_);
+  accel_lagged_W_ += a * (accel_W_ - accel_lagged_W_);
 }
 
 void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) noexcept {

@@ -228,7 +228,7 @@ class AdaptiveMachine {
   double measured_load(const Input& in, bool feed_move, double rpm, double dt, Output& out,
                        bool& sensing) noexcept;
   void control(const Input& in, Output& out, double dt_measured) noexcept;
-  void acceleration_power(double rpm, double dt) noexcept;
+  void acceleration_power(double rpm, double dt, double nominal_s) noexcept;
 
   Params p_{};
   AdaptiveFeedController ctl_;
@@ -248,9 +248,15 @@ class AdaptiveMachine {
   OpSettings applied_{};
   bool bad_ = false;
   IdleTare tare_;
-  double omega_prev_ = 0.0;
+  // The spindle's speed over the last servo periods (measured time, ω), for dω/dt.
+  static constexpr std::size_t kAccelRing = 32;
+  std::array<double, kAccelRing> accel_t_{};
+  std::array<double, kAccelRing> accel_w_{};
+  std::size_t accel_head_ = 0;
+  std::size_t accel_n_ = 0;
+  double accel_now_s_ = 0.0;
+  double accel_W_ = 0.0;  // J·ω·dω/dt
   double accel_lagged_W_ = 0.0;
-  bool omega_known_ = false;
   TeachIn teach_;
   int teach_tool_ = -1, teach_op_ = -1;
   OperationStats stats_;
