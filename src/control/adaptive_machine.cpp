@@ -362,7 +362,10 @@ double AdaptiveMachine::measured_load(const Input& in, bool feed_move, double rp
   // Outside feed moves (rapids, dwells, tool changes) the drive draws its idle power only.
   tare_.update(rpm, in.spindle_power_W, dt, !feed_move);
   const bool learned = tare_.covers(rpm);
-  const double idle = learned ? tare_.idle_W(rpm) : drives::idle_power_W(p_.spindle, rpm);
+  // Until the tare has learned this speed: what the drive draws in air by its parameters (the
+  // idle law and viscous friction; without the friction a prior-art run at a steady 1750 rpm
+  // read 336 W of cutting in air and took it for contact).
+  const double idle = learned ? tare_.idle_W(rpm) : drives::air_power_W(p_.spindle, rpm);
   out.idle_power_W = std::isfinite(idle) ? idle : 0.0;
   out.idle_law = tare_.coefficients();
   out.tare_ready = learned;

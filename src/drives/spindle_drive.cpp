@@ -74,6 +74,11 @@ double idle_power_W(const SpindleDrive::Params& p, double rpm) noexcept {
   return p.idle_p0_W + p.idle_p1_W_per_rpm * n + p.idle_p2_W_per_rpm2 * n * n;
 }
 
+double air_power_W(const SpindleDrive::Params& p, double rpm) noexcept {
+  const double w = std::abs(rpm) * 2.0 * std::numbers::pi / 60.0;
+  return idle_power_W(p, rpm) + p.viscous_N_m_s * w * w / p.efficiency;
+}
+
 double SpindleDrive::idle_power_W(double rpm) const noexcept {
   return drives::idle_power_W(p_, rpm);
 }

@@ -53,5 +53,8 @@ class SpindleDrive {
 // The idle law P_idle(n) = p0 + p1·|n| + p2·n² [W] (n in rpm): what a running spindle draws
 // without cutting. The drive, the rigs and the HAL components all use this one.
 [[nodiscard]] double idle_power_W(const SpindleDrive::Params& p, double rpm) noexcept;
+// What the drive draws turning steadily in air: the idle law and its viscous friction b·ω²/η
+// (SpindleDrive::electrical_power_W at constant speed without a cutting torque).
+[[nodiscard]] double air_power_W(const SpindleDrive::Params& p, double rpm) noexcept;
 
 }  // namespace lathectl::drives

@@ -116,7 +116,9 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   mp.parameter = cfg.force_parameter;
   mp.power_sensor = cfg.force_parameter == cutting::ForceParameter::Power;
   mp.spindle = cfg.spindle;
-  mp.power_lag_s = cfg.power_meter.time_constant_s;
+  mp.power_lag_s = cfg.force_parameter == cutting::ForceParameter::Power
+                      ? cfg.force_sensor.time_constant_s
+                      : cfg.power_meter.time_constant_s;
   // The stock model the machine runs beside the controller (as lathectl_adaptive does with the
   // scenario's blank): its predicted depth along the tool's path tells a planned exit (a pass
   // running off a step into air) from a broken tool.
@@ -143,7 +145,11 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   const double rpm0 = std::clamp(cp.speed_programmed_m_per_min * 1000.0 / (std::numbers::pi * d0),
                                  cfg.spindle.min_rpm, cfg.spindle.max_rpm);
   spindle_.reset(rpm0);
-  sim::configure_as("sensor", [&] { power_meter_.configure(cfg.power_meter); });
+  // Sensor 4 on power is the spindle's power meter: [sensor]'s lag, noise and range (a noiseless
+  // meter read exactly the same in air at a steady speed, and the monitor called it stuck).
+  sensors::LaggedNoisySensor::Params meter = cfg.power_meter;
+  if (cfg.force_parameter == cutting::ForceParameter::Power) meter = cfg.force_sensor;
+  sim::configure_as("sensor", [&] { power_meter_.configure(meter); });
   power_meter_.reset(spindle_.electrical_power_W());
   rpm_cmd_ = rpm0;
   force_seen_ = 0.0;
