@@ -69,8 +69,7 @@ void GaugeMachine::reset() noexcept {
 
 void GaugeMachine::rearm() noexcept {
   t_ = 0.0;
-  peak_ = 0.0;
-  peak_n_ = 0;
+  quiet_n_ = 0;
   const double s = out_.signal_V;
   out_ = Output{};
   out_.signal_V = s;
@@ -100,12 +99,12 @@ void GaugeMachine::update(const Input& in) noexcept {
   const double g = std::abs(in.generator_V);  // rectifier (13)
   const double s = filter_.step(g);           // filter (14)
   out_.signal_V = s;
-  // Signal lost: its peak over each supply period.
-  peak_ = std::max(peak_, g);
-  if (++peak_n_ >= window_n_) {
-    if (p_.signal_lost_V > 0.0 && peak_ < p_.signal_lost_V) latch(Reason::GaugeSignalLost);
-    peak_ = 0.0;
-    peak_n_ = 0;
+  // Signal lost: no sample of |u| at the level for a whole supply period (a 2ω oscillation
+  // reaches its peak four times in one).
+  if (g >= p_.signal_lost_V) {
+    quiet_n_ = 0;
+  } else if (++quiet_n_ >= window_n_ && p_.signal_lost_V > 0.0) {
+    latch(Reason::GaugeSignalLost);
   }
   out_.armed = t_ > p_.arm_after_s;
   const auto n_steps = static_cast<std::int32_t>(p_.steps.size());

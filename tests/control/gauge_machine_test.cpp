@@ -188,7 +188,7 @@ TEST(GaugeMachine, UnreachableThresholdEndsAtTheBackstopWithItsAlarm) {
   EXPECT_GT(r.finished_m, p.backstop_m - kRate * kDt - 1e-12);
 }
 
-TEST(GaugeMachine, SignalLostHoldsWithinTwoSupplyPeriods) {
+TEST(GaugeMachine, SignalLostHoldsAfterOneSupplyPeriod) {
   for (bool nan : {false, true}) {
     GaugeMachine m;
     auto p = params(GaugeFilterKind::FirstOrder, {{threshold_23(params(
@@ -201,10 +201,21 @@ TEST(GaugeMachine, SignalLostHoldsWithinTwoSupplyPeriods) {
     EXPECT_EQ(r.reason, nan ? Reason::SensorNotFinite : Reason::GaugeSignalLost);
     EXPECT_TRUE(m.output().alarm);
     EXPECT_TRUE(r.trip_s.empty());
-    // Removal stopped within two supply periods of the loss (one sample for a NaN).
-    const double limit = nan ? kDt : 2.0 / kSupply;
-    EXPECT_LE(kAllow - kRate * lost - r.finished_m, kRate * (limit + kDt));
-    EXPECT_GE(kAllow - kRate * lost - r.finished_m, 0.0);
+    // Removal stopped one supply period after the last sample at the level (one sample after a
+    // NaN): at most a sample after one period from the loss, at least the period less the time
+    // |u| spends below the level about a zero of sin(2ωt): 2·asin(level/peak)/(2ω).
+    const double removed = kAllow - kRate * lost - r.finished_m;
+    if (nan) {
+      EXPECT_GT(removed, 0.0);  // the sample at or after the loss, then its step
+      EXPECT_LE(removed, kRate * 2.0 * kDt);
+    } else {
+      const double x = kAllow - kRate * lost;
+      const double peak = 0.5 * std::numbers::pi * kK * (kA - x);
+      const double below = 2.0 * std::asin(p.signal_lost_V / peak) /
+                           (2.0 * 2.0 * std::numbers::pi * kSupply);
+      EXPECT_LE(removed, kRate * (1.0 / kSupply + kDt));
+      EXPECT_GE(removed, kRate * (1.0 / kSupply - below - kDt));
+    }
   }
 }
 

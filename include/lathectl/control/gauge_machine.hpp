@@ -15,10 +15,10 @@
 //               (the signal was above them when the relay armed: a short allowance).
 //   backstop    the programmed limit position: the cut ends there whatever the gauge says, with
 //               an alarm (a relay that never tripped, or tripped too late).
-//   checks      signal lost: the rectified signal's peak over one supply period (two periods of
-//               the probe's 2ω) below signal_lost_V — the generator's wire is open or the probe
-//               does not oscillate — holds the feed with an alarm; a NaN or infinite sample, at
-//               once. A threshold above the free probe's signal (the most S can ever read) can
+//   checks      signal lost: no sample of the rectified signal at signal_lost_V for a whole
+//               supply period (two periods of the probe's 2ω, its peak four times) — the
+//               generator's wire is open or the probe does not oscillate — holds the feed with an
+//               alarm; a NaN or infinite sample, at once. A threshold above the free probe's signal (the most S can ever read) can
 //               never trip: reported from the start, so the backstop's alarm is expected.
 //
 // The relay arms arm_after_s after a (re)arm: the filter has settled on the contact by then (a
@@ -56,7 +56,7 @@ class GaugeMachine {
     double backstop_m = -std::numeric_limits<double>::infinity();
     // The filtered signal of the free probe (no contact): the most S reaches. ∞: unknown.
     double free_signal_V = std::numeric_limits<double>::infinity();
-    // The rectified signal's peak over a supply period below this: the signal is lost (0: off).
+    // No sample of the rectified signal at this level for a supply period: lost (0: off).
     double signal_lost_V = 0.0;
     // Where the filter starts at reset (the free probe's signal, the transducer at rest).
     double initial_signal_V = 0.0;
@@ -103,8 +103,8 @@ class GaugeMachine {
   double t_ = 0.0;       // since the last (re)arm, before the current sample
   double prev_ = 0.0;    // S of the last sample
   double trip_at_[kMaxSteps]{};  // when each tripped step's command operates
-  double peak_ = 0.0;    // |u| peak in the current supply period
-  std::size_t peak_n_ = 0, window_n_ = 1;
+  std::size_t quiet_n_ = 0;  // samples since |u| last reached signal_lost_V
+  std::size_t window_n_ = 1;  // samples in a supply period
   bool last_rearm_ = false;
 };
 
