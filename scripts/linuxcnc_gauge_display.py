@@ -156,7 +156,7 @@ def main():
                 finish(cur, hal.get_value(P + "finished-error-um"))
             cur = {"part": n, "steps": [], "backstop": False, "size": False, "alarm": False,
                    "reason": 0, "trip_to_stop_s": None, "stop_latency_s": None,
-                   "unreachable": False, "last_step": 0}
+                   "unreachable": False, "last_step": 0, "wall_start": now}
         if n > 0:
             step = int(hal.get_value(G + "step"))
             if step > cur["last_step"]:
@@ -172,6 +172,11 @@ def main():
             if hal.get_value(G + "probe"):
                 cur["trip_to_stop_s"] = hal.get_value(G + "trip-to-stop")
                 cur["stop_latency_s"] = hal.get_value(G + "stop-latency")
+                if "wall_to_stop_s" not in cur:
+                    # The base thread's clock (its periods counted) against the wall's since the
+                    # part was loaded: below 1 when the thread lost periods.
+                    cur["wall_to_stop_s"] = round(now - cur["wall_start"], 4)
+                    cur["clock_to_stop_s"] = round(hal.get_value(G + "part-time"), 4)
         if (break_um is not None and not broken and n > 0 and
                 hal.get_value(P + "size-um") <= break_um):
             hal.set_p(P + "break-wire", "1")  # in-process: the size read next is the break's
