@@ -172,6 +172,29 @@ TEST(GaugeMachine, StepsOperateInOrderOneRelayResponseAfterTheirThresholds) {
   EXPECT_EQ(m.output().step, 3);
 }
 
+TEST(GaugeMachine, ACrossingOfALaterThresholdTripsTheEarlierOnesWithIt) {
+  // A short allowance: the signal is already above the fine threshold when the relay arms (its
+  // upward crossing never comes); spark-out's crossing trips both, the plunge still ends at x_k.
+  GaugeMachine m;
+  auto p = params(GaugeFilterKind::Synchronous, {{0.0, Command::Fine},
+                                                 {0.0, Command::SparkOut},
+                                                 {0.0, Command::Size}});
+  const double s23 = threshold_23(p);
+  p.steps[0].threshold_V = 0.5 * p.initial_signal_V;  // below the signal from the start
+  p.steps[1].threshold_V = s23 - kK * 20e-6;
+  p.steps[2].threshold_V = s23;
+  m.configure(p);
+  const Plunge r = plunge(m);
+  ASSERT_EQ(r.trip_s.size(), 2u);  // the first report carries both steps
+  ASSERT_EQ(r.operate_s.size(), 2u);
+  EXPECT_EQ(m.output().step, 3);
+  EXPECT_EQ(m.output().command, Command::Size);
+  EXPECT_NEAR(r.trip_s[0], (p.steps[1].threshold_V / kK - kA + kAllow) / kRate +
+                               lathectl::control::GaugeFilter::lag_s(p.filter),
+              synchronous_bound_m() / kRate);
+  EXPECT_NEAR(r.finished_m, kTarget, synchronous_bound_m());
+}
+
 TEST(GaugeMachine, UnreachableThresholdEndsAtTheBackstopWithItsAlarm) {
   GaugeMachine m;
   auto p = params(GaugeFilterKind::FirstOrder, {{kK * kA * 1.01, Command::Size}});
