@@ -15,7 +15,13 @@ lathectl_gauge in the base thread. Asserts from summary.json that
                the program aborted; removal stopped within one supply period (no sample at the
                level for that long) and motion's stop (MOTION_STOP_S) at the rough feed
 
-  linuxcnc_gauge_test.py SOURCE_DIR WORK_DIR [CASE...]
+  agreement    without the disturbance, one part against `lathectl run`'s full-model part on
+               the same scenario (the same GaugeMachine, thresholds and transducer): LinuxCNC's
+               size = run's − a·(size command to standstill, motion's stop, which the study does
+               not have) within 0.05 µm (X moves in servo-period steps of a·1 ms = 20 nm, the
+               gauge samples every 100 µs)
+
+  linuxcnc_gauge_test.py SOURCE_DIR WORK_DIR [LATHECTL] [CASE...]
 """
 
 import json
@@ -38,11 +44,11 @@ def check(cond, what):
         FAILS.append(what)
 
 
-def session(src, work, name, *args):
+def session(src, work, name, *args, scenario=None):
     out = os.path.join(work, name)
     cmd = [os.path.join(src, "scripts/linuxcnc-sim"),
            os.path.join(src, "examples/linuxcnc/gauge_plunge.ngc"),
-           os.path.join(src, "examples/linuxcnc/gauge_plunge.toml"), "--out", out,
+           scenario or os.path.join(src, "examples/linuxcnc/gauge_plunge.toml"), "--out", out,
            "--timeout", "60", "--quiet"] + list(args)
     # Exit 3: another session holds the realtime (a LinuxCNC or a halrun of another build on
     # this machine): wait for it, up to two minutes.
@@ -61,7 +67,9 @@ def session(src, work, name, *args):
 
 def main():
     src, work = sys.argv[1], sys.argv[2]
-    cases = sys.argv[3:] or ["series", "never_trips", "signal_lost"]
+    lathectl = sys.argv[3] if len(sys.argv) > 3 and os.path.isfile(sys.argv[3]) else None
+    cases = [c for c in sys.argv[3:] if c != lathectl] or [
+        "series", "never_trips", "signal_lost"] + (["agreement"] if lathectl else [])
     os.makedirs(work, exist_ok=True)
     sc = tomllib.load(open(os.path.join(src, "examples/linuxcnc/gauge_plunge.toml"), "rb"))
     proc = sc["process"]
@@ -132,6 +140,26 @@ def main():
                   "signal_lost: removed after the break %s µm ≤ %.2f (size %s → %s)"
                   % (None if at is None or held is None else round(at - held, 3), limit, at,
                      held))
+    if "agreement" in cases and lathectl:
+        quiet = os.path.join(work, "gauge_plunge_quiet.toml")
+        text = open(os.path.join(src, "examples/linuxcnc/gauge_plunge.toml")).read()
+        with open(quiet, "w") as f:
+            f.write(text.replace("noise_sigma_um = 2.0", "noise_sigma_um = 0.0"))
+        run_out = os.path.join(work, "agreement-run")
+        subprocess.run([lathectl, "run", "--out", run_out, quiet], capture_output=True,
+                       check=True)
+        r = json.load(open(os.path.join(run_out, "summary.json")))["metrics"]
+        s, rc = session(src, work, "agreement", "--parts", "1", scenario=quiet)
+        if s and s["parts_detail"]:
+            p = s["parts_detail"][0]
+            a = proc["removal_um_per_s"]
+            expected = r["full_finished_error_um"] - a * p["stop_latency_s"]
+            check(abs(s["metrics"]["threshold_V"] - r["threshold_V"]) < 1e-9,
+                  "agreement: the same size threshold (%.6f V, run %.6f V)"
+                  % (s["metrics"]["threshold_V"], r["threshold_V"]))
+            check(abs(p["error_um"] - expected) <= 0.05,
+                  "agreement: LinuxCNC %.3f µm, run's full model %.3f µm − a·%.4f s = %.3f µm"
+                  % (p["error_um"], r["full_finished_error_um"], p["stop_latency_s"], expected))
     if FAILS:
         print("%d check(s) failed" % len(FAILS))
         sys.exit(1)
