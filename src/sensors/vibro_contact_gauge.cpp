@@ -55,14 +55,7 @@ void VibroContactGauge::configure(const Params& p, double dt) {
   coil_decay_ = std::exp(-dt * r / L);
   gen_decay_ =
       p.generator_time_constant_s > 0.0 ? std::exp(-dt / p.generator_time_constant_s) : 0.0;
-  const double tf = p.filter == Params::Filter::SecondOrder ? 0.5 * p.filter_time_constant_s
-                                                            : p.filter_time_constant_s;
-  filt_decay_ = std::exp(-dt / tf);
-  ring_.assign(p.filter == Params::Filter::Synchronous
-                   ? std::max<std::size_t>(
-                         1, static_cast<std::size_t>(std::llround(synchronous_window_s(p) / dt)))
-                   : 0,
-               0.0);
+  filter_.configure(filter_params(p), dt);
   linear_free_state();
   if (nonlinear()) {
     // (6), (9)-(11): the linear free state is only a start; the probe's own settling (its time
@@ -99,13 +92,11 @@ void VibroContactGauge::configure(const Params& p, double dt) {
 }
 
 double VibroContactGauge::synchronous_window_s(const Params& p) noexcept {
-  const double n = std::max(1.0, std::round(p.filter_time_constant_s * p.supply_Hz));
-  return 2.0 * n / p.supply_Hz;  // 2n supply periods, nearest 2·T_f
+  return control::GaugeFilter::window_s(filter_params(p));
 }
 
 double VibroContactGauge::filter_lag_s(const Params& p) noexcept {
-  return p.filter == Params::Filter::Synchronous ? 0.5 * synchronous_window_s(p)
-                                                 : p.filter_time_constant_s;
+  return control::GaugeFilter::lag_s(filter_params(p));
 }
 
 double VibroContactGauge::filter_noise_factor(const Params& p, double b) noexcept {
@@ -191,38 +182,14 @@ void VibroContactGauge::reset() noexcept {
   z_ = free_.z;
   v_ = free_.v;
   u_ = free_.u;
-  s_ = s1_ = free_.s;
-  std::fill(ring_.begin(), ring_.end(), free_.s);
-  ring_sum_ = free_.s * static_cast<double>(ring_.size());
-  ring_pos_ = 0;
-}
-
-double VibroContactGauge::filter(double g) noexcept {
-  switch (p_.filter) {
-    case Params::Filter::SecondOrder:
-      s1_ = g + (s1_ - g) * filt_decay_;
-      s_ = s1_ + (s_ - s1_) * filt_decay_;
-      return s_;
-    case Params::Filter::Synchronous: {
-      ring_sum_ += g - ring_[ring_pos_];
-      ring_[ring_pos_] = g;
-      if (++ring_pos_ == ring_.size()) {
-        ring_pos_ = 0;
-        double sum = 0.0;  // once per window: no drift of the running sum
-        for (double v : ring_) sum += v;
-        ring_sum_ = sum;
-      }
-      s_ = ring_sum_ / static_cast<double>(ring_.size());
-      return s_;
-    }
-    case Params::Filter::FirstOrder:
-      break;
-  }
-  s_ = g + (s_ - g) * filt_decay_;
-  return s_;
+  filter_.reset(free_.s);
 }
 
 double VibroContactGauge::step(double x) noexcept {
+  return filter_.step(std::abs(step_generator(x)));
+}
+
+double VibroContactGauge::step_generator(double x) noexcept {
   const double dt = dt_;
   // Electromagnet (7) with (6): W·Φ' = V·sin ωt − r·i, i = W·Φ·(δ − z)/(L·δ): a first-order lag of
   // rate r/(L·q), q = δ/(δ − z), with the supply at the step's midpoint and z held over it.
@@ -256,11 +223,11 @@ double VibroContactGauge::step(double x) noexcept {
   }
   z_ += dt * v_new;
   v_ = v_new;
-  // Generator, rectifier, filter.
+  // Generator (12).
   const double emf = p_.generator_V_per_m_per_s * mg * mg * v_;
   u_ = emf + (u_ - emf) * gen_decay_;
   t_ += dt;
-  return filter(std::abs(u_));
+  return u_;
 }
 
 }  // namespace lathectl::sensors

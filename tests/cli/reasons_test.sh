@@ -17,7 +17,12 @@ grep -Eq '^  31  12  engaged +no +E +The tool has just entered the cut' "$work/t
   bad "engaged row: $(grep engaged "$work/table.txt")"
 grep -Eq '^  60  21  gauge_backstop +yes +D ' "$work/table.txt" || bad "gauge_backstop row"
 grep -Eq '^  11   5  sensor_out_of_range +yes +A E ' "$work/table.txt" || bad "sensor_out_of_range row"
-[ "$(($(wc -l < "$work/table.txt") - 1))" -eq 22 ] || bad "$(wc -l < "$work/table.txt") lines, expected 22 reasons and a header"
+# One line a row of the core's table (include/lathectl/control/types.hpp, kReasons).
+rows=$(grep -c '^    {Reason::' "$src/include/lathectl/control/types.hpp")
+[ "$rows" -ge 26 ] || bad "$rows rows counted in types.hpp's kReasons, expected at least 26"
+[ "$(($(wc -l < "$work/table.txt") - 1))" -eq "$rows" ] ||
+  bad "$(wc -l < "$work/table.txt") lines, expected $rows reasons and a header"
+grep -Eq '^  62  23  gauge_size +no +D ' "$work/table.txt" || bad "gauge_size row"
 
 "$bin" reasons --json > "$work/reasons.json" || bad "lathectl reasons --json: exit $?"
 python3 - "$work/reasons.json" <<'PY' || bad "--json content"

@@ -14,6 +14,8 @@
 #include "lathectl/control/adaptive_feed_controller.hpp"
 #include "lathectl/control/adaptive_input.hpp"
 #include "lathectl/control/adaptive_machine.hpp"
+#include "lathectl/control/gauge_machine.hpp"
+#include "lathectl/sensors/vibro_contact_gauge.hpp"
 #include "lathectl/control/modulated_feed.hpp"
 #include "lathectl/control/operation_control.hpp"
 #include "lathectl/control/pulse_feed_controller.hpp"
@@ -331,4 +333,50 @@ TEST(NoAlloc, ModulatedFeedControllerAndVibrationChainNeverAllocate) {
   }
   EXPECT_EQ(g_allocations.load() - before, 0) << "update() allocated";
   EXPECT_GT(engaged, 1000);
+}
+
+TEST(NoAlloc, GaugeMachineAndVibroContactGaugeNeverAllocate) {
+  // Every filter and every path: steps, their relay, the backstop, a lost and a NaN signal, rearm.
+  using lathectl::control::GaugeFilterKind;
+  using lathectl::control::GaugeMachine;
+  for (auto kind : {GaugeFilterKind::FirstOrder, GaugeFilterKind::SecondOrder,
+                    GaugeFilterKind::Synchronous}) {
+    lathectl::sensors::VibroContactGauge::Params tp;
+    tp.filter = kind;
+    tp.filter_time_constant_s = 0.02;
+    lathectl::sensors::VibroContactGauge gauge;
+    gauge.configure(tp, 2e-5);
+    GaugeMachine m;
+    GaugeMachine::Params p;
+    p.period_s = 2e-5;
+    p.filter = lathectl::sensors::VibroContactGauge::filter_params(tp);
+    const double free = gauge.free_signal_V();
+    p.steps = {{0.3 * free, GaugeMachine::Command::Fine},
+               {0.5 * free, GaugeMachine::Command::SparkOut},
+               {0.7 * free, GaugeMachine::Command::Size}};
+    p.arm_after_s = 0.05;
+    p.backstop_m = -1.0;
+    p.signal_lost_V = 0.01 * free;
+    p.free_signal_V = free;
+    p.initial_signal_V = free;
+    m.configure(p);
+    int stops = 0, trips = 0;
+    const long before = g_allocations.load();
+    for (int k = 0; k < 60000; ++k) {
+      const double t = k * 2e-5;
+      const double x = gauge.free_amplitude_m() * (0.9 - 0.8 * std::fmod(t, 0.4) / 0.4);
+      GaugeMachine::Input in;
+      in.generator_V = gauge.step_generator(x);
+      if (k % 20000 > 19000) in.generator_V = 0.0;                      // lost
+      if (k % 20000 == 19990) in.generator_V = std::nan("");            // not finite
+      in.position_m = k % 20000 > 18000 ? -2.0 : 0.0;                   // backstop
+      in.rearm = k % 20000 < 2;  // each ramp a part
+      m.update(in);
+      stops += m.output().stop;
+      trips += m.output().tripped;
+    }
+    EXPECT_EQ(g_allocations.load() - before, 0) << "update() allocated";
+    EXPECT_GT(stops, 1000);
+    EXPECT_GT(trips, 0) << static_cast<int>(kind);
+  }
 }

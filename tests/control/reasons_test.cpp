@@ -37,6 +37,10 @@ bool enumerator(Reason r) {
     case Reason::ModulationProgrammed:
     case Reason::ModulationNoForce:
     case Reason::GaugeBackstop:
+    case Reason::GaugeStep:
+    case Reason::GaugeSize:
+    case Reason::GaugeSignalLost:
+    case Reason::GaugeUnreachable:
       return true;
   }
   return false;

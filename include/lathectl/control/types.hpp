@@ -34,6 +34,10 @@ enum class Reason : std::uint16_t {
   ModulationProgrammed = 53,
   ModulationNoForce = 54,
   GaugeBackstop = 60,
+  GaugeStep = 61,
+  GaugeSize = 62,
+  GaugeSignalLost = 63,
+  GaugeUnreachable = 64,
 };
 
 // The one reason table: what each code means to an operator who reads it on a pin or in a log,
@@ -60,8 +64,8 @@ inline constexpr ReasonInfo kReasons[] = {
     {Reason::RateLimited, "rate_limited", false, "A E",
      "The output is changing as fast as it may (feed ramp, converter ramp) and has not reached "
      "its target yet."},
-    {Reason::SensorNotFinite, "sensor_not_finite", true, "A E",
-     "The force or power sensor reads NaN or infinity (a broken wire, a failed conversion): the "
+    {Reason::SensorNotFinite, "sensor_not_finite", true, "A D E",
+     "The force or power sensor (D: the gauge's generator) reads NaN or infinity (a broken wire, a failed conversion): the "
      "feed is held until the alarm is reset."},
     {Reason::SensorOutOfRange, "sensor_out_of_range", true, "A E",
      "The sensor reads outside its valid range: the feed is held until the alarm is reset."},
@@ -104,6 +108,18 @@ inline constexpr ReasonInfo kReasons[] = {
      "is made."},
     {Reason::GaugeBackstop, "gauge_backstop", true, "D",
      "The gauge's relay did not end the cut, the backstop position did: check the gauge."},
+    {Reason::GaugeStep, "gauge_step", false, "D",
+     "The gauge's signal crossed a threshold and, one relay response later, its command "
+     "operates: rough to fine feed, or fine feed to spark-out."},
+    {Reason::GaugeSize, "gauge_size", false, "D",
+     "The gauge's signal crossed the size threshold and its relay operated: the cut ends at "
+     "size."},
+    {Reason::GaugeSignalLost, "gauge_signal_lost", true, "D",
+     "The gauge's generator gave no signal for a whole supply period (an open wire, a probe that "
+     "does not oscillate): the feed is held until the gauge is re-armed."},
+    {Reason::GaugeUnreachable, "gauge_unreachable", false, "D",
+     "The next threshold is above the signal of the free probe, the most the gauge can read: it "
+     "can never trip, and the cut will end at the backstop."},
 };
 inline constexpr int kReasonCount = static_cast<int>(sizeof(kReasons) / sizeof(kReasons[0]));
 // The operation log ORs reason_bit() of every reason seen into one 32-bit word.

@@ -40,7 +40,8 @@
 // the contact: dt·sqrt(k_c/M) ≲ 0.5 (checked at configure).
 
 #include <cstddef>
-#include <vector>
+
+#include "lathectl/control/gauge_filter.hpp"
 
 namespace lathectl::sensors {
 
@@ -64,7 +65,7 @@ class VibroContactGauge {
     double magnet_gap_m = 0.0;                 // δ of (6); 0: flux independent of the gap
     double pm_force_N = 0.0;                   // F_M0, the permanent magnet's pull at rest
     double pm_gap_m = 0.0;                     // b₂ of (11); 0: linear generator, no F_M(z)
-    enum class Filter { FirstOrder, SecondOrder, Synchronous };
+    using Filter = control::GaugeFilterKind;
     Filter filter = Filter::FirstOrder;
   };
   // The synchronous filter's window: the even number of supply periods nearest 2·T_f (≥ 2).
@@ -103,12 +104,23 @@ class VibroContactGauge {
   void reset() noexcept;
   // One step with the controlled part of the size x [m] (x ≤ 0: no contact). Returns S [V].
   double step(double x_m) noexcept;
+  // One step of the transducer alone: the generator's signal u [V], for a machine side that
+  // rectifies and filters it itself (control::GaugeMachine); filtered_V() is then not updated.
+  double step_generator(double x_m) noexcept;
+  // The filtered signal of the free probe (no contact), where reset() starts the filter.
+  [[nodiscard]] double free_signal_V() const noexcept { return free_.s; }
+  [[nodiscard]] double generator_V() const noexcept { return u_; }
+  // The filter's parameters as the machine side's GaugeFilter takes them.
+  [[nodiscard]] static control::GaugeFilter::Params filter_params(const Params& p) noexcept {
+    return {p.filter, p.filter_time_constant_s, p.supply_Hz};
+  }
 
   [[nodiscard]] double free_amplitude_m() const noexcept { return a0_; }
   [[nodiscard]] double static_offset_m() const noexcept { return z_eq_; }
-  [[nodiscard]] double filtered_V() const noexcept { return s_; }
+  [[nodiscard]] double filtered_V() const noexcept { return filter_.value(); }
   [[nodiscard]] double probe_position_m() const noexcept { return z_; }
   [[nodiscard]] double time_s() const noexcept { return t_; }
+  [[nodiscard]] double step_s() const noexcept { return dt_; }
   [[nodiscard]] const Params& params() const noexcept { return p_; }
   // The seed's amplitude → signal gain: mean of |u| per metre of 2ω amplitude,
   // K = (2/π)·K_g·2ω/sqrt(1 + (2ω·T_g)²).
@@ -120,19 +132,15 @@ class VibroContactGauge {
     double phi = 0.0, z = 0.0, v = 0.0, u = 0.0, s = 0.0;
   };
   void linear_free_state() noexcept;
-  double filter(double g) noexcept;
   Params p_{};
   double dt_ = 2e-5;
   double t_ = 0.0;
-  double phi_ = 0.0, z_ = 0.0, v_ = 0.0, u_ = 0.0, s_ = 0.0, s1_ = 0.0;
+  double phi_ = 0.0, z_ = 0.0, v_ = 0.0, u_ = 0.0;
   double a0_ = 0.0, z_eq_ = 0.0, gain_ = 0.0;
-  double coil_decay_ = 0.0, gen_decay_ = 0.0, filt_decay_ = 0.0;
+  double coil_decay_ = 0.0, gen_decay_ = 0.0;
   double omega_ = 0.0;
   State free_{};  // the free steady state reset() starts from
-  // Synchronous filter: ring buffer of the last n samples of g and their running sum.
-  std::vector<double> ring_;
-  std::size_t ring_pos_ = 0;
-  double ring_sum_ = 0.0;
+  control::GaugeFilter filter_;  // rectifier (13) and filter (14)
 };
 
 }  // namespace lathectl::sensors

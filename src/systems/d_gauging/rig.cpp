@@ -7,6 +7,7 @@
 #include <numbers>
 #include <random>
 
+#include "lathectl/control/gauge_machine.hpp"
 #include "lathectl/core/parallel.hpp"
 #include "lathectl/design/vibro_gauge.hpp"
 
@@ -326,11 +327,32 @@ std::vector<double> filter_noise_samples(const GaugingProcess& p, const LinearGa
   return out;
 }
 
+control::GaugeMachine::Params gauge_machine_params(const GaugingProcess& p,
+                                                  const sensors::VibroContactGauge& g,
+                                                  double threshold_V) {
+  const auto& gp = g.params();
+  control::GaugeMachine::Params m;
+  m.period_s = g.step_s();
+  m.filter = sensors::VibroContactGauge::filter_params(gp);
+  m.steps = {{threshold_V, control::GaugeMachine::Command::Size}};
+  m.relay_response_s = p.relay_response_s;
+  // The relay arms once the signal has settled below the threshold after the first contact.
+  m.arm_after_s = 5.0 * gp.filter_time_constant_s;
+  m.backstop_m = p.backstop_m;
+  m.free_signal_V = g.free_signal_V();
+  m.initial_signal_V = g.free_signal_V();
+  return m;
+}
+
 PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContactGauge::Params& gp,
                              double dt, double s_th, std::uint64_t seed, sim::Recorder* rec,
                              std::size_t record_every, double max_time_s) {
   sensors::VibroContactGauge g;
   g.configure(gp, dt);
+  // The machine side: the same object the LinuxCNC component runs. A threshold the free probe
+  // cannot reach is the study's own case (gauge.force_threshold): the backstop ends the cut.
+  control::GaugeMachine machine;
+  machine.configure(gauge_machine_params(p, g, s_th));
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> n01(0.0, 1.0);
   const double rho = std::exp(-p.noise_beta_per_s * dt);
@@ -344,7 +366,6 @@ PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContac
   r.trip_s = r.stop_s = std::numeric_limits<double>::quiet_NaN();
   const double t_back = p.backstop_time_s();
   double stop = std::numeric_limits<double>::infinity();
-  double prev = -1.0;
   double x = p.allowance_m;
   // The filter starts from its free reading; let it see the first contact (no skipped physics).
   for (std::size_t k = 0;; ++k) {
@@ -352,24 +373,28 @@ PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContac
     if (t >= t_max) break;
     x = p.allowance_m - a * std::min(t, stop);
     xi = rho * xi + kick * n01(rng);
-    const double s = g.step(x + xi);
-    const double now = s - s_th;
-    // The relay arms once the signal has settled below the threshold after the first contact.
-    if (std::isnan(r.trip_s) && t > 5.0 * gp.filter_time_constant_s && prev < 0.0 && now >= 0.0) {
-      r.trip_s = t + dt * (1.0 - now / (now - prev));
+    control::GaugeMachine::Input in;
+    in.generator_V = g.step_generator(x + xi);
+    // Where the size is at the end of this sample (the backstop's limit position on x).
+    in.position_m = a > 0.0 && std::isfinite(t_back) ? p.allowance_m - a * std::min(t + dt, stop)
+                                                     : std::numeric_limits<double>::infinity();
+    machine.update(in);
+    const auto& out = machine.output();
+    if (out.tripped && std::isnan(r.trip_s)) {
+      r.trip_s = out.trip_time_s;
       if (r.trip_s + p.relay_response_s < stop) {
         stop = r.trip_s + p.relay_response_s;
         r.stop_s = stop;
       }
     }
-    prev = now;
-    if (t + dt >= t_back && t_back < stop) {  // x reaches the limit position first
+    if (out.backstop && !r.backstop) {  // x reaches the limit position first
       stop = t_back;
       r.stop_s = stop;
       r.backstop = true;
     }
     if (rec && k % record_every == 0) {
-      const std::array<double, 5> row{t, x * 1e6, (x + xi) * 1e6, s, g.probe_position_m() * 1e6};
+      const std::array<double, 5> row{t, x * 1e6, (x + xi) * 1e6, out.signal_V,
+                                      g.probe_position_m() * 1e6};
       rec->push_row(row);
     }
     if (t > stop + 5.0 * gp.filter_time_constant_s) break;

@@ -22,6 +22,7 @@
 #include <span>
 #include <vector>
 
+#include "lathectl/control/gauge_machine.hpp"
 #include "lathectl/design/vibro_gauge.hpp"
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
 #include "lathectl/sim/recorder.hpp"
@@ -162,8 +163,16 @@ FirstPassageBias first_passage_bias(LinearParts& parts, double target_m, double 
 std::vector<double> filter_noise_samples(const GaugingProcess& p, const LinearGauge& g,
                                          std::size_t n, double spacing_s, std::uint64_t seed);
 
+// The machine side (control::GaugeMachine) of the study's gauge on transducer g: one threshold,
+// its command size, armed once the filter has settled on the first contact (5·T_f).
+control::GaugeMachine::Params gauge_machine_params(const GaugingProcess& p,
+                                                  const sensors::VibroContactGauge& g,
+                                                  double threshold_V);
+
 // Full electromechanical model for one part: x(t) + ξ(t) moves the contact surface; the relay
-// acts on the simulated S(t). Optionally records (time, x, S, probe z) every `record_every`.
+// acts on the simulated S(t): the transducer's generator signal through the machine side
+// (rectifier, filter, relay and backstop of control::GaugeMachine). Optionally records (time,
+// x, S, probe z) every `record_every`.
 PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContactGauge::Params& gp,
                              double step_s, double threshold_V, std::uint64_t seed,
                              sim::Recorder* rec = nullptr, std::size_t record_every = 50,

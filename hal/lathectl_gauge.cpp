@@ -1,0 +1,284 @@
+// lathectl_gauge — system D's machine side as a HAL component: seed 003's vibro-contact gauge
+// (rectifier, filter, a sequence of thresholds each with its command, the relay's response, the
+// backstop, the sensor checks), control::GaugeMachine, the same object `lathectl run` machines its
+// parts with. The component is only a map from pins to the machine's Input and Output.
+//
+//   loadrt lathectl_gauge scenario=PATH size_x_mm=X [period_ns=100000] [rough_factor=4]
+//                         [fine_factor=2] [fine_um=60] [spark_um=25] [threshold_V=]
+//                         [signal_lost=0.05]
+//   addf lathectl-gauge base-thread
+//
+// It samples the generator's signal every period of a thread fast enough for the probe's 2ω
+// (the machine asks for 20 samples a period of it at least; 100 µs gives 50 at a 50 Hz supply).
+// LinuxCNC's conventions for the commands:
+//   feed-scale → motion.adaptive-feed: rough 1, fine fine_factor/rough_factor, spark-out
+//                1/rough_factor of the program's F (M52 P1). The steps change the feed inside
+//                one plunge without the interpreter's latency.
+//   probe      → motion.probe-input: TRUE once the size command has operated (or the backstop or
+//                an alarm ended the cut). A G38.2/G38.3 plunge toward the backstop stops there;
+//                G38.2 errors if it reaches the backstop untripped (a natural backstop).
+//   step       → motion.analog-in-00: the steps operated (M66 E0 L0 reads it into #5399).
+//   rearm      ← motion.digital-out-00 (M64/M65 P0): a new part; the relay arms arm_after later.
+//   feed-hold  → motion.feed-inhibit: a lost or non-finite signal holds the feed, latched.
+// The thresholds are the scenario's: the size threshold as `lathectl run` plans it (plan_threshold:
+// (23) on the full model's local line, or the seed's, or the given one), the earlier ones (23) on
+// the same line for the size where the next step starts (target + fine_um, target + spark_um) at
+// the removal rate of the step they end. Pins and parameters: lathectl_gauge(9).
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "lathectl/control/gauge_machine.hpp"
+#include "lathectl/core/parameter_error.hpp"
+#include "lathectl/design/vibro_gauge.hpp"
+#include "lathectl/sensors/vibro_contact_gauge.hpp"
+#include "lathectl_hal.hpp"
+#include "systems/d_gauging/settings.hpp"
+
+MODULE_AUTHOR("lathectl");
+MODULE_DESCRIPTION("lathectl system-D vibro-contact gauge (machine side) for LinuxCNC");
+MODULE_LICENSE("GPL");
+
+static char* scenario = nullptr;
+RTAPI_MP_STRING(scenario, "system-D scenario file (TOML): process, transducer, gauge");
+static char* size_x_mm = nullptr;
+RTAPI_MP_STRING(size_x_mm, "machine X [mm] of the tool when the part is at its target size");
+static char* period_ns = nullptr;
+RTAPI_MP_STRING(period_ns, "period of the thread this runs in [ns], default 100000");
+static char* rough_factor = nullptr;
+RTAPI_MP_STRING(rough_factor, "rough feed / the scenario's removal rate, default 4");
+static char* fine_factor = nullptr;
+RTAPI_MP_STRING(fine_factor, "fine feed / the scenario's removal rate, default 2");
+static char* fine_um = nullptr;
+RTAPI_MP_STRING(fine_um, "size above target where the fine feed starts [um], default 60");
+static char* spark_um = nullptr;
+RTAPI_MP_STRING(spark_um, "size above target where spark-out starts [um], default 25");
+static char* threshold_V = nullptr;
+RTAPI_MP_STRING(threshold_V, "the size threshold [V] instead of the scenario's plan "
+                             "(\"scenario\": the plan's)");
+static char* signal_lost = nullptr;
+RTAPI_MP_STRING(signal_lost, "signal lost below this fraction of the free probe's signal, "
+                             "default 0.05");
+
+namespace {
+
+constexpr const char* kName = "lathectl_gauge";
+constexpr const char* kPrefix = "lathectl-gauge";
+using lathectl::control::GaugeMachine;
+
+struct Pins {
+  hal_float_t* generator;  // V
+  hal_float_t* x_pos;      // mm
+  hal_bit_t* rearm;
+  hal_float_t* signal;
+  hal_s32_t* step;
+  hal_float_t* step_f;
+  hal_s32_t* command;
+  hal_float_t* feed_scale;
+  hal_bit_t* probe;
+  hal_bit_t* feed_hold;
+  hal_bit_t* size;
+  hal_bit_t* backstop;
+  hal_bit_t* alarm;
+  hal_bit_t* armed;
+  hal_bit_t* unreachable;
+  hal_s32_t* reason;
+  hal_float_t* next_threshold;
+  hal_float_t* threshold[GaugeMachine::kMaxSteps];
+  hal_float_t* trip_time;
+  hal_float_t* stop_latency;
+  hal_float_t* trip_to_stop;
+  hal_float_t* time;
+  hal_s32_t* trips;
+  hal_bit_t* period_error;
+  hal_s32_t* update_ns;
+  hal_s32_t* update_ns_max;
+};
+
+struct State {
+  GaugeMachine machine;
+  double feed[4] = {1.0, 0.5, 0.25, 0.0};  // per Command: the adaptive-feed scale
+  long period = 100000;
+  // The size command's (or the backstop's) moment and the axis' stop after it.
+  double size_at = -1.0, last_x = 0.0;
+};
+
+int comp_id = -1;
+Pins* pins = nullptr;
+std::unique_ptr<State> st;
+lathectl::hal::UpdateTimer timer;
+
+void update(void*, long period) {
+  timer.start();
+  Pins& p = *pins;
+  State& s = *st;
+  if (period != s.period) {  // the machine was configured for another sample period
+    *p.period_error = 1;
+    *p.update_ns = timer.stop();
+    return;
+  }
+  GaugeMachine::Input in;
+  in.generator_V = *p.generator;
+  in.position_m = *p.x_pos * 1e-3;
+  in.rearm = *p.rearm;
+  s.machine.update(in);
+  const auto& o = s.machine.output();
+  *p.signal = o.signal_V;
+  *p.step = o.step;
+  *p.step_f = o.step;
+  *p.command = static_cast<std::int32_t>(o.command);
+  // After the size: the scale of the last feed (the G38 stops on the probe; a retract after it
+  // runs at the program's rate, scaled alike until the next part's rearm).
+  const auto c = static_cast<std::size_t>(o.command);
+  *p.feed_scale = o.size ? s.feed[2] : s.feed[c];
+  *p.probe = o.stop;
+  *p.feed_hold = o.alarm && !o.backstop;  // a backstop ends the cut through the probe
+  *p.size = o.size;
+  *p.backstop = o.backstop;
+  *p.alarm = o.alarm;
+  *p.armed = o.armed;
+  *p.unreachable = o.unreachable;
+  *p.reason = static_cast<std::int32_t>(o.reason);
+  *p.next_threshold = o.next_threshold_V;
+  *p.trip_time = o.trip_time_s;
+  *p.time = o.time_s;
+  *p.trips = o.tripped_steps;
+  // Trip-to-stop: the last sample the infeed still moved toward the part (X falling) after the
+  // cut had to end, from that moment (stop-latency) and from the crossing (trip-to-stop). X comes
+  // from the servo thread: it moves in steps of a servo period.
+  const double x = *p.x_pos;
+  if (!o.stop) {
+    s.size_at = -1.0;
+  } else {
+    if (s.size_at < 0.0) {
+      s.size_at = o.time_s;
+      *p.stop_latency = 0.0;
+      *p.trip_to_stop = std::isfinite(o.trip_time_s) ? o.time_s - o.trip_time_s : 0.0;
+    }
+    if (x < s.last_x) {
+      *p.stop_latency = o.time_s - s.size_at;
+      if (std::isfinite(o.trip_time_s)) *p.trip_to_stop = o.time_s - o.trip_time_s;
+    }
+  }
+  s.last_x = x;
+  *p.update_ns = timer.stop();
+  *p.update_ns_max = timer.max();
+}
+
+}  // namespace
+
+extern "C" int rtapi_app_main(void) {
+  comp_id = hal_init(kName);
+  if (comp_id < 0) return comp_id;
+  return lathectl::hal::guarded_load(kName, comp_id, [] {
+    using lathectl::hal::Error;
+    using lathectl::hal::number_param;
+    using lathectl::hal::pin;
+    namespace dg = lathectl::systems::d_gauging;
+    const auto sc = lathectl::hal::load_system(scenario, dg::kReadSection);
+    const auto& d = sc.get<dg::Settings>();
+    auto state = std::make_unique<State>();
+    if (size_x_mm == nullptr || *size_x_mm == '\0')
+      throw Error("module parameter size_x_mm=X (machine X at the target size) is required");
+    const double x_size = number_param(size_x_mm, "size_x_mm", 0.0);
+    const double period = number_param(period_ns, "period_ns", 1e5);
+    if (!(period >= 1e4 && period <= 1e7))
+      throw Error("module parameter period_ns: expected 1e4 … 1e7");
+    state->period = std::lround(period);
+    const double rough = number_param(rough_factor, "rough_factor", 4.0);
+    const double fine = number_param(fine_factor, "fine_factor", 2.0);
+    if (!(rough >= fine && fine >= 1.0))
+      throw Error("module parameters: expected rough_factor ≥ fine_factor ≥ 1");
+    const double fine_m = number_param(fine_um, "fine_um", 60.0) * 1e-6;
+    const double spark_m = number_param(spark_um, "spark_um", 25.0) * 1e-6;
+    if (!(fine_m > spark_m && spark_m > 0.0))
+      throw Error("module parameters: expected fine_um > spark_um > 0");
+    const double lost = number_param(signal_lost, "signal_lost", 0.05);
+    if (!(lost >= 0.0 && lost < 1.0)) throw Error("module parameter signal_lost: expected 0 … 1");
+    state->feed[0] = 1.0;
+    state->feed[1] = fine / rough;
+    state->feed[2] = 1.0 / rough;
+    state->feed[3] = 1.0 / rough;
+    // The transducer as the run configures it (its free signal, where the filter starts).
+    lathectl::sensors::VibroContactGauge gauge;
+    dg::configure_transducer(sc, gauge);
+    const auto plan = dg::plan_threshold(d, sc.run.step_s);
+    const auto& pr = d.process;
+    const double lag = lathectl::sensors::VibroContactGauge::filter_lag_s(d.transducer);
+    const double a = pr.removal_m_per_s;
+    const bool given = threshold_V != nullptr && *threshold_V != '\0' &&
+                       std::string(threshold_V) != "scenario";
+    const double s_size = given
+                              ? number_param(threshold_V, "threshold_V", 0.0)
+                              : plan.threshold_V;
+    GaugeMachine::Params mp;
+    mp.period_s = period * 1e-9;
+    mp.filter = lathectl::sensors::VibroContactGauge::filter_params(d.transducer);
+    using Command = GaugeMachine::Command;
+    mp.steps = {{lathectl::design::threshold_23(plan.line, pr.target_m + fine_m, rough * a,
+                                                lag + pr.relay_response_s),
+                 Command::Fine},
+                {lathectl::design::threshold_23(plan.line, pr.target_m + spark_m, fine * a,
+                                                lag + pr.relay_response_s),
+                 Command::SparkOut},
+                {s_size, Command::Size}};
+    if (!(mp.steps[1].threshold_V < s_size))
+      throw Error("the size threshold " + std::to_string(s_size) +
+                  " V is not above spark-out's (23) threshold " +
+                  std::to_string(mp.steps[1].threshold_V) + " V: lower spark_um");
+    mp.relay_response_s = pr.relay_response_s;
+    mp.arm_after_s = 5.0 * d.transducer.filter_time_constant_s;  // as the study's relay
+    // Machine X [m] of the backstop, where a G38 plunge toward it ends: reached within 1 nm (the
+    // trajectory planner's rounding of the programmed X).
+    mp.backstop_m = (x_size + (pr.backstop_m - pr.target_m) * 1e3) * 1e-3 + 1e-9;
+    mp.free_signal_V = gauge.free_signal_V();
+    mp.initial_signal_V = gauge.free_signal_V();
+    mp.signal_lost_V = lost * gauge.free_signal_V();
+    try {
+      state->machine.configure(mp);
+    } catch (const lathectl::core::ParameterError& e) {
+      throw Error(std::string(scenario) + ": gauge " + e.parameter() + ": " + e.what());
+    }
+    pins = lathectl::hal::allocate_pins<Pins>();
+    Pins& p = *pins;
+    pin(&p.generator, HAL_IN, comp_id, kPrefix, "generator");
+    pin(&p.x_pos, HAL_IN, comp_id, kPrefix, "x-pos");
+    pin(&p.rearm, HAL_IN, comp_id, kPrefix, "rearm");
+    pin(&p.signal, HAL_OUT, comp_id, kPrefix, "signal");
+    pin(&p.step, HAL_OUT, comp_id, kPrefix, "step");
+    pin(&p.step_f, HAL_OUT, comp_id, kPrefix, "step-f");
+    pin(&p.command, HAL_OUT, comp_id, kPrefix, "command");
+    pin(&p.feed_scale, HAL_OUT, comp_id, kPrefix, "feed-scale");
+    pin(&p.probe, HAL_OUT, comp_id, kPrefix, "probe");
+    pin(&p.feed_hold, HAL_OUT, comp_id, kPrefix, "feed-hold");
+    pin(&p.size, HAL_OUT, comp_id, kPrefix, "size");
+    pin(&p.backstop, HAL_OUT, comp_id, kPrefix, "backstop");
+    pin(&p.alarm, HAL_OUT, comp_id, kPrefix, "alarm");
+    pin(&p.armed, HAL_OUT, comp_id, kPrefix, "armed");
+    pin(&p.unreachable, HAL_OUT, comp_id, kPrefix, "unreachable");
+    pin(&p.reason, HAL_OUT, comp_id, kPrefix, "reason");
+    pin(&p.next_threshold, HAL_OUT, comp_id, kPrefix, "next-threshold");
+    for (std::size_t i = 0; i < GaugeMachine::kMaxSteps; ++i) {
+      const std::string name = "threshold-" + std::to_string(i);
+      pin(&p.threshold[i], HAL_OUT, comp_id, kPrefix, name.c_str());
+      *p.threshold[i] = i < mp.steps.size() ? mp.steps[i].threshold_V : 0.0;
+    }
+    pin(&p.trip_time, HAL_OUT, comp_id, kPrefix, "trip-time");
+    pin(&p.stop_latency, HAL_OUT, comp_id, kPrefix, "stop-latency");
+    pin(&p.trip_to_stop, HAL_OUT, comp_id, kPrefix, "trip-to-stop");
+    pin(&p.time, HAL_OUT, comp_id, kPrefix, "part-time");
+    pin(&p.trips, HAL_OUT, comp_id, kPrefix, "trips");
+    pin(&p.period_error, HAL_OUT, comp_id, kPrefix, "period-error");
+    pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
+    pin(&p.update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
+    *p.feed_scale = 1.0;
+    st = std::move(state);
+    lathectl::hal::export_update(kPrefix, update, comp_id);
+  });
+}
+
+extern "C" void rtapi_app_exit(void) {
+  hal_exit(comp_id);
+  st.reset();
+}

@@ -1,0 +1,197 @@
+// lathectl_gauge_plant — system D's simulated machine as a HAL component: the part's size under
+// the infeed and seed 003's vibro-contact transducer on it, so LinuxCNC's simulated lathe
+// exercises lathectl_gauge as the study's parts exercise control::GaugeMachine.
+//
+//   loadrt lathectl_gauge_plant scenario=PATH size_x_mm=X [period_ns=100000]
+//                               [wear_um_per_part=0] [seed=N]
+//   addf lathectl-gauge-plant base-thread
+//
+// The part: loaded (load's rising edge) with the scenario's allowance above its target; the tool
+// at machine X removes what lies beyond it, r = min(r, X + w) (radius; w the tool's wear, grown
+// by wear_um_per_part at every load). The controlled size the gauge sees is
+// x = (r − size_x_mm)·1e-3 + target, so x = target when the tool stands at size_x_mm. The
+// disturbance ξ (the scenario's D = σ², R(τ) = D·e^{−β|τ|}: stationary Ornstein–Uhlenbeck, exact
+// per sub-step) is drawn anew for every part from its own stream (seed, part): it moves the
+// surface the probe touches, not the part. The transducer (sensors::VibroContactGauge, the full
+// electromechanical model (5)–(12)) is stepped at the scenario's run.step_s, period/step_s
+// sub-steps a call, and gives its generator's signal u (the gauge's input; it rectifies and
+// filters it itself). Before the first load, and with break-wire, the probe has no part or no
+// wire: no contact, or u = 0. Pins: lathectl_gauge_plant(9).
+
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <random>
+
+#include "lathectl/sensors/vibro_contact_gauge.hpp"
+#include "lathectl_hal.hpp"
+#include "systems/d_gauging/settings.hpp"
+
+MODULE_AUTHOR("lathectl");
+MODULE_DESCRIPTION("lathectl system-D plant: part size under the infeed and vibro-contact transducer");
+MODULE_LICENSE("GPL");
+
+static char* scenario = nullptr;
+RTAPI_MP_STRING(scenario, "system-D scenario file (TOML): process, transducer");
+static char* size_x_mm = nullptr;
+RTAPI_MP_STRING(size_x_mm, "machine X [mm] of the tool when the part is at its target size");
+static char* period_ns = nullptr;
+RTAPI_MP_STRING(period_ns, "period of the thread this runs in [ns], default 100000");
+static char* wear_um_per_part = nullptr;
+RTAPI_MP_STRING(wear_um_per_part, "tool wear per part [um], default 0");
+static char* seed = nullptr;
+RTAPI_MP_STRING(seed, "the disturbance's seed, default the scenario's run.seed");
+
+namespace {
+
+constexpr const char* kName = "lathectl_gauge_plant";
+constexpr const char* kPrefix = "lathectl-gauge-plant";
+
+struct Pins {
+  hal_float_t* x_pos;  // mm
+  hal_bit_t* load;
+  hal_bit_t* break_wire;
+  hal_float_t* generator;  // V
+  hal_float_t* size;       // µm, x
+  hal_float_t* error;      // µm, x − target
+  hal_float_t* finished;   // µm, the last part's x − target when the next was loaded
+  hal_float_t* radius;     // mm
+  hal_float_t* xi;         // µm
+  hal_float_t* wear;       // µm
+  hal_s32_t* part;
+  hal_bit_t* in_contact;  // the tool is removing material
+  hal_bit_t* period_error;
+  hal_s32_t* update_ns;
+  hal_s32_t* update_ns_max;
+};
+
+struct State {
+  lathectl::sensors::VibroContactGauge gauge;
+  std::mt19937_64 rng;
+  std::normal_distribution<double> n01{0.0, 1.0};
+  long period = 100000;
+  int substeps = 5;
+  double x_size_mm = 0.0, allowance_m = 0.0, target_m = 0.0;
+  double sigma_m = 0.0, rho = 0.0, kick = 0.0;
+  double wear_step_mm = 0.0, wear_mm = 0.0;
+  double r_mm = NAN, xi = 0.0;
+  std::uint64_t seed = 0;
+  std::int32_t part = 0;
+  bool last_load = false;
+};
+
+int comp_id = -1;
+Pins* pins = nullptr;
+std::unique_ptr<State> st;
+lathectl::hal::UpdateTimer timer;
+
+void update(void*, long period) {
+  timer.start();
+  Pins& p = *pins;
+  State& s = *st;
+  if (period != s.period) {  // the sub-steps were sized for another thread
+    *p.period_error = 1;
+    *p.update_ns = timer.stop();
+    return;
+  }
+  const bool load = *p.load;
+  if (load && !s.last_load) {  // a new blank: the last one's size is the finished one
+    if (std::isfinite(s.r_mm)) *p.finished = ((s.r_mm - s.x_size_mm) * 1e-3) * 1e6;
+    ++s.part;
+    s.wear_mm += s.wear_step_mm;
+    s.r_mm = s.x_size_mm + (s.allowance_m - s.target_m) * 1e3;
+    s.rng.seed(s.seed * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(s.part));
+    s.xi = s.sigma_m * s.n01(s.rng);
+  }
+  s.last_load = load;
+  const double tool = *p.x_pos + s.wear_mm;
+  bool cutting = false;
+  double u = 0.0, x = -1e-3;  // no part: the probe oscillates free
+  for (int k = 0; k < s.substeps; ++k) {
+    if (std::isfinite(s.r_mm)) {
+      if (tool < s.r_mm) {
+        s.r_mm = tool;
+        cutting = true;
+      }
+      x = (s.r_mm - s.x_size_mm) * 1e-3 + s.target_m;
+      s.xi = s.rho * s.xi + s.kick * s.n01(s.rng);
+    }
+    u = s.gauge.step_generator(std::isfinite(s.r_mm) ? x + s.xi : x);
+  }
+  *p.generator = *p.break_wire ? 0.0 : u;
+  if (std::isfinite(s.r_mm)) {
+    *p.size = x * 1e6;
+    *p.error = (x - s.target_m) * 1e6;
+    *p.radius = s.r_mm;
+  }
+  *p.xi = s.xi * 1e6;
+  *p.wear = s.wear_mm * 1e3;
+  *p.part = s.part;
+  *p.in_contact = cutting;
+  *p.update_ns = timer.stop();
+  *p.update_ns_max = timer.max();
+}
+
+}  // namespace
+
+extern "C" int rtapi_app_main(void) {
+  comp_id = hal_init(kName);
+  if (comp_id < 0) return comp_id;
+  return lathectl::hal::guarded_load(kName, comp_id, [] {
+    using lathectl::hal::Error;
+    using lathectl::hal::number_param;
+    using lathectl::hal::pin;
+    namespace dg = lathectl::systems::d_gauging;
+    const auto sc = lathectl::hal::load_system(scenario, dg::kReadSection);
+    const auto& d = sc.get<dg::Settings>();
+    auto state = std::make_unique<State>();
+    if (size_x_mm == nullptr || *size_x_mm == '\0')
+      throw Error("module parameter size_x_mm=X (machine X at the target size) is required");
+    state->x_size_mm = number_param(size_x_mm, "size_x_mm", 0.0);
+    const double period = number_param(period_ns, "period_ns", 1e5);
+    if (!(period >= 1e4 && period <= 1e7))
+      throw Error("module parameter period_ns: expected 1e4 … 1e7");
+    state->period = std::lround(period);
+    state->substeps = std::max(1, static_cast<int>(std::lround(period * 1e-9 / sc.run.step_s)));
+    const double dt = period * 1e-9 / state->substeps;
+    if (std::abs(dt - sc.run.step_s) > 1e-3 * sc.run.step_s)
+      throw Error(std::string(scenario) + ": run.step_s = " + std::to_string(sc.run.step_s) +
+                  " s does not divide the thread's period " + std::to_string(period * 1e-9) +
+                  " s");
+    state->wear_step_mm = number_param(wear_um_per_part, "wear_um_per_part", 0.0) * 1e-3;
+    state->seed = static_cast<std::uint64_t>(
+        number_param(seed, "seed", static_cast<double>(sc.run.seed)));
+    dg::configure_transducer(sc, state->gauge);
+    const auto& pr = d.process;
+    state->allowance_m = pr.allowance_m;
+    state->target_m = pr.target_m;
+    state->sigma_m = std::sqrt(pr.noise_variance_m2);
+    state->rho = std::exp(-pr.noise_beta_per_s * dt);
+    state->kick = std::sqrt(pr.noise_variance_m2 * (1.0 - state->rho * state->rho));
+    pins = lathectl::hal::allocate_pins<Pins>();
+    Pins& p = *pins;
+    pin(&p.x_pos, HAL_IN, comp_id, kPrefix, "x-pos");
+    pin(&p.load, HAL_IN, comp_id, kPrefix, "load");
+    pin(&p.break_wire, HAL_IN, comp_id, kPrefix, "break-wire");
+    pin(&p.generator, HAL_OUT, comp_id, kPrefix, "generator");
+    pin(&p.size, HAL_OUT, comp_id, kPrefix, "size-um");
+    pin(&p.error, HAL_OUT, comp_id, kPrefix, "error-um");
+    pin(&p.finished, HAL_OUT, comp_id, kPrefix, "finished-error-um");
+    pin(&p.radius, HAL_OUT, comp_id, kPrefix, "radius");
+    pin(&p.xi, HAL_OUT, comp_id, kPrefix, "disturbance-um");
+    pin(&p.wear, HAL_OUT, comp_id, kPrefix, "wear-um");
+    pin(&p.part, HAL_OUT, comp_id, kPrefix, "part");
+    pin(&p.in_contact, HAL_OUT, comp_id, kPrefix, "in-contact");
+    pin(&p.period_error, HAL_OUT, comp_id, kPrefix, "period-error");
+    pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
+    pin(&p.update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
+    *p.x_pos = 1e9;
+    st = std::move(state);
+    lathectl::hal::export_update(kPrefix, update, comp_id);
+  });
+}
+
+extern "C" void rtapi_app_exit(void) {
+  hal_exit(comp_id);
+  st.reset();
+}

@@ -1,0 +1,162 @@
+#include "lathectl/control/gauge_machine.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "lathectl/core/parameter_error.hpp"
+
+namespace lathectl::control {
+
+void GaugeMachine::configure(const Params& p) {
+  if (!(p.period_s > 0.0) || !std::isfinite(p.period_s))
+    throw core::ParameterError("period_s", "gauge: the sample period must be > 0");
+  // The probe oscillates at 2ω: at least 20 samples per period of it for its peak and its
+  // rectified mean (the transducer model asks for ω·dt ≤ 0.05, about 60).
+  if (p.period_s * 2.0 * p.filter.supply_Hz > 0.05)
+    throw core::ParameterError(
+        "period_s", "gauge: the sample period must resolve the probe's 2ω (at most " +
+                        std::to_string(0.05 / (2.0 * p.filter.supply_Hz)) + " s)");
+  if (p.steps.empty() || p.steps.size() > kMaxSteps)
+    throw core::ParameterError("steps", "gauge: 1 to " + std::to_string(kMaxSteps) +
+                                            " thresholds, each with its command");
+  for (std::size_t i = 0; i < p.steps.size(); ++i) {
+    const Step& s = p.steps[i];
+    if (!std::isfinite(s.threshold_V))
+      throw core::ParameterError("steps", "gauge: threshold " + std::to_string(i + 1) +
+                                              " must be finite");
+    if (i > 0 && !(s.threshold_V > p.steps[i - 1].threshold_V))
+      throw core::ParameterError("steps", "gauge: the thresholds must rise step by step (" +
+                                              std::to_string(i + 1) + " is not above " +
+                                              std::to_string(i) + ")");
+    const bool last = i + 1 == p.steps.size();
+    if (last != (s.command == Command::Size))
+      throw core::ParameterError("steps",
+                                 "gauge: the last threshold's command, and only it, is size");
+    if (i > 0 && s.command != Command::Size &&
+        static_cast<int>(s.command) <= static_cast<int>(p.steps[i - 1].command))
+      throw core::ParameterError("steps",
+                                 "gauge: the commands must go rough → fine → spark-out → size");
+  }
+  if (!(p.relay_response_s >= 0.0) || !std::isfinite(p.relay_response_s))
+    throw core::ParameterError("relay_response_s", "gauge: the relay's response must be ≥ 0 s");
+  if (!(p.arm_after_s >= 0.0) || !std::isfinite(p.arm_after_s))
+    throw core::ParameterError("arm_after_s", "gauge: the arming delay must be ≥ 0 s");
+  if (std::isnan(p.backstop_m) || p.backstop_m == std::numeric_limits<double>::infinity())
+    throw core::ParameterError("backstop_m", "gauge: the backstop must be a position or −∞");
+  if (!(p.signal_lost_V >= 0.0) || !std::isfinite(p.signal_lost_V))
+    throw core::ParameterError("signal_lost_V", "gauge: the signal-lost level must be ≥ 0 V");
+  if (!(p.free_signal_V > 0.0))
+    throw core::ParameterError("free_signal_V", "gauge: the free probe's signal must be > 0 V");
+  if (!std::isfinite(p.initial_signal_V))
+    throw core::ParameterError("initial_signal_V", "gauge: the initial signal must be finite");
+  GaugeFilter f;
+  f.configure(p.filter, p.period_s);
+  p_ = p;
+  filter_ = std::move(f);
+  // One supply period: two periods of the probe's 2ω, the rectified signal's peak twice.
+  window_n_ = std::max<std::size_t>(
+      1, static_cast<std::size_t>(std::llround(1.0 / (p.filter.supply_Hz * p.period_s))));
+  reset();
+}
+
+void GaugeMachine::reset() noexcept {
+  filter_.reset(p_.initial_signal_V);
+  prev_ = p_.initial_signal_V;
+  rearm();
+  out_.signal_V = p_.initial_signal_V;
+}
+
+void GaugeMachine::rearm() noexcept {
+  t_ = 0.0;
+  quiet_n_ = 0;
+  const double s = out_.signal_V;
+  out_ = Output{};
+  out_.signal_V = s;
+  out_.next_threshold_V = p_.steps.empty() ? 0.0 : p_.steps.front().threshold_V;
+  out_.unreachable = !p_.steps.empty() && p_.steps.front().threshold_V >= p_.free_signal_V;
+  out_.reason = out_.unreachable ? Reason::GaugeUnreachable : Reason::None;
+}
+
+void GaugeMachine::latch(Reason r) noexcept {
+  if (out_.alarm) return;  // the first alarm stays the reason
+  out_.alarm = true;
+  out_.stop = true;
+  out_.reason = r;
+}
+
+void GaugeMachine::update(const Input& in) noexcept {
+  if (in.rearm && !last_rearm_) rearm();
+  last_rearm_ = in.rearm;
+  const double dt = p_.period_s;
+  out_.tripped = false;
+  if (!std::isfinite(in.generator_V)) {  // nothing of it reaches the filter
+    latch(Reason::SensorNotFinite);
+    t_ += dt;
+    out_.time_s = t_;
+    return;
+  }
+  const double g = std::abs(in.generator_V);  // rectifier (13)
+  const double s = filter_.step(g);           // filter (14)
+  out_.signal_V = s;
+  // Signal lost: no sample of |u| at the level for a whole supply period (a 2ω oscillation
+  // reaches its peak four times in one).
+  if (g >= p_.signal_lost_V) {
+    quiet_n_ = 0;
+  } else if (++quiet_n_ >= window_n_ && p_.signal_lost_V > 0.0) {
+    latch(Reason::GaugeSignalLost);
+  }
+  out_.armed = t_ > p_.arm_after_s;
+  const auto n_steps = static_cast<std::int32_t>(p_.steps.size());
+  // Thresholds: an upward crossing, interpolated between the two samples, of the next one or of
+  // a later one — then every one before it trips with it (the signal was already above them when
+  // the relay armed: their commands are superseded at once).
+  if (out_.armed && out_.tripped_steps < n_steps) {
+    std::int32_t crossed = -1;
+    double at = 0.0;
+    for (auto j = out_.tripped_steps; j < n_steps; ++j) {
+      const double th = p_.steps[static_cast<std::size_t>(j)].threshold_V;
+      const double now = s - th, before = prev_ - th;
+      if (before < 0.0 && now >= 0.0) {
+        crossed = j;
+        at = t_ + dt * (1.0 - now / (now - before));
+      }
+    }
+    for (auto j = out_.tripped_steps; j <= crossed; ++j) {
+      const double th = p_.steps[static_cast<std::size_t>(j)].threshold_V;
+      const double now = s - th, before = prev_ - th;
+      out_.trip_time_s = before < 0.0 ? t_ + dt * (1.0 - now / (now - before)) : at;
+      trip_at_[static_cast<std::size_t>(j)] = out_.trip_time_s + p_.relay_response_s;
+      out_.tripped = true;
+      ++out_.tripped_steps;
+    }
+  }
+  prev_ = s;
+  t_ += dt;
+  // The backstop: the limit position reached before the size command operated.
+  if (!out_.size && !out_.backstop && in.position_m <= p_.backstop_m) {
+    out_.backstop = true;
+    latch(Reason::GaugeBackstop);
+  }
+  // The relay: each tripped step's command operates t_r after its crossing.
+  while (out_.step < out_.tripped_steps && t_ >= trip_at_[static_cast<std::size_t>(out_.step)]) {
+    out_.command = p_.steps[static_cast<std::size_t>(out_.step)].command;
+    ++out_.step;
+    if (!out_.alarm)
+      out_.reason = out_.command == Command::Size ? Reason::GaugeSize : Reason::GaugeStep;
+  }
+  out_.size = out_.command == Command::Size;
+  out_.stop = out_.size || out_.backstop || out_.alarm;
+  if (out_.tripped_steps < n_steps) {
+    out_.next_threshold_V = p_.steps[static_cast<std::size_t>(out_.tripped_steps)].threshold_V;
+    out_.unreachable = out_.next_threshold_V >= p_.free_signal_V;
+    if (out_.unreachable && !out_.alarm && out_.reason == Reason::None)
+      out_.reason = Reason::GaugeUnreachable;
+  } else {
+    out_.next_threshold_V = std::numeric_limits<double>::quiet_NaN();
+    out_.unreachable = false;
+  }
+  out_.time_s = t_;
+}
+
+}  // namespace lathectl::control
