@@ -14,26 +14,38 @@
 namespace lathectl::control {
 namespace {
 
-// The drive draws P_el = T_m·ω/η + P_idle(n) with T_m = J·dω/dt + T_cut (no viscous loss here):
-// the cutting power is η·(P_el − P_idle) − J·ω·dω/dt exactly. A run-up from 500 to 1500 rpm in a
-// feed move in air (the speed law's change, a pass change's CSS jump) must read as no load —
-// without the inertia term it reads as J·ω·dω/dt, several kW.
-TEST(AdaptiveMachine, SpindleAccelerationIsNotCuttingPower) {
+// A 2 kg·m² spindle without viscous loss (the drive's power is then exactly the idle law, the
+// inertia's and the cut's), ramping at 1500 rpm/s, and the machine reading it as sensor 4.
+drives::SpindleDrive::Params spindle() {
   drives::SpindleDrive::Params sp;
   sp.inertia_kg_m2 = 2.0;
   sp.viscous_N_m_s = 0.0;
   sp.efficiency = 0.85;
   sp.max_accel_rpm_per_s = 1500.0;
+  return sp;
+}
+AdaptiveMachine::Params power_machine(const drives::SpindleDrive::Params& sp, double limit_W,
+                                      double period_s, double rating_W) {
+  AdaptiveMachine::Params p;
+  p.controller.force_limit = limit_W;
+  p.controller.period_s = period_s;
+  p.power_sensor = true;
+  p.spindle = sp;
+  p.rating = {rating_W, 1.0, 200.0};
+  return p;
+}
+
+// The drive draws P_el = T_m·ω/η + P_idle(n) with T_m = J·dω/dt + T_cut (no viscous loss here):
+// the cutting power is η·(P_el − P_idle) − J·ω·dω/dt exactly. A run-up from 500 to 1500 rpm in a
+// feed move in air (the speed law's change, a pass change's CSS jump) must read as no load —
+// without the inertia term it reads as J·ω·dω/dt, several kW.
+TEST(AdaptiveMachine, SpindleAccelerationIsNotCuttingPower) {
+  const drives::SpindleDrive::Params sp = spindle();
   drives::SpindleDrive drive;
   drive.configure(sp);
   drive.reset(500.0);
-  AdaptiveMachine::Params p;
-  p.controller.force_limit = 6000.0;
+  AdaptiveMachine::Params p = power_machine(sp, 6000.0, 0.002, 22000.0);
   p.controller.sensor_monitor.min = -1200.0;
-  p.controller.period_s = 0.002;
-  p.power_sensor = true;
-  p.spindle = sp;
-  p.rating = {22000.0, 1.0, 200.0};
   AdaptiveMachine m;
   m.configure(p);
   AdaptiveMachine::Output out;
@@ -70,20 +82,11 @@ TEST(AdaptiveMachine, SpindleAccelerationIsNotCuttingPower) {
 // 3 ms hold one period's change: the acceleration reads a third), well under the acceleration
 // power itself.
 TEST(AdaptiveMachine, LatePeriodsInABrakingSpindleAreNoCuttingPower) {
-  drives::SpindleDrive::Params sp;
-  sp.inertia_kg_m2 = 2.0;
-  sp.viscous_N_m_s = 0.0;
-  sp.efficiency = 0.85;
-  sp.max_accel_rpm_per_s = 1500.0;
+  const drives::SpindleDrive::Params sp = spindle();
   drives::SpindleDrive drive;
   drive.configure(sp);
   drive.reset(1622.0);
-  AdaptiveMachine::Params p;
-  p.controller.force_limit = 3200.0;
-  p.controller.period_s = 0.001;
-  p.power_sensor = true;
-  p.spindle = sp;
-  p.rating = {15000.0, 1.0, 200.0};
+  const AdaptiveMachine::Params p = power_machine(sp, 3200.0, 0.001, 15000.0);
   AdaptiveMachine m;
   m.configure(p);
   AdaptiveMachine::Output out;
