@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "calculator.hpp"
 #include "cli.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/install_paths.hpp"
@@ -21,6 +22,7 @@ namespace fs = std::filesystem;
 
 namespace lathectl::cli {
 namespace {
+
 
 struct Args {
   std::string program, scenario, out = "optimize-out", sim, rs274 = "rs274";
@@ -80,6 +82,11 @@ int run(Args& a) {
     v = std::make_unique<optimize::Verified>(optimize::verify(prog, result, a.opt, vo));
   }
   io::write_output_set(a.out, optimize::output_files(prog, result, e, a.opt, a.scenario, v.get()));
+  if (result.before.rapid_in_material_s > 0.0)  // allowed (--allow-rapid-in-material), loudly
+    std::cout << "WARNING: " << a.program << ":" << result.before.rapid_first_line
+              << ": a rapid (G0) passes through the blank for "
+              << result.before.rapid_in_material_s << " s (force parameter up to "
+              << result.before.rapid_peak << "); the lines from it on keep their feeds\n";
   std::cout << a.program << ": predicted cycle " << result.before.cycle_time_s << " s → "
             << result.after.cycle_time_s << " s, " << result.blocks_changed << " lines changed";
   if (v)
@@ -88,6 +95,20 @@ int run(Args& a) {
               << v->runs[1].force_peak_rev << " (limit " << result.limit << "), prediction error "
               << v->prediction_error_pct << " % of the limit";
   std::cout << "\n  → " << (fs::path(a.out) / "optimized.ngc").string() << "\n";
+  if (result.chatter) {  // pieces predicted to chatter as optimised (chatter.hpp)
+    int below = 0, pieces = 0;
+    for (std::size_t mi = 0; mi < result.optimized.size(); ++mi) {
+      if (prog.canon.moves[mi].kind == io::CanonMove::Kind::Traverse) continue;
+      for (const auto& pc : result.optimized[mi]) {
+        ++pieces;
+        below += pc.limited_by.find(" + chatter") != std::string::npos ? 1 : 0;
+      }
+    }
+    if (below > 0)
+      std::cout << "WARNING: " << a.program << ": " << below << " of " << pieces
+                << " pieces of feed moves are predicted to chatter (margin below 1); see "
+                   "report.html's chatter table\n";
+  }
   if (result.before.blend_inside_max_mm > 0.01)
     std::cout << "  note: " << optimize::blend_note(result.before) << "\n";
   return 0;
@@ -111,25 +132,26 @@ void add_optimize(CLI::App& app, Commands& out) {
                 "then on) and report both");
   sub->add_option("--spindle-rpm", a->opt.spindle_rpm,
                   "start the spindle at this speed before the program (as linuxcnc-sim)")
-      ->check(CLI::Range(0.0, 1e5));
+      ->check(range_validator(io::Range::closed(0.0, 1e5)));
   sub->add_option("--z-origin-mm", a->opt.z_origin_mm,
                   "machine Z of the stock's face (as linuxcnc-sim)")
+      ->check(range_validator(io::Range::any()))
       ->capture_default_str();
   sub->add_option("--air-feed", a->opt.air_feed,
                   "feed in air [mm/rev] (default: the scenario's controller.feed_max_mm_per_rev)")
-      ->check(CLI::Range(1e-3, 10.0));
+      ->check(range_validator(io::Range::closed(1e-3, 10.0)));
   sub->add_option("--finish-depth-mm", a->opt.finish_depth_mm,
                   "pieces at most this deep are finishing: their feed keeps the roughness")
-      ->check(CLI::Range(0.0, 10.0))
+      ->check(range_validator(io::Range::closed(0.0, 10.0)))
       ->capture_default_str();
   sub->add_option("--finish-ra-um", a->opt.finish_ra_um,
                   "roughness Ra of finishing pieces (default: the programmed feed's, "
                   "Ra = f²/(32 r))")
-      ->check(CLI::Range(0.01, 100.0));
+      ->check(range_validator(io::Range::closed(0.01, 100.0)));
   a->opt.finish_ra_um = 0.0;
   sub->add_option("--limit-fraction", a->opt.limit_fraction,
                   "share of each limit the chosen feed predicts")
-      ->check(CLI::Range(0.5, 1.0))
+      ->check(range_validator(io::Range::closed(0.5, 1.0)))
       ->capture_default_str();
   sub->add_option("--rs274", a->rs274, "LinuxCNC's standalone interpreter")->capture_default_str();
   sub->add_option(
@@ -137,9 +159,24 @@ void add_optimize(CLI::App& app, Commands& out) {
       "the simulator command for --verify (default scripts/linuxcnc-sim, installed "
       "lathectl-linuxcnc-sim); words split at blanks, e.g. \"flock LOCK linuxcnc-sim\"");
   sub->add_option("--timeout", a->timeout_s, "--verify: time limit of each LinuxCNC run [s]")
-      ->check(CLI::Range(1.0, 1e5))
+      ->check(range_validator(io::Range::closed(1.0, 1e5)))
       ->capture_default_str();
-  sub->footer("Lines marked (lathectl:keep) and threading (G33/G76) keep their feeds. " +
+  sub->add_option("--interp-timeout", a->opt.interp_timeout_s,
+                  "time limit of LinuxCNC's interpreter reading the program [s] (an endless "
+                  "o-word loop is stopped with an error)")
+      ->check(range_validator(io::Range::closed(1.0, 1e5)))
+      ->capture_default_str();
+  sub->add_option("--tools", a->opt.tools,
+                  "the T numbers the scenario's [tool] describes, e.g. 1,3 (default: the tool of "
+                  "the first feed move); feed moves of other tools keep their feeds")
+      ->delimiter(',')
+      ->check(CLI::Range(0, 99999));
+  sub->add_flag("--allow-rapid-in-material", a->opt.allow_rapid_in_material,
+                "optimise a program whose rapid (G0) passes through the blank (an error "
+                "otherwise); the lines from that rapid on keep their feeds");
+  sub->footer("Lines marked (lathectl:keep), threading (G33/G76) and the feed moves of tools "
+              "other than the scenario's keep their feeds; finishing cuts (cutter compensation, "
+              "G70, (lathectl:finish), a pass mostly within --finish-depth-mm) are never raised. " +
               doc("optimize.md") + ".");
   out.push_back({sub, [a] { return run(*a); }});
 }

@@ -130,8 +130,8 @@ struct FeedContext {
   double r_nose;
   std::vector<double> rev_depth;
 };
-void span_feed(const FeedContext& ctx, const CanonMove& m, const Samples& s, const Span& sp,
-               Piece& pc) {
+void span_feed(const FeedContext& ctx, const CanonMove& m, const std::string& finishing,
+               const Samples& s, const Span& sp, Piece& pc) {
   const auto& cut = ctx.cut;
   const auto& e = ctx.e;
   const auto& opt = ctx.opt;
@@ -141,6 +141,7 @@ void span_feed(const FeedContext& ctx, const CanonMove& m, const Samples& s, con
   double rpm_min = std::numeric_limits<double>::infinity();
   for (std::size_t i = sp.a; i < sp.b; ++i) rpm_min = std::min(rpm_min, s.rpm[i]);
   double f_rev = lim.air;
+  const double programmed_rev = m.per_rev ? m.feed : m.feed / std::max(rpm_min, 1e-9);
   if (sp.cut) {
     double t = 0.0, h = 0.0, w = 1.0, v = std::numeric_limits<double>::infinity(), x = 0.0;
     for (std::size_t i = sp.a; i < sp.b; ++i) {
@@ -156,8 +157,8 @@ void span_feed(const FeedContext& ctx, const CanonMove& m, const Samples& s, con
       pc.limited_by = why;
       f_rev = f;
       const double f_limits = f;  // the largest feed force, power and torque allow
-      if (t <= opt.finish_depth_mm) {  // finishing: Ra = f²/(32 r) at most the target
-        const double programmed_rev = m.per_rev ? m.feed : m.feed / std::max(rpm_min, 1e-9);
+      if (t <= opt.finish_depth_mm || !finishing.empty()) {
+        // finishing: Ra = f²/(32 r) at most the target
         const double ra =
             opt.finish_ra_um > 0.0 ? opt.finish_ra_um : cut.roughness_Ra_um(programmed_rev);
         const double f_ra = std::sqrt(ra * 1e-3 * 32.0 * r_nose);
@@ -166,7 +167,15 @@ void span_feed(const FeedContext& ctx, const CanonMove& m, const Samples& s, con
           pc.limited_by = "roughness";
         }
       }
-      if (!s.kcrit.empty()) {  // the scenario has modes: the feed that keeps margin ≥ 1
+      if (!finishing.empty()) {
+        // A finishing cut by its kind, not its depth (a deep fillet, a G64 corner that makes a
+        // light pass look deep): never above the programmed feed, and no chatter raise.
+        if (programmed_rev < f_rev) {
+          f_rev = programmed_rev;
+          pc.limited_by = "roughness";
+        }
+        pc.limited_by += " (finishing: " + finishing + ")";
+      } else if (!s.kcrit.empty()) {  // the scenario has modes: the feed that keeps margin ≥ 1
         const auto fc = stable_feed(cut, s, sp, f_rev, std::max(f_limits, f_rev));
         if (!fc) {
           pc.limited_by += " + chatter: unstable at every feed within the limits";
@@ -181,6 +190,12 @@ void span_feed(const FeedContext& ctx, const CanonMove& m, const Samples& s, con
     }
   } else {
     pc.limited_by = "air";
+  }
+  if (!finishing.empty() && pc.limited_by == "air" && programmed_rev < f_rev) {
+    // A finishing pass's piece the stock model finds in air (a face or chamfer it does not
+    // know was left there) is not raised either.
+    f_rev = programmed_rev;
+    pc.limited_by = "air, not raised (finishing: " + finishing + ")";
   }
   if (m.per_rev) {
     pc.feed = f_rev;
@@ -214,7 +229,7 @@ std::vector<char> near_material(const Samples& s, double reach) {
 
 Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
                   const systems::e_adaptive::Settings& e, const Options& opt,
-                  const std::vector<bool>& kept_move) {
+                  const MoveRoles& roles) {
   const Samples& s = before.s;
   const FeedLimits lim = feed_limits(e, opt);
   cutting::CuttingModel cut;
@@ -233,8 +248,8 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
       pieces[0].limited_by = "rapid";
       continue;
     }
-    if (m.synced || kept_move[mi]) {
-      pieces[0].limited_by = m.synced ? "threading (kept)" : "marked (lathectl:keep)";
+    if (m.synced || !roles.kept[mi].empty()) {
+      pieces[0].limited_by = m.synced ? "threading (kept)" : roles.kept[mi];
       continue;
     }
     const auto [a, b] = ranges[mi];
@@ -283,7 +298,7 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
       Piece pc;
       pc.from = pieces.empty() ? 0.0 : pieces.back().to;
       pc.to = sp.b == b ? 1.0 : std::clamp((s.path_mm[sp.b - 1] - path0) / len, pc.from, 1.0);
-      span_feed(ctx, m, s, sp, pc);
+      span_feed(ctx, m, roles.finishing[mi], s, sp, pc);
       pieces.push_back(pc);
     }
     if (pieces.empty()) pieces = programmed(prog)[mi];
@@ -310,7 +325,7 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
 
 void refeed(const io::CanonProgram& prog, Plan& plan, const Prediction& trial,
             const systems::e_adaptive::Settings& e, const Options& opt,
-            const std::vector<bool>& kept_move) {
+            const MoveRoles& roles) {
   const Samples& s = trial.s;
   cutting::CuttingModel cut;
   cut.configure(e.rig.cutting);
@@ -327,9 +342,9 @@ void refeed(const io::CanonProgram& prog, Plan& plan, const Prediction& trial,
     const auto mi = static_cast<std::size_t>(s.move[i]);
     const auto pi = static_cast<std::size_t>(s.piece[i]);
     const CanonMove& m = prog.moves[mi];
-    if (m.kind != CanonMove::Kind::Traverse && !m.synced && !kept_move[mi] &&
+    if (m.kind != CanonMove::Kind::Traverse && !m.synced && roles.kept[mi].empty() &&
         pi < plan[mi].size())
-      span_feed(ctx, m, s, Span{i, j, in_cut}, plan[mi][pi]);
+      span_feed(ctx, m, roles.finishing[mi], s, Span{i, j, in_cut}, plan[mi][pi]);
     i = j;
   }
 }

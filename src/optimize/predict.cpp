@@ -65,6 +65,7 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
       const double rpm = spindle_rpm(m, m.x0);
       for (const Piece& pc : plan[mi]) {
         const double v = m.kind == CanonMove::Kind::Traverse ? rapid
+                         : m.synced                          ? m.pitch_mm * rpm / 60.0
                          : m.per_rev                         ? pc.feed * rpm / 60.0
                                                              : pc.feed / 60.0;
         if (v > 0.0) t += move_length(m) * (pc.to - pc.from) / std::min(v, rapid);
@@ -138,14 +139,19 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
                                  ? std::abs(mo.spindle_speed_out)
                                  : rpm;
       if (!rapid_move) {
-        v = m.per_rev ? feed * rpm_run / 60.0 : feed / 60.0;
+        // A thread (G33, G33.1, G76) advances its pitch per revolution whatever the modal F:
+        // LinuxCNC synchronises the move to the spindle (START_SPEED_FEED_SYNC's pitch).
+        v = m.synced    ? m.pitch_mm * rpm_run / 60.0
+            : m.per_rev ? feed * rpm_run / 60.0
+                        : feed / 60.0;
         if (!(v > 0.0))
-          throw io::InputError(
-              io::located(opt.label, m.line, 0,
-                          m.per_rev && rpm <= 0.0
-                              ? "a feed-per-revolution move (G95) with the spindle stopped: "
-                                "LinuxCNC would wait for ever (start it, or --spindle-rpm N)"
-                              : "a feed move with no feed rate (F0)"));
+          throw io::InputError(io::located(
+              opt.label, m.line, 0,
+              (m.per_rev || m.synced) && rpm <= 0.0
+                  ? std::string(m.synced ? "a thread (G33/G76)" : "a feed-per-revolution move (G95)") +
+                        " with the spindle stopped: LinuxCNC would wait for ever (start it, or "
+                        "--spindle-rpm N)"
+                  : std::string("a feed move with no feed rate (F0)")));
         v = std::min(v, rapid);
         if (opt.adaptive) v *= mo.feed_factor;  // motion's feed scale × adaptive-feed
       }
