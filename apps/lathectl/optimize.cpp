@@ -82,11 +82,6 @@ int run(Args& a) {
     v = std::make_unique<optimize::Verified>(optimize::verify(prog, result, a.opt, vo));
   }
   io::write_output_set(a.out, optimize::output_files(prog, result, e, a.opt, a.scenario, v.get()));
-  if (result.before.rapid_in_material_s > 0.0)  // allowed (--allow-rapid-in-material), loudly
-    std::cout << "WARNING: " << a.program << ":" << result.before.rapid_first_line
-              << ": a rapid (G0) passes through the blank for "
-              << result.before.rapid_in_material_s << " s (force parameter up to "
-              << result.before.rapid_peak << "); the lines from it on keep their feeds\n";
   std::cout << a.program << ": predicted cycle " << result.before.cycle_time_s << " s → "
             << result.after.cycle_time_s << " s, " << result.blocks_changed << " lines changed";
   if (v)
@@ -95,22 +90,10 @@ int run(Args& a) {
               << v->runs[1].force_peak_rev << " (limit " << result.limit << "), prediction error "
               << v->prediction_error_pct << " % of the limit";
   std::cout << "\n  → " << (fs::path(a.out) / "optimized.ngc").string() << "\n";
-  if (result.chatter) {  // pieces predicted to chatter as optimised (chatter.hpp)
-    int below = 0, pieces = 0;
-    for (std::size_t mi = 0; mi < result.optimized.size(); ++mi) {
-      if (prog.canon.moves[mi].kind == io::CanonMove::Kind::Traverse) continue;
-      for (const auto& pc : result.optimized[mi]) {
-        ++pieces;
-        below += pc.limited_by.find(" + chatter") != std::string::npos ? 1 : 0;
-      }
-    }
-    if (below > 0)
-      std::cout << "WARNING: " << a.program << ": " << below << " of " << pieces
-                << " pieces of feed moves are predicted to chatter (margin below 1); see "
-                   "report.html's chatter table\n";
-  }
   if (result.before.blend_inside_max_mm > 0.01)
     std::cout << "  note: " << optimize::blend_note(result.before) << "\n";
+  for (const auto& w : optimize::warnings(prog, e, result))
+    std::cout << "WARNING: " << a.program << ": " << w << "\n";
   return 0;
 }
 

@@ -202,6 +202,12 @@ struct VerifyOptions {
 };
 Verified verify(const Program& p, const Result& r, const Options& opt, const VerifyOptions& v);
 
+// What a programmer must read first (the report's verdict, WARNING lines on the console): a
+// rapid through material, a predicted peak above the limit (a line kept as written), pieces
+// predicted to chatter.
+std::vector<std::string> warnings(const Program& p, const systems::e_adaptive::Settings& e,
+                                  const Result& r);
+
 // A note for a program whose G64 blends cut inside its contour in material (blend.hpp).
 std::string blend_note(const Prediction& p);
 

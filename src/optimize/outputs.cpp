@@ -114,6 +114,50 @@ std::string blend_note(const Prediction& p) {
          "the program sets a tolerance (G64 P0.01) or exact path (G61).";
 }
 
+std::vector<std::string> warnings(const Program& p, const systems::e_adaptive::Settings& e,
+                                  const Result& r) {
+  const auto& prog = p.canon;
+  const std::string unit = e.rig.force_parameter == cutting::ForceParameter::Power ? "W" : "N";
+  std::vector<std::string> w;
+  if (r.before.rapid_in_material_s > 0.0)
+    w.push_back("A rapid (G0) of line " + std::to_string(r.before.rapid_first_line) +
+                " passes through material for " + num(r.before.rapid_in_material_s, 3) +
+                " s, up to " + num(r.before.rapid_peak, 4) + " " + unit +
+                ": feeds cannot help there; the program's path must change. The lines from it "
+                "on keep their programmed feeds.");
+  // The optimised program's peak above the limit: only a line kept as written can do that.
+  const auto rev = rev_param(prog, r.after.s);
+  double peak = 0.0;
+  int line = 0;
+  for (std::size_t i = 0; i < rev.size(); ++i)
+    if (prog.moves[static_cast<std::size_t>(r.after.s.move[i])].kind != CanonMove::Kind::Traverse &&
+        rev[i] > peak) {
+      peak = rev[i];
+      line = prog.moves[static_cast<std::size_t>(r.after.s.move[i])].line;
+    }
+  if (peak > r.limit) {
+    std::string why;
+    if (line >= 1 && static_cast<std::size_t>(line) <= r.actions.size() &&
+        r.actions[static_cast<std::size_t>(line - 1)].kind == LineAction::Kind::Keep)
+      why = ", kept as written: " + r.actions[static_cast<std::size_t>(line - 1)].why;
+    w.push_back("The predicted per-revolution peak " + num(peak, 4) + " " + unit +
+                " exceeds the limit " + num(r.limit, 4) + " " + unit + " on line " +
+                std::to_string(line) + why + ".");
+  }
+  if (r.chatter) {
+    int below = 0;
+    for (std::size_t mi = 0; mi < r.optimized.size(); ++mi)
+      if (prog.moves[mi].kind != CanonMove::Kind::Traverse)
+        for (const auto& pc : r.optimized[mi])
+          below += pc.limited_by.find(" + chatter") != std::string::npos ? 1 : 0;
+    if (below > 0)
+      w.push_back(std::to_string(below) +
+                  " pieces of the optimised program are predicted to chatter (margin below 1): "
+                  "see the table of chatter margins.");
+  }
+  return w;
+}
+
 std::vector<std::pair<std::string, std::string>> output_files(
     const Program& p, const Result& r, const systems::e_adaptive::Settings& e, const Options& opt,
     const std::string& scenario_file, const Verified* v) {
@@ -265,17 +309,7 @@ std::vector<std::pair<std::string, std::string>> output_files(
     m("pieces below margin 1, optimised", below1, "");
   }
   // What a programmer must see before anything else: the report's verdict, its first section.
-  std::vector<std::string> warnings;
-  if (r.before.rapid_in_material_s > 0.0)
-    warnings.push_back("A rapid (G0) of line " + std::to_string(r.before.rapid_first_line) +
-                       " passes through material for " + num(r.before.rapid_in_material_s, 3) +
-                       " s, up to " + num(r.before.rapid_peak, 4) + " " + unit +
-                       ": feeds cannot help there; the program's path must change. The lines "
-                       "from it on keep their programmed feeds.");
-  if (r.chatter && below1 > 0)
-    warnings.push_back(std::to_string(below1) + " of the optimised program's pieces are "
-                       "predicted to chatter (margin below 1, least " + num(mm1, 3) +
-                       "): see the table of chatter margins.");
+  const std::vector<std::string> warnings = optimize::warnings(p, e, r);
   for (const auto& w : warnings) rep.verdict += (rep.verdict.empty() ? "" : " ") + w;
   rep.verdict_ok = warnings.empty();
   if (!warnings.empty()) rep.verdict_table.title = "Warnings";

@@ -57,7 +57,7 @@ sa="$src/examples/linuxcnc/step_allowance.toml"
 printf 'G18 G21 G95\nM3 S1194\nG0 X25 Z2\nG0 X17\nG1 Z-50 F0.15\nG0 X25\nG0 Z2\nG0 X15 Z-20\nG1 Z-50 F0.15\nG0 X25\nM2\n' >"$work/rapid.ngc"
 expect_bad rapid "$work/rapid.ngc" "$sa" "rapid.ngc:8: .*through the blank"
 if "$bin" optimize "$work/rapid.ngc" "$sa" --out "$work/rapid_allowed" --allow-rapid-in-material \
-     >"$work/rapid_allowed.out" 2>&1 && grep -q "WARNING: .*rapid.ngc:8: a rapid" "$work/rapid_allowed.out" &&
+     >"$work/rapid_allowed.out" 2>&1 && grep -q "WARNING: .*rapid.ngc: A rapid (G0) of line 8 passes through material" "$work/rapid_allowed.out" &&
    grep -q '"why": "after the rapid through material of line 8 (kept)"' "$work/rapid_allowed/summary.json" &&
    grep -q "^G1 Z-50 F0.15$" "$work/rapid_allowed/optimized.ngc" &&
    grep -q 'class="mark">A rapid (G0) of line 8 passes through material' "$work/rapid_allowed/report.html"; then
