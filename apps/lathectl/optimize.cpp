@@ -12,6 +12,7 @@
 #include "calculator.hpp"
 #include "cli.hpp"
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/input_file.hpp"
 #include "lathectl/io/install_paths.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/output.hpp"
@@ -25,7 +26,7 @@ namespace {
 
 
 struct Args {
-  std::string program, scenario, out = "optimize-out", sim, rs274 = "rs274";
+  std::string program, scenario, out = "optimize-out", sim, rs274 = "rs274", tool_file;
   bool verify = false;
   double timeout_s = 1800.0;
   optimize::Options opt;
@@ -52,6 +53,9 @@ int run(Args& a) {
     throw io::InputError(a.scenario +
                          ": key 'stock.blank': lathectl optimize needs the blank's "
                          "extent along z (at least two points)");
+  if (!a.tool_file.empty())
+    a.opt.tool_specs = optimize::read_tool_file(
+        io::read_input_file(a.tool_file, "a tool file", io::kMaxTomlBytes), a.tool_file);
   a.opt.ini = (fs::path(hal_config_dir()) / "lathectl-lathe.ini").string();
   a.opt.rs274 = a.rs274;
   a.opt.label = a.program;
@@ -154,6 +158,9 @@ void add_optimize(CLI::App& app, Commands& out) {
                   "the first feed move); feed moves of other tools keep their feeds")
       ->delimiter(',')
       ->check(CLI::Range(0, 99999));
+  sub->add_option("--tool-file", a->tool_file,
+                  "the program's other tools by T number: kind, insert width, feed range (TOML, "
+                  "docs/optimize.md)");
   sub->add_flag("--allow-rapid-in-material", a->opt.allow_rapid_in_material,
                 "optimise a program whose rapid (G0) passes through the blank (an error "
                 "otherwise); the lines from that rapid on keep their feeds");

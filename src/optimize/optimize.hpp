@@ -28,6 +28,7 @@
 
 #include "lathectl/io/canon.hpp"
 #include "optimize/blend.hpp"
+#include "optimize/tools.hpp"
 #include "systems/e_adaptive/settings.hpp"
 
 namespace lathectl::optimize {
@@ -52,6 +53,8 @@ struct Options {
   // Feed moves of any other tool keep their programmed feeds: their insert, width and feed
   // range are not known.
   std::vector<int> tools;
+  // The program's other tools (--tool-file, tools.hpp): kind, insert width, feed range.
+  std::vector<ToolSpec> tool_specs;
   std::string ini;               // the simulated lathe's INI (tool table beside it)
   double start_x_mm = 60.0;      // where the tool stands before the program (the sim's home)
   double start_z_mm = 60.0;

@@ -131,12 +131,19 @@ struct FeedContext {
   std::vector<double> rev_depth;
 };
 void span_feed(const FeedContext& ctx, const CanonMove& m, const std::string& finishing,
-               const Samples& s, const Span& sp, Piece& pc) {
+               const ToolSpec* spec, const Samples& s, const Span& sp, Piece& pc) {
   const auto& cut = ctx.cut;
   const auto& e = ctx.e;
   const auto& opt = ctx.opt;
-  const auto& lim = ctx.lim;
-  const double r_nose = ctx.r_nose;
+  FeedLimits lim = ctx.lim;
+  double r_nose = ctx.r_nose;
+  if (spec) {  // the insert's own feed range (air included) and corner radius
+    if (spec->feed_min_mm_per_rev > 0.0) lim.feed_min = spec->feed_min_mm_per_rev;
+    if (spec->feed_max_mm_per_rev > 0.0) lim.feed_max = spec->feed_max_mm_per_rev;
+    lim.feed_min = std::min(lim.feed_min, lim.feed_max);
+    lim.air = std::min(lim.air, lim.feed_max);
+    if (spec->nose_radius_mm > 0.0) r_nose = spec->nose_radius_mm;
+  }
   const auto& rev_depth = ctx.rev_depth;
   double rpm_min = std::numeric_limits<double>::infinity();
   for (std::size_t i = sp.a; i < sp.b; ++i) rpm_min = std::min(rpm_min, s.rpm[i]);
@@ -152,6 +159,9 @@ void span_feed(const FeedContext& ctx, const CanonMove& m, const std::string& fi
       if (s.speed[i] > 0.0) v = std::min(v, s.speed[i]);
     }
     if (!std::isfinite(v)) v = 2.0 * std::numbers::pi * x * rpm_min / 1000.0;
+    // A grooving or parting insert plunges its whole width into the part: that is the width of
+    // cut of the law (the feed per revolution its chip thickness), not the nose's engagement.
+    if (spec && spec->plunge() && t > 0.0) t = spec->insert_width_mm;
     if (t > 0.0 && v > 0.0) {
       auto [f, why] = largest_feed(cut, e.rig.force_parameter, lim, t, v, h, w, x);
       pc.limited_by = why;
@@ -298,7 +308,7 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
       Piece pc;
       pc.from = pieces.empty() ? 0.0 : pieces.back().to;
       pc.to = sp.b == b ? 1.0 : std::clamp((s.path_mm[sp.b - 1] - path0) / len, pc.from, 1.0);
-      span_feed(ctx, m, roles.finishing[mi], s, sp, pc);
+      span_feed(ctx, m, roles.finishing[mi], roles.spec[mi], s, sp, pc);
       pieces.push_back(pc);
     }
     if (pieces.empty()) pieces = programmed(prog)[mi];
@@ -344,7 +354,8 @@ void refeed(const io::CanonProgram& prog, Plan& plan, const Prediction& trial,
     const CanonMove& m = prog.moves[mi];
     if (m.kind != CanonMove::Kind::Traverse && !m.synced && roles.kept[mi].empty() &&
         pi < plan[mi].size())
-      span_feed(ctx, m, roles.finishing[mi], s, Span{i, j, in_cut}, plan[mi][pi]);
+      span_feed(ctx, m, roles.finishing[mi], roles.spec[mi], s, Span{i, j, in_cut},
+                plan[mi][pi]);
     i = j;
   }
 }

@@ -31,6 +31,7 @@ std::vector<std::pair<std::size_t, std::size_t>> move_ranges(const Samples& s, s
 // is at most the one of the roughness the programmed feed gives, never raised.
 struct MoveRoles {
   std::vector<std::string> kept, finishing;
+  std::vector<const ToolSpec*> spec;  // the move's tool in --tool-file (nullptr: not listed)
 };
 
 // Pieces and feeds for every move from the prediction at the programmed feeds; kept moves and

@@ -16,6 +16,7 @@
 #include "lathectl/control/adaptive_machine.hpp"
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/cutting/disturbances.hpp"
+#include "lathectl/cutting/force_parameter.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/cutting/lathe_plant.hpp"
 #include "optimize/optimize.hpp"
@@ -131,6 +132,8 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
     const double len = move_length(m);
     double u = u_from;
     const double du_len = 1.0 / len;
+    const ToolSpec* spec = find_tool(opt.tool_specs, m.tool);
+    const bool plunge = spec && spec->plunge() && !rapid_move && !m.synced;
     while (u < u_to - 1e-12) {
       const auto [x, z] = point_at(m, u);
       const double rpm = spindle_rpm(m, x);
@@ -167,6 +170,18 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
       const auto [x1, z1] = point_at(m, u);
       cutting::LathePlant::Output out;
       plant.step({.x_mm = x1, .z_mm = z1, .rpm = rpm_run}, dt, out);
+      if (plunge && out.depth_mm > 0.0 && out.feed_per_rev_mm > 0.0) {
+        // A grooving or parting insert cuts its whole width (tools.hpp): the law at b = width,
+        // chip thickness = the feed per revolution; the plant's stock follows the nose.
+        const auto f = cut.forces({spec->insert_width_mm, out.feed_per_rev_mm,
+                                   out.speed_m_per_min, out.strength_factor,
+                                   wear.wear_factor(out.time_in_cut_s)});
+        out.Pz_N = f.Pz;
+        out.Py_N = f.Py;
+        out.cut_power_W = cut.power_W(f, out.speed_m_per_min);
+        out.force_parameter =
+            cutting::force_parameter(e.rig.force_parameter, f, out.cut_power_W);
+      }
       if (opt.adaptive) {
         control::AdaptiveMachine::Input in;
         in.nominal_period_s = s.dt_s;

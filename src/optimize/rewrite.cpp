@@ -251,6 +251,7 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
   auto& kept = roles.kept;
   kept.resize(moves.size());
   roles.finishing.resize(moves.size());
+  roles.spec.assign(moves.size(), nullptr);
   // The tools the scenario's [tool] describes: --tools, else the tool of the first feed move.
   std::vector<int> tools = opt.tools;
   for (const auto& m : moves)
@@ -264,11 +265,15 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
                                                                   : nullptr;
     if (text) line_moves[static_cast<std::size_t>(l - 1)].push_back(i);
     if (moves[i].kind == CanonMove::Kind::Traverse) continue;
+    const ToolSpec* spec = find_tool(opt.tool_specs, moves[i].tool);
+    roles.spec[i] = spec;
     if (text && keep_marked(*text))
       kept[i] = "marked (lathectl:keep)";
-    else if (std::find(tools.begin(), tools.end(), moves[i].tool) == tools.end())
+    else if (!spec && std::find(tools.begin(), tools.end(), moves[i].tool) == tools.end())
       kept[i] = "tool T" + std::to_string(moves[i].tool) + " is not the scenario's [tool] (" +
-                tool_list + "; --tools): its feed is kept";
+                tool_list + "; --tools) nor in a --tool-file: its feed is kept";
+    else if (spec && spec->kind == ToolSpec::Kind::Threading && !moves[i].synced)
+      kept[i] = "a move of threading tool T" + std::to_string(moves[i].tool) + ": kept";
     if (moves[i].compensated)
       roles.finishing[i] = "cutter compensation";
     else if (text && finish_marked(*text))

@@ -12,7 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/input_file.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "optimize/optimize.hpp"
@@ -110,7 +112,6 @@ TEST(Threads, LeftByteIdenticalInTheUsersPart) {
   if (!have_rs274()) GTEST_SKIP() << "LinuxCNC's rs274 not installed";
   const auto& e = scenario(LATHECTL_SOURCE_DIR "/tests/optimize/programs/user_part_c45.toml");
   Options opt = options();
-  opt.allow_rapid_in_material = true;  // the facing retract (the stock model's; see the report)
   const auto p = read_program(LATHECTL_SOURCE_DIR "/tests/optimize/programs/user_part.ngc", opt);
   const auto r = optimize(p, e, opt);
   std::vector<std::string> out;
@@ -236,6 +237,83 @@ TEST(Optimize, RapidThroughTheBlankIsAnErrorUnlessAllowed) {
     if (p.canon.moves[mi].line == 9) {
       for (const auto& pc : r.optimized[mi]) EXPECT_DOUBLE_EQ(pc.feed, 0.15);
     }
+}
+
+// The user's 3 mm groove (line 37, T2, F0.05): without a word on T2 it keeps its feed (the
+// turning insert's law and 1.6 mm nose width would have raised it 9x to feed_max); with the tool
+// file it is cut at its insert's width — Pz = the law at b = 3 mm, chip = feed per revolution —
+// and fed within the insert's range [0.02, 0.08].
+TEST(Tools, GroovePlungeAtItsWidthWithinItsFeedRange) {
+  if (!have_rs274()) GTEST_SKIP() << "LinuxCNC's rs274 not installed";
+  const auto& e = scenario(LATHECTL_SOURCE_DIR "/tests/optimize/programs/user_part_c45.toml");
+  Options opt = options();
+  const auto p = read_program(LATHECTL_SOURCE_DIR "/tests/optimize/programs/user_part.ngc", opt);
+  constexpr int kGroove = 37;
+  ASSERT_NE(p.lines[kGroove - 1].find("G1 X32 F0.05"), std::string::npos);
+  auto groove_feeds = [&](const Result& r) {
+    std::vector<double> f;
+    for (std::size_t mi = 0; mi < p.canon.moves.size(); ++mi)
+      if (p.canon.moves[mi].line == kGroove)
+        for (const auto& pc : r.optimized[mi]) f.push_back(pc.feed);
+    return f;
+  };
+  const auto plain = optimize(p, e, opt);
+  EXPECT_EQ(plain.actions[kGroove - 1].kind, LineAction::Kind::Keep);
+  for (double f : groove_feeds(plain)) EXPECT_DOUBLE_EQ(f, 0.05);
+
+  const std::string file = LATHECTL_SOURCE_DIR "/tests/optimize/programs/user_part_tools.toml";
+  opt.tool_specs = read_tool_file(io::read_input_file(file, "a tool file", io::kMaxTomlBytes), file);
+  const auto r = optimize(p, e, opt);
+  const auto feeds = groove_feeds(r);
+  ASSERT_FALSE(feeds.empty());
+  for (double f : feeds) {
+    EXPECT_GE(f, 0.02);
+    EXPECT_LE(f, 0.08);
+  }
+  // Its predicted force is the law at the insert's width, sample by sample.
+  cutting::CuttingModel cut;
+  cut.configure(e.rig.cutting);
+  int checked = 0;
+  for (std::size_t i = 0; i < r.after.s.move.size(); ++i) {
+    const auto& m = p.canon.moves[static_cast<std::size_t>(r.after.s.move[i])];
+    if (m.line != kGroove || !(r.after.s.depth[i] > 0.0) || !(r.after.s.feed_rev[i] > 0.0)) continue;
+    const auto f = cut.forces({3.0, r.after.s.feed_rev[i], r.after.s.speed[i],
+                               r.after.s.strength[i], r.after.s.wear[i]});
+    EXPECT_NEAR(r.after.s.pz[i], f.Pz, 1e-9 * f.Pz);
+    EXPECT_LE(r.after.s.param[i], e.rig.controller.force_limit);
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+  // The thread's tool (T10, threading) leaves the thread alone.
+  ASSERT_EQ(p.lines[42].rfind("G76", 0), 0u);
+  EXPECT_EQ(r.actions[42].kind, LineAction::Kind::Keep);
+}
+
+TEST(Tools, FileErrorsNameFileLineAndKey) {
+  auto error = [](const std::string& text) {
+    try {
+      (void)read_tool_file(text, "tools.toml");
+    } catch (const io::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const auto bad_kind = error("[[tool]]\nnumber = 2\nkind = \"knurling\"\n");
+  EXPECT_NE(bad_kind.find("tools.toml:3"), std::string::npos) << bad_kind;
+  EXPECT_NE(bad_kind.find("kind"), std::string::npos) << bad_kind;
+  const auto no_width = error("[[tool]]\nnumber = 2\nkind = \"grooving\"\n");
+  EXPECT_NE(no_width.find("insert_width_mm"), std::string::npos) << no_width;
+  const auto range = error(
+      "[[tool]]\nnumber = 2\nkind = \"turning\"\nfeed_min_mm_per_rev = 0.3\n"
+      "feed_max_mm_per_rev = 0.2\n");
+  EXPECT_NE(range.find("feed_min_mm_per_rev < feed_max_mm_per_rev"), std::string::npos) << range;
+  const auto unknown = error("[[tool]]\nnumber = 2\nkind = \"turning\"\nwidth = 3\n");
+  EXPECT_NE(unknown.find("width"), std::string::npos) << unknown;
+  const auto ok = read_tool_file(
+      "[[tool]]\nnumber = 2\nkind = \"parting\"\ninsert_width_mm = 2.5\n", "tools.toml");
+  ASSERT_EQ(ok.size(), 1u);
+  EXPECT_TRUE(ok[0].plunge());
+  EXPECT_DOUBLE_EQ(ok[0].insert_width_mm, 2.5);
 }
 
 }  // namespace
