@@ -133,7 +133,7 @@ void add_optimize(CLI::App& app, Commands& out) {
       ->capture_default_str();
   sub->add_option("--finish-ra-um", a->opt.finish_ra_um,
                   "roughness Ra of finishing pieces (default: the programmed feed's, "
-                  "Ra = f²/(32 r))")
+                  "Ra = f²/(32 r); never rougher than it)")
       ->check(range_validator(io::Range::closed(0.01, 100.0)));
   a->opt.finish_ra_um = 0.0;
   sub->add_option("--limit-fraction", a->opt.limit_fraction,

@@ -38,7 +38,9 @@ struct Options {
   double z_origin_mm = 0.0;      // machine z of the stock's z = 0 (as linuxcnc-sim)
   double air_feed = -1.0;        // mm/rev in air; < 0: the controller's feed_max
   double finish_depth_mm = 0.6;  // a piece at most this deep is finishing
-  double finish_ra_um = 3.2;     // roughness the finishing feed keeps (ISO N8)
+  // Roughness a finishing feed keeps: 0, the programmed feed's; a value, a smoother target (a
+  // finishing feed is never above the programmed one).
+  double finish_ra_um = 0.0;
   double limit_fraction = 0.97;  // the feed is chosen for this share of each limit
   std::string rs274 = "rs274";   // LinuxCNC's standalone interpreter
   // Bounds on the interpreter (an endless o-word loop runs for ever and writes ~45 MB/s): its

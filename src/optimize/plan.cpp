@@ -131,7 +131,8 @@ struct FeedContext {
   std::vector<double> rev_depth;
 };
 void span_feed(const FeedContext& ctx, const CanonMove& m, const std::string& finishing,
-               const ToolSpec* spec, const Samples& s, const Span& sp, Piece& pc) {
+               const std::string& finishing_pass, const ToolSpec* spec, const Samples& s,
+               const Span& sp, Piece& pc) {
   const auto& cut = ctx.cut;
   const auto& e = ctx.e;
   const auto& opt = ctx.opt;
@@ -171,7 +172,9 @@ void span_feed(const FeedContext& ctx, const CanonMove& m, const std::string& fi
         // finishing: Ra = f²/(32 r) at most the target
         const double ra =
             opt.finish_ra_um > 0.0 ? opt.finish_ra_um : cut.roughness_Ra_um(programmed_rev);
-        const double f_ra = std::sqrt(ra * 1e-3 * 32.0 * r_nose);
+        // Never rougher than the program: --finish-ra-um may ask for a smoother surface, not a
+        // coarser one (the roughness feed above the programmed one raised 0.06 to 0.29 mm/rev).
+        const double f_ra = std::min(std::sqrt(ra * 1e-3 * 32.0 * r_nose), programmed_rev);
         if (f_ra < f_rev) {
           f_rev = std::max(f_ra, lim.feed_min);
           pc.limited_by = "roughness";
@@ -201,11 +204,13 @@ void span_feed(const FeedContext& ctx, const CanonMove& m, const std::string& fi
   } else {
     pc.limited_by = "air";
   }
-  if (!finishing.empty() && pc.limited_by == "air" && programmed_rev < f_rev) {
-    // A finishing pass's piece the stock model finds in air (a face or chamfer it does not
-    // know was left there) is not raised either.
+  if ((!finishing.empty() || !finishing_pass.empty()) && pc.limited_by == "air" &&
+      programmed_rev < f_rev) {
+    // A finishing pass's piece the stock model finds in air (a face, shoulder or chamfer it
+    // does not know was left there) is not raised either.
     f_rev = programmed_rev;
-    pc.limited_by = "air, not raised (finishing: " + finishing + ")";
+    pc.limited_by =
+        "air, not raised (finishing: " + (finishing.empty() ? finishing_pass : finishing) + ")";
   }
   if (m.per_rev) {
     pc.feed = f_rev;
@@ -308,7 +313,7 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
       Piece pc;
       pc.from = pieces.empty() ? 0.0 : pieces.back().to;
       pc.to = sp.b == b ? 1.0 : std::clamp((s.path_mm[sp.b - 1] - path0) / len, pc.from, 1.0);
-      span_feed(ctx, m, roles.finishing[mi], roles.spec[mi], s, sp, pc);
+      span_feed(ctx, m, roles.finishing[mi], roles.finishing_pass[mi], roles.spec[mi], s, sp, pc);
       pieces.push_back(pc);
     }
     if (pieces.empty()) pieces = programmed(prog)[mi];
@@ -354,8 +359,8 @@ void refeed(const io::CanonProgram& prog, Plan& plan, const Prediction& trial,
     const CanonMove& m = prog.moves[mi];
     if (m.kind != CanonMove::Kind::Traverse && !m.synced && roles.kept[mi].empty() &&
         pi < plan[mi].size())
-      span_feed(ctx, m, roles.finishing[mi], roles.spec[mi], s, Span{i, j, in_cut},
-                plan[mi][pi]);
+      span_feed(ctx, m, roles.finishing[mi], roles.finishing_pass[mi], roles.spec[mi], s,
+                Span{i, j, in_cut}, plan[mi][pi]);
     i = j;
   }
 }

@@ -29,8 +29,11 @@ std::vector<std::pair<std::size_t, std::size_t>> move_ranges(const Samples& s, s
 // feed (a keep marker, an unknown tool, after a rapid through material); `finishing` why it is a
 // finishing cut whatever its depth (cutter compensation, a G70 cycle, a finish marker): its feed
 // is at most the one of the roughness the programmed feed gives, never raised.
+// `finishing_pass`: the move belongs to a pass whose cut is mostly within the finish depth: its
+// pieces the stock model finds in air (a shoulder or face it does not know is there) are not
+// raised either.
 struct MoveRoles {
-  std::vector<std::string> kept, finishing;
+  std::vector<std::string> kept, finishing, finishing_pass;
   std::vector<const ToolSpec*> spec;  // the move's tool in --tool-file (nullptr: not listed)
 };
 

@@ -125,6 +125,7 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
   }
 
   double path = 0.0;
+  double leaving_mm = 0.0;  // what is left of a retract's way out of the cut before it
   // Walks the share [u_from, u_to] of `m` one servo period at a time; `feed` is the piece's F,
   // `v_cap` the planner's limit (a blend arc's), `rapid_move` whether it runs at rapid.
   auto walk = [&](const CanonMove& m, double u_from, double u_to, double feed, double v_cap,
@@ -234,10 +235,20 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
       s.dt.push_back(dt);
       pr.life_use += life;
       pr.cycle_time_s += dt;
-      if (rapid_move && out.force_parameter > 0.0) {
+      // A rapid that starts where a cut ended first lifts the tool out of that cut's last chip
+      // (a retract at the end of a pass): contact within the nose's width and a feed of the
+      // cut's end is the tool leaving it. Past that, or from air, it is a rapid through material.
+      const bool contact = out.force_parameter > 0.0;
+      if (!rapid_move) {
+        leaving_mm = contact ? 2.0 * e.rig.cutting.nose_radius_mm + out.feed_per_rev_mm : 0.0;
+      } else if (contact && leaving_mm > 0.0) {
+        leaving_mm -= step_u * len;
+      } else if (contact) {
         pr.rapid_in_material_s += dt;
         if (pr.rapid_first_line == 0) pr.rapid_first_line = m.line;
         pr.rapid_peak = std::max(pr.rapid_peak, out.force_parameter);
+      } else {
+        leaving_mm = 0.0;
       }
     }
   };

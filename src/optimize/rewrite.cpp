@@ -252,6 +252,7 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
   kept.resize(moves.size());
   roles.finishing.resize(moves.size());
   roles.spec.assign(moves.size(), nullptr);
+  roles.finishing_pass.resize(moves.size());
   // The tools the scenario's [tool] describes: --tools, else the tool of the first feed move.
   std::vector<int> tools = opt.tools;
   for (const auto& m : moves)
@@ -303,7 +304,7 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
           total += dl.second;
           deepest = std::max(deepest, dl.first);
         }
-      if (total > 0.0 && deepest > opt.finish_depth_mm) {
+      if (total > 0.0) {
         std::sort(in_cut.begin(), in_cut.end());
         double acc = 0.0, median = 0.0;
         for (const auto& [d, l] : in_cut) {
@@ -311,10 +312,14 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
           median = d;
           if (acc >= 0.5 * total) break;
         }
-        if (median <= opt.finish_depth_mm)
-          for (std::size_t i = a; i < b; ++i)
-            if (roles.finishing[i].empty())
-              roles.finishing[i] = "the pass is " + number(median, 2) + " mm deep along half its cut or more";
+        const std::string why =
+            "the pass is " + number(median, 2) + " mm deep along half its cut or more";
+        for (std::size_t i = a; i < b && median <= opt.finish_depth_mm; ++i) {
+          roles.finishing_pass[i] = why;
+          // Deeper than the finish depth somewhere: by its depth alone a piece would be roughing.
+          if (deepest > opt.finish_depth_mm && roles.finishing[i].empty())
+            roles.finishing[i] = why;
+        }
       }
       a = std::max(b, a + 1);
     }
