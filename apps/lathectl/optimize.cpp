@@ -9,8 +9,10 @@
 #include <sstream>
 #include <string>
 
+#include "calculator.hpp"
 #include "cli.hpp"
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/input_file.hpp"
 #include "lathectl/io/install_paths.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/output.hpp"
@@ -22,8 +24,9 @@ namespace fs = std::filesystem;
 namespace lathectl::cli {
 namespace {
 
+
 struct Args {
-  std::string program, scenario, out = "optimize-out", sim, rs274 = "rs274";
+  std::string program, scenario, out = "optimize-out", sim, rs274 = "rs274", tool_file;
   bool verify = false;
   double timeout_s = 1800.0;
   optimize::Options opt;
@@ -50,6 +53,9 @@ int run(Args& a) {
     throw io::InputError(a.scenario +
                          ": key 'stock.blank': lathectl optimize needs the blank's "
                          "extent along z (at least two points)");
+  if (!a.tool_file.empty())
+    a.opt.tool_specs = optimize::read_tool_file(
+        io::read_input_file(a.tool_file, "a tool file", io::kMaxTomlBytes), a.tool_file);
   a.opt.ini = (fs::path(hal_config_dir()) / "lathectl-lathe.ini").string();
   a.opt.rs274 = a.rs274;
   a.opt.label = a.program;
@@ -90,6 +96,8 @@ int run(Args& a) {
   std::cout << "\n  → " << (fs::path(a.out) / "optimized.ngc").string() << "\n";
   if (result.before.blend_inside_max_mm > 0.01)
     std::cout << "  note: " << optimize::blend_note(result.before) << "\n";
+  for (const auto& w : optimize::warnings(prog, e, result))
+    std::cout << "WARNING: " << a.program << ": " << w << "\n";
   return 0;
 }
 
@@ -111,25 +119,26 @@ void add_optimize(CLI::App& app, Commands& out) {
                 "then on) and report both");
   sub->add_option("--spindle-rpm", a->opt.spindle_rpm,
                   "start the spindle at this speed before the program (as linuxcnc-sim)")
-      ->check(CLI::Range(0.0, 1e5));
+      ->check(range_validator(io::Range::closed(0.0, 1e5)));
   sub->add_option("--z-origin-mm", a->opt.z_origin_mm,
                   "machine Z of the stock's face (as linuxcnc-sim)")
+      ->check(range_validator(io::Range::any()))
       ->capture_default_str();
   sub->add_option("--air-feed", a->opt.air_feed,
                   "feed in air [mm/rev] (default: the scenario's controller.feed_max_mm_per_rev)")
-      ->check(CLI::Range(1e-3, 10.0));
+      ->check(range_validator(io::Range::closed(1e-3, 10.0)));
   sub->add_option("--finish-depth-mm", a->opt.finish_depth_mm,
                   "pieces at most this deep are finishing: their feed keeps the roughness")
-      ->check(CLI::Range(0.0, 10.0))
+      ->check(range_validator(io::Range::closed(0.0, 10.0)))
       ->capture_default_str();
   sub->add_option("--finish-ra-um", a->opt.finish_ra_um,
                   "roughness Ra of finishing pieces (default: the programmed feed's, "
-                  "Ra = f²/(32 r))")
-      ->check(CLI::Range(0.01, 100.0));
+                  "Ra = f²/(32 r); never rougher than it)")
+      ->check(range_validator(io::Range::closed(0.01, 100.0)));
   a->opt.finish_ra_um = 0.0;
   sub->add_option("--limit-fraction", a->opt.limit_fraction,
                   "share of each limit the chosen feed predicts")
-      ->check(CLI::Range(0.5, 1.0))
+      ->check(range_validator(io::Range::closed(0.5, 1.0)))
       ->capture_default_str();
   sub->add_option("--rs274", a->rs274, "LinuxCNC's standalone interpreter")->capture_default_str();
   sub->add_option(
@@ -137,9 +146,27 @@ void add_optimize(CLI::App& app, Commands& out) {
       "the simulator command for --verify (default scripts/linuxcnc-sim, installed "
       "lathectl-linuxcnc-sim); words split at blanks, e.g. \"flock LOCK linuxcnc-sim\"");
   sub->add_option("--timeout", a->timeout_s, "--verify: time limit of each LinuxCNC run [s]")
-      ->check(CLI::Range(1.0, 1e5))
+      ->check(range_validator(io::Range::closed(1.0, 1e5)))
       ->capture_default_str();
-  sub->footer("Lines marked (lathectl:keep) and threading (G33/G76) keep their feeds. " +
+  sub->add_option("--interp-timeout", a->opt.interp_timeout_s,
+                  "time limit of LinuxCNC's interpreter reading the program [s] (an endless "
+                  "o-word loop is stopped with an error)")
+      ->check(range_validator(io::Range::closed(1.0, 1e5)))
+      ->capture_default_str();
+  sub->add_option("--tools", a->opt.tools,
+                  "the T numbers the scenario's [tool] describes, e.g. 1,3 (default: the tool of "
+                  "the first feed move); feed moves of other tools keep their feeds")
+      ->delimiter(',')
+      ->check(CLI::Range(0, 99999));
+  sub->add_option("--tool-file", a->tool_file,
+                  "the program's other tools by T number: kind, insert width, feed range (TOML, "
+                  "docs/optimize.md)");
+  sub->add_flag("--allow-rapid-in-material", a->opt.allow_rapid_in_material,
+                "optimise a program whose rapid (G0) passes through the blank (an error "
+                "otherwise); the lines from that rapid on keep their feeds");
+  sub->footer("Lines marked (lathectl:keep), threading (G33/G76) and the feed moves of tools "
+              "other than the scenario's keep their feeds; finishing cuts (cutter compensation, "
+              "G70, (lathectl:finish), a pass mostly within --finish-depth-mm) are never raised. " +
               doc("optimize.md") + ".");
   out.push_back({sub, [a] { return run(*a); }});
 }

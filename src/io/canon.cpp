@@ -63,6 +63,7 @@ CanonProgram parse_canon(std::string_view text, const std::string& label, double
   int out_line = 0;
   bool stop_pending = true;  // the first move starts from rest
   bool plane_xz = false;
+  std::array<double, 2> g5x{}, g92{}, tlo{};  // x, z of each offset
   auto fail = [&](const std::string& what) {
     throw InputError(label + ": interpreter output line " + std::to_string(out_line) + ": " + what);
   };
@@ -147,7 +148,8 @@ CanonProgram parse_canon(std::string_view text, const std::string& label, double
       stop_pending = true;
       continue;
     }
-    const bool known = name == "STRAIGHT_TRAVERSE" || name == "STRAIGHT_FEED" ||
+    const bool known = name == "SET_G5X_OFFSET" || name == "SET_G92_OFFSET" ||
+                       name == "USE_TOOL_LENGTH_OFFSET" || name == "STRAIGHT_TRAVERSE" || name == "STRAIGHT_FEED" ||
                        name == "ARC_FEED" || name == "SET_FEED_MODE" || name == "SET_FEED_RATE" ||
                        name == "SET_SPINDLE_MODE" || name == "SET_SPINDLE_SPEED" ||
                        name == "START_SPEED_FEED_SYNC" || name == "SELECT_TOOL";
@@ -201,7 +203,24 @@ CanonProgram parse_canon(std::string_view text, const std::string& label, double
       need(2);
       state.speed = a.v[1];
     } else if (name == "START_SPEED_FEED_SYNC") {
+      need(1);
       state.synced = true;
+      state.pitch_mm = a.v[0];
+    } else if (name == "SET_G5X_OFFSET") {
+      need(4);
+      g5x = {a.v[1], a.v[3]};
+      state.offset_x = g5x[0] + g92[0] + tlo[0];
+      state.offset_z = g5x[1] + g92[1] + tlo[1];
+    } else if (name == "SET_G92_OFFSET") {
+      need(3);
+      g92 = {a.v[0], a.v[2]};
+      state.offset_x = g5x[0] + g92[0] + tlo[0];
+      state.offset_z = g5x[1] + g92[1] + tlo[1];
+    } else if (name == "USE_TOOL_LENGTH_OFFSET") {
+      need(3);
+      tlo = {a.v[0], a.v[2]};
+      state.offset_x = g5x[0] + g92[0] + tlo[0];
+      state.offset_z = g5x[1] + g92[1] + tlo[1];
     } else if (name == "SELECT_TOOL") {
       need(1);
       // A pocket number LinuxCNC's tool table can hold; anything else (a fuzzer's 2.9e54) would

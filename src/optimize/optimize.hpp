@@ -20,6 +20,7 @@
 //      the original path; if it does not (modes the pieces cannot be written in: G91, G7, offsets,
 //      cutter compensation), the splits are dropped and each line gets one F.
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -27,6 +28,7 @@
 
 #include "lathectl/io/canon.hpp"
 #include "optimize/blend.hpp"
+#include "optimize/tools.hpp"
 #include "systems/e_adaptive/settings.hpp"
 
 namespace lathectl::optimize {
@@ -36,9 +38,25 @@ struct Options {
   double z_origin_mm = 0.0;      // machine z of the stock's z = 0 (as linuxcnc-sim)
   double air_feed = -1.0;        // mm/rev in air; < 0: the controller's feed_max
   double finish_depth_mm = 0.6;  // a piece at most this deep is finishing
-  double finish_ra_um = 3.2;     // roughness the finishing feed keeps (ISO N8)
+  // Roughness a finishing feed keeps: 0, the programmed feed's; a value, a smoother target (a
+  // finishing feed is never above the programmed one).
+  double finish_ra_um = 0.0;
   double limit_fraction = 0.97;  // the feed is chosen for this share of each limit
   std::string rs274 = "rs274";   // LinuxCNC's standalone interpreter
+  // Bounds on the interpreter (an endless o-word loop runs for ever and writes ~45 MB/s): its
+  // time [s] and the size of its canonical output [bytes]; past either it is killed.
+  double interp_timeout_s = 60.0;
+  std::uintmax_t interp_output_max_bytes = 512u * 1024u * 1024u;
+  // A rapid through material is an error unless allowed (then the report says so first, and
+  // the feed moves after it keep their programmed feeds: the stock model no longer knows what
+  // is left of the blank).
+  bool allow_rapid_in_material = false;
+  // The T numbers the scenario's [tool] describes (empty: the tool of the first feed move).
+  // Feed moves of any other tool keep their programmed feeds: their insert, width and feed
+  // range are not known.
+  std::vector<int> tools;
+  // The program's other tools (--tool-file, tools.hpp): kind, insert width, feed range.
+  std::vector<ToolSpec> tool_specs;
   std::string ini;               // the simulated lathe's INI (tool table beside it)
   double start_x_mm = 60.0;      // where the tool stands before the program (the sim's home)
   double start_z_mm = 60.0;
@@ -68,6 +86,10 @@ std::string read_text(const std::filesystem::path& p);
 io::CanonProgram interpret(const std::vector<std::string>& lines, const std::string& label,
                            const Options& opt);
 Program read_program(const std::string& path, const Options& opt);
+// InputError naming the line of the first move beyond the INI's soft limits ([AXIS_X] and
+// [AXIS_Z] MIN_LIMIT/MAX_LIMIT, in machine coordinates: the move plus its offsets), which
+// LinuxCNC refuses to run. read_program checks it when Options::ini is set.
+void check_soft_limits(const Program& p, const std::string& ini_file);
 
 // A piece of a move at one feed: the share [from, to] of the move's length.
 struct Piece {
@@ -133,6 +155,7 @@ struct LineAction {
   enum class Kind { None, Keep, Feed, Split, Expand };
   Kind kind = Kind::None;
   std::string why;  // for Keep
+  bool changed = false;  // counted in Result::blocks_changed: split, expanded, or its F changed
 };
 struct Result {
   Plan original, optimized;
@@ -183,6 +206,12 @@ struct VerifyOptions {
   double timeout_s = 1200.0;
 };
 Verified verify(const Program& p, const Result& r, const Options& opt, const VerifyOptions& v);
+
+// What a programmer must read first (the report's verdict, WARNING lines on the console): a
+// rapid through material, a predicted peak above the limit (a line kept as written), pieces
+// predicted to chatter.
+std::vector<std::string> warnings(const Program& p, const systems::e_adaptive::Settings& e,
+                                  const Result& r);
 
 // A note for a program whose G64 blends cut inside its contour in material (blend.hpp).
 std::string blend_note(const Prediction& p);

@@ -6,6 +6,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/report.hpp"
@@ -111,6 +112,50 @@ std::string blend_note(const Prediction& p) {
          " cuts " + num(p.blend_inside_max_mm, 2) +
          " mm inside the programmed contour, in material: the part is undersize there unless "
          "the program sets a tolerance (G64 P0.01) or exact path (G61).";
+}
+
+std::vector<std::string> warnings(const Program& p, const systems::e_adaptive::Settings& e,
+                                  const Result& r) {
+  const auto& prog = p.canon;
+  const std::string unit = e.rig.force_parameter == cutting::ForceParameter::Power ? "W" : "N";
+  std::vector<std::string> w;
+  if (r.before.rapid_in_material_s > 0.0)
+    w.push_back("A rapid (G0) of line " + std::to_string(r.before.rapid_first_line) +
+                " passes through material for " + num(r.before.rapid_in_material_s, 3) +
+                " s, up to " + num(r.before.rapid_peak, 4) + " " + unit +
+                ": feeds cannot help there; the program's path must change. The lines from it "
+                "on keep their programmed feeds.");
+  // The optimised program's peak above the limit: only a line kept as written can do that.
+  const auto rev = rev_param(prog, r.after.s);
+  double peak = 0.0;
+  int line = 0;
+  for (std::size_t i = 0; i < rev.size(); ++i)
+    if (prog.moves[static_cast<std::size_t>(r.after.s.move[i])].kind != CanonMove::Kind::Traverse &&
+        rev[i] > peak) {
+      peak = rev[i];
+      line = prog.moves[static_cast<std::size_t>(r.after.s.move[i])].line;
+    }
+  if (peak > r.limit) {
+    std::string why;
+    if (line >= 1 && static_cast<std::size_t>(line) <= r.actions.size() &&
+        r.actions[static_cast<std::size_t>(line - 1)].kind == LineAction::Kind::Keep)
+      why = ", kept as written: " + r.actions[static_cast<std::size_t>(line - 1)].why;
+    w.push_back("The predicted per-revolution peak " + num(peak, 4) + " " + unit +
+                " exceeds the limit " + num(r.limit, 4) + " " + unit + " on line " +
+                std::to_string(line) + why + ".");
+  }
+  if (r.chatter) {
+    int below = 0;
+    for (std::size_t mi = 0; mi < r.optimized.size(); ++mi)
+      if (prog.moves[mi].kind != CanonMove::Kind::Traverse)
+        for (const auto& pc : r.optimized[mi])
+          below += pc.limited_by.find(" + chatter") != std::string::npos ? 1 : 0;
+    if (below > 0)
+      w.push_back(std::to_string(below) +
+                  " pieces of the optimised program are predicted to chatter (margin below 1): "
+                  "see the table of chatter margins.");
+  }
+  return w;
 }
 
 std::vector<std::pair<std::string, std::string>> output_files(
@@ -263,11 +308,11 @@ std::vector<std::pair<std::string, std::string>> output_files(
     m("pieces below margin 1, original", below0, "");
     m("pieces below margin 1, optimised", below1, "");
   }
-  if (r.before.rapid_in_material_s > 0.0)
-    rep.notes.push_back("A rapid (G0) of line " + std::to_string(r.before.rapid_first_line) +
-                        " passes through material for " + num(r.before.rapid_in_material_s, 3) +
-                        " s, up to " + num(r.before.rapid_peak, 4) + " " + unit +
-                        ": feeds cannot help there; the program's path must change.");
+  // What a programmer must see before anything else: the report's verdict, its first section.
+  const std::vector<std::string> warnings = optimize::warnings(p, e, r);
+  for (const auto& w : warnings) rep.verdict += (rep.verdict.empty() ? "" : " ") + w;
+  rep.verdict_ok = warnings.empty();
+  if (!warnings.empty()) rep.verdict_table.title = "Warnings";
   if (r.before.blend_inside_max_mm > 0.01)
     rep.notes.push_back(blend_note(r.before));
   if (r.splits_dropped)
@@ -296,11 +341,22 @@ std::vector<std::pair<std::string, std::string>> output_files(
                        "",
                        true,
                        false});
-  io::Plot pfeed{"Feed per revolution along the path", "path [mm]", "feed [mm/rev]", {}, {}};
-  pfeed.series.push_back({"original", decimate(r.before.s.path_mm, e0),
-                          decimate(r.before.s.feed_rev, e0), "", false, false});
-  pfeed.series.push_back({"optimised", decimate(r.after.s.path_mm, e1),
-                          decimate(r.after.s.feed_rev, e1), "", false, false});
+  // Feed moves only: a rapid's "feed per revolution" (several mm) would set the scale.
+  auto feed_only = [&](const Samples& s, std::size_t every) {
+    std::pair<std::vector<double>, std::vector<double>> xy;
+    for (std::size_t i = 0; i < s.path_mm.size(); i += every)
+      if (prog.moves[static_cast<std::size_t>(s.move[i])].kind != CanonMove::Kind::Traverse) {
+        xy.first.push_back(s.path_mm[i]);
+        xy.second.push_back(s.feed_rev[i]);
+      }
+    return xy;
+  };
+  io::Plot pfeed{"Feed per revolution along the path (feed moves)", "path [mm]", "feed [mm/rev]",
+                 {}, {}};
+  auto [fx0, fy0] = feed_only(r.before.s, e0);
+  auto [fx1, fy1] = feed_only(r.after.s, e1);
+  pfeed.series.push_back({"original", std::move(fx0), std::move(fy0), "", false, false});
+  pfeed.series.push_back({"optimised", std::move(fx1), std::move(fy1), "", false, false});
   rep.plots = {pf, pfeed};
   if (v) {
     io::Plot pv{"LinuxCNC: force over time (per-revolution mean, true value)",
@@ -314,27 +370,47 @@ std::vector<std::pair<std::string, std::string>> output_files(
     }
     rep.plots.push_back(pv);
   }
-  io::Table tb{"Lines changed", {"line", "action", "feed", "limited by"}, {}};
-  for (std::size_t li = 0; li < r.actions.size() && tb.rows.size() < 200; ++li) {
+  // The review: every line counted as changed (the same lines as "lines changed"), its
+  // original and new feed, what kind of cut it is, the limit that decided and the predicted
+  // per-revolution peak; then the lines kept as written and why.
+  io::Table tb{"Lines changed (" + std::to_string(r.blocks_changed) + ")",
+               {"line", "action", "cut", "F original", "F optimised", "limited by",
+                "peak per rev. [" + unit + "]", "% of limit"},
+               {}};
+  io::Table tk{"Lines kept as written", {"line", "why"}, {}};
+  for (std::size_t li = 0; li < r.actions.size(); ++li) {
     const auto k = r.actions[li].kind;
-    if (k == LineAction::Kind::None) continue;
-    std::string feeds, why;
+    if (k == LineAction::Kind::Keep && tk.rows.size() < 200)
+      tk.rows.push_back({std::to_string(li + 1), r.actions[li].why});
+    if (!r.actions[li].changed || tb.rows.size() >= 500) continue;
+    std::string feeds, why, f0;
+    double peak = 0.0;
+    bool finishing = false, all_air = true;
     for (std::size_t mi = 0; mi < prog.moves.size(); ++mi) {
       if (prog.moves[mi].line != static_cast<int>(li + 1) ||
           prog.moves[mi].kind == CanonMove::Kind::Traverse)
         continue;
-      for (const auto& pc : r.optimized[mi]) {
+      const std::string orig = num(prog.moves[mi].feed, 4);
+      if (f0.empty()) f0 = orig;
+      else if (f0.find(orig) == std::string::npos && f0.size() < 60) f0 += " " + orig;
+      for (std::size_t pk = 0; pk < r.optimized[mi].size(); ++pk) {
+        const auto& pc = r.optimized[mi][pk];
         if (feeds.size() < 80) feeds += (feeds.empty() ? "" : " ") + num(pc.feed, 4);
         if (why.find(pc.limited_by) == std::string::npos && why.size() < 80)
           why += (why.empty() ? "" : ", ") + pc.limited_by;
+        finishing = finishing || pc.limited_by.find("roughness") != std::string::npos;
+        all_air = all_air && pc.limited_by == "air";
+        peak = std::max(peak, st1[mi][pk].peak);
       }
     }
     const char* names[] = {"", "kept", "F changed", "split", "cycle expanded"};
     tb.rows.push_back({std::to_string(li + 1), names[static_cast<int>(k)],
-                       feeds.size() >= 80 ? feeds + " …" : feeds,
-                       k == LineAction::Kind::Keep ? r.actions[li].why : why});
+                       all_air ? "air" : finishing ? "finishing" : "roughing", f0,
+                       feeds.size() >= 80 ? feeds + " …" : feeds, why, num(peak, 4),
+                       num(100.0 * peak / r.limit, 3)});
   }
   rep.tables.push_back(tb);
+  if (!tk.rows.empty()) rep.tables.push_back(tk);
   if (r.chatter) {  // the pieces whose margin is below 1, original or optimised
     io::Table tc{"Chatter margin below 1 (limit depth / depth; lobes of the modes at the piece)",
                  {"line", "piece", "depth [mm]", "feed, original", "margin, original",

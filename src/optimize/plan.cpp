@@ -130,17 +130,26 @@ struct FeedContext {
   double r_nose;
   std::vector<double> rev_depth;
 };
-void span_feed(const FeedContext& ctx, const CanonMove& m, const Samples& s, const Span& sp,
-               Piece& pc) {
+void span_feed(const FeedContext& ctx, const CanonMove& m, const std::string& finishing,
+               const std::string& finishing_pass, const ToolSpec* spec, const Samples& s,
+               const Span& sp, Piece& pc) {
   const auto& cut = ctx.cut;
   const auto& e = ctx.e;
   const auto& opt = ctx.opt;
-  const auto& lim = ctx.lim;
-  const double r_nose = ctx.r_nose;
+  FeedLimits lim = ctx.lim;
+  double r_nose = ctx.r_nose;
+  if (spec) {  // the insert's own feed range (air included) and corner radius
+    if (spec->feed_min_mm_per_rev > 0.0) lim.feed_min = spec->feed_min_mm_per_rev;
+    if (spec->feed_max_mm_per_rev > 0.0) lim.feed_max = spec->feed_max_mm_per_rev;
+    lim.feed_min = std::min(lim.feed_min, lim.feed_max);
+    lim.air = std::min(lim.air, lim.feed_max);
+    if (spec->nose_radius_mm > 0.0) r_nose = spec->nose_radius_mm;
+  }
   const auto& rev_depth = ctx.rev_depth;
   double rpm_min = std::numeric_limits<double>::infinity();
   for (std::size_t i = sp.a; i < sp.b; ++i) rpm_min = std::min(rpm_min, s.rpm[i]);
   double f_rev = lim.air;
+  const double programmed_rev = m.per_rev ? m.feed : m.feed / std::max(rpm_min, 1e-9);
   if (sp.cut) {
     double t = 0.0, h = 0.0, w = 1.0, v = std::numeric_limits<double>::infinity(), x = 0.0;
     for (std::size_t i = sp.a; i < sp.b; ++i) {
@@ -151,22 +160,35 @@ void span_feed(const FeedContext& ctx, const CanonMove& m, const Samples& s, con
       if (s.speed[i] > 0.0) v = std::min(v, s.speed[i]);
     }
     if (!std::isfinite(v)) v = 2.0 * std::numbers::pi * x * rpm_min / 1000.0;
+    // A grooving or parting insert plunges its whole width into the part: that is the width of
+    // cut of the law (the feed per revolution its chip thickness), not the nose's engagement.
+    if (spec && spec->plunge() && t > 0.0) t = spec->insert_width_mm;
     if (t > 0.0 && v > 0.0) {
       auto [f, why] = largest_feed(cut, e.rig.force_parameter, lim, t, v, h, w, x);
       pc.limited_by = why;
       f_rev = f;
       const double f_limits = f;  // the largest feed force, power and torque allow
-      if (t <= opt.finish_depth_mm) {  // finishing: Ra = f²/(32 r) at most the target
-        const double programmed_rev = m.per_rev ? m.feed : m.feed / std::max(rpm_min, 1e-9);
+      if (t <= opt.finish_depth_mm || !finishing.empty()) {
+        // finishing: Ra = f²/(32 r) at most the target
         const double ra =
             opt.finish_ra_um > 0.0 ? opt.finish_ra_um : cut.roughness_Ra_um(programmed_rev);
-        const double f_ra = std::sqrt(ra * 1e-3 * 32.0 * r_nose);
+        // Never rougher than the program: --finish-ra-um may ask for a smoother surface, not a
+        // coarser one (the roughness feed above the programmed one raised 0.06 to 0.29 mm/rev).
+        const double f_ra = std::min(std::sqrt(ra * 1e-3 * 32.0 * r_nose), programmed_rev);
         if (f_ra < f_rev) {
           f_rev = std::max(f_ra, lim.feed_min);
           pc.limited_by = "roughness";
         }
       }
-      if (!s.kcrit.empty()) {  // the scenario has modes: the feed that keeps margin ≥ 1
+      if (!finishing.empty()) {
+        // A finishing cut by its kind, not its depth (a deep fillet, a G64 corner that makes a
+        // light pass look deep): never above the programmed feed, and no chatter raise.
+        if (programmed_rev < f_rev) {
+          f_rev = programmed_rev;
+          pc.limited_by = "roughness";
+        }
+        pc.limited_by += " (finishing: " + finishing + ")";
+      } else if (!s.kcrit.empty()) {  // the scenario has modes: the feed that keeps margin ≥ 1
         const auto fc = stable_feed(cut, s, sp, f_rev, std::max(f_limits, f_rev));
         if (!fc) {
           pc.limited_by += " + chatter: unstable at every feed within the limits";
@@ -181,6 +203,14 @@ void span_feed(const FeedContext& ctx, const CanonMove& m, const Samples& s, con
     }
   } else {
     pc.limited_by = "air";
+  }
+  if ((!finishing.empty() || !finishing_pass.empty()) && pc.limited_by == "air" &&
+      programmed_rev < f_rev) {
+    // A finishing pass's piece the stock model finds in air (a face, shoulder or chamfer it
+    // does not know was left there) is not raised either.
+    f_rev = programmed_rev;
+    pc.limited_by =
+        "air, not raised (finishing: " + (finishing.empty() ? finishing_pass : finishing) + ")";
   }
   if (m.per_rev) {
     pc.feed = f_rev;
@@ -214,7 +244,7 @@ std::vector<char> near_material(const Samples& s, double reach) {
 
 Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
                   const systems::e_adaptive::Settings& e, const Options& opt,
-                  const std::vector<bool>& kept_move) {
+                  const MoveRoles& roles) {
   const Samples& s = before.s;
   const FeedLimits lim = feed_limits(e, opt);
   cutting::CuttingModel cut;
@@ -233,8 +263,8 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
       pieces[0].limited_by = "rapid";
       continue;
     }
-    if (m.synced || kept_move[mi]) {
-      pieces[0].limited_by = m.synced ? "threading (kept)" : "marked (lathectl:keep)";
+    if (m.synced || !roles.kept[mi].empty()) {
+      pieces[0].limited_by = m.synced ? "threading (kept)" : roles.kept[mi];
       continue;
     }
     const auto [a, b] = ranges[mi];
@@ -283,7 +313,7 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
       Piece pc;
       pc.from = pieces.empty() ? 0.0 : pieces.back().to;
       pc.to = sp.b == b ? 1.0 : std::clamp((s.path_mm[sp.b - 1] - path0) / len, pc.from, 1.0);
-      span_feed(ctx, m, s, sp, pc);
+      span_feed(ctx, m, roles.finishing[mi], roles.finishing_pass[mi], roles.spec[mi], s, sp, pc);
       pieces.push_back(pc);
     }
     if (pieces.empty()) pieces = programmed(prog)[mi];
@@ -310,7 +340,7 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
 
 void refeed(const io::CanonProgram& prog, Plan& plan, const Prediction& trial,
             const systems::e_adaptive::Settings& e, const Options& opt,
-            const std::vector<bool>& kept_move) {
+            const MoveRoles& roles) {
   const Samples& s = trial.s;
   cutting::CuttingModel cut;
   cut.configure(e.rig.cutting);
@@ -327,9 +357,10 @@ void refeed(const io::CanonProgram& prog, Plan& plan, const Prediction& trial,
     const auto mi = static_cast<std::size_t>(s.move[i]);
     const auto pi = static_cast<std::size_t>(s.piece[i]);
     const CanonMove& m = prog.moves[mi];
-    if (m.kind != CanonMove::Kind::Traverse && !m.synced && !kept_move[mi] &&
+    if (m.kind != CanonMove::Kind::Traverse && !m.synced && roles.kept[mi].empty() &&
         pi < plan[mi].size())
-      span_feed(ctx, m, s, Span{i, j, in_cut}, plan[mi][pi]);
+      span_feed(ctx, m, roles.finishing[mi], roles.finishing_pass[mi], roles.spec[mi], s,
+                Span{i, j, in_cut}, plan[mi][pi]);
     i = j;
   }
 }

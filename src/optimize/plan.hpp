@@ -25,17 +25,29 @@ std::pair<double, std::string> largest_feed(const cutting::CuttingModel& cut,
 // [first, last) sample of each move.
 std::vector<std::pair<std::size_t, std::size_t>> move_ranges(const Samples& s, std::size_t moves);
 
-// Pieces and feeds for every move from the prediction at the programmed feeds; kept moves
-// (kept_move[i]) and threading keep the programmed feed.
+// What each move is to the plan, per move (empty: nothing): `kept` why it keeps its programmed
+// feed (a keep marker, an unknown tool, after a rapid through material); `finishing` why it is a
+// finishing cut whatever its depth (cutter compensation, a G70 cycle, a finish marker): its feed
+// is at most the one of the roughness the programmed feed gives, never raised.
+// `finishing_pass`: the move belongs to a pass whose cut is mostly within the finish depth: its
+// pieces the stock model finds in air (a shoulder or face it does not know is there) are not
+// raised either.
+struct MoveRoles {
+  std::vector<std::string> kept, finishing, finishing_pass;
+  std::vector<const ToolSpec*> spec;  // the move's tool in --tool-file (nullptr: not listed)
+};
+
+// Pieces and feeds for every move from the prediction at the programmed feeds; kept moves and
+// threading keep the programmed feed.
 Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
                   const systems::e_adaptive::Settings& e, const Options& opt,
-                  const std::vector<bool>& kept_move);
+                  const MoveRoles& roles);
 
 // The feeds of `plan`'s pieces taken again from `trial`, the prediction of that plan: LinuxCNC's
 // blend arcs (blend.hpp) depend on where the program is split, so the path each piece really cuts
 // is known only once the pieces are. The pieces' bounds stay.
 void refeed(const io::CanonProgram& prog, Plan& plan, const Prediction& trial,
             const systems::e_adaptive::Settings& e, const Options& opt,
-            const std::vector<bool>& kept_move);
+            const MoveRoles& roles);
 
 }  // namespace lathectl::optimize

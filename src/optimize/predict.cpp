@@ -16,6 +16,7 @@
 #include "lathectl/control/adaptive_machine.hpp"
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/cutting/disturbances.hpp"
+#include "lathectl/cutting/force_parameter.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/cutting/lathe_plant.hpp"
 #include "optimize/optimize.hpp"
@@ -65,6 +66,7 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
       const double rpm = spindle_rpm(m, m.x0);
       for (const Piece& pc : plan[mi]) {
         const double v = m.kind == CanonMove::Kind::Traverse ? rapid
+                         : m.synced                          ? m.pitch_mm * rpm / 60.0
                          : m.per_rev                         ? pc.feed * rpm / 60.0
                                                              : pc.feed / 60.0;
         if (v > 0.0) t += move_length(m) * (pc.to - pc.from) / std::min(v, rapid);
@@ -123,6 +125,7 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
   }
 
   double path = 0.0;
+  double leaving_mm = 0.0;  // what is left of a retract's way out of the cut before it
   // Walks the share [u_from, u_to] of `m` one servo period at a time; `feed` is the piece's F,
   // `v_cap` the planner's limit (a blend arc's), `rapid_move` whether it runs at rapid.
   auto walk = [&](const CanonMove& m, double u_from, double u_to, double feed, double v_cap,
@@ -130,6 +133,8 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
     const double len = move_length(m);
     double u = u_from;
     const double du_len = 1.0 / len;
+    const ToolSpec* spec = find_tool(opt.tool_specs, m.tool);
+    const bool plunge = spec && spec->plunge() && !rapid_move && !m.synced;
     while (u < u_to - 1e-12) {
       const auto [x, z] = point_at(m, u);
       const double rpm = spindle_rpm(m, x);
@@ -138,14 +143,19 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
                                  ? std::abs(mo.spindle_speed_out)
                                  : rpm;
       if (!rapid_move) {
-        v = m.per_rev ? feed * rpm_run / 60.0 : feed / 60.0;
+        // A thread (G33, G33.1, G76) advances its pitch per revolution whatever the modal F:
+        // LinuxCNC synchronises the move to the spindle (START_SPEED_FEED_SYNC's pitch).
+        v = m.synced    ? m.pitch_mm * rpm_run / 60.0
+            : m.per_rev ? feed * rpm_run / 60.0
+                        : feed / 60.0;
         if (!(v > 0.0))
-          throw io::InputError(
-              io::located(opt.label, m.line, 0,
-                          m.per_rev && rpm <= 0.0
-                              ? "a feed-per-revolution move (G95) with the spindle stopped: "
-                                "LinuxCNC would wait for ever (start it, or --spindle-rpm N)"
-                              : "a feed move with no feed rate (F0)"));
+          throw io::InputError(io::located(
+              opt.label, m.line, 0,
+              (m.per_rev || m.synced) && rpm <= 0.0
+                  ? std::string(m.synced ? "a thread (G33/G76)" : "a feed-per-revolution move (G95)") +
+                        " with the spindle stopped: LinuxCNC would wait for ever (start it, or "
+                        "--spindle-rpm N)"
+                  : std::string("a feed move with no feed rate (F0)")));
         v = std::min(v, rapid);
         if (opt.adaptive) v *= mo.feed_factor;  // motion's feed scale × adaptive-feed
       }
@@ -161,6 +171,18 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
       const auto [x1, z1] = point_at(m, u);
       cutting::LathePlant::Output out;
       plant.step({.x_mm = x1, .z_mm = z1, .rpm = rpm_run}, dt, out);
+      if (plunge && out.depth_mm > 0.0 && out.feed_per_rev_mm > 0.0) {
+        // A grooving or parting insert cuts its whole width (tools.hpp): the law at b = width,
+        // chip thickness = the feed per revolution; the plant's stock follows the nose.
+        const auto f = cut.forces({spec->insert_width_mm, out.feed_per_rev_mm,
+                                   out.speed_m_per_min, out.strength_factor,
+                                   wear.wear_factor(out.time_in_cut_s)});
+        out.Pz_N = f.Pz;
+        out.Py_N = f.Py;
+        out.cut_power_W = cut.power_W(f, out.speed_m_per_min);
+        out.force_parameter =
+            cutting::force_parameter(e.rig.force_parameter, f, out.cut_power_W);
+      }
       if (opt.adaptive) {
         control::AdaptiveMachine::Input in;
         in.nominal_period_s = s.dt_s;
@@ -213,10 +235,20 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
       s.dt.push_back(dt);
       pr.life_use += life;
       pr.cycle_time_s += dt;
-      if (rapid_move && out.force_parameter > 0.0) {
+      // A rapid that starts where a cut ended first lifts the tool out of that cut's last chip
+      // (a retract at the end of a pass): contact within the nose's width and a feed of the
+      // cut's end is the tool leaving it. Past that, or from air, it is a rapid through material.
+      const bool contact = out.force_parameter > 0.0;
+      if (!rapid_move) {
+        leaving_mm = contact ? 2.0 * e.rig.cutting.nose_radius_mm + out.feed_per_rev_mm : 0.0;
+      } else if (contact && leaving_mm > 0.0) {
+        leaving_mm -= step_u * len;
+      } else if (contact) {
         pr.rapid_in_material_s += dt;
         if (pr.rapid_first_line == 0) pr.rapid_first_line = m.line;
         pr.rapid_peak = std::max(pr.rapid_peak, out.force_parameter);
+      } else {
+        leaving_mm = 0.0;
       }
     }
   };

@@ -1,8 +1,23 @@
 // The program read by LinuxCNC's own interpreter: rs274 (linuxcnc-uspace) run on a copy whose
 // lines carry their line numbers as marker comments, its canonical commands read back.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cmath>
+#include <optional>
+#include <chrono>
+#include <csignal>
 #include <cstdlib>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <string_view>
+#include <thread>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -12,6 +27,7 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/input_file.hpp"
 #include "optimize/optimize.hpp"
+#include "optimize/path.hpp"
 #include "optimize/text.hpp"
 
 namespace lathectl::optimize {
@@ -19,11 +35,34 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A private temporary directory, removed on scope exit.
+constexpr std::string_view kTempPrefix = "lathectl-optimize.";
+
+// Temporary directories of earlier runs that were killed outright (SIGKILL leaves no chance to
+// clean up): "lathectl-optimize.<pid>.XXXXXX" whose process no longer exists.
+void remove_stale_temp_dirs(const fs::path& base) {
+  std::error_code ec;
+  for (fs::directory_iterator it(base, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.rfind(kTempPrefix, 0) != 0) continue;
+    const long pid = std::atol(name.c_str() + kTempPrefix.size());
+    struct stat st {};
+    if (pid <= 0 || ::stat(it->path().c_str(), &st) != 0 || st.st_uid != ::getuid()) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == -1 && errno == ESRCH) {
+      std::error_code rm;
+      fs::remove_all(it->path(), rm);
+    }
+  }
+}
+
+// A private temporary directory, removed on scope exit; its name carries this process's id, so
+// that a later run removes it if this one is killed outright.
 struct TempDir {
   fs::path path;
   TempDir() {
-    std::string t = (fs::temp_directory_path() / "lathectl-optimize.XXXXXX").string();
+    const fs::path base = fs::temp_directory_path();
+    remove_stale_temp_dirs(base);
+    std::string t = (base / (std::string(kTempPrefix) + std::to_string(::getpid()) + ".XXXXXX"))
+                        .string();
     if (mkdtemp(t.data()) == nullptr)
       throw std::runtime_error("lathectl optimize: cannot create a temporary directory");
     path = t;
@@ -35,6 +74,100 @@ struct TempDir {
   TempDir(const TempDir&) = delete;
   TempDir& operator=(const TempDir&) = delete;
 };
+
+// SIGINT, SIGTERM and SIGHUP are noted while the interpreter runs, so that its process group and
+// the temporary directory are gone before lathectl dies of the signal.
+volatile std::sig_atomic_t g_signal = 0;
+extern "C" void note_signal(int sig) { g_signal = sig; }
+struct SignalGuard {
+  static constexpr int kSignals[3] = {SIGINT, SIGTERM, SIGHUP};
+  struct sigaction old[3] {};
+  SignalGuard() {
+    g_signal = 0;
+    struct sigaction sa {};
+    sa.sa_handler = note_signal;
+    sigemptyset(&sa.sa_mask);
+    for (int i = 0; i < 3; ++i) sigaction(kSignals[i], &sa, &old[i]);
+  }
+  ~SignalGuard() { restore(); }
+  void restore() {
+    for (int i = 0; i < 3; ++i) sigaction(kSignals[i], &old[i], nullptr);
+  }
+  SignalGuard(const SignalGuard&) = delete;
+  SignalGuard& operator=(const SignalGuard&) = delete;
+};
+
+std::uintmax_t bytes_of(const fs::path& p) {
+  struct stat st {};
+  return ::stat(p.c_str(), &st) == 0 ? static_cast<std::uintmax_t>(st.st_size) : 0;
+}
+
+// Runs rs274 in a process group of its own, which dies with lathectl (PR_SET_PDEATHSIG) and is
+// killed when it runs longer than opt.interp_timeout_s or writes more than
+// opt.interp_output_max_bytes (an endless o-word loop does both). Returns its exit status.
+int run_interpreter(const TempDir& tmp, const std::vector<std::string>& args, const Options& opt,
+                    const std::string& label) {
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  std::string home = "HOME=" + tmp.path.string();
+  const std::string err = (tmp.path / "err.txt").string();
+  const fs::path canon = tmp.path / "canon.txt";
+  SignalGuard guard;
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid < 0) throw std::runtime_error("lathectl optimize: cannot start a process (fork)");
+  if (pid == 0) {
+    ::setpgid(0, 0);
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(127);  // lathectl died before the line above
+    const int in = ::open("/dev/null", O_RDONLY);
+    const int out = ::open("/dev/null", O_WRONLY);
+    const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    if (in < 0 || out < 0 || e < 0) ::_exit(127);
+    ::dup2(in, 0);
+    ::dup2(out, 1);
+    ::dup2(e, 2);
+    ::putenv(home.data());
+    ::execvp(argv[0], argv.data());
+    ::_exit(127);
+  }
+  ::setpgid(pid, pid);  // also here: whichever runs first
+  const auto start = std::chrono::steady_clock::now();
+  std::string stopped;
+  int status = 0;
+  for (;;) {
+    const pid_t w = ::waitpid(pid, &status, WNOHANG);
+    if (w == pid) break;
+    if (w < 0 && errno != EINTR) break;
+    const double t =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const int sig = g_signal;
+    if (sig != 0 || t > opt.interp_timeout_s || bytes_of(canon) > opt.interp_output_max_bytes) {
+      ::kill(-pid, SIGKILL);
+      while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+      }
+      if (sig != 0) {  // die of the signal, as without the guard, once the directory is gone
+        std::error_code ec;
+        fs::remove_all(tmp.path, ec);
+        guard.restore();
+        ::raise(sig);
+      }
+      char buf[160];
+      if (t > opt.interp_timeout_s)
+        std::snprintf(buf, sizeof buf, "did not finish within %g s", opt.interp_timeout_s);
+      else
+        std::snprintf(buf, sizeof buf, "wrote more than %g MB of moves",
+                      static_cast<double>(opt.interp_output_max_bytes) / 1e6);
+      throw io::InputError(label + ": LinuxCNC's interpreter (rs274) " + buf +
+                           " and was stopped: an endless loop (o-word while/do/repeat)? "
+                           "(--interp-timeout S)");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
 
 // The interpreter's complaint as one line: "LABEL:LINE: rs274: MESSAGE".
 std::string interpreter_error(const std::string& err, const std::string& label) {
@@ -61,7 +194,69 @@ std::string interpreter_error(const std::string& err, const std::string& label) 
   return io::located(label, line, 0, "LinuxCNC's interpreter (rs274) rejects the program: " + msg);
 }
 
+// A number of a LinuxCNC INI file: `key = value` in `[section]` (comments start with '#' or
+// ';'); nullopt when absent or not a number.
+std::optional<double> ini_number(const std::string& text, const std::string& section,
+                                 const std::string& key) {
+  std::istringstream in(text);
+  bool inside = false;
+  for (std::string l; std::getline(in, l);) {
+    const auto b = l.find_first_not_of(" \t\r");
+    if (b == std::string::npos || l[b] == '#' || l[b] == ';') continue;
+    if (l[b] == '[') {
+      inside = l.compare(b, section.size() + 2, "[" + section + "]") == 0;
+      continue;
+    }
+    if (!inside) continue;
+    const auto eq = l.find('=', b);
+    if (eq == std::string::npos) continue;
+    std::string k = l.substr(b, eq - b);
+    while (!k.empty() && (k.back() == ' ' || k.back() == '\t')) k.pop_back();
+    if (k != key) continue;
+    char* end = nullptr;
+    const std::string v = l.substr(eq + 1);
+    const double d = std::strtod(v.c_str(), &end);
+    if (end == v.c_str() || !std::isfinite(d)) return std::nullopt;
+    return d;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
+
+void check_soft_limits(const Program& p, const std::string& ini_file) {
+  const std::string ini = read_text(ini_file);
+  struct Axis {
+    const char* name;
+    std::optional<double> lo, hi;
+  };
+  const Axis ax[2] = {{"AXIS_X", ini_number(ini, "AXIS_X", "MIN_LIMIT"),
+                       ini_number(ini, "AXIS_X", "MAX_LIMIT")},
+                      {"AXIS_Z", ini_number(ini, "AXIS_Z", "MIN_LIMIT"),
+                       ini_number(ini, "AXIS_Z", "MAX_LIMIT")}};
+  constexpr double kTol = 1e-4;  // the interpreter's 4 decimals
+  for (const auto& m : p.canon.moves) {
+    // An arc's extent lies between its ends: sampled finely enough for 1e-4 mm at any radius
+    // a lathe turns (r·(1 − cos(π/n)) with n = 2048).
+    const int n = m.kind == io::CanonMove::Kind::Arc ? 2048 : 1;
+    for (int k = 1; k <= n; ++k) {
+      const auto [x, z] = point_at(m, static_cast<double>(k) / n);
+      const double pos[2] = {x + m.offset_x, z + m.offset_z};
+      for (int a = 0; a < 2; ++a) {
+        const bool low = ax[a].lo && pos[a] < *ax[a].lo - kTol;
+        const bool high = ax[a].hi && pos[a] > *ax[a].hi + kTol;
+        if (!low && !high) continue;
+        char buf[240];
+        std::snprintf(buf, sizeof buf,
+                      "the move reaches machine %c %.4f, beyond the soft limit [%s] %s = %g of "
+                      "%s: LinuxCNC refuses the program",
+                      a == 0 ? 'X' : 'Z', pos[a], ax[a].name, low ? "MIN_LIMIT" : "MAX_LIMIT",
+                      low ? *ax[a].lo : *ax[a].hi, ini_file.c_str());
+        throw io::InputError(io::located(p.file, m.line, 0, buf));
+      }
+    }
+  }
+}
 
 std::string shell_quote(const std::string& s) {
   std::string q = "'";
@@ -92,15 +287,13 @@ io::CanonProgram interpret(const std::vector<std::string>& lines, const std::str
   // session's tool table becomes rs274's, and its task process (milltask) may die of SIGBUS in
   // the middle of a part, with nothing in the kernel log: 3 runs of rs274 beside a session did
   // it here (the "stalls" of the LinuxCNC tests). Fixed upstream after 2.9.10 (LinuxCNC pull
-  // request 4385: sai gets a private file); Debian 12 ships 2.9.0~pre1. Here it gets its own.
-  std::string cmd = "HOME=" + shell_quote(tmp.path.string()) + " " + shell_quote(opt.rs274) + " -g";
-  if (!opt.ini.empty())
-    cmd += " -i " + shell_quote(ini.string()) + " -t " + shell_quote(tbl.string());
-  cmd += " -v " + shell_quote((tmp.path / "program.var").string()) + " " +
-         shell_quote((tmp.path / "program.ngc").string()) + " " +
-         shell_quote((tmp.path / "canon.txt").string()) + " </dev/null 2>" +
-         shell_quote((tmp.path / "err.txt").string()) + " >/dev/null";
-  const int rc = std::system(cmd.c_str());
+  // request 4385: sai gets a private file); Debian 12 ships 2.9.0~pre1. Here it gets its own
+  // (run_interpreter).
+  std::vector<std::string> args{opt.rs274, "-g"};
+  if (!opt.ini.empty()) args.insert(args.end(), {"-i", ini.string(), "-t", tbl.string()});
+  args.insert(args.end(), {"-v", (tmp.path / "program.var").string(),
+                           (tmp.path / "program.ngc").string(), (tmp.path / "canon.txt").string()});
+  const int rc = run_interpreter(tmp, args, opt, label);
   const std::string err = read_text(tmp.path / "err.txt");
   if (rc != 0 && !fs::exists(tmp.path / "canon.txt"))
     throw io::InputError(label + ": cannot run LinuxCNC's interpreter '" + opt.rs274 +
@@ -118,6 +311,7 @@ Program read_program(const std::string& path, const Options& opt) {
     p.lines.push_back(l);
   }
   p.canon = interpret(p.lines, path, opt);
+  if (!opt.ini.empty()) check_soft_limits(p, opt.ini);
   bool feed = false;
   for (const auto& m : p.canon.moves) feed = feed || m.kind != io::CanonMove::Kind::Traverse;
   if (!feed) throw io::InputError(path + ": the program has no feed moves (nothing to optimise)");

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "lathectl/io/errors.hpp"
 #include "optimize/chatter.hpp"
 #include "optimize/path.hpp"
 #include "optimize/plan.hpp"
@@ -64,6 +65,13 @@ bool cycle_line(const std::string& l) {
   return cycle;
 }
 
+// A G70 finishing cycle on the line.
+bool finishing_cycle(const std::string& l) {
+  for (const auto& w : words(l))
+    if (w.letter == 'G' && (w.value == "70" || w.value == "70.0")) return true;
+  return false;
+}
+
 std::string move_text(const CanonMove& m, double from, double to, double feed) {
   const auto [xs, zs] = point_at(m, from);
   const auto [xe, ze] = point_at(m, to);
@@ -115,7 +123,10 @@ std::string write_program(const Program& p, const std::vector<LineAction>& act, 
                           const std::vector<std::vector<std::size_t>>& line_moves,
                           std::vector<std::string>& out) {
   out.clear();
-  bool changed = false;
+  // The modal F of optimized.ngc may differ from the original's here: a line that relies on the
+  // modal feed then needs its own F word.
+  bool out_delta = false;
+  auto differs = [](double a, double b) { return std::abs(a - b) > 1e-9 * std::max(1.0, std::abs(b)); };
   for (std::size_t li = 0; li < p.lines.size(); ++li) {
     const std::string& text = p.lines[li];
     const int line = static_cast<int>(li + 1);
@@ -126,22 +137,30 @@ std::string write_program(const Program& p, const std::vector<LineAction>& act, 
         for (auto& pc : plan[mi]) pc.out_line = at;
     };
     const CanonMove* first_feed = nullptr;
+    const CanonMove* last_feed = nullptr;  // its feed is the original's modal F after the line
     for (auto mi : mv)
-      if (p.canon.moves[mi].kind != CanonMove::Kind::Traverse && !first_feed)
-        first_feed = &p.canon.moves[mi];
+      if (p.canon.moves[mi].kind != CanonMove::Kind::Traverse) {
+        if (!first_feed) first_feed = &p.canon.moves[mi];
+        last_feed = &p.canon.moves[mi];
+      }
+    const auto ws = words(text);
+    const bool has_f =
+        std::any_of(ws.begin(), ws.end(), [](const Word& w) { return w.letter == 'F'; });
     switch (act[li].kind) {
       case Kind::None:
         set_lines(here());
         out.push_back(text);
+        if (has_f) out_delta = false;  // sets the same modal F in both
         break;
       case Kind::Keep: {
-        const auto ws = words(text);
-        const bool has_f =
-            std::any_of(ws.begin(), ws.end(), [](const Word& w) { return w.letter == 'F'; });
-        if (changed && first_feed && !has_f)
+        // A thread's pitch is its own (G33 K, G76 P): it needs no feed restored.
+        if (out_delta && first_feed && !has_f && !first_feed->synced) {
           out.push_back("F" + feed_text(*first_feed, first_feed->feed) +
                         " (lathectl: the programmed feed of the kept line " + std::to_string(line) +
                         ")");
+          out_delta = false;
+        }
+        if (has_f) out_delta = false;
         set_lines(here());
         out.push_back(text);
         break;
@@ -155,8 +174,17 @@ std::string write_program(const Program& p, const std::vector<LineAction>& act, 
           }
         const double f = plan[fi].front().feed;
         set_lines(here());
+        bool same = true;  // every feed move of the line at its programmed feed
+        for (auto mi : mv)
+          if (p.canon.moves[mi].kind != CanonMove::Kind::Traverse)
+            same = same && !differs(f, p.canon.moves[mi].feed);
+        if (same && (has_f || !out_delta)) {  // nothing to change: the line as written
+          out.push_back(text);
+          out_delta = false;
+          break;
+        }
         out.push_back(with_feed(text, feed_text(*first_feed, f)).value_or(text));
-        changed = true;
+        out_delta = differs(f, last_feed->feed);
         break;
       }
       case Kind::Split: {
@@ -178,7 +206,7 @@ std::string write_program(const Program& p, const std::vector<LineAction>& act, 
                         std::to_string(line) + ", piece " + std::to_string(n) + " of " +
                         std::to_string(n) + ": " + commented(text) + ")");
         }
-        changed = true;
+        out_delta = differs(pcs.back().feed, m.feed);
         break;
       }
       case Kind::Expand: {
@@ -193,9 +221,9 @@ std::string write_program(const Program& p, const std::vector<LineAction>& act, 
           for (auto& pc : plan[mi]) {
             pc.out_line = here();
             out.push_back(move_text(m, pc.from, pc.to, pc.feed));
+            if (m.kind != CanonMove::Kind::Traverse) out_delta = differs(pc.feed, m.feed);
           }
         }
-        changed = true;
         break;
       }
     }
@@ -219,18 +247,111 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
   if (r.chatter) chatter_margins(r.before.s, chatter, cut, opt.z_origin_mm);
   // Moves of each line; lines that must not change.
   std::vector<std::vector<std::size_t>> line_moves(p.lines.size());
-  std::vector<bool> kept(moves.size(), false);
+  MoveRoles roles;
+  auto& kept = roles.kept;
+  kept.resize(moves.size());
+  roles.finishing.resize(moves.size());
+  roles.spec.assign(moves.size(), nullptr);
+  roles.finishing_pass.resize(moves.size());
+  // The tools the scenario's [tool] describes: --tools, else the tool of the first feed move.
+  std::vector<int> tools = opt.tools;
+  for (const auto& m : moves)
+    if (tools.empty() && m.kind != CanonMove::Kind::Traverse) tools.push_back(m.tool);
+  std::string tool_list;
+  for (int t : tools) tool_list += (tool_list.empty() ? "T" : ", T") + std::to_string(t);
   for (std::size_t i = 0; i < moves.size(); ++i) {
     const int l = moves[i].line;
-    if (l < 1 || static_cast<std::size_t>(l) > p.lines.size()) continue;
-    line_moves[static_cast<std::size_t>(l - 1)].push_back(i);
-    kept[i] = keep_marked(p.lines[static_cast<std::size_t>(l - 1)]);
+    const std::string* text =
+        l >= 1 && static_cast<std::size_t>(l) <= p.lines.size() ? &p.lines[static_cast<std::size_t>(l - 1)]
+                                                                  : nullptr;
+    if (text) line_moves[static_cast<std::size_t>(l - 1)].push_back(i);
+    if (moves[i].kind == CanonMove::Kind::Traverse) continue;
+    const ToolSpec* spec = find_tool(opt.tool_specs, moves[i].tool);
+    roles.spec[i] = spec;
+    if (text && keep_marked(*text))
+      kept[i] = "marked (lathectl:keep)";
+    else if (!spec && std::find(tools.begin(), tools.end(), moves[i].tool) == tools.end())
+      kept[i] = "tool T" + std::to_string(moves[i].tool) + " is not the scenario's [tool] (" +
+                tool_list + "; --tools) nor in a --tool-file: its feed is kept";
+    else if (spec && spec->kind == ToolSpec::Kind::Threading && !moves[i].synced)
+      kept[i] = "a move of threading tool T" + std::to_string(moves[i].tool) + ": kept";
+    if (moves[i].compensated)
+      roles.finishing[i] = "cutter compensation";
+    else if (text && finish_marked(*text))
+      roles.finishing[i] = "marked (lathectl:finish)";
+    else if (text && finishing_cycle(*text))
+      roles.finishing[i] = "G70 finishing cycle";
   }
-  Plan chosen = choose_feeds(p.canon, r.before, e, opt, kept);
+  // A finishing pass that looks deep: a run of feed moves between rapids most of whose cut is at
+  // most the finish depth is a finishing pass, though corners left by the roughing (a fillet
+  // under the last pass) or a G64 blend arc make a few of its pieces deeper. Each piece would
+  // otherwise be judged by its deepest spot and the whole contour raised to a roughing feed.
+  {
+    const Samples& s = r.before.s;
+    std::vector<std::vector<std::pair<double, double>>> depth_len(moves.size());  // depth, length
+    for (std::size_t i = 1; i < s.move.size(); ++i)
+      if (s.depth[i] > 0.0)
+        depth_len[static_cast<std::size_t>(s.move[i])].push_back(
+            {s.depth[i], s.path_mm[i] - s.path_mm[i - 1]});
+    for (std::size_t a = 0; a < moves.size();) {
+      std::size_t b = a;
+      while (b < moves.size() && moves[b].kind != CanonMove::Kind::Traverse) ++b;
+      std::vector<std::pair<double, double>> in_cut;
+      double total = 0.0, deepest = 0.0;
+      for (std::size_t i = a; i < b; ++i)
+        for (const auto& dl : depth_len[i]) {
+          in_cut.push_back(dl);
+          total += dl.second;
+          deepest = std::max(deepest, dl.first);
+        }
+      if (total > 0.0) {
+        std::sort(in_cut.begin(), in_cut.end());
+        double acc = 0.0, median = 0.0;
+        for (const auto& [d, l] : in_cut) {
+          acc += l;
+          median = d;
+          if (acc >= 0.5 * total) break;
+        }
+        const std::string why =
+            "the pass is " + number(median, 2) + " mm deep along half its cut or more";
+        for (std::size_t i = a; i < b && median <= opt.finish_depth_mm; ++i) {
+          roles.finishing_pass[i] = why;
+          // Deeper than the finish depth somewhere: by its depth alone a piece would be roughing.
+          if (deepest > opt.finish_depth_mm && roles.finishing[i].empty())
+            roles.finishing[i] = why;
+        }
+      }
+      a = std::max(b, a + 1);
+    }
+  }
+  // A rapid through material: LinuxCNC would drive the tool into the blank at rapid speed. It
+  // is an error unless allowed; allowed, the moves after it keep their feeds, because the stock
+  // model has the rapid's track removed and would take the next cut for air.
+  if (r.before.rapid_in_material_s > 0.0) {
+    const Samples& s = r.before.s;
+    std::size_t first = moves.size();
+    for (std::size_t i = 0; i < s.move.size() && first == moves.size(); ++i) {
+      const auto mi = static_cast<std::size_t>(s.move[i]);
+      if (moves[mi].kind == CanonMove::Kind::Traverse && s.param[i] > 0.0) first = mi;
+    }
+    if (!opt.allow_rapid_in_material)
+      throw io::InputError(io::located(
+          p.file, r.before.rapid_first_line, 0,
+          "a rapid (G0) drives the tool through the blank (" +
+              number(r.before.rapid_in_material_s, 3) + " s in material, the force parameter up to " +
+              number(r.before.rapid_peak, 0) +
+              " predicted): the path must change (--allow-rapid-in-material to optimise the "
+              "lines before it anyway)"));
+    const std::string why = "after the rapid through material of line " +
+                            std::to_string(r.before.rapid_first_line) + " (kept)";
+    for (std::size_t i = first; i < moves.size(); ++i)
+      if (kept[i].empty()) kept[i] = why;
+  }
+  Plan chosen = choose_feeds(p.canon, r.before, e, opt, roles);
   if (opt.blends) {  // the blends at the chosen splits cut a path of their own (refeed)
     Prediction trial = predict(p.canon, chosen, e, opt);
     if (r.chatter) chatter_margins(trial.s, chatter, cut, opt.z_origin_mm);
-    refeed(p.canon, chosen, trial, e, opt, kept);
+    refeed(p.canon, chosen, trial, e, opt, roles);
   }
   for (int attempt = 0; attempt < 2; ++attempt) {
     const bool allow_split = attempt == 0;
@@ -250,11 +371,13 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
       if (feeds.empty()) continue;
       auto& a = r.actions[li];
       const std::string& text = p.lines[li];
-      if (keep_marked(text) || synced || mixed || !with_feed(text, "1")) {
-        a = {Kind::Keep, keep_marked(text) ? "marked (lathectl:keep)"
-                         : synced          ? "threading"
-                         : mixed           ? "G94 and G95 moves on one line"
-                                           : "its F word is an expression"};
+      const bool all_kept = std::all_of(feeds.begin(), feeds.end(),
+                                        [&](std::size_t mi) { return !kept[mi].empty(); });
+      if (all_kept || synced || mixed || !with_feed(text, "1")) {
+        a = {Kind::Keep, all_kept ? kept[feeds.front()]
+                         : synced ? "threading"
+                         : mixed  ? "G94 and G95 moves on one line"
+                                  : "its F word is an expression"};
         continue;
       }
       double fmin = 1e300, fmax = 0.0;
@@ -305,6 +428,7 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
     const auto k = r.actions[li].kind;
     if (k == Kind::Split || k == Kind::Expand) {
       ++r.blocks_changed;
+      r.actions[li].changed = true;
     } else if (k == Kind::Feed) {
       const auto mi = line_moves[li].front();
       std::size_t f = mi;
@@ -313,8 +437,10 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
           f = m;
           break;
         }
-      if (std::abs(r.optimized[f].front().feed - moves[f].feed) > 1e-3 * moves[f].feed)
+      if (std::abs(r.optimized[f].front().feed - moves[f].feed) > 1e-3 * moves[f].feed) {
         ++r.blocks_changed;
+        r.actions[li].changed = true;
+      }
     }
   }
   return r;

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cstdio>
+#include <utility>
 
 #include "lathectl/io/canon.hpp"
 
@@ -85,8 +86,16 @@ std::vector<std::string> marked_lines(const std::vector<std::string>& lines, dou
       out.push_back(l);
     } else {
       const std::size_t at = code_end(l);
-      out.push_back(l.substr(0, at) + " (" + io::canon_line_marker(static_cast<int>(i + 1)) + ")" +
-                    l.substr(at));
+      const std::string marker = "(" + io::canon_line_marker(static_cast<int>(i + 1)) + ")";
+      std::string marked = l.substr(0, at) + " " + marker + l.substr(at);
+      // rs274 refuses a line longer than kMaxLineChars ("Command too long"): a valid line that
+      // the marker would push past it gets the marker on a line of its own just before it (a
+      // comment line sets the line of the moves that follow as well).
+      if (marked.size() > kMaxLineChars) {
+        out.push_back(marker);
+        marked = l;
+      }
+      out.push_back(std::move(marked));
     }
     if (rpm > 0.0 && first_percent) {
       char buf[64];
@@ -97,13 +106,18 @@ std::vector<std::string> marked_lines(const std::vector<std::string>& lines, dou
   return out;
 }
 
-bool keep_marked(const std::string& line) {
+namespace {
+bool has_marker(const std::string& line, const char* marker) {
   std::string low;
   for (char c : line)
     if (c != ' ' && c != '\t')
       low += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return low.find("(lathectl:keep)") != std::string::npos;
+  return low.find(marker) != std::string::npos;
 }
+}  // namespace
+
+bool keep_marked(const std::string& line) { return has_marker(line, "(lathectl:keep)"); }
+bool finish_marked(const std::string& line) { return has_marker(line, "(lathectl:finish)"); }
 
 std::vector<Word> words(const std::string& line) {
   std::vector<Word> out;

@@ -5,18 +5,27 @@
 // read as LinuxCNC's lexer splits them: a letter and a number; comments "( … )" and "; …" are
 // not words.
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace lathectl::optimize {
 
+// The longest line LinuxCNC 2.9's interpreter reads (LINELEN 255 with its terminator and
+// newline; measured with rs274: 252 characters pass, 253 are "Command too long").
+inline constexpr std::size_t kMaxLineChars = 252;
+
 // The lines with "(lathectl-line N)" on each line that may carry a comment (not on blank lines,
-// '%' lines or o-word lines), and "M3 S<rpm>" in front when rpm > 0 (as scripts/linuxcnc-sim).
+// '%' lines or o-word lines; on a line of its own just before a line it would make too long),
+// and "M3 S<rpm>" in front when rpm > 0 (as scripts/linuxcnc-sim).
 std::vector<std::string> marked_lines(const std::vector<std::string>& lines, double rpm);
 
 // "(lathectl:keep)" anywhere in the line (any case): the line is never changed.
 bool keep_marked(const std::string& line);
+
+// "(lathectl:finish)" anywhere in the line (any case): a finishing cut whatever its depth.
+bool finish_marked(const std::string& line);
 
 // The line's words: letter (upper case) and the text of its value ("G" "71.1", "F" "#1").
 struct Word {

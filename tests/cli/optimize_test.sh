@@ -41,6 +41,81 @@ expect_bad no_centre "$src/examples/linuxcnc/cautious_roughing.ngc" "$work/no_ce
 { cat "$src/examples/linuxcnc/step_allowance.toml"; printf '\n[chatter]\n'; } >"$work/no_modes.toml"
 expect_bad no_modes "$src/examples/linuxcnc/cautious_roughing.ngc" "$work/no_modes.toml" \
   "no_modes.toml:.*chatter"
+# Every numeric flag refuses NaN and infinities by name (a NaN passed CLI::Range and dropped the
+# force limit: every piece at feed_max, 3330 N against 1600 N, exit 0).
+for flag in --spindle-rpm --z-origin-mm --air-feed --finish-depth-mm --finish-ra-um \
+            --limit-fraction --timeout --interp-timeout; do
+  for v in nan inf -inf; do
+    expect_bad "flag${flag}_$v" "$src/examples/linuxcnc/cautious_roughing.ngc" \
+      "$src/examples/linuxcnc/step_allowance.toml" "$flag" "$flag=$v"
+  done
+done
+sa="$src/examples/linuxcnc/step_allowance.toml"
+# A rapid through the blank (the bar is Ø40 from Z0): an error naming the line, unless allowed;
+# allowed, a warning on the console, first among the report's notes, and the cut after it keeps
+# its feed.
+printf 'G18 G21 G95\nM3 S1194\nG0 X25 Z2\nG0 X17\nG1 Z-50 F0.15\nG0 X25\nG0 Z2\nG0 X15 Z-20\nG1 Z-50 F0.15\nG0 X25\nM2\n' >"$work/rapid.ngc"
+expect_bad rapid "$work/rapid.ngc" "$sa" "rapid.ngc:8: .*through the blank"
+if "$bin" optimize "$work/rapid.ngc" "$sa" --out "$work/rapid_allowed" --allow-rapid-in-material \
+     >"$work/rapid_allowed.out" 2>&1 && grep -q "WARNING: .*rapid.ngc: A rapid (G0) of line 8 passes through material" "$work/rapid_allowed.out" &&
+   grep -q '"why": "after the rapid through material of line 8 (kept)"' "$work/rapid_allowed/summary.json" &&
+   grep -q "^G1 Z-50 F0.15$" "$work/rapid_allowed/optimized.ngc" &&
+   grep -q 'class="mark">A rapid (G0) of line 8 passes through material' "$work/rapid_allowed/report.html"; then
+  echo "ok   rapid allowed: warned, the cut after it kept"
+else
+  echo "FAIL rapid allowed: $(cat "$work/rapid_allowed.out")"
+  fail=1
+fi
+# A move beyond the INI's soft limit ([AXIS_Z] MIN_LIMIT = -400): LinuxCNC refuses it, so does
+# optimize.
+printf 'G18 G21 G95\nM3 S1000\nG0 X15 Z2\nG1 Z-500 F0.2\nG0 X30\nM2\n' >"$work/soft.ngc"
+expect_bad soft_limit "$work/soft.ngc" "$sa" "soft.ngc:4: .*\[AXIS_Z\] MIN_LIMIT"
+# A thread with no F before it (G76 and G33 need none) and a valid 250-character line (the line
+# marker used to push it past rs274's 252): both read, the thread line left as written.
+long=$(printf 'G1 Z-50 F0.15 (%0234d)' 0)
+printf 'G18 G21 G95\nM3 S1194\nG0 X25 Z2\nG0 X18.5\n%s\nG0 X25 Z2\nG0 X20\nG33 Z-30 K1.5\nG0 X25\nM2\n' "$long" >"$work/thread.ngc"
+if [ "$(sed -n 5p "$work/thread.ngc" | wc -c)" -eq 251 ] &&
+   "$bin" optimize "$work/thread.ngc" "$sa" --out "$work/thread" >"$work/thread.out" 2>&1 &&
+   grep -qx "G33 Z-30 K1.5" "$work/thread/optimized.ngc"; then
+  echo "ok   thread without F and a 250-character line: $(head -n 1 "$work/thread.out")"
+else
+  echo "FAIL thread without F / long line: $(cat "$work/thread.out")"
+  fail=1
+fi
+# An endless o-word loop: stopped at --interp-timeout with an error; nothing left behind in the
+# temporary directory, no rs274 left running.
+printf 'G18 G21 G95\nM3 S1000\nG0 X15 Z2\no100 while [1 GT 0]\nG1 Z-10 F0.2\nG1 Z0\no100 endwhile\nM2\n' >"$work/loop.ngc"
+mkdir -p "$work/tmp"
+TMPDIR="$work/tmp" expect_bad loop "$work/loop.ngc" "$sa" "did not finish within 2 s" --interp-timeout 2
+if [ -n "$(ls -A "$work/tmp")" ]; then echo "FAIL loop: left $(ls -A "$work/tmp")"; fail=1; fi
+# Killed while rs274 runs (SIGTERM): its process group goes and the temporary directory with it.
+# Killed outright (SIGKILL): rs274 dies with it (PR_SET_PDEATHSIG), and the next run removes the
+# directory it left.
+for sig in TERM KILL; do
+  mkdir -p "$work/tmp_$sig"
+  TMPDIR="$work/tmp_$sig" "$bin" optimize "$work/loop.ngc" "$sa" --out "$work/loop_$sig" \
+    >/dev/null 2>&1 &
+  pid=$!
+  for _ in $(seq 50); do pgrep -f "$work/tmp_$sig" >/dev/null && break; sleep 0.1; done
+  kill -s "$sig" "$pid"
+  wait "$pid" 2>/dev/null
+  sleep 0.5
+  if pgrep -f "$work/tmp_$sig" >/dev/null; then
+    echo "FAIL SIG$sig: rs274 still running"; pgrep -af "$work/tmp_$sig"; fail=1
+    for p in $(pgrep -f "$work/tmp_$sig"); do kill -KILL "$p"; done  # this test's own: its directory
+  elif [ "$sig" = TERM ] && [ -n "$(ls -A "$work/tmp_$sig")" ]; then
+    echo "FAIL SIGTERM: left $(ls -A "$work/tmp_$sig")"; fail=1
+  elif [ "$sig" = KILL ]; then
+    TMPDIR="$work/tmp_$sig" "$bin" optimize "$work/rejected.ngc" "$sa" --out "$work/x" >/dev/null 2>&1
+    if [ -n "$(ls -A "$work/tmp_$sig")" ]; then
+      echo "FAIL SIGKILL: the next run left $(ls -A "$work/tmp_$sig")"; fail=1
+    else
+      echo "ok   SIGKILL: rs274 gone, the directory removed by the next run"
+    fi
+  else
+    echo "ok   SIGTERM: rs274 and the temporary directory gone"
+  fi
+done
 # LinuxCNC's rs274 (2.9 ≤ 2.9.10) recreates $HOME/.tool.mmap, truncated: the tool table of a
 # LinuxCNC session of the same user, which then runs on with rs274's table or loses its task
 # process mid-part. lathectl runs it with a HOME of its own: the user's is left alone.

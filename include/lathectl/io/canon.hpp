@@ -20,7 +20,11 @@
 //   SET_SPINDLE_MODE(spindle css_max)          0: G97; > 0: G96 with D css_max [rpm]
 //   SET_SPINDLE_SPEED(spindle, s)              rpm (G97) or m/min (G96)
 //   START_SPINDLE_(COUNTER)CLOCKWISE, STOP_SPINDLE_TURNING
-//   START_SPEED_FEED_SYNC / STOP_SPEED_FEED_SYNCH   G33/G76 threading (synchronised moves)
+//   START_SPEED_FEED_SYNC(pitch, css) / STOP_SPEED_FEED_SYNCH
+//                                              G33/G33.1/G76 threading: mm per revolution
+//   SET_G5X_OFFSET(n, x, y, z, …), SET_G92_OFFSET(x, y, z, …), USE_TOOL_LENGTH_OFFSET(x y z, …)
+//                                              what lies between the program's coordinates
+//                                              and the machine's (the soft limits are the latter)
 //   SELECT_TOOL(t), COMMENT("…"), USE_LENGTH_UNITS(CANON_UNITS_MM|_INCHES)
 // Anything else is passed over. Inch units and arcs outside the XZ plane are refused.
 
@@ -44,6 +48,10 @@ struct CanonMove {
   double speed = 0.0;                             // rpm (G97) or m/min (G96)
   bool spindle_on = false;
   bool synced = false;       // threading: spindle-synchronised
+  double pitch_mm = 0.0;     // threading: the tool's advance per revolution (G33 K, G76 P)
+  // The machine position is the move's plus this (work offset G5x, G92 and tool length offset):
+  // x (radius) and z [mm].
+  double offset_x = 0.0, offset_z = 0.0;
   bool compensated = false;  // cutter radius compensation on (G41/G42/G41.1/G42.1)
   int tool = 0;
   // Path blending (SET_MOTION_CONTROL_MODE): G64's P [mm], 0 when none was given (LinuxCNC's
