@@ -212,8 +212,12 @@ TEST(RigEGenerated, EveryGeneratedPartIsFinishedWithNoFalseAlarm) {
               "peak over the limit: median %.1f %%, 90th %.1f %%, max %.1f %%; within 5 %%: "
               "%.0f %%\n",
               kParts, unreachable, q(0.5), q(0.9), over.back(), 100.0 * within);
-  for (std::size_t i = 0; i < std::min<std::size_t>(3, worst.size()); ++i)
+  // The worst three are left beside the test too, to be run and looked at.
+  for (std::size_t i = 0; i < std::min<std::size_t>(3, worst.size()); ++i) {
     std::printf("  %.1f %% over: %s\n", worst[i]->over_pct, worst[i]->what.c_str());
+    std::ofstream("generated_" + std::to_string(worst[i]->seed) + ".toml")
+        << generate(worst[i]->seed).text;
+  }
   EXPECT_GE(within, 0.90);
 }
 
