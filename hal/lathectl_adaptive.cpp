@@ -111,6 +111,9 @@ struct Pins {
   hal_float_t* load_rev;         // the load's mean over the last revolution
   hal_float_t* load_pct;         // load_rev in % of the limit (the operator panel's bar)
   hal_float_t* predicted_depth;  // the stock model's depth of cut at the tool [mm]
+  hal_float_t* depth_ahead;      // the stock model's depth ahead of the tool [mm]
+  hal_float_t* feed_ceiling;     // feed-forward's ceiling [mm/rev] (0: none)
+  hal_float_t* specific_force;   // κ, measured load over the handbook law's
   hal_bit_t* breakage;           // path-aware breakage alarm (latched)
   hal_float_t* tool_diameter;    // halui.tool.diameter (the tool table's row of the tool)
   hal_float_t* tool_offset_x;    // motion.tooloffset.x (the offset in effect)
@@ -230,6 +233,9 @@ void update(void*, long period_ns) {
   *p.load_rev = out.load_rev;
   *p.load_pct = out.load_percent;
   *p.predicted_depth = out.predicted_depth_mm;
+  *p.depth_ahead = out.depth_ahead_mm;
+  *p.feed_ceiling = out.feed_ceiling_mm_per_rev;
+  *p.specific_force = out.specific_force_ratio;
   *p.breakage = out.breakage;
   *p.tool_data_changed = out.tool_data_changed;
   if (out.op.seq != *p.op_seq) {  // a record: its fields first, op-seq last
@@ -398,6 +404,9 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.load_rev, HAL_OUT, comp_id, kPrefix, "load-rev");
     pin(&p.load_pct, HAL_OUT, comp_id, kPrefix, "load-percent");
     pin(&p.predicted_depth, HAL_OUT, comp_id, kPrefix, "predicted-depth");
+    pin(&p.depth_ahead, HAL_OUT, comp_id, kPrefix, "depth-ahead");
+    pin(&p.feed_ceiling, HAL_OUT, comp_id, kPrefix, "feed-ceiling");
+    pin(&p.specific_force, HAL_OUT, comp_id, kPrefix, "specific-force");
     pin(&p.breakage, HAL_OUT, comp_id, kPrefix, "breakage");
     pin(&p.tool_diameter, HAL_IN, comp_id, kPrefix, "tool-diameter");
     pin(&p.tool_offset_x, HAL_IN, comp_id, kPrefix, "tool-offset-x");

@@ -202,6 +202,19 @@ void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
       target = std::min(p_.air_feed_mm_per_rev, p_.feed_max_mm_per_rev);
       if (reason == Reason::None) reason = Reason::AirCut;
     }
+    // A known rise of the depth ahead: down to the feed it takes at the limit, before the tool
+    // gets there. The PI restarts from the ceiling, so leaving it is bumpless (the ramp limits
+    // the rise after it).
+    const double ceiling = in.feed_ceiling_mm_per_rev;
+    if (std::isfinite(ceiling) && ceiling > 0.0) {
+      const double c = std::max(ceiling, p_.feed_min_mm_per_rev);
+      if (target > c) {
+        target = c;
+        if (contact_.in_cut()) pi_.preset(c);
+        if (reason == Reason::None || reason == Reason::AirCut || reason == Reason::OutputHigh)
+          reason = Reason::StockAhead;
+      }
+    }
     if (suspect && target > feed_ramp_.value()) {
       // A frozen reading never drives the feed up: hold, with the PI frozen (no windup, and no
       // preset, which would drop the next output by kp·|error| and ratchet the feed down).

@@ -71,6 +71,37 @@ double LathePlant::max_radius_mm(double z_lo, double z_hi) const noexcept {
   return r;
 }
 
+double LathePlant::depth_ahead_mm(double x, double z_machine, double dx, double dz,
+                                  double distance) const noexcept {
+  const double len = std::hypot(dx, dz);
+  if (!std::isfinite(x) || !std::isfinite(z_machine) || !(len > 0.0) || !std::isfinite(len) ||
+      !(distance >= 0.0) || r_.empty())
+    return 0.0;
+  const double ux = dx / len;
+  const double uz_stock = -dz / len;  // the stock runs toward −z
+  const double z = stock_z_mm(z_machine);
+  const double x_end = x + ux * distance;
+  const double z_end = z + uz_stock * distance;
+  if (std::abs(uz_stock) >= std::abs(ux)) {
+    const double reach = uz_stock >= 0.0 ? r_nose_ : -r_nose_;
+    const double r_max = max_radius_mm(std::min(z, z_end + reach), std::max(z, z_end + reach));
+    return std::max(r_max - std::min(x, x_end), 0.0);
+  }
+  // The nose's circle at the path's end: the cells whose material stands above its edge.
+  const double last = static_cast<double>(r_.size() - 1);
+  const double u_lo = std::max((z_end - r_nose_ - z0_) / p_.cell_mm, 0.0);
+  const double u_hi = std::min((z_end + r_nose_ - z0_) / p_.cell_mm, last);
+  if (!(u_lo <= u_hi)) return 0.0;
+  double width = 0.0;
+  for (auto i = static_cast<std::size_t>(std::ceil(u_lo));
+       i <= static_cast<std::size_t>(std::floor(u_hi)) && i < r_.size(); ++i) {
+    const double dzc = z0_ + static_cast<double>(i) * p_.cell_mm - z_end;
+    const double edge = x_end + r_nose_ - std::sqrt(std::max(r_nose_ * r_nose_ - dzc * dzc, 0.0));
+    if (r_[i] > edge) width += p_.cell_mm;
+  }
+  return width;
+}
+
 void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
   const double x = in.x_mm;
   const double z = stock_z_mm(in.z_mm);
@@ -163,6 +194,7 @@ void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
   // Chip of the last revolution and its force.
   const double s = travel_rev_;
   double t = s > 1e-4 && removed > 0.0 ? area_rev_ / s : 0.0;
+  out.chip_depth_mm = t;
   const double phi = 2.0 * std::numbers::pi * (theta_ - std::floor(theta_));
   if (t > 0.0) {
     if (on_blank) t += cfg_.stock.eccentricity_mm * std::sin(phi);

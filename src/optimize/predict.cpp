@@ -57,6 +57,11 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
     mp.spindle = e.rig.spindle;
     mp.rating.limit_max = 1e300;  // the program sets nothing: the scenario's settings
     mp.rating.feed_max_mm_per_rev = 1e300;
+    // The stock model, as the sample configuration loads lathectl_adaptive (z_origin_mm): the
+    // path-aware breakage and the feed-forward before a step the blank has.
+    mp.stock_model = true;
+    mp.process = e.rig;
+    mp.z_origin_mm = opt.z_origin_mm;
     machine.configure(mp);
   }
   {  // reserve the samples: the moves' times at their start speeds, plus a margin

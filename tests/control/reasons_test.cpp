@@ -29,6 +29,7 @@ bool enumerator(Reason r) {
     case Reason::AirCut:
     case Reason::Engaged:
     case Reason::NotInFeedBlock:
+    case Reason::StockAhead:
     case Reason::SpindleSpeedLimit:
     case Reason::SpindlePowerLimit:
     case Reason::ModulationEngaged:

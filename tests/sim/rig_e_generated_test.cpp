@@ -9,11 +9,14 @@
 //   - no alarm, unless the limit cannot be held even at the minimum feed (overload, code 20,
 //     is then the clear reason the acceptance asks for: checked against the handbook's force at
 //     the part's deepest cut and hardest spot);
-//   - the per-revolution force (or power) within 5 % of its limit: the goal is every part; today,
-//     without feed-forward from the stock model, the regulator cannot answer a plunge's corner
-//     faster than a revolution (measured: 96 % of the parts within 5 %, the worst 31 % over, on
-//     power at a shoulder's corner). The test holds the share at 90 % so a regression shows, and
-//     prints the distribution and the worst parts.
+//   - the per-revolution force (or power) within 5 % of its limit: the goal is every part. With
+//     the feed-forward from the stock model the steps and corners the model knows are met at
+//     the feed their depth takes (without it: 96 % within 5 %, the worst 31 % over, on power at a
+//     shoulder's corner). Measured with it: 98 % within 5 %, the worst 6.3 % over — an entry from
+//     air into a full-depth cut on power (the regulator's ramp and the meter's lag, which no
+//     model of the blank removes), a tapered eccentric blank on power, a Py cut. The test holds
+//     95 % within 5 % and every part within 10 %, so a regression shows, and prints the
+//     distribution and the worst parts.
 #include "support/library.hpp"
 #include "systems/e_adaptive/metrics.hpp"
 #include "systems/e_adaptive/rig.hpp"
@@ -218,7 +221,8 @@ TEST(RigEGenerated, EveryGeneratedPartIsFinishedWithNoFalseAlarm) {
     std::ofstream("generated_" + std::to_string(worst[i]->seed) + ".toml")
         << generate(worst[i]->seed).text;
   }
-  EXPECT_GE(within, 0.90);
+  EXPECT_GE(within, 0.95);
+  EXPECT_LE(over.back(), 10.0);
 }
 
 }  // namespace

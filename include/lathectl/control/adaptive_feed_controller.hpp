@@ -128,6 +128,10 @@ class AdaptiveFeedController {
     // count it (PeriodTime), so a late servo period reads neither as a collapse nor as a stall;
     // the regulator and ramps keep the nominal period.
     double dt_s = 0.0;
+    // A ceiling on the feed per revolution from outside (AdaptiveMachine's feed-forward from the
+    // stock model: what a known rise in the depth ahead takes at the limit) [mm/rev]; ≤ 0 or
+    // not finite: none. Never below s_min; in a cut the regulator restarts from it.
+    double feed_ceiling_mm_per_rev = 0.0;
   };
 
   struct Output {

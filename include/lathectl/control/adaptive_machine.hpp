@@ -25,6 +25,13 @@
 //   op record    one record per program line (or tool) with feed moves: mean and peak of
 //                load_rev, feed factor, times, every reason code seen (reason_mask, a bit per
 //                position in the reason table), the first alarm
+//   feed-forward with the stock model: the depth the tool's path meets ahead (a step, a collar,
+//                the blank coming into reach: LathePlant::depth_ahead_mm, over the nose and
+//                feed_forward_revs revolutions at the highest feed) rising above what it cuts
+//                now gives the controller a ceiling, the feed that depth takes at the limit by
+//                the handbook's law times κ, the specific force the cut has shown (measured
+//                per-revolution load over the law's at the geometric chip, learned in steady
+//                cuts: hardness and wear). The regulator corrects what the model does not know.
 //   breakage     path-aware (PathBreakage on the stock model's predicted depth) when the stock
 //                model is on; else the controller's own collapse detector
 //   tool data    the tool's number, offsets or table row changing inside a feed move: alarm 22
@@ -85,6 +92,13 @@ class AdaptiveMachine {
     // the tool's path (machine z of the stock's face: z_origin_mm). It replaces the controller's
     // collapse detector (its spike detector stays).
     bool stock_model = false;
+    // Feed-forward from the stock model (only with it): look ahead over the nose and this many
+    // revolutions at the highest feed; act on a rise of the depth ahead above (1 + rise)·depth
+    // now + 0.02 mm; κ's time constant [s] (in cut).
+    bool feed_forward = true;
+    double feed_forward_revs = 1.5;
+    double feed_forward_rise = 0.1;
+    double specific_force_time_s = 0.5;
     cutting::CuttingProcess process;
     double z_origin_mm = 0.0;
     // The feed scale's resolution: halui.feed-override.scale with direct-value (the sample
@@ -180,6 +194,9 @@ class AdaptiveMachine {
     bool overload_warn = false, overload_hold = false;
     double load_rev = 0.0, load_percent = 0.0;
     double predicted_depth_mm = 0.0;
+    double depth_ahead_mm = 0.0;           // the stock model's depth ahead of the tool
+    double feed_ceiling_mm_per_rev = 0.0;  // feed-forward's ceiling (0: none)
+    double specific_force_ratio = 1.0;     // κ: measured load over the handbook law's
     bool breakage = false;
     bool tool_data_changed = false;
     OperationRecord op;
@@ -229,6 +246,10 @@ class AdaptiveMachine {
                        bool& sensing) noexcept;
   void control(const Input& in, Output& out, double dt_measured) noexcept;
   void acceleration_power(double rpm, double dt, double nominal_s) noexcept;
+  [[nodiscard]] double model_load(double depth_mm, double feed_mm_per_rev,
+                                  double speed_m_per_min) const noexcept;
+  double feed_forward(const Input& in, double rpm, bool feed_block, Output& out) noexcept;
+  void learn_specific_force(const Input& in, double rpm, double dt, const Output& out) noexcept;
 
   Params p_{};
   AdaptiveFeedController ctl_;
@@ -270,6 +291,13 @@ class AdaptiveMachine {
   PerRevolutionMean load_rev_;
   bool overload_latched_ = false;
   std::unique_ptr<cutting::LathePlant> stock_;
+  cutting::LathePlant::Output stock_out_{};  // the stock model's last step
+  cutting::CuttingModel model_;              // the handbook's law (feed-forward)
+  double kappa_ = 1.0;
+  // The path's direction: the last 2 µm of travel (a tool standing still keeps it).
+  double anchor_x_ = 0.0, anchor_z_ = 0.0, dir_x_ = 0.0, dir_z_ = 0.0;
+  bool has_anchor_ = false, has_dir_ = false;
+  double ff_ceiling_ = 0.0, ff_hold_s_ = 0.0;  // the last ceiling, held a revolution past the rise
   PathBreakage breakage_;
   bool breakage_latched_ = false;
   ToolWatch tool_watch_;

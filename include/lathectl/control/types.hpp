@@ -26,6 +26,7 @@ enum class Reason : std::uint16_t {
   AirCut = 30,
   Engaged = 31,
   NotInFeedBlock = 32,
+  StockAhead = 33,
   SpindleSpeedLimit = 40,
   SpindlePowerLimit = 41,
   ModulationEngaged = 50,
@@ -120,6 +121,12 @@ inline constexpr ReasonInfo kReasons[] = {
     {Reason::GaugeUnreachable, "gauge_unreachable", false, "D",
      "The next threshold is above the signal of the free probe, the most the gauge can read: it "
      "can never trip, and the cut will end at the backstop."},
+    // New rows go here, at the end: a reason's operation-log bit is its row's position, and the
+    // logs already written keep their meaning.
+    {Reason::StockAhead, "stock_ahead", false, "E",
+     "The stock model sees the depth of cut rise ahead of the tool (a step, a collar, the blank "
+     "coming into reach): the feed is lowered before the tool gets there, to what the new depth "
+     "takes at the limit."},
 };
 inline constexpr int kReasonCount = static_cast<int>(sizeof(kReasons) / sizeof(kReasons[0]));
 // The operation log ORs reason_bit() of every reason seen into one 32-bit word.

@@ -84,6 +84,9 @@ class LathePlant {
     // this falls within 0.03 mm of travel.
     double engaged_depth_mm = 0.0;
     bool on_blank = false;  // the nose cut the blank's own (eccentric) surface this step
+    // The last revolution's chip by the geometry alone, A_rev / s [mm]: depth_mm without the
+    // runout and the random allowance (what a model of the blank knows).
+    double chip_depth_mm = 0.0;
   };
 
   // Throws std::invalid_argument on a stock the grid cannot hold.
@@ -99,6 +102,16 @@ class LathePlant {
   // The largest radius of the workpiece over stock z ∈ [lo, hi] [mm] (0 where there is none):
   // where a tool path must clear what is left. Never allocates.
   [[nodiscard]] double max_radius_mm(double z_lo_mm, double z_hi_mm) const noexcept;
+  // The chip a straight move would meet on the workpiece as it is now [mm], the move going from
+  // the machine position (x, z) along the direction (dx, dz) (machine coordinates, any length)
+  // for distance_mm:
+  //   mostly along z (turning, tapers): the radial depth, the highest material within the nose's
+  //     reach of the path (up to r_n beyond its end) above the lowest x the path reaches;
+  //   mostly along x (plunging, facing): the axial width of the material the nose's circle
+  //     meets at the path's end.
+  // Both are upper bounds of the plant's t = A_rev / s along that path. Never allocates.
+  [[nodiscard]] double depth_ahead_mm(double x_mm, double z_mm, double dx, double dz,
+                                      double distance_mm) const noexcept;
   // The tool nose radius the plant cuts with [mm].
   [[nodiscard]] double nose_radius_mm() const noexcept { return r_nose_; }
 
