@@ -301,6 +301,10 @@ extern "C" int rtapi_app_main(void) {
       mp.stock_model = true;
       mp.process = e;
       mp.z_origin_mm = lathectl::hal::number_param(z_origin_mm, "z_origin_mm", 0.0);
+      mp.life_law = e.life_law;
+    } else if (e.life_law) {
+      throw lathectl::hal::Error(
+          "the scenario's speed_law = \"tool_life\" needs the stock model: give z_origin_mm");
     }
     // The rating a program's value may not exceed: the tool table's, else what the sensor can
     // measure (the dynamometer's range; with sensor=power, the spindle's power).

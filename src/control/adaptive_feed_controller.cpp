@@ -258,14 +258,18 @@ void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
         v_opt = p_.speed_programmed_m_per_min * speed_term(s_cur) /
                 speed_term(p_.feed_planned_mm_per_rev);
       }
-      if (p_.depth_exponent_xv > 0.0 && regulated > 0.0 && in.speed_m_per_min > 0.0) {
+      const bool known = std::isfinite(in.depth_known_mm) && in.depth_known_mm > 0.0;
+      if (p_.depth_exponent_xv > 0.0 &&
+          (known || (regulated > 0.0 && in.speed_m_per_min > 0.0))) {
         const double t_hat =
-            std::pow(regulated / (p_.force_model_C * std::pow(s_cur, p_.force_model_y) *
-                                  std::pow(in.speed_m_per_min, p_.force_model_n)),
-                     1.0 / p_.force_model_x);
+            known ? in.depth_known_mm
+                  : std::pow(regulated / (p_.force_model_C * std::pow(s_cur, p_.force_model_y) *
+                                          std::pow(in.speed_m_per_min, p_.force_model_n)),
+                             1.0 / p_.force_model_x);
         depth_estimate_ = std::clamp(t_hat, 0.05 * p_.depth_planned_mm, 20.0 * p_.depth_planned_mm);
         v_opt *= std::pow(p_.depth_planned_mm / depth_estimate_, p_.depth_exponent_xv);
       }
+      if (std::isfinite(in.speed_factor) && in.speed_factor > 0.0) v_opt *= in.speed_factor;
     }
     v_target = v_opt;
     if (in.cut_power_W > 0.0 && in.speed_m_per_min > 0.0) {

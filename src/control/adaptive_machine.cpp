@@ -67,6 +67,10 @@ void AdaptiveMachine::configure(const Params& p) {
     throw std::invalid_argument("feed_forward_rise must be ≥ 0");
   if (!(p.specific_force_time_s > 0.0))
     throw std::invalid_argument("specific_force_time_s must be > 0");
+  if (p.life_law && !p.stock_model)
+    throw std::invalid_argument(
+        "the tool-life speed law needs the stock model (z_origin_mm): its depth and hardness "
+        "come from the blank's geometry and the cut's specific force");
   p_ = p;
   auto c = p.controller;
   if (p.stock_model) c.breakage_drop_window_s = 0.0;  // the path-aware detector replaces it
@@ -104,6 +108,7 @@ void AdaptiveMachine::configure(const Params& p) {
   accel_n_ = accel_head_ = 0;
   stock_out_ = {};
   kappa_ = 1.0;
+  kappa_learned_ = false;
   has_anchor_ = has_dir_ = false;
   ff_ceiling_ = ff_hold_s_ = 0.0;
   teach_ = TeachIn{};
@@ -525,6 +530,7 @@ void AdaptiveMachine::learn_specific_force(const Input& in, double rpm, double d
   if (!(m > 0.0) || !std::isfinite(m)) return;
   const double k = std::clamp(out.load_rev / m, 0.2, 5.0);
   kappa_ += (1.0 - std::exp(-dt / p_.specific_force_time_s)) * (k - kappa_);
+  kappa_learned_ = true;
 }
 
 void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) noexcept {
@@ -553,6 +559,16 @@ void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) 
   auto ci = adaptive_input(parameter, sig);
   ci.dt_s = dt_measured;
   ci.feed_ceiling_mm_per_rev = feed_forward(in, rpm, feed_block, out);
+  if (p_.life_law && stock_) {
+    // The depth the blank gives, and the hardness the cut shows: K_mp = h^kmp, so ĥ = κ^(1/kmp)
+    // (κ also holds the tool's wear, which a slower speed suits too).
+    if (out.contact && stock_out_.chip_depth_mm > 0.05) ci.depth_known_mm = stock_out_.chip_depth_mm;
+    const double kmp = p_.process.cutting.material.kmp_exponent;
+    const double h = kappa_learned_ && kmp > 0.0 ? std::clamp(std::pow(kappa_, 1.0 / kmp), 0.5, 2.0)
+                                                 : 1.0;
+    out.hardness_estimate = h;
+    ci.speed_factor = model_.kmv(h) / model_.kmv(1.0);
+  }
   ctl_.update(ci, co_);
   out.cut_power_W = ci.cut_power_W;
   out.load = load;

@@ -67,14 +67,16 @@ struct Pass {
   double kappa = 0.0;         // κ then
   double speed = 0.0;         // the cutting speed the machine was given then [m/min]
   double time_s = 0.0;        // to the end of the pass
+  double hardness = 0.0;      // ĥ at the end of the pass
   bool stock_ahead = false;   // the reason was given
   bool alarm = false;
 };
 
 // One pass at x = 18 from machine z = +2 (air) to −26 (in the collar), prior-art control at a
 // constant 1200 rpm (150 m/min at Ø40), the tool fed at the machine's feed per revolution.
-Pass cut(bool feed_forward) {
-  const RigConfig cfg = config();
+Pass cut(bool feed_forward, double hardness = 1.0) {
+  RigConfig cfg = config();
+  if (hardness != 1.0) cfg.disturbances.hardness = {{0.0, hardness}, {60.0, hardness}};
   LathePlant truth;
   truth.configure(cfg, {});
   AdaptiveMachine::Params mp;
@@ -85,7 +87,8 @@ Pass cut(bool feed_forward) {
   mp.rating.feed_max_mm_per_rev = 1e300;
   mp.stock_model = true;
   mp.feed_forward = feed_forward;
-  mp.process = cfg;
+  mp.life_law = true;  // (its speed factor acts only in seed 004's mode; ĥ is reported)
+  mp.process = config();  // the blank as the machine knows it: nominal hardness
   AdaptiveMachine m;
   m.configure(mp);
   const double dt = 0.001, rpm = 1200.0;
@@ -124,6 +127,7 @@ Pass cut(bool feed_forward) {
     z -= 0.6 * out.feed_factor * rpm / 60.0 * dt;  // the F word times the machine's factor
     r.time_s += dt;
   }
+  r.hardness = out.hardness_estimate;
   return r;
 }
 
@@ -158,6 +162,25 @@ TEST(FeedForward, TheFeedComesDownBeforeTheCollarAndHoldsTheLimitThrough) {
               "mm/rev at stock z %.2f, κ %.3f), %.0f N without; pass %.2f s against %.2f s\n",
               with.peak_rev, with.ceiling, with.first_ceiling_z, with.kappa, without.peak_rev,
               with.time_s, without.time_s);
+}
+
+// The tool-life law's hardness: a bar 1.25× as hard as the material's nominal (K_mp = h^kmp in
+// the plant) shows κ = 1.25^kmp (times the plant's wear over a few seconds, a few per cent), and
+// ĥ = κ^(1/kmp) recovers it; the feed-forward's ceiling, κ times the law, then holds the collar
+// too.
+TEST(FeedForward, TheSpecificForceShowsTheHardness) {
+  const RigConfig cfg = config();
+  const double kmp = cfg.cutting.material.kmp_exponent;
+  ASSERT_GT(kmp, 0.0);
+  const Pass nominal = cut(true);
+  const Pass hard = cut(true, 1.25);
+  EXPECT_NEAR(nominal.hardness, 1.0, 0.03);
+  EXPECT_NEAR(hard.hardness, 1.25, 0.04);
+  EXPECT_NEAR(hard.kappa / nominal.kappa, std::pow(1.25, kmp), 0.02);
+  EXPECT_LT(hard.peak_rev, 1.05 * cfg.controller.force_limit);
+  EXPECT_FALSE(hard.alarm);
+  std::printf("hardness 1.25: κ %.3f (nominal bar %.3f), ĥ %.3f (nominal %.3f); collar peak %.0f N\n",
+              hard.kappa, nominal.kappa, hard.hardness, nominal.hardness, hard.peak_rev);
 }
 
 }  // namespace

@@ -132,6 +132,13 @@ class AdaptiveFeedController {
     // stock model: what a known rise in the depth ahead takes at the limit) [mm/rev]; ≤ 0 or
     // not finite: none. Never below s_min; in a cut the regulator restarts from it.
     double feed_ceiling_mm_per_rev = 0.0;
+    // The depth of cut when it is known (AdaptiveMachine's stock model: the last revolution's
+    // chip) [mm]; > 0: the depth-corrected law takes it instead of estimating t̂ from the force,
+    // which reads a harder spot as a deeper cut. ≤ 0 or not finite: estimated as before.
+    double depth_known_mm = 0.0;
+    // A factor on V_opt from outside (AdaptiveMachine's tool-life law: K_mv of the hardness the
+    // cut has shown); ≤ 0 or not finite: 1.
+    double speed_factor = 1.0;
   };
 
   struct Output {

@@ -99,6 +99,10 @@ class AdaptiveMachine {
     double feed_forward_revs = 1.5;
     double feed_forward_rise = 0.1;
     double specific_force_time_s = 0.5;
+    // The tool-life speed law (with the stock model and the depth-corrected law): the depth from
+    // the stock model's chip, not from the force, and V_opt times K_mv(ĥ)/K_mv(1), the hardness
+    // ĥ = κ^(1/kmp) that the cut's specific force κ shows (K_mp = h^kmp, the handbook's).
+    bool life_law = false;
     cutting::CuttingProcess process;
     double z_origin_mm = 0.0;
     // The feed scale's resolution: halui.feed-override.scale with direct-value (the sample
@@ -197,6 +201,7 @@ class AdaptiveMachine {
     double depth_ahead_mm = 0.0;           // the stock model's depth ahead of the tool
     double feed_ceiling_mm_per_rev = 0.0;  // feed-forward's ceiling (0: none)
     double specific_force_ratio = 1.0;     // κ: measured load over the handbook law's
+    double hardness_estimate = 1.0;        // ĥ = κ^(1/kmp) (the tool-life law)
     bool breakage = false;
     bool tool_data_changed = false;
     OperationRecord op;
@@ -294,6 +299,7 @@ class AdaptiveMachine {
   cutting::LathePlant::Output stock_out_{};  // the stock model's last step
   cutting::CuttingModel model_;              // the handbook's law (feed-forward)
   double kappa_ = 1.0;
+  bool kappa_learned_ = false;
   // The path's direction: the last 2 µm of travel (a tool standing still keeps it).
   double anchor_x_ = 0.0, anchor_z_ = 0.0, dir_x_ = 0.0, dir_z_ = 0.0;
   bool has_anchor_ = false, has_dir_ = false;

@@ -123,6 +123,7 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   // scenario's blank): its predicted depth along the tool's path tells a planned exit (a pass
   // running off a step into air) from a broken tool.
   mp.stock_model = true;
+  mp.life_law = cfg.life_law;
   mp.process = process;
   mp.z_origin_mm = 0.0;
   mp.rating.limit_max = 1e300;  // the program sets nothing: the scenario's settings

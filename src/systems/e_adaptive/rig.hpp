@@ -54,6 +54,9 @@ struct RigConfig : cutting::CuttingProcess {
   control::AdaptiveFeedController::Params controller{.sensor_monitor = {.stuck_time_s = 0.1}};
   bool worst_case_feed = false;   // fixed mode: programmed feed so the worst case meets the limit
   double planned_depth_mm = 2.0;  // depth at which V_p, S_p give the planned tool life
+  // The tool-life speed law (control::AdaptiveMachine::Params::life_law): depth from the stock
+  // model, hardness from the cut's specific force.
+  bool life_law = false;
   double approach_mm = 2.0;       // air travel before each pass
   double rapid_m_per_s = 0.1;
 };

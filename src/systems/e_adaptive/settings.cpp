@@ -334,15 +334,22 @@ void read_controller(TableReader& root, RigConfig& e) {
     }
   c->read({"speed_law_filter_s", Range::closed(0, 100), "low-pass on S_cur before the speed law"},
           p.speed_law_filter_s);
-  const bool depth_corrected =
+  const std::string law =
       c->pick({"speed_law", {},
                "\"depth_corrected\" also corrects V for the depth (needs a Pz or Py sensor; x_v "
-               "comes from the material)"},
-              {"seed", "depth_corrected"}, "seed") == "depth_corrected";
-  if (depth_corrected) {
+               "comes from the material); \"tool_life\" keeps tool life at plan beyond the "
+               "seed: V for the depth the stock model gives and for the hardness the cut's "
+               "specific force shows (K_mv; any sensor; in LinuxCNC with z_origin_mm)"},
+              {"seed", "depth_corrected", "tool_life"}, "seed");
+  if (law == "depth_corrected") {
     c->check(!power, "speed_law",
-             "the depth-corrected law estimates depth from a force; use a Pz or Py sensor");
+             "the depth-corrected law estimates depth from a force; use a Pz or Py sensor, or "
+             "speed_law = \"tool_life\"");
     use_depth_corrected_law(e);
+  }
+  if (law == "tool_life") {
+    use_depth_corrected_law(e);
+    e.life_law = true;
   }
   c->read({"period_ms", {0.0, 1000.0, true, false},
            "control period; in HAL, a whole multiple of the servo thread period", kMs},

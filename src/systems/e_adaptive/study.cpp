@@ -79,7 +79,8 @@ void run_one(const Scenario& sc, RigConfig cfg, Mode mode, bool as_comparison, R
   if (r.csv) r.csv->finish();
   r.m = r.acc->result(r.rig);
   r.mode = mode;
-  r.label = mode_name(mode);
+  r.label = mode == Mode::ForceFeedSpeed && cfg.life_law ? "force by feed + tool-life speed law"
+                                                          : mode_name(mode);
 }
 
 // Cost per part (settings.hpp, Cost): machine time plus the share of an edge used.
@@ -283,10 +284,11 @@ void EStudy::run_beside() {
       run_one(sc_, c, Mode::ForceFeedSpeed, false, *r);
     });
   }
-  if (!depths().empty() && !main_seed_law_)
+  if ((!depths().empty() || e().life_law) && !main_seed_law_)
     jobs.push_back([this] {
       auto c = e();
       c.controller.depth_exponent_xv = 0.0;
+      c.life_law = false;
       run_one(sc_, c, Mode::ForceFeedSpeed, false, seed_law_);
     });
   core::parallel_for(
@@ -324,8 +326,9 @@ void EStudy::force_claims(const Run& r, Claims& claims) const {
 void EStudy::productivity_claim(Claims& claims) const {
   const double c0 = by_mode_[0]->m.cycle_time_s, c1 = by_mode_[1]->m.cycle_time_s,
                c2 = by_mode_[2]->m.cycle_time_s;
-  claims.add("productivity: cycle time seed 004 < prior art < fixed (" + fmt(c2) + " s < " +
-                 fmt(c1) + " s < " + fmt(c0) + " s); seed 004 / prior art",
+  const std::string law = e().life_law ? "the tool-life law" : "seed 004";
+  claims.add("productivity: cycle time " + law + " < prior art < fixed (" + fmt(c2) + " s < " +
+                 fmt(c1) + " s < " + fmt(c0) + " s); " + law + " / prior art",
              c2 / c1,
              c2 < c1 && c1 < c0 && by_mode_[0]->m.finished && by_mode_[1]->m.finished &&
                  by_mode_[2]->m.finished);
@@ -335,6 +338,18 @@ void EStudy::productivity_claim(Claims& claims) const {
 void EStudy::tool_life_claims(Claims& claims) const {
   const auto& m2 = by_mode_[2]->m;
   const double ratio = m2.tool_life_used_fraction / m2.tool_life_plan_fraction;
+  if (e().life_law) {
+    // Beyond the seed: the tool-life law, side by side with the seed's own on the same part.
+    const auto& ms = seed_law_.m;
+    const double seed_ratio = ms.tool_life_used_fraction / ms.tool_life_plan_fraction;
+    claims.add("tool-life law (depth from the stock model, hardness from the specific force): "
+                   "tool-life consumption against plan, within 15 % (seed 004's law on the same "
+                   "part: " +
+                   fmt(seed_ratio, "%.2f") + "; cycle " + fmt(m2.cycle_time_s) + " s against " +
+                   fmt(ms.cycle_time_s) + " s)",
+               ratio, std::abs(ratio - 1.0) <= 0.15);
+    return;
+  }
   claims.add(
       "seed 004: tool-life consumption against plan (∫dt/T over time-in-cut/T_plan), within 15 %",
       ratio, std::abs(ratio - 1.0) <= 0.15);
@@ -369,8 +384,9 @@ void EStudy::tradeoff_study(json& s, Claims& claims) const {
   const Run& seed = *by_mode_[2];
   const Run& prior = *by_mode_[1];
   const Cost& cost = st_.cost;
+  const std::string law = e().life_law ? "the tool-life law" : "seed 004";
   const PartCost cs = part_cost(seed.m, cost), cp = part_cost(prior.m, cost);
-  claims.check("cost per part (machine time + edge used), seed 004 / prior art (< 1; " +
+  claims.check("cost per part (machine time + edge used), " + law + " / prior art (< 1; " +
                    fmt(cs.total, "%.3f") + " against " + fmt(cp.total, "%.3f") + ")",
                cs.total / cp.total, Compare::Below, 1.0);
   // The tool price at which the two would cost the same per part.
@@ -393,11 +409,12 @@ void EStudy::tradeoff_study(json& s, Claims& claims) const {
                               {"cycle_time_s", json_number(c1)},
                               {"tool_life_used_fraction", json_number(u1)},
                               {"cycle_time_at_seed_tool_use_s", json_number(c_equal)}}}};
-  claims.check("equal tool use: prior art given seed 004's tool-life budget (speed raised to " +
-                   fmt(budget_speed(), "%.1f") + " m/min, cycle " + fmt(c_equal, "%.1f") +
-                   " s interpolated to the seed's use); cycle time seed 004 / prior art (< 1)",
+  claims.check("equal tool use: prior art given " + law +
+                   "'s tool-life budget (speed raised to " + fmt(budget_speed(), "%.1f") +
+                   " m/min, cycle " + fmt(c_equal, "%.1f") + " s interpolated to " + (e().life_law ? "its" : "the seed's") + " use); cycle time " +
+                   law + " / prior art (< 1)",
                seed.m.cycle_time_s / c_equal, Compare::Below, 1.0);
-  claims.note("seed 004 uses " + fmt(u / u0, "%.3f") + "× the prior art's tool life for " +
+  claims.note(law + " uses " + fmt(u / u0, "%.3f") + "× the prior art's tool life for " +
               fmt(seed.m.cycle_time_s / c0, "%.3f") +
               "× its cycle time; at these rates the two cost the same per part when an edge "
               "costs " +
