@@ -39,8 +39,8 @@ std::vector<sim::Channel> rig_channels() {
 }
 }  // namespace
 
-double Rig::worst_case_feed(const RigConfig& cfg, const cutting::CuttingModel& cut,
-                            const cutting::Stock& stock) {
+Rig::WorstCase Rig::worst_case(const RigConfig& cfg, const cutting::CuttingModel& cut,
+                                const cutting::Stock& stock) {
   const auto& d = cfg.disturbances;
   double hard = 1.0;
   for (const auto& h : d.hardness) hard = std::max(hard, h.value);
@@ -51,14 +51,21 @@ double Rig::worst_case_feed(const RigConfig& cfg, const cutting::CuttingModel& c
     const auto f = cut.forces({t_max, s, v, hard, wear});
     return cutting::force_parameter(cfg.force_parameter, f, cut.power_W(f, v));
   };
+  WorstCase w{.depth_mm = t_max, .hardness = hard, .wear_factor = wear, .speed_m_per_min = v};
   double lo = cfg.controller.feed_min_mm_per_rev, hi = cfg.controller.feed_max_mm_per_rev;
-  if (param(lo) > cfg.controller.force_limit) return lo;
-  if (param(hi) <= cfg.controller.force_limit) return hi;
-  for (int i = 0; i < 60; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (param(mid) > cfg.controller.force_limit ? hi : lo) = mid;
+  if (param(lo) > cfg.controller.force_limit) {
+    w.at_min = true;
+  } else if (param(hi) <= cfg.controller.force_limit) {
+    lo = hi;
+  } else {
+    for (int i = 0; i < 60; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (param(mid) > cfg.controller.force_limit ? hi : lo) = mid;
+    }
   }
-  return lo;
+  w.feed_mm_per_rev = lo;
+  w.parameter_at_feed = param(lo);
+  return w;
 }
 
 void Rig::configure(const RigConfig& cfg, double dt, double record_interval, double max_duration) {

@@ -96,7 +96,19 @@ class Rig {
   // Worst-case feed: the largest s whose worst-case force parameter stays at the limit.
   [[nodiscard]] static double worst_case_feed(const RigConfig& cfg,
                                               const cutting::CuttingModel& cut,
-                                              const cutting::Stock& stock);
+                                              const cutting::Stock& stock) {
+    return worst_case(cfg, cut, stock).feed_mm_per_rev;
+  }
+  // The worst spot the scenario knows and the fixed feed it allows: the deepest pass plus 3σ of
+  // the random allowance, the hardest spot, the worn tool's force factor, at V_p.
+  struct WorstCase {
+    double feed_mm_per_rev = 0.0;
+    double depth_mm = 0.0, hardness = 1.0, wear_factor = 1.0, speed_m_per_min = 0.0;
+    double parameter_at_feed = 0.0;  // the force parameter there at that feed
+    bool at_min = false;             // even s_min exceeds the limit there
+  };
+  [[nodiscard]] static WorstCase worst_case(const RigConfig& cfg, const cutting::CuttingModel& cut,
+                                            const cutting::Stock& stock);
 
  private:
   // Where the tool path goes: feed moves (a radial plunge at a shoulder, the pass along +z) and

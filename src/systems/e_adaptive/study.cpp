@@ -179,6 +179,7 @@ class EStudy final : public io::Study {
   void force_claims(const Run& r, Claims& claims) const;
   void productivity_claim(Claims& claims) const;
   void tool_life_claims(Claims& claims) const;
+  void baseline_note(const Run& fixed, Claims& claims) const;
   void fault_claims(Claims& claims) const;
   void tradeoff_study(json& s, Claims& claims) const;
   void depth_study(json& s, Claims& claims);
@@ -300,6 +301,7 @@ void EStudy::check_claims(Claims& claims) {
   if (by_mode_[0] && by_mode_[1] && by_mode_[2]) productivity_claim(claims);
   if (by_mode_[2] && e().faults.empty()) tool_life_claims(claims);
   if (!e().faults.empty()) fault_claims(claims);
+  if (by_mode_[0]) baseline_note(*by_mode_[0], claims);
 }
 
 // An unfinished part; a controller's force held at its limit (not the fixed run's, nor under
@@ -321,6 +323,42 @@ void EStudy::force_claims(const Run& r, Claims& claims) const {
                cut ? r.m.force_within_5pct_fraction : nan, Compare::AtLeast, 0.95);
   claims.check(r.label + ": largest per-revolution " + pname_ + " above its limit, % (≤ 15)",
                cut ? r.m.force_overshoot_pct : nan, Compare::AtMost, 15.0);
+}
+
+// How the fixed baseline's feed was chosen, and what it would take to finish.
+void EStudy::baseline_note(const Run& fixed, Claims& claims) const {
+  const RigConfig& c = e();
+  // (a compared fixed run is set for the worst case, run_one; a main one only if asked)
+  if (&fixed == &main() && !c.worst_case_feed) {
+    claims.note("fixed baseline: the programmed feed " +
+                fmt(fixed.m.feed_programmed_mm_per_rev, "%.3f") + " mm/rev and V_p " +
+                fmt(c.controller.speed_programmed_m_per_min) + " m/min, as the scenario sets them");
+    return;
+  }
+  cutting::CuttingModel cut;
+  cut.configure(c.cutting);
+  cutting::Stock stock;
+  stock.configure(c.stock);
+  const Rig::WorstCase w = Rig::worst_case(c, cut, stock);
+  std::string s = "fixed baseline: s = " + fmt(w.feed_mm_per_rev, "%.3f") + " mm/rev at V_p " +
+                  fmt(w.speed_m_per_min) + " m/min, the largest feed whose handbook " + pname_ +
+                  " stays within the limit (" + fmt(c.controller.force_limit, "%.0f") + " " +
+                  unit_ + ") at the worst spot the scenario knows: depth " +
+                  fmt(w.depth_mm, "%.2f") + " mm (the deepest pass + 3σ of the allowance), " +
+                  "hardness " + fmt(w.hardness, "%.2f") + ", worn-tool force factor " +
+                  fmt(w.wear_factor, "%.2f") + " (" + fmt(w.parameter_at_feed, "%.0f") + " " +
+                  unit_ + " there)";
+  if (w.at_min)
+    s += "; even s_min exceeds the limit there, so the baseline runs at s_min";
+  if (!fixed.m.finished && main().m.finished && fixed.m.material_removed_cm3 > 0.0) {
+    const double need = fixed.m.cycle_time_s * main().m.material_removed_cm3 /
+                        fixed.m.material_removed_cm3;
+    s += "; it did not finish within run.duration_s = " + fmt(fixed.m.cycle_time_s, "%.0f") +
+         " s: at its removal rate so far it needs at least about " + fmt(need, "%.0f") + " s (" +
+         fmt(fixed.m.material_removed_cm3, "%.1f") + " of " +
+         fmt(main().m.material_removed_cm3, "%.1f") + " cm³ removed) — raise run.duration_s";
+  }
+  claims.note(s);
 }
 
 void EStudy::productivity_claim(Claims& claims) const {
