@@ -114,6 +114,7 @@ struct Pins {
   hal_float_t* depth_ahead;      // the stock model's depth ahead of the tool [mm]
   hal_float_t* feed_ceiling;     // feed-forward's ceiling [mm/rev] (0: none)
   hal_float_t* specific_force;   // κ, measured load over the handbook law's
+  hal_float_t* inertia;          // the spindle inertia in use [kg·m²] (learned or given)
   hal_bit_t* breakage;           // path-aware breakage alarm (latched)
   hal_float_t* tool_diameter;    // halui.tool.diameter (the tool table's row of the tool)
   hal_float_t* tool_offset_x;    // motion.tooloffset.x (the offset in effect)
@@ -236,6 +237,7 @@ void update(void*, long period_ns) {
   *p.depth_ahead = out.depth_ahead_mm;
   *p.feed_ceiling = out.feed_ceiling_mm_per_rev;
   *p.specific_force = out.specific_force_ratio;
+  *p.inertia = out.inertia_kg_m2;
   *p.breakage = out.breakage;
   *p.tool_data_changed = out.tool_data_changed;
   if (out.op.seq != *p.op_seq) {  // a record: its fields first, op-seq last
@@ -287,7 +289,8 @@ extern "C" int rtapi_app_main(void) {
     auto& c = mp.controller;
     c = e.controller;
     if (mp.power_sensor) {  // the sensor's valid range in W (the scenario's is its sensor's)
-      c.sensor_monitor.min = -0.2 * e.spindle.max_power_W;
+      // (braking, the drive regenerates up to its rated power: the reading goes that negative)
+      c.sensor_monitor.min = -1.2 * e.spindle.max_power_W;
       c.sensor_monitor.max = 2.0 * e.spindle.max_power_W;
       // The default limit in W (the scenario's is in its sensor's unit): the power the spindle
       // has for cutting, the speed law's clamp.
@@ -295,6 +298,7 @@ extern "C" int rtapi_app_main(void) {
     }
     mp.parameter = e.force_parameter;
     mp.spindle = e.spindle;
+    mp.learn_inertia = e.learn_inertia;
     // The simulated machine's drive power pin (lathectl_plant) does not lag.
     mp.power_lag_s = 0.0;
     if (z_origin_mm != nullptr && *z_origin_mm != '\0') {
@@ -411,6 +415,7 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.depth_ahead, HAL_OUT, comp_id, kPrefix, "depth-ahead");
     pin(&p.feed_ceiling, HAL_OUT, comp_id, kPrefix, "feed-ceiling");
     pin(&p.specific_force, HAL_OUT, comp_id, kPrefix, "specific-force");
+    pin(&p.inertia, HAL_OUT, comp_id, kPrefix, "inertia");
     pin(&p.breakage, HAL_OUT, comp_id, kPrefix, "breakage");
     pin(&p.tool_diameter, HAL_IN, comp_id, kPrefix, "tool-diameter");
     pin(&p.tool_offset_x, HAL_IN, comp_id, kPrefix, "tool-offset-x");

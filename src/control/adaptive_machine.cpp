@@ -61,6 +61,8 @@ void AdaptiveMachine::configure(const Params& p) {
     throw std::invalid_argument("more than " + std::to_string(kMaxTaught) + " taught references");
   if (!(p.power_lag_s >= 0.0)) throw std::invalid_argument("power_lag_s must be ≥ 0");
   if (!(p.override_step > 0.0)) throw std::invalid_argument("override_step must be > 0");
+  if (!(p.learn_inertia_min_s > 0.0))
+    throw std::invalid_argument("learn_inertia_min_s must be > 0");
   if (!(p.feed_forward_revs >= 0.0) || !std::isfinite(p.feed_forward_revs))
     throw std::invalid_argument("feed_forward_revs must be ≥ 0");
   if (!(p.feed_forward_rise >= 0.0) || !std::isfinite(p.feed_forward_rise))
@@ -106,6 +108,9 @@ void AdaptiveMachine::configure(const Params& p) {
   bad_ = false;
   accel_lagged_W_ = accel_W_ = accel_now_s_ = 0.0;
   accel_n_ = accel_head_ = 0;
+  wdw_ = wdw_lagged_ = j_sxy_ = j_sxx_ = j_seen_s_ = 0.0;
+  j_ready_ = false;
+  inertia_ = p.spindle.inertia_kg_m2;
   stock_out_ = {};
   kappa_ = 1.0;
   kappa_learned_ = false;
@@ -391,9 +396,33 @@ double AdaptiveMachine::measured_load(const Input& in, bool feed_move, double rp
   // η of it (regeneration).
   const double drawn = in.spindle_power_W - out.idle_power_W;
   const double eta = p_.spindle.efficiency;
+  // The inertia, from speed changes in air where the tare knows the idle power: the mechanical
+  // power there is J·ω·dω/dt alone (least squares through the origin).
+  if (p_.learn_inertia && !feed_move && learned && std::isfinite(drawn) &&
+      std::abs(wdw_lagged_) > 20.0 * std::abs(rpm) * 2.0 * std::numbers::pi / 60.0) {
+    const double mech = drawn >= 0.0 ? drawn * eta : drawn / eta;
+    j_sxy_ += wdw_lagged_ * mech;
+    j_sxx_ += wdw_lagged_ * wdw_lagged_;
+    j_seen_s_ += dt;
+    if (j_seen_s_ >= p_.learn_inertia_min_s && j_sxx_ > 0.0 && j_sxy_ > 0.0) {
+      inertia_ = j_sxy_ / j_sxx_;
+      j_ready_ = true;
+    }
+  }
+  out.inertia_kg_m2 = inertia_;
+  out.inertia_learned = j_ready_;
   double load = (drawn >= 0.0 ? drawn * eta : drawn / eta) - accel_lagged_W_;
-  // Outside feed moves nothing is cut: what is left is not a load.
-  if (!feed_move) load = std::max(load, 0.0);
+  if (!feed_move) {
+    // Outside feed moves nothing is cut: what is left is not a load, and not a sensor fault
+    // either — a speed change in air before the inertia is learned (or with a wrong one) leaves
+    // J·ω·dω/dt of either sign, tens of kW, and latched sensor_out_of_range. There the drive's
+    // own reading is checked against the sensor's range instead (in LinuxCNC the drive's limits:
+    // regenerating, it returns up to its rated power).
+    const auto& mon = ctl_.params().sensor_monitor;
+    if (!(in.spindle_power_W >= mon.min && in.spindle_power_W <= mon.max))
+      return in.spindle_power_W;
+    load = std::clamp(load, 0.0, mon.max);
+  }
   return load;
 }
 
@@ -420,7 +449,11 @@ void AdaptiveMachine::acceleration_power(double rpm, double dt, double nominal_s
           break;
       const std::size_t i = (accel_head_ + kAccelRing - k) % kAccelRing;
       const double span = accel_now_s_ - accel_t_[i];
-      if (span > 0.0) accel = p_.spindle.inertia_kg_m2 * omega * (omega - accel_w_[i]) / span;
+      if (span > 0.0) {
+        const double wdw = omega * (omega - accel_w_[i]) / span;
+        if (std::isfinite(wdw)) wdw_ = wdw;
+        accel = inertia_ * wdw;
+      }
     }
     accel_head_ = (accel_head_ + 1) % kAccelRing;
     accel_t_[accel_head_] = accel_now_s_;
@@ -430,6 +463,7 @@ void AdaptiveMachine::acceleration_power(double rpm, double dt, double nominal_s
   }
   const double a = p_.power_lag_s > 0.0 ? 1.0 - std::exp(-dt / p_.power_lag_s) : 1.0;
   accel_lagged_W_ += a * (accel_W_ - accel_lagged_W_);
+  wdw_lagged_ += a * (wdw_ - wdw_lagged_);
 }
 
 // The handbook law's load at a chip (the load's own parameter: N, or W with the power sensor),

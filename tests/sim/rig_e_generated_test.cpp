@@ -115,7 +115,8 @@ Part generate(unsigned seed) {
       << "\"\ntime_constant_ms = 2.0\nnoise_N = 10.0\nrange_N = 20000.0\n";
   s << "\n[controller]\ntype = \"" << (speed_law ? "force_speed" : "force_feed") << "\"\n";
   if (sensor == 2)
-    s << "cut_power_limit_kW = " << std::round(uni(3.0, 10.0) * 10.0) / 10.0 << "\n";
+    s << "cut_power_limit_kW = " << std::round(uni(3.0, 10.0) * 10.0) / 10.0
+      << "\nlearn_inertia = " << (seed % 2 == 0 ? "true" : "false") << "\n";
   else
     s << "force_limit_N = " << std::round(sensor == 0 ? uni(1000.0, 3000.0) : uni(500.0, 1500.0))
       << "\n";

@@ -85,6 +85,13 @@ class AdaptiveMachine {
     // The drive's power reading lags the power it draws by this time constant [s]: the
     // acceleration power J·ω·dω/dt is lagged alike before it is taken off.
     double power_lag_s = 0.0;
+    // The spindle's inertia learned from the drive's own power in air (rapids, dwells, the idle
+    // sweep): every speed change there draws η⁻¹·J·ω·dω/dt above the idle power (returns η·of it
+    // braking), so J is the least-squares slope of that power on ω·dω/dt. spindle.inertia_kg_m2
+    // is the prior until learn_inertia_min_s of clear acceleration (|dω/dt| above 20 rad/s²)
+    // has been seen.
+    bool learn_inertia = false;
+    double learn_inertia_min_s = 0.3;
     OperationRating rating;
     std::vector<ToolLimits> tools;  // at most kMaxTools
     std::vector<Taught> taught;     // at most kMaxTaught; more are taught at run time up to it
@@ -191,6 +198,8 @@ class AdaptiveMachine {
     bool tare_ready = false;
     std::array<double, 3> idle_law{};  // p0 [W], p1 [W/rpm], p2 [W/rpm²]
     double acceleration_power_W = 0.0;  // J·ω·dω/dt, lagged as the meter
+    double inertia_kg_m2 = 0.0;         // J in use (learned, else the given one)
+    bool inertia_learned = false;
     bool bad_setting = false;
     SettingError bad_code = SettingError::None;
     std::int32_t bad_line = 0;
@@ -283,6 +292,10 @@ class AdaptiveMachine {
   double accel_now_s_ = 0.0;
   double accel_W_ = 0.0;  // J·ω·dω/dt
   double accel_lagged_W_ = 0.0;
+  double wdw_ = 0.0, wdw_lagged_ = 0.0;  // ω·dω/dt [rad²/s³], and lagged as the meter
+  double inertia_ = 0.0;                 // J in use
+  double j_sxy_ = 0.0, j_sxx_ = 0.0, j_seen_s_ = 0.0;
+  bool j_ready_ = false;
   TeachIn teach_;
   int teach_tool_ = -1, teach_op_ = -1;
   OperationStats stats_;

@@ -57,6 +57,8 @@ struct RigConfig : cutting::CuttingProcess {
   // The tool-life speed law (control::AdaptiveMachine::Params::life_law): depth from the stock
   // model, hardness from the cut's specific force.
   bool life_law = false;
+  // Power sensor: the machine learns the spindle's inertia (AdaptiveMachine::Params).
+  bool learn_inertia = false;
   double approach_mm = 2.0;       // air travel before each pass
   double rapid_m_per_s = 0.1;
 };

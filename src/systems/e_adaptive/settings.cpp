@@ -242,6 +242,10 @@ void read_controller(TableReader& root, RigConfig& e) {
     c->require({"cut_power_limit_kW", {0.0, 1e4, true, false},
                 "setter 6 (power sensor), instead of force_limit_N", 1e3},
                p.force_limit);
+  c->read({"learn_inertia", {},
+           "power sensor: learn the spindle's inertia from its speed changes in air (rapids, the "
+           "idle sweep) instead of taking [spindle] inertia_kg_m2 as known (it stays the prior)"},
+          e.learn_inertia);
   c->read({"worst_case_feed", {},
            "fixed mode: the programmed feed is chosen so that the worst case meets the limit"},
           e.worst_case_feed);
@@ -394,12 +398,15 @@ void read_controller(TableReader& root, RigConfig& e) {
   const std::string_view reading_unit = c->is_describing() ? "N (Pz, Py) or W (power)"
                                         : power            ? "W"
                                                            : "N";
-  p.sensor_monitor.min = -0.2 * p.force_limit;
+  // A dynamometer reads little below zero; a spindle drive's power meter, braking, reads the
+  // power it regenerates, up to its rating ([spindle] is read before [controller]).
+  p.sensor_monitor.min = power ? -1.2 * e.spindle.max_power_W : -0.2 * p.force_limit;
   c->read({.key = "sensor_min",
            .range = Range::any(),
-           .doc = "lowest plausible reading (default: −0.2·limit)",
+           .doc = "lowest plausible reading (default: −0.2·limit; power: −1.2·the spindle's "
+                  "rated power, which a braking drive returns)",
            .unit = reading_unit,
-           .derived = "−0.2·(force_limit_N or cut_power_limit_kW in W)"},
+           .derived = "−0.2·force_limit_N; power: −1.2·spindle.max_power_kW in W"},
           p.sensor_monitor.min);
   p.sensor_monitor.max = e.force_sensor.range;
   c->read({.key = "sensor_max",
