@@ -299,6 +299,7 @@ extern "C" int rtapi_app_main(void) {
     mp.parameter = e.force_parameter;
     mp.spindle = e.spindle;
     mp.learn_inertia = e.learn_inertia;
+    mp.feed_forward = e.feed_forward;
     // The simulated machine's drive power pin (lathectl_plant) does not lag.
     mp.power_lag_s = 0.0;
     if (z_origin_mm != nullptr && *z_origin_mm != '\0') {

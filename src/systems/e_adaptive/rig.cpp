@@ -132,6 +132,7 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   mp.stock_model = true;
   mp.life_law = cfg.life_law;
   mp.learn_inertia = cfg.learn_inertia;
+  mp.feed_forward = cfg.feed_forward;
   mp.process = process;
   mp.z_origin_mm = 0.0;
   mp.rating.limit_max = 1e300;  // the program sets nothing: the scenario's settings

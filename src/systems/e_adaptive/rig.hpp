@@ -59,6 +59,8 @@ struct RigConfig : cutting::CuttingProcess {
   bool life_law = false;
   // Power sensor: the machine learns the spindle's inertia (AdaptiveMachine::Params).
   bool learn_inertia = false;
+  // The feed-forward from the stock model (AdaptiveMachine::Params::feed_forward).
+  bool feed_forward = true;
   double approach_mm = 2.0;       // air travel before each pass
   double rapid_m_per_s = 0.1;
 };

@@ -242,6 +242,10 @@ void read_controller(TableReader& root, RigConfig& e) {
     c->require({"cut_power_limit_kW", {0.0, 1e4, true, false},
                 "setter 6 (power sensor), instead of force_limit_N", 1e3},
                p.force_limit);
+  c->read({"feed_forward", {},
+           "lower the feed before a rise in the depth of cut that the stock model sees ahead "
+           "(in LinuxCNC with z_origin_mm); false: the regulator alone"},
+          e.feed_forward);
   c->read({"learn_inertia", {},
            "power sensor: learn the spindle's inertia from its speed changes in air (rapids, the "
            "idle sweep) instead of taking [spindle] inertia_kg_m2 as known (it stays the prior)"},
