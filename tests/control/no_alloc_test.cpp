@@ -19,6 +19,7 @@
 #include "lathectl/control/modulated_feed.hpp"
 #include "lathectl/control/operation_control.hpp"
 #include "lathectl/control/pulse_feed_controller.hpp"
+#include "lathectl/control/slide_machine.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/cutting/lathe_plant.hpp"
@@ -82,6 +83,38 @@ using lathectl::control::AdaptiveFeedController;
 
 // What lathectl_adaptive runs around the controller every servo period: per-operation settings
 // (valid and refused), the idle tare learning and its fit, a teach cut, the operation record.
+// System A's machine side through every path: laws along the travel, program changes, off/on,
+// overload, breakage, sensor faults, alarm resets.
+TEST(NoAlloc, SlideMachineUpdateNeverAllocates) {
+  using lathectl::control::SlideMachine;
+  for (auto m :
+       {PulseFeedController::Modulation::Amplitude, PulseFeedController::Modulation::Frequency}) {
+    SlideMachine::Params p;
+    p.controller = params(m, PulseFeedController::Mode::Roughing);
+    p.feed_law = {{0.0, 1e-3}, {0.01, 2e-3}, {0.02, 0.5e-3}};
+    p.force_law = {{0.0, 200.0}, {0.02, 150.0}};
+    SlideMachine sm;
+    sm.configure(p);  // may allocate
+    sm.start(200.0);
+    const long before = g_allocations.load();
+    for (int k = 0; k < 20000; ++k) {
+      SlideMachine::Input in;
+      const double force = k < 12000 ? 200.0 + 150.0 * std::sin(k * 0.01) : 400.0;
+      in.sensor_V = 5e-3 * force;
+      if (k > 15000 && k < 15010) in.sensor_V = std::nan("");
+      if (k > 17000 && k < 17010) in.sensor_V = 0.0;  // collapse: breakage
+      in.mode = (k / 3000) % 2 ? PulseFeedController::Mode::Finishing
+                               : PulseFeedController::Mode::Roughing;
+      in.enable = (k / 1000) % 7 != 3;
+      in.position_m = 1e-6 * k;
+      in.reset_alarm = k % 2500 == 0;
+      sm.update(in);
+    }
+    EXPECT_EQ(g_allocations.load() - before, 0) << "update() allocated";
+    EXPECT_TRUE(std::isfinite(sm.output().slot_m));
+  }
+}
+
 TEST(NoAlloc, OperationControlNeverAllocates) {
   AdaptiveFeedController c;
   c.configure({});
