@@ -97,7 +97,7 @@ def main():
     t0 = time.monotonic()
     cmd.auto(linuxcnc.AUTO_RUN, 0)
     wait(lambda s: s.interp_state != linuxcnc.INTERP_IDLE, 30, "program start", stat)
-    ops, alarms = [], []
+    ops, alarms, last_on = [], [], None
     last_op, last_alarm = None, False
     idle = 0
     timed_out = False
@@ -122,6 +122,10 @@ def main():
                             stat.exec_state == linuxcnc.EXEC_DONE) else 0
         if idle >= 40:
             break
+        if op[0]:  # the force the controller sees and the feed it gives, at the last sample on
+            last_on = {"plant_time_s": round(hal.get_value(P + "plant-time"), 4),
+                       "force_estimate_N": hal.get_value(S + "force-estimate"),
+                       "feed_cmd_mm_per_min": hal.get_value(S + "feed-cmd")}
         if now - t0 > timeout_s:
             cmd.abort()
             cmd.wait_complete()
@@ -138,6 +142,7 @@ def main():
         "plant_done": bool(hal.get_value(P + "done")),
         "operations": ops,
         "alarm_events": alarms,
+        "last_on": last_on,
         "pulses": int(hal.get_value(S + "pulses")),
         "pulse_width_s": hal.get_value(S + "pulse-width"),
         "pulse_width_error_max_ns": int(hal.get_value(S + "width-error-max-ns")),

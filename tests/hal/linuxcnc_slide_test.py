@@ -18,6 +18,13 @@ and asserts from both summary.json files that
       1.461 %, peak 214.55 vs 214.50 N; roughing peak 417.2 vs 418.1 N, final error −0.13 vs
       0.12 %.
 
+  operations     slide_operations.ngc/.toml: finishing on the scenario's feed law along the travel
+                 (60 → 90 mm/min from 1 to 3 mm), then roughing at 250 N, then 200 N, set by the
+                 program (M64 P1, M68 E1): the operations in that order, the finishing feed
+                 following the law (within 0.5 mm/min of it at the travel logged), no alarm, and
+                 at the end the force estimate within 5 % of 200 N with the feed below its
+                 90 mm/min ceiling (the regulator holds the force, not the feed)
+
   linuxcnc_slide_test.py SOURCE_DIR WORK_DIR LATHECTL [CASE...]
 """
 
@@ -29,7 +36,7 @@ import time
 
 FAILS = []
 CASES = {"finishing_aim": ("slide_finishing", "finishing", False),
-         "roughing_fim": ("slide_roughing", "roughing", True)}
+         "roughing_fim": ("slide_roughing", "roughing", True), "operations": None}
 
 
 def check(cond, what):
@@ -59,11 +66,43 @@ def session(src, work, stem):
     return json.load(open(path))
 
 
+def law(x_mm):
+    """The scenario's feed law: 60 mm/min to 1 mm, 90 from 3 mm, linear between."""
+    return 60.0 + 30.0 * min(max((x_mm - 1.0) / 2.0, 0.0), 1.0)
+
+
+def operations(src, work):
+    s = session(src, work, "slide_operations")
+    if s is None:
+        return
+    h = s["session"]
+    ops = [o for o in h["operations"] if o["on"]]
+    fin = [o for o in ops if o["mode"] == "finishing"]
+    rough = [o for o in ops if o["mode"] == "roughing"]
+    check(bool(fin) and bool(rough) and ops.index(rough[0]) > ops.index(fin[-1]),
+          "operations: finishing, then roughing")
+    check([o["force_set_N"] for o in rough][:1] == [250.0] and rough[-1]["force_set_N"] == 200.0,
+          "operations: roughing at 250 N, then 200 N (%s)" % [o["force_set_N"] for o in rough])
+    worst = max(abs(o["feed_set_mm_per_min"] - law(o["travel_mm"])) for o in fin)
+    check(worst <= 0.5 and max(o["feed_set_mm_per_min"] for o in fin) == 90.0,
+          "operations: the finishing feed follows the law along the travel (worst %.3f mm/min)"
+          % worst)
+    check(not h["alarm_events"], "operations: no alarm (%s)" % h["alarm_events"])
+    last = h["last_on"]
+    check(last is not None and abs(last["force_estimate_N"] - 200.0) <= 10.0 and
+          last["feed_cmd_mm_per_min"] < 90.0,
+          "operations: at the end %.1f N held at %.1f mm/min" % (
+              last["force_estimate_N"], last["feed_cmd_mm_per_min"]) if last else "operations: end")
+
+
 def main():
     src, work, lathectl = sys.argv[1], sys.argv[2], sys.argv[3]
     cases = sys.argv[4:] or list(CASES)
     os.makedirs(work, exist_ok=True)
     for case in cases:
+        if case == "operations":
+            operations(src, work)
+            continue
         stem, mode, roughing = CASES[case]
         run_out = os.path.join(work, stem + "-run")
         subprocess.run([lathectl, "run", "--out", run_out,
