@@ -82,6 +82,9 @@ struct Pins {
   hal_s32_t* width_error_max_ns;   // |measured width − Δt|, worst
   hal_s32_t* period_error_max_ns;  // |measured rising-to-rising − programmed|, worst
   hal_s32_t* base_jitter_max_ns;   // |base-thread interval − base period|, worst
+  hal_float_t* width_error_mean_ns;   // the means of the same, over every pulse / period
+  hal_float_t* period_error_mean_ns;
+  hal_float_t* base_jitter_mean_ns;
   hal_bit_t* period_error;
   hal_s32_t* update_ns;
   hal_s32_t* update_ns_max;
@@ -104,6 +107,8 @@ struct State {
   long width_ticks = 1;
   long long t_last = 0, ticks_since_rise = 0;
   long long last_rise = -1;  // time of the last rising edge
+  double width_sum = 0.0, period_sum = 0.0, jitter_sum = 0.0;
+  long long widths = 0, periods = 0, jitters = 0;
 };
 
 int comp_id = -1;
@@ -160,6 +165,8 @@ void pulses(void*, long period) {
   if (s.t_last != 0) {
     const long long jitter = std::llabs(now - s.t_last - period);
     if (jitter > *p.base_jitter_max_ns) *p.base_jitter_max_ns = static_cast<std::int32_t>(jitter);
+    s.jitter_sum += static_cast<double>(jitter);
+    *p.base_jitter_mean_ns = s.jitter_sum / static_cast<double>(++s.jitters);
   }
   s.t_last = now;
   const bool pulsing = s.pulsing.load();
@@ -177,6 +184,8 @@ void pulses(void*, long period) {
         const long long programmed = s.ticks_since_rise * period;
         const long long err = std::llabs(now - s.last_rise - programmed);
         if (err > *p.period_error_max_ns) *p.period_error_max_ns = static_cast<std::int32_t>(err);
+        s.period_sum += static_cast<double>(err);
+        *p.period_error_mean_ns = s.period_sum / static_cast<double>(++s.periods);
       }
       s.last_rise = now;
       s.ticks_since_rise = 0;
@@ -193,6 +202,8 @@ void pulses(void*, long period) {
   if (was_on && !on && s.last_rise >= 0 && pulsing) {  // a falling edge of a whole pulse
     const long long err = std::llabs(now - s.last_rise - static_cast<long long>(s.width_s * 1e9));
     if (err > *p.width_error_max_ns) *p.width_error_max_ns = static_cast<std::int32_t>(err);
+    s.width_sum += static_cast<double>(err);
+    *p.width_error_mean_ns = s.width_sum / static_cast<double>(++s.widths);
   }
   *p.valve = on;
 }
@@ -274,6 +285,9 @@ extern "C" int rtapi_app_main(void) {
     pin(&p.width_error_max_ns, HAL_OUT, comp_id, kPrefix, "width-error-max-ns");
     pin(&p.period_error_max_ns, HAL_OUT, comp_id, kPrefix, "period-error-max-ns");
     pin(&p.base_jitter_max_ns, HAL_OUT, comp_id, kPrefix, "base-jitter-max-ns");
+    pin(&p.width_error_mean_ns, HAL_OUT, comp_id, kPrefix, "width-error-mean-ns");
+    pin(&p.period_error_mean_ns, HAL_OUT, comp_id, kPrefix, "period-error-mean-ns");
+    pin(&p.base_jitter_mean_ns, HAL_OUT, comp_id, kPrefix, "base-jitter-mean-ns");
     pin(&p.period_error, HAL_OUT, comp_id, kPrefix, "period-error");
     pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
     pin(&p.update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");

@@ -148,6 +148,9 @@ def main():
         "pulse_width_error_max_ns": int(hal.get_value(S + "width-error-max-ns")),
         "pulse_period_error_max_ns": int(hal.get_value(S + "period-error-max-ns")),
         "base_thread_jitter_max_ns": int(hal.get_value(S + "base-jitter-max-ns")),
+        "pulse_width_error_mean_ns": round(hal.get_value(S + "width-error-mean-ns"), 1),
+        "pulse_period_error_mean_ns": round(hal.get_value(S + "period-error-mean-ns"), 1),
+        "base_thread_jitter_mean_ns": round(hal.get_value(S + "base-jitter-mean-ns"), 1),
         "update_ns_max": {"slide": int(hal.get_value(S + "update-ns-max")),
                           "plant": int(hal.get_value(P + "update-ns-max"))},
         "period_error": bool(hal.get_value(S + "period-error")) or bool(
