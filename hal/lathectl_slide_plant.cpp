@@ -129,7 +129,7 @@ extern "C" int rtapi_app_main(void) {
       throw Error(std::string(scenario) + ": run.step_s " + std::to_string(sc.run.step_s) +
                   " s is not the base period (period_ns=" + std::to_string(period) + ")");
     state->period = std::lround(period);
-    state->rig.set_streamed(true);
+    state->rig.set_streamed(true, false);  // rows to the metrics only
     state->rig.set_external(true);
     try {
       state->rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
@@ -138,6 +138,7 @@ extern "C" int rtapi_app_main(void) {
     }
     state->acc =
         std::make_unique<a::MetricsAccumulator>(state->rig, state->rig.last_record_time());
+    state->acc->set_plot(false);  // the report's plot grows with the run: not in this thread
     state->rig.attach(state->acc.get());
     state->steps_total = static_cast<std::size_t>(std::llround(sc.run.duration_s / sc.run.step_s));
     state->aim = cfg.controller_kind == a::ControllerKind::Aim;

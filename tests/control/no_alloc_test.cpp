@@ -23,6 +23,8 @@
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/cutting/lathe_plant.hpp"
+#include "systems/a_pulse_feed/metrics.hpp"
+#include "systems/a_pulse_feed/settings.hpp"
 #include "systems/e_adaptive/settings.hpp"
 #include "lathectl/sensors/vibration_chain.hpp"
 #include "support/sample_controller.hpp"
@@ -113,6 +115,33 @@ TEST(NoAlloc, SlideMachineUpdateNeverAllocates) {
     EXPECT_EQ(g_allocations.load() - before, 0) << "update() allocated";
     EXPECT_TRUE(std::isfinite(sm.output().slot_m));
   }
+}
+
+// Rig A's plant under an outside controller, as lathectl_slide_plant steps it in LinuxCNC's base
+// thread: streamed rows into A's metrics, the valve's pulses and the eccentric's command given.
+TEST(NoAlloc, SlidePlantStepNeverAllocates) {
+  namespace a = lathectl::systems::a_pulse_feed;
+  const auto lib = lathectl::io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
+  auto sc = lathectl::io::load_scenario(
+      LATHECTL_SOURCE_DIR "/examples/linuxcnc/slide_finishing.toml", lib);
+  a::Rig rig;
+  rig.set_streamed(true, false);
+  rig.set_external(true);
+  rig.configure(sc.get<a::Settings>().rig, sc.run.step_s, sc.run.record_interval_s, 2.0);
+  a::MetricsAccumulator acc(rig, rig.last_record_time());
+  acc.set_plot(false);
+  rig.attach(&acc);  // may allocate
+  const long before = g_allocations.load();
+  for (int k = 0; k < 20000; ++k) {  // 2 s at 100 µs
+    a::Rig::Actuation act;
+    act.valve_open = k % 500 < 50;  // 20 Hz, 5 ms pulses
+    act.slot_cmd_m = 45e-6;
+    act.frequency_Hz = 20.0;
+    rig.actuate(act);
+    rig.step();
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0) << "the plant's step allocated";
+  EXPECT_GT(rig.position(), 0.0);
 }
 
 TEST(NoAlloc, OperationControlNeverAllocates) {

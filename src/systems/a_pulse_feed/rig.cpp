@@ -203,7 +203,8 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   acc_n_ = 0;
 
   if (streamed_) {
-    rec_ = sim::Recorder::streamed(rig_a_channels());
+    rec_ = sim::Recorder::streamed(rig_a_channels(), {},
+                                   plots_ ? sim::Recorder::kPlotValuesPerLevel : 0);
     return;
   }
   const auto rows =

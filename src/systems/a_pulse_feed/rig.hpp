@@ -97,7 +97,12 @@ class Rig {
   [[nodiscard]] const sim::Recorder& recorder() const noexcept { return rec_; }
   // Streamed recording (set before configure): no columns, rows to the attached sinks (metrics,
   // channels.csv) — the memory of a run of any duration is bounded. Default: columns.
-  void set_streamed(bool streamed) noexcept { streamed_ = streamed; }
+  // plots false: no plot pyramids either (they grow with the run), rows only to the sinks — what
+  // a plant in a real-time thread records (lathectl_slide_plant).
+  void set_streamed(bool streamed, bool plots = true) noexcept {
+    streamed_ = streamed;
+    plots_ = plots;
+  }
   void attach(sim::RowSink* sink) { rec_.attach(sink); }
   // Time of the last row run() will record (the clock's own sums; −1 when it records none).
   [[nodiscard]] double last_record_time() const noexcept;
@@ -141,6 +146,7 @@ class Rig {
   double duration_ = 0.0;
   bool streamed_ = false;
   bool external_ = false;
+  bool plots_ = true;
   Actuation act_{};
   std::size_t step_ = 0;
   std::size_t record_every_ = 1;
