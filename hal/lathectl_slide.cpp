@@ -5,7 +5,8 @@
 // forms the spool's pulse train.
 //
 //   loadrt lathectl_slide scenario=PATH [period_ns=1000000] [base_ns=100000]
-//   addf lathectl-slide servo-thread          the controller, every control period
+//   addf lathectl-slide servo-thread          the controller, every control period (or in the
+//                                             base thread: every k-th call, k = period / base)
 //   addf lathectl-slide.pulses base-thread    the spool's pulse train
 //
 // The sensor: sensor-in is the analog input's raw value; U_D = sensor-in·sensor-gain +
@@ -43,7 +44,8 @@ MODULE_LICENSE("GPL");
 static char* scenario = nullptr;
 RTAPI_MP_STRING(scenario, "system-A scenario file (TOML): regulator, slide, sensor, controller");
 static char* period_ns = nullptr;
-RTAPI_MP_STRING(period_ns, "period of the servo thread [ns]: the controller's, default 1000000");
+RTAPI_MP_STRING(period_ns, "period of the thread lathectl-slide runs in [ns], default 1000000; "
+                           "controller.period_ms must be a whole number of it");
 static char* base_ns = nullptr;
 RTAPI_MP_STRING(base_ns, "period of the base thread [ns]: the pulse train's, default 100000");
 
@@ -95,6 +97,8 @@ struct State {
   lathectl::drives::EccentricDrive eccentric;  // the slot → angle profile of the scenario's
   bool aim = true;
   long period = 1000000;
+  long every = 1;   // thread calls per control period
+  long calls = 0;
   long base = 100000;
   double width_s = 0.005;
   double default_feed = 0.0, default_force = 0.0;
@@ -123,6 +127,10 @@ void update(void*, long period) {
   if (period != s.period) {  // the machine was configured for another control period
     *p.period_error = 1;
     s.pulsing.store(false);
+    *p.update_ns = timer.stop();
+    return;
+  }
+  if (s.calls++ % s.every != 0) {
     *p.update_ns = timer.stop();
     return;
   }
@@ -227,10 +235,16 @@ extern "C" int rtapi_app_main(void) {
     const double period = number_param(period_ns, "period_ns", 1e6);
     const double base = number_param(base_ns, "base_ns", 1e5);
     if (!(base >= 1e4 && base <= 1e6)) throw Error("module parameter base_ns: expected 1e4 … 1e6");
-    if (std::abs(period * 1e-9 - cfg.controller.period_s) > 1e-9)
+    // The controller runs every k-th call: k = controller.period_ms / the thread's period, a
+    // whole number (1 in the servo thread; 10 in a 100 µs base thread for a 1 ms controller,
+    // which keeps it in step with a plant in the same thread as the rig does).
+    const double k = cfg.controller.period_s / (period * 1e-9);
+    if (!(std::abs(k - std::round(k)) < 1e-6 && std::round(k) >= 1.0))
       throw Error(std::string(scenario) + ": controller.period_ms " +
                   std::to_string(cfg.controller.period_s * 1e3) +
-                  " is not the servo period (period_ns=" + std::to_string(period) + ")");
+                  " is not a whole number of the thread's periods (period_ns=" +
+                  std::to_string(period) + ")");
+    state->every = std::lround(k);
     state->period = std::lround(period);
     state->base = std::lround(base);
     // The machine's parameters as the rig derives them from the scenario (regulator gain,
