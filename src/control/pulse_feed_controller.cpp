@@ -4,32 +4,35 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "lathectl/core/parameter_error.hpp"
+
 namespace lathectl::control {
 
 void PulseFeedController::configure(const Params& p) {
-  auto need = [](bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(std::string("pulse feed controller: ") + what);
+  auto need = [](bool ok, const char* what, const char* parameter) {
+    if (!ok)
+      throw core::ParameterError(parameter, std::string("pulse feed controller: ") + what);
   };
-  need(p.period_s > 0.0, "period must be > 0");
-  need(p.regulator_gain_per_m > 0.0, "regulator gain must be > 0");
-  need(p.pulse_width_s > 0.0, "pulse width must be > 0");
-  need(p.piston_area_m2 > 0.0, "piston area must be > 0");
-  need(p.leak_m3_per_s_Pa >= 0.0 && p.friction_N >= 0.0, "leakage and friction must be ≥ 0");
-  need(p.feed_m_per_s > 0.0, "programmed feed must be > 0");
-  need(p.sensor_V_per_N > 0.0, "sensor gain must be > 0");
-  need(p.force_filter_s >= 0.0, "force filter time must be ≥ 0");
-  need(p.compliance_m3_per_Pa >= 0.0 && p.rate_filter_s >= 0.0, "compliance and rate filter ≥ 0");
-  need(p.duty_max > 0.0 && p.duty_max <= 1.0, "duty_max must be in (0, 1]");
-  need(p.feed_min_fraction >= 0.0 && p.feed_min_fraction < 1.0, "feed_min_fraction in [0, 1)");
-  if (p.mode == Mode::Roughing) need(p.force_set_N > 0.0, "force setpoint must be > 0");
+  need(p.period_s > 0.0, "period must be > 0", "period_s");
+  need(p.regulator_gain_per_m > 0.0, "regulator gain must be > 0", "regulator_gain_per_m");
+  need(p.pulse_width_s > 0.0, "pulse width must be > 0", "pulse_width_s");
+  need(p.piston_area_m2 > 0.0, "piston area must be > 0", "piston_area_m2");
+  need(p.leak_m3_per_s_Pa >= 0.0 && p.friction_N >= 0.0, "leakage and friction must be ≥ 0", "leak_m3_per_s_Pa");
+  need(p.feed_m_per_s > 0.0, "programmed feed must be > 0", "feed_m_per_s");
+  need(p.sensor_V_per_N > 0.0, "sensor gain must be > 0", "sensor_V_per_N");
+  need(p.force_filter_s >= 0.0, "force filter time must be ≥ 0", "force_filter_s");
+  need(p.compliance_m3_per_Pa >= 0.0 && p.rate_filter_s >= 0.0, "compliance and rate filter ≥ 0", "compliance_m3_per_Pa");
+  need(p.duty_max > 0.0 && p.duty_max <= 1.0, "duty_max must be in (0, 1]", "duty_max");
+  need(p.feed_min_fraction >= 0.0 && p.feed_min_fraction < 1.0, "feed_min_fraction in [0, 1)", "feed_min_fraction");
+  if (p.mode == Mode::Roughing) need(p.force_set_N > 0.0, "force setpoint must be > 0", "force_set_N");
   if (p.modulation == Modulation::Amplitude) {
-    need(p.frequency_Hz > 0.0 && p.frequency_Hz * p.pulse_width_s <= 1.0, "AIM needs 0 < f·Δt ≤ 1");
-    need(p.slot_min_m >= 0.0 && p.slot_max_m > p.slot_min_m, "slot limits: 0 ≤ min < max");
+    need(p.frequency_Hz > 0.0 && p.frequency_Hz * p.pulse_width_s <= 1.0, "AIM needs 0 < f·Δt ≤ 1", "frequency_Hz");
+    need(p.slot_min_m >= 0.0 && p.slot_max_m > p.slot_min_m, "slot limits: 0 ≤ min < max", "slot_max_m");
   } else {
-    need(p.slot_m > 0.0, "FIM slot must be > 0");
+    need(p.slot_m > 0.0, "FIM slot must be > 0", "slot_m");
     need(p.frequency_min_Hz >= 0.0 && p.frequency_max_Hz > p.frequency_min_Hz,
-         "frequency limits: 0 ≤ min < max");
-    need(p.frequency_ramp_Hz_per_s > 0.0, "converter ramp must be > 0");
+         "frequency limits: 0 ≤ min < max", "frequency_max_Hz");
+    need(p.frequency_ramp_Hz_per_s > 0.0, "converter ramp must be > 0", "frequency_ramp_Hz_per_s");
   }
   p_ = p;
   configured_ = true;
@@ -74,6 +77,23 @@ void PulseFeedController::start(double force_N) noexcept {
     last_.frequency_Hz = std::clamp(a, p_.frequency_min_Hz, f_hi);
     last_.slot_m = p_.slot_m;
     ramp_.reset(last_.frequency_Hz);
+  }
+}
+
+void PulseFeedController::program(Mode mode, double feed_m_per_s, double force_set_N) noexcept {
+  if (!configured_) return;
+  if (std::isfinite(feed_m_per_s) && feed_m_per_s > 0.0 && feed_m_per_s != p_.feed_m_per_s) {
+    // The regulator's output is a fraction of the programmed feed: rescale it so that the feed
+    // it commands does not jump with the new program (bumpless), within its limits.
+    const double u = pi_.output() * p_.feed_m_per_s / feed_m_per_s;
+    pi_.preset(std::clamp(u, p_.feed_min_fraction, 1.0));
+    p_.feed_m_per_s = feed_m_per_s;
+  }
+  if (std::isfinite(force_set_N) && force_set_N > 0.0) p_.force_set_N = force_set_N;
+  if (mode != p_.mode) {
+    // Into roughing the regulator starts at the programmed feed (u = 1), as at a start.
+    if (mode == Mode::Roughing) pi_.preset(1.0);
+    p_.mode = mode;
   }
 }
 

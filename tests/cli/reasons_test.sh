@@ -32,7 +32,8 @@ assert [r["bit"] for r in rows] == list(range(len(rows))), "bits are positions"
 assert len({r["code"] for r in rows}) == len(rows) and len({r["name"] for r in rows}) == len(rows)
 by = {r["name"]: r for r in rows}
 assert by["spindle_power_limit"]["code"] == 41 and not by["spindle_power_limit"]["alarm"]
-assert by["tool_breakage"]["alarm"] and by["tool_breakage"]["systems"] == "E"
+assert by["tool_breakage"]["alarm"] and by["tool_breakage"]["systems"] == "A E"
+assert by["slide_off"]["code"] == 70 and not by["slide_off"]["alarm"]
 assert all(r["meaning"].endswith(".") for r in rows)
 PY
 cmp -s "$work/reasons.json" "$src/hal/reasons.json" ||

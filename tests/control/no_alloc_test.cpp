@@ -19,9 +19,12 @@
 #include "lathectl/control/modulated_feed.hpp"
 #include "lathectl/control/operation_control.hpp"
 #include "lathectl/control/pulse_feed_controller.hpp"
+#include "lathectl/control/slide_machine.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/cutting/lathe_plant.hpp"
+#include "systems/a_pulse_feed/metrics.hpp"
+#include "systems/a_pulse_feed/settings.hpp"
 #include "systems/e_adaptive/settings.hpp"
 #include "lathectl/sensors/vibration_chain.hpp"
 #include "support/sample_controller.hpp"
@@ -82,6 +85,65 @@ using lathectl::control::AdaptiveFeedController;
 
 // What lathectl_adaptive runs around the controller every servo period: per-operation settings
 // (valid and refused), the idle tare learning and its fit, a teach cut, the operation record.
+// System A's machine side through every path: laws along the travel, program changes, off/on,
+// overload, breakage, sensor faults, alarm resets.
+TEST(NoAlloc, SlideMachineUpdateNeverAllocates) {
+  using lathectl::control::SlideMachine;
+  for (auto m :
+       {PulseFeedController::Modulation::Amplitude, PulseFeedController::Modulation::Frequency}) {
+    SlideMachine::Params p;
+    p.controller = params(m, PulseFeedController::Mode::Roughing);
+    p.feed_law = {{0.0, 1e-3}, {0.01, 2e-3}, {0.02, 0.5e-3}};
+    p.force_law = {{0.0, 200.0}, {0.02, 150.0}};
+    SlideMachine sm;
+    sm.configure(p);  // may allocate
+    sm.start(200.0);
+    const long before = g_allocations.load();
+    for (int k = 0; k < 20000; ++k) {
+      SlideMachine::Input in;
+      const double force = k < 12000 ? 200.0 + 150.0 * std::sin(k * 0.01) : 400.0;
+      in.sensor_V = 5e-3 * force;
+      if (k > 15000 && k < 15010) in.sensor_V = std::nan("");
+      if (k > 17000 && k < 17010) in.sensor_V = 0.0;  // collapse: breakage
+      in.mode = (k / 3000) % 2 ? PulseFeedController::Mode::Finishing
+                               : PulseFeedController::Mode::Roughing;
+      in.enable = (k / 1000) % 7 != 3;
+      in.position_m = 1e-6 * k;
+      in.reset_alarm = k % 2500 == 0;
+      sm.update(in);
+    }
+    EXPECT_EQ(g_allocations.load() - before, 0) << "update() allocated";
+    EXPECT_TRUE(std::isfinite(sm.output().slot_m));
+  }
+}
+
+// Rig A's plant under an outside controller, as lathectl_slide_plant steps it in LinuxCNC's base
+// thread: streamed rows into A's metrics, the valve's pulses and the eccentric's command given.
+TEST(NoAlloc, SlidePlantStepNeverAllocates) {
+  namespace a = lathectl::systems::a_pulse_feed;
+  const auto lib = lathectl::io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
+  auto sc = lathectl::io::load_scenario(
+      LATHECTL_SOURCE_DIR "/examples/linuxcnc/slide_finishing.toml", lib);
+  a::Rig rig;
+  rig.set_streamed(true, false);
+  rig.set_external(true);
+  rig.configure(sc.get<a::Settings>().rig, sc.run.step_s, sc.run.record_interval_s, 2.0);
+  a::MetricsAccumulator acc(rig, rig.last_record_time());
+  acc.set_plot(false);
+  rig.attach(&acc);  // may allocate
+  const long before = g_allocations.load();
+  for (int k = 0; k < 20000; ++k) {  // 2 s at 100 µs
+    a::Rig::Actuation act;
+    act.valve_open = k % 500 < 50;  // 20 Hz, 5 ms pulses
+    act.slot_cmd_m = 45e-6;
+    act.frequency_Hz = 20.0;
+    rig.actuate(act);
+    rig.step();
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0) << "the plant's step allocated";
+  EXPECT_GT(rig.position(), 0.0);
+}
+
 TEST(NoAlloc, OperationControlNeverAllocates) {
   AdaptiveFeedController c;
   c.configure({});

@@ -42,6 +42,7 @@ bool enumerator(Reason r) {
     case Reason::GaugeSize:
     case Reason::GaugeSignalLost:
     case Reason::GaugeUnreachable:
+    case Reason::SlideOff:
       return true;
   }
   return false;

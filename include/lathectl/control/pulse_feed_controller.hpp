@@ -92,13 +92,17 @@ class PulseFeedController {
     Reason alarm_reason = Reason::None;
   };
 
-  void configure(const Params& p);  // throws std::invalid_argument
+  void configure(const Params& p);  // throws core::ParameterError naming the Params member
   // One control period: out says what to apply and why (reason, alarm). Never allocates, throws,
   // locks or logs. Before configure() the valve stays shut (slot 0, frequency 0, feed 0).
   void update(const Input& in, Output& out) noexcept;
   // Bumpless start from a known force (e.g. the first sensor sample).
   void start(double force_N) noexcept;
   void reset_alarm() noexcept;
+  // The programming device changes the operation: mode, programmed feed, force setpoint (a
+  // non-finite or non-positive feed or force keeps the present one). Bumpless: the feed the
+  // regulator commands does not jump with a new programmed feed. Never allocates or throws.
+  void program(Mode mode, double feed_m_per_s, double force_set_N) noexcept;
 
   [[nodiscard]] double ka() const noexcept { return ka_; }
   [[nodiscard]] double kf() const noexcept { return kf_; }

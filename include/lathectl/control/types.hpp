@@ -39,6 +39,7 @@ enum class Reason : std::uint16_t {
   GaugeSize = 62,
   GaugeSignalLost = 63,
   GaugeUnreachable = 64,
+  SlideOff = 70,
 };
 
 // The one reason table: what each code means to an operator who reads it on a pin or in a log,
@@ -76,12 +77,14 @@ inline constexpr ReasonInfo kReasons[] = {
     {Reason::SensorSuspect, "sensor_suspect", false, "A E",
      "The sensor's reading has not changed for a few samples: the feed may fall but not rise "
      "until the reading moves again."},
-    {Reason::Overload, "overload", true, "E",
-     "The force stayed above its limit too long although the feed was already at its minimum: "
-     "the feed is held."},
-    {Reason::ToolBreakage, "tool_breakage", true, "E",
+    {Reason::Overload, "overload", true, "A E",
+     "The force stayed above its limit too long although the regulator had lowered the feed (E: "
+     "to its minimum; A: in roughing, 1.5 times the set force for 50 ms by default): the feed is "
+     "held (A: the slide's valve is shut)."},
+    {Reason::ToolBreakage, "tool_breakage", true, "A E",
      "The force jumped or collapsed within a few milliseconds in a cut, as when the tool "
-     "breaks: the feed is held."},
+     "breaks: the feed is held (A: in roughing, a fall of 0.6 times the set force within 10 ms "
+     "by default; the slide's valve is shut)."},
     {Reason::ToolDataChanged, "tool_data_changed", true, "E",
      "The tool's number, offsets or table row changed inside a feed move: the feed is held."},
     {Reason::AirCut, "air_cut", false, "E",
@@ -127,6 +130,9 @@ inline constexpr ReasonInfo kReasons[] = {
      "The stock model sees the depth of cut rise ahead of the tool (a step, a collar, the blank "
      "coming into reach): the feed is lowered before the tool gets there, to what the new depth "
      "takes at the limit."},
+    {Reason::SlideOff, "slide_off", false, "A",
+     "The programming device has switched the feed slide off: the pulse valve is held shut and "
+     "the slide stands."},
 };
 inline constexpr int kReasonCount = static_cast<int>(sizeof(kReasons) / sizeof(kReasons[0]));
 // The operation log ORs reason_bit() of every reason seen into one 32-bit word.

@@ -35,20 +35,36 @@ MetricsAccumulator::MetricsAccumulator(const Rig& rig, double last_t)
   // The second before t_d, at the record interval (and a margin).
   const double ri = rig.record_interval();
   past_.resize(static_cast<std::size_t>(std::ceil(1.0 / (ri > 0.0 ? ri : 1.0))) + 4);
+  // The moving averages at the record interval, so that row() allocates nothing when the rows
+  // come at it (a plant stepped in a real-time thread).
+  if (ri > 0.0) {
+    windows(ri, w_, rev_, w_flow_);
+    py_ = sim::MovingAverage(w_);
+    f_rev_ = sim::MovingAverage(rev_);
+    flow_avg_ = sim::MovingAverage(w_flow_);
+  }
+}
+
+void MetricsAccumulator::windows(double dt_rec, std::size_t& w, std::size_t& rev,
+                                 std::size_t& w_flow) const noexcept {
+  w = static_cast<std::size_t>(std::max(1.0, std::round(feed_window_s_ / dt_rec)));
+  rev = static_cast<std::size_t>(std::llround(60.0 / rpm_ / dt_rec));
+  w_flow = static_cast<std::size_t>(std::max(1.0, feed_window_s_ / dt_rec));
 }
 
 void MetricsAccumulator::start_windows(double dt_rec) {
-  w_ = static_cast<std::size_t>(std::max(1.0, std::round(feed_window_s_ / dt_rec)));
-  rev_ = static_cast<std::size_t>(std::llround(60.0 / rpm_ / dt_rec));
-  w_flow_ = static_cast<std::size_t>(std::max(1.0, feed_window_s_ / dt_rec));
-  py_ = sim::MovingAverage(w_);
-  f_rev_ = sim::MovingAverage(rev_);
-  flow_avg_ = sim::MovingAverage(w_flow_);
+  // The constructor sized the averages for the rig's record interval; the rows' own spacing
+  // decides, and only a window that came out different is allocated again here.
+  const std::size_t w0 = w_, rev0 = rev_, w_flow0 = w_flow_;
+  windows(dt_rec, w_, rev_, w_flow_);
+  if (w_ != w0) py_ = sim::MovingAverage(w_);
+  if (rev_ != rev0) f_rev_ = sim::MovingAverage(rev_);
+  if (w_flow_ != w_flow0) flow_avg_ = sim::MovingAverage(w_flow_);
   // the first row again, now that the windows are known (its means are itself)
   (void)py_.push(row0_force_);
   (void)f_rev_.push(row0_force_);
   (void)flow_avg_.push(row0_flow_);
-  flow_plot_.push(t_first_, 1 < w_flow_ ? std::nan("") : row0_flow_ / 1.0);
+  if (plot_) flow_plot_.push(t_first_, 1 < w_flow_ ? std::nan("") : row0_flow_ / 1.0);
 }
 
 // The means over the second before t_d, from the rows kept (all earlier than t_d).
@@ -82,7 +98,7 @@ void MetricsAccumulator::row(std::span<const double> v) noexcept {
     py = py_.push(force);
     f_rev = f_rev_.push(force);
     const double fa = flow_avg_.push(flow);
-    flow_plot_.push(t, i + 1 < w_flow_ ? std::nan("") : fa);
+    if (plot_) flow_plot_.push(t, i + 1 < w_flow_ ? std::nan("") : fa);
     if (force_peak_ < force) force_peak_ = force;  // std::max_element's first largest
   }
   feed_all_.push(t, feed);

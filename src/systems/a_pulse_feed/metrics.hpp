@@ -71,6 +71,9 @@ class MetricsAccumulator final : public sim::RowSink {
   // The regulator flow averaged over the feed window (NaN over the first, partial window),
   // decimated for the report's plot.
   [[nodiscard]] const sim::PlotPyramid& flow_smoothed_plot() const noexcept { return flow_plot_; }
+  // Without the plot (it grows as the run goes): what a plant in a real-time thread attaches
+  // (lathectl_slide_plant), whose row() then allocates only at an alarm's onset.
+  void set_plot(bool plot) noexcept { plot_ = plot; }
   [[nodiscard]] double first_time() const noexcept { return t_first_; }
   [[nodiscard]] double last_time() const noexcept { return t_last_; }
 
@@ -79,6 +82,7 @@ class MetricsAccumulator final : public sim::RowSink {
     double t, feed, force;
   };
   void start_windows(double dt_rec);
+  void windows(double dt_rec, std::size_t& w, std::size_t& rev, std::size_t& w_flow) const noexcept;
   void on_disturbance(double t_settle);
   void late_row(double t, double feed, double force, double f_rev, double py, std::size_t i);
   const Rig* rig_;
@@ -91,6 +95,7 @@ class MetricsAccumulator final : public sim::RowSink {
   double feed_max_ = -std::numeric_limits<double>::infinity();
   double feed_min_ = std::numeric_limits<double>::infinity();
   bool any_late_ = false;  // a row at t ≥ t_settle
+  bool plot_ = true;
   // t_d and what hangs on it
   double td_ = -1.0, ref_ = 0.0, d_ref_ = 0.0, dev_ = 0.0, peak_ = 0.0, last_out_ = 0.0;
   bool td_seen_ = false;

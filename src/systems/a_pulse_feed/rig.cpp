@@ -39,6 +39,11 @@ constexpr double kM3sToCm3min = 1e6 * 60.0;
 void Rig::configure(const RigConfig& cfg, double dt, double record_interval, double duration) {
   if (!(dt > 0.0) || !(record_interval >= dt) || !(duration > 0.0))
     throw std::invalid_argument("run: need step > 0, record interval ≥ step, duration > 0");
+  if (external_ && (cfg.regulator_kind != RegulatorKind::Pulsed ||
+                    cfg.controller_kind == ControllerKind::None))
+    throw sim::ConfigError("controller.type",
+                           "a machine's controller drives a pulsed regulator: controller must be "
+                           "aim or fim and regulator pulsed");
   if (cfg.regulator_kind == RegulatorKind::Throttle && cfg.controller_kind != ControllerKind::None)
     throw sim::ConfigError("controller.type",
                            "a continuous throttle has no pulse actuator: controller must be none");
@@ -123,15 +128,26 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
                       ? control::PulseFeedController::Modulation::Frequency
                       : control::PulseFeedController::Modulation::Amplitude;
   if (cp.slot_max_m > cfg.regulator.max_slot_m) cp.slot_max_m = cfg.regulator.max_slot_m;
-  sim::configure_as("controller", [&] { ctl_.configure(cp); });
-  ctl_.start(force_nominal_);
+  auto mp = cfg.machine;
+  mp.controller = cp;
+  sim::configure_as("controller",
+                    {{"overload_factor", "controller.overload_factor"},
+                     {"overload_time_s", "controller.overload_time_ms"},
+                     {"breakage_drop", "controller.breakage_drop"},
+                     {"breakage_window_s", "controller.breakage_window_ms"},
+                     {"feed_law", "controller.feed_law"},
+                     {"force_law", "controller.force_law"}},
+                    [&] { machine_.configure(mp); });
+  machine_.start(force_nominal_);
+  const auto& ctl = machine_.controller();
   ctl_out_ = {};
   ctl_out_.slot_m =
       cfg.controller_kind == ControllerKind::Aim
-          ? std::clamp(ctl_.actuator_for(feed, force_nominal_), cp.slot_min_m, cp.slot_max_m)
+          ? std::clamp(ctl.actuator_for(feed, force_nominal_), cp.slot_min_m, cp.slot_max_m)
           : fixed_actuator_;
+  ctl_out_.pulses = true;  // the slide was feeding before t = 0 (the warm-up below)
   ctl_out_.frequency_Hz = cfg.controller_kind == ControllerKind::Fim
-                              ? ctl_.actuator_for(feed, force_nominal_)
+                              ? ctl.actuator_for(feed, force_nominal_)
                               : cfg.frequency_Hz;
   control_every_ =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cp.period_s / dt)));
@@ -187,7 +203,8 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   acc_n_ = 0;
 
   if (streamed_) {
-    rec_ = sim::Recorder::streamed(rig_a_channels());
+    rec_ = sim::Recorder::streamed(rig_a_channels(), {},
+                                   plots_ ? sim::Recorder::kPlotValuesPerLevel : 0);
     return;
   }
   const auto rows =
@@ -228,16 +245,35 @@ void Rig::step() noexcept {
                               local.strength_factor, local.wear_factor});
   (void)sensor_.step(dt_, force_);
 
-  if (cfg_.controller_kind != ControllerKind::None && step_ % control_every_ == 0) {
+  if (external_) {  // what the machine's analog input reads, every step
+    sensor_u_ = faults_.apply(cfg_.faults, t_, sensor_.sample(), cfg_.sensor.saturation_V * 2.0 + 1.0);
+    ctl_out_ = act_.out;
+  } else if (cfg_.controller_kind != ControllerKind::None && step_ % control_every_ == 0) {
     sensor_u_ = faults_.apply(
         cfg_.faults, t_, sensor_.sample(),
         cfg_.sensor.saturation_V * 2.0 + 1.0);  // what the controller sees, faults included
-    const control::PulseFeedController::Input in{sensor_u_};
-    ctl_.update(in, ctl_out_);
+    control::SlideMachine::Input in;
+    in.sensor_V = sensor_u_;
+    in.mode = cfg_.controller.mode;
+    in.feed_m_per_s = cfg_.controller.feed_m_per_s;
+    in.force_set_N = cfg_.controller.force_set_N;
+    in.position_m = slide_.state().x_m;
+    machine_.update(in);
+    ctl_out_ = machine_.output();
   }
 
   double q = 0.0;
-  if (cfg_.regulator_kind == RegulatorKind::Throttle) {
+  if (external_) {
+    // The valve's state from the machine's pulse train: the spool is driven open while the
+    // electromagnet is energised (duty 1 over this step) and closes otherwise.
+    double h = cfg_.slot_m;
+    if (cfg_.controller_kind == ControllerKind::Aim) {
+      ecc_.step(dt_, act_.slot_cmd_m);
+      h = ecc_.slot_m();
+    }
+    const double on = act_.valve_open ? 1.0 : 0.0;  // duty f·Δt exactly 1 (open) or 0 (shut)
+    q = reg_.step(dt_, h, on, 1.0);
+  } else if (cfg_.regulator_kind == RegulatorKind::Throttle) {
     q = thr_.step(dt_, fixed_actuator_);
   } else {
     double h = fixed_actuator_;
@@ -245,7 +281,7 @@ void Rig::step() noexcept {
     if (cfg_.controller_kind == ControllerKind::Aim) {
       ecc_.step(dt_, ctl_out_.slot_m);
       h = ecc_.slot_m();
-      if (ctl_out_.alarm && ctl_out_.slot_m <= 0.0) f = 0.0;  // feed stop: valve held shut
+      if (!ctl_out_.pulses) f = 0.0;  // feed stop or slide off: valve held shut
     } else if (cfg_.controller_kind == ControllerKind::Fim) {
       h = cfg_.slot_m;
       f = ctl_out_.frequency_Hz;
@@ -266,13 +302,14 @@ void Rig::step() noexcept {
 
   const auto& s = slide_.state();
   const double n = static_cast<double>(acc_n_);
-  if (cfg_.controller_kind == ControllerKind::None) sensor_u_ = sensor_.sample();
+  if (cfg_.controller_kind == ControllerKind::None && !external_) sensor_u_ = sensor_.sample();
 
   const double slot = cfg_.regulator_kind == RegulatorKind::Throttle ? fixed_actuator_
                       : cfg_.controller_kind == ControllerKind::Aim  ? ecc_.slot_m()
                       : cfg_.controller_kind == ControllerKind::Fim  ? cfg_.slot_m
                                                                      : fixed_actuator_;
   const double freq = cfg_.regulator_kind == RegulatorKind::Throttle ? 0.0
+                      : external_                                    ? act_.frequency_Hz
                       : cfg_.controller_kind == ControllerKind::Fim  ? ctl_out_.frequency_Hz
                                                                      : cfg_.frequency_Hz;
   // Feed averaged over a whole number of pulse periods close to the feed window, so that the

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "lathectl/control/pulse_feed_controller.hpp"
+#include "lathectl/control/slide_machine.hpp"
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/cutting/disturbances.hpp"
 #include "lathectl/drives/eccentric_drive.hpp"
@@ -56,6 +57,9 @@ struct RigConfig {
       .force_filter_s = 5e-3,
       .sensor_monitor = {.min = -0.5, .max = 10.5, .stuck_time_s = 50e-3},
       .frequency_ramp_Hz_per_s = 500.0};
+  // The machine side around the controller: roughing's alarms, the laws along the travel (the
+  // controller's parameters above are the machine's; these its own).
+  control::SlideMachine::Params machine;
   double leak_estimate_factor = 1.0;                // controller's K_leak = factor × the plant's
   bool compensate_compliance = true;                // finishing: add C·dp/dt (beyond the seed)
   std::vector<sensors::SensorFault> faults;
@@ -71,10 +75,34 @@ class Rig {
   void step() noexcept;
   void run() noexcept;  // to the configured duration
 
+  // The machine side outside the rig (set before configure): a controller on a real machine's
+  // I/O (lathectl_slide under LinuxCNC) drives this plant through actuate(); step() then runs
+  // only the plant (cutting, sensor, eccentric, regulator, damper, cylinder) and records.
+  void set_external(bool external) noexcept { external_ = external; }
+  struct Actuation {
+    bool valve_open = false;       // the spool's electromagnet is energised (this step)
+    double slot_cmd_m = 0.0;       // AIM: the eccentric drive's slot command
+    double frequency_Hz = 0.0;     // the pulse frequency in force (the feed's averaging window)
+    control::SlideMachine::Output out;  // the controller's decision, recorded (reason, alarm)
+  };
+  void actuate(const Actuation& a) noexcept { act_ = a; }
+  // The sensor's output as the machine reads it (faults included), after the last step.
+  [[nodiscard]] double sensor_reading() const noexcept { return sensor_u_; }
+  [[nodiscard]] double eccentric_slot() const noexcept { return ecc_.slot_m(); }
+  [[nodiscard]] double force() const noexcept { return force_; }
+  [[nodiscard]] double position() const noexcept { return slide_.state().x_m; }
+  [[nodiscard]] double duration() const noexcept { return duration_; }
+  [[nodiscard]] double step_size() const noexcept { return dt_; }
+
   [[nodiscard]] const sim::Recorder& recorder() const noexcept { return rec_; }
   // Streamed recording (set before configure): no columns, rows to the attached sinks (metrics,
   // channels.csv) — the memory of a run of any duration is bounded. Default: columns.
-  void set_streamed(bool streamed) noexcept { streamed_ = streamed; }
+  // plots false: no plot pyramids either (they grow with the run), rows only to the sinks — what
+  // a plant in a real-time thread records (lathectl_slide_plant).
+  void set_streamed(bool streamed, bool plots = true) noexcept {
+    streamed_ = streamed;
+    plots_ = plots;
+  }
   void attach(sim::RowSink* sink) { rec_.attach(sink); }
   // Time of the last row run() will record (the clock's own sums; −1 when it records none).
   [[nodiscard]] double last_record_time() const noexcept;
@@ -87,7 +115,10 @@ class Rig {
   [[nodiscard]] double nominal_force_N() const noexcept { return force_nominal_; }
   // Actuator setting of the uncontrolled machine: slot [m] (pulsed), opening [m] (throttle).
   [[nodiscard]] double fixed_actuator() const noexcept { return fixed_actuator_; }
-  [[nodiscard]] const control::PulseFeedController& controller() const noexcept { return ctl_; }
+  [[nodiscard]] const control::PulseFeedController& controller() const noexcept {
+    return machine_.controller();
+  }
+  [[nodiscard]] const control::SlideMachine& machine() const noexcept { return machine_; }
   [[nodiscard]] const RigConfig& config() const noexcept { return cfg_; }
   [[nodiscard]] bool numerically_sound() const noexcept { return sound_; }
   // Oil balance of the slide since t = 0 (see hydraulics/feed_slide.hpp):
@@ -114,6 +145,9 @@ class Rig {
   double t_ = 0.0;
   double duration_ = 0.0;
   bool streamed_ = false;
+  bool external_ = false;
+  bool plots_ = true;
+  Actuation act_{};
   std::size_t step_ = 0;
   std::size_t record_every_ = 1;
   std::size_t control_every_ = 1;
@@ -133,8 +167,8 @@ class Rig {
   drives::EccentricDrive ecc_;
   hydraulics::FeedSlide slide_;
   sensors::InductiveSensor sensor_;
-  control::PulseFeedController ctl_;
-  control::PulseFeedController::Output ctl_out_{};
+  control::SlideMachine machine_;  // the machine side, as lathectl_slide runs it
+  control::SlideMachine::Output ctl_out_{};
 
   std::vector<double> x_hist_;  // ring buffer of slide positions [m]
   std::size_t hist_head_ = 0;

@@ -2,6 +2,7 @@
 // docs/scenario-reference.md) and its shop → SI factor; absent keys keep Settings' defaults.
 #include "systems/a_pulse_feed/settings.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -300,6 +301,51 @@ void read_controller(TableReader& root, RigConfig& a) {
   c->check(p.slot_min_m < p.slot_max_m, "slot_max_mm", "must exceed slot_min_mm");
   c->check(p.frequency_min_Hz < p.frequency_max_Hz, "frequency_max_Hz",
            "must exceed frequency_min_Hz");
+  // The machine side around the controller: roughing's tool alarms and the laws along the
+  // travel (control::SlideMachine).
+  auto& m = a.machine;
+  c->read({"overload_factor", {1.0, 1e6, true, false},
+           "roughing: overload alarm above this × force_set_N …"},
+          m.overload_factor);
+  c->read({"overload_time_ms", Range::closed(0, 1e5), "… for longer than this", kMs},
+          m.overload_time_s);
+  c->read({"breakage_drop", {0.0, 1e6, true, false},
+           "roughing: breakage alarm when the force falls by this × force_set_N …"},
+          m.breakage_drop);
+  m.breakage_window_s = std::max(m.breakage_window_s, p.period_s);
+  c->read({"breakage_window_ms", {0.0, 1e4, true, false},
+           "… within this (1 … 255 control periods; default 10 ms or one period)", kMs},
+          m.breakage_window_s);
+  c->check(m.breakage_window_s >= p.period_s * (1 - 1e-9) &&
+               m.breakage_window_s <= p.period_s * 255.0 * (1 + 1e-9),
+           "breakage_window_ms", "must span 1 … 255 control periods");
+  for (auto& t : c->tables("feed_law")) {
+    control::SlideMachine::LawPoint pt{};
+    t.require({"at_mm", Range::any(), "slide travel of the point", kMm}, pt.position_m);
+    t.require({"feed_mm_per_min", {0.0, 1e5, true, false}, "finishing feed there", kMm / 60.0},
+              pt.value);
+    t.finish();
+    m.feed_law.push_back(pt);
+  }
+  c->document("feed_law",
+              "finishing: the programmed feed along the travel {at_mm, feed_mm_per_min}, "
+              "linear between points, held beyond; at_mm strictly increasing (the seed's "
+              "\"any law of h\")");
+  for (auto& t : c->tables("force_law")) {
+    control::SlideMachine::LawPoint pt{};
+    t.require({"at_mm", Range::any(), "slide travel of the point", kMm}, pt.position_m);
+    t.require({"force_N", {0.0, 1e6, true, false}, "roughing force setpoint there"}, pt.value);
+    t.finish();
+    m.force_law.push_back(pt);
+  }
+  c->document("force_law",
+              "roughing: the force setpoint along the travel {at_mm, force_N}, linear between "
+              "points, held beyond; at_mm strictly increasing");
+  for (auto* law : {&m.feed_law, &m.force_law})
+    for (std::size_t i = 1; i < law->size(); ++i)
+      c->check((*law)[i].position_m > (*law)[i - 1].position_m,
+               law == &m.feed_law ? "feed_law" : "force_law",
+               "at_mm must increase from point to point");
   c->finish();
 }
 

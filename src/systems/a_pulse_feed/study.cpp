@@ -21,11 +21,9 @@
 
 namespace lathectl::systems::a_pulse_feed {
 
-namespace {
-using namespace io;
-using nlohmann::json;
-
-json metrics_json(const Metrics& m) {
+nlohmann::json metrics_json(const Metrics& m) {
+  using io::alarms_json;
+  using io::json_number;
   return {{"feed_rate_programmed_mm_per_min", json_number(m.feed_rate_programmed_mm_per_min)},
           {"feed_rate_mean_mm_per_min", json_number(m.feed_rate_mean_mm_per_min)},
           {"feed_rate_reference_mm_per_min", json_number(m.feed_rate_reference_mm_per_min)},
@@ -50,6 +48,10 @@ json metrics_json(const Metrics& m) {
           {"size_error_peak_diameter_um", json_number(m.size_error_peak_diameter_um)},
           {"alarms", alarms_json(m.alarms)}};
 }
+
+namespace {
+using namespace io;
+using nlohmann::json;
 
 struct Run {
   Rig rig;
