@@ -83,7 +83,9 @@ def compare_with_rig(src, work, lathectl, lcnc, limit, nose_mm):
     a_of = lambda lo, hi: [r for r in cut if lo <= r["zs"] <= hi]
     b_of = lambda lo, hi: [r for r in rig if lo <= r["z_mm"] <= hi]
     report = {}
-    for name, lo, hi in [("before", 9.0, 14.0), ("collar", 19.0, 29.0), ("after", 38.0, 48.0)]:
+    # ("before" ends 2 mm short of the collar: the feed-forward from the stock model lowers the
+    # feed from the nose radius + 1.5 revolutions at the highest feed before it, z 13.3)
+    for name, lo, hi in [("before", 9.0, 13.0), ("collar", 19.0, 29.0), ("after", 38.0, 48.0)]:
         a, b = a_of(lo, hi), b_of(lo, hi)
         fa, fb = mean([r["force_true"] for r in a]), mean([r["force_parameter_true"] for r in b])
         sa, sb = mean([r["feed_per_rev_cmd_mm"] for r in a]), mean([r["feed_cmd_mm_per_rev"] for r in b])
@@ -112,7 +114,9 @@ def compare_with_rig(src, work, lathectl, lcnc, limit, nose_mm):
     check(abs(pa["force_true"] - pb["force_parameter_true"]) < 0.05 * pb["force_parameter_true"],
           "rig vs LinuxCNC: collar entry peak %.0f / %.0f N (±5 %%)" %
           (pb["force_parameter_true"], pa["force_true"]))
-    check(0.0 <= pb["z_mm"] - pa["zs"] <= nose_mm + 0.2,
+    # With the feed lowered before the collar the peak is no longer the entry's transient where
+    # the nose meets the shoulder (the rig's point tool r_n later): within r_n + 0.2 mm either way.
+    check(abs(pb["z_mm"] - pa["zs"]) <= nose_mm + 0.2,
           "rig vs LinuxCNC: peak at z %.2f / %.2f mm (the nose meets the shoulder %.1f mm early)" %
           (pb["z_mm"], pa["zs"], nose_mm))
     settle_a = next(r["zs"] for r in a if r["zs"] > pa["zs"] and
@@ -139,7 +143,7 @@ def main():
               "step: program finished, no errors, no alarms (%s)" % summary["alarms"])
         check(summary["sampler_overruns"] == 0, "step: recording complete (no sampler overruns)")
         check(summary["force_limit_N"] == limit, "step: the component runs the scenario's limit")
-        before = in_feed(rows, -9.0, -14.0)    # 2 mm depth, below the limit, ramp done
+        before = in_feed(rows, -9.0, -13.0)    # 2 mm depth, below the limit, ramp done
         collar = in_feed(rows, -19.0, -29.0)   # 4 mm depth, after the entry transient
         after = in_feed(rows, -38.0, -48.0)    # 2 mm again
         f_before = mean([r["force_true"] for r in before])
