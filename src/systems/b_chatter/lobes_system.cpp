@@ -29,9 +29,10 @@ double reference_Hz(const dynamics::ChatterSystem& sys) {
 }  // namespace
 
 double lobes_reference_Hz(const LobesInput& in) {
-  double f = reference_Hz(in.system);
+  double f = reference_Hz(in.modal);
   if (in.part)
-    for (double x : in.part->positions_m) f = std::max(f, reference_Hz(lobes_system_at(in, x)));
+    for (double x : in.part->positions_m)
+      f = std::max(f, reference_Hz(lobes_modal_system_at(in, x)));
   return f;
 }
 
@@ -46,12 +47,42 @@ int lobes_needed(const LobesInput& in) {
   return static_cast<int>(std::min(n, static_cast<double>(std::numeric_limits<int>::max() / 2)));
 }
 
+dynamics::ChatterSystem lobes_modal_system_at(const LobesInput& in, double x_m) {
+  dynamics::ChatterSystem sys;
+  sys.kf_N_per_m2 = in.system.kf_N_per_m2;
+  if (in.part) sys.modes = dynamics::beam_modes_at(in.part->beam, x_m, in.part->modes);
+  sys.modes.insert(sys.modes.end(), in.tool_modes.begin(), in.tool_modes.end());
+  if (in.measured)
+    sys.modes.insert(sys.modes.end(), in.measured->fit.modes.begin(), in.measured->fit.modes.end());
+  return sys;
+}
+
 dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m) {
   dynamics::ChatterSystem sys;
   sys.kf_N_per_m2 = in.system.kf_N_per_m2;
   if (in.part) sys.modes = dynamics::beam_modes_at(in.part->beam, x_m, in.part->modes);
   sys.modes.insert(sys.modes.end(), in.tool_modes.begin(), in.tool_modes.end());
+  if (in.measured) sys.frfs.push_back(in.measured->smoothed);
   return sys;
+}
+
+void measure_frfs(LobesInput& in) {
+  if (in.frfs.empty()) {
+    in.measured.reset();
+    return;
+  }
+  LobesMeasured m;
+  std::vector<dynamics::Frf> weighted;
+  for (const auto& f : in.frfs) {
+    dynamics::Frf w = f.frf;
+    for (auto& h : w.receptance_m_per_N) h *= f.weight;
+    weighted.push_back(std::move(w));
+  }
+  m.oriented = dynamics::sum_frfs(weighted);
+  m.fit = dynamics::fit_modes(m.oriented);
+  m.smoothing_half_window_Hz = dynamics::smoothing_half_window_Hz(m.fit);
+  m.smoothed = dynamics::smooth_frf(m.oriented, m.smoothing_half_window_Hz, dynamics::kSmoothingOrder);
+  in.measured = std::move(m);
 }
 
 }  // namespace lathectl::systems::b_chatter
