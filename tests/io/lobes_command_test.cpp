@@ -88,7 +88,7 @@ TEST(LobesInput, EveryKeyOfTheMachineFileIsDescribed) {
     ++keys;
     EXPECT_FALSE(r.doc.empty()) << r.key;
   }
-  EXPECT_EQ(keys, 33u);  // cutting 5, mode 4, frf 3, part 9, speed 2, machine 2, recommend 2, lobes 6
+  EXPECT_EQ(keys, 35u);  // cutting 5, mode 4, frf 3, part 11, speed 2, machine 2, recommend 2, lobes 6
 }
 
 // Every path from a machine file to "internal error", a crash or a hang ends in an
@@ -231,7 +231,8 @@ TEST(LobesFrf, MissingFileNamesTheMachineFileAndTheFrfFile) {
 // or the spindle's limit, the envelope at the speed is at least that depth, the power and torque
 // stay within the machine's, and one grid step beyond each margin the envelope is below it.
 TEST(LobesRecommend, KeepsItsOwnPromises) {
-  for (const std::string machine : {"b_sdof", "b_two_mode", "b_part", "b_slow_high_freq"}) {
+  for (const std::string machine :
+       {"b_sdof", "b_two_mode", "b_part", "b_slow_high_freq", "b_frf", "b_chuck"}) {
     std::string path = LATHECTL_SOURCE_DIR;
     path += "/examples/machines/";
     path += machine;
@@ -259,5 +260,36 @@ TEST(LobesRecommend, KeepsItsOwnPromises) {
     }
     for (std::size_t i = 1; i < pockets.size(); ++i)
       EXPECT_GE(pockets[i - 1].mrr_m3_per_s, pockets[i].mrr_m3_per_s);
+  }
+}
+
+// [part] support and steady_rest_mm: the finite-element set-ups (dynamics/beam.hpp) at the
+// cutting position, the tool's modes in series; between centres without a rest the analytic
+// beam as before.
+TEST(LobesInput, PartSetUps) {
+  std::string text = kHead;
+  text += kPart;
+  const auto centres = systems::b_chatter::parse_lobes_input(text, "m.toml");
+  EXPECT_FALSE(centres.part->model);
+  std::string chuck = text;
+  chuck += "support = \"chuck\"\n";
+  const auto in = systems::b_chatter::parse_lobes_input(chuck, "m.toml");
+  ASSERT_TRUE(in.part->model);
+  const auto fe = dynamics::beam_model_modes_at(*in.part->model, 0.1);
+  ASSERT_EQ(in.system.modes.size(), fe.size());
+  EXPECT_DOUBLE_EQ(in.system.modes[0].natural_frequency_Hz, fe[0].natural_frequency_Hz);
+  std::string rest = text;
+  rest += "support = \"chuck_tailstock\"\nsteady_rest_mm = 250\n";
+  const auto r = systems::b_chatter::parse_lobes_input(rest, "m.toml");
+  EXPECT_DOUBLE_EQ(r.part->supports.steady_rest_m, 0.25);
+  EXPECT_EQ(r.part->supports.headstock, dynamics::BeamEnd::clamped);
+  EXPECT_EQ(r.part->supports.tailstock, dynamics::BeamEnd::pinned);
+  std::string bad = text;
+  bad += "steady_rest_mm = 600\n";
+  try {
+    (void)systems::b_chatter::parse_lobes_input(bad, "m.toml");
+    FAIL() << "no error";
+  } catch (const io::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'part.steady_rest_mm'"), std::string::npos) << e.what();
   }
 }

@@ -203,8 +203,7 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
       double lowest = std::numeric_limits<double>::infinity();
       for (const auto& l : r.lobes) lowest = std::min(lowest, l.minimum.depth_m);
       along.push_back({x, r.critical_depth_m, r.critical_chatter_Hz, lowest,
-                       dynamics::beam_mode_at(in.part->beam, x, 1).mode.natural_frequency_Hz,
-                       dynamics::beam_static_stiffness(in.part->beam, x)});
+                       part_first_mode_Hz(*in.part, x), part_static_stiffness(*in.part, x)});
     }
 
   json j;
@@ -361,7 +360,9 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
         {"diameter_mm", b.diameter_m * 1e3},
         {"position_mm", in.part->position_m * 1e3},
         {"modes", in.part->modes},
-        {"static_stiffness_N_per_m", dynamics::beam_static_stiffness(b, in.part->position_m)},
+        {"support", in.part->support},
+        {"steady_rest_mm", in.part->supports.steady_rest_m * 1e3},
+        {"static_stiffness_N_per_m", part_static_stiffness(*in.part, in.part->position_m)},
         {"along_part", pos}};
   }
 
@@ -434,8 +435,14 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
                  ", K_f = " + fmt(in.system.kf_N_per_m2 * 1e-6) + " N/mm²";
   if (in.part)
     rep.subtitle += "; part Ø" + fmt(in.part->beam.diameter_m * 1e3) + " × " +
-                    fmt(in.part->beam.length_m * 1e3) + " mm between centres, tool at " +
-                    fmt(in.part->position_m * 1e3) + " mm";
+                    fmt(in.part->beam.length_m * 1e3) + " mm " +
+                    (in.part->support == "chuck"             ? "in a chuck"
+                     : in.part->support == "chuck_tailstock" ? "in a chuck with the tailstock"
+                                                             : "between centres") +
+                    (in.part->supports.steady_rest_m > 0.0
+                         ? ", steady rest at " + fmt(in.part->supports.steady_rest_m * 1e3) + " mm"
+                         : std::string()) +
+                    ", tool at " + fmt(in.part->position_m * 1e3) + " mm";
   rep.description =
       "Frequency-domain lobes (Tlusty/Tobias/Altintas) and, independently, semi-discretization "
       "(Insperger–Stépán): limit depths by bisection at a few speeds, and the SD map's eigenvalues "

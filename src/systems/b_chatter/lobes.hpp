@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -37,6 +38,10 @@ inline constexpr double kMaxSeconds = 3600.0;     // estimated time on this mach
 
 struct LobesPart {
   dynamics::BeamPart beam;
+  std::string support = "centres";  // "centres", "chuck", "chuck_tailstock"
+  dynamics::BeamSupports supports;   // the same, and the steady rest
+  // The finite-element model of any set-up but plain centres (which keeps the analytic beam).
+  std::shared_ptr<const dynamics::BeamModel> model;
   int modes = 3;
   double position_m = 0.25;         // cutting position (from the headstock centre)
   std::vector<double> positions_m;  // critical depth along the part at these positions
@@ -110,8 +115,8 @@ struct Pocket {
   double margin_below_rpm = 0.0, margin_above_rpm = 0.0;
   bool below_reaches_range_end = false, above_reaches_range_end = false;  // no lobe that side
 };
-// The `in.recommend.pockets` best pockets of the envelope in the speed range, by removal rate
-// (ties: the wider speed margin first).
+// The `in.recommend.pockets` best pockets of the envelope in the speed range: those with a margin
+// of at least 1 % of their speed each way first, then by removal rate, then by margin.
 std::vector<Pocket> recommend_pockets(const dynamics::FrequencyDomainResult& fd,
                                       const LobesInput& in);
 double recommend_diameter_m(const LobesInput& in);
@@ -124,6 +129,10 @@ io::ParamLog describe_machine_file();
 // The modes seen at the tool with the cutting position at x_m: the part's plus the tool's, plus
 // the measured FRF (smoothed); the modal one has the FRF's fitted modes instead.
 dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m);
+// The part's modes at x_m in its set-up; its first mode's frequency and static stiffness there.
+std::vector<dynamics::Mode> part_modes_at(const LobesPart& part, double x_m);
+double part_first_mode_Hz(const LobesPart& part, double x_m);
+double part_static_stiffness(const LobesPart& part, double x_m);
 dynamics::ChatterSystem lobes_modal_system_at(const LobesInput& in, double x_m);
 // Fills in.measured from in.frfs (sum, fit, smoothing); throws std::invalid_argument when the
 // FRF has no peak to fit.

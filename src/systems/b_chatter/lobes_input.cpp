@@ -41,6 +41,10 @@ void read_part(TableReader& p, LobesInput& in) {
   io::read_beam_material(p, b, false);
   p.read({"modes", Range::closed(1, 50), "bending modes (at most 6 in a system-B scenario)"},
          part.modes);
+  part.support = p.choice("support", {"centres", "chuck", "chuck_tailstock"}, std::string("centres"));
+  p.document("support",
+             "how the part is held: between centres (pinned–pinned), in a chuck (clamped at the "
+             "headstock, free), or in a chuck with the tailstock (clamped–pinned)");
   // Between the centres, and kCentreMargin of the length away from each: closer, mode j is seen
   // 1/sin²(jπx/L) stiffer than mid-span (10⁴ times at 1 %), the centres' own compliance (not
   // modelled) is what the tool feels, and at the centre itself no mode is seen at all.
@@ -52,6 +56,17 @@ void read_part(TableReader& p, LobesInput& in) {
              "length_mm from either centre",
              1e-3},
             part.position_m);
+  p.read({"steady_rest_mm", Range::closed(0.0, 1e5),
+          "a steady rest at this distance from the headstock (holds the axis, not its slope); "
+          "by default (0) none",
+          1e-3},
+         part.supports.steady_rest_m);
+  p.check(!(part.supports.steady_rest_m > b.length_m), "steady_rest_mm",
+          "the steady rest must lie on the part (at most length_mm)");
+  part.supports.headstock =
+      part.support == "centres" ? dynamics::BeamEnd::pinned : dynamics::BeamEnd::clamped;
+  part.supports.tailstock =
+      part.support == "chuck" ? dynamics::BeamEnd::free : dynamics::BeamEnd::pinned;
   part.positions_m = p.numbers(
       {"positions_mm", inside,
        "the critical depth along the part at these positions, each at least 1 % of length_mm "
@@ -70,6 +85,9 @@ void read_part(TableReader& p, LobesInput& in) {
                 " Hz (the [[mode]] bound): a longer or thinner part, or fewer modes");
   }
   p.finish();
+  if (!p.is_describing() && (part.support != "centres" || part.supports.steady_rest_m > 0.0))
+    part.model = std::make_shared<const dynamics::BeamModel>(
+        dynamics::beam_model(part.beam, part.supports, part.modes));
   in.part = part;
 }
 
@@ -228,7 +246,7 @@ void check_limits(TableReader& root, std::optional<TableReader>& part_table, con
   std::vector<double> xs{in.part->position_m};
   xs.insert(xs.end(), in.part->positions_m.begin(), in.part->positions_m.end());
   for (std::size_t k = 0; k < xs.size(); ++k) {
-    const auto modes = dynamics::beam_modes_at(in.part->beam, xs[k], in.part->modes);
+    const auto modes = part_modes_at(*in.part, xs[k]);
     double b = std::numeric_limits<double>::infinity();
     for (const auto& m : modes) b = std::min(b, sdof_limit_m(m, kf));
     if (!(b >= kMinLimitDepth_m))

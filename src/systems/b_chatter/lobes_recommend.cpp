@@ -3,7 +3,8 @@
 //
 // The envelope b(n) is sampled on kGrid + 1 speeds across the range (envelope_depth is
 // O(runs · log points) a query); each local maximum is a pocket's top (a cusp where two lobes
-// cross, or a range end where the envelope still rises, or the middle of a band no lobe reaches).
+// cross, or a range end where the envelope still rises). A speed no lobe reaches has no known
+// limit and is never recommended.
 // At the top n_top, of depth b_top:
 //   b_rec = min(b_top/S, b_P, b_T),  S the safety factor,
 //   b_P = P_max/(k_c·h·v),  v = π·D·n/60   (spindle power P = F_c·v, F_c = k_c·b·h),
@@ -27,6 +28,9 @@ namespace lathectl::systems::b_chatter {
 
 namespace {
 constexpr int kGrid = 20000;  // b_part.toml: 1800 rpm / 20000 = 0.09 rpm a step
+// The least margin, relative to the speed, of a pocket ranked as usable: 1 % is about what a
+// spindle's speed holds under load and what a tap test's frequencies shift between set-ups.
+constexpr double kMinMargin = 0.01;
 }
 
 double recommend_diameter_m(const LobesInput& in) {
@@ -45,6 +49,9 @@ std::vector<Pocket> recommend_pockets(const dynamics::FrequencyDomainResult& fd,
     const auto i = static_cast<std::size_t>(k);
     n[i] = in.min_rpm + (in.max_rpm - in.min_rpm) * k / kGrid;
     b[i] = dynamics::envelope_depth(fd, n[i]);
+    // No lobe reaches this speed (the lobes' grid ends short of a range end, or the measured
+    // band is too narrow): no limit is known, which is not a stable speed.
+    if (!std::isfinite(b[i])) b[i] = -std::numeric_limits<double>::infinity();
   }
   // The pockets' tops: local maxima (a run of equal values, e.g. +inf, counts once, at its
   // middle).
@@ -55,7 +62,7 @@ std::vector<Pocket> recommend_pockets(const dynamics::FrequencyDomainResult& fd,
     while (j < last && b[j + 1] == b[i]) ++j;
     const bool left_ok = i == 0 || b[i - 1] < b[i];
     const bool right_ok = j == last || b[j + 1] < b[i];
-    if (left_ok && right_ok) tops.push_back((i + j) / 2);
+    if (left_ok && right_ok && b[i] > 0.0) tops.push_back((i + j) / 2);
     i = j + 1;
   }
   // The speed interval around grid index i where the envelope stays at or above depth b.
@@ -79,6 +86,7 @@ std::vector<Pocket> recommend_pockets(const dynamics::FrequencyDomainResult& fd,
     return depth;
   };
   std::vector<Pocket> out;
+  std::vector<std::pair<std::size_t, std::size_t>> spans;  // each pocket's stable interval
   for (const std::size_t top : tops) {
     Pocket p;
     const double chatter_depth = b[top] / r.safety_factor;
@@ -110,20 +118,29 @@ std::vector<Pocket> recommend_pockets(const dynamics::FrequencyDomainResult& fd,
     p.torque_Nm = kc * p.depth_m * h * D / 2.0;
     const auto [lo, hi] = interval(at, p.depth_m);
     // Limited by the spindle below several tops, one interval holds them all: one pocket.
-    if (std::any_of(out.begin(), out.end(), [&](const Pocket& q) {
-          return q.speed_rpm - q.margin_below_rpm == n[lo] && q.speed_rpm + q.margin_above_rpm == n[hi];
-        }))
-      continue;
-    p.below_reaches_range_end = lo == 0;
-    p.above_reaches_range_end = hi == last;
+    if (std::find(spans.begin(), spans.end(), std::pair{lo, hi}) != spans.end()) continue;
+    spans.emplace_back(lo, hi);
+    // The range's ends (or the speeds next to them no lobe reaches): the lobes beyond are not
+    // computed, so the margin that side is only known to be at least this.
+    p.below_reaches_range_end = lo == 0 || !std::isfinite(b[lo - 1]);
+    p.above_reaches_range_end = hi == last || !std::isfinite(b[hi + 1]);
     p.margin_below_rpm = n[at] - n[lo];
     p.margin_above_rpm = n[hi] - n[at];
     out.push_back(p);
   }
-  std::stable_sort(out.begin(), out.end(), [](const Pocket& a, const Pocket& c) {
+  // Usable first: a pocket the spindle can hold, at least kMinMargin of its speed from the
+  // nearest known lobe on each side (a cusp at a range end can leave no margin at all); then by
+  // removal rate, then by margin.
+  auto margin = [](const Pocket& q) {
+    const double inf = std::numeric_limits<double>::infinity();
+    return std::min(q.below_reaches_range_end ? inf : q.margin_below_rpm,
+                    q.above_reaches_range_end ? inf : q.margin_above_rpm);
+  };
+  auto usable = [&](const Pocket& q) { return margin(q) >= kMinMargin * q.speed_rpm; };
+  std::stable_sort(out.begin(), out.end(), [&](const Pocket& a, const Pocket& c) {
+    if (usable(a) != usable(c)) return usable(a);
     if (a.mrr_m3_per_s != c.mrr_m3_per_s) return a.mrr_m3_per_s > c.mrr_m3_per_s;
-    return std::min(a.margin_below_rpm, a.margin_above_rpm) >
-           std::min(c.margin_below_rpm, c.margin_above_rpm);
+    return margin(a) > margin(c);
   });
   if (out.size() > static_cast<std::size_t>(r.pockets))
     out.resize(static_cast<std::size_t>(r.pockets));
