@@ -25,8 +25,8 @@ void check(bool ok) {
 }
 
 void exercise(const systems::b_chatter::LobesInput& in) {
-  check(!in.system.modes.empty() && in.system.kf_N_per_m2 > 0.0 && in.max_rpm > in.min_rpm);
-  for (const auto& m : in.system.modes)
+  check(!in.modal.modes.empty() && in.system.kf_N_per_m2 > 0.0 && in.max_rpm > in.min_rpm);
+  for (const auto& m : in.modal.modes)
     check(m.stiffness_N_per_m > 0.0 && m.natural_frequency_Hz > 0.0 &&
           std::isfinite(m.stiffness_N_per_m));
   check(systems::b_chatter::lobes_needed(in) <= systems::b_chatter::kMaxLobes);
@@ -51,7 +51,7 @@ void exercise(const systems::b_chatter::LobesInput& in) {
   }
   const auto fd =
       dynamics::frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm, in.max_lobes, 400);
-  if (in.system.modes.size() > 4 || !std::isfinite(fd.critical_depth_m)) return;
+  if (in.modal.modes.size() > 4 || !std::isfinite(fd.critical_depth_m)) return;
   dynamics::SdChartOptions o;
   o.steps_per_period = 2;
   o.min_steps = 4;
@@ -59,8 +59,8 @@ void exercise(const systems::b_chatter::LobesInput& in) {
   o.threads = 1;
   const double top =
       in.chart_max_depth_m > 0.0 ? in.chart_max_depth_m : 4.0 * fd.critical_depth_m;
-  (void)dynamics::sd_stability_chart(in.system, in.min_rpm, in.max_rpm, 3, top, 3, o);
-  (void)dynamics::sd_limit_depth(in.system, in.max_rpm, 3.0 * fd.critical_depth_m, 10, 1e-2, 5);
+  (void)dynamics::sd_stability_chart(in.modal, in.min_rpm, in.max_rpm, 3, top, 3, o);
+  (void)dynamics::sd_limit_depth(in.modal, in.max_rpm, 3.0 * fd.critical_depth_m, 10, 1e-2, 5);
 }
 }  // namespace
 

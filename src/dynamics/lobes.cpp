@@ -1,6 +1,7 @@
 #include "lathectl/dynamics/lobes.hpp"
 
 #include "lathectl/core/parallel.hpp"
+#include "lathectl/dynamics/frf.hpp"
 
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
@@ -22,7 +23,9 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 void check(const ChatterSystem& sys) {
-  if (sys.modes.empty()) throw std::invalid_argument("chatter system: at least one mode");
+  if (sys.modes.empty() && sys.frfs.empty())
+    throw std::invalid_argument("chatter system: at least one mode or measured FRF");
+  for (const auto& f : sys.frfs) check_frf(f);
   if (!(sys.kf_N_per_m2 > 0.0)) throw std::invalid_argument("chatter system: K_f must be > 0");
   for (const auto& m : sys.modes)
     if (!(m.stiffness_N_per_m > 0.0) || !(m.damping_ratio > 0.0) || !(m.natural_frequency_Hz > 0.0))
@@ -37,7 +40,17 @@ std::complex<double> oriented_frf(const ChatterSystem& sys, double w) {
     phi += c * c /
            (m.stiffness_N_per_m * std::complex<double>(1.0 - r * r, 2.0 * m.damping_ratio * r));
   }
+  for (const auto& f : sys.frfs) phi += frf_at(f, w / (2.0 * kPi));
   return phi;
+}
+
+// Semi-discretization and the time domain integrate modes: a measured FRF must be fitted first.
+void check_modal(const ChatterSystem& sys) {
+  check(sys);
+  if (!sys.frfs.empty() || sys.modes.empty())
+    throw std::invalid_argument(
+        "chatter system: semi-discretization and the time domain need modes (fit the measured "
+        "FRF: fit_modes)");
 }
 }  // namespace
 
@@ -49,6 +62,15 @@ std::pair<double, double> frequency_band(const ChatterSystem& sys, double min_rp
   check(sys);
   if (!(min_rpm > 0.0) || !(max_rpm > min_rpm) || max_lobes < 1 || points < 1)
     throw std::invalid_argument("speed range: 0 < min < max; ≥ 1 lobe and frequency point");
+  if (!sys.frfs.empty()) {  // the measured band, where every FRF is known
+    double lo = 0.0, hi = 1e300;
+    for (const auto& f : sys.frfs) {
+      lo = std::max(lo, f.frequency_Hz.front());
+      hi = std::min(hi, f.frequency_Hz.back());
+    }
+    if (!(hi > lo)) throw std::invalid_argument("chatter system: the measured FRFs' bands do not overlap");
+    return {2.0 * kPi * lo, 2.0 * kPi * hi};
+  }
   double f_lo = 1e300, f_hi = 0.0;
   for (const auto& m : sys.modes) {
     f_lo = std::min(f_lo, m.natural_frequency_Hz);
@@ -433,7 +455,7 @@ double spectral_radius(const Eigen::MatrixXd& D, Eigen::EigenSolver<Eigen::Matri
 }  // namespace
 
 double spectral_radius_sd(const ChatterSystem& sys, double n, double b, int m, int order) {
-  check(sys);
+  check_modal(sys);
   if (!(n > 0.0) || (order != 1 && order != 3 && order != 5) || m < 2 + (order - 1) / 2)
     throw std::invalid_argument("semi-discretization: speed > 0, order 1, 3 or 5, m ≥ 2 + order/2");
   Eigen::MatrixXd D;
@@ -443,7 +465,7 @@ double spectral_radius_sd(const ChatterSystem& sys, double n, double b, int m, i
 }
 
 int sd_unstable_roots(const ChatterSystem& sys, double n, double b, int m, int order) {
-  check(sys);
+  check_modal(sys);
   if (!(n > 0.0) || (order != 1 && order != 3 && order != 5) || m < 2 + (order - 1) / 2)
     throw std::invalid_argument("semi-discretization: speed > 0, order 1, 3 or 5, m ≥ 2 + order/2");
   return sd_unstable_count(sd_model(sys), sys.kf_N_per_m2 * b, 60.0 / n / m, m, order);
@@ -451,13 +473,13 @@ int sd_unstable_roots(const ChatterSystem& sys, double n, double b, int m, int o
 
 int sd_steps_per_delay(const ChatterSystem& sys, double speed_rpm, double max_depth_m,
                        const SdChartOptions& o) {
-  check(sys);
+  check_modal(sys);
   return sd_steps(sys, speed_rpm, max_depth_m, o);
 }
 
 SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_rpm, int n_speeds,
                            double max_depth_m, int n_depths, const SdChartOptions& o) {
-  check(sys);
+  check_modal(sys);
   if (!(min_rpm > 0.0) || !(max_rpm > min_rpm) || n_speeds < 2 || n_depths < 2 ||
       !(max_depth_m > 0.0) || o.steps_per_period < 1 || o.min_steps < 3 ||
       (o.interpolation_order != 1 && o.interpolation_order != 3 && o.interpolation_order != 5) ||
@@ -518,7 +540,7 @@ SdChart sd_stability_chart(const ChatterSystem& sys, double min_rpm, double max_
 
 double sd_limit_depth(const ChatterSystem& sys, double n, double b_hi, int m, double rel_tol,
                       int order) {
-  check(sys);
+  check_modal(sys);
   if (!(n > 0.0) || (order != 1 && order != 3 && order != 5) || m < 2 + (order - 1) / 2)
     throw std::invalid_argument("semi-discretization: speed > 0, order 1, 3 or 5, m ≥ 2 + order/2");
   const SdModel model = sd_model(sys);
@@ -539,7 +561,7 @@ double sd_limit_depth(const ChatterSystem& sys, double n, double b_hi, int m, do
 
 TimeDomainResult time_domain(const ChatterSystem& sys, double n, double b, double h0,
                              double duration, int steps_per_period) {
-  check(sys);
+  check_modal(sys);
   double f_max = 0.0;
   for (const auto& m : sys.modes) f_max = std::max(f_max, m.natural_frequency_Hz);
   const double tau = 60.0 / n;

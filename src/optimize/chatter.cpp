@@ -73,6 +73,7 @@ double ChatterLimit::critical_stiffness(double z_stock_mm, double diameter_mm, d
     systems::b_chatter::LobesInput in;
     in.system = system_at(part ? static_cast<double>(std::get<1>(key)) : z_stock_mm,
                           part ? 0.1 * static_cast<double>(std::get<2>(key)) : 0.0);
+    in.modal = in.system;  // modes only: lobes_needed reads the modal system
     dynamics::FrequencyDomainResult fd;
     if (!in.system.modes.empty()) {
       in.min_rpm = lo / 1.05;

@@ -300,9 +300,18 @@ assert all(k in j["lobes"][0] for k in ("N", "min_speed_rpm", "depth_mm"))
 assert j["semi_discretization_max_rel_difference"] < 0.01, j["semi_discretization_max_rel_difference"]
 PY
 for f in lobes.csv lobes.html; do [ -s "$work/lobes/$f" ] || bad "missing $f"; done
+# No inf in lobes.csv: a depth no lobe bounds is an empty cell (b_sdof's envelope is undefined at
+# the range's ends).
+grep -qi "inf" "$work/lobes/lobes.csv" && bad "inf in lobes.csv"
+grep -q "^2000,$" "$work/lobes/lobes.csv" || bad "the unbounded envelope at 2000 rpm is not an empty cell"
+# A machine measured by tap tests (CSV and UFF 58, relative to the machine file), and the
+# recommendation: three pockets, each a speed, a depth and margins, within the 15 kW spindle.
+expect_rc 0 "lobes --recommend on FRFs" $bin lobes "$src/examples/machines/b_frf.toml" --out "$work/lobes-frf" --recommend
+grep -q "^  3\. [0-9]* rpm, depth [0-9.]* mm (power-limited" "$work/out.txt" || bad "recommendation: $(cat "$work/out.txt")"
+grep -q "Measured against fitted FRF" "$work/lobes-frf/lobes.html" || bad "no measured-vs-fitted FRF plot"
 printf '[cutting]\nkf_N_per_mm2 = 1000\n[speed]\nmin_rpm = 1\nmax_rpm = 2\n' > "$work/nomode.toml"
 expect_rc 2 "lobes without a mode" $bin lobes "$work/nomode.toml" --out "$work/never"
-grep -q "nomode.toml:.*at least one \[\[mode\]\] or a \[part\]" "$work/err.txt" || bad "no-mode message: $(cat "$work/err.txt")"
+grep -q "nomode.toml:.*at least one \[\[mode\]\], \[\[frf\]\] or a \[part\]" "$work/err.txt" || bad "no-mode message: $(cat "$work/err.txt")"
 # the SD chart (200 speeds × 100 depths) agrees with the frequency-domain envelope
 python3 - "$work/lobes/lobes.json" <<'PY' || bad "lobes.json sd_chart"
 import json, sys

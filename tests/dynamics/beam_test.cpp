@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cmath>
 #include <numbers>
 
@@ -61,4 +62,69 @@ TEST(Beam, ChatterLimitAlongThePartFollowsTheModeShape) {
     EXPECT_NEAR(fd.critical_depth_m / (2.0 * k1 * zeta * (1.0 + zeta) / (kf * s * s)), 1.0, 1e-6)
         << "x = " << x;
   }
+}
+
+// Set-ups beyond centres (finite elements, dynamics/beam.hpp) against the closed-form
+// Euler–Bernoulli frequencies ω = (βL)²·√(EI/(ρAL⁴)); βL from the characteristic equations
+// (Blevins, "Formulas for Natural Frequency and Mode Shape", 1979, table 8-1):
+//   clamped–free   cos βL·cosh βL = −1:      1.875104, 4.694091, 7.854757
+//   clamped–pinned tan βL = tanh βL:         3.926602, 7.068583, 10.210176
+//   pinned–pinned  sin βL = 0:               π, 2π, 3π
+// and, with a steady rest at mid-span between centres, two pinned–pinned spans of L/2: the
+// first mode antisymmetric (βL = 2π), the second each half clamped–pinned by symmetry
+// (βL = 2·3.926602); a cantilever with its rest at the free end is clamped–pinned.
+TEST(BeamSetups, ClosedFormFrequenciesOfEachBoundaryCondition) {
+  BeamPart p;
+  p.length_m = 0.4;
+  p.diameter_m = 0.04;
+  const double pi = std::numbers::pi;
+  const double area = pi * p.diameter_m * p.diameter_m / 4.0;
+  const double EI = p.youngs_modulus_Pa * pi * std::pow(p.diameter_m, 4) / 64.0;
+  const double c = std::sqrt(EI / (p.density_kg_per_m3 * area)) / std::pow(p.length_m, 2);
+  struct Case {
+    const char* name;
+    BeamSupports s;
+    std::vector<double> betaL;
+  };
+  const std::vector<Case> cases{
+      {"chuck", {BeamEnd::clamped, BeamEnd::free, 0.0}, {1.875104, 4.694091, 7.854757}},
+      {"chuck and tailstock", {BeamEnd::clamped, BeamEnd::pinned, 0.0}, {3.926602, 7.068583, 10.210176}},
+      {"between centres", {BeamEnd::pinned, BeamEnd::pinned, 0.0}, {pi, 2 * pi, 3 * pi}},
+      {"centres, rest mid-span", {BeamEnd::pinned, BeamEnd::pinned, 0.2}, {2 * pi, 2 * 3.926602}},
+      {"chuck, rest at the end", {BeamEnd::clamped, BeamEnd::free, 0.4}, {3.926602, 7.068583}},
+  };
+  for (const auto& k : cases) {
+    const auto m = beam_model(p, k.s, 3);
+    for (std::size_t j = 0; j < k.betaL.size(); ++j) {
+      const double exact = k.betaL[j] * k.betaL[j] * c;
+      std::printf("%-24s mode %zu: %.3f Hz, closed form %.3f Hz (%+.2e)\n", k.name, j + 1,
+                  m.omega_rad_s[j] / (2 * pi), exact / (2 * pi), m.omega_rad_s[j] / exact - 1);
+      EXPECT_NEAR(m.omega_rad_s[j] / exact, 1.0, 1e-5) << k.name << " mode " << j + 1;
+    }
+  }
+}
+
+// Between centres the elements reproduce the analytic pinned–pinned modes seen at the tool
+// (stiffness ω²/φ² and frequency), and the static stiffness 3EIL/(x²(L−x)²); a cantilever's
+// static stiffness at x is 3EI/x³.
+TEST(BeamSetups, CentresAsTheAnalyticBeamAndStaticStiffness) {
+  BeamPart p;  // Ø30 × 500 mm steel, as examples/machines/b_part.toml
+  p.length_m = 0.5;
+  p.diameter_m = 0.03;
+  const auto m = beam_model(p, {}, 3);
+  for (const double x : {0.1, 0.25, 0.37}) {
+    const auto fe = beam_model_modes_at(m, x);
+    const auto an = beam_modes_at(p, x, 3);
+    ASSERT_EQ(fe.size(), an.size()) << x;
+    for (std::size_t j = 0; j < an.size(); ++j) {
+      EXPECT_NEAR(fe[j].natural_frequency_Hz / an[j].natural_frequency_Hz, 1.0, 1e-5);
+      EXPECT_NEAR(fe[j].stiffness_N_per_m / an[j].stiffness_N_per_m, 1.0, 1e-4);
+    }
+    EXPECT_NEAR(beam_model_static_stiffness(m, x) / beam_static_stiffness(p, x), 1.0, 1e-6);
+  }
+  const auto cant = beam_model(p, {BeamEnd::clamped, BeamEnd::free, 0.0}, 3);
+  const double EI = p.youngs_modulus_Pa * std::numbers::pi * std::pow(p.diameter_m, 4) / 64.0;
+  for (const double x : {0.1, 0.3, 0.5})
+    EXPECT_NEAR(beam_model_static_stiffness(cant, x) / (3 * EI / (x * x * x)), 1.0, 1e-6) << x;
+  EXPECT_THROW((void)beam_model(p, {BeamEnd::pinned, BeamEnd::free, 0.0}, 3), std::invalid_argument);
 }

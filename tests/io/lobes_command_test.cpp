@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <numbers>
 #include <string>
 
 #include "lathectl/dynamics/beam.hpp"
@@ -65,7 +67,7 @@ TEST(LobesInput, LocatedErrors) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(message(kHead).find("at least one [[mode]] or a [part]"), std::string::npos);
+  EXPECT_NE(message(kHead).find("at least one [[mode]], [[frf]] or a [part]"), std::string::npos);
   EXPECT_NE(message(kHead + kPart + "speed_rpm = 3\n").find("unknown key 'part.speed_rpm'"),
             std::string::npos);
   std::string outside = kPart;
@@ -86,7 +88,7 @@ TEST(LobesInput, EveryKeyOfTheMachineFileIsDescribed) {
     ++keys;
     EXPECT_FALSE(r.doc.empty()) << r.key;
   }
-  EXPECT_EQ(keys, 22u);  // cutting 1, mode 4, part 9, speed 2, lobes 6
+  EXPECT_EQ(keys, 35u);  // cutting 5, mode 4, frf 3, part 11, speed 2, machine 2, recommend 2, lobes 6
 }
 
 // Every path from a machine file to "internal error", a crash or a hang ends in an
@@ -167,4 +169,127 @@ TEST(LobesInputHostile, FrequencyDomainPointCountIsExact) {
   const double counted = dynamics::frequency_domain_point_count(in.system, in.min_rpm,
                                                                 in.max_rpm, in.max_lobes, 40000);
   EXPECT_NEAR(counted, stored, 1e-3 * stored);
+}
+
+// A machine measured by tap tests (examples/machines/b_frf.toml: x/x CSV and y/y UFF 58, 2 %
+// noise, chip 30° from x) against the modes that frf/make_frf.py wrote them from, oriented by
+// hand: 250 Hz and 900 Hz along x weigh cos²30° = 0.75, 150 Hz along y sin²30° = 0.25.
+TEST(LobesFrf, TapTestsAgainstTheirModes) {
+  std::string path = LATHECTL_SOURCE_DIR;  // (one + chain trips GCC 12's -Warray-bounds)
+  path += "/examples/machines/b_frf.toml";
+  const auto in = systems::b_chatter::load_lobes_input(path);
+  ASSERT_EQ(in.frfs.size(), 2u);
+  EXPECT_NEAR(in.frfs[0].weight, 0.75, 1e-12);
+  EXPECT_NEAR(in.frfs[1].weight, 0.25, 1e-12);
+  ASSERT_TRUE(in.measured.has_value());
+  const double deg = std::numbers::pi / 180.0;
+  dynamics::ChatterSystem truth{{{2.26e8, 0.012, 250.0, 30.0 * deg},
+                                 {1.5e9, 0.03, 900.0, 30.0 * deg},
+                                 {2.13e8, 0.010, 150.0, 60.0 * deg}},
+                                1e9};
+  // The fit finds the two modes in the band (900 Hz lies above it): k/cos²θ within 2 %.
+  ASSERT_EQ(in.modal.modes.size(), 2u);
+  EXPECT_NEAR(in.modal.modes[0].natural_frequency_Hz, 150.0, 150.0 * 0.02);
+  EXPECT_NEAR(in.modal.modes[0].stiffness_N_per_m / (2.13e8 / 0.25), 1.0, 0.02);
+  EXPECT_NEAR(in.modal.modes[1].natural_frequency_Hz, 250.0, 250.0 * 0.02);
+  EXPECT_NEAR(in.modal.modes[1].stiffness_N_per_m / (2.26e8 / 0.75), 1.0, 0.02);
+  EXPECT_NEAR(in.modal.modes[1].damping_ratio / 0.012, 1.0, 0.10);
+  const auto a = dynamics::frequency_domain_lobes(truth, 1000.0, 12000.0, 40, 40000);
+  const auto b = dynamics::frequency_domain_lobes(in.system, 1000.0, 12000.0, 40, 40000);
+  const auto c = dynamics::frequency_domain_lobes(in.modal, 1000.0, 12000.0, 40, 40000);
+  dynamics::ChatterSystem in_band = truth;  // what a fit inside 40–600 Hz can find
+  in_band.modes.erase(in_band.modes.begin() + 1);
+  const auto a2 = dynamics::frequency_domain_lobes(in_band, 1000.0, 12000.0, 40, 40000);
+  // From the fitted modes: within 1 % of the modes in the band (the 900 Hz mode's residual
+  // compliance raises the truth's limit by 1.3 %; the fit leaves it out). Read directly, at this file's 0.25 Hz sampling the
+  // smoothing window holds 18 samples instead of the synthetic test's 90, and the minimum of
+  // what noise it leaves lies 1.8 % low: never above the truth (a safe error), which is what
+  // is held here; tests/dynamics/frf_test.cpp holds the 1 % at 0.05 Hz.
+  std::printf("b_frf: absolute limit from the FRF %.4f mm, fitted modes %.4f mm, modes %.4f mm "
+              "(in the band %.4f mm)\n",
+              b.critical_depth_m * 1e3, c.critical_depth_m * 1e3, a.critical_depth_m * 1e3,
+              a2.critical_depth_m * 1e3);
+  EXPECT_NEAR(c.critical_depth_m / a2.critical_depth_m, 1.0, 0.01);
+  EXPECT_LT(b.critical_depth_m / a.critical_depth_m, 1.0);
+}
+
+TEST(LobesFrf, MissingFileNamesTheMachineFileAndTheFrfFile) {
+  try {
+    std::string text = kHead;
+    text += "[[frf]]\nfile = \"nowhere/tap.csv\"\n";
+    (void)systems::b_chatter::parse_lobes_input(text, "/tmp/m.toml");
+    FAIL() << "no error";
+  } catch (const io::InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("/tmp/m.toml:"), std::string::npos) << m;
+    EXPECT_NE(m.find("key 'frf[0].file'"), std::string::npos) << m;
+    EXPECT_NE(m.find("/tmp/nowhere/tap.csv"), std::string::npos) << m;
+  }
+}
+
+// The recommendation keeps what it states: the depth is the pocket's top over the safety factor
+// or the spindle's limit, the envelope at the speed is at least that depth, the power and torque
+// stay within the machine's, and one grid step beyond each margin the envelope is below it.
+TEST(LobesRecommend, KeepsItsOwnPromises) {
+  for (const std::string machine :
+       {"b_sdof", "b_two_mode", "b_part", "b_slow_high_freq", "b_frf", "b_chuck"}) {
+    std::string path = LATHECTL_SOURCE_DIR;
+    path += "/examples/machines/";
+    path += machine;
+    path += ".toml";
+    const auto in = systems::b_chatter::load_lobes_input(path);
+    const auto fd = dynamics::frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm,
+                                                     in.max_lobes, 40000);
+    const auto pockets = systems::b_chatter::recommend_pockets(fd, in);
+    ASSERT_FALSE(pockets.empty()) << machine;
+    const double step = (in.max_rpm - in.min_rpm) / 20000.0;
+    for (const auto& p : pockets) {
+      EXPECT_LE(p.depth_m, p.pocket_top_depth_m / in.recommend.safety_factor * (1 + 1e-12));
+      EXPECT_GE(dynamics::envelope_depth(fd, p.speed_rpm), p.depth_m) << machine;
+      EXPECT_LE(p.power_W, in.recommend.power_W * (1 + 1e-9)) << machine;
+      EXPECT_LE(p.torque_Nm, in.recommend.torque_Nm * (1 + 1e-9)) << machine;
+      if (!p.below_reaches_range_end) {
+        EXPECT_LT(dynamics::envelope_depth(fd, p.speed_rpm - p.margin_below_rpm - step), p.depth_m);
+      }
+      if (!p.above_reaches_range_end) {
+        EXPECT_LT(dynamics::envelope_depth(fd, p.speed_rpm + p.margin_above_rpm + step), p.depth_m);
+      }
+      const double v = std::numbers::pi * systems::b_chatter::recommend_diameter_m(in) *
+                       p.speed_rpm / 60.0;
+      EXPECT_NEAR(p.mrr_m3_per_s, v * in.recommend.feed_m * p.depth_m, 1e-15);
+    }
+    for (std::size_t i = 1; i < pockets.size(); ++i)
+      EXPECT_GE(pockets[i - 1].mrr_m3_per_s, pockets[i].mrr_m3_per_s);
+  }
+}
+
+// [part] support and steady_rest_mm: the finite-element set-ups (dynamics/beam.hpp) at the
+// cutting position, the tool's modes in series; between centres without a rest the analytic
+// beam as before.
+TEST(LobesInput, PartSetUps) {
+  std::string text = kHead;
+  text += kPart;
+  const auto centres = systems::b_chatter::parse_lobes_input(text, "m.toml");
+  EXPECT_FALSE(centres.part->model);
+  std::string chuck = text;
+  chuck += "support = \"chuck\"\n";
+  const auto in = systems::b_chatter::parse_lobes_input(chuck, "m.toml");
+  ASSERT_TRUE(in.part->model);
+  const auto fe = dynamics::beam_model_modes_at(*in.part->model, 0.1);
+  ASSERT_EQ(in.system.modes.size(), fe.size());
+  EXPECT_DOUBLE_EQ(in.system.modes[0].natural_frequency_Hz, fe[0].natural_frequency_Hz);
+  std::string rest = text;
+  rest += "support = \"chuck_tailstock\"\nsteady_rest_mm = 250\n";
+  const auto r = systems::b_chatter::parse_lobes_input(rest, "m.toml");
+  EXPECT_DOUBLE_EQ(r.part->supports.steady_rest_m, 0.25);
+  EXPECT_EQ(r.part->supports.headstock, dynamics::BeamEnd::clamped);
+  EXPECT_EQ(r.part->supports.tailstock, dynamics::BeamEnd::pinned);
+  std::string bad = text;
+  bad += "steady_rest_mm = 600\n";
+  try {
+    (void)systems::b_chatter::parse_lobes_input(bad, "m.toml");
+    FAIL() << "no error";
+  } catch (const io::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'part.steady_rest_mm'"), std::string::npos) << e.what();
+  }
 }

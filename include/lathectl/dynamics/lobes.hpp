@@ -21,6 +21,7 @@
 //   lobes.cpp). The limit depth at a speed is found by bisection on b; a speed × depth chart
 //   counts the unstable roots on a grid and bisects its boundary between grid depths.
 
+#include <complex>
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -35,9 +36,21 @@ struct Mode {
   double angle_rad = 0.0;  // to the chip-thickness direction
 };
 
+// A measured receptance along the chip thickness [m/N] (dynamics/frf.hpp: interpolation,
+// smoothing, modal fit), frequencies strictly ascending.
+struct Frf {
+  std::vector<double> frequency_Hz;
+  std::vector<std::complex<double>> receptance_m_per_N;
+};
+
 struct ChatterSystem {
   std::vector<Mode> modes;
   double kf_N_per_m2 = 1e9;  // K_f along the chip thickness [N/m²]
+  // Measured receptances, already oriented to the chip thickness, added to the modes' Φ between
+  // their measured frequencies. Only the frequency domain reads them (its band is then the
+  // measured band, where every one is known); semi-discretization and the time domain need
+  // modes (fit_modes) and refuse a system with measured FRFs.
+  std::vector<Frf> frfs = {};
 };
 
 struct LobePoint {

@@ -59,10 +59,12 @@ double cell_seconds(int m, int d) {
   return kCellSeconds + samples * (kSampleSeconds + kSampleSecondsPerD2 * d * d);
 }
 
+// A depth no lobe bounds (+inf) is an empty cell: spreadsheets and pandas read it as missing,
+// where "inf" was read as text or as a number larger than any depth (docs/machine-file-reference.md).
 void csv_row(std::string& csv, double a, double b) {
   io::append_general(csv, a, 6);
   csv += ',';
-  io::append_general(csv, b, 9);
+  if (std::isfinite(b)) io::append_general(csv, b, 9);
   csv += '\n';
 }
 }  // namespace
@@ -70,8 +72,9 @@ void csv_row(std::string& csv, double a, double b) {
 LobesCost lobes_cost(const LobesInput& in, unsigned threads) {
   LobesCost c;
   c.threads = threads > 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
-  const auto& sys = in.system;
-  const int d = 2 * static_cast<int>(sys.modes.size());
+  const auto& sys = in.system;  // the frequency domain's (modes and a measured FRF)
+  const auto& modal = in.modal;  // semi-discretization's (the FRF's fitted modes)
+  const int d = 2 * static_cast<int>(modal.modes.size());
   // Frequency domain: the cutting position's set counted exactly; each position's set has the
   // same frequencies (a beam's don't move with the tool, only its stiffness does), so as many
   // points, give or take the few where Re Φ changes sign. The sets are held one at a time.
@@ -88,15 +91,15 @@ LobesCost lobes_cost(const LobesInput& in, unsigned threads) {
   // The SD depths are not known before the frequency domain: its absolute limit is near the
   // softest mode's SDOF limit, which sets which modes the steps must resolve.
   double b_sdof = std::numeric_limits<double>::infinity();
-  for (const auto& m : sys.modes) {
+  for (const auto& m : modal.modes) {
     const double c2 = std::max(std::cos(m.angle_rad) * std::cos(m.angle_rad), 1e-12);
     b_sdof = std::min(b_sdof, 2.0 * m.stiffness_N_per_m * m.damping_ratio *
-                                  (1.0 + m.damping_ratio) / (sys.kf_N_per_m2 * c2));
+                                  (1.0 + m.damping_ratio) / (modal.kf_N_per_m2 * c2));
   }
   const dynamics::SdChartOptions sd_o;
   for (int k = 0; k < in.sd_speeds; ++k) {
     const double n = in.min_rpm + (in.max_rpm - in.min_rpm) * (k + 0.5) / in.sd_speeds;
-    const int m = dynamics::sd_steps_per_delay(sys, n, 3.0 * b_sdof, sd_o);
+    const int m = dynamics::sd_steps_per_delay(modal, n, 3.0 * b_sdof, sd_o);
     c.max_steps = std::max(c.max_steps, m);
     c.sd_cells += kSdBisections;
     c.cell_seconds += kSdBisections * cell_seconds(m, d);
@@ -108,7 +111,7 @@ LobesCost lobes_cost(const LobesInput& in, unsigned threads) {
     const double per_speed = in.chart_depths + kChartBisections;
     for (int i = 0; i < in.chart_speeds; ++i) {
       const double n = in.min_rpm + (in.max_rpm - in.min_rpm) * i / (in.chart_speeds - 1.0);
-      const int m = dynamics::sd_steps_per_delay(sys, n, top, o);
+      const int m = dynamics::sd_steps_per_delay(modal, n, top, o);
       c.max_steps = std::max(c.max_steps, m);
       c.chart_cells += per_speed;
       c.cell_seconds += per_speed * cell_seconds(m, d);
@@ -155,9 +158,9 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
       return;
     }
     const dynamics::SdChartOptions o;
-    const int m = dynamics::sd_steps_per_delay(in.system, sd_speed[k], hi, o);
+    const int m = dynamics::sd_steps_per_delay(in.modal, sd_speed[k], hi, o);
     sd_depth[k] =
-        dynamics::sd_limit_depth(in.system, sd_speed[k], hi, m, 1e-3, o.interpolation_order);
+        dynamics::sd_limit_depth(in.modal, sd_speed[k], hi, m, 1e-3, o.interpolation_order);
     tick("semi-discretization limits");
   });
   double worst = 0.0;
@@ -176,7 +179,7 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
     o.on_speed_done = [&](std::size_t, std::size_t) { tick("semi-discretization chart"); };
     const double top =
         in.chart_max_depth_m > 0.0 ? in.chart_max_depth_m : 4.0 * fd.critical_depth_m;
-    chart = dynamics::sd_stability_chart(in.system, in.min_rpm, in.max_rpm, in.chart_speeds, top,
+    chart = dynamics::sd_stability_chart(in.modal, in.min_rpm, in.max_rpm, in.chart_speeds, top,
                                          in.chart_depths, o);
     for (std::size_t i = 0; i < chart->speed_rpm.size(); ++i) {
       const double b_fd = dynamics::envelope_depth(fd, chart->speed_rpm[i]);
@@ -200,21 +203,43 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
       double lowest = std::numeric_limits<double>::infinity();
       for (const auto& l : r.lobes) lowest = std::min(lowest, l.minimum.depth_m);
       along.push_back({x, r.critical_depth_m, r.critical_chatter_Hz, lowest,
-                       dynamics::beam_mode_at(in.part->beam, x, 1).mode.natural_frequency_Hz,
-                       dynamics::beam_static_stiffness(in.part->beam, x)});
+                       part_first_mode_Hz(*in.part, x), part_static_stiffness(*in.part, x)});
     }
 
   json j;
   j["critical_depth_mm"] = fd.critical_depth_m * 1e3;
   j["chatter_frequency_Hz"] = fd.critical_chatter_Hz;
   json modes = json::array();
-  for (const auto& m : in.system.modes)
+  for (const auto& m : in.modal.modes)
     modes.push_back({{"stiffness_N_per_m", m.stiffness_N_per_m},
                      {"damping_ratio", m.damping_ratio},
                      {"natural_frequency_Hz", m.natural_frequency_Hz},
                      {"angle_deg", m.angle_rad * 180.0 / std::numbers::pi}});
   j["modes_at_tool"] = modes;
-  if (in.system.modes.size() == 1) {
+  if (in.measured) {
+    json files = json::array();
+    for (const auto& f : in.frfs)
+      files.push_back({{"file", f.file},
+                       {"direction", f.direction},
+                       {"of", f.of},
+                       {"weight", f.weight},
+                       {"points", f.frf.frequency_Hz.size()},
+                       {"min_Hz", f.frf.frequency_Hz.front()},
+                       {"max_Hz", f.frf.frequency_Hz.back()}});
+    json fitted = json::array();
+    for (const auto& m : in.measured->fit.modes)
+      fitted.push_back({{"stiffness_N_per_m", m.stiffness_N_per_m},
+                        {"damping_ratio", m.damping_ratio},
+                        {"natural_frequency_Hz", m.natural_frequency_Hz}});
+    j["measured_frf"] = {{"files", files},
+                         {"chip_direction_deg", in.chip_direction_rad * 180.0 / std::numbers::pi},
+                         {"band_Hz", {in.measured->oriented.frequency_Hz.front(),
+                                      in.measured->oriented.frequency_Hz.back()}},
+                         {"fitted_modes", fitted},
+                         {"fit_relative_residual", in.measured->fit.residual},
+                         {"smoothing_half_window_Hz", in.measured->smoothing_half_window_Hz}};
+  }
+  if (in.system.modes.size() == 1 && in.system.frfs.empty()) {
     const auto& m = in.system.modes[0];
     const double c2 = std::cos(m.angle_rad) * std::cos(m.angle_rad);
     j["closed_form_sdof"] = {
@@ -235,7 +260,7 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
   j["lobes"] = lobes;
   j["max_lobes"] = in.max_lobes;
   j["lobes_with_minimum_in_range"] = inside;
-  // What the envelope cannot say, said: speeds no lobe reaches (written as inf in lobes.csv) and
+  // What the envelope cannot say, said: speeds no lobe reaches (empty cells in lobes.csv) and
   // lobes listed at a range edge rather than at a minimum.
   json warnings = json::array();
   {
@@ -256,11 +281,11 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
     j["envelope_undefined_speeds"] = undefined;
     if (!ends.empty())
       warnings.push_back("the envelope is undefined exactly at the range's end " + ends +
-                         " rpm (inf in lobes.csv): the lobes' grid points lie inside the range");
+                         " rpm (an empty cell in lobes.csv): the lobes' grid points lie inside the range");
     if (inner > 0)
       warnings.push_back("no lobe reaches " + std::to_string(inner) +
                          " of the 1001 envelope speeds between " + fmt(lo, "%.0f") + " and " +
-                         fmt(hi, "%.0f") + " rpm (inf in lobes.csv): no limit is known there");
+                         fmt(hi, "%.0f") + " rpm (empty cells in lobes.csv): no limit is known there");
     const int edge = static_cast<int>(fd.lobes.size()) - inside;
     if (edge > 0)
       warnings.push_back(std::to_string(edge) +
@@ -268,6 +293,35 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
                          "lowest point at the range's edge, marked \"edge\", not a minimum");
   }
   j["warnings"] = warnings;
+  const auto pockets = recommend_pockets(fd, in);
+  const auto& rc = in.recommend;
+  const double kc = rc.kc_N_per_m2 > 0.0 ? rc.kc_N_per_m2 : in.system.kf_N_per_m2;
+  {
+    json list = json::array();
+    for (const auto& p : pockets)
+      list.push_back({{"speed_rpm", p.speed_rpm},
+                      {"pocket_top_rpm", p.pocket_top_rpm},
+                      {"pocket_top_depth_mm", json_number(p.pocket_top_depth_m * 1e3)},
+                      {"limit_depth_mm", json_number(p.limit_depth_m * 1e3)},
+                      {"depth_mm", p.depth_m * 1e3},
+                      {"limited_by", p.limited_by},
+                      {"removal_rate_cm3_per_min", p.mrr_m3_per_s * 6e7},
+                      {"power_kW", p.power_W * 1e-3},
+                      {"torque_Nm", p.torque_Nm},
+                      {"margin_below_rpm", p.margin_below_rpm},
+                      {"margin_above_rpm", p.margin_above_rpm},
+                      {"margin_below_reaches_range_end", p.below_reaches_range_end},
+                      {"margin_above_reaches_range_end", p.above_reaches_range_end}});
+    j["recommendation"] = {{"safety_factor", rc.safety_factor},
+                           {"feed_mm_per_rev", rc.feed_m * 1e3},
+                           {"diameter_mm", recommend_diameter_m(in) * 1e3},
+                           {"kc_N_per_mm2", kc * 1e-6},
+                           {"power_limit_kW", json_number(rc.power_W > 0.0 ? rc.power_W * 1e-3
+                                                          : std::numeric_limits<double>::infinity())},
+                           {"torque_limit_Nm", json_number(rc.torque_Nm > 0.0 ? rc.torque_Nm
+                                                           : std::numeric_limits<double>::infinity())},
+                           {"pockets", list}};
+  }
   json sd = json::array();
   for (std::size_t k = 0; k < sd_speed.size(); ++k)
     sd.push_back({{"speed_rpm", sd_speed[k]},
@@ -306,7 +360,9 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
         {"diameter_mm", b.diameter_m * 1e3},
         {"position_mm", in.part->position_m * 1e3},
         {"modes", in.part->modes},
-        {"static_stiffness_N_per_m", dynamics::beam_static_stiffness(b, in.part->position_m)},
+        {"support", in.part->support},
+        {"steady_rest_mm", in.part->supports.steady_rest_m * 1e3},
+        {"static_stiffness_N_per_m", part_static_stiffness(*in.part, in.part->position_m)},
         {"along_part", pos}};
   }
 
@@ -348,6 +404,23 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
         csv += '\n';
       }
   }
+  if (in.measured) {
+    csv += "\nfrequency_Hz,measured_real_m_per_N,measured_imag_m_per_N,smoothed_real_m_per_N,"
+           "smoothed_imag_m_per_N,fitted_real_m_per_N,fitted_imag_m_per_N\n";
+    const auto& m = *in.measured;
+    for (std::size_t k = 0; k < m.oriented.frequency_Hz.size(); ++k) {
+      const double f = m.oriented.frequency_Hz[k];
+      const auto fit = dynamics::modal_frf(m.fit.modes, f);
+      io::append_general(csv, f, 9);
+      for (const auto v : {m.oriented.receptance_m_per_N[k], m.smoothed.receptance_m_per_N[k], fit}) {
+        csv += ',';
+        io::append_general(csv, v.real(), 9);
+        csv += ',';
+        io::append_general(csv, v.imag(), 9);
+      }
+      csv += '\n';
+    }
+  }
   if (!along.empty()) {
     csv += "\nposition_mm,critical_depth_mm\n";
     for (const auto& a : along) csv_row(csv, a.x_m * 1e3, a.critical_m * 1e3);
@@ -356,18 +429,59 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
   Report rep;
   rep.title = "Stability lobes";
   rep.doc_page = "system-b-chatter.md";  // the lobes are system B's chatter model
-  rep.subtitle = std::to_string(in.system.modes.size()) +
-                 " mode(s), K_f = " + fmt(in.system.kf_N_per_m2 * 1e-6) + " N/mm²";
+  rep.subtitle = std::to_string(in.system.modes.size()) + " mode(s)" +
+                 (in.frfs.empty() ? std::string()
+                                  : " and " + std::to_string(in.frfs.size()) + " measured FRF(s)") +
+                 ", K_f = " + fmt(in.system.kf_N_per_m2 * 1e-6) + " N/mm²";
   if (in.part)
     rep.subtitle += "; part Ø" + fmt(in.part->beam.diameter_m * 1e3) + " × " +
-                    fmt(in.part->beam.length_m * 1e3) + " mm between centres, tool at " +
-                    fmt(in.part->position_m * 1e3) + " mm";
+                    fmt(in.part->beam.length_m * 1e3) + " mm " +
+                    (in.part->support == "chuck"             ? "in a chuck"
+                     : in.part->support == "chuck_tailstock" ? "in a chuck with the tailstock"
+                                                             : "between centres") +
+                    (in.part->supports.steady_rest_m > 0.0
+                         ? ", steady rest at " + fmt(in.part->supports.steady_rest_m * 1e3) + " mm"
+                         : std::string()) +
+                    ", tool at " + fmt(in.part->position_m * 1e3) + " mm";
   rep.description =
       "Frequency-domain lobes (Tlusty/Tobias/Altintas) and, independently, semi-discretization "
       "(Insperger–Stépán): limit depths by bisection at a few speeds, and the SD map's eigenvalues "
       "outside the unit circle counted on a speed × depth grid (argument principle), whose "
       "boundary, bisected between grid depths, is the chart's ρ = 1 line. "
       "Below the envelope the cut is stable; the lobe minima are the absolute stability limit.";
+  // The recommendation first: what a machinist came for.
+  {
+    auto margin = [](double rpm, bool to_end) {
+      return to_end ? "≥ " + fmt(rpm, "%.0f") + " (range end)" : fmt(rpm, "%.0f");
+    };
+    Table t{"Recommendation",
+            {"speed [rpm]", "depth [mm]", "limited by", "pocket top [rpm, mm]",
+             "removal rate [cm³/min]", "power [kW]", "torque [N·m]", "margin below [rpm]",
+             "margin above [rpm]"},
+            {}};
+    for (const auto& p : pockets)
+      t.rows.push_back({fmt(p.speed_rpm, "%.0f"), fmt(p.depth_m * 1e3, "%.3g"), p.limited_by,
+                        fmt(p.pocket_top_rpm, "%.0f") + ", " +
+                            (std::isfinite(p.pocket_top_depth_m)
+                                 ? fmt(p.pocket_top_depth_m * 1e3, "%.3g")
+                                 : std::string("unbounded")),
+                        fmt(p.mrr_m3_per_s * 6e7, "%.3g"), fmt(p.power_W * 1e-3, "%.3g"),
+                        fmt(p.torque_Nm, "%.3g"),
+                        margin(p.margin_below_rpm, p.below_reaches_range_end),
+                        margin(p.margin_above_rpm, p.above_reaches_range_end)});
+    rep.verdict_table = t;
+    rep.verdict =
+        pockets.empty()
+            ? "No pocket: no depth is bounded by chatter or by the machine's limits in the range"
+            : "Run " + fmt(pockets[0].speed_rpm, "%.0f") + " rpm at " +
+                  fmt(pockets[0].depth_m * 1e3, "%.3g") + " mm depth (feed " +
+                  fmt(rc.feed_m * 1e3) + " mm/rev, Ø" + fmt(recommend_diameter_m(in) * 1e3) +
+                  " mm): the pocket's top depth divided by the safety factor " +
+                  fmt(rc.safety_factor) + ", within the spindle's power and torque" +
+                  (rc.power_W > 0.0 || rc.torque_Nm > 0.0 ? "" : " (none given)") +
+                  ", at the middle of the speeds where that depth is stable; the speed may drift "
+                  "by the margins below before a lobe reaches it.";
+  }
   rep.metrics.emplace_back("absolute stability limit [mm]", fmt(fd.critical_depth_m * 1e3));
   rep.metrics.emplace_back("chatter frequency there [Hz]", fmt(fd.critical_chatter_Hz));
   if (j.contains("closed_form_sdof"))
@@ -410,12 +524,51 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
   for (const Series& sr : p.series)
     for (const double v : sr.y)
       if (std::isfinite(v)) data_top = std::max(data_top, v);
+  p.y_min = 0.0;  // a depth axis from zero: a pocket's height is read against no depth at all
   if (std::isfinite(top) && top > 0.0 && data_top > top) {
-    p.y_min = 0.0;
     p.y_max = top;
     p.title += " (depth axis clipped at 5 × the absolute limit)";
   }
   rep.plots.push_back(p);
+  if (in.measured) {
+    const auto& m = *in.measured;
+    rep.metrics.emplace_back("measured FRF: modal fit's relative residual √(Σ|H−Ĥ|²/Σ|H|²)",
+                             fmt(m.fit.residual, "%.3g"));
+    rep.metrics.emplace_back("measured FRF: smoothing half-window for the frequency domain [Hz]",
+                             fmt(m.smoothing_half_window_Hz, "%.3g"));
+    Table tf{"Modes fitted to the measured FRF (semi-discretization and the chart use these; the "
+             "frequency-domain lobes read the FRF itself)",
+             {"natural frequency [Hz]", "damping ratio", "stiffness [N/µm]"},
+             {}};
+    for (const auto& md : m.fit.modes)
+      tf.rows.push_back({fmt(md.natural_frequency_Hz), fmt(md.damping_ratio, "%.4g"),
+                         fmt(md.stiffness_N_per_m * 1e-6)});
+    rep.tables.push_back(tf);
+    Series meas{"measured (oriented to the chip thickness)", {}, {}, "#7f7f7f", false, true};
+    Series fitted{"fitted modes", {}, {}, "#d62728", false, false};
+    Series re_m{"measured, real part", {}, {}, "#7f7f7f", false, true};
+    Series re_f{"fitted, real part", {}, {}, "#d62728", false, false};
+    for (std::size_t k = 0; k < m.oriented.frequency_Hz.size(); ++k) {
+      const double f = m.oriented.frequency_Hz[k];
+      const auto h = m.oriented.receptance_m_per_N[k];
+      const auto g = dynamics::modal_frf(m.fit.modes, f);
+      meas.x.push_back(f);
+      meas.y.push_back(std::abs(h) * 1e6);
+      fitted.x.push_back(f);
+      fitted.y.push_back(std::abs(g) * 1e6);
+      re_m.x.push_back(f);
+      re_m.y.push_back(h.real() * 1e6);
+      re_f.x.push_back(f);
+      re_f.y.push_back(g.real() * 1e6);
+    }
+    Plot pm{"Measured against fitted FRF: magnitude", "frequency [Hz]", "|H| [µm/N]",
+            {meas, fitted}, {}};
+    pm.log_y = true;
+    rep.plots.push_back(pm);
+    rep.plots.push_back({"Measured against fitted FRF: real part (its negative lobes set the "
+                         "limit depth)",
+                         "frequency [Hz]", "Re H [µm/N]", {re_m, re_f}, {}});
+  }
   if (!along.empty()) {
     Table ta{"Critical depth along the part",
              {"position [mm]", "absolute limit [mm]", "chatter [Hz]",
@@ -429,8 +582,10 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
       crit.y.push_back(a.critical_m * 1e3);
     }
     rep.tables.push_back(ta);
-    rep.plots.push_back(
-        {"Critical depth along the part", "position [mm]", "depth of cut [mm]", {crit}, {}});
+    Plot along_plot{
+        "Critical depth along the part", "position [mm]", "depth of cut [mm]", {crit}, {}};
+    along_plot.y_min = 0.0;
+    rep.plots.push_back(along_plot);
   }
 
   // One set: lobes.json never stands beside another machine's lobes.csv.

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "lathectl/dynamics/beam.hpp"
+#include "lathectl/dynamics/frf.hpp"
 #include "lathectl/dynamics/lobes.hpp"
 #include "lathectl/io/toml_reader.hpp"
 
@@ -36,14 +38,57 @@ inline constexpr double kMaxSeconds = 3600.0;     // estimated time on this mach
 
 struct LobesPart {
   dynamics::BeamPart beam;
+  std::string support = "centres";  // "centres", "chuck", "chuck_tailstock"
+  dynamics::BeamSupports supports;   // the same, and the steady rest
+  // The finite-element model of any set-up but plain centres (which keeps the analytic beam).
+  std::shared_ptr<const dynamics::BeamModel> model;
   int modes = 3;
   double position_m = 0.25;         // cutting position (from the headstock centre)
   std::vector<double> positions_m;  // critical depth along the part at these positions
 };
 
+// What `lobes --recommend` (and the report's first section) needs beyond the lobes: the cut's
+// feed, diameter and tangential force coefficient for the spindle's power P = F_c·v and torque
+// T = F_c·D/2 with F_c = k_c·b·h, and the machine's limits on them.
+struct LobesRecommend {
+  double feed_m = 0.1e-3;         // [cutting] feed_mm_per_rev: the chip thickness h
+  double kc_N_per_m2 = 0.0;       // [cutting] kc_N_per_mm2; 0: K_f
+  double diameter_m = 0.0;        // [cutting] diameter_mm; 0: the part's, else kDefaultDiameter
+  double power_W = 0.0;           // [machine] power_kW; 0: no limit
+  double torque_Nm = 0.0;         // [machine] torque_Nm; 0: no limit
+  double safety_factor = 1.25;    // [recommend]: the depth is the stability limit / this
+  int pockets = 3;                // [recommend]: how many of the best pockets are listed
+};
+inline constexpr double kDefaultDiameter_m = 0.05;
+
+// One [[frf]] table: a measured FRF file and how it enters the chip-thickness direction.
+struct LobesFrf {
+  std::string file;       // as the machine file writes it
+  std::string path;       // as read: relative to the machine file's folder
+  std::string direction;  // "x", "y", "xy", "yx"
+  std::string of;         // "tool", "part"
+  double weight = 1.0;    // its share of the oriented FRF: cos²α, sin²α or cosα·sinα (×2 for
+                          // a cross term whose reciprocal is not given)
+  dynamics::Frf frf;      // receptance as read [m/N]
+};
+
+// The measured side of the machine: the oriented sum of the [[frf]]s, as measured, smoothed for
+// the frequency domain, and fitted with modes for everything that needs modes.
+struct LobesMeasured {
+  dynamics::Frf oriented;  // Σ weight·FRF on the first file's grid, where every file is measured
+  dynamics::Frf smoothed;  // what the frequency-domain lobes read (smooth_frf)
+  double smoothing_half_window_Hz = 0.0;
+  dynamics::FrfFit fit;
+};
+
 struct LobesInput {
-  dynamics::ChatterSystem system;          // every mode at the cutting position
+  dynamics::ChatterSystem system;          // every mode at the cutting position, and the
+                                           // measured FRF (frequency domain)
+  dynamics::ChatterSystem modal;           // the same with the FRF replaced by its fitted modes
   std::vector<dynamics::Mode> tool_modes;  // the [[mode]]s alone
+  std::vector<LobesFrf> frfs;              // the [[frf]]s
+  std::optional<LobesMeasured> measured;   // when there are [[frf]]s
+  double chip_direction_rad = 0.0;         // [cutting] chip_direction_deg: from x towards y
   std::optional<LobesPart> part;
   double min_rpm = 1000.0, max_rpm = 10000.0;
   int max_lobes = 40;  // set by the reader: [lobes] max_lobes, or lobes_needed()
@@ -51,15 +96,47 @@ struct LobesInput {
   int chart_speeds = 200, chart_depths = 100;
   double chart_max_depth_m = 0.0;  // 0: 4 × the absolute limit
   int chart_steps_per_period = 7;
+  LobesRecommend recommend;
 };
+
+// One stable pocket of the lobes, as a machinist would run it: the depth at the pocket's top
+// divided by the safety factor (and cut to the power and torque limits), the spindle speed in
+// the middle of the speeds where that depth is stable (lobes_recommend.cpp),
+// the metal-removal rate Q = π·D·n·h·b, and how far the speed may drift either way before the
+// envelope falls to that depth (the nearest lobe, in rpm).
+struct Pocket {
+  double pocket_top_rpm = 0.0, pocket_top_depth_m = 0.0;  // the envelope's local maximum
+  double speed_rpm = 0.0;       // recommended: the middle of the stable interval at depth_m
+  double limit_depth_m = 0.0;   // the envelope at speed_rpm; +inf where no lobe reaches
+  double depth_m = 0.0;         // recommended
+  std::string limited_by;       // "chatter", "power", "torque"
+  double mrr_m3_per_s = 0.0;
+  double power_W = 0.0, torque_Nm = 0.0;  // at depth_m
+  double margin_below_rpm = 0.0, margin_above_rpm = 0.0;
+  bool below_reaches_range_end = false, above_reaches_range_end = false;  // no lobe that side
+};
+// The `in.recommend.pockets` best pockets of the envelope in the speed range: those with a margin
+// of at least 1 % of their speed each way first, then by removal rate, then by margin.
+std::vector<Pocket> recommend_pockets(const dynamics::FrequencyDomainResult& fd,
+                                      const LobesInput& in);
+double recommend_diameter_m(const LobesInput& in);
 
 LobesInput load_lobes_input(const std::string& path);  // throws InputError
 // The same from text (file_label names it in error messages); throws InputError.
 LobesInput parse_lobes_input(std::string_view text, const std::string& file_label);
 // The machine file's keys, with their ranges, defaults and meaning (the reader run without a file).
 io::ParamLog describe_machine_file();
-// The modes seen at the tool with the cutting position at x_m: the part's plus the tool's.
+// The modes seen at the tool with the cutting position at x_m: the part's plus the tool's, plus
+// the measured FRF (smoothed); the modal one has the FRF's fitted modes instead.
 dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m);
+// The part's modes at x_m in its set-up; its first mode's frequency and static stiffness there.
+std::vector<dynamics::Mode> part_modes_at(const LobesPart& part, double x_m);
+double part_first_mode_Hz(const LobesPart& part, double x_m);
+double part_static_stiffness(const LobesPart& part, double x_m);
+dynamics::ChatterSystem lobes_modal_system_at(const LobesInput& in, double x_m);
+// Fills in.measured from in.frfs (sum, fit, smoothing); throws std::invalid_argument when the
+// FRF has no peak to fit.
+void measure_frfs(LobesInput& in);
 // The lobes N = 0, 1, ... needed for the frequency-domain envelope to reach min_rpm: lobe N lies
 // near 60·f_c/(N + ε/2π), so N up to ⌈60·f_c/min_rpm⌉ (+ 2 for the phase ε and the lobes' width),
 // f_c = f_n·√(1+2ζ) of the highest mode that can chatter — one whose SDOF limit is within 3× the

@@ -2,6 +2,7 @@
 // default and meaning drive the reader, its errors and the reference (describe_machine_file).
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/frf_reader.hpp"
 #include "lathectl/io/sections.hpp"
 #include "lathectl/io/study.hpp"
 #include "lathectl/io/toml_reader.hpp"
@@ -39,6 +41,10 @@ void read_part(TableReader& p, LobesInput& in) {
   io::read_beam_material(p, b, false);
   p.read({"modes", Range::closed(1, 50), "bending modes (at most 6 in a system-B scenario)"},
          part.modes);
+  part.support = p.choice("support", {"centres", "chuck", "chuck_tailstock"}, std::string("centres"));
+  p.document("support",
+             "how the part is held: between centres (pinned–pinned), in a chuck (clamped at the "
+             "headstock, free), or in a chuck with the tailstock (clamped–pinned)");
   // Between the centres, and kCentreMargin of the length away from each: closer, mode j is seen
   // 1/sin²(jπx/L) stiffer than mid-span (10⁴ times at 1 %), the centres' own compliance (not
   // modelled) is what the tool feels, and at the centre itself no mode is seen at all.
@@ -50,6 +56,17 @@ void read_part(TableReader& p, LobesInput& in) {
              "length_mm from either centre",
              1e-3},
             part.position_m);
+  p.read({"steady_rest_mm", Range::closed(0.0, 1e5),
+          "a steady rest at this distance from the headstock (holds the axis, not its slope); "
+          "by default (0) none",
+          1e-3},
+         part.supports.steady_rest_m);
+  p.check(!(part.supports.steady_rest_m > b.length_m), "steady_rest_mm",
+          "the steady rest must lie on the part (at most length_mm)");
+  part.supports.headstock =
+      part.support == "centres" ? dynamics::BeamEnd::pinned : dynamics::BeamEnd::clamped;
+  part.supports.tailstock =
+      part.support == "chuck" ? dynamics::BeamEnd::free : dynamics::BeamEnd::pinned;
   part.positions_m = p.numbers(
       {"positions_mm", inside,
        "the critical depth along the part at these positions, each at least 1 % of length_mm "
@@ -68,11 +85,60 @@ void read_part(TableReader& p, LobesInput& in) {
                 " Hz (the [[mode]] bound): a longer or thinner part, or fewer modes");
   }
   p.finish();
+  if (!p.is_describing() && (part.support != "centres" || part.supports.steady_rest_m > 0.0))
+    part.model = std::make_shared<const dynamics::BeamModel>(
+        dynamics::beam_model(part.beam, part.supports, part.modes));
   in.part = part;
 }
 
+// [[frf]]: measured FRFs, each file relative to the machine file's folder, oriented to the chip
+// thickness at chip_direction (α from x towards y): x·cos²α + y·sin²α + (xy + yx)·cosα·sinα,
+// a cross term without its reciprocal counted twice (reciprocity, H_xy = H_yx).
+void read_frfs(TableReader& root, LobesInput& in, const std::filesystem::path& base) {
+  root.document("frf",
+                "measured FRFs (tap tests), beside or instead of [[mode]]: CSV or universal file "
+                "format 58/58b (docs/machine-file-reference.md)");
+  auto tables = root.tables("frf");
+  for (auto& t : tables) {
+    LobesFrf f;
+    t.document("file", "the FRF file, CSV or UFF 58; a relative path is relative to the machine file");
+    const std::string file = t.string("file", t.is_describing() ? std::optional<std::string>("")
+                                                                  : std::nullopt);
+    f.direction = t.choice("direction", {"x", "y", "xy", "yx"}, std::string("x"));
+    t.document("direction",
+               "the response/excitation directions: x, y, or a cross term xy, yx; oriented by "
+               "[cutting] chip_direction_deg");
+    f.of = t.choice("of", {"tool", "part"}, std::string("tool"));
+    t.document("of", "what was tapped (both add: the relative tool–part receptance)");
+    t.finish();
+    if (t.is_describing()) continue;
+    const std::filesystem::path p(file);
+    f.file = file;
+    f.path = (p.is_absolute() ? p : base / p).lexically_normal().string();
+    try {
+      f.frf = io::read_frf_file(f.path);
+    } catch (const io::InputError& e) {
+      t.fail("file", e.what());
+    }
+    in.frfs.push_back(std::move(f));
+  }
+  const double c = std::cos(in.chip_direction_rad), s = std::sin(in.chip_direction_rad);
+  for (auto& f : in.frfs) {
+    if (f.direction == "x") f.weight = c * c;
+    else if (f.direction == "y") f.weight = s * s;
+    else {
+      const std::string other = f.direction == "xy" ? "yx" : "xy";
+      const bool pair = std::any_of(in.frfs.begin(), in.frfs.end(), [&](const LobesFrf& g) {
+        return g.of == f.of && g.direction == other;
+      });
+      f.weight = (pair ? 1.0 : 2.0) * c * s;
+    }
+  }
+}
+
 // Reads everything but the number of lobes (returned: 0 when the file leaves it to the reader).
-int read_tables(TableReader& root, LobesInput& in, std::optional<TableReader>& lobes) {
+int read_tables(TableReader& root, LobesInput& in, std::optional<TableReader>& lobes,
+                const std::filesystem::path& base) {
   auto c = root.table("cutting", true);
   c->require({"kf_N_per_mm2",
               Range::closed(1.0, 1e6),
@@ -80,17 +146,54 @@ int read_tables(TableReader& root, LobesInput& in, std::optional<TableReader>& l
               "below, the limit depths overflow)",
               1e6},
              in.system.kf_N_per_m2);
+  auto& r = in.recommend;
+  c->read({"feed_mm_per_rev", Range::closed(1e-4, 10.0),
+           "the feed, i.e. the chip thickness h, for the recommendation's power, torque and "
+           "removal rate",
+           1e-3},
+          r.feed_m);
+  c->read({"kc_N_per_mm2", Range::closed(0.0, 1e6),
+           "k_c, the tangential cutting-force coefficient F_c = k_c·b·h for the spindle's power "
+           "and torque; by default (0) K_f",
+           1e6},
+          r.kc_N_per_m2);
+  c->read({"diameter_mm", Range::closed(0.0, 1e4),
+           "the part's diameter at the cut (cutting speed, torque); by default (0) the [part]'s, "
+           "else 50 mm",
+           1e-3},
+          r.diameter_m);
+  c->read({"chip_direction_deg", Range::closed(-180.0, 180.0),
+           "the chip-thickness direction, from the [[frf]]s' x towards their y", 0.0174532925199432958},
+          in.chip_direction_rad);
   c->finish();
   read_modes(root, in);
+  read_frfs(root, in, base);
   if (auto p = root.table("part")) read_part(*p, in);
-  root.check(!(in.tool_modes.empty() && !in.part), "mode",
-             "at least one [[mode]] or a [part] expected");
+  root.check(!(in.tool_modes.empty() && !in.part && in.frfs.empty()), "mode",
+             "at least one [[mode]], [[frf]] or a [part] expected");
   auto s = root.table("speed", true);
   s->require({"min_rpm", {0.0, 1e6, true, false}, "lowest spindle speed of the lobes"}, in.min_rpm);
   s->require({"max_rpm", {0.0, 1e6, true, false}, "highest spindle speed of the lobes"},
              in.max_rpm);
   s->check(in.max_rpm > in.min_rpm, "max_rpm", "must exceed min_rpm");
   s->finish();
+  if (auto mt = root.table("machine")) {
+    mt->read({"power_kW", Range::closed(0.0, 1e5),
+              "the spindle's power available at the cut; by default (0) no limit",
+              1e3},
+             in.recommend.power_W);
+    mt->read({"torque_Nm", Range::closed(0.0, 1e6),
+              "the spindle's torque available at the cut; by default (0) no limit"},
+             in.recommend.torque_Nm);
+    mt->finish();
+  }
+  if (auto rt = root.table("recommend")) {
+    rt->read({"safety_factor", Range::closed(1.0, 10.0),
+              "the recommended depth is the stability limit divided by this"},
+             in.recommend.safety_factor);
+    rt->read({"pockets", Range::closed(1, 50), "the best pockets listed"}, in.recommend.pockets);
+    rt->finish();
+  }
   int max_lobes = 0;
   lobes = root.table("lobes");
   if (auto& l = lobes) {
@@ -143,7 +246,7 @@ void check_limits(TableReader& root, std::optional<TableReader>& part_table, con
   std::vector<double> xs{in.part->position_m};
   xs.insert(xs.end(), in.part->positions_m.begin(), in.part->positions_m.end());
   for (std::size_t k = 0; k < xs.size(); ++k) {
-    const auto modes = dynamics::beam_modes_at(in.part->beam, xs[k], in.part->modes);
+    const auto modes = part_modes_at(*in.part, xs[k]);
     double b = std::numeric_limits<double>::infinity();
     for (const auto& m : modes) b = std::min(b, sdof_limit_m(m, kf));
     if (!(b >= kMinLimitDepth_m))
@@ -216,8 +319,15 @@ LobesInput read_lobes_input(const io::TomlDocument& doc) {
   TableReader root(doc.root(), doc.file(), "");
   LobesInput in;
   std::optional<TableReader> lobes;
-  const int max_lobes = read_tables(root, in, lobes);
+  const int max_lobes =
+      read_tables(root, in, lobes, std::filesystem::path(doc.file()).parent_path());
   root.finish();
+  try {
+    measure_frfs(in);
+  } catch (const std::invalid_argument& e) {
+    root.tables("frf").front().fail("file", std::string("the measured FRF: ") + e.what());
+  }
+  in.modal = lobes_modal_system_at(in, in.part ? in.part->position_m : 0.0);
   {
     auto part_table = root.table("part");
     check_limits(root, part_table, in);
@@ -263,7 +373,7 @@ io::ParamLog describe_machine_file() {
   TableReader root = TableReader::describing("", log);
   LobesInput in;
   std::optional<TableReader> lobes;
-  (void)read_tables(root, in, lobes);
+  (void)read_tables(root, in, lobes, {});
   return *log;
 }
 

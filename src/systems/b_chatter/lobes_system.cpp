@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 // The modes a lobe chart or the optimiser's chatter margin sees (lobes.hpp): no file, no TOML, in
 // the settings library, so that lathectl optimize links no more of system B than this.
@@ -29,9 +30,10 @@ double reference_Hz(const dynamics::ChatterSystem& sys) {
 }  // namespace
 
 double lobes_reference_Hz(const LobesInput& in) {
-  double f = reference_Hz(in.system);
+  double f = reference_Hz(in.modal);
   if (in.part)
-    for (double x : in.part->positions_m) f = std::max(f, reference_Hz(lobes_system_at(in, x)));
+    for (double x : in.part->positions_m)
+      f = std::max(f, reference_Hz(lobes_modal_system_at(in, x)));
   return f;
 }
 
@@ -46,12 +48,57 @@ int lobes_needed(const LobesInput& in) {
   return static_cast<int>(std::min(n, static_cast<double>(std::numeric_limits<int>::max() / 2)));
 }
 
+std::vector<dynamics::Mode> part_modes_at(const LobesPart& part, double x_m) {
+  if (part.model) return dynamics::beam_model_modes_at(*part.model, x_m);
+  return dynamics::beam_modes_at(part.beam, x_m, part.modes);
+}
+
+double part_first_mode_Hz(const LobesPart& part, double x_m) {
+  if (part.model) return part.model->omega_rad_s.front() / (2.0 * std::numbers::pi);
+  return dynamics::beam_mode_at(part.beam, x_m, 1).mode.natural_frequency_Hz;
+}
+
+double part_static_stiffness(const LobesPart& part, double x_m) {
+  if (part.model) return dynamics::beam_model_static_stiffness(*part.model, x_m);
+  return dynamics::beam_static_stiffness(part.beam, x_m);
+}
+
+dynamics::ChatterSystem lobes_modal_system_at(const LobesInput& in, double x_m) {
+  dynamics::ChatterSystem sys;
+  sys.kf_N_per_m2 = in.system.kf_N_per_m2;
+  if (in.part) sys.modes = part_modes_at(*in.part, x_m);
+  sys.modes.insert(sys.modes.end(), in.tool_modes.begin(), in.tool_modes.end());
+  if (in.measured)
+    sys.modes.insert(sys.modes.end(), in.measured->fit.modes.begin(), in.measured->fit.modes.end());
+  return sys;
+}
+
 dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m) {
   dynamics::ChatterSystem sys;
   sys.kf_N_per_m2 = in.system.kf_N_per_m2;
-  if (in.part) sys.modes = dynamics::beam_modes_at(in.part->beam, x_m, in.part->modes);
+  if (in.part) sys.modes = part_modes_at(*in.part, x_m);
   sys.modes.insert(sys.modes.end(), in.tool_modes.begin(), in.tool_modes.end());
+  if (in.measured) sys.frfs.push_back(in.measured->smoothed);
   return sys;
+}
+
+void measure_frfs(LobesInput& in) {
+  if (in.frfs.empty()) {
+    in.measured.reset();
+    return;
+  }
+  LobesMeasured m;
+  std::vector<dynamics::Frf> weighted;
+  for (const auto& f : in.frfs) {
+    dynamics::Frf w = f.frf;
+    for (auto& h : w.receptance_m_per_N) h *= f.weight;
+    weighted.push_back(std::move(w));
+  }
+  m.oriented = dynamics::sum_frfs(weighted);
+  m.fit = dynamics::fit_modes(m.oriented);
+  m.smoothing_half_window_Hz = dynamics::smoothing_half_window_Hz(m.fit);
+  m.smoothed = dynamics::smooth_frf(m.oriented, m.smoothing_half_window_Hz, dynamics::kSmoothingOrder);
+  in.measured = std::move(m);
 }
 
 }  // namespace lathectl::systems::b_chatter
