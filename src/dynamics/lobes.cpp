@@ -27,6 +27,8 @@ void check(const ChatterSystem& sys) {
     throw std::invalid_argument("chatter system: at least one mode or measured FRF");
   for (const auto& f : sys.frfs) check_frf(f);
   if (!(sys.kf_N_per_m2 > 0.0)) throw std::invalid_argument("chatter system: K_f must be > 0");
+  if (!(sys.process_damping_C >= 0.0) || !std::isfinite(sys.process_damping_C))
+    throw std::invalid_argument("chatter system: the process damping coefficient must be ≥ 0");
   for (const auto& m : sys.modes)
     if (!(m.stiffness_N_per_m > 0.0) || !(m.damping_ratio > 0.0) || !(m.natural_frequency_Hz > 0.0))
       throw std::invalid_argument("chatter system: each mode needs k > 0, ζ > 0, f_n > 0");
@@ -51,6 +53,9 @@ void check_modal(const ChatterSystem& sys) {
     throw std::invalid_argument(
         "chatter system: semi-discretization and the time domain need modes (fit the measured "
         "FRF: fit_modes)");
+  if (sys.process_damping_C > 0.0)
+    throw std::invalid_argument(
+        "chatter system: process damping is modelled in the frequency domain only");
 }
 }  // namespace
 
@@ -77,6 +82,62 @@ std::pair<double, double> frequency_band(const ChatterSystem& sys, double min_rp
     f_hi = std::max(f_hi, m.natural_frequency_Hz);
   }
   return {2.0 * kPi * 0.5 * f_lo, 2.0 * kPi * 2.0 * f_hi};
+}
+
+// The lobe point of lobe N at chatter frequency w with process damping (ChatterSystem): the
+// damping c at which the lobe equations with Φ_c = Φ/(1 + jω·c·Φ), b(c) = −1/(2K_f·Re Φ_c) and
+// n(c) = 60ω/(ε(Φ_c) + 2πN), give back c = C·b(c)/n(c). H(c) = C·b(c)/n(c) − c is positive at
+// c = 0; its root is bracketed by doubling c and found by the Illinois variant of regula falsi.
+// False where none exists (Re Φ_c ≥ 0, or H stays positive: the damping a depth brings grows
+// faster than the depth it allows, so no finite depth chatters at this frequency and lobe).
+bool damped_point(const ChatterSystem& sys, double w, std::complex<double> phi, int N, double& b,
+                  double& n) {
+  auto at = [&](double c, double& bc, double& nc) {
+    const auto pc = phi / (1.0 + std::complex<double>(0.0, w * c) * phi);
+    if (!(pc.real() < 0.0)) return false;
+    double eps = std::fmod(3.0 * kPi + 2.0 * std::atan2(pc.imag(), pc.real()), 2.0 * kPi);
+    if (eps <= 0.0) eps += 2.0 * kPi;
+    bc = -1.0 / (2.0 * sys.kf_N_per_m2 * pc.real());
+    nc = 60.0 * w / (eps + 2.0 * kPi * N);
+    return true;
+  };
+  double b0 = 0.0, n0 = 0.0;
+  if (!at(0.0, b0, n0)) return false;
+  double lo = 0.0, h_lo = sys.process_damping_C * b0 / n0;
+  double hi = h_lo, h_hi = 0.0, bh = 0.0, nh = 0.0;
+  for (int k = 0;; ++k) {  // bracket: H(hi) ≤ 0
+    if (k == 60 || !at(hi, bh, nh)) return false;
+    h_hi = sys.process_damping_C * bh / nh - hi;
+    if (h_hi <= 0.0) break;
+    lo = hi;
+    h_lo = h_hi;
+    hi *= 2.0;
+  }
+  int side = 0;
+  double c = hi;
+  b = bh;
+  n = nh;
+  for (int it = 0; it < 100 && std::abs(h_hi) > 0.0; ++it) {
+    c = (lo * h_hi - hi * h_lo) / (h_hi - h_lo);
+    double bc = 0.0, nc = 0.0;
+    if (!at(c, bc, nc)) return false;
+    b = bc;
+    n = nc;
+    const double h = sys.process_damping_C * bc / nc - c;
+    if (std::abs(h) <= 1e-12 * c || hi - lo <= 1e-14 * hi) return true;
+    if (h > 0.0) {
+      lo = c;
+      h_lo = h;
+      if (side == 1) h_hi *= 0.5;
+      side = 1;
+    } else {
+      hi = c;
+      h_hi = h;
+      if (side == -1) h_lo *= 0.5;
+      side = -1;
+    }
+  }
+  return true;
 }
 }  // namespace
 
@@ -109,12 +170,13 @@ FrequencyDomainResult frequency_domain_lobes(const ChatterSystem& sys, double mi
     r.lobes[static_cast<std::size_t>(N)].minimum.depth_m = std::numeric_limits<double>::infinity();
   }
   std::vector<std::vector<int>> grid(static_cast<std::size_t>(max_lobes));  // k of each point
+  const bool damped = sys.process_damping_C > 0.0;
   for (int k = 0; k <= points; ++k) {
     const double w = w0 + (w1 - w0) * k / points;
     const auto phi = oriented_frf(sys, w);
     if (!(phi.real() < 0.0)) continue;
     const double b = -1.0 / (2.0 * sys.kf_N_per_m2 * phi.real());
-    if (b < r.critical_depth_m) {
+    if (!damped && b < r.critical_depth_m) {
       r.critical_depth_m = b;
       r.critical_chatter_Hz = w / (2.0 * kPi);
     }
@@ -127,17 +189,24 @@ FrequencyDomainResult frequency_domain_lobes(const ChatterSystem& sys, double mi
     const int N0 = static_cast<int>(std::clamp(n_lo, 0.0, static_cast<double>(max_lobes)));
     const int N1 = static_cast<int>(std::clamp(n_hi, -1.0, static_cast<double>(max_lobes - 1)));
     for (int N = N0; N <= N1; ++N) {
-      const double n = 60.0 * w / (eps + 2.0 * kPi * N);
+      double n = 60.0 * w / (eps + 2.0 * kPi * N);
+      double bn = b;
+      if (damped && !damped_point(sys, w, phi, N, bn, n)) continue;
       if (n < min_rpm || n > max_rpm) continue;
       auto& lobe = r.lobes[static_cast<std::size_t>(N)];
-      const LobePoint p{n, b, w / (2.0 * kPi)};
+      const LobePoint p{n, bn, w / (2.0 * kPi)};
+      if (damped && bn < r.critical_depth_m) {
+        r.critical_depth_m = bn;
+        r.critical_chatter_Hz = w / (2.0 * kPi);
+      }
       lobe.points.push_back(p);
       grid[static_cast<std::size_t>(N)].push_back(k);
-      if (b < lobe.minimum.depth_m) lobe.minimum = p;
+      if (p.depth_m < lobe.minimum.depth_m) lobe.minimum = p;
     }
   }
   // Refine the absolute limit between grid points: golden section on b(ω) = −1/(2K_f Re Φ).
-  if (std::isfinite(r.critical_depth_m)) {
+  // (With process damping the limit depends on the speed: the lowest lobe point in the range.)
+  if (!damped && std::isfinite(r.critical_depth_m)) {
     const double dw = (w1 - w0) / points;
     double a = 2.0 * kPi * r.critical_chatter_Hz - dw, c = a + 2.0 * dw;
     auto depth = [&](double w) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -32,6 +33,56 @@ TEST(Lobes, FrequencyDomainMatchesSdofClosedForm) {
   ASSERT_GE(fd.lobes.size(), 5u);
   // Each lobe's minimum lies at n = 60 f_c / (N + ε/2π) with the same depth.
   for (std::size_t i = 0; i < 5; ++i) EXPECT_NEAR(fd.lobes[i].minimum.depth_m, 7.318784e-3, 1e-5);
+}
+
+// Process damping along the chip thickness adds c·cos²θ to the mode's damping: Φ/(1 + jωcΦ) of
+// an SDOF is the same mode with ζ' = ζ + c·ω_n·cos²θ/(2k). Each damped lobe point (n, b, f) must
+// then be an undamped lobe point of that mode with c = C·b/n: b = −1/(2K_f Re Φ'), and n from the
+// phase, the closed form of the lobe equations. C is the B rig's linear indentation coefficient
+// for K_sp = 4·10¹³ N/m³, VB = 0.1 mm, D = 50 mm, κ = 90°: 60·K_sp·VB²/(4π·D).
+TEST(Lobes, ProcessDampingIsTheModesOwnDampingAtEachLobePoint) {
+  auto sys = sdof();
+  constexpr double kPi = std::numbers::pi;
+  sys.process_damping_C = 60.0 * 4e13 * 1e-8 / (4.0 * kPi * 0.05);
+  const auto fd = frequency_domain_lobes(sys, 100, 14000, 200, 4000);
+  const auto plain = frequency_domain_lobes(sdof(), 100, 14000, 200, 4000);
+  const auto& m = sys.modes[0];
+  const double c2 = std::cos(m.angle_rad) * std::cos(m.angle_rad);
+  const double wn = 2.0 * kPi * m.natural_frequency_Hz;
+  std::size_t checked = 0;
+  for (const auto& lobe : fd.lobes) {
+    for (std::size_t i = 0; i < lobe.points.size(); i += 7) {
+      const auto& p = lobe.points[i];
+      const double c = sys.process_damping_C * p.depth_m / p.speed_rpm;
+      const double zeta = m.damping_ratio + c * wn * c2 / (2.0 * m.stiffness_N_per_m);
+      const double w = 2.0 * kPi * p.chatter_Hz, r = w / wn;
+      const std::complex<double> phi =
+          c2 / (m.stiffness_N_per_m * std::complex<double>(1.0 - r * r, 2.0 * zeta * r));
+      EXPECT_NEAR(p.depth_m, -1.0 / (2.0 * sys.kf_N_per_m2 * phi.real()), 1e-9 * p.depth_m);
+      double eps = std::fmod(3.0 * kPi + 2.0 * std::atan2(phi.imag(), phi.real()), 2.0 * kPi);
+      if (eps <= 0.0) eps += 2.0 * kPi;
+      EXPECT_NEAR(p.speed_rpm, 60.0 * w / (eps + 2.0 * kPi * lobe.N), 1e-9 * p.speed_rpm);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 50u);
+  // Damping only adds, and more at lower speeds (c = C·b/n): every lobe's minimum at or above
+  // the undamped limit 2kζ(1+ζ)/(K_f cos²θ), rising lobe by lobe towards low speed, and nearly
+  // the undamped limit at the top of the range.
+  ASSERT_FALSE(fd.lobes.empty());
+  double last = 0.0;
+  const Lobe* lowest = nullptr;
+  for (const auto& lobe : fd.lobes) {
+    EXPECT_GE(lobe.minimum.depth_m, plain.critical_depth_m);
+    if (!lobe.minimum_inside) continue;
+    EXPECT_GE(lobe.minimum.depth_m, last) << "lobe " << lobe.N;
+    last = lobe.minimum.depth_m;
+    lowest = &lobe;
+  }
+  ASSERT_NE(lowest, nullptr);
+  EXPECT_LT(fd.lobes.front().minimum.depth_m, 1.02 * plain.critical_depth_m);
+  EXPECT_GT(lowest->minimum.depth_m, 1.5 * plain.critical_depth_m)
+      << "at " << lowest->minimum.speed_rpm << " rpm";
 }
 
 TEST(Lobes, SemiDiscretizationAgreesWithFrequencyDomain) {

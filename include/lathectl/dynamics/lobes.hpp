@@ -51,6 +51,15 @@ struct ChatterSystem {
   // measured band, where every one is known); semi-discretization and the time domain need
   // modes (fit_modes) and refuse a system with measured FRFs.
   std::vector<Frf> frfs = {};
+  // Process damping (frequency domain only; 0: none): the flank ploughing the wavy surface it has
+  // just cut, linearised as a viscous damper along the chip thickness c = C·b/n [N·s/m], b the
+  // depth [m], n the speed [rpm] — the equivalent coefficient K_sp·w·VB²/(4V) of the B rig's
+  // indentation model (dynamics/twin_turret.hpp; Chiou & Liang, IJMTM 38 (1998)) with
+  // w = b/sin κ and V = π·D·n/60, so C = 60·K_sp·VB²/(4π·D·sin κ). The structure then answers
+  // Φ_c = Φ/(1 + jω·c·Φ); since c grows with the depth and falls with the speed, each lobe point
+  // is the fixed point of the lobe equations in (b, n), and below the speed where no fixed point
+  // exists the lobe is absent (stable at every depth).
+  double process_damping_C = 0.0;
 };
 
 struct LobePoint {
