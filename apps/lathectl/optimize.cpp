@@ -53,10 +53,21 @@ int run(Args& a) {
     throw io::InputError(a.scenario +
                          ": key 'stock.blank': lathectl optimize needs the blank's "
                          "extent along z (at least two points)");
-  if (!a.tool_file.empty())
+  a.opt.ini = (fs::path(hal_config_dir()) / "lathectl-lathe.ini").string();
+  if (a.opt.tool_table.empty())
+    a.opt.tool_table = (fs::path(hal_config_dir()) / "lathectl-lathe.tbl").string();
+  if (!a.tool_file.empty()) {
+    // The tool file says what LinuxCNC's tool table cannot (kind, insert width, feed range);
+    // the table gives each tool's nose (D) and angles, and the two must agree.
     a.opt.tool_specs = optimize::read_tool_file(
         io::read_input_file(a.tool_file, "a tool file", io::kMaxTomlBytes), a.tool_file);
-  a.opt.ini = (fs::path(hal_config_dir()) / "lathectl-lathe.ini").string();
+    optimize::apply_tool_table(
+        a.opt.tool_specs,
+        optimize::read_tool_table(
+            io::read_input_file(a.opt.tool_table, "a LinuxCNC tool table", io::kMaxTomlBytes),
+            a.opt.tool_table),
+        a.tool_file, a.opt.tool_table);
+  }
   a.opt.rs274 = a.rs274;
   a.opt.label = a.program;
   const auto prog = optimize::read_program(a.program, a.opt);
@@ -161,6 +172,10 @@ void add_optimize(CLI::App& app, Commands& out) {
   sub->add_option("--tool-file", a->tool_file,
                   "the program's other tools by T number: kind, insert width, feed range (TOML, "
                   "docs/optimize.md)");
+  sub->add_option("--tool-table", a->opt.tool_table,
+                  "LinuxCNC's tool table (.tbl) the interpreter and the tools' noses (D) and "
+                  "angles (I, J, Q) come from (default: the simulated lathe's "
+                  "lathectl-lathe.tbl)");
   sub->add_flag("--allow-rapid-in-material", a->opt.allow_rapid_in_material,
                 "optimise a program whose rapid (G0) passes through the blank (an error "
                 "otherwise); the lines from that rapid on keep their feeds");

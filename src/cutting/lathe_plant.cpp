@@ -23,7 +23,7 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
     throw std::invalid_argument("lathe plant: more than 5e7 grid cells (" + std::to_string(cells) +
                                 "); raise cell_mm or shorten the stock");
   cut_.configure(cfg.cutting);
-  stock_.configure(cfg.stock);
+  stock_.configure_blank(cfg.stock);  // the program's path cuts it, not the scenario's passes
   auto dp = cfg.disturbances;
   dp.depth_steps.clear();  // allowance variation comes from the blank's shape here
   dp.runout_mm = 0.0;      // and runout from its eccentricity

@@ -8,6 +8,14 @@
 namespace lathectl::cutting {
 
 void Stock::configure(const StockParams& p) {
+  configure_blank(p);
+  if (p.passes.empty()) throw std::invalid_argument("stock: at least one pass");
+  for (const auto& k : p.passes)
+    if (!(k.z_end_mm > k.z_start_mm) || !(k.diameter_mm > 0.0))
+      throw std::invalid_argument("stock: each pass needs z_end > z_start and a diameter > 0");
+}
+
+void Stock::configure_blank(const StockParams& p) {
   if (p.blank_diameter_mm.empty()) throw std::invalid_argument("stock: blank profile is empty");
   for (std::size_t i = 0; i < p.blank_diameter_mm.size(); ++i) {
     if (!(p.blank_diameter_mm[i].value > 0.0))
@@ -16,10 +24,6 @@ void Stock::configure(const StockParams& p) {
       throw std::invalid_argument("stock: blank profile positions must ascend");
   }
   if (p.eccentricity_mm < 0.0) throw std::invalid_argument("stock: eccentricity must be ≥ 0");
-  if (p.passes.empty()) throw std::invalid_argument("stock: at least one pass");
-  for (const auto& k : p.passes)
-    if (!(k.z_end_mm > k.z_start_mm) || !(k.diameter_mm > 0.0))
-      throw std::invalid_argument("stock: each pass needs z_end > z_start and a diameter > 0");
   p_ = p;
 }
 

@@ -57,7 +57,8 @@ struct Options {
   std::vector<int> tools;
   // The program's other tools (--tool-file, tools.hpp): kind, insert width, feed range.
   std::vector<ToolSpec> tool_specs;
-  std::string ini;               // the simulated lathe's INI (tool table beside it)
+  std::string ini;               // the simulated lathe's INI
+  std::string tool_table;        // LinuxCNC's tool table (empty: lathectl-lathe.tbl beside ini)
   double start_x_mm = 60.0;      // where the tool stands before the program (the sim's home)
   double start_z_mm = 60.0;
   Machine machine;      // the planner's limits for the blends (blend.hpp)
@@ -132,7 +133,9 @@ struct Prediction {
   // With Options::adaptive: the machine side's commanded feed per revolution [mm/rev] and its
   // feed factor per sample (empty otherwise), and its first alarm's reason code (0: none).
   std::vector<double> adaptive_feed_rev, adaptive_factor;
-  int adaptive_alarm = 0;
+  int adaptive_alarm = 0;  // The workpiece's radius [mm] before and after the program, at machine z part_z [mm] (for
+  // the review's tool-path picture).
+  std::vector<double> part_z, blank_r, part_r;
 };
 Prediction predict(const io::CanonProgram& prog, const Plan& plan,
                    const systems::e_adaptive::Settings& e, const Options& opt);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numbers>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
@@ -81,6 +82,51 @@ std::vector<std::vector<PieceStats>> stats(const io::CanonProgram& prog, const P
     }
   }
   return st;
+}
+
+// The review's picture of the part in the XZ plane (machine z across, radius up): the blank,
+// the finished part the optimised program leaves (predicted), the program's path — rapids
+// dashed, feed moves, and the moves of the lines counted as changed in red. Drawn from the
+// moves' geometry (arcs in 5° steps), not the samples, so each series stays a few thousand
+// points; a break (NaN) between moves that do not join.
+io::Plot tool_path_picture(const io::CanonProgram& prog, const Result& r) {
+  io::Plot pl{"Tool path: blank, path and finished part (changed lines in red)",
+              "machine z [mm]", "radius x [mm]", {}, {}};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  io::Series rapids{"rapids (G0)", {}, {}, "#9a9a9a", true, false};
+  io::Series feeds{"feed moves", {}, {}, "#1f77b4", false, false};
+  io::Series changed{"changed lines", {}, {}, "#d62728", false, false};
+  for (const CanonMove& m : prog.moves) {
+    const bool is_changed = m.kind != CanonMove::Kind::Traverse && m.line >= 1 &&
+                            static_cast<std::size_t>(m.line) <= r.actions.size() &&
+                            r.actions[static_cast<std::size_t>(m.line - 1)].changed;
+    io::Series& sr = m.kind == CanonMove::Kind::Traverse ? rapids : is_changed ? changed : feeds;
+    const auto [x0, z0] = point_at(m, 0.0);
+    if (sr.x.empty() || sr.x.back() != z0 || sr.y.back() != x0) {
+      if (!sr.x.empty()) {
+        sr.x.push_back(nan);
+        sr.y.push_back(nan);
+      }
+      sr.x.push_back(z0);
+      sr.y.push_back(x0);
+    }
+    const double sweep = m.kind == CanonMove::Kind::Arc ? std::abs(arc_sweep(m)) : 0.0;
+    const int steps =
+        std::clamp(static_cast<int>(std::ceil(sweep / (5.0 * std::numbers::pi / 180.0))), 1, 72);
+    for (int k = 1; k <= steps; ++k) {
+      const auto [x, z] = point_at(m, static_cast<double>(k) / steps);
+      sr.x.push_back(z);
+      sr.y.push_back(x);
+    }
+  }
+  pl.series.push_back({"blank", r.before.part_z, r.before.blank_r, "#c8b27a", false, false});
+  pl.series.push_back(
+      {"finished part (optimised, predicted)", r.after.part_z, r.after.part_r, "#333333", false,
+       false});
+  pl.series.push_back(std::move(rapids));
+  pl.series.push_back(std::move(feeds));
+  pl.series.push_back(std::move(changed));
+  return pl;
 }
 
 // Chatter margin or limit depth for the table: empty without modes, "inf" where no lobe reaches.
@@ -357,7 +403,7 @@ std::vector<std::pair<std::string, std::string>> output_files(
   auto [fx1, fy1] = feed_only(r.after.s, e1);
   pfeed.series.push_back({"original", std::move(fx0), std::move(fy0), "", false, false});
   pfeed.series.push_back({"optimised", std::move(fx1), std::move(fy1), "", false, false});
-  rep.plots = {pf, pfeed};
+  rep.plots = {tool_path_picture(prog, r), pf, pfeed};
   if (v) {
     io::Plot pv{"LinuxCNC: force over time (per-revolution mean, true value)",
                 "time [s]",

@@ -41,6 +41,16 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
   s.dt_s = 0.001;  // LinuxCNC's servo period in the simulated lathe
   cutting::LathePlant plant;
   plant.configure(e.rig, cutting::LathePlant::Params{.cell_mm = 0.01, .z_origin_mm = opt.z_origin_mm});
+  // The workpiece on a grid of at most 4000 points along z, before and (at the end) after.
+  {
+    const auto& b = e.rig.stock.blank_diameter_mm;
+    const double z_lo = b.front().at_mm, z_hi = b.back().at_mm;
+    const double step = std::max((z_hi - z_lo) / 4000.0, 0.05);
+    for (double z = z_lo; z <= z_hi + 1e-9; z += step) {
+      pr.part_z.push_back(opt.z_origin_mm - z);
+      pr.blank_r.push_back(plant.radius_mm(z));
+    }
+  }
   cutting::CuttingModel cut;
   cut.configure(e.rig.cutting);
   cutting::Disturbances wear;  // the plant's wear law (its force factor from the time in cut)
@@ -308,6 +318,8 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
   }
   pr.accel_time_s = acceleration_time(legs);
   pr.cycle_time_s += pr.accel_time_s;
+  pr.part_r.reserve(pr.part_z.size());
+  for (const double z : pr.part_z) pr.part_r.push_back(plant.radius_mm(plant.stock_z_mm(z)));
   return pr;
 }
 

@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <optional>
@@ -271,6 +272,64 @@ std::string read_text(const std::filesystem::path& p) {
   return s.str();
 }
 
+namespace {
+// Whether the INI's [TRAJ]LINEAR_UNITS says millimetres (LinuxCNC: mm, metric, millimeter(s)).
+bool metric_machine(const std::string& ini) {
+  std::istringstream in(ini);
+  bool inside = false;
+  for (std::string l; std::getline(in, l);) {
+    const auto b = l.find_first_not_of(" \t\r");
+    if (b == std::string::npos || l[b] == '#' || l[b] == ';') continue;
+    if (l[b] == '[') {
+      inside = l.compare(b, 6, "[TRAJ]") == 0;
+      continue;
+    }
+    const auto eq = l.find('=', b);
+    if (!inside || eq == std::string::npos) continue;
+    std::string k = l.substr(b, eq - b), v;
+    while (!k.empty() && (k.back() == ' ' || k.back() == '\t')) k.pop_back();
+    if (k != "LINEAR_UNITS") continue;
+    std::istringstream(l.substr(eq + 1)) >> v;
+    for (char& c : v) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return v == "mm" || v == "metric" || v == "millimeter" || v == "millimeters";
+  }
+  return false;
+}
+
+// The tool table with its lengths (D and the X Y Z U V W offsets) in inches; the angles (I, J,
+// A, B, C), numbers and orientation as they were, comments kept.
+std::string tool_table_in_inches(const std::string& text) {
+  std::istringstream in(text);
+  std::string out;
+  for (std::string l; std::getline(in, l);) {
+    if (!l.empty() && l.back() == '\r') l.pop_back();
+    const auto semi = l.find(';');
+    if (semi == 0) {
+      out += l + "\n";
+      continue;
+    }
+    std::istringstream ws(l.substr(0, semi));
+    std::string line;
+    for (std::string w; ws >> w;) {
+      const char c = static_cast<char>(std::toupper(static_cast<unsigned char>(w[0])));
+      if (std::string_view("DXYZUVW").find(c) != std::string_view::npos && w.size() > 1) {
+        char* end = nullptr;
+        const double v = std::strtod(w.c_str() + 1, &end);
+        if (end != w.c_str() + 1 && *end == '\0') {
+          char b[40];
+          std::snprintf(b, sizeof b, "%c%.10g", c, v / 25.4);
+          w = b;
+        }
+      }
+      line += (line.empty() ? "" : " ") + w;
+    }
+    if (semi != std::string::npos) line += " " + l.substr(semi);
+    out += line + "\n";
+  }
+  return out;
+}
+}  // namespace
+
 io::CanonProgram interpret(const std::vector<std::string>& lines, const std::string& label,
                            const Options& opt) {
   TempDir tmp;
@@ -280,7 +339,18 @@ io::CanonProgram interpret(const std::vector<std::string>& lines, const std::str
     std::ofstream v(tmp.path / "program.var");
   }
   const fs::path ini = opt.ini;
-  const fs::path tbl = ini.parent_path() / "lathectl-lathe.tbl";
+  fs::path tbl =
+      opt.tool_table.empty() ? ini.parent_path() / "lathectl-lathe.tbl" : fs::path(opt.tool_table);
+  // LinuxCNC 2.9's standalone interpreter takes the tool table's lengths in inches, whatever the
+  // INI's [TRAJ]LINEAR_UNITS (its canon's length unit; milltask converts, rs274 does not): the
+  // simulated lathe's T1 D0.8 became a nose of 10.16 mm radius under G41/G42 (a 7 mm entry move
+  // "not greater than the tool radius", a gouge at every concave corner), and a Z1 offset
+  // 25.4 mm. On a millimetre machine it reads a copy with those lengths in inches.
+  if (!opt.ini.empty() && fs::exists(tbl) && metric_machine(read_text(ini))) {
+    std::ofstream t(tmp.path / "tools.tbl");
+    t << tool_table_in_inches(read_text(tbl));
+    tbl = tmp.path / "tools.tbl";
+  }
   // HOME: LinuxCNC 2.9's standalone interpreter creates its tool table as a shared map at
   // $HOME/.tool.mmap, truncating the file (tooldata_mmap.cc, O_TRUNC), before it reads its
   // options — the file a LinuxCNC running as the same user has mapped (io, milltask, halui). That

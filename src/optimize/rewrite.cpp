@@ -411,8 +411,17 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
     }
     std::vector<std::string> out_lines;
     r.ngc = write_program(p, r.actions, r.optimized, line_moves, out_lines);
-    const auto again = interpret(out_lines, p.file + " (optimised)", opt);
-    if (same_path(p.canon, again)) break;
+    // The inserted pieces and a cycle's moves are written in radius and absolute: under G7 (or
+    // G91, offsets) they leave the path, and an arc among them may not even be one for the
+    // interpreter (a G71 cycle in diameter mode: "radius to end of arc differs from radius to
+    // start"). Either way the program with one F per line is the one to write.
+    bool follows = false;
+    try {
+      follows = same_path(p.canon, interpret(out_lines, p.file + " (optimised)", opt));
+    } catch (const io::InputError&) {
+      if (!allow_split) throw;
+    }
+    if (follows) break;
     if (!allow_split)
       throw std::runtime_error(p.file +
                                ": the optimised program leaves the original path "

@@ -1,5 +1,13 @@
 #include "optimize/tools.hpp"
 
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+#include "lathectl/io/errors.hpp"
+#include "lathectl/io/study.hpp"
 #include "lathectl/io/toml_reader.hpp"
 
 namespace lathectl::optimize {
@@ -51,6 +59,96 @@ std::vector<ToolSpec> read_tool_file(const std::string& text, const std::string&
   }
   root.finish();
   return out;
+}
+
+std::vector<TableTool> read_tool_table(const std::string& text, const std::string& file) {
+  std::vector<TableTool> out;
+  std::istringstream in(text);
+  int line_no = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (!line.empty() && line.front() == ';') continue;
+    const std::string words = line.substr(0, line.find(';'));
+    std::istringstream ws(words);
+    TableTool t;
+    t.line = line_no;
+    bool has_t = false, any = false;
+    for (std::string w; ws >> w;) {
+      any = true;
+      auto bad = [&](const std::string& why) {
+        throw io::InputError(io::located(file, line_no, 0,
+                                         "tool table word '" + w + "': " + why +
+                                             " (LinuxCNC skips the line: the tool is missing)"));
+      };
+      const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(w[0])));
+      const std::string value = w.substr(1);
+      char* end = nullptr;
+      errno = 0;
+      const double v = std::strtod(value.c_str(), &end);
+      if (value.empty() || end != value.c_str() + value.size() || errno != 0 || !std::isfinite(v))
+        bad("not a number after the letter");
+      const bool integral = v == std::floor(v) && std::abs(v) < 1e9;
+      switch (letter) {
+        case 'T':
+          if (!integral || v < 0) bad("a tool number is a whole number ≥ 0");
+          t.number = static_cast<int>(v);
+          has_t = true;
+          break;
+        case 'P':
+          if (!integral) bad("a pocket is a whole number");
+          break;
+        case 'D':
+          if (v < 0.0) bad("a diameter is ≥ 0");
+          t.diameter_mm = v;
+          break;
+        case 'I': t.front_angle_deg = v; break;
+        case 'J': t.back_angle_deg = v; break;
+        case 'Q':
+          if (!integral || v < 0 || v > 9) bad("the orientation is a whole number 0–9");
+          t.orientation = static_cast<int>(v);
+          break;
+        case 'X': case 'Y': case 'Z': case 'A': case 'B': case 'C': case 'U': case 'V': case 'W':
+          break;  // offsets: rs274 applies them
+        default: bad("not a tool table word (T P D X Y Z A B C U V W I J Q)");
+      }
+    }
+    if (!any) continue;
+    if (!has_t)
+      throw io::InputError(io::located(file, line_no, 0, "a tool table line without its T word"));
+    for (const auto& o : out)
+      if (o.number == t.number)
+        throw io::InputError(io::located(file, line_no, 0,
+                                         "tool " + std::to_string(t.number) +
+                                             " again (first on line " + std::to_string(o.line) +
+                                             ")"));
+    out.push_back(t);
+  }
+  return out;
+}
+
+void apply_tool_table(std::vector<ToolSpec>& specs, const std::vector<TableTool>& table,
+                      const std::string& tool_file, const std::string& table_file) {
+  for (auto& s : specs) {
+    const TableTool* t = nullptr;
+    for (const auto& x : table)
+      if (x.number == s.number) t = &x;
+    if (!t) continue;
+    if (t->diameter_mm > 0.0) {
+      const double r = 0.5 * t->diameter_mm;
+      if (s.nose_radius_mm > 0.0 && std::abs(s.nose_radius_mm - r) > 1e-3)
+        throw io::InputError(io::located(
+            tool_file, 0, 0,
+            "tool " + std::to_string(s.number) + ": nose_radius_mm = " + io::fmt(s.nose_radius_mm) +
+                " mm, but LinuxCNC's tool table " + table_file + ":" + std::to_string(t->line) +
+                " gives D" + io::fmt(t->diameter_mm) + " (a nose radius of " + io::fmt(r) +
+                " mm): one of the two is wrong"));
+      s.nose_radius_mm = r;
+    }
+    s.front_angle_deg = t->front_angle_deg;
+    s.back_angle_deg = t->back_angle_deg;
+    s.orientation = t->orientation;
+  }
 }
 
 const ToolSpec* find_tool(const std::vector<ToolSpec>& tools, int number) noexcept {

@@ -128,4 +128,28 @@ else
   echo "FAIL rs274 and \$HOME/.tool.mmap: $(ls -A "$work/home") $(tail -n 1 "$work/home.out")"
   fail=1
 fi
+# [[stock.passes]] is optional: a scenario of the blank alone (the user's part) is optimised;
+# `lathectl run`, whose rig cuts the passes, refuses it naming the file and the key.
+up="$src/tests/optimize/programs"
+if "$bin" optimize "$up/user_part.ngc" "$up/user_part_c45.toml" --out "$work/no_passes" \
+     >"$work/no_passes.out" 2>&1 && [ -s "$work/no_passes/optimized.ngc" ]; then
+  echo "ok   a scenario without [[stock.passes]] is optimised"
+else
+  echo "FAIL a scenario without [[stock.passes]]: $(tail -n 2 "$work/no_passes.out")"; fail=1
+fi
+"$bin" run "$up/user_part_c45.toml" --out "$work/no_passes_run" >"$work/no_passes_run.out" 2>"$work/no_passes_run.err"
+rc=$?
+if [ $rc -ne 0 ] && grep -q "user_part_c45.toml:.*stock.passes.*lathectl run cuts the scenario's passes" "$work/no_passes_run.err"; then
+  echo "ok   lathectl run without passes: $(head -n 1 "$work/no_passes_run.err")"
+else
+  echo "FAIL lathectl run without passes: exit $rc: $(cat "$work/no_passes_run.err")"; fail=1
+fi
+# LinuxCNC's tool table and the tool file must agree: T2's nose in the table is D0.8 (r 0.4).
+printf '[[tool]]\nnumber = 2\nkind = "grooving"\ninsert_width_mm = 3.0\nnose_radius_mm = 0.2\n' >"$work/tools_r02.toml"
+expect_bad tool_table_disagrees "$up/user_part.ngc" "$up/user_part_c45.toml" \
+  "tools_r02.toml: .*tool 2: nose_radius_mm = 0.2 mm, but LinuxCNC's tool table .*lathectl-lathe.tbl:2 gives D0.8" \
+  --tool-file "$work/tools_r02.toml"
+printf 'T1 P1 D0.8 Q1\nT2 P2 D0.4 K3\n' >"$work/bad.tbl"
+expect_bad tool_table_word "$up/user_part.ngc" "$up/user_part_c45.toml" \
+  "bad.tbl:2: tool table word 'K3'" --tool-file "$up/user_part_tools.toml" --tool-table "$work/bad.tbl"
 exit $fail

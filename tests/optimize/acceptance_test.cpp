@@ -1,6 +1,7 @@
 // lathectl optimize on programs nobody wrote by hand (program_generator.hpp), each on its own
 // generated bar of C45, with the tool file that describes T2 (3 mm grooving, 0.02–0.08 mm/rev)
-// and T10 (threading). The invariants a programmer relies on:
+// and T10 (threading) and LinuxCNC's tool table of the simulated lathe (the noses); some roughed
+// by G71 and finished by G70, some finished under G42. The invariants a programmer relies on:
 //   1. the predicted per-revolution peak of every line optimize changed is within the limit;
 //   2. no finishing line is fed faster than written (its roughness at most the programmed one);
 //   3. thread lines stay byte-identical;
@@ -71,11 +72,18 @@ TEST(Acceptance, GeneratedProgramsKeepTheProgrammersInvariants) {
   opt.ini = LATHECTL_SOURCE_DIR "/hal/config/lathectl-lathe.ini";
   opt.rs274 = "/usr/bin/rs274";
   opt.tool_specs = read_tool_file(io::read_input_file(tools, "a tool file", io::kMaxTomlBytes), tools);
+  const std::string tbl = LATHECTL_SOURCE_DIR "/hal/config/lathectl-lathe.tbl";
+  apply_tool_table(opt.tool_specs,
+                   read_tool_table(io::read_input_file(tbl, "a tool table", io::kMaxTomlBytes), tbl),
+                   tools, tbl);
   constexpr unsigned kPrograms = 100;
-  int violations = 0, changed_lines = 0, plunges = 0, threads = 0, finishing = 0;
+  int violations = 0, changed_lines = 0, plunges = 0, threads = 0, finishing = 0, cycles = 0,
+      compensated = 0;
   double cycle0 = 0.0, cycle1 = 0.0;
   for (unsigned seed = 1; seed <= kPrograms; ++seed) {
     const auto g = testing::generate_program(seed);
+    cycles += g.cycles ? 1 : 0;
+    compensated += g.compensation ? 1 : 0;
     auto e = sc.get<systems::e_adaptive::Settings>();
     e.rig.stock.blank_diameter_mm = {{0.0, 2.0 * g.blank_radius_mm}, {80.0, 2.0 * g.blank_radius_mm}};
     Program p;
@@ -157,9 +165,14 @@ TEST(Acceptance, GeneratedProgramsKeepTheProgrammersInvariants) {
   }
   EXPECT_EQ(violations, 0);
   RecordProperty("programs", static_cast<int>(kPrograms));
-  std::printf("acceptance: %u programs, %d violations, %d lines changed, %d finishing-line moves, "
-              "%d plunge moves, %d threads; predicted cycles %.1f s -> %.1f s\n",
-              kPrograms, violations, changed_lines, finishing, plunges, threads, cycle0, cycle1);
+  std::printf("acceptance: %u programs (%d roughed by G71 and finished by G70, %d finished under "
+              "G42), %d violations, %d lines changed, %d finishing-line moves, %d plunge moves, "
+              "%d threads; predicted cycles %.1f s -> %.1f s\n",
+              kPrograms, cycles, compensated, violations, changed_lines, finishing, plunges,
+              threads, cycle0, cycle1);
+  // The kinds the generator promises are there in numbers.
+  EXPECT_GE(cycles, 15);
+  EXPECT_GE(compensated, 15);
 }
 
 }  // namespace

@@ -316,5 +316,55 @@ TEST(Tools, FileErrorsNameFileLineAndKey) {
   EXPECT_DOUBLE_EQ(ok[0].insert_width_mm, 2.5);
 }
 
+// LinuxCNC's tool table (the simulated lathe's, hal/config/lathectl-lathe.tbl): D is the nose's
+// diameter, I/J the insert's front and back angle, Q its orientation; the tool file fills only
+// what the table lacks, and a disagreement names both files.
+TEST(Tools, LinuxCncToolTableFillsTheNoseAndMustAgree) {
+  const std::string tbl = LATHECTL_SOURCE_DIR "/hal/config/lathectl-lathe.tbl";
+  const auto table = read_tool_table(io::read_input_file(tbl, "a tool table", 1 << 20), tbl);
+  ASSERT_EQ(table.size(), 3u);
+  EXPECT_EQ(table[0].number, 1);
+  EXPECT_DOUBLE_EQ(table[0].diameter_mm, 0.8);
+  EXPECT_DOUBLE_EQ(table[0].front_angle_deg, 95.0);
+  EXPECT_DOUBLE_EQ(table[0].back_angle_deg, 155.0);
+  EXPECT_EQ(table[0].orientation, 1);
+  EXPECT_EQ(table[1].line, 2);
+  EXPECT_DOUBLE_EQ(table[2].diameter_mm, 0.0);  // T10: "zero diameter"
+
+  auto specs = read_tool_file(
+      "[[tool]]\nnumber = 2\nkind = \"grooving\"\ninsert_width_mm = 3.0\n"
+      "[[tool]]\nnumber = 10\nkind = \"threading\"\nnose_radius_mm = 0.1\n",
+      "tools.toml");
+  apply_tool_table(specs, table, "tools.toml", tbl);
+  EXPECT_DOUBLE_EQ(specs[0].nose_radius_mm, 0.4);  // D0.8 / 2: the table fills it
+  EXPECT_DOUBLE_EQ(specs[0].front_angle_deg, 85.0);
+  EXPECT_EQ(specs[0].orientation, 2);
+  EXPECT_DOUBLE_EQ(specs[1].nose_radius_mm, 0.1);  // D0: the table lacks it, the file gives it
+
+  auto wrong = read_tool_file(
+      "[[tool]]\nnumber = 2\nkind = \"grooving\"\ninsert_width_mm = 3.0\nnose_radius_mm = 0.2\n",
+      "tools.toml");
+  try {
+    apply_tool_table(wrong, table, "tools.toml", tbl);
+    ADD_FAILURE() << "a nose radius of 0.2 mm against D0.8 passed";
+  } catch (const io::InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("tools.toml"), std::string::npos) << m;
+    EXPECT_NE(m.find("lathectl-lathe.tbl:2"), std::string::npos) << m;
+  }
+  auto table_error = [](const std::string& text) {
+    try {
+      (void)read_tool_table(text, "t.tbl");
+    } catch (const io::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(table_error("; tools\nT1 P1 D0.8\nT2 P2 Dx\n").find("t.tbl:3"), std::string::npos);
+  EXPECT_NE(table_error("T1 P1 Q12\n").find("orientation"), std::string::npos);
+  EXPECT_NE(table_error("T1 P1\nT1 P2\n").find("first on line 1"), std::string::npos);
+  EXPECT_EQ(table_error("\n; only comments\nT5 P5 D1.2 ; a comment with K words\n"), "no error");
+}
+
 }  // namespace
 }  // namespace lathectl::optimize

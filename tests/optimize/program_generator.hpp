@@ -2,8 +2,11 @@
 // Valid turning programs nobody wrote by hand, for lathectl optimize's acceptance test: a bar of
 // random diameter faced, roughed in passes (G1) to two diameters, finished along a contour with
 // a chamfer, a concave fillet and a shoulder, sometimes grooved (T2) and threaded (T10: G76 or
-// G33); radius (G8) or diameter (G7) mode, G95 or G94 feeds, G97 or G96 speeds. The generator
-// knows which lines are finishing, plunges and threads, so that the test can check each kind.
+// G33); radius (G8) or diameter (G7) mode, G95 or G94 feeds, G97 or G96 speeds. In some, the
+// roughing is LinuxCNC's G71 cycle over the contour as a subroutine and the finish its G70; in
+// others the G1 finishing contour runs under cutter compensation (G42, the tool table's nose).
+// The generator knows which lines are finishing, plunges and threads, so that the test can check
+// each kind.
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -17,6 +20,7 @@ struct GeneratedProgram {
   double blank_radius_mm = 0.0;
   std::vector<int> finishing_lines, plunge_lines, thread_lines;  // 1-based
   std::string summary;                                           // for failure messages
+  bool cycles = false, compensation = false;                     // G71/G70; G42
 };
 
 inline GeneratedProgram generate_program(unsigned seed) {
@@ -24,6 +28,12 @@ inline GeneratedProgram generate_program(unsigned seed) {
   auto uni = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
   auto chance = [&](double p) { return uni(0.0, 1.0) < p; };
   GeneratedProgram g;
+  // Cycles and compensation from a generator of their own: the programs without them stay what
+  // they were for the same seed.
+  std::mt19937 rng_kind(seed * 7919u + 17u);
+  const double kind = std::uniform_real_distribution<double>(0.0, 1.0)(rng_kind);
+  g.cycles = kind < 0.3;
+  g.compensation = !g.cycles && kind < 0.55;
   const bool diameter = chance(0.5);  // G7
   const bool css = chance(0.25);      // G96
   const bool per_min = !css && chance(0.3);  // G94
@@ -32,6 +42,9 @@ inline GeneratedProgram generate_program(unsigned seed) {
   const double q = std::round(uni(1.0, 3.0) * 10.0) / 10.0;     // fillet radius
   const double h = std::round(uni(0.5, 2.0) * 10.0) / 10.0;     // shoulder above the fillet
   const double r2 = std::min(r_fin + q + h, R - 1.0);
+  // Compensation needs a shoulder above the fillet's end (r2 below it is a notch that a 0.4 mm
+  // nose cannot follow: LinuxCNC refuses it as a gouge).
+  g.compensation = g.compensation && r2 >= r_fin + q + 0.4;
   const double Ls = std::round(uni(8.0, 12.0));                 // the fillet starts at Z-Ls
   const double Lr = Ls + q + std::round(uni(3.0, 6.0));          // the shoulder ends at Z-Lr
   const double face = std::round(uni(0.3, 0.8) * 10.0) / 10.0;   // faced off the bar's end
@@ -70,18 +83,51 @@ inline GeneratedProgram generate_program(unsigned seed) {
       add("G0 Z2");
     }
   };
-  passes(R, r2 + 0.3, Lr - 0.3);
-  passes(r2 + 0.3, r_fin + 0.3, Ls + q - 0.3);
+  if (!g.cycles) {
+    passes(R, r2 + 0.3, Lr - 0.3);
+    passes(r2 + 0.3, r_fin + 0.3, Ls + q - 0.3);
+  }
   // finishing contour
   const double ff = std::round(uni(0.06, 0.12) * 100.0) / 100.0;
-  add("G0 " + X(r_fin - c - 0.5) + " Z" + num(-face + 0.5));
-  g.finishing_lines.push_back(add("G1 " + X(r_fin) + " Z" + num(-face - c) + " " + F(ff)));
-  g.finishing_lines.push_back(add("G1 Z" + num(-Ls)));
-  g.finishing_lines.push_back(add("G2 " + X(r_fin + q) + " Z" + num(-Ls - q) + " R" + num(q)));
-  g.finishing_lines.push_back(add("G1 " + X(r2)));
-  g.finishing_lines.push_back(add("G1 Z" + num(-Lr)));
-  g.finishing_lines.push_back(add("G1 " + X(R + 1.0)));
-  add("G0 " + X(R + 2.0) + " Z2");
+  if (g.cycles) {
+    // The contour as LinuxCNC's G7x cycles take it: a subroutine from the chamfer's start to
+    // above the bar, X rising and Z falling along it; G71 roughs to 0.3 mm of it (D: the stock
+    // to leave, I: the depth of each pass, R: the retract), G70 finishes it in one pass.
+    const double depth = std::round(uni(1.0, 2.5) * 10.0) / 10.0;
+    const double fr = std::round(uni(0.15, 0.3) * 100.0) / 100.0;
+    const std::size_t at = 1;  // the subroutine before the program's moves
+    std::vector<std::string> sub{
+        "o100 sub",
+        "G1 " + X(r_fin - c) + " Z" + num(-face),
+        "G1 " + X(r_fin) + " Z" + num(-face - c),
+        "G1 Z" + num(-Ls),
+        "G2 " + X(r_fin + q) + " Z" + num(-Ls - q) + " R" + num(q),
+        "G1 " + X(r2),
+        "G1 Z" + num(-Lr),
+        "G1 " + X(R + 1.0),
+        "o100 endsub"};
+    g.lines.insert(g.lines.begin() + at, sub.begin(), sub.end());
+    const int shift = static_cast<int>(sub.size());
+    for (auto* v : {&g.finishing_lines, &g.plunge_lines, &g.thread_lines})
+      for (int& l : *v) l += shift;
+    add("G0 " + X(R + 2.0) + " Z2");
+    add("G71 Q100 " + X(R + 2.0) + " Z2 D0.3 I" + num(depth) + " R0.5 " + F(fr));
+    g.finishing_lines.push_back(
+        add("G70 Q100 " + X(R + 2.0) + " Z2 D0 E0 P1 " + F(ff)));
+    add("G0 " + X(R + 2.0) + " Z2");
+  } else {
+    // Under cutter compensation in some: G42 on the lead-in, the tool table's nose (T1: D0.8)
+    // to the right of the path, G40 on the way out.
+    const std::string on = g.compensation ? "G42 " : "", off = g.compensation ? "G40 " : "";
+    add(on + "G0 " + X(r_fin - c - 0.5) + " Z" + num(-face + 0.5));
+    g.finishing_lines.push_back(add("G1 " + X(r_fin) + " Z" + num(-face - c) + " " + F(ff)));
+    g.finishing_lines.push_back(add("G1 Z" + num(-Ls)));
+    g.finishing_lines.push_back(add("G2 " + X(r_fin + q) + " Z" + num(-Ls - q) + " R" + num(q)));
+    g.finishing_lines.push_back(add("G1 " + X(r2)));
+    g.finishing_lines.push_back(add("G1 Z" + num(-Lr)));
+    g.finishing_lines.push_back(add("G1 " + X(R + 1.0)));
+    add(off + "G0 " + X(R + 2.0) + " Z2");
+  }
   if (chance(0.5)) {  // a 3 mm groove on the finished diameter
     const double zg = std::round(uni(-face - c - 3.5, -Ls + 1.5));
     add("T2 M6");
@@ -110,7 +156,8 @@ inline GeneratedProgram generate_program(unsigned seed) {
   add("M5");
   add("M2");
   g.summary = "seed " + std::to_string(seed) + ": R " + num(R) + ", r " + num(r_fin) + "/" +
-              num(r2) + (diameter ? ", G7" : ", G8") + (css ? ", G96" : per_min ? ", G94" : "");
+              num(r2) + (diameter ? ", G7" : ", G8") + (css ? ", G96" : per_min ? ", G94" : "") +
+              (g.cycles ? ", G71/G70" : g.compensation ? ", G42" : "");
   return g;
 }
 

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -146,6 +147,48 @@ TEST(LathePlant, ASecondPassCutsOnlyWhatTheFirstLeft) {
   const double rz = 0.25 * 0.25 / (8.0 * c.cutting.nose_radius_mm);
   EXPECT_GT(out.depth_mm, 1.0);
   EXPECT_LT(out.depth_mm, 1.0 + rz);
+}
+
+// Faces and shoulders are part of the radius profile R(z): what a facing cut removed stays
+// removed. The user's facing (0.5 mm off the end, down past the axis to x = −0.5) leaves, over
+// the nose's reach, R(z') = max(0, x + r − √(r² − (z' − z)²)) (the nose's circle, its lowest
+// point at the controlled point, as the plant's FacingSwapsFeedAndDepth); the retract along the
+// axis (machine +z, out of the part) removes nothing; and the next cut over the faced end meets
+// material first where the nose's circle reaches the untouched bar at z + r.
+TEST(LathePlant, AFacedEndStaysFacedForTheMovesAfterIt) {
+  const auto c = config();
+  const double r = c.cutting.nose_radius_mm;
+  const double R = 0.5 * c.stock.blank_diameter_mm.front().value;
+  LathePlant p;
+  p.configure(c, {});
+  const double zf = -0.5;  // machine z of the facing cut: stock z 0.5
+  (void)move(p, R + 2.0, 5.0, R + 2.0, zf, 1000.0, 5.0);
+  (void)move(p, R + 2.0, zf, -0.5, zf, 1000.0, 0.15);
+  for (const double zs : {0.0, 0.3, 0.5, 0.9, 1.2, 1.29}) {
+    const double dz = zs - 0.5;
+    const double expected = std::max(0.0, -0.5 + r - std::sqrt(std::max(r * r - dz * dz, 0.0)));
+    EXPECT_NEAR(p.radius_mm(zs), expected, 0.02) << "stock z " << zs;
+  }
+  EXPECT_NEAR(p.radius_mm(0.5 + r + 0.05), R, 1e-9);  // beyond the nose's reach: the bar
+  LathePlant::Output out;
+  p.step({-0.5, zf, 1000.0}, 1e-3, out);
+  const double removed = out.removed_mm3;
+  const auto back = move(p, -0.5, zf, -0.5, 2.0, 1000.0, 5.0);  // G0 Z2
+  EXPECT_DOUBLE_EQ(back.removed_mm3, removed);
+  EXPECT_FALSE(back.in_contact);
+  // A pass 1 mm deep toward −z from Z2: first contact where z_tool + r reaches the bar's
+  // untouched material at stock z 0.5 + r, i.e. at stock z 0.5 (machine z −0.5).
+  (void)move(p, -0.5, 2.0, R - 1.0, 2.0, 1000.0, 5.0);
+  double first = std::nan("");
+  const double dt = 1e-3, v = 0.2 * 1000.0 / 60.0;
+  for (double z = 2.0; z > -3.0; z -= v * dt) {
+    p.step({R - 1.0, z, 1000.0}, dt, out);
+    if (out.removed_mm3 > removed + 1e-9) {
+      first = z;
+      break;
+    }
+  }
+  EXPECT_NEAR(first, zf, 0.02);
 }
 
 TEST(LathePlant, RefusesABlankWithoutExtentAndBadGrids) {

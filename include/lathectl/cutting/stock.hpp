@@ -30,7 +30,10 @@ struct StockParams {
 
 class Stock {
  public:
-  void configure(const StockParams& p);  // throws std::invalid_argument
+  void configure(const StockParams& p);  // throws std::invalid_argument; ≥ 1 pass
+  // The blank alone, its passes not needed (a program's path cuts it: the LinuxCNC plant, the
+  // optimiser's prediction); the pass queries then see the blank. Throws std::invalid_argument.
+  void configure_blank(const StockParams& p);
   [[nodiscard]] double blank_diameter_mm(double z_mm) const noexcept;
   // Surface diameter in front of pass k at z (before eccentricity).
   [[nodiscard]] double surface_diameter_mm(std::size_t pass, double z_mm) const noexcept;

@@ -101,8 +101,9 @@ void read_stock(TableReader& root, RigConfig& e, std::uint64_t seed) {
     e.stock.passes.push_back(k);
     warn_pass_in_air(p, e, e.stock.passes.size() - 1);
   }
-  st->check(!e.stock.passes.empty(), "passes",
-            "at least one pass {z_start_mm, z_end_mm, diameter_mm}");
+  // No passes: the scenario describes the blank alone. `lathectl optimize` and the LinuxCNC
+  // components take the tool's path from the NC program and never read the passes; only
+  // `lathectl run`, whose rig cuts them, needs them (it says so, run()).
   read_profile(*st, "hardness", "factor", {0.0, 10.0, true, false},
                "strength factor of the material there (1 = nominal)", e.disturbances.hardness);
   st->read({"random_depth_sigma_mm", Range::closed(0, 10), "σ of the random allowance"},

@@ -700,6 +700,16 @@ void EStudy::finish(RunOutput& out) {
 }  // namespace
 
 io::RunOutput run(const io::Scenario& sc) {
+  // The rig cuts the scenario's passes; a scenario may leave them out when a program's path
+  // cuts the blank (lathectl optimize, LinuxCNC).
+  if (sc.get<Settings>().rig.stock.passes.empty()) {
+    const std::string msg =
+        "lathectl run cuts the scenario's passes: add [[stock.passes]] {z_start_mm, z_end_mm, "
+        "diameter_mm} (lathectl optimize and LinuxCNC take the path from the program and need "
+        "none)";
+    if (sc.keys) sc.keys->fail("stock.passes", msg);
+    throw io::InputError(io::located(sc.file, 0, 0, msg));
+  }
   return EStudy(sc).run();
 }
 
