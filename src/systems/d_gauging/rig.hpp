@@ -195,13 +195,20 @@ inline double full_model_mean_signal(const sensors::VibroContactGauge::Params& g
 // included), each at the current S_th, and move S_th by K·(mean finished − target) after each
 // batch, the errors pooled (each corrected to the current S_th through the slope K). Batches of 8
 // parts with noise (1 without); stops when the pooled mean is within its standard error of the
-// target and that error is below `precision_m` (without noise: within 0.05 µm), or at max_parts.
+// target and that error is below `precision_m`, or at max_parts. Without noise each part is
+// exact: the threshold is bracketed and narrowed (regula falsi) until the part finishes within
+// precision_m (at most 0.05 µm) of the target, or at max_parts. The study calls it without noise, aimed at target − the linearised
+// model's first-passage bias (study.cpp says why).
 struct DynamicCalibration {
   double threshold_V = 0.0;
   std::size_t parts = 0;      // parts machined
   double mean_error_m = 0.0;  // pooled, at the final threshold
   double standard_error_m = 0.0;
   bool converged = false;
+  // Without noise, not converged: the finished size's jump across the target between the two
+  // thresholds bracketing it (0 otherwise).
+  double jump_m = 0.0;
+  double bracket_V = 0.0;  // the two thresholds' distance then
 };
 DynamicCalibration calibrate_dynamic(const GaugingProcess& p,
                                      const sensors::VibroContactGauge::Params& gp, double dt,

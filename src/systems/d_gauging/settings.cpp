@@ -128,11 +128,11 @@ void read_gauge(TableReader& root, Settings& d) {
                            {},
                            "(23) with closed-form A0 and K (seed), (23) with the full model's "
                            "local line and the first-passage bias (calibrated), that adjusted "
-                           "by machining parts with the full model until their mean finished "
-                           "size is on target (calibrated_dynamic), or a given voltage"},
+                           "by machining full-model parts without noise until one finishes at "
+                           "target − that bias (calibrated_dynamic), or a given voltage"},
                           {"seed", "calibrated", "calibrated_dynamic", "given"}, "calibrated");
     g->read({"calibration_parts_max", Range::closed(2, 1e4),
-             "calibrated_dynamic: the most full-model parts it may machine"},
+             "calibrated_dynamic: the most full-model parts (without noise) it may machine"},
             d.calibration_parts_max);
     if (d.threshold == "given" || g->is_describing())
       g->require({"threshold_V", Range::any(), "the relay's threshold, only with \"given\""},
