@@ -28,6 +28,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 
 #include "lathectl/control/gauge_machine.hpp"
 #include "lathectl/core/parameter_error.hpp"
@@ -169,12 +170,12 @@ extern "C" int rtapi_app_main(void) {
     if (!(period >= 1e4 && period <= 1e7))
       throw Error("module parameter period_ns: expected 1e4 … 1e7");
     state->period = std::lround(period);
-    const double rough = number_param(rough_factor, "rough_factor", 4.0);
-    const double fine = number_param(fine_factor, "fine_factor", 2.0);
+    const double rough = number_param(rough_factor, "rough_factor", d.sequence.rough_factor);
+    const double fine = number_param(fine_factor, "fine_factor", d.sequence.fine_factor);
     if (!(rough >= fine && fine >= 1.0))
       throw Error("module parameters: expected rough_factor ≥ fine_factor ≥ 1");
-    const double fine_m = number_param(fine_um, "fine_um", 60.0) * 1e-6;
-    const double spark_m = number_param(spark_um, "spark_um", 25.0) * 1e-6;
+    const double fine_m = number_param(fine_um, "fine_um", d.sequence.fine_m * 1e6) * 1e-6;
+    const double spark_m = number_param(spark_um, "spark_um", d.sequence.spark_m * 1e6) * 1e-6;
     if (!(fine_m > spark_m && spark_m > 0.0))
       throw Error("module parameters: expected fine_um > spark_um > 0");
     const double lost = number_param(signal_lost, "signal_lost", 0.05);
@@ -189,25 +190,28 @@ extern "C" int rtapi_app_main(void) {
     const auto plan = dg::plan_threshold(d, sc.run.step_s);
     const auto& pr = d.process;
     const double lag = lathectl::sensors::VibroContactGauge::filter_lag_s(d.transducer);
-    const double a = pr.removal_m_per_s;
     const bool given =
         threshold_V != nullptr && *threshold_V != '\0' && std::string(threshold_V) != "scenario";
     const double s_size = given ? number_param(threshold_V, "threshold_V", 0.0) : plan.threshold_V;
     GaugeMachine::Params mp;
     mp.period_s = period * 1e-9;
     mp.filter = lathectl::sensors::VibroContactGauge::filter_params(d.transducer);
-    using Command = GaugeMachine::Command;
-    mp.steps = {{lathectl::design::threshold_23(plan.line, pr.target_m + fine_m, rough * a,
-                                                lag + pr.relay_response_s),
-                 Command::Fine},
-                {lathectl::design::threshold_23(plan.line, pr.target_m + spark_m, fine * a,
-                                                lag + pr.relay_response_s),
-                 Command::SparkOut},
-                {s_size, Command::Size}};
-    if (!(mp.steps[1].threshold_V < s_size))
-      throw Error("the size threshold " + std::to_string(s_size) +
-                  " V is not above spark-out's (23) threshold " +
-                  std::to_string(mp.steps[1].threshold_V) + " V: lower spark_um");
+    dg::Sequence seq;
+    seq.enabled = true;
+    seq.rough_factor = rough;
+    seq.fine_factor = fine;
+    seq.fine_m = fine_m;
+    seq.spark_m = spark_m;
+    try {
+      mp.steps = dg::gauging_cycle(seq, plan.line, pr,
+                                   lag + pr.relay_response_s +
+                                       pr.interruption.bridge_lag_s(d.transducer.supply_Hz),
+                                   s_size)
+                     .before;
+    } catch (const std::invalid_argument& e) {
+      throw Error(e.what());
+    }
+    mp.steps.push_back({s_size, GaugeMachine::Command::Size});
     mp.relay_response_s = pr.relay_response_s;
     mp.arm_after_s = 5.0 * d.transducer.filter_time_constant_s;  // as the study's relay
     // Machine X [m] of the backstop, where a G38 plunge toward it ends: reached within 1 nm (the

@@ -50,6 +50,9 @@ void GaugeMachine::configure(const Params& p) {
     throw core::ParameterError("free_signal_V", "gauge: the free probe's signal must be > 0 V");
   if (!std::isfinite(p.initial_signal_V))
     throw core::ParameterError("initial_signal_V", "gauge: the initial signal must be finite");
+  if (!(p.gate_guard_s >= 0.0) || !std::isfinite(p.gate_guard_s))
+    throw core::ParameterError("gate_guard_s", "gauge: the guard after an interruption must be "
+                                               "≥ 0 s");
   GaugeFilter f;
   f.configure(p.filter, p.period_s);
   p_ = p;
@@ -57,6 +60,11 @@ void GaugeMachine::configure(const Params& p) {
   // One supply period: two periods of the probe's 2ω, the rectified signal's peak twice.
   window_n_ = std::max<std::size_t>(
       1, static_cast<std::size_t>(std::llround(1.0 / (p.filter.supply_Hz * p.period_s))));
+  // Two supply periods: the period of ω/2, whose harmonics are all the signal carries (the
+  // probe's 2ω, and ω and ω/2 when it period-doubles) and all the synchronous filter nulls.
+  cycle_.assign(std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(
+                                             2.0 / (p.filter.supply_Hz * p.period_s)))),
+                0.0);
   reset();
 }
 
@@ -67,9 +75,22 @@ void GaugeMachine::reset() noexcept {
   out_.signal_V = p_.initial_signal_V;
 }
 
+double GaugeMachine::bridge_lag_s(double bridge_s, double count, double period_rev_s,
+                                  double supply_Hz) noexcept {
+  if (!(bridge_s > 0.0) || !(count > 0.0) || !(period_rev_s > 0.0)) return 0.0;
+  // s into a bridge the sample fed is P·(1 + floor(s/P)) old; its mean over the bridge, with
+  // n = floor(g/P) whole replays and r = g − n·P left: P·(P·n(n + 1)/2 + (n + 1)·r)/g.
+  const double P = 2.0 / supply_Hz, g = bridge_s;
+  const double n = std::floor(g / P), r = g - n * P;
+  const double mean_delay = P * (P * n * (n + 1.0) / 2.0 + (n + 1.0) * r) / g;
+  return count * g / period_rev_s * mean_delay;
+}
+
 void GaugeMachine::rearm() noexcept {
   t_ = 0.0;
   quiet_n_ = 0;
+  cycle_pos_ = cycle_n_ = 0;
+  guard_left_s_ = 0.0;
   const double s = out_.signal_V;
   out_ = Output{};
   out_.signal_V = s;
@@ -97,7 +118,21 @@ void GaugeMachine::update(const Input& in) noexcept {
     return;
   }
   const double g = std::abs(in.generator_V);  // rectifier (13)
-  const double s = filter_.step(g);           // filter (14)
+  // An interruption under the probe, or its guard: the last probe period on the round surface
+  // replayed (once one was read whole; before, nothing to bridge with).
+  if (in.gate) guard_left_s_ = p_.gate_guard_s;
+  const bool bridge = (in.gate || guard_left_s_ > 0.0) && cycle_n_ == cycle_.size();
+  if (!in.gate && guard_left_s_ > 0.0) guard_left_s_ -= dt;
+  double fed = g;
+  if (bridge) {
+    fed = cycle_[cycle_pos_];
+  } else {
+    cycle_[cycle_pos_] = g;
+    cycle_n_ = std::min(cycle_n_ + 1, cycle_.size());
+  }
+  cycle_pos_ = (cycle_pos_ + 1) % cycle_.size();
+  out_.bridged = bridge;
+  const double s = filter_.step(fed);  // filter (14)
   out_.signal_V = s;
   // Signal lost: no sample of |u| at the level for a whole supply period (a 2ω oscillation
   // reaches its peak four times in one).

@@ -565,6 +565,22 @@ printf '{"rows": [\n' > "$work/oplog_syntax.json"
 expect_rc 2 "report with broken JSON" $bin report "$work/oplog_syntax.json"
 grep -q "oplog_syntax.json:2:1: not JSON" "$work/err.txt" || bad "report syntax message: $(cat "$work/err.txt")"
 
+# report: a system-D series of scripts/linuxcnc-sim-gauge (summary.json and parts.csv) → its sizes,
+# Cp/Cpk and histogram; a bad size: exit 2 naming its key
+mkdir -p "$work/series"
+cat > "$work/series/summary.json" <<'JSON'
+{"program": "gauge_plunge.ngc", "metrics": {"parts": 2, "size_mean_error_um": -0.5, "size_sigma_um": 2.1213, "cp": 1.57, "cpk": 1.49, "tolerance_um": 10.0, "backstop_um": 90.0, "backstop_trips": 0, "threshold_V": 3.9, "trip_to_stop_s_max": 0.0252},
+ "parts_detail": [{"part": 1, "steps": [{"step": 1, "size_um": 159.56}, {"step": 2, "size_um": 126.49}, {"step": 3, "size_um": 98.05}], "backstop": false, "alarm": false, "trip_to_stop_s": 0.0250, "error_um": -2.0},
+                  {"part": 2, "steps": [{"step": 1, "size_um": 161.48}, {"step": 2, "size_um": 128.62}, {"step": 3, "size_um": 100.37}], "backstop": false, "alarm": false, "trip_to_stop_s": 0.0252, "error_um": 1.0}]}
+JSON
+: > "$work/series/parts.csv"
+expect_rc 0 "report of a D series" $bin report "$work/series"
+grep -q "2 parts: mean -0.500 µm, σ 2.121 µm, Cpk 1.49" "$work/out.txt" || bad "D series report: $(cat "$work/out.txt")"
+grep -q "Finished sizes" "$work/series/report.html" && grep -q "159.56, 126.49, 98.05" "$work/series/report.html" || bad "D series report lacks the size table"
+sed 's/"error_um": 1.0/"error_um": "big"/' "$work/series/summary.json" > "$work/series/bad.json" && mv "$work/series/bad.json" "$work/series/summary.json"
+expect_rc 2 "report of a D series with a bad size" $bin report "$work/series" --out "$work/never.html"
+grep -q "key 'parts_detail\[1\].error_um': expected a number" "$work/err.txt" || bad "D series bad size: $(cat "$work/err.txt")"
+
 # hostile inputs and outputs: one line, exit 2, never "internal error", nothing replaced
 for dev in /dev/zero /dev/urandom; do
   expect_rc 2 "run $dev" timeout 20 $bin run "$dev" --out "$work/never"

@@ -344,4 +344,82 @@ TEST(GaugeMachine, ConfigureNamesTheParameterItRefuses) {
   refuses(p, "backstop_m");
 }
 
+// Interrupted surfaces: while the gate is up (a keyway under the probe, and its guard after) the
+// machine feeds its filter the last two supply periods read on the round surface. On a part of
+// constant size the signal is periodic with that period, so the bridged filter sees exactly the
+// round surface's signal whatever passed under the probe (the probe swinging free over the
+// keyway: three times the amplitude here); without the gate the keyway raises S.
+TEST(GaugeMachine, BridgedInterruptionsLeaveThePeriodicSignalOfTheRoundSurface) {
+  const double w2 = 2.0 * (2.0 * std::numbers::pi * kSupply);
+  const double rev = 0.1, keyway = 0.0083;  // 600 rpm, 30°
+  for (auto kind : {GaugeFilterKind::FirstOrder, GaugeFilterKind::SecondOrder,
+                    GaugeFilterKind::Synchronous}) {
+    auto p = params(kind, {{1e9, Command::Size}});
+    p.gate_guard_s = 0.01;
+    GaugeMachine round, gated, ungated;
+    round.configure(p);
+    gated.configure(p);
+    ungated.configure(p);
+    double worst_gated = 0.0, worst_ungated = 0.0;
+    int bridged = 0;
+    for (int k = 0; k < 100000; ++k) {  // 2 s
+      const double t = k * kDt;
+      const double clean = 0.5 * std::numbers::pi * kK * (kA - 100e-6) * std::sin(w2 * t);
+      // The keyways from 50 ms on: the machine has read two supply periods whole by then.
+      const bool gap = t > 0.05 && std::fmod(t, rev) < keyway;
+      GaugeMachine::Input in;
+      in.generator_V = clean;
+      round.update(in);
+      in.generator_V = gap ? 3.0 * clean : clean;
+      ungated.update(in);
+      in.gate = gap;
+      gated.update(in);
+      if (t < 0.5) continue;  // the filters settled
+      bridged += gated.output().bridged;
+      const double s = round.output().signal_V;
+      worst_gated = std::max(worst_gated, std::abs(gated.output().signal_V - s) / s);
+      worst_ungated = std::max(worst_ungated, std::abs(ungated.output().signal_V - s) / s);
+    }
+    // The replayed samples are the same sine 2000 samples earlier: equal to rounding.
+    EXPECT_LT(worst_gated, 1e-9) << static_cast<int>(kind);
+    EXPECT_GT(worst_ungated, 0.05) << static_cast<int>(kind);
+    // Gate and guard: 18.3 ms of every 100 ms bridged (of the last 1.5 s).
+    EXPECT_NEAR(bridged / 75000.0, 0.183, 0.002) << static_cast<int>(kind);
+  }
+}
+
+// On a plunge the bridges delay the size the filter sees: (23) with their mean delay
+// (bridge_lag_s) added to the filter's lag ends the plunge at x_k, as without interruptions,
+// within the synchronous filter's bound and the part of a revolution the window's edge cuts.
+TEST(GaugeMachine, BridgedPlungeEndsAtThreshold23WithTheBridgeLag) {
+  const double w2 = 2.0 * (2.0 * std::numbers::pi * kSupply);
+  const double rev = 0.1, keyway = 0.0083, guard = 0.03;
+  auto p = params(GaugeFilterKind::Synchronous, {{0.0, Command::Size}});
+  p.gate_guard_s = guard;
+  const double bridge_lag = GaugeMachine::bridge_lag_s(keyway + guard, 1.0, rev, kSupply);
+  // 38.3 ms bridged, shorter than the 40 ms replayed: every bridged sample is 40 ms old.
+  EXPECT_NEAR(bridge_lag, 0.0383 * 0.04 / rev, 1e-12);
+  p.steps[0].threshold_V =
+      kK * (kA - kTarget -
+            kRate * (lathectl::control::GaugeFilter::lag_s(p.filter) + bridge_lag + kRelay));
+  GaugeMachine m;
+  m.configure(p);
+  double stop = INFINITY;
+  for (double t = 0.0; t < 12.0 && !std::isfinite(stop); t += kDt) {
+    const double x = kAllow - kRate * t;
+    GaugeMachine::Input in;
+    const bool gap = std::fmod(t, rev) < keyway;
+    in.generator_V = 0.5 * std::numbers::pi * kK * (kA - x + (gap ? 200e-6 : 0.0)) *
+                     std::sin(w2 * t);
+    in.gate = gap;
+    m.update(in);
+    if (m.output().stop) stop = t + kDt;
+  }
+  ASSERT_TRUE(std::isfinite(stop));
+  // The window (200 ms) holds two revolutions; the ramp's delay is the bridges' mean only over
+  // whole ones, off by at most a·(bridge's delay)·(bridge/window) where the window cuts one.
+  const double cut = kRate * 0.04 * (keyway + guard) / 0.2;
+  EXPECT_NEAR(kAllow - kRate * stop, kTarget, synchronous_bound_m() + cut);
+}
+
 }  // namespace

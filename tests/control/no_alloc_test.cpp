@@ -398,7 +398,8 @@ TEST(NoAlloc, ModulatedFeedControllerAndVibrationChainNeverAllocate) {
 }
 
 TEST(NoAlloc, GaugeMachineAndVibroContactGaugeNeverAllocate) {
-  // Every filter and every path: steps, their relay, the backstop, a lost and a NaN signal, rearm.
+  // Every filter and every path: steps, their relay, the backstop, a lost and a NaN signal, rearm,
+  // bridged interruptions.
   using lathectl::control::GaugeFilterKind;
   using lathectl::control::GaugeMachine;
   for (auto kind : {GaugeFilterKind::FirstOrder, GaugeFilterKind::SecondOrder,
@@ -421,6 +422,7 @@ TEST(NoAlloc, GaugeMachineAndVibroContactGaugeNeverAllocate) {
     p.signal_lost_V = 0.01 * free;
     p.free_signal_V = free;
     p.initial_signal_V = free;
+    p.gate_guard_s = 0.01;
     m.configure(p);
     int stops = 0, trips = 0;
     const long before = g_allocations.load();
@@ -433,6 +435,7 @@ TEST(NoAlloc, GaugeMachineAndVibroContactGaugeNeverAllocate) {
       if (k % 20000 == 19990) in.generator_V = std::nan("");            // not finite
       in.position_m = k % 20000 > 18000 ? -2.0 : 0.0;                   // backstop
       in.rearm = k % 20000 < 2;  // each ramp a part
+      in.gate = k % 5000 < 400;  // an interruption bridged, then its guard
       m.update(in);
       stops += m.output().stop;
       trips += m.output().tripped;

@@ -21,6 +21,19 @@
 //               alarm; a NaN or infinite sample, at once. A threshold above the free probe's signal (the most S can ever read) can
 //               never trip: reported from the start, so the backstop's alarm is expected.
 //
+// Interrupted surfaces (a keyway, flats): while an interruption passes under the probe the
+// probe drops into the gap or onto the flat and its amplitude reads a smaller size — a trip on a
+// gap, a flat read as size. The machine knows where they are (the part's drawing and the
+// spindle's angle): Input::gate is true while one is under the probe, and for gate_guard_s after
+// it (the probe rings as it meets the round surface again) the samples still are not the size.
+// Those samples are bridged: the filter is fed the last two supply periods of the rectified
+// signal read on the round surface, replayed in phase — the period of ω/2, so every component
+// the signal carries (the probe's 2ω, and ω, ω/2 when it period-doubles) continues unbroken and
+// the synchronous filter's nulls hold; replaying one 2ω period instead left a finished size
+// swinging by ±0.7 µm with the bridge's length, period 20 ms. The size the filter sees is then
+// that of up to two supply periods plus the bridge's length ago (bridge_lag_s: the mean of that
+// delay, for (23)).
+//
 // The relay arms arm_after_s after a (re)arm: the filter has settled on the contact by then (a
 // fall of S through a threshold as the probe first touches is not a trip).
 // Real-time: configure() allocates and may throw core::ParameterError naming its own parameter;
@@ -60,13 +73,22 @@ class GaugeMachine {
     double signal_lost_V = 0.0;
     // Where the filter starts at reset (the free probe's signal, the transducer at rest).
     double initial_signal_V = 0.0;
+    // Samples still bridged after Input::gate falls (the probe's recovery on the round surface).
+    double gate_guard_s = 0.0;
   };
+  // The mean delay bridging adds to the size the filter sees, over a revolution of `period_rev_s`
+  // with `count` bridges of `bridge_s` each (interruption and guard): within a bridge the sample
+  // fed is the one k·P before (P = 2/supply the replayed length, k = 1 + floor(s/P) at s into
+  // it; P itself for a bridge shorter than P), for count·bridge_s of the revolution.
+  [[nodiscard]] static double bridge_lag_s(double bridge_s, double count, double period_rev_s,
+                                           double supply_Hz) noexcept;
   struct Input {
     double generator_V = 0.0;  // u
     // The controlled size's position on the same scale as backstop_m (the size left to remove
     // in the study, the infeed axis' position on a machine).
     double position_m = std::numeric_limits<double>::infinity();
     bool rearm = false;  // rising edge: a new part (steps back to rough, alarms cleared)
+    bool gate = false;   // an interruption (keyway, flat) is under the probe: bridge the sample
   };
   struct Output {
     double signal_V = 0.0;  // S
@@ -85,6 +107,7 @@ class GaugeMachine {
     bool unreachable = false;  // the next threshold is above what the free probe reads
     double next_threshold_V = std::numeric_limits<double>::quiet_NaN();
     double time_s = 0.0;  // since the last (re)arm, after this sample
+    bool bridged = false;  // this sample was bridged (gate or its guard)
     Reason reason = Reason::None;
   };
 
@@ -106,6 +129,11 @@ class GaugeMachine {
   std::size_t quiet_n_ = 0;  // samples since |u| last reached signal_lost_V
   std::size_t window_n_ = 1;  // samples in a supply period
   bool last_rearm_ = false;
+  // The last two supply periods of |u| on the round surface (configure() sizes it), where the next
+  // sample goes (or, bridging, the next one replayed), how many it holds, the guard left.
+  std::vector<double> cycle_;
+  std::size_t cycle_pos_ = 0, cycle_n_ = 0;
+  double guard_left_s_ = 0.0;
 };
 
 }  // namespace lathectl::control

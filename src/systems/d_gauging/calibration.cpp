@@ -10,13 +10,80 @@
 
 namespace lathectl::systems::d_gauging {
 
+namespace {
+
+// Without noise each part is exact and its finished size falls monotonically with the threshold
+// (a higher S_th trips later), though not smoothly: the ripple left on S moves the crossing by
+// uneven amounts as the threshold rises, so re-aiming through the slope K circles the target.
+// A bracket is found by such steps, then narrowed by regula falsi (Illinois) to within
+// precision_m (at most 0.05 µm), or to where the size jumps across the target.
+DynamicCalibration calibrate_noiseless(const GaugingProcess& p,
+                                       const sensors::VibroContactGauge::Params& gp, double dt,
+                                       double threshold0_V, double gain_V_per_m,
+                                       std::size_t max_parts, double precision_m,
+                                       std::uint64_t seed, double max_time_s) {
+  DynamicCalibration c;
+  const double tol = std::min(precision_m, 0.05e-6);
+  auto error_at = [&](double th) {
+    ++c.parts;
+    return machine_part_full(p, gp, dt, th, seed, nullptr, 50, max_time_s).finished_m - p.target_m;
+  };
+  auto accept = [&](double th, double e) {
+    c.threshold_V = th;
+    c.mean_error_m = e;
+    c.converged = std::abs(e) <= tol;
+    if (c.converged) c.jump_m = 0.0;
+    return c;
+  };
+  double a = threshold0_V, ea = error_at(a);
+  if (std::abs(ea) <= tol || c.parts >= max_parts) return accept(a, ea);
+  // Bracket: step by K·e (doubling while the sign holds).
+  double step = gain_V_per_m * ea;
+  double b = a + step, eb = error_at(b);
+  while ((ea > 0.0) == (eb > 0.0) && std::abs(eb) > tol && c.parts < max_parts) {
+    a = b;
+    ea = eb;
+    step *= 2.0;
+    b = a + step;
+    eb = error_at(b);
+  }
+  if (std::abs(eb) <= tol || (ea > 0.0) == (eb > 0.0) || c.parts >= max_parts)
+    return std::abs(eb) <= std::abs(ea) ? accept(b, eb) : accept(a, ea);
+  int side = 0;  // Illinois: halve the weight of an end kept twice
+  c.jump_m = ea - eb;  // narrowed with the bracket
+  while (c.parts < max_parts && std::abs(b - a) > 1e-12) {
+    const double m = (a * eb - b * ea) / (eb - ea);
+    const double em = error_at(m);
+    if (std::abs(em) <= tol) return accept(m, em);
+    if ((em > 0.0) == (ea > 0.0)) {
+      a = m;
+      ea = em;
+      if (side == -1) eb *= 0.5;
+      side = -1;
+    } else {
+      b = m;
+      eb = em;
+      if (side == 1) ea *= 0.5;
+      side = 1;
+    }
+  }
+  c.jump_m = ea - eb;
+  c.bracket_V = std::abs(b - a);
+  return std::abs(eb) <= std::abs(ea) ? accept(b, eb) : accept(a, ea);
+}
+
+}  // namespace
+
 DynamicCalibration calibrate_dynamic(const GaugingProcess& p,
                                      const sensors::VibroContactGauge::Params& gp, double dt,
                                      double threshold0_V, double gain_V_per_m,
                                      std::size_t max_parts, double precision_m, std::uint64_t seed,
                                      double max_time_s) {
   const bool noisy = p.noise_variance_m2 > 0.0;
-  const std::size_t batch = noisy ? 8 : 1;
+  if (!noisy)
+    return calibrate_noiseless(p, gp, dt, threshold0_V, gain_V_per_m, max_parts, precision_m,
+                               seed, max_time_s);
+  const std::size_t batch = 8;
   DynamicCalibration c;
   c.threshold_V = threshold0_V;
   std::vector<double> err_at_th;  // each part's error and the threshold it was machined at
@@ -48,22 +115,18 @@ DynamicCalibration calibrate_dynamic(const GaugingProcess& p,
       const double var = N > 1.0 ? std::max(0.0, (m2 - N * m * m) / (N - 1.0)) : 0.0;
       return std::pair{m, std::sqrt(var / N)};
     };
-    // Without noise each part is exact at its own threshold: the last one is the estimate.
-    auto [m, se] = noisy ? pooled(c.threshold_V) : std::pair{err_at_th.back(), 0.0};
+    auto [m, se] = pooled(c.threshold_V);
     c.mean_error_m = m;
     c.standard_error_m = se;
-    const bool done = noisy ? (err_at_th.size() > 1 && std::abs(m) <= se && se <= precision_m)
-                            : std::abs(m) <= 0.05e-6;
+    const bool done = err_at_th.size() > 1 && std::abs(m) <= se && se <= precision_m;
     if (done) {
       c.converged = true;
       break;
     }
     c.threshold_V += gain_V_per_m * m;
-    if (noisy) {
-      const auto after = pooled(c.threshold_V);  // the pooled estimate at the new threshold
-      c.mean_error_m = after.first;
-      c.standard_error_m = after.second;
-    }
+    const auto after = pooled(c.threshold_V);  // the pooled estimate at the new threshold
+    c.mean_error_m = after.first;
+    c.standard_error_m = after.second;
   }
   return c;
 }

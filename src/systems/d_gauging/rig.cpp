@@ -60,9 +60,11 @@ PartResult one_linear_part(const GaugingProcess& p, const LinearGauge& g, double
                            std::mt19937_64& rng) {
   std::normal_distribution<double> n01(0.0, 1.0);
   const double K = g.gain_V_per_m, a = p.removal_m_per_s;
-  auto s_det = [&](double t) { return K * (g.intercept_m - p.allowance_m + a * (t - g.lag_s())); };
+  // The ramp's delay: the filter's, and the bridges' over an interrupted surface.
+  const double lag = g.lag_s() + p.interruption.bridge_lag_s(g.supply_Hz);
+  auto s_det = [&](double t) { return K * (g.intercept_m - p.allowance_m + a * (t - lag)); };
   // Expected trip: s_det(t*) = S_th; start well before it (noise and lag long settled).
-  const double t_star = (s_th / K - g.intercept_m + p.allowance_m) / a + g.lag_s();
+  const double t_star = (s_th / K - g.intercept_m + p.allowance_m) / a + lag;
   const double corr =
       std::max(g.filter_s, p.noise_beta_per_s > 0.0 ? 1.0 / p.noise_beta_per_s : 0.0);
   const double sigma_t = std::sqrt(tr.var_eps) / (K * a);
@@ -164,8 +166,11 @@ class FilteredNoise {
 PartResult one_filtered_part(const GaugingProcess& p, const LinearGauge& g, double s_th,
                              FilteredNoise& noise, double h, std::mt19937_64& rng) {
   const double K = g.gain_V_per_m, a = p.removal_m_per_s, lag = g.lag_s();
-  auto s_det = [&](double t) { return K * (g.intercept_m - p.allowance_m + a * (t - lag)); };
-  const double t_star = (s_th / K - g.intercept_m + p.allowance_m) / a + lag;
+  const double ramp_lag = lag + p.interruption.bridge_lag_s(g.supply_Hz);  // and the bridges'
+  auto s_det = [&](double t) {
+    return K * (g.intercept_m - p.allowance_m + a * (t - ramp_lag));
+  };
+  const double t_star = (s_th / K - g.intercept_m + p.allowance_m) / a + ramp_lag;
   const double corr = std::max(lag, p.noise_beta_per_s > 0.0 ? 1.0 / p.noise_beta_per_s : 0.0);
   const double sigma_t = std::sqrt(p.noise_variance_m2 * g.noise_factor(p.noise_beta_per_s)) / a;
   double t = std::max(0.0, t_star - corr - 6.0 * sigma_t);
@@ -207,7 +212,8 @@ LinearGauge linear_gauge(const design::GaugeLine& line,
 
 double threshold_23(const LinearGauge& g, const GaugingProcess& p) {
   return design::threshold_23({g.gain_V_per_m, g.intercept_m}, p.target_m, p.removal_m_per_s,
-                              g.lag_s() + p.relay_response_s);
+                              g.lag_s() + p.relay_response_s +
+                                  p.interruption.bridge_lag_s(g.supply_Hz));
 }
 
 std::vector<PartResult> monte_carlo_linear(const GaugingProcess& p, const LinearGauge& g,
@@ -334,7 +340,9 @@ control::GaugeMachine::Params gauge_machine_params(const GaugingProcess& p,
   control::GaugeMachine::Params m;
   m.period_s = g.step_s();
   m.filter = sensors::VibroContactGauge::filter_params(gp);
-  m.steps = {{threshold_V, control::GaugeMachine::Command::Size}};
+  m.steps = p.cycle.before;
+  m.steps.push_back({threshold_V, control::GaugeMachine::Command::Size});
+  m.gate_guard_s = p.interruption.guard_s;
   m.relay_response_s = p.relay_response_s;
   // The relay arms once the signal has settled below the threshold after the first contact.
   m.arm_after_s = 5.0 * gp.filter_time_constant_s;
@@ -359,36 +367,78 @@ PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContac
   const double kick = std::sqrt(p.noise_variance_m2 * (1.0 - rho * rho));
   double xi = std::sqrt(p.noise_variance_m2) * n01(rng);
   const double a = p.removal_m_per_s;
+  // The removal in segments, one a step of the cycle: x = x0 − rate·(t − t0) from t0 on (one
+  // segment, the size step's, without a cycle).
+  struct Segment {
+    double t0, x0, rate;
+  };
+  std::array<Segment, control::GaugeMachine::kMaxSteps + 1> seg{};
+  std::size_t n_seg = 1;
+  seg[0] = {0.0, p.allowance_m,
+            a * p.cycle.rate_factor_of(p.cycle.before.empty()
+                                           ? control::GaugeMachine::Command::Size
+                                           : control::GaugeMachine::Command::Rough)};
+  const auto seg_at = [&](double t) -> const Segment& {
+    std::size_t i = n_seg - 1;
+    while (i > 0 && seg[i].t0 > t) --i;
+    return seg[i];
+  };
+  const auto x_at = [&](double t) {
+    const Segment& s = seg_at(t);
+    return s.x0 - s.rate * (t - s.t0);
+  };
+  const auto& ir = p.interruption;
+  // Each part meets the interruptions at its own angle.
+  const double theta0 =
+      ir.any() ? std::uniform_real_distribution<double>(0.0, 2.0 * std::numbers::pi)(rng) : 0.0;
+  const double omega = 2.0 * std::numbers::pi * ir.spindle_rpm / 60.0;
   const double t_expected = a > 0.0 ? (p.allowance_m - p.target_m) / a : 1.0;
   const double t_max =
       max_time_s > 0.0 ? max_time_s : 2.0 * t_expected + 10.0 * gp.filter_time_constant_s + 1.0;
   PartResult r;
   r.trip_s = r.stop_s = std::numeric_limits<double>::quiet_NaN();
-  const double t_back = p.backstop_time_s();
   double stop = std::numeric_limits<double>::infinity();
   double x = p.allowance_m;
+  const bool limited = a > 0.0 && std::isfinite(p.backstop_m);
+  std::int32_t operated = 0;  // the cycle's steps scheduled into segments
   // The filter starts from its free reading; let it see the first contact (no skipped physics).
   for (std::size_t k = 0;; ++k) {
     const double t = g.time_s();
     if (t >= t_max) break;
-    x = p.allowance_m - a * std::min(t, stop);
+    x = x_at(std::min(t, stop));
     xi = rho * xi + kick * n01(rng);
+    const double theta = theta0 + omega * t;
     control::GaugeMachine::Input in;
-    in.generator_V = g.step_generator(x + xi);
+    in.generator_V = g.step_generator(x + xi - (ir.any() ? ir.depth_at(theta) : 0.0));
+    in.gate = ir.gate && ir.under(theta);
     // Where the size is at the end of this sample (the backstop's limit position on x).
-    in.position_m = a > 0.0 && std::isfinite(t_back) ? p.allowance_m - a * std::min(t + dt, stop)
-                                                     : std::numeric_limits<double>::infinity();
+    in.position_m = limited ? x_at(std::min(t + dt, stop)) : std::numeric_limits<double>::infinity();
     machine.update(in);
     const auto& out = machine.output();
-    if (out.tripped && std::isnan(r.trip_s)) {
-      r.trip_s = out.trip_time_s;
-      if (r.trip_s + p.relay_response_s < stop) {
-        stop = r.trip_s + p.relay_response_s;
-        r.stop_s = stop;
+    // A crossing: its command operates t_r later — the next step's rate from then, or the end.
+    if (out.tripped) {
+      const double at = out.trip_time_s + p.relay_response_s;
+      const auto last = static_cast<std::int32_t>(p.cycle.before.size());
+      if (out.tripped_steps > last) {
+        if (std::isnan(r.trip_s)) {
+          r.trip_s = out.trip_time_s;
+          if (at < stop) {
+            stop = at;
+            r.stop_s = stop;
+          }
+        }
+      } else if (out.tripped_steps > operated && n_seg < seg.size() && at < stop) {
+        const auto c = p.cycle.before[static_cast<std::size_t>(out.tripped_steps - 1)].command;
+        seg[n_seg] = {at, x_at(at), a * p.cycle.rate_factor_of(c)};
+        ++n_seg;
+        for (auto j = operated; j < out.tripped_steps; ++j)
+          r.step_at_m[static_cast<std::size_t>(j)] = seg[n_seg - 1].x0;
       }
+      operated = out.tripped_steps;
     }
     if (out.backstop && !r.backstop) {  // x reaches the limit position first
-      stop = t_back;
+      const Segment& s = seg_at(g.time_s());
+      stop = s.t0 + (s.x0 - p.backstop_m) / s.rate;
       r.stop_s = stop;
       r.backstop = true;
     }
@@ -399,7 +449,7 @@ PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContac
     }
     if (t > stop + 5.0 * gp.filter_time_constant_s) break;
   }
-  r.finished_m = std::isfinite(stop) ? p.allowance_m - a * stop : x;
+  r.finished_m = std::isfinite(stop) ? x_at(stop) : x;
   return r;
 }
 

@@ -16,6 +16,7 @@
 // then: ξ disturbs the measurement, not the part.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -29,6 +30,50 @@
 
 namespace lathectl::systems::d_gauging {
 
+// The gauging cycle's steps before size (the seed's successive thresholds, each a command):
+// rough → fine → spark-out → size. Each earlier threshold is (23) on the same line for the size
+// where the next step starts, at the removal rate of the step it ends; the size step's rate is
+// the process' a. Empty: the size step alone (the whole allowance at a).
+struct GaugingCycle {
+  std::vector<control::GaugeMachine::Step> before;  // thresholds rising, commands Fine, SparkOut
+  // The removal rate of each command's step / a (Rough, Fine, SparkOut, Size).
+  std::array<double, 4> rate_factor{1.0, 1.0, 1.0, 1.0};
+  [[nodiscard]] double rate_factor_of(control::GaugeMachine::Command c) const {
+    return rate_factor[static_cast<std::size_t>(c)];
+  }
+};
+
+// An interrupted surface under the probe (seed 003's figure 1: interrupted surfaces machined
+// with the gauge): `count` keyways (a slot `width_rad` wide, `depth_m` deep) or flats (a chord
+// `depth_m` deep at its middle on a part of radius `radius_m`: the surface (R − h)/cos φ within
+// |φ| < acos(1 − h/R)), equally spaced, turning at `spindle_rpm`; each part starts at its own
+// random angle. `gate`: the machine knows where they are (the drawing, the spindle's angle) and
+// bridges them, with `guard_s` after each (GaugeMachine's gate); false: it reads them as size.
+struct Interruption {
+  enum class Kind { None, Keyway, Flats };
+  Kind kind = Kind::None;
+  int count = 1;
+  double width_rad = 0.0;  // keyway
+  double depth_m = 0.0;
+  double radius_m = 0.025;  // flats
+  double spindle_rpm = 600.0;
+  bool gate = true;
+  double guard_s = 0.02;
+  [[nodiscard]] bool any() const { return kind != Kind::None && count > 0; }
+  // Half the angular span of one interruption.
+  [[nodiscard]] double half_span_rad() const;
+  // Where θ lies from the nearest interruption's middle (−π/count … π/count).
+  [[nodiscard]] double from_middle_rad(double theta) const;
+  // The surface's depth below the round one under the probe at spindle angle θ (0 on it).
+  [[nodiscard]] double depth_at(double theta) const;
+  [[nodiscard]] bool under(double theta) const {
+    return any() && std::abs(from_middle_rad(theta)) < half_span_rad();
+  }
+  [[nodiscard]] double revolution_s() const { return 60.0 / spindle_rpm; }
+  // The mean delay the bridges add to the signal (GaugeMachine::bridge_lag_s), 0 ungated.
+  [[nodiscard]] double bridge_lag_s(double supply_Hz) const;
+};
+
 struct GaugingProcess {
   double allowance_m = 200e-6;       // m_x
   double removal_m_per_s = 20e-6;    // a
@@ -39,7 +84,9 @@ struct GaugingProcess {
   // The programmed limit position: the cut ends when x reaches it whether or not the relay has
   // tripped (as any real gauging cycle's end stop), with an alarm. −∞: none.
   double backstop_m = -std::numeric_limits<double>::infinity();
-  // The time x reaches the backstop (∞ without one or without removal).
+  GaugingCycle cycle;          // the steps before size (none: the size step alone)
+  Interruption interruption;  // none: a round surface
+  // The time x reaches the backstop (∞ without one or without removal) at the size step's rate.
   [[nodiscard]] double backstop_time_s() const {
     return removal_m_per_s > 0.0 && std::isfinite(backstop_m)
                ? (allowance_m - backstop_m) / removal_m_per_s
@@ -82,6 +129,13 @@ struct PartResult {
   double stop_s = 0.0;      // removal stops
   double finished_m = 0.0;  // true x when removal stopped
   bool backstop = false;    // the cut ended at the backstop (relay too late or never)
+  // Full model with a cycle: the true size x when each earlier step's command operated (the
+  // removal rate changed), in order; NaN for a step that did not.
+  std::array<double, control::GaugeMachine::kMaxSteps> step_at_m{
+      std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
+      std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
+      std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
+      std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
   // Linearised Monte Carlo: the filtered noise ε at the nominal trip time t* (S_det(t*) = S_th),
   // NaN if not reached: highly correlated with the finished size, known mean 0 — the control
   // variate that makes the bias calibration precise.
@@ -195,13 +249,20 @@ inline double full_model_mean_signal(const sensors::VibroContactGauge::Params& g
 // included), each at the current S_th, and move S_th by K·(mean finished − target) after each
 // batch, the errors pooled (each corrected to the current S_th through the slope K). Batches of 8
 // parts with noise (1 without); stops when the pooled mean is within its standard error of the
-// target and that error is below `precision_m` (without noise: within 0.05 µm), or at max_parts.
+// target and that error is below `precision_m`, or at max_parts. Without noise each part is
+// exact: the threshold is bracketed and narrowed (regula falsi) until the part finishes within
+// precision_m (at most 0.05 µm) of the target, or at max_parts. The study calls it without noise, aimed at target − the linearised
+// model's first-passage bias (study.cpp says why).
 struct DynamicCalibration {
   double threshold_V = 0.0;
   std::size_t parts = 0;      // parts machined
   double mean_error_m = 0.0;  // pooled, at the final threshold
   double standard_error_m = 0.0;
   bool converged = false;
+  // Without noise, not converged: the finished size's jump across the target between the two
+  // thresholds bracketing it (0 otherwise).
+  double jump_m = 0.0;
+  double bracket_V = 0.0;  // the two thresholds' distance then
 };
 DynamicCalibration calibrate_dynamic(const GaugingProcess& p,
                                      const sensors::VibroContactGauge::Params& gp, double dt,

@@ -1,6 +1,9 @@
 #include "systems/d_gauging/settings.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <string>
 #include <stdexcept>
 
 #include "lathectl/io/errors.hpp"
@@ -121,6 +124,71 @@ void read_transducer(TableReader& root, sensors::VibroContactGauge::Params& t) {
   tr->finish();
 }
 
+// [sequence]: rough → fine → spark-out before size, each a threshold of its own from (23).
+void read_sequence(TableReader& root, Settings& d) {
+  auto t = root.table("sequence");
+  if (!t) return;
+  auto& q = d.sequence;
+  q.enabled = true;
+  t->read({"rough_factor", Range::closed(1, 1e3),
+           "the rough step's removal rate / process.removal_um_per_s"},
+          q.rough_factor);
+  t->read({"fine_factor", Range::closed(1, 1e3),
+           "the fine step's removal rate / process.removal_um_per_s; ≤ rough_factor"},
+          q.fine_factor);
+  t->check(q.fine_factor <= q.rough_factor, "fine_factor", "must not exceed rough_factor");
+  t->read({"fine_um", {0.0, 1e5, true, false}, "the size above target where fine starts", kUm},
+          q.fine_m);
+  t->read({"spark_um", {0.0, 1e5, true, false},
+           "the size above target where spark-out (the size step's rate) starts; < fine_um", kUm},
+          q.spark_m);
+  t->check(q.spark_m < q.fine_m, "spark_um", "must be below fine_um");
+  t->check(d.process.target_m + q.fine_m < d.process.allowance_m, "fine_um",
+           "must end before the allowance: target_um + fine_um < allowance_um");
+  t->finish();
+}
+
+// [interruption]: keyways or flats under the probe, and whether the machine bridges them.
+void read_interruption(TableReader& root, Settings& d) {
+  auto t = root.table("interruption");
+  if (!t) return;
+  auto& ir = d.process.interruption;
+  const std::string kind =
+      t->pick({"kind", {}, "keyway (slots) or flats (chords) under the probe"},
+              {"keyway", "flats"}, "keyway");
+  ir.kind = kind == "flats" ? Interruption::Kind::Flats : Interruption::Kind::Keyway;
+  t->read({"count", Range::closed(1, 64), "how many, equally spaced around the part"}, ir.count);
+  t->require({"depth_um", {0.0, 1e6, true, false},
+              "the keyway's depth, or the flat's at its middle, below the round surface", kUm},
+             ir.depth_m);
+  if (ir.kind == Interruption::Kind::Keyway || t->is_describing()) {
+    double deg = 30.0;
+    t->require({"width_deg", {0.0, 180.0, true, false}, "keyway: its angular width"}, deg);
+    ir.width_rad = deg * std::numbers::pi / 180.0;
+  }
+  if (ir.kind == Interruption::Kind::Flats || t->is_describing()) {
+    t->require({"part_radius_mm", {0.0, 1e4, true, false}, "flats: the part's radius", 1e-3},
+               ir.radius_m);
+    t->check(ir.depth_m < ir.radius_m, "depth_um", "must be below part_radius_mm");
+  }
+  t->read({"spindle_rpm", {0.0, 1e5, true, false}, "the part's speed"}, ir.spindle_rpm);
+  t->read({"gate", {},
+           "the machine knows where they are (drawing and spindle angle) and bridges the samples "
+           "they pass under the probe with the last probe period on the round surface; false: "
+           "it reads them as size"},
+          ir.gate);
+  t->read({"guard_ms", Range::closed(0, 1e4),
+           "after each interruption, samples still bridged while the probe settles on the round "
+           "surface again",
+           kMs},
+          ir.guard_s);
+  t->check(ir.count * (2.0 * ir.half_span_rad() / (2.0 * std::numbers::pi) * ir.revolution_s() +
+                       ir.guard_s) <
+               0.5 * ir.revolution_s(),
+           "count", "the interruptions and their guards must leave half the revolution round");
+  t->finish();
+}
+
 // [gauge] and [monte_carlo]: the relay's threshold and the study's sample sizes.
 void read_gauge(TableReader& root, Settings& d) {
   if (auto g = root.table("gauge")) {
@@ -128,11 +196,11 @@ void read_gauge(TableReader& root, Settings& d) {
                            {},
                            "(23) with closed-form A0 and K (seed), (23) with the full model's "
                            "local line and the first-passage bias (calibrated), that adjusted "
-                           "by machining parts with the full model until their mean finished "
-                           "size is on target (calibrated_dynamic), or a given voltage"},
+                           "by machining full-model parts without noise until one finishes at "
+                           "target − that bias (calibrated_dynamic), or a given voltage"},
                           {"seed", "calibrated", "calibrated_dynamic", "given"}, "calibrated");
     g->read({"calibration_parts_max", Range::closed(2, 1e4),
-             "calibrated_dynamic: the most full-model parts it may machine"},
+             "calibrated_dynamic: the most full-model parts (without noise) it may machine"},
             d.calibration_parts_max);
     if (d.threshold == "given" || g->is_describing())
       g->require({"threshold_V", Range::any(), "the relay's threshold, only with \"given\""},
@@ -182,7 +250,8 @@ ThresholdPlan plan_threshold(const Settings& d, double dt) {
   sensors::VibroContactGauge g;
   g.configure(t, dt);
   ThresholdPlan pl;
-  const double lag = sensors::VibroContactGauge::filter_lag_s(t) + p.relay_response_s;
+  const double lag = sensors::VibroContactGauge::filter_lag_s(t) + p.relay_response_s +
+                    p.interruption.bridge_lag_s(t.supply_Hz);
   pl.x_trip_m = p.target_m + p.removal_m_per_s * lag;
   pl.seed_line = {g.signal_gain_V_per_m(), g.free_amplitude_m()};
   pl.calibrated_line = design::calibrated_line(t, dt, pl.x_trip_m);
@@ -201,11 +270,59 @@ ThresholdPlan plan_threshold(const Settings& d, double dt) {
   return pl;
 }
 
+// The interruption's geometry (rig.hpp): here, so the HAL components that link the settings
+// alone have it.
+double Interruption::half_span_rad() const {
+  if (kind == Kind::Keyway) return 0.5 * width_rad;
+  if (kind == Kind::Flats && radius_m > 0.0)
+    return std::acos(std::clamp(1.0 - depth_m / radius_m, -1.0, 1.0));
+  return 0.0;
+}
+
+double Interruption::from_middle_rad(double theta) const {
+  const double pitch = 2.0 * std::numbers::pi / count;
+  return theta - pitch * std::round(theta / pitch);
+}
+
+double Interruption::depth_at(double theta) const {
+  if (!under(theta)) return 0.0;
+  if (kind == Kind::Keyway) return depth_m;
+  // A flat: the chord (R − h) from the axis, at φ from its middle (R − h)/cos φ.
+  return radius_m - (radius_m - depth_m) / std::cos(from_middle_rad(theta));
+}
+
+double Interruption::bridge_lag_s(double supply_Hz) const {
+  if (!any() || !gate) return 0.0;
+  const double rev = revolution_s();
+  const double span = 2.0 * half_span_rad() / (2.0 * std::numbers::pi) * rev;
+  return control::GaugeMachine::bridge_lag_s(span + guard_s, count, rev, supply_Hz);
+}
+
+GaugingCycle gauging_cycle(const Sequence& s, const design::GaugeLine& line,
+                           const GaugingProcess& p, double lag_s, double size_threshold_V) {
+  GaugingCycle c;
+  if (!s.enabled) return c;
+  using Command = control::GaugeMachine::Command;
+  const double a = p.removal_m_per_s;
+  c.rate_factor = {s.rough_factor, s.fine_factor, 1.0, 1.0};
+  c.before = {{design::threshold_23(line, p.target_m + s.fine_m, s.rough_factor * a, lag_s),
+               Command::Fine},
+              {design::threshold_23(line, p.target_m + s.spark_m, s.fine_factor * a, lag_s),
+               Command::SparkOut}};
+  if (!(c.before[1].threshold_V < size_threshold_V))
+    throw std::invalid_argument("the size threshold " + std::to_string(size_threshold_V) +
+                                " V is not above spark-out's (23) threshold " +
+                                std::to_string(c.before[1].threshold_V) + " V: lower spark_um");
+  return c;
+}
+
 std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenario& /*sc*/,
                                                   const io::MaterialLibrary& /*lib*/) {
   auto d = std::make_unique<Settings>();
   read_process(root, *d);
   read_transducer(root, d->transducer);
+  read_sequence(root, *d);
+  read_interruption(root, *d);
   read_gauge(root, *d);
   io::read_acceptance(root, d->acceptance);
   return d;

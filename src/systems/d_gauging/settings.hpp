@@ -21,12 +21,25 @@ namespace lathectl::systems::d_gauging {
 // [acceptance]: what the finished parts must achieve (settings.cpp describes each key).
 extern const std::array<io::CriterionKey, 2> kAcceptanceKeys;
 
+// [sequence]: the steps before size, as feeds relative to the size step's removal rate and the
+// sizes above target where the next step starts (gauging_cycle makes their thresholds).
+struct Sequence {
+  bool enabled = false;  // the table is present
+  double rough_factor = 4.0;
+  double fine_factor = 2.0;
+  double fine_m = 60e-6;
+  double spark_m = 25e-6;
+};
+
 struct Settings : io::SettingsOf<Settings> {
   // The reader's disturbance is none unless [process] noise_sigma_um gives one.
   // The backstop is NaN until read: absent, it is target − tolerance (the lower tolerance limit).
   GaugingProcess process{.noise_variance_m2 = 0.0,
-                         .backstop_m = std::numeric_limits<double>::quiet_NaN()};
+                         .backstop_m = std::numeric_limits<double>::quiet_NaN(),
+                         .cycle = {},
+                         .interruption = {}};
   sensors::VibroContactGauge::Params transducer;
+  Sequence sequence;
   double tolerance_m = 10e-6;              // ± about the target
   std::string threshold = "calibrated";    // "seed" (23 with A0, K), "calibrated" (23 with the
                                            // full model's local line and the first-passage
@@ -52,6 +65,14 @@ struct ThresholdPlan {
   [[nodiscard]] bool safe() const { return range.contains(threshold_V); }
 };
 ThresholdPlan plan_threshold(const Settings& d, double dt_s);
+
+// The cycle's steps before size on `line`: fine where the size is target + fine_m (after rough
+// at rough_factor·a), spark-out at target + spark_m (after fine at fine_factor·a), each (23) with
+// `lag_s` (the filter's, the relay's and the bridges'); the rate factors of each command. No
+// steps when the sequence is off. Throws std::invalid_argument when the spark-out threshold is
+// not below `size_threshold_V` (what GaugeMachine would refuse).
+GaugingCycle gauging_cycle(const Sequence& s, const design::GaugeLine& line,
+                           const GaugingProcess& p, double lag_s, double size_threshold_V);
 
 // The scenario's transducer on its step (run.step_s): what the model refuses is located at the
 // scenario key of the parameter it names (run.step_s, transducer.magnet_gap_mm, ...; [transducer]
