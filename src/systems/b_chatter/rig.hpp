@@ -13,7 +13,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "lathectl/control/modulated_feed.hpp"
+#include "lathectl/control/modulation_machine.hpp"
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/dynamics/beam.hpp"
@@ -117,8 +117,8 @@ class Rig {
   [[nodiscard]] bool numerically_sound() const noexcept { return process_.sound(); }
   [[nodiscard]] const dynamics::TwinTurretCut& process() const noexcept { return process_; }
   [[nodiscard]] double engaged_at_s() const noexcept { return engaged_at_; }
-  [[nodiscard]] const control::ModulatedFeedController::Output& module_output() const noexcept {
-    return mod_out_;
+  [[nodiscard]] const control::ModulationMachine::Output& module_output() const noexcept {
+    return machine_.output();
   }
   // The coarsest step the cut can be simulated with: ω·dt ≤ 0.2 (as system C's slide) at the
   // chatter frequency f_n·√(1+2ζ) of the highest part mode that can chatter in this cut — one
@@ -162,10 +162,7 @@ class Rig {
   sensors::HighPass2 highpass_;
   double y_hp_ = 0.0;
   drives::SpindleDrive spindle_;
-  sensors::VibrationChain chain_;
-  sensors::PowerSensor power_;
-  control::ModulatedFeedController module_;
-  control::ModulatedFeedController::Output mod_out_{};
+  control::ModulationMachine machine_;  // the CNC: chains 11–20 and the planner
   sim::Recorder rec_;
 };
 
