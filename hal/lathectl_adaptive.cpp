@@ -27,19 +27,16 @@ MODULE_AUTHOR("lathectl");
 MODULE_DESCRIPTION("lathectl system-E adaptive feed and cutting-speed controller for LinuxCNC");
 MODULE_LICENSE("GPL");
 
-static char* scenario = nullptr;
-RTAPI_MP_STRING(scenario,
-                "system-E scenario file (TOML) whose [controller] and [sensor] set the controller");
-static char* tools = nullptr;
-RTAPI_MP_STRING(tools, "per-tool limits table (TOML, optional): rating, defaults, overload levels");
-static char* taught = nullptr;
-RTAPI_MP_STRING(taught, "teach-in references (TOML written by lathectl_oplog; absent: none)");
-static char* z_origin_mm = nullptr;
-RTAPI_MP_STRING(z_origin_mm,
-                "machine z of the stock's face: turns on the stock model for the "
-                "path-aware breakage detector (unset: the controller's own)");
-static char* sensor = nullptr;
-RTAPI_MP_STRING(sensor, "force (the scenario's sensor, default) or power (spindle-power - idle)");
+LATHECTL_HAL_PARAM(
+    scenario, "system-E scenario file (TOML) whose [controller] and [sensor] set the controller");
+LATHECTL_HAL_PARAM(tools,
+                   "per-tool limits table (TOML, optional): rating, defaults, overload levels");
+LATHECTL_HAL_PARAM(taught, "teach-in references (TOML written by lathectl_oplog; absent: none)");
+LATHECTL_HAL_PARAM(z_origin_mm,
+                   "machine z of the stock's face: turns on the stock model for the "
+                   "path-aware breakage detector (unset: the controller's own)");
+LATHECTL_HAL_PARAM(sensor,
+                   "force (the scenario's sensor, default) or power (spindle-power - idle)");
 
 namespace {
 
@@ -272,11 +269,7 @@ std::string read_text(const char* path, const char* what) {
 }  // namespace
 
 extern "C" int rtapi_app_main(void) {
-  comp_id = hal_init(kName);
-  if (comp_id < 0) return comp_id;
-  return lathectl::hal::guarded_load(kName, comp_id, [] {
-    using lathectl::hal::param;
-    using lathectl::hal::pin;
+  return lathectl::hal::load_component(kName, comp_id, [] {
     namespace e_adaptive = lathectl::systems::e_adaptive;
     const auto sc = lathectl::hal::load_system(scenario, e_adaptive::kReadSection);
     const auto& e = sc.get<e_adaptive::Settings>().rig;
@@ -339,8 +332,7 @@ extern "C" int rtapi_app_main(void) {
                                        unit);
           if (mp.taught.size() >= AdaptiveMachine::kMaxTaught)
             throw lathectl::hal::Error(std::string(taught) + ": more than " +
-                                       std::to_string(AdaptiveMachine::kMaxTaught) +
-                                       " references");
+                                       std::to_string(AdaptiveMachine::kMaxTaught) + " references");
           mp.taught.push_back({t.tool, t.operation, t.reference});
         }
       }
@@ -348,98 +340,99 @@ extern "C" int rtapi_app_main(void) {
     auto m = std::make_unique<AdaptiveMachine>();
     m->configure(mp);
     pins = lathectl::hal::allocate_pins<Pins>();
+    const lathectl::hal::Exporter x(comp_id, kPrefix);
     Pins& p = *pins;
-    pin(&p.force, HAL_IN, comp_id, kPrefix, "force");
-    pin(&p.rpm, HAL_IN, comp_id, kPrefix, "spindle-rpm");
-    pin(&p.rpm_programmed, HAL_IN, comp_id, kPrefix, "spindle-rpm-programmed");
-    pin(&p.current_vel, HAL_IN, comp_id, kPrefix, "current-vel");
-    pin(&p.requested_vel, HAL_IN, comp_id, kPrefix, "requested-vel");
-    pin(&p.feed_upm, HAL_IN, comp_id, kPrefix, "feed-upm");
-    pin(&p.motion_type, HAL_IN, comp_id, kPrefix, "motion-type");
-    pin(&p.x_pos, HAL_IN, comp_id, kPrefix, "x-pos");
-    pin(&p.cutting_speed, HAL_IN, comp_id, kPrefix, "cutting-speed");
-    pin(&p.spindle_power, HAL_IN, comp_id, kPrefix, "spindle-power");
-    pin(&p.per_rev, HAL_IN, comp_id, kPrefix, "feed-per-rev-mode");
-    pin(&p.enable, HAL_IN, comp_id, kPrefix, "enable");
-    pin(&p.reset, HAL_IN, comp_id, kPrefix, "reset");
-    pin(&p.limit_cmd, HAL_IN, comp_id, kPrefix, "limit-cmd");
-    pin(&p.feed_min_cmd, HAL_IN, comp_id, kPrefix, "feed-min-cmd");
-    pin(&p.feed_max_cmd, HAL_IN, comp_id, kPrefix, "feed-max-cmd");
-    pin(&p.mode_cmd, HAL_IN, comp_id, kPrefix, "mode-cmd");
-    pin(&p.op_cmd, HAL_IN, comp_id, kPrefix, "operation-cmd");
-    pin(&p.tool_number, HAL_IN, comp_id, kPrefix, "tool-number");
-    pin(&p.program_line, HAL_IN, comp_id, kPrefix, "program-line");
-    pin(&p.z_pos, HAL_IN, comp_id, kPrefix, "z-pos");
-    pin(&p.homed, HAL_IN, comp_id, kPrefix, "homed");
-    pin(&p.knob, HAL_IN, comp_id, kPrefix, "operator-override");
-    pin(&p.max_override, HAL_IN, comp_id, kPrefix, "max-feed-override");
-    pin(&p.scale_in_motion, HAL_IN, comp_id, kPrefix, "feed-override-in-motion");
-    pin(&p.adaptive_feed, HAL_OUT, comp_id, kPrefix, "adaptive-feed");
-    pin(&p.feed_override, HAL_OUT, comp_id, kPrefix, "feed-override");
-    pin(&p.feed_override_counts, HAL_OUT, comp_id, kPrefix, "feed-override-counts");
-    pin(&p.feed_factor, HAL_OUT, comp_id, kPrefix, "feed-factor");
-    pin(&p.spindle_speed_out, HAL_OUT, comp_id, kPrefix, "spindle-speed-out");
-    pin(&p.spindle_override, HAL_OUT, comp_id, kPrefix, "spindle-override");
-    pin(&p.feed_hold, HAL_OUT, comp_id, kPrefix, "feed-hold");
-    pin(&p.alarm, HAL_OUT, comp_id, kPrefix, "alarm");
-    pin(&p.reason, HAL_OUT, comp_id, kPrefix, "reason");
-    pin(&p.alarm_reason, HAL_OUT, comp_id, kPrefix, "alarm-reason");
-    pin(&p.feed_per_rev, HAL_OUT, comp_id, kPrefix, "feed-per-rev");
-    pin(&p.speed_cmd, HAL_OUT, comp_id, kPrefix, "cutting-speed-cmd");
-    pin(&p.speed_opt, HAL_OUT, comp_id, kPrefix, "cutting-speed-opt");
-    pin(&p.cut_power, HAL_OUT, comp_id, kPrefix, "cut-power");
-    pin(&p.in_cut, HAL_OUT, comp_id, kPrefix, "in-cut");
-    pin(&p.period_error, HAL_OUT, comp_id, kPrefix, "period-error");
-    pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
-    pin(&p.update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
-    pin(&p.reset_max, HAL_IN, comp_id, kPrefix, "reset-max");
-    pin(&p.load, HAL_OUT, comp_id, kPrefix, "load");
-    pin(&p.limit, HAL_OUT, comp_id, kPrefix, "limit");
-    pin(&p.feed_min_out, HAL_OUT, comp_id, kPrefix, "feed-min");
-    pin(&p.feed_max_out, HAL_OUT, comp_id, kPrefix, "feed-max");
-    pin(&p.adaptive_on, HAL_OUT, comp_id, kPrefix, "adaptive-on");
-    pin(&p.teaching, HAL_OUT, comp_id, kPrefix, "teaching");
-    pin(&p.idle_power, HAL_OUT, comp_id, kPrefix, "idle-power");
-    pin(&p.tare_ready, HAL_OUT, comp_id, kPrefix, "tare-ready");
-    pin(&p.idle_p[0], HAL_OUT, comp_id, kPrefix, "idle-p0");
-    pin(&p.idle_p[1], HAL_OUT, comp_id, kPrefix, "idle-p1");
-    pin(&p.idle_p[2], HAL_OUT, comp_id, kPrefix, "idle-p2");
-    pin(&p.bad_setting, HAL_OUT, comp_id, kPrefix, "bad-setting");
-    pin(&p.bad_code, HAL_OUT, comp_id, kPrefix, "bad-code");
-    pin(&p.bad_line, HAL_OUT, comp_id, kPrefix, "bad-line");
-    pin(&p.bad_value, HAL_OUT, comp_id, kPrefix, "bad-value");
-    pin(&p.overload_warn, HAL_OUT, comp_id, kPrefix, "overload-warn");
-    pin(&p.overload_hold, HAL_OUT, comp_id, kPrefix, "overload-hold");
-    pin(&p.load_rev, HAL_OUT, comp_id, kPrefix, "load-rev");
-    pin(&p.load_pct, HAL_OUT, comp_id, kPrefix, "load-percent");
-    pin(&p.predicted_depth, HAL_OUT, comp_id, kPrefix, "predicted-depth");
-    pin(&p.depth_ahead, HAL_OUT, comp_id, kPrefix, "depth-ahead");
-    pin(&p.feed_ceiling, HAL_OUT, comp_id, kPrefix, "feed-ceiling");
-    pin(&p.specific_force, HAL_OUT, comp_id, kPrefix, "specific-force");
-    pin(&p.inertia, HAL_OUT, comp_id, kPrefix, "inertia");
-    pin(&p.breakage, HAL_OUT, comp_id, kPrefix, "breakage");
-    pin(&p.tool_diameter, HAL_IN, comp_id, kPrefix, "tool-diameter");
-    pin(&p.tool_offset_x, HAL_IN, comp_id, kPrefix, "tool-offset-x");
-    pin(&p.tool_offset_z, HAL_IN, comp_id, kPrefix, "tool-offset-z");
-    pin(&p.tool_data_changed, HAL_OUT, comp_id, kPrefix, "tool-data-changed");
-    pin(&p.op_seq, HAL_OUT, comp_id, kPrefix, "op-seq");
-    pin(&p.op_line, HAL_OUT, comp_id, kPrefix, "op-line");
-    pin(&p.op_tool, HAL_OUT, comp_id, kPrefix, "op-tool");
-    pin(&p.op_number, HAL_OUT, comp_id, kPrefix, "op-operation");
-    pin(&p.op_mode, HAL_OUT, comp_id, kPrefix, "op-mode");
-    pin(&p.op_limit, HAL_OUT, comp_id, kPrefix, "op-limit");
-    pin(&p.op_mean, HAL_OUT, comp_id, kPrefix, "op-load-mean");
-    pin(&p.op_peak, HAL_OUT, comp_id, kPrefix, "op-load-peak");
-    pin(&p.op_feed_min, HAL_OUT, comp_id, kPrefix, "op-feed-min");
-    pin(&p.op_feed_mean, HAL_OUT, comp_id, kPrefix, "op-feed-mean");
-    pin(&p.op_time_cut, HAL_OUT, comp_id, kPrefix, "op-time-in-cut");
-    pin(&p.op_time, HAL_OUT, comp_id, kPrefix, "op-time");
-    pin(&p.op_reasons, HAL_OUT, comp_id, kPrefix, "op-reasons");
-    pin(&p.op_alarm, HAL_OUT, comp_id, kPrefix, "op-alarm");
-    pin(&p.teach_seq, HAL_OUT, comp_id, kPrefix, "teach-seq");
-    pin(&p.teach_tool, HAL_OUT, comp_id, kPrefix, "teach-tool");
-    pin(&p.teach_op, HAL_OUT, comp_id, kPrefix, "teach-operation");
-    pin(&p.teach_ref, HAL_OUT, comp_id, kPrefix, "teach-reference");
+    x.in(&p.force, "force");
+    x.in(&p.rpm, "spindle-rpm");
+    x.in(&p.rpm_programmed, "spindle-rpm-programmed");
+    x.in(&p.current_vel, "current-vel");
+    x.in(&p.requested_vel, "requested-vel");
+    x.in(&p.feed_upm, "feed-upm");
+    x.in(&p.motion_type, "motion-type");
+    x.in(&p.x_pos, "x-pos");
+    x.in(&p.cutting_speed, "cutting-speed");
+    x.in(&p.spindle_power, "spindle-power");
+    x.in(&p.per_rev, "feed-per-rev-mode");
+    x.in(&p.enable, "enable");
+    x.in(&p.reset, "reset");
+    x.in(&p.limit_cmd, "limit-cmd");
+    x.in(&p.feed_min_cmd, "feed-min-cmd");
+    x.in(&p.feed_max_cmd, "feed-max-cmd");
+    x.in(&p.mode_cmd, "mode-cmd");
+    x.in(&p.op_cmd, "operation-cmd");
+    x.in(&p.tool_number, "tool-number");
+    x.in(&p.program_line, "program-line");
+    x.in(&p.z_pos, "z-pos");
+    x.in(&p.homed, "homed");
+    x.in(&p.knob, "operator-override");
+    x.in(&p.max_override, "max-feed-override");
+    x.in(&p.scale_in_motion, "feed-override-in-motion");
+    x.out(&p.adaptive_feed, "adaptive-feed");
+    x.out(&p.feed_override, "feed-override");
+    x.out(&p.feed_override_counts, "feed-override-counts");
+    x.out(&p.feed_factor, "feed-factor");
+    x.out(&p.spindle_speed_out, "spindle-speed-out");
+    x.out(&p.spindle_override, "spindle-override");
+    x.out(&p.feed_hold, "feed-hold");
+    x.out(&p.alarm, "alarm");
+    x.out(&p.reason, "reason");
+    x.out(&p.alarm_reason, "alarm-reason");
+    x.out(&p.feed_per_rev, "feed-per-rev");
+    x.out(&p.speed_cmd, "cutting-speed-cmd");
+    x.out(&p.speed_opt, "cutting-speed-opt");
+    x.out(&p.cut_power, "cut-power");
+    x.out(&p.in_cut, "in-cut");
+    x.out(&p.period_error, "period-error");
+    x.out(&p.update_ns, "update-ns");
+    x.out(&p.update_ns_max, "update-ns-max");
+    x.in(&p.reset_max, "reset-max");
+    x.out(&p.load, "load");
+    x.out(&p.limit, "limit");
+    x.out(&p.feed_min_out, "feed-min");
+    x.out(&p.feed_max_out, "feed-max");
+    x.out(&p.adaptive_on, "adaptive-on");
+    x.out(&p.teaching, "teaching");
+    x.out(&p.idle_power, "idle-power");
+    x.out(&p.tare_ready, "tare-ready");
+    x.out(&p.idle_p[0], "idle-p0");
+    x.out(&p.idle_p[1], "idle-p1");
+    x.out(&p.idle_p[2], "idle-p2");
+    x.out(&p.bad_setting, "bad-setting");
+    x.out(&p.bad_code, "bad-code");
+    x.out(&p.bad_line, "bad-line");
+    x.out(&p.bad_value, "bad-value");
+    x.out(&p.overload_warn, "overload-warn");
+    x.out(&p.overload_hold, "overload-hold");
+    x.out(&p.load_rev, "load-rev");
+    x.out(&p.load_pct, "load-percent");
+    x.out(&p.predicted_depth, "predicted-depth");
+    x.out(&p.depth_ahead, "depth-ahead");
+    x.out(&p.feed_ceiling, "feed-ceiling");
+    x.out(&p.specific_force, "specific-force");
+    x.out(&p.inertia, "inertia");
+    x.out(&p.breakage, "breakage");
+    x.in(&p.tool_diameter, "tool-diameter");
+    x.in(&p.tool_offset_x, "tool-offset-x");
+    x.in(&p.tool_offset_z, "tool-offset-z");
+    x.out(&p.tool_data_changed, "tool-data-changed");
+    x.out(&p.op_seq, "op-seq");
+    x.out(&p.op_line, "op-line");
+    x.out(&p.op_tool, "op-tool");
+    x.out(&p.op_number, "op-operation");
+    x.out(&p.op_mode, "op-mode");
+    x.out(&p.op_limit, "op-limit");
+    x.out(&p.op_mean, "op-load-mean");
+    x.out(&p.op_peak, "op-load-peak");
+    x.out(&p.op_feed_min, "op-feed-min");
+    x.out(&p.op_feed_mean, "op-feed-mean");
+    x.out(&p.op_time_cut, "op-time-in-cut");
+    x.out(&p.op_time, "op-time");
+    x.out(&p.op_reasons, "op-reasons");
+    x.out(&p.op_alarm, "op-alarm");
+    x.out(&p.teach_seq, "teach-seq");
+    x.out(&p.teach_tool, "teach-tool");
+    x.out(&p.teach_op, "teach-operation");
+    x.out(&p.teach_ref, "teach-reference");
     *p.adaptive_feed = 1.0;
     *p.knob = 1.0;
     *p.max_override = 1.0;
@@ -448,15 +441,13 @@ extern "C" int rtapi_app_main(void) {
     *p.feed_factor = 1.0;
     *p.spindle_override = 1.0;
     *p.program_line = -1;
-    param(&p.force_limit, HAL_RO, comp_id, kPrefix, "force-limit", c.force_limit);
-    param(&p.feed_min, HAL_RO, comp_id, kPrefix, "feed-min-default", c.feed_min_mm_per_rev);
-    param(&p.feed_max, HAL_RO, comp_id, kPrefix, "feed-max-default", c.feed_max_mm_per_rev);
-    param(&p.feed_programmed, HAL_RO, comp_id, kPrefix, "feed-programmed",
-          c.feed_programmed_mm_per_rev);
-    param(&p.speed_programmed, HAL_RO, comp_id, kPrefix, "cutting-speed-programmed",
-          c.speed_programmed_m_per_min);
-    param(&p.control_period, HAL_RO, comp_id, kPrefix, "control-period", c.period_s);
-    param(&p.rating, HAL_RO, comp_id, kPrefix, "rating", mp.rating.limit_max);
+    x.constant(&p.force_limit, "force-limit", c.force_limit);
+    x.constant(&p.feed_min, "feed-min-default", c.feed_min_mm_per_rev);
+    x.constant(&p.feed_max, "feed-max-default", c.feed_max_mm_per_rev);
+    x.constant(&p.feed_programmed, "feed-programmed", c.feed_programmed_mm_per_rev);
+    x.constant(&p.speed_programmed, "cutting-speed-programmed", c.speed_programmed_m_per_min);
+    x.constant(&p.control_period, "control-period", c.period_s);
+    x.constant(&p.rating, "rating", mp.rating.limit_max);
     machine = std::move(m);
     lathectl::hal::export_update(kPrefix, update, comp_id);
   });

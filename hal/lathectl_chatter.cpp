@@ -29,12 +29,9 @@ MODULE_AUTHOR("lathectl");
 MODULE_DESCRIPTION("lathectl system-B chatter plant (slender part, regeneration) for LinuxCNC");
 MODULE_LICENSE("GPL");
 
-static char* scenario = nullptr;
-RTAPI_MP_STRING(scenario, "system-B scenario file (TOML): part, material, cut, sensors");
-static char* z_origin_mm = nullptr;
-RTAPI_MP_STRING(z_origin_mm, "machine z [mm] of the part's z = 0 (the part lies toward -z)");
-static char* period_ns = nullptr;
-RTAPI_MP_STRING(period_ns, "period of the thread this runs in [ns], default 1000000");
+LATHECTL_HAL_PARAM(scenario, "system-B scenario file (TOML): part, material, cut, sensors");
+LATHECTL_HAL_PARAM(z_origin_mm, "machine z [mm] of the part's z = 0 (the part lies toward -z)");
+LATHECTL_HAL_PARAM(period_ns, "period of the thread this runs in [ns], default 1000000");
 
 namespace {
 
@@ -56,10 +53,8 @@ struct Pins {
   hal_float_t* chip;
   hal_float_t* depth;
   hal_bit_t* contact;
-  hal_bit_t* period_error;
+  lathectl::hal::MeterPins meter;
   hal_bit_t* diverged;
-  hal_s32_t* update_ns;
-  hal_s32_t* update_ns_max;
 };
 
 struct State {
@@ -78,17 +73,12 @@ struct State {
 int comp_id = -1;
 Pins* pins = nullptr;
 std::unique_ptr<State> st;
-lathectl::hal::UpdateTimer timer;
+lathectl::hal::Meter meter;
 
 void update(void*, long period) {
-  timer.start();
   Pins& p = *pins;
   State& s = *st;
-  if (period != s.period) {  // the sub-step was sized for another thread
-    *p.period_error = 1;
-    *p.update_ns = timer.stop();
-    return;
-  }
+  if (!meter.begin(p.meter, period, s.period)) return;  // the sub-step was sized for another thread
   const double z = *p.enable ? s.z_origin - *p.z_pos : -1e9;  // disabled: far from the part
   const double revs = *p.revs;
   if (!s.started) {
@@ -119,18 +109,15 @@ void update(void*, long period) {
   *p.depth = s.cut.cutting(0) ? s.cut.depth_mm(0) : 0.0;
   *p.contact = s.cut.cutting(0);
   *p.diverged = !s.cut.sound();
-  *p.update_ns = timer.stop();
-  *p.update_ns_max = timer.max();
+  meter.end(p.meter);
 }
 
 }  // namespace
 
 extern "C" int rtapi_app_main(void) {
-  comp_id = hal_init(kName);
-  if (comp_id < 0) return comp_id;
-  return lathectl::hal::guarded_load(kName, comp_id, [] {
-    using lathectl::hal::pin;
-    const auto sc = lathectl::hal::load_system(scenario, lathectl::systems::b_chatter::kReadSection);
+  return lathectl::hal::load_component(kName, comp_id, [] {
+    const auto sc =
+        lathectl::hal::load_system(scenario, lathectl::systems::b_chatter::kReadSection);
     const auto& b = sc.get<lathectl::systems::b_chatter::Settings>().rig;
     if (b.setup != lathectl::dynamics::TwinSetup::Single)
       throw lathectl::hal::Error(std::string(scenario) +
@@ -155,25 +142,24 @@ extern "C" int rtapi_app_main(void) {
     state->chain.configure(vib);
     state->spindle = b.spindle;
     pins = lathectl::hal::allocate_pins<Pins>();
+    const lathectl::hal::Exporter x(comp_id, kPrefix);
     Pins& p = *pins;
-    pin(&p.z_pos, HAL_IN, comp_id, kPrefix, "z-pos");
-    pin(&p.revs, HAL_IN, comp_id, kPrefix, "spindle-revs");
-    pin(&p.rpm, HAL_IN, comp_id, kPrefix, "spindle-rpm");
-    pin(&p.enable, HAL_IN, comp_id, kPrefix, "enable");
-    pin(&p.vibration, HAL_OUT, comp_id, kPrefix, "vibration-um");
-    pin(&p.a0, HAL_OUT, comp_id, kPrefix, "a0-um");
-    pin(&p.omega_d, HAL_OUT, comp_id, kPrefix, "omega-d-Hz");
-    pin(&p.radial, HAL_OUT, comp_id, kPrefix, "radial-force");
-    pin(&p.tangential, HAL_OUT, comp_id, kPrefix, "tangential-force");
-    pin(&p.cut_power, HAL_OUT, comp_id, kPrefix, "cut-power");
-    pin(&p.spindle_power, HAL_OUT, comp_id, kPrefix, "spindle-power");
-    pin(&p.chip, HAL_OUT, comp_id, kPrefix, "chip");
-    pin(&p.depth, HAL_OUT, comp_id, kPrefix, "depth");
-    pin(&p.contact, HAL_OUT, comp_id, kPrefix, "in-contact");
-    pin(&p.period_error, HAL_OUT, comp_id, kPrefix, "period-error");
-    pin(&p.diverged, HAL_OUT, comp_id, kPrefix, "diverged");
-    pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
-    pin(&p.update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
+    x.in(&p.z_pos, "z-pos");
+    x.in(&p.revs, "spindle-revs");
+    x.in(&p.rpm, "spindle-rpm");
+    x.in(&p.enable, "enable");
+    x.out(&p.vibration, "vibration-um");
+    x.out(&p.a0, "a0-um");
+    x.out(&p.omega_d, "omega-d-Hz");
+    x.out(&p.radial, "radial-force");
+    x.out(&p.tangential, "tangential-force");
+    x.out(&p.cut_power, "cut-power");
+    x.out(&p.spindle_power, "spindle-power");
+    x.out(&p.chip, "chip");
+    x.out(&p.depth, "depth");
+    x.out(&p.contact, "in-contact");
+    p.meter.export_to(x);
+    x.out(&p.diverged, "diverged");
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);
   });

@@ -40,26 +40,19 @@ MODULE_AUTHOR("lathectl");
 MODULE_DESCRIPTION("lathectl system-D vibro-contact gauge (machine side) for LinuxCNC");
 MODULE_LICENSE("GPL");
 
-static char* scenario = nullptr;
-RTAPI_MP_STRING(scenario, "system-D scenario file (TOML): process, transducer, gauge");
-static char* size_x_mm = nullptr;
-RTAPI_MP_STRING(size_x_mm, "machine X [mm] of the tool when the part is at its target size");
-static char* period_ns = nullptr;
-RTAPI_MP_STRING(period_ns, "period of the thread this runs in [ns], default 100000");
-static char* rough_factor = nullptr;
-RTAPI_MP_STRING(rough_factor, "rough feed / the scenario's removal rate, default 4");
-static char* fine_factor = nullptr;
-RTAPI_MP_STRING(fine_factor, "fine feed / the scenario's removal rate, default 2");
-static char* fine_um = nullptr;
-RTAPI_MP_STRING(fine_um, "size above target where the fine feed starts [um], default 60");
-static char* spark_um = nullptr;
-RTAPI_MP_STRING(spark_um, "size above target where spark-out starts [um], default 25");
-static char* threshold_V = nullptr;
-RTAPI_MP_STRING(threshold_V, "the size threshold [V] instead of the scenario's plan "
-                             "(\"scenario\": the plan's)");
-static char* signal_lost = nullptr;
-RTAPI_MP_STRING(signal_lost, "signal lost below this fraction of the free probe's signal, "
-                             "default 0.05");
+LATHECTL_HAL_PARAM(scenario, "system-D scenario file (TOML): process, transducer, gauge");
+LATHECTL_HAL_PARAM(size_x_mm, "machine X [mm] of the tool when the part is at its target size");
+LATHECTL_HAL_PARAM(period_ns, "period of the thread this runs in [ns], default 100000");
+LATHECTL_HAL_PARAM(rough_factor, "rough feed / the scenario's removal rate, default 4");
+LATHECTL_HAL_PARAM(fine_factor, "fine feed / the scenario's removal rate, default 2");
+LATHECTL_HAL_PARAM(fine_um, "size above target where the fine feed starts [um], default 60");
+LATHECTL_HAL_PARAM(spark_um, "size above target where spark-out starts [um], default 25");
+LATHECTL_HAL_PARAM(threshold_V,
+                   "the size threshold [V] instead of the scenario's plan "
+                   "(\"scenario\": the plan's)");
+LATHECTL_HAL_PARAM(signal_lost,
+                   "signal lost below this fraction of the free probe's signal, "
+                   "default 0.05");
 
 namespace {
 
@@ -91,9 +84,7 @@ struct Pins {
   hal_float_t* trip_to_stop;
   hal_float_t* time;
   hal_s32_t* trips;
-  hal_bit_t* period_error;
-  hal_s32_t* update_ns;
-  hal_s32_t* update_ns_max;
+  lathectl::hal::MeterPins meter;
 };
 
 struct State {
@@ -107,17 +98,13 @@ struct State {
 int comp_id = -1;
 Pins* pins = nullptr;
 std::unique_ptr<State> st;
-lathectl::hal::UpdateTimer timer;
+lathectl::hal::Meter meter;
 
 void update(void*, long period) {
-  timer.start();
   Pins& p = *pins;
   State& s = *st;
-  if (period != s.period) {  // the machine was configured for another sample period
-    *p.period_error = 1;
-    *p.update_ns = timer.stop();
-    return;
-  }
+  if (!meter.begin(p.meter, period, s.period))
+    return;  // the machine was configured for another sample period
   GaugeMachine::Input in;
   in.generator_V = *p.generator;
   in.position_m = *p.x_pos * 1e-3;
@@ -162,19 +149,15 @@ void update(void*, long period) {
     }
   }
   s.last_x = x;
-  *p.update_ns = timer.stop();
-  *p.update_ns_max = timer.max();
+  meter.end(p.meter);
 }
 
 }  // namespace
 
 extern "C" int rtapi_app_main(void) {
-  comp_id = hal_init(kName);
-  if (comp_id < 0) return comp_id;
-  return lathectl::hal::guarded_load(kName, comp_id, [] {
+  return lathectl::hal::load_component(kName, comp_id, [] {
     using lathectl::hal::Error;
     using lathectl::hal::number_param;
-    using lathectl::hal::pin;
     namespace dg = lathectl::systems::d_gauging;
     const auto sc = lathectl::hal::load_system(scenario, dg::kReadSection);
     const auto& d = sc.get<dg::Settings>();
@@ -207,11 +190,9 @@ extern "C" int rtapi_app_main(void) {
     const auto& pr = d.process;
     const double lag = lathectl::sensors::VibroContactGauge::filter_lag_s(d.transducer);
     const double a = pr.removal_m_per_s;
-    const bool given = threshold_V != nullptr && *threshold_V != '\0' &&
-                       std::string(threshold_V) != "scenario";
-    const double s_size = given
-                              ? number_param(threshold_V, "threshold_V", 0.0)
-                              : plan.threshold_V;
+    const bool given =
+        threshold_V != nullptr && *threshold_V != '\0' && std::string(threshold_V) != "scenario";
+    const double s_size = given ? number_param(threshold_V, "threshold_V", 0.0) : plan.threshold_V;
     GaugeMachine::Params mp;
     mp.period_s = period * 1e-9;
     mp.filter = lathectl::sensors::VibroContactGauge::filter_params(d.transducer);
@@ -241,37 +222,36 @@ extern "C" int rtapi_app_main(void) {
       throw Error(std::string(scenario) + ": gauge " + e.parameter() + ": " + e.what());
     }
     pins = lathectl::hal::allocate_pins<Pins>();
+    const lathectl::hal::Exporter x(comp_id, kPrefix);
     Pins& p = *pins;
-    pin(&p.generator, HAL_IN, comp_id, kPrefix, "generator");
-    pin(&p.x_pos, HAL_IN, comp_id, kPrefix, "x-pos");
-    pin(&p.rearm, HAL_IN, comp_id, kPrefix, "rearm");
-    pin(&p.signal, HAL_OUT, comp_id, kPrefix, "signal");
-    pin(&p.step, HAL_OUT, comp_id, kPrefix, "step");
-    pin(&p.step_f, HAL_OUT, comp_id, kPrefix, "step-f");
-    pin(&p.command, HAL_OUT, comp_id, kPrefix, "command");
-    pin(&p.feed_scale, HAL_OUT, comp_id, kPrefix, "feed-scale");
-    pin(&p.probe, HAL_OUT, comp_id, kPrefix, "probe");
-    pin(&p.feed_hold, HAL_OUT, comp_id, kPrefix, "feed-hold");
-    pin(&p.size, HAL_OUT, comp_id, kPrefix, "size");
-    pin(&p.backstop, HAL_OUT, comp_id, kPrefix, "backstop");
-    pin(&p.alarm, HAL_OUT, comp_id, kPrefix, "alarm");
-    pin(&p.armed, HAL_OUT, comp_id, kPrefix, "armed");
-    pin(&p.unreachable, HAL_OUT, comp_id, kPrefix, "unreachable");
-    pin(&p.reason, HAL_OUT, comp_id, kPrefix, "reason");
-    pin(&p.next_threshold, HAL_OUT, comp_id, kPrefix, "next-threshold");
+    x.in(&p.generator, "generator");
+    x.in(&p.x_pos, "x-pos");
+    x.in(&p.rearm, "rearm");
+    x.out(&p.signal, "signal");
+    x.out(&p.step, "step");
+    x.out(&p.step_f, "step-f");
+    x.out(&p.command, "command");
+    x.out(&p.feed_scale, "feed-scale");
+    x.out(&p.probe, "probe");
+    x.out(&p.feed_hold, "feed-hold");
+    x.out(&p.size, "size");
+    x.out(&p.backstop, "backstop");
+    x.out(&p.alarm, "alarm");
+    x.out(&p.armed, "armed");
+    x.out(&p.unreachable, "unreachable");
+    x.out(&p.reason, "reason");
+    x.out(&p.next_threshold, "next-threshold");
     for (std::size_t i = 0; i < GaugeMachine::kMaxSteps; ++i) {
       const std::string name = "threshold-" + std::to_string(i);
-      pin(&p.threshold[i], HAL_OUT, comp_id, kPrefix, name.c_str());
+      x.out(&p.threshold[i], name.c_str());
       *p.threshold[i] = i < mp.steps.size() ? mp.steps[i].threshold_V : 0.0;
     }
-    pin(&p.trip_time, HAL_OUT, comp_id, kPrefix, "trip-time");
-    pin(&p.stop_latency, HAL_OUT, comp_id, kPrefix, "stop-latency");
-    pin(&p.trip_to_stop, HAL_OUT, comp_id, kPrefix, "trip-to-stop");
-    pin(&p.time, HAL_OUT, comp_id, kPrefix, "part-time");
-    pin(&p.trips, HAL_OUT, comp_id, kPrefix, "trips");
-    pin(&p.period_error, HAL_OUT, comp_id, kPrefix, "period-error");
-    pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
-    pin(&p.update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
+    x.out(&p.trip_time, "trip-time");
+    x.out(&p.stop_latency, "stop-latency");
+    x.out(&p.trip_to_stop, "trip-to-stop");
+    x.out(&p.time, "part-time");
+    x.out(&p.trips, "trips");
+    p.meter.export_to(x);
     *p.feed_scale = 1.0;
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);

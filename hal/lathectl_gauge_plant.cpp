@@ -28,19 +28,15 @@
 #include "systems/d_gauging/settings.hpp"
 
 MODULE_AUTHOR("lathectl");
-MODULE_DESCRIPTION("lathectl system-D plant: part size under the infeed and vibro-contact transducer");
+MODULE_DESCRIPTION(
+    "lathectl system-D plant: part size under the infeed and vibro-contact transducer");
 MODULE_LICENSE("GPL");
 
-static char* scenario = nullptr;
-RTAPI_MP_STRING(scenario, "system-D scenario file (TOML): process, transducer");
-static char* size_x_mm = nullptr;
-RTAPI_MP_STRING(size_x_mm, "machine X [mm] of the tool when the part is at its target size");
-static char* period_ns = nullptr;
-RTAPI_MP_STRING(period_ns, "period of the thread this runs in [ns], default 100000");
-static char* wear_um_per_part = nullptr;
-RTAPI_MP_STRING(wear_um_per_part, "tool wear per part [um], default 0");
-static char* seed = nullptr;
-RTAPI_MP_STRING(seed, "the disturbance's seed, default the scenario's run.seed");
+LATHECTL_HAL_PARAM(scenario, "system-D scenario file (TOML): process, transducer");
+LATHECTL_HAL_PARAM(size_x_mm, "machine X [mm] of the tool when the part is at its target size");
+LATHECTL_HAL_PARAM(period_ns, "period of the thread this runs in [ns], default 100000");
+LATHECTL_HAL_PARAM(wear_um_per_part, "tool wear per part [um], default 0");
+LATHECTL_HAL_PARAM(seed, "the disturbance's seed, default the scenario's run.seed");
 
 namespace {
 
@@ -60,9 +56,7 @@ struct Pins {
   hal_float_t* wear;       // µm
   hal_s32_t* part;
   hal_bit_t* in_contact;  // the tool is removing material
-  hal_bit_t* period_error;
-  hal_s32_t* update_ns;
-  hal_s32_t* update_ns_max;
+  lathectl::hal::MeterPins meter;
 };
 
 struct State {
@@ -83,17 +77,13 @@ struct State {
 int comp_id = -1;
 Pins* pins = nullptr;
 std::unique_ptr<State> st;
-lathectl::hal::UpdateTimer timer;
+lathectl::hal::Meter meter;
 
 void update(void*, long period) {
-  timer.start();
   Pins& p = *pins;
   State& s = *st;
-  if (period != s.period) {  // the sub-steps were sized for another thread
-    *p.period_error = 1;
-    *p.update_ns = timer.stop();
-    return;
-  }
+  if (!meter.begin(p.meter, period, s.period))
+    return;  // the sub-steps were sized for another thread
   const bool load = *p.load;
   if (load && !s.last_load) {  // a new blank: the last one's size is the finished one
     if (std::isfinite(s.r_mm)) *p.finished = ((s.r_mm - s.x_size_mm) * 1e-3) * 1e6;
@@ -128,19 +118,15 @@ void update(void*, long period) {
   *p.wear = s.wear_mm * 1e3;
   *p.part = s.part;
   *p.in_contact = cutting;
-  *p.update_ns = timer.stop();
-  *p.update_ns_max = timer.max();
+  meter.end(p.meter);
 }
 
 }  // namespace
 
 extern "C" int rtapi_app_main(void) {
-  comp_id = hal_init(kName);
-  if (comp_id < 0) return comp_id;
-  return lathectl::hal::guarded_load(kName, comp_id, [] {
+  return lathectl::hal::load_component(kName, comp_id, [] {
     using lathectl::hal::Error;
     using lathectl::hal::number_param;
-    using lathectl::hal::pin;
     namespace dg = lathectl::systems::d_gauging;
     const auto sc = lathectl::hal::load_system(scenario, dg::kReadSection);
     const auto& d = sc.get<dg::Settings>();
@@ -156,11 +142,10 @@ extern "C" int rtapi_app_main(void) {
     const double dt = period * 1e-9 / state->substeps;
     if (std::abs(dt - sc.run.step_s) > 1e-3 * sc.run.step_s)
       throw Error(std::string(scenario) + ": run.step_s = " + std::to_string(sc.run.step_s) +
-                  " s does not divide the thread's period " + std::to_string(period * 1e-9) +
-                  " s");
+                  " s does not divide the thread's period " + std::to_string(period * 1e-9) + " s");
     state->wear_step_mm = number_param(wear_um_per_part, "wear_um_per_part", 0.0) * 1e-3;
-    state->seed = static_cast<std::uint64_t>(
-        number_param(seed, "seed", static_cast<double>(sc.run.seed)));
+    state->seed =
+        static_cast<std::uint64_t>(number_param(seed, "seed", static_cast<double>(sc.run.seed)));
     dg::configure_transducer(sc, state->gauge);
     const auto& pr = d.process;
     state->allowance_m = pr.allowance_m;
@@ -169,22 +154,21 @@ extern "C" int rtapi_app_main(void) {
     state->rho = std::exp(-pr.noise_beta_per_s * dt);
     state->kick = std::sqrt(pr.noise_variance_m2 * (1.0 - state->rho * state->rho));
     pins = lathectl::hal::allocate_pins<Pins>();
+    const lathectl::hal::Exporter x(comp_id, kPrefix);
     Pins& p = *pins;
-    pin(&p.x_pos, HAL_IN, comp_id, kPrefix, "x-pos");
-    pin(&p.load, HAL_IN, comp_id, kPrefix, "load");
-    pin(&p.break_wire, HAL_IN, comp_id, kPrefix, "break-wire");
-    pin(&p.generator, HAL_OUT, comp_id, kPrefix, "generator");
-    pin(&p.size, HAL_OUT, comp_id, kPrefix, "size-um");
-    pin(&p.error, HAL_OUT, comp_id, kPrefix, "error-um");
-    pin(&p.finished, HAL_OUT, comp_id, kPrefix, "finished-error-um");
-    pin(&p.radius, HAL_OUT, comp_id, kPrefix, "radius");
-    pin(&p.xi, HAL_OUT, comp_id, kPrefix, "disturbance-um");
-    pin(&p.wear, HAL_OUT, comp_id, kPrefix, "wear-um");
-    pin(&p.part, HAL_OUT, comp_id, kPrefix, "part");
-    pin(&p.in_contact, HAL_OUT, comp_id, kPrefix, "in-contact");
-    pin(&p.period_error, HAL_OUT, comp_id, kPrefix, "period-error");
-    pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
-    pin(&p.update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
+    x.in(&p.x_pos, "x-pos");
+    x.in(&p.load, "load");
+    x.in(&p.break_wire, "break-wire");
+    x.out(&p.generator, "generator");
+    x.out(&p.size, "size-um");
+    x.out(&p.error, "error-um");
+    x.out(&p.finished, "finished-error-um");
+    x.out(&p.radius, "radius");
+    x.out(&p.xi, "disturbance-um");
+    x.out(&p.wear, "wear-um");
+    x.out(&p.part, "part");
+    x.out(&p.in_contact, "in-contact");
+    p.meter.export_to(x);
     *p.x_pos = 1e9;
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);

@@ -22,6 +22,7 @@ extern "C" {
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
@@ -58,6 +59,34 @@ inline void param(hal_float_t* p, hal_param_dir_t dir, int comp, const char* pre
         std::string("parameter ") + name);
   *p = value;
 }
+
+// A component's pins and parameters, `prefix.name`, with the component and the prefix bound once.
+class Exporter {
+ public:
+  Exporter(int comp, const char* prefix) noexcept : comp_(comp), prefix_(prefix) {}
+  template <class T>
+  void in(T** p, const char* name) const {
+    pin(p, HAL_IN, comp_, prefix_, name);
+  }
+  template <class T>
+  void out(T** p, const char* name) const {
+    pin(p, HAL_OUT, comp_, prefix_, name);
+  }
+  template <class T>
+  void io(T** p, const char* name) const {
+    pin(p, HAL_IO, comp_, prefix_, name);
+  }
+  // A read-only parameter: a value the component was configured with, for halcmd to show.
+  void constant(hal_float_t* p, const char* name, double value) const {
+    param(p, HAL_RO, comp_, prefix_, name, value);
+  }
+  [[nodiscard]] int comp() const noexcept { return comp_; }
+  [[nodiscard]] const char* prefix() const noexcept { return prefix_; }
+
+ private:
+  int comp_;
+  const char* prefix_;
+};
 
 // The component's pin block, in HAL's shared memory (pins must live there).
 template <class Pins>
@@ -191,6 +220,43 @@ class UpdateTimer {
   std::int32_t max_ = 0;
 };
 
+// What every realtime function reports of itself, in its pin block: `period-error` (latched:
+// the thread's period is not the one the component was configured for, and the function does
+// nothing) and its own wall time, `update-ns` and the worst since load, `update-ns-max`.
+struct MeterPins {
+  hal_bit_t* period_error;
+  hal_s32_t* update_ns;
+  hal_s32_t* update_ns_max;
+  void export_to(const Exporter& x) {
+    x.out(&period_error, "period-error");
+    x.out(&update_ns, "update-ns");
+    x.out(&update_ns_max, "update-ns-max");
+  }
+};
+
+// The meter of one realtime function: begin() at its start, end() at its end; begin() false
+// means the thread's period is not `expected` (period-error set, the time written): return.
+class Meter {
+ public:
+  bool begin(MeterPins& p, long period, long expected) noexcept {
+    timer_.start();
+    if (period == expected) return true;
+    *p.period_error = 1;
+    *p.update_ns = timer_.stop();
+    return false;
+  }
+  void end(MeterPins& p) noexcept {
+    *p.update_ns = timer_.stop();
+    *p.update_ns_max = timer_.max();
+  }
+  // A call that ends early on purpose (a period the function skips): the time only.
+  void skip(MeterPins& p) noexcept { *p.update_ns = timer_.stop(); }
+  UpdateTimer& timer() noexcept { return timer_; }
+
+ private:
+  UpdateTimer timer_;
+};
+
 // rtapi_app_main's body: run `setup`, report any exception as one line, fail the load.
 template <class Setup>
 int guarded_load(const char* comp_name, int comp_id, Setup&& setup) noexcept {
@@ -209,4 +275,18 @@ int guarded_load(const char* comp_name, int comp_id, Setup&& setup) noexcept {
   return 0;
 }
 
+// The whole of rtapi_app_main: the component `name` initialised (its id in `comp_id`), then
+// guarded_load.
+template <class Setup>
+int load_component(const char* name, int& comp_id, Setup&& setup) noexcept {
+  comp_id = hal_init(name);
+  if (comp_id < 0) return comp_id;
+  return guarded_load(name, comp_id, std::forward<Setup>(setup));
+}
+
 }  // namespace lathectl::hal
+
+// A module parameter holding a string (a path, or a number read with number_param): one line.
+#define LATHECTL_HAL_PARAM(name, doc) \
+  static char* name = nullptr;        \
+  RTAPI_MP_STRING(name, doc)

@@ -39,10 +39,8 @@ MODULE_AUTHOR("lathectl");
 MODULE_DESCRIPTION("lathectl seed-001 modulated-feed module (vibration control) for LinuxCNC");
 MODULE_LICENSE("GPL");
 
-static char* scenario = nullptr;
-RTAPI_MP_STRING(scenario, "system-B scenario file (TOML) whose [modulation] sets the module");
-static char* ceiling = nullptr;
-RTAPI_MP_STRING(ceiling, "the program's F over the mean feed to keep (≥ 1), default 2");
+LATHECTL_HAL_PARAM(scenario, "system-B scenario file (TOML) whose [modulation] sets the module");
+LATHECTL_HAL_PARAM(ceiling, "the program's F over the mean feed to keep (≥ 1), default 2");
 
 namespace {
 
@@ -186,12 +184,9 @@ void plan(void*, long) {
 }  // namespace
 
 extern "C" int rtapi_app_main(void) {
-  comp_id = hal_init(kName);
-  if (comp_id < 0) return comp_id;
-  return lathectl::hal::guarded_load(kName, comp_id, [] {
-    using lathectl::hal::param;
-    using lathectl::hal::pin;
-    const auto sc = lathectl::hal::load_system(scenario, lathectl::systems::b_chatter::kReadSection);
+  return lathectl::hal::load_component(kName, comp_id, [] {
+    const auto sc =
+        lathectl::hal::load_system(scenario, lathectl::systems::b_chatter::kReadSection);
     const auto& b = sc.get<lathectl::systems::b_chatter::Settings>().rig;
     const double c = lathectl::hal::number_param(ceiling, "ceiling", 2.0);
     if (!(c >= 1.0 && c <= 100.0))
@@ -207,50 +202,51 @@ extern "C" int rtapi_app_main(void) {
     state->machine.configure(machine);
     state->machine.use_planner(&state->planner);
     pins = lathectl::hal::allocate_pins<Pins>();
+    const lathectl::hal::Exporter x(comp_id, kPrefix);
     Pins& p = *pins;
-    pin(&p.a0, HAL_IN, comp_id, kPrefix, "a0-um");
-    pin(&p.omega_d, HAL_IN, comp_id, kPrefix, "omega-d-Hz");
-    pin(&p.power, HAL_IN, comp_id, kPrefix, "spindle-power");
-    pin(&p.rpm, HAL_IN, comp_id, kPrefix, "spindle-rpm");
-    pin(&p.x_pos, HAL_IN, comp_id, kPrefix, "x-pos");
-    pin(&p.requested_vel, HAL_IN, comp_id, kPrefix, "requested-vel");
-    pin(&p.current_vel, HAL_IN, comp_id, kPrefix, "current-vel");
-    pin(&p.motion_type, HAL_IN, comp_id, kPrefix, "motion-type");
-    pin(&p.per_rev, HAL_IN, comp_id, kPrefix, "feed-per-rev-mode");
-    pin(&p.idle_block, HAL_IN, comp_id, kPrefix, "idle-block");
-    pin(&p.turret_left, HAL_IN, comp_id, kPrefix, "turret-left");
-    pin(&p.source, HAL_IN, comp_id, kPrefix, "source");
-    pin(&p.prog_s_min, HAL_IN, comp_id, kPrefix, "prog-s-min");
-    pin(&p.prog_ds, HAL_IN, comp_id, kPrefix, "prog-ds");
-    pin(&p.prog_dl, HAL_IN, comp_id, kPrefix, "prog-dl");
-    pin(&p.prog_n_s, HAL_IN, comp_id, kPrefix, "prog-n-s");
-    pin(&p.enable, HAL_IN, comp_id, kPrefix, "enable");
-    pin(&p.reset_max, HAL_IN, comp_id, kPrefix, "reset-max");
-    pin(&p.adaptive_feed, HAL_OUT, comp_id, kPrefix, "adaptive-feed");
-    pin(&p.feed, HAL_OUT, comp_id, kPrefix, "feed");
-    pin(&p.cut_power, HAL_OUT, comp_id, kPrefix, "cut-power");
-    pin(&p.engaged, HAL_OUT, comp_id, kPrefix, "engaged");
-    pin(&p.reason, HAL_OUT, comp_id, kPrefix, "reason");
-    pin(&p.s_min, HAL_OUT, comp_id, kPrefix, "s-min");
-    pin(&p.ds, HAL_OUT, comp_id, kPrefix, "ds");
-    pin(&p.dl, HAL_OUT, comp_id, kPrefix, "dl");
-    pin(&p.n_s, HAL_OUT, comp_id, kPrefix, "n-s");
-    pin(&p.omega_m, HAL_OUT, comp_id, kPrefix, "omega-m-Hz");
-    pin(&p.ap_required, HAL_OUT, comp_id, kPrefix, "ap-required");
-    pin(&p.ap_planned, HAL_OUT, comp_id, kPrefix, "ap-planned");
-    pin(&p.period_error, HAL_OUT, comp_id, kPrefix, "period-error");
-    pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
-    pin(&p.update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
-    pin(&p.plans_inline, HAL_OUT, comp_id, kPrefix, "plans-inline");
-    pin(&p.plans_taken, HAL_OUT, comp_id, kPrefix, "plans-taken");
-    pin(&p.plans_made, HAL_OUT, comp_id, kPrefix, "plans-made");
+    x.in(&p.a0, "a0-um");
+    x.in(&p.omega_d, "omega-d-Hz");
+    x.in(&p.power, "spindle-power");
+    x.in(&p.rpm, "spindle-rpm");
+    x.in(&p.x_pos, "x-pos");
+    x.in(&p.requested_vel, "requested-vel");
+    x.in(&p.current_vel, "current-vel");
+    x.in(&p.motion_type, "motion-type");
+    x.in(&p.per_rev, "feed-per-rev-mode");
+    x.in(&p.idle_block, "idle-block");
+    x.in(&p.turret_left, "turret-left");
+    x.in(&p.source, "source");
+    x.in(&p.prog_s_min, "prog-s-min");
+    x.in(&p.prog_ds, "prog-ds");
+    x.in(&p.prog_dl, "prog-dl");
+    x.in(&p.prog_n_s, "prog-n-s");
+    x.in(&p.enable, "enable");
+    x.in(&p.reset_max, "reset-max");
+    x.out(&p.adaptive_feed, "adaptive-feed");
+    x.out(&p.feed, "feed");
+    x.out(&p.cut_power, "cut-power");
+    x.out(&p.engaged, "engaged");
+    x.out(&p.reason, "reason");
+    x.out(&p.s_min, "s-min");
+    x.out(&p.ds, "ds");
+    x.out(&p.dl, "dl");
+    x.out(&p.n_s, "n-s");
+    x.out(&p.omega_m, "omega-m-Hz");
+    x.out(&p.ap_required, "ap-required");
+    x.out(&p.ap_planned, "ap-planned");
+    x.out(&p.period_error, "period-error");
+    x.out(&p.update_ns, "update-ns");
+    x.out(&p.update_ns_max, "update-ns-max");
+    x.out(&p.plans_inline, "plans-inline");
+    x.out(&p.plans_taken, "plans-taken");
+    x.out(&p.plans_made, "plans-made");
     *p.adaptive_feed = 1.0 / c;
     *p.source = static_cast<std::int32_t>(b.source);
     *p.turret_left = b.turret == Turret::Left;
     *p.enable = 1;
-    param(&p.ceiling, HAL_RO, comp_id, kPrefix, "ceiling", c);
-    param(&p.coefficient, HAL_RO, comp_id, kPrefix, "coefficient", mp.coefficient);
-    param(&p.part_mass, HAL_RO, comp_id, kPrefix, "part-mass", mp.part_mass_kg);
+    x.constant(&p.ceiling, "ceiling", c);
+    x.constant(&p.coefficient, "coefficient", mp.coefficient);
+    x.constant(&p.part_mass, "part-mass", mp.part_mass_kg);
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);
     lathectl::hal::export_update("lathectl-modfeed.plan", plan, comp_id);

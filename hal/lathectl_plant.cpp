@@ -21,9 +21,8 @@
 #include <cstdint>
 #include <memory>
 
-#include "lathectl/drives/spindle_drive.hpp"
-
 #include "lathectl/cutting/lathe_plant.hpp"
+#include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl_hal.hpp"
 #include "systems/e_adaptive/settings.hpp"
 
@@ -31,20 +30,15 @@ MODULE_AUTHOR("lathectl");
 MODULE_DESCRIPTION("lathectl cutting-process plant (system-E scenario) for LinuxCNC");
 MODULE_LICENSE("GPL");
 
-static char* scenario = nullptr;
-RTAPI_MP_STRING(scenario,
-                "system-E scenario file (TOML): material, tool, stock, disturbances, sensor");
-static char* z_origin_mm = nullptr;
-RTAPI_MP_STRING(z_origin_mm, "machine z [mm] of the stock's z = 0 (the part lies toward -z)");
-static char* cell_mm = nullptr;
-RTAPI_MP_STRING(cell_mm, "workpiece grid along z [mm], default 0.01");
-static char* warmup_s = nullptr;
-RTAPI_MP_STRING(warmup_s, "time constant of the idle power's warm-up drift [s], default 120");
-static char* break_at_s = nullptr;
-RTAPI_MP_STRING(break_at_s, "the tool breaks after this time in cut [s] (no force from then on); "
-                            "default never");
-static char* idle_drift = nullptr;
-RTAPI_MP_STRING(idle_drift, "extra idle power of the cold machine (fraction), default 0.15");
+LATHECTL_HAL_PARAM(scenario,
+                   "system-E scenario file (TOML): material, tool, stock, disturbances, sensor");
+LATHECTL_HAL_PARAM(z_origin_mm, "machine z [mm] of the stock's z = 0 (the part lies toward -z)");
+LATHECTL_HAL_PARAM(cell_mm, "workpiece grid along z [mm], default 0.01");
+LATHECTL_HAL_PARAM(warmup_s, "time constant of the idle power's warm-up drift [s], default 120");
+LATHECTL_HAL_PARAM(break_at_s,
+                   "the tool breaks after this time in cut [s] (no force from then on); "
+                   "default never");
+LATHECTL_HAL_PARAM(idle_drift, "extra idle power of the cold machine (fraction), default 0.15");
 
 namespace {
 
@@ -152,10 +146,7 @@ void update(void*, long period_ns) {
 }  // namespace
 
 extern "C" int rtapi_app_main(void) {
-  comp_id = hal_init(kName);
-  if (comp_id < 0) return comp_id;
-  return lathectl::hal::guarded_load(kName, comp_id, [] {
-    using lathectl::hal::pin;
+  return lathectl::hal::load_component(kName, comp_id, [] {
     namespace e_adaptive = lathectl::systems::e_adaptive;
     const auto sc = lathectl::hal::load_system(scenario, e_adaptive::kReadSection);
     lathectl::cutting::LathePlant::Params p;
@@ -170,28 +161,29 @@ extern "C" int rtapi_app_main(void) {
     if (!(drive.warmup_s > 0.0) || !(drive.drift >= 0.0))
       throw lathectl::hal::Error("module parameters: warmup_s must be > 0, idle_drift >= 0");
     pins = lathectl::hal::allocate_pins<Pins>();
-    pin(&pins->x_pos, HAL_IN, comp_id, kPrefix, "x-pos");
-    pin(&pins->z_pos, HAL_IN, comp_id, kPrefix, "z-pos");
-    pin(&pins->rpm, HAL_IN, comp_id, kPrefix, "spindle-rpm");
-    pin(&pins->enable, HAL_IN, comp_id, kPrefix, "enable");
-    pin(&pins->probe_z, HAL_IN, comp_id, kPrefix, "probe-z");
-    pin(&pins->probe_radius, HAL_OUT, comp_id, kPrefix, "probe-radius");
-    pin(&pins->force, HAL_OUT, comp_id, kPrefix, "force");
-    pin(&pins->force_true, HAL_OUT, comp_id, kPrefix, "force-true");
-    pin(&pins->pz, HAL_OUT, comp_id, kPrefix, "pz");
-    pin(&pins->py, HAL_OUT, comp_id, kPrefix, "py");
-    pin(&pins->power, HAL_OUT, comp_id, kPrefix, "cut-power");
-    pin(&pins->spindle_power, HAL_OUT, comp_id, kPrefix, "spindle-power");
-    pin(&pins->idle_power, HAL_OUT, comp_id, kPrefix, "idle-power");
-    pin(&pins->idle_factor, HAL_OUT, comp_id, kPrefix, "idle-drift-factor");
-    pin(&pins->depth, HAL_OUT, comp_id, kPrefix, "depth");
-    pin(&pins->feed, HAL_OUT, comp_id, kPrefix, "feed-per-rev");
-    pin(&pins->speed, HAL_OUT, comp_id, kPrefix, "cutting-speed");
-    pin(&pins->strength, HAL_OUT, comp_id, kPrefix, "strength-factor");
-    pin(&pins->contact, HAL_OUT, comp_id, kPrefix, "in-contact");
-    pin(&pins->t_cut, HAL_OUT, comp_id, kPrefix, "time-in-cut");
-    pin(&pins->update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
-    pin(&pins->update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
+    const lathectl::hal::Exporter x(comp_id, kPrefix);
+    x.in(&pins->x_pos, "x-pos");
+    x.in(&pins->z_pos, "z-pos");
+    x.in(&pins->rpm, "spindle-rpm");
+    x.in(&pins->enable, "enable");
+    x.in(&pins->probe_z, "probe-z");
+    x.out(&pins->probe_radius, "probe-radius");
+    x.out(&pins->force, "force");
+    x.out(&pins->force_true, "force-true");
+    x.out(&pins->pz, "pz");
+    x.out(&pins->py, "py");
+    x.out(&pins->power, "cut-power");
+    x.out(&pins->spindle_power, "spindle-power");
+    x.out(&pins->idle_power, "idle-power");
+    x.out(&pins->idle_factor, "idle-drift-factor");
+    x.out(&pins->depth, "depth");
+    x.out(&pins->feed, "feed-per-rev");
+    x.out(&pins->speed, "cutting-speed");
+    x.out(&pins->strength, "strength-factor");
+    x.out(&pins->contact, "in-contact");
+    x.out(&pins->t_cut, "time-in-cut");
+    x.out(&pins->update_ns, "update-ns");
+    x.out(&pins->update_ns_max, "update-ns-max");
     plant = std::move(model);
     lathectl::hal::export_update(kPrefix, update, comp_id);
   });

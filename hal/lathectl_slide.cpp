@@ -41,13 +41,11 @@ MODULE_AUTHOR("lathectl");
 MODULE_DESCRIPTION("lathectl system-A pulse-regulated feed slide (machine side) for LinuxCNC");
 MODULE_LICENSE("GPL");
 
-static char* scenario = nullptr;
-RTAPI_MP_STRING(scenario, "system-A scenario file (TOML): regulator, slide, sensor, controller");
-static char* period_ns = nullptr;
-RTAPI_MP_STRING(period_ns, "period of the thread lathectl-slide runs in [ns], default 1000000; "
-                           "controller.period_ms must be a whole number of it");
-static char* base_ns = nullptr;
-RTAPI_MP_STRING(base_ns, "period of the base thread [ns]: the pulse train's, default 100000");
+LATHECTL_HAL_PARAM(scenario, "system-A scenario file (TOML): regulator, slide, sensor, controller");
+LATHECTL_HAL_PARAM(period_ns,
+                   "period of the thread lathectl-slide runs in [ns], default 1000000; "
+                   "controller.period_ms must be a whole number of it");
+LATHECTL_HAL_PARAM(base_ns, "period of the base thread [ns]: the pulse train's, default 100000");
 
 namespace {
 
@@ -67,7 +65,7 @@ struct Pins {
   hal_float_t* position;   // mm
   hal_float_t* sensor_V;
   hal_float_t* force_estimate;
-  hal_float_t* slot_cmd;  // mm
+  hal_float_t* slot_cmd;     // mm
   hal_float_t* ecc_pos_cmd;  // rad
   hal_float_t* frequency;
   hal_float_t* pulse_width;  // s
@@ -81,15 +79,13 @@ struct Pins {
   hal_s32_t* reason;
   hal_s32_t* alarm_reason;
   hal_s32_t* pulses;
-  hal_s32_t* width_error_max_ns;   // |measured width − Δt|, worst
-  hal_s32_t* period_error_max_ns;  // |measured rising-to-rising − programmed|, worst
-  hal_s32_t* base_jitter_max_ns;   // |base-thread interval − base period|, worst
-  hal_float_t* width_error_mean_ns;   // the means of the same, over every pulse / period
+  hal_s32_t* width_error_max_ns;     // |measured width − Δt|, worst
+  hal_s32_t* period_error_max_ns;    // |measured rising-to-rising − programmed|, worst
+  hal_s32_t* base_jitter_max_ns;     // |base-thread interval − base period|, worst
+  hal_float_t* width_error_mean_ns;  // the means of the same, over every pulse / period
   hal_float_t* period_error_mean_ns;
   hal_float_t* base_jitter_mean_ns;
-  hal_bit_t* period_error;
-  hal_s32_t* update_ns;
-  hal_s32_t* update_ns_max;
+  lathectl::hal::MeterPins meter;
 };
 
 struct State {
@@ -97,7 +93,7 @@ struct State {
   lathectl::drives::EccentricDrive eccentric;  // the slot → angle profile of the scenario's
   bool aim = true;
   long period = 1000000;
-  long every = 1;   // thread calls per control period
+  long every = 1;  // thread calls per control period
   long calls = 0;
   long base = 100000;
   double width_s = 0.005;
@@ -118,20 +114,17 @@ struct State {
 int comp_id = -1;
 Pins* pins = nullptr;
 std::unique_ptr<State> st;
-lathectl::hal::UpdateTimer timer;
+lathectl::hal::Meter meter;
 
 void update(void*, long period) {
-  timer.start();
   Pins& p = *pins;
   State& s = *st;
-  if (period != s.period) {  // the machine was configured for another control period
-    *p.period_error = 1;
+  if (!meter.begin(p.meter, period, s.period)) {  // configured for another control period
     s.pulsing.store(false);
-    *p.update_ns = timer.stop();
     return;
   }
   if (s.calls++ % s.every != 0) {
-    *p.update_ns = timer.stop();
+    meter.skip(p.meter);
     return;
   }
   SlideMachine::Input in;
@@ -159,8 +152,7 @@ void update(void*, long period) {
   *p.alarm_reason = static_cast<std::int32_t>(o.alarm_reason);
   s.frequency.store(o.frequency_Hz);
   s.pulsing.store(o.pulses);
-  *p.update_ns = timer.stop();
-  *p.update_ns_max = timer.max();
+  meter.end(p.meter);
 }
 
 // The spool's pulse train: a pulse of width_ticks base periods starts whenever the phase
@@ -219,16 +211,14 @@ void pulses(void*, long period) {
 }  // namespace
 
 extern "C" int rtapi_app_main(void) {
-  comp_id = hal_init(kName);
-  if (comp_id < 0) return comp_id;
-  return lathectl::hal::guarded_load(kName, comp_id, [] {
+  return lathectl::hal::load_component(kName, comp_id, [] {
     using lathectl::hal::Error;
     using lathectl::hal::number_param;
-    using lathectl::hal::pin;
     namespace a = lathectl::systems::a_pulse_feed;
     const auto sc = lathectl::hal::load_system(scenario, a::kReadSection);
     const auto& cfg = sc.get<a::Settings>().rig;
-    if (cfg.regulator_kind != a::RegulatorKind::Pulsed || cfg.controller_kind == a::ControllerKind::None)
+    if (cfg.regulator_kind != a::RegulatorKind::Pulsed ||
+        cfg.controller_kind == a::ControllerKind::None)
       throw Error(std::string(scenario) +
                   ": controller.type must be aim or fim and regulator.type pulsed for a machine");
     auto state = std::make_unique<State>();
@@ -270,49 +260,47 @@ extern "C" int rtapi_app_main(void) {
     state->default_feed = cfg.controller.feed_m_per_s;
     state->default_force = cfg.controller.force_set_N;
     pins = lathectl::hal::allocate_pins<Pins>();
+    const lathectl::hal::Exporter x(comp_id, kPrefix);
     Pins& p = *pins;
-    pin(&p.sensor_in, HAL_IN, comp_id, kPrefix, "sensor-in");
-    pin(&p.sensor_gain, HAL_IO, comp_id, kPrefix, "sensor-gain");
-    pin(&p.sensor_offset, HAL_IO, comp_id, kPrefix, "sensor-offset");
-    pin(&p.enable, HAL_IN, comp_id, kPrefix, "enable");
-    pin(&p.roughing, HAL_IN, comp_id, kPrefix, "roughing");
-    pin(&p.reset, HAL_IN, comp_id, kPrefix, "reset");
-    pin(&p.feed_set, HAL_IN, comp_id, kPrefix, "feed-set");
-    pin(&p.force_set, HAL_IN, comp_id, kPrefix, "force-set");
-    pin(&p.position, HAL_IN, comp_id, kPrefix, "position");
-    pin(&p.sensor_V, HAL_OUT, comp_id, kPrefix, "sensor-V");
-    pin(&p.force_estimate, HAL_OUT, comp_id, kPrefix, "force-estimate");
-    pin(&p.slot_cmd, HAL_OUT, comp_id, kPrefix, "slot-cmd");
-    pin(&p.ecc_pos_cmd, HAL_OUT, comp_id, kPrefix, "eccentric-pos-cmd");
-    pin(&p.frequency, HAL_OUT, comp_id, kPrefix, "frequency");
-    pin(&p.pulse_width, HAL_OUT, comp_id, kPrefix, "pulse-width");
-    pin(&p.valve, HAL_OUT, comp_id, kPrefix, "valve");
-    pin(&p.feed_cmd, HAL_OUT, comp_id, kPrefix, "feed-cmd");
-    pin(&p.feed_set_out, HAL_OUT, comp_id, kPrefix, "feed-set-out");
-    pin(&p.force_set_out, HAL_OUT, comp_id, kPrefix, "force-set-out");
-    pin(&p.roughing_out, HAL_OUT, comp_id, kPrefix, "roughing-out");
-    pin(&p.enabled, HAL_OUT, comp_id, kPrefix, "enabled");
-    pin(&p.alarm, HAL_OUT, comp_id, kPrefix, "alarm");
-    pin(&p.reason, HAL_OUT, comp_id, kPrefix, "reason");
-    pin(&p.alarm_reason, HAL_OUT, comp_id, kPrefix, "alarm-reason");
-    pin(&p.pulses, HAL_OUT, comp_id, kPrefix, "pulses");
-    pin(&p.width_error_max_ns, HAL_OUT, comp_id, kPrefix, "width-error-max-ns");
-    pin(&p.period_error_max_ns, HAL_OUT, comp_id, kPrefix, "period-error-max-ns");
-    pin(&p.base_jitter_max_ns, HAL_OUT, comp_id, kPrefix, "base-jitter-max-ns");
-    pin(&p.width_error_mean_ns, HAL_OUT, comp_id, kPrefix, "width-error-mean-ns");
-    pin(&p.period_error_mean_ns, HAL_OUT, comp_id, kPrefix, "period-error-mean-ns");
-    pin(&p.base_jitter_mean_ns, HAL_OUT, comp_id, kPrefix, "base-jitter-mean-ns");
-    pin(&p.period_error, HAL_OUT, comp_id, kPrefix, "period-error");
-    pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
-    pin(&p.update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
+    x.in(&p.sensor_in, "sensor-in");
+    x.io(&p.sensor_gain, "sensor-gain");
+    x.io(&p.sensor_offset, "sensor-offset");
+    x.in(&p.enable, "enable");
+    x.in(&p.roughing, "roughing");
+    x.in(&p.reset, "reset");
+    x.in(&p.feed_set, "feed-set");
+    x.in(&p.force_set, "force-set");
+    x.in(&p.position, "position");
+    x.out(&p.sensor_V, "sensor-V");
+    x.out(&p.force_estimate, "force-estimate");
+    x.out(&p.slot_cmd, "slot-cmd");
+    x.out(&p.ecc_pos_cmd, "eccentric-pos-cmd");
+    x.out(&p.frequency, "frequency");
+    x.out(&p.pulse_width, "pulse-width");
+    x.out(&p.valve, "valve");
+    x.out(&p.feed_cmd, "feed-cmd");
+    x.out(&p.feed_set_out, "feed-set-out");
+    x.out(&p.force_set_out, "force-set-out");
+    x.out(&p.roughing_out, "roughing-out");
+    x.out(&p.enabled, "enabled");
+    x.out(&p.alarm, "alarm");
+    x.out(&p.reason, "reason");
+    x.out(&p.alarm_reason, "alarm-reason");
+    x.out(&p.pulses, "pulses");
+    x.out(&p.width_error_max_ns, "width-error-max-ns");
+    x.out(&p.period_error_max_ns, "period-error-max-ns");
+    x.out(&p.base_jitter_max_ns, "base-jitter-max-ns");
+    x.out(&p.width_error_mean_ns, "width-error-mean-ns");
+    x.out(&p.period_error_mean_ns, "period-error-mean-ns");
+    x.out(&p.base_jitter_mean_ns, "base-jitter-mean-ns");
+    p.meter.export_to(x);
     *p.sensor_gain = 1.0;
     *p.pulse_width = cfg.pulse_width_s;
     *p.roughing = cfg.controller.mode == SlideMachine::Mode::Roughing;
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);
-    lathectl::hal::check(
-        hal_export_funct("lathectl-slide.pulses", pulses, nullptr, 1, 0, comp_id),
-        "hal_export_funct pulses");
+    lathectl::hal::check(hal_export_funct("lathectl-slide.pulses", pulses, nullptr, 1, 0, comp_id),
+                         "hal_export_funct pulses");
   });
 }
 

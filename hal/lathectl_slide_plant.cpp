@@ -30,12 +30,10 @@ MODULE_AUTHOR("lathectl");
 MODULE_DESCRIPTION("lathectl system-A plant: cutting, sensor, pulse regulator, damper, cylinder");
 MODULE_LICENSE("GPL");
 
-static char* scenario = nullptr;
-RTAPI_MP_STRING(scenario, "system-A scenario file (TOML)");
-static char* period_ns = nullptr;
-RTAPI_MP_STRING(period_ns, "period of the thread this runs in [ns], default 100000 (= run.step_s)");
-static char* summary = nullptr;
-RTAPI_MP_STRING(summary, "where to write the run's metrics (JSON) at unload; default none");
+LATHECTL_HAL_PARAM(scenario, "system-A scenario file (TOML)");
+LATHECTL_HAL_PARAM(period_ns,
+                   "period of the thread this runs in [ns], default 100000 (= run.step_s)");
+LATHECTL_HAL_PARAM(summary, "where to write the run's metrics (JSON) at unload; default none");
 
 namespace {
 
@@ -58,9 +56,7 @@ struct Pins {
   hal_float_t* ecc_pos_fb;  // rad
   hal_float_t* time;        // s
   hal_bit_t* done;
-  hal_bit_t* period_error;
-  hal_s32_t* update_ns;
-  hal_s32_t* update_ns_max;
+  lathectl::hal::MeterPins meter;
 };
 
 struct State {
@@ -77,17 +73,12 @@ struct State {
 int comp_id = -1;
 Pins* pins = nullptr;
 std::unique_ptr<State> st;
-lathectl::hal::UpdateTimer timer;
+lathectl::hal::Meter meter;
 
 void update(void*, long period) {
-  timer.start();
   Pins& p = *pins;
   State& s = *st;
-  if (period != s.period) {
-    *p.period_error = 1;
-    *p.update_ns = timer.stop();
-    return;
-  }
+  if (!meter.begin(p.meter, period, s.period)) return;
   if (!s.started && *p.run) s.started = true;
   if (s.started && s.steps < s.steps_total) {
     a::Rig::Actuation act;
@@ -108,19 +99,15 @@ void update(void*, long period) {
   *p.slot = s.rig.eccentric_slot() * 1e3;
   if (s.aim) *p.ecc_pos_fb = s.eccentric.angle_of(s.rig.eccentric_slot());
   *p.time = s.rig.time();
-  *p.update_ns = timer.stop();
-  *p.update_ns_max = timer.max();
+  meter.end(p.meter);
 }
 
 }  // namespace
 
 extern "C" int rtapi_app_main(void) {
-  comp_id = hal_init(kName);
-  if (comp_id < 0) return comp_id;
-  return lathectl::hal::guarded_load(kName, comp_id, [] {
+  return lathectl::hal::load_component(kName, comp_id, [] {
     using lathectl::hal::Error;
     using lathectl::hal::number_param;
-    using lathectl::hal::pin;
     const auto sc = lathectl::hal::load_system(scenario, a::kReadSection);
     const auto& cfg = sc.get<a::Settings>().rig;
     auto state = std::make_unique<State>();
@@ -136,8 +123,7 @@ extern "C" int rtapi_app_main(void) {
     } catch (const std::invalid_argument& e) {
       throw Error(std::string(scenario) + ": " + e.what());
     }
-    state->acc =
-        std::make_unique<a::MetricsAccumulator>(state->rig, state->rig.last_record_time());
+    state->acc = std::make_unique<a::MetricsAccumulator>(state->rig, state->rig.last_record_time());
     state->acc->set_plot(false);  // the report's plot grows with the run: not in this thread
     state->rig.attach(state->acc.get());
     state->steps_total = static_cast<std::size_t>(std::llround(sc.run.duration_s / sc.run.step_s));
@@ -145,24 +131,23 @@ extern "C" int rtapi_app_main(void) {
     if (state->aim) state->eccentric.configure(cfg.eccentric);
     if (summary != nullptr) state->summary = summary;
     pins = lathectl::hal::allocate_pins<Pins>();
+    const lathectl::hal::Exporter x(comp_id, kPrefix);
     Pins& p = *pins;
-    pin(&p.run, HAL_IN, comp_id, kPrefix, "run");
-    pin(&p.valve, HAL_IN, comp_id, kPrefix, "valve");
-    pin(&p.ecc_pos_cmd, HAL_IN, comp_id, kPrefix, "eccentric-pos-cmd");
-    pin(&p.frequency, HAL_IN, comp_id, kPrefix, "frequency");
-    pin(&p.force_estimate, HAL_IN, comp_id, kPrefix, "force-estimate");
-    pin(&p.reason, HAL_IN, comp_id, kPrefix, "reason");
-    pin(&p.alarm, HAL_IN, comp_id, kPrefix, "alarm");
-    pin(&p.sensor_out, HAL_OUT, comp_id, kPrefix, "sensor-out");
-    pin(&p.force, HAL_OUT, comp_id, kPrefix, "force");
-    pin(&p.position, HAL_OUT, comp_id, kPrefix, "position");
-    pin(&p.slot, HAL_OUT, comp_id, kPrefix, "slot");
-    pin(&p.ecc_pos_fb, HAL_OUT, comp_id, kPrefix, "eccentric-pos-fb");
-    pin(&p.time, HAL_OUT, comp_id, kPrefix, "plant-time");
-    pin(&p.done, HAL_OUT, comp_id, kPrefix, "done");
-    pin(&p.period_error, HAL_OUT, comp_id, kPrefix, "period-error");
-    pin(&p.update_ns, HAL_OUT, comp_id, kPrefix, "update-ns");
-    pin(&p.update_ns_max, HAL_OUT, comp_id, kPrefix, "update-ns-max");
+    x.in(&p.run, "run");
+    x.in(&p.valve, "valve");
+    x.in(&p.ecc_pos_cmd, "eccentric-pos-cmd");
+    x.in(&p.frequency, "frequency");
+    x.in(&p.force_estimate, "force-estimate");
+    x.in(&p.reason, "reason");
+    x.in(&p.alarm, "alarm");
+    x.out(&p.sensor_out, "sensor-out");
+    x.out(&p.force, "force");
+    x.out(&p.position, "position");
+    x.out(&p.slot, "slot");
+    x.out(&p.ecc_pos_fb, "eccentric-pos-fb");
+    x.out(&p.time, "plant-time");
+    x.out(&p.done, "done");
+    p.meter.export_to(x);
     *p.sensor_out = state->rig.sensor_reading();
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);

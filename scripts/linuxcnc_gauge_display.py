@@ -15,57 +15,16 @@ import csv
 import json
 import math
 import os
-import subprocess
 import sys
 import time
 
 import hal
 import linuxcnc
 
+from linuxcnc_session import Session, reason_names, realtime_threads
+
 G = "lathectl-gauge."
 P = "lathectl-gauge-plant."
-
-
-def reason_names():
-    with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "hal",
-                           "reasons.json")) as f:
-        return {r["code"]: r["name"] for r in json.load(f)["reasons"]}
-
-
-def fail(msg):
-    print("linuxcnc_gauge_display: " + msg, file=sys.stderr)
-    sys.exit(1)
-
-
-def wait(pred, timeout, what, stat):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        stat.poll()
-        if pred(stat):
-            return
-        time.sleep(0.02)
-    fail("timed out waiting for %s (task state %s, interp %s)" % (what, stat.task_state,
-                                                                  stat.interp_state))
-
-
-def realtime_threads():
-    """The HAL threads at real-time priority when we may give them (root), as in
-    linuxcnc_sim_display.py: rtapi_app runs as RTAPI_UID and its threads stay time-shared."""
-    if os.geteuid() != 0:
-        return
-    for pid in subprocess.run(["pgrep", "-x", "rtapi_app"], capture_output=True,
-                              text=True).stdout.split():
-        try:
-            tids = os.listdir("/proc/%s/task" % pid)
-        except OSError:
-            continue
-        for tid in tids:
-            try:
-                name = open("/proc/%s/task/%s/comm" % (pid, tid)).read().strip()
-                if ":T#" in name:
-                    os.sched_setscheduler(int(tid), os.SCHED_FIFO, os.sched_param(80))
-            except OSError:
-                pass
 
 
 def stats(errors_um, tol_um):
@@ -87,39 +46,13 @@ def main():
     timeout_s = float(os.environ.get("LATHECTL_SIM_TIMEOUT_S", "600"))
     break_um = os.environ.get("LATHECTL_SIM_BREAK_WIRE_UM", "")
     break_um = float(break_um) if break_um else None
-    stat, cmd, err = linuxcnc.stat(), linuxcnc.command(), linuxcnc.error_channel()
+    ses = Session("linuxcnc_gauge_display")
+    stat, cmd, errors = ses.stat, ses.cmd, ses.errors
     me = hal.component("lathectl-gauge-display")
     me.ready()
     realtime_threads()
-    wait(lambda s: s.task_state is not None, 20, "task", stat)
-    errors, messages = [], []
-
-    def drain():
-        while True:
-            e = err.poll()
-            if not e:
-                return
-            kind, text = e
-            if kind in (linuxcnc.NML_ERROR, linuxcnc.OPERATOR_ERROR):
-                errors.append(text)
-            else:
-                messages.append(text)
-
-    cmd.state(linuxcnc.STATE_ESTOP_RESET)
-    cmd.state(linuxcnc.STATE_ON)
-    wait(lambda s: s.task_state == linuxcnc.STATE_ON, 60, "machine on", stat)
-    cmd.mode(linuxcnc.MODE_MANUAL)
-    cmd.wait_complete()
-    cmd.teleop_enable(0)
-    cmd.home(-1)
-    wait(lambda s: all(s.homed[j] for j in range(s.joints)), 60, "homing", stat)
-    cmd.mode(linuxcnc.MODE_AUTO)
-    cmd.wait_complete()
-    cmd.program_open(program)
-    cmd.wait_complete()
-    drain()
-    if errors:
-        fail("opening the program: " + "; ".join(errors))
+    ses.wait_task()
+    ses.start(program)
     thresholds = [hal.get_value(G + "threshold-%d" % i) for i in range(8)]
     thresholds = [t for t in thresholds if t != 0.0]
     progress = None
@@ -141,14 +74,13 @@ def main():
             progress.flush()
 
     t0 = time.monotonic()
-    cmd.auto(linuxcnc.AUTO_RUN, 0)
-    wait(lambda s: s.interp_state != linuxcnc.INTERP_IDLE, 30, "program start", stat)
+    ses.run()
     idle = 0
     hold_since = None
     aborted = timed_out = broken = False
     while True:
         stat.poll()
-        drain()
+        ses.drain()
         now = time.monotonic()
         n = int(hal.get_value(P + "part"))
         if cur is None or n != cur["part"]:
@@ -182,8 +114,7 @@ def main():
             hal.set_p(P + "break-wire", "1")  # in-process: the size read next is the break's
             cur["wire_broken_at_um"] = hal.get_value(P + "size-um")
             broken = True
-        idle = idle + 1 if (stat.interp_state == linuxcnc.INTERP_IDLE and stat.queue == 0 and
-                            stat.exec_state == linuxcnc.EXEC_DONE) else 0
+        idle = idle + 1 if ses.program_done() else 0
         if idle >= 40:
             break
         if hal.get_value(G + "feed-hold"):
@@ -195,14 +126,12 @@ def main():
                 aborted = True
                 break
         if now - t0 > timeout_s:
-            cmd.abort()
-            cmd.wait_complete()
+            ses.abort(timeout_s)
             timed_out = True
-            errors.append("program still running after %g s (--timeout): aborted" % timeout_s)
             break
         time.sleep(0.005)
     wall_s = time.monotonic() - t0
-    drain()
+    ses.drain()
     if cur is not None and cur["part"] > 0:
         finish(cur, hal.get_value(P + "error-um"))
     update_ns_max = {"gauge": int(hal.get_value(G + "update-ns-max")),
@@ -239,7 +168,7 @@ def main():
         "aborted_on_feed_hold": aborted,
         "timed_out": timed_out,
         "errors": errors,
-        "messages": messages,
+        "messages": ses.messages,
         "wall_time_s": round(wall_s, 3),
         "metrics": {
             "parts": len(parts),

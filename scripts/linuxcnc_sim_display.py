@@ -24,6 +24,8 @@ import time
 import hal
 import linuxcnc
 
+from linuxcnc_session import Session, exec_state, reason_names, realtime_threads
+
 # Recorded channels: sampler.0.pin.N in lathectl.hal's order.
 CHANNELS = [
     ("x_mm", float), ("z_mm", float), ("spindle_rpm", float), ("current_vel_mm_per_s", float),
@@ -41,14 +43,6 @@ CHANNELS = [
 CHANNELS_0 = 21  # sampler.0's pins; the rest are sampler.1's
 
 
-def reason_names():
-    """Reason code → name, from hal/reasons.json (`lathectl reasons --json`: the core's one
-    reason table, installed with the HAL package beside lathectl_oplog.py)."""
-    with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "hal",
-                           "reasons.json")) as f:
-        return {r["code"]: r["name"] for r in json.load(f)["reasons"]}
-
-
 RAW = []  # the raw recording: never left behind
 GUI = [True] if os.environ.get("LATHECTL_SIM_GUI") == "1" else []  # then AXIS's process
 
@@ -64,65 +58,10 @@ def close_gui():
             g.wait()
 
 
-def fail(msg):
-    print("linuxcnc_sim_display: " + msg, file=sys.stderr)
+def remove_raw():
     for r in RAW:
         if os.path.exists(r):
             os.remove(r)
-    sys.exit(1)
-
-
-def wait(pred, timeout, what, stat, err=None):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        stat.poll()
-        if pred(stat):
-            return
-        time.sleep(0.02)
-    said = []
-    while err is not None:
-        e = err.poll()
-        if not e:
-            break
-        said.append(e[1])
-    fail("timed out waiting for %s (task mode %s, state %s, interp %s, exec %s, line %s%s)" % (
-        what, stat.task_mode, stat.task_state, stat.interp_state, exec_state(stat.exec_state),
-        stat.motion_line, "; LinuxCNC said: " + "; ".join(said) if said else ""))
-
-
-# What task waits for: EMC_TASK_EXEC_ENUM (src/emc/nml_intf/emc.hh; 6 is not used).
-EXEC_STATES = {1: "error", 2: "done", 3: "waiting for motion", 4: "waiting for the motion queue",
-               5: "waiting for io", 7: "waiting for motion and io", 8: "waiting for a delay",
-               9: "waiting for a system command", 10: "waiting for the spindle to orient"}
-
-
-def exec_state(value):
-    return "%s (%s)" % (value, EXEC_STATES.get(value, "?"))
-
-
-def realtime_servo_thread():
-    """The servo thread at real-time priority when we may give it (root), as LinuxCNC's setuid
-    rtapi_app takes itself: scripts/linuxcnc-sim runs rtapi_app as RTAPI_UID (it refuses root),
-    which leaves its threads time-shared, and on a loaded machine (a build beside it) the servo
-    thread then lost whole periods and milltask stalled ("timed out waiting for program start",
-    a run stuck at T2 M6). Linux's RT throttling keeps 5 % for everything else."""
-    if os.geteuid() != 0:
-        return
-    for pid in subprocess.run(["pgrep", "-x", "rtapi_app"], capture_output=True,
-                              text=True).stdout.split():
-        try:
-            # (an rtapi_app that a halcmd started to hand the master one command may have ended
-            # since pgrep saw it: found under load, where it failed 1 session in 20)
-            tids = os.listdir("/proc/%s/task" % pid)
-        except OSError:
-            continue
-        for tid in tids:
-            try:
-                name = open("/proc/%s/task/%s/comm" % (pid, tid)).read().strip()
-                if ":T#" in name:
-                    os.sched_setscheduler(int(tid), os.SCHED_FIFO, os.sched_param(80))
-            except OSError:
-                pass  # a thread that ended, or no permission: time-shared as before
 
 
 def main():
@@ -130,9 +69,10 @@ def main():
     out_dir = os.environ["LATHECTL_SIM_OUT"]
     timeout_s = float(os.environ.get("LATHECTL_SIM_TIMEOUT_S", "600"))
     period_s = 1e-3  # [EMCMOT]SERVO_PERIOD of the sample config
-    stat, cmd, err = linuxcnc.stat(), linuxcnc.command(), linuxcnc.error_channel()
+    ses = Session("linuxcnc_sim_display", on_fail=remove_raw)
+    stat, cmd, errors = ses.stat, ses.cmd, ses.errors
     me = hal.component("lathectl-sim-display")  # hal.set_p/get_value need a component
-    realtime_servo_thread()
+    realtime_threads()
     me.newpin("record", hal.HAL_BIT, hal.HAL_OUT)
     me.ready()
     if GUI:
@@ -148,46 +88,21 @@ def main():
             if "<==" in shown:
                 break
             if gui.poll() is not None or time.monotonic() > end:
-                fail("AXIS with the operator panel did not come up (exit %s)" % gui.poll())
+                ses.fail("AXIS with the operator panel did not come up (exit %s)" % gui.poll())
             time.sleep(0.2)
     # Both samplers start in the same servo period (their sample numbers then match).
     subprocess.run(["halcmd", "net", "lathectl-sim-record", "lathectl-sim-display.record",
                     "sampler.0.enable", "sampler.1.enable"], check=True)
-    wait(lambda s: s.task_state is not None, 20, "task", stat)
+    ses.wait_task()
     # Above the program's feed (lathectl-above.hal): halui sends the component's first feed scale
     # as soon as it is wired: let that command through before ours, one client at a time.
     end = time.monotonic() + 10
     while os.environ.get("LATHECTL_SIM_ABOVE") == "1" and abs(hal.get_value("lathectl-adaptive.feed-override-in-motion") -
               hal.get_value("lathectl-adaptive.feed-override")) > 1e-9:
         if time.monotonic() > end:
-            fail("halui did not apply the first feed scale")
+            ses.fail("halui did not apply the first feed scale")
         time.sleep(0.02)
-    errors = []
-
-    def drain():
-        while True:
-            e = err.poll()
-            if not e:
-                return
-            kind, text = e
-            if kind in (linuxcnc.NML_ERROR, linuxcnc.OPERATOR_ERROR):
-                errors.append(text)
-
-    cmd.state(linuxcnc.STATE_ESTOP_RESET)
-    cmd.state(linuxcnc.STATE_ON)
-    wait(lambda s: s.task_state == linuxcnc.STATE_ON, 60, "machine on", stat)
-    cmd.mode(linuxcnc.MODE_MANUAL)
-    cmd.wait_complete()
-    cmd.teleop_enable(0)
-    cmd.home(-1)
-    wait(lambda s: all(s.homed[j] for j in range(s.joints)), 60, "homing", stat)
-    cmd.mode(linuxcnc.MODE_AUTO)
-    cmd.wait_complete()
-    cmd.program_open(program)
-    cmd.wait_complete()
-    drain()
-    if errors:
-        fail("opening the program: " + "; ".join(errors))
+    ses.start(program)
 
     csv_raw = os.path.join(out_dir, "signals.raw")
     csv_raw1 = os.path.join(out_dir, "signals1.raw")
@@ -213,7 +128,8 @@ def main():
                 cmd.program_open(program)
                 cmd.wait_complete()
                 cmd.auto(linuxcnc.AUTO_RUN, 0)
-        wait(lambda s: s.interp_state != linuxcnc.INTERP_IDLE, 30, "program start", stat, err)
+        ses.wait(lambda s: s.interp_state != linuxcnc.INTERP_IDLE, 30, "program start",
+                 say_errors=True)
         hold_since = None
         aborted = timed_out = task_exited = False
         # LinuxCNC's task process: gone in the middle of a program when LinuxCNC's standalone
@@ -240,7 +156,7 @@ def main():
             kv.split("=") for kv in os.environ.get("LATHECTL_SIM_OVERRIDE", "").split(",") if kv))
         while True:
             stat.poll()
-            drain()
+            ses.drain()
             # The end: idle for 0.2 s (a tool change can show idle with nothing queued for a poll;
             # seen once on a loaded machine: a run "finished" at T2 M6).
             idle = idle + 1 if (stat.interp_state == linuxcnc.INTERP_IDLE and stat.queue == 0 and
@@ -311,7 +227,7 @@ def main():
                      "p1_W_per_rpm": hal.get_value("lathectl-adaptive.idle-p1"),
                      "p2_W_per_rpm2": hal.get_value("lathectl-adaptive.idle-p2"),
                      "plant_drift_factor": hal.get_value("lathectl-plant.idle-drift-factor")}
-    drain()
+    ses.drain()
     cmd.state(linuxcnc.STATE_OFF)
 
     rows = []
@@ -332,7 +248,7 @@ def main():
     os.remove(csv_raw)
     os.remove(csv_raw1)
     if not rows:
-        fail("nothing recorded")
+        ses.fail("nothing recorded")
     n0 = rows[0][0]
     tmp = os.path.join(out_dir, "signals.csv.tmp")
     with open(tmp, "w", newline="") as fcsv:

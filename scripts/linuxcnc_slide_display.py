@@ -12,98 +12,38 @@ into $LATHECTL_SIM_OUT; the plant writes summary.json (the run's metrics) when L
 
 import json
 import os
-import subprocess
 import sys
 import time
 
 import hal
 import linuxcnc
 
+from linuxcnc_session import Session, realtime_threads
+
 S = "lathectl-slide."
 P = "lathectl-slide-plant."
-
-
-def fail(msg):
-    print("linuxcnc_slide_display: " + msg, file=sys.stderr)
-    sys.exit(1)
-
-
-def wait(pred, timeout, what, stat):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        stat.poll()
-        if pred(stat):
-            return
-        time.sleep(0.02)
-    fail("timed out waiting for %s (task state %s, interp %s)" % (what, stat.task_state,
-                                                                  stat.interp_state))
-
-
-def realtime_threads():
-    """The HAL threads at real-time priority when we may give them (root), as in
-    linuxcnc_sim_display.py: rtapi_app runs as RTAPI_UID and its threads stay time-shared."""
-    if os.geteuid() != 0:
-        return
-    for pid in subprocess.run(["pgrep", "-x", "rtapi_app"], capture_output=True,
-                              text=True).stdout.split():
-        try:
-            tids = os.listdir("/proc/%s/task" % pid)
-        except OSError:
-            continue
-        for tid in tids:
-            try:
-                name = open("/proc/%s/task/%s/comm" % (pid, tid)).read().strip()
-                if ":T#" in name:
-                    os.sched_setscheduler(int(tid), os.SCHED_FIFO, os.sched_param(80))
-            except OSError:
-                pass
 
 
 def main():
     program = os.environ["LATHECTL_SIM_PROGRAM"]
     out_dir = os.environ["LATHECTL_SIM_OUT"]
     timeout_s = float(os.environ.get("LATHECTL_SIM_TIMEOUT_S", "120"))
-    stat, cmd, err = linuxcnc.stat(), linuxcnc.command(), linuxcnc.error_channel()
+    ses = Session("linuxcnc_slide_display")
+    stat, cmd = ses.stat, ses.cmd
     me = hal.component("lathectl-slide-display")
     me.ready()
     realtime_threads()
-    wait(lambda s: s.task_state is not None, 20, "task", stat)
-    errors, messages = [], []
-
-    def drain():
-        while True:
-            e = err.poll()
-            if not e:
-                return
-            kind, text = e
-            if kind in (linuxcnc.NML_ERROR, linuxcnc.OPERATOR_ERROR):
-                errors.append(text)
-            else:
-                messages.append(text)
-
-    cmd.state(linuxcnc.STATE_ESTOP_RESET)
-    cmd.state(linuxcnc.STATE_ON)
-    wait(lambda s: s.task_state == linuxcnc.STATE_ON, 60, "machine on", stat)
-    cmd.mode(linuxcnc.MODE_MANUAL)
-    cmd.wait_complete()
-    cmd.teleop_enable(0)
-    cmd.home(-1)
-    wait(lambda s: all(s.homed[j] for j in range(s.joints)), 60, "homing", stat)
-    cmd.mode(linuxcnc.MODE_AUTO)
-    cmd.wait_complete()
-    cmd.program_open(program)
-    cmd.wait_complete()
-    drain()
+    ses.wait_task()
+    ses.start(program)
     t0 = time.monotonic()
-    cmd.auto(linuxcnc.AUTO_RUN, 0)
-    wait(lambda s: s.interp_state != linuxcnc.INTERP_IDLE, 30, "program start", stat)
+    ses.run()
     ops, alarms, last_on = [], [], None
     last_op, last_alarm = None, False
     idle = 0
     timed_out = False
     while True:
         stat.poll()
-        drain()
+        ses.drain()
         now = time.monotonic()
         op = (bool(hal.get_value(S + "enabled")), bool(hal.get_value(S + "roughing-out")),
               round(hal.get_value(S + "feed-set-out"), 3), round(hal.get_value(S + "force-set-out"), 1))
@@ -118,8 +58,7 @@ def main():
             alarms.append({"plant_time_s": round(hal.get_value(P + "plant-time"), 4),
                            "reason_code": int(hal.get_value(S + "alarm-reason"))})
         last_alarm = alarm
-        idle = idle + 1 if (stat.interp_state == linuxcnc.INTERP_IDLE and stat.queue == 0 and
-                            stat.exec_state == linuxcnc.EXEC_DONE) else 0
+        idle = idle + 1 if ses.program_done() else 0
         if idle >= 40:
             break
         if op[0]:  # the force the controller sees and the feed it gives, at the last sample on
@@ -127,14 +66,12 @@ def main():
                        "force_estimate_N": hal.get_value(S + "force-estimate"),
                        "feed_cmd_mm_per_min": hal.get_value(S + "feed-cmd")}
         if now - t0 > timeout_s:
-            cmd.abort()
-            cmd.wait_complete()
+            ses.abort(timeout_s)
             timed_out = True
-            errors.append("program still running after %g s (--timeout): aborted" % timeout_s)
             break
         time.sleep(0.005)
     wall_s = time.monotonic() - t0
-    drain()
+    ses.drain()
     plant_time = hal.get_value(P + "plant-time")
     result = {
         "program_wall_s": round(wall_s, 3),
@@ -156,13 +93,13 @@ def main():
         "period_error": bool(hal.get_value(S + "period-error")) or bool(
             hal.get_value(P + "period-error")),
         "timed_out": timed_out,
-        "errors": errors,
-        "messages": messages,
+        "errors": ses.errors,
+        "messages": ses.messages,
     }
     cmd.state(linuxcnc.STATE_OFF)
     with open(os.path.join(out_dir, "hal.json"), "w") as f:
         json.dump(result, f, indent=2)
-    sys.exit(0 if not errors else 1)
+    sys.exit(0 if not ses.errors else 1)
 
 
 if __name__ == "__main__":

@@ -78,6 +78,7 @@ if [ $hal -eq 1 ]; then
            ./usr/lib/linuxcnc/modules/lathectl_modfeed.so ./usr/lib/linuxcnc/modules/lathectl_chatter.so \
            ./usr/share/man/man9/lathectl_adaptive.9.gz ./usr/bin/lathectl-linuxcnc-sim \
            ./usr/share/lathectl/scripts/linuxcnc_sim_display.py ./usr/share/lathectl/hal/reasons.json \
+           ./usr/share/lathectl/scripts/linuxcnc_session.py \
            ./usr/share/doc/linuxcnc/examples/sample-configs/sim/lathectl/lathectl-lathe.ini \
            ./usr/lib/linuxcnc/modules/lathectl_gauge.so ./usr/lib/linuxcnc/modules/lathectl_gauge_plant.so \
            ./usr/share/man/man9/lathectl_gauge.9.gz ./usr/bin/lathectl-linuxcnc-sim-gauge \

@@ -17,8 +17,7 @@
 #include "lathectl/control/types.hpp"
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/cutting/lathe_plant.hpp"
-#include "lathectl/io/materials.hpp"
-#include "lathectl/io/scenario.hpp"
+#include "step_allowance_config.hpp"
 #include "systems/e_adaptive/settings.hpp"
 
 namespace lathectl::control {
@@ -28,12 +27,7 @@ using cutting::LathePlant;
 using systems::e_adaptive::RigConfig;
 
 RigConfig config() {
-  static const io::MaterialLibrary lib =
-      io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
-  const auto sc =
-      io::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.toml", lib);
-  auto cfg = sc.get<systems::e_adaptive::Settings>().rig;
-  cfg.force_sensor.noise_sigma = 0.0;
+  auto cfg = fixtures::step_allowance_config();
   cfg.disturbances.random_sigma_mm = 0.0;
   return cfg;
 }

@@ -12,8 +12,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "lathectl/io/materials.hpp"
-#include "lathectl/io/scenario.hpp"
+#include "step_allowance_config.hpp"
 #include "systems/e_adaptive/settings.hpp"
 
 namespace lathectl::sim {
@@ -21,15 +20,7 @@ using cutting::LathePlant;
 using systems::e_adaptive::RigConfig;
 namespace {
 
-RigConfig config() {
-  static const io::MaterialLibrary lib =
-      io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
-  const auto sc =
-      io::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.toml", lib);
-  auto cfg = sc.get<systems::e_adaptive::Settings>().rig;
-  cfg.force_sensor.noise_sigma = 0.0;
-  return cfg;
-}
+RigConfig config() { return fixtures::step_allowance_config(); }
 
 // Moves the tool from (x0, z0) to (x1, z1) at `feed` mm/rev, 1 ms steps; returns the last output.
 LathePlant::Output move(LathePlant& p, double x0, double z0, double x1, double z1, double rpm,

@@ -13,8 +13,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 
+#include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
@@ -125,6 +127,33 @@ TEST(Rig, UndisturbedSlideRunsAtProgrammedFeed) {
   const double programmed = out.summary["metrics"]["feed_rate_programmed_mm_per_min"].get<double>();
   const double mean = out.summary["metrics"]["feed_rate_mean_mm_per_min"].get<double>();
   EXPECT_NEAR(mean, programmed, 0.005 * programmed);
+}
+
+// The tool's wear account against its closed form. Where the material's extended Taylor law
+// has y_v/m = 1 (steel_45 up to 0.3 mm/rev: y_v = 0.20, m = 0.2), T = A/s with
+// A = (C_v·K_mv/(V·t^x_v))^(1/m), so Σ dt/T = Σ s·dt/A and, s being the travel over the last
+// revolution, Σ s·dt = (60/n)·travel: the life used is travel/(n·A) whatever the pulses' ripple.
+TEST(Rig, ToolLifeUsedIsTheTravelOverTheTaylorConstantWhereYvOverMIsOne) {
+  const auto sc = scenario("a_regulator_flow");
+  RigConfig cfg = config(sc);
+  cfg.part.runout_mm = 0.0;
+  cfg.part.random_sigma_mm = 0.0;
+  const auto& law = cfg.cutting.material.tool_life[0];
+  ASSERT_NEAR(law.yv / law.m, 1.0, 1e-12) << "the closed form needs y_v/m = 1";
+  Rig rig;
+  run_rig(sc, cfg, rig);
+  const double travel_mm = rig.position() * 1000.0;  // the slide starts at x = 0
+  const double s_mean = travel_mm / rig.time() * 60.0 / cfg.spindle_rpm;
+  ASSERT_LE(s_mean, law.feed_max_mm_per_rev);
+  const double V = std::numbers::pi * cfg.diameter_m * cfg.spindle_rpm;  // m/min
+  cutting::CuttingModel cut;
+  cut.configure(cfg.cutting);
+  const double depth = rig.recorder().column("depth_mm").back();
+  // A = T·s at any s of the range (the law is exactly A/s there)
+  const double A = cut.tool_life_min(V, 0.1, depth) * 0.1;
+  ASSERT_GT(travel_mm, 0.0);
+  EXPECT_NEAR(rig.tool_life_used(), travel_mm / (cfg.spindle_rpm * A),
+              1e-3 * rig.tool_life_used());
 }
 
 TEST(Rig, RoughingAimHoldsForceAtSetValue) {

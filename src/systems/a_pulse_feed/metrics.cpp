@@ -86,6 +86,7 @@ void MetricsAccumulator::on_disturbance(double t_settle) {
 void MetricsAccumulator::row(std::span<const double> v) noexcept {
   const std::size_t i = n_++;
   const double t = v[t_], feed = v[feed_], force = v[force_], flow = v[flow_];
+  const double t_prev = t_last_;
   t_last_ = t;
   double py = force, f_rev = force;  // row 0: a window of one
   if (i == 0) {
@@ -100,6 +101,7 @@ void MetricsAccumulator::row(std::span<const double> v) noexcept {
     const double fa = flow_avg_.push(flow);
     if (plot_) flow_plot_.push(t, i + 1 < w_flow_ ? std::nan("") : fa);
     if (force_peak_ < force) force_peak_ = force;  // std::max_element's first largest
+    if (roughing_ && f_rev > 1.05 * set_) over_band_s_ += t - t_prev;
   }
   feed_all_.push(t, feed);
   feed_end90_.push(t, feed);
@@ -195,6 +197,14 @@ Metrics MetricsAccumulator::result(const Rig& rig) const {
     m.force_setpoint_N = set_;
     m.force_final_error_pct = 100.0 * (f_rev_end90_.value() - set_) / set_;
     if (td > 0.0 && last.last_out_ < T - 1e-9) m.force_settling_time_s = last.last_out_ - td;
+    m.force_over_band_s = over_band_s_;
+  }
+  if (cfg.cutting.material.tool_life_ranges > 0) {
+    m.tool_life_used_pct = 100.0 * rig.tool_life_used();
+    const double travel_m = rig.travel_after_disturbance_mm() * 1e-3;
+    if (travel_m > 0.0)
+      m.tool_life_per_m_after_disturbance_pct =
+          100.0 * rig.tool_life_used_after_disturbance() / travel_m;
   }
   m.alarms = onsets_.events();
   m.first_alarm_delay_s = onsets_.first_delay_s();

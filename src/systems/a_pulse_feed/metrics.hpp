@@ -45,6 +45,13 @@ struct Metrics {
   double deflection_end_um = std::numeric_limits<double>::quiet_NaN();   // last 10 % of the run
   double size_error_diameter_um = std::numeric_limits<double>::quiet_NaN();       // 2·(end − ref)
   double size_error_peak_diameter_um = std::numeric_limits<double>::quiet_NaN();  // max 2·|δ−ref|
+  // The tool (roughing's reason to be): how long its per-revolution mean load stood above the set
+  // force's 5 % band, and its wear as tool life used (Rig::tool_life_used): over the run, and per
+  // metre of feed travel from the first disturbance on (NaN without a tool-life law in the
+  // material library or without a disturbance).
+  double force_over_band_s = std::numeric_limits<double>::quiet_NaN();
+  double tool_life_used_pct = std::numeric_limits<double>::quiet_NaN();
+  double tool_life_per_m_after_disturbance_pct = std::numeric_limits<double>::quiet_NaN();
   std::vector<sim::AlarmEvent> alarms;
   double first_alarm_delay_s = std::numeric_limits<double>::quiet_NaN();  // after the first fault
   // Oil balance (Rig::volume_balance): travel not explained by the net inflow, and oil the
@@ -108,6 +115,7 @@ class MetricsAccumulator final : public sim::RowSink {
   sim::AlarmOnsets onsets_;
   std::size_t n_ = 0;
   double row0_force_ = 0.0, row0_flow_ = 0.0, t_first_ = 0.0, t_last_ = 0.0;
+  double over_band_s_ = 0.0;  // roughing: time the per-revolution force stood above set + 5 %
 };
 
 // The regulator's flow averaged over whole pulses, for the report's plot, row by row: between the

@@ -58,6 +58,8 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   step_ = 0;
   phi_ = 0.0;
   t_disturbance_ = -1.0;
+  x_disturbance_mm_ = 0.0;
+  life_used_ = life_used_td_ = 0.0;
   sound_ = true;
   record_every_ =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(record_interval / dt)));
@@ -237,12 +239,22 @@ void Rig::step() noexcept {
   phi_ += 2.0 * std::numbers::pi * rev_per_s_ * dt_;
   if (phi_ > 2.0 * std::numbers::pi) phi_ -= 2.0 * std::numbers::pi;
   const double x_mm = slide_.state().x_m * 1000.0;
-  if (t_disturbance_ < 0.0 && x_mm >= first_change_mm_) t_disturbance_ = t_;
+  if (t_disturbance_ < 0.0 && x_mm >= first_change_mm_) {
+    t_disturbance_ = t_;
+    x_disturbance_mm_ = x_mm;
+  }
 
   const auto local = dist_.at(x_mm, phi_, t_);
   depth_ = local.depth_mm;
-  force_ = cut_.radial_force({local.depth_mm, chip_feed_mm_per_rev(), speed_m_per_min_,
-                              local.strength_factor, local.wear_factor});
+  const double chip = chip_feed_mm_per_rev();
+  force_ = cut_.radial_force({local.depth_mm, chip, speed_m_per_min_, local.strength_factor,
+                              local.wear_factor});
+  // (infinite life out of cut: nothing used)
+  const double life_s =
+      60.0 * cut_.tool_life_min(speed_m_per_min_, chip, local.depth_mm, local.strength_factor);
+  const double used = dt_ / life_s;
+  life_used_ += used;
+  if (t_disturbance_ >= 0.0) life_used_td_ += used;
   (void)sensor_.step(dt_, force_);
 
   if (external_) {  // what the machine's analog input reads, every step

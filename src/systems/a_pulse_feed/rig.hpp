@@ -113,6 +113,15 @@ class Rig {
   // Time the tool reached the first disturbance (step or hardness change), or -1.
   [[nodiscard]] double first_disturbance_time() const noexcept { return t_disturbance_; }
   [[nodiscard]] double nominal_force_N() const noexcept { return force_nominal_; }
+  // The tool's wear as tool life used, Σ dt / T(V, s, t, h) with T the material's extended
+  // Taylor law (cutting::CuttingModel::tool_life_min, hardness through K_mv; the flank wear's
+  // force growth does not shorten it): since t = 0, and from the first disturbance on with the
+  // feed travel over which it was used [mm]. Fractions of one tool life.
+  [[nodiscard]] double tool_life_used() const noexcept { return life_used_; }
+  [[nodiscard]] double tool_life_used_after_disturbance() const noexcept { return life_used_td_; }
+  [[nodiscard]] double travel_after_disturbance_mm() const noexcept {
+    return t_disturbance_ < 0.0 ? 0.0 : slide_.state().x_m * 1000.0 - x_disturbance_mm_;
+  }
   // Actuator setting of the uncontrolled machine: slot [m] (pulsed), opening [m] (throttle).
   [[nodiscard]] double fixed_actuator() const noexcept { return fixed_actuator_; }
   [[nodiscard]] const control::PulseFeedController& controller() const noexcept {
@@ -157,6 +166,8 @@ class Rig {
   double force_nominal_ = 0.0;
   double fixed_actuator_ = 0.0;
   double t_disturbance_ = -1.0;
+  double x_disturbance_mm_ = 0.0;
+  double life_used_ = 0.0, life_used_td_ = 0.0;
   double first_change_mm_ = 0.0;
   bool sound_ = true;
 

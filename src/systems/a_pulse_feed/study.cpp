@@ -35,6 +35,10 @@ nlohmann::json metrics_json(const Metrics& m) {
           {"force_setpoint_N", json_number(m.force_setpoint_N)},
           {"force_settling_time_s", json_number(m.force_settling_time_s)},
           {"force_final_error_pct", json_number(m.force_final_error_pct)},
+          {"force_over_band_s", json_number(m.force_over_band_s)},
+          {"tool_life_used_pct", json_number(m.tool_life_used_pct)},
+          {"tool_life_per_m_after_disturbance_pct",
+           json_number(m.tool_life_per_m_after_disturbance_pct)},
           {"first_disturbance_s", json_number(m.first_disturbance_s)},
           {"flow_mean_cm3_per_min", json_number(m.flow_mean_cm3_per_min)},
           {"flow_formula_cm3_per_min", json_number(m.flow_formula_cm3_per_min)},
@@ -145,6 +149,7 @@ class PulseFeedStudy final : public io::Study {
 
   void run_sweep();
   void finishing_claims(Claims& claims) const;
+  void roughing_tool_claims(Claims& claims) const;
   void report_metrics(Report& rep) const;
   void report_plots(Report& rep) const;
   [[nodiscard]] bool roughing() const {
@@ -241,6 +246,7 @@ void PulseFeedStudy::check_claims(Claims& claims) {
       const double rise = cmp_->metrics.force_peak_N / cmp_->metrics.force_nominal_N;
       claims.note("uncontrolled: force peak / nominal force = " + fmt(rise, "%.3f") + " (" +
                   fmt(cmp_->metrics.force_peak_N) + " N)");
+      roughing_tool_claims(claims);
     }
   }
   if (against_throttle()) {
@@ -260,6 +266,55 @@ void PulseFeedStudy::check_claims(Claims& claims) {
   if (!st_.rig.faults.empty())
     claims.add("sensor fault: alarm raised, delay after the fault [s]", mm.first_alarm_delay_s,
                !std::isnan(mm.first_alarm_delay_s));
+}
+
+// The seed's roughing claim, "force peaks are held at the set value; the tool is not
+// overloaded", judged on the peak itself. A disturbance raises the force as the tool passes its
+// ramp, and the slide can only take the feed back as fast as its loop answers, so some transient
+// above the set force is physics, not a defect: the claim asks that control take at least half
+// of the uncontrolled machine's overload off the tool (a bound of this project's; the acceptance
+// criterion max_force_over_set_pct judges the peak against the set force itself). The wear is
+// accounted beside it.
+void PulseFeedStudy::roughing_tool_claims(Claims& claims) const {
+  const auto& mm = m();
+  const auto& c = cmp_->metrics;
+  const double over = mm.force_peak_N - mm.force_setpoint_N;
+  const double over_c = c.force_peak_N - c.force_setpoint_N;
+  if (over_c > 0.0) {
+    claims.check("roughing: the tool is not overloaded — force peak above the set force, "
+                 "controlled / uncontrolled (≤ 0.5; " +
+                     fmt(mm.force_peak_N) + " N against " + fmt(c.force_peak_N) + " N, set " +
+                     fmt(mm.force_setpoint_N) + " N)",
+                 over / over_c, Compare::AtMost, 0.5);
+  } else {
+    claims.note("roughing: the uncontrolled machine never exceeds the set force (peak " +
+                fmt(c.force_peak_N) + " N): no overload for control to take off");
+  }
+  claims.note("roughing: the load stood above set + 5 % for " + fmt(mm.force_over_band_s, "%.3g") +
+              " s with control, " + fmt(c.force_over_band_s, "%.3g") + " s without");
+  if (std::isnan(mm.tool_life_per_m_after_disturbance_pct) ||
+      std::isnan(c.tool_life_per_m_after_disturbance_pct))
+    return;
+  // Tool life used per metre of feed ∝ 1/(s·T) ∝ s^(y_v/m − 1) at a fixed speed (extended
+  // Taylor law T ∝ s^(−y_v/m)): lowering the feed saves wear per metre only where y_v/m > 1.
+  const auto& law = st_.rig.cutting.material.tool_life;
+  const double s = m().feed_rate_reference_mm_per_min / st_.rig.spindle_rpm;
+  const cutting::ToolLifeRange* r = &law[0];
+  for (int k = 0; k < st_.rig.cutting.material.tool_life_ranges; ++k) {
+    r = &law[static_cast<std::size_t>(k)];
+    if (s <= r->feed_max_mm_per_rev) break;
+  }
+  claims.note("roughing, the tool's wear: " + fmt(mm.tool_life_per_m_after_disturbance_pct, "%.3g") +
+              " % of a tool life per metre of feed after the disturbance with control, " +
+              fmt(c.tool_life_per_m_after_disturbance_pct, "%.3g") +
+              " % without (ratio " +
+              fmt(mm.tool_life_per_m_after_disturbance_pct / c.tool_life_per_m_after_disturbance_pct,
+                  "%.3f") +
+              "). By the material's tool-life law at " + fmt(s, "%.3g") + " mm/rev, y_v/m = " +
+              fmt(r->yv / r->m, "%.3g") +
+              ": the life used per metre goes as s^(y_v/m − 1), so a lower feed saves wear per "
+              "metre only where y_v/m > 1; what roughing control saves for certain is the "
+              "overload above");
 }
 
 void PulseFeedStudy::finishing_claims(Claims& claims) const {
@@ -360,6 +415,12 @@ void PulseFeedStudy::report_metrics(Report& rep) const {
     add("force setpoint [N]", mm.force_setpoint_N);
     add("force settling time [s]", mm.force_settling_time_s);
     add("final force error [%]", mm.force_final_error_pct);
+    add("time the tool stood above set + 5 % [s]", mm.force_over_band_s);
+  }
+  if (!std::isnan(mm.tool_life_used_pct)) {
+    add("tool life used over the run [%]", mm.tool_life_used_pct);
+    add("tool life per metre of feed after the disturbance [%]",
+        mm.tool_life_per_m_after_disturbance_pct);
   }
   if (!std::isnan(mm.size_error_diameter_um)) {
     add("holder deflection before → after the disturbance [µm]", mm.deflection_reference_um);
@@ -374,6 +435,11 @@ void PulseFeedStudy::report_metrics(Report& rep) const {
     add("steady feed deviation (comparison) [%]", cmp_->metrics.feed_rate_steady_deviation_pct);
     add("feed drift (comparison) [%]", cmp_->metrics.feed_drift_pct);
     add("peak force (comparison) [N]", cmp_->metrics.force_peak_N);
+    if (roughing())
+      add("time above set + 5 % (comparison) [s]", cmp_->metrics.force_over_band_s);
+    if (!std::isnan(cmp_->metrics.tool_life_per_m_after_disturbance_pct))
+      add("tool life per metre after the disturbance (comparison) [%]",
+          cmp_->metrics.tool_life_per_m_after_disturbance_pct);
     if (!std::isnan(cmp_->metrics.size_error_diameter_um))
       add("diameter error, steady (comparison) [µm]", cmp_->metrics.size_error_diameter_um);
   }
