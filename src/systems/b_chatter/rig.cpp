@@ -119,13 +119,7 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   chain_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1e-4 / dt)));
   control_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1e-3 / dt)));
 
-  dynamics::TwinTurretCut::Params pp = cut_params(cfg);
-  // The slowest feed of tool 1 (the right turret) a modulation can hold, for the surface memory.
-  if (cfg.source == control::ModulationSource::Automatic)
-    pp.slowest_feed_fraction = cfg.module.s_min_fraction;
-  else if (cfg.source == control::ModulationSource::Programmed)
-    pp.slowest_feed_fraction =
-        std::clamp(cfg.programmed.s_min_mm_per_min / (cfg.feed_mm_per_rev * cfg.rpm), 0.05, 1.0);
+  const dynamics::TwinTurretCut::Params pp = cut_params(cfg);
   sim::configure_as("cut", {{"tool2_lag_mm", "cut.tool2_lag_mm"}, {"step", "run.step_s"}},
                [&] { process_.configure(pp, dt); });
   n_tools_ = process_.tools();

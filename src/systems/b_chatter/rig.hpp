@@ -10,6 +10,7 @@
 // idle power is stored), then one cutting block from z_start to z_end.
 // Measurement: VibrationChain on y; PowerSensor on the spindle's electrical power.
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -88,6 +89,12 @@ inline dynamics::TwinTurretCut::Params cut_params(const RigConfig& cfg) {
   pp.feed_mm_per_rev = cfg.feed_mm_per_rev;
   pp.inter_tool_delay = cfg.inter_tool_delay;
   pp.process_damping = cfg.process_damping;
+  // The slowest feed of tool 1 (the right turret) a modulation can hold, for the surface memory.
+  if (cfg.source == control::ModulationSource::Automatic)
+    pp.slowest_feed_fraction = cfg.module.s_min_fraction;
+  else if (cfg.source == control::ModulationSource::Programmed)
+    pp.slowest_feed_fraction = std::clamp(
+        cfg.programmed.s_min_mm_per_min / (cfg.feed_mm_per_rev * cfg.rpm), 0.05, 1.0);
   return pp;
 }
 
