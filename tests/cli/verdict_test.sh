@@ -21,12 +21,12 @@ grep -q '<h2>Verdict: acceptance criteria</h2>' "$work/e/report.html" || bad "re
 grep -q 'id="model-checks"' "$work/e/report.html" || bad "report has no model-checks section"
 # An example whose criteria and claims are all met: ✔, and --strict exits 0.
 "$bin" run --strict "$ex/a_roughing_aim.toml" --out "$work/a" > "$work/out.txt" 2>&1 || bad "strict on a clean example: exit $?"
-grep -q "— ✔ 1 of 1 acceptance criterion met · model checks: 2 of 2 met$" "$work/out.txt" || bad "clean console line: $(cat "$work/out.txt")"
+grep -q "— ✔ 1 of 1 acceptance criterion met · model checks: 3 of 3 met$" "$work/out.txt" || bad "clean console line: $(cat "$work/out.txt")"
 # The user's limit decides: the same run against a force limit it exceeds → 3.
 { cat "$ex/a_roughing_aim.toml"; printf '\n[acceptance]\nmax_force_over_set_pct = 5\n'; } > "$work/a5.toml"
 "$bin" run --strict "$work/a5.toml" --out "$work/a5" > "$work/out.txt" 2>&1; rc=$?
 [ "$rc" -eq 3 ] || bad "run --strict on an unmet acceptance criterion: exit $rc, expected 3"
-grep -q "— ✘ 1 of 1 acceptance criterion not met: largest force above its set value (roughing) .* (limit ≤ 5 %, the scenario's) · model checks: 2 of 2 met" "$work/out.txt" || bad "unmet criterion line: $(cat "$work/out.txt")"
+grep -q "— ✘ 1 of 1 acceptance criterion not met: largest force above its set value (roughing) .* (limit ≤ 5 %, the scenario's) · model checks: 3 of 3 met" "$work/out.txt" || bad "unmet criterion line: $(cat "$work/out.txt")"
 # A model check not met does not fail --strict: a finishing pass (0.5 mm) on a tracer whose
 # friction barely falls (110 → 100 N) shows no stick-slip (the seed's claim ✘), and its profile
 # is well within the default 100 µm.
