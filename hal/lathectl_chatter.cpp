@@ -1,6 +1,7 @@
 // lathectl_chatter — system B's cutting process as a HAL component: the slender part between
-// centres, its modes at the tool, regeneration and the tool leaving the cut
-// (dynamics::TwinTurretCut, one tool: LinuxCNC's lathe has one tool path), with the hardware of
+// centres, its modes at the tools, regeneration and the tools leaving the cut
+// (dynamics::TwinTurretCut: one tool, or the twin turrets of feed or depth division — the second
+// turret's Z on its own pin, e.g. a second axis pair U/W beside X/Z), with the hardware of
 // seed 001's measurement chain — vibration sensor 16, amplifier 17 with its dead zone, amplitude
 // detector (ADC 19) and frequency detector 20 (sensors::VibrationChain) — and the main motor's
 // electrical power (cutting power / efficiency + the spindle's speed-dependent idle losses).
@@ -40,6 +41,7 @@ constexpr const char* kPrefix = "lathectl-chatter";
 
 struct Pins {
   hal_float_t* z_pos;
+  hal_float_t* z2_pos;  // the second turret's z (twin set-ups)
   hal_float_t* revs;  // spindle position in revolutions (spindle.0.revs)
   hal_float_t* rpm;
   hal_bit_t* enable;
@@ -53,6 +55,10 @@ struct Pins {
   hal_float_t* chip;
   hal_float_t* depth;
   hal_bit_t* contact;
+  hal_float_t* radial2;  // the second tool's (twin set-ups; 0 for one tool)
+  hal_float_t* chip2;
+  hal_float_t* depth2;
+  hal_bit_t* contact2;
   lathectl::hal::MeterPins meter;
   hal_bit_t* diverged;
 };
@@ -66,7 +72,8 @@ struct State {
   int chain_every = 1;
   long count = 0;
   bool started = false;
-  double last_z = 0.0, last_revs = 0.0;
+  bool twin = false;
+  double last_z = 0.0, last_z2 = 0.0, last_revs = 0.0;
   lathectl::drives::SpindleDrive::Params spindle;  // efficiency and idle law
 };
 
@@ -80,9 +87,11 @@ void update(void*, long period) {
   State& s = *st;
   if (!meter.begin(p.meter, period, s.period)) return;  // the sub-step was sized for another thread
   const double z = *p.enable ? s.z_origin - *p.z_pos : -1e9;  // disabled: far from the part
+  const double z2 = !s.twin ? z : *p.enable ? s.z_origin - *p.z2_pos : -1e9;
   const double revs = *p.revs;
   if (!s.started) {
     s.last_z = z;
+    s.last_z2 = z2;
     s.last_revs = revs;
     s.started = true;
   }
@@ -91,11 +100,12 @@ void update(void*, long period) {
     const double f = static_cast<double>(k) / s.substeps;
     const double zk = s.last_z + f * (z - s.last_z);
     const double theta = 2.0 * std::numbers::pi * (s.last_revs + f * (revs - s.last_revs));
-    const double zz[2] = {zk, zk};
+    const double zz[2] = {zk, s.last_z2 + f * (z2 - s.last_z2)};
     s.cut.step(theta, rpm, zz);
     if (s.count++ % s.chain_every == 0) s.chain.update(s.cut.y_m());
   }
   s.last_z = z;
+  s.last_z2 = z2;
   s.last_revs = revs;
   const double pc = s.cut.power_W(rpm);
   *p.vibration = s.cut.y_m() * 1e6;
@@ -108,6 +118,11 @@ void update(void*, long period) {
   *p.chip = s.cut.cutting(0) ? s.cut.chip_mm(0) : 0.0;
   *p.depth = s.cut.cutting(0) ? s.cut.depth_mm(0) : 0.0;
   *p.contact = s.cut.cutting(0);
+  const bool two = s.twin && s.cut.cutting(1);
+  *p.radial2 = s.twin ? s.cut.radial_N(1) : 0.0;
+  *p.chip2 = two ? s.cut.chip_mm(1) : 0.0;
+  *p.depth2 = two ? s.cut.depth_mm(1) : 0.0;
+  *p.contact2 = two;
   *p.diverged = !s.cut.sound();
   meter.end(p.meter);
 }
@@ -119,11 +134,8 @@ extern "C" int rtapi_app_main(void) {
     const auto sc =
         lathectl::hal::load_system(scenario, lathectl::systems::b_chatter::kReadSection);
     const auto& b = sc.get<lathectl::systems::b_chatter::Settings>().rig;
-    if (b.setup != lathectl::dynamics::TwinSetup::Single)
-      throw lathectl::hal::Error(std::string(scenario) +
-                                 ": cut.setup must be \"single\" (LinuxCNC's lathe has one tool "
-                                 "path)");
     auto state = std::make_unique<State>();
+    state->twin = b.setup != lathectl::dynamics::TwinSetup::Single;
     state->z_origin = lathectl::hal::number_param(z_origin_mm, "z_origin_mm", 0.0);
     const double period = lathectl::hal::number_param(period_ns, "period_ns", 1e6);
     if (!(period >= 1e4 && period <= 1e8))
@@ -131,10 +143,14 @@ extern "C" int rtapi_app_main(void) {
     state->period = std::lround(period);
     state->substeps = std::max(1, static_cast<int>(std::lround(period * 1e-9 / sc.run.step_s)));
     const double dt = period * 1e-9 / state->substeps;
-    // The scenario's process (process damping included) as the rig maps it; one tool here.
+    // The scenario's process (process damping included) as the rig maps it. One tool: the second
+    // edge follows the first (the plant's single set-up ignores it); twin set-ups: the second
+    // turret's axial positions come from z2-pos, the program places it tool2_lag_mm behind.
     auto pp = lathectl::systems::b_chatter::cut_params(b);
-    pp.depth_mm[1] = b.depth_mm[0];
-    pp.tool2_lag_mm = 0.0;
+    if (!state->twin) {
+      pp.depth_mm[1] = b.depth_mm[0];
+      pp.tool2_lag_mm = 0.0;
+    }
     state->cut.configure(pp, dt);
     state->chain_every = std::max(1, static_cast<int>(std::lround(1e-4 / dt)));
     auto vib = b.vibration;
@@ -145,6 +161,7 @@ extern "C" int rtapi_app_main(void) {
     const lathectl::hal::Exporter x(comp_id, kPrefix);
     Pins& p = *pins;
     x.in(&p.z_pos, "z-pos");
+    x.in(&p.z2_pos, "z2-pos");
     x.in(&p.revs, "spindle-revs");
     x.in(&p.rpm, "spindle-rpm");
     x.in(&p.enable, "enable");
@@ -158,6 +175,10 @@ extern "C" int rtapi_app_main(void) {
     x.out(&p.chip, "chip");
     x.out(&p.depth, "depth");
     x.out(&p.contact, "in-contact");
+    x.out(&p.radial2, "radial-force2");
+    x.out(&p.chip2, "chip2");
+    x.out(&p.depth2, "depth2");
+    x.out(&p.contact2, "in-contact2");
     p.meter.export_to(x);
     x.out(&p.diverged, "diverged");
     st = std::move(state);

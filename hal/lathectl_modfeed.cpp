@@ -1,8 +1,10 @@
 // lathectl_modfeed — seed 001's CNC module as a realtime HAL component: vibration control by
-// modulated feed. A thin wrapper: the law is control::ModulatedFeedController (the staircase
-// S_min → S_max = S_min + n_s·ΔS in steps of ΔS per path length Δl, sized by the quenching
-// condition A_P ≥ c·a0·m_d·|ω_d² − ω_m²|), and the idle-power compensation is
-// sensors::PowerSensor (switch 12, compensator 13, adder 14) — the objects the simulator links.
+// modulated feed. A map from pins to control::ModulationMachine, the object rig B runs: the power
+// chain with its idle compensation (sensor 11, switch 12, compensator 13, adder 14) and the
+// planner (the staircase S_min → S_max = S_min + n_s·ΔS in steps of ΔS per path length Δl, sized
+// by the quenching condition A_P ≥ c·a0·m_d·|ω_d² − ω_m²|). Detectors 19–20 (a0, ω_d) are the
+// hardware in front of the CNC here (lathectl_chatter models them at the sensor's own sample
+// rate, which the servo thread cannot carry): the machine takes their readings as an Input.
 //
 //   loadrt lathectl_modfeed scenario=PATH [ceiling=2]
 //   addf lathectl-modfeed servo-thread
@@ -29,8 +31,7 @@
 #include <memory>
 #include <numbers>
 
-#include "lathectl/control/modulated_feed.hpp"
-#include "lathectl/sensors/vibration_chain.hpp"
+#include "lathectl/control/modulation_machine.hpp"
 #include "lathectl_hal.hpp"
 #include "systems/b_chatter/settings.hpp"
 
@@ -43,7 +44,7 @@ LATHECTL_HAL_PARAM(ceiling, "the program's F over the mean feed to keep (≥ 1),
 
 namespace {
 
-using lathectl::control::ModulatedFeedController;
+using lathectl::control::ModulationMachine;
 using lathectl::control::ModulationSource;
 using lathectl::control::Turret;
 constexpr const char* kName = "lathectl_modfeed";
@@ -95,10 +96,8 @@ struct Pins {
 };
 
 struct State {
-  ModulatedFeedController module;
+  ModulationMachine machine;
   lathectl::control::ModulationPlanner planner;
-  ModulatedFeedController::Output out{};
-  lathectl::sensors::PowerSensor power;
   long every = 0;
   long count = 0;
   double period_s = 1e-3;
@@ -115,7 +114,7 @@ void update(void*, long period_ns) {
   State& s = *st;
   const double dt = static_cast<double>(period_ns) * 1e-9;
   if (s.every == 0) {  // the module's period must be a whole number of thread periods
-    const double ratio = s.module.params().period_s / dt;
+    const double ratio = s.machine.params().module.period_s / dt;
     const long k = std::lround(ratio);
     s.every = (k < 1 || std::abs(ratio - static_cast<double>(k)) > 0.01 * ratio) ? -1 : k;
     *p.period_error = s.every < 0;
@@ -133,11 +132,12 @@ void update(void*, long period_ns) {
   if (s.count++ % s.every != 0) return;
   timer.start();
   const double rpm = std::abs(*p.rpm);
-  s.power.update(*p.power, rpm, *p.idle_block);
-  ModulatedFeedController::Input in;
+  ModulationMachine::Input in;
+  in.external_detectors = true;
   in.a0_m = std::max(0.0, static_cast<double>(*p.a0)) * 1e-6;
   in.omega_d_rad_per_s = std::max(0.0, static_cast<double>(*p.omega_d)) * 2.0 * std::numbers::pi;
-  in.cut_power_W = s.power.cutting_W();
+  in.motor_power_W = *p.power;
+  in.idle_block = *p.idle_block;
   in.speed_m_per_min = 2.0 * std::numbers::pi * std::abs(*p.x_pos) * rpm / 1000.0;
   in.rpm = rpm;
   // The program's F is the ceiling; the mean feed to keep is F/ceiling [mm/min].
@@ -154,12 +154,12 @@ void update(void*, long period_ns) {
                          : ModulationSource::None;
   in.turret = t ? Turret::Left : Turret::Right;
   in.programmed = {*p.prog_s_min, *p.prog_ds, *p.prog_dl, *p.prog_n_s};
-  s.module.update(in, s.out);
-  const auto& o = s.out;
+  s.machine.update(in);
+  const auto& o = s.machine.output();
   const double feed = o.feed_mm_per_min[t];
   *p.feed = feed;
   *p.adaptive_feed = f_prog > 0.0 ? std::clamp(feed / f_prog, 0.0, 1.0) : 1.0 / ceil;
-  *p.cut_power = in.cut_power_W;
+  *p.cut_power = o.cut_power_W;
   *p.engaged = o.engaged;
   *p.reason = static_cast<std::int32_t>(o.reason);
   *p.s_min = o.plan.s_min_mm_per_min;
@@ -169,7 +169,7 @@ void update(void*, long period_ns) {
   *p.omega_m = o.omega_m_rad_per_s / (2.0 * std::numbers::pi);
   *p.ap_required = o.force_amplitude_required_N;
   *p.ap_planned = o.force_amplitude_planned_N;
-  const auto counts = s.module.plan_counts();
+  const auto counts = s.machine.controller().plan_counts();
   *p.plans_inline = static_cast<std::int32_t>(counts.made_inline);
   *p.plans_taken = static_cast<std::int32_t>(counts.taken);
   *p.update_ns = timer.stop();
@@ -178,7 +178,7 @@ void update(void*, long period_ns) {
 
 // The slower thread's function: plans what the servo function asked for, if anything.
 void plan(void*, long) {
-  if (st && st->planner.run(st->module)) *pins->plans_made = *pins->plans_made + 1;
+  if (st && st->planner.run(st->machine.controller())) *pins->plans_made = *pins->plans_made + 1;
 }
 
 }  // namespace
@@ -192,15 +192,15 @@ extern "C" int rtapi_app_main(void) {
     if (!(c >= 1.0 && c <= 100.0))
       throw lathectl::hal::Error("module parameter ceiling: expected 1 … 100");
     auto state = std::make_unique<State>();
-    auto mp = b.module;
+    ModulationMachine::Params machine{b.vibration, b.power, b.module};
+    auto& mp = machine.module;
     mp.period_s = 1e-3;
     // The staircase may not rise above the program's F (LinuxCNC clips the factor at 1).
     mp.s_max_fraction = std::min(mp.s_max_fraction, c);
     if (!(mp.s_max_fraction > 1.0))
       throw lathectl::hal::Error("ceiling must exceed 1 for the staircase to rise above the mean");
-    state->module.configure(mp);
-    state->module.use_planner(&state->planner);
-    state->power.configure(b.power, mp.period_s);
+    state->machine.configure(machine);
+    state->machine.use_planner(&state->planner);
     pins = lathectl::hal::allocate_pins<Pins>();
     const lathectl::hal::Exporter x(comp_id, kPrefix);
     Pins& p = *pins;

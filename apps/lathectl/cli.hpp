@@ -51,7 +51,8 @@ struct Calculator {
   void (*add)(CLI::App& sub, Commands& out);  // options and action of the subcommand `name`
   std::string (*reference)();
 };
-extern const Calculator kPulseRegulator, kAdaptiveSpeed, kPlannedMode, kGauge, kTracer;
+extern const Calculator kPulseRegulator, kAdaptiveSpeed, kPlannedMode, kGauge, kTracer,
+    kModulation;
 const std::vector<const Calculator*>& calculators();
 
 }  // namespace lathectl::cli

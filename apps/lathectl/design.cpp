@@ -8,7 +8,8 @@ namespace lathectl::cli {
 
 const std::vector<const Calculator*>& calculators() {
   static const std::vector<const Calculator*> all{&kPulseRegulator, &kAdaptiveSpeed,
-                                                  &kPlannedMode, &kGauge, &kTracer};
+                                                  &kPlannedMode, &kGauge, &kTracer,
+                                                  &kModulation};
   return all;
 }
 

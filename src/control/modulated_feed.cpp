@@ -4,6 +4,9 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <string>
+
+#include "lathectl/core/parameter_error.hpp"
 
 namespace lathectl::control {
 
@@ -187,7 +190,11 @@ double ModulatedFeedGenerator::advance(double path_mm) noexcept {
 
 void ModulatedFeedController::configure(const Params& p) {
   auto require = [](bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(std::string("modulated feed: ") + what);
+    if (!ok) {
+      // The parameter is the message's first word ("coefficient must be positive").
+      const std::string w(what);
+      throw core::ParameterError(w.substr(0, w.find(' ')), "modulated feed: " + w);
+    }
   };
   require(p.period_s > 0.0, "period_s must be positive");
   require(p.coefficient > 0.0, "coefficient must be positive");
@@ -202,8 +209,10 @@ void ModulatedFeedController::configure(const Params& p) {
   require(p.resolution_mm > 0.0, "resolution_mm must be positive");
   require(p.s_min_fraction > 0.0 && p.s_min_fraction < 1.0, "s_min_fraction must be in (0, 1)");
   require(p.s_max_fraction > 1.0, "s_max_fraction must exceed 1");
-  require(p.engage_time_s >= 0.0 && p.release_time_s >= 0.0 && p.replan_period_s > 0.0,
-          "engage/release/replan times must be non-negative (replan positive)");
+  require(p.engage_time_s >= 0.0 && p.release_time_s >= 0.0,
+          "engage_time_s and release_time_s must be non-negative");
+  require(p.replan_period_s > 0.0,
+          "replan_period_s must be positive");
   p_ = p;
   configured_ = true;
   gen_.stop();

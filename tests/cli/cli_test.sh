@@ -15,7 +15,7 @@ expect_rc() {  # expected_rc description command...
 }
 
 # --help on every command
-for c in "" run check demo lobes report design reference "design pulse-regulator" "design adaptive-speed" "design gauge" "design tracer"; do
+for c in "" run check demo lobes report design reference "design pulse-regulator" "design adaptive-speed" "design gauge" "design tracer" "design modulation"; do
   expect_rc 0 "--help for '$c'" $bin $c --help
 done
 # every example validates
@@ -146,6 +146,28 @@ expect_rc 2 "adaptive-speed incomplete group" $bin design adaptive-speed --Vp 15
 expect_rc 2 "adaptive-speed unknown material" $bin design adaptive-speed --material unobtainium --t 3 --s 0.5 --T-target 60
 grep -q "unknown material 'unobtainium'" "$work/err.txt" || bad "unknown-material message: $(cat "$work/err.txt")"
 expect_rc 2 "adaptive-speed negative feed rate" $bin design adaptive-speed --F -150 --n 1000
+
+# design modulation (seed 001's module): b_twin_feed_division's shaft (Ø40 × 600 mm, tool at
+# mid-cut 285 mm) and the a0, ω_d, N_c its rig planned on. m_d against the closed form of a
+# pinned-pinned beam's first mode, (M/2)/sin²(πx/L); the plan against the rig's (the golden
+# summary: S_min 50, ΔS 35.9, Δl 0.096 mm, n_s 5, ω_m/2π = S_p/(2·n_s·Δl) = 1.99306 Hz).
+expect_rc 0 "design modulation" $bin design modulation --L-mm 600 --x-mm 285 --a0-um 6 \
+  --fd-Hz 227.8 --power-kW 0.449 --json
+python3 - "$work/out.txt" <<'PY' || bad "design modulation values"
+import json, math, sys
+j = json.load(open(sys.argv[1]))["si"]
+M = math.pi / 4 * 0.04 ** 2 * 0.6 * 7850
+md = M / 2 / math.sin(math.pi * 0.285 / 0.6) ** 2
+assert abs(j["m_d_kg"] / md - 1) < 1e-6, (j["m_d_kg"], md)
+assert abs(j["S_min_m_per_s"] * 6e4 - 50.0) < 1e-9 and abs(j["dS_m_per_s"] * 6e4 - 35.9) < 1e-9
+assert abs(j["dl_m"] - 0.096e-3) < 1e-12 and j["n_s"] == 5
+assert abs(j["f_m_Hz"] - 114.8 / 60 / 0.96) < 1e-9
+wd, wm = 2 * math.pi * 227.8, 2 * math.pi * j["f_m_Hz"]
+assert abs(j["A_P_required_N"] - 1.41 * 6e-6 * md * abs(wd * wd - wm * wm)) < 1e-9
+assert abs(j["B_m"] - j["A_P_planned_N"] / (md * abs(wd * wd - wm * wm))) < 1e-15
+assert j["limited"] == (j["A_P_planned_N"] < j["A_P_required_N"])
+PY
+expect_rc 2 "design modulation tool outside the centres" $bin design modulation --L-mm 600 --x-mm 700
 
 # design gauge (seed 003, linearised vibro-contact gauging). Defaults: 24 V, 50 Hz, K_g = 50 V/(m/s),
 # T_g = 0.2 ms, T_f = 100 ms, t_r = 20 ms, m_x = 250 µm, a = 20 µm/s, x_k = 100 µm, σ = 2 µm, β = 5.
@@ -426,7 +448,7 @@ expect_rc 2 "unknown command" $bin frobnicate
 grep -qx "error: unknown command 'frobnicate' (run, check, demo, lobes, report, design, reference, compare, optimize, reasons)" "$work/err.txt" || bad "unknown command: $(cat "$work/err.txt")"
 one_line "unknown command"
 expect_rc 2 "unknown design command" $bin design frob
-grep -qx "error: unknown command 'design frob' (pulse-regulator, adaptive-speed, planned-mode, gauge, tracer)" "$work/err.txt" || bad "unknown design command: $(cat "$work/err.txt")"
+grep -qx "error: unknown command 'design frob' (pulse-regulator, adaptive-speed, planned-mode, gauge, tracer, modulation)" "$work/err.txt" || bad "unknown design command: $(cat "$work/err.txt")"
 expect_rc 2 "no command" $bin
 one_line "no command"
 expect_rc 2 "run without scenario" $bin run

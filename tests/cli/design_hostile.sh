@@ -15,10 +15,11 @@ declare -A base=(
   [planned-mode]="--material steel_45 --t 3 --force-limit 2500 --D-mm 80"
   [gauge]="--tolerance-um 10"
   [tracer]=""
+  [modulation]="--L-mm 600 --x-mm 285"
 )
 values=(0 -1 nan inf 1e300 1e-300)
 
-for calc in pulse-regulator adaptive-speed planned-mode gauge tracer; do
+for calc in pulse-regulator adaptive-speed planned-mode gauge tracer modulation; do
   flags=$("$bin" reference design "$calc" | sed -n 's/^| `\(--[A-Za-z0-9-]*\)` | `.*/\1/p')
   [ -n "$flags" ] || bad "$calc: no flags in its reference"
   for flag in $flags; do

@@ -17,6 +17,7 @@
 #include "lathectl/control/gauge_machine.hpp"
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
 #include "lathectl/control/modulated_feed.hpp"
+#include "lathectl/control/modulation_machine.hpp"
 #include "lathectl/control/operation_control.hpp"
 #include "lathectl/control/pulse_feed_controller.hpp"
 #include "lathectl/control/slide_machine.hpp"
@@ -395,6 +396,48 @@ TEST(NoAlloc, ModulatedFeedControllerAndVibrationChainNeverAllocate) {
   }
   EXPECT_EQ(g_allocations.load() - before, 0) << "update() allocated";
   EXPECT_GT(engaged, 1000);
+}
+
+// System B's machine side as the rig and lathectl_modfeed run it: the chain fed at its sample
+// rate, the idle block, growing chatter, re-plans, the planner's own thread posting (a planner
+// that has run), the turret flag changing, external detectors, the programmed variant.
+TEST(NoAlloc, ModulationMachineNeverAllocates) {
+  using namespace lathectl::control;
+  for (bool with_planner : {false, true}) {
+    ModulationMachine::Params p;
+    p.module.desync_fraction = 1.0;
+    ModulationMachine m;
+    m.configure(p);  // may allocate
+    ModulationPlanner planner;
+    if (with_planner) m.use_planner(&planner);
+    ModulationMachine::Input in;
+    in.feed_programmed_mm_per_min[0] = in.feed_programmed_mm_per_min[1] = 100.0;
+    in.speed_m_per_min = 100.0;
+    in.rpm = 800.0;
+    int engaged = 0;
+    const long before = g_allocations.load();
+    for (int k = 0; k < 30000; ++k) {
+      const double amp = k < 5000 ? 1e-6 : (k < 15000 ? 1e-5 * (1.0 + k / 5000.0) : 50e-6);
+      for (int s = 0; s < 10; ++s)
+        m.sense(amp * std::sin(2.0 * 3.14159265 * 230.0 * (k * 10 + s) * 1e-4));
+      in.idle_block = k > 100 && k < 1000;
+      in.motor_power_W = 2000.0 + (in.idle_block ? 0.0 : 1500.0) + 100.0 * std::sin(k * 0.01);
+      in.feed_block = !in.idle_block && k % 9000 > 50;
+      in.turret = (k / 9000) % 2 ? Turret::Left : Turret::Right;
+      in.external_detectors = k > 20000 && k < 25000;
+      in.a0_m = 20e-6;
+      in.omega_d_rad_per_s = 1400.0;
+      in.source = k > 25000 ? ModulationSource::Programmed : ModulationSource::Automatic;
+      in.programmed = {50.0, 10.0, 0.05, 4};
+      in.path_mm[0] += 100.0 / 60.0 * 1e-3;
+      in.path_mm[1] += 100.0 / 60.0 * 1e-3;
+      m.update(in);
+      if (with_planner && k % 10 == 0) (void)planner.run(m.controller());
+      engaged += m.output().engaged;
+    }
+    EXPECT_EQ(g_allocations.load() - before, 0) << "update() allocated";
+    EXPECT_GT(engaged, 1000);
+  }
 }
 
 TEST(NoAlloc, GaugeMachineAndVibroContactGaugeNeverAllocate) {

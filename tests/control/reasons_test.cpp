@@ -43,6 +43,7 @@ bool enumerator(Reason r) {
     case Reason::GaugeSignalLost:
     case Reason::GaugeUnreachable:
     case Reason::SlideOff:
+    case Reason::ModulationNoIdle:
       return true;
   }
   return false;

@@ -121,6 +121,12 @@ TEST(SystemBStreamed, ChannelsAndMeasuresEqualTheColumnsRecord) {
   expect_same(st.t0, cols.t0, "t0");
   expect_same(st.t1, cols.t1, "t1");
   expect_same(st.t_end, cols.t_end, "t_end");
+  EXPECT_GT(cols.surface.length_mm, 0.0);
+  expect_same(st.surface.length_mm, cols.surface.length_mm, "surface length");
+  expect_same(st.surface.Rz_mean_um, cols.surface.Rz_mean_um, "Rz mean");
+  expect_same(st.surface.Rz_min_um, cols.surface.Rz_min_um, "Rz min");
+  expect_same(st.surface.Rz_max_um, cols.surface.Rz_max_um, "Rz max");
+  expect_same(st.surface.Ra_mean_um, cols.surface.Ra_mean_um, "Ra mean");
   fs::remove_all(dir.parent_path());
 }
 

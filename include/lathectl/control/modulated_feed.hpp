@@ -177,7 +177,7 @@ class ModulatedFeedController {
     Reason reason = Reason::None;
   };
 
-  void configure(const Params& p);  // throws std::invalid_argument
+  void configure(const Params& p);  // throws core::ParameterError naming the parameter
   // One control period: out says what to apply and why. Before configure(): an empty Output.
   void update(const Input& in, Output& out) noexcept;
   // Re-plan through `planner` (not owned; nullptr: inside update()). Set before the first update.

@@ -40,6 +40,7 @@ enum class Reason : std::uint16_t {
   GaugeSignalLost = 63,
   GaugeUnreachable = 64,
   SlideOff = 70,
+  ModulationNoIdle = 55,
 };
 
 // The one reason table: what each code means to an operator who reads it on a pin or in a log,
@@ -133,6 +134,9 @@ inline constexpr ReasonInfo kReasons[] = {
     {Reason::SlideOff, "slide_off", false, "A",
      "The programming device has switched the feed slide off: the pulse valve is held shut and "
      "the slide stands."},
+    {Reason::ModulationNoIdle, "modulation_no_idle", false, "B",
+     "Vibration is seen but no idle power is stored yet (no idle block has run, no idle table): "
+     "the motor's whole power would be taken for cutting power, so no modulation is planned."},
 };
 inline constexpr int kReasonCount = static_cast<int>(sizeof(kReasons) / sizeof(kReasons[0]));
 // The operation log ORs reason_bit() of every reason seen into one 32-bit word.

@@ -22,8 +22,12 @@ Measure::Measure(const Rig& rig, bool twin, io::OutputStage* stage, std::size_t 
                                                        {&pwm_, "cut_power_measured_W"},
                                                        {&dl_, "inter_tool_delay_rev"},
                                                        {&z1_, "z1_mm"},
-                                                       {&z2_, "z2_mm"}};
+                                                       {&z2_, "z2_mm"},
+                                                       {&v1_, "feed1_mm_per_min"},
+                                                       {&v2_, "feed2_mm_per_min"},
+                                                       {&rpm_, "spindle_rpm"}};
   for (const auto& [index, name] : read) *index = rig.recorder().index(name);
+  nose_mm_ = rig.config().cutting.nose_radius_mm;
   spill_ = std::make_unique<io::RowSpill>(stage, "the steady window's rows", kWidth,
                                           rig.max_record_rows(), spill_block_rows);
 }
@@ -40,9 +44,47 @@ void Measure::row(std::span<const double> v) noexcept {
     std::copy_n(tz, 3, k0_row_);
   }
   ++n_;
+  marks(v);
   const bool one_out = twin_ && ((v[c1_] == 0.0) != (v[c2_] == 0.0));
   const double w[kWidth] = {v[t_], v[y_], v[yh_], v[pw_], v[pwm_], v[dl_], one_out ? 1.0 : 0.0};
   spill_->push(w);
+}
+
+void Measure::marks(std::span<const double> v) noexcept {
+  const double start = rig_->cut_start_s();
+  const double n = v[rpm_];
+  const bool cut1 = v[c1_] > 0.0, cut2 = twin_ && v[c2_] > 0.0;
+  if (start < 0.0 || v[t_] < start || !(n > 0.0) || !(cut1 || cut2)) return;
+  const TwinSetup setup = rig_->config().setup;
+  // The finishing tool's position (the path the surface is measured along), and the cusps.
+  double z = v[z1_], p = 0.0, ra = 0.0;
+  if (setup == TwinSetup::FeedDivision && cut1 && cut2) {
+    const double s = 0.5 * (v[v1_] + v[v2_]) / n;
+    if (!(s > 0.0)) return;
+    const double d = std::fmod(std::fmod(v[z1_] - v[z2_] + 0.5 * s, s) + s, s);
+    p = std::max(d, s - d);
+    ra = (d * d * d + (s - d) * (s - d) * (s - d)) / (32.0 * nose_mm_ * s);
+  } else {
+    const bool second = setup == TwinSetup::DepthDivision ? cut2 : !cut1;
+    if (setup == TwinSetup::DepthDivision && !cut2) return;  // tool 2 leaves the surface
+    z = second ? v[z2_] : v[z1_];
+    p = (second ? v[v2_] : v[v1_]) / n;
+    ra = p * p / (32.0 * nose_mm_);
+  }
+  if (!marks_started_) {
+    marks_started_ = true;
+    z_marks_ = z;
+    rz_min_ = rz_max_ = p * p / (8.0 * nose_mm_);
+    return;
+  }
+  const double ds = std::abs(z - z_marks_);
+  z_marks_ = z;
+  const double rz = p * p / (8.0 * nose_mm_);
+  path_ += ds;
+  rz_path_ += rz * ds;
+  ra_path_ += ra * ds;
+  rz_min_ = std::min(rz_min_, rz);
+  rz_max_ = std::max(rz_max_, rz);
 }
 
 void Measure::result(Run& r, double dead_zone_um) {
@@ -131,6 +173,19 @@ void Measure::result(Run& r, double dead_zone_um) {
     const double dt = last_[0] - k0[0];
     r.feed_mean[0] = (last_[1] - k0[1]) / dt * 60.0;
     r.feed_mean[1] = (last_[2] - k0[2]) / dt * 60.0;
+  }
+  Surface& sf = r.surface;
+  const auto& cfg = rig_->config();
+  const double s_p = cfg.setup == TwinSetup::FeedDivision ? 0.5 * cfg.feed_mm_per_rev
+                                                          : cfg.feed_mm_per_rev;
+  sf.Rz_programmed_um = s_p * s_p / (8.0 * nose_mm_) * 1e3;
+  sf.Ra_programmed_um = s_p * s_p / (32.0 * nose_mm_) * 1e3;
+  sf.length_mm = path_;
+  if (path_ > 0.0) {
+    sf.Rz_mean_um = rz_path_ / path_ * 1e3;
+    sf.Ra_mean_um = ra_path_ / path_ * 1e3;
+    sf.Rz_min_um = rz_min_ * 1e3;
+    sf.Rz_max_um = rz_max_ * 1e3;
   }
   spill_.reset();
 }

@@ -36,13 +36,38 @@ class Measure final : public sim::RowSink {
 
  private:
   enum : std::size_t { kT, kY, kYh, kPower, kPowerMeasured, kDelay, kOneOut, kWidth };
+  // The feed marks of the row on the finished surface (Surface below), path-weighted.
+  void marks(std::span<const double> v) noexcept;
   const Rig* rig_;
   bool twin_;
-  std::size_t t_, y_, yh_, c1_, c2_, pw_, pwm_, dl_, z1_, z2_;
+  std::size_t t_, y_, yh_, c1_, c2_, pw_, pwm_, dl_, z1_, z2_, v1_, v2_, rpm_;
+  double nose_mm_ = 0.8;
+  bool marks_started_ = false;
+  double z_marks_ = 0.0;  // the finishing tool's position at the last row
+  double path_ = 0.0, rz_path_ = 0.0, ra_path_ = 0.0, rz_min_ = 0.0, rz_max_ = 0.0;
   std::unique_ptr<io::RowSpill> spill_;
   std::size_t n_ = 0, k0_ = 0;  // rows seen; index of the first row of the cut
   bool k0_seen_ = false;
   double first_[3] = {0.0, 0.0, 0.0}, k0_row_[3] = {0.0, 0.0, 0.0}, last_[3] = {0.0, 0.0, 0.0};
+};
+
+// The surface the cut leaves, geometric: the cusps of the nose radius r_ε between successive feed
+// marks on the finished surface, Rz = p²/(8·r_ε) for a mark spacing p (the largest cusp's height)
+// and Ra ≈ Σ p_i³/(32·r_ε·Σ p_i) for the cusps p_i of one revolution (p²/(32·r_ε) when equal):
+//   one tool        p = v/n (its local feed per revolution, v the turret's measured feed rate);
+//   depth division  the trailing tool 2 cuts the finished surface: p = v₂/n;
+//   feed division   the two tools, half a revolution apart, leave marks at z1 and z2 − s/2 each
+//                   revolution, s = (v₁ + v₂)/(2n): cusps d = (z1 − z2 + s/2) mod s and s − d, so
+//                   p = s/2 when synchronised and up to s as the offset swings (a tool out of
+//                   the cut leaves no mark: p = the other's v/n).
+// Path-weighted along the part from the first contact to the end of the cut. The vibration at the
+// tool adds its peak-to-valley 2·a on the radius where it lasts (…_with_vibration: the steady
+// window's amplitude added to Rz, 2a/π — a sine's Ra — to Ra, an upper bound: not a measured
+// profile).
+struct Surface {
+  double length_mm = 0.0;  // the finished length measured
+  double Rz_mean_um = kNaN, Rz_min_um = kNaN, Rz_max_um = kNaN, Ra_mean_um = kNaN;
+  double Rz_programmed_um = kNaN, Ra_programmed_um = kNaN;  // at the programmed feed, no offset
 };
 
 // What one run of the rig answers, measured over the last 30 % of the cut (the steady state).
@@ -62,6 +87,7 @@ struct Run {
   double delay_min_rev = kNaN, delay_max_rev = kNaN;
   double t0 = 0.0, t1 = 0.0;   // the window
   double t_end = 0.0;          // the last recorded row's time
+  Surface surface;
 };
 
 // The linear limits of the loops at a cutting position, as chip per revolution at the program's

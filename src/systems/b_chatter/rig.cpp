@@ -119,13 +119,7 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   chain_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1e-4 / dt)));
   control_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1e-3 / dt)));
 
-  dynamics::TwinTurretCut::Params pp = cut_params(cfg);
-  // The slowest feed of tool 1 (the right turret) a modulation can hold, for the surface memory.
-  if (cfg.source == control::ModulationSource::Automatic)
-    pp.slowest_feed_fraction = cfg.module.s_min_fraction;
-  else if (cfg.source == control::ModulationSource::Programmed)
-    pp.slowest_feed_fraction =
-        std::clamp(cfg.programmed.s_min_mm_per_min / (cfg.feed_mm_per_rev * cfg.rpm), 0.05, 1.0);
+  const dynamics::TwinTurretCut::Params pp = cut_params(cfg);
   sim::configure_as("cut", {{"tool2_lag_mm", "cut.tool2_lag_mm"}, {"step", "run.step_s"}},
                [&] { process_.configure(pp, dt); });
   n_tools_ = process_.tools();
@@ -137,20 +131,33 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   for (Turret& tu : turrets_) tu.z_mm = tu.z0_mm;
 
   cfg_.vibration.sample_period_s = dt * static_cast<double>(chain_every_);
-  sim::configure_as("vibration_sensor", [&] {
-    chain_.configure(cfg_.vibration);
-    highpass_.configure(cfg_.vibration.highpass_Hz, dt);
-  });
+  sim::configure_as("vibration_sensor",
+                    [&] { highpass_.configure(cfg_.vibration.highpass_Hz, dt); });
   y_hp_ = 0.0;
 
   sim::configure_as("spindle", [&] { spindle_.configure(cfg.spindle); });
   spindle_.reset(cfg.rpm);
-  sim::configure_as("power_sensor",
-                    [&] { power_.configure(cfg.power, dt * static_cast<double>(control_every_)); });
-  auto mp = cfg.module;
-  mp.period_s = dt * static_cast<double>(control_every_);
-  sim::configure_as("modulation", [&] { module_.configure(mp); });
-  mod_out_ = {};
+  // The CNC's side: the chains and the planner as one machine, the one LinuxCNC runs.
+  control::ModulationMachine::Params mp{cfg_.vibration, cfg.power, cfg.module};
+  mp.module.period_s = dt * static_cast<double>(control_every_);
+  sim::configure_as("modulation",
+                    {{"vibration", "vibration_sensor"},
+                     {"power", "power_sensor"},
+                     {"period_s", "run.step_s"},
+                     {"coefficient", "modulation.coefficient"},
+                     {"part_mass_kg", "modulation.part_mass_kg"},
+                     {"radial_force_ratio", "modulation.radial_force_ratio"},
+                     {"force_feed_exponent", "modulation.force_feed_exponent"},
+                     {"modulation_frequency_Hz", "modulation.modulation_frequency_Hz"},
+                     {"drive_bandwidth_Hz", "cut.feed_drive_bandwidth_Hz"},
+                     {"n_s", "modulation.n_s"},
+                     {"resolution_mm", "modulation.resolution_um"},
+                     {"s_min_fraction", "modulation.s_min_fraction"},
+                     {"s_max_fraction", "modulation.s_max_fraction"},
+                     {"engage_time_s", "modulation.engage_time_ms"},
+                     {"release_time_s", "modulation.release_time_ms"},
+                     {"replan_period_s", "modulation.replan_period_s"}},
+                    [&] { machine_.configure(mp); });
   const double cut_time = (cfg.z_end_mm - cfg.z_start_mm + cfg.approach_mm + cfg.tool2_lag_mm) /
                           (cfg.feed_mm_per_rev * cfg.rpm / 60.0);
   max_t_ = std::min(max_duration, cfg.idle_block_s + 1.5 * cut_time + 1.0);
@@ -176,13 +183,11 @@ bool Rig::step() noexcept {
 
   if (step_ % control_every_ == 0) {
     const double rpm = spindle_.rpm();
-    power_.update(spindle_.electrical_power_W(), rpm, idle_block);
-    control::ModulatedFeedController::Input in;
-    in.a0_m = chain_.a0_m();
-    in.omega_d_rad_per_s = chain_.omega_d();
-    in.cut_power_W = power_.cutting_W();
-    in.speed_m_per_min = kPi * cfg_.part.diameter_m * rpm;
+    control::ModulationMachine::Input in;
+    in.motor_power_W = spindle_.electrical_power_W();
+    in.idle_block = idle_block;
     in.rpm = rpm;
+    in.speed_m_per_min = kPi * cfg_.part.diameter_m * rpm;
     const double s_prog = cfg_.feed_mm_per_rev * cfg_.rpm;
     in.feed_programmed_mm_per_min[0] = s_prog;
     in.feed_programmed_mm_per_min[1] = n_tools_ == 2 ? s_prog : 0.0;
@@ -192,10 +197,11 @@ bool Rig::step() noexcept {
     in.source = cfg_.source;
     in.turret = cfg_.turret;
     in.programmed = cfg_.programmed;
-    module_.update(in, mod_out_);
-    if (mod_out_.engaged && engaged_at_ < 0.0) engaged_at_ = t_;
+    machine_.update(in);
+    const auto& mo = machine_.output();
+    if (mo.engaged && engaged_at_ < 0.0) engaged_at_ = t_;
     for (int i = 0; i < 2; ++i)
-      turrets_[i].cmd_mm_per_min = feed_block && i < n_tools_ ? mod_out_.feed_mm_per_min[i] : 0.0;
+      turrets_[i].cmd_mm_per_min = feed_block && i < n_tools_ ? mo.feed_mm_per_min[i] : 0.0;
   }
 
   // Feed drives, spindle, cutting position.
@@ -212,18 +218,19 @@ bool Rig::step() noexcept {
   process_.step(theta_, spindle_.rpm(), z);
   const double y = process_.y_m();
   y_hp_ = highpass_.step(y);
-  if (step_ % chain_every_ == 0) chain_.update(y);
+  if (step_ % chain_every_ == 0) machine_.sense(y);
 
   if (step_ % record_every_ == 0) {
     const double cut_power = process_.power_W(spindle_.rpm());
-    const auto& pl = mod_out_.plan;
+    const auto& mo = machine_.output();
+    const auto& pl = mo.plan;
     const double row[] = {t_,
                           turrets_[0].z_mm,
                           turrets_[1].z_mm,
                           y * 1e6,
                           y_hp_ * 1e6,
-                          chain_.a0_m() * 1e6,
-                          chain_.omega_d() / (2.0 * kPi),
+                          machine_.chain().a0_m() * 1e6,
+                          machine_.chain().omega_d() / (2.0 * kPi),
                           turrets_[0].v_mm_per_min,
                           turrets_[1].v_mm_per_min,
                           turrets_[0].cmd_mm_per_min,
@@ -235,11 +242,11 @@ bool Rig::step() noexcept {
                           process_.radial_N(0),
                           n_tools_ > 1 ? process_.radial_N(1) : 0.0,
                           cut_power,
-                          power_.cutting_W(),
+                          machine_.power().cutting_W(),
                           spindle_.electrical_power_W(),
                           spindle_.rpm(),
-                          mod_out_.engaged ? 1.0 : 0.0,
-                          static_cast<double>(mod_out_.reason),
+                          mo.engaged ? 1.0 : 0.0,
+                          static_cast<double>(mo.reason),
                           pl.s_min_mm_per_min,
                           pl.ds_mm_per_min,
                           pl.dl_mm,

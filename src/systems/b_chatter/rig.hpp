@@ -10,10 +10,11 @@
 // idle power is stored), then one cutting block from z_start to z_end.
 // Measurement: VibrationChain on y; PowerSensor on the spindle's electrical power.
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
-#include "lathectl/control/modulated_feed.hpp"
+#include "lathectl/control/modulation_machine.hpp"
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/dynamics/beam.hpp"
@@ -88,6 +89,12 @@ inline dynamics::TwinTurretCut::Params cut_params(const RigConfig& cfg) {
   pp.feed_mm_per_rev = cfg.feed_mm_per_rev;
   pp.inter_tool_delay = cfg.inter_tool_delay;
   pp.process_damping = cfg.process_damping;
+  // The slowest feed of tool 1 (the right turret) a modulation can hold, for the surface memory.
+  if (cfg.source == control::ModulationSource::Automatic)
+    pp.slowest_feed_fraction = cfg.module.s_min_fraction;
+  else if (cfg.source == control::ModulationSource::Programmed)
+    pp.slowest_feed_fraction = std::clamp(
+        cfg.programmed.s_min_mm_per_min / (cfg.feed_mm_per_rev * cfg.rpm), 0.05, 1.0);
   return pp;
 }
 
@@ -117,8 +124,8 @@ class Rig {
   [[nodiscard]] bool numerically_sound() const noexcept { return process_.sound(); }
   [[nodiscard]] const dynamics::TwinTurretCut& process() const noexcept { return process_; }
   [[nodiscard]] double engaged_at_s() const noexcept { return engaged_at_; }
-  [[nodiscard]] const control::ModulatedFeedController::Output& module_output() const noexcept {
-    return mod_out_;
+  [[nodiscard]] const control::ModulationMachine::Output& module_output() const noexcept {
+    return machine_.output();
   }
   // The coarsest step the cut can be simulated with: ω·dt ≤ 0.2 (as system C's slide) at the
   // chatter frequency f_n·√(1+2ζ) of the highest part mode that can chatter in this cut — one
@@ -162,10 +169,7 @@ class Rig {
   sensors::HighPass2 highpass_;
   double y_hp_ = 0.0;
   drives::SpindleDrive spindle_;
-  sensors::VibrationChain chain_;
-  sensors::PowerSensor power_;
-  control::ModulatedFeedController module_;
-  control::ModulatedFeedController::Output mod_out_{};
+  control::ModulationMachine machine_;  // the CNC: chains 11–20 and the planner
   sim::Recorder rec_;
 };
 

@@ -100,6 +100,7 @@ class ChatterStudy final : public io::Study {
   void quenching_claims(Claims& claims) const;
   void setup_notes(Claims& claims) const;
   [[nodiscard]] json run_metrics() const;
+  [[nodiscard]] json surface_metrics() const;
   void model_metrics(json& m) const;
   void report_metrics(io::Report& rep) const;
   void time_plots(io::Report& rep) const;
@@ -397,6 +398,7 @@ json ChatterStudy::run_metrics() const {
            {{"programmed", s_prog_},
             {"right", m.feed_mean[0]},
             {"left", twin_ ? json_number(m.feed_mean[1]) : json(nullptr)}}},
+          {"surface", surface_metrics()},
           {"cutting_power_W", {{"true", m.cut_power_W}, {"measured", m.cut_power_measured_W}}},
           {"one_turret_out_of_cut_share",
            modulated_ ? json{{"with", m.one_out_share},
@@ -412,6 +414,34 @@ json ChatterStudy::run_metrics() const {
            {{"van_der_pol_threshold_B_over_a0", vdp_B_ / 2.0},
             {"averaging_theory", 1.0 / std::numbers::sqrt2},
             {"seed_coefficient", b_.seed_coefficient}}}};
+}
+
+// The surface the cut leaves (Surface in metrics.hpp: the feed marks, and the vibration added).
+json ChatterStudy::surface_metrics() const {
+  const auto one = [](const Run& r) {
+    const Surface& f = r.surface;
+    return json{{"length_mm", f.length_mm},
+                {"Rz_mean_um", json_number(f.Rz_mean_um)},
+                {"Rz_min_um", json_number(f.Rz_min_um)},
+                {"Rz_max_um", json_number(f.Rz_max_um)},
+                {"Ra_mean_um", json_number(f.Ra_mean_um)},
+                {"Rz_with_vibration_um", json_number(f.Rz_mean_um + 2.0 * r.vibration_um)},
+                {"Ra_with_vibration_um",
+                 json_number(f.Ra_mean_um + 2.0 / std::numbers::pi * r.vibration_um)}};
+  };
+  const Run& m = main();
+  json j = {{"model", "feed marks of the nose radius (Rz = p²/8r, Ra ≈ p²/32r) along the part; "
+                      "with vibration: + 2a (Rz), + 2a/π (Ra)"},
+            {"nose_radius_mm", b_.cutting.nose_radius_mm},
+            {"Rz_programmed_um", json_number(m.surface.Rz_programmed_um)},
+            {"Ra_programmed_um", json_number(m.surface.Ra_programmed_um)}};
+  if (modulated_) {
+    j["with"] = one(m);
+    if (off_) j["without"] = one(*off_);
+  } else {
+    j["without"] = one(m);
+  }
+  return j;
 }
 
 // The quenching condition read both ways, the inter-tool delay, process damping.
@@ -490,6 +520,19 @@ void ChatterStudy::report_metrics(io::Report& rep) const {
   add("static deflection (mean y) [µm]", m.static_um);
   add("cutting power (true) [W]", m.cut_power_W);
   add("cutting power measured N_c [W]", m.cut_power_measured_W);
+  // The surface: the feed marks along the part, then with the vibration's 2a added.
+  add("Rz at the programmed feed (marks) [µm]", m.surface.Rz_programmed_um);
+  const auto surface = [&](const Run& r, const std::string& label) {
+    rep.metrics.emplace_back("Rz along the part, " + label + ": min / mean / max [µm]",
+                             fmt(r.surface.Rz_min_um, "%.3g") + " / " +
+                                 fmt(r.surface.Rz_mean_um, "%.3g") + " / " +
+                                 fmt(r.surface.Rz_max_um, "%.3g"));
+    add("Ra along the part (mean), " + label + " [µm]", r.surface.Ra_mean_um, "%.3g");
+    add("Rz with the vibration (+2a), " + label + " [µm]",
+        r.surface.Rz_mean_um + 2.0 * r.vibration_um, "%.3g");
+  };
+  if (off_) surface(*off_, "no modulation");
+  surface(m, m.label);
 }
 
 void ChatterStudy::time_plots(io::Report& rep) const {
