@@ -31,8 +31,10 @@ void CuttingModel::configure(const Params& p) {
   if (p.form == ForceForm::Kienzle &&
       !(m.Fc.k11_N_per_mm2 > 0.0 && m.Fp.k11_N_per_mm2 > 0.0 && m.Ff.k11_N_per_mm2 > 0.0))
     throw std::invalid_argument("material '" + m.name + "': Kienzle coefficients missing");
-  if (!(p.approach_angle_deg > 0.0 && p.approach_angle_deg <= 90.0))
-    throw std::invalid_argument("approach angle must be in (0, 90] degrees");
+  // Past 90° (93° and 95° tools) the chip is still b = t/sin κ wide and h = s·sin κ thick: the
+  // straight edge's geometry; the Kienzle constants are fitted at κ ≤ 90° and extrapolated there.
+  if (!(p.approach_angle_deg > 0.0 && p.approach_angle_deg <= 95.0))
+    throw std::invalid_argument("approach angle must be in (0, 95] degrees");
   if (!(p.nose_radius_mm > 0.0)) throw std::invalid_argument("nose radius must be > 0");
   p_ = p;
   cached_speed_ = -1.0;

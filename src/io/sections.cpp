@@ -57,8 +57,12 @@ void read_material_tool(TableReader& root, const MaterialLibrary& lib,
                 .doc = "r_ε: with the feed, sets the chip and the roughness",
                 .plausible = Range::closed(0.05, 4.0)},
                cutting.nose_radius_mm);
-    cutting.approach_angle_deg = tool->number("approach_angle_deg", {0.0, 90.0, true, false}, 90.0);
-    tool->document("approach_angle_deg", "κ_r: splits the chip into width b = t/sin κ and h = s·sin κ");
+    cutting.approach_angle_deg = tool->number("approach_angle_deg", {0.0, 95.0, true, false}, 90.0);
+    tool->document("approach_angle_deg",
+                   "κ_r: splits the chip into width b = t/sin κ and h = s·sin κ (Kienzle form; up "
+                   "to 95°, the common 93° and 95° turning tools: past 90° the split is the "
+                   "straight edge's geometry and the coefficients, fitted at κ ≤ 90°, are "
+                   "extrapolated)");
     if (wear) {
       if (auto w = tool->table("wear")) {
         wear->wear_VB0_mm = w->number("initial_VB_mm", Range::closed(0, 2), 0.0);

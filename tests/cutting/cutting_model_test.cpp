@@ -195,6 +195,20 @@ TEST(CuttingModel, KienzleAtFortyFiveDegrees) {
   EXPECT_NEAR(cm.radial_force(kRef), f.Py, 1e-12);
 }
 
+// The common 95° turning tool (a DCLNR-type holder): b = t/sin 95° = 2/0.996195 = 2.007639 mm,
+// h = s·sin 95° = 0.298858 mm, the chip of an 85° edge; past 95° the model refuses the tool.
+TEST(CuttingModel, KienzleAtNinetyFiveDegreesAndNoFurther) {
+  const auto cm = model("steel_45", ForceForm::Kienzle, 95.0);
+  const Forces f = cm.forces(kRef);
+  const double s95 = std::sin(95.0 * std::numbers::pi / 180.0);
+  EXPECT_NEAR(s95, 0.996195, 1e-6);
+  EXPECT_NEAR(f.Pz, 1490.0 * (2.0 / s95) * std::pow(0.3 * s95, 0.74), 1e-9);
+  EXPECT_NEAR(f.Py, 274.0 * (2.0 / s95) * std::pow(0.3 * s95, 0.51), 1e-9);
+  // 2.007640·0.298858^0.74 = 2.007640·0.409114 = 0.821354 → Fc = 1223.8 N, 0.1 % above 90°'s.
+  EXPECT_NEAR(f.Pz, 1223.8, 0.05);
+  EXPECT_THROW((void)model("steel_45", ForceForm::Kienzle, 95.5), std::invalid_argument);
+}
+
 TEST(CuttingModel, HandbookAndKienzleAgreeForSteel45) {
   // Two independent data sources for the same steel: Pz (handbook) = 1218.97 N and
   // Fc (Kienzle, κ = 90°) = 1222.6 N. They must agree within 25 %.
@@ -287,7 +301,7 @@ TEST(CuttingModel, ConfigureRejectsBadParameters) {
   const Material m = *library().find("steel_45");
   CuttingModel cm;
   EXPECT_THROW(cm.configure({m, ForceForm::Handbook, 0.0, 0.8}), std::invalid_argument);
-  EXPECT_THROW(cm.configure({m, ForceForm::Handbook, 95.0, 0.8}), std::invalid_argument);
+  EXPECT_THROW(cm.configure({m, ForceForm::Handbook, 95.5, 0.8}), std::invalid_argument);
   EXPECT_THROW(cm.configure({m, ForceForm::Handbook, 90.0, 0.0}), std::invalid_argument);
   Material bad = m;
   bad.strength = 0.0;

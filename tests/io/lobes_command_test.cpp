@@ -33,6 +33,27 @@ TEST(LobesInput, ModesAloneAsBefore) {
   EXPECT_EQ(in.chart_depths, 100);
 }
 
+// [process_damping] gives the lobes C = 60·K_sp·VB²/(4π·D·sin κ) (dynamics/lobes.hpp), D the
+// cutting diameter, and turns semi-discretization off (it has no process damping). Here
+// K_sp = 4e4 N/mm³ = 4e13 N/m³, VB = 0.15 mm, D = 60 mm, κ = 75°.
+TEST(LobesInput, ProcessDampingGivesTheLobesItsCoefficient) {
+  const auto in = systems::b_chatter::parse_lobes_input(
+      "[cutting]\nkf_N_per_mm2 = 2000\ndiameter_mm = 60\n[speed]\nmin_rpm = 1200\n"
+      "max_rpm = 3000\n" + kTool +
+          "[process_damping]\nk_sp_N_per_mm3 = 4e4\nwear_land_mm = 0.15\n"
+          "approach_angle_deg = 75\n",
+      "m.toml");
+  const double C = 60.0 * 4e13 * 0.15e-3 * 0.15e-3 /
+                   (4.0 * std::numbers::pi * 0.06 * std::sin(75.0 * std::numbers::pi / 180.0));
+  EXPECT_NEAR(in.process_damping_C, C, 1e-9 * C);
+  EXPECT_NEAR(in.system.process_damping_C, C, 1e-9 * C);
+  EXPECT_EQ(in.modal.process_damping_C, 0.0);
+  EXPECT_EQ(in.sd_speeds, 0);
+  EXPECT_EQ(in.chart_speeds, 0);
+  const auto plain = systems::b_chatter::parse_lobes_input(kHead + kTool, "m.toml");
+  EXPECT_EQ(plain.system.process_damping_C, 0.0);
+}
+
 // The part's modes at the cutting position come first, the tool's are added: the relative
 // tool–part displacement is the sum of both receptances.
 TEST(LobesInput, PartAndToolModesAtTheCuttingPosition) {
@@ -88,7 +109,8 @@ TEST(LobesInput, EveryKeyOfTheMachineFileIsDescribed) {
     ++keys;
     EXPECT_FALSE(r.doc.empty()) << r.key;
   }
-  EXPECT_EQ(keys, 35u);  // cutting 5, mode 4, frf 3, part 11, speed 2, machine 2, recommend 2, lobes 6
+  EXPECT_EQ(keys, 38u);  // cutting 5, mode 4, frf 3, part 11, process_damping 3, speed 2,
+                         // machine 2, recommend 2, lobes 6
 }
 
 // Every path from a machine file to "internal error", a crash or a hang ends in an

@@ -83,7 +83,7 @@ class CuttingModel {
   struct Params {
     Material material;
     ForceForm form = ForceForm::Handbook;
-    double approach_angle_deg = 90.0;  // κ, Kienzle form only
+    double approach_angle_deg = 90.0;  // κ in (0, 95]°, Kienzle form only
     double nose_radius_mm = 0.8;
   };
   void configure(const Params& p);  // throws std::invalid_argument on bad data

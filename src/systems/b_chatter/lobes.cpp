@@ -328,7 +328,14 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
                   {"depth_mm", json_number(sd_depth[k] * 1e3)},
                   {"frequency_domain_depth_mm", json_number(fd_depth[k] * 1e3)}});
   j["semi_discretization"] = sd;
-  j["semi_discretization_max_rel_difference"] = worst;
+  j["semi_discretization_max_rel_difference"] =
+      in.process_damping_C > 0.0 ? json(nullptr) : json(worst);  // (not computed then)
+  if (in.process_damping_C > 0.0)
+    j["process_damping"] = {{"k_sp_N_per_mm3", in.process_damping_k_sp_N_per_m3 * 1e-9},
+                            {"wear_land_mm", in.process_damping_vb_m * 1e3},
+                            {"approach_angle_deg",
+                             in.process_damping_kappa_rad * 180.0 / std::numbers::pi},
+                            {"C_N_s_per_m_per_m_per_rpm", in.process_damping_C}};
   if (chart) {
     json boundary = json::array();
     for (double b : chart->boundary_depth_m) boundary.push_back(json_number(b * 1e3));
@@ -487,8 +494,17 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
   if (j.contains("closed_form_sdof"))
     rep.metrics.emplace_back("SDOF closed form 2kζ(1+ζ)/(K_f cos²θ) [mm]",
                              fmt(j["closed_form_sdof"]["depth_mm"].get<double>()));
-  rep.metrics.emplace_back("semi-discretization vs frequency domain, max relative difference",
-                           fmt(worst, "%.3g"));
+  if (in.process_damping_C > 0.0)
+    rep.metrics.emplace_back(
+        "process damping (flank indentation)",
+        "K_sp " + fmt(in.process_damping_k_sp_N_per_m3 * 1e-9, "%.3g") + " N/mm³, VB " +
+            fmt(in.process_damping_vb_m * 1e3) + " mm, κ " +
+            fmt(in.process_damping_kappa_rad * 180.0 / std::numbers::pi, "%.0f") +
+            "°: c = C·b/n, C = " + fmt(in.process_damping_C, "%.3g") +
+            " N·s/m per m/rpm; the frequency domain only (no semi-discretization limits or chart)");
+  else
+    rep.metrics.emplace_back("semi-discretization vs frequency domain, max relative difference",
+                             fmt(worst, "%.3g"));
   if (chart)
     rep.metrics.emplace_back("SD chart (" + std::to_string(chart->speed_rpm.size()) + " × " +
                                  std::to_string(chart->depth_m.size()) +

@@ -97,6 +97,11 @@ struct LobesInput {
   double chart_max_depth_m = 0.0;  // 0: 4 × the absolute limit
   int chart_steps_per_period = 7;
   LobesRecommend recommend;
+  // [process_damping]: C of dynamics::ChatterSystem (c = C·b/n), 0 without the table; the
+  // frequency-domain lobes take it, semi-discretization cannot (no SD limits or chart then).
+  double process_damping_C = 0.0;
+  double process_damping_k_sp_N_per_m3 = 4e13, process_damping_vb_m = 0.1e-3;
+  double process_damping_kappa_rad = 1.5707963267948966;
 };
 
 // One stable pocket of the lobes, as a machinist would run it: the depth at the pocket's top

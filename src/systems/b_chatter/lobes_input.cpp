@@ -169,6 +169,26 @@ int read_tables(TableReader& root, LobesInput& in, std::optional<TableReader>& l
   read_modes(root, in);
   read_frfs(root, in, base);
   if (auto p = root.table("part")) read_part(*p, in);
+  // The flank's indentation as damping (dynamics/lobes.hpp, ChatterSystem::process_damping_C):
+  // C = 60·K_sp·VB²/(4π·D·sin κ), D the cutting diameter of the recommendation.
+  if (auto pd = root.table("process_damping")) {
+    pd->read({"k_sp_N_per_mm3", Range::closed(0.0, 1e9),
+              "K_sp, the specific indentation force of the flank (carbon steels: about 4e4 "
+              "N/mm³, Chiou & Liang 1998)",
+              1e9},
+             in.process_damping_k_sp_N_per_m3);
+    pd->read({"wear_land_mm", Range::closed(0.0, 5.0),
+              "VB, the flank's wear land that ploughs the surface (0: no process damping)", 1e-3},
+             in.process_damping_vb_m);
+    pd->read({"approach_angle_deg", Range::closed(1.0, 179.0),
+              "κ, the edge's approach angle: the engaged edge is b/sin κ", 0.0174532925199432958},
+             in.process_damping_kappa_rad);
+    pd->finish();
+    in.process_damping_C = 60.0 * in.process_damping_k_sp_N_per_m3 * in.process_damping_vb_m *
+                           in.process_damping_vb_m /
+                           (4.0 * std::numbers::pi * recommend_diameter_m(in) *
+                            std::sin(in.process_damping_kappa_rad));
+  }
   root.check(!(in.tool_modes.empty() && !in.part && in.frfs.empty()), "mode",
              "at least one [[mode]], [[frf]] or a [part] expected");
   auto s = root.table("speed", true);
@@ -354,6 +374,10 @@ LobesInput read_lobes_input(const io::TomlDocument& doc) {
                                  io::fmt(60.0 * lobes_reference_Hz(in) / max_lobes, "%.0f") +
                                  " rpm would be missing); leave it out for that default");
   in.max_lobes = max_lobes > 0 ? max_lobes : needed;
+  if (in.process_damping_C > 0.0) {  // semi-discretization has no process damping
+    in.sd_speeds = 0;
+    in.chart_speeds = in.chart_depths = 0;
+  }
   check_cost(root, lobes, in);
   return in;
 }

@@ -79,6 +79,7 @@ dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m) {
   if (in.part) sys.modes = part_modes_at(*in.part, x_m);
   sys.modes.insert(sys.modes.end(), in.tool_modes.begin(), in.tool_modes.end());
   if (in.measured) sys.frfs.push_back(in.measured->smoothed);
+  sys.process_damping_C = in.process_damping_C;
   return sys;
 }
 
