@@ -45,6 +45,22 @@ STIM = ["lathectl-modfeed.a0-um", "lathectl-modfeed.omega-d-Hz", "lathectl-modfe
 STIM_CFG = "fffffffsb"
 
 
+# The closed loops' common wiring: the spindle angle integrated from 820 rpm, the module's x and
+# speed, the plant enabled, and the plant's detectors and power into the module.
+SPINDLE_AND_DETECTORS = """net revs-rate integ.1.in
+sets revs-rate %.6f
+net revs integ.1.out => lathectl-chatter.spindle-revs
+net rpm lathectl-chatter.spindle-rpm lathectl-modfeed.spindle-rpm
+sets rpm 820
+net xpos lathectl-modfeed.x-pos
+sets xpos 20
+setp lathectl-chatter.enable 1
+net out1 lathectl-modfeed.a0-um
+net out2 lathectl-modfeed.omega-d-Hz
+net pw lathectl-chatter.spindle-power => lathectl-modfeed.spindle-power
+""" % (820 / 60.0)
+
+
 def cut_rows(n, idle_rows, a0_of):
     """n rows (1 ms each) for STIM: an idle block for idle_rows, then a feed block at the mean
     feed 0.30 mm/rev × 820 rpm (the program's F at the ceiling 2) drawing 1000 W of cutting
@@ -143,18 +159,7 @@ net out3 mult2.0.in1
 net speed mult2.0.out => integ.0.in lathectl-modfeed.current-vel
 net out6 scale.0.in
 net zpos scale.0.out => lathectl-chatter.z-pos
-net revs-rate integ.1.in
-sets revs-rate %.6f
-net revs integ.1.out => lathectl-chatter.spindle-revs
-net rpm lathectl-chatter.spindle-rpm lathectl-modfeed.spindle-rpm
-sets rpm 820
-net xpos lathectl-modfeed.x-pos
-sets xpos 20
-setp lathectl-chatter.enable 1
-net out1 lathectl-modfeed.a0-um
-net out2 lathectl-modfeed.omega-d-Hz
-net pw lathectl-chatter.spindle-power => lathectl-modfeed.spindle-power
-""" % (820 / 60.0)
+""" + SPINDLE_AND_DETECTORS
     outs = ["lathectl-chatter.vibration-um", "lathectl-chatter.a0-um", "lathectl-chatter.omega-d-Hz",
             "lathectl-modfeed.adaptive-feed", "lathectl-modfeed.engaged", "lathectl-modfeed.reason",
             "integ.0.out", "lathectl-modfeed.s-min", "lathectl-modfeed.ds", "lathectl-modfeed.dl",
@@ -344,18 +349,7 @@ net out6 scale.0.in
 net out7 scale.1.in
 net zpos1 scale.0.out => lathectl-chatter.z-pos
 net zpos2 scale.1.out => lathectl-chatter.z2-pos
-net revs-rate integ.1.in
-sets revs-rate %.6f
-net revs integ.1.out => lathectl-chatter.spindle-revs
-net rpm lathectl-chatter.spindle-rpm lathectl-modfeed.spindle-rpm
-sets rpm 820
-net xpos lathectl-modfeed.x-pos
-sets xpos 20
-setp lathectl-chatter.enable 1
-net out1 lathectl-modfeed.a0-um
-net out2 lathectl-modfeed.omega-d-Hz
-net pw lathectl-chatter.spindle-power => lathectl-modfeed.spindle-power
-""" % (820 / 60.0)
+""" + SPINDLE_AND_DETECTORS
     outs = ["lathectl-chatter.vibration-um", "lathectl-chatter.a0-um", "lathectl-chatter.omega-d-Hz",
             "lathectl-modfeed.adaptive-feed", "lathectl-modfeed.engaged", "lathectl-modfeed.reason",
             "integ.0.out", "integ.2.out", "lathectl-modfeed.s-min", "lathectl-modfeed.ds",
