@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "lathectl/control/types.hpp"
+#include "lathectl/cutting/feed_range.hpp"
 #include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
@@ -297,13 +298,9 @@ void PulseFeedStudy::roughing_tool_claims(Claims& claims) const {
     return;
   // Tool life used per metre of feed ∝ 1/(s·T) ∝ s^(y_v/m − 1) at a fixed speed (extended
   // Taylor law T ∝ s^(−y_v/m)): lowering the feed saves wear per metre only where y_v/m > 1.
-  const auto& law = st_.rig.cutting.material.tool_life;
+  const auto& mat = st_.rig.cutting.material;
   const double s = m().feed_rate_reference_mm_per_min / st_.rig.spindle_rpm;
-  const cutting::ToolLifeRange* r = &law[0];
-  for (int k = 0; k < st_.rig.cutting.material.tool_life_ranges; ++k) {
-    r = &law[static_cast<std::size_t>(k)];
-    if (s <= r->feed_max_mm_per_rev) break;
-  }
+  const auto& r = cutting::feed_range(mat.tool_life, mat.tool_life_ranges, s);
   claims.note("roughing, the tool's wear: " + fmt(mm.tool_life_per_m_after_disturbance_pct, "%.3g") +
               " % of a tool life per metre of feed after the disturbance with control, " +
               fmt(c.tool_life_per_m_after_disturbance_pct, "%.3g") +
@@ -311,7 +308,7 @@ void PulseFeedStudy::roughing_tool_claims(Claims& claims) const {
               fmt(mm.tool_life_per_m_after_disturbance_pct / c.tool_life_per_m_after_disturbance_pct,
                   "%.3f") +
               "). By the material's tool-life law at " + fmt(s, "%.3g") + " mm/rev, y_v/m = " +
-              fmt(r->yv / r->m, "%.3g") +
+              fmt(r.yv / r.m, "%.3g") +
               ": the life used per metre goes as s^(y_v/m − 1), so a lower feed saves wear per "
               "metre only where y_v/m > 1; what roughing control saves for certain is the "
               "overload above");
