@@ -3,13 +3,17 @@
 // cutting::LathePlant (cutting model, stock, disturbances and force sensor of the library).
 //
 //   loadrt lathectl_plant scenario=PATH [z_origin_mm=0] [cell_mm=0.01] [warmup_s=120]
-//                         [idle_drift=0.15]
+//                         [idle_drift=0.15] [period_ns=1000000]
 //   addf lathectl-plant servo-thread
 //
 // Pins (prefix lathectl-plant.): in x-pos, z-pos [mm], spindle-rpm, enable; out force (the sensor's
 // sample, N or W), force-true, pz, py [N], cut-power [W], depth [mm], feed-per-rev [mm/rev],
 // cutting-speed [m/min], strength-factor, in-contact, time-in-cut [s], update-ns,
-// update-ns-max [ns]; in probe-z [mm, machine z] → out probe-radius [mm]: the workpiece's radius
+// update-ns-max [ns]; in motion-type (motion.motion-type; feed moves are 2 and 3, the default 2)
+// → out force-rev-mean, force-rev-peak: the true force parameter's mean over the trailing
+// revolution in feed moves (a rapid through material is reported apart) and its largest value over
+// the cuts, each cut's first revolution left out: `lathectl run`'s force_peak_rev_mean_N, by the
+// same control::PerRevolutionPeak; in probe-z [mm, machine z] → out probe-radius [mm]: the workpiece's radius
 // there now (what the stock model holds; for tests and for finding where material went);
 // spindle-power [W]: what the spindle drive's power pin reads,
 //   P = P_cut/η + P_idle(n)·(1 + d·e^{−t/τ}) + J·ω·(dω/dt)/η + noise
@@ -21,6 +25,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "lathectl/control/per_revolution.hpp"
 #include "lathectl/cutting/lathe_plant.hpp"
 #include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl_hal.hpp"
@@ -38,6 +43,7 @@ LATHECTL_HAL_PARAM(warmup_s, "time constant of the idle power's warm-up drift [s
 LATHECTL_HAL_PARAM(break_at_s,
                    "the tool breaks after this time in cut [s] (no force from then on); "
                    "default never");
+LATHECTL_HAL_PARAM(period_ns, "period of the servo thread this runs in [ns], default 1000000");
 LATHECTL_HAL_PARAM(idle_drift, "extra idle power of the cold machine (fraction), default 0.15");
 
 namespace {
@@ -66,6 +72,9 @@ struct Pins {
   hal_float_t* strength;
   hal_bit_t* contact;
   hal_float_t* t_cut;
+  hal_s32_t* motion_type;
+  hal_float_t* force_rev_mean;
+  hal_float_t* force_rev_peak;
   hal_s32_t* update_ns;
   hal_s32_t* update_ns_max;
 };
@@ -94,6 +103,8 @@ double noise() noexcept {
 }
 lathectl::hal::UpdateTimer timer;
 lathectl::hal::HomedGate homed_gate;
+lathectl::control::PerRevolutionPeak force_rev;  // configured at load for the controller's period
+double run_s = 0.0;
 
 void update(void*, long period_ns) {
   timer.start();
@@ -138,6 +149,14 @@ void update(void*, long period_ns) {
   *pins->strength = out.strength_factor;
   *pins->contact = out.in_contact;
   *pins->t_cut = out.time_in_cut_s;
+  {
+    run_s += static_cast<double>(period_ns) * 1e-9;
+    const bool feed_move = *pins->motion_type == 2 || *pins->motion_type == 3;
+    const bool cutting = feed_move && out.depth_mm > 0.0 && out.feed_per_rev_mm > 0.0;
+    *pins->force_rev_mean =
+        force_rev.push(run_s, feed_move ? out.force_parameter : 0.0, in.rpm, cutting);
+    *pins->force_rev_peak = force_rev.peak();
+  }
   *pins->probe_radius = plant->radius_mm(plant->stock_z_mm(*pins->probe_z));
   *pins->update_ns = timer.stop();
   *pins->update_ns_max = timer.max();
@@ -160,6 +179,12 @@ extern "C" int rtapi_app_main(void) {
     break_at = lathectl::hal::number_param(break_at_s, "break_at_s", 0.0);
     if (!(drive.warmup_s > 0.0) || !(drive.drift >= 0.0))
       throw lathectl::hal::Error("module parameters: warmup_s must be > 0, idle_drift >= 0");
+    // The servo thread's period: the per-revolution window counts its samples (one revolution
+    // at 1 rpm of them, allocated here).
+    const double period = lathectl::hal::number_param(period_ns, "period_ns", 1e6);
+    if (!(period >= 1e4 && period <= 1e8))
+      throw lathectl::hal::Error("module parameter period_ns: expected 1e4 … 1e8");
+    force_rev.configure(period * 1e-9);
     pins = lathectl::hal::allocate_pins<Pins>();
     const lathectl::hal::Exporter x(comp_id, kPrefix);
     x.in(&pins->x_pos, "x-pos");
@@ -182,6 +207,10 @@ extern "C" int rtapi_app_main(void) {
     x.out(&pins->strength, "strength-factor");
     x.out(&pins->contact, "in-contact");
     x.out(&pins->t_cut, "time-in-cut");
+    x.in(&pins->motion_type, "motion-type");
+    x.out(&pins->force_rev_mean, "force-rev-mean");
+    x.out(&pins->force_rev_peak, "force-rev-peak");
+    *pins->motion_type = 2;  // unconnected (halrun): every move is a feed move
     x.out(&pins->update_ns, "update-ns");
     x.out(&pins->update_ns_max, "update-ns-max");
     plant = std::move(model);

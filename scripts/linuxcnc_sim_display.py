@@ -221,6 +221,9 @@ def main():
         update_ns_max = int(hal.get_value("lathectl-adaptive.update-ns-max"))
         plant_ns_max = int(hal.get_value("lathectl-plant.update-ns-max"))
         force_limit = float(hal.get_value("lathectl-adaptive.force-limit"))
+        # The per-revolution peak, as lathectl run reports it (the plant's control::PerRevolutionPeak
+        # over feed moves).
+        force_rev_peak = float(hal.get_value("lathectl-plant.force-rev-peak"))
         max_override = float(hal.get_value("lathectl-adaptive.max-feed-override"))
         # The idle tare the controller learned (sensor=power) and the plant's true warm-up state.
         idle_tare = {"p0_W": hal.get_value("lathectl-adaptive.idle-p0"),
@@ -287,6 +290,9 @@ def main():
         "force_peak_N": max(finite) if finite else 0.0,
         "force_peak_in_feed_N": max(feed_forces) if feed_forces else 0.0,
         "force_limit_N": force_limit,
+        "force_peak_rev_mean_N": force_rev_peak,
+        "force_overshoot_pct": 100.0 * (force_rev_peak - force_limit) / force_limit
+        if force_limit > 0.0 else 0.0,
         "rapid_in_material_s": round(len(rapid_cut) * period_s, 3),
         "force_peak_in_rapid_N": max((r[idx["force_true"]] for r in rapid_cut), default=0.0),
         "adaptive_feed_min": min(r[idx["adaptive_feed"]] for r in feed_rows) if feed_rows else 1.0,

@@ -40,6 +40,15 @@ double PerRevolutionMean::push(double x, double rpm) noexcept {
   return value_;
 }
 
+double PerRevolutionPeak::push(double t_s, double x, double rpm, bool cutting) noexcept {
+  const double mean = mean_.push(x, rpm);
+  if (cutting && !was_cutting_) contact_t_ = t_s;
+  was_cutting_ = cutting;
+  if (cutting && t_s - contact_t_ > 60.0 / std::max(std::abs(rpm), 1.0))
+    peak_ = std::max(peak_, mean);
+  return mean;
+}
+
 std::vector<double> per_revolution_mean(std::span<const double> x, std::span<const double> rpm,
                                         double dt_s) {
   PerRevolutionMean mean(dt_s);

@@ -40,5 +40,32 @@ TEST(PerRevolutionMean, AStoppedSpindleCountsAsOneRpm) {
   EXPECT_DOUBLE_EQ(m.back(), 7.0);
 }
 
+TEST(PerRevolutionPeak, LeavesOutEachCutsFirstRevolution) {
+  // 600 rpm at Δt = 0.01 s: 10 samples a revolution. What the window holds before a cut is not
+  // the cut's (here 300 out of the cut: a rapid's reading, a sensor's offset), so a mean ending in
+  // a cut's first revolution is not the cut's mean: 300 in air, then cuts at 100 and 150. Each
+  // cut's means count from one revolution after contact (t − t_contact > 60/n), whose windows hold
+  // the cut only, so the peak is 150, not the 280 of a window with one cut sample.
+  PerRevolutionPeak p;
+  p.configure(0.01);
+  double t = 0.0;
+  auto run = [&](int n, double x, bool cutting) {
+    for (int i = 0; i < n; ++i, t += 0.01) p.push(t, x, 600.0, cutting);
+  };
+  run(20, 300.0, false);
+  run(10, 100.0, true);  // samples 0 … 9 of the cut: t − t_contact ≤ 0.09 s < 0.1 s
+  EXPECT_DOUBLE_EQ(p.peak(), 0.0);
+  EXPECT_NEAR(p.since_contact_s(t), 0.10, 1e-12);
+  run(30, 100.0, true);
+  EXPECT_DOUBLE_EQ(p.peak(), 100.0);
+  run(20, 300.0, false);
+  EXPECT_DOUBLE_EQ(p.peak(), 100.0);  // air is not a cut
+  run(10, 150.0, true);
+  EXPECT_DOUBLE_EQ(p.peak(), 100.0);  // the second cut's first revolution, left out
+  run(20, 150.0, true);
+  EXPECT_DOUBLE_EQ(p.peak(), 150.0);
+  EXPECT_DOUBLE_EQ(p.value(), 150.0);
+}
+
 }  // namespace
 }  // namespace lathectl::control

@@ -49,6 +49,29 @@ class PerRevolutionMean {
   bool full_ = false;
 };
 
+// The peak a run reports of its force: the largest per-revolution mean over its cuts, each cut's
+// first revolution left out (the chip is still building and the window still holds air: not a
+// cut's mean yet). One rule for `lathectl run`'s metric (force_peak_rev_mean_N) and the LinuxCNC
+// plant's pin of the same name, so a simulation and a machine report the same number.
+class PerRevolutionPeak {
+ public:
+  // As PerRevolutionMean::configure (allocates; may be called after the first push).
+  void configure(double dt_s, double rpm_min = 1.0) { mean_.configure(dt_s, rpm_min); }
+  // A sample at time t_s: x at speed rpm, while cutting (chip depth and feed > 0) or not.
+  // Returns the trailing revolution's mean.
+  double push(double t_s, double x, double rpm, bool cutting) noexcept;
+  [[nodiscard]] double peak() const noexcept { return peak_; }
+  [[nodiscard]] double value() const noexcept { return mean_.value(); }
+  // Time since the present (or last) cut began; large before the first.
+  [[nodiscard]] double since_contact_s(double t_s) const noexcept { return t_s - contact_t_; }
+
+ private:
+  PerRevolutionMean mean_;
+  double contact_t_ = -1e9;
+  double peak_ = 0.0;
+  bool was_cutting_ = false;
+};
+
 // The same mean over a whole record sampled every dt_s (x and rpm of the same length).
 std::vector<double> per_revolution_mean(std::span<const double> x, std::span<const double> rpm,
                                         double dt_s);

@@ -46,7 +46,8 @@ void MetricsAccumulator::row(std::span<const double> v) noexcept {
     f_rev_.configure(dt_rec_);
     if (first_row_code_pending_) reason_entry(prev_code_).total_s += dt_rec_;
   }
-  const double f_rev = f_rev_.push(v[f_], v[rpm_]);
+  const bool cutting = v[depth_] > 0.0 && v[s_] > 0.0;
+  const double f_rev = f_rev_.push(t, v[f_], v[rpm_], cutting);
   onsets_.push(t, v[alarm_], v[reason_]);
 
   // Decisions by reason code.
@@ -63,9 +64,6 @@ void MetricsAccumulator::row(std::span<const double> v) noexcept {
   }
   prev_code_ = code;
 
-  const bool cutting = v[depth_] > 0.0 && v[s_] > 0.0;
-  if (cutting && !was_cutting_) contact_t_ = t;
-  was_cutting_ = cutting;
   m_.force_peak = std::max(m_.force_peak, v[f_]);
   m_.force_Pz_peak_N = std::max(m_.force_Pz_peak_N, v[pz_]);
   m_.spindle_power_peak_kW = std::max(m_.spindle_power_peak_kW, v[power_]);
@@ -73,11 +71,8 @@ void MetricsAccumulator::row(std::span<const double> v) noexcept {
   ++cut_n_;
   s_sum_ += v[s_];
   v_sum_ += v[v_];
-  // the first revolution after contact builds the chip: its mean is not a cut's mean yet
-  if (t - contact_t_ > 60.0 / std::max(v[rpm_], 1.0))
-    m_.force_peak_rev_mean = std::max(m_.force_peak_rev_mean, f_rev);
   const bool regulating = v[s_cmd_] < ceiling_ * 0.995 && v[s_cmd_] > feed_min_ * 1.005;
-  if (v[in_cut_] > 0.5 && regulating && t - contact_t_ >= settle_s_ && v[hold_] < 0.5) {
+  if (v[in_cut_] > 0.5 && regulating && f_rev_.since_contact_s(t) >= settle_s_ && v[hold_] < 0.5) {
     ++steady_n_;
     steady_sum_ += f_rev;
     if (std::abs(f_rev - limit_) <= 0.05 * limit_) ++within_n_;
@@ -109,7 +104,7 @@ Metrics MetricsAccumulator::result(const Rig& rig) const {
   m.force_peak = m_.force_peak;
   m.force_Pz_peak_N = m_.force_Pz_peak_N;
   m.spindle_power_peak_kW = m_.spindle_power_peak_kW;
-  m.force_peak_rev_mean = m_.force_peak_rev_mean;
+  m.force_peak_rev_mean = f_rev_.peak();
   const double limit = m.force_limit;
   m.force_overshoot_pct = 100.0 * (m.force_peak_rev_mean - limit) / limit;
   if (steady_n_ > 0) {

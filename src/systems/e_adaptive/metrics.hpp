@@ -73,13 +73,12 @@ class MetricsAccumulator final : public sim::RowSink {
   std::size_t t_, f_, pz_, rpm_, in_cut_, depth_, s_, s_cmd_, v_, power_, alarm_, hold_, reason_;
   double settle_s_, limit_, ceiling_, feed_min_;
   Metrics m_;
-  control::PerRevolutionMean f_rev_;
+  control::PerRevolutionPeak f_rev_;  // the per-revolution mean and its peak over the cuts
   sim::AlarmOnsets onsets_;
   std::size_t n_ = 0;
   double t0_ = 0.0, dt_rec_ = 0.0;
-  double contact_t_ = -1e9, steady_n_ = 0, within_n_ = 0, steady_sum_ = 0, cut_n_ = 0, s_sum_ = 0,
+  double steady_n_ = 0, within_n_ = 0, steady_sum_ = 0, cut_n_ = 0, s_sum_ = 0,
          v_sum_ = 0;
-  bool was_cutting_ = false;
   int prev_code_ = 0;
   bool first_row_code_pending_ = false;
   std::vector<ReasonSpan> reasons_;
