@@ -224,6 +224,16 @@ void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     }
     if (target < feed_ramp_.value()) {
       feed_ramp_.reset(target);  // decreases are never delayed: they protect the tool
+    } else if (contact_.in_cut() && sensor_ok && in.force > limit &&
+               target > feed_ramp_.value() + p_.feed_rate_limit_per_s * s_prog * dt) {
+      // A rise the ramp limits (entering a cut, after a step down) is stopped by the present
+      // sample above the limit: the per-revolution mean it regulates lags the ramp by half a
+      // revolution, so it reached the limit only after the load had (e_stepped_seed004's entry
+      // into its 5 mm pass: the feed rose 12 % a revolution, and the per-revolution peak was
+      // 5.2 % over on Pz, 7.8 % on power). The PI is preset to the feed held, as the ramp's
+      // tracking does, so it stores nothing the ramp did not let through.
+      if (error > 0.0) pi_.preset(feed_ramp_.value());
+      if (reason == Reason::None) reason = Reason::RateLimited;
     } else {
       bool ramped = false;
       (void)feed_ramp_.update(target, dt, ramped);

@@ -9,6 +9,7 @@
 //   air cut, bumpless entry, rapids, overload, breakage and sensor faults as listed in the header.
 
 #include "lathectl/control/adaptive_feed_controller.hpp"
+#include "lathectl/control/per_revolution.hpp"
 
 #include <gtest/gtest.h>
 
@@ -281,6 +282,34 @@ TEST(AdaptiveFeedController, RegulatesStaticPlantForceToLimitPerRevolutionMean) 
   EXPECT_NEAR(r.force, kLimit, 0.01 * kLimit);
   EXPECT_NEAR(r.max_force_after_settle, kLimit, 0.01 * kLimit);
   EXPECT_NEAR(r.min_force_after_settle, kLimit, 0.01 * kLimit);
+}
+
+TEST(AdaptiveFeedController, ARampIntoTheLimitStopsAtThePresentSampleNotAtTheLaggingMean) {
+  // Entering a cut on the static plant F = k·s, regulating the per-revolution mean (600 rpm at
+  // 2 ms: 50 periods a revolution). The feed rises from the entry feed 0.1 at its rate limit,
+  // 0.2 mm/rev a second = 0.02 mm/rev (80 N) a revolution; the limit is met at s = 0.25. The
+  // per-revolution mean lags the present force by half a revolution (40 N), so a ramp ended by
+  // the mean alone overshoots by about 4 % before the PI brings it back. The ramp stops instead
+  // as soon as the present sample is above the limit: the present force passes the limit by at
+  // most one ramp step (k·0.5·0.4·0.002 = 1.6 N), and the per-revolution peak stays at it.
+  auto p = base();
+  p.average_per_revolution = true;
+  const double k = 4000.0;
+  Ctl c = make(p);
+  Ctl::Output out;
+  PerRevolutionMean rev(kDt, 10.0);
+  double force = 300.0, present_peak = 0.0, rev_peak = 0.0;
+  for (int i = 0; i < 5000; ++i) {  // 10 s
+    c.update(sample(force), out);
+    force = k * out.feed_per_rev_mm;
+    present_peak = std::max(present_peak, force);
+    const double m = rev.push(force, 600.0);
+    if (i > 50) rev_peak = std::max(rev_peak, m);
+  }
+  const double step = k * kRate * kProg * kDt;
+  EXPECT_LE(present_peak, kLimit + step + 1e-9);
+  EXPECT_LE(rev_peak, kLimit + step + 1e-9);
+  EXPECT_NEAR(force, kLimit, 0.01 * kLimit);  // and it still settles at the limit
 }
 
 TEST(AdaptiveFeedController, PerRevolutionMeanIgnoresRunoutWithinTheRevolution) {

@@ -12,10 +12,11 @@
 //   - the per-revolution force (or power) within 5 % of its limit: the goal is every part. With
 //     the feed-forward from the stock model the steps and corners the model knows are met at
 //     the feed their depth takes (without it: 96 % within 5 %, the worst 31 % over, on power at a
-//     shoulder's corner). Measured with it: 98 % within 5 %, the worst 6.3 % over — an entry from
-//     air into a full-depth cut on power (the regulator's ramp and the meter's lag, which no
-//     model of the blank removes), a tapered eccentric blank on power, a Py cut. The test holds
-//     95 % within 5 % and every part within 10 %, so a regression shows, and prints the
+//     shoulder's corner). Measured with it: 98 % within 5 %, the worst 6.3 % over, most of them
+//     entries from air into a full-depth cut, where the feed's ramp outran the per-revolution
+//     mean that ends it. With the ramp also stopped by the present sample above the limit:
+//     199 of 200 within 5 %, the worst 5.6 % over (an entry on power, seed 1156). The test holds
+//     99 % within 5 % and every part within 7.5 %, so a regression shows, and prints the
 //     distribution and the worst parts.
 #include "support/library.hpp"
 #include "systems/e_adaptive/metrics.hpp"
@@ -222,8 +223,8 @@ TEST(RigEGenerated, EveryGeneratedPartIsFinishedWithNoFalseAlarm) {
     std::ofstream("generated_" + std::to_string(worst[i]->seed) + ".toml")
         << generate(worst[i]->seed).text;
   }
-  EXPECT_GE(within, 0.95);
-  EXPECT_LE(over.back(), 10.0);
+  EXPECT_GE(within, 0.99);
+  EXPECT_LE(over.back(), 7.5);
 }
 
 }  // namespace

@@ -398,13 +398,27 @@ EdRun run_text(const std::string& text, const std::string& label, bool channels 
 }
 
 TEST(RigE, FrozenReadingAboveTheLimitNeverRaisesTheFeed) {
-  // At 40 s into e_sensor_dropout the one-exponent speed law (y_v = 0.35 for every feed, the
-  // default before y_v came from the handbook's feed ranges) has the force above its limit: the
-  // overload this test freezes.
-  const auto r = run_text(replaced(replaced(text_of("e_sensor_dropout"), "kind = \"nan\"",
-                                            "kind = \"stuck\""),
-                                   "planned_depth_mm = 3.0", "planned_depth_mm = 3.0\ny_v = 0.35"),
-                          "e_stuck.toml");
+  // e_sensor_dropout with the one-exponent speed law (y_v = 0.35 for every feed) and a stuck
+  // sensor. The force is held at its limit there, so whether the frozen sample is above it is
+  // the sensor's noise: the fault is put at the first recorded sample after 38 s that is 1 %
+  // above the limit (found in a run without the fault, which is the same run up to it), so the
+  // test freezes an overload whatever the regulator's trajectory.
+  const std::string base = replaced(
+      replaced(text_of("e_sensor_dropout"), "kind = \"nan\"", "kind = \"stuck\""),
+      "planned_depth_mm = 3.0", "planned_depth_mm = 3.0\ny_v = 0.35");
+  std::string at = "40.0";
+  {
+    const auto probe = run_text(replaced(base, "at_s = 40.0", "at_s = 1000.0"), "e_stuck0.toml");
+    const auto& t0 = probe.ch.at("time_s");
+    const auto& f0 = probe.ch.at("force_parameter");
+    const double limit = rig_of(probe.sc).controller.force_limit;
+    for (std::size_t i = 0; i < t0.size(); ++i)
+      if (t0[i] >= 38.0 && f0[i] > 1.01 * limit) {
+        at = std::to_string(t0[i]);
+        break;
+      }
+  }
+  const auto r = run_text(replaced(base, "at_s = 40.0", "at_s = " + at), "e_stuck.toml");
   const double fault_at = rig_of(r.sc).faults.at(0).at_s;
   const double period = rig_of(r.sc).controller.period_s;
   const auto& t = r.ch.at("time_s");
