@@ -528,7 +528,7 @@ TEST(RigE, PowerSensorFinishesSeed004WithNoAlarm) {
     ASSERT_NE(m, nullptr);
     EXPECT_TRUE((*m)["finished"].get<bool>()) << mode_name(mode);
     EXPECT_TRUE((*m)["alarms"].empty()) << mode_name(mode);
-    // The acceptance default (≤ 10 % above the limit per revolution); 8.1 % measured.
+    // The acceptance default (≤ 10 % above the limit per revolution); 4.9 % measured.
     EXPECT_LE(get(*m, "force_overshoot_pct"), 10.0) << mode_name(mode);
   }
 }
