@@ -27,11 +27,12 @@
 // output=eoffset modulates one axis instead (a twin-turret lathe: the flagged turret's axial axis,
 // hal/config/lathectl-twin.hal): motion.adaptive-feed scales every axis at once, so the module
 // leaves it alone and adds to that axis an external offset (axis.L.eoffset-counts) moving at
-// (S(t)/S_p − 1) times the axis's planned velocity (axis-pos, axis.L.pos-cmd, differentiated): the axis runs at S(t)/S_p times its
-// planned speed, the program's F is the mean feed itself (no ceiling), and the operator's feed
-// override and motion.adaptive-feed, which scale the planned velocity, scale the modulated one
-// alike. Out of a feed block, or not modulating, the requested offset returns to 0 (LinuxCNC's
-// offset planner brings the axis back at its OFFSET_AV_RATIO share of the axis's limits).
+// (S(t)/S_p − 1) times the axis's planned velocity (axis.L.pos-cmd differentiated: axis-pos-right
+// or -left, the flagged turret's; eoffset-enable-right/-left say which axis takes the offset):
+// the axis runs at S(t)/S_p times its planned speed, the program's F is the mean feed itself (no
+// ceiling), and the operator's feed override and motion.adaptive-feed, which scale the planned
+// velocity, scale the modulated one alike. Not modulating, the requested offset returns to 0
+// (update() says how).
 // Pins, parameters and units: lathectl_modfeed(9).
 
 #include <algorithm>
@@ -80,7 +81,11 @@ struct Pins {
   hal_s32_t* prog_n_s;
   hal_bit_t* enable;
   hal_bit_t* reset_max;
-  hal_float_t* axis_pos;  // mm, the flagged axis's planned position (output=eoffset)
+  // mm, the turrets' axial axes' planned positions (output=eoffset): right, left
+  hal_float_t* axis_pos_right;
+  hal_float_t* axis_pos_left;
+  hal_float_t* axis_eoffset_right;  // mm, the offsets motion applies (axis.L.eoffset)
+  hal_float_t* axis_eoffset_left;
   // outputs
   hal_float_t* adaptive_feed;
   hal_float_t* feed;       // mm/min, the modulated feed of the flagged turret
@@ -101,6 +106,8 @@ struct Pins {
   hal_s32_t* plans_taken;   // plans it took from lathectl-modfeed.plan
   hal_s32_t* plans_made;    // plans lathectl-modfeed.plan made (written by that function)
   hal_float_t* axis_vel;    // mm/s, the flagged axis's planned velocity (output=eoffset)
+  hal_bit_t* eoffset_enable_right;  // the offset goes to the flagged turret's axis
+  hal_bit_t* eoffset_enable_left;
   hal_float_t* feed_ratio;  // S(t)/S_p, 1 while not modulating
   hal_float_t* eoffset;     // mm, the offset requested (output=eoffset)
   hal_s32_t* eoffset_counts;
@@ -121,7 +128,8 @@ struct State {
   bool eoffset = false;  // output=eoffset
   double ratio = 0.0;    // S(t)/S_p from the last module period; 0: not modulating
   double offset = 0.0;   // mm, the requested external offset
-  double planned = 0.0;  // mm, the axis's planned position (its command less the offset)
+  int turret = 0;                 // the flagged turret the output acts on: 0 right, 1 left
+  double planned[2] = {0.0, 0.0};  // mm, the axes' planned positions in the last period
   bool planned_seen = false;
 };
 
@@ -152,6 +160,12 @@ void update(void*, long period_ns) {
   const bool feed_block = *p.motion_type == 2 || *p.motion_type == 3;
   const bool on = s.every > 0 && *p.enable;
   if (!on) s.ratio = 0.0;
+  // The flag moves the offset to the other turret's axis only once the offset is 0, asked and
+  // applied (out of feed blocks, when LinuxCNC's offset planner has brought the axis back): an
+  // axis whose offset LinuxCNC stops planning holds it.
+  const int want = *p.turret_left ? 1 : 0;
+  const double applied = s.turret ? *p.axis_eoffset_left : *p.axis_eoffset_right;
+  if (!s.eoffset || (s.offset == 0.0 && std::abs(applied) < 0.5 * kEoffsetScale)) s.turret = want;
   if (s.eoffset) {
     // The axis moves at axis-vel·S/S_p: the offset takes the difference. Not modulating (the
     // module off or released) in a feed block, it returns to 0 at kEoffsetReturn of the planned
@@ -161,11 +175,14 @@ void update(void*, long period_ns) {
     // its OFFSET_AV_RATIO share of the axis's limits.
     // The planned velocity: motion's axis command (axis.L.pos-cmd, which leaves the external
     // offset out) differentiated; the first period: 0.
-    const double planned = *p.axis_pos;
-    const double v = s.planned_seen ? (planned - s.planned) / dt : 0.0;
-    s.planned = planned;
+    const double pos[2] = {*p.axis_pos_right, *p.axis_pos_left};
+    const double v = s.planned_seen ? (pos[s.turret] - s.planned[s.turret]) / dt : 0.0;
+    s.planned[0] = pos[0];
+    s.planned[1] = pos[1];
     s.planned_seen = true;
     *p.axis_vel = v;
+    *p.eoffset_enable_right = s.turret == 0;
+    *p.eoffset_enable_left = s.turret == 1;
     const bool modulating = feed_block && s.ratio > 0.0;
     if (modulating) {
       s.offset += (s.ratio - 1.0) * v * dt;
@@ -203,11 +220,12 @@ void update(void*, long period_ns) {
   const double req = std::abs(*p.requested_vel);
   const double f_prog = *p.per_rev ? req * rpm : req * 60.0;
   const double mean = f_prog / ceil;
-  const int t = *p.turret_left ? 1 : 0;
+  const int t = s.turret;
   in.feed_programmed_mm_per_min[0] = in.feed_programmed_mm_per_min[1] = mean;
   in.path_mm[t] = s.path;
   in.feed_block = feed_block && mean > 0.0;
-  const int src = *p.source;
+  // A block that gives its plan (n_s > 0) is the programmed variant, whatever source says.
+  const int src = *p.prog_n_s > 0 ? 1 : *p.source;
   in.source = src == 1   ? ModulationSource::Programmed
               : src == 2 ? ModulationSource::Automatic
                          : ModulationSource::None;
@@ -265,6 +283,7 @@ extern "C" int rtapi_app_main(void) {
       throw lathectl::hal::Error("module parameter ceiling: expected 1 … 100");
     auto state = std::make_unique<State>();
     state->eoffset = eoffset;
+    state->turret = b.turret == Turret::Left ? 1 : 0;
     ModulationMachine::Params machine{b.vibration, b.power, b.module};
     auto& mp = machine.module;
     mp.period_s = 1e-3;
@@ -295,7 +314,12 @@ extern "C" int rtapi_app_main(void) {
     x.in(&p.prog_n_s, "prog-n-s");
     x.in(&p.enable, "enable");
     x.in(&p.reset_max, "reset-max");
-    x.in(&p.axis_pos, "axis-pos");
+    x.in(&p.axis_pos_right, "axis-pos-right");
+    x.in(&p.axis_pos_left, "axis-pos-left");
+    x.in(&p.axis_eoffset_right, "axis-eoffset-right");
+    x.in(&p.axis_eoffset_left, "axis-eoffset-left");
+    x.out(&p.eoffset_enable_right, "eoffset-enable-right");
+    x.out(&p.eoffset_enable_left, "eoffset-enable-left");
     x.out(&p.axis_vel, "axis-vel");
     x.out(&p.adaptive_feed, "adaptive-feed");
     x.out(&p.feed, "feed");

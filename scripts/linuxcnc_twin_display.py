@@ -177,12 +177,35 @@ def measure(rows):
         else:
             lat.append(None)
     got = sorted(x for x in lat if x is not None)
+    # The programmed variant (reason modulation_programmed, 53) in feed blocks: the levels the
+    # module ran, the share of the settled periods (15 ms after a step) where the flagged axis
+    # ran at the level, and the other axis's speed. In b_twin_feed.ngc the left turret (Z) is
+    # flagged: Z runs the staircase, W the program's feed.
+    code = col(rows, "reason_code")
+    feedc = col(rows, "feed_mm_per_min")
+    pr = [k for k in range(1, n - 1) if int(code[k]) == 53 and mt[k] in (2, 3)]
+    if len(pr) > 100:
+        mid = pr[50:-50]
+        vz = {k: abs(z[k + 1] - z[k]) / PERIOD_S * 60.0 for k in mid}
+        vw = {k: abs(w[k + 1] - w[k]) / PERIOD_S * 60.0 for k in mid}
+        settled = [k for k in mid if all(feedc[j] == feedc[k] for j in range(k - 15, k + 1))]
+        on_level = [k for k in settled if abs(vz[k] - feedc[k]) <= 1.0]
+        last = rows[pr[-1]]
+        res["programmed"] = {
+            "from_s": t[pr[0]], "to_s": t[pr[-1]],
+            "plan": [last[CHANNELS.index("S_min_mm_per_min")],
+                     last[CHANNELS.index("dS_mm_per_min")], last[CHANNELS.index("dl_mm")],
+                     int(last[CHANNELS.index("n_s")])],
+            "levels_mm_per_min": sorted({round(feedc[k], 3) for k in pr}),
+            "left_on_level_share": len(on_level) / len(settled) if settled else None,
+            "left_mean_mm_per_min": feed(z, mid[0], mid[-1]),
+            "right_speed_mm_per_min": [min(vw.values()), max(vw.values())]}
     res["eoffset"] = {
         "feed_steps": len(lat), "steps_settled": len(got),
         "latency_ms": {"median": got[len(got) // 2] if got else None,
                        "max": got[-1] if got else None},
         "max_abs_mm": max(abs(x) for x in eo), "at_cut_end_mm": eo[k1],
-        "at_end_mm": eo[-1]}
+        "at_end_mm": eo[-1], "left_at_end_mm": z[-1] - w[-1]}
     return res
 
 
