@@ -106,9 +106,10 @@ def measure(rows):
             runs[-1][1] = k
         else:
             runs.append([k, k])
+    runs = [r for r in runs if r[1] - r[0] >= 300]  # the override's: 0.3 s at least
     if runs:
         a, b = max(runs, key=lambda r: r[1] - r[0])
-        mid = range(a + 100, b - 100) if b - a > 300 else range(a, b)
+        mid = range(a + 100, b - 100)
         res["override"] = {
             "from_s": t[a], "to_s": t[b],
             "factor": sum(abs(wpv[k]) for k in mid) * 60.0 / prog / len(mid),
