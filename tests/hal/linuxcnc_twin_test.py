@@ -50,7 +50,7 @@ def check(cond, what):
         FAILS.append(what)
 
 
-def session(src, work, override):
+def session(src, work, override, lathectl):
     out = os.path.join(work, STEM)
     cmd = [os.path.join(src, "scripts/linuxcnc-sim"),
            os.path.join(src, "examples/linuxcnc", STEM + ".ngc"),
@@ -58,7 +58,8 @@ def session(src, work, override):
            "--override", override, "--timeout", "60", "--quiet"]
     # Exit 3: another session holds the realtime: wait for it, up to two minutes.
     for _ in range(120):
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=240)
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=240,
+                           env=dict(os.environ, LATHECTL=lathectl))
         if p.returncode != 3:
             break
         time.sleep(1.0)
@@ -68,6 +69,7 @@ def session(src, work, override):
         print(p.stderr)
         check(False, "linuxcnc-sim wrote summary.json (exit %d)" % p.returncode)
         return None
+    check(os.path.exists(os.path.join(out, "report.html")), "lathectl report wrote report.html")
     return json.load(open(path))
 
 
@@ -116,7 +118,7 @@ def main():
     line = next(i for i, l in enumerate(open(os.path.join(src, "examples/linuxcnc", STEM + ".ngc")),
                                         start=1) if l.startswith("N110"))
     t0 = time.monotonic()
-    s = session(src, work, "%d=0.8" % line)
+    s = session(src, work, "%d=0.8" % line, lathectl)
     if s is None:
         print("FAILED: %d" % len(FAILS))
         sys.exit(1)
