@@ -46,6 +46,7 @@ struct Pins {
   hal_float_t* rpm;
   hal_bit_t* enable;
   hal_float_t* vibration;  // µm, the part's displacement at the tool
+  hal_float_t* vib_peak;   // µm, peak |high-passed displacement| over the call (rig B's y_highpass)
   hal_float_t* a0;         // µm, ADC 19
   hal_float_t* omega_d;    // Hz, detector 20
   hal_float_t* radial;
@@ -66,6 +67,9 @@ struct Pins {
 struct State {
   lathectl::dynamics::TwinTurretCut cut;
   lathectl::sensors::VibrationChain chain;
+  // Rig B's measure of the vibration (y_highpass: the sensor's high-pass on the noiseless
+  // displacement, every step), for recorders comparing with `lathectl run`.
+  lathectl::sensors::HighPass2 highpass;
   double z_origin = 0.0;
   long period = 1000000;
   int substeps = 50;
@@ -96,12 +100,14 @@ void update(void*, long period) {
     s.started = true;
   }
   const double rpm = std::abs(*p.rpm);
+  double peak = 0.0;
   for (int k = 1; k <= s.substeps; ++k) {
     const double f = static_cast<double>(k) / s.substeps;
     const double zk = s.last_z + f * (z - s.last_z);
     const double theta = 2.0 * std::numbers::pi * (s.last_revs + f * (revs - s.last_revs));
     const double zz[2] = {zk, s.last_z2 + f * (z2 - s.last_z2)};
     s.cut.step(theta, rpm, zz);
+    peak = std::max(peak, std::abs(s.highpass.step(s.cut.y_m())));
     if (s.count++ % s.chain_every == 0) s.chain.update(s.cut.y_m());
   }
   s.last_z = z;
@@ -109,6 +115,7 @@ void update(void*, long period) {
   s.last_revs = revs;
   const double pc = s.cut.power_W(rpm);
   *p.vibration = s.cut.y_m() * 1e6;
+  *p.vib_peak = peak * 1e6;
   *p.a0 = s.chain.a0_m() * 1e6;
   *p.omega_d = s.chain.omega_d() / (2.0 * std::numbers::pi);
   *p.radial = s.cut.radial_N(0);
@@ -156,6 +163,7 @@ extern "C" int rtapi_app_main(void) {
     auto vib = b.vibration;
     vib.sample_period_s = dt * state->chain_every;
     state->chain.configure(vib);
+    state->highpass.configure(b.vibration.highpass_Hz, dt);
     state->spindle = b.spindle;
     pins = lathectl::hal::allocate_pins<Pins>();
     const lathectl::hal::Exporter x(comp_id, kPrefix);
@@ -166,6 +174,7 @@ extern "C" int rtapi_app_main(void) {
     x.in(&p.rpm, "spindle-rpm");
     x.in(&p.enable, "enable");
     x.out(&p.vibration, "vibration-um");
+    x.out(&p.vib_peak, "vibration-peak-um");
     x.out(&p.a0, "a0-um");
     x.out(&p.omega_d, "omega-d-Hz");
     x.out(&p.radial, "radial-force");

@@ -6,7 +6,7 @@
 // hardware in front of the CNC here (lathectl_chatter models them at the sensor's own sample
 // rate, which the servo thread cannot carry): the machine takes their readings as an Input.
 //
-//   loadrt lathectl_modfeed scenario=PATH [ceiling=2]
+//   loadrt lathectl_modfeed scenario=PATH [ceiling=2 | output=eoffset]
 //   addf lathectl-modfeed servo-thread
 //   loadrt threads name1=modfeed-plan period1=10000000
 //   addf lathectl-modfeed.plan modfeed-plan   (optional: the re-plan out of the servo thread)
@@ -24,12 +24,22 @@
 // above the mean feed, so the program's F word is the ceiling: the mean feed the module keeps
 // is F/ceiling, and the factor is S(t)/F ∈ (0, 1] (1/ceiling while not modulating). Write F at
 // `ceiling` times the feed you want. Never negative (a negative factor runs the path backward).
+// output=eoffset modulates one axis instead (a twin-turret lathe: the flagged turret's axial axis,
+// hal/config/lathectl-twin.hal): motion.adaptive-feed scales every axis at once, so the module
+// leaves it alone and adds to that axis an external offset (axis.L.eoffset-counts) moving at
+// (S(t)/S_p − 1) times the axis's planned velocity (axis.L.pos-cmd differentiated: axis-pos-right
+// or -left, the flagged turret's; eoffset-enable-right/-left say which axis takes the offset):
+// the axis runs at S(t)/S_p times its planned speed, the program's F is the mean feed itself (no
+// ceiling), and the operator's feed override and motion.adaptive-feed, which scale the planned
+// velocity, scale the modulated one alike. Not modulating, the requested offset returns to 0
+// (update() says how).
 // Pins, parameters and units: lathectl_modfeed(9).
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <string>
 
 #include "lathectl/control/modulation_machine.hpp"
 #include "lathectl_hal.hpp"
@@ -41,6 +51,7 @@ MODULE_LICENSE("GPL");
 
 LATHECTL_HAL_PARAM(scenario, "system-B scenario file (TOML) whose [modulation] sets the module");
 LATHECTL_HAL_PARAM(ceiling, "the program's F over the mean feed to keep (≥ 1), default 2");
+LATHECTL_HAL_PARAM(output, "adaptive (motion.adaptive-feed, default) or eoffset (one axis's offset)");
 
 namespace {
 
@@ -70,6 +81,11 @@ struct Pins {
   hal_s32_t* prog_n_s;
   hal_bit_t* enable;
   hal_bit_t* reset_max;
+  // mm, the turrets' axial axes' planned positions (output=eoffset): right, left
+  hal_float_t* axis_pos_right;
+  hal_float_t* axis_pos_left;
+  hal_float_t* axis_eoffset_right;  // mm, the offsets motion applies (axis.L.eoffset)
+  hal_float_t* axis_eoffset_left;
   // outputs
   hal_float_t* adaptive_feed;
   hal_float_t* feed;       // mm/min, the modulated feed of the flagged turret
@@ -89,6 +105,13 @@ struct Pins {
   hal_s32_t* plans_inline;  // plans the servo function made itself
   hal_s32_t* plans_taken;   // plans it took from lathectl-modfeed.plan
   hal_s32_t* plans_made;    // plans lathectl-modfeed.plan made (written by that function)
+  hal_float_t* axis_vel;    // mm/s, the flagged axis's planned velocity (output=eoffset)
+  hal_bit_t* eoffset_enable_right;  // the offset goes to the flagged turret's axis
+  hal_bit_t* eoffset_enable_left;
+  hal_float_t* feed_ratio;  // S(t)/S_p, 1 while not modulating
+  hal_float_t* eoffset;     // mm, the offset requested (output=eoffset)
+  hal_s32_t* eoffset_counts;
+  hal_float_t* eoffset_scale;  // mm per count, constant
   // parameters
   hal_float_t ceiling;
   hal_float_t coefficient;
@@ -102,7 +125,20 @@ struct State {
   long count = 0;
   double period_s = 1e-3;
   double path = 0.0;  // mm travelled along the path in feed blocks
+  bool eoffset = false;  // output=eoffset
+  double ratio = 0.0;    // S(t)/S_p from the last module period; 0: not modulating
+  double offset = 0.0;   // mm, the requested external offset
+  int turret = 0;                 // the flagged turret the output acts on: 0 right, 1 left
+  double planned[2] = {0.0, 0.0};  // mm, the axes' planned positions in the last period
+  bool planned_seen = false;
 };
+
+// The external offset's resolution [mm per count]: far below a feed step's path per servo period
+// (0.1 mm/min is 1.7 nm per ms), with ±21 m of range in an s32.
+constexpr double kEoffsetScale = 1e-5;
+// The offset's return in a feed block, as a share of the axis's planned speed: the feed stays
+// within 10 % of the program's while it returns.
+constexpr double kEoffsetReturn = 0.1;
 
 int comp_id = -1;
 Pins* pins = nullptr;
@@ -121,14 +157,54 @@ void update(void*, long period_ns) {
   }
   if (*p.reset_max) timer.reset();
   const double ceil = std::max(1.0, static_cast<double>(p.ceiling));
-  if (s.every < 0 || !*p.enable) {
-    *p.adaptive_feed = 1.0 / ceil;
+  const bool feed_block = *p.motion_type == 2 || *p.motion_type == 3;
+  const bool on = s.every > 0 && *p.enable;
+  if (!on) s.ratio = 0.0;
+  // The flag moves the offset to the other turret's axis only once the offset is 0, asked and
+  // applied (out of feed blocks, when LinuxCNC's offset planner has brought the axis back): an
+  // axis whose offset LinuxCNC stops planning holds it.
+  const int want = *p.turret_left ? 1 : 0;
+  const double applied = s.turret ? *p.axis_eoffset_left : *p.axis_eoffset_right;
+  if (!s.eoffset || (s.offset == 0.0 && std::abs(applied) < 0.5 * kEoffsetScale)) s.turret = want;
+  if (s.eoffset) {
+    // The axis moves at axis-vel·S/S_p: the offset takes the difference. Not modulating (the
+    // module off or released) in a feed block, it returns to 0 at kEoffsetReturn of the planned
+    // speed (a step back in the cut would be a chip the program never asked for; held, it would
+    // leave the turrets' relative axial position — the chip split of feed division — off the
+    // program's); out of feed blocks at once, LinuxCNC's offset planner moving the axis back at
+    // its OFFSET_AV_RATIO share of the axis's limits.
+    // The planned velocity: motion's axis command (axis.L.pos-cmd, which leaves the external
+    // offset out) differentiated; the first period: 0.
+    const double pos[2] = {*p.axis_pos_right, *p.axis_pos_left};
+    const double v = s.planned_seen ? (pos[s.turret] - s.planned[s.turret]) / dt : 0.0;
+    s.planned[0] = pos[0];
+    s.planned[1] = pos[1];
+    s.planned_seen = true;
+    *p.axis_vel = v;
+    *p.eoffset_enable_right = s.turret == 0;
+    *p.eoffset_enable_left = s.turret == 1;
+    const bool modulating = feed_block && s.ratio > 0.0;
+    if (modulating) {
+      s.offset += (s.ratio - 1.0) * v * dt;
+    } else if (feed_block) {
+      const double back = kEoffsetReturn * std::abs(v) * dt;
+      s.offset = std::clamp(0.0, s.offset - back, s.offset + back);
+    } else {
+      s.offset = 0.0;
+    }
+    s.path += feed_block ? std::abs(v) * (modulating ? s.ratio : 1.0) * dt : 0.0;
+    *p.eoffset = s.offset;
+    *p.eoffset_counts = static_cast<std::int32_t>(std::lround(s.offset / kEoffsetScale));
+  } else if (on) {
+    s.path += feed_block ? std::abs(*p.current_vel) * dt : 0.0;
+  }
+  if (!on) {
+    *p.adaptive_feed = s.eoffset ? 1.0 : 1.0 / ceil;
     *p.engaged = 0;
+    *p.feed_ratio = 1.0;
     *p.update_ns_max = timer.max();
     return;
   }
-  const bool feed_block = *p.motion_type == 2 || *p.motion_type == 3;
-  s.path += feed_block ? std::abs(*p.current_vel) * dt : 0.0;
   if (s.count++ % s.every != 0) return;
   timer.start();
   const double rpm = std::abs(*p.rpm);
@@ -144,11 +220,12 @@ void update(void*, long period_ns) {
   const double req = std::abs(*p.requested_vel);
   const double f_prog = *p.per_rev ? req * rpm : req * 60.0;
   const double mean = f_prog / ceil;
-  const int t = *p.turret_left ? 1 : 0;
+  const int t = s.turret;
   in.feed_programmed_mm_per_min[0] = in.feed_programmed_mm_per_min[1] = mean;
   in.path_mm[t] = s.path;
   in.feed_block = feed_block && mean > 0.0;
-  const int src = *p.source;
+  // A block that gives its plan (n_s > 0) is the programmed variant, whatever source says.
+  const int src = *p.prog_n_s > 0 ? 1 : *p.source;
   in.source = src == 1   ? ModulationSource::Programmed
               : src == 2 ? ModulationSource::Automatic
                          : ModulationSource::None;
@@ -158,7 +235,12 @@ void update(void*, long period_ns) {
   const auto& o = s.machine.output();
   const double feed = o.feed_mm_per_min[t];
   *p.feed = feed;
-  *p.adaptive_feed = f_prog > 0.0 ? std::clamp(feed / f_prog, 0.0, 1.0) : 1.0 / ceil;
+  // (output=eoffset leaves motion.adaptive-feed to others: 1 here.)
+  *p.adaptive_feed = s.eoffset    ? 1.0
+                     : f_prog > 0.0 ? std::clamp(feed / f_prog, 0.0, 1.0)
+                                    : 1.0 / ceil;
+  s.ratio = o.engaged && mean > 0.0 ? std::max(0.0, feed / mean) : 0.0;
+  *p.feed_ratio = s.ratio > 0.0 ? s.ratio : 1.0;
   *p.cut_power = o.cut_power_W;
   *p.engaged = o.engaged;
   *p.reason = static_cast<std::int32_t>(o.reason);
@@ -188,15 +270,25 @@ extern "C" int rtapi_app_main(void) {
     const auto sc =
         lathectl::hal::load_system(scenario, lathectl::systems::b_chatter::kReadSection);
     const auto& b = sc.get<lathectl::systems::b_chatter::Settings>().rig;
-    const double c = lathectl::hal::number_param(ceiling, "ceiling", 2.0);
+    const std::string out = output ? output : "adaptive";
+    if (out != "adaptive" && out != "eoffset")
+      throw lathectl::hal::Error("module parameter output=" + out + ": expected adaptive or eoffset");
+    const bool eoffset = out == "eoffset";
+    if (eoffset && ceiling)
+      throw lathectl::hal::Error(
+          "module parameter ceiling: not with output=eoffset (the program's F is the mean feed)");
+    // With the offset the staircase rises above the program's F by itself: no ceiling.
+    const double c = eoffset ? 1.0 : lathectl::hal::number_param(ceiling, "ceiling", 2.0);
     if (!(c >= 1.0 && c <= 100.0))
       throw lathectl::hal::Error("module parameter ceiling: expected 1 … 100");
     auto state = std::make_unique<State>();
+    state->eoffset = eoffset;
+    state->turret = b.turret == Turret::Left ? 1 : 0;
     ModulationMachine::Params machine{b.vibration, b.power, b.module};
     auto& mp = machine.module;
     mp.period_s = 1e-3;
     // The staircase may not rise above the program's F (LinuxCNC clips the factor at 1).
-    mp.s_max_fraction = std::min(mp.s_max_fraction, c);
+    if (!eoffset) mp.s_max_fraction = std::min(mp.s_max_fraction, c);
     if (!(mp.s_max_fraction > 1.0))
       throw lathectl::hal::Error("ceiling must exceed 1 for the staircase to rise above the mean");
     state->machine.configure(machine);
@@ -222,6 +314,13 @@ extern "C" int rtapi_app_main(void) {
     x.in(&p.prog_n_s, "prog-n-s");
     x.in(&p.enable, "enable");
     x.in(&p.reset_max, "reset-max");
+    x.in(&p.axis_pos_right, "axis-pos-right");
+    x.in(&p.axis_pos_left, "axis-pos-left");
+    x.in(&p.axis_eoffset_right, "axis-eoffset-right");
+    x.in(&p.axis_eoffset_left, "axis-eoffset-left");
+    x.out(&p.eoffset_enable_right, "eoffset-enable-right");
+    x.out(&p.eoffset_enable_left, "eoffset-enable-left");
+    x.out(&p.axis_vel, "axis-vel");
     x.out(&p.adaptive_feed, "adaptive-feed");
     x.out(&p.feed, "feed");
     x.out(&p.cut_power, "cut-power");
@@ -240,6 +339,12 @@ extern "C" int rtapi_app_main(void) {
     x.out(&p.plans_inline, "plans-inline");
     x.out(&p.plans_taken, "plans-taken");
     x.out(&p.plans_made, "plans-made");
+    x.out(&p.feed_ratio, "feed-ratio");
+    x.out(&p.eoffset, "eoffset");
+    x.out(&p.eoffset_counts, "eoffset-counts");
+    x.out(&p.eoffset_scale, "eoffset-scale");
+    *p.eoffset_scale = kEoffsetScale;
+    *p.feed_ratio = 1.0;
     *p.adaptive_feed = 1.0 / c;
     *p.source = static_cast<std::int32_t>(b.source);
     *p.turret_left = b.turret == Turret::Left;

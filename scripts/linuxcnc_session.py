@@ -4,7 +4,7 @@ says where it stood, collecting its error channel, the HAL threads at real-time 
 core's reason table.
 
 Each display (linuxcnc_sim_display.py for E, linuxcnc_slide_display.py for A,
-linuxcnc_gauge_display.py for D) is started by LinuxCNC as the INI's [DISPLAY]DISPLAY and imports
+linuxcnc_gauge_display.py for D, linuxcnc_twin_display.py for B) is started by LinuxCNC as the INI's [DISPLAY]DISPLAY and imports
 this module from its own directory.
 """
 

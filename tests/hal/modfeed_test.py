@@ -13,10 +13,6 @@ streamer → component → sampler pattern of halrun_test.py.
                                                     inside the servo function: the same plans,
                                                     handed over within one plan period + one servo
                                                     period; the servo function's time both ways
-  modfeed_test.py twin SOURCE_DIR WORK_DIR         b_twin_feed_division's twin turrets: the
-                                                    chatter plant with both tools (the left
-                                                    turret's z on z2-pos) and the module on the
-                                                    right turret, compared with `lathectl run`
   modfeed_test.py bad_input SOURCE_DIR WORK_DIR    bad scenarios and module parameters
 """
 
@@ -307,138 +303,14 @@ def test_plan(src, work):
     print(json.dumps(summary, indent=2))
 
 
-def test_twin(src, work):
-    """b_twin_feed_division in HAL: the right turret's path speed is F·adaptive-feed (the module's
-    output, F = ceiling × the programmed 114.8 mm/min), the left turret's F/ceiling (its own feed
-    drive, never touched), each integrated to its z; the plant cuts with both tools (feed
-    division: each takes half the feed, half a revolution apart). 10.5 s: the idle block, the
-    1 mm approach, the chatter growing through the dead zone and the module engaging. Compared
-    with `lathectl run` of the same scenario: the plan and the chatter frequency (the times of
-    engagement are reported in twin.json)."""
-    rel = "examples/scenarios/b_twin_feed_division.toml"
-    sc_path = os.path.join(src, rel)
-    rt_sc = H.rt_path(src, sc_path)
-    n = 10500
-    mean = 0.14 * 820  # mm/min per turret
-    F = 2.0 * mean / 60.0  # mm/s, the program's F at the ceiling 2
-    rows = [[0.0 if k < 500 else F, 0 if k < 500 else 2, 1 if k < 500 else 0] for k in range(n)]
-    pre = """
-loadrt mult2
-loadrt integ count=3
-loadrt scale count=3
-addf mult2.0 t
-addf scale.2 t
-addf integ.0 t
-addf integ.1 t
-addf integ.2 t
-addf scale.0 t
-addf scale.1 t
-"""
-    # z_part = −z: the turrets start 1 mm before z_start = 250 mm and feed toward −z.
-    hal = """
-setp scale.0.gain -1
-setp scale.0.offset -249
-setp scale.1.gain -1
-setp scale.1.offset -249
-setp scale.2.gain 0.5
-net stim0 mult2.0.in0 scale.2.in
-net out3 mult2.0.in1
-net speed1 mult2.0.out => integ.0.in lathectl-modfeed.current-vel
-net speed2 scale.2.out => integ.2.in
-net out6 scale.0.in
-net out7 scale.1.in
-net zpos1 scale.0.out => lathectl-chatter.z-pos
-net zpos2 scale.1.out => lathectl-chatter.z2-pos
-""" + SPINDLE_AND_DETECTORS
-    outs = ["lathectl-chatter.vibration-um", "lathectl-chatter.a0-um", "lathectl-chatter.omega-d-Hz",
-            "lathectl-modfeed.adaptive-feed", "lathectl-modfeed.engaged", "lathectl-modfeed.reason",
-            "integ.0.out", "integ.2.out", "lathectl-modfeed.s-min", "lathectl-modfeed.ds",
-            "lathectl-modfeed.dl", "lathectl-modfeed.n-s", "lathectl-chatter.in-contact",
-            "lathectl-chatter.in-contact2", "lathectl-chatter.chip", "lathectl-chatter.chip2"]
-    got = H.stream_session(work, "twin",
-                           ["lathectl_chatter scenario=%s z_origin_mm=0" % rt_sc,
-                            "lathectl_modfeed scenario=%s" % rt_sc],
-                           "fsb", rows, ["lathectl-modfeed.requested-vel",
-                                         "lathectl-modfeed.motion-type",
-                                         "lathectl-modfeed.idle-block"],
-                           "ffffbsfffffsbbff", outs, hal, pre + ADD_PLAN + "\n",
-                           threads=PLAN_THREAD)
-    if not got:
-        return
-    out = os.path.join(work, "rig-twin")
-    subprocess.run([os.environ.get("LATHECTL", "lathectl"), "run", sc_path, "--out", out],
-                   check=False, capture_output=True)
-    sj = os.path.join(out, "summary.json")
-    rig = json.load(open(sj))["metrics"] if os.path.exists(sj) else None
-    H.check(rig is not None, "lathectl run wrote the rig's summary")
-    contact = [i for i, r in enumerate(got) if r[12] == 1]
-    both = [i for i, r in enumerate(got) if r[12] == 1 and r[13] == 1]
-    H.check(len(contact) > 0 and len(both) > 0.5 * (n - contact[0]) if contact else False,
-            "both tools cut (feed division): %d of %d rows after contact" %
-            (len(both), n - (contact[0] if contact else n)))
-    quiet = [r for i, r in enumerate(got) if contact and contact[0] + 1000 <= i < contact[0] + 2000]
-    if quiet:
-        half = [r[14] for r in quiet] + [r[15] for r in quiet]
-        H.check(all(abs(c - 0.07) < 0.01 for c in half),
-                "each tool's chip ≈ s/2 = 0.07 mm before the chatter: %.4f … %.4f" %
-                (min(half), max(half)))
-    engaged = [i for i, r in enumerate(got) if r[4] == 1]
-    H.check(len(engaged) > 0, "the module engages")
-    if not engaged or not contact or rig is None:
-        return
-    # Before the module engages nothing touches the feeds: the chatter grows from the cut's
-    # initial disturbance until detector 19 reads it out of the dead zone (a0 > 0), which is
-    # what engages the module.
-    a0_first = got[engaged[0]][1]
-    H.check(a0_first >= 5.0 and all(r[1] == 0.0 for r in got[contact[0]:engaged[0] - 200]),
-            "the part chatters without the module: a0 0 until it grows out of the dead zone, "
-            "%.0f µm when the module engages" % a0_first)
-    t_eng = (engaged[0] - contact[0]) * 1e-3
-    m = rig["modulation"]
-    rig_eng = m["engaged_at_s"] - 0.5 - 1.0 / (mean / 60.0)
-    last = got[-1]
-    H.check((last[8], last[9], round(last[10], 6), int(last[11])) ==
-            (m["S_min_mm_per_min"], m["dS_mm_per_min"], round(m["dl_mm"], 6), m["n_s"]),
-            "the same plan in HAL and lathectl run: S_min %.1f, ΔS %.1f, Δl %.3f, n_s %d "
-            "(rig %.1f, %.1f, %.3f, %d)" % (last[8], last[9], last[10], last[11],
-                                            m["S_min_mm_per_min"], m["dS_mm_per_min"],
-                                            m["dl_mm"], m["n_s"]))
-    # Detector 20 once a whole gate has seen the vibration (the first gates count part of one).
-    wd = sorted(r[2] for r in got[engaged[0]:] if r[2] > 0)
-    fd = wd[len(wd) // 2] if wd else 0.0
-    H.check(abs(fd - rig["chatter_frequency_Hz"]) < 5.0,
-            "chatter frequency HAL %.1f Hz (detector 20, median after engaging), rig %.1f Hz "
-            "(zero crossings of the developed chatter); the detector's resolution 5 Hz" %
-            (fd, rig["chatter_frequency_Hz"]))
-    # The left turret: its path at its own constant feed, whatever the module did to the right's.
-    i0 = engaged[0] + 100
-    dt = (n - 1 - i0) * 1e-3
-    left = (got[-1][7] - got[i0][7]) / dt * 60.0
-    right = (got[-1][6] - got[i0][6]) / dt * 60.0
-    H.check(abs(left / mean - 1.0) < 1e-3,
-            "left turret %.2f mm/min while the right one is modulated (programmed %.1f)" %
-            (left, mean))
-    # The engagement's time is reported, not held to the rig's: the chatter grows slowly here
-    # (from 1 µm to the 5 µm dead zone over 7–9 s) and the HAL loop reaches the dead zone later
-    # than the rig (8.9 against 7.4 s after contact in the first runs), a difference not
-    # explained yet.
-    summary = {"engaged_after_contact_s": {"hal": t_eng, "rig": rig_eng},
-               "chatter_Hz": {"hal": fd, "rig": rig["chatter_frequency_Hz"]},
-               "a0_at_engaging_um": a0_first, "a0_last_um": last[1],
-               "plan": {"S_min": last[8], "dS": last[9], "dl": last[10], "n_s": last[11]},
-               "mean_feed_after_engaging_mm_per_min": {"right": right, "left": left}}
-    with open(os.path.join(work, "twin.json"), "w") as f:
-        json.dump(summary, f, indent=2)
-    print(json.dumps(summary, indent=2))
-
-
-
 def test_bad_input(src, work):
     sc = H.rt_path(src, os.path.join(src, SCENARIO))
     e = H.rt_path(src, os.path.join(src, "examples/linuxcnc/step_allowance.toml"))
     cases = [
         ("lathectl_modfeed scenario=" + e, ["system-B"]),
         ("lathectl_modfeed scenario=%s ceiling=0.5" % sc, ["ceiling"]),
+        ("lathectl_modfeed scenario=%s output=offset" % sc, ["output=offset", "eoffset"]),
+        ("lathectl_modfeed scenario=%s output=eoffset ceiling=2" % sc, ["ceiling", "eoffset"]),
         ("lathectl_modfeed", ["scenario=PATH", "required"]),
         ("lathectl_chatter scenario=%s period_ns=12" % sc, ["period_ns"]),
     ]
@@ -457,7 +329,7 @@ def main():
     what, src, work = sys.argv[1], os.path.abspath(sys.argv[2]), os.path.abspath(sys.argv[3])
     os.makedirs(work, exist_ok=True)
     os.chmod(work, 0o777)
-    {"stream": test_stream, "loop": test_loop, "plan": test_plan, "twin": test_twin,
+    {"stream": test_stream, "loop": test_loop, "plan": test_plan,
      "bad_input": test_bad_input}[what](src, work)
     if H.FAILS:
         print("%d check(s) failed" % len(H.FAILS))
