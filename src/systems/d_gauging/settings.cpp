@@ -186,7 +186,13 @@ void read_interruption(TableReader& root, Settings& d) {
   // The bridge replays the two supply periods read on the settled round surface before each
   // interruption: they must fit between one interruption's guard and the next (GaugeMachine
   // alarms gauge_no_round_surface otherwise; gauge_machine.hpp says what happens without).
-  if (ir.gate && !t->is_describing()) {
+  t->check(ir.count * 2.0 * ir.half_span_rad() < 2.0 * std::numbers::pi, "count",
+           "the interruptions must leave part of the surface round");
+  if (t->is_describing()) {
+    t->check(true, "spindle_rpm",
+             "gate: each interruption and guard_ms must leave two supply periods of round "
+             "surface before the next (what the bridge replays)");
+  } else if (ir.gate) {
     const double need = 2.0 / d.transducer.supply_Hz;
     const double span = 2.0 * ir.half_span_rad() / (2.0 * std::numbers::pi);  // of a revolution
     const double fastest = 60.0 * (1.0 / ir.count - span) / (need + ir.guard_s);
