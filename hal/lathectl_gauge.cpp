@@ -20,6 +20,13 @@
 //   step       → motion.analog-in-00: the steps operated (M66 E0 L0 reads it into #5399).
 //   rearm      ← motion.digital-out-00 (M64/M65 P0): a new part; the relay arms arm_after later.
 //   feed-hold  → motion.feed-inhibit: a lost or non-finite signal holds the feed, latched.
+//   spindle-revs ← spindle.0.revs (the spindle's encoder, in revolutions; extrapolated between
+//                the servo thread's updates) and part-angle-deg (the part's orientation on the
+//                spindle): an interrupted part (the scenario's [interruption] with gate) is
+//                bridged while an interruption of the drawing is under the probe and guard_ms
+//                after; interruptions too close for the bridge alarm gauge_no_round_surface.
+// The steps' feeds, fine_um and spark_um default to the scenario's [sequence] (the module
+// parameters override them).
 // The thresholds are the scenario's: the size threshold as `lathectl run` plans it (plan_threshold:
 // (23) on the full model's local line, or the seed's, or the given one), the earlier ones (23) on
 // the same line for the size where the next step starts (target + fine_um, target + spark_um) at
@@ -28,6 +35,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <stdexcept>
 
 #include "lathectl/control/gauge_machine.hpp"
@@ -65,6 +73,8 @@ struct Pins {
   hal_float_t* generator;  // V
   hal_float_t* x_pos;      // mm
   hal_bit_t* rearm;
+  hal_float_t* spindle_revs;
+  hal_float_t* part_angle;  // deg
   hal_float_t* signal;
   hal_s32_t* step;
   hal_float_t* step_f;
@@ -85,6 +95,7 @@ struct Pins {
   hal_float_t* trip_to_stop;
   hal_float_t* time;
   hal_s32_t* trips;
+  hal_bit_t* bridged;
   lathectl::hal::MeterPins meter;
 };
 
@@ -94,6 +105,8 @@ struct State {
   long period = 100000;
   // The size command's (or the backstop's) moment and the axis' stop after it.
   double size_at = -1.0, last_x = 0.0;
+  lathectl::systems::d_gauging::Interruption interruption;  // gate: where they are on the part
+  lathectl::systems::d_gauging::SpindleAngle spindle;
 };
 
 int comp_id = -1;
@@ -110,6 +123,10 @@ void update(void*, long period) {
   in.generator_V = *p.generator;
   in.position_m = *p.x_pos * 1e-3;
   in.rearm = *p.rearm;
+  const double revs = s.spindle.update(*p.spindle_revs, static_cast<double>(period) * 1e-9);
+  if (s.interruption.gate && s.interruption.any())
+    in.gate = s.interruption.under(2.0 * std::numbers::pi * revs +
+                                   *p.part_angle * std::numbers::pi / 180.0);
   s.machine.update(in);
   const auto& o = s.machine.output();
   *p.signal = o.signal_V;
@@ -132,6 +149,7 @@ void update(void*, long period) {
   *p.trip_time = o.trip_time_s;
   *p.time = o.time_s;
   *p.trips = o.tripped_steps;
+  *p.bridged = o.bridged;
   // Trip-to-stop: the last sample the infeed still moved toward the part (X falling) after the
   // cut had to end, from that moment (stop-latency) and from the crossing (trip-to-stop). X comes
   // from the servo thread: it moves in steps of a servo period.
@@ -213,6 +231,10 @@ extern "C" int rtapi_app_main(void) {
     }
     mp.steps.push_back({s_size, GaugeMachine::Command::Size});
     mp.relay_response_s = pr.relay_response_s;
+    // The interrupted surface as the study reads it (rig.cpp's gauge_machine_params).
+    const auto& ir = pr.interruption;
+    state->interruption = ir;
+    if (ir.any() && ir.gate) mp.gate_guard_s = ir.guard_s;
     mp.arm_after_s = 5.0 * d.transducer.filter_time_constant_s;  // as the study's relay
     // Machine X [m] of the backstop, where a G38 plunge toward it ends: reached within 1 nm (the
     // trajectory planner's rounding of the programmed X).
@@ -231,6 +253,8 @@ extern "C" int rtapi_app_main(void) {
     x.in(&p.generator, "generator");
     x.in(&p.x_pos, "x-pos");
     x.in(&p.rearm, "rearm");
+    x.in(&p.spindle_revs, "spindle-revs");
+    x.in(&p.part_angle, "part-angle-deg");
     x.out(&p.signal, "signal");
     x.out(&p.step, "step");
     x.out(&p.step_f, "step-f");
@@ -255,6 +279,7 @@ extern "C" int rtapi_app_main(void) {
     x.out(&p.trip_to_stop, "trip-to-stop");
     x.out(&p.time, "part-time");
     x.out(&p.trips, "trips");
+    x.out(&p.bridged, "bridged");
     p.meter.export_to(x);
     *p.feed_scale = 1.0;
     st = std::move(state);

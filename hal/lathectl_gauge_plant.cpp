@@ -16,11 +16,16 @@
 // electromechanical model (5)–(12)) is stepped at the scenario's run.step_s, period/step_s
 // sub-steps a call, and gives its generator's signal u (the gauge's input; it rectifies and
 // filters it itself). Before the first load, and with break-wire, the probe has no part or no
-// wire: no contact, or u = 0. Pins: lathectl_gauge_plant(9).
+// wire: no contact, or u = 0. An interrupted part (the scenario's [interruption]: keyways or
+// flats): it turns with the spindle (spindle-revs, LinuxCNC's spindle.0.revs, extrapolated between
+// the servo thread's updates), each part chucked at its own random angle (part-angle-deg, from
+// its stream: where its first interruption's middle is at revolution 0), and the probe touches
+// x + ξ − the depth under it. Pins: lathectl_gauge_plant(9).
 
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <numbers>
 #include <random>
 
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
@@ -45,6 +50,7 @@ constexpr const char* kPrefix = "lathectl-gauge-plant";
 
 struct Pins {
   hal_float_t* x_pos;  // mm
+  hal_float_t* spindle_revs;
   hal_bit_t* load;
   hal_bit_t* break_wire;
   hal_float_t* generator;  // V
@@ -56,6 +62,8 @@ struct Pins {
   hal_float_t* wear;       // µm
   hal_s32_t* part;
   hal_bit_t* in_contact;  // the tool is removing material
+  hal_float_t* part_angle;  // deg
+  hal_float_t* depth;       // µm, the interruption's depth under the probe
   lathectl::hal::MeterPins meter;
 };
 
@@ -72,6 +80,9 @@ struct State {
   std::uint64_t seed = 0;
   std::int32_t part = 0;
   bool last_load = false;
+  lathectl::systems::d_gauging::Interruption interruption;
+  lathectl::systems::d_gauging::SpindleAngle spindle;
+  double theta0 = 0.0, sub_dt = 2e-5;
 };
 
 int comp_id = -1;
@@ -92,11 +103,15 @@ void update(void*, long period) {
     s.r_mm = s.x_size_mm + (s.allowance_m - s.target_m) * 1e3;
     s.rng.seed(s.seed * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(s.part));
     s.xi = s.sigma_m * s.n01(s.rng);
+    if (s.interruption.any())  // chucked at its own angle (drawn after ξ: ξ's stream unchanged)
+      s.theta0 = std::uniform_real_distribution<double>(0.0, 2.0 * std::numbers::pi)(s.rng);
   }
   s.last_load = load;
   const double tool = *p.x_pos + s.wear_mm;
   bool cutting = false;
-  double u = 0.0, x = -1e-3;  // no part: the probe oscillates free
+  double u = 0.0, x = -1e-3, under = 0.0;  // no part: the probe oscillates free
+  const double revs0 = s.spindle.update(*p.spindle_revs, static_cast<double>(period) * 1e-9);
+  const double rev_per_sub = s.spindle.speed_rev_per_s() * s.sub_dt;
   for (int k = 0; k < s.substeps; ++k) {
     if (std::isfinite(s.r_mm)) {
       if (tool < s.r_mm) {
@@ -105,8 +120,11 @@ void update(void*, long period) {
       }
       x = (s.r_mm - s.x_size_mm) * 1e-3 + s.target_m;
       s.xi = s.rho * s.xi + s.kick * s.n01(s.rng);
+      if (s.interruption.any() && std::isfinite(revs0))
+        under = s.interruption.depth_at(
+            s.theta0 + 2.0 * std::numbers::pi * (revs0 + rev_per_sub * k));
     }
-    u = s.gauge.step_generator(std::isfinite(s.r_mm) ? x + s.xi : x);
+    u = s.gauge.step_generator(std::isfinite(s.r_mm) ? x + s.xi - under : x);
   }
   *p.generator = *p.break_wire ? 0.0 : u;
   if (std::isfinite(s.r_mm)) {
@@ -118,6 +136,8 @@ void update(void*, long period) {
   *p.wear = s.wear_mm * 1e3;
   *p.part = s.part;
   *p.in_contact = cutting;
+  *p.depth = under * 1e6;
+  *p.part_angle = s.theta0 * 180.0 / std::numbers::pi;
   meter.end(p.meter);
 }
 
@@ -153,10 +173,13 @@ extern "C" int rtapi_app_main(void) {
     state->sigma_m = std::sqrt(pr.noise_variance_m2);
     state->rho = std::exp(-pr.noise_beta_per_s * dt);
     state->kick = std::sqrt(pr.noise_variance_m2 * (1.0 - state->rho * state->rho));
+    state->interruption = pr.interruption;
+    state->sub_dt = dt;
     pins = lathectl::hal::allocate_pins<Pins>();
     const lathectl::hal::Exporter x(comp_id, kPrefix);
     Pins& p = *pins;
     x.in(&p.x_pos, "x-pos");
+    x.in(&p.spindle_revs, "spindle-revs");
     x.in(&p.load, "load");
     x.in(&p.break_wire, "break-wire");
     x.out(&p.generator, "generator");
@@ -168,6 +191,8 @@ extern "C" int rtapi_app_main(void) {
     x.out(&p.wear, "wear-um");
     x.out(&p.part, "part");
     x.out(&p.in_contact, "in-contact");
+    x.out(&p.part_angle, "part-angle-deg");
+    x.out(&p.depth, "interruption-um");
     p.meter.export_to(x);
     *p.x_pos = 1e9;
     st = std::move(state);

@@ -98,6 +98,7 @@ def main():
             cur["backstop"] |= bool(hal.get_value(G + "backstop"))
             cur["size"] |= bool(hal.get_value(G + "size"))
             cur["unreachable"] |= bool(hal.get_value(G + "unreachable"))
+            cur["bridged"] = cur.get("bridged", False) or bool(hal.get_value(G + "bridged"))
             if hal.get_value(G + "alarm") and not cur["alarm"]:
                 cur["alarm"] = True
                 cur["reason"] = int(hal.get_value(G + "reason"))
@@ -161,6 +162,24 @@ def main():
                "reason": names.get(p["reason"], "unknown")} for p in parts if p["alarm"]]
     latencies = [p["trip_to_stop_s"] for p in parts if p["trip_to_stop_s"] is not None and
                  not p["backstop"]]
+    # The cycle as `lathectl run`'s summary gives it: each step's threshold, the size it was
+    # planned at and where its command operated (here the mean over the parts that reached it).
+    seq = sc.get("sequence", {})
+    planned = [target + seq.get("fine_um", 60.0), target + seq.get("spark_um", 25.0), target]
+    cycle = []
+    for i, (name, th) in enumerate(zip(["fine", "spark-out", "size"], thresholds)):
+        if i < 2:
+            at = [p["steps"][i]["size_um"] for p in parts if len(p["steps"]) > i]
+        else:
+            at = [target + p["error_um"] for p in parts]
+        cycle.append({"step": name, "threshold_V": th, "planned_um": planned[i],
+                      "size_um": sum(at) / len(at) if at else float("nan")})
+    ir = sc.get("interruption")
+    interruption = None
+    if ir:
+        interruption = {"kind": ir.get("kind", "keyway"), "count": ir.get("count", 1),
+                        "depth_um": ir.get("depth_um"), "spindle_rpm": ir.get("spindle_rpm", 600.0),
+                        "gate": ir.get("gate", True), "guard_ms": ir.get("guard_ms", 20.0)}
     summary = {
         "program": os.environ.get("LATHECTL_SIM_SOURCE", program),
         "scenario": os.environ.get("LATHECTL_SIM_SCENARIO", ""),
@@ -185,6 +204,8 @@ def main():
             "trip_to_stop_s_max": max(latencies) if latencies else None,
             "alarms": alarms,
         },
+        "cycle": cycle,
+        "interruption": interruption,
         "parts_detail": parts,
         "update_ns_max": update_ns_max,
         "period_error": period_error,

@@ -91,6 +91,8 @@ void GaugeMachine::rearm() noexcept {
   quiet_n_ = 0;
   cycle_pos_ = cycle_n_ = 0;
   guard_left_s_ = 0.0;
+  round_n_ = 0;
+  bridging_ = false;
   const double s = out_.signal_V;
   out_ = Output{};
   out_.signal_V = s;
@@ -125,11 +127,18 @@ void GaugeMachine::update(const Input& in) noexcept {
   if (!in.gate && guard_left_s_ > 0.0) guard_left_s_ -= dt;
   double fed = g;
   if (bridge) {
+    // A bridge begins: the ring must hold two supply periods read since the last one, or it
+    // would replay older laps' samples and the disturbed probe's (the interruptions too close).
+    if (!bridging_ && round_n_ < cycle_.size() && t_ > p_.arm_after_s)
+      latch(Reason::GaugeNoRoundSurface);
     fed = cycle_[cycle_pos_];
+    round_n_ = 0;
   } else {
     cycle_[cycle_pos_] = g;
     cycle_n_ = std::min(cycle_n_ + 1, cycle_.size());
+    ++round_n_;
   }
+  bridging_ = bridge;
   cycle_pos_ = (cycle_pos_ + 1) % cycle_.size();
   out_.bridged = bridge;
   const double s = filter_.step(fed);  // filter (14)

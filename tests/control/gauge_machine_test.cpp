@@ -422,4 +422,134 @@ TEST(GaugeMachine, BridgedPlungeEndsAtThreshold23WithTheBridgeLag) {
   EXPECT_NEAR(kAllow - kRate * stop, kTarget, synchronous_bound_m() + cut);
 }
 
+// Flats under the probe, bridged. The synthesised probe touches a flat `depth` deep at its
+// middle on a part of radius R at the contact angle: its amplitude grows by the chord's depth
+// there, R − (R − depth)/cos φ, and after the flat it swings short (the measured behaviour of the
+// resonant probe: an amplitude deficit of half the flat's depth, decaying with τ = 10 ms), so
+// u = (π/2)·K·(A − x + extra)·sin(2ωt). With the gate over the flat and a guard of 6τ after it,
+// the filter sees only the settled round surface: (23) with the bridges' mean delay ends the
+// plunge at x_k within the synchronous filter's bound and the part of a revolution the window's
+// edge cuts, whatever the flats' depth and count — while the round stretch between them holds
+// the replay's two supply periods. Read as size, the same flats end it elsewhere.
+struct Flats {
+  int count = 2;
+  double depth_m = 100e-6, radius_m = 10e-3, rev_s = 0.4, ring_s = 0.01;
+  [[nodiscard]] double half() const { return std::acos(1.0 - depth_m / radius_m); }
+  [[nodiscard]] double span_s() const { return 2.0 * half() / (2.0 * std::numbers::pi) * rev_s; }
+  // From the nearest flat's middle at time t (the part at angle 2πt/rev_s + θ0).
+  [[nodiscard]] double phi(double t, double theta0) const {
+    const double pitch = 2.0 * std::numbers::pi / count;
+    const double theta = theta0 + 2.0 * std::numbers::pi * t / rev_s;
+    return theta - pitch * std::round(theta / pitch);
+  }
+  [[nodiscard]] bool under(double t, double theta0) const {
+    return std::abs(phi(t, theta0)) < half();
+  }
+  [[nodiscard]] double extra(double t, double theta0) const {
+    const double p = phi(t, theta0), h = half();
+    if (std::abs(p) < h) return radius_m - (radius_m - depth_m) / std::cos(p);
+    const double pitch = 2.0 * std::numbers::pi / count;
+    const double since = (p > 0.0 ? p - h : p + pitch - h) / (2.0 * std::numbers::pi) * rev_s;
+    return -0.5 * depth_m * std::exp(-since / ring_s);  // swinging short of the part
+  }
+};
+
+Plunge flats_plunge(GaugeMachine& m, const Flats& f, double theta0, bool gate) {
+  Plunge r;
+  const double w2 = 2.0 * (2.0 * std::numbers::pi * kSupply);
+  double stop = INFINITY;
+  for (double t = 0.0; t < 12.0 && !std::isfinite(stop); t += kDt) {
+    const double x = kAllow - kRate * t;
+    GaugeMachine::Input in;
+    in.generator_V =
+        0.5 * std::numbers::pi * kK * std::max(0.0, kA - x + f.extra(t, theta0)) *
+        std::sin(w2 * t);
+    in.gate = gate && f.under(t, theta0);
+    in.position_m = kAllow - kRate * (t + kDt);
+    m.update(in);
+    if (m.output().stop) {
+      stop = t + kDt;
+      r.backstop = m.output().backstop;
+      r.reason = m.output().reason;
+    }
+  }
+  r.finished_m = kAllow - kRate * std::min(stop, 12.0);
+  return r;
+}
+
+TEST(GaugeMachine, BridgedFlatsEndAtThreshold23WithTheBridgeLag) {
+  const double guard = 0.06;
+  for (int count : {1, 2})
+    for (double depth : {20e-6, 50e-6, 100e-6, 200e-6})
+      for (double theta0 : {0.3, 2.0}) {
+        Flats f;
+        f.count = count;
+        f.depth_m = depth;
+        auto p = params(GaugeFilterKind::Synchronous, {{0.0, Command::Size}});
+        p.gate_guard_s = guard;
+        const double bridge = f.span_s() + guard;
+        ASSERT_GE(f.rev_s / count - bridge, 2.0 / kSupply);  // the replay fits between them
+        const double lag = GaugeMachine::bridge_lag_s(bridge, count, f.rev_s, kSupply);
+        p.steps[0].threshold_V =
+            kK * (kA - kTarget -
+                  kRate * (lathectl::control::GaugeFilter::lag_s(p.filter) + lag + kRelay));
+        const std::string tag = std::to_string(count) + " flats " +
+                                std::to_string(depth * 1e6) + " µm at " + std::to_string(theta0);
+        GaugeMachine gated;
+        gated.configure(p);
+        const Plunge r = flats_plunge(gated, f, theta0, true);
+        EXPECT_EQ(r.reason, Reason::GaugeSize) << tag;
+        // Two flats: the window (200 ms) holds one pitch whole, the bridges' delay in it is
+        // their mean. One: it holds half a revolution, with one bridge or none, off by up to a
+        // bridge's longest delay (two replays, 80 ms)·(bridge/window).
+        const double cut = count == 2 ? 0.0 : kRate * 0.08 * bridge / 0.2;
+        // And what the probe still swings short after the guard reads as size: its mean over a
+        // pitch, (depth/2)·τ·e^(−guard/τ)/pitch (12 nm for 200 µm flats).
+        const double unsettled = 0.5 * depth * f.ring_s * std::exp(-guard / f.ring_s) /
+                                 (f.rev_s / count);
+        EXPECT_NEAR(r.finished_m, kTarget, synchronous_bound_m() + cut + unsettled) << tag;
+        // Read as size: the filter sees A − x + the extra, its window one pitch whole, and the
+        // threshold still allows for the bridges' delay: the part ends large by about the
+        // extra's mean over a pitch and a·(that delay) — ten times the gated part's bound and
+        // more; within 15 % of it (the extra varies within the probe's periods: it weights
+        // |sin| unevenly there, as the ramp does in synchronous_bound_m).
+        if (count != 2) continue;
+        double mean_extra = 0.0;
+        constexpr int n = 200000;
+        for (int i = 0; i < n; ++i) mean_extra += f.extra((i + 0.5) / n * f.rev_s / 2.0, 0.0) / n;
+        GaugeMachine open;
+        open.configure(p);
+        const double large = mean_extra + kRate * lag;
+        EXPECT_GT(large, 10.0 * synchronous_bound_m()) << tag;
+        EXPECT_NEAR(flats_plunge(open, f, theta0, false).finished_m - kTarget, large,
+                    0.15 * large)
+            << tag;
+      }
+}
+
+// Interruptions too close together for the bridge (two flats at 600 rpm with a 30 ms guard: 15.5
+// ms of round surface between them, the replay needs 40): the armed gauge holds the feed with
+// gauge_no_round_surface; before it arms nothing is decided. One flat a revolution leaves enough.
+TEST(GaugeMachine, InterruptionsTooCloseForTheBridgeAlarm) {
+  auto p = params(GaugeFilterKind::Synchronous, {{1e9, Command::Size}});
+  p.gate_guard_s = 0.03;
+  Flats dense;
+  dense.rev_s = 0.1;
+  GaugeMachine m;
+  m.configure(p);
+  const Plunge r = flats_plunge(m, dense, 0.0, true);
+  EXPECT_EQ(r.reason, Reason::GaugeNoRoundSurface);
+  EXPECT_FALSE(r.backstop);
+  // The first bridge after the arming, at most one flat pitch (50 ms) later.
+  EXPECT_LE(kAllow - r.finished_m, kRate * (p.arm_after_s + 0.05 + kDt));
+  EXPECT_GT(kAllow - r.finished_m, kRate * p.arm_after_s);
+  Flats one = dense;
+  one.count = 1;  // 61.5 ms between
+  GaugeMachine ok;
+  ok.configure(p);
+  (void)flats_plunge(ok, one, 0.0, true);
+  EXPECT_FALSE(ok.output().alarm);
+  EXPECT_EQ(ok.output().reason, Reason::GaugeUnreachable);
+}
+
 }  // namespace

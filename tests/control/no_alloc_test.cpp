@@ -442,7 +442,7 @@ TEST(NoAlloc, ModulationMachineNeverAllocates) {
 
 TEST(NoAlloc, GaugeMachineAndVibroContactGaugeNeverAllocate) {
   // Every filter and every path: steps, their relay, the backstop, a lost and a NaN signal, rearm,
-  // bridged interruptions.
+  // bridged interruptions, interruptions too close for the bridge.
   using lathectl::control::GaugeFilterKind;
   using lathectl::control::GaugeMachine;
   for (auto kind : {GaugeFilterKind::FirstOrder, GaugeFilterKind::SecondOrder,
@@ -467,7 +467,10 @@ TEST(NoAlloc, GaugeMachineAndVibroContactGaugeNeverAllocate) {
     p.initial_signal_V = free;
     p.gate_guard_s = 0.01;
     m.configure(p);
-    int stops = 0, trips = 0;
+    // Interruptions too close for the bridge: gauge_no_round_surface.
+    GaugeMachine dense;
+    dense.configure(p);
+    int stops = 0, trips = 0, no_round = 0;
     const long before = g_allocations.load();
     for (int k = 0; k < 60000; ++k) {
       const double t = k * 2e-5;
@@ -482,8 +485,12 @@ TEST(NoAlloc, GaugeMachineAndVibroContactGaugeNeverAllocate) {
       m.update(in);
       stops += m.output().stop;
       trips += m.output().tripped;
+      in.gate = k % 1000 < 100;  // every 20 ms: never two supply periods of round surface
+      dense.update(in);
+      no_round += dense.output().reason == lathectl::control::Reason::GaugeNoRoundSurface;
     }
     EXPECT_EQ(g_allocations.load() - before, 0) << "update() allocated";
+    EXPECT_GT(no_round, 0);
     EXPECT_GT(stops, 1000);
     EXPECT_GT(trips, 0) << static_cast<int>(kind);
   }

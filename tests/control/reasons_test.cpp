@@ -44,6 +44,7 @@ bool enumerator(Reason r) {
     case Reason::GaugeUnreachable:
     case Reason::SlideOff:
     case Reason::ModulationNoIdle:
+    case Reason::GaugeNoRoundSurface:
       return true;
   }
   return false;

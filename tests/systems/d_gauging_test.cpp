@@ -195,8 +195,7 @@ TEST(SystemDCycle, StepsOperateInOrderAtTheirPlannedSizes) {
 
 // Interrupted surfaces in the full model at 600 rpm. A keyway deeper than the probe's free
 // amplitude: read as size (no gate) the part ends large; bridged by the machine (its gate, the
-// threshold's lag with the bridges' delay) it ends as the round part does. The flats' geometry
-// (the bridge does not yet serve flats: docs/system-d-gauging.md, findings).
+// threshold's lag with the bridges' delay) it ends as the round part does. The flats' geometry.
 TEST(SystemDInterruption, BridgedKeywayEndsAsTheRoundPart) {
   const auto sc = io::parse_scenario(example("d_cycle_keyway"), "mem.toml", library(),
                                      systems::d_gauging::kSection);
@@ -230,6 +229,56 @@ TEST(SystemDInterruption, BridgedKeywayEndsAsTheRoundPart) {
   EXPECT_EQ(flats.depth_at(std::numbers::pi / 2.0), 0.0);
   EXPECT_TRUE(flats.under(std::numbers::pi + 0.09));  // the second flat, 180° on
   EXPECT_FALSE(flats.under(std::numbers::pi + 0.11));
+}
+
+// Flats in the full model (d_cycle_flats: two flats on a 10 mm radius at 150 rpm, the cycle, no
+// noise). Bridged with a guard that covers the probe's settling (40 ms and more; its free ring-down
+// 2M/h is 29 ms) the part ends as the round part does, within 0.15 µm, for 50 and 100 µm deep
+// flats and guards of 40 to 80 ms; read as size it ends more than 1 µm large. At 600 rpm the
+// flats come every 50 ms: the check refuses the part at spindle_rpm, saying how fast it may turn.
+TEST(SystemDInterruption, BridgedFlatsEndAsTheRoundPartWhenTheProbeSettlesBetweenThem) {
+  const auto sc = io::parse_scenario(example("d_cycle_flats"), "mem.toml", library(),
+                                     systems::d_gauging::kSection);
+  auto d = sc.get<systems::d_gauging::Settings>();
+  d.process.noise_variance_m2 = 0.0;
+  const auto flats = d.process.interruption;
+  ASSERT_EQ(flats.kind, systems::d_gauging::Interruption::Kind::Flats);
+  ASSERT_TRUE(flats.gate);
+  auto finished = [&](const systems::d_gauging::Interruption& ir) {
+    auto dd = d;
+    dd.process.interruption = ir;
+    const auto plan = systems::d_gauging::plan_threshold(dd, sc.run.step_s);
+    auto p = dd.process;
+    p.cycle = systems::d_gauging::gauging_cycle(
+        dd.sequence, plan.line, p,
+        sensors::VibroContactGauge::filter_lag_s(dd.transducer) + p.relay_response_s +
+            ir.bridge_lag_s(dd.transducer.supply_Hz),
+        plan.threshold_V);
+    const auto r = systems::d_gauging::machine_part_full(p, dd.transducer, sc.run.step_s,
+                                                         plan.threshold_V, 3, nullptr, 50, 12.0);
+    EXPECT_FALSE(r.backstop);
+    return r.finished_m - p.target_m;
+  };
+  const double round = finished({});
+  for (const auto& [depth, guard] : {std::pair{100e-6, 0.04}, {100e-6, 0.08}, {50e-6, 0.06}}) {
+    auto ir = flats;
+    ir.depth_m = depth;
+    ir.guard_s = guard;
+    EXPECT_NEAR(finished(ir), round, 0.15e-6) << depth << " m, guard " << guard;
+  }
+  auto open = flats;
+  open.gate = false;
+  EXPECT_GT(finished(open) - round, 1e-6);
+  const std::string fast = edited(example("d_cycle_flats"), "spindle_rpm = 150.0",
+                                  "spindle_rpm = 600.0");
+  try {
+    (void)io::parse_scenario(fast, "mem.toml", library(), systems::d_gauging::kSection);
+    ADD_FAILURE() << "600 rpm with two flats and a 60 ms guard was accepted";
+  } catch (const io::InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("spindle_rpm"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("two supply periods"), std::string::npos) << msg;
+  }
 }
 
 }  // namespace

@@ -34,6 +34,24 @@
 // that of up to two supply periods plus the bridge's length ago (bridge_lag_s: the mean of that
 // delay, for (23)).
 //
+// A bridge replays what the round surface gave just before it, so it needs, between two
+// interruptions, the probe settled on the round surface (the guard) and then two supply periods
+// read whole. Flats showed what happens without: two flats at 600 rpm come every 50 ms, a flat
+// 100 µm deep spans 4.5 ms, and the probe, a resonator (Q ≈ 10: it rings ~30 ms) that the flat's
+// deeper swing and the hard landing after it throw out of step, swings short of the part for
+// cycles after; a guard that covers that leaves less than the 40 ms the replay needs, so the ring
+// replays what it kept from laps before (the replayed sample 52–89 ms old where bridge_lag_s
+// assumes 40, as the guard goes 10 → 30 ms) and samples of the disturbed probe: the part ended
+// anywhere from the backstop (−10 µm) to +16.8 µm, jumping with the guard. The machine now says
+// so: a bridge that begins before the ring has been written whole since the last one latches
+// gauge_no_round_surface (the feed held) once armed — the spindle turns too fast for the
+// interruptions and their guard; the scenario's check refuses such a part beforehand.
+//
+// A per-revolution peak-hold (the least amplitude over a revolution: the round surface read as
+// the largest size) is not right for this transducer: the probe's short swings after a flat read
+// smaller than the round surface's (measured: the hold ended a part with 100 µm flats at the
+// backstop). The angle tells which samples the round surface gave; the amplitude does not.
+//
 // The relay arms arm_after_s after a (re)arm: the filter has settled on the contact by then (a
 // fall of S through a threshold as the probe first touches is not a trip).
 // Real-time: configure() allocates and may throw core::ParameterError naming its own parameter;
@@ -134,6 +152,8 @@ class GaugeMachine {
   std::vector<double> cycle_;
   std::size_t cycle_pos_ = 0, cycle_n_ = 0;
   double guard_left_s_ = 0.0;
+  std::size_t round_n_ = 0;  // samples written to the ring since the last bridge
+  bool bridging_ = false;
 };
 
 }  // namespace lathectl::control

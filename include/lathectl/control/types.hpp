@@ -39,6 +39,7 @@ enum class Reason : std::uint16_t {
   GaugeSize = 62,
   GaugeSignalLost = 63,
   GaugeUnreachable = 64,
+  GaugeNoRoundSurface = 65,
   SlideOff = 70,
   ModulationNoIdle = 55,
 };
@@ -137,6 +138,11 @@ inline constexpr ReasonInfo kReasons[] = {
     {Reason::ModulationNoIdle, "modulation_no_idle", false, "B",
      "Vibration is seen but no idle power is stored yet (no idle block has run, no idle table): "
      "the motor's whole power would be taken for cutting power, so no modulation is planned."},
+    {Reason::GaugeNoRoundSurface, "gauge_no_round_surface", true, "D",
+     "The gauge bridges the interruptions (keyways, flats) with the round surface read before "
+     "each, but they come too close together for the probe to settle and read it whole between "
+     "them (the spindle too fast for them and their guard): the size cannot be read, so the feed "
+     "is held until the gauge is re-armed."},
 };
 inline constexpr int kReasonCount = static_cast<int>(sizeof(kReasons) / sizeof(kReasons[0]));
 // The operation log ORs reason_bit() of every reason seen into one 32-bit word.

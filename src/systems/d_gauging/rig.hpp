@@ -48,7 +48,8 @@ struct GaugingCycle {
 // `depth_m` deep at its middle on a part of radius `radius_m`: the surface (R − h)/cos φ within
 // |φ| < acos(1 − h/R)), equally spaced, turning at `spindle_rpm`; each part starts at its own
 // random angle. `gate`: the machine knows where they are (the drawing, the spindle's angle) and
-// bridges them, with `guard_s` after each (GaugeMachine's gate); false: it reads them as size.
+// bridges them, with `guard_s` after each while the probe settles (GaugeMachine's gate); false:
+// it reads them as size.
 struct Interruption {
   enum class Kind { None, Keyway, Flats };
   Kind kind = Kind::None;
@@ -72,6 +73,23 @@ struct Interruption {
   [[nodiscard]] double revolution_s() const { return 60.0 / spindle_rpm; }
   // The mean delay the bridges add to the signal (GaugeMachine::bridge_lag_s), 0 ungated.
   [[nodiscard]] double bridge_lag_s(double supply_Hz) const;
+  // The round surface between two interruptions once the probe has settled (the pitch less one
+  // interruption and its guard) [s]: the bridge needs two supply periods of it.
+  [[nodiscard]] double round_stretch_s() const;
+};
+
+// The spindle's angle between the updates of its encoder: LinuxCNC's spindle.N.revs comes from
+// the servo thread (every 1 ms: 3.6° at 600 rpm), the gauge and its plant run in the base thread
+// (100 µs). Extrapolated at the speed of its last two changes, never past one more change's worth.
+class SpindleAngle {
+ public:
+  // The angle [revolutions] now, from the encoder's `revs` read `dt_s` after the last call.
+  double update(double revs, double dt_s) noexcept;
+  [[nodiscard]] double speed_rev_per_s() const noexcept { return speed_; }
+
+ private:
+  double last_ = std::numeric_limits<double>::quiet_NaN();
+  double since_ = 0.0, speed_ = 0.0, interval_ = 0.0;
 };
 
 struct GaugingProcess {

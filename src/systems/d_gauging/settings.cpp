@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <string>
 #include <stdexcept>
@@ -174,18 +175,36 @@ void read_interruption(TableReader& root, Settings& d) {
   t->read({"spindle_rpm", {0.0, 1e5, true, false}, "the part's speed"}, ir.spindle_rpm);
   t->read({"gate", {},
            "the machine knows where they are (drawing and spindle angle) and bridges the samples "
-           "they pass under the probe with the last probe period on the round surface; false: "
-           "it reads them as size"},
+           "they pass under the probe, and guard_ms after, with the last two supply periods read "
+           "on the round surface; false: it reads them as size"},
           ir.gate);
   t->read({"guard_ms", Range::closed(0, 1e4),
            "after each interruption, samples still bridged while the probe settles on the round "
            "surface again",
            kMs},
           ir.guard_s);
-  t->check(ir.count * (2.0 * ir.half_span_rad() / (2.0 * std::numbers::pi) * ir.revolution_s() +
-                       ir.guard_s) <
-               0.5 * ir.revolution_s(),
-           "count", "the interruptions and their guards must leave half the revolution round");
+  // The bridge replays the two supply periods read on the settled round surface before each
+  // interruption: they must fit between one interruption's guard and the next (GaugeMachine
+  // alarms gauge_no_round_surface otherwise; gauge_machine.hpp says what happens without).
+  t->check(ir.count * 2.0 * ir.half_span_rad() < 2.0 * std::numbers::pi, "count",
+           "the interruptions must leave part of the surface round");
+  if (t->is_describing()) {
+    t->check(true, "spindle_rpm",
+             "gate: each interruption and guard_ms must leave two supply periods of round "
+             "surface before the next (what the bridge replays)");
+  } else if (ir.gate) {
+    const double need = 2.0 / d.transducer.supply_Hz;
+    const double span = 2.0 * ir.half_span_rad() / (2.0 * std::numbers::pi);  // of a revolution
+    const double fastest = 60.0 * (1.0 / ir.count - span) / (need + ir.guard_s);
+    char msg[320];
+    std::snprintf(msg, sizeof msg,
+                  "the interruptions come every %.1f ms: each with its guard_ms leaves %.1f ms of "
+                  "settled round surface before the next, less than the two supply periods (%.1f "
+                  "ms) the bridge replays; at most %.0f rpm with this guard",
+                  1e3 * ir.revolution_s() / ir.count, std::max(0.0, 1e3 * ir.round_stretch_s()),
+                  1e3 * need, std::floor(fastest));
+    t->check(ir.round_stretch_s() >= need, "spindle_rpm", msg);
+  }
   t->finish();
 }
 
@@ -291,11 +310,34 @@ double Interruption::depth_at(double theta) const {
   return radius_m - (radius_m - depth_m) / std::cos(from_middle_rad(theta));
 }
 
+double Interruption::round_stretch_s() const {
+  const double rev = revolution_s();
+  return rev / count - 2.0 * half_span_rad() / (2.0 * std::numbers::pi) * rev - guard_s;
+}
+
 double Interruption::bridge_lag_s(double supply_Hz) const {
   if (!any() || !gate) return 0.0;
   const double rev = revolution_s();
   const double span = 2.0 * half_span_rad() / (2.0 * std::numbers::pi) * rev;
   return control::GaugeMachine::bridge_lag_s(span + guard_s, count, rev, supply_Hz);
+}
+
+double SpindleAngle::update(double revs, double dt_s) noexcept {
+  if (!std::isfinite(revs)) {
+    last_ = revs;
+    speed_ = 0.0;
+    return revs;
+  }
+  since_ += dt_s;
+  if (revs != last_) {
+    if (std::isfinite(last_)) {
+      speed_ = (revs - last_) / since_;
+      interval_ = since_;
+    }
+    last_ = revs;
+    since_ = 0.0;
+  }
+  return last_ + speed_ * std::min(since_, interval_);
 }
 
 GaugingCycle gauging_cycle(const Sequence& s, const design::GaugeLine& line,

@@ -472,6 +472,7 @@ void GaugingStudy::cycle_and_interruption(io::RunOutput& out, Claims& claims) co
         {"gate", ir.gate},
         {"guard_ms", json_number(ir.guard_s * 1e3)},
         {"bridge_lag_ms", json_number(bridge * 1e3)},
+        {"round_stretch_ms", json_number(ir.round_stretch_s() * 1e3)},
         {"finished_error_um", json_number(full_err_um_)},
         {"ungated_finished_error_um", json_number(ungated_um)},
         {"ungated_backstop", ungated.backstop}};
