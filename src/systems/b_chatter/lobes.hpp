@@ -36,6 +36,11 @@ inline constexpr int kMaxLobes = 5000;            // lobes down to min_rpm (and 
 inline constexpr double kMaxBytes = 2.0 * 1024 * 1024 * 1024;  // estimated peak memory
 inline constexpr double kMaxSeconds = 3600.0;     // estimated time on this machine's threads
 
+// Frequency grid of the lobes, 0.5·f_min..2·f_max: dense lobes (a slender part at low speed, a
+// stiff tool mode far above) need ~0.1 Hz near each mode, or the envelope overshoots at the
+// lobe crossings by tens of per cent (measured on examples/machines/b_part.toml).
+inline constexpr int kFrequencyPoints = 40000;
+
 struct LobesPart {
   dynamics::BeamPart beam;
   std::string support = "centres";  // "centres", "chuck", "chuck_tailstock"
@@ -139,6 +144,16 @@ std::vector<dynamics::Mode> part_modes_at(const LobesPart& part, double x_m);
 double part_first_mode_Hz(const LobesPart& part, double x_m);
 double part_static_stiffness(const LobesPart& part, double x_m);
 dynamics::ChatterSystem lobes_modal_system_at(const LobesInput& in, double x_m);
+// A machine file's structure at the tool as modes, for what needs modes beside the lobes (rig B's
+// time-domain simulation, `optimize`'s chatter margin): its [[mode]]s and the modes fitted to its
+// [[frf]]s (the fit the semi-discretization uses; the measured FRF itself only the frequency
+// domain can read). A [part] is not part of it: the scenario describes its own part.
+std::vector<dynamics::Mode> structure_modes(const LobesInput& in);
+// The machine file named by the string `key` of table `t` (relative to t's file), read whole
+// (every error of it as `lathectl lobes` gives it, after t's file and key) and refused at `key`
+// when it describes a [part]; its structure_modes, at most max_modes of them. Describing: none.
+std::vector<dynamics::Mode> read_structure_file(io::TableReader& t, std::string_view key,
+                                                std::size_t max_modes);
 // Fills in.measured from in.frfs (sum, fit, smoothing); throws std::invalid_argument when the
 // FRF has no peak to fit.
 void measure_frfs(LobesInput& in);
