@@ -147,7 +147,12 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
                                       in.measured->oriented.frequency_Hz.back()}},
                          {"fitted_modes", fitted},
                          {"fit_relative_residual", in.measured->fit.residual},
-                         {"smoothing_half_window_Hz", in.measured->smoothing_half_window_Hz}};
+                         {"smoothing_half_window_Hz", in.measured->smoothing_half_window_Hz},
+                         {"samples_per_bandwidth", in.measured->samples_per_bandwidth},
+                         {"frequency_domain_reads",
+                          in.measured->read_directly
+                              ? "the measured FRF against its fit"
+                              : "the fit and its residual's slow part (sampled too coarsely)"}};
   }
   if (in.system.modes.size() == 1 && in.system.frfs.empty()) {
     const auto& m = in.system.modes[0];
@@ -460,10 +465,20 @@ nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_
     const auto& m = *in.measured;
     rep.metrics.emplace_back("measured FRF: modal fit's relative residual √(Σ|H−Ĥ|²/Σ|H|²)",
                              fmt(m.fit.residual, "%.3g"));
-    rep.metrics.emplace_back("measured FRF: smoothing half-window for the frequency domain [Hz]",
+    rep.metrics.emplace_back("measured FRF: smoothing half-window of its residual from the fit "
+                             "[Hz]",
                              fmt(m.smoothing_half_window_Hz, "%.3g"));
+    rep.metrics.emplace_back(
+        "measured FRF: samples across the sharpest peak's half-power band",
+        fmt(m.samples_per_bandwidth, "%.3g") +
+            (m.read_directly ? " — the frequency-domain lobes read the FRF against its fit"
+                             : " — below " + fmt(dynamics::kMinSamplesPerBandwidth, "%.0f") +
+                                   ": the residual's window is widened, the frequency-domain "
+                                   "lobes read the fit and the residual's slow part (a "
+                                   "coarsely sampled peak read directly leaves its noise in "
+                                   "the limit)"));
     Table tf{"Modes fitted to the measured FRF (semi-discretization and the chart use these; the "
-             "frequency-domain lobes read the FRF itself)",
+             "frequency-domain lobes read the FRF against them)",
              {"natural frequency [Hz]", "damping ratio", "stiffness [N/µm]"},
              {}};
     for (const auto& md : m.fit.modes)

@@ -77,12 +77,18 @@ struct LobesFrf {
   dynamics::Frf frf;      // receptance as read [m/N]
 };
 
-// The measured side of the machine: the oriented sum of the [[frf]]s, as measured, smoothed for
-// the frequency domain, and fitted with modes for everything that needs modes.
+// The measured side of the machine: the oriented sum of the [[frf]]s, as measured, fitted with
+// modes for everything that needs modes, and what the frequency-domain lobes read: the FRF
+// against its fit (dynamics::smooth_against_fit: the fit plus the residual smoothed) when the
+// sharpest peak is sampled finely enough (dynamics::kMinSamplesPerBandwidth); coarser, the
+// residual's window is dynamics::kCoarseWindowFactor times wider (read_directly false: the
+// lobes then read the fit and only the residual's slow part, and the report says so).
 struct LobesMeasured {
   dynamics::Frf oriented;  // Σ weight·FRF on the first file's grid, where every file is measured
-  dynamics::Frf smoothed;  // what the frequency-domain lobes read (smooth_frf)
-  double smoothing_half_window_Hz = 0.0;
+  dynamics::Frf smoothed;  // what the frequency domain reads: the FRF against its fit
+  double smoothing_half_window_Hz = 0.0;  // of the residual from the fit
+  double samples_per_bandwidth = 0.0;  // across the sharpest fitted peak's half-power band
+  bool read_directly = true;           // false: sampled too coarsely, the window widened
   dynamics::FrfFit fit;
 };
 
@@ -137,7 +143,8 @@ LobesInput parse_lobes_input(std::string_view text, const std::string& file_labe
 // The machine file's keys, with their ranges, defaults and meaning (the reader run without a file).
 io::ParamLog describe_machine_file();
 // The modes seen at the tool with the cutting position at x_m: the part's plus the tool's, plus
-// the measured FRF (smoothed); the modal one has the FRF's fitted modes instead.
+// the measured FRF (LobesMeasured: as read, or its fitted modes when sampled too coarsely); the
+// modal one has the FRF's fitted modes instead.
 dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m);
 // The part's modes at x_m in its set-up; its first mode's frequency and static stiffness there.
 std::vector<dynamics::Mode> part_modes_at(const LobesPart& part, double x_m);

@@ -110,8 +110,12 @@ void measure_frfs(LobesInput& in) {
   }
   m.oriented = dynamics::sum_frfs(weighted);
   m.fit = dynamics::fit_modes(m.oriented);
-  m.smoothing_half_window_Hz = dynamics::smoothing_half_window_Hz(m.fit);
-  m.smoothed = dynamics::smooth_frf(m.oriented, m.smoothing_half_window_Hz, dynamics::kSmoothingOrder);
+  m.samples_per_bandwidth = dynamics::samples_per_bandwidth(m.oriented, m.fit);
+  m.read_directly = m.samples_per_bandwidth >= dynamics::kMinSamplesPerBandwidth;
+  m.smoothing_half_window_Hz = dynamics::smoothing_half_window_Hz(m.fit) *
+                               (m.read_directly ? 1.0 : dynamics::kCoarseWindowFactor);
+  m.smoothed = dynamics::smooth_against_fit(m.oriented, m.fit, m.smoothing_half_window_Hz,
+                                            dynamics::kSmoothingOrder);
   in.measured = std::move(m);
 }
 
