@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -28,8 +29,12 @@ std::complex<double> frf_at(const Frf& frf, double f_Hz) noexcept {
   if (it == f.end()) return frf.receptance_m_per_N.back();
   const auto i = static_cast<std::size_t>(it - f.begin());  // f[i-1] ≤ f_Hz < f[i], i ≥ 1
   const double t = (f_Hz - f[i - 1]) / (f[i] - f[i - 1]);
-  return frf.receptance_m_per_N[i - 1] +
-         t * (frf.receptance_m_per_N[i] - frf.receptance_m_per_N[i - 1]);
+  if (frf.baseline.empty())
+    return frf.receptance_m_per_N[i - 1] +
+           t * (frf.receptance_m_per_N[i] - frf.receptance_m_per_N[i - 1]);
+  const auto r0 = frf.receptance_m_per_N[i - 1] - modal_frf(frf.baseline, f[i - 1]);
+  const auto r1 = frf.receptance_m_per_N[i] - modal_frf(frf.baseline, f[i]);
+  return modal_frf(frf.baseline, f_Hz) + r0 + t * (r1 - r0);
 }
 
 std::complex<double> modal_frf(const std::vector<Mode>& modes, double f_Hz) noexcept {
@@ -214,13 +219,37 @@ FrfFit fit_modes(const Frf& frf, int max_modes) {
   return best;
 }
 
+Frf smooth_against_fit(const Frf& frf, const FrfFit& fit, double hw, int order) {
+  check_frf(frf);
+  Frf residual = frf;
+  residual.baseline.clear();
+  for (std::size_t i = 0; i < frf.frequency_Hz.size(); ++i)
+    residual.receptance_m_per_N[i] -= modal_frf(fit.modes, frf.frequency_Hz[i]);
+  Frf out = smooth_frf(residual, hw, order);
+  for (std::size_t i = 0; i < out.frequency_Hz.size(); ++i)
+    out.receptance_m_per_N[i] += modal_frf(fit.modes, out.frequency_Hz[i]);
+  out.baseline = fit.modes;
+  return out;
+}
+
 double smoothing_half_window_Hz(const FrfFit& fit) noexcept {
   double hw = 0.0;
   for (const auto& m : fit.modes) {
-    const double w = 0.75 * m.damping_ratio * m.natural_frequency_Hz;
+    const double w = 3.0 * m.damping_ratio * m.natural_frequency_Hz;
     if (hw == 0.0 || w < hw) hw = w;
   }
   return hw;
+}
+
+double samples_per_bandwidth(const Frf& frf, const FrfFit& fit) {
+  check_frf(frf);
+  std::vector<double> df(frf.frequency_Hz.size() - 1);
+  for (std::size_t i = 0; i < df.size(); ++i) df[i] = frf.frequency_Hz[i + 1] - frf.frequency_Hz[i];
+  std::nth_element(df.begin(), df.begin() + static_cast<std::ptrdiff_t>(df.size() / 2), df.end());
+  const double spacing = df[df.size() / 2];
+  double band = std::numeric_limits<double>::infinity();
+  for (const auto& m : fit.modes) band = std::min(band, 2.0 * m.damping_ratio * m.natural_frequency_Hz);
+  return band / spacing;
 }
 
 Frf sum_frfs(const std::vector<Frf>& frfs) {

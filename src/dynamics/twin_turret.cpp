@@ -35,6 +35,13 @@ void TwinTurretCut::configure(const Params& p, double dt) {
   require(pd.k_sp_N_per_m3 >= 0.0 && pd.wear_land_mm >= 0.0 && pd.flank_length_mm > 0.0 &&
               pd.clearance_deg > 0.0 && pd.clearance_deg < 45.0,
           "process damping: K_sp, VB ≥ 0, flank length > 0, clearance in (0°, 45°)");
+  require(p.tool_modes.size() <= static_cast<std::size_t>(kMaxToolModes),
+          "at most " + std::to_string(kMaxToolModes) + " tool modes");
+  for (const Mode& m : p.tool_modes)
+    require(m.stiffness_N_per_m > 0.0 && m.natural_frequency_Hz > 0.0 && m.damping_ratio > 0.0 &&
+                m.damping_ratio < 1.0 && std::isfinite(m.stiffness_N_per_m) &&
+                std::isfinite(m.natural_frequency_Hz) && std::isfinite(m.angle_rad),
+            "a tool mode needs k > 0, f_n > 0 and 0 < ζ < 1");
   p_ = p;
   p_.cutting.form = cutting::ForceForm::Kienzle;
   cut_.configure(p_.cutting);
@@ -102,6 +109,24 @@ void TwinTurretCut::configure(const Params& p, double dt) {
     e.last_cell = static_cast<long long>(
         std::floor(-e.alpha / (2.0 * kPi) * static_cast<double>(cells_per_rev_)));
 
+  // The tool's modes along the radial line: k/cos²θ (a mode across it is not coupled).
+  n_tool_modes_ = static_cast<int>(p.tool_modes.size());
+  for (int j = 0; j < n_tool_modes_; ++j) {
+    const Mode& m = p.tool_modes[static_cast<std::size_t>(j)];
+    const double c2 = std::cos(m.angle_rad) * std::cos(m.angle_rad);
+    const double wn = 2.0 * kPi * m.natural_frequency_Hz, z = m.damping_ratio;
+    const double wd = wn * std::sqrt(1.0 - z * z), s = z * wn;
+    const double e = std::exp(-s * dt_), c = std::cos(wd * dt_), sn = std::sin(wd * dt_);
+    tphi11_[j] = e * (c + s / wd * sn);
+    tphi12_[j] = e * sn / wd;
+    tphi21_[j] = -wn * wn * tphi12_[j];
+    tphi22_[j] = e * (c - s / wd * sn);
+    // Force F along the line: q̈ + 2ζω q̇ + ω² q = ω²·F·cos²θ/k, so the gains of the part's modes
+    // with 1/k and 1/m scaled by cos²θ.
+    const double compliance = c2 > 1e-12 ? c2 / m.stiffness_N_per_m : 0.0;
+    tg1_[j] = (1.0 - tphi11_[j]) * compliance;
+    tg2_[j] = tphi12_[j] * wn * wn * compliance;
+  }
   for (int j = 0; j < kMaxModes; ++j) q_[j] = qd_[j] = shape_[j] = 0.0;
   modes_at_mm_ = -1e9;
   update_modes(p.z_start_mm);
@@ -242,7 +267,8 @@ void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept
   e.s_mm = z_mm - z_read;
   const double d_read = e.axial ? surface_over(e, cell, std::min(z_read, z_mm), z_mm)
                                 : read(rings_[e.d_ring].d, at(e.d_lag_rev));
-  e.b_mm = e.t0_mm + (e.sigma * y_ + e.d_weight * d_read) * 1e3;
+  const double pen = e.sigma * y_ - e.u;  // the tool's penetration into the part
+  e.b_mm = e.t0_mm + (pen + e.d_weight * d_read) * 1e3;
   e.cutting = e.b_mm > 0.0 && e.s_mm > 0.0;
   if (e.cutting) {
     const double v = kPi * p_.part.diameter_m * rpm;  // m/min
@@ -254,7 +280,7 @@ void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept
   }
   e.fd = 0.0;
   if (!e.hist.empty()) {
-    const double pd = ploughing(e, e.sigma * y_, kPi * p_.part.diameter_m * rpm / 60.0);
+    const double pd = ploughing(e, pen, kPi * p_.part.diameter_m * rpm / 60.0);
     if (e.cutting) e.fd = pd;
   }
   // Write the cells swept since the last step: the new surface where the tool cut; where it did
@@ -268,7 +294,7 @@ void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept
   for (long long c = from; c <= now; ++c) {
     const auto i = static_cast<std::size_t>(((c % m) + m) % m);
     if (e.cutting) {
-      w.d[i] = -e.sigma * y_;
+      w.d[i] = -pen;
       w.z[i] = z_mm;
     } else if (back > 0) {
       const auto q = static_cast<std::size_t>((((c - back) % m) + m) % m);
@@ -293,6 +319,19 @@ void TwinTurretCut::step(double theta, double rpm, const double z_mm[2]) noexcep
     q_[j] = q;
     qd_[j] = qd;
     y_ += q;
+  }
+  for (int i = 0; i < n_tools_; ++i) {  // each tool under its own force, pushed off the part
+    Edge& e = edges_[i];
+    const double f = e.fp + e.fd;
+    e.u = 0.0;
+    for (int j = 0; j < n_tool_modes_; ++j) {
+      const double q = tphi11_[j] * e.tq[j] + tphi12_[j] * e.tqd[j] + tg1_[j] * f;
+      const double qd = tphi21_[j] * e.tq[j] + tphi22_[j] * e.tqd[j] + tg2_[j] * f;
+      e.tq[j] = q;
+      e.tqd[j] = qd;
+      e.u += q;
+    }
+    if (!std::isfinite(e.u) || std::abs(e.u) > 0.05) sound_ = false;
   }
   if (!std::isfinite(y_) || std::abs(y_) > 0.05) sound_ = false;
 }

@@ -6,6 +6,7 @@
 #include <limits>
 #include <string>
 
+#include "lathectl/io/errors.hpp"
 #include "optimize/optimize.hpp"
 #include "systems/b_chatter/lobes.hpp"
 
@@ -40,6 +41,22 @@ ChipStiffness chip_stiffness(const cutting::CuttingModel& cut, const cutting::Cu
 double chatter_margin(double k_lim, const ChipStiffness& g) noexcept {
   if (!(g.k_N_per_m > 0.0) || !std::isfinite(k_lim)) return kInf;
   return std::pow(k_lim / g.k_N_per_m, 1.0 / g.depth_exponent);
+}
+
+ChatterLimit::ChatterLimit(systems::e_adaptive::Chatter ch) : ch_(std::move(ch)) {
+  if (ch_.machine_file.empty()) return;
+  systems::b_chatter::LobesInput in;
+  try {
+    in = systems::b_chatter::load_lobes_input(ch_.machine_file);
+  } catch (const io::InputError& e) {
+    throw io::InputError(ch_.machine_file_at_key + ": the machine file: " + e.what());
+  }
+  if (in.part)
+    throw io::InputError(ch_.machine_file_at_key + ": the machine file " + ch_.machine_file +
+                         " describes a [part]; here [chatter.part] is the part: the machine file "
+                         "gives the tool's side only ([[mode]], [[frf]])");
+  const auto modes = systems::b_chatter::structure_modes(in);
+  ch_.tool_modes.insert(ch_.tool_modes.end(), modes.begin(), modes.end());
 }
 
 dynamics::ChatterSystem ChatterLimit::system_at(double z_stock_mm, double diameter_mm) const {

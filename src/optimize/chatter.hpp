@@ -61,7 +61,9 @@ double chatter_margin(double k_lim_N_per_m, const ChipStiffness& g) noexcept;
 // position (1 mm), diameter (0.1 mm) and speed band (1 %) and kept.
 class ChatterLimit {
  public:
-  explicit ChatterLimit(systems::e_adaptive::Chatter ch) : ch_(std::move(ch)) {}
+  // Reads [chatter] machine_file (system B's reader: every error of the machine file, after the
+  // scenario's key; a [part] in it refused): its modes join the tool's. Throws io::InputError.
+  explicit ChatterLimit(systems::e_adaptive::Chatter ch);
   [[nodiscard]] bool enabled() const { return ch_.enabled(); }
   // The modes seen at the tool at stock z with the part's diameter there (kf_N_per_m2 = 1).
   [[nodiscard]] dynamics::ChatterSystem system_at(double z_stock_mm, double diameter_mm) const;

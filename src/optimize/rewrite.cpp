@@ -237,10 +237,11 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
   Result r;
   r.limit = e.rig.controller.force_limit;
   const auto& moves = p.canon.moves;
+  // With [chatter]: the margin of every sample in cut (chatter.hpp), which the feeds respect
+  // (first: its machine file's errors before the prediction's work).
+  ChatterLimit chatter(e.chatter);
   r.original = programmed(p.canon);
   r.before = predict(p.canon, r.original, e, opt);
-  // With [chatter]: the margin of every sample in cut (chatter.hpp), which the feeds respect.
-  ChatterLimit chatter(e.chatter);
   cutting::CuttingModel cut;
   cut.configure(e.rig.cutting);
   r.chatter = chatter.enabled();

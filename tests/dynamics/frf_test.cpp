@@ -102,44 +102,102 @@ TEST(FrfFit, RecoversTheModesOfANoisyTapTest) {
   }
 }
 
-// Lobes read directly from the measured FRF (smoothed: smoothing_half_window_Hz, quartic)
-// against the lobes of the modes that made it: the absolute limit within 1 %, the pocket tops
-// (the lobes' crossings) within 0.5 % in speed; and the same from the fitted modes. Three noise
-// levels, three noise realisations each. At 3 % noise the direct limit is off by up to 1.07 %
-// (seed 37: the minimum of what noise the window leaves), so there the 1 % holds for the fitted
-// modes only, which is why the report offers both and the semi-discretization uses the fit.
+// What the frequency-domain lobes read from a measured FRF (smooth_against_fit at
+// smoothing_half_window_Hz, widened kCoarseWindowFactor times below kMinSamplesPerBandwidth), and
+// the fitted modes alone, against the lobes of the modes that made it, over noise draws: the
+// absolute limit (the "minimum depth within 1 %") and the pocket tops in speed (0.5 %).
+// Measured on 50 draws per cell (seeds 1000–1049; the worst |b/b_true − 1|; ±24ζf: 20 draws):
+//   spacing  noise   | raw FRF smoothed ±¾ζf (before) | against its fit ±3ζf | ±24ζf  | fitted modes
+//   0.05 Hz  1/2/3 % | 0.99 / 2.04 / 3.08 %           | 0.35 / 0.70 / 1.08 % |        | 0.20 / 0.40 / 0.61 %
+//   0.10 Hz  1/2/3 % | 1.29 / 2.42 / 3.70 %           | 0.64 / 1.30 / 1.95 % |        | 0.29 / 0.58 / 0.86 %
+//   0.25 Hz  1/2/3 % | 1.82 / 3.62 / 5.89 %           | 1.05 / 2.05 / 3.05 % | 0.54 / 1.08 / 1.62 % | 0.56 / 1.12 / 1.68 %
+//   0.50 Hz  1 %     | 3.41 %                         | 1.73 %               |        | 0.65 %
+// Draws over 1 % against the fit at ±3ζf: 0, 0, 1 of 50 at 0.05 Hz; 0, 3, 18 at 0.1 Hz. The fit
+// weighs every sample of the peak, a direct reading takes the minimum of what its window's noise
+// leaves; a coarse peak (0.25 Hz: 12 samples across the 150 Hz peak's half-power band) leaves
+// too few samples in ±3ζf, hence the wider window there. The 1 % holds at 0.05 Hz up to 3 %
+// noise (1 draw in 50 at 1.08 %), at 0.25 Hz up to 1 %; beyond, no reading of these samples
+// does (the fitted modes neither). Here 10 draws per cell keep the test short; the bounds are the
+// 50 draws' worst.
 TEST(FrfLobes, FromTheMeasuredFrfAsFromTheModes) {
   const double kf = 1e9;
   ChatterSystem truth{two_modes(), kf};
-  for (const double noise : {0.01, 0.02, 0.03})
-    for (const unsigned seed : {35u, 36u, 37u}) {
-      const auto frf = synthetic(truth.modes, 50.0, 500.0, 0.05, noise, seed);
+  const double b_true = frequency_domain_lobes(truth, 1000.0, 12000.0, 1, 40000).critical_depth_m;
+  struct Cell {
+    double df, noise, direct_max, fitted_max;
+  };
+  for (const Cell c : {Cell{0.05, 0.01, 0.0040, 0.0025}, Cell{0.05, 0.03, 0.0110, 0.0065},
+                       Cell{0.25, 0.01, 0.0060, 0.0060}, Cell{0.25, 0.03, 0.0170, 0.0170}}) {
+    double worst_direct = 0.0, worst_fitted = 0.0;
+    int read_directly = 0;
+    for (unsigned seed = 1000; seed < 1010; ++seed) {
+      const auto frf = synthetic(truth.modes, 50.0, 500.0, c.df, c.noise, seed);
       const auto fit = fit_modes(frf);
-      const double hw = smoothing_half_window_Hz(fit);
-      const auto t0 = std::chrono::steady_clock::now();
-      ChatterSystem direct{{}, kf, {smooth_frf(frf, hw, kSmoothingOrder)}};
-      (void)frequency_domain_lobes(direct, 1000.0, 12000.0, 40, 40000);
-      const double ms =
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      ChatterSystem raw{{}, kf, {frf}};
-      ChatterSystem fitted{fit.modes, kf};
-      const auto d = compare(truth, direct, 1000.0, 12000.0);
-      const auto r = compare(truth, raw, 1000.0, 12000.0);
-      const auto f = compare(truth, fitted, 1000.0, 12000.0);
-      std::printf("noise %.0f %% seed %u: smoothing ±%.3f Hz; direct min depth %.3f %%, tops "
-                  "%.3f %% (%d); unsmoothed %.3f %% / %.3f %%; fitted modes %.3f %% / %.3f %%; "
-                  "smoothing + lobes %.0f ms\n",
-                  noise * 100, seed, hw, d.min_depth_rel * 100, d.worst_top_rel * 100, d.tops,
-                  r.min_depth_rel * 100, r.worst_top_rel * 100, f.min_depth_rel * 100,
-                  f.worst_top_rel * 100, ms);
-      EXPECT_GT(d.tops, 5);
-      if (noise < 0.025) {
-        EXPECT_LT(d.min_depth_rel, 0.01) << "noise " << noise << " seed " << seed;
-      }
-      EXPECT_LT(d.worst_top_rel, 0.005) << "noise " << noise << " seed " << seed;
-      EXPECT_LT(f.min_depth_rel, 0.01) << "noise " << noise << " seed " << seed;
-      EXPECT_LT(f.worst_top_rel, 0.005) << "noise " << noise << " seed " << seed;
+      const bool direct = samples_per_bandwidth(frf, fit) >= kMinSamplesPerBandwidth;
+      const auto against = smooth_against_fit(
+          frf, fit, smoothing_half_window_Hz(fit) * (direct ? 1.0 : kCoarseWindowFactor),
+          kSmoothingOrder);
+      read_directly += direct;
+      auto rel = [&](const ChatterSystem& s) {
+        return std::abs(frequency_domain_lobes(s, 1000.0, 12000.0, 1, 40000).critical_depth_m /
+                            b_true - 1.0);
+      };
+      const double d = rel(ChatterSystem{{}, kf, {against}});
+      const double f = rel(ChatterSystem{fit.modes, kf});
+      worst_direct = std::max(worst_direct, d);
+      worst_fitted = std::max(worst_fitted, f);
     }
+    std::printf("%.2f Hz, %.0f %% noise: worst over 10 draws: what the lobes read (the FRF against "
+                "its fit, the window widened in %d) %.3f %%, fitted modes %.3f %%\n",
+                c.df, c.noise * 100, 10 - read_directly, worst_direct * 100, worst_fitted * 100);
+    EXPECT_LT(worst_direct, c.direct_max) << c.df << " Hz " << c.noise;
+    EXPECT_LT(worst_fitted, c.fitted_max) << c.df << " Hz " << c.noise;
+    EXPECT_EQ(read_directly, c.df < 0.1 ? 10 : 0);  // 2ζf = 3 Hz at 150 Hz: 60 or 12 samples
+  }
+  // The pocket tops (the lobes' crossings, where a speed is chosen) within 0.5 % in speed, and the
+  // limit within 1 %, from what the lobes read at 0.05 Hz and 3 % noise (one draw).
+  const auto frf = synthetic(truth.modes, 50.0, 500.0, 0.05, 0.03, 35u);
+  const auto fit = fit_modes(frf);
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto against = smooth_against_fit(frf, fit, smoothing_half_window_Hz(fit), kSmoothingOrder);
+  ChatterSystem direct{{}, kf, {against}};
+  (void)frequency_domain_lobes(direct, 1000.0, 12000.0, 40, 40000);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  const auto d = compare(truth, direct, 1000.0, 12000.0);
+  const auto f = compare(truth, ChatterSystem{fit.modes, kf}, 1000.0, 12000.0);
+  std::printf("0.05 Hz, 3 %% noise, seed 35: against the fit: limit %.3f %%, tops %.3f %% (%d); "
+              "fitted modes %.3f %% / %.3f %%; smoothing + lobes %.0f ms\n",
+              d.min_depth_rel * 100, d.worst_top_rel * 100, d.tops, f.min_depth_rel * 100,
+              f.worst_top_rel * 100, ms);
+  EXPECT_GT(d.tops, 5);
+  EXPECT_LT(d.min_depth_rel, 0.01);
+  EXPECT_LT(d.worst_top_rel, 0.005);
+  EXPECT_LT(f.min_depth_rel, 0.01);
+  EXPECT_LT(f.worst_top_rel, 0.005);
+}
+
+// The cause of the misses is the noise, not the interpolation between coarse samples: a
+// noise-free FRF at 0.5 Hz (6 samples across the 150 Hz peak's half-power band) read with
+// straight lines between samples is within 1e-4 of the modes' limit — the limit lies where Re Φ
+// has its broad minimum beside the peak, not on the peak — and read against the modes that made
+// it (Frf::baseline, the residual zero) it is their FRF everywhere.
+TEST(FrfLobes, CoarseSamplesAreNotTheError) {
+  const double kf = 1e9;
+  ChatterSystem truth{two_modes(), kf};
+  Frf frf = synthetic(truth.modes, 50.0, 500.0, 0.5, 0.0, 1u);
+  const double b_true = frequency_domain_lobes(truth, 1000.0, 12000.0, 1, 40000).critical_depth_m;
+  const double b_lines =
+      frequency_domain_lobes(ChatterSystem{{}, kf, {frf}}, 1000.0, 12000.0, 1, 40000)
+          .critical_depth_m;
+  frf.baseline = truth.modes;
+  const double b_fit =
+      frequency_domain_lobes(ChatterSystem{{}, kf, {frf}}, 1000.0, 12000.0, 1, 40000)
+          .critical_depth_m;
+  std::printf("0.5 Hz exact samples: straight lines %+.4f %%, against the modes %+.2e %%\n",
+              (b_lines / b_true - 1.0) * 100, (b_fit / b_true - 1.0) * 100);
+  EXPECT_NEAR(b_lines / b_true, 1.0, 1e-4);  // measured 2.2e-5
+  EXPECT_NEAR(b_fit / b_true, 1.0, 1e-9);
 }
 
 // Noise-free, the FRF path is the modal path up to the interpolation between samples.

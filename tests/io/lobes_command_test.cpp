@@ -223,16 +223,19 @@ TEST(LobesFrf, TapTestsAgainstTheirModes) {
   in_band.modes.erase(in_band.modes.begin() + 1);
   const auto a2 = dynamics::frequency_domain_lobes(in_band, 1000.0, 12000.0, 40, 40000);
   // From the fitted modes: within 1 % of the modes in the band (the 900 Hz mode's residual
-  // compliance raises the truth's limit by 1.3 %; the fit leaves it out). Read directly, at this file's 0.25 Hz sampling the
-  // smoothing window holds 18 samples instead of the synthetic test's 90, and the minimum of
-  // what noise it leaves lies 1.8 % low: never above the truth (a safe error), which is what
-  // is held here; tests/dynamics/frf_test.cpp holds the 1 % at 0.05 Hz.
+  // compliance raises the truth's limit by 0.8 %; the fit leaves it out; measured −0.46 %). At
+  // this file's 0.25 Hz the 150 Hz peak's half-power band holds 12 samples, under
+  // kMinSamplesPerBandwidth: the residual's window is widened, and read so the limit is within
+  // 1 % of the truth (read with the fine-sampling window it was 1.8 % low; the distribution
+  // over noise draws is in tests/dynamics/frf_test.cpp).
   std::printf("b_frf: absolute limit from the FRF %.4f mm, fitted modes %.4f mm, modes %.4f mm "
-              "(in the band %.4f mm)\n",
+              "(in the band %.4f mm); %.1f samples across the sharpest peak\n",
               b.critical_depth_m * 1e3, c.critical_depth_m * 1e3, a.critical_depth_m * 1e3,
-              a2.critical_depth_m * 1e3);
+              a2.critical_depth_m * 1e3, in.measured->samples_per_bandwidth);
+  EXPECT_FALSE(in.measured->read_directly);
+  EXPECT_NEAR(in.measured->samples_per_bandwidth, 12.0, 0.5);
   EXPECT_NEAR(c.critical_depth_m / a2.critical_depth_m, 1.0, 0.01);
-  EXPECT_LT(b.critical_depth_m / a.critical_depth_m, 1.0);
+  EXPECT_NEAR(b.critical_depth_m / a.critical_depth_m, 1.0, 0.01);
 }
 
 TEST(LobesFrf, MissingFileNamesTheMachineFileAndTheFrfFile) {

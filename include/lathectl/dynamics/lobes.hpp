@@ -41,6 +41,10 @@ struct Mode {
 struct Frf {
   std::vector<double> frequency_Hz;
   std::vector<std::complex<double>> receptance_m_per_N;
+  // Optional modes the samples are read against (dynamics/frf.hpp, frf_at): between samples the
+  // value is their FRF plus the samples' difference from it, interpolated — a lightly damped peak
+  // keeps the shape of its fitted mode instead of a straight line between coarse samples.
+  std::vector<Mode> baseline = {};
 };
 
 struct ChatterSystem {

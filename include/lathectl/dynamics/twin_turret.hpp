@@ -50,6 +50,13 @@
 // grows steeply once the surface slope ṗ/V exceeds tan γ: an amplitude-limiting nonlinearity
 // besides loss of contact. Small vibrations see on average the linear damping
 // K_sp·w·VB²/(4V) (Chiou & Liang's equivalent viscous coefficient).
+// Tool structure (optional): modes of each tool (the same for both turrets: each tool its own
+// copy, driven by its own radial force), fixed in space — a tool's or turret's modes, or the
+// modes fitted to a tap test (dynamics/frf.hpp) — in series with the part: tool i deflects away
+// from the part by u_i = Σ q_ij under +F_p,i (and the ploughing force), each mode an SDOF of
+// stiffness k/cos²θ along the radial line (θ its angle to it, as in a machine file) stepped
+// exactly like the part's. The tool's penetration into the part is then p_i = σ_i·y − u_i: it
+// replaces σ_i·y in the depth, the surface left and the ploughing.
 // Only the radial plane is modelled: F_c acts in the other bending plane, whose vibration does
 // not change the depth to first order.
 // configure() allocates the rings and may throw; step() never allocates.
@@ -59,6 +66,7 @@
 
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/dynamics/beam.hpp"
+#include "lathectl/dynamics/lobes.hpp"
 
 namespace lathectl::dynamics {
 
@@ -80,6 +88,7 @@ struct ProcessDamping {
 class TwinTurretCut {
  public:
   static constexpr int kMaxModes = 6;
+  static constexpr int kMaxToolModes = 12;
   struct Params {
     BeamPart part;
     int modes = 2;
@@ -100,6 +109,8 @@ class TwinTurretCut {
     // runs below it): sizes the surface memory the axial-position delay searches.
     double slowest_feed_fraction = 1.0;
     ProcessDamping process_damping{};
+    // Each tool's modes (see above), at most kMaxToolModes; empty: rigid tools.
+    std::vector<Mode> tool_modes{};
   };
   void configure(const Params& p, double dt_s);  // throws std::invalid_argument
   // One step: the spindle's cumulative angle [rad] and speed [rpm], and the tools' axial
@@ -113,6 +124,11 @@ class TwinTurretCut {
   [[nodiscard]] double chip_mm(int i) const noexcept { return edges_[i].s_mm; }
   [[nodiscard]] double depth_mm(int i) const noexcept { return edges_[i].b_mm; }
   [[nodiscard]] bool cutting(int i) const noexcept { return edges_[i].cutting; }
+  // Tool i's deflection away from the part [m] and its penetration into it σ_i·y − u_i [m].
+  [[nodiscard]] double tool_deflection_m(int i) const noexcept { return edges_[i].u; }
+  [[nodiscard]] double penetration_m(int i) const noexcept {
+    return edges_[i].sigma * y_ - edges_[i].u;
+  }
   // Σ F_c·D/2 and Σ F_c·V at the last step.
   [[nodiscard]] double torque_N_m() const noexcept;
   [[nodiscard]] double power_W(double rpm) const noexcept;
@@ -144,6 +160,8 @@ class TwinTurretCut {
     bool axial = false;  // the surface it meets is found from the axial positions
     long long pass_hint = 0;
     double fc = 0.0, fp = 0.0, fd = 0.0, b_mm = 0.0, s_mm = 0.0;
+    double u = 0.0;  // the tool's deflection away from the part
+    double tq[kMaxToolModes] = {}, tqd[kMaxToolModes] = {};
     // Penetration p = σ·y over the last steps (newest at hist_at), for the ploughing.
     std::vector<double> hist;
     std::size_t hist_at = 0;
@@ -168,6 +186,9 @@ class TwinTurretCut {
   double q_[kMaxModes] = {}, qd_[kMaxModes] = {};
   double phi11_[kMaxModes] = {}, phi12_[kMaxModes] = {}, phi21_[kMaxModes] = {},
          phi22_[kMaxModes] = {}, g1_[kMaxModes] = {}, g2_[kMaxModes] = {}, shape_[kMaxModes] = {};
+  int n_tool_modes_ = 0;
+  double tphi11_[kMaxToolModes] = {}, tphi12_[kMaxToolModes] = {}, tphi21_[kMaxToolModes] = {},
+         tphi22_[kMaxToolModes] = {}, tg1_[kMaxToolModes] = {}, tg2_[kMaxToolModes] = {};
   double modes_at_mm_ = -1e9;
   double y_ = 0.0;
   long long uncut_reads_ = 0, clipped_reads_ = 0;

@@ -36,6 +36,11 @@ inline constexpr int kMaxLobes = 5000;            // lobes down to min_rpm (and 
 inline constexpr double kMaxBytes = 2.0 * 1024 * 1024 * 1024;  // estimated peak memory
 inline constexpr double kMaxSeconds = 3600.0;     // estimated time on this machine's threads
 
+// Frequency grid of the lobes, 0.5·f_min..2·f_max: dense lobes (a slender part at low speed, a
+// stiff tool mode far above) need ~0.1 Hz near each mode, or the envelope overshoots at the
+// lobe crossings by tens of per cent (measured on examples/machines/b_part.toml).
+inline constexpr int kFrequencyPoints = 40000;
+
 struct LobesPart {
   dynamics::BeamPart beam;
   std::string support = "centres";  // "centres", "chuck", "chuck_tailstock"
@@ -72,12 +77,18 @@ struct LobesFrf {
   dynamics::Frf frf;      // receptance as read [m/N]
 };
 
-// The measured side of the machine: the oriented sum of the [[frf]]s, as measured, smoothed for
-// the frequency domain, and fitted with modes for everything that needs modes.
+// The measured side of the machine: the oriented sum of the [[frf]]s, as measured, fitted with
+// modes for everything that needs modes, and what the frequency-domain lobes read: the FRF
+// against its fit (dynamics::smooth_against_fit: the fit plus the residual smoothed) when the
+// sharpest peak is sampled finely enough (dynamics::kMinSamplesPerBandwidth); coarser, the
+// residual's window is dynamics::kCoarseWindowFactor times wider (read_directly false: the
+// lobes then read the fit and only the residual's slow part, and the report says so).
 struct LobesMeasured {
   dynamics::Frf oriented;  // Σ weight·FRF on the first file's grid, where every file is measured
-  dynamics::Frf smoothed;  // what the frequency-domain lobes read (smooth_frf)
-  double smoothing_half_window_Hz = 0.0;
+  dynamics::Frf smoothed;  // what the frequency domain reads: the FRF against its fit
+  double smoothing_half_window_Hz = 0.0;  // of the residual from the fit
+  double samples_per_bandwidth = 0.0;  // across the sharpest fitted peak's half-power band
+  bool read_directly = true;           // false: sampled too coarsely, the window widened
   dynamics::FrfFit fit;
 };
 
@@ -132,13 +143,24 @@ LobesInput parse_lobes_input(std::string_view text, const std::string& file_labe
 // The machine file's keys, with their ranges, defaults and meaning (the reader run without a file).
 io::ParamLog describe_machine_file();
 // The modes seen at the tool with the cutting position at x_m: the part's plus the tool's, plus
-// the measured FRF (smoothed); the modal one has the FRF's fitted modes instead.
+// the measured FRF (LobesMeasured: as read, or its fitted modes when sampled too coarsely); the
+// modal one has the FRF's fitted modes instead.
 dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m);
 // The part's modes at x_m in its set-up; its first mode's frequency and static stiffness there.
 std::vector<dynamics::Mode> part_modes_at(const LobesPart& part, double x_m);
 double part_first_mode_Hz(const LobesPart& part, double x_m);
 double part_static_stiffness(const LobesPart& part, double x_m);
 dynamics::ChatterSystem lobes_modal_system_at(const LobesInput& in, double x_m);
+// A machine file's structure at the tool as modes, for what needs modes beside the lobes (rig B's
+// time-domain simulation, `optimize`'s chatter margin): its [[mode]]s and the modes fitted to its
+// [[frf]]s (the fit the semi-discretization uses; the measured FRF itself only the frequency
+// domain can read). A [part] is not part of it: the scenario describes its own part.
+std::vector<dynamics::Mode> structure_modes(const LobesInput& in);
+// The machine file named by the string `key` of table `t` (relative to t's file), read whole
+// (every error of it as `lathectl lobes` gives it, after t's file and key) and refused at `key`
+// when it describes a [part]; its structure_modes, at most max_modes of them. Describing: none.
+std::vector<dynamics::Mode> read_structure_file(io::TableReader& t, std::string_view key,
+                                                std::size_t max_modes);
 // Fills in.measured from in.frfs (sum, fit, smoothing); throws std::invalid_argument when the
 // FRF has no peak to fit.
 void measure_frfs(LobesInput& in);

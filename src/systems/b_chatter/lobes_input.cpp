@@ -2,6 +2,7 @@
 // default and meaning drive the reader, its errors and the reference (describe_machine_file).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -14,7 +15,6 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/frf_reader.hpp"
 #include "lathectl/io/sections.hpp"
-#include "lathectl/io/study.hpp"
 #include "lathectl/io/toml_reader.hpp"
 #include "systems/b_chatter/lobes.hpp"
 
@@ -25,6 +25,14 @@ namespace {
 using io::Param;
 using io::Range;
 using io::TableReader;
+
+// A number for a message (printf format): the reader is in the settings library, without the
+// report's formatting (io/study.hpp).
+std::string fmt(double v, const char* format = "%.4g") {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
 
 void read_modes(TableReader& root, LobesInput& in) {
   const auto modes = io::read_modes(root);
@@ -80,8 +88,8 @@ void read_part(TableReader& p, LobesInput& in) {
     const double f_top = dynamics::beam_mode_at(b, 0.5 * b.length_m, part.modes)
                              .mode.natural_frequency_Hz;
     p.check(std::isfinite(f_top) && f_top <= kMaxModeHz, "length_mm",
-            "the part's mode " + std::to_string(part.modes) + " lies at " + io::fmt(f_top) +
-                " Hz, above " + io::fmt(kMaxModeHz) +
+            "the part's mode " + std::to_string(part.modes) + " lies at " + fmt(f_top) +
+                " Hz, above " + fmt(kMaxModeHz) +
                 " Hz (the [[mode]] bound): a longer or thinner part, or fewer modes");
   }
   p.finish();
@@ -258,8 +266,8 @@ void check_limits(TableReader& root, std::optional<TableReader>& part_table, con
     const double b = sdof_limit_m(in.tool_modes[i], kf);
     if (!(b >= kMinLimitDepth_m))
       tables[i].fail("stiffness_N_per_m",
-                     "this mode's limit depth 2kζ(1+ζ)/(K_f·cos²θ) = " + io::fmt(b) +
-                         " m is below " + io::fmt(kMinLimitDepth_m) +
+                     "this mode's limit depth 2kζ(1+ζ)/(K_f·cos²θ) = " + fmt(b) +
+                         " m is below " + fmt(kMinLimitDepth_m) +
                          " m: no lathe's mode is that soft for this K_f ([cutting] kf_N_per_mm2)");
   }
   if (!in.part) return;
@@ -272,18 +280,18 @@ void check_limits(TableReader& root, std::optional<TableReader>& part_table, con
     if (!(b >= kMinLimitDepth_m))
       part_table->fail(
           k == 0 ? "position_mm" : "positions_mm",
-          "at " + io::fmt(xs[k] * 1e3) + " mm the part's softest mode has a limit depth of " +
-              io::fmt(b) + " m, below " + io::fmt(kMinLimitDepth_m) +
+          "at " + fmt(xs[k] * 1e3) + " mm the part's softest mode has a limit depth of " +
+              fmt(b) + " m, below " + fmt(kMinLimitDepth_m) +
               " m: the part (diameter_mm, length_mm, youngs_modulus_GPa) is too slender for any "
               "cut, or K_f ([cutting] kf_N_per_mm2) too large");
   }
 }
 
-std::string gigabytes(double bytes) { return io::fmt(bytes / 1e9, "%.2g") + " GB"; }
+std::string gigabytes(double bytes) { return fmt(bytes / 1e9, "%.2g") + " GB"; }
 std::string duration(double s) {
-  return s < 120.0 ? io::fmt(s, "%.0f") + " s"
-         : s < 7200.0 ? io::fmt(s / 60.0, "%.0f") + " min"
-                      : io::fmt(s / 3600.0, "%.1f") + " h";
+  return s < 120.0 ? fmt(s, "%.0f") + " s"
+         : s < 7200.0 ? fmt(s / 60.0, "%.0f") + " min"
+                      : fmt(s / 3600.0, "%.1f") + " h";
 }
 
 // The work, estimated before anything is allocated (lobes_cost), within kMaxBytes and
@@ -299,10 +307,10 @@ void check_cost(TableReader& root, std::optional<TableReader>& lobes, const Lobe
   }
   if (c.bytes > kMaxBytes) {
     speed->fail("min_rpm",
-                "the frequency-domain lobes from min_rpm = " + io::fmt(in.min_rpm) +
-                    " to max_rpm = " + io::fmt(in.max_rpm) + " rpm (" +
+                "the frequency-domain lobes from min_rpm = " + fmt(in.min_rpm) +
+                    " to max_rpm = " + fmt(in.max_rpm) + " rpm (" +
                     std::to_string(in.max_lobes) + " lobes) would hold " +
-                    io::fmt(c.fd_points, "%.3g") + " points, about " + gigabytes(c.bytes) +
+                    fmt(c.fd_points, "%.3g") + " points, about " + gigabytes(c.bytes) +
                     " of memory, over the " + gigabytes(kMaxBytes) +
                     " bound: narrow the speed range (raise min_rpm, lower max_rpm)");
   }
@@ -327,7 +335,7 @@ void check_cost(TableReader& root, std::optional<TableReader>& lobes, const Lobe
                                    ": fewer sd_speeds, a coarser chart, or a higher [speed] "
                                    "min_rpm");
     speed->fail("min_rpm", "the lobes (" + std::to_string(in.max_lobes) + " lobes, " +
-                               io::fmt(c.fd_point_visits, "%.3g") +
+                               fmt(c.fd_point_visits, "%.3g") +
                                " points over every position; semi-discretization up to " +
                                std::to_string(c.max_steps) +
                                " steps per revolution) would take " + what +
@@ -358,20 +366,20 @@ LobesInput read_lobes_input(const io::TomlDocument& doc) {
   const double needed_lobes = lobes_needed_count(in);
   if (!(needed_lobes <= kMaxLobes)) {
     auto speed = root.table("speed", true);
-    speed->fail("min_rpm", "the lobes down to min_rpm = " + io::fmt(in.min_rpm) + " rpm number " +
-                               io::fmt(needed_lobes, "%.0f") + " (60·f_c/min_rpm at the chatter "
-                               "frequency f_c = " + io::fmt(lobes_reference_Hz(in)) +
+    speed->fail("min_rpm", "the lobes down to min_rpm = " + fmt(in.min_rpm) + " rpm number " +
+                               fmt(needed_lobes, "%.0f") + " (60·f_c/min_rpm at the chatter "
+                               "frequency f_c = " + fmt(lobes_reference_Hz(in)) +
                                " Hz), over " + std::to_string(kMaxLobes) +
                                ": raise min_rpm to at least " +
-                               io::fmt(60.0 * lobes_reference_Hz(in) / (kMaxLobes - 2), "%.0f"));
+                               fmt(60.0 * lobes_reference_Hz(in) / (kMaxLobes - 2), "%.0f"));
   }
   // Never fewer than the former fixed default of 40: existing machine files keep their rows.
   const int needed = std::max(40, lobes_needed(in));
   if (max_lobes > 0 && max_lobes < needed)
     lobes->fail("max_lobes", "must be at least " + std::to_string(needed) +
-                                 " for the lobes to reach min_rpm = " + io::fmt(in.min_rpm) +
+                                 " for the lobes to reach min_rpm = " + fmt(in.min_rpm) +
                                  " (60·f/min_rpm at the chatter frequency; lobes below " +
-                                 io::fmt(60.0 * lobes_reference_Hz(in) / max_lobes, "%.0f") +
+                                 fmt(60.0 * lobes_reference_Hz(in) / max_lobes, "%.0f") +
                                  " rpm would be missing); leave it out for that default");
   in.max_lobes = max_lobes > 0 ? max_lobes : needed;
   if (in.process_damping_C > 0.0) {  // semi-discretization has no process damping
@@ -390,6 +398,33 @@ LobesInput load_lobes_input(const std::string& path) {
 
 LobesInput parse_lobes_input(std::string_view text, const std::string& file_label) {
   return read_lobes_input(io::TomlDocument::parse(text, file_label));
+}
+
+std::vector<dynamics::Mode> read_structure_file(TableReader& t, std::string_view key,
+                                                std::size_t max_modes) {
+  const std::string file = t.string(key);
+  if (t.is_describing()) return {};
+  const std::filesystem::path p(file);
+  const std::string path =
+      (p.is_absolute() ? p : std::filesystem::path(t.file()).parent_path() / p)
+          .lexically_normal()
+          .string();
+  LobesInput in;
+  try {
+    in = load_lobes_input(path);
+  } catch (const io::InputError& e) {
+    t.fail(key, std::string("the machine file: ") + e.what());
+  }
+  t.check(!in.part, key,
+          "the machine file " + path +
+              " describes a [part]; here the part is the scenario's own: the machine file gives "
+              "the tool's side only ([[mode]], [[frf]])");
+  auto modes = structure_modes(in);
+  t.check(modes.size() <= max_modes, key,
+          "the machine file " + path + " gives " + std::to_string(modes.size()) +
+              " modes (its [[mode]]s and the modes fitted to its [[frf]]s), over the " +
+              std::to_string(max_modes) + " this model takes");
+  return modes;
 }
 
 io::ParamLog describe_machine_file() {

@@ -33,12 +33,6 @@ constexpr int kGrid = 20000;  // b_part.toml: 1800 rpm / 20000 = 0.09 rpm a step
 constexpr double kMinMargin = 0.01;
 }
 
-double recommend_diameter_m(const LobesInput& in) {
-  if (in.recommend.diameter_m > 0.0) return in.recommend.diameter_m;
-  if (in.part) return in.part->beam.diameter_m;
-  return kDefaultDiameter_m;
-}
-
 std::vector<Pocket> recommend_pockets(const dynamics::FrequencyDomainResult& fd,
                                       const LobesInput& in) {
   const auto& r = in.recommend;

@@ -83,6 +83,19 @@ dynamics::ChatterSystem lobes_system_at(const LobesInput& in, double x_m) {
   return sys;
 }
 
+double recommend_diameter_m(const LobesInput& in) {
+  if (in.recommend.diameter_m > 0.0) return in.recommend.diameter_m;
+  if (in.part) return in.part->beam.diameter_m;
+  return kDefaultDiameter_m;
+}
+
+std::vector<dynamics::Mode> structure_modes(const LobesInput& in) {
+  std::vector<dynamics::Mode> modes = in.tool_modes;
+  if (in.measured)
+    modes.insert(modes.end(), in.measured->fit.modes.begin(), in.measured->fit.modes.end());
+  return modes;
+}
+
 void measure_frfs(LobesInput& in) {
   if (in.frfs.empty()) {
     in.measured.reset();
@@ -97,8 +110,12 @@ void measure_frfs(LobesInput& in) {
   }
   m.oriented = dynamics::sum_frfs(weighted);
   m.fit = dynamics::fit_modes(m.oriented);
-  m.smoothing_half_window_Hz = dynamics::smoothing_half_window_Hz(m.fit);
-  m.smoothed = dynamics::smooth_frf(m.oriented, m.smoothing_half_window_Hz, dynamics::kSmoothingOrder);
+  m.samples_per_bandwidth = dynamics::samples_per_bandwidth(m.oriented, m.fit);
+  m.read_directly = m.samples_per_bandwidth >= dynamics::kMinSamplesPerBandwidth;
+  m.smoothing_half_window_Hz = dynamics::smoothing_half_window_Hz(m.fit) *
+                               (m.read_directly ? 1.0 : dynamics::kCoarseWindowFactor);
+  m.smoothed = dynamics::smooth_against_fit(m.oriented, m.fit, m.smoothing_half_window_Hz,
+                                            dynamics::kSmoothingOrder);
   in.measured = std::move(m);
 }
 

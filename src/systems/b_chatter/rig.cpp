@@ -80,6 +80,12 @@ double Rig::max_step_s(const RigConfig& cfg, double* f_Hz) {
     if (j > 1 && 2.0 * k_min * z * (1.0 + z) > 4.0 * k_p) continue;
     f_ref = std::max(f_ref, bm.mode.natural_frequency_Hz * std::sqrt(1.0 + 2.0 * z));
   }
+  for (const auto& m : cfg.tool_modes) {
+    const double c2 = std::cos(m.angle_rad) * std::cos(m.angle_rad);
+    const double z = m.damping_ratio;
+    if (!(c2 > 1e-12) || 2.0 * m.stiffness_N_per_m / c2 * z * (1.0 + z) > 4.0 * k_p) continue;
+    f_ref = std::max(f_ref, m.natural_frequency_Hz * std::sqrt(1.0 + 2.0 * z));
+  }
   if (f_Hz) *f_Hz = f_ref;
   return 0.2 / (2.0 * kPi * f_ref);
 }

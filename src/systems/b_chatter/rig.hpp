@@ -29,6 +29,9 @@ using TwinSetup = dynamics::TwinSetup;
 struct RigConfig {
   dynamics::BeamPart part;
   int modes = 2;
+  // Each tool's modes, fixed in space ([structure] machine_file: the machine file's [[mode]]s and
+  // the modes fitted to its [[frf]]s); empty: rigid tools, the seed's model.
+  std::vector<dynamics::Mode> tool_modes;
   cutting::CuttingModel::Params cutting;  // Kienzle form
   TwinSetup setup = TwinSetup::FeedDivision;
   double depth_mm[2] = {0.5, 0.5};  // t0 per tool
@@ -89,6 +92,7 @@ inline dynamics::TwinTurretCut::Params cut_params(const RigConfig& cfg) {
   pp.feed_mm_per_rev = cfg.feed_mm_per_rev;
   pp.inter_tool_delay = cfg.inter_tool_delay;
   pp.process_damping = cfg.process_damping;
+  pp.tool_modes = cfg.tool_modes;
   // The slowest feed of tool 1 (the right turret) a modulation can hold, for the surface memory.
   if (cfg.source == control::ModulationSource::Automatic)
     pp.slowest_feed_fraction = cfg.module.s_min_fraction;
@@ -128,9 +132,9 @@ class Rig {
     return machine_.output();
   }
   // The coarsest step the cut can be simulated with: ω·dt ≤ 0.2 (as system C's slide) at the
-  // chatter frequency f_n·√(1+2ζ) of the highest part mode that can chatter in this cut — one
-  // whose SDOF limit 2k(x)ζ(1+ζ) is below 4× the process stiffness Σ∂P_y/∂b of the tools, with
-  // k(x) its least modal stiffness over the cut. Stiffer modes are integrated exactly and cannot
+  // chatter frequency f_n·√(1+2ζ) of the highest part or tool mode that can chatter in this
+  // cut — one whose SDOF limit 2k(x)ζ(1+ζ) is below 4× the process stiffness Σ∂P_y/∂b of the
+  // tools, with k(x) its least modal stiffness over the cut (a tool mode's: k/cos²θ). Stiffer modes are integrated exactly and cannot
   // regenerate, so they do not bind the step. f_Hz (optional) receives that chatter frequency.
   [[nodiscard]] static double max_step_s(const RigConfig& cfg, double* f_Hz = nullptr);
   // The part's modal mass at x_c for the first mode (the m_d a user would enter). Inline: the

@@ -9,6 +9,7 @@
 #include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/io/sections.hpp"
 #include "lathectl/io/toml_reader.hpp"
+#include "systems/b_chatter/lobes.hpp"
 
 namespace lathectl::systems::b_chatter {
 
@@ -36,6 +37,19 @@ void read_part(TableReader& root, RigConfig& b) {
               b.part.damping_ratio);
   pt->read({"modes", Range::closed(1, 6), "bending modes simulated"}, b.modes);
   pt->finish();
+}
+
+// [structure]: the tools' own structure from a machine file (`lathectl lobes`' format), in series
+// with the part: its [[mode]]s and the modes fitted to its [[frf]]s, each tool its own copy.
+void read_structure(TableReader& st, RigConfig& b) {
+  st.document("machine_file",
+              "a machine file of `lathectl lobes` (relative to this scenario) whose [[mode]]s and "
+              "the modes fitted to its [[frf]]s are each tool's structure, fixed in space, in "
+              "series with the part (its [part] is not used: the scenario's is the part; its "
+              "K_f and speeds are the lobes')");
+  b.tool_modes = read_structure_file(
+      st, "machine_file", static_cast<std::size_t>(dynamics::TwinTurretCut::kMaxToolModes));
+  st.finish();
 }
 
 // [cut]: the set-up and the NC program's one cutting block.
@@ -276,6 +290,7 @@ void read_study(TableReader& st, Settings& s) {
 void read_tables(TableReader& root, io::Scenario& sc, const io::MaterialLibrary& lib, Settings& s) {
   auto& b = s.rig;
   read_part(root, b);
+  if (auto st = root.table("structure")) read_structure(*st, b);
   // The regenerative gain is dF/db at the chip: the Kienzle form (handbook laws have t^x, x ≠ 1).
   io::read_material_tool(root, lib, b.cutting, nullptr, true);
   read_cut(root, b);

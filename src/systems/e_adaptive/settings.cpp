@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <sstream>
 
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/cutting/stock.hpp"
+#include "lathectl/io/errors.hpp"
 #include "lathectl/io/sections.hpp"
 #include "lathectl/io/toml_reader.hpp"
 
@@ -433,6 +435,22 @@ void read_controller(TableReader& root, RigConfig& e) {
 void read_chatter(TableReader& c, Chatter& ch) {
   c.document("mode", "the tool's (and machine's) vibration modes, as in a machine file");
   ch.tool_modes = io::read_modes(c);
+  if (c.has("machine_file") || c.is_describing()) {
+    const std::string file = c.string("machine_file", std::string());
+    c.document("machine_file",
+               "a machine file of `lathectl lobes` (relative to this scenario): its [[mode]]s and "
+               "the modes fitted to its [[frf]]s are the tool's, beside any [[chatter.mode]] (its "
+               "[part] is not used: [chatter.part] is the part)");
+    if (!c.is_describing()) {
+      const std::filesystem::path p(file);
+      const auto path = p.is_absolute() ? p : std::filesystem::path(c.file()).parent_path() / p;
+      c.check(!file.empty() && std::filesystem::is_regular_file(path), "machine_file",
+              "no machine file at " + path.lexically_normal().string());
+      ch.machine_file = path.lexically_normal().string();
+      ch.machine_file_at_key =
+          io::located(c.file(), c.line(), 0, "key '" + c.full_key("machine_file") + "'");
+    }
+  }
   c.document("part", "the part between centres; without it the part is rigid");
   if (auto p = c.table("part")) {
     ch.part = true;
@@ -451,7 +469,8 @@ void read_chatter(TableReader& c, Chatter& ch) {
     p->finish();
     ch.beam.length_m = (ch.headstock_at_mm - ch.tailstock_at_mm) * 1e-3;
   }
-  c.check(ch.enabled(), "mode", "at least one [[chatter.mode]] or a [chatter.part] expected");
+  c.check(ch.enabled(), "mode",
+          "at least one [[chatter.mode]], a machine_file or a [chatter.part] expected");
   c.finish();
 }
 

@@ -35,12 +35,19 @@ struct Cost {
 // takes from the stock as the passes leave it. The rig does not read it.
 struct Chatter {
   std::vector<dynamics::Mode> tool_modes;  // [[chatter.mode]]
+  // [chatter] machine_file: a machine file of `lathectl lobes` (its path as read, relative to the
+  // scenario's folder) whose [[mode]]s and fitted [[frf]] modes are the tool's too; `optimize`
+  // reads it (system B's reader), at_key says where the scenario names it for its errors.
+  std::string machine_file;
+  std::string machine_file_at_key;
   bool part = false;                       // [chatter.part] given
   dynamics::BeamPart beam;                 // length = headstock_at − tailstock_at; diameter unused
   int part_modes = 3;
   double tailstock_at_mm = 0.0;  // stock z of the centres (z = 0 is the part's face)
   double headstock_at_mm = 0.0;
-  [[nodiscard]] bool enabled() const { return part || !tool_modes.empty(); }
+  [[nodiscard]] bool enabled() const {
+    return part || !tool_modes.empty() || !machine_file.empty();
+  }
 };
 
 // [acceptance]: what the part must achieve (settings.cpp describes each key).
