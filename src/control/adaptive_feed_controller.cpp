@@ -155,7 +155,9 @@ void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     pi_.preset(s_prog);
     feed_ramp_.reset(s_prog);
     reason = Reason::NotInFeedBlock;
-  } else if (adaptive && sensor_ok && !alarm_) {
+  } else if (adaptive && sensor_ok && !alarm_ && !(in.reading_unusable && contact_.in_cut())) {
+    // (In the cut, a reading that cannot be separated from something else judges no contact,
+    // breakage or overload: the contact is kept as it was. Out of the cut it may start one.)
     const double air = p_.air_threshold * limit;
     if (contact_.update(in.force, air, p_.air_time_s, dt, true)) {
       // contact: drop to the entry feed at once, preset the PI there
@@ -178,6 +180,8 @@ void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
                   ? over_s_ + measured.evidence_s
                   : 0.0;
     if (over_s_ >= p_.overload_time_s && p_.overload_time_s > 0.0) raise(Reason::Overload);
+  } else if (in.reading_unusable && contact_.in_cut()) {
+    high_since_s_ += measured.elapsed_s;  // time passes for the collapse window, unjudged
   }
 
   // The regulated force: the mean over the last revolution (or the raw sample).
@@ -215,12 +219,14 @@ void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
           reason = Reason::StockAhead;
       }
     }
-    if (suspect && target > feed_ramp_.value()) {
+    const bool unusable = in.reading_unusable && contact_.in_cut();
+    if ((suspect || unusable) && target > feed_ramp_.value()) {
       // A frozen reading never drives the feed up: hold, with the PI frozen (no windup, and no
       // preset, which would drop the next output by kp·|error| and ratchet the feed down).
+      // Nor does a reading that cannot be separated from something else.
       target = feed_ramp_.value();
       pi_ = pi_before;
-      reason = Reason::SensorSuspect;
+      reason = suspect ? Reason::SensorSuspect : Reason::PowerAccelerationUnknown;
     }
     if (target < feed_ramp_.value()) {
       feed_ramp_.reset(target);  // decreases are never delayed: they protect the tool

@@ -110,6 +110,7 @@ void AdaptiveMachine::configure(const Params& p) {
   accel_n_ = accel_head_ = 0;
   wdw_ = wdw_lagged_ = j_sxy_ = j_sxx_ = j_seen_s_ = 0.0;
   j_ready_ = false;
+  inseparable_left_s_ = 0.0;
   inertia_ = p.spindle.inertia_kg_m2;
   stock_out_ = {};
   kappa_ = 1.0;
@@ -348,10 +349,12 @@ void AdaptiveMachine::update(const Input& in, Output& out) noexcept {
     const double guaranteed = depth - (so.on_blank ? p_.process.stock.eccentricity_mm : 0.0) -
                               3.0 * p_.process.disturbances.random_sigma_mm;
     out.predicted_depth_mm = depth;
-    if (feed_move && applied_.mode == 2 &&
-        breakage_.update(p_.power_sensor ? out.load : in.force, applied_.limit, depth, guaranteed,
-                         period.elapsed_s) &&
-        !tool_data_latched_)
+    if (feed_move && inseparable_left_s_ > 0.0)
+      breakage_.skip(period.elapsed_s);
+    else if (feed_move && applied_.mode == 2 &&
+             breakage_.update(p_.power_sensor ? out.load : in.force, applied_.limit, depth,
+                              guaranteed, period.elapsed_s) &&
+             !tool_data_latched_)
       breakage_latched_ = true;
     if (!feed_move) breakage_.reset();
     out.breakage = breakage_latched_;
@@ -412,6 +415,19 @@ double AdaptiveMachine::measured_load(const Input& in, bool feed_move, double rp
   out.inertia_kg_m2 = inertia_;
   out.inertia_learned = j_ready_;
   double load = (drawn >= 0.0 ? drawn * eta : drawn / eta) - accel_lagged_W_;
+  // In a feed move, while the inertia is still the prior of one to be learned, J·ω·dω/dt is
+  // known only to its own size (a prior of 0.5 for a true 2 kg·m² leaves 3/4 of it in the
+  // reading: braking, the cut reads that much low and the regulator would raise the feed).
+  // Where it is above 5 % of the limit (the band the regulator holds) the reading cannot be
+  // separated: it is held — the feed may fall, not rise — until a revolution after it is small
+  // again, when the per-revolution mean no longer holds it. A given inertia, or a learned one,
+  // is trusted.
+  if (feed_move && p_.learn_inertia && !j_ready_ &&
+      std::abs(accel_lagged_W_) > 0.05 * applied_.limit)
+    inseparable_left_s_ = 60.0 / std::max(rpm, 1.0);
+  else
+    inseparable_left_s_ = std::max(0.0, inseparable_left_s_ - dt);
+  sensing = !(feed_move && inseparable_left_s_ > 0.0);
   if (!feed_move) {
     // Outside feed moves nothing is cut: what is left is not a load, and not a sensor fault
     // either — a speed change in air before the inertia is learned (or with a wrong one) leaves
@@ -592,6 +608,7 @@ void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) 
   auto ci = adaptive_input(parameter, sig);
   ci.dt_s = dt_measured;
   ci.feed_ceiling_mm_per_rev = feed_forward(in, rpm, feed_block, out);
+  ci.reading_unusable = !sensing;
   if (p_.life_law && stock_) {
     // The depth the blank gives, and the hardness the cut shows: K_mp = h^kmp, so ĥ = κ^(1/kmp)
     // (κ also holds the tool's wear, which a slower speed suits too).
@@ -609,8 +626,11 @@ void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) 
 
   // Contact, in every mode (the controller's own runs only while it regulates).
   const auto& cp = ctl_.params();
-  (void)contact_.update(load, cp.air_threshold * applied_.limit, cp.air_time_s, dt,
-                        feed_block && std::isfinite(load));
+  // (A reading that cannot be separated does not end a contact. Out of the cut it may start
+  // one: taken for contact, the feed drops to the entry feed, which is the safe side.)
+  if (sensing || !contact_.in_cut())
+    (void)contact_.update(load, cp.air_threshold * applied_.limit, cp.air_time_s, dt,
+                          feed_block && std::isfinite(load));
   out.contact = contact_.in_cut();
   // The load's mean over the last revolution: the controller's definition.
   if (out.contact && rpm > 0.0 && std::isfinite(load)) {
@@ -643,7 +663,7 @@ void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) 
   }
 
   double factor = 1.0;
-  const bool regulating = applied_.mode == 2 && sensing;
+  const bool regulating = applied_.mode == 2;
   const double max_ovr = in.max_override;
   if (feed_block && regulating) {
     // The program's feed per revolution: motion reports the F word itself under G95, a velocity

@@ -45,6 +45,7 @@ bool enumerator(Reason r) {
     case Reason::SlideOff:
     case Reason::ModulationNoIdle:
     case Reason::GaugeNoRoundSurface:
+    case Reason::PowerAccelerationUnknown:
       return true;
   }
   return false;

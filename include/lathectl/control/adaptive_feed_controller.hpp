@@ -139,6 +139,10 @@ class AdaptiveFeedController {
     // A factor on V_opt from outside (AdaptiveMachine's tool-life law: K_mv of the hardness the
     // cut has shown); ≤ 0 or not finite: 1.
     double speed_factor = 1.0;
+    // The load reading cannot be separated now (AdaptiveMachine: the spindle's acceleration
+    // power with an inertia not yet learned): in a cut the feed may fall but not rise, as for a
+    // suspect reading, with reason PowerAccelerationUnknown.
+    bool reading_unusable = false;
   };
 
   struct Output {

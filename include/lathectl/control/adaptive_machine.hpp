@@ -296,6 +296,7 @@ class AdaptiveMachine {
   double inertia_ = 0.0;                 // J in use
   double j_sxy_ = 0.0, j_sxx_ = 0.0, j_seen_s_ = 0.0;
   bool j_ready_ = false;
+  double inseparable_left_s_ = 0.0;  // the load reading is held for this much longer
   TeachIn teach_;
   int teach_tool_ = -1, teach_op_ = -1;
   OperationStats stats_;

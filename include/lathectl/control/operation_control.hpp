@@ -159,6 +159,10 @@ class PathBreakage {
   };
   void configure(const Params& p) noexcept { p_ = p; reset(); }
   void reset() noexcept { high_since_s_ = 1e9; depth_high_ = 0.0; }
+  // A period whose load cannot be judged (AdaptiveMachine: a power reading that cannot be
+  // separated from the spindle's acceleration): time passes, nothing is judged, so a collapse
+  // after it is measured from the last load that could be.
+  void skip(double dt) noexcept { high_since_s_ += dt; }
   // True in the period a collapse with engagement predicted is seen. dt: the time since the last
   // call as measured (PeriodTime::elapsed_s), never the thread's nominal period: after a late
   // period the fall of the load took that much longer than the number of calls says.

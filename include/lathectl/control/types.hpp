@@ -42,6 +42,7 @@ enum class Reason : std::uint16_t {
   GaugeNoRoundSurface = 65,
   SlideOff = 70,
   ModulationNoIdle = 55,
+  PowerAccelerationUnknown = 34,
 };
 
 // The one reason table: what each code means to an operator who reads it on a pin or in a log,
@@ -143,6 +144,10 @@ inline constexpr ReasonInfo kReasons[] = {
      "each, but they come too close together for the probe to settle and read it whole between "
      "them (the spindle too fast for them and their guard): the size cannot be read, so the feed "
      "is held until the gauge is re-armed."},
+    {Reason::PowerAccelerationUnknown, "power_acceleration_unknown", false, "E",
+     "The spindle changes speed in a cut and its inertia is not learned yet, so the power that "
+     "accelerates it cannot be told from the cutting power: the feed may fall but not rise until "
+     "a revolution after the speed settles."},
 };
 inline constexpr int kReasonCount = static_cast<int>(sizeof(kReasons) / sizeof(kReasons[0]));
 // The operation log ORs reason_bit() of every reason seen into one 32-bit word.
