@@ -30,8 +30,9 @@ import json
 import os
 import subprocess
 import sys
-import time
 import tomllib
+
+from sim_session import run_linuxcnc_sim
 
 FAILS = []
 # Motion's stop after an input (probe or feed-inhibit) changes in the base thread: seen in its
@@ -67,13 +68,7 @@ def session(src, work, name, *args, scenario=None):
            os.path.join(src, "examples/linuxcnc/gauge_plunge.ngc"),
            scenario or os.path.join(src, "examples/linuxcnc/gauge_plunge.toml"), "--out", out,
            "--timeout", "60", "--quiet"] + list(args)
-    # Exit 3: another session holds the realtime (a LinuxCNC or a halrun of another build on
-    # this machine): wait for it, up to two minutes.
-    for _ in range(120):
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=240)
-        if p.returncode != 3:
-            break
-        time.sleep(1.0)
+    p = run_linuxcnc_sim(cmd)
     path = os.path.join(out, "summary.json")
     if not os.path.exists(path):
         print(p.stdout + p.stderr)

@@ -34,6 +34,8 @@ import subprocess
 import sys
 import time
 
+from sim_session import run_linuxcnc_sim
+
 FAILS = []
 CASES = {"finishing_aim": ("slide_finishing", "finishing", False),
          "roughing_fim": ("slide_roughing", "roughing", True), "operations": None}
@@ -51,12 +53,7 @@ def session(src, work, stem):
            os.path.join(src, "examples/linuxcnc", stem + ".ngc"),
            os.path.join(src, "examples/linuxcnc", stem + ".toml"), "--out", out,
            "--timeout", "60", "--quiet"]
-    # Exit 3: another session holds the realtime: wait for it, up to two minutes.
-    for _ in range(120):
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=240)
-        if p.returncode != 3:
-            break
-        time.sleep(1.0)
+    p = run_linuxcnc_sim(cmd)
     print(p.stdout)
     path = os.path.join(out, "summary.json")
     if p.returncode != 0 or not os.path.exists(path):

@@ -40,6 +40,8 @@ import subprocess
 import sys
 import time
 
+from sim_session import run_linuxcnc_sim
+
 FAILS = []
 STEM = "b_twin_feed"
 
@@ -56,13 +58,7 @@ def session(src, work, override, lathectl):
            os.path.join(src, "examples/linuxcnc", STEM + ".ngc"),
            os.path.join(src, "examples/linuxcnc", STEM + ".toml"), "--out", out,
            "--override", override, "--timeout", "60", "--quiet"]
-    # Exit 3: another session holds the realtime: wait for it, up to two minutes.
-    for _ in range(120):
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=240,
-                           env=dict(os.environ, LATHECTL=lathectl))
-        if p.returncode != 3:
-            break
-        time.sleep(1.0)
+    p = run_linuxcnc_sim(cmd, env=dict(os.environ, LATHECTL=lathectl))
     print(p.stdout)
     path = os.path.join(out, "summary.json")
     if p.returncode != 0 or not os.path.exists(path):
