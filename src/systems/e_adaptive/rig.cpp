@@ -211,6 +211,29 @@ void Rig::plan_pass(std::size_t k) noexcept {
   }
 }
 
+Rig::Move Rig::move() const noexcept {
+  Move m{.kind = Move::Kind::Turn, .pass = pass_};
+  switch (phase_) {
+    case Phase::Plunge:
+      m = {Move::Kind::Plunge, pass_, x_pass_mm_, z_approach_mm_, plunge_feed_mm_per_rev_};
+      break;
+    case Phase::Turn:
+      m.x_mm = x_pass_mm_;
+      m.z_mm = pass_ < cfg_.stock.passes.size() ? cfg_.stock.passes[pass_].z_end_mm : 0.0;
+      break;
+    case Phase::Retract:
+      m = {Move::Kind::Retract, pass_, x_clear_mm_, 0.0, 0.0};
+      break;
+    case Phase::Return:  // pass k's approach point, planned when the retract ended
+      m = {Move::Kind::Return, pass_ + 1, x_clear_mm_, z_approach_mm_, 0.0};
+      break;
+    case Phase::Descend:
+      m = {Move::Kind::Descend, pass_, x_down_mm_, z_approach_mm_, 0.0};
+      break;
+  }
+  return m;
+}
+
 bool Rig::step() noexcept {
   if (finished() || t_ >= max_t_) return false;
   t_ += dt_;

@@ -114,6 +114,20 @@ class Rig {
   [[nodiscard]] static WorstCase worst_case(const RigConfig& cfg, const cutting::CuttingModel& cut,
                                             const cutting::Stock& stock);
 
+  // The rig's program as an NC program says it: the move it is in (a feed move: a radial plunge
+  // at a shoulder or the pass along +z; or a rapid: retract above the part, return along −z,
+  // come down), where that move ends, and the plunge's feed bound. A run's sequence of moves is
+  // the scenario's passes as a program for LinuxCNC (tests/hal/e_generated_program.cpp writes
+  // it: the same path in both).
+  struct Move {
+    enum class Kind : std::uint8_t { Plunge, Turn, Retract, Return, Descend } kind;
+    std::size_t pass = 0;
+    double x_mm = 0.0;  // where the move ends: the radius (x moves) ...
+    double z_mm = 0.0;  // ... or z in the stock's frame (z moves, toward +z into the part)
+    double plunge_feed_max_mm_per_rev = 0.0;  // Plunge: the feed bound (LinuxCNC's M68 E2)
+  };
+  [[nodiscard]] Move move() const noexcept;
+
  private:
   // Where the tool path goes: feed moves (a radial plunge at a shoulder, the pass along +z) and
   // rapid moves between passes (retract above the part, return along −z, come down).
