@@ -76,6 +76,12 @@ def main():
                 print("   ", line)
         else:
             print(f"✔ {g.stem}")
+    # Every run has its golden file: an example added without one would change unseen.
+    known = {g.stem for g in files}
+    for d in sorted(p for p in new.iterdir() if (p / fname).exists() and p.name not in known):
+        print(f"✘ {d.name}: no golden file {golden / (d.name + '.json')} (copy {d / fname} there "
+              f"in the commit that adds the example)")
+        bad += 1
     sys.exit(1 if bad else 0)
 
 
