@@ -2,19 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <utility>
 
 #include "lathectl/control/types.hpp"
 
 namespace lathectl::io {
-
-std::string fmt(double v, const char* format) {
-  if (std::isnan(v)) return "—";
-  char b[64];
-  std::snprintf(b, sizeof b, format, v);
-  return b;
-}
 
 nlohmann::json json_number(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);

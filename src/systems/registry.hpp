@@ -2,7 +2,9 @@
 // The systems lathectl knows: the only central list. A new system is a folder
 // (src/systems/<x>/: settings.{hpp,cpp} with the section reader and kSection, validate.cpp,
 // rig.{hpp,cpp}, metrics.{hpp,cpp}, study.{hpp,cpp}, CMakeLists.txt; docs/code-layout.md) plus
-// one entry in registry.cpp.
+// one entry in registry.cpp. lathectl_systems defines what is declared here; lathectl_sections
+// (registry.cpp without the runs, for what only reads scenarios) defines io::parse_scenario and
+// io::load_scenario alone.
 
 #include <span>
 #include <string_view>

@@ -1,13 +1,14 @@
 #pragma once
 // What every system's study (src/systems/<folder>/study.cpp) is made of: the phases it goes
 // through (Study), and the small pieces it uses to turn runs into a summary and a report: number
-// formatting, JSON numbers without NaN, recorded columns, alarm lists, and the claims list (each
-// claim with its number and whether it was met).
+// formatting (format.hpp), JSON numbers without NaN, recorded columns, alarm lists, and the claims
+// list (each claim with its number and whether it was met).
 
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "lathectl/io/format.hpp"  // fmt
 #include "lathectl/io/report.hpp"
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
@@ -16,8 +17,6 @@
 
 namespace lathectl::io {
 
-// printf-style number, "—" for NaN.
-std::string fmt(double v, const char* format = "%.4g");
 // A JSON number, or null when not finite (JSON has no NaN).
 nlohmann::json json_number(double v);
 // A copy of one recorded channel.

@@ -1,7 +1,7 @@
 // System B's cross-checks once the whole scenario is read: the rig configured once as a probe.
 #include <stdexcept>
 
-#include "lathectl/io/study.hpp"
+#include "lathectl/io/format.hpp"
 #include "systems/b_chatter/rig.hpp"
 #include "systems/b_chatter/settings.hpp"
 
