@@ -7,7 +7,10 @@ and with sensor=power (the spindle drive's power minus the learned idle power, W
 
   - every operation runs at its own limit: the program's, the table's, 90 % of the taught load;
     its per-revolution load (the plant's true force or cutting power) stays within 5 % of that
-    limit in steady cutting (5 mm after the entry to 1 mm before the end of the cut);
+    limit in steady cutting (5 mm after the entry to 1 mm before the end of the cut; op 2, 2 mm
+    before: it ends at the shoulder op 1 left at Z-20, and the feed-forward from the stock model
+    lowers the feed from about 1.2 mm before it, as it should: in one fresh-clone run its last
+    revolution in the 1 mm window read 941 N against the 1000 N limit);
   - the limit pin switches in the servo period the program's value reaches motion (M68: the
     analog output; M67: the first period of the next move);
   - teach-in: the taught reference within 2 % of the true mean load over the steady cut, stored
@@ -148,7 +151,7 @@ def analyse(res, unit, report):
               "op4": (0.9 * t_ref, "90 % of the taught load (table)")}
     table = []
     worst = 0.0
-    for op, (z_hi, z_lo) in (("op1", (-5.0, -19.0)), ("op2", (-5.0, -19.0)),
+    for op, (z_hi, z_lo) in (("op1", (-5.0, -19.0)), ("op2", (-5.0, -18.0)),
                              ("op3", (-25.0, -39.0)), ("op4", (-25.0, -39.0))):
         line = L[op] + off
         st = steady(rows, line, z_hi, z_lo)
