@@ -36,6 +36,21 @@ AdaptiveMachine::Params power_machine(const drives::SpindleDrive::Params& sp, do
   return p;
 }
 
+// One servo period's input from the drive's own reading, in a feed move or a traverse at 30 mm.
+AdaptiveMachine::Input drive_input(const drives::SpindleDrive& drive, double rpm_programmed,
+                                   bool feed) {
+  AdaptiveMachine::Input in;
+  in.nominal_period_s = 0.001;
+  in.motion_type = static_cast<std::int32_t>(feed ? AdaptiveMachine::Motion::Feed
+                                                  : AdaptiveMachine::Motion::Traverse);
+  in.rpm = drive.rpm();
+  in.rpm_programmed = rpm_programmed;
+  in.requested_vel = 0.3;
+  in.spindle_power_W = drive.electrical_power_W();
+  in.x_mm = 30.0;
+  return in;
+}
+
 // The drive draws P_el = T_m·ω/η + P_idle(n) with T_m = J·dω/dt + T_cut (no viscous loss here):
 // the cutting power is η·(P_el − P_idle) − J·ω·dω/dt exactly. A run-up from 500 to 1500 rpm in a
 // feed move in air (the speed law's change, a pass change's CSS jump) must read as no load —
@@ -53,15 +68,7 @@ TEST(AdaptiveMachine, SpindleAccelerationIsNotCuttingPower) {
   double worst = 0.0, accel_peak = 0.0;
   for (int k = 0; k < 2000; ++k) {  // 2 s at 1 ms: the drive ramps for 0.67 s
     drive.step(0.001, 1500.0, 0.0);
-    AdaptiveMachine::Input in;
-    in.nominal_period_s = 0.001;
-    in.motion_type = static_cast<std::int32_t>(AdaptiveMachine::Motion::Feed);
-    in.rpm = drive.rpm();
-    in.rpm_programmed = 1500.0;
-    in.requested_vel = 0.3;
-    in.spindle_power_W = drive.electrical_power_W();
-    in.x_mm = 30.0;
-    m.update(in, out);
+    m.update(drive_input(drive, 1500.0, true), out);
     if (out.control_period && k > 10) {
       worst = std::max(worst, std::abs(out.load));
       accel_peak = std::max(accel_peak, out.acceleration_power_W);
@@ -96,14 +103,9 @@ TEST(AdaptiveMachine, LatePeriodsInABrakingSpindleAreNoCuttingPower) {
     const int phase = k % 50;
     const double elapsed = phase == 46 ? 0.003 : phase > 46 ? 1e-5 : 0.001;
     drive.step(0.001, 1194.0, 0.0);
-    AdaptiveMachine::Input in;
-    in.nominal_period_s = 0.001;
+    AdaptiveMachine::Input in = drive_input(drive, 1194.0, false);
     in.elapsed_s = elapsed;
-    in.motion_type = static_cast<std::int32_t>(AdaptiveMachine::Motion::Traverse);
-    in.rpm = drive.rpm();
-    in.rpm_programmed = 1194.0;
-    in.spindle_power_W = drive.electrical_power_W();
-    in.x_mm = 30.0;
+    in.requested_vel = 0.0;
     m.update(in, out);
     if (k > 10) worst = std::max(worst, std::abs(out.load));
     accel_peak = std::max(accel_peak, std::abs(out.acceleration_power_W));
@@ -137,16 +139,7 @@ TEST(AdaptiveMachine, TheSpindleInertiaIsLearnedFromSpeedChangesInAir) {
   auto run = [&](double target, double seconds, bool feed) {
     for (int k = 0; k < static_cast<int>(seconds / 0.001); ++k) {
       drive.step(0.001, target, 0.0);
-      AdaptiveMachine::Input in;
-      in.nominal_period_s = 0.001;
-      in.motion_type = static_cast<std::int32_t>(feed ? AdaptiveMachine::Motion::Feed
-                                                      : AdaptiveMachine::Motion::Traverse);
-      in.rpm = drive.rpm();
-      in.rpm_programmed = target;
-      in.requested_vel = 0.3;
-      in.spindle_power_W = drive.electrical_power_W();
-      in.x_mm = 30.0;
-      m.update(in, out);
+      m.update(drive_input(drive, target, feed), out);
     }
   };
   for (double n : {400.0, 900.0, 1400.0}) run(n, 4.0, false);  // the idle sweep
@@ -161,15 +154,7 @@ TEST(AdaptiveMachine, TheSpindleInertiaIsLearnedFromSpeedChangesInAir) {
   }
   for (int k = 0; k < 1000; ++k) {
     drive.step(0.001, 1400.0, 0.0);
-    AdaptiveMachine::Input in;
-    in.nominal_period_s = 0.001;
-    in.motion_type = static_cast<std::int32_t>(AdaptiveMachine::Motion::Feed);
-    in.rpm = drive.rpm();
-    in.rpm_programmed = 1400.0;
-    in.requested_vel = 0.3;
-    in.spindle_power_W = drive.electrical_power_W();
-    in.x_mm = 30.0;
-    m.update(in, out);
+    m.update(drive_input(drive, 1400.0, true), out);
     if (out.control_period && k > 10) worst = std::max(worst, std::abs(out.load));
   }
   EXPECT_GT(out.acceleration_power_W, -1.0);
@@ -208,15 +193,7 @@ TEST(AdaptiveMachine, AReadingThatCannotBeSeparatedIsHeldNotUsed) {
     for (int k = 0; k < static_cast<int>(seconds / 0.001); ++k) {
       const double w = std::max(drive.omega(), 1.0);
       drive.step(0.001, target, 12000.0 * out.feed_factor / w);
-      AdaptiveMachine::Input in;
-      in.nominal_period_s = 0.001;
-      in.motion_type = static_cast<std::int32_t>(AdaptiveMachine::Motion::Feed);
-      in.rpm = drive.rpm();
-      in.rpm_programmed = target;
-      in.requested_vel = 0.3;
-      in.spindle_power_W = drive.electrical_power_W();
-      in.x_mm = 30.0;
-      m.update(in, out);
+      m.update(drive_input(drive, target, true), out);
       factor_max = std::max(factor_max, out.feed_factor);
       held = held || out.reason == Reason::PowerAccelerationUnknown;
       lost_contact = lost_contact || !out.contact;
