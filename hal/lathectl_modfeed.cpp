@@ -20,19 +20,11 @@
 // Inputs: a0 and ω_d from the vibration chain's detectors (lathectl_chatter, or the machine's
 // own ADC channels), the main motor's electrical power, the spindle speed, the NC block's flags
 // (idle block, turret, source) and, for the programmed variant, its (S_min, ΔS, Δl, n_s).
-// Output: motion.adaptive-feed. LinuxCNC clips that factor to ≤ 1, and the staircase must rise
-// above the mean feed, so the program's F word is the ceiling: the mean feed the module keeps
-// is F/ceiling, and the factor is S(t)/F ∈ (0, 1] (1/ceiling while not modulating). Write F at
-// `ceiling` times the feed you want. Never negative (a negative factor runs the path backward).
-// output=eoffset modulates one axis instead (a twin-turret lathe: the flagged turret's axial axis,
-// hal/config/lathectl-twin.hal): motion.adaptive-feed scales every axis at once, so the module
-// leaves it alone and adds to that axis an external offset (axis.L.eoffset-counts) moving at
-// (S(t)/S_p − 1) times the axis's planned velocity (axis.L.pos-cmd differentiated: axis-pos-right
-// or -left, the flagged turret's; eoffset-enable-right/-left say which axis takes the offset):
-// the axis runs at S(t)/S_p times its planned speed, the program's F is the mean feed itself (no
-// ceiling), and the operator's feed override and motion.adaptive-feed, which scale the planned
-// velocity, scale the modulated one alike. Not modulating, the requested offset returns to 0
-// (control::ModulationMachine::servo() says how).
+// Output: motion.adaptive-feed, S(t)/F with F the ceiling × the mean feed (LinuxCNC clips the
+// factor at 1), or with output=eoffset the flagged turret's axial axis's external offset
+// (hal/config/lathectl-twin.hal). Both, the F conversion and the turret switch are the machine's
+// (control::ModulationMachine::servo() and update(); its header says each); the parameters
+// are systems::b_chatter::machine_params's, as rig B's.
 // Pins, parameters and units: lathectl_modfeed(9).
 
 #include <algorithm>
@@ -133,6 +125,34 @@ Pins* pins = nullptr;
 std::unique_ptr<State> st;
 lathectl::hal::UpdateTimer timer;
 
+// One module period's input from the pins: detectors 19–20 (outside the CNC), the motor's
+// power, the spindle, the block (its F as motion gives it: the machine converts it), the
+// turret and path servo() keeps.
+ModulationMachine::Input module_input(const Pins& p, const ModulationMachine& m, bool feed_block) {
+  const double rpm = std::abs(*p.rpm);
+  ModulationMachine::Input in;
+  in.external_detectors = true;
+  in.a0_m = std::max(0.0, static_cast<double>(*p.a0)) * 1e-6;
+  in.omega_d_rad_per_s = std::max(0.0, static_cast<double>(*p.omega_d)) * 2.0 * std::numbers::pi;
+  in.motor_power_W = *p.power;
+  in.idle_block = *p.idle_block;
+  in.speed_m_per_min = 2.0 * std::numbers::pi * std::abs(*p.x_pos) * rpm / 1000.0;
+  in.rpm = rpm;
+  in.feed_requested = std::abs(*p.requested_vel);
+  in.feed_per_rev = *p.per_rev;
+  in.feed_rpm = rpm;
+  in.turret = m.turret();
+  in.path_mm[in.turret == Turret::Left ? 1 : 0] = m.path_mm();
+  in.feed_block = feed_block;
+  // A block that gives its plan (n_s > 0) is the programmed variant, whatever source says.
+  const int src = *p.prog_n_s > 0 ? 1 : *p.source;
+  in.source = src == 1   ? ModulationSource::Programmed
+              : src == 2 ? ModulationSource::Automatic
+                         : ModulationSource::None;
+  in.programmed = {*p.prog_s_min, *p.prog_ds, *p.prog_dl, *p.prog_n_s};
+  return in;
+}
+
 void update(void*, long period_ns) {
   Pins& p = *pins;
   State& s = *st;
@@ -176,28 +196,7 @@ void update(void*, long period_ns) {
   }
   if (s.count++ % s.every != 0) return;
   timer.start();
-  const double rpm = std::abs(*p.rpm);
-  ModulationMachine::Input in;
-  in.external_detectors = true;
-  in.a0_m = std::max(0.0, static_cast<double>(*p.a0)) * 1e-6;
-  in.omega_d_rad_per_s = std::max(0.0, static_cast<double>(*p.omega_d)) * 2.0 * std::numbers::pi;
-  in.motor_power_W = *p.power;
-  in.idle_block = *p.idle_block;
-  in.speed_m_per_min = 2.0 * std::numbers::pi * std::abs(*p.x_pos) * rpm / 1000.0;
-  in.rpm = rpm;
-  in.feed_requested = std::abs(*p.requested_vel);
-  in.feed_per_rev = *p.per_rev;
-  in.feed_rpm = rpm;
-  in.path_mm[t] = s.machine.path_mm();
-  in.feed_block = feed_block;
-  // A block that gives its plan (n_s > 0) is the programmed variant, whatever source says.
-  const int src = *p.prog_n_s > 0 ? 1 : *p.source;
-  in.source = src == 1   ? ModulationSource::Programmed
-              : src == 2 ? ModulationSource::Automatic
-                         : ModulationSource::None;
-  in.turret = s.machine.turret();
-  in.programmed = {*p.prog_s_min, *p.prog_ds, *p.prog_dl, *p.prog_n_s};
-  s.machine.update(in);
+  s.machine.update(module_input(p, s.machine, feed_block));
   *p.feed = o.feed_mm_per_min[t];
   *p.adaptive_feed = o.factor;
   *p.feed_ratio = o.feed_ratio;
