@@ -71,7 +71,7 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
 
   const double feed = cfg.controller.feed_m_per_s;
   // Nominal force: the programmed feed on the deterministic part of the blank at its start.
-  force_nominal_ = nominal_force_N(cfg);
+  force_nominal_ = a_pulse_feed::nominal_force_N(cfg);
 
   sim::configure_as("slide", [&] { slide_.configure(cfg.slide); });
   slide_.set_steady(feed, force_nominal_);
