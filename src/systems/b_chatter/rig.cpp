@@ -193,6 +193,13 @@ bool Rig::step() noexcept {
   if (feed_block && t_cut_start_ < 0.0) t_cut_start_ = t_;
 
   if (step_ % control_every_ == 0) {
+    // The servo period as the machine runs it (the feeds go to the drives: the flag's turret at
+    // once, the turrets' paths measured below), then the module period.
+    control::ModulationMachine::Servo sv;
+    sv.dt_s = dt_ * static_cast<double>(control_every_);
+    sv.feed_block = feed_block;
+    sv.turret = cfg_.turret;
+    machine_.servo(sv);
     const double rpm = spindle_.rpm();
     control::ModulationMachine::Input in;
     in.motor_power_W = spindle_.electrical_power_W();
@@ -208,7 +215,7 @@ bool Rig::step() noexcept {
     in.path_mm[1] = turrets_[1].z_mm - turrets_[1].z0_mm;
     in.feed_block = feed_block;
     in.source = cfg_.source;
-    in.turret = cfg_.turret;
+    in.turret = machine_.turret();
     in.programmed = cfg_.programmed;
     machine_.update(in);
     const auto& mo = machine_.output();
