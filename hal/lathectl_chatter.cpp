@@ -24,6 +24,7 @@
 #include "lathectl/dynamics/twin_turret.hpp"
 #include "lathectl/sensors/vibration_chain.hpp"
 #include "lathectl_hal.hpp"
+#include "systems/b_chatter/machine_params.hpp"
 #include "systems/b_chatter/settings.hpp"
 
 MODULE_AUTHOR("lathectl");
@@ -159,7 +160,8 @@ extern "C" int rtapi_app_main(void) {
       pp.tool2_lag_mm = 0.0;
     }
     state->cut.configure(pp, dt);
-    state->chain_every = std::max(1, static_cast<int>(std::lround(1e-4 / dt)));
+    state->chain_every =
+        std::max(1, static_cast<int>(std::lround(lathectl::systems::b_chatter::kSamplePeriod_s / dt)));
     auto vib = b.vibration;
     vib.sample_period_s = dt * state->chain_every;
     state->chain.configure(vib);

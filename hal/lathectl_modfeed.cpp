@@ -20,19 +20,11 @@
 // Inputs: a0 and ω_d from the vibration chain's detectors (lathectl_chatter, or the machine's
 // own ADC channels), the main motor's electrical power, the spindle speed, the NC block's flags
 // (idle block, turret, source) and, for the programmed variant, its (S_min, ΔS, Δl, n_s).
-// Output: motion.adaptive-feed. LinuxCNC clips that factor to ≤ 1, and the staircase must rise
-// above the mean feed, so the program's F word is the ceiling: the mean feed the module keeps
-// is F/ceiling, and the factor is S(t)/F ∈ (0, 1] (1/ceiling while not modulating). Write F at
-// `ceiling` times the feed you want. Never negative (a negative factor runs the path backward).
-// output=eoffset modulates one axis instead (a twin-turret lathe: the flagged turret's axial axis,
-// hal/config/lathectl-twin.hal): motion.adaptive-feed scales every axis at once, so the module
-// leaves it alone and adds to that axis an external offset (axis.L.eoffset-counts) moving at
-// (S(t)/S_p − 1) times the axis's planned velocity (axis.L.pos-cmd differentiated: axis-pos-right
-// or -left, the flagged turret's; eoffset-enable-right/-left say which axis takes the offset):
-// the axis runs at S(t)/S_p times its planned speed, the program's F is the mean feed itself (no
-// ceiling), and the operator's feed override and motion.adaptive-feed, which scale the planned
-// velocity, scale the modulated one alike. Not modulating, the requested offset returns to 0
-// (update() says how).
+// Output: motion.adaptive-feed, S(t)/F with F the ceiling × the mean feed (LinuxCNC clips the
+// factor at 1), or with output=eoffset the flagged turret's axial axis's external offset
+// (hal/config/lathectl-twin.hal). Both, the F conversion and the turret switch are the machine's
+// (control::ModulationMachine::servo() and update(); its header says each); the parameters
+// are systems::b_chatter::machine_params's, as rig B's.
 // Pins, parameters and units: lathectl_modfeed(9).
 
 #include <algorithm>
@@ -42,7 +34,9 @@
 #include <string>
 
 #include "lathectl/control/modulation_machine.hpp"
+#include "lathectl/sim/config_error.hpp"
 #include "lathectl_hal.hpp"
+#include "systems/b_chatter/machine_params.hpp"
 #include "systems/b_chatter/settings.hpp"
 
 MODULE_AUTHOR("lathectl");
@@ -123,27 +117,41 @@ struct State {
   lathectl::control::ModulationPlanner planner;
   long every = 0;
   long count = 0;
-  double period_s = 1e-3;
-  double path = 0.0;  // mm travelled along the path in feed blocks
   bool eoffset = false;  // output=eoffset
-  double ratio = 0.0;    // S(t)/S_p from the last module period; 0: not modulating
-  double offset = 0.0;   // mm, the requested external offset
-  int turret = 0;                 // the flagged turret the output acts on: 0 right, 1 left
-  double planned[2] = {0.0, 0.0};  // mm, the axes' planned positions in the last period
-  bool planned_seen = false;
 };
-
-// The external offset's resolution [mm per count]: far below a feed step's path per servo period
-// (0.1 mm/min is 1.7 nm per ms), with ±21 m of range in an s32.
-constexpr double kEoffsetScale = 1e-5;
-// The offset's return in a feed block, as a share of the axis's planned speed: the feed stays
-// within 10 % of the program's while it returns.
-constexpr double kEoffsetReturn = 0.1;
 
 int comp_id = -1;
 Pins* pins = nullptr;
 std::unique_ptr<State> st;
 lathectl::hal::UpdateTimer timer;
+
+// One module period's input from the pins: detectors 19–20 (outside the CNC), the motor's
+// power, the spindle, the block (its F as motion gives it: the machine converts it), the
+// turret and path servo() keeps.
+ModulationMachine::Input module_input(const Pins& p, const ModulationMachine& m, bool feed_block) {
+  const double rpm = std::abs(*p.rpm);
+  ModulationMachine::Input in;
+  in.external_detectors = true;
+  in.a0_m = std::max(0.0, static_cast<double>(*p.a0)) * 1e-6;
+  in.omega_d_rad_per_s = std::max(0.0, static_cast<double>(*p.omega_d)) * 2.0 * std::numbers::pi;
+  in.motor_power_W = *p.power;
+  in.idle_block = *p.idle_block;
+  in.speed_m_per_min = 2.0 * std::numbers::pi * std::abs(*p.x_pos) * rpm / 1000.0;
+  in.rpm = rpm;
+  in.feed_requested = std::abs(*p.requested_vel);
+  in.feed_per_rev = *p.per_rev;
+  in.feed_rpm = rpm;
+  in.turret = m.turret();
+  in.path_mm[in.turret == Turret::Left ? 1 : 0] = m.path_mm();
+  in.feed_block = feed_block;
+  // A block that gives its plan (n_s > 0) is the programmed variant, whatever source says.
+  const int src = *p.prog_n_s > 0 ? 1 : *p.source;
+  in.source = src == 1   ? ModulationSource::Programmed
+              : src == 2 ? ModulationSource::Automatic
+                         : ModulationSource::None;
+  in.programmed = {*p.prog_s_min, *p.prog_ds, *p.prog_dl, *p.prog_n_s};
+  return in;
+}
 
 void update(void*, long period_ns) {
   Pins& p = *pins;
@@ -156,50 +164,31 @@ void update(void*, long period_ns) {
     *p.period_error = s.every < 0;
   }
   if (*p.reset_max) timer.reset();
-  const double ceil = std::max(1.0, static_cast<double>(p.ceiling));
   const bool feed_block = *p.motion_type == 2 || *p.motion_type == 3;
-  const bool on = s.every > 0 && *p.enable;
-  if (!on) s.ratio = 0.0;
-  // The flag moves the offset to the other turret's axis only once the offset is 0, asked and
-  // applied (out of feed blocks, when LinuxCNC's offset planner has brought the axis back): an
-  // axis whose offset LinuxCNC stops planning holds it.
-  const int want = *p.turret_left ? 1 : 0;
-  const double applied = s.turret ? *p.axis_eoffset_left : *p.axis_eoffset_right;
-  if (!s.eoffset || (s.offset == 0.0 && std::abs(applied) < 0.5 * kEoffsetScale)) s.turret = want;
+  // Every servo period: the turret the output acts on, the path, the external offset.
+  ModulationMachine::Servo sv;
+  sv.dt_s = dt;
+  sv.on = s.every > 0 && *p.enable;
+  sv.feed_block = feed_block;
+  sv.turret = *p.turret_left ? Turret::Left : Turret::Right;
+  sv.path_velocity_mm_per_s = *p.current_vel;
+  sv.planned_mm[0] = *p.axis_pos_right;
+  sv.planned_mm[1] = *p.axis_pos_left;
+  sv.applied_offset_mm[0] = *p.axis_eoffset_right;
+  sv.applied_offset_mm[1] = *p.axis_eoffset_left;
+  s.machine.servo(sv);
+  const auto& o = s.machine.output();
+  const int t = s.machine.turret() == Turret::Left ? 1 : 0;
   if (s.eoffset) {
-    // The axis moves at axis-vel·S/S_p: the offset takes the difference. Not modulating (the
-    // module off or released) in a feed block, it returns to 0 at kEoffsetReturn of the planned
-    // speed (a step back in the cut would be a chip the program never asked for; held, it would
-    // leave the turrets' relative axial position — the chip split of feed division — off the
-    // program's); out of feed blocks at once, LinuxCNC's offset planner moving the axis back at
-    // its OFFSET_AV_RATIO share of the axis's limits.
-    // The planned velocity: motion's axis command (axis.L.pos-cmd, which leaves the external
-    // offset out) differentiated; the first period: 0.
-    const double pos[2] = {*p.axis_pos_right, *p.axis_pos_left};
-    const double v = s.planned_seen ? (pos[s.turret] - s.planned[s.turret]) / dt : 0.0;
-    s.planned[0] = pos[0];
-    s.planned[1] = pos[1];
-    s.planned_seen = true;
-    *p.axis_vel = v;
-    *p.eoffset_enable_right = s.turret == 0;
-    *p.eoffset_enable_left = s.turret == 1;
-    const bool modulating = feed_block && s.ratio > 0.0;
-    if (modulating) {
-      s.offset += (s.ratio - 1.0) * v * dt;
-    } else if (feed_block) {
-      const double back = kEoffsetReturn * std::abs(v) * dt;
-      s.offset = std::clamp(0.0, s.offset - back, s.offset + back);
-    } else {
-      s.offset = 0.0;
-    }
-    s.path += feed_block ? std::abs(v) * (modulating ? s.ratio : 1.0) * dt : 0.0;
-    *p.eoffset = s.offset;
-    *p.eoffset_counts = static_cast<std::int32_t>(std::lround(s.offset / kEoffsetScale));
-  } else if (on) {
-    s.path += feed_block ? std::abs(*p.current_vel) * dt : 0.0;
+    *p.axis_vel = o.axis_vel_mm_per_s;
+    *p.eoffset_enable_right = t == 0;
+    *p.eoffset_enable_left = t == 1;
+    *p.eoffset = o.offset_mm;
+    *p.eoffset_counts = static_cast<std::int32_t>(
+        std::lround(o.offset_mm / ModulationMachine::kOffsetResolution_mm));
   }
-  if (!on) {
-    *p.adaptive_feed = s.eoffset ? 1.0 : 1.0 / ceil;
+  if (!sv.on) {
+    *p.adaptive_feed = o.factor;
     *p.engaged = 0;
     *p.feed_ratio = 1.0;
     *p.update_ns_max = timer.max();
@@ -207,40 +196,10 @@ void update(void*, long period_ns) {
   }
   if (s.count++ % s.every != 0) return;
   timer.start();
-  const double rpm = std::abs(*p.rpm);
-  ModulationMachine::Input in;
-  in.external_detectors = true;
-  in.a0_m = std::max(0.0, static_cast<double>(*p.a0)) * 1e-6;
-  in.omega_d_rad_per_s = std::max(0.0, static_cast<double>(*p.omega_d)) * 2.0 * std::numbers::pi;
-  in.motor_power_W = *p.power;
-  in.idle_block = *p.idle_block;
-  in.speed_m_per_min = 2.0 * std::numbers::pi * std::abs(*p.x_pos) * rpm / 1000.0;
-  in.rpm = rpm;
-  // The program's F is the ceiling; the mean feed to keep is F/ceiling [mm/min].
-  const double req = std::abs(*p.requested_vel);
-  const double f_prog = *p.per_rev ? req * rpm : req * 60.0;
-  const double mean = f_prog / ceil;
-  const int t = s.turret;
-  in.feed_programmed_mm_per_min[0] = in.feed_programmed_mm_per_min[1] = mean;
-  in.path_mm[t] = s.path;
-  in.feed_block = feed_block && mean > 0.0;
-  // A block that gives its plan (n_s > 0) is the programmed variant, whatever source says.
-  const int src = *p.prog_n_s > 0 ? 1 : *p.source;
-  in.source = src == 1   ? ModulationSource::Programmed
-              : src == 2 ? ModulationSource::Automatic
-                         : ModulationSource::None;
-  in.turret = t ? Turret::Left : Turret::Right;
-  in.programmed = {*p.prog_s_min, *p.prog_ds, *p.prog_dl, *p.prog_n_s};
-  s.machine.update(in);
-  const auto& o = s.machine.output();
-  const double feed = o.feed_mm_per_min[t];
-  *p.feed = feed;
-  // (output=eoffset leaves motion.adaptive-feed to others: 1 here.)
-  *p.adaptive_feed = s.eoffset    ? 1.0
-                     : f_prog > 0.0 ? std::clamp(feed / f_prog, 0.0, 1.0)
-                                    : 1.0 / ceil;
-  s.ratio = o.engaged && mean > 0.0 ? std::max(0.0, feed / mean) : 0.0;
-  *p.feed_ratio = s.ratio > 0.0 ? s.ratio : 1.0;
+  s.machine.update(module_input(p, s.machine, feed_block));
+  *p.feed = o.feed_mm_per_min[t];
+  *p.adaptive_feed = o.factor;
+  *p.feed_ratio = o.feed_ratio;
   *p.cut_power = o.cut_power_W;
   *p.engaged = o.engaged;
   *p.reason = static_cast<std::int32_t>(o.reason);
@@ -277,20 +236,23 @@ extern "C" int rtapi_app_main(void) {
     if (eoffset && ceiling)
       throw lathectl::hal::Error(
           "module parameter ceiling: not with output=eoffset (the program's F is the mean feed)");
-    // With the offset the staircase rises above the program's F by itself: no ceiling.
-    const double c = eoffset ? 1.0 : lathectl::hal::number_param(ceiling, "ceiling", 2.0);
-    if (!(c >= 1.0 && c <= 100.0))
-      throw lathectl::hal::Error("module parameter ceiling: expected 1 … 100");
+    // The machine's parameters as every host derives them (b_chatter::machine_params, which rig
+    // B calls too); this host's: the module period, the feed out, the ceiling.
+    namespace b_chatter = lathectl::systems::b_chatter;
+    b_chatter::Host host;
+    host.output = eoffset ? ModulationMachine::FeedOutput::Offset
+                          : ModulationMachine::FeedOutput::Factor;
+    host.ceiling = eoffset ? 1.0 : lathectl::hal::number_param(ceiling, "ceiling", 2.0);
+    ModulationMachine::Params machine;
+    try {
+      machine = b_chatter::machine_params(b, host);
+    } catch (const lathectl::sim::ConfigError& e) {
+      throw lathectl::hal::Error("module parameter " + e.key() + ": " + e.what());
+    }
+    const double c = machine.ceiling;
+    const auto& mp = machine.module;
     auto state = std::make_unique<State>();
     state->eoffset = eoffset;
-    state->turret = b.turret == Turret::Left ? 1 : 0;
-    ModulationMachine::Params machine{b.vibration, b.power, b.module};
-    auto& mp = machine.module;
-    mp.period_s = 1e-3;
-    // The staircase may not rise above the program's F (LinuxCNC clips the factor at 1).
-    if (!eoffset) mp.s_max_fraction = std::min(mp.s_max_fraction, c);
-    if (!(mp.s_max_fraction > 1.0))
-      throw lathectl::hal::Error("ceiling must exceed 1 for the staircase to rise above the mean");
     state->machine.configure(machine);
     state->machine.use_planner(&state->planner);
     pins = lathectl::hal::allocate_pins<Pins>();
@@ -343,7 +305,7 @@ extern "C" int rtapi_app_main(void) {
     x.out(&p.eoffset, "eoffset");
     x.out(&p.eoffset_counts, "eoffset-counts");
     x.out(&p.eoffset_scale, "eoffset-scale");
-    *p.eoffset_scale = kEoffsetScale;
+    *p.eoffset_scale = ModulationMachine::kOffsetResolution_mm;
     *p.feed_ratio = 1.0;
     *p.adaptive_feed = 1.0 / c;
     *p.source = static_cast<std::int32_t>(b.source);

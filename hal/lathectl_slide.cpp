@@ -33,8 +33,9 @@
 #include "lathectl/control/slide_machine.hpp"
 #include "lathectl/core/parameter_error.hpp"
 #include "lathectl/drives/eccentric_drive.hpp"
+#include "lathectl/sim/config_error.hpp"
 #include "lathectl_hal.hpp"
-#include "systems/a_pulse_feed/rig.hpp"
+#include "systems/a_pulse_feed/machine_params.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
 
 MODULE_AUTHOR("lathectl");
@@ -217,10 +218,17 @@ extern "C" int rtapi_app_main(void) {
     namespace a = lathectl::systems::a_pulse_feed;
     const auto sc = lathectl::hal::load_system(scenario, a::kReadSection);
     const auto& cfg = sc.get<a::Settings>().rig;
-    if (cfg.regulator_kind != a::RegulatorKind::Pulsed ||
-        cfg.controller_kind == a::ControllerKind::None)
-      throw Error(std::string(scenario) +
-                  ": controller.type must be aim or fim and regulator.type pulsed for a machine");
+    // The machine's parameters as every host derives them from the scenario (regulator gain,
+    // leakage and friction estimates, compliance, sensor K_UP; a pulsed regulator under AIM or
+    // FIM): a::machine_params, which rig A calls too.
+    lathectl::control::SlideMachine::Params mp;
+    double start_force = 0.0;
+    try {
+      mp = a::machine_params(cfg, a::Host{.machine_io = true});
+      start_force = a::nominal_force_N(cfg);
+    } catch (const lathectl::sim::ConfigError& e) {
+      throw Error(std::string(scenario) + ": " + e.key() + ": " + e.what());
+    }
     auto state = std::make_unique<State>();
     const double period = number_param(period_ns, "period_ns", 1e6);
     const double base = number_param(base_ns, "base_ns", 1e5);
@@ -228,37 +236,27 @@ extern "C" int rtapi_app_main(void) {
     // The controller runs every k-th call: k = controller.period_ms / the thread's period, a
     // whole number (1 in the servo thread; 10 in a 100 µs base thread for a 1 ms controller,
     // which keeps it in step with a plant in the same thread as the rig does).
-    const double k = cfg.controller.period_s / (period * 1e-9);
+    const double k = mp.controller.period_s / (period * 1e-9);
     if (!(std::abs(k - std::round(k)) < 1e-6 && std::round(k) >= 1.0))
       throw Error(std::string(scenario) + ": controller.period_ms " +
-                  std::to_string(cfg.controller.period_s * 1e3) +
+                  std::to_string(mp.controller.period_s * 1e3) +
                   " is not a whole number of the thread's periods (period_ns=" +
                   std::to_string(period) + ")");
     state->every = std::lround(k);
     state->period = std::lround(period);
     state->base = std::lround(base);
-    // The machine's parameters as the rig derives them from the scenario (regulator gain,
-    // leakage and friction estimates, compliance, sensor K_UP): configure the rig once.
-    a::Rig rig;
-    rig.set_streamed(true);
-    try {
-      rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
-    } catch (const std::invalid_argument& e) {
-      throw Error(std::string(scenario) + ": " + e.what());
-    }
-    auto mp = rig.machine().params();
     try {
       state->machine.configure(mp);
     } catch (const lathectl::core::ParameterError& e) {
       throw Error(std::string(scenario) + ": controller " + e.parameter() + ": " + e.what());
     }
-    state->machine.start(rig.nominal_force_N());
-    state->aim = cfg.controller_kind == a::ControllerKind::Aim;
+    state->machine.start(start_force);
+    state->aim = mp.controller.modulation == SlideMachine::Modulation::Amplitude;
     if (state->aim) state->eccentric.configure(cfg.eccentric);
-    state->width_s = cfg.pulse_width_s;
-    state->width_ticks = std::max(1L, std::lround(cfg.pulse_width_s * 1e9 / base));
-    state->default_feed = cfg.controller.feed_m_per_s;
-    state->default_force = cfg.controller.force_set_N;
+    state->width_s = mp.controller.pulse_width_s;
+    state->width_ticks = std::max(1L, std::lround(mp.controller.pulse_width_s * 1e9 / base));
+    state->default_feed = mp.controller.feed_m_per_s;
+    state->default_force = mp.controller.force_set_N;
     pins = lathectl::hal::allocate_pins<Pins>();
     const lathectl::hal::Exporter x(comp_id, kPrefix);
     Pins& p = *pins;
@@ -295,8 +293,8 @@ extern "C" int rtapi_app_main(void) {
     x.out(&p.base_jitter_mean_ns, "base-jitter-mean-ns");
     p.meter.export_to(x);
     *p.sensor_gain = 1.0;
-    *p.pulse_width = cfg.pulse_width_s;
-    *p.roughing = cfg.controller.mode == SlideMachine::Mode::Roughing;
+    *p.pulse_width = mp.controller.pulse_width_s;
+    *p.roughing = mp.controller.mode == SlideMachine::Mode::Roughing;
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);
     lathectl::hal::check(hal_export_funct("lathectl-slide.pulses", pulses, nullptr, 1, 0, comp_id),

@@ -30,7 +30,7 @@ ModulationMachine::Input cutting(double motor_W) {
   in.motor_power_W = motor_W;
   in.rpm = 800.0;
   in.speed_m_per_min = 100.0;
-  in.feed_programmed_mm_per_min[0] = in.feed_programmed_mm_per_min[1] = 120.0;
+  in.feed_requested = 2.0;  // G94: 2 mm/s along the path, 120 mm/min for each turret
   in.feed_block = true;
   return in;
 }
@@ -157,4 +157,107 @@ TEST(ModulationMachine, BadParametersNameThemselves) {
   fresh.update(cutting(1000.0));
   EXPECT_FALSE(fresh.output().engaged);
   EXPECT_EQ(fresh.output().feed_mm_per_min[0], 0.0);
+}
+
+// The F conversion: the block's F (G95: mm/rev at the spindle speed; G94: the path velocity in
+// mm/s) over the ceiling is the mean feed each turret present keeps; with the factor output
+// (LinuxCNC's motion.adaptive-feed) the factor is S/F, 1/ceiling before anything is planned.
+TEST(ModulationMachine, TheProgramsFeedOverTheCeiling) {
+  ModulationMachine m;
+  auto p = quiet_params();
+  p.output = ModulationMachine::FeedOutput::Factor;
+  p.ceiling = 2.0;
+  m.configure(p);
+  EXPECT_EQ(m.output().factor, 0.5);
+  auto in = cutting(1000.0);
+  in.feed_requested = 0.3;  // mm/rev
+  in.feed_per_rev = true;
+  in.feed_rpm = 800.0;
+  in.turrets = 1;  // the right turret alone
+  m.update(in);
+  EXPECT_DOUBLE_EQ(m.output().mean_feed_mm_per_min, 0.3 * 800.0 / 2.0);
+  EXPECT_DOUBLE_EQ(m.output().feed_mm_per_min[0], 120.0);
+  EXPECT_EQ(m.output().feed_mm_per_min[1], 0.0) << "no second turret: no feed";
+  EXPECT_DOUBLE_EQ(m.output().factor, 0.5) << "S/F with S the mean: 1/ceiling";
+  EXPECT_EQ(m.output().feed_ratio, 1.0);
+  in.feed_per_rev = false;
+  in.feed_requested = 4.0;  // mm/s: 240 mm/min
+  m.update(in);
+  EXPECT_DOUBLE_EQ(m.output().mean_feed_mm_per_min, 120.0);
+  // A ceiling belongs to the factor output, within 1 … 100.
+  p.ceiling = 0.5;
+  EXPECT_THROW(m.configure(p), lathectl::core::ParameterError);
+  p.ceiling = 2.0;
+  p.output = ModulationMachine::FeedOutput::Offset;
+  EXPECT_THROW(m.configure(p), lathectl::core::ParameterError);
+}
+
+// The external offset (Offset): modulating, the flagged axis runs at S/S_p times its planned
+// velocity, the offset taking the difference; released in a feed block the offset returns to 0
+// at a tenth of the planned speed; out of feed blocks it is 0 at once. The flag moves the
+// offset to the other turret's axis only once the offset is 0, asked and applied. The path is
+// the flagged axis's travel, planned velocity × S/S_p.
+TEST(ModulationMachine, TheExternalOffsetAndTheTurretSwitch) {
+  ModulationMachine m;
+  auto p = quiet_params();
+  p.output = ModulationMachine::FeedOutput::Offset;
+  p.power.idle_table_rpm = {100.0, 3000.0};
+  p.power.idle_table_W = {800.0, 800.0};
+  m.configure(p);
+  const double v = 2.0;  // mm/s planned on the right turret's axis (120 mm/min)
+  ModulationMachine::Servo sv;
+  sv.feed_block = true;
+  double planned = 0.0, applied = 0.0, path_expected = 0.0;
+  auto period = [&](bool modulated) {
+    planned += v * sv.dt_s;
+    sv.planned_mm[0] = planned;
+    sv.applied_offset_mm[0] = applied;
+    const double ratio_before = m.output().feed_ratio;
+    m.servo(sv);
+    auto in = cutting(2300.0);
+    in.external_detectors = true;
+    in.a0_m = modulated ? 20e-6 : 0.0;
+    in.omega_d_rad_per_s = modulated ? 1400.0 : 0.0;
+    in.turret = m.turret();
+    in.path_mm[0] = m.path_mm();
+    m.update(in);
+    applied = m.output().offset_mm;  // motion applies what is asked, a period later
+    return ratio_before;
+  };
+  (void)period(false);  // the first period: no planned velocity yet
+  EXPECT_EQ(m.output().axis_vel_mm_per_s, 0.0);
+  double off = 0.0;
+  for (int k = 0; k < 400; ++k) {
+    const double ratio = period(true);
+    const bool mod = m.output().engaged && ratio != 1.0;
+    EXPECT_NEAR(m.output().axis_vel_mm_per_s, v, 1e-9);
+    if (k > 0 && ratio != 1.0) off += (ratio - 1.0) * v * sv.dt_s;
+    path_expected += v * (ratio != 1.0 ? ratio : 1.0) * sv.dt_s;
+    (void)mod;
+  }
+  ASSERT_TRUE(m.output().engaged);
+  EXPECT_NEAR(m.output().offset_mm, off, 1e-9);
+  EXPECT_NE(m.output().offset_mm, 0.0);
+  EXPECT_NEAR(m.path_mm(), path_expected, 1e-6);
+  // The flag asks for the left turret: held on the right while its offset is not 0.
+  sv.turret = Turret::Left;
+  sv.on = false;  // the module off: released, the offset returns at 0.1 × |v|
+  const double o0 = m.output().offset_mm;
+  planned += v * sv.dt_s;
+  sv.planned_mm[0] = planned;
+  m.servo(sv);
+  EXPECT_EQ(m.turret(), Turret::Right);
+  EXPECT_NEAR(std::abs(m.output().offset_mm), std::max(0.0, std::abs(o0) - 0.1 * v * sv.dt_s),
+              1e-12);
+  EXPECT_EQ(m.output().factor, 1.0);
+  EXPECT_FALSE(m.output().engaged);
+  // Out of feed blocks: 0 at once; the flag moves once the applied offset is 0 too.
+  sv.feed_block = false;
+  sv.applied_offset_mm[0] = o0;
+  m.servo(sv);
+  EXPECT_EQ(m.output().offset_mm, 0.0);
+  EXPECT_EQ(m.turret(), Turret::Right) << "the axis still applies the offset";
+  sv.applied_offset_mm[0] = 0.0;
+  m.servo(sv);
+  EXPECT_EQ(m.turret(), Turret::Left);
 }

@@ -411,7 +411,9 @@ TEST(NoAlloc, ModulationMachineNeverAllocates) {
     ModulationPlanner planner;
     if (with_planner) m.use_planner(&planner);
     ModulationMachine::Input in;
-    in.feed_programmed_mm_per_min[0] = in.feed_programmed_mm_per_min[1] = 100.0;
+    in.feed_requested = 0.125;  // G95: 0.125 mm/rev at 800 rpm, 100 mm/min
+    in.feed_per_rev = true;
+    in.feed_rpm = 800.0;
     in.speed_m_per_min = 100.0;
     in.rpm = 800.0;
     int engaged = 0;

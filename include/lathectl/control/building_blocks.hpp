@@ -55,6 +55,7 @@ class SignalMonitor {
     double stuck_tolerance = 0.0;  // |Δ| at or below this counts as unchanged
     double noise_sigma = 0.0;      // the sensor's noise σ between samples (sets suspect_samples)
     double period_s = 0.0;         // sample period (> 0 enables the suspect state)
+    bool operator==(const Params&) const = default;
   };
   void configure(const Params& p);  // throws std::invalid_argument on min ≥ max or negative times
   // Returns Reason::None when the sample is usable, else the fault. dt in s: the time this sample

@@ -151,6 +151,7 @@ class ModulatedFeedController {
     double replan_period_s = 0.5;
     bool release_below_dead_zone = false;
     double release_time_s = 0.2;
+    bool operator==(const Params&) const = default;
   };
 
   struct Input {

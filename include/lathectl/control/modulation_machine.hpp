@@ -16,6 +16,17 @@
 //               (S_min, ΔS, Δl, n_s) for the flagged turret (automatic), or the NC block's own
 //               (programmed); the other turret keeps its programmed feed.
 //
+//   feed out   (servo(), every servo period) how the staircase reaches the flagged turret
+//               (Params::output): its drive's feed (rig B: Drives); one factor on every axis,
+//               S(t)/F ≤ 1, the program's F being `ceiling` × the mean feed (LinuxCNC's
+//               motion.adaptive-feed: Factor); or an external offset on the flagged turret's
+//               axial axis moving at (S(t)/S_p − 1) × its planned velocity (Offset: the axis runs
+//               at S(t)/S_p times its planned speed; motion.adaptive-feed and the feed override,
+//               which scale the planned velocity, scale the modulated one alike). With the offset
+//               the flag moves to the other turret only once the offset is back at 0, asked and
+//               applied. The F conversion (the block's F word or path velocity to mm/min, over
+//               the ceiling) is update()'s, for every output.
+//
 // Decisions and their reasons (Output::reason): the planner's (modulation_engaged, _limited,
 // _released, _programmed, _no_force) and the machine's own:
 //   modulation_no_idle  vibration above the dead zone but no idle power stored yet (no idle block
@@ -34,10 +45,22 @@ namespace lathectl::control {
 
 class ModulationMachine {
  public:
+  // How the modulated feed reaches the flagged turret (the header says each).
+  enum class FeedOutput { Drives, Factor, Offset };
+  // The external offset's resolution [mm per count] (Offset): far below a feed step's path per
+  // servo period (0.1 mm/min is 1.7 nm per ms), with ±21 m of range in an s32.
+  static constexpr double kOffsetResolution_mm = 1e-5;
+  // The offset's return in a feed block while not modulating, as a share of the axis's planned
+  // speed: the feed stays within 10 % of the program's while it returns.
+  static constexpr double kOffsetReturn = 0.1;
+
   struct Params {
     sensors::VibrationChain::Params vibration;  // sample_period_s: sense()'s period
     sensors::PowerSensor::Params power;
     ModulatedFeedController::Params module;  // period_s: update()'s period
+    FeedOutput output = FeedOutput::Drives;
+    double ceiling = 1.0;  // the program's F over the mean feed to keep (Factor; else 1)
+    bool operator==(const Params&) const = default;
   };
   struct Input {
     // Detectors 19–20 outside the CNC: their readings replace the machine's own chain.
@@ -48,8 +71,13 @@ class ModulationMachine {
     bool idle_block = false;         // the NC block is flagged idle (switch 12)
     double rpm = 0.0;                // spindle speed
     double speed_m_per_min = 0.0;    // cutting speed V
-    double feed_programmed_mm_per_min[2] = {0.0, 0.0};  // S1 (right), S2 (left)
-    double path_mm[2] = {0.0, 0.0};  // path each turret has travelled (measured)
+    // The block's feed as the program gives it: the path velocity [mm/s] (G94) or the F word
+    // [mm/rev] (G95) at feed_rpm. Each turret present keeps that feed over Params::ceiling.
+    double feed_requested = 0.0;
+    bool feed_per_rev = false;
+    double feed_rpm = 0.0;
+    int turrets = 2;                 // turrets feeding: 2, or 1 (the right one alone)
+    double path_mm[2] = {0.0, 0.0};  // path each turret has travelled (measured, or path_mm())
     bool feed_block = false;         // a cutting block is active
     ModulationSource source = ModulationSource::Automatic;
     Turret turret = Turret::Right;  // the block's turret flag
@@ -62,6 +90,22 @@ class ModulationMachine {
     double cut_power_W = 0.0;        // N_c (adder 14)
     double idle_power_W = 0.0;       // N_idle (compensator 13)
     bool idle_known = false;         // an idle power is stored (or tabulated)
+    // servo()'s: the feed out to the flagged turret.
+    double mean_feed_mm_per_min = 0.0;  // the programmed feed over the ceiling (S_p)
+    double factor = 1.0;        // (Factor) S(t)/F ∈ [0, 1]; 1/ceiling while not modulating
+    double feed_ratio = 1.0;    // S(t)/S_p, 1 while not modulating
+    double offset_mm = 0.0;     // (Offset) the external offset asked of the flagged axis
+    double axis_vel_mm_per_s = 0.0;  // (Offset) the flagged axis's planned velocity
+  };
+  // One servo period of the host's: whether the module runs, and what the axes do.
+  struct Servo {
+    double dt_s = 1e-3;     // this servo period
+    bool on = true;         // the module runs (enabled, its period a whole number of these)
+    bool feed_block = false;  // a feed (G1, arc) block is active
+    Turret turret = Turret::Right;  // the block's turret flag
+    double path_velocity_mm_per_s = 0.0;  // (Factor) along the path
+    double planned_mm[2] = {0.0, 0.0};    // (Offset) the axes' planned positions, right, left
+    double applied_offset_mm[2] = {0.0, 0.0};  // (Offset) the offsets the axes apply
   };
 
   void configure(const Params& p);  // throws core::ParameterError
@@ -69,6 +113,13 @@ class ModulationMachine {
   void sense(double displacement_m) noexcept { chain_.update(displacement_m); }
   // One control period.
   void update(const Input& in) noexcept;
+  // One servo period (a host whose turrets' travel the machine does not measure: Factor,
+  // Offset), before update() in a period that runs the module: the turret the output acts on,
+  // the path it has travelled, the external offset. Output: factor, feed_ratio, offset_mm,
+  // axis_vel_mm_per_s (and, while off, engaged false).
+  void servo(const Servo& in) noexcept;
+  [[nodiscard]] Turret turret() const noexcept { return turret_; }  // the one the output acts on
+  [[nodiscard]] double path_mm() const noexcept { return path_mm_; }  // servo()'s, in feed blocks
   [[nodiscard]] const Output& output() const noexcept { return out_; }
   [[nodiscard]] const Params& params() const noexcept { return p_; }
   [[nodiscard]] const sensors::VibrationChain& chain() const noexcept { return chain_; }
@@ -85,6 +136,12 @@ class ModulationMachine {
   ModulatedFeedController module_;
   bool idle_known_ = false;
   Output out_{};
+  // servo()'s state.
+  Turret turret_ = Turret::Right;
+  double ratio_ = 0.0;   // S(t)/S_p of the last module period; 0: not modulating
+  double path_mm_ = 0.0;
+  double planned_mm_[2] = {0.0, 0.0};
+  bool planned_seen_ = false;
 };
 
 }  // namespace lathectl::control

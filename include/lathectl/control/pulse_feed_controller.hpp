@@ -76,6 +76,7 @@ class PulseFeedController {
     double kp = 3.0;
     double ti_s = 0.5;
     double feed_min_fraction = 0.05;
+    bool operator==(const Params&) const = default;
   };
 
   struct Input {

@@ -43,6 +43,7 @@ class SlideMachine {
   struct LawPoint {
     double position_m = 0.0;
     double value = 0.0;  // feed [m/s] or force [N]
+    bool operator==(const LawPoint&) const = default;
   };
   struct Params {
     PulseFeedController::Params controller;  // mode, programmed feed and force at start
@@ -53,6 +54,7 @@ class SlideMachine {
     // Laws along the travel (positions rising; empty: the programmed value holds).
     std::vector<LawPoint> feed_law;   // finishing: position → feed [m/s]
     std::vector<LawPoint> force_law;  // roughing: position → force setpoint [N]
+    bool operator==(const Params&) const = default;
   };
   struct Input {
     double sensor_V = 0.0;  // U_D

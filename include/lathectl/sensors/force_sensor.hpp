@@ -19,6 +19,7 @@ class LaggedNoisySensor {
     double noise_sigma = 0.0;        // σ, in the measured unit
     double range = 1e9;              // |output| saturates here
     std::uint64_t seed = 1;
+    bool operator==(const Params&) const = default;
   };
   void configure(const Params& p);  // throws std::invalid_argument
   void reset(double value) noexcept;

@@ -49,6 +49,7 @@ class VibrationChain {
     double frequency_gate_s = 0.1;
     double adc_lsb_m = 1e-6;
     unsigned seed = 1;
+    bool operator==(const Params&) const = default;
   };
   void configure(const Params& p);  // throws std::invalid_argument
   void update(double displacement_m) noexcept;
@@ -77,6 +78,7 @@ class PowerSensor {
     // Beyond the seed: rpm → idle W; empty = the seed's stored value.
     std::vector<double> idle_table_rpm;
     std::vector<double> idle_table_W;
+    bool operator==(const Params&) const = default;
   };
   void configure(const Params& p, double dt);  // throws std::invalid_argument
   // motor_power_W: the drive's true electrical power; idle_block: the NC block is flagged idle.

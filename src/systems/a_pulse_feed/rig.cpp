@@ -1,5 +1,7 @@
 #include "systems/a_pulse_feed/rig.hpp"
 
+#include "systems/a_pulse_feed/machine_params.hpp"
+
 #include "lathectl/sim/config_error.hpp"
 
 #include <algorithm>
@@ -39,14 +41,11 @@ constexpr double kM3sToCm3min = 1e6 * 60.0;
 void Rig::configure(const RigConfig& cfg, double dt, double record_interval, double duration) {
   if (!(dt > 0.0) || !(record_interval >= dt) || !(duration > 0.0))
     throw std::invalid_argument("run: need step > 0, record interval ≥ step, duration > 0");
-  if (external_ && (cfg.regulator_kind != RegulatorKind::Pulsed ||
-                    cfg.controller_kind == ControllerKind::None))
-    throw sim::ConfigError("controller.type",
-                           "a machine's controller drives a pulsed regulator: controller must be "
-                           "aim or fim and regulator pulsed");
-  if (cfg.regulator_kind == RegulatorKind::Throttle && cfg.controller_kind != ControllerKind::None)
-    throw sim::ConfigError("controller.type",
-                           "a continuous throttle has no pulse actuator: controller must be none");
+  // The machine side's parameters, as every host derives them (machine_params.cpp; it rejects a
+  // controller the regulator cannot take, and an external controller on anything but a pulsed
+  // regulator).
+  auto mp = machine_params(cfg, Host{.machine_io = external_});
+  const auto& cp = mp.controller;
   if (!(cfg.spindle_rpm > 0.0) || !(cfg.diameter_m > 0.0))
     throw std::invalid_argument("spindle speed and part diameter must be > 0");
   if (!(cfg.pulse_width_s > 0.0) || !(cfg.frequency_Hz > 0.0) || !(cfg.slot_m > 0.0))
@@ -71,11 +70,8 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   speed_m_per_min_ = std::numbers::pi * cfg.diameter_m * cfg.spindle_rpm;
 
   const double feed = cfg.controller.feed_m_per_s;
-  if (!(feed > 0.0)) throw sim::ConfigError("controller.feed_mm_per_min", "must be > 0");
-  const double s_rev = feed * 1000.0 / rev_per_s_;
   // Nominal force: the programmed feed on the deterministic part of the blank at its start.
-  force_nominal_ = cut_.radial_force({dist_.depth_profile(0.0), s_rev, speed_m_per_min_,
-                                      dist_.strength_factor(0.0), dist_.wear_factor(0.0)});
+  force_nominal_ = a_pulse_feed::nominal_force_N(cfg);
 
   sim::configure_as("slide", [&] { slide_.configure(cfg.slide); });
   slide_.set_steady(feed, force_nominal_);
@@ -103,35 +99,16 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   sim::configure_as("sensor", [&] { sensor_.configure(cfg.sensor); });
   sensor_.set_steady(force_nominal_);
 
+  // The uncontrolled machine's setting: the flow the programmed feed needs, with the true
+  // leakage and the friction and regulator gain of the machine's model (machine_params).
   const double F = cfg.slide.piston_area_m2;
-  const double gain = cfg.regulator.orifice.gain_per_m();
-  // Friction at the programmed feed: Coulomb plus viscous (the setter's and controller's model).
-  const double friction =
-      cfg.slide.coulomb_friction_N + cfg.slide.viscous_friction_N_s_per_m * feed;
-  const double q_needed = feed * F + cfg.slide.leak_m3_per_s_Pa * (force_nominal_ + friction) / F;
+  const double gain = cp.regulator_gain_per_m;
+  const double q_needed =
+      feed * F + cfg.slide.leak_m3_per_s_Pa * (force_nominal_ + cp.friction_N) / F;
   fixed_actuator_ = cfg.regulator_kind == RegulatorKind::Throttle
                         ? q_needed / gain
                         : q_needed / (gain * cfg.pulse_width_s * cfg.frequency_Hz);
 
-  auto cp = cfg.controller;
-  cp.regulator_gain_per_m = gain;
-  cp.pulse_width_s = cfg.pulse_width_s;
-  cp.slot_m = cfg.slot_m;
-  cp.frequency_Hz = cfg.frequency_Hz;
-  cp.piston_area_m2 = F;
-  cp.leak_m3_per_s_Pa = cfg.slide.leak_m3_per_s_Pa * cfg.leak_estimate_factor;
-  cp.friction_N = friction;
-  if (cfg.compensate_compliance)
-    cp.compliance_m3_per_Pa = cfg.slide.damper_capacitance_m3_per_Pa +
-                              cfg.slide.dead_volume_m3 / cfg.slide.bulk_modulus_Pa;
-  cp.sensor_V_per_N = sensor_.volts_per_newton();
-  cp.sensor_offset_V = cfg.sensor.offset_V;
-  cp.modulation = cfg.controller_kind == ControllerKind::Fim
-                      ? control::PulseFeedController::Modulation::Frequency
-                      : control::PulseFeedController::Modulation::Amplitude;
-  if (cp.slot_max_m > cfg.regulator.max_slot_m) cp.slot_max_m = cfg.regulator.max_slot_m;
-  auto mp = cfg.machine;
-  mp.controller = cp;
   sim::configure_as("controller",
                     {{"overload_factor", "controller.overload_factor"},
                      {"overload_time_s", "controller.overload_time_ms"},

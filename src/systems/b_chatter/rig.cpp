@@ -8,6 +8,7 @@
 #include <string>
 
 #include "lathectl/sim/config_error.hpp"
+#include "systems/b_chatter/machine_params.hpp"
 
 namespace lathectl::systems::b_chatter {
 
@@ -122,8 +123,10 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   theta_ = 0.0;
   record_every_ =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(record_interval / dt)));
-  chain_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1e-4 / dt)));
-  control_every_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1e-3 / dt)));
+  chain_every_ =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(kSamplePeriod_s / dt)));
+  control_every_ =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(kModulePeriod_s / dt)));
 
   const dynamics::TwinTurretCut::Params pp = cut_params(cfg);
   sim::configure_as("cut", {{"tool2_lag_mm", "cut.tool2_lag_mm"}, {"step", "run.step_s"}},
@@ -143,9 +146,11 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
 
   sim::configure_as("spindle", [&] { spindle_.configure(cfg.spindle); });
   spindle_.reset(cfg.rpm);
-  // The CNC's side: the chains and the planner as one machine, the one LinuxCNC runs.
-  control::ModulationMachine::Params mp{cfg_.vibration, cfg.power, cfg.module};
-  mp.module.period_s = dt * static_cast<double>(control_every_);
+  // The CNC's side: the chains and the planner as one machine, the one LinuxCNC runs, with the
+  // parameters every host derives (machine_params.cpp), at the periods this step allows; the
+  // feeds go to the turrets' drives.
+  const auto mp = machine_params(cfg, Host{.module_period_s = dt * static_cast<double>(control_every_),
+                                           .sample_period_s = cfg_.vibration.sample_period_s});
   sim::configure_as("modulation",
                     {{"vibration", "vibration_sensor"},
                      {"power", "power_sensor"},
@@ -188,20 +193,29 @@ bool Rig::step() noexcept {
   if (feed_block && t_cut_start_ < 0.0) t_cut_start_ = t_;
 
   if (step_ % control_every_ == 0) {
+    // The servo period as the machine runs it (the feeds go to the drives: the flag's turret at
+    // once, the turrets' paths measured below), then the module period.
+    control::ModulationMachine::Servo sv;
+    sv.dt_s = dt_ * static_cast<double>(control_every_);
+    sv.feed_block = feed_block;
+    sv.turret = cfg_.turret;
+    machine_.servo(sv);
     const double rpm = spindle_.rpm();
     control::ModulationMachine::Input in;
     in.motor_power_W = spindle_.electrical_power_W();
     in.idle_block = idle_block;
     in.rpm = rpm;
     in.speed_m_per_min = kPi * cfg_.part.diameter_m * rpm;
-    const double s_prog = cfg_.feed_mm_per_rev * cfg_.rpm;
-    in.feed_programmed_mm_per_min[0] = s_prog;
-    in.feed_programmed_mm_per_min[1] = n_tools_ == 2 ? s_prog : 0.0;
+    // The program's feed per revolution at the programmed speed (the machine converts it).
+    in.feed_requested = cfg_.feed_mm_per_rev;
+    in.feed_per_rev = true;
+    in.feed_rpm = cfg_.rpm;
+    in.turrets = n_tools_;
     in.path_mm[0] = turrets_[0].z_mm - turrets_[0].z0_mm;
     in.path_mm[1] = turrets_[1].z_mm - turrets_[1].z0_mm;
     in.feed_block = feed_block;
     in.source = cfg_.source;
-    in.turret = cfg_.turret;
+    in.turret = machine_.turret();
     in.programmed = cfg_.programmed;
     machine_.update(in);
     const auto& mo = machine_.output();

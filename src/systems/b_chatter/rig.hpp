@@ -131,6 +131,8 @@ class Rig {
   [[nodiscard]] const control::ModulationMachine::Output& module_output() const noexcept {
     return machine_.output();
   }
+  // The machine side as configured (machine_params at this rig's periods).
+  [[nodiscard]] const control::ModulationMachine& machine() const noexcept { return machine_; }
   // The coarsest step the cut can be simulated with: ω·dt ≤ 0.2 (as system C's slide) at the
   // chatter frequency f_n·√(1+2ζ) of the highest part or tool mode that can chatter in this
   // cut — one whose SDOF limit 2k(x)ζ(1+ζ) is below 4× the process stiffness Σ∂P_y/∂b of the
