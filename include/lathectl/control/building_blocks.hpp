@@ -49,6 +49,7 @@ struct PeriodTime {
 class SignalMonitor {
  public:
   struct Params {
+    bool operator==(const Params&) const = default;
     double min = -1e300;           // lowest valid value
     double max = 1e300;            // highest valid value
     double stuck_time_s = 0.0;     // unchanged this long → stuck; 0 disables the check

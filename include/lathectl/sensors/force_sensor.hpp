@@ -15,6 +15,7 @@ namespace lathectl::sensors {
 class LaggedNoisySensor {
  public:
   struct Params {
+    bool operator==(const Params&) const = default;
     double time_constant_s = 0.002;  // τ
     double noise_sigma = 0.0;        // σ, in the measured unit
     double range = 1e9;              // |output| saturates here
