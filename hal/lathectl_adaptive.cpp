@@ -20,6 +20,7 @@
 
 #include "lathectl/control/adaptive_machine.hpp"
 #include "lathectl_hal.hpp"
+#include "systems/e_adaptive/machine_params.hpp"
 #include "systems/e_adaptive/settings.hpp"
 #include "systems/e_adaptive/tool_limits.hpp"
 
@@ -273,70 +274,36 @@ extern "C" int rtapi_app_main(void) {
     namespace e_adaptive = lathectl::systems::e_adaptive;
     const auto sc = lathectl::hal::load_system(scenario, e_adaptive::kReadSection);
     const auto& e = sc.get<e_adaptive::Settings>().rig;
-    AdaptiveMachine::Params mp;
+    // What this host adds to the scenario (module parameters and files); the parameters
+    // themselves are derived where every host derives them (e_adaptive::machine_params).
+    e_adaptive::MachineHost host;
     const std::string sensor_kind = sensor != nullptr && *sensor != '\0' ? sensor : "force";
     if (sensor_kind != "force" && sensor_kind != "power")
       throw lathectl::hal::Error("module parameter sensor=" + sensor_kind +
                                  ": expected force or power");
-    mp.power_sensor = sensor_kind == "power";
-    auto& c = mp.controller;
-    c = e.controller;
-    if (mp.power_sensor) {  // the sensor's valid range in W (the scenario's is its sensor's)
-      // (braking, the drive regenerates up to its rated power: the reading goes that negative)
-      c.sensor_monitor.min = -1.2 * e.spindle.max_power_W;
-      c.sensor_monitor.max = 2.0 * e.spindle.max_power_W;
-      // The default limit in W (the scenario's is in its sensor's unit): the power the spindle
-      // has for cutting, the speed law's clamp.
-      c.force_limit = std::min(c.cut_power_max_W, e.spindle.max_power_W);
-    }
-    mp.parameter = e.force_parameter;
-    mp.spindle = e.spindle;
-    mp.learn_inertia = e.learn_inertia;
-    mp.feed_forward = e.feed_forward;
-    // The simulated machine's drive power pin (lathectl_plant) does not lag.
-    mp.power_lag_s = 0.0;
-    if (z_origin_mm != nullptr && *z_origin_mm != '\0') {
-      mp.stock_model = true;
-      mp.process = e;
-      mp.z_origin_mm = lathectl::hal::number_param(z_origin_mm, "z_origin_mm", 0.0);
-      mp.life_law = e.life_law;
-    } else if (e.life_law) {
-      throw lathectl::hal::Error(
-          "the scenario's speed_law = \"tool_life\" needs the stock model: give z_origin_mm");
-    }
-    // The rating a program's value may not exceed: the tool table's, else what the sensor can
-    // measure (the dynamometer's range; with sensor=power, the spindle's power).
-    mp.rating.limit_max = mp.power_sensor ? e.spindle.max_power_W
-                          : e.force_parameter == lathectl::cutting::ForceParameter::Power
-                              ? e.spindle.max_power_W
-                              : e.force_sensor.range;
-    mp.rating.feed_max_mm_per_rev = c.feed_max_mm_per_rev;
+    if (sensor_kind == "power") host.load = e_adaptive::MachineHost::Load::SpindlePower;
+    host.z_origin_mm = z_origin_mm != nullptr && *z_origin_mm != '\0'
+                           ? lathectl::hal::number_param(z_origin_mm, "z_origin_mm", 0.0)
+                           : std::nan("");
+    e_adaptive::ToolTable table;
     if (tools != nullptr && *tools != '\0') {
-      const auto t = e_adaptive::read_tool_table(read_text(tools, "tool limits"), tools);
-      if (t.limit_max > 0.0) mp.rating.limit_max = t.limit_max;
-      if (t.feed_max_mm_per_rev > 0.0) mp.rating.feed_max_mm_per_rev = t.feed_max_mm_per_rev;
-      if (t.tools.size() > AdaptiveMachine::kMaxTools)
-        throw lathectl::hal::Error(std::string(tools) + ": more than " +
-                                   std::to_string(AdaptiveMachine::kMaxTools) + " tools");
-      mp.tools = t.tools;
+      table = e_adaptive::read_tool_table(read_text(tools, "tool limits"), tools);
+      host.tools = &table;
     }
-    const char* unit = mp.power_sensor ? "W" : "N";
     if (taught != nullptr && *taught != '\0') {
       std::FILE* f = std::fopen(taught, "r");  // absent: nothing taught yet
       if (f != nullptr) {
         std::fclose(f);
-        for (const auto& t : e_adaptive::read_taught(read_text(taught, "taught"), taught)) {
-          if (t.unit != unit)
-            throw lathectl::hal::Error(std::string(taught) + ": tool " + std::to_string(t.tool) +
-                                       " was taught in " + t.unit + ", this sensor measures " +
-                                       unit);
-          if (mp.taught.size() >= AdaptiveMachine::kMaxTaught)
-            throw lathectl::hal::Error(std::string(taught) + ": more than " +
-                                       std::to_string(AdaptiveMachine::kMaxTaught) + " references");
-          mp.taught.push_back({t.tool, t.operation, t.reference});
-        }
+        host.taught = e_adaptive::read_taught(read_text(taught, "taught"), taught);
       }
     }
+    AdaptiveMachine::Params mp;
+    try {
+      mp = e_adaptive::machine_params(e, host);
+    } catch (const std::invalid_argument& x) {
+      throw lathectl::hal::Error(x.what());
+    }
+    const auto& c = mp.controller;
     auto m = std::make_unique<AdaptiveMachine>();
     m->configure(mp);
     pins = lathectl::hal::allocate_pins<Pins>();

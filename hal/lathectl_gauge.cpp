@@ -43,6 +43,7 @@
 #include "lathectl/design/vibro_gauge.hpp"
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
 #include "lathectl_hal.hpp"
+#include "systems/d_gauging/machine_params.hpp"
 #include "systems/d_gauging/settings.hpp"
 
 MODULE_AUTHOR("lathectl");
@@ -198,50 +199,39 @@ extern "C" int rtapi_app_main(void) {
       throw Error("module parameters: expected fine_um > spark_um > 0");
     const double lost = number_param(signal_lost, "signal_lost", 0.05);
     if (!(lost >= 0.0 && lost < 1.0)) throw Error("module parameter signal_lost: expected 0 … 1");
-    state->feed[0] = 1.0;
-    state->feed[1] = fine / rough;
-    state->feed[2] = 1.0 / rough;
-    state->feed[3] = 1.0 / rough;
     // The transducer as the run configures it (its free signal, where the filter starts).
     lathectl::sensors::VibroContactGauge gauge;
     dg::configure_transducer(sc, gauge);
     const auto plan = dg::plan_threshold(d, sc.run.step_s);
-    const auto& pr = d.process;
-    const double lag = lathectl::sensors::VibroContactGauge::filter_lag_s(d.transducer);
     const bool given =
         threshold_V != nullptr && *threshold_V != '\0' && std::string(threshold_V) != "scenario";
     const double s_size = given ? number_param(threshold_V, "threshold_V", 0.0) : plan.threshold_V;
-    GaugeMachine::Params mp;
-    mp.period_s = period * 1e-9;
-    mp.filter = lathectl::sensors::VibroContactGauge::filter_params(d.transducer);
+    // The cycle this machine runs: the scenario's sequence with the module parameters' feeds and
+    // sizes (always on: a machine's cycle roughs and fines before size).
     dg::Sequence seq;
     seq.enabled = true;
     seq.rough_factor = rough;
     seq.fine_factor = fine;
     seq.fine_m = fine_m;
     seq.spark_m = spark_m;
+    auto pr = d.process;
+    state->interruption = pr.interruption;
+    GaugeMachine::Params mp;
     try {
-      mp.steps = dg::gauging_cycle(seq, plan.line, pr,
-                                   lag + pr.relay_response_s +
-                                       pr.interruption.bridge_lag_s(d.transducer.supply_Hz),
-                                   s_size)
-                     .before;
+      pr.cycle = dg::cycle_for(d.transducer, seq, plan.line, pr, s_size);
+      // Machine X [m] of the backstop, where a G38 plunge toward it ends: reached within 1 nm
+      // (the trajectory planner's rounding of the programmed X).
+      mp = dg::machine_params(pr, gauge, s_size,
+                              {.period_s = period * 1e-9,
+                               .target_x_m = x_size * 1e-3,
+                               .backstop_tolerance_m = 1e-9,
+                               .signal_lost = lost});
     } catch (const std::invalid_argument& e) {
       throw Error(e.what());
     }
-    mp.steps.push_back({s_size, GaugeMachine::Command::Size});
-    mp.relay_response_s = pr.relay_response_s;
-    // The interrupted surface as the study reads it (rig.cpp's gauge_machine_params).
-    const auto& ir = pr.interruption;
-    state->interruption = ir;
-    if (ir.any() && ir.gate) mp.gate_guard_s = ir.guard_s;
-    mp.arm_after_s = 5.0 * d.transducer.filter_time_constant_s;  // as the study's relay
-    // Machine X [m] of the backstop, where a G38 plunge toward it ends: reached within 1 nm (the
-    // trajectory planner's rounding of the programmed X).
-    mp.backstop_m = (x_size + (pr.backstop_m - pr.target_m) * 1e3) * 1e-3 + 1e-9;
-    mp.free_signal_V = gauge.free_signal_V();
-    mp.initial_signal_V = gauge.free_signal_V();
-    mp.signal_lost_V = lost * gauge.free_signal_V();
+    // The adaptive-feed scale of each command: its removal rate over rough's (the program's F).
+    for (std::size_t i = 0; i < 4; ++i)
+      state->feed[i] = pr.cycle.rate_factor[i] / pr.cycle.rate_factor[0];
     try {
       state->machine.configure(mp);
     } catch (const lathectl::core::ParameterError& e) {

@@ -28,6 +28,7 @@
 #include <numbers>
 #include <random>
 
+#include "lathectl/dynamics/ornstein_uhlenbeck.hpp"
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
 #include "lathectl_hal.hpp"
 #include "systems/d_gauging/settings.hpp"
@@ -74,9 +75,9 @@ struct State {
   long period = 100000;
   int substeps = 5;
   double x_size_mm = 0.0, allowance_m = 0.0, target_m = 0.0;
-  double sigma_m = 0.0, rho = 0.0, kick = 0.0;
+  lathectl::dynamics::OrnsteinUhlenbeck xi;  // the size's disturbance ξ, as rig D's
   double wear_step_mm = 0.0, wear_mm = 0.0;
-  double r_mm = NAN, xi = 0.0;
+  double r_mm = NAN;
   std::uint64_t seed = 0;
   std::int32_t part = 0;
   bool last_load = false;
@@ -102,7 +103,7 @@ void update(void*, long period) {
     s.wear_mm += s.wear_step_mm;
     s.r_mm = s.x_size_mm + (s.allowance_m - s.target_m) * 1e3;
     s.rng.seed(s.seed * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(s.part));
-    s.xi = s.sigma_m * s.n01(s.rng);
+    s.xi.start(s.n01(s.rng));
     if (s.interruption.any())  // chucked at its own angle (drawn after ξ: ξ's stream unchanged)
       s.theta0 = std::uniform_real_distribution<double>(0.0, 2.0 * std::numbers::pi)(s.rng);
   }
@@ -119,12 +120,12 @@ void update(void*, long period) {
         cutting = true;
       }
       x = (s.r_mm - s.x_size_mm) * 1e-3 + s.target_m;
-      s.xi = s.rho * s.xi + s.kick * s.n01(s.rng);
+      s.xi.step(s.n01(s.rng));
       if (s.interruption.any() && std::isfinite(revs0))
         under = s.interruption.depth_at(
             s.theta0 + 2.0 * std::numbers::pi * (revs0 + rev_per_sub * k));
     }
-    u = s.gauge.step_generator(std::isfinite(s.r_mm) ? x + s.xi - under : x);
+    u = s.gauge.step_generator(std::isfinite(s.r_mm) ? x + s.xi.value() - under : x);
   }
   *p.generator = *p.break_wire ? 0.0 : u;
   if (std::isfinite(s.r_mm)) {
@@ -132,7 +133,7 @@ void update(void*, long period) {
     *p.error = (x - s.target_m) * 1e6;
     *p.radius = s.r_mm;
   }
-  *p.xi = s.xi * 1e6;
+  *p.xi = s.xi.value() * 1e6;
   *p.wear = s.wear_mm * 1e3;
   *p.part = s.part;
   *p.in_contact = cutting;
@@ -170,9 +171,7 @@ extern "C" int rtapi_app_main(void) {
     const auto& pr = d.process;
     state->allowance_m = pr.allowance_m;
     state->target_m = pr.target_m;
-    state->sigma_m = std::sqrt(pr.noise_variance_m2);
-    state->rho = std::exp(-pr.noise_beta_per_s * dt);
-    state->kick = std::sqrt(pr.noise_variance_m2 * (1.0 - state->rho * state->rho));
+    state->xi.configure(pr.noise_variance_m2, pr.noise_beta_per_s, dt);
     state->interruption = pr.interruption;
     state->sub_dt = dt;
     pins = lathectl::hal::allocate_pins<Pins>();

@@ -16,10 +16,13 @@
 // same control::PerRevolutionPeak; in probe-z [mm, machine z] → out probe-radius [mm]: the workpiece's radius
 // there now (what the stock model holds; for tests and for finding where material went);
 // spindle-power [W]: what the spindle drive's power pin reads,
-//   P = P_cut/η + P_idle(n)·(1 + d·e^{−t/τ}) + J·ω·(dω/dt)/η + noise
-// (the scenario's [spindle]: seed 001's idle law p0 + p1·n + p2·n², efficiency η, inertia J; a
-// cold machine draws d = idle_drift more idle power, which falls off with τ = warmup_s as it warms
-// up; the noise is 0.1 % of the rated power, deterministic). See lathectl_plant(9).
+//   P = drawn(P_cut + J·ω·dω/dt + b·ω²) + P_idle(n)·(1 + d·e^{−t/τ}), through the power meter
+// (drawn: /η motoring, ·η braking; the scenario's [spindle]: seed 001's idle law p0 + p1·n +
+// p2·n², efficiency η, inertia J, friction b; a cold machine draws d = idle_drift more idle
+// power, which falls off with τ = warmup_s as it warms up; the meter is the scenario's [sensor]
+// power meter, its lag and noise, the noise 0.1 % of the rated power where the scenario gives
+// none; seeded, deterministic): drives::SpindlePowerAtSpeed, as `lathectl run` and `lathectl
+// optimize` see it. See lathectl_plant(9).
 
 #include <cmath>
 #include <cstdint>
@@ -28,7 +31,9 @@
 #include "lathectl/control/per_revolution.hpp"
 #include "lathectl/cutting/lathe_plant.hpp"
 #include "lathectl/drives/spindle_drive.hpp"
+#include "lathectl/sensors/force_sensor.hpp"
 #include "lathectl_hal.hpp"
+#include "systems/e_adaptive/machine_params.hpp"
 #include "systems/e_adaptive/settings.hpp"
 
 MODULE_AUTHOR("lathectl");
@@ -82,25 +87,11 @@ struct Pins {
 int comp_id = -1;
 Pins* pins = nullptr;
 std::unique_ptr<lathectl::cutting::LathePlant> plant;
-struct Drive {
-  lathectl::drives::SpindleDrive::Params spindle;
-  double warmup_s = 120.0;
-  double drift = 0.15;
-  double t_s = 0.0;
-  double last_rpm = 0.0;
-  std::uint64_t rng = 0x9e3779b97f4a7c15ULL;
-};
-Drive drive;
+// The spindle drive's power at LinuxCNC's speed, read through the machine's power meter: the same
+// law and meter as rig E's (drives::SpindlePowerAtSpeed, e_adaptive::spindle_power_meter).
+lathectl::drives::SpindlePowerAtSpeed drive;
+lathectl::sensors::LaggedNoisySensor meter;
 double break_at = 0.0;  // 0: never
-
-// A uniform deviate in [−1, 1) (xorshift64*: deterministic, no allocation).
-double noise() noexcept {
-  drive.rng ^= drive.rng >> 12;
-  drive.rng ^= drive.rng << 25;
-  drive.rng ^= drive.rng >> 27;
-  const std::uint64_t v = drive.rng * 2685821657736338717ULL;
-  return static_cast<double>(v >> 11) / 4503599627370496.0 - 1.0;
-}
 lathectl::hal::UpdateTimer timer;
 lathectl::hal::HomedGate homed_gate;
 lathectl::control::PerRevolutionPeak force_rev;  // configured at load for the controller's period
@@ -128,20 +119,10 @@ void update(void*, long period_ns) {
   *pins->power = out.cut_power_W;
   {  // the drive's power pin
     const double dt = static_cast<double>(period_ns) * 1e-9;
-    const auto& sp = drive.spindle;
-    const double n = std::abs(in.rpm);
-    const double w = n * 2.0 * 3.14159265358979323846 / 60.0;
-    const double dw = (n - drive.last_rpm) * 2.0 * 3.14159265358979323846 / 60.0 / dt;
-    drive.last_rpm = n;
-    drive.t_s += dt;
-    const double idle = n > 0.0 ? lathectl::drives::idle_power_W(sp, n) *
-                                      (1.0 + drive.drift * std::exp(-drive.t_s / drive.warmup_s))
-                                : 0.0;
-    *pins->idle_power = idle;
-    *pins->idle_factor = 1.0 + drive.drift * std::exp(-drive.t_s / drive.warmup_s);
-    *pins->spindle_power = out.cut_power_W / sp.efficiency + idle +
-                           sp.inertia_kg_m2 * w * dw / sp.efficiency +
-                           (n > 0.0 ? 0.001 * sp.max_power_W * noise() : 0.0);
+    meter.step(dt, drive.step(dt, in.rpm, out.cut_power_W));
+    *pins->idle_power = drive.idle_power_W();
+    *pins->idle_factor = drive.idle_factor();
+    *pins->spindle_power = meter.sample();
   }
   *pins->depth = out.depth_mm;
   *pins->feed = out.feed_per_rev_mm;
@@ -172,13 +153,22 @@ extern "C" int rtapi_app_main(void) {
     p.z_origin_mm = lathectl::hal::number_param(z_origin_mm, "z_origin_mm", 0.0);
     p.cell_mm = lathectl::hal::number_param(cell_mm, "cell_mm", 0.01);
     auto model = std::make_unique<lathectl::cutting::LathePlant>();
-    model->configure(sc.get<e_adaptive::Settings>().rig, p);
-    drive.spindle = sc.get<e_adaptive::Settings>().rig.spindle;
-    drive.warmup_s = lathectl::hal::number_param(warmup_s, "warmup_s", 120.0);
-    drive.drift = lathectl::hal::number_param(idle_drift, "idle_drift", 0.15);
-    break_at = lathectl::hal::number_param(break_at_s, "break_at_s", 0.0);
-    if (!(drive.warmup_s > 0.0) || !(drive.drift >= 0.0))
+    model->configure(e_adaptive::lathe_process(sc.get<e_adaptive::Settings>().rig), p);
+    const auto& e = sc.get<e_adaptive::Settings>().rig;
+    const lathectl::drives::SpindlePowerAtSpeed::Drift drift{
+        .factor = lathectl::hal::number_param(idle_drift, "idle_drift", 0.15),
+        .warmup_s = lathectl::hal::number_param(warmup_s, "warmup_s", 120.0)};
+    if (!(drift.warmup_s > 0.0) || !(drift.factor >= 0.0))
       throw lathectl::hal::Error("module parameters: warmup_s must be > 0, idle_drift >= 0");
+    drive.configure(e.spindle, drift);
+    // A real meter is never noiseless (a noiseless pin reads exactly the same in air at a steady
+    // speed, and the sensor monitor calls it stuck): without the scenario's noise, 0.1 % of the
+    // rated power.
+    auto mp = e_adaptive::spindle_power_meter(e);
+    if (!(mp.noise_sigma > 0.0)) mp.noise_sigma = 0.001 * e.spindle.max_power_W;
+    meter.configure(mp);
+    meter.reset(0.0);
+    break_at = lathectl::hal::number_param(break_at_s, "break_at_s", 0.0);
     // The servo thread's period: the per-revolution window counts its samples (one revolution
     // at 1 rpm of them, allocated here).
     const double period = lathectl::hal::number_param(period_ns, "period_ns", 1e6);

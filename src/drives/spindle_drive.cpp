@@ -83,11 +83,44 @@ double SpindleDrive::idle_power_W(double rpm) const noexcept {
   return drives::idle_power_W(p_, rpm);
 }
 
-double SpindleDrive::electrical_power_W() const noexcept {
-  const double mech = tm_ * w_;
+double drawn_power_W(const SpindleDrive::Params& p, double mech_W) noexcept {
   // Motoring draws mech/η; regenerating returns only η of the braking power.
-  const double drawn = mech >= 0.0 ? mech / p_.efficiency : mech * p_.efficiency;
-  return drawn + idle_power_W(rpm());
+  return mech_W >= 0.0 ? mech_W / p.efficiency : mech_W * p.efficiency;
+}
+
+double SpindleDrive::electrical_power_W() const noexcept {
+  return drawn_power_W(p_, tm_ * w_) + idle_power_W(rpm());
+}
+
+void SpindlePowerAtSpeed::configure(const SpindleDrive::Params& p, Drift d) {
+  if (!(p.efficiency > 0.0 && p.efficiency <= 1.0))
+    throw std::invalid_argument("spindle drive: efficiency must be in (0, 1]");
+  if (!(d.factor >= 0.0) || !(d.warmup_s > 0.0))
+    throw std::invalid_argument("spindle drive: idle drift must be >= 0, its warm-up time > 0");
+  p_ = p;
+  d_ = d;
+  reset(0.0);
+}
+
+void SpindlePowerAtSpeed::reset(double rpm) noexcept {
+  rpm_ = std::abs(rpm);
+  t_s_ = 0.0;
+  idle_W_ = 0.0;
+}
+
+double SpindlePowerAtSpeed::idle_factor() const noexcept {
+  return 1.0 + d_.factor * std::exp(-t_s_ / d_.warmup_s);
+}
+
+double SpindlePowerAtSpeed::step(double dt, double rpm, double cut_power_W) noexcept {
+  const double n = std::abs(rpm);
+  const double w = n * kRadPerSPerRpm;
+  const double dw = dt > 0.0 ? (n - rpm_) * kRadPerSPerRpm / dt : 0.0;
+  rpm_ = n;
+  t_s_ += dt;
+  idle_W_ = n > 0.0 ? drives::idle_power_W(p_, n) * idle_factor() : 0.0;
+  const double mech = cut_power_W + p_.inertia_kg_m2 * w * dw + p_.viscous_N_m_s * w * w;
+  return drawn_power_W(p_, mech) + idle_W_;
 }
 
 }  // namespace lathectl::drives

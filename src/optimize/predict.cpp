@@ -19,6 +19,9 @@
 #include "lathectl/cutting/force_parameter.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/cutting/lathe_plant.hpp"
+#include "lathectl/drives/spindle_drive.hpp"
+#include "lathectl/sensors/force_sensor.hpp"
+#include "systems/e_adaptive/machine_params.hpp"
 #include "optimize/optimize.hpp"
 #include "optimize/blend.hpp"
 #include "optimize/path.hpp"
@@ -32,6 +35,15 @@ Plan programmed(const io::CanonProgram& prog) {
   for (std::size_t i = 0; i < prog.moves.size(); ++i)
     plan[i].push_back({0.0, 1.0, prog.moves[i].feed, "programmed", 0});
   return plan;
+}
+
+control::AdaptiveMachine::Params adaptive_machine_params(const systems::e_adaptive::Settings& e,
+                                                         const Options& opt) {
+  // The machine side as every host derives it from the scenario (e_adaptive::machine_params),
+  // with the stock model as the sample configuration loads lathectl_adaptive (z_origin_mm).
+  systems::e_adaptive::MachineHost host;
+  host.z_origin_mm = opt.z_origin_mm;
+  return systems::e_adaptive::machine_params(e.rig, host);
 }
 
 Prediction predict(const io::CanonProgram& prog, const Plan& plan,
@@ -59,20 +71,16 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
   // System E's machine side in the loop (Options::adaptive), as lathectl_adaptive runs it.
   control::AdaptiveMachine machine;
   control::AdaptiveMachine::Output mo;
+  // The spindle drive's power at the predicted speed through its meter, as the rig and the
+  // simulated lathe read it (the load when the machine controls on the spindle's power).
+  drives::SpindlePowerAtSpeed drive;
+  sensors::LaggedNoisySensor meter;
   if (opt.adaptive) {
-    control::AdaptiveMachine::Params mp;
-    mp.controller = e.rig.controller;
-    mp.controller.air_feed_mm_per_rev = std::max(mp.controller.air_feed_mm_per_rev, 1e-6);
-    mp.parameter = e.rig.force_parameter;  // the plant's sensor 4 (N, or W for the power)
-    mp.spindle = e.rig.spindle;
-    mp.rating.limit_max = 1e300;  // the program sets nothing: the scenario's settings
-    mp.rating.feed_max_mm_per_rev = 1e300;
-    // The stock model, as the sample configuration loads lathectl_adaptive (z_origin_mm): the
-    // path-aware breakage and the feed-forward before a step the blank has.
-    mp.stock_model = true;
-    mp.process = e.rig;
-    mp.z_origin_mm = opt.z_origin_mm;
-    machine.configure(mp);
+    drive.configure(e.rig.spindle);
+    meter.configure(systems::e_adaptive::spindle_power_meter(e.rig));
+    machine.configure(adaptive_machine_params(e, opt));
+    if (!prog.moves.empty()) drive.reset(spindle_rpm(prog.moves.front(), prog.moves.front().x0));
+    meter.reset(0.0);
   }
   {  // reserve the samples: the moves' times at their start speeds, plus a margin
     double t = 0.0;
@@ -203,6 +211,8 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
         in.nominal_period_s = s.dt_s;
         in.elapsed_s = dt;
         in.force = out.force_measured;
+        meter.step(dt, drive.step(dt, rpm_run, out.cut_power_W));
+        in.spindle_power_W = machine.params().power_sensor ? meter.sample() : meter.lagged();
         in.rpm = rpm_run;
         in.rpm_programmed = rpm;
         in.current_vel_mm_s = v;

@@ -58,6 +58,7 @@ class AdaptiveFeedController {
   enum class Mode { Fixed, ForceFeed, ForceFeedSpeed };
 
   struct Params {
+    bool operator==(const Params&) const = default;
     Mode mode = Mode::ForceFeedSpeed;
     double period_s = 0.002;                  // control period
     double force_limit = 1000.0;              // setter 6, in the sensor's unit (N or W)
@@ -76,6 +77,7 @@ class AdaptiveFeedController {
     //   V_opt = V_p · [Cv(S)/S^{y_v(S)}] / [Cv(S_p)/S_p^{y_v(S_p)}]
     // which is V_p·(S_p/S)^{y_v} when S and S_p share a range. 0 ranges: the single y_v above.
     struct YvRange {
+      bool operator==(const YvRange&) const = default;
       double feed_max_mm_per_rev = 1e9;
       double Cv = 1.0;
       double y_v = 0.35;

@@ -68,12 +68,14 @@ class AdaptiveMachine {
   static constexpr std::size_t kMaxTaught = 256;
 
   struct Taught {
+    bool operator==(const Taught&) const = default;
     int tool = -1;
     int operation = 0;
     double reference = 0.0;  // the taught mean load, in the load's unit
   };
 
   struct Params {
+    bool operator==(const Params&) const = default;
     AdaptiveFeedController::Params controller;
     // What sensor 4 measures (the cutting power the speed law limits is computed from it).
     cutting::ForceParameter parameter = cutting::ForceParameter::Pz;

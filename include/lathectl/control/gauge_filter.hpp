@@ -18,6 +18,7 @@ enum class GaugeFilterKind { FirstOrder, SecondOrder, Synchronous };
 class GaugeFilter {
  public:
   struct Params {
+    bool operator==(const Params&) const = default;
     GaugeFilterKind kind = GaugeFilterKind::FirstOrder;
     double time_constant_s = 0.1;  // T_f
     double supply_Hz = 50.0;       // ω/2π: sets the synchronous window

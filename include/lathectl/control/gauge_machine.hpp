@@ -74,10 +74,12 @@ class GaugeMachine {
   // step pin (motion.analog-in, read by M66 E-).
   enum class Command : std::int32_t { Rough = 0, Fine = 1, SparkOut = 2, Size = 3 };
   struct Step {
+    bool operator==(const Step&) const = default;
     double threshold_V = 0.0;
     Command command = Command::Size;
   };
   struct Params {
+    bool operator==(const Params&) const = default;
     double period_s = 5e-5;  // the sample period of the generator's signal
     GaugeFilter::Params filter;
     std::vector<Step> steps;  // 1 … kMaxSteps, thresholds rising; the last one's command: Size

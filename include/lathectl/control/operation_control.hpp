@@ -37,6 +37,7 @@ class IdleTare {
  public:
   static constexpr std::size_t kBins = 32;
   struct Params {
+    bool operator==(const Params&) const = default;
     double rpm_max = 4000.0;      // the speed range the bins cover [0, rpm_max]
     double rpm_min = 30.0;        // below this the spindle is not "running" (nothing learned)
     double tau_s = 3.0;           // running-mean time constant of a bin
@@ -79,6 +80,7 @@ class IdleTare {
 class TeachIn {
  public:
   struct Params {
+    bool operator==(const Params&) const = default;
     double settle_revs = 3.0;   // entry transient: revolutions in cut not taken, at least
     double steady_tol = 0.02;   // ... and until consecutive revolutions' means agree this well
     double min_revs = 3.0;      // fewer whole steady revolutions: no reference
@@ -134,6 +136,7 @@ class OperationStats {
 // the tool table): the defaults a program that sets nothing runs with, and the overload levels
 // as percentages of the reference.
 struct ToolLimits {
+  bool operator==(const ToolLimits&) const = default;
   int number = 0;
   double limit = 0.0;  // 0: the scenario's
   double feed_min_mm_per_rev = 0.0;
@@ -152,6 +155,7 @@ struct ToolLimits {
 class PathBreakage {
  public:
   struct Params {
+    bool operator==(const Params&) const = default;
     double window_s = 0.01;   // the controller's breakage_drop_window_s
     double air = 0.1;         // air threshold, fraction of the limit
     double keep = 0.5;        // predicted depth still ≥ keep × the loaded one: material is there
@@ -196,6 +200,7 @@ enum class SettingError : std::int32_t {
 };
 
 struct OperationRating {
+  bool operator==(const OperationRating&) const = default;
   double limit_max = 0.0;     // the machine's rating in the sensor's unit (N or W)
   double feed_max_mm_per_rev = 0.0;
   double percent_max = 200.0;  // of a taught reference

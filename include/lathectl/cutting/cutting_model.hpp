@@ -29,6 +29,7 @@
 namespace lathectl::cutting {
 
 struct PowerLaw {  // handbook force law 10·Cp·t^x·s^y·V^n
+  bool operator==(const PowerLaw&) const = default;
   double Cp = 0.0;
   double x = 1.0;
   double y = 1.0;
@@ -36,11 +37,13 @@ struct PowerLaw {  // handbook force law 10·Cp·t^x·s^y·V^n
 };
 
 struct KienzleLaw {  // k1.1 · b · h^(1 − m)
+  bool operator==(const KienzleLaw&) const = default;
   double k11_N_per_mm2 = 0.0;
   double m = 0.0;
 };
 
 struct ToolLifeRange {  // extended Taylor law valid for feeds up to feed_max_mm_per_rev
+  bool operator==(const ToolLifeRange&) const = default;
   double feed_max_mm_per_rev = 1e9;
   double Cv = 0.0;
   double xv = 0.0;
@@ -49,6 +52,7 @@ struct ToolLifeRange {  // extended Taylor law valid for feeds up to feed_max_mm
 };
 
 struct Material {
+  bool operator==(const Material&) const = default;
   std::string name;
   std::string description;
   std::string strength_basis;                // "sigma_b_MPa" or "HB"
@@ -81,6 +85,7 @@ struct CutState {
 class CuttingModel {
  public:
   struct Params {
+    bool operator==(const Params&) const = default;
     Material material;
     ForceForm form = ForceForm::Handbook;
     double approach_angle_deg = 90.0;  // κ in (0, 95]°, Kienzle form only

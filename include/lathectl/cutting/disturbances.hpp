@@ -20,11 +20,13 @@
 namespace lathectl::cutting {
 
 struct ProfilePoint {
+  bool operator==(const ProfilePoint&) const = default;
   double at_mm = 0.0;
   double value = 0.0;
 };
 
 struct DisturbanceParams {
+  bool operator==(const DisturbanceParams&) const = default;
   double depth_mm = 1.0;                  // nominal depth of cut (allowance)
   std::vector<ProfilePoint> depth_steps;  // at_mm → new depth_mm, ascending
   double step_ramp_mm = 0.5;              // travel over which a step is entered

@@ -40,6 +40,7 @@ namespace lathectl::cutting {
 // Defaults are the scenario's (a random allowance correlated over 20 mm, a dynamometer that
 // saturates at 10⁵ N); systems::e_adaptive::RigConfig adds the machine around it.
 struct CuttingProcess {
+  bool operator==(const CuttingProcess&) const = default;
   CuttingModel::Params cutting;
   StockParams stock;
   // random allowance, hardness, wear (no depth steps: the stock's passes make the depth)

@@ -17,12 +17,14 @@
 namespace lathectl::cutting {
 
 struct Pass {
+  bool operator==(const Pass&) const = default;
   double z_start_mm = 0.0;
   double z_end_mm = 0.0;
   double diameter_mm = 0.0;
 };
 
 struct StockParams {
+  bool operator==(const StockParams&) const = default;
   std::vector<ProfilePoint> blank_diameter_mm;  // at_mm → diameter, ascending; ≥ 1 point
   double eccentricity_mm = 0.0;                 // offset of the blank's axis
   std::vector<Pass> passes;                     // in machining order

@@ -15,6 +15,7 @@ namespace lathectl::drives {
 class SpindleDrive {
  public:
   struct Params {
+    bool operator==(const Params&) const = default;
     double inertia_kg_m2 = 0.5;     // J (spindle, chuck, part) reduced to the spindle
     double viscous_N_m_s = 0.01;    // b
     double max_torque_N_m = 400.0;  // T_max
@@ -56,5 +57,35 @@ class SpindleDrive {
 // What the drive draws turning steadily in air: the idle law and its viscous friction b·ω²/η
 // (SpindleDrive::electrical_power_W at constant speed without a cutting torque).
 [[nodiscard]] double air_power_W(const SpindleDrive::Params& p, double rpm) noexcept;
+
+// The electrical power a drive draws for a mechanical power `mech_W` at the spindle: motoring
+// draws mech/η, regenerating (braking) returns only η of it. SpindleDrive draws so.
+[[nodiscard]] double drawn_power_W(const SpindleDrive::Params& p, double mech_W) noexcept;
+
+// The drive's electrical power where the spindle's speed is given, not simulated (LinuxCNC's
+// spindle in the simulated lathe lathectl_plant, the optimiser's predicted speed): the same law
+// as SpindleDrive's, with the motor's torque from the load and the speed's change,
+//   T_m·ω = P_cut + J·ω·dω/dt + b·ω²,   P_el = drawn(T_m·ω) + P_idle(n)·(1 + d·e^(−t/t_w))
+// (dω/dt between successive speeds; d the idle law's warm-up drift, 0 by default: a cold
+// spindle draws more than its law until it is warm).
+struct IdleDrift {
+  double factor = 0.0;      // d
+  double warmup_s = 120.0;  // t_w
+};
+class SpindlePowerAtSpeed {
+ public:
+  using Drift = IdleDrift;
+  void configure(const SpindleDrive::Params& p, Drift d = {});  // throws std::invalid_argument
+  void reset(double rpm) noexcept;
+  // One step of dt [s] to the speed rpm (sign ignored) with the cutting power [W]: P_el [W].
+  double step(double dt, double rpm, double cut_power_W) noexcept;
+  [[nodiscard]] double idle_factor() const noexcept;  // 1 + d·e^(−t/t_w)
+  [[nodiscard]] double idle_power_W() const noexcept { return idle_W_; }
+
+ private:
+  SpindleDrive::Params p_{};
+  Drift d_{};
+  double rpm_ = 0.0, t_s_ = 0.0, idle_W_ = 0.0;
+};
 
 }  // namespace lathectl::drives

@@ -9,6 +9,7 @@
 namespace lathectl::sensors {
 
 struct SensorFault {
+  bool operator==(const SensorFault&) const = default;
   enum class Kind { NotFinite, Stuck, OutOfRange } kind = Kind::NotFinite;
   double at_s = 0.0;
   double duration_s = 1e300;

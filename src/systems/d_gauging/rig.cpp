@@ -8,6 +8,8 @@
 #include <random>
 
 #include "lathectl/control/gauge_machine.hpp"
+#include "lathectl/dynamics/ornstein_uhlenbeck.hpp"
+#include "systems/d_gauging/machine_params.hpp"
 #include "lathectl/core/parallel.hpp"
 #include "lathectl/design/vibro_gauge.hpp"
 
@@ -108,11 +110,8 @@ PartResult one_linear_part(const GaugingProcess& p, const LinearGauge& g, double
 class FilteredNoise {
  public:
   FilteredNoise(const GaugingProcess& p, const LinearGauge& g, double h)
-      : g_(g),
-        h_(h),
-        rho_(std::exp(-p.noise_beta_per_s * h)),
-        kick_(std::sqrt(p.noise_variance_m2 * (1.0 - rho_ * rho_))),
-        sigma_(std::sqrt(p.noise_variance_m2)) {
+      : g_(g), h_(h) {
+    xi_.configure(p.noise_variance_m2, p.noise_beta_per_s, h);
     const double tau = 0.5 * g.filter_s;
     e_ = std::exp(-h / tau);
     if (g.filter == LinearGauge::Filter::Synchronous)
@@ -126,8 +125,7 @@ class FilteredNoise {
     return tw / std::max(1.0, std::round(tw / h0));
   }
   void start(std::mt19937_64& rng) {
-    xi_ = sigma_ * n01_(rng);
-    const double in = -g_.gain_V_per_m * xi_;
+    const double in = -g_.gain_V_per_m * xi_.start(n01_(rng));
     y1_ = y2_ = in;
     std::fill(ring_.begin(), ring_.end(), in);
     sum_ = in * static_cast<double>(ring_.size());
@@ -135,9 +133,8 @@ class FilteredNoise {
     for (double t = 0.0; t < warm_; t += h_) (void)step(rng);
   }
   double step(std::mt19937_64& rng) {
-    const double a = -g_.gain_V_per_m * xi_;
-    xi_ = rho_ * xi_ + kick_ * n01_(rng);
-    const double b = -g_.gain_V_per_m * xi_;
+    const double a = -g_.gain_V_per_m * xi_.value();
+    const double b = -g_.gain_V_per_m * xi_.step(n01_(rng));
     if (ring_.empty()) {  // two lags τ = T_f/2, each exact for the linear input over the step
       const double y1_new = b - (b - a) * tau_over_h() + (y1_ - a + (b - a) * tau_over_h()) * e_;
       const double y2_new =
@@ -156,8 +153,9 @@ class FilteredNoise {
  private:
   [[nodiscard]] double tau_over_h() const { return 0.5 * g_.filter_s / h_; }
   LinearGauge g_;
-  double h_, rho_, kick_, sigma_, e_ = 0.0, warm_ = 0.0;
-  double xi_ = 0.0, y1_ = 0.0, y2_ = 0.0, sum_ = 0.0;
+  double h_, e_ = 0.0, warm_ = 0.0;
+  dynamics::OrnsteinUhlenbeck xi_;
+  double y1_ = 0.0, y2_ = 0.0, sum_ = 0.0;
   std::vector<double> ring_;
   std::size_t pos_ = 0;
   std::normal_distribution<double> n01_{0.0, 1.0};
@@ -333,25 +331,6 @@ std::vector<double> filter_noise_samples(const GaugingProcess& p, const LinearGa
   return out;
 }
 
-control::GaugeMachine::Params gauge_machine_params(const GaugingProcess& p,
-                                                  const sensors::VibroContactGauge& g,
-                                                  double threshold_V) {
-  const auto& gp = g.params();
-  control::GaugeMachine::Params m;
-  m.period_s = g.step_s();
-  m.filter = sensors::VibroContactGauge::filter_params(gp);
-  m.steps = p.cycle.before;
-  m.steps.push_back({threshold_V, control::GaugeMachine::Command::Size});
-  m.gate_guard_s = p.interruption.guard_s;
-  m.relay_response_s = p.relay_response_s;
-  // The relay arms once the signal has settled below the threshold after the first contact.
-  m.arm_after_s = 5.0 * gp.filter_time_constant_s;
-  m.backstop_m = p.backstop_m;
-  m.free_signal_V = g.free_signal_V();
-  m.initial_signal_V = g.free_signal_V();
-  return m;
-}
-
 PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContactGauge::Params& gp,
                              double dt, double s_th, std::uint64_t seed, sim::Recorder* rec,
                              std::size_t record_every, double max_time_s) {
@@ -360,12 +339,12 @@ PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContac
   // The machine side: the same object the LinuxCNC component runs. A threshold the free probe
   // cannot reach is the study's own case (gauge.force_threshold): the backstop ends the cut.
   control::GaugeMachine machine;
-  machine.configure(gauge_machine_params(p, g, s_th));
+  machine.configure(machine_params(p, g, s_th));
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> n01(0.0, 1.0);
-  const double rho = std::exp(-p.noise_beta_per_s * dt);
-  const double kick = std::sqrt(p.noise_variance_m2 * (1.0 - rho * rho));
-  double xi = std::sqrt(p.noise_variance_m2) * n01(rng);
+  dynamics::OrnsteinUhlenbeck xi;  // the size's disturbance ξ, as the LinuxCNC plant's
+  xi.configure(p.noise_variance_m2, p.noise_beta_per_s, dt);
+  xi.start(n01(rng));
   const double a = p.removal_m_per_s;
   // The removal in segments, one a step of the cycle: x = x0 − rate·(t − t0) from t0 on (one
   // segment, the size step's, without a cycle).
@@ -406,10 +385,10 @@ PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContac
     const double t = g.time_s();
     if (t >= t_max) break;
     x = x_at(std::min(t, stop));
-    xi = rho * xi + kick * n01(rng);
+    const double xi_now = xi.step(n01(rng));
     const double theta = theta0 + omega * t;
     control::GaugeMachine::Input in;
-    in.generator_V = g.step_generator(x + xi - (ir.any() ? ir.depth_at(theta) : 0.0));
+    in.generator_V = g.step_generator(x + xi_now - (ir.any() ? ir.depth_at(theta) : 0.0));
     in.gate = ir.gate && ir.under(theta);
     // Where the size is at the end of this sample (the backstop's limit position on x).
     in.position_m = limited ? x_at(std::min(t + dt, stop)) : std::numeric_limits<double>::infinity();
@@ -443,7 +422,7 @@ PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContac
       r.backstop = true;
     }
     if (rec && k % record_every == 0) {
-      const std::array<double, 5> row{t, x * 1e6, (x + xi) * 1e6, out.signal_V,
+      const std::array<double, 5> row{t, x * 1e6, (x + xi_now) * 1e6, out.signal_V,
                                       g.probe_position_m() * 1e6};
       rec->push_row(row);
     }

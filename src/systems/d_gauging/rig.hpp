@@ -235,12 +235,6 @@ FirstPassageBias first_passage_bias(LinearParts& parts, double target_m, double 
 std::vector<double> filter_noise_samples(const GaugingProcess& p, const LinearGauge& g,
                                          std::size_t n, double spacing_s, std::uint64_t seed);
 
-// The machine side (control::GaugeMachine) of the study's gauge on transducer g: one threshold,
-// its command size, armed once the filter has settled on the first contact (5·T_f).
-control::GaugeMachine::Params gauge_machine_params(const GaugingProcess& p,
-                                                  const sensors::VibroContactGauge& g,
-                                                  double threshold_V);
-
 // Full electromechanical model for one part: x(t) + ξ(t) moves the contact surface; the relay
 // acts on the simulated S(t): the transducer's generator signal through the machine side
 // (rectifier, filter, relay and backstop of control::GaugeMachine). Optionally records (time,

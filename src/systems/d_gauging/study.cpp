@@ -10,6 +10,7 @@
 
 #include "lathectl/control/types.hpp"
 #include "lathectl/core/parallel.hpp"
+#include "systems/d_gauging/machine_params.hpp"
 #include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
@@ -201,11 +202,7 @@ void GaugingStudy::calibrate() {
   // The steps before size ([sequence]): their thresholds on the plan's line, for every
   // full-model part (the linearised parts model the size step alone).
   try {
-    p_.cycle = gauging_cycle(d_.sequence, plan_.line, p_,
-                             sensors::VibroContactGauge::filter_lag_s(d_.transducer) +
-                                 p_.relay_response_s +
-                                 p_.interruption.bridge_lag_s(d_.transducer.supply_Hz),
-                             plan_.threshold_V);
+    p_.cycle = cycle_for(d_.transducer, d_.sequence, plan_.line, p_, plan_.threshold_V);
   } catch (const std::invalid_argument& e) {
     io::throw_at_key(sc_, sim::ConfigError("sequence.spark_um", e.what()));
   }

@@ -2,6 +2,7 @@
 
 #include "lathectl/control/adaptive_input.hpp"
 #include "lathectl/sim/config_error.hpp"
+#include "systems/e_adaptive/machine_params.hpp"
 
 #include <algorithm>
 #include <array>
@@ -86,57 +87,29 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   sim::configure_as("stock", [&] { stock_.configure(cfg.stock); });
   // The cutting process: the LinuxCNC plant's, its stock z the rig's z (machine z = −z). The
   // scenario's [[fault]] times are the run's (applied below), not counted from first contact.
-  cutting::CuttingProcess process = cfg;
+  // The cutting process: the LinuxCNC plant's bar (lathe_process), its stock z the rig's z
+  // (machine z = −z). The scenario's [[fault]] times are the run's (applied below), not counted
+  // from first contact.
+  cutting::CuttingProcess process = lathe_process(cfg);
   process.faults.clear();
-  // The bar the plant holds: the blank as given, extended (at its end diameters, as the stock's
-  // law reads it) over every pass, so a one-point blank is a bar from the first pass's start to
-  // the last one's end.
-  {
-    auto& b = process.stock.blank_diameter_mm;
-    double z_lo = b.front().at_mm, z_hi = b.back().at_mm;
-    for (const auto& q : cfg.stock.passes) {
-      z_lo = std::min(z_lo, q.z_start_mm);
-      z_hi = std::max(z_hi, q.z_end_mm);
-    }
-    if (z_lo < b.front().at_mm) b.insert(b.begin(), {z_lo, b.front().value});
-    if (z_hi > b.back().at_mm) b.push_back({z_hi, b.back().value});
-  }
   sim::configure_as("stock", [&] { plant_.configure(process, {}); });
   pout_ = {};
 
-  auto cp = cfg.controller;
-  if (cfg.worst_case_feed) {
-    cp.feed_programmed_mm_per_rev = worst_case_feed(cfg, cut_, stock_);
-    cp.feed_min_mm_per_rev = std::min(cp.feed_min_mm_per_rev, cp.feed_programmed_mm_per_rev);
-  }
-  cp.air_feed_mm_per_rev = std::max(cp.air_feed_mm_per_rev, 1e-6);
+  // The machine side a lathe runs, from the scenario as every host derives it (machine_params:
+  // the LinuxCNC component and the optimiser call the same): sensor 4 is the dynamometer, or the
+  // spindle drive's power meter (the cutting power at the spindle). The rig adds the stock model
+  // on its own blank (z = 0 at the face) and, in the fixed mode, the program's worst-case feed.
+  MachineHost host;
+  if (cfg.worst_case_feed) host.feed_programmed_mm_per_rev = worst_case_feed(cfg, cut_, stock_);
+  control::AdaptiveMachine::Params mp;
+  sim::configure_as("controller", [&] { mp = machine_params(cfg, host); });
+  const auto& cp = mp.controller;
   control_every_ =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cp.period_s / dt)));
   if (std::abs(static_cast<double>(control_every_) * dt - cp.period_s) > 0.01 * cp.period_s)
     throw sim::ConfigError("run.step_s",
                            "the control period (controller.period_ms) must be a whole "
                            "number of steps, as on a machine's servo thread");
-  // The machine side a lathe runs (the LinuxCNC component runs the same object): sensor 4 is
-  // the dynamometer, or the spindle drive's power meter (the cutting power at the spindle).
-  control::AdaptiveMachine::Params mp;
-  mp.controller = cp;
-  mp.parameter = cfg.force_parameter;
-  mp.power_sensor = cfg.force_parameter == cutting::ForceParameter::Power;
-  mp.spindle = cfg.spindle;
-  mp.power_lag_s = cfg.force_parameter == cutting::ForceParameter::Power
-                      ? cfg.force_sensor.time_constant_s
-                      : cfg.power_meter.time_constant_s;
-  // The stock model the machine runs beside the controller (as lathectl_adaptive does with the
-  // scenario's blank): its predicted depth along the tool's path tells a planned exit (a pass
-  // running off a step into air) from a broken tool.
-  mp.stock_model = true;
-  mp.life_law = cfg.life_law;
-  mp.learn_inertia = cfg.learn_inertia;
-  mp.feed_forward = cfg.feed_forward;
-  mp.process = process;
-  mp.z_origin_mm = 0.0;
-  mp.rating.limit_max = 1e300;  // the program sets nothing: the scenario's settings
-  mp.rating.feed_max_mm_per_rev = 1e300;
   sim::configure_as("controller", [&] { machine_.configure(mp); });
   mout_ = {};
   sensor_held_ = 0.0;
@@ -157,9 +130,7 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   spindle_.reset(rpm0);
   // Sensor 4 on power is the spindle's power meter: [sensor]'s lag, noise and range (a noiseless
   // meter read exactly the same in air at a steady speed, and the monitor called it stuck).
-  sensors::LaggedNoisySensor::Params meter = cfg.power_meter;
-  if (cfg.force_parameter == cutting::ForceParameter::Power) meter = cfg.force_sensor;
-  sim::configure_as("sensor", [&] { power_meter_.configure(meter); });
+  sim::configure_as("sensor", [&] { power_meter_.configure(spindle_power_meter(cfg)); });
   power_meter_.reset(spindle_.electrical_power_W());
   rpm_cmd_ = rpm0;
   force_seen_ = 0.0;

@@ -96,6 +96,8 @@ class Rig {
   }
   [[nodiscard]] bool numerically_sound() const noexcept { return sound_; }
   // Time the controller first held the feed (feed command 0), or −1; exact, not recorded.
+  // The machine side as the rig configured it (machine_params of the scenario and this host).
+  [[nodiscard]] const control::AdaptiveMachine& machine() const noexcept { return machine_; }
   [[nodiscard]] double first_feed_hold_s() const noexcept { return first_hold_s_; }
   // Worst-case feed: the largest s whose worst-case force parameter stays at the limit.
   [[nodiscard]] static double worst_case_feed(const RigConfig& cfg,
