@@ -289,12 +289,14 @@ extern "C" int rtapi_app_main(void) {
     if (tools != nullptr && *tools != '\0') {
       table = e_adaptive::read_tool_table(read_text(tools, "tool limits"), tools);
       host.tools = &table;
+      host.tools_file = tools;
     }
     if (taught != nullptr && *taught != '\0') {
       std::FILE* f = std::fopen(taught, "r");  // absent: nothing taught yet
       if (f != nullptr) {
         std::fclose(f);
         host.taught = e_adaptive::read_taught(read_text(taught, "taught"), taught);
+        host.taught_file = taught;
       }
     }
     AdaptiveMachine::Params mp;

@@ -16,8 +16,10 @@ and with sensor=power (the spindle drive's power minus the learned idle power, W
   - teach-in: the taught reference within 2 % of the true mean load over the steady cut, stored
     in the taught file (written atomically by lathectl_oplog) with the tool and operation;
   - power: after the automatic tare (the program's idle sweep, then the rapids), the learned idle
-    law differs from the plant's warm-up-drifting one by < 2 % of the drive's rated power over the
-    speed range swept, and the cutting power estimated in the cut by < 2 % too; control on power
+    law differs from the plant's warm-up-drifting one (with the spindle's friction: what the drive
+    draws in air) by < 2 % of the drive's rated power over the speed range swept, and the cutting
+    power estimated in the cut by < 2 % too, against the cutting power as the drive's power meter
+    shows it (lagged by the scenario's meter, as in lathectl run); control on power
     holds its limits as closely as control on force (the worst steady deviation of the load each
     holds within 1 point; on power the true cutting power adds the estimate's error);
   - a bad value (above the rating) holds the feed at once, names the program line in the operator
@@ -126,6 +128,20 @@ def per_rev(rows, key):
         if phase >= 1.0:
             out.append(acc / n)
             acc, n, phase = 0.0, 0, phase - 1.0
+    return out
+
+
+def cuts(rows):
+    """The contiguous runs of feed-move rows in contact: one a cut."""
+    out, run = [], []
+    for r in rows:
+        if r["in_contact"] == 1 and r["motion_type"] == 2:
+            run.append(r)
+        elif run:
+            out.append(run)
+            run = []
+    if run:
+        out.append(run)
     return out
 
 
@@ -262,13 +278,17 @@ def tare(res, src, report):
     """The idle law learned against the plant's, over the swept speeds; the in-cut estimate."""
     sc = tomllib.load(open(os.path.join(src, "examples/linuxcnc/two_tool.toml"), "rb"))
     sp = sc["spindle"]
-    law = lambda n: sp["idle_p0_W"] + sp["idle_p1_W_per_rpm"] * n + sp["idle_p2_W_per_rpm2"] * n * n
+    # What the drive draws in air (what the tare learns): the idle law and the spindle's viscous
+    # friction b·ω²/η (drives::air_power_W; [spindle] viscous_N_m_s, its documented default 0.01).
+    b = sp.get("viscous_N_m_s", 0.01)
+    law = lambda n: (sp["idle_p0_W"] + sp["idle_p1_W_per_rpm"] * n + sp["idle_p2_W_per_rpm2"] * n * n)
+    friction = lambda n: b * (n * 2 * 3.141592653589793 / 60) ** 2 / sp["efficiency"]
     t = res["summary"]["idle_tare"]
     fit = lambda n: t["p0_W"] + t["p1_W_per_rpm"] * n + t["p2_W_per_rpm2"] * n * n
     eta = sp["efficiency"]
     curve = []
     for n in range(150, 2901, 250):
-        err = eta * (fit(n) - law(n) * t["plant_drift_factor"])
+        err = eta * (fit(n) - law(n) * t["plant_drift_factor"] - friction(n))
         curve.append({"rpm": n, "error_W": round(err, 1),
                       "error_pct_rated": round(100 * err / RATED_W, 3)})
     report["idle_tare_curve"] = curve
@@ -276,14 +296,25 @@ def tare(res, src, report):
     check(worst < 0.02 * RATED_W, "power: learned idle law within %.0f W (%.2f %% of %.0f kW "
           "rated) of the plant's over 150..2900 rpm at the end of the run (< 2 %%)" %
           (worst, 100 * worst / RATED_W, RATED_W / 1000))
-    cut = [r for r in res["rows"] if r["in_contact"] == 1 and r["motion_type"] == 2]
-    # The load pin is η·(P_drive − P_idle); the plant's cutting power is the truth. The drive's
-    # power carries 15 W of noise per sample: compare per-revolution means.
-    a, b = per_rev(cut, "load"), per_rev(cut, "cut_power_W")
-    e = max(abs(x - y) for x, y in zip(a, b)) if a else float("nan")
+    # The load pin is η·(P_drive − P_idle) − J·ω·dω/dt; the truth is the plant's cutting power as
+    # the drive's power meter shows it: lagged by the meter's time constant (the scenario's
+    # [sensor] power_meter_time_constant_ms, default 20 ms, as in lathectl run), a lag no
+    # estimator can undo (unlagged, the estimate entering a cut reads up to 0.5 kW low for a
+    # revolution). The drive's power carries noise per sample: compare per-revolution means.
+    tau = sc.get("sensor", {}).get("power_meter_time_constant_ms", 20.0) * 1e-3
+    k, lagged = 1.0 - math.exp(-1e-3 / tau), 0.0  # the rows are servo periods of 1 ms
+    for r in res["rows"]:
+        lagged += k * (r["cut_power_W"] - lagged)
+        r["cut_power_metered_W"] = lagged
+    errs = []
+    for run in cuts(res["rows"]):
+        a, c = per_rev(run, "load"), per_rev(run, "cut_power_metered_W")
+        errs += [abs(x - y) for x, y in zip(a, c)]
+    e = max(errs) if errs else float("nan")
     report["cut_power_error_max_W"] = e
     check(e < 0.02 * RATED_W, "power: cutting power estimated within %.0f W per revolution in "
-          "every cut (%.2f %% of rated, < 2 %%)" % (e, 100 * e / RATED_W))
+          "every cut (%.2f %% of rated, < 2 %%) of the metered cutting power" %
+          (e, 100 * e / RATED_W))
 
 
 def timeout_run(src, work):

@@ -47,19 +47,19 @@ void tool_data(const RigConfig& e, const MachineHost& h, control::AdaptiveMachin
     if (h.tools->feed_max_mm_per_rev > 0.0)
       mp.rating.feed_max_mm_per_rev = h.tools->feed_max_mm_per_rev;
     if (h.tools->tools.size() > AdaptiveMachine::kMaxTools)
-      throw std::invalid_argument("the tool table has more than " +
+      throw std::invalid_argument(h.tools_file + ": more than " +
                                   std::to_string(AdaptiveMachine::kMaxTools) + " tools");
     mp.tools = h.tools->tools;
   }
   const std::string unit = load_unit(e, h);
   for (const auto& t : h.taught) {
     if (t.unit != unit)
-      throw std::invalid_argument("taught references: tool " + std::to_string(t.tool) +
+      throw std::invalid_argument(h.taught_file + ": tool " + std::to_string(t.tool) +
                                   " was taught in " + t.unit +
                                   ", this sensor measures " + unit);
     if (mp.taught.size() >= AdaptiveMachine::kMaxTaught)
-      throw std::invalid_argument("more than " + std::to_string(AdaptiveMachine::kMaxTaught) +
-                                  " taught references");
+      throw std::invalid_argument(h.taught_file + ": more than " +
+                                  std::to_string(AdaptiveMachine::kMaxTaught) + " references");
     mp.taught.push_back({t.tool, t.operation, t.reference});
   }
 }
@@ -92,7 +92,7 @@ control::AdaptiveMachine::Params machine_params(const RigConfig& e, const Machin
   control::AdaptiveMachine::Params mp;
   mp.controller = controller(e, h);
   mp.parameter = e.force_parameter;
-  mp.power_sensor = on_power(e, h);
+  mp.power_sensor = h.load == MachineHost::Load::SpindlePower;
   mp.spindle = e.spindle;
   // The drive's power reading lags as its meter.
   mp.power_lag_s = spindle_power_meter(e).time_constant_s;

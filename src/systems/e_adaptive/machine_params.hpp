@@ -5,6 +5,7 @@
 // only what a host adds (MachineHost), never a policy of its own.
 
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "lathectl/control/adaptive_machine.hpp"
@@ -15,11 +16,14 @@ namespace lathectl::systems::e_adaptive {
 
 // What a host adds to the scenario. The defaults are the rig's.
 struct MachineHost {
-  // What the load is: the scenario's sensor 4 (a dynamometer's Pz or Py, or the spindle drive's
-  // power meter when the scenario's parameter is power), or the drive's power meter whatever the
-  // scenario's sensor is (a machine without a dynamometer: lathectl_adaptive sensor=power).
-  enum class Load { Scenario, SpindlePower };
-  Load load = Load::Scenario;
+  // What the load is. Sensor4: sensor 4's reading on the force input, in the scenario's unit (a
+  // dynamometer's Pz or Py in N, or a cutting-power transducer's W). SpindlePower: the spindle
+  // drive's electrical power, from which the machine takes the idle power (learned) and the
+  // power that accelerates the spindle (the rig's power sensor, the scenario's parameter =
+  // "power": seed 001's meter 13 and compensator 14; lathectl_adaptive sensor=power on any
+  // scenario).
+  enum class Load { Sensor4, SpindlePower };
+  Load load = Load::Sensor4;
   // Machine z of the stock's face: the stock model (path-aware breakage, the feed-forward, the
   // tool-life law) runs on the scenario's blank. NaN: no stock model (the controller's own
   // collapse detector); the tool-life speed law then cannot run and is refused.
@@ -28,8 +32,11 @@ struct MachineHost {
   // fixed mode: the worst-case feed). NaN: the scenario's controller.feed_programmed.
   double feed_programmed_mm_per_rev = std::numeric_limits<double>::quiet_NaN();
   // A machine's tool table (rating, per-tool limits) and its taught references; empty: none.
+  // The files they came from name them in errors.
   const ToolTable* tools = nullptr;
+  std::string tools_file{};
   std::vector<Taught> taught{};
+  std::string taught_file{};
 };
 
 // Throws std::invalid_argument naming what is wrong (a host reports it at its own input: a
@@ -48,7 +55,7 @@ struct MachineHost {
 // lathe lathectl_plant and the optimiser read the drive's power through it.
 [[nodiscard]] sensors::LaggedNoisySensor::Params spindle_power_meter(const RigConfig& e) noexcept;
 
-// The load's unit: "W" on the spindle's power (either way), else "N".
+// The load's unit: "W" on the spindle's power or a power parameter, else "N".
 [[nodiscard]] const char* load_unit(const RigConfig& e, const MachineHost& host) noexcept;
 
 }  // namespace lathectl::systems::e_adaptive

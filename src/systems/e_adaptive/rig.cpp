@@ -100,6 +100,8 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   // spindle drive's power meter (the cutting power at the spindle). The rig adds the stock model
   // on its own blank (z = 0 at the face) and, in the fixed mode, the program's worst-case feed.
   MachineHost host;
+  if (cfg.force_parameter == cutting::ForceParameter::Power)
+    host.load = MachineHost::Load::SpindlePower;  // sensor 4 is the drive's power meter
   if (cfg.worst_case_feed) host.feed_programmed_mm_per_rev = worst_case_feed(cfg, cut_, stock_);
   control::AdaptiveMachine::Params mp;
   sim::configure_as("controller", [&] { mp = machine_params(cfg, host); });
