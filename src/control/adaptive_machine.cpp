@@ -338,7 +338,9 @@ void AdaptiveMachine::update(const Input& in, Output& out) noexcept {
     si.z_mm = in.homed ? in.z_mm : std::nan("");
     si.rpm = in.rpm;
     cutting::LathePlant::Output so;
-    stock_->step(si, period.elapsed_s, so);  // the spindle turned for the time that passed
+    // The spindle turned for the time that passed. The workpiece alone: of the plant's output
+    // the model reads only the chip's geometry, not its forces, disturbances or sensor.
+    stock_->cut(si, period.elapsed_s, so);
     stock_out_ = so;
     // The engagement at this instant, not the last revolution's chip: leaving the material at
     // 300 m/min the load falls within the 10 ms window while the revolution's mean depth (19 ms

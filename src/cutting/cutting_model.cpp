@@ -22,6 +22,15 @@ double hardness_kp(double kmp_exponent, double strength_factor) noexcept {
 }
 }  // namespace
 
+double CuttingModel::LastPow::operator()(double b, double e) noexcept {
+  if (!(b == base && e == exponent)) {  // NaN at first: never equal
+    base = b;
+    exponent = e;
+    value = std::pow(b, e);
+  }
+  return value;
+}
+
 void CuttingModel::configure(const Params& p) {
   const Material& m = p.material;
   if (!(m.strength > 0.0) || !(m.strength_base > 0.0))
@@ -71,7 +80,7 @@ double CuttingModel::radial_force(const CutState& c) const noexcept {
       cached_speed_term_ = std::pow(v, p_.material.Py.n);
     }
     const auto& law = p_.material.Py;
-    return 10.0 * law.Cp * std::pow(c.depth_mm, law.x) * std::pow(c.feed_mm_per_rev, law.y) *
+    return 10.0 * law.Cp * depth_force_(c.depth_mm, law.x) * std::pow(c.feed_mm_per_rev, law.y) *
            cached_speed_term_ * k;
   }
   return kienzle(p_.material.Fp, c.depth_mm / sin_kappa_, c.feed_mm_per_rev * sin_kappa_) * k /
@@ -100,7 +109,7 @@ double CuttingModel::tool_life_min(double speed_m_per_min, double feed_mm_per_re
     return std::numeric_limits<double>::infinity();
   const auto& r = life_range(feed_mm_per_rev);
   const double ratio = r.Cv * kmv(strength_factor) /
-                       (speed_m_per_min * std::pow(depth_mm, r.xv) * std::pow(feed_mm_per_rev, r.yv));
+                       (speed_m_per_min * depth_life_(depth_mm, r.xv) * feed_life_(feed_mm_per_rev, r.yv));
   return std::pow(ratio, 1.0 / r.m);
 }
 

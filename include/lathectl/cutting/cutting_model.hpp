@@ -24,6 +24,7 @@
 // All evaluation calls are noexcept and allocation-free.
 
 #include <array>
+#include <limits>
 #include <string>
 
 namespace lathectl::cutting {
@@ -122,6 +123,20 @@ class CuttingModel {
   double sin_kappa_ = 1.0;
   mutable double cached_speed_ = -1.0;  // V^n of Py for the last V (radial_force hot path)
   mutable double cached_speed_term_ = 1.0;
+  // base^exponent for the last pair asked (the same value std::pow gives): a rig steps
+  // radial_force and tool_life_min every step, the depth changes far less often than that, and
+  // rig E asks the tool life twice a step at one feed (with and without the hardness). On rig
+  // A the tool-life law's three pow a step were all the time it lost since 42a2cf0. The bases
+  // are > 0 where it is used (±0 compare equal but may give different powers).
+  struct LastPow {
+    double base = std::numeric_limits<double>::quiet_NaN();
+    double exponent = std::numeric_limits<double>::quiet_NaN();
+    double value = 0.0;
+    double operator()(double b, double e) noexcept;
+  };
+  mutable LastPow depth_force_;  // t^x of Py (radial_force)
+  mutable LastPow depth_life_;   // t^xv (tool_life_min)
+  mutable LastPow feed_life_;    // s^yv (tool_life_min)
 };
 
 }  // namespace lathectl::cutting

@@ -94,6 +94,11 @@ class LathePlant {
   void configure(const CuttingProcess& cfg, const Params& p);
   // Advances by dt_s. Never allocates, throws or logs.
   void step(const Input& in, double dt_s, Output& out) noexcept;
+  // The workpiece alone: advances by dt_s as step() does but fills only the geometry's fields
+  // of out (chip_depth_mm, feed_per_rev_mm, removed_mm3, engaged_depth_mm, on_blank), without
+  // the disturbances, the forces and the sensor — what a model of the blank needs
+  // (control::AdaptiveMachine's stock model). step() is cut() and then the process.
+  void cut(const Input& in, double dt_s, Output& out) noexcept;
   // Stock z of a machine z [mm].
   [[nodiscard]] double stock_z_mm(double z_machine_mm) const noexcept {
     return p_.z_origin_mm - z_machine_mm;
@@ -118,6 +123,13 @@ class LathePlant {
 
  private:
   static constexpr std::size_t kBins = 360;
+  struct NoseCut {
+    double removed = 0.0;  // cross-section removed this step [mm²]
+    bool on_blank = false;
+  };
+  NoseCut cut_under_nose(double x, double z) noexcept;
+  void spread_over_bins(double a0, double a1, double removed, double travel) noexcept;
+  void revolution_sums(bool area, double& area_rev, double& travel_rev) noexcept;
   CuttingProcess cfg_{};
   Params p_{};
   double r_nose_ = 0.8;
@@ -131,8 +143,20 @@ class LathePlant {
   sensors::FaultInjector faults_;
   std::array<double, kBins> bin_area_{};
   std::array<double, kBins> bin_travel_{};
-  double area_rev_ = 0.0;
-  double travel_rev_ = 0.0;
+  // Prefix sums of the bins from bin 0 (prefix[k] = Σ bins below k, summed in that order) and
+  // the first bin changed since they were summed.
+  std::array<double, kBins + 1> prefix_area_{};
+  std::array<double, kBins + 1> prefix_travel_{};
+  std::size_t dirty_area_ = 0;
+  std::size_t dirty_travel_ = 0;
+  struct NosePass {  // the last cut_under_nose() over the grid: its position and cells
+    bool valid = false;
+    double x = 0.0;
+    double z = 0.0;
+    std::size_t i0 = 0;
+    std::size_t i1 = 0;
+  };
+  NosePass last_nose_{};
   double theta_ = 0.0;  // spindle angle [rev], cumulative
   std::size_t bin_ = 0;
   double last_x_ = 0.0;
