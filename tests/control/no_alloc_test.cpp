@@ -443,8 +443,8 @@ TEST(NoAlloc, ModulationMachineNeverAllocates) {
 TEST(NoAlloc, GaugeMachineAndVibroContactGaugeNeverAllocate) {
   // Every filter and every path: steps, their relay, the backstop, a lost and a NaN signal, rearm,
   // bridged interruptions, interruptions too close for the bridge.
-  using lathectl::control::GaugeFilterKind;
   using lathectl::control::GaugeMachine;
+  using lathectl::sensors::GaugeFilterKind;
   for (auto kind : {GaugeFilterKind::FirstOrder, GaugeFilterKind::SecondOrder,
                     GaugeFilterKind::Synchronous}) {
     lathectl::sensors::VibroContactGauge::Params tp;
