@@ -27,6 +27,49 @@ using io::fixed;
 
 // System B's session on the twin-turret lathe (scripts/linuxcnc-sim-twin): summary.json's measures
 // (null where the session did not reach them) and the recording's channels.
+// The recording's channels: the vibration at the tool, the turrets' feeds and W's external
+// offset over time, with `marks`; the number of servo periods recorded.
+std::size_t add_recording_plots(io::Report& r, const fs::path& csv,
+                                const std::vector<io::Marker>& marks) {
+  const io::ChannelTable table = io::read_channels_csv(csv);
+  auto col = [&](const char* name) -> const std::vector<double>& {
+    for (std::size_t i = 0; i < table.names.size(); ++i)
+      if (table.names[i] == name) return table.columns[i];
+    throw io::InputError(csv.string() + ": no column " + name + " (not linuxcnc-sim-twin's)");
+  };
+  const auto &t = col("time_s"), &peak = col("vibration_peak_um"), &a0 = col("a0_um");
+  const auto &z = col("z_mm"), &w = col("w_mm"), &level = col("feed_mm_per_min");
+  const auto &eo = col("w_eoffset_mm"), &motion = col("motion_type"), &on = col("module_on");
+  r.plots.push_back({"Vibration at the tool",
+                     "time [s]",
+                     "amplitude [µm]",
+                     {{"peak of the high-passed displacement", t, peak, "", false, false},
+                      {"a0 (ADC 19, 0 below the dead zone)", t, a0, "", true, false}},
+                     marks});
+  // The turrets' speeds from the recorded joints (one servo period apart), in feed moves.
+  std::vector<double> vz(t.size(), 0.0), vw(t.size(), 0.0), s_level(t.size(), 0.0);
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    const double dt = t[i] - t[i - 1];
+    if (dt <= 0.0 || (motion[i] != 2.0 && motion[i] != 3.0)) continue;
+    s_level[i] = on[i] != 0.0 ? level[i] : 0.0;
+    vz[i] = std::abs(z[i] - z[i - 1]) / dt * 60.0;
+    vw[i] = std::abs(w[i] - w[i - 1]) / dt * 60.0;
+  }
+  r.plots.push_back({"The turrets' feeds",
+                     "time [s]",
+                     "feed [mm/min]",
+                     {{"right turret (W)", t, vw, "", false, false},
+                      {"left turret (Z)", t, vz, "", false, false},
+                      {"the module's level S(t) (while on)", t, s_level, "", true, false}},
+                     marks});
+  r.plots.push_back({"W's external offset (axis.w.eoffset)",
+                     "time [s]",
+                     "offset [mm]",
+                     {{"offset", t, eo, "", false, false}},
+                     marks});
+  return t.size();
+}
+
 int twin_session_report(const fs::path& dir, const std::string& out_arg) {
   const fs::path summary = dir / "summary.json", csv = dir / "signals.csv";
   const fs::path out = out_arg.empty() ? dir / "report.html" : fs::path(out_arg);
@@ -89,15 +132,6 @@ int twin_session_report(const fs::path& dir, const std::string& out_arg) {
        val("override.factor", 1, 3) + " / " + val("override.left_mm_per_min", 1, 2)},
       {"programmed variant: the named turret on its level [share]",
        val("programmed.left_on_level_share", 1, 3)}};
-  const io::ChannelTable table = io::read_channels_csv(csv);
-  auto col = [&](const char* name) -> const std::vector<double>& {
-    for (std::size_t i = 0; i < table.names.size(); ++i)
-      if (table.names[i] == name) return table.columns[i];
-    throw io::InputError(csv.string() + ": no column " + name + " (not linuxcnc-sim-twin's)");
-  };
-  const auto &t = col("time_s"), &peak = col("vibration_peak_um"), &a0 = col("a0_um");
-  const auto &z = col("z_mm"), &w = col("w_mm"), &level = col("feed_mm_per_min");
-  const auto &eo = col("w_eoffset_mm"), &motion = col("motion_type"), &on = col("module_on");
   std::vector<io::Marker> marks;
   for (const auto& [key, label] : {std::pair{"contact_at_s", "contact"},
                                    {"modulation.engaged_at_s", "engaged"},
@@ -105,35 +139,9 @@ int twin_session_report(const fs::path& dir, const std::string& out_arg) {
     const std::string v = val(key, 1, 3);
     if (v != "—") marks.push_back({std::stod(v), label});
   }
-  r.plots.push_back({"Vibration at the tool",
-                     "time [s]",
-                     "amplitude [µm]",
-                     {{"peak of the high-passed displacement", t, peak, "", false, false},
-                      {"a0 (ADC 19, 0 below the dead zone)", t, a0, "", true, false}},
-                     marks});
-  // The turrets' speeds from the recorded joints (one servo period apart), in feed moves.
-  std::vector<double> vz(t.size(), 0.0), vw(t.size(), 0.0), s_level(t.size(), 0.0);
-  for (std::size_t i = 1; i < t.size(); ++i) {
-    const double dt = t[i] - t[i - 1];
-    if (dt <= 0.0 || (motion[i] != 2.0 && motion[i] != 3.0)) continue;
-    s_level[i] = on[i] != 0.0 ? level[i] : 0.0;
-    vz[i] = std::abs(z[i] - z[i - 1]) / dt * 60.0;
-    vw[i] = std::abs(w[i] - w[i - 1]) / dt * 60.0;
-  }
-  r.plots.push_back({"The turrets' feeds",
-                     "time [s]",
-                     "feed [mm/min]",
-                     {{"right turret (W)", t, vw, "", false, false},
-                      {"left turret (Z)", t, vz, "", false, false},
-                      {"the module's level S(t) (while on)", t, s_level, "", true, false}},
-                     marks});
-  r.plots.push_back({"W's external offset (axis.w.eoffset)",
-                     "time [s]",
-                     "offset [mm]",
-                     {{"offset", t, eo, "", false, false}},
-                     marks});
+  const std::size_t periods = add_recording_plots(r, csv, marks);
   io::write_output_file(out, io::render_html(r), "--out", {summary, csv});
-  std::cout << "system B session: " << t.size() << " servo periods → " << out.string() << "\n";
+  std::cout << "system B session: " << periods << " servo periods → " << out.string() << "\n";
   return 0;
 }
 

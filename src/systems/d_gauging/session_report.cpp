@@ -26,6 +26,47 @@ using io::fixed;
 
 // System D's series on LinuxCNC (scripts/linuxcnc-sim-gauge's summary.json): every number read
 // is checked (JsonFile names the file, line and key of a bad one).
+// The histogram: bins of a tenth of the tolerance over ±1.5 tolerances (the limits inside),
+// wider when a size lies beyond; the normal law of the series' own mean and σ.
+io::Plot size_histogram(const std::vector<double>& sizes, double tol, double mean, double sigma) {
+  double lo = -1.5 * tol, hi = 1.5 * tol;
+  for (double e : sizes) {
+    lo = std::min(lo, e);
+    hi = std::max(hi, e);
+  }
+  const double w = 0.1 * tol;
+  const auto bins = static_cast<std::size_t>(std::ceil((hi - lo) / w)) + 1;
+  std::vector<double> counts(bins, 0.0);
+  for (double e : sizes) counts[static_cast<std::size_t>((e - lo) / w)] += 1.0;
+  io::Series hist{"finished sizes (" + std::to_string(sizes.size()) + " parts)",
+                  {},
+                  {},
+                  "#1f77b4",
+                  false,
+                  false};
+  for (std::size_t b = 0; b < bins; ++b) {
+    const double x0 = lo + static_cast<double>(b) * w;
+    hist.x.insert(hist.x.end(), {x0, x0 + w});
+    hist.y.insert(hist.y.end(), {counts[b], counts[b]});
+  }
+  io::Plot h{"Finished sizes: finished − target",
+             "finished − target [µm]",
+             "parts per bin",
+             {hist},
+             {{0.0, "target"}, {-tol, "LSL"}, {tol, "USL"}}};
+  if (sigma > 0.0) {
+    io::Series normal{"normal, the series' mean and σ", {}, {}, "#d62728", true, false};
+    for (int k = 0; k <= 200; ++k) {
+      const double x = lo + (hi + w - lo) * k / 200.0, z = (x - mean) / sigma;
+      normal.x.push_back(x);
+      normal.y.push_back(static_cast<double>(sizes.size()) * w /
+                         (sigma * std::sqrt(2.0 * std::numbers::pi)) * std::exp(-0.5 * z * z));
+    }
+    h.series.push_back(normal);
+  }
+  return h;
+}
+
 int gauge_series_report(const fs::path& summary, const std::string& out_arg) {
   const fs::path out = out_arg.empty() ? summary.parent_path() / "report.html" : fs::path(out_arg);
   io::check_output_file(out, "--out", {summary});
@@ -89,45 +130,8 @@ int gauge_series_report(const fs::path& summary, const std::string& out_arg) {
                           : "",
                       backstop ? "backstop" : "size", alarm ? "yes" : ""});
   }
-  // The histogram: bins of a tenth of the tolerance over ±1.5 tolerances (the limits inside),
-  // wider when a size lies beyond; the normal law of the series' own mean and σ.
   const double sigma = num("size_sigma_um");
-  double lo = -1.5 * tol, hi = 1.5 * tol;
-  for (double e : sizes) {
-    lo = std::min(lo, e);
-    hi = std::max(hi, e);
-  }
-  const double w = 0.1 * tol;
-  const auto bins = static_cast<std::size_t>(std::ceil((hi - lo) / w)) + 1;
-  std::vector<double> counts(bins, 0.0);
-  for (double e : sizes) counts[static_cast<std::size_t>((e - lo) / w)] += 1.0;
-  io::Series hist{"finished sizes (" + std::to_string(sizes.size()) + " parts)",
-                  {},
-                  {},
-                  "#1f77b4",
-                  false,
-                  false};
-  for (std::size_t b = 0; b < bins; ++b) {
-    const double x0 = lo + static_cast<double>(b) * w;
-    hist.x.insert(hist.x.end(), {x0, x0 + w});
-    hist.y.insert(hist.y.end(), {counts[b], counts[b]});
-  }
-  io::Plot h{"Finished sizes: finished − target",
-             "finished − target [µm]",
-             "parts per bin",
-             {hist},
-             {{0.0, "target"}, {-tol, "LSL"}, {tol, "USL"}}};
-  if (sigma > 0.0) {
-    io::Series normal{"normal, the series' mean and σ", {}, {}, "#d62728", true, false};
-    for (int k = 0; k <= 200; ++k) {
-      const double x = lo + (hi + w - lo) * k / 200.0, z = (x - mean) / sigma;
-      normal.x.push_back(x);
-      normal.y.push_back(static_cast<double>(sizes.size()) * w /
-                         (sigma * std::sqrt(2.0 * std::numbers::pi)) * std::exp(-0.5 * z * z));
-    }
-    h.series.push_back(normal);
-  }
-  r.plots.push_back(h);
+  r.plots.push_back(size_histogram(sizes, tol, mean, sigma));
   r.tables.push_back(t);
   r.plots_first = true;  // the histogram above the long size table
   io::write_output_file(out, io::render_html(r), "--out", {summary});

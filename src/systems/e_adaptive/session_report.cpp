@@ -46,6 +46,27 @@ bool read_signals(const fs::path& csv, Signals& s) {
   return true;
 }
 
+// With scripts/linuxcnc-sim's recording beside the log: load against the limit (a marker where
+// an operation's limit took effect) and the adaptive feed, over time.
+void add_recording_plots(io::Report& r, const fs::path& signals, const std::string& unit) {
+  Signals s;
+  if (read_signals(signals, s)) {
+    io::Plot p{"Load against the limit (LinuxCNC recording)",
+               "time [s]",
+               "load [" + unit + "]",
+               {{"load", s.t, s.load, "", false, false}, {"limit", s.t, s.limit, "", true, false}},
+               {}};
+    for (std::size_t i = 1; i < s.t.size(); ++i)  // where an operation's limit took effect
+      if (s.limit[i] != s.limit[i - 1]) p.markers.push_back({s.t[i], fixed(s.limit[i], 0)});
+    r.plots.push_back(p);
+    r.plots.push_back({"Adaptive feed (motion.adaptive-feed)",
+                       "time [s]",
+                       "factor of the program's",
+                       {{"adaptive feed", s.t, s.feed, "", false, false}},
+                       {}});
+  }
+}
+
 }  // namespace
 
 // Any other path: an operation log, or the directory holding it (the registry asks B's and D's
@@ -134,22 +155,7 @@ int session_report(const fs::path& path, const std::string& out_arg) {
                      "load [" + unit + "]",
                      {lim_s, mean_s, peak_s},
                      {}});
-  Signals s;
-  if (read_signals(signals, s)) {
-    io::Plot p{"Load against the limit (LinuxCNC recording)",
-               "time [s]",
-               "load [" + unit + "]",
-               {{"load", s.t, s.load, "", false, false}, {"limit", s.t, s.limit, "", true, false}},
-               {}};
-    for (std::size_t i = 1; i < s.t.size(); ++i)  // where an operation's limit took effect
-      if (s.limit[i] != s.limit[i - 1]) p.markers.push_back({s.t[i], fixed(s.limit[i], 0)});
-    r.plots.push_back(p);
-    r.plots.push_back({"Adaptive feed (motion.adaptive-feed)",
-                       "time [s]",
-                       "factor of the program's",
-                       {{"adaptive feed", s.t, s.feed, "", false, false}},
-                       {}});
-  }
+  add_recording_plots(r, signals, unit);
   io::write_output_file(out, io::render_html(r), "--out", {log, signals});
   std::cout << ops.rows.size() << " operations, " << tools.size() << " tools, peak "
             << fixed(100.0 * worst, 1) << " % of the limit → " << out.string() << "\n";
