@@ -37,7 +37,7 @@ int systems_command(bool tsv, const std::string& check) {
     if (l.runner.empty()) continue;
     std::cout << "   on LinuxCNC: scripts/" << l.runner << ", hal/config/" << l.config
               << ".ini; components";
-    for (const auto c : l.hal_components) std::cout << " " << c;
+    for (const auto& c : l.hal_components) std::cout << " " << c.name;
     std::cout << "\n";
   }
   return 0;

@@ -35,14 +35,19 @@
 namespace lathectl::systems {
 
 namespace {
-// The HAL components of each system on LinuxCNC (hal/<name>.cpp).
-constexpr std::string_view kSlideHal[] = {"lathectl_slide", "lathectl_slide_plant"};
-constexpr std::string_view kTwinHal[] = {"lathectl_chatter", "lathectl_modfeed"};
-constexpr std::string_view kGaugeHal[] = {"lathectl_gauge", "lathectl_gauge_plant"};
-constexpr std::string_view kLatheHal[] = {"lathectl_adaptive", "lathectl_plant"};
+// The HAL components of each system on LinuxCNC (hal/<name>.cpp) and what each links besides
+// the core. A's components configure rig A from the scenario: they link A's whole library.
+constexpr HalComponent kSlideHal[] = {{"lathectl_slide", "lathectl_a_pulse_feed"},
+                                      {"lathectl_slide_plant", "lathectl_a_pulse_feed"}};
+constexpr HalComponent kTwinHal[] = {{"lathectl_chatter", "lathectl_b_chatter_settings"},
+                                     {"lathectl_modfeed", "lathectl_b_chatter_settings"}};
+constexpr HalComponent kGaugeHal[] = {{"lathectl_gauge", "lathectl_d_gauging_settings"},
+                                      {"lathectl_gauge_plant", "lathectl_d_gauging_settings"}};
+constexpr HalComponent kLatheHal[] = {{"lathectl_adaptive", "lathectl_e_adaptive_settings"},
+                                      {"lathectl_plant", "lathectl_e_adaptive_settings"}};
 
 // Each system: id, folder, title, docs page, section, run, estimate, and on LinuxCNC: runner,
-// configuration, display, HAL components, what they link besides the core, session report.
+// configuration, display, HAL components, session report.
 const std::array<System, 5> kSystems{{
     {a_pulse_feed::kSection.system,
      "a_pulse_feed",
@@ -51,13 +56,7 @@ const std::array<System, 5> kSystems{{
      &a_pulse_feed::kSection,
      LATHECTL_RUN(a_pulse_feed::run),
      LATHECTL_RUN(a_pulse_feed::estimate),
-     // A's components configure rig A from the scenario: they link A's whole library.
-     {"linuxcnc-sim-slide",
-      "lathectl-slide",
-      "linuxcnc_slide_display.py",
-      kSlideHal,
-      "lathectl_a_pulse_feed",
-      {}}},
+     {"linuxcnc-sim-slide", "lathectl-slide", "linuxcnc_slide_display.py", kSlideHal, {}}},
     {b_chatter::kSection.system,
      "b_chatter",
      "twin-turret chatter and modulated feed (seed 001)",
@@ -69,7 +68,6 @@ const std::array<System, 5> kSystems{{
       "lathectl-twin",
       "linuxcnc_twin_display.py",
       kTwinHal,
-      "lathectl_b_chatter_settings",
       {LATHECTL_RUN(b_chatter::is_session), LATHECTL_RUN(b_chatter::session_report)}}},
     {c_tracer::kSection.system,
      "c_tracer",
@@ -90,7 +88,6 @@ const std::array<System, 5> kSystems{{
       "lathectl-gauge",
       "linuxcnc_gauge_display.py",
       kGaugeHal,
-      "lathectl_d_gauging_settings",
       {LATHECTL_RUN(d_gauging::is_session), LATHECTL_RUN(d_gauging::session_report)}}},
     // E's session report last: it takes any operation log.
     {e_adaptive::kSection.system,
@@ -104,7 +101,6 @@ const std::array<System, 5> kSystems{{
       "lathectl-lathe",
       "linuxcnc_sim_display.py",
       kLatheHal,
-      "lathectl_e_adaptive_settings",
       {LATHECTL_RUN(e_adaptive::is_session), LATHECTL_RUN(e_adaptive::session_report)}}},
 }};
 
@@ -116,7 +112,9 @@ std::vector<const io::Section*> sections() {
 }  // namespace
 
 #ifndef LATHECTL_SECTIONS_ONLY
-std::span<const System> all() { return kSystems; }
+std::span<const System> all() {
+  return kSystems;
+}
 
 const System* find(std::string_view id) {
   for (const auto& s : kSystems)
@@ -129,14 +127,14 @@ std::string table_tsv() {
     return v.empty() ? std::string("-") : std::string(v);
   };
   std::ostringstream o;
-  o << "# id\tfolder\tdocs\trunner\tconfig\tdisplay\thal_components\thal_links\n";
+  o << "# id\tfolder\tdocs\trunner\tconfig\tdisplay\thal_components (name=links)\n";
   for (const auto& s : kSystems) {
     const auto& l = s.linuxcnc;
     std::string components;
-    for (const auto c : l.hal_components) components += (components.empty() ? "" : ",") + field(c);
+    for (const auto& c : l.hal_components)
+      components += (components.empty() ? "" : ",") + field(c.name) + "=" + field(c.links);
     o << s.id << '\t' << s.folder << '\t' << field(s.docs) << '\t' << field(l.runner) << '\t'
-      << field(l.config) << '\t' << field(l.display) << '\t' << field(components) << '\t'
-      << field(l.hal_links) << '\n';
+      << field(l.config) << '\t' << field(l.display) << '\t' << field(components) << '\n';
   }
   return o.str();
 }

@@ -26,6 +26,13 @@ struct SessionReport {
   int (*report)(const std::filesystem::path& path, const std::string& out) = nullptr;
 };
 
+// A HAL component: it links lathectl_core and `links` (a library lathectl_system() built for its
+// system: its settings library, or more where it runs the rig's plant).
+struct HalComponent {
+  std::string_view name;   // hal/<name>.cpp, hal/man/<name>.9
+  std::string_view links;  // "lathectl_e_adaptive_settings"
+};
+
 // The system on LinuxCNC (empty: it has none).
 struct LinuxCnc {
   // scripts/<runner> (installed as lathectl-<runner>): runs a scenario of the system on
@@ -33,10 +40,8 @@ struct LinuxCnc {
   std::string_view runner;
   std::string_view config;   // hal/config/<config>.ini and .hal: the machine's configuration
   std::string_view display;  // scripts/<display>: the runner's headless display
-  // hal/<name>.cpp, hal/man/<name>.9: its HAL components, each linking lathectl_core and
-  // `hal_links` (what lathectl_system() built for the system: its settings library).
-  std::span<const std::string_view> hal_components;
-  std::string_view hal_links;
+  // hal/<name>.cpp, hal/man/<name>.9: its HAL components.
+  std::span<const HalComponent> hal_components;
   SessionReport session;
 };
 
@@ -55,7 +60,7 @@ std::span<const System> all();
 // nullptr when unknown.
 const System* find(std::string_view id);
 // The entries as hal/systems.tsv holds them: a header line, then one line per system, fields
-// separated by tabs, lists by commas, "-" for none.
+// separated by tabs, lists by commas (a component as name=links), "-" for none.
 std::string table_tsv();
 
 // A scenario of any system: the general io::parse_scenario over every system's section.

@@ -78,9 +78,10 @@ if [ $hal -eq 1 ]; then
   # and their man pages, its runner, its display, its configuration in the picker.
   expected=(./usr/share/lathectl/hal/reasons.json ./usr/share/lathectl/hal/systems.tsv
             ./usr/share/lathectl/scripts/linuxcnc_session.py ./usr/share/doc/lathectl-linuxcnc/copyright)
-  while IFS=$'\t' read -r id folder docs runner config display components links; do
+  while IFS=$'\t' read -r id folder docs runner config display components; do
     [ "${id:0:1}" != "#" ] && [ "$runner" != "-" ] || continue
-    for c in ${components//,/ }; do
+    for c in ${components//,/ }; do  # name=links
+      c=${c%%=*}
       expected+=("./usr/lib/linuxcnc/modules/$c.so" "./usr/share/man/man9/$c.9.gz")
     done
     expected+=("./usr/bin/lathectl-$runner" "./usr/share/lathectl/scripts/$display"

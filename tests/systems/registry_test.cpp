@@ -33,9 +33,11 @@ TEST(Registry, EveryEntryNamesFilesThatExist) {
     EXPECT_TRUE(exists("scripts/" + std::string(l.display))) << id << ": " << l.display;
     EXPECT_TRUE(exists("hal/config/" + std::string(l.config) + ".ini")) << id << ": " << l.config;
     EXPECT_FALSE(l.hal_components.empty()) << id;
-    for (const auto c : l.hal_components) {
-      EXPECT_TRUE(exists("hal/" + std::string(c) + ".cpp")) << id << ": " << c;
-      EXPECT_TRUE(exists("hal/man/" + std::string(c) + ".9")) << id << ": " << c;
+    for (const auto& c : l.hal_components) {
+      EXPECT_TRUE(exists("hal/" + std::string(c.name) + ".cpp")) << id << ": " << c.name;
+      EXPECT_TRUE(exists("hal/man/" + std::string(c.name) + ".9")) << id << ": " << c.name;
+      EXPECT_TRUE(c.links.starts_with("lathectl_" + std::string(s.folder)))
+          << id << ": " << c.name << " links " << c.links << ", not its own system's";
     }
     EXPECT_EQ(l.session.is_session == nullptr, l.session.report == nullptr) << id;
   }
