@@ -31,13 +31,15 @@
 #include "systems/d_gauging/settings.hpp"
 #include "systems/e_adaptive/rig.hpp"
 #include "systems/e_adaptive/settings.hpp"
+#include "systems/registry.hpp"
 
 using namespace lathectl;
 
 namespace {
 io::Scenario load(const char* name) {
   static const auto lib = io::MaterialLibrary::load_default();
-  return io::load_scenario(std::string(LATHECTL_SOURCE_DIR "/examples/scenarios/") + name, lib);
+  return systems::load_scenario(std::string(LATHECTL_SOURCE_DIR "/examples/scenarios/") + name,
+                                lib);
 }
 
 void BM_RigA_60s(benchmark::State& state, const char* scenario) {

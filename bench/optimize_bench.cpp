@@ -11,6 +11,7 @@
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "optimize/optimize.hpp"
+#include "systems/registry.hpp"
 
 using namespace lathectl;
 
@@ -35,7 +36,7 @@ void BM_Optimize_TenMinuteProgram(benchmark::State& state) {
   }
   static const auto lib = io::MaterialLibrary::load_default();
   const auto sc =
-      io::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.toml", lib);
+      systems::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.toml", lib);
   const auto& e = sc.get<systems::e_adaptive::Settings>();
   const auto path = std::filesystem::temp_directory_path() / "lathectl-bench-10min.ngc";
   std::ofstream(path) << ten_minute_program();

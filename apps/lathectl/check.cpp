@@ -14,6 +14,7 @@
 #include "lathectl/io/toml_reader.hpp"
 #include "systems/e_adaptive/tool_limits.hpp"
 #include "systems/estimate.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl::cli {
 namespace {
@@ -57,7 +58,7 @@ int check(const std::string& file) {
       break;
   }
   const auto lib = io::MaterialLibrary::load_default();
-  const auto sc = io::load_scenario(file, lib);
+  const auto sc = systems::load_scenario(file, lib);
   std::cout << file << ": OK (system " << sc.system << ", \"" << sc.name << "\", "
             << sc.run.duration_s << " s at step " << sc.run.step_s << " s)\n";
   std::cout << "  cost: " << systems::summary_text(systems::estimate(sc)) << "\n";

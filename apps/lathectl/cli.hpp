@@ -42,6 +42,7 @@ void add_reference(CLI::App& app, Commands& out);
 void add_compare(CLI::App& app, Commands& out);
 void add_optimize(CLI::App& app, Commands& out);
 void add_reasons(CLI::App& app, Commands& out);
+void add_systems(CLI::App& app, Commands& out);
 
 // The design calculators (design_<name>.cpp each; design.cpp lists them): the subcommand, and
 // the inputs and outputs as Markdown for `lathectl reference design`.

@@ -21,6 +21,7 @@
 #include "lathectl/io/report.hpp"
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "systems/registry.hpp"
 
 namespace fs = std::filesystem;
 
@@ -95,7 +96,7 @@ int demo(const std::string& out, const std::string& dir, const std::vector<std::
   // Parse all first: nothing runs on a half-read example set.
   std::vector<io::Scenario> scenarios;
   for (const auto& f : example_files(dir, only))
-    scenarios.push_back(io::load_scenario(f.string(), lib));
+    scenarios.push_back(systems::load_scenario(f.string(), lib));
   io::prepare_output_dir(out, "--out", false);
 
   const std::size_t n = scenarios.size();
@@ -111,7 +112,7 @@ int demo(const std::string& out, const std::string& dir, const std::vector<std::
           io::RunOutput r;
           {
             io::StreamScope streams(stage);  // channels.csv streams into the stage
-            r = io::run_scenario(scenarios[i]);
+            r = systems::run_scenario(scenarios[i]);
           }
           io::write_outputs(r, stage, "../index.html");
           entries[i] = index_entry(scenarios[i], r);

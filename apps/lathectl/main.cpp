@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
   cli::add_compare(app, commands);
   cli::add_optimize(app, commands);
   cli::add_reasons(app, commands);
+  cli::add_systems(app, commands);
 
   try {
     app.parse(argc, argv);

@@ -18,6 +18,7 @@
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/io/study.hpp"
+#include "systems/registry.hpp"
 
 namespace fs = std::filesystem;
 
@@ -43,7 +44,7 @@ std::string hal_config_dir() {
 
 int run(Args& a) {
   const auto lib = io::MaterialLibrary::load_default();
-  const auto sc = io::load_scenario(a.scenario, lib);
+  const auto sc = systems::load_scenario(a.scenario, lib);
   if (sc.system != "E")
     throw io::InputError(a.scenario + ": a system-" + sc.system +
                          " scenario; lathectl optimize needs a system-E scenario (material, "

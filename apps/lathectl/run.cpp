@@ -13,6 +13,7 @@
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "systems/estimate.hpp"
+#include "systems/registry.hpp"
 
 namespace fs = std::filesystem;
 
@@ -21,7 +22,7 @@ namespace {
 
 int run(const std::string& scenario, const std::string& out, bool strict) {
   const auto lib = io::MaterialLibrary::load_default();
-  const auto sc = io::load_scenario(scenario, lib);
+  const auto sc = systems::load_scenario(scenario, lib);
   io::prepare_output_dir(out, "--out");  // before the simulation, not after it
   // A long run says up front what it will cost (the progress line then says how far it is).
   if (const auto e = systems::estimate(sc); e.wall_s > 30.0)
@@ -34,7 +35,7 @@ int run(const std::string& scenario, const std::string& out, bool strict) {
       io::Progress progress("run " + sc.name);
       io::ProgressScope scope(progress);
       io::StreamScope streams(stage);
-      result = io::run_scenario(sc);
+      result = systems::run_scenario(sc);
     }
     io::write_outputs(result, stage);
   } catch (const fs::filesystem_error& e) {

@@ -53,7 +53,7 @@ void GaugeMachine::configure(const Params& p) {
   if (!(p.gate_guard_s >= 0.0) || !std::isfinite(p.gate_guard_s))
     throw core::ParameterError("gate_guard_s", "gauge: the guard after an interruption must be "
                                                "≥ 0 s");
-  GaugeFilter f;
+  sensors::GaugeFilter f;
   f.configure(p.filter, p.period_s);
   p_ = p;
   filter_ = std::move(f);

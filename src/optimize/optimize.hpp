@@ -19,6 +19,13 @@
 //      cycle (G7x) line, expanded into its moves. The result is interpreted again and must follow
 //      the original path; if it does not (modes the pieces cannot be written in: G91, G7, offsets,
 //      cutter compensation), the splits are dropped and each line gets one F.
+//
+// This header has no optimize.cpp: it declares what the four libraries of `lathectl optimize`
+// share (CMakeLists.txt), each part defined in its own: Options, Program and the interpreter's
+// run in program.cpp (lathectl_optimize_interpret); Piece … Prediction, predict, programmed and
+// the leg times in predict.cpp (lathectl_optimize_predict); Result and optimize in rewrite.cpp,
+// the warnings, blend note and output files in outputs.cpp (lathectl_optimize_plan); verify in
+// verify.cpp (lathectl_optimize_verify).
 
 #include <cstdint>
 #include <filesystem>

@@ -92,11 +92,11 @@ void VibroContactGauge::configure(const Params& p, double dt) {
 }
 
 double VibroContactGauge::synchronous_window_s(const Params& p) noexcept {
-  return control::GaugeFilter::window_s(filter_params(p));
+  return sensors::GaugeFilter::window_s(filter_params(p));
 }
 
 double VibroContactGauge::filter_lag_s(const Params& p) noexcept {
-  return control::GaugeFilter::lag_s(filter_params(p));
+  return sensors::GaugeFilter::lag_s(filter_params(p));
 }
 
 double VibroContactGauge::filter_noise_factor(const Params& p, double b) noexcept {

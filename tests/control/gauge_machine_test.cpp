@@ -18,9 +18,9 @@
 
 namespace {
 
-using lathectl::control::GaugeFilterKind;
 using lathectl::control::GaugeMachine;
 using lathectl::control::Reason;
+using lathectl::sensors::GaugeFilterKind;
 using Command = GaugeMachine::Command;
 
 constexpr double kK = 1e4;          // V/m
@@ -46,7 +46,7 @@ GaugeMachine::Params params(GaugeFilterKind kind, std::vector<GaugeMachine::Step
 
 // (23): S_th = K·(A − x_k − a·(lag + t_r)).
 double threshold_23(const GaugeMachine::Params& p) {
-  return kK * (kA - kTarget - kRate * (lathectl::control::GaugeFilter::lag_s(p.filter) + kRelay));
+  return kK * (kA - kTarget - kRate * (lathectl::sensors::GaugeFilter::lag_s(p.filter) + kRelay));
 }
 
 struct Plunge {
@@ -163,7 +163,7 @@ TEST(GaugeMachine, StepsOperateInOrderOneRelayResponseAfterTheirThresholds) {
     EXPECT_LT(r.operate_s[i], r.trip_s[i] + kRelay + kDt + 1e-12);
   }
   // The crossings where the ramp puts them: (S_i/K − A + x0)/a + lag, within the bound.
-  const double lag = lathectl::control::GaugeFilter::lag_s(p.filter);
+  const double lag = lathectl::sensors::GaugeFilter::lag_s(p.filter);
   for (std::size_t i = 0; i < 3; ++i)
     EXPECT_NEAR(r.trip_s[i], (p.steps[i].threshold_V / kK - kA + kAllow) / kRate + lag,
                 synchronous_bound_m() / kRate);
@@ -189,8 +189,9 @@ TEST(GaugeMachine, ACrossingOfALaterThresholdTripsTheEarlierOnesWithIt) {
   ASSERT_EQ(r.operate_s.size(), 2u);
   EXPECT_EQ(m.output().step, 3);
   EXPECT_EQ(m.output().command, Command::Size);
-  EXPECT_NEAR(r.trip_s[0], (p.steps[1].threshold_V / kK - kA + kAllow) / kRate +
-                               lathectl::control::GaugeFilter::lag_s(p.filter),
+  EXPECT_NEAR(r.trip_s[0],
+              (p.steps[1].threshold_V / kK - kA + kAllow) / kRate +
+                  lathectl::sensors::GaugeFilter::lag_s(p.filter),
               synchronous_bound_m() / kRate);
   EXPECT_NEAR(r.finished_m, kTarget, synchronous_bound_m());
 }
@@ -401,7 +402,7 @@ TEST(GaugeMachine, BridgedPlungeEndsAtThreshold23WithTheBridgeLag) {
   EXPECT_NEAR(bridge_lag, 0.0383 * 0.04 / rev, 1e-12);
   p.steps[0].threshold_V =
       kK * (kA - kTarget -
-            kRate * (lathectl::control::GaugeFilter::lag_s(p.filter) + bridge_lag + kRelay));
+            kRate * (lathectl::sensors::GaugeFilter::lag_s(p.filter) + bridge_lag + kRelay));
   GaugeMachine m;
   m.configure(p);
   double stop = INFINITY;
@@ -492,7 +493,7 @@ TEST(GaugeMachine, BridgedFlatsEndAtThreshold23WithTheBridgeLag) {
         const double lag = GaugeMachine::bridge_lag_s(bridge, count, f.rev_s, kSupply);
         p.steps[0].threshold_V =
             kK * (kA - kTarget -
-                  kRate * (lathectl::control::GaugeFilter::lag_s(p.filter) + lag + kRelay));
+                  kRate * (lathectl::sensors::GaugeFilter::lag_s(p.filter) + lag + kRelay));
         const std::string tag = std::to_string(count) + " flats " +
                                 std::to_string(depth * 1e6) + " µm at " + std::to_string(theta0);
         GaugeMachine gated;

@@ -15,20 +15,21 @@
 #include "lathectl/control/adaptive_input.hpp"
 #include "lathectl/control/adaptive_machine.hpp"
 #include "lathectl/control/gauge_machine.hpp"
-#include "lathectl/sensors/vibro_contact_gauge.hpp"
 #include "lathectl/control/modulated_feed.hpp"
 #include "lathectl/control/modulation_machine.hpp"
 #include "lathectl/control/operation_control.hpp"
 #include "lathectl/control/pulse_feed_controller.hpp"
 #include "lathectl/control/slide_machine.hpp"
+#include "lathectl/cutting/lathe_plant.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
-#include "lathectl/cutting/lathe_plant.hpp"
+#include "lathectl/sensors/vibration_chain.hpp"
+#include "lathectl/sensors/vibro_contact_gauge.hpp"
+#include "support/sample_controller.hpp"
 #include "systems/a_pulse_feed/metrics.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
 #include "systems/e_adaptive/settings.hpp"
-#include "lathectl/sensors/vibration_chain.hpp"
-#include "support/sample_controller.hpp"
+#include "systems/registry.hpp"
 
 namespace {
 std::atomic<long> g_allocations{0};
@@ -123,7 +124,7 @@ TEST(NoAlloc, SlideMachineUpdateNeverAllocates) {
 TEST(NoAlloc, SlidePlantStepNeverAllocates) {
   namespace a = lathectl::systems::a_pulse_feed;
   const auto lib = lathectl::io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
-  auto sc = lathectl::io::load_scenario(
+  auto sc = lathectl::systems::load_scenario(
       LATHECTL_SOURCE_DIR "/examples/linuxcnc/slide_finishing.toml", lib);
   a::Rig rig;
   rig.set_streamed(true, false);
@@ -271,7 +272,7 @@ TEST(NoAlloc, AdaptiveInputNeverAllocates) {
 // The LinuxCNC plant component's model runs in the servo thread too.
 TEST(NoAlloc, LathePlantStepNeverAllocates) {
   const auto lib = lathectl::io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
-  auto sc = lathectl::io::load_scenario(
+  auto sc = lathectl::systems::load_scenario(
       LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance_sensor_fault.toml", lib);
   lathectl::cutting::LathePlant plant;
   plant.configure(sc.get<lathectl::systems::e_adaptive::Settings>().rig, {});  // may allocate
@@ -293,7 +294,7 @@ TEST(NoAlloc, LathePlantStepNeverAllocates) {
 TEST(NoAlloc, AdaptiveMachineUpdateNeverAllocates) {
   using lathectl::control::AdaptiveMachine;
   const auto lib = lathectl::io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
-  auto sc = lathectl::io::load_scenario(
+  auto sc = lathectl::systems::load_scenario(
       LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance_sensor_fault.toml", lib);
   const auto& rig = sc.get<lathectl::systems::e_adaptive::Settings>().rig;
   for (bool power : {false, true}) {
@@ -445,8 +446,8 @@ TEST(NoAlloc, ModulationMachineNeverAllocates) {
 TEST(NoAlloc, GaugeMachineAndVibroContactGaugeNeverAllocate) {
   // Every filter and every path: steps, their relay, the backstop, a lost and a NaN signal, rearm,
   // bridged interruptions, interruptions too close for the bridge.
-  using lathectl::control::GaugeFilterKind;
   using lathectl::control::GaugeMachine;
+  using lathectl::sensors::GaugeFilterKind;
   for (auto kind : {GaugeFilterKind::FirstOrder, GaugeFilterKind::SecondOrder,
                     GaugeFilterKind::Synchronous}) {
     lathectl::sensors::VibroContactGauge::Params tp;

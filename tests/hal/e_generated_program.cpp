@@ -32,6 +32,7 @@
 #include "systems/e_adaptive/metrics.hpp"
 #include "systems/e_adaptive/rig.hpp"
 #include "systems/e_adaptive/settings.hpp"
+#include "systems/registry.hpp"
 
 namespace e = lathectl::systems::e_adaptive;
 
@@ -67,7 +68,8 @@ int main(int argc, char** argv) {
   const auto part = e::generated::generate(seed);
   std::ofstream(base + ".toml") << part.text;
 
-  const auto sc = lathectl::io::parse_scenario(part.text, base + ".toml", lathectl::test::library());
+  const auto sc =
+      lathectl::systems::parse_scenario(part.text, base + ".toml", lathectl::test::library());
   const e::RigConfig& cfg = sc.get<e::Settings>().rig;
   e::Rig rig;
   rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);

@@ -21,6 +21,7 @@
 #include "support/library.hpp"
 #include "systems/b_chatter/settings.hpp"
 #include "systems/d_gauging/settings.hpp"
+#include "systems/registry.hpp"
 
 using namespace lathectl;
 using namespace lathectl::io;
@@ -116,24 +117,24 @@ TEST(Acceptance, ModelChecksDoNotDecideTheVerdictButAlarmsAndUnfinishedPartsDo) 
 
 TEST(Acceptance, ScenarioTableIsReadCheckedAndDescribed) {
   const std::string d = example("d_gauging.toml");
-  const Scenario plain = parse_scenario(d, "d.toml", library());
+  const Scenario plain = systems::parse_scenario(d, "d.toml", library());
   const auto& lim = plain.get<systems::d_gauging::Settings>().acceptance;
   EXPECT_EQ(lim.limit("min_cpk"), 1.33);
   EXPECT_FALSE(lim.stated("min_cpk"));
-  const Scenario stated = parse_scenario(
+  const Scenario stated = systems::parse_scenario(
       d + "\n[acceptance]\nmin_cpk = 1.67\nmax_mean_error_um = 0.5\n", "d.toml", library());
   const auto& l2 = stated.get<systems::d_gauging::Settings>().acceptance;
   EXPECT_EQ(l2.limit("min_cpk"), 1.67);
   EXPECT_TRUE(l2.stated("min_cpk"));
   EXPECT_EQ(l2.limit("max_mean_error_um"), 0.5);
   try {
-    (void)parse_scenario(d + "\n[acceptance]\ncpk_min = 1.67\n", "d.toml", library());
+    (void)systems::parse_scenario(d + "\n[acceptance]\ncpk_min = 1.67\n", "d.toml", library());
     ADD_FAILURE() << "an unknown acceptance key was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("acceptance.cpk_min"), std::string::npos) << e.what();
   }
   try {
-    (void)parse_scenario(d + "\n[acceptance]\nmin_cpk = -1\n", "d.toml", library());
+    (void)systems::parse_scenario(d + "\n[acceptance]\nmin_cpk = -1\n", "d.toml", library());
     ADD_FAILURE() << "a negative Cpk limit was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("key 'acceptance.min_cpk'"), std::string::npos)
@@ -148,15 +149,16 @@ TEST(Acceptance, ScenarioTableIsReadCheckedAndDescribed) {
     if (r.key == "acceptance.max_vibration_um") vib = r.fallback == "derived" && !r.doc.empty();
   EXPECT_TRUE(cpk);
   EXPECT_TRUE(vib);
-  const Scenario b = parse_scenario(example("b_twin_feed_division.toml"), "b.toml", library());
+  const Scenario b =
+      systems::parse_scenario(example("b_twin_feed_division.toml"), "b.toml", library());
   EXPECT_EQ(b.get<systems::b_chatter::Settings>().acceptance.limit("max_vibration_um"), 5.0);
 }
 
 TEST(Acceptance, GaugeWithAHighCpkIsAcceptedWhateverTheThresholdCheckSays) {
   // d_gauging: Cpk ≈ 1.95 and a mean a hundredth of a µm off target, which the seed's threshold
   // check (in standard errors of 1e5 parts) may call ✘. The part is good: the verdict is ✔.
-  const Scenario sc = parse_scenario(example("d_gauging.toml"), "d.toml", library());
-  const RunOutput out = run_scenario(sc);
+  const Scenario sc = systems::parse_scenario(example("d_gauging.toml"), "d.toml", library());
+  const RunOutput out = systems::run_scenario(sc);
   const auto& m = out.summary["metrics"];
   ASSERT_GT(m["cpk"].get<double>(), 1.33);
   EXPECT_LT(std::abs(m["size_mean_error_um"].get<double>()), 0.1);
@@ -168,9 +170,9 @@ TEST(Acceptance, GaugeWithAHighCpkIsAcceptedWhateverTheThresholdCheckSays) {
   EXPECT_TRUE(out.summary["verdict"]["ok"].get<bool>());
   EXPECT_EQ(out.summary["model_checks"], out.summary["claims"]);
   // The same part against a stricter customer: ✘, on the user's number.
-  const Scenario strict = parse_scenario(
+  const Scenario strict = systems::parse_scenario(
       example("d_gauging.toml") + "\n[acceptance]\nmin_cpk = 3\n", "d.toml", library());
-  const RunOutput o2 = run_scenario(strict);
+  const RunOutput o2 = systems::run_scenario(strict);
   EXPECT_FALSE(o2.verdict.ok());
   EXPECT_NE(o2.verdict.line().find("Cpk of the finished sizes"), std::string::npos)
       << o2.verdict.line();
@@ -187,8 +189,8 @@ TEST(Acceptance, TracerWithoutStickSlipIsAcceptedThoughTheStickSlipCheckFails) {
   t = replace_line(t, "static_N", "static_N = 110.0");
   t = replace_line(t, "coulomb_N", "coulomb_N = 100.0");
   t = replace_line(t, "blank_diameter_mm", "blank_diameter_mm = 41.0");
-  const Scenario sc = parse_scenario(t, "c.toml", library());
-  const RunOutput out = run_scenario(sc);
+  const Scenario sc = systems::parse_scenario(t, "c.toml", library());
+  const RunOutput out = systems::run_scenario(sc);
   bool stick_slip_check = false;
   for (const auto& c : out.summary["claims"])
     if (c["claim"].get<std::string>().rfind("falling friction", 0) == 0) {

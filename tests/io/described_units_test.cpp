@@ -121,7 +121,7 @@ TEST(DescribedUnits, SettingsTablesShowEachKeysDescribedUnitAndDefault) {
   int files = 0;
   for (const auto& f : fs::directory_iterator(LATHECTL_SOURCE_DIR "/examples/scenarios")) {
     if (f.path().extension() != ".toml") continue;
-    const Scenario sc = load_scenario(f.path().string(), library());
+    const Scenario sc = systems::load_scenario(f.path().string(), library());
     EXPECT_TRUE(sc.warnings.empty()) << f.path() << ": " << sc.warnings.front();
     const systems::System* sys = systems::find(sc.system);
     ASSERT_TRUE(sys);

@@ -18,6 +18,7 @@
 #include "support/library.hpp"
 #include "support/scenario_text.hpp"
 #include "systems/b_chatter/lobes.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl::io {
 namespace {
@@ -52,7 +53,7 @@ std::string at(const std::string& text, const std::string& needle, const char* f
 
 std::string error_of(const std::string& text) {
   try {
-    (void)parse_scenario(text, "mem.toml", library());
+    (void)systems::parse_scenario(text, "mem.toml", library());
   } catch (const InputError& e) {
     return e.what();
   }
@@ -153,7 +154,7 @@ TEST(Messages, UnitsAndNearestNames) {
 // Values inside the valid range that a shop would never mean: read, and a warning naming the
 // key (stderr and the report take them from Scenario::warnings).
 std::vector<std::string> warnings_of(const std::string& text) {
-  return parse_scenario(text, "mem.toml", library()).warnings;
+  return systems::parse_scenario(text, "mem.toml", library()).warnings;
 }
 
 TEST(Messages, ImplausibleValuesAreWarnings) {

@@ -2,10 +2,7 @@
 // mistake is an InputError that names the file, the line and the full key (DESIGN.md, "Scenario
 // files and outputs").
 
-#include "support/library.hpp"
-#include "support/scenario_text.hpp"
 #include "lathectl/io/scenario.hpp"
-#include "systems/e_adaptive/settings.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,9 +16,13 @@
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
+#include "support/library.hpp"
+#include "support/scenario_text.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
 #include "systems/b_chatter/settings.hpp"
 #include "systems/d_gauging/settings.hpp"
+#include "systems/e_adaptive/settings.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl::io {
 namespace {
@@ -50,7 +51,7 @@ using test::line_of;
 // Parses `text` as "mem.toml" and returns the InputError message ("" if it did not throw).
 std::string error_of(const std::string& text) {
   try {
-    (void)parse_scenario(text, "mem.toml", library());
+    (void)systems::parse_scenario(text, "mem.toml", library());
   } catch (const InputError& e) {
     return e.what();
   } catch (const std::exception& e) {
@@ -74,7 +75,7 @@ TEST(Scenario, EveryExampleParses) {
   for (const auto& f : files) {
     SCOPED_TRACE(f.string());
     Scenario sc;
-    ASSERT_NO_THROW(sc = load_scenario(f.string(), library()));
+    ASSERT_NO_THROW(sc = systems::load_scenario(f.string(), library()));
     EXPECT_TRUE(sc.system == "A" || sc.system == "B" || sc.system == "C" || sc.system == "D" ||
                 sc.system == "E")
         << sc.system;
@@ -85,7 +86,7 @@ TEST(Scenario, EveryExampleParses) {
 }
 
 TEST(Scenario, ShopUnitsConvertedToSi) {
-  const Scenario sc = parse_scenario(finishing_text(), "mem.toml", library());
+  const Scenario sc = systems::parse_scenario(finishing_text(), "mem.toml", library());
   EXPECT_EQ(sc.file, "mem.toml");
   EXPECT_EQ(sc.name, "a_finishing_aim");
   EXPECT_DOUBLE_EQ(sc.run.duration_s, 12.0);
@@ -250,9 +251,9 @@ TEST(Scenario, StepTooCoarseForHydraulicsIsAnInputError) {
 }
 
 TEST(Scenario, MissingFileIsAnInputError) {
-  EXPECT_THROW(
-      (void)load_scenario(LATHECTL_SOURCE_DIR "/examples/scenarios/no_such_file.toml", library()),
-      InputError);
+  EXPECT_THROW((void)systems::load_scenario(
+                   LATHECTL_SOURCE_DIR "/examples/scenarios/no_such_file.toml", library()),
+               InputError);
 }
 
 }  // namespace
@@ -274,7 +275,7 @@ std::string b_error(const std::string& from, const std::string& to) {
   if (at == std::string::npos) return "pattern not found: " + from;
   t.replace(at, from.size(), to);
   try {
-    (void)parse_scenario(t, "b.toml", library());
+    (void)systems::parse_scenario(t, "b.toml", library());
   } catch (const InputError& e) {
     return e.what();
   }
@@ -282,7 +283,7 @@ std::string b_error(const std::string& from, const std::string& to) {
 }
 
 TEST(ScenarioB, ShopUnitsAndDefaultsFromTheMaterial) {
-  const Scenario sc = parse_scenario(twin_text(), "b.toml", library());
+  const Scenario sc = systems::parse_scenario(twin_text(), "b.toml", library());
   EXPECT_EQ(sc.system, "B");
   const auto& settings = sc.get<systems::b_chatter::Settings>();
   const systems::b_chatter::RigConfig& b = settings.rig;
@@ -327,7 +328,7 @@ TEST(ScenarioB, ProgrammedParametersObeyTheSeedsQuanta) {
   t.replace(t.find(from), from.size(),
             "source = \"programmed\"\nS_min_mm_per_min = 50\ndS_mm_per_min = 36.05\ndl_mm = 0.1");
   try {
-    (void)parse_scenario(t, "b.toml", library());
+    (void)systems::parse_scenario(t, "b.toml", library());
     ADD_FAILURE() << "ΔS = 36.05 accepted";
   } catch (const InputError& e) {
     EXPECT_TRUE(contains(e.what(), "key 'modulation.dS_mm_per_min'")) << e.what();
@@ -336,7 +337,7 @@ TEST(ScenarioB, ProgrammedParametersObeyTheSeedsQuanta) {
   t.replace(t.find(from), from.size(),
             "source = \"programmed\"\nS_min_mm_per_min = 50\ndS_mm_per_min = 36\ndl_mm = 0.0005");
   try {
-    (void)parse_scenario(t, "b.toml", library());
+    (void)systems::parse_scenario(t, "b.toml", library());
     ADD_FAILURE() << "Δl = 0.5 µm accepted with a 1 µm resolution";
   } catch (const InputError& e) {
     EXPECT_TRUE(contains(e.what(), "key 'modulation.dl_mm'")) << e.what();
@@ -412,19 +413,20 @@ std::string edit_e(const std::string& from, const std::string& to) {
 }
 
 TEST(ScenarioE, FeedMinAboveOldEntryFeedRunsWithEntryAtFeedMin) {
-  const auto sc = parse_scenario(edit_e("feed_min_mm_per_rev = 0.05", "feed_min_mm_per_rev = 0.1"),
-                                 "mem.toml", library());
+  const auto sc = systems::parse_scenario(
+      edit_e("feed_min_mm_per_rev = 0.05", "feed_min_mm_per_rev = 0.1"), "mem.toml", library());
   EXPECT_DOUBLE_EQ(sc.get<systems::e_adaptive::Settings>().rig.controller.feed_min_mm_per_rev, 0.1);
   EXPECT_DOUBLE_EQ(sc.get<systems::e_adaptive::Settings>().rig.controller.entry_feed_mm_per_rev, 0.1);
   // The examples keep their 0.05.
-  const auto ex = parse_scenario(seed004_text(), "mem.toml", library());
+  const auto ex = systems::parse_scenario(seed004_text(), "mem.toml", library());
   EXPECT_DOUBLE_EQ(ex.get<systems::e_adaptive::Settings>().rig.controller.entry_feed_mm_per_rev, 0.05);
 }
 
 TEST(ScenarioE, EntryFeedIsAKey) {
-  const auto sc = parse_scenario(
-      edit_e("feed_min_mm_per_rev = 0.05", "feed_min_mm_per_rev = 0.05\nentry_feed_mm_per_rev = 0.12"),
-      "mem.toml", library());
+  const auto sc =
+      systems::parse_scenario(edit_e("feed_min_mm_per_rev = 0.05",
+                                     "feed_min_mm_per_rev = 0.05\nentry_feed_mm_per_rev = 0.12"),
+                              "mem.toml", library());
   EXPECT_DOUBLE_EQ(sc.get<systems::e_adaptive::Settings>().rig.controller.entry_feed_mm_per_rev, 0.12);
 }
 

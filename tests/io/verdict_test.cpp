@@ -3,7 +3,6 @@
 // anchor per claim and in the demo index; and the silent successes it replaced: an E part never
 // cut got ✔ for "overshoot −100 %", B ran a step of 5 ms against a 228 Hz chatter, and `lobes`
 // stopped at N = 39 on a 650 Hz mode from 500 rpm, leaving inf below ~1000 rpm.
-#include "support/library.hpp"
 #include "lathectl/io/verdict.hpp"
 
 #include <gtest/gtest.h>
@@ -19,9 +18,11 @@
 #include "lathectl/io/report.hpp"
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "support/library.hpp"
 #include "systems/b_chatter/lobes.hpp"
 #include "systems/b_chatter/rig.hpp"
 #include "systems/b_chatter/settings.hpp"
+#include "systems/registry.hpp"
 
 using namespace lathectl;
 using namespace lathectl::io;
@@ -100,8 +101,8 @@ TEST(Verdict, EPartNeverCutMeetsNoForceClaim) {
   // was ✔ (−100 ≤ 15) and the console line said nothing.
   const std::string text =
       replace_line(example("e_stepped_seed004.toml"), "duration_s", "duration_s = 0.1");
-  const Scenario sc = parse_scenario(text, "e.toml", library());
-  const RunOutput out = run_scenario(sc);
+  const Scenario sc = systems::parse_scenario(text, "e.toml", library());
+  const RunOutput out = systems::run_scenario(sc);
   ASSERT_EQ(out.summary["metrics"]["time_in_cut_s"].get<double>(), 0.0);
   int force_claims = 0;
   for (const auto& c : out.summary["claims"]) {
@@ -120,7 +121,7 @@ TEST(Verdict, EPartNeverCutMeetsNoForceClaim) {
 
 TEST(Verdict, BRefusesAStepTooCoarseForItsChatter) {
   const std::string good = example("b_twin_feed_division.toml");
-  const Scenario sc = parse_scenario(good, "b.toml", library());
+  const Scenario sc = systems::parse_scenario(good, "b.toml", library());
   double f = 0.0;
   const double lim = systems::b_chatter::Rig::max_step_s(sc.get<systems::b_chatter::Settings>().rig, &f);
   // The 600 × 40 mm part's first mode, 226 Hz, chatters near f·√(1+2ζ); ω·dt ≤ 0.2.
@@ -130,7 +131,7 @@ TEST(Verdict, BRefusesAStepTooCoarseForItsChatter) {
   std::string coarse = replace_line(good, "step_s", "step_s = 0.005");
   coarse = replace_line(coarse, "record_interval_s", "record_interval_s = 0.005");
   try {
-    (void)parse_scenario(coarse, "b.toml", library());
+    (void)systems::parse_scenario(coarse, "b.toml", library());
     ADD_FAILURE() << "a 5 ms step was accepted";
   } catch (const InputError& e) {
     const std::string m = e.what();

@@ -25,6 +25,7 @@
 #include "optimize/optimize.hpp"
 #include "optimize/path.hpp"
 #include "optimize/program_generator.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl::optimize {
 namespace {
@@ -65,7 +66,7 @@ std::string path_difference(const io::CanonProgram& a, const io::CanonProgram& b
 TEST(Acceptance, GeneratedProgramsKeepTheProgrammersInvariants) {
   if (!std::filesystem::exists("/usr/bin/rs274")) GTEST_SKIP() << "LinuxCNC's rs274 not installed";
   const auto lib = io::MaterialLibrary::load_default();
-  const auto sc = io::load_scenario(
+  const auto sc = systems::load_scenario(
       LATHECTL_SOURCE_DIR "/tests/optimize/programs/user_part_c45.toml", lib);
   const std::string tools = LATHECTL_SOURCE_DIR "/tests/optimize/programs/user_part_tools.toml";
   Options opt;

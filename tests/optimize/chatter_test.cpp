@@ -20,6 +20,7 @@
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "optimize/optimize.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl::optimize {
 namespace {
@@ -28,8 +29,8 @@ constexpr double kPi = std::numbers::pi;
 
 const systems::e_adaptive::Settings& modes_scenario() {
   static const auto lib = io::MaterialLibrary::load_default();
-  static const auto sc =
-      io::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance_modes.toml", lib);
+  static const auto sc = systems::load_scenario(
+      LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance_modes.toml", lib);
   return sc.get<systems::e_adaptive::Settings>();
 }
 
@@ -231,7 +232,7 @@ TEST(Chatter, MachineFileWithATapTestGivesTheModesLimit) {
     text += machine;
     text += "\"\n";
     text += part;
-    const auto sc = io::parse_scenario(text, (dir / "scenario.toml").string(), lib);
+    const auto sc = systems::parse_scenario(text, (dir / "scenario.toml").string(), lib);
     return ChatterLimit(sc.get<systems::e_adaptive::Settings>().chatter);
   };
   auto truth = limit("modes.toml");
@@ -265,7 +266,7 @@ TEST(Chatter, SectionWithoutModesIsRefused) {
   std::string text = read_text(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.toml");
   text += "\n[chatter]\n";
   try {
-    (void)io::parse_scenario(text, "bad.toml", lib);
+    (void)systems::parse_scenario(text, "bad.toml", lib);
     FAIL() << "accepted";
   } catch (const io::InputError& err) {
     EXPECT_NE(std::string(err.what()).find("bad.toml"), std::string::npos) << err.what();

@@ -20,6 +20,7 @@
 #include "optimize/optimize.hpp"
 #include "optimize/path.hpp"
 #include "optimize/text.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl::optimize {
 namespace {
@@ -31,7 +32,7 @@ const systems::e_adaptive::Settings& scenario(const std::string& file) {
   static std::list<std::pair<std::string, io::Scenario>> cache;  // references stay valid
   for (const auto& [f, sc] : cache)
     if (f == file) return sc.get<systems::e_adaptive::Settings>();
-  cache.emplace_back(file, io::load_scenario(file, lib));
+  cache.emplace_back(file, systems::load_scenario(file, lib));
   return cache.back().second.get<systems::e_adaptive::Settings>();
 }
 const systems::e_adaptive::Settings& step_allowance() {

@@ -12,16 +12,17 @@
 #include <sstream>
 #include <tuple>
 
+#include "lathectl/control/per_revolution.hpp"
 #include "lathectl/io/canon.hpp"
 #include "lathectl/io/channels_reader.hpp"
-#include "lathectl/io/runner.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/materials.hpp"
+#include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
-#include "lathectl/control/per_revolution.hpp"
 #include "optimize/path.hpp"
 #include "optimize/plan.hpp"
 #include "optimize/text.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl::optimize {
 namespace {
@@ -31,7 +32,7 @@ using io::CanonMove;
 const systems::e_adaptive::Settings& step_allowance() {
   static const auto lib = io::MaterialLibrary::load_default();
   static const auto sc =
-      io::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.toml", lib);
+      systems::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.toml", lib);
   return sc.get<systems::e_adaptive::Settings>();
 }
 
@@ -322,7 +323,7 @@ TEST(Predict, AdaptiveAgreesWithLathectlRunOnTheAllowanceStep) {
   if (!have_rs274()) GTEST_SKIP() << "needs LinuxCNC's rs274";
   static const auto lib = io::MaterialLibrary::load_default();
   const auto sc =
-      io::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.toml", lib);
+      systems::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.toml", lib);
   const auto& e = sc.get<systems::e_adaptive::Settings>();
   auto opt = options();
   opt.adaptive = true;
@@ -331,7 +332,7 @@ TEST(Predict, AdaptiveAgreesWithLathectlRunOnTheAllowanceStep) {
   EXPECT_EQ(pr.adaptive_alarm, 0);
   ASSERT_EQ(pr.adaptive_feed_rev.size(), pr.s.z.size());
 
-  const auto run = io::run_scenario(sc);
+  const auto run = systems::run_scenario(sc);
   std::istringstream csv(run.channels_csv);
   const auto rig = io::read_channels_csv(csv, "channels.csv");
   auto col = [&](const std::string& n) -> const std::vector<double>& {

@@ -74,16 +74,21 @@ if [ $hal -eq 1 ]; then
   grep -q "linuxcnc-uspace" <<<"$ldeps" || fail "lathectl-linuxcnc: no linuxcnc-uspace dependency"
   grep -q "lathectl (= $version)" <<<"$ldeps" || fail "lathectl-linuxcnc: no lathectl (= $version)"
   dpkg-deb -c "$lcnc" > "$work/lathectl-linuxcnc.contents"
-  for f in ./usr/lib/linuxcnc/modules/lathectl_adaptive.so ./usr/lib/linuxcnc/modules/lathectl_plant.so \
-           ./usr/lib/linuxcnc/modules/lathectl_modfeed.so ./usr/lib/linuxcnc/modules/lathectl_chatter.so \
-           ./usr/share/man/man9/lathectl_adaptive.9.gz ./usr/bin/lathectl-linuxcnc-sim \
-           ./usr/share/lathectl/scripts/linuxcnc_sim_display.py ./usr/share/lathectl/hal/reasons.json \
-           ./usr/share/lathectl/scripts/linuxcnc_session.py \
-           ./usr/share/doc/linuxcnc/examples/sample-configs/sim/lathectl/lathectl-lathe.ini \
-           ./usr/lib/linuxcnc/modules/lathectl_gauge.so ./usr/lib/linuxcnc/modules/lathectl_gauge_plant.so \
-           ./usr/share/man/man9/lathectl_gauge.9.gz ./usr/bin/lathectl-linuxcnc-sim-gauge \
-           ./usr/share/doc/linuxcnc/examples/sample-configs/sim/lathectl/lathectl-gauge.ini \
-           ./usr/share/doc/lathectl-linuxcnc/copyright; do
+  # Each system's part on LinuxCNC, as its registry entry names it (hal/systems.tsv): its modules
+  # and their man pages, its runner, its display, its configuration in the picker.
+  expected=(./usr/share/lathectl/hal/reasons.json ./usr/share/lathectl/hal/systems.tsv
+            ./usr/share/lathectl/scripts/linuxcnc_session.py ./usr/share/doc/lathectl-linuxcnc/copyright)
+  while IFS=$'\t' read -r id folder docs runner config display components; do
+    [ "${id:0:1}" != "#" ] && [ "$runner" != "-" ] || continue
+    for c in ${components//,/ }; do  # name=links
+      c=${c%%=*}
+      expected+=("./usr/lib/linuxcnc/modules/$c.so" "./usr/share/man/man9/$c.9.gz")
+    done
+    expected+=("./usr/bin/lathectl-$runner" "./usr/share/lathectl/scripts/$display"
+               "./usr/share/doc/linuxcnc/examples/sample-configs/sim/lathectl/$config.ini")
+  done < "$src/hal/systems.tsv"
+  [ ${#expected[@]} -gt 4 ] || fail "hal/systems.tsv names no system on LinuxCNC"
+  for f in "${expected[@]}"; do
     grep -q " $f\$" "$work/lathectl-linuxcnc.contents" || fail "lathectl-linuxcnc: $f missing"
   done
   grep -Ev '^(-rw-r--r--|-rwxr-xr-x|drwxr-xr-x) root/root ' "$work/lathectl-linuxcnc.contents" &&

@@ -2,26 +2,24 @@
 // simulation, and the uncontrolled slide's feed loss against the seed's own formula (3).
 // a_obliteration (1800 s of simulated time) is deliberately not run here.
 
-#include "support/library.hpp"
-#include "systems/a_pulse_feed/rig.hpp"
-
 #include <gtest/gtest.h>
-
-#include <sstream>
-
-#include <fstream>
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <numbers>
+#include <sstream>
 #include <string>
 
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "support/library.hpp"
 #include "systems/a_pulse_feed/metrics.hpp"
+#include "systems/a_pulse_feed/rig.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl::systems::a_pulse_feed {
 namespace {
@@ -29,7 +27,8 @@ namespace {
 using lathectl::test::library;
 
 io::Scenario scenario(const std::string& name) {
-  return io::load_scenario(LATHECTL_SOURCE_DIR "/examples/scenarios/" + name + ".toml", library());
+  return systems::load_scenario(LATHECTL_SOURCE_DIR "/examples/scenarios/" + name + ".toml",
+                                library());
 }
 
 // The scenario's rig configuration (system A's settings).
@@ -54,7 +53,7 @@ void run_rig(const io::Scenario& sc, const RigConfig& cfg, Rig& rig) {
 
 TEST(Rig, FinishingAimHoldsFeedFiveTimesBetterThanUncontrolled) {
   const auto sc = scenario("a_finishing_aim");
-  const auto out = io::run_scenario(sc);
+  const auto out = systems::run_scenario(sc);
   const auto& s = out.summary;
   ASSERT_TRUE(s.contains("comparison"));
   const double controlled = s["metrics"]["feed_rate_deviation_pct"].get<double>();
@@ -123,7 +122,7 @@ TEST(Rig, UncontrolledFeedLossMatchesSeedFormula3) {
 // (a_regulator_flow: 58.61 mm/min for 60; the predicted shortfall is K_leak·b·S/F² = 2.6 %).
 TEST(Rig, UndisturbedSlideRunsAtProgrammedFeed) {
   const auto sc = scenario("a_regulator_flow");
-  const auto out = io::run_scenario(sc);
+  const auto out = systems::run_scenario(sc);
   const double programmed = out.summary["metrics"]["feed_rate_programmed_mm_per_min"].get<double>();
   const double mean = out.summary["metrics"]["feed_rate_mean_mm_per_min"].get<double>();
   EXPECT_NEAR(mean, programmed, 0.005 * programmed);
@@ -158,7 +157,7 @@ TEST(Rig, ToolLifeUsedIsTheTravelOverTheTaylorConstantWhereYvOverMIsOne) {
 
 TEST(Rig, RoughingAimHoldsForceAtSetValue) {
   const auto sc = scenario("a_roughing_aim");
-  const auto out = io::run_scenario(sc);
+  const auto out = systems::run_scenario(sc);
   const auto& m = out.summary["metrics"];
   // Seed claim 2: the force is brought back to its set value (355 N).
   ASSERT_FALSE(m["force_final_error_pct"].is_null());
@@ -200,7 +199,7 @@ TEST(Rig, SensorDropoutAlarmsWithinOnePeriodAndStopsFeed) {
   const auto sc = scenario("a_sensor_dropout");
   ASSERT_EQ(config(sc).faults.size(), 1u);
   const double fault_at = config(sc).faults[0].at_s;
-  const auto out = io::run_scenario(sc);
+  const auto out = systems::run_scenario(sc);
   const auto& m = out.summary["metrics"];
   ASSERT_GE(m["alarms"].size(), 1u);
   EXPECT_EQ(m["alarms"][0]["code"].get<int>(), 10);  // Reason::SensorNotFinite
@@ -236,7 +235,7 @@ TEST(Rig, SensorDropoutAlarmsWithinOnePeriodAndStopsFeed) {
 
 TEST(Rig, RegulatorFlowMatchesFormula1) {
   const auto sc = scenario("a_regulator_flow");
-  const auto out = io::run_scenario(sc);
+  const auto out = systems::run_scenario(sc);
   const auto& m = out.summary["metrics"];
   ASSERT_FALSE(m["flow_formula_error_pct"].is_null());
   EXPECT_LT(std::abs(m["flow_formula_error_pct"].get<double>()), 1.0);
@@ -268,7 +267,7 @@ TEST(Rig, UndampedSlideConservesOilThroughCavitation) {
   };
   replace("damper_capacitance_cm3_per_MPa = 0.5", "damper_capacitance_cm3_per_MPa = 0.0");
   replace("viscous_friction_N_s_per_m = 20000.0", "viscous_friction_N_s_per_m = 2000.0");
-  const auto sc = io::parse_scenario(text, "a_undamped.toml", library());
+  const auto sc = systems::parse_scenario(text, "a_undamped.toml", library());
   Rig rig;
   run_rig(sc, config(sc), rig);
   const auto& rec = rig.recorder();

@@ -18,12 +18,6 @@
 //     inertia still to be learned): all 200, the worst 4.8 % over. The test holds
 //     99 % within 5 % and every part within 7.5 %, so a regression shows, and prints the
 //     distribution and the worst parts.
-#include "sim/e_part_generator.hpp"
-#include "support/library.hpp"
-#include "systems/e_adaptive/metrics.hpp"
-#include "systems/e_adaptive/rig.hpp"
-#include "systems/e_adaptive/settings.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -35,11 +29,17 @@
 #include <string>
 #include <vector>
 
+#include "lathectl/control/types.hpp"
 #include "lathectl/core/parallel.hpp"
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/cutting/force_parameter.hpp"
-#include "lathectl/control/types.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "sim/e_part_generator.hpp"
+#include "support/library.hpp"
+#include "systems/e_adaptive/metrics.hpp"
+#include "systems/e_adaptive/rig.hpp"
+#include "systems/e_adaptive/settings.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl::systems::e_adaptive {
 namespace {
@@ -63,7 +63,7 @@ Outcome run_part(unsigned seed) {
   o.seed = seed;
   o.what = part.what;
   try {
-    const io::Scenario sc = io::parse_scenario(part.text, "generated.toml", library());
+    const io::Scenario sc = systems::parse_scenario(part.text, "generated.toml", library());
     const RigConfig& cfg = sc.get<Settings>().rig;
     Rig rig;
     rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);

@@ -5,16 +5,11 @@
 // ∫ dt/T(V, s, t) from the recorded channels, the fixed baseline's worst-case feed).
 // Each scenario runs once (≈ 0.05–0.6 s), in one TEST per scenario.
 
-#include "support/library.hpp"
-#include "systems/e_adaptive/rig.hpp"
-#include "systems/e_adaptive/settings.hpp"
-
 #include <gtest/gtest.h>
-
-#include <fstream>
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -26,6 +21,10 @@
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "support/library.hpp"
+#include "systems/e_adaptive/rig.hpp"
+#include "systems/e_adaptive/settings.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl::systems::e_adaptive {
 namespace {
@@ -70,9 +69,9 @@ const Result& result(const std::string& name) {
   auto& slot = cache[name];
   if (!slot) {
     auto r = std::make_unique<Result>();
-    r->sc =
-        io::load_scenario(LATHECTL_SOURCE_DIR "/examples/scenarios/" + name + ".toml", library());
-    r->out = io::run_scenario(r->sc);
+    r->sc = systems::load_scenario(LATHECTL_SOURCE_DIR "/examples/scenarios/" + name + ".toml",
+                                   library());
+    r->out = systems::run_scenario(r->sc);
     r->ch = parse_csv(r->out.channels_csv);
     slot = std::move(r);
   }
@@ -391,8 +390,8 @@ struct EdRun {
 
 EdRun run_text(const std::string& text, const std::string& label, bool channels = true) {
   EdRun r;
-  r.sc = io::parse_scenario(text, label, library());
-  r.out = io::run_scenario(r.sc);
+  r.sc = systems::parse_scenario(text, label, library());
+  r.out = systems::run_scenario(r.sc);
   if (channels) r.ch = parse_csv(r.out.channels_csv);
   return r;
 }

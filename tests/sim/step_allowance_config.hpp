@@ -6,6 +6,7 @@
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "systems/e_adaptive/settings.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl::fixtures {
 
@@ -13,7 +14,7 @@ inline systems::e_adaptive::RigConfig step_allowance_config() {
   static const io::MaterialLibrary lib =
       io::MaterialLibrary::load(LATHECTL_SOURCE_DIR "/data/materials.toml");
   const auto sc =
-      io::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.toml", lib);
+      systems::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/step_allowance.toml", lib);
   auto cfg = sc.get<systems::e_adaptive::Settings>().rig;
   cfg.force_sensor.noise_sigma = 0.0;
   return cfg;

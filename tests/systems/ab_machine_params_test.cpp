@@ -21,6 +21,7 @@
 
 #include "lathectl/io/scenario.hpp"
 #include "support/library.hpp"
+#include "systems/registry.hpp"
 #include "systems/a_pulse_feed/machine_params.hpp"
 #include "systems/a_pulse_feed/rig.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
@@ -63,7 +64,7 @@ TEST(MachineParamsA, EveryExampleTheSameOnTheRigAndInLathectlSlide) {
     SCOPED_TRACE(f);
     // Each host reads the scenario as it does: lathectl run with every system's reader and the
     // cross-checks, the component with A's reader alone.
-    const auto sc = io::load_scenario(f, library());
+    const auto sc = systems::load_scenario(f, library());
     const auto hal_sc = io::load_scenario(f, library(), a::kReadSection);
     const auto& cfg = sc.get<a::Settings>().rig;
     const auto rig_params = a::machine_params(cfg, a::Host{});
@@ -110,7 +111,7 @@ TEST(MachineParamsB, EveryExampleTheSameOnTheRigAndInLathectlModfeed) {
   ASSERT_GE(files.size(), 6u);
   for (const auto& f : files) {
     SCOPED_TRACE(f);
-    const auto sc = io::load_scenario(f, library());
+    const auto sc = systems::load_scenario(f, library());
     const auto hal_sc = io::load_scenario(f, library(), b::kReadSection);
     const auto& cfg = sc.get<b::Settings>().rig;
     const double dt = sc.run.step_s;
@@ -146,7 +147,7 @@ TEST(MachineParamsB, EveryExampleTheSameOnTheRigAndInLathectlModfeed) {
 
 TEST(MachineParamsB, AHostsCeilingIsChecked) {
   namespace b = systems::b_chatter;
-  const auto sc = io::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/b_chatter_single.toml",
+  const auto sc = systems::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/b_chatter_single.toml",
                                     library(), b::kReadSection);
   const auto& cfg = sc.get<b::Settings>().rig;
   for (double c : {0.5, 1.0, 101.0})

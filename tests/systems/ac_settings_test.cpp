@@ -16,6 +16,7 @@
 #include "support/scenario_text.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
 #include "systems/c_tracer/settings.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl {
 namespace {
@@ -74,12 +75,12 @@ TEST(SystemASettings, EccentricDefaultsAreTheSameWithoutTheTable) {
       "[eccentric]\neccentricity_mm = 0.05\ngear_ratio = 200.0\nmotor_max_speed_rpm = 3000.0\n"
       "motor_time_constant_ms = 20.0\nposition_gain_per_s = 30.0\n",
       "");
-  const auto sc = io::parse_scenario(without, "mem.toml", library());
+  const auto sc = systems::parse_scenario(without, "mem.toml", library());
   const auto& e = sc.get<systems::a_pulse_feed::Settings>().rig.eccentric;
   EXPECT_DOUBLE_EQ(e.motor_max_speed_rad_per_s, 3000.0 * 2.0 * std::numbers::pi / 60.0);
   EXPECT_DOUBLE_EQ(e.gear_ratio, 100.0);
-  const auto empty = io::parse_scenario(edited(without, "[slide]\n", "[eccentric]\n\n[slide]\n"),
-                                        "mem.toml", library());
+  const auto empty = systems::parse_scenario(
+      edited(without, "[slide]\n", "[eccentric]\n\n[slide]\n"), "mem.toml", library());
   const auto& e2 = empty.get<systems::a_pulse_feed::Settings>().rig.eccentric;
   EXPECT_EQ(e2.motor_max_speed_rad_per_s, e.motor_max_speed_rad_per_s);
   EXPECT_EQ(e2.motor_time_constant_s, e.motor_time_constant_s);
@@ -126,11 +127,11 @@ TEST(SystemCSettings, FrictionDefaultsAreTheSameWithoutTheTable) {
   const auto next = text.find("\n[", pos + 1);
   const std::string without =
       text.substr(0, pos) + (next == std::string::npos ? "" : text.substr(next + 1));
-  const auto sc = io::parse_scenario(without, "mem.toml", library());
+  const auto sc = systems::parse_scenario(without, "mem.toml", library());
   const auto& c = sc.get<systems::c_tracer::Settings>().rig;
   const std::string empty_table = text.substr(0, pos) + "[friction]\n" +
                                   (next == std::string::npos ? "" : text.substr(next + 1));
-  const auto sc2 = io::parse_scenario(empty_table, "mem.toml", library());
+  const auto sc2 = systems::parse_scenario(empty_table, "mem.toml", library());
   const auto& c2 = sc2.get<systems::c_tracer::Settings>().rig;
   EXPECT_EQ(c.coulomb_N, 0.0);
   EXPECT_EQ(c.static_N, 0.0);
@@ -142,9 +143,9 @@ TEST(SystemCSettings, FrictionDefaultsAreTheSameWithoutTheTable) {
 }
 
 TEST(SystemCSettings, OptionalCompareIsEmptyWhenAbsent) {
-  const auto sc = io::parse_scenario(example("c_stepped_tapered_slow"), "mem.toml", library());
+  const auto sc = systems::parse_scenario(example("c_stepped_tapered_slow"), "mem.toml", library());
   EXPECT_EQ(sc.get<systems::c_tracer::Settings>().compare, "");
-  const auto sc2 = io::parse_scenario(example("c_dead_zone"), "mem.toml", library());
+  const auto sc2 = systems::parse_scenario(example("c_dead_zone"), "mem.toml", library());
   EXPECT_EQ(sc2.get<systems::c_tracer::Settings>().compare, "linear");
 }
 

@@ -11,6 +11,7 @@
 #include "support/library.hpp"
 #include "support/scenario_text.hpp"
 #include "systems/b_chatter/settings.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl {
 namespace {
@@ -23,7 +24,8 @@ const systems::b_chatter::RigConfig& rig(const io::Scenario& sc) {
 }
 
 TEST(SystemBSettings, DefaultsKeepTheModelOfTheGoldenRuns) {
-  const auto sc = io::parse_scenario(test::example_text("b_twin_depth_division"), "mem.toml", library());
+  const auto sc =
+      systems::parse_scenario(test::example_text("b_twin_depth_division"), "mem.toml", library());
   const auto& b = rig(sc);
   EXPECT_FALSE(b.seed_divides);
   EXPECT_DOUBLE_EQ(b.seed_coefficient, 1.41);
@@ -38,7 +40,7 @@ TEST(SystemBSettings, EachChoiceSetsWhatItSays) {
                 "coefficient = 1.41\ncoefficient_reading = \"divide\"\n");
   text = edited(text, "tool2_lag_mm = 2.0\n", "tool2_lag_mm = 2.0\ninter_tool_delay = \"fixed\"\n");
   text += "\n[process_damping]\nmodel = \"indentation\"\nK_sp_N_per_mm3 = 2e4\nwear_land_mm = 0.05\n";
-  const auto sc = io::parse_scenario(text, "mem.toml", library());
+  const auto sc = systems::parse_scenario(text, "mem.toml", library());
   const auto& b = rig(sc);
   EXPECT_TRUE(b.seed_divides);
   EXPECT_NEAR(b.module.coefficient, 1.0 / 1.41, 1e-15);  // B ≥ a0/√2 with the printed 1.41
@@ -51,7 +53,7 @@ TEST(SystemBSettings, EachChoiceSetsWhatItSays) {
 TEST(SystemBSettings, RefusesAnUnknownReading) {
   const std::string text = edited(test::example_text("b_twin_feed_division"), "coefficient = 1.41\n",
                                   "coefficient = 1.41\ncoefficient_reading = \"half\"\n");
-  EXPECT_THROW(io::parse_scenario(text, "mem.toml", library()), io::InputError);
+  EXPECT_THROW(systems::parse_scenario(text, "mem.toml", library()), io::InputError);
 }
 
 }  // namespace

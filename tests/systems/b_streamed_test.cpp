@@ -20,6 +20,7 @@
 #include "support/scenario_text.hpp"
 #include "systems/b_chatter/metrics.hpp"
 #include "systems/b_chatter/settings.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl {
 namespace {
@@ -73,7 +74,7 @@ TEST(RowSpill, GivesBackTheRowsBitForBitFromDiskAndMemory) {
 TEST(SystemBStreamed, ChannelsAndMeasuresEqualTheColumnsRecord) {
   // The example's twin turrets with the automatic module, over 4 mm of the cut (about 2.6 s).
   const auto sc =
-      io::parse_scenario(test::example_text("b_twin_feed_division"), "mem.toml", library());
+      systems::parse_scenario(test::example_text("b_twin_feed_division"), "mem.toml", library());
   systems::b_chatter::RigConfig b = sc.get<systems::b_chatter::Settings>().rig;
   b.z_end_mm = b.z_start_mm + 4.0;
   const double dead_zone_um = b.vibration.dead_zone_m * 1e6;

@@ -21,6 +21,7 @@
 #include "support/scenario_text.hpp"
 #include "systems/b_chatter/rig.hpp"
 #include "systems/b_chatter/settings.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl {
 namespace {
@@ -107,7 +108,7 @@ Outcome run(const fs::path& dir, const std::string& machine_file) {
   const fs::path sc_path = dir / name;
   write(sc_path, scenario(machine_file));
   const auto sc =
-      io::parse_scenario(scenario(machine_file), sc_path.string(), test::library());
+      systems::parse_scenario(scenario(machine_file), sc_path.string(), test::library());
   const auto& cfg = sc.get<systems::b_chatter::Settings>().rig;
   Outcome o;
   o.modes = cfg.tool_modes;
@@ -212,7 +213,7 @@ TEST(SystemBStructure, MachineFileErrorsAreLocated) {
   for (const char* f : {"bad.toml", "part.toml", "missing.toml"}) {
     const fs::path sc_path = dir / "scenario.toml";
     try {
-      (void)io::parse_scenario(scenario(f), sc_path.string(), test::library());
+      (void)systems::parse_scenario(scenario(f), sc_path.string(), test::library());
       ADD_FAILURE() << f << ": no error";
     } catch (const io::InputError& e) {
       const std::string m = e.what();

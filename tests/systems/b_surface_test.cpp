@@ -16,6 +16,7 @@
 #include "support/scenario_text.hpp"
 #include "systems/b_chatter/metrics.hpp"
 #include "systems/b_chatter/settings.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl {
 namespace {
@@ -24,8 +25,8 @@ using systems::b_chatter::RigConfig;
 using BRun = systems::b_chatter::Run;
 
 RigConfig shaft(systems::b_chatter::TwinSetup setup, double feed_mm_per_rev, double length_mm) {
-  const auto sc = io::parse_scenario(test::example_text("b_twin_feed_division"), "mem.toml",
-                                     test::library());
+  const auto sc = systems::parse_scenario(test::example_text("b_twin_feed_division"), "mem.toml",
+                                          test::library());
   RigConfig b = sc.get<systems::b_chatter::Settings>().rig;
   b.setup = setup;
   b.feed_mm_per_rev = feed_mm_per_rev;

@@ -1,18 +1,20 @@
 // What `lathectl check` says a scenario will cost (systems/estimate.hpp): the steps and parts are
 // counted from the scenario exactly as the study makes them; the CPU time follows from them (its
 // constants are measured, see docs/scenario-reference.md), so it scales as they do.
+#include "systems/estimate.hpp"
+
 #include <gtest/gtest.h>
 
 #include "lathectl/io/scenario.hpp"
 #include "support/library.hpp"
 #include "support/scenario_text.hpp"
-#include "systems/estimate.hpp"
+#include "systems/registry.hpp"
 
 namespace lathectl {
 namespace {
 
 io::Scenario parsed(const std::string& text) {
-  return io::parse_scenario(text, "mem.toml", test::library());
+  return systems::parse_scenario(text, "mem.toml", test::library());
 }
 
 TEST(Estimate, CountsTheRunsAStudyMakes) {

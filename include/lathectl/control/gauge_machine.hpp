@@ -62,8 +62,8 @@
 #include <limits>
 #include <vector>
 
-#include "lathectl/control/gauge_filter.hpp"
 #include "lathectl/control/types.hpp"
+#include "lathectl/sensors/gauge_filter.hpp"
 
 namespace lathectl::control {
 
@@ -81,7 +81,7 @@ class GaugeMachine {
   struct Params {
     bool operator==(const Params&) const = default;
     double period_s = 5e-5;  // the sample period of the generator's signal
-    GaugeFilter::Params filter;
+    sensors::GaugeFilter::Params filter;
     std::vector<Step> steps;  // 1 … kMaxSteps, thresholds rising; the last one's command: Size
     double relay_response_s = 0.02;  // t_r
     double arm_after_s = 0.5;        // after a (re)arm; ≥ 0
@@ -141,7 +141,7 @@ class GaugeMachine {
   void rearm() noexcept;
   void latch(Reason r) noexcept;
   Params p_{};
-  GaugeFilter filter_;
+  sensors::GaugeFilter filter_;
   Output out_{};
   double t_ = 0.0;       // since the last (re)arm, before the current sample
   double prev_ = 0.0;    // S of the last sample

@@ -1,7 +1,9 @@
 #pragma once
-// Scenario → rig → runner → recorder → report. Runs a scenario (and its comparison and sweep
-// runs), computes the metrics that answer its system's claims, and writes summary.json,
-// channels.csv (and channels_compare.csv) and report.html into an output directory.
+// Scenario → rig → runner → recorder → report: what a run's output is, how a study runs its rigs,
+// and how the output is written (summary.json, channels.csv and channels_compare.csv,
+// report.html) into an output directory. Running a scenario of any system is the systems
+// layer's (systems::run_scenario in src/systems/registry.hpp, which knows them all); this layer
+// (lathectl_io, src/io/runner.cpp) knows none.
 
 #include <concepts>
 #include <filesystem>
@@ -30,11 +32,12 @@ struct RunOutput {
   Verdict verdict;       // unmet claims, alarms, unfinished parts (also summary["verdict"])
 };
 
-// Throws InputError (bad scenario) or std::runtime_error (numerical failure: NaN, divergence).
-// The verdict is filled in, added to the summary and shown at the top of the report.
-RunOutput run_scenario(const Scenario& sc);
+// What every run's output gets after its system's study ran (systems::run_scenario, which runs
+// the scenario's system, calls it): the settings, the warnings, and the verdict, filled in, added
+// to the summary and shown at the top of the report.
+void finish_run(const Scenario& sc, RunOutput& out);
 // The report's settings table: every key the scenario's reader read, in the file's units, with
-// the unit and default its description gives (run_scenario adds it; tests compare it).
+// the unit and default its description gives (finish_run adds it; tests compare it).
 Table settings_table(const Scenario& sc);
 // index_href: the demo's index.html relative to dir ("../index.html"), linked from the report;
 // empty for a single run.

@@ -95,10 +95,8 @@ struct Section {
   void (*validate)(const Scenario& sc) = nullptr;
 };
 
-// A scenario of any system (systems/registry.cpp knows them all).
-Scenario parse_scenario(std::string_view text, const std::string& file_label,
-                        const MaterialLibrary& materials);
-Scenario load_scenario(const std::string& path, const MaterialLibrary& materials);
+// A scenario of any system: systems::parse_scenario and systems::load_scenario
+// (src/systems/registry.hpp, which knows them all).
 // A scenario of one system only (what a HAL component links: its own section reader, no other).
 Scenario parse_scenario(std::string_view text, const std::string& file_label,
                         const MaterialLibrary& materials, const Section& section);

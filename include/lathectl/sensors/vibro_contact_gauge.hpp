@@ -41,7 +41,7 @@
 
 #include <cstddef>
 
-#include "lathectl/control/gauge_filter.hpp"
+#include "lathectl/sensors/gauge_filter.hpp"
 
 namespace lathectl::sensors {
 
@@ -65,7 +65,7 @@ class VibroContactGauge {
     double magnet_gap_m = 0.0;                 // δ of (6); 0: flux independent of the gap
     double pm_force_N = 0.0;                   // F_M0, the permanent magnet's pull at rest
     double pm_gap_m = 0.0;                     // b₂ of (11); 0: linear generator, no F_M(z)
-    using Filter = control::GaugeFilterKind;
+    using Filter = sensors::GaugeFilterKind;
     Filter filter = Filter::FirstOrder;
   };
   // The synchronous filter's window: the even number of supply periods nearest 2·T_f (≥ 2).
@@ -111,7 +111,7 @@ class VibroContactGauge {
   [[nodiscard]] double free_signal_V() const noexcept { return free_.s; }
   [[nodiscard]] double generator_V() const noexcept { return u_; }
   // The filter's parameters as the machine side's GaugeFilter takes them.
-  [[nodiscard]] static control::GaugeFilter::Params filter_params(const Params& p) noexcept {
+  [[nodiscard]] static sensors::GaugeFilter::Params filter_params(const Params& p) noexcept {
     return {p.filter, p.filter_time_constant_s, p.supply_Hz};
   }
 
@@ -140,7 +140,7 @@ class VibroContactGauge {
   double coil_decay_ = 0.0, gen_decay_ = 0.0;
   double omega_ = 0.0;
   State free_{};  // the free steady state reset() starts from
-  control::GaugeFilter filter_;  // rectifier (13) and filter (14)
+  sensors::GaugeFilter filter_;  // rectifier (13) and filter (14)
 };
 
 }  // namespace lathectl::sensors

@@ -10,7 +10,7 @@
 
 #include "lathectl/io/acceptance.hpp"
 #include "lathectl/io/scenario.hpp"
-#include "systems/c_tracer/rig.hpp"
+#include "systems/c_tracer/rig_config.hpp"
 
 namespace lathectl::systems::c_tracer {
 

@@ -6,12 +6,13 @@
 //   synchronous   the mean of g over the last T_w = 2n supply periods (T_w the even number of
 //                 periods nearest 2·T_f): ramp lag T_w/2, every harmonic of ω/2 nulled
 // One implementation for the transducer model (sensors::VibroContactGauge) and the machine side
-// (GaugeMachine). configure() allocates the synchronous window; reset() and step() do not.
+// (control::GaugeMachine): here in sensors/, below control/, so that both may include it.
+// configure() allocates the synchronous window; reset() and step() do not.
 
 #include <cstddef>
 #include <vector>
 
-namespace lathectl::control {
+namespace lathectl::sensors {
 
 enum class GaugeFilterKind { FirstOrder, SecondOrder, Synchronous };
 
@@ -42,4 +43,4 @@ class GaugeFilter {
   double ring_sum_ = 0.0;
 };
 
-}  // namespace lathectl::control
+}  // namespace lathectl::sensors

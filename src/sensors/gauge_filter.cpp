@@ -1,4 +1,4 @@
-#include "lathectl/control/gauge_filter.hpp"
+#include "lathectl/sensors/gauge_filter.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "lathectl/core/parameter_error.hpp"
 
-namespace lathectl::control {
+namespace lathectl::sensors {
 
 double GaugeFilter::window_s(const Params& p) noexcept {
   const double n = std::max(1.0, std::round(p.time_constant_s * p.supply_Hz));
@@ -26,14 +26,14 @@ void GaugeFilter::configure(const Params& p, double dt) {
   positive(p.supply_Hz, "supply_Hz", "the supply frequency");
   positive(dt, "step", "the sample period");
   p_ = p;
-  const double tf = p.kind == GaugeFilterKind::SecondOrder ? 0.5 * p.time_constant_s
-                                                           : p.time_constant_s;
+  const double tf =
+      p.kind == GaugeFilterKind::SecondOrder ? 0.5 * p.time_constant_s : p.time_constant_s;
   decay_ = std::exp(-dt / tf);
-  ring_.assign(p.kind == GaugeFilterKind::Synchronous
-                   ? std::max<std::size_t>(
-                         1, static_cast<std::size_t>(std::llround(window_s(p) / dt)))
-                   : 0,
-               0.0);
+  ring_.assign(
+      p.kind == GaugeFilterKind::Synchronous
+          ? std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(window_s(p) / dt)))
+          : 0,
+      0.0);
   reset(0.0);
 }
 
@@ -69,4 +69,4 @@ double GaugeFilter::step(double g) noexcept {
   return s_;
 }
 
-}  // namespace lathectl::control
+}  // namespace lathectl::sensors

@@ -1,0 +1,2 @@
+#pragma once
+// A host header the core must not include (tests/layers/offending).
