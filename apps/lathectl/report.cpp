@@ -63,6 +63,45 @@ bool read_signals(const fs::path& csv, Signals& s) {
   return true;
 }
 
+// The histogram of a series' finished sizes: bins of a tenth of the tolerance over ±1.5
+// tolerances (the limits inside), wider when a size lies beyond; the normal law of the series' own
+// mean and σ.
+io::Plot size_histogram(const std::vector<double>& sizes, double tol, double mean, double sigma) {
+  double lo = -1.5 * tol, hi = 1.5 * tol;
+  for (double e : sizes) {
+    lo = std::min(lo, e);
+    hi = std::max(hi, e);
+  }
+  const double w = 0.1 * tol;
+  const auto bins = static_cast<std::size_t>(std::ceil((hi - lo) / w)) + 1;
+  std::vector<double> counts(bins, 0.0);
+  for (double e : sizes) counts[static_cast<std::size_t>((e - lo) / w)] += 1.0;
+  io::Series hist{"finished sizes (" + std::to_string(sizes.size()) + " parts)", {}, {},
+                  "#1f77b4", false, false};
+  for (std::size_t b = 0; b < bins; ++b) {
+    const double x0 = lo + static_cast<double>(b) * w;
+    hist.x.insert(hist.x.end(), {x0, x0 + w});
+    hist.y.insert(hist.y.end(), {counts[b], counts[b]});
+  }
+  io::Plot h{"Finished sizes: finished − target",
+             "finished − target [µm]",
+             "parts per bin",
+             {hist},
+             {{0.0, "target"}, {-tol, "LSL"}, {tol, "USL"}}};
+  if (sigma > 0.0) {
+    io::Series normal{"normal, the series' mean and σ", {}, {}, "#d62728", true, false};
+    for (int k = 0; k <= 200; ++k) {
+      const double x = lo + (hi + w - lo) * k / 200.0, z = (x - mean) / sigma;
+      normal.x.push_back(x);
+      normal.y.push_back(static_cast<double>(sizes.size()) * w /
+                         (sigma * std::sqrt(2.0 * std::numbers::pi)) *
+                         std::exp(-0.5 * z * z));
+    }
+    h.series.push_back(normal);
+  }
+  return h;
+}
+
 // System D's series on LinuxCNC (scripts/linuxcnc-sim-gauge's summary.json): every number read
 // is checked (JsonFile names the file, line and key of a bad one).
 int gauge_series_report(const fs::path& summary, const std::string& out_arg) {
@@ -128,42 +167,8 @@ int gauge_series_report(const fs::path& summary, const std::string& out_arg) {
                           : "",
                       backstop ? "backstop" : "size", alarm ? "yes" : ""});
   }
-  // The histogram: bins of a tenth of the tolerance over ±1.5 tolerances (the limits inside),
-  // wider when a size lies beyond; the normal law of the series' own mean and σ.
   const double sigma = num("size_sigma_um");
-  double lo = -1.5 * tol, hi = 1.5 * tol;
-  for (double e : sizes) {
-    lo = std::min(lo, e);
-    hi = std::max(hi, e);
-  }
-  const double w = 0.1 * tol;
-  const auto bins = static_cast<std::size_t>(std::ceil((hi - lo) / w)) + 1;
-  std::vector<double> counts(bins, 0.0);
-  for (double e : sizes) counts[static_cast<std::size_t>((e - lo) / w)] += 1.0;
-  io::Series hist{"finished sizes (" + std::to_string(sizes.size()) + " parts)", {}, {},
-                  "#1f77b4", false, false};
-  for (std::size_t b = 0; b < bins; ++b) {
-    const double x0 = lo + static_cast<double>(b) * w;
-    hist.x.insert(hist.x.end(), {x0, x0 + w});
-    hist.y.insert(hist.y.end(), {counts[b], counts[b]});
-  }
-  io::Plot h{"Finished sizes: finished − target",
-             "finished − target [µm]",
-             "parts per bin",
-             {hist},
-             {{0.0, "target"}, {-tol, "LSL"}, {tol, "USL"}}};
-  if (sigma > 0.0) {
-    io::Series normal{"normal, the series' mean and σ", {}, {}, "#d62728", true, false};
-    for (int k = 0; k <= 200; ++k) {
-      const double x = lo + (hi + w - lo) * k / 200.0, z = (x - mean) / sigma;
-      normal.x.push_back(x);
-      normal.y.push_back(static_cast<double>(sizes.size()) * w /
-                         (sigma * std::sqrt(2.0 * std::numbers::pi)) *
-                         std::exp(-0.5 * z * z));
-    }
-    h.series.push_back(normal);
-  }
-  r.plots.push_back(h);
+  r.plots.push_back(size_histogram(sizes, tol, mean, sigma));
   r.tables.push_back(t);
   r.plots_first = true;  // the histogram above the long size table
   io::write_output_file(out, io::render_html(r), "--out", {summary});
@@ -172,44 +177,32 @@ int gauge_series_report(const fs::path& summary, const std::string& out_arg) {
   return 0;
 }
 
-// System B's session on the twin-turret lathe (scripts/linuxcnc-sim-twin): summary.json's measures
-// (null where the session did not reach them) and the recording's channels.
-int twin_session_report(const fs::path& dir, const std::string& out_arg) {
-  const fs::path summary = dir / "summary.json", csv = dir / "signals.csv";
-  const fs::path out = out_arg.empty() ? dir / "report.html" : fs::path(out_arg);
-  io::check_output_file(out, "--out", {summary, csv});
-  const io::JsonFile f = io::JsonFile::read(summary, "the session's summary");
+// A measure of a session's summary.json it reached, else "—": `path` is dotted, its numbers
+// checked.
+std::string measure(const io::JsonFile& f, const std::string& path, double scale, int digits) {
   const auto& doc = f.doc();
-  if (!doc.is_object()) f.fail("", "expected the session's summary (an object)");
-  // A measure the session reached, else "—": `path` is dotted, its numbers checked.
-  const auto val = [&](const std::string& path, double scale, int digits) -> std::string {
-    const nlohmann::json* v = &doc;
-    std::string key;
-    std::size_t a = 0;
-    while (a <= path.size()) {
-      const std::size_t b = std::min(path.find('.', a), path.size());
-      const std::string name = path.substr(a, b - a);
-      if (!v->is_object() || !v->contains(name) || (*v)[name].is_null()) return "—";
-      if (b == path.size()) return fixed(scale * f.number(*v, key, name.c_str()), digits);
-      key += (key.empty() ? "" : ".") + name;
-      v = &(*v)[name];
-      a = b + 1;
-    }
-    return "—";
+  const nlohmann::json* v = &doc;
+  std::string key;
+  std::size_t a = 0;
+  while (a <= path.size()) {
+    const std::size_t b = std::min(path.find('.', a), path.size());
+    const std::string name = path.substr(a, b - a);
+    if (!v->is_object() || !v->contains(name) || (*v)[name].is_null()) return "—";
+    if (b == path.size()) return fixed(scale * f.number(*v, key, name.c_str()), digits);
+    key += (key.empty() ? "" : ".") + name;
+    v = &(*v)[name];
+    a = b + 1;
+  }
+  return "—";
+}
+
+// System B's session's metrics: the module's plan and engagement, the amplitudes with and
+// without it, the feeds, the external offset.
+std::vector<std::pair<std::string, std::string>> twin_metrics(const io::JsonFile& f) {
+  const auto val = [&](const std::string& path, double scale, int digits) {
+    return measure(f, path, scale, digits);
   };
-  io::Report r;
-  r.title = "System B on LinuxCNC — the twin-turret lathe";
-  r.subtitle = (doc.contains("program") && doc["program"].is_string()
-                    ? doc["program"].get<std::string>() + " · "
-                    : std::string()) +
-               summary.string();
-  r.description =
-      "The left turret on X/Z, the right one on U/W, one program for both; lathectl_chatter cuts "
-      "the slender part with both tools and lathectl_modfeed modulates the flagged turret's feed "
-      "through LinuxCNC's external axis offset on its axial axis. Amplitudes are rig B's measure "
-      "(the peak of the high-passed displacement at the tool).";
-  r.doc_page = "linuxcnc.md";
-  r.metrics = {
+  return {
       {"module engaged after contact [s]", val("modulation.engaged_after_contact_s", 1, 3)},
       {"plan S_min / ΔS [mm/min]", val("modulation.S_min_mm_per_min", 1, 1) + " / " +
                                        val("modulation.dS_mm_per_min", 1, 1)},
@@ -236,6 +229,33 @@ int twin_session_report(const fs::path& dir, const std::string& out_arg) {
        val("override.factor", 1, 3) + " / " + val("override.left_mm_per_min", 1, 2)},
       {"programmed variant: the named turret on its level [share]",
        val("programmed.left_on_level_share", 1, 3)}};
+}
+
+// System B's session on the twin-turret lathe (scripts/linuxcnc-sim-twin): summary.json's measures
+// (null where the session did not reach them) and the recording's channels.
+int twin_session_report(const fs::path& dir, const std::string& out_arg) {
+  const fs::path summary = dir / "summary.json", csv = dir / "signals.csv";
+  const fs::path out = out_arg.empty() ? dir / "report.html" : fs::path(out_arg);
+  io::check_output_file(out, "--out", {summary, csv});
+  const io::JsonFile f = io::JsonFile::read(summary, "the session's summary");
+  const auto& doc = f.doc();
+  if (!doc.is_object()) f.fail("", "expected the session's summary (an object)");
+  const auto val = [&](const std::string& path, double scale, int digits) {
+    return measure(f, path, scale, digits);
+  };
+  io::Report r;
+  r.title = "System B on LinuxCNC — the twin-turret lathe";
+  r.subtitle = (doc.contains("program") && doc["program"].is_string()
+                    ? doc["program"].get<std::string>() + " · "
+                    : std::string()) +
+               summary.string();
+  r.description =
+      "The left turret on X/Z, the right one on U/W, one program for both; lathectl_chatter cuts "
+      "the slender part with both tools and lathectl_modfeed modulates the flagged turret's feed "
+      "through LinuxCNC's external axis offset on its axial axis. Amplitudes are rig B's measure "
+      "(the peak of the high-passed displacement at the tool).";
+  r.doc_page = "linuxcnc.md";
+  r.metrics = twin_metrics(f);
   const io::ChannelTable table = io::read_channels_csv(csv);
   auto col = [&](const char* name) -> const std::vector<double>& {
     for (std::size_t i = 0; i < table.names.size(); ++i)
@@ -278,6 +298,8 @@ int twin_session_report(const fs::path& dir, const std::string& out_arg) {
   return 0;
 }
 
+int oplog_report(fs::path log, const std::string& out_arg);
+
 int report(const std::string& log_arg, const std::string& out_arg) {
   fs::path log = log_arg;
   // scripts/linuxcnc-sim-twin's directory: the session's report.
@@ -298,6 +320,11 @@ int report(const std::string& log_arg, const std::string& out_arg) {
                        fs::exists(dir / "summary.json", ec) && fs::exists(dir / "parts.csv", ec);
     if (gauge) return gauge_series_report(dir / "summary.json", out_arg);
   }
+  return oplog_report(log, out_arg);
+}
+
+// lathectl_oplog's operation log (operations.json), and signals.csv beside it when there.
+int oplog_report(fs::path log, const std::string& out_arg) {
   if (fs::is_directory(log)) log /= "operations.json";
   if (!fs::exists(log)) throw io::InputError(log.string() + ": no such operation log");
   // Where the report goes, checked before anything is read: never over a device (/dev/null), a
