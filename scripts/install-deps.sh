@@ -8,6 +8,7 @@ pkgs=(
   libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev          # libFuzzer and sanitizer runtimes
+  universal-ctags                   # scripts/size-report.sh (the size_rules test)
 )
 # The reports' plotting library (uPlot) comes from package-lock.json by `npm ci`, run by the
 # build. Debian's npm (with its nodejs) only when there is no npm already (e.g. a NodeSource node).

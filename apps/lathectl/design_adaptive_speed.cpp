@@ -110,6 +110,33 @@ std::string missing(std::initializer_list<std::pair<const Opt*, const char*>> l)
   return out;
 }
 
+// --json: the inputs, the coefficients used (and the material range they came from), the results.
+void print_json(const Args& a, const cutting::Material* mat, const TaylorCoefficients& c_opt,
+                const TaylorCoefficients& c_life, bool do_opt, bool do_taylor, const Result& r) {
+  nlohmann::json in = inputs_json<Args>(a, kInputs);
+  if (mat) in["material"] = mat->name;
+  auto coeffs = [&](const TaylorCoefficients& c, bool all) {
+    nlohmann::json j;
+    if (all)
+      j = {{"Cv", *c.Cv}, {"m", *c.m}, {"xv", *c.xv}, {"yv", *c.yv}};
+    else
+      j = {{"yv", *c.yv}};
+    if (c.range) {
+      j["material"] = mat->name;
+      j["range_feed_max_mm_per_rev"] = c.range->feed_max_mm_per_rev;
+    }
+    return j;
+  };
+  nlohmann::json j, used = nlohmann::json::object();
+  if (do_opt) used["V_opt"] = coeffs(c_opt, false);
+  if (do_taylor) used["tool_life"] = coeffs(c_life, true);
+  j["inputs"] = in;
+  j["coefficients"] = used;
+  j["results"] = nlohmann::json::object();
+  outputs_json<Result>(j, r, kOutputs, "si", "results");
+  std::cout << j.dump(2) << "\n";
+}
+
 int compute(const Args& a) {
   const std::string who = "design adaptive-speed: ";
   io::MaterialLibrary lib;
@@ -169,28 +196,7 @@ int compute(const Args& a) {
                          "--T-target (tool life)");
 
   if (a.json) {
-    nlohmann::json in = inputs_json<Args>(a, kInputs);
-    if (mat) in["material"] = mat->name;
-    auto coeffs = [&](const TaylorCoefficients& c, bool all) {
-      nlohmann::json j;
-      if (all)
-        j = {{"Cv", *c.Cv}, {"m", *c.m}, {"xv", *c.xv}, {"yv", *c.yv}};
-      else
-        j = {{"yv", *c.yv}};
-      if (c.range) {
-        j["material"] = mat->name;
-        j["range_feed_max_mm_per_rev"] = c.range->feed_max_mm_per_rev;
-      }
-      return j;
-    };
-    nlohmann::json j, used = nlohmann::json::object();
-    if (do_opt) used["V_opt"] = coeffs(c_opt, false);
-    if (do_life || do_speed) used["tool_life"] = coeffs(c_life, true);
-    j["inputs"] = in;
-    j["coefficients"] = used;
-    j["results"] = nlohmann::json::object();
-    outputs_json<Result>(j, r, kOutputs, "si", "results");
-    std::cout << j.dump(2) << "\n";
+    print_json(a, mat, c_opt, c_life, do_opt, do_life || do_speed, r);
     return 0;
   }
   auto row = [&](const Output<Result>& o) { print_shop_row(r, o); };

@@ -159,8 +159,7 @@ const Output<Result> kOutputs[] = {
 bool force = false;
 std::string filter_kind = "first_order";
 
-int compute(const Args& a) {
-  const std::string who = "design gauge: ";
+design::GaugeInput gauge_input(const Args& a) {
   design::GaugeInput in;
   in.supply_V = a.supply_V;
   in.supply_Hz = a.supply_Hz;
@@ -189,41 +188,43 @@ int compute(const Args& a) {
   in.target_m = a.target_um * 1e-6;
   in.noise_variance_m2 = a.noise_sigma_um * a.noise_sigma_um * 1e-12;
   in.noise_beta_per_s = a.noise_beta_per_s;
+  return in;
+}
+
+// The full model is simulated at every level of the range and the trip (~60 levels), each for
+// the settling time 8·T_f at a step that resolves the contact and the supply: count the steps
+// first, and refuse at once what would run for minutes (--filter-ms 1e6 did, then failed).
+void check_full_model_cost(const design::GaugeInput& in, const std::string& who) {
   char buf[512];
-  if (!(a.target_um < a.allowance_um)) {
+  sensors::VibroContactGauge::Params p;
+  p.supply_Hz = in.supply_Hz;
+  p.contact_stiffness_N_per_m = in.contact_stiffness_N_per_m;
+  p.probe_mass_kg = in.probe_mass_kg;
+  p.filter_time_constant_s = in.filter_time_constant_s;
+  const double step = design::full_model_step(p), settle = design::full_model_settle(p);
+  const double steps = settle / step;
+  if (!(steps <= kMaxStepsPerLevel)) {
+    const bool slow_filter = settle > 0.8;
     std::snprintf(buf, sizeof buf,
-                  "--target-um (%g) must be below --allowance-um (%g): nothing to remove",
-                  a.target_um, a.allowance_um);
+                  "%s: the full model would simulate %.3g steps per signal level (settling "
+                  "%.3g s at a step of %.3g s), over %.3g: %s",
+                  slow_filter ? "--filter-ms" : "--contact-stiffness-N-per-mm, --probe-mass-g, "
+                                                "--supply-Hz",
+                  steps, settle, step, kMaxStepsPerLevel,
+                  slow_filter ? ("the settling time is 8·T_f; at this step a filter of at "
+                                 "most " + format_number(kMaxStepsPerLevel * step / 8.0 * 1e3) +
+                                 " ms").c_str()
+                              : "the step resolves the contact frequency sqrt(k_c/M) and the "
+                                "supply; a softer contact, a heavier probe or a lower supply "
+                                "frequency");
     throw io::InputError(who + buf);
   }
-  // The full model is simulated at every level of the range and the trip (~60 levels), each for
-  // the settling time 8·T_f at a step that resolves the contact and the supply: count the steps
-  // first, and refuse at once what would run for minutes (--filter-ms 1e6 did, then failed).
-  {
-    sensors::VibroContactGauge::Params p;
-    p.supply_Hz = in.supply_Hz;
-    p.contact_stiffness_N_per_m = in.contact_stiffness_N_per_m;
-    p.probe_mass_kg = in.probe_mass_kg;
-    p.filter_time_constant_s = in.filter_time_constant_s;
-    const double step = design::full_model_step(p), settle = design::full_model_settle(p);
-    const double steps = settle / step;
-    if (!(steps <= kMaxStepsPerLevel)) {
-      const bool slow_filter = settle > 0.8;
-      std::snprintf(buf, sizeof buf,
-                    "%s: the full model would simulate %.3g steps per signal level (settling "
-                    "%.3g s at a step of %.3g s), over %.3g: %s",
-                    slow_filter ? "--filter-ms" : "--contact-stiffness-N-per-mm, --probe-mass-g, "
-                                                  "--supply-Hz",
-                    steps, settle, step, kMaxStepsPerLevel,
-                    slow_filter ? ("the settling time is 8·T_f; at this step a filter of at "
-                                   "most " + format_number(kMaxStepsPerLevel * step / 8.0 * 1e3) +
-                                   " ms").c_str()
-                                : "the step resolves the contact frequency sqrt(k_c/M) and the "
-                                  "supply; a softer contact, a heavier probe or a lower supply "
-                                  "frequency");
-      throw io::InputError(who + buf);
-    }
-  }
+}
+
+// The gauge designed (design::gauge), refused without a usable threshold, or (without --force)
+// with one outside the safe range.
+Result gauge_result(const design::GaugeInput& in, const Args& a, const std::string& who) {
+  char buf[512];
   Result r;
   try {
     static_cast<design::GaugeResult&>(r) = design::gauge(in);
@@ -263,6 +264,21 @@ int compute(const Args& a) {
                   r.largest_target_m * 1e6);
     throw io::InputError(who + buf);
   }
+  return r;
+}
+
+int compute(const Args& a) {
+  const std::string who = "design gauge: ";
+  const design::GaugeInput in = gauge_input(a);
+  if (!(a.target_um < a.allowance_um)) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "--target-um (%g) must be below --allowance-um (%g): nothing to remove",
+                  a.target_um, a.allowance_um);
+    throw io::InputError(who + buf);
+  }
+  check_full_model_cost(in, who);
+  Result r = gauge_result(in, a, who);
   r.sigma_y_V = std::sqrt(r.noise_variance_V2);
   require_finite<Result>(who, r, kOutputs,
                          "the transducer's (--supply-V, --coil-*, --force-coeff, --probe-*, "

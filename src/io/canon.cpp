@@ -55,74 +55,101 @@ std::string canon_line_marker(int line) {
   return std::string(kMarker) + std::to_string(line);
 }
 
-CanonProgram parse_canon(std::string_view text, const std::string& label, double start_x_mm,
-                         double start_z_mm) {
-  CanonProgram prog;
-  CanonMove state;  // the modal state, copied into each move
-  double x = start_x_mm, z = start_z_mm;
-  int out_line = 0;
-  bool stop_pending = true;  // the first move starts from rest
-  bool plane_xz = false;
-  std::array<double, 2> g5x{}, g92{}, tlo{};  // x, z of each offset
-  auto fail = [&](const std::string& what) {
-    throw InputError(label + ": interpreter output line " + std::to_string(out_line) + ": " + what);
-  };
-  std::size_t pos = 0;
-  while (pos < text.size()) {
-    std::size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view ln = trim(text.substr(pos, end - pos));
-    pos = end + 1;
-    ++out_line;
-    // "<seq> N<...> NAME(args)"
-    std::size_t i = 0;
-    while (i < ln.size() && ln[i] >= '0' && ln[i] <= '9') ++i;
-    if (i == 0) continue;  // not a command line ("executing", messages)
-    ln = trim(ln.substr(i));
-    if (ln.empty() || ln.front() != 'N') continue;
-    const std::size_t sp = ln.find_first_of(" \t");
-    if (sp == std::string_view::npos) continue;
-    ln = trim(ln.substr(sp));
-    const std::size_t open = ln.find('(');
-    if (open == std::string_view::npos || ln.back() != ')') continue;
-    const std::string_view name = ln.substr(0, open);
-    const std::string_view inner = ln.substr(open + 1, ln.size() - open - 2);
+namespace {
+
+// One command of the interpreter's output, "<seq> N<...> NAME(args)": its name and arguments;
+// false for any other line ("executing", messages).
+bool command(std::string_view ln, std::string_view& name, std::string_view& inner) {
+  std::size_t i = 0;
+  while (i < ln.size() && ln[i] >= '0' && ln[i] <= '9') ++i;
+  if (i == 0) return false;
+  ln = trim(ln.substr(i));
+  if (ln.empty() || ln.front() != 'N') return false;
+  const std::size_t sp = ln.find_first_of(" \t");
+  if (sp == std::string_view::npos) return false;
+  ln = trim(ln.substr(sp));
+  const std::size_t open = ln.find('(');
+  if (open == std::string_view::npos || ln.back() != ')') return false;
+  name = ln.substr(0, open);
+  inner = ln.substr(open + 1, ln.size() - open - 2);
+  return true;
+}
+
+// Reads the commands one by one into moves, each a copy of the modal state.
+class CanonParser {
+ public:
+  CanonParser(const std::string& label, double x, double z) : label_(label), x_(x), z_(z) {}
+
+  void line(std::string_view ln) {
+    ++out_line_;
+    std::string_view name, inner;
+    if (!command(ln, name, inner)) return;
+    if (modal(name, inner)) return;
+    const bool known = name == "SET_G5X_OFFSET" || name == "SET_G92_OFFSET" ||
+                       name == "USE_TOOL_LENGTH_OFFSET" || name == "STRAIGHT_TRAVERSE" || name == "STRAIGHT_FEED" ||
+                       name == "ARC_FEED" || name == "SET_FEED_MODE" || name == "SET_FEED_RATE" ||
+                       name == "SET_SPINDLE_MODE" || name == "SET_SPINDLE_SPEED" ||
+                       name == "START_SPEED_FEED_SYNC" || name == "SELECT_TOOL";
+    if (!known) return;
+    Args a;
+    if (!numbers(inner, a)) fail(std::string(name) + ": arguments are not numbers");
+    if (name == "STRAIGHT_TRAVERSE" || name == "STRAIGHT_FEED")
+      straight(name, a);
+    else if (name == "ARC_FEED")
+      arc(name, a);
+    else
+      setting(name, a);
+  }
+  CanonProgram& program() { return prog_; }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(label_ + ": interpreter output line " + std::to_string(out_line_) + ": " +
+                     what);
+  }
+  void need(std::string_view name, const Args& a, std::size_t k) const {
+    if (a.n < k) fail(std::string(name) + ": expected " + std::to_string(k) + " arguments");
+  }
+
+  // The commands without numbers to read: comments (the line marker, cutter compensation), units,
+  // plane, blending, the spindle, and what stops motion. True when the command is done with.
+  bool modal(std::string_view name, std::string_view inner) {
     if (name == "COMMENT") {
       const std::size_t at = inner.find(kMarker);
       if (at != std::string_view::npos) {
         const std::string_view num = inner.substr(at + kMarker.size());
         int v = 0;
         const auto r = std::from_chars(num.data(), num.data() + num.size(), v);
-        if (r.ec == std::errc() && v > 0) state.line = v;
+        if (r.ec == std::errc() && v > 0) state_.line = v;
       } else if (inner.find("cutter radius compensation on") != std::string_view::npos) {
-        state.compensated = true;
+        state_.compensated = true;
       } else if (inner.find("cutter radius compensation off") != std::string_view::npos) {
-        state.compensated = false;
+        state_.compensated = false;
       }
-      continue;
+      return true;
     }
     if (name == "USE_LENGTH_UNITS") {
       if (inner.find("MM") == std::string_view::npos)
         fail(
             "the program works in inches (G20); lathectl optimize reads millimetre programs (G21)");
-      continue;
+      return true;
     }
     if (name == "SELECT_PLANE") {
-      plane_xz = inner.find("CANON_PLANE_XZ") != std::string_view::npos;
-      continue;
+      plane_xz_ = inner.find("CANON_PLANE_XZ") != std::string_view::npos;
+      return true;
     }
     if (name == "SET_MOTION_CONTROL_MODE") {
       if (inner.find("CANON_CONTINUOUS") != std::string_view::npos) {
         const std::size_t comma = inner.find(',');
         Args a;
         if (comma == std::string_view::npos || !numbers(inner.substr(comma + 1), a) || a.n < 1)
-          state.blend_tol_mm = 0.0;
+          state_.blend_tol_mm = 0.0;
         else
-          state.blend_tol_mm = std::max(0.0, a.v[0]);
+          state_.blend_tol_mm = std::max(0.0, a.v[0]);
       } else {
-        state.blend_tol_mm = -1.0;
+        state_.blend_tol_mm = -1.0;
       }
-      continue;
+      return true;
     }
     // What LinuxCNC's task runs only once motion is done (emctaskmain.cc,
     // emcTaskCheckPreconditions: WAITING_FOR_MOTION): no blend across these.
@@ -132,105 +159,129 @@ CanonProgram parse_canon(std::string_view text, const std::string& label, double
         name == "MIST_ON" || name == "MIST_OFF" || name == "USE_TOOL_LENGTH_OFFSET" ||
         name == "SET_G5X_OFFSET" || name == "SET_G92_OFFSET" || name == "SET_XY_ROTATION" ||
         name == "MESSAGE" || name == "STRAIGHT_PROBE" || name == "RIGID_TAP") {
-      stop_pending = true;  // SET_SPINDLE_SPEED is also read below
+      stop_pending_ = true;  // SET_SPINDLE_SPEED is also read below
     }
     if (name == "STOP_SPEED_FEED_SYNCH") {
-      state.synced = false;
-      continue;
+      state_.synced = false;
+      return true;
     }
     if (name == "START_SPINDLE_CLOCKWISE" || name == "START_SPINDLE_COUNTERCLOCKWISE") {
-      state.spindle_on = true;
-      stop_pending = true;
-      continue;
+      state_.spindle_on = true;
+      stop_pending_ = true;
+      return true;
     }
     if (name == "STOP_SPINDLE_TURNING") {
-      state.spindle_on = false;
-      stop_pending = true;
-      continue;
+      state_.spindle_on = false;
+      stop_pending_ = true;
+      return true;
     }
-    const bool known = name == "SET_G5X_OFFSET" || name == "SET_G92_OFFSET" ||
-                       name == "USE_TOOL_LENGTH_OFFSET" || name == "STRAIGHT_TRAVERSE" || name == "STRAIGHT_FEED" ||
-                       name == "ARC_FEED" || name == "SET_FEED_MODE" || name == "SET_FEED_RATE" ||
-                       name == "SET_SPINDLE_MODE" || name == "SET_SPINDLE_SPEED" ||
-                       name == "START_SPEED_FEED_SYNC" || name == "SELECT_TOOL";
-    if (!known) continue;
-    Args a;
-    if (!numbers(inner, a)) fail(std::string(name) + ": arguments are not numbers");
-    auto need = [&](std::size_t k) {
-      if (a.n < k) fail(std::string(name) + ": expected " + std::to_string(k) + " arguments");
-    };
-    if (name == "STRAIGHT_TRAVERSE" || name == "STRAIGHT_FEED") {
-      need(3);
-      CanonMove m = state;
-      m.kind = name == "STRAIGHT_TRAVERSE" ? CanonMove::Kind::Traverse : CanonMove::Kind::Line;
-      m.x0 = x;
-      m.z0 = z;
-      m.x1 = x = a.v[0];
-      m.z1 = z = a.v[2];
-      if (std::abs(a.v[1]) > 1e-9) fail("a move in Y: a lathe program moves in X and Z only");
-      m.stop_before = std::exchange(stop_pending, false);
-      prog.moves.push_back(m);
-    } else if (name == "ARC_FEED") {
-      need(5);
-      if (!plane_xz) fail("ARC_FEED: an arc outside the XZ plane (a lathe program turns in G18)");
-      CanonMove m = state;
-      m.kind = CanonMove::Kind::Arc;
-      m.x0 = x;
-      m.z0 = z;
-      m.z1 = z = a.v[0];
-      m.x1 = x = a.v[1];
-      m.zc = a.v[2];
-      m.xc = a.v[3];
-      m.rotation = static_cast<int>(a.v[4]);
-      if (m.rotation == 0) fail("ARC_FEED: rotation 0");
-      const double r0 = std::hypot(m.x0 - m.xc, m.z0 - m.zc);
-      const double r1 = std::hypot(m.x1 - m.xc, m.z1 - m.zc);
-      if (!(r0 > 0.0) || std::abs(r0 - r1) > 1e-3 * std::max(1.0, r0))
-        fail("ARC_FEED: start and end not on one circle");
-      m.stop_before = std::exchange(stop_pending, false);
-      prog.moves.push_back(m);
-    } else if (name == "SET_FEED_MODE") {
-      need(2);
-      state.per_rev = a.v[1] > 0.5;
+    return false;
+  }
+
+  void straight(std::string_view name, const Args& a) {
+    need(name, a, 3);
+    CanonMove m = state_;
+    m.kind = name == "STRAIGHT_TRAVERSE" ? CanonMove::Kind::Traverse : CanonMove::Kind::Line;
+    m.x0 = x_;
+    m.z0 = z_;
+    m.x1 = x_ = a.v[0];
+    m.z1 = z_ = a.v[2];
+    if (std::abs(a.v[1]) > 1e-9) fail("a move in Y: a lathe program moves in X and Z only");
+    m.stop_before = std::exchange(stop_pending_, false);
+    prog_.moves.push_back(m);
+  }
+
+  void arc(std::string_view name, const Args& a) {
+    need(name, a, 5);
+    if (!plane_xz_) fail("ARC_FEED: an arc outside the XZ plane (a lathe program turns in G18)");
+    CanonMove m = state_;
+    m.kind = CanonMove::Kind::Arc;
+    m.x0 = x_;
+    m.z0 = z_;
+    m.z1 = z_ = a.v[0];
+    m.x1 = x_ = a.v[1];
+    m.zc = a.v[2];
+    m.xc = a.v[3];
+    m.rotation = static_cast<int>(a.v[4]);
+    if (m.rotation == 0) fail("ARC_FEED: rotation 0");
+    const double r0 = std::hypot(m.x0 - m.xc, m.z0 - m.zc);
+    const double r1 = std::hypot(m.x1 - m.xc, m.z1 - m.zc);
+    if (!(r0 > 0.0) || std::abs(r0 - r1) > 1e-3 * std::max(1.0, r0))
+      fail("ARC_FEED: start and end not on one circle");
+    m.stop_before = std::exchange(stop_pending_, false);
+    prog_.moves.push_back(m);
+  }
+
+  void offsets() {
+    state_.offset_x = g5x_[0] + g92_[0] + tlo_[0];
+    state_.offset_z = g5x_[1] + g92_[1] + tlo_[1];
+  }
+
+  // The modal state the numbered commands set: feed mode and rate, spindle, synchronisation,
+  // offsets, tool.
+  void setting(std::string_view name, const Args& a) {
+    if (name == "SET_FEED_MODE") {
+      need(name, a, 2);
+      state_.per_rev = a.v[1] > 0.5;
     } else if (name == "SET_FEED_RATE") {
-      need(1);
-      state.feed = a.v[0];
+      need(name, a, 1);
+      state_.feed = a.v[0];
     } else if (name == "SET_SPINDLE_MODE") {
-      need(2);
-      state.css = a.v[1] > 0.0;
-      state.css_max_rpm = a.v[1];
+      need(name, a, 2);
+      state_.css = a.v[1] > 0.0;
+      state_.css_max_rpm = a.v[1];
     } else if (name == "SET_SPINDLE_SPEED") {
-      need(2);
-      state.speed = a.v[1];
+      need(name, a, 2);
+      state_.speed = a.v[1];
     } else if (name == "START_SPEED_FEED_SYNC") {
-      need(1);
-      state.synced = true;
-      state.pitch_mm = a.v[0];
+      need(name, a, 1);
+      state_.synced = true;
+      state_.pitch_mm = a.v[0];
     } else if (name == "SET_G5X_OFFSET") {
-      need(4);
-      g5x = {a.v[1], a.v[3]};
-      state.offset_x = g5x[0] + g92[0] + tlo[0];
-      state.offset_z = g5x[1] + g92[1] + tlo[1];
+      need(name, a, 4);
+      g5x_ = {a.v[1], a.v[3]};
+      offsets();
     } else if (name == "SET_G92_OFFSET") {
-      need(3);
-      g92 = {a.v[0], a.v[2]};
-      state.offset_x = g5x[0] + g92[0] + tlo[0];
-      state.offset_z = g5x[1] + g92[1] + tlo[1];
+      need(name, a, 3);
+      g92_ = {a.v[0], a.v[2]};
+      offsets();
     } else if (name == "USE_TOOL_LENGTH_OFFSET") {
-      need(3);
-      tlo = {a.v[0], a.v[2]};
-      state.offset_x = g5x[0] + g92[0] + tlo[0];
-      state.offset_z = g5x[1] + g92[1] + tlo[1];
+      need(name, a, 3);
+      tlo_ = {a.v[0], a.v[2]};
+      offsets();
     } else if (name == "SELECT_TOOL") {
-      need(1);
+      need(name, a, 1);
       // A pocket number LinuxCNC's tool table can hold; anything else (a fuzzer's 2.9e54) would
       // be undefined behaviour in the conversion to int.
       if (!(a.v[0] >= 0.0 && a.v[0] <= 99999.0))
         fail("SELECT_TOOL: tool number " + std::to_string(a.v[0]) + " outside [0, 99999]");
-      state.tool = static_cast<int>(a.v[0]);
+      state_.tool = static_cast<int>(a.v[0]);
     }
   }
-  return prog;
+
+  const std::string& label_;
+  CanonProgram prog_;
+  CanonMove state_;  // the modal state, copied into each move
+  double x_, z_;
+  int out_line_ = 0;
+  bool stop_pending_ = true;  // the first move starts from rest
+  bool plane_xz_ = false;
+  std::array<double, 2> g5x_{}, g92_{}, tlo_{};  // x, z of each offset
+};
+
+}  // namespace
+
+CanonProgram parse_canon(std::string_view text, const std::string& label, double start_x_mm,
+                         double start_z_mm) {
+  CanonParser parser(label, start_x_mm, start_z_mm);
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    parser.line(trim(text.substr(pos, end - pos)));
+    pos = end + 1;
+  }
+  return std::move(parser.program());
 }
 
 }  // namespace lathectl::io

@@ -263,6 +263,179 @@ std::optional<Unit> uff_unit(long spec_type, std::string label, long units_code)
   return std::nullopt;
 }
 
+// Dataset 58b's binary header: (I6,1A1,I6,I6,I12,I12,...) after the "58b" of its second line.
+struct BinaryHeader {
+  long byte_order = 0, n_bytes = 0;
+};
+BinaryHeader binary_header(std::string_view h, const std::string& file, int kind_line) {
+  BinaryHeader b;
+  b.byte_order = field_int(h, 7, 6, file, kind_line, "58b byte ordering");
+  const long fp = field_int(h, 13, 6, file, kind_line, "58b floating-point format");
+  b.n_bytes = field_int(h, 31, 12, file, kind_line, "58b number of bytes");
+  if (b.byte_order != 1 && b.byte_order != 2)
+    fail(file, kind_line, "58b byte ordering " + std::to_string(b.byte_order) +
+                              ": expected 1 (little endian) or 2 (big endian)");
+  if (fp != 2) fail(file, kind_line, "58b floating-point format " + std::to_string(fp) +
+                                         ": only 2 (IEEE 754) is read");
+  if (b.n_bytes <= 0) fail(file, kind_line, "58b: the number of data bytes must be > 0");
+  return b;
+}
+
+// Records 6 to 10 of a dataset 58: an FRF, its points and abscissa, its ordinate's unit.
+struct Uff58 {
+  long ord_type = 0, points = 0, even = 0;
+  double x0 = 0.0, dx = 0.0;
+  Unit unit;
+  std::size_t per() const { return even == 1 ? 2 : 3; }  // values per point
+  std::size_t values() const { return static_cast<std::size_t>(points) * per(); }
+};
+Uff58 uff58_records(Lines& lines, const std::string& file, long units_code) {
+  std::string_view rec[12], line;
+  int at[12] = {};
+  for (int r = 1; r <= 11; ++r) {
+    if (!lines.next(line)) fail(file, lines.number, "dataset 58 ends before record " + std::to_string(r));
+    rec[r] = line;
+    at[r] = lines.number;
+  }
+  const long func_type = field_int(rec[6], 0, 5, file, at[6], "record 6: function type");
+  if (func_type != 4)
+    fail(file, at[6], "record 6: function type " + std::to_string(func_type) +
+                          " is not a frequency response function (4)");
+  Uff58 u;
+  u.ord_type = field_int(rec[7], 0, 10, file, at[7], "record 7: ordinate data type");
+  u.points = field_int(rec[7], 10, 10, file, at[7], "record 7: number of points");
+  u.even = field_int(rec[7], 20, 10, file, at[7], "record 7: abscissa spacing");
+  u.x0 = field_real(rec[7], 30, 13, file, at[7], "record 7: abscissa minimum");
+  u.dx = field_real(rec[7], 43, 13, file, at[7], "record 7: abscissa increment");
+  if (u.ord_type != 5 && u.ord_type != 6)
+    fail(file, at[7], "record 7: ordinate data type " + std::to_string(u.ord_type) +
+                          ": an FRF needs complex values (5 single, 6 double precision)");
+  if (u.points < 2 || u.points > 10'000'000)
+    fail(file, at[7], "record 7: " + std::to_string(u.points) + " points (2 to 10⁷ expected)");
+  if (u.even != 0 && u.even != 1)
+    fail(file, at[7], "record 7: abscissa spacing " + std::to_string(u.even) + " (0 uneven, 1 even)");
+  if (u.even == 1 && !(u.dx > 0.0))
+    fail(file, at[7], "record 7: the abscissa increment must be > 0");
+  const long x_type = field_int(rec[8], 0, 10, file, at[8], "record 8: abscissa data type");
+  const std::string x_units = field_text(rec[8], 47, 20);
+  if (x_type != 18 && !(x_type == 0 && (x_units == "Hz" || x_units == "HZ")))
+    fail(file, at[8], "record 8: abscissa data type " + std::to_string(x_type) +
+                          " is not frequency (18) in Hz");
+  const long y_type = field_int(rec[9], 0, 10, file, at[9], "record 9: ordinate data type");
+  const std::string y_units = field_text(rec[9], 47, 20);
+  const auto unit = uff_unit(y_type, y_units, units_code);
+  if (!unit)
+    fail(file, at[9], "record 9: cannot tell the ordinate's units (specific data type " +
+                          std::to_string(y_type) + ", units label '" + y_units +
+                          "'): expected displacement (8) in m, mm or um, velocity (11) in "
+                          "m/s or mm/s, or acceleration (12) in m/s^2, mm/s^2 or g — or an "
+                          "empty label with a dataset 164 of SI units (1) before it");
+  u.unit = *unit;
+  const long d_type = field_int(rec[10], 0, 10, file, at[10], "record 10: denominator data type");
+  const std::string d_units = field_text(rec[10], 47, 20);
+  if ((d_type != 13 && d_type != 9) || !(d_units == "N" || none(d_units)))
+    fail(file, at[10], "record 10: the denominator must be a force (13) in N, found data type " +
+                           std::to_string(d_type) + " in '" + d_units + "'");
+  return u;
+}
+
+// Record 12 in binary (58b): the values as stored, in the header's byte order.
+std::vector<double> binary_values(std::string_view bytes, Lines& lines, const BinaryHeader& h,
+                                  const Uff58& u, const std::string& file, int kind_line,
+                                  int data_line) {
+  const std::size_t want = u.values();
+  std::vector<double> v;
+  v.reserve(want);
+  const std::size_t width = u.ord_type == 5 ? 4 : 8;
+  if (static_cast<std::size_t>(h.n_bytes) != want * width)
+    fail(file, kind_line, "58b: " + std::to_string(h.n_bytes) + " bytes declared, " +
+                              std::to_string(u.points) + " points need " +
+                              std::to_string(want * width));
+  if (bytes.size() - lines.pos < want * width)
+    fail(file, data_line, "58b: the file ends inside the binary data");
+  const bool swap = (h.byte_order == 1) != (std::endian::native == std::endian::little);
+  for (std::size_t k = 0; k < want; ++k) {
+    unsigned char b[8];
+    std::memcpy(b, bytes.data() + lines.pos + k * width, width);
+    if (swap) std::reverse(b, b + width);
+    double x = 0.0;
+    if (width == 4) {
+      float y = 0.0f;
+      std::memcpy(&y, b, 4);
+      x = y;
+    } else {
+      std::memcpy(&x, b, 8);
+    }
+    if (!std::isfinite(x)) fail(file, data_line, "58b: a value is not finite");
+    v.push_back(x);
+  }
+  lines.pos += want * width;
+  // The rest of the data's last line, then the closing "-1".
+  if (lines.pos < bytes.size() && bytes[lines.pos] == '\n') ++lines.pos;
+  lines.number = data_line;
+  return v;
+}
+
+// Record 12 in text, field widths per the record-12 formats.
+std::vector<double> text_values(Lines& lines, const Uff58& u, const std::string& file) {
+  const std::size_t want = u.values(), per = u.per();
+  std::vector<double> v;
+  v.reserve(want);
+  std::vector<std::size_t> widths;
+  if (u.ord_type == 5) widths = {13};
+  else if (u.even == 1) widths = {20};
+  else widths = {13, 20, 20};
+  std::string_view line;
+  while (v.size() < want) {
+    if (!lines.next(line))
+      fail(file, lines.number, "dataset 58 ends after " + std::to_string(v.size() / per) +
+                                   " of its " + std::to_string(u.points) + " points");
+    if (trim(line) == "-1")
+      fail(file, lines.number, "dataset 58 closes after " + std::to_string(v.size() / per) +
+                                   " of its " + std::to_string(u.points) + " points");
+    std::size_t pos = 0;
+    for (std::size_t k = 0; pos < line.size() && v.size() < want; ++k) {
+      const std::size_t w = widths[k % widths.size()];
+      const auto f = trim(line.substr(pos, w));
+      pos += w;
+      if (f.empty()) continue;
+      const auto x = number(f);
+      if (!x) fail(file, lines.number, "record 12: '" + std::string(f) + "' is not a finite number");
+      v.push_back(*x);
+    }
+    if (pos < line.size() && !trim(line.substr(pos)).empty())
+      fail(file, lines.number, "record 12: more values than the " + std::to_string(u.points) +
+                                   " points of record 7");
+  }
+  return v;
+}
+
+// A dataset 58 (58b when binary) after its id line: the FRF as receptance.
+dynamics::Frf uff58(std::string_view bytes, Lines& lines, std::string_view id_line, bool binary,
+                    long units_code, const std::string& file) {
+  const int kind_line = lines.number;
+  // Record 6..11 follow five ID lines.
+  const BinaryHeader h = binary ? binary_header(id_line, file, kind_line) : BinaryHeader{};
+  const Uff58 u = uff58_records(lines, file, units_code);
+  const int data_line = lines.number + 1;
+  const std::vector<double> v = binary ? binary_values(bytes, lines, h, u, file, kind_line, data_line)
+                                       : text_values(lines, u, file);
+  std::string_view line;
+  if (!lines.next(line) || trim(line) != "-1")
+    fail(file, lines.number, "dataset 58 must close with '    -1' after its " +
+                                 std::to_string(u.points) + " points");
+  dynamics::Frf frf;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(u.points); ++k) {
+    const double f = u.even == 1 ? u.x0 + u.dx * static_cast<double>(k) : v[k * 3];
+    const std::complex<double> y = u.even == 1 ? std::complex<double>(v[2 * k], v[2 * k + 1])
+                                               : std::complex<double>(v[3 * k + 1], v[3 * k + 2]);
+    check_point(file, data_line, frf, f);
+    frf.frequency_Hz.push_back(f);
+    frf.receptance_m_per_N.push_back(receptance(y, u.unit, f));
+  }
+  return frf;
+}
+
 }  // namespace
 
 dynamics::Frf parse_frf_uff(std::string_view bytes, const std::string& file) {
@@ -276,144 +449,12 @@ dynamics::Frf parse_frf_uff(std::string_view bytes, const std::string& file) {
       fail(file, lines.number, "expected '    -1' opening a dataset (universal file format)");
     }
     if (!lines.next(line)) fail(file, lines.number, "the file ends after a dataset's '-1'");
-    const int kind_line = lines.number;
     const auto id = trim(line);
     const bool binary = id.size() > 2 && id.substr(0, 3) == "58b";
     if (id == "164" && lines.next(line)) {
       units_code = field_int(line, 0, 10, file, lines.number, "dataset 164: units code");
     } else if (id == "58" || binary) {
-      // Record 6..11 follow five ID lines.
-      long byte_order = 0, n_bytes = 0;
-      if (binary) {  // (I6,1A1,I6,I6,I12,I12,...) after the "58b" of the second line
-        const std::string_view h = line;
-        byte_order = field_int(h, 7, 6, file, kind_line, "58b byte ordering");
-        const long fp = field_int(h, 13, 6, file, kind_line, "58b floating-point format");
-        n_bytes = field_int(h, 31, 12, file, kind_line, "58b number of bytes");
-        if (byte_order != 1 && byte_order != 2)
-          fail(file, kind_line, "58b byte ordering " + std::to_string(byte_order) +
-                                    ": expected 1 (little endian) or 2 (big endian)");
-        if (fp != 2) fail(file, kind_line, "58b floating-point format " + std::to_string(fp) +
-                                               ": only 2 (IEEE 754) is read");
-        if (n_bytes <= 0) fail(file, kind_line, "58b: the number of data bytes must be > 0");
-      }
-      std::string_view rec[12];
-      int at[12] = {};
-      for (int r = 1; r <= 11; ++r) {
-        if (!lines.next(line)) fail(file, lines.number, "dataset 58 ends before record " + std::to_string(r));
-        rec[r] = line;
-        at[r] = lines.number;
-      }
-      const long func_type = field_int(rec[6], 0, 5, file, at[6], "record 6: function type");
-      if (func_type != 4)
-        fail(file, at[6], "record 6: function type " + std::to_string(func_type) +
-                              " is not a frequency response function (4)");
-      const long ord_type = field_int(rec[7], 0, 10, file, at[7], "record 7: ordinate data type");
-      const long points = field_int(rec[7], 10, 10, file, at[7], "record 7: number of points");
-      const long even = field_int(rec[7], 20, 10, file, at[7], "record 7: abscissa spacing");
-      const double x0 = field_real(rec[7], 30, 13, file, at[7], "record 7: abscissa minimum");
-      const double dx = field_real(rec[7], 43, 13, file, at[7], "record 7: abscissa increment");
-      if (ord_type != 5 && ord_type != 6)
-        fail(file, at[7], "record 7: ordinate data type " + std::to_string(ord_type) +
-                              ": an FRF needs complex values (5 single, 6 double precision)");
-      if (points < 2 || points > 10'000'000)
-        fail(file, at[7], "record 7: " + std::to_string(points) + " points (2 to 10⁷ expected)");
-      if (even != 0 && even != 1)
-        fail(file, at[7], "record 7: abscissa spacing " + std::to_string(even) + " (0 uneven, 1 even)");
-      if (even == 1 && !(dx > 0.0))
-        fail(file, at[7], "record 7: the abscissa increment must be > 0");
-      const long x_type = field_int(rec[8], 0, 10, file, at[8], "record 8: abscissa data type");
-      const std::string x_units = field_text(rec[8], 47, 20);
-      if (x_type != 18 && !(x_type == 0 && (x_units == "Hz" || x_units == "HZ")))
-        fail(file, at[8], "record 8: abscissa data type " + std::to_string(x_type) +
-                              " is not frequency (18) in Hz");
-      const long y_type = field_int(rec[9], 0, 10, file, at[9], "record 9: ordinate data type");
-      const std::string y_units = field_text(rec[9], 47, 20);
-      const auto unit = uff_unit(y_type, y_units, units_code);
-      if (!unit)
-        fail(file, at[9], "record 9: cannot tell the ordinate's units (specific data type " +
-                              std::to_string(y_type) + ", units label '" + y_units +
-                              "'): expected displacement (8) in m, mm or um, velocity (11) in "
-                              "m/s or mm/s, or acceleration (12) in m/s^2, mm/s^2 or g — or an "
-                              "empty label with a dataset 164 of SI units (1) before it");
-      const long d_type = field_int(rec[10], 0, 10, file, at[10], "record 10: denominator data type");
-      const std::string d_units = field_text(rec[10], 47, 20);
-      if ((d_type != 13 && d_type != 9) || !(d_units == "N" || none(d_units)))
-        fail(file, at[10], "record 10: the denominator must be a force (13) in N, found data type " +
-                               std::to_string(d_type) + " in '" + d_units + "'");
-      const std::size_t per = even == 1 ? 2 : 3;  // values per point
-      const std::size_t want = static_cast<std::size_t>(points) * per;
-      std::vector<double> v;
-      v.reserve(want);
-      int data_line = lines.number + 1;
-      if (binary) {
-        const std::size_t width = ord_type == 5 ? 4 : 8;
-        if (static_cast<std::size_t>(n_bytes) != want * width)
-          fail(file, kind_line, "58b: " + std::to_string(n_bytes) + " bytes declared, " +
-                                    std::to_string(points) + " points need " +
-                                    std::to_string(want * width));
-        if (bytes.size() - lines.pos < want * width)
-          fail(file, data_line, "58b: the file ends inside the binary data");
-        const bool swap = (byte_order == 1) != (std::endian::native == std::endian::little);
-        for (std::size_t k = 0; k < want; ++k) {
-          unsigned char b[8];
-          std::memcpy(b, bytes.data() + lines.pos + k * width, width);
-          if (swap) std::reverse(b, b + width);
-          double x = 0.0;
-          if (width == 4) {
-            float y = 0.0f;
-            std::memcpy(&y, b, 4);
-            x = y;
-          } else {
-            std::memcpy(&x, b, 8);
-          }
-          if (!std::isfinite(x)) fail(file, data_line, "58b: a value is not finite");
-          v.push_back(x);
-        }
-        lines.pos += want * width;
-        // The rest of the data's last line, then the closing "-1".
-        if (lines.pos < bytes.size() && bytes[lines.pos] == '\n') ++lines.pos;
-        lines.number = data_line;
-      } else {
-        // Field widths per the record-12 formats.
-        std::vector<std::size_t> widths;
-        if (ord_type == 5) widths = {13};
-        else if (even == 1) widths = {20};
-        else widths = {13, 20, 20};
-        while (v.size() < want) {
-          if (!lines.next(line))
-            fail(file, lines.number, "dataset 58 ends after " + std::to_string(v.size() / per) +
-                                         " of its " + std::to_string(points) + " points");
-          if (trim(line) == "-1")
-            fail(file, lines.number, "dataset 58 closes after " + std::to_string(v.size() / per) +
-                                         " of its " + std::to_string(points) + " points");
-          std::size_t pos = 0;
-          for (std::size_t k = 0; pos < line.size() && v.size() < want; ++k) {
-            const std::size_t w = widths[k % widths.size()];
-            const auto f = trim(line.substr(pos, w));
-            pos += w;
-            if (f.empty()) continue;
-            const auto x = number(f);
-            if (!x) fail(file, lines.number, "record 12: '" + std::string(f) + "' is not a finite number");
-            v.push_back(*x);
-          }
-          if (pos < line.size() && !trim(line.substr(pos)).empty())
-            fail(file, lines.number, "record 12: more values than the " + std::to_string(points) +
-                                         " points of record 7");
-        }
-      }
-      if (!lines.next(line) || trim(line) != "-1")
-        fail(file, lines.number, "dataset 58 must close with '    -1' after its " +
-                                     std::to_string(points) + " points");
-      dynamics::Frf frf;
-      for (std::size_t k = 0; k < static_cast<std::size_t>(points); ++k) {
-        const double f = even == 1 ? x0 + dx * static_cast<double>(k) : v[k * 3];
-        const std::complex<double> y = even == 1 ? std::complex<double>(v[2 * k], v[2 * k + 1])
-                                                 : std::complex<double>(v[3 * k + 1], v[3 * k + 2]);
-        check_point(file, data_line, frf, f);
-        frf.frequency_Hz.push_back(f);
-        frf.receptance_m_per_N.push_back(receptance(y, *unit, f));
-      }
-      return frf;
+      return uff58(bytes, lines, line, binary, units_code, file);
     }
     // Any other dataset: skip to its closing "-1".
     while (lines.next(line) && trim(line) != "-1") {

@@ -1,13 +1,12 @@
-// The report's SVG plots: ticks, decimation (min/max per pixel column), axes, legends.
+// The report's SVG plots: axes, lines, points, timeline bands, markers and legends (their ticks
+// and numbers in report_scale.cpp, decimation in report_layout.cpp).
 #include "report_plot.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstddef>
 #include <string>
 #include <string_view>
-#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -50,106 +49,6 @@ constexpr std::size_t kPaletteSize = sizeof(kPalette) / sizeof(kPalette[0]);
 
 // Values beyond this are clamped before scaling so that ranges and pixel maths stay finite.
 constexpr double kHuge = 1e300;
-
-// Locale-independent (std::to_chars), unlike printf, so a program that calls setlocale() cannot
-// turn the decimal point of an SVG coordinate into a comma.
-std::string fixed(double v, int decimals) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::fixed, decimals);
-  if (r.ec != std::errc{}) return "0";
-  return std::string(buf, r.ptr);
-}
-
-// %g-like with a compact exponent: 1.5e+06 → 1.5e6, 2e-05 → 2e-5.
-std::string general(double v, int precision) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::general, precision);
-  if (r.ec != std::errc{}) return "0";
-  std::string s(buf, r.ptr);
-  const auto e = s.find('e');
-  if (e == std::string::npos) return s;
-  std::string mantissa = s.substr(0, e);
-  std::string exponent = s.substr(e + 1);
-  bool negative = false;
-  if (!exponent.empty() && (exponent[0] == '+' || exponent[0] == '-')) {
-    negative = exponent[0] == '-';
-    exponent.erase(0, 1);
-  }
-  const auto nz = exponent.find_first_not_of('0');
-  exponent = nz == std::string::npos ? "0" : exponent.substr(nz);
-  return mantissa + (negative ? "e-" : "e") + exponent;
-}
-
-// One SVG coordinate, 0.1 px resolution, no trailing ".0", never "-0".
-std::string coord(double v) {
-  if (!std::isfinite(v)) return "0";  // unreachable by construction; never emit nan/inf
-  std::string s = fixed(std::round(v * 10.0) / 10.0, 1);
-  if (s.size() > 2 && s.compare(s.size() - 2, 2, ".0") == 0) s.resize(s.size() - 2);
-  if (s == "-0") s = "0";
-  return s;
-}
-
-// Tick label for v on an axis [lo, hi] with the given (1-2-5) step: plain decimals for ordinary
-// magnitudes, just enough significant digits otherwise.
-std::string tick_label(double v, double step, double lo, double hi) {
-  if (std::abs(v) < step * 1e-6) return "0";
-  const double mag = std::max(std::abs(lo), std::abs(hi));
-  const double step_exp = std::floor(std::log10(step) + 1e-9);
-  if (mag >= 1e-3 && mag < 1e6 && step >= 1e-6) {
-    const int decimals = step_exp < 0.0 ? static_cast<int>(-step_exp) : 0;
-    return fixed(v, decimals);
-  }
-  const double mag_exp = std::floor(std::log10(mag) + 1e-9);
-  const int digits = std::clamp(static_cast<int>(mag_exp - step_exp) + 1, 1, 15);
-  return general(v, digits);
-}
-
-// ---------------------------------------------------------------------------------------------
-// Axis scaling
-
-double nice_step(double raw) {
-  if (!(raw > 0.0) || !std::isfinite(raw)) return 1.0;
-  const double exp10 = std::pow(10.0, std::floor(std::log10(raw)));
-  const double f = raw / exp10;
-  const double n = f < 1.5 ? 1.0 : f < 3.0 ? 2.0 : f < 7.0 ? 5.0 : 10.0;  // nearest 1-2-5
-  return n * exp10;
-}
-
-struct Ticks {
-  std::vector<double> values;
-  double step = 1.0;
-};
-
-Ticks make_ticks(double lo, double hi, double target_count) {
-  Ticks t;
-  t.step = nice_step((hi - lo) / target_count);
-  const double start = std::ceil(lo / t.step - 1e-9) * t.step;
-  for (int i = 0; i < 100; ++i) {
-    double v = start + static_cast<double>(i) * t.step;
-    if (v > hi + t.step * 1e-9) break;
-    if (std::abs(v) < t.step * 1e-9) v = 0.0;
-    t.values.push_back(v);
-  }
-  return t;
-}
-
-struct Range {
-  double lo = 0.0;
-  double hi = 1.0;
-};
-
-// Widens a degenerate (constant, or so narrow that pixel maths would underflow) range; pads a
-// proper one by `pad_fraction` of its span on each side.
-Range widen(double lo, double hi, double pad_fraction) {
-  constexpr double kTiny = 1e-200;
-  const double span = hi - lo;
-  const double scale = std::max(std::abs(lo), std::abs(hi));
-  if (span > scale * 1e-12 && span > kTiny) {
-    return {lo - span * pad_fraction, hi + span * pad_fraction};
-  }
-  const double pad = scale > kTiny ? scale * 0.1 : 1.0;
-  return {lo - pad, hi + pad};
-}
 
 // ---------------------------------------------------------------------------------------------
 // SVG plot
@@ -221,173 +120,184 @@ struct TextWriter {
   }
 };
 
-// Decade ticks on a log10 axis [lo, hi] (in decades); 2 and 5 between them when the axis spans
-// fewer than three decades.
-Ticks log_ticks(double lo, double hi) {
-  Ticks t;
-  t.step = 1.0;
-  const bool fine = hi - lo < 3.0;
-  for (double d = std::floor(lo); d <= std::ceil(hi) && t.values.size() < 60; d += 1.0) {
-    for (const double m : {1.0, 2.0, 5.0}) {
-      if (m > 1.0 && !fine) continue;
-      const double v = d + std::log10(m);
-      if (v >= lo - 1e-9 && v <= hi + 1e-9) t.values.push_back(v);
-    }
-  }
-  return t;
-}
-
-std::string log_tick_label(double decades) {
-  const double v = std::pow(10.0, decades);
-  if (v < 1e-4 || v >= 1e6) return general(v, 2);
-  const double d = std::floor(decades + 1e-9);
-  return fixed(v, d < 0.0 ? static_cast<int>(-d) : 0);
-}
-
 struct LegendItem {
   double x = 0.0;
   double row = 0.0;
   std::size_t series = 0;
 };
 
-}  // namespace
-
-void render_plot(std::string& out, const Plot& plot, std::size_t plot_index, std::size_t max_points,
-                 std::vector<PlacedText>* placed) {
-  const bool timeline = !plot.lanes.empty();
-  // A log axis plots log10(y) (non-positive values become gaps) on a linear frame.
+// What a plot draws, before any pixel: its series (log10(y) on a log axis, non-positive values
+// becoming gaps), their decimated runs of finite points, and the data extent (from all finite
+// points, not only the kept ones, so the axes are the same with or without decimation; y only
+// from the points inside a fixed x range).
+struct PlotData {
+  const Plot* plot = nullptr;
+  bool timeline = false;  // lanes of coded bands, not lines
+  bool fixed_x = false;   // the plot's own x range
   std::vector<Series> logged;
-  if (plot.log_y && !timeline) {
-    logged = plot.series;
-    for (Series& s : logged)
-      for (double& v : s.y) v = v > 0.0 ? std::log10(v) : std::nan("");
-  }
-  const std::vector<Series>& series = logged.empty() ? plot.series : logged;
-  const bool fixed_x =
-      std::isfinite(plot.x_min) && std::isfinite(plot.x_max) && plot.x_max > plot.x_min;
-
-  // Decimated runs of finite points per series, and the data extent (from all finite points,
-  // not only the kept ones, so the axes are the same with or without decimation; y only from
-  // the points inside a fixed x range).
   std::vector<std::vector<Segment>> segments;
-  segments.reserve(series.size());
   bool has_data = false, has_points = false;
   double x_lo = 0.0, x_hi = 0.0, y_lo = 0.0, y_hi = 0.0;
-  for (const Series& s : series) {
-    const std::size_t n = std::min(s.x.size(), s.y.size());
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!finite_point(s, i)) continue;
-      if (fixed_x && (s.x[i] < plot.x_min || s.x[i] > plot.x_max)) continue;
-      const double xv = std::clamp(s.x[i], -kHuge, kHuge);
-      const double yv = std::clamp(s.y[i], -kHuge, kHuge);
-      if (!has_data) {
-        x_lo = x_hi = xv;
-        y_lo = y_hi = yv;
-        has_data = true;
-      } else {
-        x_lo = std::min(x_lo, xv);
-        x_hi = std::max(x_hi, xv);
-        y_lo = std::min(y_lo, yv);
-        y_hi = std::max(y_hi, yv);
-      }
+
+  const std::vector<Series>& series() const { return logged.empty() ? plot->series : logged; }
+};
+
+void extend_extent(PlotData& d, const Series& s) {
+  const Plot& plot = *d.plot;
+  const std::size_t n = std::min(s.x.size(), s.y.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!finite_point(s, i)) continue;
+    if (d.fixed_x && (s.x[i] < plot.x_min || s.x[i] > plot.x_max)) continue;
+    const double xv = std::clamp(s.x[i], -kHuge, kHuge);
+    const double yv = std::clamp(s.y[i], -kHuge, kHuge);
+    if (!d.has_data) {
+      d.x_lo = d.x_hi = xv;
+      d.y_lo = d.y_hi = yv;
+      d.has_data = true;
+    } else {
+      d.x_lo = std::min(d.x_lo, xv);
+      d.x_hi = std::max(d.x_hi, xv);
+      d.y_lo = std::min(d.y_lo, yv);
+      d.y_hi = std::max(d.y_hi, yv);
     }
-    segments.push_back(segments_of(s, max_points));
-    has_points = has_points || s.points;
-    for (const Segment& seg : segments.back()) has_points = has_points || seg.size() == 1;
   }
-  if (!has_data) {
+}
+
+PlotData plot_data(const Plot& plot, std::size_t max_points) {
+  PlotData d;
+  d.plot = &plot;
+  d.timeline = !plot.lanes.empty();
+  d.fixed_x = std::isfinite(plot.x_min) && std::isfinite(plot.x_max) && plot.x_max > plot.x_min;
+  if (plot.log_y && !d.timeline) {
+    d.logged = plot.series;
+    for (Series& s : d.logged)
+      for (double& v : s.y) v = v > 0.0 ? std::log10(v) : std::nan("");
+  }
+  d.segments.reserve(d.series().size());
+  for (const Series& s : d.series()) {
+    extend_extent(d, s);
+    d.segments.push_back(segments_of(s, max_points));
+    d.has_points = d.has_points || s.points;
+    for (const Segment& seg : d.segments.back()) d.has_points = d.has_points || seg.size() == 1;
+  }
+  if (!d.has_data) {
     // Empty axes; markers still give the time axis a meaningful extent when present.
     bool any_marker = false;
     for (const Marker& m : plot.markers) {
       if (!std::isfinite(m.x)) continue;
       const double xv = std::clamp(m.x, -kHuge, kHuge);
-      x_lo = any_marker ? std::min(x_lo, xv) : xv;
-      x_hi = any_marker ? std::max(x_hi, xv) : xv;
+      d.x_lo = any_marker ? std::min(d.x_lo, xv) : xv;
+      d.x_hi = any_marker ? std::max(d.x_hi, xv) : xv;
       any_marker = true;
     }
-    if (!any_marker) x_hi = 1.0;
-    y_lo = 0.0;
-    y_hi = 1.0;
+    if (!any_marker) d.x_hi = 1.0;
+    d.y_lo = 0.0;
+    d.y_hi = 1.0;
   }
+  return d;
+}
 
+// The frame's ranges: x from the plot's fixed range or the data; y from lanes, the plot's fixed
+// range, or the data widened (either end the plot fixes kept).
+Frame plot_frame(const PlotData& d) {
+  const Plot& plot = *d.plot;
   Frame f;
-  f.x = fixed_x ? Range{plot.x_min, plot.x_max} : widen(x_lo, x_hi, 0.0);
+  f.x = d.fixed_x ? Range{plot.x_min, plot.x_max} : widen(d.x_lo, d.x_hi, 0.0);
   const auto fixed_y = [&](double v) { return plot.log_y ? (v > 0.0 ? std::log10(v) : NAN) : v; };
   const double fy_lo = fixed_y(plot.y_min), fy_hi = fixed_y(plot.y_max);
-  if (timeline) {
+  if (d.timeline) {
     f.y = {0.0, static_cast<double>(plot.lanes.size())};
     f.height = kLaneHeight * static_cast<double>(plot.lanes.size());
   } else if (std::isfinite(fy_lo) && std::isfinite(fy_hi) && fy_hi > fy_lo) {
     f.y = {fy_lo, fy_hi};
   } else {
-    f.y = has_data ? widen(y_lo, y_hi, 0.05) : Range{0.0, 1.0};
+    f.y = d.has_data ? widen(d.y_lo, d.y_hi, 0.05) : Range{0.0, 1.0};
     if (std::isfinite(fy_lo) && fy_lo < f.y.hi) f.y.lo = fy_lo;
     if (std::isfinite(fy_hi) && fy_hi > f.y.lo) f.y.hi = fy_hi;
   }
+  return f;
+}
 
-  // y ticks: lane names, decades, or 1-2-5 steps.
+struct Axes {
   std::vector<double> y_ticks;
   std::vector<std::string> y_labels;
-  if (timeline) {
+  Ticks xt;
+  std::vector<std::string> x_labels;
+};
+
+// The ticks and their labels; the frame's left edge and width follow from the y labels' width.
+Axes plot_axes(const PlotData& d, Frame& f) {
+  const Plot& plot = *d.plot;
+  Axes ax;
+  // y ticks: lane names, decades, or 1-2-5 steps.
+  if (d.timeline) {
     for (std::size_t i = 0; i < plot.lanes.size(); ++i) {
-      y_ticks.push_back(f.y.hi - static_cast<double>(i) - 0.5);
-      y_labels.push_back(plot.lanes[i].second);
+      ax.y_ticks.push_back(f.y.hi - static_cast<double>(i) - 0.5);
+      ax.y_labels.push_back(plot.lanes[i].second);
     }
   } else {
     const Ticks yt = plot.log_y ? log_ticks(f.y.lo, f.y.hi) : make_ticks(f.y.lo, f.y.hi, 5.0);
-    y_ticks = yt.values;
+    ax.y_ticks = yt.values;
     for (const double v : yt.values)
-      y_labels.push_back(plot.log_y ? log_tick_label(v) : tick_label(v, yt.step, f.y.lo, f.y.hi));
+      ax.y_labels.push_back(plot.log_y ? log_tick_label(v)
+                                       : tick_label(v, yt.step, f.y.lo, f.y.hi));
   }
   double longest = 0.0;
-  for (const std::string& l : y_labels)
+  for (const std::string& l : ax.y_labels)
     longest = std::max(longest, text_width(l, text_style("tick")));
   // Room for the tick labels (8 px from the axis) and the rotated axis label (to x ≈ 19).
   f.left = std::max(60.0, 32.0 + longest);
   f.width = kWidth - f.left - kRight;
-  if (has_points && !fixed_x) {  // keep markers at the ends whole
+  if (d.has_points && !d.fixed_x) {  // keep markers at the ends whole
     const double pad = (f.x.hi - f.x.lo) * kEdgePad / f.width;
     f.x = {f.x.lo - pad, f.x.hi + pad};
   }
-
   // x ticks: as many as fit without their labels touching.
-  Ticks xt;
-  std::vector<std::string> x_labels;
   for (double target = 7.0; target >= 2.0; target -= 1.0) {
-    xt = make_ticks(f.x.lo, f.x.hi, target);
-    x_labels.clear();
+    ax.xt = make_ticks(f.x.lo, f.x.hi, target);
+    ax.x_labels.clear();
     double widest = 0.0;
-    for (const double v : xt.values) {
-      x_labels.push_back(tick_label(v, xt.step, f.x.lo, f.x.hi));
-      widest = std::max(widest, text_width(x_labels.back(), text_style("tick")));
+    for (const double v : ax.xt.values) {
+      ax.x_labels.push_back(tick_label(v, ax.xt.step, f.x.lo, f.x.hi));
+      widest = std::max(widest, text_width(ax.x_labels.back(), text_style("tick")));
     }
-    const double spacing = xt.values.size() > 1 ? f.px(xt.values[1]) - f.px(xt.values[0]) : 1e9;
+    const std::vector<double>& xv = ax.xt.values;
+    const double spacing = xv.size() > 1 ? f.px(xv[1]) - f.px(xv[0]) : 1e9;
     if (widest + 10.0 < spacing) break;
   }
+  return ax;
+}
 
-  // Legend layout: rows under the x-axis label, wrapped to the plot width.
-  std::vector<LegendItem> legend;
-  double lx = f.left;
+struct Legend {
+  std::vector<LegendItem> items;
   double rows = 0.0;
+};
+
+// Legend layout: rows under the x-axis label, wrapped to the plot width.
+Legend legend_layout(const Plot& plot, const Frame& f) {
+  Legend lg;
+  double lx = f.left;
   for (std::size_t i = 0; i < plot.series.size(); ++i) {
     const std::string& name = plot.series[i].name;
     if (name.empty()) continue;
     const double w = 28.0 + text_width(name, text_style("legend")) + 24.0;
-    if (legend.empty()) {
-      rows = 1.0;
+    if (lg.items.empty()) {
+      lg.rows = 1.0;
     } else if (lx + w > f.right() && lx > f.left) {
       lx = f.left;
-      rows += 1.0;
+      lg.rows += 1.0;
     }
-    legend.push_back({lx, rows - 1.0, i});
+    lg.items.push_back({lx, lg.rows - 1.0, i});
     lx += w;
   }
+  return lg;
+}
 
-  // The data's footprint in pixels, for placing marker labels off it.
-  Occupancy occ(f.left, f.top, f.width, f.height);
+// The data's footprint in pixels, for placing marker labels off it.
+void mark_data(Occupancy& occ, const PlotData& d, const Frame& f) {
+  const std::vector<Series>& series = d.series();
   for (std::size_t si = 0; si < series.size(); ++si) {
-    if (timeline) continue;
-    for (const Segment& seg : segments[si]) {
+    for (const Segment& seg : d.segments[si]) {
       for (std::size_t k = 0; k < seg.size(); ++k) {
         const double x = f.px(seg[k].first), y = f.py(seg[k].second);
         if (series[si].points || k == 0) {
@@ -398,11 +308,16 @@ void render_plot(std::string& out, const Plot& plot, std::size_t plot_index, std
       }
     }
   }
+}
+
+// A timeline's bands, one lane per code (runs closer than half a pixel merged), marked in occ.
+std::string timeline_bands(const PlotData& d, const Frame& f, const Axes& ax, Occupancy& occ) {
+  const Plot& plot = *d.plot;
   std::string bands;
-  for (std::size_t li = 0; timeline && li < plot.lanes.size(); ++li) {
-    const double yc = f.py(y_ticks[li]);
+  for (std::size_t li = 0; li < plot.lanes.size(); ++li) {
+    const double yc = f.py(ax.y_ticks[li]);
     std::vector<std::pair<double, double>> px_runs;  // merged where closer than half a pixel
-    for (const Series& s : series) {
+    for (const Series& s : d.series()) {
       for (const auto& [a, b] : runs_of(s, plot.lanes[li].first)) {
         const double x0 = std::max(f.px(a), f.left);
         const double x1 = std::max(std::min(f.px(b), f.right()), x0 + 1.0);  // one sample shows
@@ -422,14 +337,23 @@ void render_plot(std::string& out, const Plot& plot, std::size_t plot_index, std
     }
     bands += "</g>";
   }
+  return bands;
+}
 
-  // Marker lines, in the plot area, and their labels beside them.
+struct MarkerLayout {
+  std::string lines;
+  std::vector<PlacedMarkerLabel> labels;
+  std::vector<std::string> unplaced;
+};
+
+// Marker lines, in the plot area, and their labels beside them.
+MarkerLayout marker_layout(const Plot& plot, const Frame& f, Occupancy& occ) {
+  MarkerLayout mk;
   std::vector<MarkerLabel> wanted;
-  std::string marker_lines;
   for (const Marker& m : plot.markers) {
     if (!std::isfinite(m.x) || m.x < f.x.lo || m.x > f.x.hi) continue;
     const double x = f.px(m.x);
-    marker_lines += line(x, f.top, x, f.bottom(), "m");
+    mk.lines += line(x, f.top, x, f.bottom(), "m");
     occ.mark_line(x, f.top, x, f.bottom());
     wanted.push_back({x, m.label});
   }
@@ -437,20 +361,15 @@ void render_plot(std::string& out, const Plot& plot, std::size_t plot_index, std
   const Box title_box =
       text_box(f.left + f.width / 2.0, 24.0, "middle", false, plot.title, text_style("title"));
   std::vector<Box> taken{title_box};
-  std::vector<std::string> unplaced;
   const Box frame_box{f.left, f.top, f.right(), f.bottom()};
   const Box above{4.0, title_box.y1 + 1.0, kWidth - 4.0, f.top};
-  const std::vector<PlacedMarkerLabel> mlabels =
-      place_marker_labels(wanted, frame_box, above, occ, taken, unplaced);
+  mk.labels = place_marker_labels(wanted, frame_box, above, occ, taken, mk.unplaced);
+  return mk;
+}
 
-  const double legend_top = f.bottom() + 54.0;
-  const double caption_rows = unplaced.empty() ? 0.0 : 1.0;
-  const double height = rows + caption_rows > 0.0
-                            ? legend_top + (rows + caption_rows) * kLegendRow + 6.0
-                            : f.bottom() + 50.0;
-
-  const TextWriter tw{placed};
-  const std::string id = "clip" + std::to_string(plot_index);
+// The <svg> and its frame: title, grid, ticks and their labels, axes and axis labels.
+void write_frame(std::string& out, const TextWriter& tw, const Plot& plot, const Frame& f,
+                 const Axes& ax, const std::string& id, double height) {
   out += "<figure class=\"plot\">\n<svg class=\"chart\" viewBox=\"0 0 " + coord(kWidth) + " " +
          coord(height) + "\" role=\"img\" aria-label=\"" + escape(plot.title) + "\">\n";
   out += "<defs><clipPath id=\"" + id + "\"><rect x=\"" + coord(f.left - 4.0) + "\" y=\"" +
@@ -462,24 +381,24 @@ void render_plot(std::string& out, const Plot& plot, std::size_t plot_index, std
 
   // Grid and tick labels.
   out += "<g class=\"grid\">";
-  for (const double v : xt.values) {
+  for (const double v : ax.xt.values) {
     const double x = f.px(v);
     out += line(x, f.top, x, f.bottom(), "g");
   }
-  for (const double v : y_ticks) {
+  for (const double v : ax.y_ticks) {
     const double y = f.py(v);
     out += line(f.left, y, f.right(), y, "g");
   }
   out += "</g>\n<g class=\"ticks\">";
-  for (std::size_t i = 0; i < xt.values.size(); ++i) {
-    const double x = f.px(xt.values[i]);
+  for (std::size_t i = 0; i < ax.xt.values.size(); ++i) {
+    const double x = f.px(ax.xt.values[i]);
     out += line(x, f.bottom(), x, f.bottom() + 5.0, "t");
-    out += tw.text(x, f.bottom() + 19.0, "middle", "tick", x_labels[i]);
+    out += tw.text(x, f.bottom() + 19.0, "middle", "tick", ax.x_labels[i]);
   }
-  for (std::size_t i = 0; i < y_ticks.size(); ++i) {
-    const double y = f.py(y_ticks[i]);
+  for (std::size_t i = 0; i < ax.y_ticks.size(); ++i) {
+    const double y = f.py(ax.y_ticks[i]);
     out += line(f.left - 5.0, y, f.left, y, "t");
-    out += tw.text(f.left - 8.0, y + 4.0, "end", "tick", y_labels[i]);
+    out += tw.text(f.left - 8.0, y + 4.0, "end", "tick", ax.y_labels[i]);
   }
   out += "</g>\n";
   out += line(f.left, f.top, f.left, f.bottom(), "axis") +
@@ -493,71 +412,54 @@ void render_plot(std::string& out, const Plot& plot, std::size_t plot_index, std
     const std::string y_label = plot.log_y ? plot.y_label + " (log scale)" : plot.y_label;
     out += tw.rotated(16.0, f.top + f.height / 2.0, "middle", "label", y_label) + "\n";
   }
+}
 
-  // Markers: dashed vertical lines under the data; their labels (with a white halo) on top.
-  out += "<g class=\"marker\">" + marker_lines + "</g>\n";
-
-  // Series: timeline bands, or lines and points (each series drawn in its order, the last on
-  // top).
-  out += "<g clip-path=\"url(#" + id + ")\">\n" + bands;
-  for (std::size_t si = 0; si < series.size() && !timeline; ++si) {
-    const Series& s = series[si];
-    const std::string color = color_of(s, si);
-    if (s.points) {
-      out += "<g class=\"points\" fill=\"" + color + "\">";
-      for (const Segment& seg : segments[si]) {
-        for (const Point& p : seg) {
-          const double x = f.px(p.first), y = f.py(p.second);
-          if (!std::isfinite(x) || !std::isfinite(y)) continue;
-          out += "<circle cx=\"" + coord(x) + "\" cy=\"" + coord(y) + "\" r=\"2.6\"/>";
-        }
-      }
-      out += "</g>\n";
-      continue;
-    }
-    for (const Segment& seg : segments[si]) {
-      std::string pts;
-      std::size_t count = 0;
-      double last_x = 0.0, last_y = 0.0;
-      for (const Point& p : seg) {
-        const double x = f.px(p.first), y = f.py(p.second);
-        if (!std::isfinite(x) || !std::isfinite(y)) continue;
-        if (count > 0) pts += ' ';
-        pts += coord(x) + "," + coord(y);
-        last_x = x;
-        last_y = y;
-        ++count;
-      }
-      if (count == 1) {  // an isolated point between gaps: still show it
-        out += "<circle cx=\"" + coord(last_x) + "\" cy=\"" + coord(last_y) +
-               "\" r=\"1.8\" fill=\"" + color + "\"/>\n";
-      } else if (count > 1) {
-        out += "<polyline points=\"" + pts + "\" fill=\"none\" stroke=\"" + color +
-               "\" stroke-width=\"1.7\" stroke-linejoin=\"round\" stroke-linecap=\"round\"";
-        if (s.dashed) out += " stroke-dasharray=\"7 4\"";
-        out += "/>\n";
-      }
+void write_points(std::string& out, const std::vector<Segment>& segments, const std::string& color,
+                  const Frame& f) {
+  out += "<g class=\"points\" fill=\"" + color + "\">";
+  for (const Segment& seg : segments) {
+    for (const Point& p : seg) {
+      const double x = f.px(p.first), y = f.py(p.second);
+      if (!std::isfinite(x) || !std::isfinite(y)) continue;
+      out += "<circle cx=\"" + coord(x) + "\" cy=\"" + coord(y) + "\" r=\"2.6\"/>";
     }
   }
   out += "</g>\n";
+}
 
-  if (!mlabels.empty()) {
-    out += "<g class=\"marker\">";
-    for (const PlacedMarkerLabel& l : mlabels)
-      out += l.rotated ? tw.rotated(l.x, l.y, l.anchor, "mark", l.text)
-                       : tw.text(l.x, l.y, l.anchor, "mark", l.text);
-    out += "</g>\n";
+void write_lines(std::string& out, const Series& s, const std::vector<Segment>& segments,
+                 const std::string& color, const Frame& f) {
+  for (const Segment& seg : segments) {
+    std::string pts;
+    std::size_t count = 0;
+    double last_x = 0.0, last_y = 0.0;
+    for (const Point& p : seg) {
+      const double x = f.px(p.first), y = f.py(p.second);
+      if (!std::isfinite(x) || !std::isfinite(y)) continue;
+      if (count > 0) pts += ' ';
+      pts += coord(x) + "," + coord(y);
+      last_x = x;
+      last_y = y;
+      ++count;
+    }
+    if (count == 1) {  // an isolated point between gaps: still show it
+      out += "<circle cx=\"" + coord(last_x) + "\" cy=\"" + coord(last_y) +
+             "\" r=\"1.8\" fill=\"" + color + "\"/>\n";
+    } else if (count > 1) {
+      out += "<polyline points=\"" + pts + "\" fill=\"none\" stroke=\"" + color +
+             "\" stroke-width=\"1.7\" stroke-linejoin=\"round\" stroke-linecap=\"round\"";
+      if (s.dashed) out += " stroke-dasharray=\"7 4\"";
+      out += "/>\n";
+    }
   }
-  if (!has_data) {
-    out += tw.text(f.left + f.width / 2.0, f.top + f.height / 2.0 + 6.0, "middle", "nodata",
-                   "no data") +
-           "\n";
-  }
+}
 
-  // Legend (and, under it, the marker labels that found no room beside their lines).
-  if (!legend.empty()) {
+// Legend (and, under it, the marker labels that found no room beside their lines).
+void write_legend(std::string& out, const TextWriter& tw, const Plot& plot, const Legend& lg,
+                  const std::vector<std::string>& unplaced, double left, double legend_top) {
+  if (!lg.items.empty()) {
     out += "<g class=\"legend\">";
-    for (const LegendItem& item : legend) {
+    for (const LegendItem& item : lg.items) {
       const Series& s = plot.series[item.series];
       const std::string color = color_of(s, item.series);
       const double y = legend_top + item.row * kLegendRow;
@@ -578,8 +480,61 @@ void render_plot(std::string& out, const Plot& plot, std::size_t plot_index, std
   if (!unplaced.empty()) {
     std::string caption = "also marked: ";
     for (std::size_t i = 0; i < unplaced.size(); ++i) caption += (i ? ", " : "") + unplaced[i];
-    out += tw.text(f.left, legend_top + rows * kLegendRow, "", "legend", caption) + "\n";
+    out += tw.text(left, legend_top + lg.rows * kLegendRow, "", "legend", caption) + "\n";
   }
+}
+
+}  // namespace
+
+void render_plot(std::string& out, const Plot& plot, std::size_t plot_index, std::size_t max_points,
+                 std::vector<PlacedText>* placed) {
+  // Layout: the data, the frame and its axes, the legend, then the marker labels placed off the
+  // data, the bands and the title.
+  const PlotData d = plot_data(plot, max_points);
+  Frame f = plot_frame(d);
+  const Axes ax = plot_axes(d, f);
+  const Legend legend = legend_layout(plot, f);
+  Occupancy occ(f.left, f.top, f.width, f.height);
+  if (!d.timeline) mark_data(occ, d, f);
+  const std::string bands = d.timeline ? timeline_bands(d, f, ax, occ) : std::string();
+  const MarkerLayout mk = marker_layout(plot, f, occ);
+  const double legend_top = f.bottom() + 54.0;
+  const double caption_rows = mk.unplaced.empty() ? 0.0 : 1.0;
+  const double height = legend.rows + caption_rows > 0.0
+                            ? legend_top + (legend.rows + caption_rows) * kLegendRow + 6.0
+                            : f.bottom() + 50.0;
+
+  // Drawing, in that order: what comes later is on top.
+  const TextWriter tw{placed};
+  const std::string id = "clip" + std::to_string(plot_index);
+  write_frame(out, tw, plot, f, ax, id, height);
+  // Markers: dashed vertical lines under the data; their labels (with a white halo) on top.
+  out += "<g class=\"marker\">" + mk.lines + "</g>\n";
+  // Series: timeline bands, or lines and points (each series drawn in its order, the last on
+  // top).
+  out += "<g clip-path=\"url(#" + id + ")\">\n" + bands;
+  const std::vector<Series>& series = d.series();
+  for (std::size_t si = 0; si < series.size() && !d.timeline; ++si) {
+    const std::string color = color_of(series[si], si);
+    if (series[si].points)
+      write_points(out, d.segments[si], color, f);
+    else
+      write_lines(out, series[si], d.segments[si], color, f);
+  }
+  out += "</g>\n";
+  if (!mk.labels.empty()) {
+    out += "<g class=\"marker\">";
+    for (const PlacedMarkerLabel& l : mk.labels)
+      out += l.rotated ? tw.rotated(l.x, l.y, l.anchor, "mark", l.text)
+                       : tw.text(l.x, l.y, l.anchor, "mark", l.text);
+    out += "</g>\n";
+  }
+  if (!d.has_data) {
+    out += tw.text(f.left + f.width / 2.0, f.top + f.height / 2.0 + 6.0, "middle", "nodata",
+                   "no data") +
+           "\n";
+  }
+  write_legend(out, tw, plot, legend, mk.unplaced, f.left, legend_top);
   out += "</svg>\n</figure>\n";
 }
 

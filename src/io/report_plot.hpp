@@ -1,7 +1,8 @@
 #pragma once
-// Internal to the report: the SVG plot renderer (report_plot.cpp), its text metrics and label
-// placement (report_layout.cpp), and HTML escaping, shared by the page (report.cpp) and by the
-// layout test (tests/io/report_layout_test.cpp).
+// Internal to the report: the SVG plot renderer (report_plot.cpp), its numbers and scales
+// (report_scale.cpp), its text metrics and label placement (report_layout.cpp), and HTML
+// escaping, shared by the page (report.cpp) and by the layout test
+// (tests/io/report_layout_test.cpp).
 
 #include <cstddef>
 #include <string>
@@ -87,6 +88,31 @@ std::vector<PlacedMarkerLabel> place_marker_labels(const std::vector<MarkerLabel
                                                    const Box& frame, const Box& above,
                                                    const Occupancy& occ, std::vector<Box>& placed,
                                                    std::vector<std::string>& unplaced);
+
+// ---------------------------------------------------------------------------------------------
+// Numbers and axis scales (report_scale.cpp).
+// Locale-independent (std::to_chars), unlike printf, so a program that calls setlocale() cannot
+// turn the decimal point of an SVG coordinate into a comma.
+std::string fixed(double v, int decimals);
+std::string general(double v, int precision);  // %g-like with a compact exponent: 1.5e6, 2e-5
+std::string coord(double v);  // one SVG coordinate, 0.1 px resolution, no trailing ".0", no "-0"
+// Tick label for v on an axis [lo, hi] with the given (1-2-5) step.
+std::string tick_label(double v, double step, double lo, double hi);
+double nice_step(double raw);  // the nearest 1-2-5 step
+struct Ticks {
+  std::vector<double> values;
+  double step = 1.0;
+};
+Ticks make_ticks(double lo, double hi, double target_count);
+struct Range {
+  double lo = 0.0;
+  double hi = 1.0;
+};
+// Widens a degenerate range; pads a proper one by `pad_fraction` of its span on each side.
+Range widen(double lo, double hi, double pad_fraction);
+// Decade ticks on a log10 axis [lo, hi] (in decades), and their labels.
+Ticks log_ticks(double lo, double hi);
+std::string log_tick_label(double decades);
 
 // ---------------------------------------------------------------------------------------------
 // Data: runs of finite points, decimated; runs of one code in a timeline series.

@@ -143,128 +143,162 @@ double trim_angle(V P, V C, V centre) {
   return std::acos(std::clamp(dot(unit(P - C), unit(centre - C)), -1.0, 1.0));
 }
 
-}  // namespace
+// One corner between two segments, as blend_corner reads it.
+struct CornerGeometry {
+  CanonMove a, b;
+  double len_a = 0.0, len_b = 0.0;
+  bool arc_a = false, arc_b = false;
+  V P, t1, t2;             // the corner, the tangents at a's end and b's start
+  double theta_tan = 0.0;  // half the angle between the two directions
+  bool convex = false;     // the first arc's convexity (or the only arc's)
+  bool convex2 = false;    // arc to arc: the second's
+};
 
-Corner blend_corner(const Segment& sa, const Segment& sb, const Machine& mc) {
-  Corner out;
-  const CanonMove a = sub_move(*sa.m, sa.u0, sa.u1);
-  const CanonMove b = sub_move(*sb.m, sb.u0, sb.u1);
-  const double len_a = move_length(a), len_b = move_length(b);
-  if (!(len_a > 1e-9) || !(len_b > 1e-9)) return out;
-  const bool arc_a = a.kind == CanonMove::Kind::Arc, arc_b = b.kind == CanonMove::Kind::Arc;
-  const V P{a.x1, a.z1};
-  const V t1 = tangent(a, true), t2 = tangent(b, false);
-  const double theta_tan = std::acos(std::clamp(-dot(t1, t2), -1.0, 1.0)) / 2.0;
-  out.reversal = theta_tan < 1e-6;
-  if (kPi / 2.0 - theta_tan < 1e-6 || out.reversal) return out;  // tangent, or a reversal
+// tpSetupTangent: a small kink is taken as tangent (no blend arc).
+bool kink_is_tangent(const CornerGeometry& g, const Params& p, const Machine& mc) {
+  const double v_max = std::min(target_vel(g.a, mc.max_feed_scale, mc),
+                                target_vel(g.b, mc.max_feed_scale, mc));
+  const double a_inst = v_max / mc.servo_s + p.a_max;
+  const V diff = a_inst * (g.t2 - g.t1);
+  double scale = std::max(std::abs(diff.x), std::abs(diff.z)) / p.a_max;
+  if (g.arc_a || g.arc_b) scale /= 0.5;  // BLEND_ACC_RATIO_TANGENTIAL
+  return scale < mc.kink_ratio;
+}
 
-  Params p;
-  p.a_max = mc.accel_mm_s2;  // calculateInscribedDiameter in the XZ plane: min(a_x, a_z)
-  p.a_n = p.a_max * std::sqrt(0.75);
-  // tpSetupTangent: a small kink is taken as tangent (no blend arc).
-  {
-    const double v_max = std::min(target_vel(a, mc.max_feed_scale, mc),
-                                  target_vel(b, mc.max_feed_scale, mc));
-    const double a_inst = v_max / mc.servo_s + p.a_max;
-    const V diff = a_inst * (t2 - t1);
-    double scale = std::max(std::abs(diff.x), std::abs(diff.z)) / p.a_max;
-    if (arc_a || arc_b) scale /= 0.5;  // BLEND_ACC_RATIO_TANGENTIAL
-    if (scale < mc.kink_ratio) return out;
-  }
-  p.theta = theta_tan;
-  p.tolerance = blend_tolerance(a, len_a, b, len_b);
-  const double left_a = std::min(sa.left_mm, len_a);
+// The lengths of each segment the blend may use (blendInit3From*); false: no blend.
+bool blend_lengths(CornerGeometry& g, double left_mm, Params& p) {
+  const CanonMove &a = g.a, &b = g.b;
+  const double left_a = std::min(left_mm, g.len_a);
   // An arc trimmed at its start by the previous corner's blend keeps only the rest of its sweep
   // (tcSetCircleXYZ): what the next corner's limits see.
-  const double sweep_a = arc_a ? left_a / radius(a) : 0.0;
-  bool convex = false;   // the first arc's convexity (or the only arc's)
-  bool convex2 = false;  // arc to arc: the second's
-  if (!arc_a && !arc_b) {  // blendInit3FromLineLine (BLEND_DIST_FRACTION 0.5)
-    p.L1 = std::min(left_a, 0.5 * len_a);
-    p.L2 = 0.5 * len_b;
-  } else if (arc_a && arc_b) {  // blendInit3FromArcArc
+  const double sweep_a = g.arc_a ? left_a / radius(a) : 0.0;
+  if (!g.arc_a && !g.arc_b) {  // blendInit3FromLineLine (BLEND_DIST_FRACTION 0.5)
+    p.L1 = std::min(left_a, 0.5 * g.len_a);
+    p.L2 = 0.5 * g.len_b;
+  } else if (g.arc_a && g.arc_b) {  // blendInit3FromArcArc
     const V C1{a.xc, a.zc}, C2{b.xc, b.zc};
-    convex = dot(P - C1, t2) < 0.0;
-    convex2 = !(dot(P - C2, t1) < 0.0);
-    p.L1 = arc_side(convex, sweep_a * 2.0 / 3.0, theta_tan, radius(a), p.theta);
-    p.L2 = arc_side(convex2, std::abs(arc_sweep(b)) / 3.0, theta_tan, radius(b), p.theta);
-    if (p.theta < kPi / 12.0) return out;
-  } else if (arc_b) {  // blendInit3FromLineArc
+    g.convex = dot(g.P - C1, g.t2) < 0.0;
+    g.convex2 = !(dot(g.P - C2, g.t1) < 0.0);
+    p.L1 = arc_side(g.convex, sweep_a * 2.0 / 3.0, g.theta_tan, radius(a), p.theta);
+    p.L2 = arc_side(g.convex2, std::abs(arc_sweep(b)) / 3.0, g.theta_tan, radius(b), p.theta);
+    if (p.theta < kPi / 12.0) return false;
+  } else if (g.arc_b) {  // blendInit3FromLineArc
     const V C2{b.xc, b.zc};
-    convex = !(dot(P - C2, t1) < 0.0);  // arcConvexTest(..., reverse_dir = true)
-    p.L1 = std::min(left_a, 0.5 * len_a);
-    p.L2 = arc_side(convex, std::abs(arc_sweep(b)) / 3.0, theta_tan, radius(b), p.theta);
+    g.convex = !(dot(g.P - C2, g.t1) < 0.0);  // arcConvexTest(..., reverse_dir = true)
+    p.L1 = std::min(left_a, 0.5 * g.len_a);
+    p.L2 = arc_side(g.convex, std::abs(arc_sweep(b)) / 3.0, g.theta_tan, radius(b), p.theta);
   } else {  // blendInit3FromArcLine
     const V C1{a.xc, a.zc};
-    convex = dot(P - C1, t2) < 0.0;  // arcConvexTest(..., reverse_dir = false)
-    p.L1 = arc_side(convex, sweep_a * 2.0 / 3.0, theta_tan, radius(a), p.theta);
-    p.L2 = 0.5 * len_b;
+    g.convex = dot(g.P - C1, g.t2) < 0.0;  // arcConvexTest(..., reverse_dir = false)
+    p.L1 = arc_side(g.convex, sweep_a * 2.0 / 3.0, g.theta_tan, radius(a), p.theta);
+    p.L2 = 0.5 * g.len_b;
   }
-  p.phi = kPi - 2.0 * p.theta;
-  // blendParamKinematics
+  return true;
+}
+
+// blendParamKinematics: the requested and goal speeds through the blend.
+void blend_kinematics(const CornerGeometry& g, const Machine& mc, Params& p) {
+  const CanonMove &a = g.a, &b = g.b;
   p.v_req = std::max(target_vel(a, 1.0, mc), target_vel(b, 1.0, mc));
   p.v_goal =
       std::max(target_vel(a, mc.max_feed_scale, mc), target_vel(b, mc.max_feed_scale, mc));
   double v_max = mc.vmax_mm_s;  // the planar limit: min(v_x, v_z)
-  if (!arc_a && !arc_b) {       // the "altitude" limit of two lines
+  if (!g.arc_a && !g.arc_b) {   // the "altitude" limit of two lines
     const double phi_eff = std::min(p.phi, kPi * 0.49);
     const double m1 = max_vel(a, mc), m2 = max_vel(b, mc);
     const double v1 = std::min(m1, m2 / std::cos(phi_eff));
     const double v2 = std::min(m2, m1 / std::cos(phi_eff));
-    const double base = norm(v2 * t2 - v1 * t1);
+    const double base = norm(v2 * g.t2 - v1 * g.t1);
     if (base > 0.0) v_max = std::max(v_max, v1 * v2 * std::sin(p.phi) / base);
   }
   p.v_goal = std::min(p.v_goal, v_max);
-  if (!compute(p)) return out;
+}
 
-  // The arc's centre and where it meets each segment.
-  V centre;
+// The arc's centre and where it meets each segment (blendFindPoints3, blend*PostProcess);
+// false: no blend.
+bool blend_centre(const CornerGeometry& g, const Params& p, V& centre, Corner& out) {
+  const CanonMove &a = g.a, &b = g.b;
+  const V P = g.P, t1 = g.t1, t2 = g.t2;
   const V bis = unit(t2 - t1);  // towards the inside of the corner
-  if (!arc_a && !arc_b) {       // blendFindPoints3
+  if (!g.arc_a && !g.arc_b) {   // blendFindPoints3
     centre = P + (p.R_plan / std::sin(p.theta)) * bis;
     out.trim_end_mm = out.trim_start_mm = p.d_plan;
-  } else if (arc_a && arc_b) {  // blendArcArcPostProcess: the centre d1, d2 from C1, C2
+  } else if (g.arc_a && g.arc_b) {  // blendArcArcPostProcess: the centre d1, d2 from C1, C2
     const V C1{a.xc, a.zc}, C2{b.xc, b.zc};
-    const double d1 = (convex ? -p.R_plan : p.R_plan) + radius(a);
-    const double d2 = (convex2 ? -p.R_plan : p.R_plan) + radius(b);
+    const double d1 = (g.convex ? -p.R_plan : p.R_plan) + radius(a);
+    const double d2 = (g.convex2 ? -p.R_plan : p.R_plan) + radius(b);
     const double c2x = norm(C2 - C1);
-    if (!(c2x > 0.0)) return out;
+    if (!(c2x > 0.0)) return false;
     const double Cx = (-d1 * d1 + d2 * d2 - c2x * c2x) / (-2.0 * c2x);
     const double Cy2 = d1 * d1 - Cx * Cx;
-    if (!(Cy2 >= 0.0)) return out;
+    if (!(Cy2 >= 0.0)) return false;
     const V uc = unit(C2 - C1);
     V nc{-uc.z, uc.x};
     if (dot(bis, nc) < 0.0) nc = -1.0 * nc;
     const V c1 = C1 + Cx * uc;
     const V plus = c1 + std::sqrt(Cy2) * nc, minus = c1 - std::sqrt(Cy2) * nc;
     centre = norm(minus - P) < norm(plus - P) ? minus : plus;  // the solution nearer P
-    if (norm(centre - P) - p.R_plan > p.tolerance) return out;
+    if (norm(centre - P) - p.R_plan > p.tolerance) return false;
     out.trim_end_mm = trim_angle(P, C1, centre) * radius(a);
     out.trim_start_mm = trim_angle(P, C2, centre) * radius(b);
-  } else if (arc_b) {  // blendLineArcPostProcess
+  } else if (g.arc_b) {  // blendLineArcPostProcess
     const V n1 = cross(t1, t2) > 0.0 ? V{-t1.z, t1.x} : V{t1.z, -t1.x};
     const V C2{b.xc, b.zc};
-    const double d2 = (convex ? -p.R_plan : p.R_plan) + radius(b);
+    const double d2 = (g.convex ? -p.R_plan : p.R_plan) + radius(b);
     double d_L = 0.0;
-    if (!tangent_to_line_and_circle(P, t1, n1, C2, d2, p.R_plan, d_L)) return out;
+    if (!tangent_to_line_and_circle(P, t1, n1, C2, d2, p.R_plan, d_L)) return false;
     centre = P - d_L * t1 + p.R_plan * n1;
-    if (norm(centre - P) - p.R_plan > p.tolerance) return out;
+    if (norm(centre - P) - p.R_plan > p.tolerance) return false;
     out.trim_end_mm = d_L;
     out.trim_start_mm = trim_angle(P, C2, centre) * radius(b);
   } else {  // blendArcLinePostProcess
     const V n2 = cross(t1, t2) > 0.0 ? V{-t2.z, t2.x} : V{t2.z, -t2.x};
     const V C1{a.xc, a.zc};
-    const double d1 = (convex ? -p.R_plan : p.R_plan) + radius(a);
+    const double d1 = (g.convex ? -p.R_plan : p.R_plan) + radius(a);
     double d_L = 0.0;
-    if (!tangent_to_line_and_circle(P, t2, n2, C1, d1, p.R_plan, d_L)) return out;
+    if (!tangent_to_line_and_circle(P, t2, n2, C1, d1, p.R_plan, d_L)) return false;
     centre = P + d_L * t2 + p.R_plan * n2;
-    if (norm(centre - P) - p.R_plan > p.tolerance) return out;
+    if (norm(centre - P) - p.R_plan > p.tolerance) return false;
     out.trim_start_mm = d_L;
     out.trim_end_mm = trim_angle(P, C1, centre) * radius(a);
   }
-  if (!(out.trim_end_mm < len_a) || !(out.trim_start_mm < len_b)) return out;
-  const double ua = 1.0 - out.trim_end_mm / len_a, ub = out.trim_start_mm / len_b;
-  const V q1 = at(a, ua), q2 = at(b, ub);
+  return true;
+}
+
+}  // namespace
+
+Corner blend_corner(const Segment& sa, const Segment& sb, const Machine& mc) {
+  Corner out;
+  CornerGeometry g;
+  g.a = sub_move(*sa.m, sa.u0, sa.u1);
+  g.b = sub_move(*sb.m, sb.u0, sb.u1);
+  g.len_a = move_length(g.a);
+  g.len_b = move_length(g.b);
+  if (!(g.len_a > 1e-9) || !(g.len_b > 1e-9)) return out;
+  g.arc_a = g.a.kind == CanonMove::Kind::Arc;
+  g.arc_b = g.b.kind == CanonMove::Kind::Arc;
+  g.P = V{g.a.x1, g.a.z1};
+  g.t1 = tangent(g.a, true);
+  g.t2 = tangent(g.b, false);
+  g.theta_tan = std::acos(std::clamp(-dot(g.t1, g.t2), -1.0, 1.0)) / 2.0;
+  out.reversal = g.theta_tan < 1e-6;
+  if (kPi / 2.0 - g.theta_tan < 1e-6 || out.reversal) return out;  // tangent, or a reversal
+
+  Params p;
+  p.a_max = mc.accel_mm_s2;  // calculateInscribedDiameter in the XZ plane: min(a_x, a_z)
+  p.a_n = p.a_max * std::sqrt(0.75);
+  if (kink_is_tangent(g, p, mc)) return out;
+  p.theta = g.theta_tan;
+  p.tolerance = blend_tolerance(g.a, g.len_a, g.b, g.len_b);
+  if (!blend_lengths(g, sa.left_mm, p)) return out;
+  p.phi = kPi - 2.0 * p.theta;
+  blend_kinematics(g, mc, p);
+  if (!compute(p)) return out;
+  V centre;
+  if (!blend_centre(g, p, centre, out)) return out;
+  if (!(out.trim_end_mm < g.len_a) || !(out.trim_start_mm < g.len_b)) return out;
+  const double ua = 1.0 - out.trim_end_mm / g.len_a, ub = out.trim_start_mm / g.len_b;
+  const V q1 = at(g.a, ua), q2 = at(g.b, ub);
   out.arc = *sb.m;  // the planner's state when the second segment was queued (tcSetupState)
   out.arc.kind = CanonMove::Kind::Arc;
   out.arc.x0 = q1.x;
@@ -274,7 +308,7 @@ Corner blend_corner(const Segment& sa, const Segment& sb, const Machine& mc) {
   out.arc.xc = centre.x;
   out.arc.zc = centre.z;
   // Counter-clockwise in (z, x) (path.hpp) is a turn to the left seen with x up and z right.
-  out.arc.rotation = cross(t1, t2) < 0.0 ? 1 : -1;
+  out.arc.rotation = cross(g.t1, g.t2) < 0.0 ? 1 : -1;
   out.v_max_mm_s = p.v_plan;
   out.v_req_mm_s = p.v_req;
   out.blended = true;

@@ -204,15 +204,41 @@ std::vector<std::string> warnings(const Program& p, const systems::e_adaptive::S
   return w;
 }
 
-std::vector<std::pair<std::string, std::string>> output_files(
-    const Program& p, const Result& r, const systems::e_adaptive::Settings& e, const Options& opt,
-    const std::string& scenario_file, const Verified* v) {
-  const auto& prog = p.canon;
-  const auto rev0 = rev_param(prog, r.before.s), rev1 = rev_param(prog, r.after.s);
-  const auto st0 = stats(prog, r.optimized, r.before.s, rev0);
-  const auto st1 = stats(prog, r.optimized, r.after.s, rev1);
-  const std::string unit = e.rig.force_parameter == cutting::ForceParameter::Power ? "W" : "N";
-  // blocks.csv
+namespace {
+
+// What the outputs compare: the per-revolution force of each run, each piece's stats in each run
+// (by the optimised plan's pieces), the pieces below chatter margin 1.
+struct Compared {
+  std::string unit;  // of the force parameter: "W" or "N"
+  std::vector<double> rev0, rev1;
+  std::vector<std::vector<PieceStats>> st0, st1;
+  int below0 = 0, below1 = 0;
+  double mm0 = 0.0, mm1 = 0.0;  // least chatter margin
+};
+
+Compared compare(const io::CanonProgram& prog, const Result& r,
+                 const systems::e_adaptive::Settings& e) {
+  Compared c;
+  c.unit = e.rig.force_parameter == cutting::ForceParameter::Power ? "W" : "N";
+  c.rev0 = rev_param(prog, r.before.s);
+  c.rev1 = rev_param(prog, r.after.s);
+  c.st0 = stats(prog, r.optimized, r.before.s, c.rev0);
+  c.st1 = stats(prog, r.optimized, r.after.s, c.rev1);
+  for (std::size_t mi = 0; mi < prog.moves.size(); ++mi) {
+    if (prog.moves[mi].kind == CanonMove::Kind::Traverse) continue;
+    for (std::size_t k = 0; k < r.optimized[mi].size(); ++k) {
+      c.below0 += c.st0[mi][k].margin < 1.0;
+      c.below1 += c.st1[mi][k].margin < 1.0;
+    }
+  }
+  c.mm0 = margin_min(prog, r.before.s);
+  c.mm1 = margin_min(prog, r.after.s);
+  return c;
+}
+
+// blocks.csv: one row per piece of each feed move.
+std::string blocks_csv(const io::CanonProgram& prog, const Result& r, const Compared& c) {
+  const std::string& unit = c.unit;
   std::string csv =
       "line,out_line,move,piece,motion,x_start_mm,z_start_mm,x_end_mm,z_end_mm,length_mm,"
       "feed_mode,feed_programmed,feed_optimized,limited_by,depth_max_mm,time_original_s,"
@@ -220,7 +246,6 @@ std::vector<std::pair<std::string, std::string>> output_files(
       unit + ",force_peak_rev_original_" + unit + ",force_mean_optimized_" + unit +
       ",force_peak_rev_optimized_" + unit + ",power_max_W,torque_max_N_m,tool_life_use_optimized,chatter_limit_depth_original_mm,"
       "chatter_margin_original,chatter_limit_depth_optimized_mm,chatter_margin_optimized\n";
-  int below0 = 0, below1 = 0;
   for (std::size_t mi = 0; mi < prog.moves.size(); ++mi) {
     const CanonMove& m = prog.moves[mi];
     if (m.kind == CanonMove::Kind::Traverse) continue;
@@ -229,8 +254,8 @@ std::vector<std::pair<std::string, std::string>> output_files(
       const Piece& pc = r.optimized[mi][k];
       const auto [xs, zs] = point_at(m, pc.from);
       const auto [xe, ze] = point_at(m, pc.to);
-      const auto& a = st0[mi][k];
-      const auto& b = st1[mi][k];
+      const auto& a = c.st0[mi][k];
+      const auto& b = c.st1[mi][k];
       csv += std::to_string(m.line) + "," + std::to_string(pc.out_line) + "," + std::to_string(mi) +
              "," + std::to_string(k + 1) + "," + kind_name(m.kind) + "," + num(xs) + "," + num(zs) +
              "," + num(xe) + "," + num(ze) + "," + num(len * (pc.to - pc.from)) + "," +
@@ -242,36 +267,34 @@ std::vector<std::pair<std::string, std::string>> output_files(
              chatter_cell(r.chatter, a.limit_depth) + "," + chatter_cell(r.chatter, a.margin) +
              "," + chatter_cell(r.chatter, b.limit_depth) + "," +
              chatter_cell(r.chatter, b.margin) + "\n";
-      below0 += a.margin < 1.0;
-      below1 += b.margin < 1.0;
     }
   }
-  // summary.json
-  auto run = [&](const char* name) -> const VerifyRun* {
-    if (!v) return nullptr;
-    for (const auto& x : v->runs)
-      if (x.name == name) return &x;
-    return nullptr;
-  };
-  const VerifyRun *vo = run("original"), *vp = run("optimized"), *vo_on = run("original_online"),
-                  *vp_on = run("optimized_online");
-  json js;
-  js["program"] = p.file;
-  js["scenario"] = scenario_file;
-  js["force_parameter"] = unit == "W"                                            ? "power"
-                          : e.rig.force_parameter == cutting::ForceParameter::Py ? "Py"
-                                                                                 : "Pz";
-  js["force_limit_N"] = r.limit;
+  return csv;
+}
+
+const VerifyRun* verify_run(const Verified* v, const char* name) {
+  if (!v) return nullptr;
+  for (const auto& x : v->runs)
+    if (x.name == name) return &x;
+  return nullptr;
+}
+
+// summary.json's cycle times and peaks: predicted, and as LinuxCNC ran them (--verify).
+void summary_times(json& js, const io::CanonProgram& prog, const Result& r, const Verified* v,
+                   const Compared& c) {
+  const VerifyRun *vo = verify_run(v, "original"), *vp = verify_run(v, "optimized"),
+                  *vo_on = verify_run(v, "original_online"),
+                  *vp_on = verify_run(v, "optimized_online");
   js["predicted_cycle_time_original_s"] = r.before.cycle_time_s;
   js["predicted_cycle_time_optimized_s"] = r.after.cycle_time_s;
   js["predicted_accel_time_original_s"] = r.before.accel_time_s;
   js["predicted_accel_time_optimized_s"] = r.after.accel_time_s;
-  js["predicted_force_peak_rev_original_N"] = feed_peak(prog, r.before.s, rev0);
-  js["predicted_force_peak_rev_optimized_N"] = feed_peak(prog, r.after.s, rev1);
+  js["predicted_force_peak_rev_original_N"] = feed_peak(prog, r.before.s, c.rev0);
+  js["predicted_force_peak_rev_optimized_N"] = feed_peak(prog, r.after.s, c.rev1);
   js["cycle_time_original_s"] = vo ? vo->cycle_time_s : r.before.cycle_time_s;
   js["cycle_time_optimized_s"] = vp ? vp->cycle_time_s : r.after.cycle_time_s;
-  js["force_peak_rev_original_N"] = vo ? vo->force_peak_rev : feed_peak(prog, r.before.s, rev0);
-  js["force_peak_rev_optimized_N"] = vp ? vp->force_peak_rev : feed_peak(prog, r.after.s, rev1);
+  js["force_peak_rev_original_N"] = vo ? vo->force_peak_rev : feed_peak(prog, r.before.s, c.rev0);
+  js["force_peak_rev_optimized_N"] = vp ? vp->force_peak_rev : feed_peak(prog, r.after.s, c.rev1);
   js["prediction_error_pct"] = v ? json(v->prediction_error_pct) : json(nullptr);
   if (v) {
     js["prediction_error_line"] = v->prediction_error_line;
@@ -289,15 +312,28 @@ std::vector<std::pair<std::string, std::string>> output_files(
     }
   }
   js["verified"] = v != nullptr;
+}
+
+// summary.json.
+json summary_json(const Program& p, const Result& r, const systems::e_adaptive::Settings& e,
+                  const Options& opt, const std::string& scenario_file, const Verified* v,
+                  const Compared& c) {
+  json js;
+  js["program"] = p.file;
+  js["scenario"] = scenario_file;
+  js["force_parameter"] = c.unit == "W"                                          ? "power"
+                          : e.rig.force_parameter == cutting::ForceParameter::Py ? "Py"
+                                                                                 : "Pz";
+  js["force_limit_N"] = r.limit;
+  summary_times(js, p.canon, r, v, c);
   js["blocks_changed"] = r.blocks_changed;
   js["splits_dropped"] = r.splits_dropped;
   // Chatter (scenario [chatter]): null without modes, or where no lobe reaches (stable at any
   // depth); the blocks are the rows of blocks.csv.
-  const double mm0 = margin_min(prog, r.before.s), mm1 = margin_min(prog, r.after.s);
-  js["chatter_margin_min_original"] = finite_or_null(r.chatter, mm0);
-  js["chatter_margin_min_optimized"] = finite_or_null(r.chatter, mm1);
-  js["chatter_blocks_below_1_original"] = r.chatter ? json(below0) : json(nullptr);
-  js["chatter_blocks_below_1_optimized"] = r.chatter ? json(below1) : json(nullptr);
+  js["chatter_margin_min_original"] = finite_or_null(r.chatter, c.mm0);
+  js["chatter_margin_min_optimized"] = finite_or_null(r.chatter, c.mm1);
+  js["chatter_blocks_below_1_original"] = r.chatter ? json(c.below0) : json(nullptr);
+  js["chatter_blocks_below_1_optimized"] = r.chatter ? json(c.below1) : json(nullptr);
   js["tool_life_use_original"] = r.before.life_use;
   js["tool_life_use_optimized"] = r.after.life_use;
   js["predicted_rapid_in_material_s"] = r.before.rapid_in_material_s;
@@ -321,17 +357,15 @@ std::vector<std::pair<std::string, std::string>> output_files(
     if (r.actions[li].kind == LineAction::Kind::Keep)
       kept.push_back({{"line", li + 1}, {"why", r.actions[li].why}});
   js["lines_kept"] = kept;
-  // report.html
-  io::Report rep;
-  rep.title = "Feed optimisation of " + p.file;
-  rep.subtitle = "scenario " + scenario_file + " (system E)";
-  rep.description =
-      "The program as LinuxCNC's interpreter (rs274) runs it, predicted on the scenario's blank "
-      "by the cutting process of the LinuxCNC plant (cutting::LathePlant) at the servo period, and "
-      "the same program with the largest feed per piece that keeps force, power and torque "
-      "within the limits. " +
-      std::string(v ? "Verified in LinuxCNC's simulated lathe (scripts/linuxcnc-sim)."
-                    : "Not verified in LinuxCNC (--verify).");
+  return js;
+}
+
+// report.html's metrics (the cycle times and peaks as summary.json has them) and its verdict:
+// the warnings, what a programmer must see before anything else.
+void report_metrics(io::Report& rep, const Program& p, const Result& r,
+                    const systems::e_adaptive::Settings& e, const Verified* v, const json& js,
+                    const Compared& c) {
+  const std::string& unit = c.unit;
   auto m = [&](const std::string& k, double x, const std::string& u) {
     rep.metrics.emplace_back(k, num(x, 4) + " " + u);
   };
@@ -342,19 +376,20 @@ std::vector<std::pair<std::string, std::string>> output_files(
   m("per-revolution force peak, optimised", js["force_peak_rev_optimized_N"].get<double>(), unit);
   if (v) {
     m("prediction error (largest per line)", v->prediction_error_pct, "% of the limit");
-    m("cycle time with online control, original", vo_on->cycle_time_s, "s");
-    m("cycle time with online control, optimised", vp_on->cycle_time_s, "s");
+    m("cycle time with online control, original",
+      verify_run(v, "original_online")->cycle_time_s, "s");
+    m("cycle time with online control, optimised",
+      verify_run(v, "optimized_online")->cycle_time_s, "s");
   }
   m("lines changed", r.blocks_changed, "");
   m("tool life used, original", r.before.life_use, "");
   m("tool life used, optimised", r.after.life_use, "");
   if (r.chatter) {
-    m("least chatter margin, original", mm0, "");
-    m("least chatter margin, optimised", mm1, "");
-    m("pieces below margin 1, original", below0, "");
-    m("pieces below margin 1, optimised", below1, "");
+    m("least chatter margin, original", c.mm0, "");
+    m("least chatter margin, optimised", c.mm1, "");
+    m("pieces below margin 1, original", c.below0, "");
+    m("pieces below margin 1, optimised", c.below1, "");
   }
-  // What a programmer must see before anything else: the report's verdict, its first section.
   const std::vector<std::string> warnings = optimize::warnings(p, e, r);
   for (const auto& w : warnings) rep.verdict += (rep.verdict.empty() ? "" : " ") + w;
   rep.verdict_ok = warnings.empty();
@@ -365,11 +400,18 @@ std::vector<std::pair<std::string, std::string>> output_files(
     rep.notes.push_back(
         "The pieces of split lines did not follow the original path when "
         "interpreted (modes such as G91, G7 or offsets): each line got one F.");
-  auto decimate = [](const std::vector<double>& x, std::size_t every) {
-    std::vector<double> o;
-    for (std::size_t i = 0; i < x.size(); i += every) o.push_back(x[i]);
-    return o;
-  };
+}
+
+std::vector<double> decimate(const std::vector<double>& x, std::size_t every) {
+  std::vector<double> o;
+  for (std::size_t i = 0; i < x.size(); i += every) o.push_back(x[i]);
+  return o;
+}
+
+// report.html's plots: the tool path, force and feed along the path, LinuxCNC's force over time.
+void report_plots(io::Report& rep, const io::CanonProgram& prog, const Result& r,
+                  const Verified* v, const Compared& c) {
+  const std::string& unit = c.unit;
   const std::size_t e0 = std::max<std::size_t>(1, r.before.s.path_mm.size() / 20000);
   const std::size_t e1 = std::max<std::size_t>(1, r.after.s.path_mm.size() / 20000);
   io::Plot pf{"Predicted force along the path (per-revolution mean)",
@@ -378,9 +420,9 @@ std::vector<std::pair<std::string, std::string>> output_files(
               {},
               {}};
   pf.series.push_back(
-      {"original", decimate(r.before.s.path_mm, e0), decimate(rev0, e0), "", false, false});
+      {"original", decimate(r.before.s.path_mm, e0), decimate(c.rev0, e0), "", false, false});
   pf.series.push_back(
-      {"optimised", decimate(r.after.s.path_mm, e1), decimate(rev1, e1), "", false, false});
+      {"optimised", decimate(r.after.s.path_mm, e1), decimate(c.rev1, e1), "", false, false});
   pf.series.push_back({"limit",
                        {0.0, r.after.s.path_mm.empty() ? 1.0 : r.after.s.path_mm.back()},
                        {r.limit, r.limit},
@@ -416,12 +458,16 @@ std::vector<std::pair<std::string, std::string>> output_files(
     }
     rep.plots.push_back(pv);
   }
-  // The review: every line counted as changed (the same lines as "lines changed"), its
-  // original and new feed, what kind of cut it is, the limit that decided and the predicted
-  // per-revolution peak; then the lines kept as written and why.
+}
+
+// The review: every line counted as changed (the same lines as "lines changed"), its
+// original and new feed, what kind of cut it is, the limit that decided and the predicted
+// per-revolution peak; then the lines kept as written and why.
+void report_lines(io::Report& rep, const io::CanonProgram& prog, const Result& r,
+                  const Compared& c) {
   io::Table tb{"Lines changed (" + std::to_string(r.blocks_changed) + ")",
                {"line", "action", "cut", "F original", "F optimised", "limited by",
-                "peak per rev. [" + unit + "]", "% of limit"},
+                "peak per rev. [" + c.unit + "]", "% of limit"},
                {}};
   io::Table tk{"Lines kept as written", {"line", "why"}, {}};
   for (std::size_t li = 0; li < r.actions.size(); ++li) {
@@ -446,7 +492,7 @@ std::vector<std::pair<std::string, std::string>> output_files(
           why += (why.empty() ? "" : ", ") + pc.limited_by;
         finishing = finishing || pc.limited_by.find("roughness") != std::string::npos;
         all_air = all_air && pc.limited_by == "air";
-        peak = std::max(peak, st1[mi][pk].peak);
+        peak = std::max(peak, c.st1[mi][pk].peak);
       }
     }
     const char* names[] = {"", "kept", "F changed", "split", "cycle expanded"};
@@ -457,29 +503,55 @@ std::vector<std::pair<std::string, std::string>> output_files(
   }
   rep.tables.push_back(tb);
   if (!tk.rows.empty()) rep.tables.push_back(tk);
-  if (r.chatter) {  // the pieces whose margin is below 1, original or optimised
-    io::Table tc{"Chatter margin below 1 (limit depth / depth; lobes of the modes at the piece)",
-                 {"line", "piece", "depth [mm]", "feed, original", "margin, original",
-                  "feed, optimised", "margin, optimised", "limited by"},
-                 {}};
-    for (std::size_t mi = 0; mi < prog.moves.size() && tc.rows.size() < 200; ++mi) {
-      if (prog.moves[mi].kind == CanonMove::Kind::Traverse) continue;
-      for (std::size_t k = 0; k < r.optimized[mi].size(); ++k) {
-        const auto &a = st0[mi][k], &b = st1[mi][k];
-        if (!(a.margin < 1.0 || b.margin < 1.0)) continue;
-        const Piece& pc = r.optimized[mi][k];
-        tc.rows.push_back({std::to_string(prog.moves[mi].line), std::to_string(k + 1),
-                           num(std::max(a.depth, b.depth), 4), num(prog.moves[mi].feed, 4),
-                           chatter_cell(true, a.margin), num(pc.feed, 4),
-                           chatter_cell(true, b.margin), pc.limited_by});
-      }
+}
+
+// The pieces whose chatter margin is below 1, original or optimised.
+io::Table chatter_table(const io::CanonProgram& prog, const Result& r, const Compared& c) {
+  io::Table tc{"Chatter margin below 1 (limit depth / depth; lobes of the modes at the piece)",
+               {"line", "piece", "depth [mm]", "feed, original", "margin, original",
+                "feed, optimised", "margin, optimised", "limited by"},
+               {}};
+  for (std::size_t mi = 0; mi < prog.moves.size() && tc.rows.size() < 200; ++mi) {
+    if (prog.moves[mi].kind == CanonMove::Kind::Traverse) continue;
+    for (std::size_t k = 0; k < r.optimized[mi].size(); ++k) {
+      const auto &a = c.st0[mi][k], &b = c.st1[mi][k];
+      if (!(a.margin < 1.0 || b.margin < 1.0)) continue;
+      const Piece& pc = r.optimized[mi][k];
+      tc.rows.push_back({std::to_string(prog.moves[mi].line), std::to_string(k + 1),
+                         num(std::max(a.depth, b.depth), 4), num(prog.moves[mi].feed, 4),
+                         chatter_cell(true, a.margin), num(pc.feed, 4),
+                         chatter_cell(true, b.margin), pc.limited_by});
     }
-    if (tc.rows.empty()) tc.rows.push_back({"—", "", "", "", "", "", "", "every piece ≥ 1"});
-    rep.tables.push_back(tc);
   }
+  if (tc.rows.empty()) tc.rows.push_back({"—", "", "", "", "", "", "", "every piece ≥ 1"});
+  return tc;
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> output_files(
+    const Program& p, const Result& r, const systems::e_adaptive::Settings& e, const Options& opt,
+    const std::string& scenario_file, const Verified* v) {
+  const auto& prog = p.canon;
+  const Compared c = compare(prog, r, e);
+  const json js = summary_json(p, r, e, opt, scenario_file, v, c);
+  io::Report rep;
+  rep.title = "Feed optimisation of " + p.file;
+  rep.subtitle = "scenario " + scenario_file + " (system E)";
+  rep.description =
+      "The program as LinuxCNC's interpreter (rs274) runs it, predicted on the scenario's blank "
+      "by the cutting process of the LinuxCNC plant (cutting::LathePlant) at the servo period, and "
+      "the same program with the largest feed per piece that keeps force, power and torque "
+      "within the limits. " +
+      std::string(v ? "Verified in LinuxCNC's simulated lathe (scripts/linuxcnc-sim)."
+                    : "Not verified in LinuxCNC (--verify).");
+  report_metrics(rep, p, r, e, v, js, c);
+  report_plots(rep, prog, r, v, c);
+  report_lines(rep, prog, r, c);
+  if (r.chatter) rep.tables.push_back(chatter_table(prog, r, c));
   rep.doc_page = "optimize.md";
   return {{"optimized.ngc", r.ngc},
-          {"blocks.csv", csv},
+          {"blocks.csv", blocks_csv(prog, r, c)},
           {"summary.json", js.dump(2) + "\n"},
           {"report.html", io::render_html(rep)}};
 }

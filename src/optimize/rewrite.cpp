@@ -116,6 +116,109 @@ bool same_path(const io::CanonProgram& orig, const io::CanonProgram& opt) {
   return j == b.size();
 }
 
+bool differs(double a, double b) { return std::abs(a - b) > 1e-9 * std::max(1.0, std::abs(b)); }
+
+// One program line as write_program sees it: its moves and feed moves, whether it has an F word.
+struct LineView {
+  const std::string& text;
+  int line;
+  const std::vector<std::size_t>& mv;
+  const CanonMove* first_feed = nullptr;
+  const CanonMove* last_feed = nullptr;  // its feed is the original's modal F after the line
+  bool has_f = false;
+};
+
+// Writes optimized.ngc's lines, one program line at a time by its action. The modal F of
+// optimized.ngc may differ from the original's here (out_delta): a line that relies on the modal
+// feed then needs its own F word.
+struct ProgramWriter {
+  const Program& p;
+  Plan& plan;
+  std::vector<std::string>& out;
+  bool out_delta = false;
+
+  int here() const { return static_cast<int>(out.size() + 1); }
+  void set_lines(const LineView& l, int at) {
+    for (auto mi : l.mv)
+      for (auto& pc : plan[mi]) pc.out_line = at;
+  }
+  void none(const LineView& l) {
+    set_lines(l, here());
+    out.push_back(l.text);
+    if (l.has_f) out_delta = false;  // sets the same modal F in both
+  }
+  void keep(const LineView& l) {
+    // A thread's pitch is its own (G33 K, G76 P): it needs no feed restored.
+    if (out_delta && l.first_feed && !l.has_f && !l.first_feed->synced) {
+      out.push_back("F" + feed_text(*l.first_feed, l.first_feed->feed) +
+                    " (lathectl: the programmed feed of the kept line " + std::to_string(l.line) +
+                    ")");
+      out_delta = false;
+    }
+    if (l.has_f) out_delta = false;
+    set_lines(l, here());
+    out.push_back(l.text);
+  }
+  void feed(const LineView& l) {
+    std::size_t fi = l.mv.front();
+    for (auto mi : l.mv)
+      if (p.canon.moves[mi].kind != CanonMove::Kind::Traverse) {
+        fi = mi;
+        break;
+      }
+    const double f = plan[fi].front().feed;
+    set_lines(l, here());
+    bool same = true;  // every feed move of the line at its programmed feed
+    for (auto mi : l.mv)
+      if (p.canon.moves[mi].kind != CanonMove::Kind::Traverse)
+        same = same && !differs(f, p.canon.moves[mi].feed);
+    if (same && (l.has_f || !out_delta)) {  // nothing to change: the line as written
+      out.push_back(l.text);
+      out_delta = false;
+      return;
+    }
+    out.push_back(with_feed(l.text, feed_text(*l.first_feed, f)).value_or(l.text));
+    out_delta = differs(f, l.last_feed->feed);
+  }
+  void split(const LineView& l) {
+    const std::size_t mi = l.mv.front();
+    const CanonMove& m = p.canon.moves[mi];
+    auto& pcs = plan[mi];
+    const std::size_t n = pcs.size();
+    for (std::size_t k = 0; k + 1 < n; ++k) {
+      pcs[k].out_line = here();
+      out.push_back(move_text(m, pcs[k].from, pcs[k].to, pcs[k].feed) + " (lathectl: line " +
+                    std::to_string(l.line) + ", piece " + std::to_string(k + 1) + " of " +
+                    std::to_string(n) + ")");
+    }
+    pcs.back().out_line = here();
+    if (m.kind == CanonMove::Kind::Line) {
+      out.push_back(with_feed(l.text, feed_text(m, pcs.back().feed)).value_or(l.text));
+    } else {  // an arc's centre words are relative to its start: the last piece in full
+      out.push_back(move_text(m, pcs.back().from, 1.0, pcs.back().feed) + " (lathectl: line " +
+                    std::to_string(l.line) + ", piece " + std::to_string(n) + " of " +
+                    std::to_string(n) + ": " + commented(l.text) + ")");
+    }
+    out_delta = differs(pcs.back().feed, m.feed);
+  }
+  void expand(const LineView& l) {
+    out.push_back("(lathectl: line " + std::to_string(l.line) + " expanded into its " +
+                  std::to_string(l.mv.size()) + " moves: " + commented(l.text) + ")");
+    for (auto mi : l.mv) {
+      const CanonMove& m = p.canon.moves[mi];
+      if (move_length(m) <= 1e-6) {
+        for (auto& pc : plan[mi]) pc.out_line = here();
+        continue;
+      }
+      for (auto& pc : plan[mi]) {
+        pc.out_line = here();
+        out.push_back(move_text(m, pc.from, pc.to, pc.feed));
+        if (m.kind != CanonMove::Kind::Traverse) out_delta = differs(pc.feed, m.feed);
+      }
+    }
+  }
+};
+
 }  // namespace
 
 // The text of optimized.ngc for these actions; fills each piece's output line.
@@ -123,109 +226,22 @@ std::string write_program(const Program& p, const std::vector<LineAction>& act, 
                           const std::vector<std::vector<std::size_t>>& line_moves,
                           std::vector<std::string>& out) {
   out.clear();
-  // The modal F of optimized.ngc may differ from the original's here: a line that relies on the
-  // modal feed then needs its own F word.
-  bool out_delta = false;
-  auto differs = [](double a, double b) { return std::abs(a - b) > 1e-9 * std::max(1.0, std::abs(b)); };
+  ProgramWriter w{p, plan, out, false};
   for (std::size_t li = 0; li < p.lines.size(); ++li) {
-    const std::string& text = p.lines[li];
-    const int line = static_cast<int>(li + 1);
-    const auto& mv = line_moves[li];
-    auto here = [&] { return static_cast<int>(out.size() + 1); };
-    auto set_lines = [&](int at) {
-      for (auto mi : mv)
-        for (auto& pc : plan[mi]) pc.out_line = at;
-    };
-    const CanonMove* first_feed = nullptr;
-    const CanonMove* last_feed = nullptr;  // its feed is the original's modal F after the line
-    for (auto mi : mv)
+    LineView l{p.lines[li], static_cast<int>(li + 1), line_moves[li], nullptr, nullptr, false};
+    for (auto mi : l.mv)
       if (p.canon.moves[mi].kind != CanonMove::Kind::Traverse) {
-        if (!first_feed) first_feed = &p.canon.moves[mi];
-        last_feed = &p.canon.moves[mi];
+        if (!l.first_feed) l.first_feed = &p.canon.moves[mi];
+        l.last_feed = &p.canon.moves[mi];
       }
-    const auto ws = words(text);
-    const bool has_f =
-        std::any_of(ws.begin(), ws.end(), [](const Word& w) { return w.letter == 'F'; });
+    const auto ws = words(l.text);
+    l.has_f = std::any_of(ws.begin(), ws.end(), [](const Word& wd) { return wd.letter == 'F'; });
     switch (act[li].kind) {
-      case Kind::None:
-        set_lines(here());
-        out.push_back(text);
-        if (has_f) out_delta = false;  // sets the same modal F in both
-        break;
-      case Kind::Keep: {
-        // A thread's pitch is its own (G33 K, G76 P): it needs no feed restored.
-        if (out_delta && first_feed && !has_f && !first_feed->synced) {
-          out.push_back("F" + feed_text(*first_feed, first_feed->feed) +
-                        " (lathectl: the programmed feed of the kept line " + std::to_string(line) +
-                        ")");
-          out_delta = false;
-        }
-        if (has_f) out_delta = false;
-        set_lines(here());
-        out.push_back(text);
-        break;
-      }
-      case Kind::Feed: {
-        std::size_t fi = mv.front();
-        for (auto mi : mv)
-          if (p.canon.moves[mi].kind != CanonMove::Kind::Traverse) {
-            fi = mi;
-            break;
-          }
-        const double f = plan[fi].front().feed;
-        set_lines(here());
-        bool same = true;  // every feed move of the line at its programmed feed
-        for (auto mi : mv)
-          if (p.canon.moves[mi].kind != CanonMove::Kind::Traverse)
-            same = same && !differs(f, p.canon.moves[mi].feed);
-        if (same && (has_f || !out_delta)) {  // nothing to change: the line as written
-          out.push_back(text);
-          out_delta = false;
-          break;
-        }
-        out.push_back(with_feed(text, feed_text(*first_feed, f)).value_or(text));
-        out_delta = differs(f, last_feed->feed);
-        break;
-      }
-      case Kind::Split: {
-        const std::size_t mi = mv.front();
-        const CanonMove& m = p.canon.moves[mi];
-        auto& pcs = plan[mi];
-        const std::size_t n = pcs.size();
-        for (std::size_t k = 0; k + 1 < n; ++k) {
-          pcs[k].out_line = here();
-          out.push_back(move_text(m, pcs[k].from, pcs[k].to, pcs[k].feed) + " (lathectl: line " +
-                        std::to_string(line) + ", piece " + std::to_string(k + 1) + " of " +
-                        std::to_string(n) + ")");
-        }
-        pcs.back().out_line = here();
-        if (m.kind == CanonMove::Kind::Line) {
-          out.push_back(with_feed(text, feed_text(m, pcs.back().feed)).value_or(text));
-        } else {  // an arc's centre words are relative to its start: the last piece in full
-          out.push_back(move_text(m, pcs.back().from, 1.0, pcs.back().feed) + " (lathectl: line " +
-                        std::to_string(line) + ", piece " + std::to_string(n) + " of " +
-                        std::to_string(n) + ": " + commented(text) + ")");
-        }
-        out_delta = differs(pcs.back().feed, m.feed);
-        break;
-      }
-      case Kind::Expand: {
-        out.push_back("(lathectl: line " + std::to_string(line) + " expanded into its " +
-                      std::to_string(mv.size()) + " moves: " + commented(text) + ")");
-        for (auto mi : mv) {
-          const CanonMove& m = p.canon.moves[mi];
-          if (move_length(m) <= 1e-6) {
-            for (auto& pc : plan[mi]) pc.out_line = here();
-            continue;
-          }
-          for (auto& pc : plan[mi]) {
-            pc.out_line = here();
-            out.push_back(move_text(m, pc.from, pc.to, pc.feed));
-            if (m.kind != CanonMove::Kind::Traverse) out_delta = differs(pc.feed, m.feed);
-          }
-        }
-        break;
-      }
+      case Kind::None: w.none(l); break;
+      case Kind::Keep: w.keep(l); break;
+      case Kind::Feed: w.feed(l); break;
+      case Kind::Split: w.split(l); break;
+      case Kind::Expand: w.expand(l); break;
     }
   }
   std::string ngc;
@@ -233,21 +249,14 @@ std::string write_program(const Program& p, const std::vector<LineAction>& act, 
   return ngc;
 }
 
-Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const Options& opt) {
-  Result r;
-  r.limit = e.rig.controller.force_limit;
+namespace {
+
+// The moves of each program line (line_moves) and the roles of the feed moves: kept as written
+// (marked, another tool, a threading tool's move), finishing (compensated, marked, G70).
+MoveRoles move_roles(const Program& p, const Options& opt,
+                     std::vector<std::vector<std::size_t>>& line_moves) {
   const auto& moves = p.canon.moves;
-  // With [chatter]: the margin of every sample in cut (chatter.hpp), which the feeds respect
-  // (first: its machine file's errors before the prediction's work).
-  ChatterLimit chatter(e.chatter);
-  r.original = programmed(p.canon);
-  r.before = predict(p.canon, r.original, e, opt);
-  cutting::CuttingModel cut;
-  cut.configure(e.rig.cutting);
-  r.chatter = chatter.enabled();
-  if (r.chatter) chatter_margins(r.before.s, chatter, cut, opt.z_origin_mm);
-  // Moves of each line; lines that must not change.
-  std::vector<std::vector<std::size_t>> line_moves(p.lines.size());
+  line_moves.assign(p.lines.size(), {});
   MoveRoles roles;
   auto& kept = roles.kept;
   kept.resize(moves.size());
@@ -283,133 +292,145 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
     else if (text && finishing_cycle(*text))
       roles.finishing[i] = "G70 finishing cycle";
   }
-  // A finishing pass that looks deep: a run of feed moves between rapids most of whose cut is at
-  // most the finish depth is a finishing pass, though corners left by the roughing (a fillet
-  // under the last pass) or a G64 blend arc make a few of its pieces deeper. Each piece would
-  // otherwise be judged by its deepest spot and the whole contour raised to a roughing feed.
-  {
-    const Samples& s = r.before.s;
-    std::vector<std::vector<std::pair<double, double>>> depth_len(moves.size());  // depth, length
-    for (std::size_t i = 1; i < s.move.size(); ++i)
-      if (s.depth[i] > 0.0)
-        depth_len[static_cast<std::size_t>(s.move[i])].push_back(
-            {s.depth[i], s.path_mm[i] - s.path_mm[i - 1]});
-    for (std::size_t a = 0; a < moves.size();) {
-      std::size_t b = a;
-      while (b < moves.size() && moves[b].kind != CanonMove::Kind::Traverse) ++b;
-      std::vector<std::pair<double, double>> in_cut;
-      double total = 0.0, deepest = 0.0;
-      for (std::size_t i = a; i < b; ++i)
-        for (const auto& dl : depth_len[i]) {
-          in_cut.push_back(dl);
-          total += dl.second;
-          deepest = std::max(deepest, dl.first);
-        }
-      if (total > 0.0) {
-        std::sort(in_cut.begin(), in_cut.end());
-        double acc = 0.0, median = 0.0;
-        for (const auto& [d, l] : in_cut) {
-          acc += l;
-          median = d;
-          if (acc >= 0.5 * total) break;
-        }
-        const std::string why =
-            "the pass is " + number(median, 2) + " mm deep along half its cut or more";
-        for (std::size_t i = a; i < b && median <= opt.finish_depth_mm; ++i) {
-          roles.finishing_pass[i] = why;
-          // Deeper than the finish depth somewhere: by its depth alone a piece would be roughing.
-          if (deepest > opt.finish_depth_mm && roles.finishing[i].empty())
-            roles.finishing[i] = why;
-        }
+  return roles;
+}
+
+// A finishing pass that looks deep: a run of feed moves between rapids most of whose cut is at
+// most the finish depth is a finishing pass, though corners left by the roughing (a fillet
+// under the last pass) or a G64 blend arc make a few of its pieces deeper. Each piece would
+// otherwise be judged by its deepest spot and the whole contour raised to a roughing feed.
+void finishing_passes(const std::vector<CanonMove>& moves, const Samples& s, const Options& opt,
+                      MoveRoles& roles) {
+  std::vector<std::vector<std::pair<double, double>>> depth_len(moves.size());  // depth, length
+  for (std::size_t i = 1; i < s.move.size(); ++i)
+    if (s.depth[i] > 0.0)
+      depth_len[static_cast<std::size_t>(s.move[i])].push_back(
+          {s.depth[i], s.path_mm[i] - s.path_mm[i - 1]});
+  for (std::size_t a = 0; a < moves.size();) {
+    std::size_t b = a;
+    while (b < moves.size() && moves[b].kind != CanonMove::Kind::Traverse) ++b;
+    std::vector<std::pair<double, double>> in_cut;
+    double total = 0.0, deepest = 0.0;
+    for (std::size_t i = a; i < b; ++i)
+      for (const auto& dl : depth_len[i]) {
+        in_cut.push_back(dl);
+        total += dl.second;
+        deepest = std::max(deepest, dl.first);
       }
-      a = std::max(b, a + 1);
+    if (total > 0.0) {
+      std::sort(in_cut.begin(), in_cut.end());
+      double acc = 0.0, median = 0.0;
+      for (const auto& [d, l] : in_cut) {
+        acc += l;
+        median = d;
+        if (acc >= 0.5 * total) break;
+      }
+      const std::string why =
+          "the pass is " + number(median, 2) + " mm deep along half its cut or more";
+      for (std::size_t i = a; i < b && median <= opt.finish_depth_mm; ++i) {
+        roles.finishing_pass[i] = why;
+        // Deeper than the finish depth somewhere: by its depth alone a piece would be roughing.
+        if (deepest > opt.finish_depth_mm && roles.finishing[i].empty()) roles.finishing[i] = why;
+      }
     }
+    a = std::max(b, a + 1);
   }
-  // A rapid through material: LinuxCNC would drive the tool into the blank at rapid speed. It
-  // is an error unless allowed; allowed, the moves after it keep their feeds, because the stock
-  // model has the rapid's track removed and would take the next cut for air.
-  if (r.before.rapid_in_material_s > 0.0) {
-    const Samples& s = r.before.s;
-    std::size_t first = moves.size();
-    for (std::size_t i = 0; i < s.move.size() && first == moves.size(); ++i) {
-      const auto mi = static_cast<std::size_t>(s.move[i]);
-      if (moves[mi].kind == CanonMove::Kind::Traverse && s.param[i] > 0.0) first = mi;
+}
+
+// A rapid through material: LinuxCNC would drive the tool into the blank at rapid speed. It
+// is an error unless allowed; allowed, the moves after it keep their feeds, because the stock
+// model has the rapid's track removed and would take the next cut for air.
+void keep_after_rapid(const Program& p, const Prediction& before, const Options& opt,
+                      std::vector<std::string>& kept) {
+  const auto& moves = p.canon.moves;
+  const Samples& s = before.s;
+  std::size_t first = moves.size();
+  for (std::size_t i = 0; i < s.move.size() && first == moves.size(); ++i) {
+    const auto mi = static_cast<std::size_t>(s.move[i]);
+    if (moves[mi].kind == CanonMove::Kind::Traverse && s.param[i] > 0.0) first = mi;
+  }
+  if (!opt.allow_rapid_in_material)
+    throw io::InputError(io::located(
+        p.file, before.rapid_first_line, 0,
+        "a rapid (G0) drives the tool through the blank (" +
+            number(before.rapid_in_material_s, 3) + " s in material, the force parameter up to " +
+            number(before.rapid_peak, 0) +
+            " predicted): the path must change (--allow-rapid-in-material to optimise the "
+            "lines before it anyway)"));
+  const std::string why = "after the rapid through material of line " +
+                          std::to_string(before.rapid_first_line) + " (kept)";
+  for (std::size_t i = first; i < moves.size(); ++i)
+    if (kept[i].empty()) kept[i] = why;
+}
+
+// How one line takes the chosen feeds: kept as written (every move kept, threading, G94 and G95
+// mixed, an F that is an expression), split into pieces, a cycle expanded into its moves, or one
+// F (the least of its pieces', with that piece's reason); r.optimized gets the line's pieces.
+void act_on_line(const Program& p, std::size_t li, const std::vector<std::size_t>& mv,
+                 const MoveRoles& roles, const Plan& chosen, bool allow_split, Result& r) {
+  const auto& moves = p.canon.moves;
+  std::vector<std::size_t> feeds;
+  bool synced = false, comp = false, mixed = false;
+  for (auto mi : mv) {
+    if (moves[mi].kind == CanonMove::Kind::Traverse) continue;
+    feeds.push_back(mi);
+    synced = synced || moves[mi].synced;
+    comp = comp || moves[mi].compensated;
+    mixed = mixed || moves[mi].per_rev != moves[feeds.front()].per_rev;
+  }
+  if (feeds.empty()) return;
+  const auto& kept = roles.kept;
+  auto& a = r.actions[li];
+  const std::string& text = p.lines[li];
+  const bool all_kept = std::all_of(feeds.begin(), feeds.end(),
+                                    [&](std::size_t mi) { return !kept[mi].empty(); });
+  if (all_kept || synced || mixed || !with_feed(text, "1")) {
+    a = {Kind::Keep, all_kept ? kept[feeds.front()]
+                     : synced ? "threading"
+                     : mixed  ? "G94 and G95 moves on one line"
+                              : "its F word is an expression"};
+    return;
+  }
+  double fmin = 1e300, fmax = 0.0;
+  for (auto mi : feeds)
+    for (const auto& pc : chosen[mi]) {
+      fmin = std::min(fmin, pc.feed);
+      fmax = std::max(fmax, pc.feed);
     }
-    if (!opt.allow_rapid_in_material)
-      throw io::InputError(io::located(
-          p.file, r.before.rapid_first_line, 0,
-          "a rapid (G0) drives the tool through the blank (" +
-              number(r.before.rapid_in_material_s, 3) + " s in material, the force parameter up to " +
-              number(r.before.rapid_peak, 0) +
-              " predicted): the path must change (--allow-rapid-in-material to optimise the "
-              "lines before it anyway)"));
-    const std::string why = "after the rapid through material of line " +
-                            std::to_string(r.before.rapid_first_line) + " (kept)";
-    for (std::size_t i = first; i < moves.size(); ++i)
-      if (kept[i].empty()) kept[i] = why;
+  const bool contiguous = mv.back() - mv.front() + 1 == mv.size();
+  if (allow_split && fmax > 1.03 * fmin && !comp && contiguous && mv.size() == 1 &&
+      simple_move_line(text)) {
+    a.kind = Kind::Split;
+    r.optimized[mv.front()] = chosen[mv.front()];
+  } else if (allow_split && fmax > 1.03 * fmin && !comp && contiguous && mv.size() > 1 &&
+             cycle_line(text)) {
+    a.kind = Kind::Expand;
+    for (auto mi : mv) r.optimized[mi] = chosen[mi];
+    for (auto mi : mv)
+      if (moves[mi].kind == CanonMove::Kind::Traverse) r.optimized[mi] = r.original[mi];
+  } else {
+    a.kind = Kind::Feed;
+    for (auto mi : mv)
+      if (moves[mi].kind != CanonMove::Kind::Traverse)
+        r.optimized[mi] = {{0.0, 1.0, fmin, chosen[feeds.front()].front().limited_by, 0}};
+    // the limiting piece's reason
+    for (auto mi : feeds)
+      for (const auto& pc : chosen[mi])
+        if (pc.feed == fmin)
+          for (auto mj : feeds) r.optimized[mj].front().limited_by = pc.limited_by;
   }
-  Plan chosen = choose_feeds(p.canon, r.before, e, opt, roles);
-  if (opt.blends) {  // the blends at the chosen splits cut a path of their own (refeed)
-    Prediction trial = predict(p.canon, chosen, e, opt);
-    if (r.chatter) chatter_margins(trial.s, chatter, cut, opt.z_origin_mm);
-    refeed(p.canon, chosen, trial, e, opt, roles);
-  }
+}
+
+// The actions and optimized.ngc: with split lines first; if the program so written does not
+// follow the original path, once more with one F per line.
+void write_actions(const Program& p, const std::vector<std::vector<std::size_t>>& line_moves,
+                   const MoveRoles& roles, const Plan& chosen, const Options& opt, Result& r) {
   for (int attempt = 0; attempt < 2; ++attempt) {
     const bool allow_split = attempt == 0;
     r.actions.assign(p.lines.size(), {});
     r.optimized = r.original;
-    for (std::size_t li = 0; li < p.lines.size(); ++li) {
-      const auto& mv = line_moves[li];
-      std::vector<std::size_t> feeds;
-      bool synced = false, comp = false, mixed = false;
-      for (auto mi : mv) {
-        if (moves[mi].kind == CanonMove::Kind::Traverse) continue;
-        feeds.push_back(mi);
-        synced = synced || moves[mi].synced;
-        comp = comp || moves[mi].compensated;
-        mixed = mixed || moves[mi].per_rev != moves[feeds.front()].per_rev;
-      }
-      if (feeds.empty()) continue;
-      auto& a = r.actions[li];
-      const std::string& text = p.lines[li];
-      const bool all_kept = std::all_of(feeds.begin(), feeds.end(),
-                                        [&](std::size_t mi) { return !kept[mi].empty(); });
-      if (all_kept || synced || mixed || !with_feed(text, "1")) {
-        a = {Kind::Keep, all_kept ? kept[feeds.front()]
-                         : synced ? "threading"
-                         : mixed  ? "G94 and G95 moves on one line"
-                                  : "its F word is an expression"};
-        continue;
-      }
-      double fmin = 1e300, fmax = 0.0;
-      for (auto mi : feeds)
-        for (const auto& pc : chosen[mi]) {
-          fmin = std::min(fmin, pc.feed);
-          fmax = std::max(fmax, pc.feed);
-        }
-      const bool contiguous = mv.back() - mv.front() + 1 == mv.size();
-      if (allow_split && fmax > 1.03 * fmin && !comp && contiguous && mv.size() == 1 &&
-          simple_move_line(text)) {
-        a.kind = Kind::Split;
-        r.optimized[mv.front()] = chosen[mv.front()];
-      } else if (allow_split && fmax > 1.03 * fmin && !comp && contiguous && mv.size() > 1 &&
-                 cycle_line(text)) {
-        a.kind = Kind::Expand;
-        for (auto mi : mv) r.optimized[mi] = chosen[mi];
-        for (auto mi : mv)
-          if (moves[mi].kind == CanonMove::Kind::Traverse) r.optimized[mi] = r.original[mi];
-      } else {
-        a.kind = Kind::Feed;
-        for (auto mi : mv)
-          if (moves[mi].kind != CanonMove::Kind::Traverse)
-            r.optimized[mi] = {{0.0, 1.0, fmin, chosen[feeds.front()].front().limited_by, 0}};
-        // the limiting piece's reason
-        for (auto mi : feeds)
-          for (const auto& pc : chosen[mi])
-            if (pc.feed == fmin)
-              for (auto mj : feeds) r.optimized[mj].front().limited_by = pc.limited_by;
-      }
-    }
+    for (std::size_t li = 0; li < p.lines.size(); ++li)
+      act_on_line(p, li, line_moves[li], roles, chosen, allow_split, r);
     std::vector<std::string> out_lines;
     r.ngc = write_program(p, r.actions, r.optimized, line_moves, out_lines);
     // The inserted pieces and a cycle's moves are written in radius and absolute: under G7 (or
@@ -422,18 +443,19 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
     } catch (const io::InputError&) {
       if (!allow_split) throw;
     }
-    if (follows) break;
+    if (follows) return;
     if (!allow_split)
       throw std::runtime_error(p.file +
                                ": the optimised program leaves the original path "
                                "(lathectl optimize's fault: please report it)");
     r.splits_dropped = true;
   }
-  r.after = predict(p.canon, r.optimized, e, opt);
-  if (r.chatter) {
-    chatter_margins(r.after.s, chatter, cut, opt.z_origin_mm);
-    flag_chatter(r.optimized, r.after.s);
-  }
+}
+
+// The lines changed: split or expanded, or given an F other than the programmed one.
+void count_changed(const Program& p, const std::vector<std::vector<std::size_t>>& line_moves,
+                   Result& r) {
+  const auto& moves = p.canon.moves;
   for (std::size_t li = 0; li < p.lines.size(); ++li) {
     const auto k = r.actions[li].kind;
     if (k == Kind::Split || k == Kind::Expand) {
@@ -453,6 +475,40 @@ Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const 
       }
     }
   }
+}
+
+}  // namespace
+
+Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const Options& opt) {
+  Result r;
+  r.limit = e.rig.controller.force_limit;
+  // With [chatter]: the margin of every sample in cut (chatter.hpp), which the feeds respect
+  // (first: its machine file's errors before the prediction's work).
+  ChatterLimit chatter(e.chatter);
+  r.original = programmed(p.canon);
+  r.before = predict(p.canon, r.original, e, opt);
+  cutting::CuttingModel cut;
+  cut.configure(e.rig.cutting);
+  r.chatter = chatter.enabled();
+  if (r.chatter) chatter_margins(r.before.s, chatter, cut, opt.z_origin_mm);
+  // Moves of each line; lines that must not change.
+  std::vector<std::vector<std::size_t>> line_moves;
+  MoveRoles roles = move_roles(p, opt, line_moves);
+  finishing_passes(p.canon.moves, r.before.s, opt, roles);
+  if (r.before.rapid_in_material_s > 0.0) keep_after_rapid(p, r.before, opt, roles.kept);
+  Plan chosen = choose_feeds(p.canon, r.before, e, opt, roles);
+  if (opt.blends) {  // the blends at the chosen splits cut a path of their own (refeed)
+    Prediction trial = predict(p.canon, chosen, e, opt);
+    if (r.chatter) chatter_margins(trial.s, chatter, cut, opt.z_origin_mm);
+    refeed(p.canon, chosen, trial, e, opt, roles);
+  }
+  write_actions(p, line_moves, roles, chosen, opt, r);
+  r.after = predict(p.canon, r.optimized, e, opt);
+  if (r.chatter) {
+    chatter_margins(r.after.s, chatter, cut, opt.z_origin_mm);
+    flag_chatter(r.optimized, r.after.s);
+  }
+  count_changed(p, line_moves, r);
   return r;
 }
 

@@ -144,9 +144,8 @@ void read_frfs(TableReader& root, LobesInput& in, const std::filesystem::path& b
   }
 }
 
-// Reads everything but the number of lobes (returned: 0 when the file leaves it to the reader).
-int read_tables(TableReader& root, LobesInput& in, std::optional<TableReader>& lobes,
-                const std::filesystem::path& base) {
+// [cutting]: K_f, and the cut the recommendation assumes.
+void read_cutting(TableReader& root, LobesInput& in) {
   auto c = root.table("cutting", true);
   c->require({"kf_N_per_mm2",
               Range::closed(1.0, 1e6),
@@ -174,11 +173,12 @@ int read_tables(TableReader& root, LobesInput& in, std::optional<TableReader>& l
            "the chip-thickness direction, from the [[frf]]s' x towards their y", 0.0174532925199432958},
           in.chip_direction_rad);
   c->finish();
-  read_modes(root, in);
-  read_frfs(root, in, base);
-  if (auto p = root.table("part")) read_part(*p, in);
-  // The flank's indentation as damping (dynamics/lobes.hpp, ChatterSystem::process_damping_C):
-  // C = 60·K_sp·VB²/(4π·D·sin κ), D the cutting diameter of the recommendation.
+}
+
+// [process_damping]: the flank's indentation as damping (dynamics/lobes.hpp,
+// ChatterSystem::process_damping_C): C = 60·K_sp·VB²/(4π·D·sin κ), D the cutting diameter of the
+// recommendation.
+void read_process_damping(TableReader& root, LobesInput& in) {
   if (auto pd = root.table("process_damping")) {
     pd->read({"k_sp_N_per_mm3", Range::closed(0.0, 1e9),
               "K_sp, the specific indentation force of the flank (carbon steels: about 4e4 "
@@ -197,8 +197,10 @@ int read_tables(TableReader& root, LobesInput& in, std::optional<TableReader>& l
                            (4.0 * std::numbers::pi * recommend_diameter_m(in) *
                             std::sin(in.process_damping_kappa_rad));
   }
-  root.check(!(in.tool_modes.empty() && !in.part && in.frfs.empty()), "mode",
-             "at least one [[mode]], [[frf]] or a [part] expected");
+}
+
+// [speed], and what the recommendation needs of [machine] and [recommend].
+void read_speed_and_limits(TableReader& root, LobesInput& in) {
   auto s = root.table("speed", true);
   s->require({"min_rpm", {0.0, 1e6, true, false}, "lowest spindle speed of the lobes"}, in.min_rpm);
   s->require({"max_rpm", {0.0, 1e6, true, false}, "highest spindle speed of the lobes"},
@@ -222,8 +224,11 @@ int read_tables(TableReader& root, LobesInput& in, std::optional<TableReader>& l
     rt->read({"pockets", Range::closed(1, 50), "the best pockets listed"}, in.recommend.pockets);
     rt->finish();
   }
+}
+
+// [lobes]: the number of lobes (0: left to the reader), semi-discretization and its chart.
+int read_lobes(std::optional<TableReader>& lobes, LobesInput& in) {
   int max_lobes = 0;
-  lobes = root.table("lobes");
   if (auto& l = lobes) {
     l->read({"max_lobes", Range::closed(1, kMaxLobes),
              "lobes computed; by default (0) as many as reach min_rpm (at least 40)"},
@@ -248,6 +253,21 @@ int read_tables(TableReader& root, LobesInput& in, std::optional<TableReader>& l
     l->finish();
   }
   return max_lobes;
+}
+
+// Reads everything but the number of lobes (returned: 0 when the file leaves it to the reader).
+int read_tables(TableReader& root, LobesInput& in, std::optional<TableReader>& lobes,
+                const std::filesystem::path& base) {
+  read_cutting(root, in);
+  read_modes(root, in);
+  read_frfs(root, in, base);
+  if (auto p = root.table("part")) read_part(*p, in);
+  read_process_damping(root, in);
+  root.check(!(in.tool_modes.empty() && !in.part && in.frfs.empty()), "mode",
+             "at least one [[mode]], [[frf]] or a [part] expected");
+  read_speed_and_limits(root, in);
+  lobes = root.table("lobes");
+  return read_lobes(lobes, in);
 }
 
 // The SDOF limit 2kζ(1+ζ)/(K_f·cos²θ) of a mode [m] (cos²θ kept ≥ 1e-12 as in reference_Hz).

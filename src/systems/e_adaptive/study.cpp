@@ -22,12 +22,11 @@
 #include "systems/e_adaptive/metrics.hpp"
 #include "systems/e_adaptive/plots.hpp"
 #include "systems/e_adaptive/settings.hpp"
+#include "systems/e_adaptive/study_phases.hpp"
 
 namespace lathectl::systems::e_adaptive {
 
-namespace {
-using namespace io;
-using nlohmann::json;
+namespace detail {
 
 // A cycle time only when the part was finished; else where the run stopped (run.duration_s).
 std::string cycle_cell(const Metrics& m) {
@@ -45,19 +44,9 @@ std::string short_name(Mode m) {
                                 : std::string("seed 004");
 }
 
-struct Run {
-  Rig rig;
-  std::unique_ptr<MetricsAccumulator> acc;  // fed as the rig records
-  std::unique_ptr<PathPlots> path;          // the compared plots, along the part
-  std::unique_ptr<ChannelStream> csv;       // channels.csv / channels_compare.csv
-  Metrics m;
-  Mode mode = Mode::Fixed;
-  std::string label;
-};
-
 // csv: the result file the run's channels go to (nullptr: none), streamed into `stage`.
 void run_one(const Scenario& sc, RigConfig cfg, Mode mode, bool as_comparison, Run& r,
-             const char* csv = nullptr, OutputStage* stage = nullptr) {
+             const char* csv, OutputStage* stage) {
   cfg.controller.mode = mode;
   // The baseline must be set for the worst case to avoid overload: that is what makes it slow.
   if (mode == Mode::Fixed && as_comparison) cfg.worst_case_feed = true;
@@ -82,11 +71,6 @@ void run_one(const Scenario& sc, RigConfig cfg, Mode mode, bool as_comparison, R
   r.label = mode == Mode::ForceFeedSpeed && cfg.life_law ? "force by feed + tool-life speed law"
                                                           : mode_name(mode);
 }
-
-// Cost per part (settings.hpp, Cost): machine time plus the share of an edge used.
-struct PartCost {
-  double machine = 0.0, tool = 0.0, total = 0.0;
-};
 PartCost part_cost(const Metrics& m, const Cost& c) {
   PartCost pc;
   pc.machine = m.cycle_time_s / 3600.0 * c.machine_rate_per_h;
@@ -133,8 +117,6 @@ json metrics_json(const Run& r, const std::string& unit, const Cost& cost) {
           {"alarms", alarms_json(m.alarms)}};
 }
 
-constexpr const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd"};
-
 Series constant(double x0, double x1, double y, const std::string& name) {
   return Series{name, {x0, x1}, {y, y}, "#555", true, false};
 }
@@ -142,91 +124,6 @@ Series constant(double x0, double x1, double y, const std::string& name) {
 std::string alarm_name(const sim::AlarmEvent& a) {
   return std::string(control::reason_name(static_cast<control::Reason>(a.code)));
 }
-
-// One planned depth t_p of the sweep: the tool-life verdicts (used / plan) of the seed law and
-// of the depth-corrected law, at the part's hardness and at nominal hardness.
-struct DepthVerdict {
-  double depth_mm = 0.0, plan_min = 0.0;  // t_p, T(V_p, S_p, t_p)
-  double seed = 0.0, seed_nominal = 0.0, corrected = 0.0, corrected_nominal = 0.0;
-  double cycle_s = 0.0, edge_used = 0.0;  // the depth-corrected run's
-};
-json depth_json(const std::vector<DepthVerdict>& v);
-
-// The scenario's controller and those compared with it on the same part; beside them the prior
-// art given seed 004's tool-life budget and the tool-life verdict against the
-// planned depth (item 5). The extra studies' tables and plot keep their places among the
-// report's own (report() lays them out), where E's report has always shown them.
-class EStudy final : public io::Study {
- public:
-  explicit EStudy(const Scenario& sc)
-      : Study(sc),
-        st_(sc.get<Settings>()),
-        power_(st_.rig.force_parameter == cutting::ForceParameter::Power),
-        unit_(power_ ? "W" : "N"),
-        pname_(power_ ? "cutting power"
-                      : (st_.rig.force_parameter == cutting::ForceParameter::Pz ? "force Pz"
-                                                                                : "force Py")) {}
-
- private:
-  void run_controllers() override;
-  void check_claims(Claims& claims) override;
-  void extra_studies(RunOutput& out, Claims& claims) override;
-  void summary(json& s) override;
-  void report(Report& rep) override;
-  void finish(RunOutput& out) override;
-
-  void run_beside();
-  void force_claims(const Run& r, Claims& claims) const;
-  void productivity_claim(Claims& claims) const;
-  void tool_life_claims(Claims& claims) const;
-  void baseline_note(const Run& fixed, Claims& claims) const;
-  void fault_claims(Claims& claims) const;
-  void tradeoff_study(json& s, Claims& claims) const;
-  void depth_study(json& s, Claims& claims);
-  [[nodiscard]] std::vector<DepthVerdict> depth_verdicts() const;
-  void depth_table_and_plot(const std::vector<DepthVerdict>& v);
-  void depth_claims(const std::vector<DepthVerdict>& v, Claims& claims) const;
-  void report_metrics(Report& rep) const;
-  [[nodiscard]] Table controllers_table() const;
-  [[nodiscard]] Table cost_table() const;
-  void reasons_table(Report& rep) const;
-  void run_plots(Report& rep) const;
-  [[nodiscard]] const RigConfig& e() const { return st_.rig; }
-  [[nodiscard]] const Run& main() const { return *runs_.front(); }
-  [[nodiscard]] const std::vector<double>& depths() const { return st_.sweep_planned_depth_mm; }
-  // The prior art at seed 004's tool budget: what its speed is raised to.
-  [[nodiscard]] double budget_speed() const {
-    return e().controller.speed_programmed_m_per_min * budget_speed_factor_;
-  }
-
-  const Settings& st_;
-  const bool power_;
-  const std::string unit_, pname_;          // the force parameter's unit and name
-  std::vector<std::unique_ptr<Run>> runs_;  // the scenario's controller, then the compared
-  std::array<const Run*, 3> by_mode_{};     // each controller's run (Mode's order), or null
-  // Seed 004 and the prior art both finished, the prior art run again at the
-  // speed that uses seed 004's share of an edge.
-  bool tradeoff_ = false;
-  Run budget_;
-  double budget_speed_factor_ = std::nan("");
-  // Item 5: the depth-corrected law at each planned depth; the seed law once (from the main run
-  // when it is the seed law: it never reads t_p).
-  bool main_seed_law_ = false;
-  std::vector<std::unique_ptr<Run>> corrected_;
-  Run seed_law_;
-  Table depth_table_{
-      "Tool-life verdict against the planned depth t_p (used / plan = ∫dt/T over "
-      "time in cut / T(V_p, S_p, t_p))",
-      {"t_p [mm]", "T plan [min]", "seed law used/plan", "seed law, nominal hardness",
-       "depth-corrected used/plan", "depth-corrected, nominal hardness",
-       "depth-corrected cycle [s]", "depth-corrected edge used"},
-      {}};
-  Plot depth_plot_{"Tool-life use against plan vs the planned depth",
-                   "planned depth t_p [mm]",
-                   "used / plan",
-                   {},
-                   {}};
-};
 
 void EStudy::run_controllers() {
   std::vector<Mode> modes{e().controller.mode};
@@ -411,150 +308,6 @@ void EStudy::fault_claims(Claims& claims) const {
              !m.alarms.empty());
 }
 
-void EStudy::extra_studies(RunOutput& out, Claims& claims) {
-  if (tradeoff_) tradeoff_study(out.summary, claims);
-  if (!depths().empty()) depth_study(out.summary, claims);
-}
-
-// Seed 004 against the prior art at equal tool use: cost per part, the edge price at which the
-// two cost the same, the prior art's cycle time interpolated to seed 004's tool use.
-void EStudy::tradeoff_study(json& s, Claims& claims) const {
-  const Run& seed = *by_mode_[2];
-  const Run& prior = *by_mode_[1];
-  const Cost& cost = st_.cost;
-  const std::string law = e().life_law ? "the tool-life law" : "seed 004";
-  const PartCost cs = part_cost(seed.m, cost), cp = part_cost(prior.m, cost);
-  claims.check("cost per part (machine time + edge used), " + law + " / prior art (< 1; " +
-                   fmt(cs.total, "%.3f") + " against " + fmt(cp.total, "%.3f") + ")",
-               cs.total / cp.total, Compare::Below, 1.0);
-  // The tool price at which the two would cost the same per part.
-  const double du = seed.m.tool_life_used_fraction - prior.m.tool_life_used_fraction;
-  const double dm = (prior.m.cycle_time_s - seed.m.cycle_time_s) / 3600.0 * cost.machine_rate_per_h;
-  const double breakeven =
-      du > 0.0 ? dm / du - cost.tool_change_min / 60.0 * cost.machine_rate_per_h : std::nan("");
-  const double u0 = prior.m.tool_life_used_fraction, c0 = prior.m.cycle_time_s;
-  const double u1 = budget_.m.tool_life_used_fraction, c1 = budget_.m.cycle_time_s;
-  const double u = seed.m.tool_life_used_fraction;
-  const double c_equal =
-      budget_.m.finished && std::abs(std::log(u1 / u0)) > 1e-9
-          ? c0 * std::exp(std::log(c1 / c0) * std::log(u / u0) / std::log(u1 / u0))
-          : std::nan("");
-  s["tool_use_tradeoff"] = {{"seed_to_prior_tool_use", json_number(u / u0)},
-                            {"seed_to_prior_cycle_time", json_number(seed.m.cycle_time_s / c0)},
-                            {"breakeven_tool_edge_cost", json_number(breakeven)},
-                            {"prior_art_equal_budget",
-                             {{"speed_m_per_min", json_number(budget_speed())},
-                              {"cycle_time_s", json_number(c1)},
-                              {"tool_life_used_fraction", json_number(u1)},
-                              {"cycle_time_at_seed_tool_use_s", json_number(c_equal)}}}};
-  claims.check("equal tool use: prior art given " + law +
-                   "'s tool-life budget (speed raised to " + fmt(budget_speed(), "%.1f") +
-                   " m/min, cycle " + fmt(c_equal, "%.1f") + " s interpolated to " + (e().life_law ? "its" : "the seed's") + " use); cycle time " +
-                   law + " / prior art (< 1)",
-               seed.m.cycle_time_s / c_equal, Compare::Below, 1.0);
-  claims.note(law + " uses " + fmt(u / u0, "%.3f") + "× the prior art's tool life for " +
-              fmt(seed.m.cycle_time_s / c0, "%.3f") +
-              "× its cycle time; at these rates the two cost the same per part when an edge "
-              "costs " +
-              fmt(breakeven, "%.1f") + " (the [cost] default: " + fmt(cost.tool_edge_cost) + ")");
-}
-
-// The tool-life verdict (used / plan) of the seed law and the depth-corrected law at each
-// planned depth t_p, at the part's hardness and at nominal hardness.
-void EStudy::depth_study(json& s, Claims& claims) {
-  const std::vector<DepthVerdict> v = depth_verdicts();
-  s["planned_depth_sweep"] = depth_json(v);
-  depth_table_and_plot(v);
-  depth_claims(v, claims);
-}
-
-std::vector<DepthVerdict> EStudy::depth_verdicts() const {
-  const Run& sl = main_seed_law_ ? main() : seed_law_;
-  cutting::CuttingModel cut;
-  cut.configure(e().cutting);
-  std::vector<DepthVerdict> v;
-  for (std::size_t k = 0; k < depths().size(); ++k) {
-    const double d = depths()[k];
-    const double plan = cut.tool_life_min(e().controller.speed_programmed_m_per_min,
-                                          e().controller.feed_planned_mm_per_rev, d);
-    const Run& rc = *corrected_[k];
-    v.push_back({.depth_mm = d,
-                 .plan_min = plan,
-                 .seed = sl.m.tool_life_used_fraction * plan * 60.0 / sl.m.time_in_cut_s,
-                 .seed_nominal = sl.m.tool_life_used_nominal_hardness_fraction * plan * 60.0 /
-                                 sl.m.time_in_cut_s,
-                 .corrected = rc.m.tool_life_used_fraction / rc.m.tool_life_plan_fraction,
-                 .corrected_nominal =
-                     rc.m.tool_life_used_nominal_hardness_fraction / rc.m.tool_life_plan_fraction,
-                 .cycle_s = rc.m.cycle_time_s,
-                 .edge_used = rc.m.tool_life_used_fraction});
-  }
-  return v;
-}
-
-json depth_json(const std::vector<DepthVerdict>& v) {
-  json jd = json::array(), js = json::array(), jc = json::array(), jcyc = json::array(),
-       jplan = json::array(), jsn = json::array(), jcn = json::array();
-  for (const DepthVerdict& p : v) {
-    jsn.push_back(json_number(p.seed_nominal));
-    jcn.push_back(json_number(p.corrected_nominal));
-    jd.push_back(p.depth_mm);
-    jplan.push_back(json_number(p.plan_min));
-    js.push_back(json_number(p.seed));
-    jc.push_back(json_number(p.corrected));
-    jcyc.push_back(json_number(p.cycle_s));
-  }
-  return {{"planned_depth_mm", jd},
-          {"tool_life_planned_min", jplan},
-          {"seed_law_used_to_plan", js},
-          {"seed_law_used_to_plan_nominal_hardness", jsn},
-          {"depth_corrected_used_to_plan", jc},
-          {"depth_corrected_used_to_plan_nominal_hardness", jcn},
-          {"depth_corrected_cycle_time_s", jcyc}};
-}
-
-void EStudy::depth_table_and_plot(const std::vector<DepthVerdict>& v) {
-  Series ss{"seed law V_p·(S_p/S)^y_v", {}, {}, kColors[0], false, true};
-  Series sd{"depth-corrected law ·(t_p/t̂)^x_v", {}, {}, kColors[2], false, true};
-  Series ssn{"seed law, at nominal hardness", {}, {}, kColors[0], true, true};
-  Series sdn{"depth-corrected law, at nominal hardness", {}, {}, kColors[2], true, true};
-  for (const DepthVerdict& p : v) {
-    for (Series* series : {&ss, &sd, &ssn, &sdn}) series->x.push_back(p.depth_mm);
-    ss.y.push_back(p.seed);
-    sd.y.push_back(p.corrected);
-    ssn.y.push_back(p.seed_nominal);
-    sdn.y.push_back(p.corrected_nominal);
-    depth_table_.rows.push_back({fmt(p.depth_mm), fmt(p.plan_min, "%.1f"), fmt(p.seed, "%.3f"),
-                                 fmt(p.seed_nominal, "%.3f"), fmt(p.corrected, "%.3f"),
-                                 fmt(p.corrected_nominal, "%.3f"), fmt(p.cycle_s, "%.1f"),
-                                 fmt(p.edge_used, "%.4f")});
-  }
-  depth_plot_.series = {ss, sd, ssn, sdn, constant(depths().front(), depths().back(), 1.0, "plan")};
-}
-
-void EStudy::depth_claims(const std::vector<DepthVerdict>& v, Claims& claims) const {
-  double worst = 0.0, corrected_max = v.front().corrected;
-  for (const DepthVerdict& p : v) {
-    worst = std::max(worst, std::abs(p.corrected_nominal - 1.0));
-    corrected_max = std::max(corrected_max, p.corrected);
-  }
-  claims.note(
-      "the seed law's used/plan scales as t_p^(−x_v/m): its verdict is the choice of "
-      "t_p, from " +
-      fmt(v.front().seed, "%.2f") + " at t_p = " + fmt(depths().front()) + " mm to " +
-      fmt(v.back().seed, "%.2f") + " at " + fmt(depths().back()) + " mm");
-  claims.check(
-      "depth-corrected law, what it is designed to hold (tool life at nominal "
-      "hardness): largest |used/plan − 1| over the planned depths (≤ 0.15)",
-      worst, Compare::AtMost, 0.15);
-  claims.note(
-      "with the part's hardness (1.0–1.3 along it here) in the tool-life law, the "
-      "depth-corrected law uses " +
-      fmt(v.front().corrected, "%.2f") + "–" + fmt(corrected_max, "%.2f") +
-      "× the plan at every t_p: hardness, which no force-only law can tell from depth, "
-      "not the planned depth, then sets the verdict");
-}
-
 void EStudy::summary(json& s) {
   s["label"] = main().label;
   s["metrics"] = metrics_json(main(), unit_, st_.cost);
@@ -697,7 +450,7 @@ void EStudy::finish(RunOutput& out) {
   for (std::size_t i = 1; i < runs_.size(); ++i)
     out.headline += "; " + runs_[i]->label + " " + cycle_phrase(runs_[i]->m);
 }
-}  // namespace
+}  // namespace detail
 
 io::RunOutput run(const io::Scenario& sc) {
   // The rig cuts the scenario's passes; a scenario may leave them out when a program's path
@@ -710,7 +463,7 @@ io::RunOutput run(const io::Scenario& sc) {
     if (sc.keys) sc.keys->fail("stock.passes", msg);
     throw io::InputError(io::located(sc.file, 0, 0, msg));
   }
-  return EStudy(sc).run();
+  return detail::EStudy(sc).run();
 }
 
 }  // namespace lathectl::systems::e_adaptive

@@ -1,0 +1,80 @@
+#!/usr/bin/env bash
+# The size rules of the project: no function over 100 lines, no source file over 600 lines.
+#
+#   scripts/size-report.sh                 lists every function over 100 lines and every source
+#                                          file over 600 lines (C++ under src, apps, hal, include),
+#                                          longest first, and their counts.
+#   scripts/size-report.sh --check FILE    the same measure, compared with the allow-list FILE
+#                                          (tests/size/allowed.txt): fails on any violation the
+#                                          list does not hold, or one longer than the list says,
+#                                          so the number can only go down. An entry the tree no
+#                                          longer needs is reported, not an error (delete it).
+#
+# A function is what Universal Ctags calls one (kind f, with its end line); lambdas (ctags'
+# __anon names) count in the function that holds them. A line is a line of the file, comments
+# and blank lines included. Entries read `function <file> <name> <lines>` and `file <file> <lines>`;
+# a function is keyed by file and name (not line), so an edit above it does not break the list.
+#
+# The root is this script's repository, or SIZE_ROOT.
+set -euo pipefail
+max_function=100
+max_file=600
+root=${SIZE_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
+cd "$root"
+command -v ctags >/dev/null || { echo "size-report: needs Universal Ctags (Debian: universal-ctags)" >&2; exit 2; }
+
+dirs=()
+for d in src apps hal include; do [[ -d $d ]] && dirs+=("$d"); done
+
+measure() {
+  # function <file> <name> <lines>, for every named function over max_function lines.
+  ctags -R --languages=C++ --c++-kinds=f --fields=+ne -o - "${dirs[@]}" |
+    awk -F'\t' -v max="$max_function" '
+      $1 !~ /^__anon/ {
+        s = ""; e = ""
+        for (i = 4; i <= NF; i++) {
+          if ($i ~ /^line:/) s = substr($i, 6)
+          if ($i ~ /^end:/) e = substr($i, 5)
+        }
+        if (s != "" && e != "" && e - s + 1 > max) print "function", $2, $1, e - s + 1
+      }' | sort -u
+  # file <file> <lines>, for every source file over max_file lines.
+  find "${dirs[@]}" -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.h' \) -print0 |
+    xargs -0 wc -l | awk -v max="$max_file" '$2 != "total" && $1 > max { print "file", $2, $1 }' |
+    sort
+}
+
+if [[ ${1:-} != --check ]]; then
+  report=$(measure)
+  echo "Functions over $max_function lines (lines, file, name):"
+  grep '^function ' <<<"$report" | awk '{ print "  " $4, $2, $3 }' | sort -rn || true
+  echo "Source files over $max_file lines (lines, file):"
+  grep '^file ' <<<"$report" | awk '{ print "  " $3, $2 }' | sort -rn || true
+  echo "$(grep -c '^function ' <<<"$report" || true) functions over $max_function lines," \
+       "$(grep -c '^file ' <<<"$report" || true) files over $max_file lines"
+  exit 0
+fi
+
+allowed=${2:?usage: scripts/size-report.sh [--check ALLOW-LIST]}
+[[ $allowed = /* ]] || allowed=$OLDPWD/$allowed
+measure | awk '
+  # The allow-list first (comments and blank lines skipped), then the measure.
+  FILENAME == ARGV[1] {
+    if ($0 ~ /^[ \t]*(#|$)/) next
+    key = ($1 == "function") ? $1 " " $2 " " $3 : $1 " " $2
+    allow[key] = $NF; next
+  }
+  {
+    key = ($1 == "function") ? $1 " " $2 " " $3 : $1 " " $2
+    seen[key] = 1
+    if (!(key in allow)) { print "NEW: " $0; bad = 1 }
+    else if ($NF + 0 > allow[key] + 0) { print "LONGER: " $0 " (allowed " allow[key] ")"; bad = 1 }
+  }
+  END {
+    for (k in allow) if (!(k in seen)) print "fixed (delete from the allow-list): " k
+    if (bad) {
+      print "size: a function over 100 lines or a file over 600 lines that the allow-list does" \
+            " not hold; split it by named phases (docs/code-layout.md)"
+      exit 1
+    }
+  }' "$allowed" -
