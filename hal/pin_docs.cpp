@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "pins/chatter.hpp"
 #include "pins/gauge_plant.hpp"
 #include "pins/meter.hpp"
 #include "pins/slide_plant.hpp"
@@ -41,6 +42,7 @@ struct Component {
 
 const std::vector<Component>& components() {
   static const std::vector<Component> all = {
+      {"lathectl_chatter", {LATHECTL_CHATTER_PINS(DOC_PIN, DOC_HEAD)}, true},
       {"lathectl_gauge_plant", {LATHECTL_GAUGE_PLANT_PINS(DOC_PIN, DOC_HEAD)}, true},
       {"lathectl_slide_plant", {LATHECTL_SLIDE_PLANT_PINS(DOC_PIN, DOC_HEAD)}, true},
   };
