@@ -33,6 +33,7 @@
 #include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/sensors/force_sensor.hpp"
 #include "lathectl_hal.hpp"
+#include "pins/plant.hpp"
 #include "systems/e_adaptive/machine_params.hpp"
 #include "systems/e_adaptive/settings.hpp"
 
@@ -57,31 +58,7 @@ constexpr const char* kName = "lathectl_plant";
 constexpr const char* kPrefix = "lathectl-plant";
 
 struct Pins {
-  hal_float_t* x_pos;
-  hal_float_t* z_pos;
-  hal_float_t* rpm;
-  hal_bit_t* enable;
-  hal_float_t* probe_z;
-  hal_float_t* probe_radius;
-  hal_float_t* force;
-  hal_float_t* force_true;
-  hal_float_t* pz;
-  hal_float_t* py;
-  hal_float_t* power;
-  hal_float_t* spindle_power;
-  hal_float_t* idle_power;
-  hal_float_t* idle_factor;
-  hal_float_t* depth;
-  hal_float_t* feed;
-  hal_float_t* speed;
-  hal_float_t* strength;
-  hal_bit_t* contact;
-  hal_float_t* t_cut;
-  hal_s32_t* motion_type;
-  hal_float_t* force_rev_mean;
-  hal_float_t* force_rev_peak;
-  hal_s32_t* update_ns;
-  hal_s32_t* update_ns_max;
+  LATHECTL_HAL_PIN_BLOCK(LATHECTL_PLANT_PINS)
 };
 
 int comp_id = -1;
@@ -105,7 +82,7 @@ void update(void*, long period_ns) {
   const bool on = homed_gate(*pins->enable, *pins->x_pos, *pins->z_pos);
   in.x_mm = on ? *pins->x_pos : std::nan("");
   in.z_mm = on ? *pins->z_pos : std::nan("");
-  in.rpm = *pins->rpm;
+  in.rpm = *pins->spindle_rpm;
   lathectl::cutting::LathePlant::Output out;
   plant->step(in, static_cast<double>(period_ns) * 1e-9, out);
   if (break_at > 0.0 && out.time_in_cut_s >= break_at) {  // a broken tool: nothing is cut
@@ -116,20 +93,20 @@ void update(void*, long period_ns) {
   *pins->force_true = out.force_parameter;
   *pins->pz = out.Pz_N;
   *pins->py = out.Py_N;
-  *pins->power = out.cut_power_W;
+  *pins->cut_power = out.cut_power_W;
   {  // the drive's power pin
     const double dt = static_cast<double>(period_ns) * 1e-9;
     meter.step(dt, drive.step(dt, in.rpm, out.cut_power_W));
     *pins->idle_power = drive.idle_power_W();
-    *pins->idle_factor = drive.idle_factor();
+    *pins->idle_drift_factor = drive.idle_factor();
     *pins->spindle_power = meter.sample();
   }
   *pins->depth = out.depth_mm;
-  *pins->feed = out.feed_per_rev_mm;
-  *pins->speed = out.speed_m_per_min;
-  *pins->strength = out.strength_factor;
-  *pins->contact = out.in_contact;
-  *pins->t_cut = out.time_in_cut_s;
+  *pins->feed_per_rev = out.feed_per_rev_mm;
+  *pins->cutting_speed = out.speed_m_per_min;
+  *pins->strength_factor = out.strength_factor;
+  *pins->in_contact = out.in_contact;
+  *pins->time_in_cut = out.time_in_cut_s;
   {
     run_s += static_cast<double>(period_ns) * 1e-9;
     const bool feed_move = *pins->motion_type == 2 || *pins->motion_type == 3;
@@ -177,32 +154,8 @@ extern "C" int rtapi_app_main(void) {
     force_rev.configure(period * 1e-9);
     pins = lathectl::hal::allocate_pins<Pins>();
     const lathectl::hal::Exporter x(comp_id, kPrefix);
-    x.in(&pins->x_pos, "x-pos");
-    x.in(&pins->z_pos, "z-pos");
-    x.in(&pins->rpm, "spindle-rpm");
-    x.in(&pins->enable, "enable");
-    x.in(&pins->probe_z, "probe-z");
-    x.out(&pins->probe_radius, "probe-radius");
-    x.out(&pins->force, "force");
-    x.out(&pins->force_true, "force-true");
-    x.out(&pins->pz, "pz");
-    x.out(&pins->py, "py");
-    x.out(&pins->power, "cut-power");
-    x.out(&pins->spindle_power, "spindle-power");
-    x.out(&pins->idle_power, "idle-power");
-    x.out(&pins->idle_factor, "idle-drift-factor");
-    x.out(&pins->depth, "depth");
-    x.out(&pins->feed, "feed-per-rev");
-    x.out(&pins->speed, "cutting-speed");
-    x.out(&pins->strength, "strength-factor");
-    x.out(&pins->contact, "in-contact");
-    x.out(&pins->t_cut, "time-in-cut");
-    x.in(&pins->motion_type, "motion-type");
-    x.out(&pins->force_rev_mean, "force-rev-mean");
-    x.out(&pins->force_rev_peak, "force-rev-peak");
+    pins->export_pins(x);
     *pins->motion_type = 2;  // unconnected (halrun): every move is a feed move
-    x.out(&pins->update_ns, "update-ns");
-    x.out(&pins->update_ns_max, "update-ns-max");
     plant = std::move(model);
     lathectl::hal::export_update(kPrefix, update, comp_id);
   });

@@ -18,6 +18,7 @@
 #include "pins/chatter.hpp"
 #include "pins/gauge_plant.hpp"
 #include "pins/meter.hpp"
+#include "pins/plant.hpp"
 #include "pins/slide_plant.hpp"
 
 namespace {
@@ -44,6 +45,7 @@ const std::vector<Component>& components() {
   static const std::vector<Component> all = {
       {"lathectl_chatter", {LATHECTL_CHATTER_PINS(DOC_PIN, DOC_HEAD)}, true},
       {"lathectl_gauge_plant", {LATHECTL_GAUGE_PLANT_PINS(DOC_PIN, DOC_HEAD)}, true},
+      {"lathectl_plant", {LATHECTL_PLANT_PINS(DOC_PIN, DOC_HEAD)}, false},
       {"lathectl_slide_plant", {LATHECTL_SLIDE_PLANT_PINS(DOC_PIN, DOC_HEAD)}, true},
   };
   return all;
