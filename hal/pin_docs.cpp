@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "pins/chatter.hpp"
+#include "pins/gauge.hpp"
 #include "pins/gauge_plant.hpp"
 #include "pins/meter.hpp"
 #include "pins/plant.hpp"
@@ -44,6 +45,7 @@ struct Component {
 const std::vector<Component>& components() {
   static const std::vector<Component> all = {
       {"lathectl_chatter", {LATHECTL_CHATTER_PINS(DOC_PIN, DOC_HEAD)}, true},
+      {"lathectl_gauge", {LATHECTL_GAUGE_PINS(DOC_PIN, DOC_HEAD)}, true},
       {"lathectl_gauge_plant", {LATHECTL_GAUGE_PLANT_PINS(DOC_PIN, DOC_HEAD)}, true},
       {"lathectl_plant", {LATHECTL_PLANT_PINS(DOC_PIN, DOC_HEAD)}, false},
       {"lathectl_slide_plant", {LATHECTL_SLIDE_PLANT_PINS(DOC_PIN, DOC_HEAD)}, true},
