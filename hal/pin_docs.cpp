@@ -19,6 +19,7 @@
 #include "pins/gauge.hpp"
 #include "pins/gauge_plant.hpp"
 #include "pins/meter.hpp"
+#include "pins/modfeed.hpp"
 #include "pins/plant.hpp"
 #include "pins/slide.hpp"
 #include "pins/slide_plant.hpp"
@@ -48,6 +49,7 @@ const std::vector<Component>& components() {
       {"lathectl_chatter", {LATHECTL_CHATTER_PINS(DOC_PIN, DOC_HEAD)}, true},
       {"lathectl_gauge", {LATHECTL_GAUGE_PINS(DOC_PIN, DOC_HEAD)}, true},
       {"lathectl_gauge_plant", {LATHECTL_GAUGE_PLANT_PINS(DOC_PIN, DOC_HEAD)}, true},
+      {"lathectl_modfeed", {LATHECTL_MODFEED_PINS(DOC_PIN, DOC_HEAD)}, false},
       {"lathectl_plant", {LATHECTL_PLANT_PINS(DOC_PIN, DOC_HEAD)}, false},
       {"lathectl_slide", {LATHECTL_SLIDE_PINS(DOC_PIN, DOC_HEAD)}, true},
       {"lathectl_slide_plant", {LATHECTL_SLIDE_PLANT_PINS(DOC_PIN, DOC_HEAD)}, true},
