@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "pins/adaptive.hpp"
 #include "pins/chatter.hpp"
 #include "pins/gauge.hpp"
 #include "pins/gauge_plant.hpp"
@@ -46,6 +47,7 @@ struct Component {
 
 const std::vector<Component>& components() {
   static const std::vector<Component> all = {
+      {"lathectl_adaptive", {LATHECTL_ADAPTIVE_PINS(DOC_PIN, DOC_HEAD)}, false},
       {"lathectl_chatter", {LATHECTL_CHATTER_PINS(DOC_PIN, DOC_HEAD)}, true},
       {"lathectl_gauge", {LATHECTL_GAUGE_PINS(DOC_PIN, DOC_HEAD)}, true},
       {"lathectl_gauge_plant", {LATHECTL_GAUGE_PLANT_PINS(DOC_PIN, DOC_HEAD)}, true},
