@@ -235,7 +235,8 @@ extern "C" int rtapi_app_main(void) {
     x.constant(&p.feed_min_default, "feed-min-default", c.feed_min_mm_per_rev);
     x.constant(&p.feed_max_default, "feed-max-default", c.feed_max_mm_per_rev);
     x.constant(&p.feed_programmed, "feed-programmed", c.feed_programmed_mm_per_rev);
-    x.constant(&p.cutting_speed_programmed, "cutting-speed-programmed", c.speed_programmed_m_per_min);
+    x.constant(&p.cutting_speed_programmed, "cutting-speed-programmed",
+               c.speed_programmed_m_per_min);
     x.constant(&p.control_period, "control-period", c.period_s);
     x.constant(&p.rating, "rating", mp.rating.limit_max);
     machine = std::move(m);

@@ -14,9 +14,9 @@ extern "C" {
 }
 
 #include <cerrno>
-#include <cstddef>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -281,10 +281,10 @@ void export_pin(const Exporter& x, T* (&p)[N], PinDir d, const char* member) {
   ::lathectl::hal::export_pin(x_, m, ::lathectl::hal::PinDir::d, #m);
 #define LATHECTL_HAL_NO_HEAD(text)
 // Inside a pin block struct: the table's members and export_pins(exporter).
-#define LATHECTL_HAL_PIN_BLOCK(LIST)                          \
-  LIST(LATHECTL_HAL_PIN_MEMBER, LATHECTL_HAL_NO_HEAD)         \
-  void export_pins(const ::lathectl::hal::Exporter& x_) {     \
-    LIST(LATHECTL_HAL_PIN_EXPORT, LATHECTL_HAL_NO_HEAD)       \
+#define LATHECTL_HAL_PIN_BLOCK(LIST)                      \
+  LIST(LATHECTL_HAL_PIN_MEMBER, LATHECTL_HAL_NO_HEAD)     \
+  void export_pins(const ::lathectl::hal::Exporter& x_) { \
+    LIST(LATHECTL_HAL_PIN_EXPORT, LATHECTL_HAL_NO_HEAD)   \
   }
 
 namespace lathectl::hal {
