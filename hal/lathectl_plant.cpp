@@ -6,23 +6,12 @@
 //                         [idle_drift=0.15] [period_ns=1000000]
 //   addf lathectl-plant servo-thread
 //
-// Pins (prefix lathectl-plant.): in x-pos, z-pos [mm], spindle-rpm, enable; out force (the sensor's
-// sample, N or W), force-true, pz, py [N], cut-power [W], depth [mm], feed-per-rev [mm/rev],
-// cutting-speed [m/min], strength-factor, in-contact, time-in-cut [s], update-ns,
-// update-ns-max [ns]; in motion-type (motion.motion-type; feed moves are 2 and 3, the default 2)
-// → out force-rev-mean, force-rev-peak: the true force parameter's mean over the trailing
-// revolution in feed moves (a rapid through material is reported apart) and its largest value over
-// the cuts, each cut's first revolution left out: `lathectl run`'s force_peak_rev_mean_N, by the
-// same control::PerRevolutionPeak; in probe-z [mm, machine z] → out probe-radius [mm]: the workpiece's radius
-// there now (what the stock model holds; for tests and for finding where material went);
-// spindle-power [W]: what the spindle drive's power pin reads,
-//   P = drawn(P_cut + J·ω·dω/dt + b·ω²) + P_idle(n)·(1 + d·e^{−t/τ}), through the power meter
-// (drawn: /η motoring, ·η braking; the scenario's [spindle]: seed 001's idle law p0 + p1·n +
-// p2·n², efficiency η, inertia J, friction b; a cold machine draws d = idle_drift more idle
-// power, which falls off with τ = warmup_s as it warms up; the meter is the scenario's [sensor]
-// power meter, its lag and noise, the noise 0.1 % of the rated power where the scenario gives
-// none; seeded, deterministic): drives::SpindlePowerAtSpeed, as `lathectl run` and `lathectl
-// optimize` see it. See lathectl_plant(9).
+// Pins (hal/pins/plant.hpp; lathectl_plant(9)): the tool's position, the spindle's speed and the
+// motion type in; out the sensor's force and the true one, the forces, the cutting power, the cut's
+// geometry, the per-revolution force (control::PerRevolutionPeak: `lathectl run`'s
+// force_peak_rev_mean_N), the stock's radius at probe-z, and the spindle drive's power
+// (drives::SpindlePowerAtSpeed through the scenario's power meter, as `lathectl run` and
+// `lathectl optimize` see it).
 
 #include <cmath>
 #include <cstdint>

@@ -1,7 +1,7 @@
 #pragma once
-// lathectl_chatter's pins, a pin table (see hal/pins/meter.hpp): PIN(member, type, dir, count, unit, doc),
-// the pin `lathectl-chatter.<member with '_' → '-'>`; HEAD(text) a heading in the man page.
-// The component's pin block and its man page's PINS section are made from it.
+// lathectl_chatter's pins, one table (its format: hal/pins/meter.hpp). A row PIN(member, ...)
+// is the pin lathectl-chatter.<member with '_' -> '-'>; HEAD(text) is a heading of the man
+// page. The component's pin block and export, and its man page's PINS section, are made from it.
 // clang-format off
 #define LATHECTL_CHATTER_PINS(PIN, HEAD) \
   PIN(z_pos, float, in, 0, "", R"~(Tool z [mm] (\fBjoint.N.pos\-fb\fR); the right turret's in a twin set\-up.)~") \

@@ -1,7 +1,7 @@
 #pragma once
-// lathectl_modfeed's pins, a pin table (see hal/pins/meter.hpp): PIN(member, type, dir, count, unit, doc),
-// the pin `lathectl-modfeed.<member with '_' → '-'>`; HEAD(text) a heading in the man page.
-// The component's pin block and its man page's PINS section are made from it.
+// lathectl_modfeed's pins, one table (its format: hal/pins/meter.hpp). A row PIN(member, ...)
+// is the pin lathectl-modfeed.<member with '_' -> '-'>; HEAD(text) is a heading of the man
+// page. The component's pin block and export, and its man page's PINS section, are made from it.
 // clang-format off
 #define LATHECTL_MODFEED_PINS(PIN, HEAD) \
   PIN(a0_um, float, in, 0, "", R"~(Vibration amplitude from the amplitude detector (ADC 19) [\(*mm]; 0 below the dead zone.)~") \

@@ -1,7 +1,7 @@
 #pragma once
-// lathectl_slide's pins, a pin table (see hal/pins/meter.hpp): PIN(member, type, dir, count, unit, doc),
-// the pin `lathectl-slide.<member with '_' → '-'>`; HEAD(text) a heading in the man page.
-// The component's pin block and its man page's PINS section are made from it.
+// lathectl_slide's pins, one table (its format: hal/pins/meter.hpp). A row PIN(member, ...)
+// is the pin lathectl-slide.<member with '_' -> '-'>; HEAD(text) is a heading of the man
+// page. The component's pin block and export, and its man page's PINS section, are made from it.
 // clang-format off
 #define LATHECTL_SLIDE_PINS(PIN, HEAD) \
   HEAD(R"~(The programming device (NC program conventions))~") \
