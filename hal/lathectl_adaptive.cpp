@@ -219,10 +219,8 @@ extern "C" int rtapi_app_main(void) {
     const auto& c = mp.controller;
     auto m = std::make_unique<AdaptiveMachine>();
     m->configure(mp);
-    pins = lathectl::hal::allocate_pins<Pins>();
-    const lathectl::hal::Exporter x(comp_id, kPrefix);
-    Pins& p = *pins;
-    p.export_pins(x);
+    Pins& p = lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
+    const lathectl::hal::Exporter x(comp_id, kPrefix);  // the parameters
     *p.adaptive_feed = 1.0;
     *p.operator_override = 1.0;
     *p.max_feed_override = 1.0;

@@ -148,11 +148,7 @@ extern "C" int rtapi_app_main(void) {
     state->chain.configure(vib);
     state->highpass.configure(b.vibration.highpass_Hz, dt);
     state->spindle = b.spindle;
-    pins = lathectl::hal::allocate_pins<Pins>();
-    const lathectl::hal::Exporter x(comp_id, kPrefix);
-    Pins& p = *pins;
-    p.export_pins(x);
-    p.meter.export_to(x);
+    lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);
   });

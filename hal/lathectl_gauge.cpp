@@ -213,14 +213,10 @@ extern "C" int rtapi_app_main(void) {
     } catch (const lathectl::core::ParameterError& e) {
       throw Error(std::string(scenario) + ": gauge " + e.parameter() + ": " + e.what());
     }
-    pins = lathectl::hal::allocate_pins<Pins>();
-    const lathectl::hal::Exporter x(comp_id, kPrefix);
-    Pins& p = *pins;
-    p.export_pins(x);
+    Pins& p = lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
     static_assert(sizeof p.threshold / sizeof p.threshold[0] == GaugeMachine::kMaxSteps);
     for (std::size_t i = 0; i < GaugeMachine::kMaxSteps; ++i)
       *p.threshold[i] = i < mp.steps.size() ? mp.steps[i].threshold_V : 0.0;
-    p.meter.export_to(x);
     *p.feed_scale = 1.0;
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);

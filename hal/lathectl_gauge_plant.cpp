@@ -161,11 +161,7 @@ extern "C" int rtapi_app_main(void) {
     state->xi.configure(pr.noise_variance_m2, pr.noise_beta_per_s, dt);
     state->interruption = pr.interruption;
     state->sub_dt = dt;
-    pins = lathectl::hal::allocate_pins<Pins>();
-    const lathectl::hal::Exporter x(comp_id, kPrefix);
-    Pins& p = *pins;
-    p.export_pins(x);
-    p.meter.export_to(x);
+    Pins& p = lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
     *p.x_pos = 1e9;
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);

@@ -102,6 +102,17 @@ Pins* allocate_pins() {
   return p;
 }
 
+// The pin block in HAL's shared memory (into `pins`), its table's pins and, if it has a meter,
+// the meter's exported as `prefix.name`.
+template <class Pins>
+Pins& export_pin_block(Pins*& pins, int comp_id, const char* prefix) {
+  pins = allocate_pins<Pins>();
+  const Exporter x(comp_id, prefix);
+  pins->export_pins(x);
+  if constexpr (requires { pins->meter.export_to(x); }) pins->meter.export_to(x);
+  return *pins;
+}
+
 // The realtime function `prefix` (uses floating point, not reentrant).
 inline void export_update(const char* prefix, void (*fn)(void*, long), int comp_id) {
   check(hal_export_funct(prefix, fn, nullptr, 1, 0, comp_id), "hal_export_funct");

@@ -207,10 +207,8 @@ extern "C" int rtapi_app_main(void) {
     state->eoffset = eoffset;
     state->machine.configure(machine);
     state->machine.use_planner(&state->planner);
-    pins = lathectl::hal::allocate_pins<Pins>();
-    const lathectl::hal::Exporter x(comp_id, kPrefix);
-    Pins& p = *pins;
-    p.export_pins(x);
+    Pins& p = lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
+    const lathectl::hal::Exporter x(comp_id, kPrefix);  // the parameters
     *p.eoffset_scale = ModulationMachine::kOffsetResolution_mm;
     *p.feed_ratio = 1.0;
     *p.adaptive_feed = 1.0 / c;

@@ -141,9 +141,7 @@ extern "C" int rtapi_app_main(void) {
     if (!(period >= 1e4 && period <= 1e8))
       throw lathectl::hal::Error("module parameter period_ns: expected 1e4 … 1e8");
     force_rev.configure(period * 1e-9);
-    pins = lathectl::hal::allocate_pins<Pins>();
-    const lathectl::hal::Exporter x(comp_id, kPrefix);
-    pins->export_pins(x);
+    lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
     *pins->motion_type = 2;  // unconnected (halrun): every move is a feed move
     plant = std::move(model);
     lathectl::hal::export_update(kPrefix, update, comp_id);

@@ -228,11 +228,7 @@ extern "C" int rtapi_app_main(void) {
     state->width_ticks = std::max(1L, std::lround(mp.controller.pulse_width_s * 1e9 / base));
     state->default_feed = mp.controller.feed_m_per_s;
     state->default_force = mp.controller.force_set_N;
-    pins = lathectl::hal::allocate_pins<Pins>();
-    const lathectl::hal::Exporter x(comp_id, kPrefix);
-    Pins& p = *pins;
-    p.export_pins(x);
-    p.meter.export_to(x);
+    Pins& p = lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
     *p.sensor_gain = 1.0;
     *p.pulse_width = mp.controller.pulse_width_s;
     *p.roughing = mp.controller.mode == SlideMachine::Mode::Roughing;

@@ -118,11 +118,7 @@ extern "C" int rtapi_app_main(void) {
     state->aim = cfg.controller_kind == a::ControllerKind::Aim;
     if (state->aim) state->eccentric.configure(cfg.eccentric);
     if (summary != nullptr) state->summary = summary;
-    pins = lathectl::hal::allocate_pins<Pins>();
-    const lathectl::hal::Exporter x(comp_id, kPrefix);
-    Pins& p = *pins;
-    p.export_pins(x);
-    p.meter.export_to(x);
+    Pins& p = lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
     *p.sensor_out = state->rig.sensor_reading();
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);
