@@ -24,6 +24,7 @@
 #include "lathectl/dynamics/twin_turret.hpp"
 #include "lathectl/sensors/vibration_chain.hpp"
 #include "lathectl_hal.hpp"
+#include "pins/chatter.hpp"
 #include "systems/b_chatter/machine_params.hpp"
 #include "systems/b_chatter/settings.hpp"
 
@@ -41,28 +42,8 @@ constexpr const char* kName = "lathectl_chatter";
 constexpr const char* kPrefix = "lathectl-chatter";
 
 struct Pins {
-  hal_float_t* z_pos;
-  hal_float_t* z2_pos;  // the second turret's z (twin set-ups)
-  hal_float_t* revs;  // spindle position in revolutions (spindle.0.revs)
-  hal_float_t* rpm;
-  hal_bit_t* enable;
-  hal_float_t* vibration;  // µm, the part's displacement at the tool
-  hal_float_t* vib_peak;   // µm, peak |high-passed displacement| over the call (rig B's y_highpass)
-  hal_float_t* a0;         // µm, ADC 19
-  hal_float_t* omega_d;    // Hz, detector 20
-  hal_float_t* radial;
-  hal_float_t* tangential;
-  hal_float_t* cut_power;
-  hal_float_t* spindle_power;
-  hal_float_t* chip;
-  hal_float_t* depth;
-  hal_bit_t* contact;
-  hal_float_t* radial2;  // the second tool's (twin set-ups; 0 for one tool)
-  hal_float_t* chip2;
-  hal_float_t* depth2;
-  hal_bit_t* contact2;
+  LATHECTL_HAL_PIN_BLOCK(LATHECTL_CHATTER_PINS)
   lathectl::hal::MeterPins meter;
-  hal_bit_t* diverged;
 };
 
 struct State {
@@ -93,14 +74,14 @@ void update(void*, long period) {
   if (!meter.begin(p.meter, period, s.period)) return;  // the sub-step was sized for another thread
   const double z = *p.enable ? s.z_origin - *p.z_pos : -1e9;  // disabled: far from the part
   const double z2 = !s.twin ? z : *p.enable ? s.z_origin - *p.z2_pos : -1e9;
-  const double revs = *p.revs;
+  const double revs = *p.spindle_revs;
   if (!s.started) {
     s.last_z = z;
     s.last_z2 = z2;
     s.last_revs = revs;
     s.started = true;
   }
-  const double rpm = std::abs(*p.rpm);
+  const double rpm = std::abs(*p.spindle_rpm);
   double peak = 0.0;
   for (int k = 1; k <= s.substeps; ++k) {
     const double f = static_cast<double>(k) / s.substeps;
@@ -115,22 +96,22 @@ void update(void*, long period) {
   s.last_z2 = z2;
   s.last_revs = revs;
   const double pc = s.cut.power_W(rpm);
-  *p.vibration = s.cut.y_m() * 1e6;
-  *p.vib_peak = peak * 1e6;
-  *p.a0 = s.chain.a0_m() * 1e6;
-  *p.omega_d = s.chain.omega_d() / (2.0 * std::numbers::pi);
-  *p.radial = s.cut.radial_N(0);
-  *p.tangential = s.cut.tangential_N(0);
+  *p.vibration_um = s.cut.y_m() * 1e6;
+  *p.vibration_peak_um = peak * 1e6;
+  *p.a0_um = s.chain.a0_m() * 1e6;
+  *p.omega_d_Hz = s.chain.omega_d() / (2.0 * std::numbers::pi);
+  *p.radial_force = s.cut.radial_N(0);
+  *p.tangential_force = s.cut.tangential_N(0);
   *p.cut_power = pc;
   *p.spindle_power = pc / s.spindle.efficiency + lathectl::drives::idle_power_W(s.spindle, rpm);
   *p.chip = s.cut.cutting(0) ? s.cut.chip_mm(0) : 0.0;
   *p.depth = s.cut.cutting(0) ? s.cut.depth_mm(0) : 0.0;
-  *p.contact = s.cut.cutting(0);
+  *p.in_contact = s.cut.cutting(0);
   const bool two = s.twin && s.cut.cutting(1);
-  *p.radial2 = s.twin ? s.cut.radial_N(1) : 0.0;
+  *p.radial_force2 = s.twin ? s.cut.radial_N(1) : 0.0;
   *p.chip2 = two ? s.cut.chip_mm(1) : 0.0;
   *p.depth2 = two ? s.cut.depth_mm(1) : 0.0;
-  *p.contact2 = two;
+  *p.in_contact2 = two;
   *p.diverged = !s.cut.sound();
   meter.end(p.meter);
 }
@@ -167,31 +148,7 @@ extern "C" int rtapi_app_main(void) {
     state->chain.configure(vib);
     state->highpass.configure(b.vibration.highpass_Hz, dt);
     state->spindle = b.spindle;
-    pins = lathectl::hal::allocate_pins<Pins>();
-    const lathectl::hal::Exporter x(comp_id, kPrefix);
-    Pins& p = *pins;
-    x.in(&p.z_pos, "z-pos");
-    x.in(&p.z2_pos, "z2-pos");
-    x.in(&p.revs, "spindle-revs");
-    x.in(&p.rpm, "spindle-rpm");
-    x.in(&p.enable, "enable");
-    x.out(&p.vibration, "vibration-um");
-    x.out(&p.vib_peak, "vibration-peak-um");
-    x.out(&p.a0, "a0-um");
-    x.out(&p.omega_d, "omega-d-Hz");
-    x.out(&p.radial, "radial-force");
-    x.out(&p.tangential, "tangential-force");
-    x.out(&p.cut_power, "cut-power");
-    x.out(&p.spindle_power, "spindle-power");
-    x.out(&p.chip, "chip");
-    x.out(&p.depth, "depth");
-    x.out(&p.contact, "in-contact");
-    x.out(&p.radial2, "radial-force2");
-    x.out(&p.chip2, "chip2");
-    x.out(&p.depth2, "depth2");
-    x.out(&p.contact2, "in-contact2");
-    p.meter.export_to(x);
-    x.out(&p.diverged, "diverged");
+    lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);
   });

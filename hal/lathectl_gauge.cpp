@@ -43,6 +43,7 @@
 #include "lathectl/design/vibro_gauge.hpp"
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
 #include "lathectl_hal.hpp"
+#include "pins/gauge.hpp"
 #include "systems/d_gauging/machine_params.hpp"
 #include "systems/d_gauging/settings.hpp"
 
@@ -71,32 +72,7 @@ constexpr const char* kPrefix = "lathectl-gauge";
 using lathectl::control::GaugeMachine;
 
 struct Pins {
-  hal_float_t* generator;  // V
-  hal_float_t* x_pos;      // mm
-  hal_bit_t* rearm;
-  hal_float_t* spindle_revs;
-  hal_float_t* part_angle;  // deg
-  hal_float_t* signal;
-  hal_s32_t* step;
-  hal_float_t* step_f;
-  hal_s32_t* command;
-  hal_float_t* feed_scale;
-  hal_bit_t* probe;
-  hal_bit_t* feed_hold;
-  hal_bit_t* size;
-  hal_bit_t* backstop;
-  hal_bit_t* alarm;
-  hal_bit_t* armed;
-  hal_bit_t* unreachable;
-  hal_s32_t* reason;
-  hal_float_t* next_threshold;
-  hal_float_t* threshold[GaugeMachine::kMaxSteps];
-  hal_float_t* trip_time;
-  hal_float_t* stop_latency;
-  hal_float_t* trip_to_stop;
-  hal_float_t* time;
-  hal_s32_t* trips;
-  hal_bit_t* bridged;
+  LATHECTL_HAL_PIN_BLOCK(LATHECTL_GAUGE_PINS)
   lathectl::hal::MeterPins meter;
 };
 
@@ -127,7 +103,7 @@ void update(void*, long period) {
   const double revs = s.spindle.update(*p.spindle_revs, static_cast<double>(period) * 1e-9);
   if (s.interruption.gate && s.interruption.any())
     in.gate = s.interruption.under(2.0 * std::numbers::pi * revs +
-                                   *p.part_angle * std::numbers::pi / 180.0);
+                                   *p.part_angle_deg * std::numbers::pi / 180.0);
   s.machine.update(in);
   const auto& o = s.machine.output();
   *p.signal = o.signal_V;
@@ -148,7 +124,7 @@ void update(void*, long period) {
   *p.reason = static_cast<std::int32_t>(o.reason);
   *p.next_threshold = o.next_threshold_V;
   *p.trip_time = o.trip_time_s;
-  *p.time = o.time_s;
+  *p.part_time = o.time_s;
   *p.trips = o.tripped_steps;
   *p.bridged = o.bridged;
   // Trip-to-stop: the last sample the infeed still moved toward the part (X falling) after the
@@ -237,40 +213,10 @@ extern "C" int rtapi_app_main(void) {
     } catch (const lathectl::core::ParameterError& e) {
       throw Error(std::string(scenario) + ": gauge " + e.parameter() + ": " + e.what());
     }
-    pins = lathectl::hal::allocate_pins<Pins>();
-    const lathectl::hal::Exporter x(comp_id, kPrefix);
-    Pins& p = *pins;
-    x.in(&p.generator, "generator");
-    x.in(&p.x_pos, "x-pos");
-    x.in(&p.rearm, "rearm");
-    x.in(&p.spindle_revs, "spindle-revs");
-    x.in(&p.part_angle, "part-angle-deg");
-    x.out(&p.signal, "signal");
-    x.out(&p.step, "step");
-    x.out(&p.step_f, "step-f");
-    x.out(&p.command, "command");
-    x.out(&p.feed_scale, "feed-scale");
-    x.out(&p.probe, "probe");
-    x.out(&p.feed_hold, "feed-hold");
-    x.out(&p.size, "size");
-    x.out(&p.backstop, "backstop");
-    x.out(&p.alarm, "alarm");
-    x.out(&p.armed, "armed");
-    x.out(&p.unreachable, "unreachable");
-    x.out(&p.reason, "reason");
-    x.out(&p.next_threshold, "next-threshold");
-    for (std::size_t i = 0; i < GaugeMachine::kMaxSteps; ++i) {
-      const std::string name = "threshold-" + std::to_string(i);
-      x.out(&p.threshold[i], name.c_str());
+    Pins& p = lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
+    static_assert(sizeof p.threshold / sizeof p.threshold[0] == GaugeMachine::kMaxSteps);
+    for (std::size_t i = 0; i < GaugeMachine::kMaxSteps; ++i)
       *p.threshold[i] = i < mp.steps.size() ? mp.steps[i].threshold_V : 0.0;
-    }
-    x.out(&p.trip_time, "trip-time");
-    x.out(&p.stop_latency, "stop-latency");
-    x.out(&p.trip_to_stop, "trip-to-stop");
-    x.out(&p.time, "part-time");
-    x.out(&p.trips, "trips");
-    x.out(&p.bridged, "bridged");
-    p.meter.export_to(x);
     *p.feed_scale = 1.0;
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);

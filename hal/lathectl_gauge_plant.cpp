@@ -31,6 +31,7 @@
 #include "lathectl/dynamics/ornstein_uhlenbeck.hpp"
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
 #include "lathectl_hal.hpp"
+#include "pins/gauge_plant.hpp"
 #include "systems/d_gauging/settings.hpp"
 
 MODULE_AUTHOR("lathectl");
@@ -50,21 +51,7 @@ constexpr const char* kName = "lathectl_gauge_plant";
 constexpr const char* kPrefix = "lathectl-gauge-plant";
 
 struct Pins {
-  hal_float_t* x_pos;  // mm
-  hal_float_t* spindle_revs;
-  hal_bit_t* load;
-  hal_bit_t* break_wire;
-  hal_float_t* generator;  // V
-  hal_float_t* size;       // µm, x
-  hal_float_t* error;      // µm, x − target
-  hal_float_t* finished;   // µm, the last part's x − target when the next was loaded
-  hal_float_t* radius;     // mm
-  hal_float_t* xi;         // µm
-  hal_float_t* wear;       // µm
-  hal_s32_t* part;
-  hal_bit_t* in_contact;  // the tool is removing material
-  hal_float_t* part_angle;  // deg
-  hal_float_t* depth;       // µm, the interruption's depth under the probe
+  LATHECTL_HAL_PIN_BLOCK(LATHECTL_GAUGE_PLANT_PINS)
   lathectl::hal::MeterPins meter;
 };
 
@@ -98,7 +85,7 @@ void update(void*, long period) {
     return;  // the sub-steps were sized for another thread
   const bool load = *p.load;
   if (load && !s.last_load) {  // a new blank: the last one's size is the finished one
-    if (std::isfinite(s.r_mm)) *p.finished = ((s.r_mm - s.x_size_mm) * 1e-3) * 1e6;
+    if (std::isfinite(s.r_mm)) *p.finished_error_um = ((s.r_mm - s.x_size_mm) * 1e-3) * 1e6;
     ++s.part;
     s.wear_mm += s.wear_step_mm;
     s.r_mm = s.x_size_mm + (s.allowance_m - s.target_m) * 1e3;
@@ -129,16 +116,16 @@ void update(void*, long period) {
   }
   *p.generator = *p.break_wire ? 0.0 : u;
   if (std::isfinite(s.r_mm)) {
-    *p.size = x * 1e6;
-    *p.error = (x - s.target_m) * 1e6;
+    *p.size_um = x * 1e6;
+    *p.error_um = (x - s.target_m) * 1e6;
     *p.radius = s.r_mm;
   }
-  *p.xi = s.xi.value() * 1e6;
-  *p.wear = s.wear_mm * 1e3;
+  *p.disturbance_um = s.xi.value() * 1e6;
+  *p.wear_um = s.wear_mm * 1e3;
   *p.part = s.part;
   *p.in_contact = cutting;
-  *p.depth = under * 1e6;
-  *p.part_angle = s.theta0 * 180.0 / std::numbers::pi;
+  *p.interruption_um = under * 1e6;
+  *p.part_angle_deg = s.theta0 * 180.0 / std::numbers::pi;
   meter.end(p.meter);
 }
 
@@ -174,25 +161,7 @@ extern "C" int rtapi_app_main(void) {
     state->xi.configure(pr.noise_variance_m2, pr.noise_beta_per_s, dt);
     state->interruption = pr.interruption;
     state->sub_dt = dt;
-    pins = lathectl::hal::allocate_pins<Pins>();
-    const lathectl::hal::Exporter x(comp_id, kPrefix);
-    Pins& p = *pins;
-    x.in(&p.x_pos, "x-pos");
-    x.in(&p.spindle_revs, "spindle-revs");
-    x.in(&p.load, "load");
-    x.in(&p.break_wire, "break-wire");
-    x.out(&p.generator, "generator");
-    x.out(&p.size, "size-um");
-    x.out(&p.error, "error-um");
-    x.out(&p.finished, "finished-error-um");
-    x.out(&p.radius, "radius");
-    x.out(&p.xi, "disturbance-um");
-    x.out(&p.wear, "wear-um");
-    x.out(&p.part, "part");
-    x.out(&p.in_contact, "in-contact");
-    x.out(&p.part_angle, "part-angle-deg");
-    x.out(&p.depth, "interruption-um");
-    p.meter.export_to(x);
+    Pins& p = lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
     *p.x_pos = 1e9;
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);

@@ -16,6 +16,7 @@ extern "C" {
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -27,6 +28,7 @@ extern "C" {
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/io/toml_reader.hpp"
+#include "pins/meter.hpp"
 
 namespace lathectl::hal {
 
@@ -51,6 +53,10 @@ inline void pin(hal_bit_t** p, hal_pin_dir_t dir, int comp, const char* prefix, 
 }
 inline void pin(hal_s32_t** p, hal_pin_dir_t dir, int comp, const char* prefix, const char* name) {
   check(hal_pin_s32_newf(dir, p, comp, "%s.%s", prefix, name), std::string("pin ") + name);
+  **p = 0;
+}
+inline void pin(hal_u32_t** p, hal_pin_dir_t dir, int comp, const char* prefix, const char* name) {
+  check(hal_pin_u32_newf(dir, p, comp, "%s.%s", prefix, name), std::string("pin ") + name);
   **p = 0;
 }
 inline void param(hal_float_t* p, hal_param_dir_t dir, int comp, const char* prefix,
@@ -94,6 +100,17 @@ Pins* allocate_pins() {
   auto* p = static_cast<Pins*>(hal_malloc(sizeof(Pins)));
   if (p == nullptr) throw Error("hal_malloc failed");
   return p;
+}
+
+// The pin block in HAL's shared memory (into `pins`), its table's pins and, if it has a meter,
+// the meter's exported as `prefix.name`.
+template <class Pins>
+Pins& export_pin_block(Pins*& pins, int comp_id, const char* prefix) {
+  pins = allocate_pins<Pins>();
+  const Exporter x(comp_id, prefix);
+  pins->export_pins(x);
+  if constexpr (requires { pins->meter.export_to(x); }) pins->meter.export_to(x);
+  return *pins;
 }
 
 // The realtime function `prefix` (uses floating point, not reentrant).
@@ -220,18 +237,73 @@ class UpdateTimer {
   std::int32_t max_ = 0;
 };
 
-// What every realtime function reports of itself, in its pin block: `period-error` (latched:
-// the thread's period is not the one the component was configured for, and the function does
-// nothing) and its own wall time, `update-ns` and the worst since load, `update-ns-max`.
-struct MeterPins {
-  hal_bit_t* period_error;
-  hal_s32_t* update_ns;
-  hal_s32_t* update_ns_max;
-  void export_to(const Exporter& x) {
-    x.out(&period_error, "period-error");
-    x.out(&update_ns, "update-ns");
-    x.out(&update_ns_max, "update-ns-max");
+// A pin table (hal/pins/<component>.hpp, an X-macro of PIN(member, type, dir, count, unit, doc)
+// rows and HEAD(text) headings) made into a pin block's members and its export: the pin's name
+// is the member's with '_' → '-', so the two cannot differ; count n > 0 makes the member an array
+// of pins name-0 … name-(n-1). lathectl_hal_pin_docs makes the man page's PINS section from it.
+enum class PinDir { in, out, io };
+// The table's type column as a tag (hal_float_t itself is no template argument: real_t's
+// alignment attribute would be dropped).
+struct pin_bit {
+  using ptr = hal_bit_t*;
+};
+struct pin_float {
+  using ptr = hal_float_t*;
+};
+struct pin_s32 {
+  using ptr = hal_s32_t*;
+};
+struct pin_u32 {
+  using ptr = hal_u32_t*;
+};
+template <class Kind, int N>
+struct PinSlot {
+  using type = typename Kind::ptr[N];
+};
+template <class Kind>
+struct PinSlot<Kind, 0> {
+  using type = typename Kind::ptr;
+};
+inline std::string pin_name(const char* member) {
+  std::string name(member);
+  for (char& c : name)
+    if (c == '_') c = '-';
+  return name;
+}
+constexpr hal_pin_dir_t hal_dir(PinDir d) noexcept {
+  return d == PinDir::in ? HAL_IN : d == PinDir::out ? HAL_OUT : HAL_IO;
+}
+template <class T>
+void export_pin(const Exporter& x, T*& p, PinDir d, const char* member) {
+  pin(&p, hal_dir(d), x.comp(), x.prefix(), pin_name(member).c_str());
+}
+template <class T, std::size_t N>
+void export_pin(const Exporter& x, T* (&p)[N], PinDir d, const char* member) {
+  for (std::size_t i = 0; i < N; ++i)
+    pin(&p[i], hal_dir(d), x.comp(), x.prefix(),
+        (pin_name(member) + "-" + std::to_string(i)).c_str());
+}
+
+}  // namespace lathectl::hal
+
+#define LATHECTL_HAL_PIN_MEMBER(m, t, d, n, u, doc) \
+  ::lathectl::hal::PinSlot<::lathectl::hal::pin_##t, n>::type m;
+#define LATHECTL_HAL_PIN_EXPORT(m, t, d, n, u, doc) \
+  ::lathectl::hal::export_pin(x_, m, ::lathectl::hal::PinDir::d, #m);
+#define LATHECTL_HAL_NO_HEAD(text)
+// Inside a pin block struct: the table's members and export_pins(exporter).
+#define LATHECTL_HAL_PIN_BLOCK(LIST)                      \
+  LIST(LATHECTL_HAL_PIN_MEMBER, LATHECTL_HAL_NO_HEAD)     \
+  void export_pins(const ::lathectl::hal::Exporter& x_) { \
+    LIST(LATHECTL_HAL_PIN_EXPORT, LATHECTL_HAL_NO_HEAD)   \
   }
+
+namespace lathectl::hal {
+
+// What every realtime function reports of itself, in its pin block (hal/pins/meter.hpp).
+struct MeterPins {
+  LATHECTL_HAL_PIN_BLOCK(LATHECTL_METER_PINS)
+  void export_to(const Exporter& x) { export_pins(x); }
 };
 
 // The meter of one realtime function: begin() at its start, end() at its end; begin() false

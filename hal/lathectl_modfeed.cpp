@@ -36,6 +36,7 @@
 #include "lathectl/control/modulation_machine.hpp"
 #include "lathectl/sim/config_error.hpp"
 #include "lathectl_hal.hpp"
+#include "pins/modfeed.hpp"
 #include "systems/b_chatter/machine_params.hpp"
 #include "systems/b_chatter/settings.hpp"
 
@@ -56,56 +57,7 @@ constexpr const char* kName = "lathectl_modfeed";
 constexpr const char* kPrefix = "lathectl-modfeed";
 
 struct Pins {
-  // inputs
-  hal_float_t* a0;       // µm
-  hal_float_t* omega_d;  // Hz
-  hal_float_t* power;    // W, main motor's electrical power
-  hal_float_t* rpm;
-  hal_float_t* x_pos;          // mm, radius: V = 2π·|x|·n
-  hal_float_t* requested_vel;  // mm/s (G94) or the F word (G95)
-  hal_float_t* current_vel;    // mm/s along the path
-  hal_s32_t* motion_type;
-  hal_bit_t* per_rev;
-  hal_bit_t* idle_block;
-  hal_bit_t* turret_left;
-  hal_s32_t* source;        // 0 none, 1 programmed, 2 automatic
-  hal_float_t* prog_s_min;  // mm/min
-  hal_float_t* prog_ds;     // mm/min
-  hal_float_t* prog_dl;     // mm
-  hal_s32_t* prog_n_s;
-  hal_bit_t* enable;
-  hal_bit_t* reset_max;
-  // mm, the turrets' axial axes' planned positions (output=eoffset): right, left
-  hal_float_t* axis_pos_right;
-  hal_float_t* axis_pos_left;
-  hal_float_t* axis_eoffset_right;  // mm, the offsets motion applies (axis.L.eoffset)
-  hal_float_t* axis_eoffset_left;
-  // outputs
-  hal_float_t* adaptive_feed;
-  hal_float_t* feed;       // mm/min, the modulated feed of the flagged turret
-  hal_float_t* cut_power;  // W, N_c
-  hal_bit_t* engaged;
-  hal_s32_t* reason;
-  hal_float_t* s_min;
-  hal_float_t* ds;
-  hal_float_t* dl;
-  hal_s32_t* n_s;
-  hal_float_t* omega_m;      // Hz
-  hal_float_t* ap_required;  // N
-  hal_float_t* ap_planned;   // N
-  hal_bit_t* period_error;
-  hal_s32_t* update_ns;
-  hal_s32_t* update_ns_max;
-  hal_s32_t* plans_inline;  // plans the servo function made itself
-  hal_s32_t* plans_taken;   // plans it took from lathectl-modfeed.plan
-  hal_s32_t* plans_made;    // plans lathectl-modfeed.plan made (written by that function)
-  hal_float_t* axis_vel;    // mm/s, the flagged axis's planned velocity (output=eoffset)
-  hal_bit_t* eoffset_enable_right;  // the offset goes to the flagged turret's axis
-  hal_bit_t* eoffset_enable_left;
-  hal_float_t* feed_ratio;  // S(t)/S_p, 1 while not modulating
-  hal_float_t* eoffset;     // mm, the offset requested (output=eoffset)
-  hal_s32_t* eoffset_counts;
-  hal_float_t* eoffset_scale;  // mm per count, constant
+  LATHECTL_HAL_PIN_BLOCK(LATHECTL_MODFEED_PINS)
   // parameters
   hal_float_t ceiling;
   hal_float_t coefficient;
@@ -129,17 +81,17 @@ lathectl::hal::UpdateTimer timer;
 // power, the spindle, the block (its F as motion gives it: the machine converts it), the
 // turret and path servo() keeps.
 ModulationMachine::Input module_input(const Pins& p, const ModulationMachine& m, bool feed_block) {
-  const double rpm = std::abs(*p.rpm);
+  const double rpm = std::abs(*p.spindle_rpm);
   ModulationMachine::Input in;
   in.external_detectors = true;
-  in.a0_m = std::max(0.0, static_cast<double>(*p.a0)) * 1e-6;
-  in.omega_d_rad_per_s = std::max(0.0, static_cast<double>(*p.omega_d)) * 2.0 * std::numbers::pi;
-  in.motor_power_W = *p.power;
+  in.a0_m = std::max(0.0, static_cast<double>(*p.a0_um)) * 1e-6;
+  in.omega_d_rad_per_s = std::max(0.0, static_cast<double>(*p.omega_d_Hz)) * 2.0 * std::numbers::pi;
+  in.motor_power_W = *p.spindle_power;
   in.idle_block = *p.idle_block;
   in.speed_m_per_min = 2.0 * std::numbers::pi * std::abs(*p.x_pos) * rpm / 1000.0;
   in.rpm = rpm;
   in.feed_requested = std::abs(*p.requested_vel);
-  in.feed_per_rev = *p.per_rev;
+  in.feed_per_rev = *p.feed_per_rev_mode;
   in.feed_rpm = rpm;
   in.turret = m.turret();
   in.path_mm[in.turret == Turret::Left ? 1 : 0] = m.path_mm();
@@ -207,7 +159,7 @@ void update(void*, long period_ns) {
   *p.ds = o.plan.ds_mm_per_min;
   *p.dl = o.plan.dl_mm;
   *p.n_s = o.plan.n_s;
-  *p.omega_m = o.omega_m_rad_per_s / (2.0 * std::numbers::pi);
+  *p.omega_m_Hz = o.omega_m_rad_per_s / (2.0 * std::numbers::pi);
   *p.ap_required = o.force_amplitude_required_N;
   *p.ap_planned = o.force_amplitude_planned_N;
   const auto counts = s.machine.controller().plan_counts();
@@ -255,56 +207,8 @@ extern "C" int rtapi_app_main(void) {
     state->eoffset = eoffset;
     state->machine.configure(machine);
     state->machine.use_planner(&state->planner);
-    pins = lathectl::hal::allocate_pins<Pins>();
-    const lathectl::hal::Exporter x(comp_id, kPrefix);
-    Pins& p = *pins;
-    x.in(&p.a0, "a0-um");
-    x.in(&p.omega_d, "omega-d-Hz");
-    x.in(&p.power, "spindle-power");
-    x.in(&p.rpm, "spindle-rpm");
-    x.in(&p.x_pos, "x-pos");
-    x.in(&p.requested_vel, "requested-vel");
-    x.in(&p.current_vel, "current-vel");
-    x.in(&p.motion_type, "motion-type");
-    x.in(&p.per_rev, "feed-per-rev-mode");
-    x.in(&p.idle_block, "idle-block");
-    x.in(&p.turret_left, "turret-left");
-    x.in(&p.source, "source");
-    x.in(&p.prog_s_min, "prog-s-min");
-    x.in(&p.prog_ds, "prog-ds");
-    x.in(&p.prog_dl, "prog-dl");
-    x.in(&p.prog_n_s, "prog-n-s");
-    x.in(&p.enable, "enable");
-    x.in(&p.reset_max, "reset-max");
-    x.in(&p.axis_pos_right, "axis-pos-right");
-    x.in(&p.axis_pos_left, "axis-pos-left");
-    x.in(&p.axis_eoffset_right, "axis-eoffset-right");
-    x.in(&p.axis_eoffset_left, "axis-eoffset-left");
-    x.out(&p.eoffset_enable_right, "eoffset-enable-right");
-    x.out(&p.eoffset_enable_left, "eoffset-enable-left");
-    x.out(&p.axis_vel, "axis-vel");
-    x.out(&p.adaptive_feed, "adaptive-feed");
-    x.out(&p.feed, "feed");
-    x.out(&p.cut_power, "cut-power");
-    x.out(&p.engaged, "engaged");
-    x.out(&p.reason, "reason");
-    x.out(&p.s_min, "s-min");
-    x.out(&p.ds, "ds");
-    x.out(&p.dl, "dl");
-    x.out(&p.n_s, "n-s");
-    x.out(&p.omega_m, "omega-m-Hz");
-    x.out(&p.ap_required, "ap-required");
-    x.out(&p.ap_planned, "ap-planned");
-    x.out(&p.period_error, "period-error");
-    x.out(&p.update_ns, "update-ns");
-    x.out(&p.update_ns_max, "update-ns-max");
-    x.out(&p.plans_inline, "plans-inline");
-    x.out(&p.plans_taken, "plans-taken");
-    x.out(&p.plans_made, "plans-made");
-    x.out(&p.feed_ratio, "feed-ratio");
-    x.out(&p.eoffset, "eoffset");
-    x.out(&p.eoffset_counts, "eoffset-counts");
-    x.out(&p.eoffset_scale, "eoffset-scale");
+    Pins& p = lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
+    const lathectl::hal::Exporter x(comp_id, kPrefix);  // the parameters
     *p.eoffset_scale = ModulationMachine::kOffsetResolution_mm;
     *p.feed_ratio = 1.0;
     *p.adaptive_feed = 1.0 / c;

@@ -6,23 +6,12 @@
 //                         [idle_drift=0.15] [period_ns=1000000]
 //   addf lathectl-plant servo-thread
 //
-// Pins (prefix lathectl-plant.): in x-pos, z-pos [mm], spindle-rpm, enable; out force (the sensor's
-// sample, N or W), force-true, pz, py [N], cut-power [W], depth [mm], feed-per-rev [mm/rev],
-// cutting-speed [m/min], strength-factor, in-contact, time-in-cut [s], update-ns,
-// update-ns-max [ns]; in motion-type (motion.motion-type; feed moves are 2 and 3, the default 2)
-// → out force-rev-mean, force-rev-peak: the true force parameter's mean over the trailing
-// revolution in feed moves (a rapid through material is reported apart) and its largest value over
-// the cuts, each cut's first revolution left out: `lathectl run`'s force_peak_rev_mean_N, by the
-// same control::PerRevolutionPeak; in probe-z [mm, machine z] → out probe-radius [mm]: the workpiece's radius
-// there now (what the stock model holds; for tests and for finding where material went);
-// spindle-power [W]: what the spindle drive's power pin reads,
-//   P = drawn(P_cut + J·ω·dω/dt + b·ω²) + P_idle(n)·(1 + d·e^{−t/τ}), through the power meter
-// (drawn: /η motoring, ·η braking; the scenario's [spindle]: seed 001's idle law p0 + p1·n +
-// p2·n², efficiency η, inertia J, friction b; a cold machine draws d = idle_drift more idle
-// power, which falls off with τ = warmup_s as it warms up; the meter is the scenario's [sensor]
-// power meter, its lag and noise, the noise 0.1 % of the rated power where the scenario gives
-// none; seeded, deterministic): drives::SpindlePowerAtSpeed, as `lathectl run` and `lathectl
-// optimize` see it. See lathectl_plant(9).
+// Pins (hal/pins/plant.hpp; lathectl_plant(9)): the tool's position, the spindle's speed and the
+// motion type in; out the sensor's force and the true one, the forces, the cutting power, the cut's
+// geometry, the per-revolution force (control::PerRevolutionPeak: `lathectl run`'s
+// force_peak_rev_mean_N), the stock's radius at probe-z, and the spindle drive's power
+// (drives::SpindlePowerAtSpeed through the scenario's power meter, as `lathectl run` and
+// `lathectl optimize` see it).
 
 #include <cmath>
 #include <cstdint>
@@ -33,6 +22,7 @@
 #include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/sensors/force_sensor.hpp"
 #include "lathectl_hal.hpp"
+#include "pins/plant.hpp"
 #include "systems/e_adaptive/machine_params.hpp"
 #include "systems/e_adaptive/settings.hpp"
 
@@ -57,31 +47,7 @@ constexpr const char* kName = "lathectl_plant";
 constexpr const char* kPrefix = "lathectl-plant";
 
 struct Pins {
-  hal_float_t* x_pos;
-  hal_float_t* z_pos;
-  hal_float_t* rpm;
-  hal_bit_t* enable;
-  hal_float_t* probe_z;
-  hal_float_t* probe_radius;
-  hal_float_t* force;
-  hal_float_t* force_true;
-  hal_float_t* pz;
-  hal_float_t* py;
-  hal_float_t* power;
-  hal_float_t* spindle_power;
-  hal_float_t* idle_power;
-  hal_float_t* idle_factor;
-  hal_float_t* depth;
-  hal_float_t* feed;
-  hal_float_t* speed;
-  hal_float_t* strength;
-  hal_bit_t* contact;
-  hal_float_t* t_cut;
-  hal_s32_t* motion_type;
-  hal_float_t* force_rev_mean;
-  hal_float_t* force_rev_peak;
-  hal_s32_t* update_ns;
-  hal_s32_t* update_ns_max;
+  LATHECTL_HAL_PIN_BLOCK(LATHECTL_PLANT_PINS)
 };
 
 int comp_id = -1;
@@ -105,7 +71,7 @@ void update(void*, long period_ns) {
   const bool on = homed_gate(*pins->enable, *pins->x_pos, *pins->z_pos);
   in.x_mm = on ? *pins->x_pos : std::nan("");
   in.z_mm = on ? *pins->z_pos : std::nan("");
-  in.rpm = *pins->rpm;
+  in.rpm = *pins->spindle_rpm;
   lathectl::cutting::LathePlant::Output out;
   plant->step(in, static_cast<double>(period_ns) * 1e-9, out);
   if (break_at > 0.0 && out.time_in_cut_s >= break_at) {  // a broken tool: nothing is cut
@@ -116,20 +82,20 @@ void update(void*, long period_ns) {
   *pins->force_true = out.force_parameter;
   *pins->pz = out.Pz_N;
   *pins->py = out.Py_N;
-  *pins->power = out.cut_power_W;
+  *pins->cut_power = out.cut_power_W;
   {  // the drive's power pin
     const double dt = static_cast<double>(period_ns) * 1e-9;
     meter.step(dt, drive.step(dt, in.rpm, out.cut_power_W));
     *pins->idle_power = drive.idle_power_W();
-    *pins->idle_factor = drive.idle_factor();
+    *pins->idle_drift_factor = drive.idle_factor();
     *pins->spindle_power = meter.sample();
   }
   *pins->depth = out.depth_mm;
-  *pins->feed = out.feed_per_rev_mm;
-  *pins->speed = out.speed_m_per_min;
-  *pins->strength = out.strength_factor;
-  *pins->contact = out.in_contact;
-  *pins->t_cut = out.time_in_cut_s;
+  *pins->feed_per_rev = out.feed_per_rev_mm;
+  *pins->cutting_speed = out.speed_m_per_min;
+  *pins->strength_factor = out.strength_factor;
+  *pins->in_contact = out.in_contact;
+  *pins->time_in_cut = out.time_in_cut_s;
   {
     run_s += static_cast<double>(period_ns) * 1e-9;
     const bool feed_move = *pins->motion_type == 2 || *pins->motion_type == 3;
@@ -175,34 +141,8 @@ extern "C" int rtapi_app_main(void) {
     if (!(period >= 1e4 && period <= 1e8))
       throw lathectl::hal::Error("module parameter period_ns: expected 1e4 … 1e8");
     force_rev.configure(period * 1e-9);
-    pins = lathectl::hal::allocate_pins<Pins>();
-    const lathectl::hal::Exporter x(comp_id, kPrefix);
-    x.in(&pins->x_pos, "x-pos");
-    x.in(&pins->z_pos, "z-pos");
-    x.in(&pins->rpm, "spindle-rpm");
-    x.in(&pins->enable, "enable");
-    x.in(&pins->probe_z, "probe-z");
-    x.out(&pins->probe_radius, "probe-radius");
-    x.out(&pins->force, "force");
-    x.out(&pins->force_true, "force-true");
-    x.out(&pins->pz, "pz");
-    x.out(&pins->py, "py");
-    x.out(&pins->power, "cut-power");
-    x.out(&pins->spindle_power, "spindle-power");
-    x.out(&pins->idle_power, "idle-power");
-    x.out(&pins->idle_factor, "idle-drift-factor");
-    x.out(&pins->depth, "depth");
-    x.out(&pins->feed, "feed-per-rev");
-    x.out(&pins->speed, "cutting-speed");
-    x.out(&pins->strength, "strength-factor");
-    x.out(&pins->contact, "in-contact");
-    x.out(&pins->t_cut, "time-in-cut");
-    x.in(&pins->motion_type, "motion-type");
-    x.out(&pins->force_rev_mean, "force-rev-mean");
-    x.out(&pins->force_rev_peak, "force-rev-peak");
+    lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
     *pins->motion_type = 2;  // unconnected (halrun): every move is a feed move
-    x.out(&pins->update_ns, "update-ns");
-    x.out(&pins->update_ns_max, "update-ns-max");
     plant = std::move(model);
     lathectl::hal::export_update(kPrefix, update, comp_id);
   });

@@ -35,6 +35,7 @@
 #include "lathectl/drives/eccentric_drive.hpp"
 #include "lathectl/sim/config_error.hpp"
 #include "lathectl_hal.hpp"
+#include "pins/slide.hpp"
 #include "systems/a_pulse_feed/machine_params.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
 
@@ -55,37 +56,7 @@ constexpr const char* kPrefix = "lathectl-slide";
 using lathectl::control::SlideMachine;
 
 struct Pins {
-  hal_float_t* sensor_in;
-  hal_float_t* sensor_gain;
-  hal_float_t* sensor_offset;
-  hal_bit_t* enable;
-  hal_bit_t* roughing;
-  hal_bit_t* reset;
-  hal_float_t* feed_set;   // mm/min
-  hal_float_t* force_set;  // N
-  hal_float_t* position;   // mm
-  hal_float_t* sensor_V;
-  hal_float_t* force_estimate;
-  hal_float_t* slot_cmd;     // mm
-  hal_float_t* ecc_pos_cmd;  // rad
-  hal_float_t* frequency;
-  hal_float_t* pulse_width;  // s
-  hal_bit_t* valve;
-  hal_float_t* feed_cmd;  // mm/min
-  hal_float_t* feed_set_out;
-  hal_float_t* force_set_out;
-  hal_bit_t* roughing_out;
-  hal_bit_t* enabled;
-  hal_bit_t* alarm;
-  hal_s32_t* reason;
-  hal_s32_t* alarm_reason;
-  hal_s32_t* pulses;
-  hal_s32_t* width_error_max_ns;     // |measured width − Δt|, worst
-  hal_s32_t* period_error_max_ns;    // |measured rising-to-rising − programmed|, worst
-  hal_s32_t* base_jitter_max_ns;     // |base-thread interval − base period|, worst
-  hal_float_t* width_error_mean_ns;  // the means of the same, over every pulse / period
-  hal_float_t* period_error_mean_ns;
-  hal_float_t* base_jitter_mean_ns;
+  LATHECTL_HAL_PIN_BLOCK(LATHECTL_SLIDE_PINS)
   lathectl::hal::MeterPins meter;
 };
 
@@ -141,7 +112,7 @@ void update(void*, long period) {
   *p.sensor_V = in.sensor_V;
   *p.force_estimate = o.force_estimate_N;
   *p.slot_cmd = o.slot_m * 1e3;
-  if (s.aim) *p.ecc_pos_cmd = s.eccentric.angle_of(o.slot_m);
+  if (s.aim) *p.eccentric_pos_cmd = s.eccentric.angle_of(o.slot_m);
   *p.frequency = o.frequency_Hz;
   *p.feed_cmd = o.feed_cmd_m_per_s * 60e3;
   *p.feed_set_out = o.feed_set_m_per_s * 60e3;
@@ -257,41 +228,7 @@ extern "C" int rtapi_app_main(void) {
     state->width_ticks = std::max(1L, std::lround(mp.controller.pulse_width_s * 1e9 / base));
     state->default_feed = mp.controller.feed_m_per_s;
     state->default_force = mp.controller.force_set_N;
-    pins = lathectl::hal::allocate_pins<Pins>();
-    const lathectl::hal::Exporter x(comp_id, kPrefix);
-    Pins& p = *pins;
-    x.in(&p.sensor_in, "sensor-in");
-    x.io(&p.sensor_gain, "sensor-gain");
-    x.io(&p.sensor_offset, "sensor-offset");
-    x.in(&p.enable, "enable");
-    x.in(&p.roughing, "roughing");
-    x.in(&p.reset, "reset");
-    x.in(&p.feed_set, "feed-set");
-    x.in(&p.force_set, "force-set");
-    x.in(&p.position, "position");
-    x.out(&p.sensor_V, "sensor-V");
-    x.out(&p.force_estimate, "force-estimate");
-    x.out(&p.slot_cmd, "slot-cmd");
-    x.out(&p.ecc_pos_cmd, "eccentric-pos-cmd");
-    x.out(&p.frequency, "frequency");
-    x.out(&p.pulse_width, "pulse-width");
-    x.out(&p.valve, "valve");
-    x.out(&p.feed_cmd, "feed-cmd");
-    x.out(&p.feed_set_out, "feed-set-out");
-    x.out(&p.force_set_out, "force-set-out");
-    x.out(&p.roughing_out, "roughing-out");
-    x.out(&p.enabled, "enabled");
-    x.out(&p.alarm, "alarm");
-    x.out(&p.reason, "reason");
-    x.out(&p.alarm_reason, "alarm-reason");
-    x.out(&p.pulses, "pulses");
-    x.out(&p.width_error_max_ns, "width-error-max-ns");
-    x.out(&p.period_error_max_ns, "period-error-max-ns");
-    x.out(&p.base_jitter_max_ns, "base-jitter-max-ns");
-    x.out(&p.width_error_mean_ns, "width-error-mean-ns");
-    x.out(&p.period_error_mean_ns, "period-error-mean-ns");
-    x.out(&p.base_jitter_mean_ns, "base-jitter-mean-ns");
-    p.meter.export_to(x);
+    Pins& p = lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
     *p.sensor_gain = 1.0;
     *p.pulse_width = mp.controller.pulse_width_s;
     *p.roughing = mp.controller.mode == SlideMachine::Mode::Roughing;

@@ -21,6 +21,7 @@
 #include <string>
 
 #include "lathectl_hal.hpp"
+#include "pins/slide_plant.hpp"
 #include "systems/a_pulse_feed/metrics.hpp"
 #include "systems/a_pulse_feed/rig.hpp"
 #include "systems/a_pulse_feed/settings.hpp"
@@ -42,20 +43,7 @@ constexpr const char* kPrefix = "lathectl-slide-plant";
 namespace a = lathectl::systems::a_pulse_feed;
 
 struct Pins {
-  hal_bit_t* run;
-  hal_bit_t* valve;
-  hal_float_t* ecc_pos_cmd;  // rad
-  hal_float_t* frequency;    // Hz, the controller's (the feed's averaging window)
-  hal_float_t* force_estimate;
-  hal_s32_t* reason;
-  hal_bit_t* alarm;
-  hal_float_t* sensor_out;  // V
-  hal_float_t* force;       // N
-  hal_float_t* position;    // mm
-  hal_float_t* slot;        // mm
-  hal_float_t* ecc_pos_fb;  // rad
-  hal_float_t* time;        // s
-  hal_bit_t* done;
+  LATHECTL_HAL_PIN_BLOCK(LATHECTL_SLIDE_PLANT_PINS)
   lathectl::hal::MeterPins meter;
 };
 
@@ -83,7 +71,7 @@ void update(void*, long period) {
   if (s.started && s.steps < s.steps_total) {
     a::Rig::Actuation act;
     act.valve_open = *p.valve;
-    act.slot_cmd_m = s.aim ? s.eccentric.slot_of(*p.ecc_pos_cmd) : 0.0;
+    act.slot_cmd_m = s.aim ? s.eccentric.slot_of(*p.eccentric_pos_cmd) : 0.0;
     act.frequency_Hz = *p.frequency;
     act.out.force_estimate_N = *p.force_estimate;
     act.out.reason = static_cast<lathectl::control::Reason>(*p.reason);
@@ -97,8 +85,8 @@ void update(void*, long period) {
   *p.force = s.rig.force();
   *p.position = s.rig.position() * 1e3;
   *p.slot = s.rig.eccentric_slot() * 1e3;
-  if (s.aim) *p.ecc_pos_fb = s.eccentric.angle_of(s.rig.eccentric_slot());
-  *p.time = s.rig.time();
+  if (s.aim) *p.eccentric_pos_fb = s.eccentric.angle_of(s.rig.eccentric_slot());
+  *p.plant_time = s.rig.time();
   meter.end(p.meter);
 }
 
@@ -130,24 +118,7 @@ extern "C" int rtapi_app_main(void) {
     state->aim = cfg.controller_kind == a::ControllerKind::Aim;
     if (state->aim) state->eccentric.configure(cfg.eccentric);
     if (summary != nullptr) state->summary = summary;
-    pins = lathectl::hal::allocate_pins<Pins>();
-    const lathectl::hal::Exporter x(comp_id, kPrefix);
-    Pins& p = *pins;
-    x.in(&p.run, "run");
-    x.in(&p.valve, "valve");
-    x.in(&p.ecc_pos_cmd, "eccentric-pos-cmd");
-    x.in(&p.frequency, "frequency");
-    x.in(&p.force_estimate, "force-estimate");
-    x.in(&p.reason, "reason");
-    x.in(&p.alarm, "alarm");
-    x.out(&p.sensor_out, "sensor-out");
-    x.out(&p.force, "force");
-    x.out(&p.position, "position");
-    x.out(&p.slot, "slot");
-    x.out(&p.ecc_pos_fb, "eccentric-pos-fb");
-    x.out(&p.time, "plant-time");
-    x.out(&p.done, "done");
-    p.meter.export_to(x);
+    Pins& p = lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
     *p.sensor_out = state->rig.sensor_reading();
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);
