@@ -147,7 +147,7 @@ TEST(MachineParamsB, EveryExampleTheSameOnTheRigAndInLathectlModfeed) {
 
 TEST(MachineParamsB, AHostsCeilingIsChecked) {
   namespace b = systems::b_chatter;
-  const auto sc = systems::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/b_chatter_single.toml",
+  const auto sc = io::load_scenario(LATHECTL_SOURCE_DIR "/examples/linuxcnc/b_chatter_single.toml",
                                     library(), b::kReadSection);
   const auto& cfg = sc.get<b::Settings>().rig;
   for (double c : {0.5, 1.0, 101.0})
