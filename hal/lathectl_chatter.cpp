@@ -4,8 +4,7 @@
 // turret's Z on its own pin, e.g. a second axis pair U/W beside X/Z), with the hardware of
 // seed 001's measurement chain — vibration sensor 16, amplifier 17 with its dead zone, amplitude
 // detector (ADC 19) and frequency detector 20 (sensors::VibrationChain) — and the main motor's
-// electrical power (drives::SpindlePowerAtSpeed: the cutting power, the spindle's friction and
-// acceleration drawn through its efficiency, and its speed-dependent idle losses).
+// electrical power (cutting power / efficiency + the spindle's speed-dependent idle losses).
 //
 //   loadrt lathectl_chatter scenario=PATH [z_origin_mm=0] [period_ns=1000000]
 //   addf lathectl-chatter servo-thread
@@ -61,9 +60,7 @@ struct State {
   bool started = false;
   bool twin = false;
   double last_z = 0.0, last_z2 = 0.0, last_revs = 0.0;
-  // The main motor's electrical power at LinuxCNC's speed: rig B's drive law (SpindleDrive's
-  // efficiency, friction, inertia and idle law), as lathectl_plant has it for system E.
-  lathectl::drives::SpindlePowerAtSpeed drive;
+  lathectl::drives::SpindleDrive::Params spindle;  // efficiency and idle law
 };
 
 int comp_id = -1;
@@ -106,7 +103,7 @@ void update(void*, long period) {
   *p.radial_force = s.cut.radial_N(0);
   *p.tangential_force = s.cut.tangential_N(0);
   *p.cut_power = pc;
-  *p.spindle_power = s.drive.step(static_cast<double>(s.period) * 1e-9, rpm, pc);
+  *p.spindle_power = pc / s.spindle.efficiency + lathectl::drives::idle_power_W(s.spindle, rpm);
   *p.chip = s.cut.cutting(0) ? s.cut.chip_mm(0) : 0.0;
   *p.depth = s.cut.cutting(0) ? s.cut.depth_mm(0) : 0.0;
   *p.in_contact = s.cut.cutting(0);
@@ -150,7 +147,7 @@ extern "C" int rtapi_app_main(void) {
     vib.sample_period_s = dt * state->chain_every;
     state->chain.configure(vib);
     state->highpass.configure(b.vibration.highpass_Hz, dt);
-    state->drive.configure(b.spindle);
+    state->spindle = b.spindle;
     lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);
