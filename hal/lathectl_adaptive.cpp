@@ -67,13 +67,8 @@ lathectl::hal::HomedGate homed_gate;
 lathectl::hal::UpdateTimer timer;
 long long last_ns = 0;
 
-void update(void*, long period_ns) {
-  Pins& p = *pins;
-  const long long now_ns = rtapi_get_time();
-  AdaptiveMachine::Input in;
-  in.nominal_period_s = static_cast<double>(period_ns) * 1e-9;
-  in.elapsed_s = last_ns > 0 ? static_cast<double>(now_ns - last_ns) * 1e-9 : 0.0;
-  last_ns = now_ns;
+// The machine's inputs from the pins (the period's timing is the caller's).
+void read_inputs(Pins& p, AdaptiveMachine::Input& in) noexcept {
   in.enable = *p.enable;
   in.reset = *p.reset;
   in.force = *p.force;
@@ -102,77 +97,97 @@ void update(void*, long period_ns) {
   in.knob = *p.operator_override;
   in.max_override = *p.max_feed_override;
   in.scale_in_motion = *p.feed_override_in_motion;
+}
+
+// The machine's outputs to the pins, every period.
+void write_outputs(Pins& p, const AdaptiveMachine::Output& o) noexcept {
+  *p.adaptive_feed = o.adaptive_feed;
+  *p.feed_override = o.feed_override;
+  *p.feed_override_counts = o.feed_override_counts;
+  *p.feed_factor = o.feed_factor;
+  *p.spindle_speed_out = o.spindle_speed_out;
+  *p.spindle_override = o.spindle_override;
+  *p.feed_hold = o.feed_hold;
+  *p.alarm = o.alarm;
+  *p.reason = static_cast<std::int32_t>(o.reason);
+  *p.alarm_reason = static_cast<std::int32_t>(o.alarm_reason);
+  *p.feed_per_rev = o.feed_per_rev_mm;
+  *p.cutting_speed_cmd = o.speed_cmd_m_per_min;
+  *p.cutting_speed_opt = o.speed_opt_m_per_min;
+  *p.cut_power = o.cut_power_W;
+  *p.in_cut = o.in_cut;
+  *p.period_error = o.period_error;
+  *p.load = o.load;
+  *p.limit = o.limit;
+  *p.feed_min = o.feed_min;
+  *p.feed_max = o.feed_max;
+  *p.adaptive_on = o.adaptive_on;
+  *p.teaching = o.teaching;
+  *p.idle_power = o.idle_power_W;
+  *p.tare_ready = o.tare_ready;
+  *p.idle_p0 = o.idle_law[0];
+  *p.idle_p1 = o.idle_law[1];
+  *p.idle_p2 = o.idle_law[2];
+  *p.bad_setting = o.bad_setting;
+  *p.bad_code = static_cast<std::int32_t>(o.bad_code);
+  *p.bad_line = o.bad_line;
+  *p.bad_value = o.bad_value;
+  *p.overload_warn = o.overload_warn;
+  *p.overload_hold = o.overload_hold;
+  *p.load_rev = o.load_rev;
+  *p.load_percent = o.load_percent;
+  *p.predicted_depth = o.predicted_depth_mm;
+  *p.depth_ahead = o.depth_ahead_mm;
+  *p.feed_ceiling = o.feed_ceiling_mm_per_rev;
+  *p.specific_force = o.specific_force_ratio;
+  *p.inertia = o.inertia_kg_m2;
+  *p.breakage = o.breakage;
+  *p.tool_data_changed = o.tool_data_changed;
+}
+
+// An operation's and a teach-in's record, when a new one is out: its fields first, its
+// sequence number last (lathectl_oplog reads a record once the number changes).
+void write_records(Pins& p, const AdaptiveMachine::Output& o) noexcept {
+  if (o.op.seq != *p.op_seq) {  // a record: its fields first, op-seq last
+    *p.op_line = o.op.line;
+    *p.op_tool = o.op.tool;
+    *p.op_operation = o.op.operation;
+    *p.op_mode = o.op.mode;
+    *p.op_limit = o.op.limit;
+    *p.op_load_mean = o.op.load_mean;
+    *p.op_load_peak = o.op.load_peak;
+    *p.op_feed_min = o.op.feed_min;
+    *p.op_feed_mean = o.op.feed_mean;
+    *p.op_time_in_cut = o.op.time_in_cut_s;
+    *p.op_time = o.op.time_s;
+    *p.op_reasons = static_cast<std::int32_t>(o.op.reasons);
+    *p.op_alarm = o.op.alarm;
+    *p.op_seq = o.op.seq;
+  }
+  if (o.teach.seq != *p.teach_seq) {
+    *p.teach_tool = o.teach.tool;
+    *p.teach_operation = o.teach.operation;
+    *p.teach_reference = o.teach.reference;
+    *p.teach_seq = o.teach.seq;
+  }
+}
+
+void update(void*, long period_ns) {
+  Pins& p = *pins;
+  const long long now_ns = rtapi_get_time();
+  AdaptiveMachine::Input in;
+  in.nominal_period_s = static_cast<double>(period_ns) * 1e-9;
+  in.elapsed_s = last_ns > 0 ? static_cast<double>(now_ns - last_ns) * 1e-9 : 0.0;
+  last_ns = now_ns;
+  read_inputs(p, in);
   if (*p.reset_max) timer.reset();
   timer.start();
   machine->update(in, out);
   const std::int32_t ns = timer.stop();
   if (out.control_period) *p.update_ns = ns;
   *p.update_ns_max = timer.max();
-
-  *p.adaptive_feed = out.adaptive_feed;
-  *p.feed_override = out.feed_override;
-  *p.feed_override_counts = out.feed_override_counts;
-  *p.feed_factor = out.feed_factor;
-  *p.spindle_speed_out = out.spindle_speed_out;
-  *p.spindle_override = out.spindle_override;
-  *p.feed_hold = out.feed_hold;
-  *p.alarm = out.alarm;
-  *p.reason = static_cast<std::int32_t>(out.reason);
-  *p.alarm_reason = static_cast<std::int32_t>(out.alarm_reason);
-  *p.feed_per_rev = out.feed_per_rev_mm;
-  *p.cutting_speed_cmd = out.speed_cmd_m_per_min;
-  *p.cutting_speed_opt = out.speed_opt_m_per_min;
-  *p.cut_power = out.cut_power_W;
-  *p.in_cut = out.in_cut;
-  *p.period_error = out.period_error;
-  *p.load = out.load;
-  *p.limit = out.limit;
-  *p.feed_min = out.feed_min;
-  *p.feed_max = out.feed_max;
-  *p.adaptive_on = out.adaptive_on;
-  *p.teaching = out.teaching;
-  *p.idle_power = out.idle_power_W;
-  *p.tare_ready = out.tare_ready;
-  *p.idle_p0 = out.idle_law[0];
-  *p.idle_p1 = out.idle_law[1];
-  *p.idle_p2 = out.idle_law[2];
-  *p.bad_setting = out.bad_setting;
-  *p.bad_code = static_cast<std::int32_t>(out.bad_code);
-  *p.bad_line = out.bad_line;
-  *p.bad_value = out.bad_value;
-  *p.overload_warn = out.overload_warn;
-  *p.overload_hold = out.overload_hold;
-  *p.load_rev = out.load_rev;
-  *p.load_percent = out.load_percent;
-  *p.predicted_depth = out.predicted_depth_mm;
-  *p.depth_ahead = out.depth_ahead_mm;
-  *p.feed_ceiling = out.feed_ceiling_mm_per_rev;
-  *p.specific_force = out.specific_force_ratio;
-  *p.inertia = out.inertia_kg_m2;
-  *p.breakage = out.breakage;
-  *p.tool_data_changed = out.tool_data_changed;
-  if (out.op.seq != *p.op_seq) {  // a record: its fields first, op-seq last
-    *p.op_line = out.op.line;
-    *p.op_tool = out.op.tool;
-    *p.op_operation = out.op.operation;
-    *p.op_mode = out.op.mode;
-    *p.op_limit = out.op.limit;
-    *p.op_load_mean = out.op.load_mean;
-    *p.op_load_peak = out.op.load_peak;
-    *p.op_feed_min = out.op.feed_min;
-    *p.op_feed_mean = out.op.feed_mean;
-    *p.op_time_in_cut = out.op.time_in_cut_s;
-    *p.op_time = out.op.time_s;
-    *p.op_reasons = static_cast<std::int32_t>(out.op.reasons);
-    *p.op_alarm = out.op.alarm;
-    *p.op_seq = out.op.seq;
-  }
-  if (out.teach.seq != *p.teach_seq) {
-    *p.teach_tool = out.teach.tool;
-    *p.teach_operation = out.teach.operation;
-    *p.teach_reference = out.teach.reference;
-    *p.teach_seq = out.teach.seq;
-  }
+  write_outputs(p, out);
+  write_records(p, out);
 }
 
 std::string read_text(const char* path, const char* what) {

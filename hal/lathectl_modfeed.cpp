@@ -34,6 +34,7 @@
 #include <string>
 
 #include "lathectl/control/modulation_machine.hpp"
+#include "lathectl/control/types.hpp"
 #include "lathectl/sim/config_error.hpp"
 #include "lathectl_hal.hpp"
 #include "pins/modfeed.hpp"
@@ -116,7 +117,7 @@ void update(void*, long period_ns) {
     *p.period_error = s.every < 0;
   }
   if (*p.reset_max) timer.reset();
-  const bool feed_block = *p.motion_type == 2 || *p.motion_type == 3;
+  const bool feed_block = lathectl::control::is_feed_motion(*p.motion_type);
   // Every servo period: the turret the output acts on, the path, the external offset.
   ModulationMachine::Servo sv;
   sv.dt_s = dt;

@@ -18,6 +18,7 @@
 #include <memory>
 
 #include "lathectl/control/per_revolution.hpp"
+#include "lathectl/control/types.hpp"
 #include "lathectl/cutting/lathe_plant.hpp"
 #include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/sensors/force_sensor.hpp"
@@ -98,7 +99,7 @@ void update(void*, long period_ns) {
   *pins->time_in_cut = out.time_in_cut_s;
   {
     run_s += static_cast<double>(period_ns) * 1e-9;
-    const bool feed_move = *pins->motion_type == 2 || *pins->motion_type == 3;
+    const bool feed_move = lathectl::control::is_feed_motion(*pins->motion_type);
     const bool cutting = feed_move && out.depth_mm > 0.0 && out.feed_per_rev_mm > 0.0;
     *pins->force_rev_mean =
         force_rev.push(run_s, feed_move ? out.force_parameter : 0.0, in.rpm, cutting);

@@ -16,10 +16,6 @@ namespace {
 bool whole(double v, double lo, double hi) noexcept {
   return std::isfinite(v) && v >= lo && v <= hi && v == std::floor(v);
 }
-bool feed_motion(std::int32_t type) noexcept {
-  return type == static_cast<std::int32_t>(AdaptiveMachine::Motion::Feed) ||
-         type == static_cast<std::int32_t>(AdaptiveMachine::Motion::Arc);
-}
 }  // namespace
 
 AdaptiveMachine::AdaptiveMachine() = default;
@@ -318,7 +314,7 @@ void AdaptiveMachine::update(const Input& in, Output& out) noexcept {
   op_mode_ = applied_.mode;
   op_limit_ = applied_.limit;
 
-  const bool feed_move = in.enable && feed_motion(in.motion_type);
+  const bool feed_move = in.enable && is_feed_motion(in.motion_type);
   if (p_.power_sensor) acceleration_power(in.rpm, period.elapsed_s, in.nominal_period_s);
   // Every servo period: the stop comes in the period the data changes.
   if (tool_watch_.update(tool, in.tool_diameter, in.tool_offset_x, in.tool_offset_z, feed_move,
@@ -338,9 +334,7 @@ void AdaptiveMachine::update(const Input& in, Output& out) noexcept {
     si.z_mm = in.homed ? in.z_mm : std::nan("");
     si.rpm = in.rpm;
     cutting::LathePlant::Output so;
-    // The spindle turned for the time that passed. The workpiece alone: of the plant's output
-    // the model reads only the chip's geometry, not its forces, disturbances or sensor.
-    stock_->cut(si, period.elapsed_s, so);
+    stock_->cut(si, period.elapsed_s, so);  // the chip's geometry alone, for the time that passed
     stock_out_ = so;
     // The engagement at this instant, not the last revolution's chip: leaving the material at
     // 300 m/min the load falls within the 10 ms window while the revolution's mean depth (19 ms
@@ -588,7 +582,7 @@ void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) 
   const double dt = ctl_.params().period_s;
   const bool enabled = in.enable;
   const double rpm = std::abs(in.rpm);
-  const bool feed_block = enabled && feed_motion(in.motion_type);
+  const bool feed_block = enabled && is_feed_motion(in.motion_type);
   bool sensing = true;
   const double load = measured_load(in, feed_block, rpm, dt, out, sensing);
   AdaptiveSignals sig;

@@ -15,6 +15,7 @@
 #include "lathectl/io/channels_reader.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/control/per_revolution.hpp"
+#include "lathectl/control/types.hpp"
 #include "optimize/optimize.hpp"
 
 namespace lathectl::optimize {
@@ -97,7 +98,7 @@ VerifyRun run_sim_once(const std::string& name, const std::string& text, bool of
   }
   std::vector<double> in_feed(run.force.size());  // rapids through material: reported apart
   for (std::size_t i = 0; i < in_feed.size(); ++i)
-    in_feed[i] = run.motion[i] == 2.0 || run.motion[i] == 3.0 ? run.force[i] : 0.0;
+    in_feed[i] = control::is_feed_motion(run.motion[i]) ? run.force[i] : 0.0;
   run.force_rev = control::per_revolution_mean(in_feed, rpm, dt_s);
   // The cycle: until the last move ends (motion type ≠ 0), the same measure for every run; the
   // simulator's own cycle_time_s also counts a session that hangs after its last move.
@@ -107,7 +108,7 @@ VerifyRun run_sim_once(const std::string& name, const std::string& text, bool of
       break;
     }
   for (std::size_t i = 0; i < run.force_rev.size(); ++i)
-    if (run.motion[i] == 2.0 || run.motion[i] == 3.0)
+    if (control::is_feed_motion(run.motion[i]))
       run.force_peak_rev = std::max(run.force_peak_rev, run.force_rev[i]);
   return run;
 }

@@ -126,7 +126,7 @@ class AdaptiveMachine {
     double rescale_for_s = 0.05;
   };
 
-  enum class Motion : std::int32_t { None = 0, Traverse = 1, Feed = 2, Arc = 3 };
+  using Motion = control::Motion;  // motion.motion-type (types.hpp)
 
   struct Input {
     double nominal_period_s = 0.001;  // the thread's period

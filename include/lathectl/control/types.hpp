@@ -9,6 +9,19 @@
 
 namespace lathectl::control {
 
+// What LinuxCNC's motion.motion-type says the move in progress is (EMC_MOTION_TYPE_* of
+// src/emc/motion/motion.h: 4 tool change, 5 probing and 6 rotary indexing are none of these).
+// The machine sides, their hosts and the optimiser read it.
+enum class Motion : std::int32_t { None = 0, Traverse = 1, Feed = 2, Arc = 3 };
+// A feed block (a straight feed or an arc): where the feed controllers act and a cut is counted.
+[[nodiscard]] constexpr bool is_feed_motion(std::int32_t type) noexcept {
+  return type == static_cast<std::int32_t>(Motion::Feed) ||
+         type == static_cast<std::int32_t>(Motion::Arc);
+}
+[[nodiscard]] constexpr bool is_feed_motion(double type) noexcept {  // a recorded column
+  return type == static_cast<double>(Motion::Feed) || type == static_cast<double>(Motion::Arc);
+}
+
 // Why the output is what it is. Values are stable: they are written to channels.csv and HAL pins.
 // What each means, and whether it is an alarm: kReasons below.
 enum class Reason : std::uint16_t {

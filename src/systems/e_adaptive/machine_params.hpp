@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "lathectl/control/adaptive_machine.hpp"
-#include "systems/e_adaptive/rig.hpp"
+#include "systems/e_adaptive/rig_config.hpp"
 #include "systems/e_adaptive/tool_limits.hpp"
 
 namespace lathectl::systems::e_adaptive {

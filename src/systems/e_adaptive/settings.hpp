@@ -14,7 +14,7 @@
 #include "lathectl/dynamics/lobes.hpp"
 #include "lathectl/io/acceptance.hpp"
 #include "lathectl/io/scenario.hpp"
-#include "systems/e_adaptive/rig.hpp"
+#include "systems/e_adaptive/rig_config.hpp"
 
 namespace lathectl::systems::e_adaptive {
 
