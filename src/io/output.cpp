@@ -318,4 +318,16 @@ std::string channels_csv(const sim::Recorder& rec) {
   return out.take_text();
 }
 
+bool is_runner_output(const std::filesystem::path& path, const std::vector<const char*>& files) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const bool dir_given = fs::is_directory(path, ec);
+  if (!dir_given && path.filename() != "summary.json") return false;
+  const fs::path dir = dir_given ? path : path.parent_path();
+  if (fs::exists(dir / "operations.json", ec) || !fs::exists(dir / "summary.json", ec))
+    return false;
+  return std::all_of(files.begin(), files.end(),
+                     [&](const char* f) { return fs::exists(dir / f, ec); });
+}
+
 }  // namespace lathectl::io

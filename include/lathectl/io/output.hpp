@@ -90,4 +90,9 @@ class OutputStage {
 // empty or carry the output marker). A live process's temporaries are left alone.
 void remove_dead_temporaries(const std::filesystem::path& dir);
 
+// A LinuxCNC runner's output (scripts/linuxcnc-sim-*: its directory, or its summary.json) without
+// an operation log, holding summary.json and every one of `files`: the session `lathectl report`
+// reads for that runner's system.
+bool is_runner_output(const std::filesystem::path& path, const std::vector<const char*>& files);
+
 }  // namespace lathectl::io

@@ -149,11 +149,7 @@ int twin_session_report(const fs::path& dir, const std::string& out_arg) {
 
 // scripts/linuxcnc-sim-twin's directory (or its summary.json), no operation log.
 bool is_session(const fs::path& path) {
-  const fs::path dir = fs::is_directory(path) ? path : path.parent_path();
-  std::error_code ec;
-  return (fs::is_directory(path) || path.filename() == "summary.json") &&
-         !fs::exists(dir / "operations.json", ec) && fs::exists(dir / "summary.json", ec) &&
-         fs::exists(dir / "signals.csv", ec) && fs::exists(dir / "report.txt", ec);
+  return io::is_runner_output(path, {"signals.csv", "report.txt"});
 }
 
 int session_report(const fs::path& path, const std::string& out) {

@@ -144,11 +144,7 @@ int gauge_series_report(const fs::path& summary, const std::string& out_arg) {
 
 // scripts/linuxcnc-sim-gauge's directory (or its summary.json), no operation log.
 bool is_session(const fs::path& path) {
-  const fs::path dir = fs::is_directory(path) ? path : path.parent_path();
-  std::error_code ec;
-  return (fs::is_directory(path) || path.filename() == "summary.json") &&
-         !fs::exists(dir / "operations.json", ec) && fs::exists(dir / "summary.json", ec) &&
-         fs::exists(dir / "parts.csv", ec);
+  return io::is_runner_output(path, {"parts.csv"});
 }
 
 int session_report(const fs::path& path, const std::string& out) {
