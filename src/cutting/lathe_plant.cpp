@@ -105,6 +105,28 @@ double LathePlant::depth_ahead_mm(double x, double z_machine, double dx, double 
   return width;
 }
 
+// The first cell i in [lo, hi) whose centre z0 + i·cell lies above zq (at or above it when
+// `or_at`), hi if none; the centres are computed as cut_under_nose() computes them.
+std::size_t LathePlant::first_centre_after(double zq, bool or_at, std::size_t lo,
+                                           std::size_t hi) const noexcept {
+  const double cell = p_.cell_mm;
+  const double z0 = z0_;
+  auto past = [&](std::size_t i) {
+    const double c_i = z0 + static_cast<double>(i) * cell;
+    return or_at ? c_i >= zq : c_i > zq;
+  };
+  if (lo >= hi) return hi;
+  const double guess = std::floor((zq - z0) / cell);
+  std::size_t i = lo;
+  if (guess >= static_cast<double>(hi))
+    i = hi;
+  else if (guess > static_cast<double>(lo))
+    i = static_cast<std::size_t>(guess);
+  while (i > lo && past(i - 1)) --i;  // the division rounded up: step back
+  while (i < hi && !past(i)) ++i;     // or down: step on
+  return i;
+}
+
 // The nose's pass over the grid at (x, z): each cell under its circle comes down to its edge.
 // Members are read into locals and removed_mm3_ summed in one: a store into r_ may alias any
 // double of *this, so the compiler reloaded them and stored removed_mm3_ on every cell (rig E:
@@ -132,14 +154,14 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
   std::size_t j_end = i1 + 1;
   const NosePass& lp = last_nose_;
   if (lp.valid && x >= lp.x && lp.x > 0.01) {  // x > 0: the last pass left r = edge, not 0
-    auto was_behind = [&](std::size_t i, bool ahead) {
-      const double c_i = z0 + static_cast<double>(i) * cell;
-      return i >= lp.i0 && i <= lp.i1 && (ahead ? c_i >= lp.z : c_i <= lp.z);
-    };
-    if (z >= lp.z)
-      while (j0 < j_end && was_behind(j0, false)) ++j0;
-    if (z <= lp.z)
-      while (j_end > j0 && was_behind(j_end - 1, true)) --j_end;
+    // The skipped cells are a run at each end of [i0, i1]: the cell centres rise with i, so
+    // "c_i ≤ z_prev" holds up to one index and "c_i ≥ z_prev" from one on. Found by division
+    // and confirmed on the same computed centres (a walk cell by cell was a fifth of rig E's
+    // time, 120 cells a step).
+    if (z >= lp.z && j0 >= lp.i0 && j0 <= lp.i1)  // trailing end: cells at or behind z_prev, of the last pass
+      j0 = std::min({first_centre_after(lp.z, false, j0, j_end), lp.i1 + 1, j_end});
+    if (z <= lp.z && j_end - 1 >= lp.i0 && j_end - 1 <= lp.i1)  // moving toward −z: the cells at or ahead of z_prev
+      j_end = std::max({first_centre_after(lp.z, true, j0, j_end), lp.i0, j0});
   }
   last_nose_ = {true, x, z, i0, i1};
   double* const r = r_.data();

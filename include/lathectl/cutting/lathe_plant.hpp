@@ -128,6 +128,8 @@ class LathePlant {
     bool on_blank = false;
   };
   NoseCut cut_under_nose(double x, double z) noexcept;
+  [[nodiscard]] std::size_t first_centre_after(double zq, bool or_at, std::size_t lo,
+                                               std::size_t hi) const noexcept;
   void spread_over_bins(double a0, double a1, double removed, double travel) noexcept;
   void revolution_sums(bool area, double& area_rev, double& travel_rev) noexcept;
   CuttingProcess cfg_{};
