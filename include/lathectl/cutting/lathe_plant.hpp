@@ -128,6 +128,8 @@ class LathePlant {
     bool on_blank = false;
   };
   NoseCut cut_under_nose(double x, double z) noexcept;
+  void edges_under_nose(double x, double z, std::size_t j0, std::size_t n,
+                        double* e) const noexcept;
   [[nodiscard]] std::size_t first_centre_after(double zq, bool or_at, std::size_t lo,
                                                std::size_t hi) const noexcept;
   void spread_over_bins(double a0, double a1, double removed, double travel) noexcept;
@@ -138,6 +140,7 @@ class LathePlant {
   double z0_ = 0.0;  // stock z of the first cell
   std::vector<double> r_;
   std::vector<double> r_blank_low_;  // lowest point of the eccentric blank per cell
+  std::vector<double> edge_;         // scratch: the nose's edge over the cells under it
   CuttingModel cut_;
   Stock stock_;
   Disturbances dist_;
