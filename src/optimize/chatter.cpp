@@ -8,7 +8,7 @@
 
 #include "lathectl/io/errors.hpp"
 #include "optimize/optimize.hpp"
-#include "systems/b_chatter/lobes.hpp"
+#include "systems/b_chatter/lobes_input.hpp"
 
 namespace lathectl::optimize {
 

@@ -7,7 +7,7 @@
 // the slot's limit at the regulator's.
 
 #include "lathectl/control/slide_machine.hpp"
-#include "systems/a_pulse_feed/rig.hpp"
+#include "systems/a_pulse_feed/rig_config.hpp"
 
 namespace lathectl::systems::a_pulse_feed {
 

@@ -12,7 +12,7 @@
 
 #include "lathectl/io/acceptance.hpp"
 #include "lathectl/io/scenario.hpp"
-#include "systems/a_pulse_feed/rig.hpp"
+#include "systems/a_pulse_feed/rig_config.hpp"
 
 namespace lathectl::systems::a_pulse_feed {
 

@@ -6,7 +6,7 @@
 #include <limits>
 #include <thread>
 
-#include "systems/b_chatter/lobes.hpp"
+#include "systems/b_chatter/lobes_input.hpp"
 
 namespace lathectl::systems::b_chatter {
 

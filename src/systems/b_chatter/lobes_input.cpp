@@ -16,7 +16,7 @@
 #include "lathectl/io/frf_reader.hpp"
 #include "lathectl/io/sections.hpp"
 #include "lathectl/io/toml_reader.hpp"
-#include "systems/b_chatter/lobes.hpp"
+#include "systems/b_chatter/lobes_input.hpp"
 
 namespace lathectl::systems::b_chatter {
 

@@ -1,4 +1,4 @@
-#include "systems/b_chatter/lobes.hpp"
+#include "systems/b_chatter/lobes_input.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -6,7 +6,7 @@
 // the staircase may not rise above the program's F (S_max ≤ ceiling · S_p).
 
 #include "lathectl/control/modulation_machine.hpp"
-#include "systems/b_chatter/rig.hpp"
+#include "systems/b_chatter/rig_config.hpp"
 
 namespace lathectl::systems::b_chatter {
 

@@ -9,7 +9,7 @@
 #include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/io/sections.hpp"
 #include "lathectl/io/toml_reader.hpp"
-#include "systems/b_chatter/lobes.hpp"
+#include "systems/b_chatter/lobes_input.hpp"
 
 namespace lathectl::systems::b_chatter {
 
@@ -170,7 +170,7 @@ void derive_module_defaults(const TableReader& root, RigConfig& b) {
   m.force_feed_exponent = 1.0 - fp.m;
   m.radial_force_ratio =
       fp.k11_N_per_mm2 * std::pow(h, 1.0 - fp.m) / (fc.k11_N_per_mm2 * std::pow(h, 1.0 - fc.m));
-  m.part_mass_kg = Rig::modal_mass_kg(b.part, 0.5 * (b.z_start_mm + b.z_end_mm) * kMm);
+  m.part_mass_kg = part_modal_mass_kg(b.part, 0.5 * (b.z_start_mm + b.z_end_mm) * kMm);
 }
 
 // [modulation]: the CNC's modulated-feed module (or a programmed modulation).

@@ -11,7 +11,7 @@
 
 #include "lathectl/io/acceptance.hpp"
 #include "lathectl/io/scenario.hpp"
-#include "systems/b_chatter/rig.hpp"
+#include "systems/b_chatter/rig_config.hpp"
 
 namespace lathectl::systems::b_chatter {
 

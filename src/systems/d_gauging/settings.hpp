@@ -14,7 +14,7 @@
 #include "lathectl/io/acceptance.hpp"
 #include "lathectl/io/scenario.hpp"
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
-#include "systems/d_gauging/rig.hpp"
+#include "systems/d_gauging/rig_config.hpp"
 
 namespace lathectl::systems::d_gauging {
 
