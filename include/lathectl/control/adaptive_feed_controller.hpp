@@ -180,6 +180,19 @@ class AdaptiveFeedController {
 
  private:
   double feed_ceiling() const noexcept;
+  // update()'s phases, in the order they run (adaptive_feed_controller.cpp says what each decides).
+  void raise(Reason r) noexcept;
+  Reason check_sensor(const Input& in, const PeriodTime& measured, bool& suspect) noexcept;
+  Reason judge_contact(const Input& in, const PeriodTime& measured, bool sensor_ok) noexcept;
+  double regulated_load(const Input& in, bool sensor_ok) noexcept;
+  double feed_target(const Input& in, double error, bool suspect, Reason& reason) noexcept;
+  double ramp_feed(const Input& in, double target, double error, bool sensor_ok,
+                   Reason& reason) noexcept;
+  double estimate_depth(const Input& in, bool known, double regulated, double s_cur) noexcept;
+  double optimal_speed(const Input& in, double regulated) noexcept;
+  double power_limited_speed(const Input& in, double v_opt, Reason& reason) const noexcept;
+  double spindle_rpm(const Input& in, double v_cmd, Reason& reason) const noexcept;
+  void hold_on_alarm(const Input& in, double rpm, Output& out) noexcept;
   Params p_{};
   Params base_{};  // as configured (set_operation changes p_ only)
   bool configured_ = false;
