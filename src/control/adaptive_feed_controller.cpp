@@ -14,7 +14,7 @@ void AdaptiveFeedController::configure(const Params& p) {
     if (!ok) throw std::invalid_argument(std::string("adaptive controller: ") + what);
   };
   need(p.period_s > 0.0, "period must be > 0");
-  need(p.force_limit > 0.0, "force limit must be > 0");
+  need(p.load_limit > 0.0, "force limit must be > 0");
   need(p.feed_min_mm_per_rev > 0.0 && p.feed_min_mm_per_rev < p.feed_max_mm_per_rev,
        "feed limits: 0 < s_min < s_max");
   need(p.feed_programmed_mm_per_rev >= p.feed_min_mm_per_rev &&
@@ -87,13 +87,13 @@ double AdaptiveFeedController::feed_ceiling() const noexcept {
              : std::min(p_.feed_max_mm_per_rev, p_.feed_programmed_mm_per_rev);
 }
 
-bool AdaptiveFeedController::set_operation(double force_limit, double feed_min_mm_per_rev,
+bool AdaptiveFeedController::set_operation(double load_limit, double feed_min_mm_per_rev,
                                            double feed_max_mm_per_rev, bool adaptive) noexcept {
-  if (!configured_ || !std::isfinite(force_limit) || !(force_limit > 0.0) ||
+  if (!configured_ || !std::isfinite(load_limit) || !(load_limit > 0.0) ||
       !std::isfinite(feed_max_mm_per_rev) || !(feed_min_mm_per_rev > 0.0) ||
       !(feed_max_mm_per_rev > feed_min_mm_per_rev))
     return false;
-  p_.force_limit = force_limit;
+  p_.load_limit = load_limit;
   p_.feed_min_mm_per_rev = feed_min_mm_per_rev;
   p_.feed_max_mm_per_rev = feed_max_mm_per_rev;
   p_.feed_programmed_mm_per_rev =
@@ -132,7 +132,7 @@ Reason AdaptiveFeedController::check_sensor(const Input& in, const PeriodTime& m
   // A constant reading is legitimate with the tool in air (a zero-suppressed dynamometer reads
   // exactly 0 there) and in rapids: the stuck timer runs only while the controller acts on
   // the force in a cut — in cut, or a reading above the air threshold.
-  const double limit = p_.force_limit;
+  const double limit = p_.load_limit;
   const bool armed = in.feed_block && (contact_.in_cut() || in.force > p_.air_threshold * limit);
   const Reason fault = monitor_.check(in.force, measured.evidence_s, armed);
   if (fault != Reason::None) raise(fault);
@@ -145,7 +145,7 @@ Reason AdaptiveFeedController::check_sensor(const Input& in, const PeriodTime& m
 Reason AdaptiveFeedController::judge_contact(const Input& in, const PeriodTime& measured,
                                              bool sensor_ok) noexcept {
   const double dt = p_.period_s;
-  const double limit = p_.force_limit;
+  const double limit = p_.load_limit;
   const double s_prog = p_.feed_programmed_mm_per_rev;
   const bool adaptive = p_.mode != Mode::Fixed;
   Reason reason = Reason::None;
@@ -245,7 +245,7 @@ double AdaptiveFeedController::ramp_feed(const Input& in, double target, double 
   const double s_prog = p_.feed_programmed_mm_per_rev;
   if (target < feed_ramp_.value()) {
     feed_ramp_.reset(target);  // decreases are never delayed: they protect the tool
-  } else if (contact_.in_cut() && sensor_ok && in.force > p_.force_limit &&
+  } else if (contact_.in_cut() && sensor_ok && in.force > p_.load_limit &&
              target > feed_ramp_.value() + p_.feed_rate_limit_per_s * s_prog * dt) {
     // A rise the ramp limits (entering a cut, after a step down) is stopped by the present
     // sample above the limit: the per-revolution mean it regulates lags the ramp by half a
@@ -362,7 +362,7 @@ void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
   }
   const double dt = p_.period_s;
   const PeriodTime measured = period_time(in.dt_s, dt);  // what the detectors count
-  const double limit = p_.force_limit;
+  const double limit = p_.load_limit;
   const bool adaptive = p_.mode != Mode::Fixed;
 
   bool suspect = false;

@@ -96,7 +96,7 @@ void AdaptiveMachine::configure(const Params& p) {
   } else {
     stock_.reset();
   }
-  applied_ = {c.force_limit, c.feed_min_mm_per_rev, c.feed_max_mm_per_rev, 2, c.force_limit};
+  applied_ = {c.load_limit, c.feed_min_mm_per_rev, c.feed_max_mm_per_rev, 2, c.load_limit};
   every_ = count_ = 0;
   ctl_elapsed_s_ = 0.0;
   last_reset_ = false;
@@ -174,7 +174,7 @@ SettingError AdaptiveMachine::resolve(const Input& in, OpSettings& out,
     if (const auto e = check_limit(lim_v, p_.rating); e != SettingError::None) return e;
     o.limit = lim_v > 0.0                        ? lim_v
               : tl != nullptr && tl->limit > 0.0 ? tl->limit
-                                                 : base_.force_limit;
+                                                 : base_.load_limit;
     o.reference = o.limit;
   }
   const double fmin_v = in.feed_min_cmd, fmax_v = in.feed_max_cmd;

@@ -87,13 +87,13 @@ void read_limit(TableReader& c, RigConfig& e) {
   auto& p = e.controller;
   const bool power = e.force_parameter == cutting::ForceParameter::Power;
   if (!power || c.is_describing())
-    c.require({"force_limit_N", {0.0, 1e7, true, false}, "setter 6 (Pz/Py sensor)"}, p.force_limit);
+    c.require({"force_limit_N", {0.0, 1e7, true, false}, "setter 6 (Pz/Py sensor)"}, p.load_limit);
   if (power || c.is_describing())
     c.require({"cut_power_limit_kW",
                {0.0, 1e4, true, false},
                "setter 6 (power sensor), instead of force_limit_N",
                1e3},
-              p.force_limit);
+              p.load_limit);
   c.read({"feed_forward",
           {},
           "lower the feed before a rise in the depth of cut that the stock model sees ahead "
@@ -298,7 +298,7 @@ void read_sensor_monitor(TableReader& c, RigConfig& e) {
                                                           : "N";
   // A dynamometer reads little below zero; a spindle drive's power meter, braking, reads the
   // power it regenerates, up to its rating ([spindle] is read before [controller]).
-  p.sensor_monitor.min = power ? -1.2 * e.spindle.max_power_W : -0.2 * p.force_limit;
+  p.sensor_monitor.min = power ? -1.2 * e.spindle.max_power_W : -0.2 * p.load_limit;
   c.read({.key = "sensor_min",
           .range = Range::any(),
           .doc = "lowest plausible reading (default: −0.2·limit; power: −1.2·the spindle's "

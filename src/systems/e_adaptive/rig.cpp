@@ -54,14 +54,14 @@ Rig::WorstCase Rig::worst_case(const RigConfig& cfg, const cutting::CuttingModel
   };
   WorstCase w{.depth_mm = t_max, .hardness = hard, .wear_factor = wear, .speed_m_per_min = v};
   double lo = cfg.controller.feed_min_mm_per_rev, hi = cfg.controller.feed_max_mm_per_rev;
-  if (param(lo) > cfg.controller.force_limit) {
+  if (param(lo) > cfg.controller.load_limit) {
     w.at_min = true;
-  } else if (param(hi) <= cfg.controller.force_limit) {
+  } else if (param(hi) <= cfg.controller.load_limit) {
     lo = hi;
   } else {
     for (int i = 0; i < 60; ++i) {
       const double mid = 0.5 * (lo + hi);
-      (param(mid) > cfg.controller.force_limit ? hi : lo) = mid;
+      (param(mid) > cfg.controller.load_limit ? hi : lo) = mid;
     }
   }
   w.feed_mm_per_rev = lo;
@@ -169,12 +169,12 @@ void Rig::plan_pass(std::size_t k) noexcept {
                                       cut_.power_W(f, cp.speed_programmed_m_per_min));
     };
     double lo = cp.feed_min_mm_per_rev, hi = cp.feed_max_mm_per_rev;
-    if (param(hi) <= cp.force_limit) {
+    if (param(hi) <= cp.load_limit) {
       lo = hi;
-    } else if (param(lo) < cp.force_limit) {
+    } else if (param(lo) < cp.load_limit) {
       for (int i = 0; i < 50; ++i) {
         const double mid = 0.5 * (lo + hi);
-        (param(mid) > cp.force_limit ? hi : lo) = mid;
+        (param(mid) > cp.load_limit ? hi : lo) = mid;
       }
     }
     plunge_feed_mm_per_rev_ = lo;

@@ -66,8 +66,8 @@ class Rig {
   [[nodiscard]] double programmed_feed() const noexcept {
     return machine_.controller().params().feed_programmed_mm_per_rev;
   }
-  [[nodiscard]] double force_limit() const noexcept {
-    return machine_.controller().params().force_limit;
+  [[nodiscard]] double load_limit() const noexcept {
+    return machine_.controller().params().load_limit;
   }
   [[nodiscard]] bool numerically_sound() const noexcept { return sound_; }
   // Time the controller first held the feed (feed command 0), or −1; exact, not recorded.
