@@ -116,7 +116,7 @@ void AdaptiveFeedController::reset_alarm() noexcept {
 
 // update() in phases, in the order they run; each is the text it was, moved (no formula changed).
 
-void AdaptiveFeedController::raise(Reason r) noexcept {
+inline void AdaptiveFeedController::raise(Reason r) noexcept {
   if (!alarm_) {
     alarm_ = true;
     alarm_reason_ = r;
@@ -125,7 +125,7 @@ void AdaptiveFeedController::raise(Reason r) noexcept {
 
 // Monitoring the sensor: validity, stuck, range. The fixed baseline has no sensor. Returns the
 // fault found this period (None: none); `suspect` whether the reading is suspect.
-Reason AdaptiveFeedController::check_sensor(const Input& in, const PeriodTime& measured,
+inline Reason AdaptiveFeedController::check_sensor(const Input& in, const PeriodTime& measured,
                                             bool& suspect) noexcept {
   suspect = false;
   if (p_.mode == Mode::Fixed) return Reason::None;
@@ -142,7 +142,7 @@ Reason AdaptiveFeedController::check_sensor(const Input& in, const PeriodTime& m
 
 // Contact, breakage and overload, judged on the raw sample; outside a feed block the controller
 // goes inactive. Returns the reason this phase gives (NotInFeedBlock, Engaged or None).
-Reason AdaptiveFeedController::judge_contact(const Input& in, const PeriodTime& measured,
+inline Reason AdaptiveFeedController::judge_contact(const Input& in, const PeriodTime& measured,
                                              bool sensor_ok) noexcept {
   const double dt = p_.period_s;
   const double limit = p_.load_limit;
@@ -188,7 +188,7 @@ Reason AdaptiveFeedController::judge_contact(const Input& in, const PeriodTime& 
 }
 
 // The regulated force: the mean over the last revolution (or the raw sample).
-double AdaptiveFeedController::regulated_load(const Input& in, bool sensor_ok) noexcept {
+inline double AdaptiveFeedController::regulated_load(const Input& in, bool sensor_ok) noexcept {
   double regulated = in.force;
   if (sensor_ok) {
     const double mean = rev_mean_.push(in.force, in.rpm);
@@ -200,7 +200,7 @@ double AdaptiveFeedController::regulated_load(const Input& in, bool sensor_ok) n
 
 // The feed the regulator asks for: the PI in a cut, the air feed out of it, under a known rise
 // of the depth ahead, and never up on a reading that cannot be trusted.
-double AdaptiveFeedController::feed_target(const Input& in, double error, bool suspect,
+inline double AdaptiveFeedController::feed_target(const Input& in, double error, bool suspect,
                                            Reason& reason) noexcept {
   double target = p_.feed_programmed_mm_per_rev;
   const PiRegulator pi_before = pi_;
@@ -239,7 +239,7 @@ double AdaptiveFeedController::feed_target(const Input& in, double error, bool s
 
 // The feed ramp towards the target: down at once, up at its rate limit, with the PI kept from
 // storing what the ramp did not let through. Returns the feed per revolution commanded.
-double AdaptiveFeedController::ramp_feed(const Input& in, double target, double error,
+inline double AdaptiveFeedController::ramp_feed(const Input& in, double target, double error,
                                          bool sensor_ok, Reason& reason) noexcept {
   const double dt = p_.period_s;
   const double s_prog = p_.feed_programmed_mm_per_rev;
@@ -272,7 +272,7 @@ double AdaptiveFeedController::ramp_feed(const Input& in, double target, double 
 }
 
 // The depth of cut the speed law corrects for: the known one, else t̂ from the force model.
-double AdaptiveFeedController::estimate_depth(const Input& in, bool known, double regulated,
+inline double AdaptiveFeedController::estimate_depth(const Input& in, bool known, double regulated,
                                               double s_cur) noexcept {
   const double t_hat =
       known ? in.depth_known_mm
@@ -285,7 +285,7 @@ double AdaptiveFeedController::estimate_depth(const Input& in, bool known, doubl
 
 // V_opt of seed 004 from the measured feed per revolution (computer 11), with the depth and
 // tool-life corrections; the programmed speed unless the mode has the speed law and cuts.
-double AdaptiveFeedController::optimal_speed(const Input& in, double regulated) noexcept {
+inline double AdaptiveFeedController::optimal_speed(const Input& in, double regulated) noexcept {
   double v_opt = p_.speed_programmed_m_per_min;
   if (p_.mode != Mode::ForceFeedSpeed ||
       !(contact_.in_cut() && in.rpm > 0.0 && in.feed_rate_mm_per_min > 0.0))
@@ -313,7 +313,7 @@ double AdaptiveFeedController::optimal_speed(const Input& in, double regulated) 
 }
 
 // The cutting speed aimed at: V_opt, held below what the spindle's power allows.
-double AdaptiveFeedController::power_limited_speed(const Input& in, double v_opt,
+inline double AdaptiveFeedController::power_limited_speed(const Input& in, double v_opt,
                                                    Reason& reason) const noexcept {
   if (p_.mode != Mode::ForceFeedSpeed) return p_.speed_programmed_m_per_min;
   double v_target = v_opt;
@@ -328,7 +328,7 @@ double AdaptiveFeedController::power_limited_speed(const Input& in, double v_opt
 }
 
 // Spindle speed from the current diameter seen by sensors 20 and 13, in the spindle's range.
-double AdaptiveFeedController::spindle_rpm(const Input& in, double v_cmd,
+inline double AdaptiveFeedController::spindle_rpm(const Input& in, double v_cmd,
                                            Reason& reason) const noexcept {
   double rpm = held_rpm_;
   if (in.speed_m_per_min > 0.0 && in.rpm > 0.0) rpm = in.rpm * v_cmd / in.speed_m_per_min;
@@ -340,7 +340,7 @@ double AdaptiveFeedController::spindle_rpm(const Input& in, double v_cmd,
 }
 
 // An alarm holds the feed; the spindle keeps turning so the tool can retract safely.
-void AdaptiveFeedController::hold_on_alarm(const Input& in, double rpm, Output& out) noexcept {
+inline void AdaptiveFeedController::hold_on_alarm(const Input& in, double rpm, Output& out) noexcept {
   out.feed_per_rev_mm = 0.0;
   out.feed_rate_mm_per_min = 0.0;
   out.feed_hold = true;

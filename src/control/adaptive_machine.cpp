@@ -232,7 +232,7 @@ void AdaptiveMachine::hold(Output& out) const noexcept {
 // update() in phases, in the order they run; each is the text it was, moved.
 
 // The control period must be a whole number of thread periods: false (everything held) if not.
-bool AdaptiveMachine::period_fits(const Input& in, Output& out) noexcept {
+inline bool AdaptiveMachine::period_fits(const Input& in, Output& out) noexcept {
   if (every_ == 0) {  // the control period must be a whole number of thread periods
     const double ratio = ctl_.params().period_s / in.nominal_period_s;
     const long k = std::isfinite(ratio) ? std::lround(ratio) : 0;
@@ -249,7 +249,7 @@ bool AdaptiveMachine::period_fits(const Input& in, Output& out) noexcept {
 }
 
 // The operator's reset (on its rising edge) and the program's F word as motion reports it.
-void AdaptiveMachine::read_motion(const Input& in, const Output& out) noexcept {
+inline void AdaptiveMachine::read_motion(const Input& in, const Output& out) noexcept {
   if (in.reset && !last_reset_) {
     ctl_.reset_alarm();
     overload_latched_ = breakage_latched_ = false;
@@ -273,7 +273,7 @@ void AdaptiveMachine::read_motion(const Input& in, const Output& out) noexcept {
 
 // Settings: checked every servo period, so a value motion puts out is in effect (or held as
 // bad) in the same period.
-void AdaptiveMachine::apply_settings(const Input& in, Output& out) noexcept {
+inline void AdaptiveMachine::apply_settings(const Input& in, Output& out) noexcept {
   OpSettings want = applied_;
   double bad_value = 0.0;
   const SettingError err = resolve(in, want, bad_value);
@@ -302,7 +302,7 @@ void AdaptiveMachine::apply_settings(const Input& in, Output& out) noexcept {
 
 // Teach mode starts one teach cut per tool and operation; one record per program line (or
 // tool) with feed moves.
-void AdaptiveMachine::track_operation(const Input& in, Output& out, int opn) noexcept {
+inline void AdaptiveMachine::track_operation(const Input& in, Output& out, int opn) noexcept {
   const bool teach_mode = applied_.mode == 3;
   const int tool = in.tool_number;
   if (teach_mode && (tool != teach_tool_ || opn != teach_op_)) {  // one teach cut per key
@@ -326,7 +326,7 @@ void AdaptiveMachine::track_operation(const Input& in, Output& out, int opn) noe
 
 // Tool data changed in a feed move: held, every servo period (the stop comes in the period the
 // data changes).
-void AdaptiveMachine::watch_tool_data(const Input& in, Output& out, bool feed_move,
+inline void AdaptiveMachine::watch_tool_data(const Input& in, Output& out, bool feed_move,
                                       double dt) noexcept {
   if (tool_watch_.update(in.tool_number, in.tool_diameter, in.tool_offset_x, in.tool_offset_z,
                          feed_move, dt) &&
@@ -375,7 +375,7 @@ void AdaptiveMachine::update(const Input& in, Output& out) noexcept {
 
 // What the controller is given: sensor 4's load (force, or cutting power), sensors 12, 13 and
 // 20, and what the stock model knows (the feed-forward's ceiling, the depth and the hardness).
-AdaptiveFeedController::Input AdaptiveMachine::controller_input(const Input& in, Output& out,
+inline AdaptiveFeedController::Input AdaptiveMachine::controller_input(const Input& in, Output& out,
                                                                 const LoadReading& r,
                                                                 double dt_measured) noexcept {
   const double rpm = r.rpm;
@@ -414,7 +414,7 @@ AdaptiveFeedController::Input AdaptiveMachine::controller_input(const Input& in,
 
 // Contact, in every mode (the controller's own runs only while it regulates), and the load's
 // mean over the last revolution.
-void AdaptiveMachine::track_contact(const LoadReading& r, double dt, Output& out) noexcept {
+inline void AdaptiveMachine::track_contact(const LoadReading& r, double dt, Output& out) noexcept {
   const auto& cp = ctl_.params();
   const double load = r.load;
   // (A reading that cannot be separated does not end a contact. Out of the cut it may start
@@ -434,7 +434,7 @@ void AdaptiveMachine::track_contact(const LoadReading& r, double dt, Output& out
 }
 
 // Overload levels (Heidenhain AFC's), percentages of the reference (taught, else the limit).
-void AdaptiveMachine::watch_overload(const Input& in, Output& out) noexcept {
+inline void AdaptiveMachine::watch_overload(const Input& in, Output& out) noexcept {
   const auto* tl = tool_of(in.tool_number);
   const double ref = applied_.reference;
   out.overload_warn =
@@ -445,7 +445,7 @@ void AdaptiveMachine::watch_overload(const Input& in, Output& out) noexcept {
 }
 
 // Teach-in: the program's feed; the reference when the cut has ended.
-void AdaptiveMachine::teach_in(const LoadReading& r, double dt, Output& out) noexcept {
+inline void AdaptiveMachine::teach_in(const LoadReading& r, double dt, Output& out) noexcept {
   if (applied_.mode == 3 && teach_.sample(r.load, r.rpm, dt, out.contact)) {
     Taught* t = taught_of(teach_tool_, teach_op_);
     if (t == nullptr && n_taught_ < kMaxTaught) t = &taught_[n_taught_++];
@@ -458,7 +458,7 @@ void AdaptiveMachine::teach_in(const LoadReading& r, double dt, Output& out) noe
 }
 
 // The factor on the program's feed that gives the controller's feed per revolution.
-double AdaptiveMachine::program_feed_factor(const Input& in, double rpm) const noexcept {
+inline double AdaptiveMachine::program_feed_factor(const Input& in, double rpm) const noexcept {
   // The program's feed per revolution: motion reports the F word itself under G95, a velocity
   // [mm/s] under G94 (motion.requested-vel: without the feed scale).
   const double req = req_stable_;
@@ -474,7 +474,7 @@ double AdaptiveMachine::program_feed_factor(const Input& in, double rpm) const n
 
 // The operator's knob times the factor; the ceiling to the feed scale, every decrease on
 // adaptive-feed. Not enabled: the knob alone, on feed moves as before.
-void AdaptiveMachine::write_feed(const Input& in, double factor, bool feed_block, bool held,
+inline void AdaptiveMachine::write_feed(const Input& in, double factor, bool feed_block, bool held,
                                  double dt, Output& out) noexcept {
   const bool enabled = in.enable;
   const auto fo = split_feed_override(factor, in.knob, in.max_override, p_.override_step,
@@ -498,7 +498,7 @@ void AdaptiveMachine::write_feed(const Input& in, double factor, bool feed_block
 
 // The controller's decision and the machine's latches, as the outputs and the operation's
 // record say them.
-void AdaptiveMachine::write_state(const LoadReading& r, double dt, Output& out) noexcept {
+inline void AdaptiveMachine::write_state(const LoadReading& r, double dt, Output& out) noexcept {
   const auto& o = co_;
   out.alarm = o.alarm || overload_latched_ || breakage_latched_ || tool_data_latched_;
   out.reason = o.reason;
@@ -521,7 +521,7 @@ void AdaptiveMachine::write_state(const LoadReading& r, double dt, Output& out) 
 
 // Seed 004's speed law drives the spindle while the program runs it; otherwise the program's
 // speed passes through.
-void AdaptiveMachine::write_spindle(const Input& in, bool regulating, Output& out) const noexcept {
+inline void AdaptiveMachine::write_spindle(const Input& in, bool regulating, Output& out) const noexcept {
   double rpm_out = in.rpm_programmed;
   if (in.enable && speed_law_ && regulating && in.rpm_programmed != 0.0)
     rpm_out = std::copysign(co_.rpm, in.rpm_programmed);

@@ -243,7 +243,7 @@ double Rig::chip_feed_mm_per_rev() const noexcept {
 
 // The spindle turns, the tool cuts the local blank at the chip the slide's path leaves, and the
 // tool's life is used; the load sensor follows the force. Returns the slide's position [mm].
-double Rig::cut_step() noexcept {
+inline double Rig::cut_step() noexcept {
   t_ += dt_;
   ++step_;
   phi_ += 2.0 * std::numbers::pi * rev_per_s_ * dt_;
@@ -271,7 +271,7 @@ double Rig::cut_step() noexcept {
 
 // The controller: the machine's outputs from outside (a LinuxCNC session), or the machine side
 // run here every control period on what the sensor reads, faults included.
-void Rig::control_step() noexcept {
+inline void Rig::control_step() noexcept {
   if (external_) {  // what the machine's analog input reads, every step
     sensor_u_ = faults_.apply(cfg_.faults, t_, sensor_.sample(), cfg_.sensor.saturation_V * 2.0 + 1.0);
     ctl_out_ = act_.out;
@@ -292,7 +292,7 @@ void Rig::control_step() noexcept {
 
 // The flow the regulator delivers this step, from the valve's state (external), the throttle,
 // or the pulse train the controller commands.
-double Rig::regulator_flow() noexcept {
+inline double Rig::regulator_flow() noexcept {
   double q = 0.0;
   if (external_) {
     // The valve's state from the machine's pulse train: the spool is driven open while the
@@ -323,7 +323,7 @@ double Rig::regulator_flow() noexcept {
 }
 
 // One recorded row, averaged over the steps since the last.
-void Rig::record_row(double x_mm) noexcept {
+inline void Rig::record_row(double x_mm) noexcept {
   const auto& s = slide_.state();
   const double n = static_cast<double>(acc_n_);
   if (cfg_.controller_kind == ControllerKind::None && !external_) sensor_u_ = sensor_.sample();

@@ -211,7 +211,7 @@ Rig::Move Rig::move() const noexcept {
 
 // The program, one pass after another: the next move once this one has arrived. False when the
 // last pass has ended.
-bool Rig::advance_program(double z_mm) noexcept {
+inline bool Rig::advance_program(double z_mm) noexcept {
   const double settle_mm_s = 1.0;  // the z axis has arrived: within 5 µm and below 1 mm/s
   const bool z_settled = std::abs(axis_.measured_velocity_m_per_s()) * 1e3 < settle_mm_s;
   switch (phase_) {
@@ -249,7 +249,7 @@ bool Rig::advance_program(double z_mm) noexcept {
 
 // The cutting process at the tool's position, the tool's life it uses, the spindle under the
 // cut's torque and the power meter on the drive.
-void Rig::cut_step(double rpm, double z_mm) noexcept {
+inline void Rig::cut_step(double rpm, double z_mm) noexcept {
   // The cutting process at the tool's position (machine z = −z: the plant's stock runs to −z).
   plant_.step({x_mm_, -z_mm, rpm}, dt_, pout_);
   const double depth = pout_.depth_mm;
@@ -272,7 +272,7 @@ void Rig::cut_step(double rpm, double z_mm) noexcept {
 
 // What the machine side reads: sensor 4 (held between control periods), the drive's power, the
 // spindle, the axes and the program's line, speed and feed.
-control::AdaptiveMachine::Input Rig::machine_input(double z_mm) const noexcept {
+inline control::AdaptiveMachine::Input Rig::machine_input(double z_mm) const noexcept {
   const auto& cp = machine_.controller().params();
   control::AdaptiveMachine::Input in;
   in.nominal_period_s = dt_;
@@ -308,7 +308,7 @@ control::AdaptiveMachine::Input Rig::machine_input(double z_mm) const noexcept {
 // The program: G95 at the programmed feed, G96 at V_p (the CNC's constant surface speed at the
 // tool's diameter), one program line per pass. Sensor 4 is sampled at the control period (its
 // noise is drawn per sample) and held between; the machine side runs every step.
-void Rig::control_step(double z_mm) noexcept {
+inline void Rig::control_step(double z_mm) noexcept {
   if ((step_ - 1) % control_every_ == 0) {
     const double measured = cfg_.force_parameter == cutting::ForceParameter::Power
                                 ? power_meter_.sample()
@@ -323,7 +323,7 @@ void Rig::control_step(double z_mm) noexcept {
 
 // The axes: z a servo axis with its lag and encoder; x an ideal cross slide that stops on its
 // target.
-void Rig::move_axes(double z_mm) noexcept {
+inline void Rig::move_axes(double z_mm) noexcept {
   const double feed_mm_s = mout_.feed_hold ? 0.0 : mout_.feed_per_rev_mm * spindle_.rpm() / 60.0;
   const double rapid_mm_s = cfg_.rapid_m_per_s * 1e3;
   double vz_mm_s = 0.0;
@@ -350,7 +350,7 @@ void Rig::move_axes(double z_mm) noexcept {
 }
 
 // The step's values into the running means, and a recorded row every record_every_ steps.
-void Rig::record_step(double z_mm) noexcept {
+inline void Rig::record_step(double z_mm) noexcept {
   const double s = pout_.feed_per_rev_mm;
   const double v = pout_.speed_m_per_min;
   const double strength = pout_.strength_factor;
