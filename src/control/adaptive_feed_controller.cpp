@@ -340,7 +340,8 @@ inline double AdaptiveFeedController::spindle_rpm(const Input& in, double v_cmd,
 }
 
 // An alarm holds the feed; the spindle keeps turning so the tool can retract safely.
-inline void AdaptiveFeedController::hold_on_alarm(const Input& in, double rpm, Output& out) noexcept {
+inline void AdaptiveFeedController::hold_on_alarm(const Input& in, double rpm,
+                                                  Output& out) noexcept {
   out.feed_per_rev_mm = 0.0;
   out.feed_rate_mm_per_min = 0.0;
   out.feed_hold = true;

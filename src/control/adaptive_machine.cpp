@@ -521,7 +521,8 @@ inline void AdaptiveMachine::write_state(const LoadReading& r, double dt, Output
 
 // Seed 004's speed law drives the spindle while the program runs it; otherwise the program's
 // speed passes through.
-inline void AdaptiveMachine::write_spindle(const Input& in, bool regulating, Output& out) const noexcept {
+inline void AdaptiveMachine::write_spindle(const Input& in, bool regulating,
+                                           Output& out) const noexcept {
   double rpm_out = in.rpm_programmed;
   if (in.enable && speed_law_ && regulating && in.rpm_programmed != 0.0)
     rpm_out = std::copysign(co_.rpm, in.rpm_programmed);
