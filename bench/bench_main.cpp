@@ -298,7 +298,7 @@ BENCHMARK(BM_Chatter_TimeDomain10s)->Unit(benchmark::kMillisecond);
 void BM_AdaptiveFeedController_Update(benchmark::State& state) {
   control::AdaptiveFeedController::Params p;
   p.mode = static_cast<control::AdaptiveFeedController::Mode>(state.range(0));
-  p.force_limit = 2500.0;
+  p.load_limit = 2500.0;
   p.feed_programmed_mm_per_rev = 0.5;
   p.sensor_monitor = {-500.0, 20000.0, 0.1, 0.0};
   control::AdaptiveFeedController c;

@@ -246,7 +246,7 @@ extern "C" int rtapi_app_main(void) {
     *p.feed_factor = 1.0;
     *p.spindle_override = 1.0;
     *p.program_line = -1;
-    x.constant(&p.force_limit, "force-limit", c.force_limit);
+    x.constant(&p.force_limit, "force-limit", c.load_limit);
     x.constant(&p.feed_min_default, "feed-min-default", c.feed_min_mm_per_rev);
     x.constant(&p.feed_max_default, "feed-max-default", c.feed_max_mm_per_rev);
     x.constant(&p.feed_programmed, "feed-programmed", c.feed_programmed_mm_per_rev);

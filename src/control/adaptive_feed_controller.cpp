@@ -14,7 +14,7 @@ void AdaptiveFeedController::configure(const Params& p) {
     if (!ok) throw std::invalid_argument(std::string("adaptive controller: ") + what);
   };
   need(p.period_s > 0.0, "period must be > 0");
-  need(p.force_limit > 0.0, "force limit must be > 0");
+  need(p.load_limit > 0.0, "force limit must be > 0");
   need(p.feed_min_mm_per_rev > 0.0 && p.feed_min_mm_per_rev < p.feed_max_mm_per_rev,
        "feed limits: 0 < s_min < s_max");
   need(p.feed_programmed_mm_per_rev >= p.feed_min_mm_per_rev &&
@@ -87,13 +87,13 @@ double AdaptiveFeedController::feed_ceiling() const noexcept {
              : std::min(p_.feed_max_mm_per_rev, p_.feed_programmed_mm_per_rev);
 }
 
-bool AdaptiveFeedController::set_operation(double force_limit, double feed_min_mm_per_rev,
+bool AdaptiveFeedController::set_operation(double load_limit, double feed_min_mm_per_rev,
                                            double feed_max_mm_per_rev, bool adaptive) noexcept {
-  if (!configured_ || !std::isfinite(force_limit) || !(force_limit > 0.0) ||
+  if (!configured_ || !std::isfinite(load_limit) || !(load_limit > 0.0) ||
       !std::isfinite(feed_max_mm_per_rev) || !(feed_min_mm_per_rev > 0.0) ||
       !(feed_max_mm_per_rev > feed_min_mm_per_rev))
     return false;
-  p_.force_limit = force_limit;
+  p_.load_limit = load_limit;
   p_.feed_min_mm_per_rev = feed_min_mm_per_rev;
   p_.feed_max_mm_per_rev = feed_max_mm_per_rev;
   p_.feed_programmed_mm_per_rev =
@@ -114,40 +114,41 @@ void AdaptiveFeedController::reset_alarm() noexcept {
   high_since_s_ = 1e9;
 }
 
-void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
-  if (!configured_) {
-    out = {};
-    out.feed_hold = true;
-    return;
+// update() in phases, in the order they run; each is the text it was, moved (no formula changed).
+
+inline void AdaptiveFeedController::raise(Reason r) noexcept {
+  if (!alarm_) {
+    alarm_ = true;
+    alarm_reason_ = r;
   }
+}
+
+// Monitoring the sensor: validity, stuck, range. The fixed baseline has no sensor. Returns the
+// fault found this period (None: none); `suspect` whether the reading is suspect.
+inline Reason AdaptiveFeedController::check_sensor(const Input& in, const PeriodTime& measured,
+                                            bool& suspect) noexcept {
+  suspect = false;
+  if (p_.mode == Mode::Fixed) return Reason::None;
+  // A constant reading is legitimate with the tool in air (a zero-suppressed dynamometer reads
+  // exactly 0 there) and in rapids: the stuck timer runs only while the controller acts on
+  // the force in a cut — in cut, or a reading above the air threshold.
+  const double limit = p_.load_limit;
+  const bool armed = in.feed_block && (contact_.in_cut() || in.force > p_.air_threshold * limit);
+  const Reason fault = monitor_.check(in.force, measured.evidence_s, armed);
+  if (fault != Reason::None) raise(fault);
+  suspect = monitor_.suspect();
+  return fault;
+}
+
+// Contact, breakage and overload, judged on the raw sample; outside a feed block the controller
+// goes inactive. Returns the reason this phase gives (NotInFeedBlock, Engaged or None).
+inline Reason AdaptiveFeedController::judge_contact(const Input& in, const PeriodTime& measured,
+                                             bool sensor_ok) noexcept {
   const double dt = p_.period_s;
-  const PeriodTime measured = period_time(in.dt_s, dt);  // what the detectors count
-  const double limit = p_.force_limit;
+  const double limit = p_.load_limit;
   const double s_prog = p_.feed_programmed_mm_per_rev;
   const bool adaptive = p_.mode != Mode::Fixed;
   Reason reason = Reason::None;
-
-  // Monitoring: sensor validity, breakage, overload. The fixed baseline has no sensor.
-  auto raise = [&](Reason r) {
-    if (!alarm_) {
-      alarm_ = true;
-      alarm_reason_ = r;
-    }
-  };
-  Reason fault = Reason::None;
-  bool suspect = false;
-  if (adaptive) {
-    // A constant reading is legitimate with the tool in air (a zero-suppressed dynamometer reads
-    // exactly 0 there) and in rapids: the stuck timer runs only while the controller acts on
-    // the force in a cut — in cut, or a reading above the air threshold.
-    const bool armed = in.feed_block && (contact_.in_cut() || in.force > p_.air_threshold * limit);
-    fault = monitor_.check(in.force, measured.evidence_s, armed);
-    if (fault != Reason::None) raise(fault);
-    suspect = monitor_.suspect();
-  }
-  // Only samples the monitor accepts reach the regulation or its running average.
-  const bool sensor_ok = std::isfinite(in.force) && fault == Reason::None;
-
   if (!in.feed_block) {  // rapid: inactive, restart bumpless at the next feed block
     contact_.reset();
     over_s_ = 0.0;
@@ -183,129 +184,209 @@ void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
   } else if (in.reading_unusable && contact_.in_cut()) {
     high_since_s_ += measured.elapsed_s;  // time passes for the collapse window, unjudged
   }
+  return reason;
+}
 
-  // The regulated force: the mean over the last revolution (or the raw sample).
+// The regulated force: the mean over the last revolution (or the raw sample).
+inline double AdaptiveFeedController::regulated_load(const Input& in, bool sensor_ok) noexcept {
   double regulated = in.force;
   if (sensor_ok) {
     const double mean = rev_mean_.push(in.force, in.rpm);
     if (p_.average_per_revolution && in.rpm > 0.0) regulated = mean;
   }
   if (!in.feed_block || !contact_.in_cut()) rev_mean_.restart();  // a new cut, a new average
+  return regulated;
+}
 
-  // Feed per revolution.
-  double s = s_prog;
-  if (in.feed_block && adaptive && !alarm_) {
-    double target = s_prog;
-    const double error = (limit - regulated) / limit;
-    const PiRegulator pi_before = pi_;
-    if (contact_.in_cut()) {
-      Reason lim = Reason::None;
-      target = pi_.update(error, dt, lim);
-      if (reason == Reason::None) reason = lim;
-    } else {
-      target = std::min(p_.air_feed_mm_per_rev, p_.feed_max_mm_per_rev);
-      if (reason == Reason::None) reason = Reason::AirCut;
+// The feed the regulator asks for: the PI in a cut, the air feed out of it, under a known rise
+// of the depth ahead, and never up on a reading that cannot be trusted.
+inline double AdaptiveFeedController::feed_target(const Input& in, double error, bool suspect,
+                                           Reason& reason) noexcept {
+  double target = p_.feed_programmed_mm_per_rev;
+  const PiRegulator pi_before = pi_;
+  if (contact_.in_cut()) {
+    Reason lim = Reason::None;
+    target = pi_.update(error, p_.period_s, lim);
+    if (reason == Reason::None) reason = lim;
+  } else {
+    target = std::min(p_.air_feed_mm_per_rev, p_.feed_max_mm_per_rev);
+    if (reason == Reason::None) reason = Reason::AirCut;
+  }
+  // A known rise of the depth ahead: down to the feed it takes at the limit, before the tool
+  // gets there. The PI restarts from the ceiling, so leaving it is bumpless (the ramp limits
+  // the rise after it).
+  const double ceiling = in.feed_ceiling_mm_per_rev;
+  if (std::isfinite(ceiling) && ceiling > 0.0) {
+    const double c = std::max(ceiling, p_.feed_min_mm_per_rev);
+    if (target > c) {
+      target = c;
+      if (contact_.in_cut()) pi_.preset(c);
+      if (reason == Reason::None || reason == Reason::AirCut || reason == Reason::OutputHigh)
+        reason = Reason::StockAhead;
     }
-    // A known rise of the depth ahead: down to the feed it takes at the limit, before the tool
-    // gets there. The PI restarts from the ceiling, so leaving it is bumpless (the ramp limits
-    // the rise after it).
-    const double ceiling = in.feed_ceiling_mm_per_rev;
-    if (std::isfinite(ceiling) && ceiling > 0.0) {
-      const double c = std::max(ceiling, p_.feed_min_mm_per_rev);
-      if (target > c) {
-        target = c;
-        if (contact_.in_cut()) pi_.preset(c);
-        if (reason == Reason::None || reason == Reason::AirCut || reason == Reason::OutputHigh)
-          reason = Reason::StockAhead;
-      }
-    }
-    const bool unusable = in.reading_unusable && contact_.in_cut();
-    if ((suspect || unusable) && target > feed_ramp_.value()) {
-      // A frozen reading never drives the feed up: hold, with the PI frozen (no windup, and no
-      // preset, which would drop the next output by kp·|error| and ratchet the feed down).
-      // Nor does a reading that cannot be separated from something else.
-      target = feed_ramp_.value();
-      pi_ = pi_before;
-      reason = suspect ? Reason::SensorSuspect : Reason::PowerAccelerationUnknown;
-    }
-    if (target < feed_ramp_.value()) {
-      feed_ramp_.reset(target);  // decreases are never delayed: they protect the tool
-    } else if (contact_.in_cut() && sensor_ok && in.force > limit &&
-               target > feed_ramp_.value() + p_.feed_rate_limit_per_s * s_prog * dt) {
-      // A rise the ramp limits (entering a cut, after a step down) is stopped by the present
-      // sample above the limit: the per-revolution mean it regulates lags the ramp by half a
-      // revolution, so it reached the limit only after the load had (e_stepped_seed004's entry
-      // into its 5 mm pass: the feed rose 12 % a revolution, and the per-revolution peak was
-      // 5.2 % over on Pz, 7.8 % on power). The PI is preset to the feed held, as the ramp's
-      // tracking does, so it stores nothing the ramp did not let through.
-      if (error > 0.0) pi_.preset(feed_ramp_.value());
+  }
+  const bool unusable = in.reading_unusable && contact_.in_cut();
+  if ((suspect || unusable) && target > feed_ramp_.value()) {
+    // A frozen reading never drives the feed up: hold, with the PI frozen (no windup, and no
+    // preset, which would drop the next output by kp·|error| and ratchet the feed down).
+    // Nor does a reading that cannot be separated from something else.
+    target = feed_ramp_.value();
+    pi_ = pi_before;
+    reason = suspect ? Reason::SensorSuspect : Reason::PowerAccelerationUnknown;
+  }
+  return target;
+}
+
+// The feed ramp towards the target: down at once, up at its rate limit, with the PI kept from
+// storing what the ramp did not let through. Returns the feed per revolution commanded.
+inline double AdaptiveFeedController::ramp_feed(const Input& in, double target, double error,
+                                         bool sensor_ok, Reason& reason) noexcept {
+  const double dt = p_.period_s;
+  const double s_prog = p_.feed_programmed_mm_per_rev;
+  if (target < feed_ramp_.value()) {
+    feed_ramp_.reset(target);  // decreases are never delayed: they protect the tool
+  } else if (contact_.in_cut() && sensor_ok && in.force > p_.load_limit &&
+             target > feed_ramp_.value() + p_.feed_rate_limit_per_s * s_prog * dt) {
+    // A rise the ramp limits (entering a cut, after a step down) is stopped by the present
+    // sample above the limit: the per-revolution mean it regulates lags the ramp by half a
+    // revolution, so it reached the limit only after the load had (e_stepped_seed004's entry
+    // into its 5 mm pass: the feed rose 12 % a revolution, and the per-revolution peak was
+    // 5.2 % over on Pz, 7.8 % on power). The PI is preset to the feed held, as the ramp's
+    // tracking does, so it stores nothing the ramp did not let through.
+    if (error > 0.0) pi_.preset(feed_ramp_.value());
+    if (reason == Reason::None) reason = Reason::RateLimited;
+  } else {
+    bool ramped = false;
+    (void)feed_ramp_.update(target, dt, ramped);
+    if (ramped) {
+      // Tracking anti-windup: the PI must not store what the ramp did not let through — only
+      // while the error drives the integrator up. With the force above the limit but falling,
+      // the target rises through the shrinking P term alone; a preset there (output at zero
+      // error) dropped the next output by kp·|error|, and the feed ratcheted down to s_min in
+      // steps of a few percent (found in LinuxCNC runs at an allowance step).
+      if (contact_.in_cut() && error > 0.0) pi_.preset(feed_ramp_.value());
       if (reason == Reason::None) reason = Reason::RateLimited;
-    } else {
-      bool ramped = false;
-      (void)feed_ramp_.update(target, dt, ramped);
-      if (ramped) {
-        // Tracking anti-windup: the PI must not store what the ramp did not let through — only
-        // while the error drives the integrator up. With the force above the limit but falling,
-        // the target rises through the shrinking P term alone; a preset there (output at zero
-        // error) dropped the next output by kp·|error|, and the feed ratcheted down to s_min in
-        // steps of a few percent (found in LinuxCNC runs at an allowance step).
-        if (contact_.in_cut() && error > 0.0) pi_.preset(feed_ramp_.value());
-        if (reason == Reason::None) reason = Reason::RateLimited;
-      }
     }
-    s = feed_ramp_.value();
   }
+  return feed_ramp_.value();
+}
 
-  // Cutting speed.
+// The depth of cut the speed law corrects for: the known one, else t̂ from the force model.
+inline double AdaptiveFeedController::estimate_depth(const Input& in, bool known, double regulated,
+                                              double s_cur) noexcept {
+  const double t_hat =
+      known ? in.depth_known_mm
+            : std::pow(regulated / (p_.force_model_C * std::pow(s_cur, p_.force_model_y) *
+                                    std::pow(in.speed_m_per_min, p_.force_model_n)),
+                       1.0 / p_.force_model_x);
+  depth_estimate_ = std::clamp(t_hat, 0.05 * p_.depth_planned_mm, 20.0 * p_.depth_planned_mm);
+  return depth_estimate_;
+}
+
+// V_opt of seed 004 from the measured feed per revolution (computer 11), with the depth and
+// tool-life corrections; the programmed speed unless the mode has the speed law and cuts.
+inline double AdaptiveFeedController::optimal_speed(const Input& in, double regulated) noexcept {
   double v_opt = p_.speed_programmed_m_per_min;
-  double v_target = p_.speed_programmed_m_per_min;
-  if (p_.mode == Mode::ForceFeedSpeed) {
-    if (contact_.in_cut() && in.rpm > 0.0 && in.feed_rate_mm_per_min > 0.0) {
-      const double s_meas = std::clamp(in.feed_rate_mm_per_min / in.rpm, p_.feed_min_mm_per_rev,
-                                       p_.feed_max_mm_per_rev);  // computer 11
-      s_cur_filtered_ += speed_filter_a_ * (s_meas - s_cur_filtered_);
-      const double s_cur = s_cur_filtered_;
-      v_opt = p_.speed_programmed_m_per_min * std::pow(p_.feed_planned_mm_per_rev / s_cur, p_.y_v);
-      if (p_.y_v_ranges > 0) {  // y_v (and Cv) of the range containing each feed
-        auto speed_term = [&](double s_mm) {
-          const auto& r = cutting::feed_range(p_.y_v_table, p_.y_v_ranges, s_mm);
-          return r.Cv / std::pow(s_mm, r.y_v);
-        };
-        v_opt = p_.speed_programmed_m_per_min * speed_term(s_cur) /
-                speed_term(p_.feed_planned_mm_per_rev);
-      }
-      const bool known = std::isfinite(in.depth_known_mm) && in.depth_known_mm > 0.0;
-      if (p_.depth_exponent_xv > 0.0 &&
-          (known || (regulated > 0.0 && in.speed_m_per_min > 0.0))) {
-        const double t_hat =
-            known ? in.depth_known_mm
-                  : std::pow(regulated / (p_.force_model_C * std::pow(s_cur, p_.force_model_y) *
-                                          std::pow(in.speed_m_per_min, p_.force_model_n)),
-                             1.0 / p_.force_model_x);
-        depth_estimate_ = std::clamp(t_hat, 0.05 * p_.depth_planned_mm, 20.0 * p_.depth_planned_mm);
-        v_opt *= std::pow(p_.depth_planned_mm / depth_estimate_, p_.depth_exponent_xv);
-      }
-      if (std::isfinite(in.speed_factor) && in.speed_factor > 0.0) v_opt *= in.speed_factor;
-    }
-    v_target = v_opt;
-    if (in.cut_power_W > 0.0 && in.speed_m_per_min > 0.0) {
-      const double v_power = in.speed_m_per_min * p_.cut_power_max_W / in.cut_power_W;
-      if (v_power < v_target) {
-        v_target = v_power;
-        if (reason == Reason::None) reason = Reason::SpindlePowerLimit;
-      }
+  if (p_.mode != Mode::ForceFeedSpeed ||
+      !(contact_.in_cut() && in.rpm > 0.0 && in.feed_rate_mm_per_min > 0.0))
+    return v_opt;
+  const double s_meas = std::clamp(in.feed_rate_mm_per_min / in.rpm, p_.feed_min_mm_per_rev,
+                                   p_.feed_max_mm_per_rev);  // computer 11
+  s_cur_filtered_ += speed_filter_a_ * (s_meas - s_cur_filtered_);
+  const double s_cur = s_cur_filtered_;
+  v_opt = p_.speed_programmed_m_per_min * std::pow(p_.feed_planned_mm_per_rev / s_cur, p_.y_v);
+  if (p_.y_v_ranges > 0) {  // y_v (and Cv) of the range containing each feed
+    auto speed_term = [&](double s_mm) {
+      const auto& r = cutting::feed_range(p_.y_v_table, p_.y_v_ranges, s_mm);
+      return r.Cv / std::pow(s_mm, r.y_v);
+    };
+    v_opt =
+        p_.speed_programmed_m_per_min * speed_term(s_cur) / speed_term(p_.feed_planned_mm_per_rev);
+  }
+  const bool known = std::isfinite(in.depth_known_mm) && in.depth_known_mm > 0.0;
+  if (p_.depth_exponent_xv > 0.0 && (known || (regulated > 0.0 && in.speed_m_per_min > 0.0))) {
+    const double depth = estimate_depth(in, known, regulated, s_cur);
+    v_opt *= std::pow(p_.depth_planned_mm / depth, p_.depth_exponent_xv);
+  }
+  if (std::isfinite(in.speed_factor) && in.speed_factor > 0.0) v_opt *= in.speed_factor;
+  return v_opt;
+}
+
+// The cutting speed aimed at: V_opt, held below what the spindle's power allows.
+inline double AdaptiveFeedController::power_limited_speed(const Input& in, double v_opt,
+                                                   Reason& reason) const noexcept {
+  if (p_.mode != Mode::ForceFeedSpeed) return p_.speed_programmed_m_per_min;
+  double v_target = v_opt;
+  if (in.cut_power_W > 0.0 && in.speed_m_per_min > 0.0) {
+    const double v_power = in.speed_m_per_min * p_.cut_power_max_W / in.cut_power_W;
+    if (v_power < v_target) {
+      v_target = v_power;
+      if (reason == Reason::None) reason = Reason::SpindlePowerLimit;
     }
   }
-  bool ramped = false;
-  const double v_cmd = speed_ramp_.update(v_target, dt, ramped);
+  return v_target;
+}
 
-  // Spindle speed from the current diameter seen by sensors 20 and 13.
+// Spindle speed from the current diameter seen by sensors 20 and 13, in the spindle's range.
+inline double AdaptiveFeedController::spindle_rpm(const Input& in, double v_cmd,
+                                           Reason& reason) const noexcept {
   double rpm = held_rpm_;
   if (in.speed_m_per_min > 0.0 && in.rpm > 0.0) rpm = in.rpm * v_cmd / in.speed_m_per_min;
   if (rpm > p_.rpm_max || rpm < p_.rpm_min) {
     rpm = std::clamp(rpm, p_.rpm_min, p_.rpm_max);
     if (reason == Reason::None) reason = Reason::SpindleSpeedLimit;
   }
+  return rpm;
+}
+
+// An alarm holds the feed; the spindle keeps turning so the tool can retract safely.
+inline void AdaptiveFeedController::hold_on_alarm(const Input& in, double rpm,
+                                                  Output& out) noexcept {
+  out.feed_per_rev_mm = 0.0;
+  out.feed_rate_mm_per_min = 0.0;
+  out.feed_hold = true;
+  out.rpm = held_rpm_ > 0.0 ? held_rpm_ : rpm;  // the spindle keeps turning: retract safely
+  // Hold the speed command with the spindle: restart from here, bumpless, after reset_alarm().
+  if (in.rpm > 0.0 && in.speed_m_per_min > 0.0)
+    speed_ramp_.reset(in.speed_m_per_min * out.rpm / in.rpm);
+  out.speed_m_per_min = speed_ramp_.value();
+  out.alarm = true;
+  out.alarm_reason = alarm_reason_;
+  out.reason = alarm_reason_;
+}
+
+void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
+  if (!configured_) {
+    out = {};
+    out.feed_hold = true;
+    return;
+  }
+  const double dt = p_.period_s;
+  const PeriodTime measured = period_time(in.dt_s, dt);  // what the detectors count
+  const double limit = p_.load_limit;
+  const bool adaptive = p_.mode != Mode::Fixed;
+
+  bool suspect = false;
+  const Reason fault = check_sensor(in, measured, suspect);
+  // Only samples the monitor accepts reach the regulation or its running average.
+  const bool sensor_ok = std::isfinite(in.force) && fault == Reason::None;
+  Reason reason = judge_contact(in, measured, sensor_ok);
+  const double regulated = regulated_load(in, sensor_ok);
+
+  // Feed per revolution.
+  double s = p_.feed_programmed_mm_per_rev;
+  if (in.feed_block && adaptive && !alarm_) {
+    const double error = (limit - regulated) / limit;
+    const double target = feed_target(in, error, suspect, reason);
+    s = ramp_feed(in, target, error, sensor_ok, reason);
+  }
+
+  // Cutting speed, then the spindle's speed.
+  const double v_opt = optimal_speed(in, regulated);
+  const double v_target = power_limited_speed(in, v_opt, reason);
+  bool ramped = false;
+  const double v_cmd = speed_ramp_.update(v_target, dt, ramped);
+  const double rpm = spindle_rpm(in, v_cmd, reason);
 
   out.in_cut = contact_.in_cut();
   out.force_rev = regulated;
@@ -313,17 +394,7 @@ void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
   out.depth_estimate_mm = depth_estimate_;
   out.speed_m_per_min = v_cmd;
   if (alarm_) {
-    out.feed_per_rev_mm = 0.0;
-    out.feed_rate_mm_per_min = 0.0;
-    out.feed_hold = true;
-    out.rpm = held_rpm_ > 0.0 ? held_rpm_ : rpm;  // the spindle keeps turning: retract safely
-    // Hold the speed command with the spindle: restart from here, bumpless, after reset_alarm().
-    if (in.rpm > 0.0 && in.speed_m_per_min > 0.0)
-      speed_ramp_.reset(in.speed_m_per_min * out.rpm / in.rpm);
-    out.speed_m_per_min = speed_ramp_.value();
-    out.alarm = true;
-    out.alarm_reason = alarm_reason_;
-    out.reason = alarm_reason_;
+    hold_on_alarm(in, rpm, out);
     return;
   }
   held_rpm_ = rpm;

@@ -96,7 +96,7 @@ void AdaptiveMachine::configure(const Params& p) {
   } else {
     stock_.reset();
   }
-  applied_ = {c.force_limit, c.feed_min_mm_per_rev, c.feed_max_mm_per_rev, 2, c.force_limit};
+  applied_ = {c.load_limit, c.feed_min_mm_per_rev, c.feed_max_mm_per_rev, 2, c.load_limit};
   every_ = count_ = 0;
   ctl_elapsed_s_ = 0.0;
   last_reset_ = false;
@@ -174,7 +174,7 @@ SettingError AdaptiveMachine::resolve(const Input& in, OpSettings& out,
     if (const auto e = check_limit(lim_v, p_.rating); e != SettingError::None) return e;
     o.limit = lim_v > 0.0                        ? lim_v
               : tl != nullptr && tl->limit > 0.0 ? tl->limit
-                                                 : base_.force_limit;
+                                                 : base_.load_limit;
     o.reference = o.limit;
   }
   const double fmin_v = in.feed_min_cmd, fmax_v = in.feed_max_cmd;
@@ -229,8 +229,10 @@ void AdaptiveMachine::hold(Output& out) const noexcept {
   out.alarm = true;
 }
 
-void AdaptiveMachine::update(const Input& in, Output& out) noexcept {
-  out.control_period = false;
+// update() in phases, in the order they run; each is the text it was, moved.
+
+// The control period must be a whole number of thread periods: false (everything held) if not.
+inline bool AdaptiveMachine::period_fits(const Input& in, Output& out) noexcept {
   if (every_ == 0) {  // the control period must be a whole number of thread periods
     const double ratio = ctl_.params().period_s / in.nominal_period_s;
     const long k = std::isfinite(ratio) ? std::lround(ratio) : 0;
@@ -241,11 +243,13 @@ void AdaptiveMachine::update(const Input& in, Output& out) noexcept {
     hold(out);
     out.spindle_speed_out = in.rpm_programmed;
     out.spindle_override = 1.0;
-    return;
+    return false;
   }
-  // The period as it was, not as the thread says: the detectors count this.
-  const auto period = period_time(in.elapsed_s, in.nominal_period_s);
-  ctl_elapsed_s_ += period.elapsed_s;
+  return true;
+}
+
+// The operator's reset (on its rising edge) and the program's F word as motion reports it.
+inline void AdaptiveMachine::read_motion(const Input& in, const Output& out) noexcept {
   if (in.reset && !last_reset_) {
     ctl_.reset_alarm();
     overload_latched_ = breakage_latched_ = false;
@@ -256,19 +260,20 @@ void AdaptiveMachine::update(const Input& in, Output& out) noexcept {
   const double req_now = std::abs(in.requested_vel);
   if (req_now == req_prev_) req_stable_ = req_now;
   req_prev_ = req_now;
-  {  // Under G95 motion.requested-vel is the F word for a straight feed but, for an arc, the
-     // arc's velocity limit (80 mm/s in the sample config: profile_arcs.ngc's G2 read as
-     // 80 mm/rev, the factor fell to 0.0006 and the arc crawled). motion.feed-upm is the move's
-     // own F word times motion's net feed scale: the feed scale times the adaptive feed written
-     // last period, which motion used in this one. Used only where requested-vel cannot be an F
-     // word (more than 4× it: an arc's limit is ~500×). Without the scale motion reports, it
-     // is taken as 1: an operator's override then scales the F too, which the 4× test tolerates.
-    const double net = (in.scale_in_motion > 0.0 ? in.scale_in_motion : 1.0) * out.adaptive_feed;
-    f_word_ = net > 1e-9 && in.feed_upm > 0.0 ? in.feed_upm / net : 0.0;
-  }
+  // Under G95 motion.requested-vel is the F word for a straight feed but, for an arc, the
+  // arc's velocity limit (80 mm/s in the sample config: profile_arcs.ngc's G2 read as
+  // 80 mm/rev, the factor fell to 0.0006 and the arc crawled). motion.feed-upm is the move's
+  // own F word times motion's net feed scale: the feed scale times the adaptive feed written
+  // last period, which motion used in this one. Used only where requested-vel cannot be an F
+  // word (more than 4× it: an arc's limit is ~500×). Without the scale motion reports, it
+  // is taken as 1: an operator's override then scales the F too, which the 4× test tolerates.
+  const double net = (in.scale_in_motion > 0.0 ? in.scale_in_motion : 1.0) * out.adaptive_feed;
+  f_word_ = net > 1e-9 && in.feed_upm > 0.0 ? in.feed_upm / net : 0.0;
+}
 
-  // Settings: checked every servo period, so a value motion puts out is in effect (or held as
-  // bad) in the same period.
+// Settings: checked every servo period, so a value motion puts out is in effect (or held as
+// bad) in the same period.
+inline void AdaptiveMachine::apply_settings(const Input& in, Output& out) noexcept {
   OpSettings want = applied_;
   double bad_value = 0.0;
   const SettingError err = resolve(in, want, bad_value);
@@ -293,9 +298,13 @@ void AdaptiveMachine::update(const Input& in, Output& out) noexcept {
   out.feed_min = applied_.feed_min;
   out.feed_max = applied_.feed_max;
   out.adaptive_on = applied_.mode == 2;
+}
+
+// Teach mode starts one teach cut per tool and operation; one record per program line (or
+// tool) with feed moves.
+inline void AdaptiveMachine::track_operation(const Input& in, Output& out, int opn) noexcept {
   const bool teach_mode = applied_.mode == 3;
   const int tool = in.tool_number;
-  const int opn = static_cast<int>(std::isfinite(in.operation_cmd) ? in.operation_cmd : 0.0);
   if (teach_mode && (tool != teach_tool_ || opn != teach_op_)) {  // one teach cut per key
     teach_.start();
     teach_tool_ = tool;
@@ -313,12 +322,14 @@ void AdaptiveMachine::update(const Input& in, Output& out) noexcept {
   op_number_ = opn;
   op_mode_ = applied_.mode;
   op_limit_ = applied_.limit;
+}
 
-  const bool feed_move = in.enable && is_feed_motion(in.motion_type);
-  if (p_.power_sensor) acceleration_power(in.rpm, period.elapsed_s, in.nominal_period_s);
-  // Every servo period: the stop comes in the period the data changes.
-  if (tool_watch_.update(tool, in.tool_diameter, in.tool_offset_x, in.tool_offset_z, feed_move,
-                         period.elapsed_s) &&
+// Tool data changed in a feed move: held, every servo period (the stop comes in the period the
+// data changes).
+inline void AdaptiveMachine::watch_tool_data(const Input& in, Output& out, bool feed_move,
+                                      double dt) noexcept {
+  if (tool_watch_.update(in.tool_number, in.tool_diameter, in.tool_offset_x, in.tool_offset_z,
+                         feed_move, dt) &&
       !tool_data_latched_) {
     tool_data_latched_ = true;
     tool_data_first_ = !(out.alarm || breakage_latched_ || overload_latched_);
@@ -328,37 +339,23 @@ void AdaptiveMachine::update(const Input& in, Output& out) noexcept {
     hold(out);
     if (tool_data_first_) out.alarm_reason = Reason::ToolDataChanged;
   }
-  if (stock_) {  // every servo period: the stop comes in the period the load collapses
-    cutting::LathePlant::Input si;
-    si.x_mm = in.homed ? in.x_mm : std::nan("");
-    si.z_mm = in.homed ? in.z_mm : std::nan("");
-    si.rpm = in.rpm;
-    cutting::LathePlant::Output so;
-    stock_->cut(si, period.elapsed_s, so);  // the chip's geometry alone, for the time that passed
-    stock_out_ = so;
-    // The engagement at this instant, not the last revolution's chip: leaving the material at
-    // 300 m/min the load falls within the 10 ms window while the revolution's mean depth (19 ms
-    // at 1560 rpm for half of it) still predicted material, and a run-off read as a broken tool.
-    const double depth = so.engaged_depth_mm;
-    // What the real blank gives at least there: the model knows the eccentricity's size and the
-    // random allowance's σ, not their phase along the part or the revolution.
-    const double guaranteed = depth - (so.on_blank ? p_.process.stock.eccentricity_mm : 0.0) -
-                              3.0 * p_.process.disturbances.random_sigma_mm;
-    out.predicted_depth_mm = depth;
-    if (feed_move && inseparable_left_s_ > 0.0)
-      breakage_.skip(period.elapsed_s);
-    else if (feed_move && applied_.mode == 2 &&
-             breakage_.update(p_.power_sensor ? out.load : in.force, applied_.limit, depth,
-                              guaranteed, period.elapsed_s) &&
-             !tool_data_latched_)
-      breakage_latched_ = true;
-    if (!feed_move) breakage_.reset();
-    out.breakage = breakage_latched_;
-    if (breakage_latched_) {
-      hold(out);
-      if (!(tool_data_latched_ && tool_data_first_)) out.alarm_reason = Reason::ToolBreakage;
-    }
-  }
+}
+
+void AdaptiveMachine::update(const Input& in, Output& out) noexcept {
+  out.control_period = false;
+  if (!period_fits(in, out)) return;
+  // The period as it was, not as the thread says: the detectors count this.
+  const auto period = period_time(in.elapsed_s, in.nominal_period_s);
+  ctl_elapsed_s_ += period.elapsed_s;
+  read_motion(in, out);
+  apply_settings(in, out);
+  const int opn = static_cast<int>(std::isfinite(in.operation_cmd) ? in.operation_cmd : 0.0);
+  track_operation(in, out, opn);
+
+  const bool feed_move = in.enable && is_feed_motion(in.motion_type);
+  if (p_.power_sensor) acceleration_power(in.rpm, period.elapsed_s, in.nominal_period_s);
+  watch_tool_data(in, out, feed_move, period.elapsed_s);
+  if (stock_) watch_path(in, out, feed_move, period.elapsed_s);
   if (count_++ % every_ == 0) {
     const double elapsed = ctl_elapsed_s_;
     ctl_elapsed_s_ = 0.0;
@@ -374,219 +371,16 @@ void AdaptiveMachine::update(const Input& in, Output& out) noexcept {
   }
 }
 
-// The load sensor 4 gives the controller, and with the power sensor the cutting power at the
-// spindle: η·(P_drive − P_idle(n)) − J·ω·dω/dt.
-double AdaptiveMachine::measured_load(const Input& in, bool feed_move, double rpm, double dt,
-                                      Output& out, bool& sensing) noexcept {
-  sensing = true;
-  if (!p_.power_sensor) return in.force;
-  // Outside feed moves (rapids, dwells, tool changes) the drive draws its idle power only.
-  tare_.update(rpm, in.spindle_power_W, dt, !feed_move);
-  const bool learned = tare_.covers(rpm);
-  // Until the tare has learned this speed: what the drive draws in air by its parameters (the
-  // idle law and viscous friction; without the friction a prior-art run at a steady 1750 rpm
-  // read 336 W of cutting in air and took it for contact).
-  const double idle = learned ? tare_.idle_W(rpm) : drives::air_power_W(p_.spindle, rpm);
-  out.idle_power_W = std::isfinite(idle) ? idle : 0.0;
-  out.idle_law = tare_.coefficients();
-  out.tare_ready = learned;
-  out.acceleration_power_W = accel_lagged_W_;  // (acceleration_power(), every servo period)
-  // The mechanical power at the spindle: a motoring drive draws it over η, a braking one returns
-  // η of it (regeneration).
-  const double drawn = in.spindle_power_W - out.idle_power_W;
-  const double eta = p_.spindle.efficiency;
-  // The inertia, from speed changes in air where the tare knows the idle power: the mechanical
-  // power there is J·ω·dω/dt alone (least squares through the origin).
-  if (p_.learn_inertia && !feed_move && learned && std::isfinite(drawn) &&
-      std::abs(wdw_lagged_) > 20.0 * std::abs(rpm) * 2.0 * std::numbers::pi / 60.0) {
-    const double mech = drawn >= 0.0 ? drawn * eta : drawn / eta;
-    j_sxy_ += wdw_lagged_ * mech;
-    j_sxx_ += wdw_lagged_ * wdw_lagged_;
-    j_seen_s_ += dt;
-    if (j_seen_s_ >= p_.learn_inertia_min_s && j_sxx_ > 0.0 && j_sxy_ > 0.0) {
-      inertia_ = j_sxy_ / j_sxx_;
-      j_ready_ = true;
-    }
-  }
-  out.inertia_kg_m2 = inertia_;
-  out.inertia_learned = j_ready_;
-  double load = (drawn >= 0.0 ? drawn * eta : drawn / eta) - accel_lagged_W_;
-  // In a feed move, while the inertia is still the prior of one to be learned, J·ω·dω/dt is
-  // known only to its own size (a prior of 0.5 for a true 2 kg·m² leaves 3/4 of it in the
-  // reading: braking, the cut reads that much low and the regulator would raise the feed).
-  // Where it is above 5 % of the limit (the band the regulator holds) the reading cannot be
-  // separated: it is held — the feed may fall, not rise — until a revolution after it is small
-  // again, when the per-revolution mean no longer holds it. A given inertia, or a learned one,
-  // is trusted.
-  if (feed_move && p_.learn_inertia && !j_ready_ &&
-      std::abs(accel_lagged_W_) > 0.05 * applied_.limit)
-    inseparable_left_s_ = 60.0 / std::max(rpm, 1.0);
-  else
-    inseparable_left_s_ = std::max(0.0, inseparable_left_s_ - dt);
-  sensing = !(feed_move && inseparable_left_s_ > 0.0);
-  if (!feed_move) {
-    // Outside feed moves nothing is cut: what is left is not a load, and not a sensor fault
-    // either — a speed change in air before the inertia is learned (or with a wrong one) leaves
-    // J·ω·dω/dt of either sign, tens of kW, and latched sensor_out_of_range. A reading that is
-    // not a number still reaches the monitor; the drive's own reading is not range-checked
-    // there: a run-up draws more than twice the rating for a moment (30 kW on the 15 kW sample
-    // machine's idle sweep, which latched the alarm when it was).
-    if (!std::isfinite(in.spindle_power_W)) return in.spindle_power_W;
-    load = std::clamp(load, 0.0, ctl_.params().sensor_monitor.max);
-  }
-  return load;
-}
+// control() in phases, in the order they run; each is the text it was, moved.
 
-// The power that accelerates the spindle, J·ω·dω/dt [W], from the measured speed over the last
-// servo period (the nearest in time to the power reading), lagged as the power meter lags.
-void AdaptiveMachine::acceleration_power(double rpm, double dt, double nominal_s) noexcept {
-  // dω/dt as a difference over at least one nominal period of measured time: on time, the last
-  // period's, as before. Under a loaded LinuxCNC a late period is followed by short catch-up
-  // calls, each with one period's speed change over a fraction of a period: a braking spindle
-  // read 29 kW for one sample (sensor_out_of_range in the shop session's idle sweep). Then the
-  // difference reaches back over the late period.
-  const double omega = std::abs(rpm) * 2.0 * std::numbers::pi / 60.0;
-  if (!std::isfinite(omega)) {
-    accel_n_ = 0;
-  } else {
-    accel_now_s_ += dt > 0.0 ? dt : nominal_s;
-    double accel = 0.0;
-    if (accel_n_ > 0) {
-      // the newest sample at least a nominal period back (else the oldest kept)
-      std::size_t k = 0;
-      for (; k + 1 < accel_n_; ++k)
-        if (accel_now_s_ - accel_t_[(accel_head_ + kAccelRing - k) % kAccelRing] >=
-            nominal_s * (1.0 - 1e-9))
-          break;
-      const std::size_t i = (accel_head_ + kAccelRing - k) % kAccelRing;
-      const double span = accel_now_s_ - accel_t_[i];
-      if (span > 0.0) {
-        const double wdw = omega * (omega - accel_w_[i]) / span;
-        if (std::isfinite(wdw)) wdw_ = wdw;
-        accel = inertia_ * wdw;
-      }
-    }
-    accel_head_ = (accel_head_ + 1) % kAccelRing;
-    accel_t_[accel_head_] = accel_now_s_;
-    accel_w_[accel_head_] = omega;
-    if (accel_n_ < kAccelRing) ++accel_n_;
-    if (std::isfinite(accel)) accel_W_ = accel;
-  }
-  const double a = p_.power_lag_s > 0.0 ? 1.0 - std::exp(-dt / p_.power_lag_s) : 1.0;
-  accel_lagged_W_ += a * (accel_W_ - accel_lagged_W_);
-  wdw_lagged_ += a * (wdw_ - wdw_lagged_);
-}
-
-// The handbook law's load at a chip (the load's own parameter: N, or W with the power sensor),
-// at nominal hardness and a sharp tool.
-double AdaptiveMachine::model_load(double t, double s, double v) const noexcept {
-  const auto f = model_.forces({t, s, v, 1.0, 1.0});
-  const auto which = p_.power_sensor ? cutting::ForceParameter::Power : p_.parameter;
-  return cutting::force_parameter(which, f, model_.power_W(f, v));
-}
-
-// The feed-forward's ceiling [mm/rev] (0: none) for the control period about to run.
-double AdaptiveMachine::feed_forward(const Input& in, double rpm, bool feed_block,
-                                     Output& out) noexcept {
-  out.depth_ahead_mm = 0.0;
-  out.feed_ceiling_mm_per_rev = 0.0;
-  if (!stock_ || !in.homed || !std::isfinite(in.x_mm) || !std::isfinite(in.z_mm)) {
-    has_anchor_ = false;
-    return 0.0;
-  }
-  // The direction of the path: the last 2 µm travelled (a period's difference is noise when
-  // the tool creeps, and a tool standing still has no direction of its own).
-  if (!has_anchor_) {
-    anchor_x_ = in.x_mm;
-    anchor_z_ = in.z_mm;
-    has_anchor_ = true;
-  } else if (std::hypot(in.x_mm - anchor_x_, in.z_mm - anchor_z_) >= 0.002) {
-    dir_x_ = in.x_mm - anchor_x_;
-    dir_z_ = in.z_mm - anchor_z_;
-    anchor_x_ = in.x_mm;
-    anchor_z_ = in.z_mm;
-    has_dir_ = true;
-  }
-  if (!p_.feed_forward || !feed_block || applied_.mode != 2 || !has_dir_ || !(rpm > 0.0)) {
-    ff_hold_s_ = 0.0;
-    return 0.0;
-  }
-  const auto& cp = ctl_.params();
-  // How far: the nose (in depth_ahead_mm) and feed_forward_revs revolutions at the highest feed
-  // the controller may give, plus two control periods — the feed must be down a revolution
-  // before the nose meets the rise (the chip there is the last revolution's feed). At the
-  // highest feed, not the present one: a distance that shrank with the lowered feed let the
-  // rise out of sight, and the feed went up again before it.
-  const double s_hi = std::max(cp.feed_max_mm_per_rev, cp.feed_programmed_mm_per_rev);
-  const double dist = s_hi * (p_.feed_forward_revs + 2.0 * cp.period_s * rpm / 60.0);
-  const double ahead = stock_->depth_ahead_mm(in.x_mm, in.z_mm, dir_x_, dir_z_, dist);
-  out.depth_ahead_mm = ahead;
-  // (the larger of the last few cells' engagement and the last revolution's chip: the first
-  // moves by a cell's worth as cells enter the nose, ±7 % at 8 mm/s on a 10 µm grid, and a dip
-  // read as a rise ahead)
-  const double now =
-      out.contact ? std::max(stock_out_.engaged_depth_mm, stock_out_.chip_depth_mm) : 0.0;
-  if (!(ahead > now * (1.0 + p_.feed_forward_rise) + 0.02)) {
-    // The rise reached: the ceiling stays for one more revolution. The engagement reaches the
-    // new depth within 0.03 mm of travel, the per-revolution load the regulator sees only after
-    // a revolution; released at once, the regulator ramped the feed up into the corner on the
-    // load of the old depth (e_worn_tool: 10.3 % over the limit, 9.3 % with the wait).
-    if (ff_hold_s_ <= 0.0) return 0.0;
-    ff_hold_s_ -= cp.period_s;
-    out.feed_ceiling_mm_per_rev = ff_ceiling_;
-    return ff_ceiling_;
-  }
-  const double v = in.cutting_speed_m_per_min > 0.0
-                       ? in.cutting_speed_m_per_min
-                       : std::numbers::pi * 2.0 * (std::abs(in.x_mm) + ahead) * rpm / 1000.0;
-  const double limit = applied_.limit;
-  auto load = [&](double f) { return kappa_ * model_load(ahead, f, v); };
-  double lo = cp.feed_min_mm_per_rev, hi = s_hi;
-  if (!(load(hi) > limit)) {  // the whole range holds the limit there
-    ff_hold_s_ = 0.0;
-    return 0.0;
-  }
-  if (load(lo) < limit) {
-    for (int i = 0; i < 40; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      (load(mid) > limit ? hi : lo) = mid;
-    }
-  }
-  out.feed_ceiling_mm_per_rev = lo;
-  ff_ceiling_ = lo;
-  ff_hold_s_ = 60.0 / rpm;
-  return lo;
-}
-
-// κ, the specific force the cut shows: the per-revolution load over the law's at the last
-// revolution's geometric chip, in a steady cut (the chip of the revolution and of the last few
-// cells of travel agree: no step, entry or exit inside the window).
-void AdaptiveMachine::learn_specific_force(const Input& in, double rpm, double dt,
-                                           const Output& out) noexcept {
-  if (!stock_ || !p_.feed_forward || !out.contact || !load_rev_.full() || !(rpm > 0.0)) return;
-  const double t = stock_out_.chip_depth_mm;
-  const double s = stock_out_.feed_per_rev_mm;
-  if (!(t > 0.05) || !(s > 0.01) || std::abs(stock_out_.engaged_depth_mm - t) > 0.05 * t) return;
-  if (!(out.load_rev > ctl_.params().air_threshold * applied_.limit)) return;
-  const double v = in.cutting_speed_m_per_min > 0.0
-                       ? in.cutting_speed_m_per_min
-                       : std::numbers::pi * 2.0 * (std::abs(in.x_mm) + t) * rpm / 1000.0;
-  const double m = model_load(t, s, v);
-  if (!(m > 0.0) || !std::isfinite(m)) return;
-  const double k = std::clamp(out.load_rev / m, 0.2, 5.0);
-  kappa_ += (1.0 - std::exp(-dt / p_.specific_force_time_s)) * (k - kappa_);
-  kappa_learned_ = true;
-}
-
-void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) noexcept {
-  const double dt = ctl_.params().period_s;
-  const bool enabled = in.enable;
-  const double rpm = std::abs(in.rpm);
-  const bool feed_block = enabled && is_feed_motion(in.motion_type);
-  bool sensing = true;
-  const double load = measured_load(in, feed_block, rpm, dt, out, sensing);
+// What the controller is given: sensor 4's load (force, or cutting power), sensors 12, 13 and
+// 20, and what the stock model knows (the feed-forward's ceiling, the depth and the hardness).
+inline AdaptiveFeedController::Input AdaptiveMachine::controller_input(const Input& in, Output& out,
+                                                                const LoadReading& r,
+                                                                double dt_measured) noexcept {
+  const double rpm = r.rpm;
   AdaptiveSignals sig;
-  sig.force = load;
+  sig.force = r.load;
   sig.spindle_power_W = in.spindle_power_W;
   sig.idle_power_W = drives::idle_power_W(p_.spindle, rpm);
   auto parameter = p_.parameter;
@@ -600,11 +394,11 @@ void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) 
   sig.speed_m_per_min = in.cutting_speed_m_per_min > 0.0
                             ? in.cutting_speed_m_per_min
                             : std::numbers::pi * 2.0 * std::abs(in.x_mm) * rpm / 1000.0;
-  sig.feed_block = feed_block;
+  sig.feed_block = r.feed_block;
   auto ci = adaptive_input(parameter, sig);
   ci.dt_s = dt_measured;
-  ci.feed_ceiling_mm_per_rev = feed_forward(in, rpm, feed_block, out);
-  ci.reading_unusable = !sensing;
+  ci.feed_ceiling_mm_per_rev = feed_forward(in, rpm, r.feed_block, out);
+  ci.reading_unusable = !r.sensing;
   if (p_.life_law && stock_) {
     // The depth the blank gives, and the hardness the cut shows: K_mp = h^kmp, so ĥ = κ^(1/kmp)
     // (κ also holds the tool's wear, which a slower speed suits too).
@@ -615,30 +409,32 @@ void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) 
     out.hardness_estimate = h;
     ci.speed_factor = model_.kmv(h) / model_.kmv(1.0);
   }
-  ctl_.update(ci, co_);
-  out.cut_power_W = ci.cut_power_W;
-  out.load = load;
-  const auto& o = co_;
+  return ci;
+}
 
-  // Contact, in every mode (the controller's own runs only while it regulates).
+// Contact, in every mode (the controller's own runs only while it regulates), and the load's
+// mean over the last revolution.
+inline void AdaptiveMachine::track_contact(const LoadReading& r, double dt, Output& out) noexcept {
   const auto& cp = ctl_.params();
+  const double load = r.load;
   // (A reading that cannot be separated does not end a contact. Out of the cut it may start
   // one: taken for contact, the feed drops to the entry feed, which is the safe side.)
-  if (sensing || !contact_.in_cut())
+  if (r.sensing || !contact_.in_cut())
     (void)contact_.update(load, cp.air_threshold * applied_.limit, cp.air_time_s, dt,
-                          feed_block && std::isfinite(load));
+                          r.feed_block && std::isfinite(load));
   out.contact = contact_.in_cut();
   // The load's mean over the last revolution: the controller's definition.
-  if (out.contact && rpm > 0.0 && std::isfinite(load)) {
-    out.load_rev = load_rev_.push(load, rpm);
+  if (out.contact && r.rpm > 0.0 && std::isfinite(load)) {
+    out.load_rev = load_rev_.push(load, r.rpm);
   } else {
     load_rev_.restart();
     if (!out.contact) out.load_rev = 0.0;
   }
   out.load_percent = applied_.limit > 0.0 ? 100.0 * out.load_rev / applied_.limit : 0.0;
-  if (sensing) learn_specific_force(in, rpm, dt, out);
-  out.specific_force_ratio = kappa_;
-  // Overload levels (Heidenhain AFC's), percentages of the reference (taught, else the limit).
+}
+
+// Overload levels (Heidenhain AFC's), percentages of the reference (taught, else the limit).
+inline void AdaptiveMachine::watch_overload(const Input& in, Output& out) noexcept {
   const auto* tl = tool_of(in.tool_number);
   const double ref = applied_.reference;
   out.overload_warn =
@@ -646,9 +442,11 @@ void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) 
   if (tl != nullptr && tl->hold_pct > 0.0 && out.load_rev > tl->hold_pct / 100.0 * ref)
     overload_latched_ = true;
   out.overload_hold = overload_latched_;
+}
 
-  // Teach-in: the program's feed; the reference when the cut has ended.
-  if (applied_.mode == 3 && teach_.sample(load, rpm, dt, out.contact)) {
+// Teach-in: the program's feed; the reference when the cut has ended.
+inline void AdaptiveMachine::teach_in(const LoadReading& r, double dt, Output& out) noexcept {
+  if (applied_.mode == 3 && teach_.sample(r.load, r.rpm, dt, out.contact)) {
     Taught* t = taught_of(teach_tool_, teach_op_);
     if (t == nullptr && n_taught_ < kMaxTaught) t = &taught_[n_taught_++];
     if (t != nullptr) *t = {teach_tool_, teach_op_, teach_.reference()};
@@ -657,28 +455,29 @@ void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) 
     out.teach.reference = teach_.reference();
     ++out.teach.seq;
   }
+}
 
-  double factor = 1.0;
-  const bool regulating = applied_.mode == 2;
-  const double max_ovr = in.max_override;
-  if (feed_block && regulating) {
-    // The program's feed per revolution: motion reports the F word itself under G95, a velocity
-    // [mm/s] under G94 (motion.requested-vel: without the feed scale).
-    const double req = req_stable_;
-    const double prog_per_rev = in.per_rev ? (f_word_ > 0.0 && req > 4.0 * f_word_ ? f_word_ : req)
-                                : rpm > 0.0 ? req * 60.0 / rpm
-                                            : 0.0;
-    // Above the program's feed up to the machine's maximum override (split_feed_override).
-    factor = o.feed_hold      ? 0.0
-             : prog_per_rev > 0.0 ? std::clamp(o.feed_per_rev_mm / prog_per_rev, 0.0,
-                                               std::max(max_ovr, 1.0))
-                                  : 1.0;
-  }
-  const bool held = enabled && (o.feed_hold || bad_ || overload_latched_ || breakage_latched_ ||
-                                tool_data_latched_);
-  // The operator's knob times the factor; the ceiling to the feed scale, every decrease on
-  // adaptive-feed. Not enabled: the knob alone, on feed moves as before.
-  const auto fo = split_feed_override(factor, in.knob, max_ovr, p_.override_step,
+// The factor on the program's feed that gives the controller's feed per revolution.
+inline double AdaptiveMachine::program_feed_factor(const Input& in, double rpm) const noexcept {
+  // The program's feed per revolution: motion reports the F word itself under G95, a velocity
+  // [mm/s] under G94 (motion.requested-vel: without the feed scale).
+  const double req = req_stable_;
+  const double prog_per_rev = in.per_rev  ? (f_word_ > 0.0 && req > 4.0 * f_word_ ? f_word_ : req)
+                              : rpm > 0.0 ? req * 60.0 / rpm
+                                          : 0.0;
+  // Above the program's feed up to the machine's maximum override (split_feed_override).
+  return co_.feed_hold ? 0.0
+         : prog_per_rev > 0.0
+             ? std::clamp(co_.feed_per_rev_mm / prog_per_rev, 0.0, std::max(in.max_override, 1.0))
+             : 1.0;
+}
+
+// The operator's knob times the factor; the ceiling to the feed scale, every decrease on
+// adaptive-feed. Not enabled: the knob alone, on feed moves as before.
+inline void AdaptiveMachine::write_feed(const Input& in, double factor, bool feed_block, bool held,
+                                 double dt, Output& out) noexcept {
+  const bool enabled = in.enable;
+  const auto fo = split_feed_override(factor, in.knob, in.max_override, p_.override_step,
                                       out.feed_override, in.scale_in_motion, enabled && feed_block);
   out.feed_override = fo.scale;
   scale_mismatch_s_ = std::abs(in.scale_in_motion - fo.scale) > 0.5 * p_.override_step
@@ -695,6 +494,12 @@ void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) 
   out.feed_factor = held ? 0.0 : fo.net;
   out.adaptive_feed = held ? 0.0 : fo.adaptive;
   out.feed_hold = held;
+}
+
+// The controller's decision and the machine's latches, as the outputs and the operation's
+// record say them.
+inline void AdaptiveMachine::write_state(const LoadReading& r, double dt, Output& out) noexcept {
+  const auto& o = co_;
   out.alarm = o.alarm || overload_latched_ || breakage_latched_ || tool_data_latched_;
   out.reason = o.reason;
   out.alarm_reason = tool_data_latched_ && tool_data_first_ ? Reason::ToolDataChanged
@@ -706,19 +511,49 @@ void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) 
   out.speed_opt_m_per_min = o.speed_opt_m_per_min;
   out.depth_estimate_mm = o.depth_estimate_mm;
   out.in_cut = o.in_cut;
-  stats_.sample(load, out.load_rev, load_rev_.full(), out.feed_factor, dt, out.contact);
-  if (feed_block) op_feed_s_ += dt;
-  if (feed_block && out.contact) {
+  stats_.sample(r.load, out.load_rev, load_rev_.full(), out.feed_factor, dt, out.contact);
+  if (r.feed_block) op_feed_s_ += dt;
+  if (r.feed_block && out.contact) {
     op_reasons_ |= reason_bit(o.reason);
     if (out.alarm && op_alarm_ == 0) op_alarm_ = static_cast<std::int32_t>(out.alarm_reason);
   }
-  // Seed 004's speed law drives the spindle while the program runs it; otherwise the program's
-  // speed passes through.
+}
+
+// Seed 004's speed law drives the spindle while the program runs it; otherwise the program's
+// speed passes through.
+inline void AdaptiveMachine::write_spindle(const Input& in, bool regulating,
+                                           Output& out) const noexcept {
   double rpm_out = in.rpm_programmed;
-  if (enabled && speed_law_ && regulating && in.rpm_programmed != 0.0)
-    rpm_out = std::copysign(o.rpm, in.rpm_programmed);
+  if (in.enable && speed_law_ && regulating && in.rpm_programmed != 0.0)
+    rpm_out = std::copysign(co_.rpm, in.rpm_programmed);
   out.spindle_speed_out = rpm_out;
   out.spindle_override = in.rpm_programmed != 0.0 ? rpm_out / in.rpm_programmed : 1.0;
+}
+
+void AdaptiveMachine::control(const Input& in, Output& out, double dt_measured) noexcept {
+  const double dt = ctl_.params().period_s;
+  LoadReading r;
+  r.rpm = std::abs(in.rpm);
+  r.feed_block = in.enable && is_feed_motion(in.motion_type);
+  r.load = measured_load(in, r.feed_block, r.rpm, dt, out, r.sensing);
+  const auto ci = controller_input(in, out, r, dt_measured);
+  ctl_.update(ci, co_);
+  out.cut_power_W = ci.cut_power_W;
+  out.load = r.load;
+
+  track_contact(r, dt, out);
+  if (r.sensing) learn_specific_force(in, r.rpm, dt, out);
+  out.specific_force_ratio = kappa_;
+  watch_overload(in, out);
+  teach_in(r, dt, out);
+
+  const bool regulating = applied_.mode == 2;
+  const double factor = r.feed_block && regulating ? program_feed_factor(in, r.rpm) : 1.0;
+  const bool held = in.enable && (co_.feed_hold || bad_ || overload_latched_ || breakage_latched_ ||
+                                  tool_data_latched_);
+  write_feed(in, factor, r.feed_block, held, dt, out);
+  write_state(r, dt, out);
+  write_spindle(in, regulating, out);
 }
 
 }  // namespace lathectl::control

@@ -108,20 +108,13 @@ void GaugeMachine::latch(Reason r) noexcept {
   out_.reason = r;
 }
 
-void GaugeMachine::update(const Input& in) noexcept {
-  if (in.rearm && !last_rearm_) rearm();
-  last_rearm_ = in.rearm;
+// update()'s phases, in the order they run.
+
+// An interruption under the probe, or its guard: the last probe period on the round surface
+// replayed (once one was read whole; before, nothing to bridge with). Returns what the filter is
+// fed: the rectified sample g, or the one replayed.
+double GaugeMachine::bridge_interruption(const Input& in, double g) noexcept {
   const double dt = p_.period_s;
-  out_.tripped = false;
-  if (!std::isfinite(in.generator_V)) {  // nothing of it reaches the filter
-    latch(Reason::SensorNotFinite);
-    t_ += dt;
-    out_.time_s = t_;
-    return;
-  }
-  const double g = std::abs(in.generator_V);  // rectifier (13)
-  // An interruption under the probe, or its guard: the last probe period on the round surface
-  // replayed (once one was read whole; before, nothing to bridge with).
   if (in.gate) guard_left_s_ = p_.gate_guard_s;
   const bool bridge = (in.gate || guard_left_s_ > 0.0) && cycle_n_ == cycle_.size();
   if (!in.gate && guard_left_s_ > 0.0) guard_left_s_ -= dt;
@@ -141,20 +134,15 @@ void GaugeMachine::update(const Input& in) noexcept {
   bridging_ = bridge;
   cycle_pos_ = (cycle_pos_ + 1) % cycle_.size();
   out_.bridged = bridge;
-  const double s = filter_.step(fed);  // filter (14)
-  out_.signal_V = s;
-  // Signal lost: no sample of |u| at the level for a whole supply period (a 2ω oscillation
-  // reaches its peak four times in one).
-  if (g >= p_.signal_lost_V) {
-    quiet_n_ = 0;
-  } else if (++quiet_n_ >= window_n_ && p_.signal_lost_V > 0.0) {
-    latch(Reason::GaugeSignalLost);
-  }
-  out_.armed = t_ > p_.arm_after_s;
+  return fed;
+}
+
+// Thresholds: an upward crossing, interpolated between the two samples, of the next one or of
+// a later one — then every one before it trips with it (the signal was already above them when
+// the relay armed: their commands are superseded at once).
+void GaugeMachine::cross_thresholds(double s) noexcept {
+  const double dt = p_.period_s;
   const auto n_steps = static_cast<std::int32_t>(p_.steps.size());
-  // Thresholds: an upward crossing, interpolated between the two samples, of the next one or of
-  // a later one — then every one before it trips with it (the signal was already above them when
-  // the relay armed: their commands are superseded at once).
   if (out_.armed && out_.tripped_steps < n_steps) {
     std::int32_t crossed = -1;
     double at = 0.0;
@@ -175,14 +163,12 @@ void GaugeMachine::update(const Input& in) noexcept {
       ++out_.tripped_steps;
     }
   }
-  prev_ = s;
-  t_ += dt;
-  // The backstop: the limit position reached before the size command operated.
-  if (!out_.size && !out_.backstop && in.position_m <= p_.backstop_m) {
-    out_.backstop = true;
-    latch(Reason::GaugeBackstop);
-  }
-  // The relay: each tripped step's command operates t_r after its crossing.
+}
+
+// The relay: each tripped step's command operates t_r after its crossing; the outputs it sets
+// and the next threshold.
+void GaugeMachine::operate_relay() noexcept {
+  const auto n_steps = static_cast<std::int32_t>(p_.steps.size());
   while (out_.step < out_.tripped_steps && t_ >= trip_at_[static_cast<std::size_t>(out_.step)]) {
     out_.command = p_.steps[static_cast<std::size_t>(out_.step)].command;
     ++out_.step;
@@ -200,6 +186,40 @@ void GaugeMachine::update(const Input& in) noexcept {
     out_.next_threshold_V = std::numeric_limits<double>::quiet_NaN();
     out_.unreachable = false;
   }
+}
+
+void GaugeMachine::update(const Input& in) noexcept {
+  if (in.rearm && !last_rearm_) rearm();
+  last_rearm_ = in.rearm;
+  const double dt = p_.period_s;
+  out_.tripped = false;
+  if (!std::isfinite(in.generator_V)) {  // nothing of it reaches the filter
+    latch(Reason::SensorNotFinite);
+    t_ += dt;
+    out_.time_s = t_;
+    return;
+  }
+  const double g = std::abs(in.generator_V);  // rectifier (13)
+  const double fed = bridge_interruption(in, g);
+  const double s = filter_.step(fed);  // filter (14)
+  out_.signal_V = s;
+  // Signal lost: no sample of |u| at the level for a whole supply period (a 2ω oscillation
+  // reaches its peak four times in one).
+  if (g >= p_.signal_lost_V) {
+    quiet_n_ = 0;
+  } else if (++quiet_n_ >= window_n_ && p_.signal_lost_V > 0.0) {
+    latch(Reason::GaugeSignalLost);
+  }
+  out_.armed = t_ > p_.arm_after_s;
+  cross_thresholds(s);
+  prev_ = s;
+  t_ += dt;
+  // The backstop: the limit position reached before the size command operated.
+  if (!out_.size && !out_.backstop && in.position_m <= p_.backstop_m) {
+    out_.backstop = true;
+    latch(Reason::GaugeBackstop);
+  }
+  operate_relay();
   out_.time_s = t_;
 }
 

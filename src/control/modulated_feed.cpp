@@ -318,6 +318,60 @@ bool ModulationPlanner::run(const ModulatedFeedController& c) noexcept {
   return true;
 }
 
+// update()'s phases.
+
+// A programmed modulation (the NC's plan): started with the block, followed along the path.
+void ModulatedFeedController::follow_programmed(const Input& in, int t, double step,
+                                                Output& out) noexcept {
+  if (!gen_.plan().active() && in.programmed.active()) gen_.start(in.programmed);
+  out.plan = gen_.plan();
+  out.engaged = out.plan.active();
+  if (out.engaged) {
+    out.feed_mm_per_min[t] = gen_.advance(step);
+    out.omega_m_rad_per_s =
+        2.0 * std::numbers::pi * (out.plan.time_mean_feed() / 60.0) / out.plan.cycle_length_mm();
+  }
+  out.reason = Reason::ModulationProgrammed;
+}
+
+// The planner's answer to the request waiting, when it has come: the plan applied.
+void ModulatedFeedController::take_planner_answer(Output& out) noexcept {
+  if (planner_ && waiting_id_ != 0 && planner_->results_.fetch() &&
+      planner_->results_.front().id == waiting_id_) {  // the planner's answer
+    const auto& r = planner_->results_.front();
+    omega_m_ = r.omega_m;
+    required_N_ = r.required_N;
+    planned_N_ = r.planned_N;
+    limited_ = r.limited;
+    apply(r.plan, r.a0_m);
+    ++counts_.taken;
+    waiting_id_ = 0;
+    out.reason = Reason::ModulationEngaged;
+  }
+}
+
+// A plan for the vibration measured: posted to the planner thread (its answer comes in a later
+// call), or made here without one; none without the cutting force it needs.
+void ModulatedFeedController::request_plan(const Input& in, double s_p, Output& out) noexcept {
+  if (!(in.cut_power_W > 0.0) || !(in.speed_m_per_min > 0.0) || !(s_p > 0.0)) {
+    out.reason = Reason::ModulationNoForce;
+  } else if (planner_ && planner_->alive()) {  // post it; the plan comes back in a later call
+    const double a0 = std::max(in.a0_m, a0_planned_);
+    waiting_id_ = ++next_id_ == 0 ? ++next_id_ : next_id_;
+    auto& q = planner_->requests_.back();
+    q = {waiting_id_, a0, in.omega_d_rad_per_s, in.cut_power_W, in.speed_m_per_min, s_p, in.rpm};
+    planner_->requests_.publish();
+  } else {
+    const double a0 = std::max(in.a0_m, a0_planned_);
+    const ModulationPlan plan =
+        plan_for(a0, in.omega_d_rad_per_s, in.cut_power_W, in.speed_m_per_min, s_p, in.rpm,
+                 omega_m_, required_N_, planned_N_, limited_);
+    apply(plan, a0);
+    ++counts_.made_inline;
+    out.reason = Reason::ModulationEngaged;
+  }
+}
+
 void ModulatedFeedController::update(const Input& in, Output& out) noexcept {
   out = Output{};
   if (!configured_) return;
@@ -343,15 +397,7 @@ void ModulatedFeedController::update(const Input& in, Output& out) noexcept {
   const double s_p = in.feed_programmed_mm_per_min[t];
 
   if (in.source == ModulationSource::Programmed) {
-    if (!gen_.plan().active() && in.programmed.active()) gen_.start(in.programmed);
-    out.plan = gen_.plan();
-    out.engaged = out.plan.active();
-    if (out.engaged) {
-      out.feed_mm_per_min[t] = gen_.advance(step);
-      out.omega_m_rad_per_s =
-          2.0 * std::numbers::pi * (out.plan.time_mean_feed() / 60.0) / out.plan.cycle_length_mm();
-    }
-    out.reason = Reason::ModulationProgrammed;
+    follow_programmed(in, t, step, out);
     return;
   }
   if (in.source == ModulationSource::None) return;
@@ -371,40 +417,11 @@ void ModulatedFeedController::update(const Input& in, Output& out) noexcept {
     out.reason = Reason::ModulationReleased;
     return;
   }
-  if (planner_ && waiting_id_ != 0 && planner_->results_.fetch() &&
-      planner_->results_.front().id == waiting_id_) {  // the planner's answer
-    const auto& r = planner_->results_.front();
-    omega_m_ = r.omega_m;
-    required_N_ = r.required_N;
-    planned_N_ = r.planned_N;
-    limited_ = r.limited;
-    apply(r.plan, r.a0_m);
-    ++counts_.taken;
-    waiting_id_ = 0;
-    out.reason = Reason::ModulationEngaged;
-  }
+  take_planner_answer(out);
   const bool want_plan =
       vibrating && above_s_ >= p_.engage_time_s && waiting_id_ == 0 &&
       (!engaged_ || (since_plan_s_ >= p_.replan_period_s && in.a0_m > a0_planned_));
-  if (want_plan) {
-    if (!(in.cut_power_W > 0.0) || !(in.speed_m_per_min > 0.0) || !(s_p > 0.0)) {
-      out.reason = Reason::ModulationNoForce;
-    } else if (planner_ && planner_->alive()) {  // post it; the plan comes back in a later call
-      const double a0 = std::max(in.a0_m, a0_planned_);
-      waiting_id_ = ++next_id_ == 0 ? ++next_id_ : next_id_;
-      auto& q = planner_->requests_.back();
-      q = {waiting_id_, a0, in.omega_d_rad_per_s, in.cut_power_W, in.speed_m_per_min, s_p, in.rpm};
-      planner_->requests_.publish();
-    } else {
-      const double a0 = std::max(in.a0_m, a0_planned_);
-      const ModulationPlan plan =
-          plan_for(a0, in.omega_d_rad_per_s, in.cut_power_W, in.speed_m_per_min, s_p, in.rpm,
-                   omega_m_, required_N_, planned_N_, limited_);
-      apply(plan, a0);
-      ++counts_.made_inline;
-      out.reason = Reason::ModulationEngaged;
-    }
-  }
+  if (want_plan) request_plan(in, s_p, out);
   if (engaged_) {
     out.feed_mm_per_min[t] = gen_.advance(step);
     out.plan = gen_.plan();

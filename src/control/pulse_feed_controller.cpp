@@ -103,6 +103,52 @@ void PulseFeedController::reset_alarm() noexcept {
   monitor_.reset();
 }
 
+// An alarm holds the last output; roughing stops the feed (no flow into the cylinder).
+void PulseFeedController::hold_on_alarm(Output& out) noexcept {
+  out = last_;
+  if (p_.mode == Mode::Roughing) {  // stop the feed: no flow into the cylinder
+    out.feed_cmd_m_per_s = 0.0;
+    if (p_.modulation == Modulation::Amplitude)
+      out.slot_m = 0.0;
+    else
+      out.frequency_Hz = 0.0;
+    if (p_.modulation == Modulation::Frequency) ramp_.reset(0.0);
+  }
+  out.reason = alarm_reason_;
+  out.alarm = true;
+  out.alarm_reason = alarm_reason_;
+  last_ = out;
+}
+
+// The actuator's command for `a`, in its range (AIM: the slot; FIM: the frequency, ramped), never
+// up on a suspect reading.
+void PulseFeedController::command_actuator(double a, bool suspect, Reason& reason,
+                                           Output& out) noexcept {
+  if (p_.modulation == Modulation::Amplitude) {
+    out.slot_m = std::clamp(a, p_.slot_min_m, p_.slot_max_m);
+    out.frequency_Hz = p_.frequency_Hz;
+    if (suspect && out.slot_m > last_.slot_m) {
+      out.slot_m = last_.slot_m;
+      reason = Reason::SensorSuspect;
+    }
+    if (a > p_.slot_max_m && reason == Reason::None) reason = Reason::OutputHigh;
+    if (a < p_.slot_min_m && reason == Reason::None) reason = Reason::OutputLow;
+  } else {
+    const double f_hi = std::min(p_.frequency_max_Hz, p_.duty_max / p_.pulse_width_s);
+    double f = std::clamp(a, p_.frequency_min_Hz, f_hi);
+    if (suspect && f > last_.frequency_Hz) {
+      f = last_.frequency_Hz;
+      reason = Reason::SensorSuspect;
+    }
+    if (a > f_hi && reason == Reason::None) reason = Reason::OutputHigh;
+    if (a < p_.frequency_min_Hz && reason == Reason::None) reason = Reason::OutputLow;
+    bool ramped = false;
+    out.frequency_Hz = ramp_.update(f, p_.period_s, ramped);
+    if (ramped && reason == Reason::None) reason = Reason::RateLimited;
+    out.slot_m = p_.slot_m;
+  }
+}
+
 void PulseFeedController::update(const Input& in, Output& out) noexcept {
   if (!configured_) {
     out = {};
@@ -114,19 +160,7 @@ void PulseFeedController::update(const Input& in, Output& out) noexcept {
     alarm_reason_ = fault;
   }
   if (alarm_) {
-    out = last_;
-    if (p_.mode == Mode::Roughing) {  // stop the feed: no flow into the cylinder
-      out.feed_cmd_m_per_s = 0.0;
-      if (p_.modulation == Modulation::Amplitude)
-        out.slot_m = 0.0;
-      else
-        out.frequency_Hz = 0.0;
-      if (p_.modulation == Modulation::Frequency) ramp_.reset(0.0);
-    }
-    out.reason = alarm_reason_;
-    out.alarm = true;
-    out.alarm_reason = alarm_reason_;
-    last_ = out;
+    hold_on_alarm(out);
     return;
   }
 
@@ -158,29 +192,7 @@ void PulseFeedController::update(const Input& in, Output& out) noexcept {
   out.feed_cmd_m_per_s = feed;
   out.alarm = false;
   out.alarm_reason = Reason::None;
-  if (p_.modulation == Modulation::Amplitude) {
-    out.slot_m = std::clamp(a, p_.slot_min_m, p_.slot_max_m);
-    out.frequency_Hz = p_.frequency_Hz;
-    if (suspect && out.slot_m > last_.slot_m) {
-      out.slot_m = last_.slot_m;
-      reason = Reason::SensorSuspect;
-    }
-    if (a > p_.slot_max_m && reason == Reason::None) reason = Reason::OutputHigh;
-    if (a < p_.slot_min_m && reason == Reason::None) reason = Reason::OutputLow;
-  } else {
-    const double f_hi = std::min(p_.frequency_max_Hz, p_.duty_max / p_.pulse_width_s);
-    double f = std::clamp(a, p_.frequency_min_Hz, f_hi);
-    if (suspect && f > last_.frequency_Hz) {
-      f = last_.frequency_Hz;
-      reason = Reason::SensorSuspect;
-    }
-    if (a > f_hi && reason == Reason::None) reason = Reason::OutputHigh;
-    if (a < p_.frequency_min_Hz && reason == Reason::None) reason = Reason::OutputLow;
-    bool ramped = false;
-    out.frequency_Hz = ramp_.update(f, p_.period_s, ramped);
-    if (ramped && reason == Reason::None) reason = Reason::RateLimited;
-    out.slot_m = p_.slot_m;
-  }
+  command_actuator(a, suspect, reason, out);
   out.reason = reason;
   last_ = out;
 }

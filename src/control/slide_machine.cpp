@@ -80,6 +80,67 @@ void SlideMachine::latch(Reason r) noexcept {
   alarm_reason_ = r;
 }
 
+// update()'s phases, in the order they run.
+
+// Slide off: valve shut, the controller not run.
+void SlideMachine::switch_off() noexcept {
+  enabled_ = false;
+  out_.slot_m = ctl_.params().modulation == Modulation::Amplitude ? 0.0 : ctl_.params().slot_m;
+  out_.frequency_Hz = 0.0;
+  out_.pulses = false;
+  out_.feed_cmd_m_per_s = 0.0;
+  out_.enabled = false;
+  out_.alarm = alarm_ || co_.alarm;
+  out_.alarm_reason = alarm_ ? alarm_reason_ : co_.alarm_reason;
+  out_.reason = out_.alarm ? out_.alarm_reason : Reason::SlideOff;
+}
+
+// The program: mode and setpoints, the laws along the travel over the programmed values; on
+// switching on, the controller starts bumpless from the force the sensor reads now.
+void SlideMachine::program(const Input& in) noexcept {
+  double feed = in.feed_m_per_s;
+  double force = in.force_set_N;
+  if (!p_.feed_law.empty()) feed = law_at(p_.feed_law, in.position_m);
+  if (!p_.force_law.empty()) force = law_at(p_.force_law, in.position_m);
+  ctl_.program(in.mode, feed, force);
+  if (!enabled_) {  // switched on: bumpless from the force the sensor reads now
+    enabled_ = true;
+    const auto& cp = ctl_.params();
+    const double f0 = (in.sensor_V - cp.sensor_offset_V) / cp.sensor_V_per_N;
+    const bool held = co_.alarm;  // a sensor alarm stays latched through off/on
+    if (!held) ctl_.start(std::isfinite(f0) ? std::max(f0, 0.0) : 0.0);
+    over_n_ = 0;
+    filled_ = 0;
+  }
+}
+
+// The outputs: the controller's, unless the machine's own alarm stops the feed.
+void SlideMachine::write_outputs(double est) noexcept {
+  const auto& cp = ctl_.params();
+  out_.slot_m = co_.slot_m;
+  out_.frequency_Hz = co_.frequency_Hz;
+  out_.feed_cmd_m_per_s = co_.feed_cmd_m_per_s;
+  out_.reason = co_.reason;
+  out_.alarm = co_.alarm;
+  out_.alarm_reason = co_.alarm_reason;
+  if (alarm_ && !co_.alarm) {  // the machine's own alarm: stop the feed, valve shut
+    if (cp.modulation == Modulation::Amplitude) out_.slot_m = 0.0;
+    out_.frequency_Hz = 0.0;
+    out_.feed_cmd_m_per_s = 0.0;
+    out_.reason = alarm_reason_;
+    out_.alarm = true;
+    out_.alarm_reason = alarm_reason_;
+  }
+  // The valve pulses unless the feed is stopped (roughing's alarm stop: slot or frequency 0).
+  out_.pulses =
+      out_.frequency_Hz > 0.0 && out_.slot_m > 0.0 && !(out_.alarm && out_.feed_cmd_m_per_s <= 0.0);
+  out_.force_estimate_N = est;
+  out_.feed_set_m_per_s = cp.feed_m_per_s;
+  out_.force_set_N = cp.force_set_N;
+  out_.mode = cp.mode;
+  out_.enabled = true;
+}
+
 void SlideMachine::update(const Input& in) noexcept {
   if (!configured_) {
     out_ = {};
@@ -95,34 +156,11 @@ void SlideMachine::update(const Input& in) noexcept {
   last_reset_ = in.reset_alarm;
 
   if (!in.enable) {  // slide off: valve shut, the controller not run
-    enabled_ = false;
-    out_.slot_m = ctl_.params().modulation == Modulation::Amplitude ? 0.0 : ctl_.params().slot_m;
-    out_.frequency_Hz = 0.0;
-    out_.pulses = false;
-    out_.feed_cmd_m_per_s = 0.0;
-    out_.enabled = false;
-    out_.alarm = alarm_ || co_.alarm;
-    out_.alarm_reason = alarm_ ? alarm_reason_ : co_.alarm_reason;
-    out_.reason = out_.alarm ? out_.alarm_reason : Reason::SlideOff;
+    switch_off();
     return;
   }
 
-  // The program: mode and setpoints, the laws along the travel over the programmed values.
-  double feed = in.feed_m_per_s;
-  double force = in.force_set_N;
-  if (!p_.feed_law.empty()) feed = law_at(p_.feed_law, in.position_m);
-  if (!p_.force_law.empty()) force = law_at(p_.force_law, in.position_m);
-  ctl_.program(in.mode, feed, force);
-  if (!enabled_) {  // switched on: bumpless from the force the sensor reads now
-    enabled_ = true;
-    const auto& cp = ctl_.params();
-    const double f0 = (in.sensor_V - cp.sensor_offset_V) / cp.sensor_V_per_N;
-    const bool held = co_.alarm;  // a sensor alarm stays latched through off/on
-    if (!held) ctl_.start(std::isfinite(f0) ? std::max(f0, 0.0) : 0.0);
-    over_n_ = 0;
-    filled_ = 0;
-  }
-
+  program(in);
   ctl_.update({in.sensor_V}, co_);
   const auto& cp = ctl_.params();
   const bool roughing = cp.mode == Mode::Roughing;
@@ -147,28 +185,7 @@ void SlideMachine::update(const Input& in) noexcept {
   head_ = (head_ + 1) % kBreakageSamples;
   if (filled_ < hist_n_) ++filled_;
 
-  out_.slot_m = co_.slot_m;
-  out_.frequency_Hz = co_.frequency_Hz;
-  out_.feed_cmd_m_per_s = co_.feed_cmd_m_per_s;
-  out_.reason = co_.reason;
-  out_.alarm = co_.alarm;
-  out_.alarm_reason = co_.alarm_reason;
-  if (alarm_ && !co_.alarm) {  // the machine's own alarm: stop the feed, valve shut
-    if (cp.modulation == Modulation::Amplitude) out_.slot_m = 0.0;
-    out_.frequency_Hz = 0.0;
-    out_.feed_cmd_m_per_s = 0.0;
-    out_.reason = alarm_reason_;
-    out_.alarm = true;
-    out_.alarm_reason = alarm_reason_;
-  }
-  // The valve pulses unless the feed is stopped (roughing's alarm stop: slot or frequency 0).
-  out_.pulses = out_.frequency_Hz > 0.0 && out_.slot_m > 0.0 &&
-                !(out_.alarm && out_.feed_cmd_m_per_s <= 0.0);
-  out_.force_estimate_N = est;
-  out_.feed_set_m_per_s = cp.feed_m_per_s;
-  out_.force_set_N = cp.force_set_N;
-  out_.mode = cp.mode;
-  out_.enabled = true;
+  write_outputs(est);
 }
 
 }  // namespace lathectl::control

@@ -17,7 +17,10 @@ void require(bool ok, const std::string& what) {
 }
 }  // namespace
 
-void TwinTurretCut::configure(const Params& p, double dt) {
+// configure() in phases, in the order they run.
+
+// What a cut needs of its parameters; throws before anything changes.
+void TwinTurretCut::validate(const Params& p, double dt) {
   require(dt > 0.0, "the step must be positive");
   require(p.modes >= 1 && p.modes <= kMaxModes, "modes must be in 1..6");
   const double L_mm = p.part.length_m * 1e3;
@@ -42,18 +45,13 @@ void TwinTurretCut::configure(const Params& p, double dt) {
                 m.damping_ratio < 1.0 && std::isfinite(m.stiffness_N_per_m) &&
                 std::isfinite(m.natural_frequency_Hz) && std::isfinite(m.angle_rad),
             "a tool mode needs k > 0, f_n > 0 and 0 < ζ < 1");
-  p_ = p;
-  p_.cutting.form = cutting::ForceForm::Kienzle;
-  cut_.configure(p_.cutting);
-  dt_ = dt;
-  sound_ = true;
+}
 
+// The surface memory: cells per revolution at this step, enough revolutions for tool 2's lag
+// (and the axial search's slowest pass), one ring per layer cut.
+void TwinTurretCut::size_surface_memory(const Params& p, double dt, int lag_revs, bool axial) {
   const double tau = 60.0 / p.rpm_nominal;
   cells_per_rev_ = std::max<std::size_t>(64, static_cast<std::size_t>(std::lround(tau / dt)));
-  const bool depth = p.setup == TwinSetup::DepthDivision;
-  const bool axial = depth && p.inter_tool_delay == InterToolDelay::AxialPositions;
-  const int lag_revs =
-      depth ? static_cast<int>(std::lround(p.tool2_lag_mm / p.feed_mm_per_rev)) : 0;
   if (lag_revs > 200)
     throw core::ParameterError("tool2_lag_mm", "tool2_lag_mm is more than 200 revolutions of feed");
   // The axial-position search needs every pass of tool 1 within the lag, at its slowest feed.
@@ -72,7 +70,12 @@ void TwinTurretCut::configure(const Params& p, double dt) {
   const std::size_t n_rings = p.setup == TwinSetup::DepthDivision ? 2 : 1;
   rings_.assign(n_rings, Ring{std::vector<double>(ring_cells_, 0.0),
                               std::vector<double>(ring_cells_, p.z_start_mm)});
+}
 
+// The two edges: which side, which ring each writes and reads, how far back, and the flank's
+// history for process damping.
+void TwinTurretCut::place_edges(const Params& p, double dt, int lag_revs, bool axial) {
+  const ProcessDamping& pd = p.process_damping;
   n_tools_ = p.setup == TwinSetup::Single ? 1 : 2;
   for (int i = 0; i < 2; ++i) {
     Edge& e = edges_[i];
@@ -108,7 +111,10 @@ void TwinTurretCut::configure(const Params& p, double dt) {
   for (Edge& e : edges_)
     e.last_cell = static_cast<long long>(
         std::floor(-e.alpha / (2.0 * kPi) * static_cast<double>(cells_per_rev_)));
+}
 
+// The tool's modes along the radial line, discretised exactly over one step.
+void TwinTurretCut::discretise_tool_modes(const Params& p) {
   // The tool's modes along the radial line: k/cos²θ (a mode across it is not coupled).
   n_tool_modes_ = static_cast<int>(p.tool_modes.size());
   for (int j = 0; j < n_tool_modes_; ++j) {
@@ -127,6 +133,22 @@ void TwinTurretCut::configure(const Params& p, double dt) {
     tg1_[j] = (1.0 - tphi11_[j]) * compliance;
     tg2_[j] = tphi12_[j] * wn * wn * compliance;
   }
+}
+
+void TwinTurretCut::configure(const Params& p, double dt) {
+  validate(p, dt);
+  p_ = p;
+  p_.cutting.form = cutting::ForceForm::Kienzle;
+  cut_.configure(p_.cutting);
+  dt_ = dt;
+  sound_ = true;
+  const bool depth = p.setup == TwinSetup::DepthDivision;
+  const bool axial = depth && p.inter_tool_delay == InterToolDelay::AxialPositions;
+  const int lag_revs =
+      depth ? static_cast<int>(std::lround(p.tool2_lag_mm / p.feed_mm_per_rev)) : 0;
+  size_surface_memory(p, dt, lag_revs, axial);
+  place_edges(p, dt, lag_revs, axial);
+  discretise_tool_modes(p);
   for (int j = 0; j < kMaxModes; ++j) q_[j] = qd_[j] = shape_[j] = 0.0;
   modes_at_mm_ = -1e9;
   update_modes(p.z_start_mm);

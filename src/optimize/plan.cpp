@@ -76,7 +76,7 @@ std::vector<std::pair<std::size_t, std::size_t>> move_ranges(const Samples& s, s
 FeedLimits feed_limits(const systems::e_adaptive::Settings& e, const Options& opt) {
   const auto& c = e.rig.controller;
   FeedLimits l;
-  l.param = opt.limit_fraction * c.force_limit;
+  l.param = opt.limit_fraction * c.load_limit;
   l.power_W = opt.limit_fraction * std::min(e.rig.spindle.max_power_W, c.cut_power_max_W);
   l.torque_N_m = opt.limit_fraction * e.rig.spindle.max_torque_N_m;
   l.feed_min = c.feed_min_mm_per_rev;

@@ -481,7 +481,7 @@ void count_changed(const Program& p, const std::vector<std::vector<std::size_t>>
 
 Result optimize(const Program& p, const systems::e_adaptive::Settings& e, const Options& opt) {
   Result r;
-  r.limit = e.rig.controller.force_limit;
+  r.limit = e.rig.controller.load_limit;
   // With [chatter]: the margin of every sample in cut (chatter.hpp), which the feeds respect
   // (first: its machine file's errors before the prediction's work).
   ChatterLimit chatter(e.chatter);

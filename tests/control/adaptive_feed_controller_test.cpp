@@ -49,7 +49,7 @@ Ctl::Params base(Mode mode = Mode::ForceFeed) {
   Ctl::Params p;
   p.mode = mode;
   p.period_s = kDt;
-  p.force_limit = kLimit;
+  p.load_limit = kLimit;
   p.feed_programmed_mm_per_rev = kProg;
   p.feed_min_mm_per_rev = kMin;
   p.feed_max_mm_per_rev = kMax;
@@ -465,12 +465,12 @@ TEST(AdaptiveFeedController, DepthCorrectedLawEstimatesDepthAndCorrectsSpeed) {
   p.force_model_x = 0.9;
   p.force_model_y = 0.75;
   p.force_model_n = -0.15;
-  p.force_limit = 1500.0;
+  p.load_limit = 1500.0;
   const double t = 4.5, s = 0.2, v = 150.0;
   const double force = p.force_model_C * std::pow(t, p.force_model_x) *
                        std::pow(s, p.force_model_y) * std::pow(v, p.force_model_n);
-  ASSERT_GT(force, 0.1 * p.force_limit);
-  ASSERT_LT(force, 1.3 * p.force_limit);
+  ASSERT_GT(force, 0.1 * p.load_limit);
+  ASSERT_LT(force, 1.3 * p.load_limit);
   Ctl c = make(p);
   Ctl::Output out;
   (void)run(c, sample(force, s, 600.0, v), 10000, out);
@@ -988,7 +988,7 @@ TEST(AdaptiveFeedController, ConfigureRejectsBadParams) {
     EXPECT_THROW(c.configure(p), std::invalid_argument);
   };
   bad([](Ctl::Params& p) { p.period_s = 0.0; });
-  bad([](Ctl::Params& p) { p.force_limit = 0.0; });
+  bad([](Ctl::Params& p) { p.load_limit = 0.0; });
   bad([](Ctl::Params& p) { p.feed_min_mm_per_rev = 0.6; });  // s_min = s_max
   bad([](Ctl::Params& p) { p.feed_min_mm_per_rev = 0.7; });  // s_min > s_max
   bad([](Ctl::Params& p) { p.feed_min_mm_per_rev = 0.0; });

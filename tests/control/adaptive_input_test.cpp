@@ -75,7 +75,7 @@ TEST(AdaptiveInput, NeverNegative) {
 TEST(AdaptiveInput, PowerSensorDrivesTheSpeedLawsPowerLimit) {
   AdaptiveFeedController::Params p;
   p.mode = AdaptiveFeedController::Mode::ForceFeedSpeed;
-  p.force_limit = 4000.0;  // W
+  p.load_limit = 4000.0;  // W
   p.feed_programmed_mm_per_rev = 0.3;
   p.feed_planned_mm_per_rev = 0.3;
   p.speed_programmed_m_per_min = 120.0;

@@ -28,7 +28,7 @@ drives::SpindleDrive::Params spindle() {
 AdaptiveMachine::Params power_machine(const drives::SpindleDrive::Params& sp, double limit_W,
                                       double period_s, double rating_W) {
   AdaptiveMachine::Params p;
-  p.controller.force_limit = limit_W;
+  p.controller.load_limit = limit_W;
   p.controller.period_s = period_s;
   p.power_sensor = true;
   p.spindle = sp;

@@ -195,7 +195,7 @@ TEST(NoAlloc, AdaptiveFeedControllerUpdateNeverAllocates) {
       for (double xv : {0.0, 0.15}) {
         AdaptiveFeedController::Params p;
         p.mode = mode;
-        p.force_limit = 2500.0;
+        p.load_limit = 2500.0;
         p.feed_programmed_mm_per_rev = 0.5;
         p.feed_min_mm_per_rev = 0.05;
         p.feed_max_mm_per_rev = 0.8;

@@ -146,15 +146,15 @@ TEST(OperationSettings, ChecksNameWhatIsWrong) {
 TEST(AdaptiveFeedController, SetOperationChangesLimitsOnlyWhenValid) {
   AdaptiveFeedController c;
   AdaptiveFeedController::Params p;
-  p.force_limit = 1600.0;
+  p.load_limit = 1600.0;
   p.feed_programmed_mm_per_rev = 0.3;
   c.configure(p);
   EXPECT_FALSE(c.set_operation(-1.0, 0.05, 0.6, true));
   EXPECT_FALSE(c.set_operation(1000.0, 0.5, 0.4, true));
   EXPECT_FALSE(c.set_operation(std::numeric_limits<double>::quiet_NaN(), 0.05, 0.6, true));
-  EXPECT_EQ(c.params().force_limit, 1600.0);
+  EXPECT_EQ(c.params().load_limit, 1600.0);
   ASSERT_TRUE(c.set_operation(1000.0, 0.1, 0.2, false));
-  EXPECT_EQ(c.params().force_limit, 1000.0);
+  EXPECT_EQ(c.params().load_limit, 1000.0);
   EXPECT_EQ(c.params().feed_programmed_mm_per_rev, 0.2);  // clamped into the new bounds
   EXPECT_EQ(c.params().mode, AdaptiveFeedController::Mode::Fixed);
   ASSERT_TRUE(c.set_operation(1200.0, 0.05, 0.6, true));

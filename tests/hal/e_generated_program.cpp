@@ -140,7 +140,7 @@ int main(int argc, char** argv) {
               "\"reachable\": %s, \"type\": \"%s\", \"sections\": %zu, \"rig\": {\"finished\": %s, "
               "\"cycle_time_s\": %.4f, \"force_peak_rev_mean\": %.6g, \"alarms\": [",
               seed, json_string(part.what).c_str(),
-              params[static_cast<int>(cfg.force_parameter)], cp.force_limit,
+              params[static_cast<int>(cfg.force_parameter)], cp.load_limit,
               e::generated::limit_reachable(cfg) ? "true" : "false",
               part.text.find("force_speed") != std::string::npos ? "force_speed" : "force_feed",
               sections,

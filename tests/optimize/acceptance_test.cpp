@@ -113,10 +113,10 @@ TEST(Acceptance, GeneratedProgramsKeepTheProgrammersInvariants) {
     }
     const auto rev = control::per_revolution_mean(f, s.rpm, s.dt_s);
     for (std::size_t i = 0; i < rev.size(); ++i)
-      if (rev[i] > e.rig.controller.force_limit) {
+      if (rev[i] > e.rig.controller.load_limit) {
         ADD_FAILURE() << g.summary << ": line " << moves[static_cast<std::size_t>(s.move[i])].line
                       << " predicted " << rev[i] << " N per revolution, limit "
-                      << e.rig.controller.force_limit;
+                      << e.rig.controller.load_limit;
         ++violations;
         break;
       }

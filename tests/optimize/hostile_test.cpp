@@ -281,7 +281,7 @@ TEST(Tools, GroovePlungeAtItsWidthWithinItsFeedRange) {
     const auto f = cut.forces({3.0, r.after.s.feed_rev[i], r.after.s.speed[i],
                                r.after.s.strength[i], r.after.s.wear[i]});
     EXPECT_NEAR(r.after.s.pz[i], f.Pz, 1e-9 * f.Pz);
-    EXPECT_LE(r.after.s.param[i], e.rig.controller.force_limit);
+    EXPECT_LE(r.after.s.param[i], e.rig.controller.load_limit);
     ++checked;
   }
   EXPECT_GT(checked, 100);

@@ -231,7 +231,7 @@ TEST(Optimize, RewriteRespectsTheLimits) {
   }
   const auto& s = r.after.s;
   const auto rev = control::per_revolution_mean(s.param, s.rpm, s.dt_s);
-  for (double x : rev) EXPECT_LE(x, c.force_limit);
+  for (double x : rev) EXPECT_LE(x, c.load_limit);
   EXPECT_LT(r.after.cycle_time_s, 0.75 * r.before.cycle_time_s);
   EXPECT_FALSE(r.splits_dropped);
   EXPECT_GT(r.blocks_changed, 0);
@@ -342,7 +342,7 @@ TEST(Predict, AdaptiveAgreesWithLathectlRunOnTheAllowanceStep) {
   };
   const auto &rz = col("z_mm"), &rpass = col("pass"), &rf = col("force_parameter_true"),
              &rs = col("feed_cmd_mm_per_rev");
-  const double limit = e.rig.controller.force_limit;
+  const double limit = e.rig.controller.load_limit;
   for (const auto& [name, lo, hi] : {std::tuple{"before", 9.0, 14.0},
                                      std::tuple{"collar", 19.0, 29.0},
                                      std::tuple{"after", 38.0, 48.0}}) {

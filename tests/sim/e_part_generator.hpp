@@ -120,7 +120,7 @@ inline bool limit_reachable(const RigConfig& cfg) {
   const double v = cfg.controller.speed_programmed_m_per_min;
   const auto f = cut.forces({t, cfg.controller.feed_min_mm_per_rev, v, hard, 1.0});
   return cutting::force_parameter(cfg.force_parameter, f, cut.power_W(f, v)) <
-         cfg.controller.force_limit;
+         cfg.controller.load_limit;
 }
 
 }  // namespace lathectl::systems::e_adaptive::generated

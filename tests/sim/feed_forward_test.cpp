@@ -127,7 +127,7 @@ Pass cut(bool feed_forward, double hardness = 1.0) {
 
 TEST(FeedForward, TheFeedComesDownBeforeTheCollarAndHoldsTheLimitThrough) {
   const RigConfig cfg = config();
-  const double limit = cfg.controller.force_limit;
+  const double limit = cfg.controller.load_limit;
   const Pass with = cut(true);
   const Pass without = cut(false);
   EXPECT_FALSE(with.alarm);
@@ -171,7 +171,7 @@ TEST(FeedForward, TheSpecificForceShowsTheHardness) {
   EXPECT_NEAR(nominal.hardness, 1.0, 0.03);
   EXPECT_NEAR(hard.hardness, 1.25, 0.04);
   EXPECT_NEAR(hard.kappa / nominal.kappa, std::pow(1.25, kmp), 0.02);
-  EXPECT_LT(hard.peak_rev, 1.05 * cfg.controller.force_limit);
+  EXPECT_LT(hard.peak_rev, 1.05 * cfg.controller.load_limit);
   EXPECT_FALSE(hard.alarm);
   std::printf("hardness 1.25: κ %.3f (nominal bar %.3f), ĥ %.3f (nominal %.3f); collar peak %.0f N\n",
               hard.kappa, nominal.kappa, hard.hardness, nominal.hardness, hard.peak_rev);

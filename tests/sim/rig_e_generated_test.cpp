@@ -73,7 +73,7 @@ Outcome run_part(unsigned seed) {
     const Metrics m = acc.result(rig);
     o.finished = m.finished;
     o.alarms = m.alarms;
-    o.over_pct = 100.0 * (m.force_peak_rev_mean / cfg.controller.force_limit - 1.0);
+    o.over_pct = 100.0 * (m.force_peak_rev_mean / cfg.controller.load_limit - 1.0);
     o.reachable = generated::limit_reachable(cfg);
   } catch (const std::exception& e) {
     o.error = e.what();

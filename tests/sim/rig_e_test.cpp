@@ -348,7 +348,7 @@ TEST(RigE, SteppedFixedUsesWorstCaseFeedAndStaysBelowLimit) {
   const auto f = cut.forces(
       {t_max, s_wc, rig_of(r.sc).controller.speed_programmed_m_per_min, hard,
        1.0 + rig_of(r.sc).disturbances.wear_force_gain_per_mm * rig_of(r.sc).disturbances.wear_VB0_mm});
-  EXPECT_NEAR(f.Pz, rig_of(r.sc).controller.force_limit, 1e-6 * rig_of(r.sc).controller.force_limit);
+  EXPECT_NEAR(f.Pz, rig_of(r.sc).controller.load_limit, 1e-6 * rig_of(r.sc).controller.load_limit);
   // ... so the part never exceeds it.
   EXPECT_TRUE(m["finished"].get<bool>());
   EXPECT_LE(get(m, "force_peak_rev_mean_N"), get(m, "force_limit_N"));
@@ -410,7 +410,7 @@ TEST(RigE, FrozenReadingAboveTheLimitNeverRaisesTheFeed) {
     const auto probe = run_text(replaced(base, "at_s = 40.0", "at_s = 1000.0"), "e_stuck0.toml");
     const auto& t0 = probe.ch.at("time_s");
     const auto& f0 = probe.ch.at("force_parameter");
-    const double limit = rig_of(probe.sc).controller.force_limit;
+    const double limit = rig_of(probe.sc).controller.load_limit;
     for (std::size_t i = 0; i < t0.size(); ++i)
       if (t0[i] >= 38.0 && f0[i] > 1.01 * limit) {
         at = std::to_string(t0[i]);
@@ -439,7 +439,7 @@ TEST(RigE, FrozenReadingAboveTheLimitNeverRaisesTheFeed) {
       ASSERT_LE(cmd[i], cmd[i - 1] + 1e-12) << "t = " << t[i] << " s";
     }
   }
-  EXPECT_GT(frozen, rig_of(r.sc).controller.force_limit) << "the fault should freeze an overload";
+  EXPECT_GT(frozen, rig_of(r.sc).controller.load_limit) << "the fault should freeze an overload";
   ASSERT_FALSE(std::isnan(alarm_at));
   // The alarm still latches at the configured stuck time (100 ms), reason sensor_stuck.
   EXPECT_NEAR(alarm_at - fault_at, rig_of(r.sc).controller.sensor_monitor.stuck_time_s,

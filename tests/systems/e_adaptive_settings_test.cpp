@@ -95,7 +95,7 @@ TEST(ESettings, PowerSensorReadsItsKeysInWatts) {
   const auto sc = io::parse_scenario(text, "power.toml", library(), kReadSection);
   const auto& e = sc.get<Settings>().rig;
   EXPECT_EQ(e.force_parameter, cutting::ForceParameter::Power);
-  EXPECT_EQ(e.controller.force_limit, 4500.0);
+  EXPECT_EQ(e.controller.load_limit, 4500.0);
   EXPECT_EQ(e.force_sensor.range, 9000.0);
   // A force key with a power sensor is unknown.
   text.replace(text.find("range_W"), 7, "range_N");

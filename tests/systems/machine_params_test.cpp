@@ -105,7 +105,7 @@ TEST(MachineParams, SystemEOnTheSpindlesPowerIsThePowerSensorsMachine) {
     if (e.force_parameter == cutting::ForceParameter::Power) {
       EXPECT_TRUE(p.controller == e_adaptive::machine_params(e, {}).controller);
     } else {
-      EXPECT_EQ(p.controller.force_limit,
+      EXPECT_EQ(p.controller.load_limit,
                 std::min(e.controller.cut_power_max_W, e.spindle.max_power_W));
       EXPECT_EQ(p.controller.sensor_monitor.min, -1.2 * e.spindle.max_power_W);
       EXPECT_EQ(p.controller.sensor_monitor.max, 2.0 * e.spindle.max_power_W);

@@ -61,7 +61,9 @@ class AdaptiveFeedController {
     bool operator==(const Params&) const = default;
     Mode mode = Mode::ForceFeedSpeed;
     double period_s = 0.002;                  // control period
-    double force_limit = 1000.0;              // setter 6, in the sensor's unit (N or W)
+    // Setter 6: the limit on what sensor 4 reads, in its unit: N for Pz or Py, W when the load is
+    // the spindle's cutting power (the scenario's force_limit_N or cut_power_limit_kW).
+    double load_limit = 1000.0;
     double feed_programmed_mm_per_rev = 0.4;  // programmed feed (fixed mode's feed)
     double feed_min_mm_per_rev = 0.05;        // setter 10
     double feed_max_mm_per_rev = 0.8;         // setter 9
@@ -104,11 +106,11 @@ class AdaptiveFeedController {
     double ti_s = 0.1;
     double feed_rate_limit_per_s = 0.5;  // max |ds/dt| as a fraction of the programmed feed per s
     double speed_rate_limit_m_per_min_per_s = 100.0;
-    double air_threshold = 0.1;  // fraction of force_limit
+    double air_threshold = 0.1;  // fraction of load_limit
     double air_time_s = 0.05;
     double overload_margin = 0.3;
     double overload_time_s = 0.2;
-    double breakage_spike = 2.5;  // fraction of force_limit
+    double breakage_spike = 2.5;  // fraction of load_limit
     double breakage_drop_window_s = 0.01;  // 0: no collapse detector
     // Regulate the force averaged over one spindle revolution (window from the measured speed):
     // the feed reaches the chip only over a revolution, so within-revolution swings (runout of
@@ -174,12 +176,25 @@ class AdaptiveFeedController {
   // the limit, the feed bounds (the configured programmed and entry feeds are clamped into them)
   // and adaptive on/off (off: the configured mode's Fixed baseline). Returns false and changes
   // nothing unless 0 < limit and 0 < s_min < s_max, all finite.
-  [[nodiscard]] bool set_operation(double force_limit, double feed_min_mm_per_rev,
+  [[nodiscard]] bool set_operation(double load_limit, double feed_min_mm_per_rev,
                                    double feed_max_mm_per_rev, bool adaptive) noexcept;
   [[nodiscard]] const Params& params() const noexcept { return p_; }
 
  private:
   double feed_ceiling() const noexcept;
+  // update()'s phases, in the order they run (adaptive_feed_controller.cpp says what each decides).
+  void raise(Reason r) noexcept;
+  Reason check_sensor(const Input& in, const PeriodTime& measured, bool& suspect) noexcept;
+  Reason judge_contact(const Input& in, const PeriodTime& measured, bool sensor_ok) noexcept;
+  double regulated_load(const Input& in, bool sensor_ok) noexcept;
+  double feed_target(const Input& in, double error, bool suspect, Reason& reason) noexcept;
+  double ramp_feed(const Input& in, double target, double error, bool sensor_ok,
+                   Reason& reason) noexcept;
+  double estimate_depth(const Input& in, bool known, double regulated, double s_cur) noexcept;
+  double optimal_speed(const Input& in, double regulated) noexcept;
+  double power_limited_speed(const Input& in, double v_opt, Reason& reason) const noexcept;
+  double spindle_rpm(const Input& in, double v_cmd, Reason& reason) const noexcept;
+  void hold_on_alarm(const Input& in, double rpm, Output& out) noexcept;
   Params p_{};
   Params base_{};  // as configured (set_operation changes p_ only)
   bool configured_ = false;

@@ -253,6 +253,14 @@ class AdaptiveMachine {
     bool update(int t, double d, double ox, double oz, bool feed_move, double dt) noexcept;
   };
 
+  // What control() reads of the load sensor this control period.
+  struct LoadReading {
+    double load = 0.0;  // sensor 4: the force, or the cutting power with the power sensor
+    double rpm = 0.0;   // |n|
+    bool feed_block = false;
+    bool sensing = true;  // false: the reading cannot be separated now (held, see .cpp)
+  };
+
   [[nodiscard]] const ToolLimits* tool_of(int number) const noexcept;
   Taught* taught_of(int tool, int op) noexcept;
   SettingError resolve(const Input& in, OpSettings& out, double& bad_value) const noexcept;
@@ -266,6 +274,24 @@ class AdaptiveMachine {
                                   double speed_m_per_min) const noexcept;
   double feed_forward(const Input& in, double rpm, bool feed_block, Output& out) noexcept;
   void learn_specific_force(const Input& in, double rpm, double dt, const Output& out) noexcept;
+  // update()'s phases, in the order they run (adaptive_machine.cpp says what each decides).
+  bool period_fits(const Input& in, Output& out) noexcept;
+  void read_motion(const Input& in, const Output& out) noexcept;
+  void apply_settings(const Input& in, Output& out) noexcept;
+  void track_operation(const Input& in, Output& out, int opn) noexcept;
+  void watch_tool_data(const Input& in, Output& out, bool feed_move, double dt) noexcept;
+  void watch_path(const Input& in, Output& out, bool feed_move, double dt) noexcept;
+  // control()'s phases, in the order they run.
+  AdaptiveFeedController::Input controller_input(const Input& in, Output& out, const LoadReading& r,
+                                                 double dt_measured) noexcept;
+  void track_contact(const LoadReading& r, double dt, Output& out) noexcept;
+  void watch_overload(const Input& in, Output& out) noexcept;
+  void teach_in(const LoadReading& r, double dt, Output& out) noexcept;
+  [[nodiscard]] double program_feed_factor(const Input& in, double rpm) const noexcept;
+  void write_feed(const Input& in, double factor, bool feed_block, bool held, double dt,
+                  Output& out) noexcept;
+  void write_state(const LoadReading& r, double dt, Output& out) noexcept;
+  void write_spindle(const Input& in, bool regulating, Output& out) const noexcept;
 
   Params p_{};
   AdaptiveFeedController ctl_;

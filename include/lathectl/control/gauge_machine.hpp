@@ -140,6 +140,10 @@ class GaugeMachine {
  private:
   void rearm() noexcept;
   void latch(Reason r) noexcept;
+  // update()'s phases (gauge_machine.cpp).
+  double bridge_interruption(const Input& in, double g) noexcept;
+  void cross_thresholds(double s) noexcept;
+  void operate_relay() noexcept;
   Params p_{};
   sensors::GaugeFilter filter_;
   Output out_{};

@@ -201,6 +201,10 @@ class ModulatedFeedController {
                                         bool& limited) const noexcept;
 
  private:
+  // update()'s phases (modulated_feed.cpp).
+  void follow_programmed(const Input& in, int t, double step, Output& out) noexcept;
+  void take_planner_answer(Output& out) noexcept;
+  void request_plan(const Input& in, double s_p, Output& out) noexcept;
   Params p_{};
   bool configured_ = false;
   ModulatedFeedGenerator gen_;

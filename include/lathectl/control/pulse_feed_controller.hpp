@@ -113,6 +113,9 @@ class PulseFeedController {
   [[nodiscard]] const Params& params() const noexcept { return p_; }
 
  private:
+  // update()'s phases (pulse_feed_controller.cpp).
+  void hold_on_alarm(Output& out) noexcept;
+  void command_actuator(double a, bool suspect, Reason& reason, Output& out) noexcept;
   Params p_{};
   double ka_ = 0.0;
   double kf_ = 0.0;

@@ -92,6 +92,10 @@ class SlideMachine {
 
  private:
   void latch(Reason r) noexcept;
+  // update()'s phases (slide_machine.cpp).
+  void switch_off() noexcept;
+  void program(const Input& in) noexcept;
+  void write_outputs(double est) noexcept;
   Params p_{};
   PulseFeedController ctl_;
   PulseFeedController::Output co_{};

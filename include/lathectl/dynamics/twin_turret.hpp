@@ -167,6 +167,11 @@ class TwinTurretCut {
     std::size_t hist_at = 0;
   };
   void update_modes(double x_mm) noexcept;
+  // configure()'s phases, in the order they run (twin_turret.cpp says what each decides).
+  static void validate(const Params& p, double dt);
+  void size_surface_memory(const Params& p, double dt, int lag_revs, bool axial);
+  void place_edges(const Params& p, double dt, int lag_revs, bool axial);
+  void discretise_tool_modes(const Params& p);
   double read(const std::vector<double>& v, double cell) const noexcept;
   void cut(Edge& e, double theta, double rpm, double z_mm) noexcept;
   // Depth division: the outer boundary d of tool 2's chip over (z_lo, z_hi] at its cell.

@@ -38,6 +38,128 @@ std::vector<sim::Channel> rig_a_channels() {
 constexpr double kM3sToCm3min = 1e6 * 60.0;
 }  // namespace
 
+// configure() in phases, in the order they run.
+
+// The step against the slide's fastest dynamics: the hydraulic natural frequency and the damper.
+void Rig::check_step_for_slide(const RigConfig& cfg, double dt) const {
+  const double wh = slide_.hydraulic_omega();
+  if (wh * dt > 0.5)
+    throw sim::ConfigError("run.step_s", "step_s " + std::to_string(dt) +
+                                             " too coarse for the slide's hydraulic "
+                                             "natural frequency " +
+                                             std::to_string(wh / 2 / std::numbers::pi) +
+                                             " Hz: use step_s ≤ " + std::to_string(0.5 / wh));
+  if (cfg.slide.damper_capacitance_m3_per_Pa > 0.0) {
+    const double tau_d =
+        cfg.slide.damper_capacitance_m3_per_Pa * cfg.slide.damper_resistance_Pa_s_per_m3;
+    const double tau_c = cfg.slide.dead_volume_m3 / cfg.slide.bulk_modulus_Pa *
+                         cfg.slide.damper_resistance_Pa_s_per_m3;
+    if (dt > 0.5 * std::min(tau_d, tau_c))
+      throw sim::ConfigError("run.step_s", "step_s too coarse for the damper: use step_s ≤ " +
+                                               std::to_string(0.5 * std::min(tau_d, tau_c)));
+  }
+}
+
+// The uncontrolled machine's setting: the flow the programmed feed needs, with the true
+// leakage and the friction and regulator gain of the machine's model (machine_params).
+void Rig::set_fixed_actuator(const RigConfig& cfg, const control::SlideMachine::Params& mp) {
+  const auto& cp = mp.controller;
+  const double feed = cfg.controller.feed_m_per_s;
+  const double F = cfg.slide.piston_area_m2;
+  const double gain = cp.regulator_gain_per_m;
+  const double q_needed =
+      feed * F + cfg.slide.leak_m3_per_s_Pa * (force_nominal_ + cp.friction_N) / F;
+  fixed_actuator_ = cfg.regulator_kind == RegulatorKind::Throttle
+                        ? q_needed / gain
+                        : q_needed / (gain * cfg.pulse_width_s * cfg.frequency_Hz);
+}
+
+// The machine side, started at the nominal load, and its first actuator command.
+void Rig::start_machine(const RigConfig& cfg, const control::SlideMachine::Params& mp, double dt) {
+  const auto& cp = mp.controller;
+  const double feed = cfg.controller.feed_m_per_s;
+  sim::configure_as("controller",
+                    {{"overload_factor", "controller.overload_factor"},
+                     {"overload_time_s", "controller.overload_time_ms"},
+                     {"breakage_drop", "controller.breakage_drop"},
+                     {"breakage_window_s", "controller.breakage_window_ms"},
+                     {"feed_law", "controller.feed_law"},
+                     {"force_law", "controller.force_law"}},
+                    [&] { machine_.configure(mp); });
+  machine_.start(force_nominal_);
+  const auto& ctl = machine_.controller();
+  ctl_out_ = {};
+  ctl_out_.slot_m =
+      cfg.controller_kind == ControllerKind::Aim
+          ? std::clamp(ctl.actuator_for(feed, force_nominal_), cp.slot_min_m, cp.slot_max_m)
+          : fixed_actuator_;
+  ctl_out_.pulses = true;  // the slide was feeding before t = 0 (the warm-up below)
+  ctl_out_.frequency_Hz = cfg.controller_kind == ControllerKind::Fim
+                              ? ctl.actuator_for(feed, force_nominal_)
+                              : cfg.frequency_Hz;
+  control_every_ =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cp.period_s / dt)));
+  if (cfg.controller_kind == ControllerKind::Aim) {
+    auto ep = cfg.eccentric;
+    sim::configure_as("eccentric", [&] { ecc_.configure(ep); });
+    ecc_.set_slot(ctl_out_.slot_m);
+  }
+}
+
+// History buffers and recorded rows of a sensible size, else the setting to change.
+void Rig::check_buffers(const RigConfig& cfg, double dt, double duration) const {
+  constexpr double kMaxBufferSteps = 2e7;  // history buffers beyond this mean a nonsensical step
+  if (1.0 / rev_per_s_ / dt > kMaxBufferSteps || cfg.feed_window_s / dt > kMaxBufferSteps / 2)
+    throw sim::ConfigError(
+        1.0 / rev_per_s_ / dt > kMaxBufferSteps ? "run.step_s" : "metrics.feed_window_s",
+        "one spindle revolution or the feed window spans more than 2e7 steps: "
+        "increase step_s or the spindle speed, or shorten feed_window_s");
+  if (!streamed_ && duration / (dt * static_cast<double>(record_every_)) > 5e7)
+    throw sim::ConfigError("run.record_interval_s",
+                           "more than 5e7 recorded rows: increase record_interval_s");
+}
+
+// Warm-up: the slide was already feeding before t = 0. Run regulator, damper and slide at the
+// nominal load until the pulsed flow is periodic, then put the slide back at x = 0, so the
+// run starts in the pulsing steady state rather than with a start-up surge.
+void Rig::warm_up(const RigConfig& cfg, double dt) {
+  const double warm_s = std::max(0.5, 10.0 / cfg.frequency_Hz);
+  const double h0 = cfg.controller_kind == ControllerKind::Fim ? cfg.slot_m : ctl_out_.slot_m;
+  const double f0 =
+      cfg.controller_kind == ControllerKind::Fim ? ctl_out_.frequency_Hz : cfg.frequency_Hz;
+  for (double tw = 0.0; tw < warm_s; tw += dt) {
+    const double q = cfg.regulator_kind == RegulatorKind::Throttle
+                         ? thr_.step(dt, fixed_actuator_)
+                         : reg_.step(dt, h0, f0, cfg.pulse_width_s);
+    slide_.step(dt, q, force_nominal_);
+  }
+  slide_.set_position(0.0);
+  slide_.reset_volume_ledger();
+  damper_volume0_ = slide_.damper_volume();
+  void0_ = slide_.state().void_m3;
+  thr_.configure({cfg.regulator.orifice, cfg.regulator.obliteration});  // no silting before t = 0
+}
+
+// The slide's path before t = 0 (steady motion), and the signals at their steady values.
+void Rig::prime_history(const RigConfig& cfg, double dt) {
+  const double feed = cfg.controller.feed_m_per_s;
+  rev_steps_ =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(1.0 / rev_per_s_ / dt)));
+  window_steps_ =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cfg.feed_window_s / dt)));
+  x_hist_.assign(std::max(rev_steps_, 2 * window_steps_) + 1, 0.0);
+  hist_head_ = 0;
+  for (std::size_t k = 0; k < x_hist_.size(); ++k) {  // steady motion before t = 0
+    x_hist_[(x_hist_.size() - k) % x_hist_.size()] = -feed * dt * static_cast<double>(k);
+  }
+  force_ = force_nominal_;
+  depth_ = dist_.depth_profile(0.0);
+  sensor_u_ = cfg.sensor.offset_V + sensor_.volts_per_newton() * force_nominal_;
+  faults_.reset(sensor_u_);
+  flow_acc_ = force_acc_ = 0.0;
+  acc_n_ = 0;
+}
+
 void Rig::configure(const RigConfig& cfg, double dt, double record_interval, double duration) {
   if (!(dt > 0.0) || !(record_interval >= dt) || !(duration > 0.0))
     throw std::invalid_argument("run: need step > 0, record interval ≥ step, duration > 0");
@@ -45,7 +167,6 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   // controller the regulator cannot take, and an external controller on anything but a pulsed
   // regulator).
   auto mp = machine_params(cfg, Host{.machine_io = external_});
-  const auto& cp = mp.controller;
   if (!(cfg.spindle_rpm > 0.0) || !(cfg.diameter_m > 0.0))
     throw std::invalid_argument("spindle speed and part diameter must be > 0");
   if (!(cfg.pulse_width_s > 0.0) || !(cfg.frequency_Hz > 0.0) || !(cfg.slot_m > 0.0))
@@ -75,23 +196,7 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
 
   sim::configure_as("slide", [&] { slide_.configure(cfg.slide); });
   slide_.set_steady(feed, force_nominal_);
-  const double wh = slide_.hydraulic_omega();
-  if (wh * dt > 0.5)
-    throw sim::ConfigError("run.step_s", "step_s " + std::to_string(dt) +
-                                             " too coarse for the slide's hydraulic "
-                                             "natural frequency " +
-                                             std::to_string(wh / 2 / std::numbers::pi) +
-                                             " Hz: use step_s ≤ " + std::to_string(0.5 / wh));
-  if (cfg.slide.damper_capacitance_m3_per_Pa > 0.0) {
-    const double tau_d =
-        cfg.slide.damper_capacitance_m3_per_Pa * cfg.slide.damper_resistance_Pa_s_per_m3;
-    const double tau_c = cfg.slide.dead_volume_m3 / cfg.slide.bulk_modulus_Pa *
-                         cfg.slide.damper_resistance_Pa_s_per_m3;
-    if (dt > 0.5 * std::min(tau_d, tau_c))
-      throw sim::ConfigError("run.step_s", "step_s too coarse for the damper: use step_s ≤ " +
-                                               std::to_string(0.5 * std::min(tau_d, tau_c)));
-  }
-
+  check_step_for_slide(cfg, dt);
   sim::configure_as("regulator", [&] {
     reg_.configure(cfg.regulator);
     thr_.configure({cfg.regulator.orifice, cfg.regulator.obliteration});
@@ -99,87 +204,11 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   sim::configure_as("sensor", [&] { sensor_.configure(cfg.sensor); });
   sensor_.set_steady(force_nominal_);
 
-  // The uncontrolled machine's setting: the flow the programmed feed needs, with the true
-  // leakage and the friction and regulator gain of the machine's model (machine_params).
-  const double F = cfg.slide.piston_area_m2;
-  const double gain = cp.regulator_gain_per_m;
-  const double q_needed =
-      feed * F + cfg.slide.leak_m3_per_s_Pa * (force_nominal_ + cp.friction_N) / F;
-  fixed_actuator_ = cfg.regulator_kind == RegulatorKind::Throttle
-                        ? q_needed / gain
-                        : q_needed / (gain * cfg.pulse_width_s * cfg.frequency_Hz);
-
-  sim::configure_as("controller",
-                    {{"overload_factor", "controller.overload_factor"},
-                     {"overload_time_s", "controller.overload_time_ms"},
-                     {"breakage_drop", "controller.breakage_drop"},
-                     {"breakage_window_s", "controller.breakage_window_ms"},
-                     {"feed_law", "controller.feed_law"},
-                     {"force_law", "controller.force_law"}},
-                    [&] { machine_.configure(mp); });
-  machine_.start(force_nominal_);
-  const auto& ctl = machine_.controller();
-  ctl_out_ = {};
-  ctl_out_.slot_m =
-      cfg.controller_kind == ControllerKind::Aim
-          ? std::clamp(ctl.actuator_for(feed, force_nominal_), cp.slot_min_m, cp.slot_max_m)
-          : fixed_actuator_;
-  ctl_out_.pulses = true;  // the slide was feeding before t = 0 (the warm-up below)
-  ctl_out_.frequency_Hz = cfg.controller_kind == ControllerKind::Fim
-                              ? ctl.actuator_for(feed, force_nominal_)
-                              : cfg.frequency_Hz;
-  control_every_ =
-      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cp.period_s / dt)));
-  if (cfg.controller_kind == ControllerKind::Aim) {
-    auto ep = cfg.eccentric;
-    sim::configure_as("eccentric", [&] { ecc_.configure(ep); });
-    ecc_.set_slot(ctl_out_.slot_m);
-  }
-
-  constexpr double kMaxBufferSteps = 2e7;  // history buffers beyond this mean a nonsensical step
-  if (1.0 / rev_per_s_ / dt > kMaxBufferSteps || cfg.feed_window_s / dt > kMaxBufferSteps / 2)
-    throw sim::ConfigError(
-        1.0 / rev_per_s_ / dt > kMaxBufferSteps ? "run.step_s" : "metrics.feed_window_s",
-        "one spindle revolution or the feed window spans more than 2e7 steps: "
-        "increase step_s or the spindle speed, or shorten feed_window_s");
-  if (!streamed_ && duration / (dt * static_cast<double>(record_every_)) > 5e7)
-    throw sim::ConfigError("run.record_interval_s",
-                           "more than 5e7 recorded rows: increase record_interval_s");
-  // Warm-up: the slide was already feeding before t = 0. Run regulator, damper and slide at the
-  // nominal load until the pulsed flow is periodic, then put the slide back at x = 0, so the
-  // run starts in the pulsing steady state rather than with a start-up surge.
-  {
-    const double warm_s = std::max(0.5, 10.0 / cfg.frequency_Hz);
-    const double h0 = cfg.controller_kind == ControllerKind::Fim ? cfg.slot_m : ctl_out_.slot_m;
-    const double f0 =
-        cfg.controller_kind == ControllerKind::Fim ? ctl_out_.frequency_Hz : cfg.frequency_Hz;
-    for (double tw = 0.0; tw < warm_s; tw += dt) {
-      const double q = cfg.regulator_kind == RegulatorKind::Throttle
-                           ? thr_.step(dt, fixed_actuator_)
-                           : reg_.step(dt, h0, f0, cfg.pulse_width_s);
-      slide_.step(dt, q, force_nominal_);
-    }
-    slide_.set_position(0.0);
-    slide_.reset_volume_ledger();
-    damper_volume0_ = slide_.damper_volume();
-    void0_ = slide_.state().void_m3;
-    thr_.configure({cfg.regulator.orifice, cfg.regulator.obliteration});  // no silting before t = 0
-  }
-  rev_steps_ =
-      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(1.0 / rev_per_s_ / dt)));
-  window_steps_ =
-      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(cfg.feed_window_s / dt)));
-  x_hist_.assign(std::max(rev_steps_, 2 * window_steps_) + 1, 0.0);
-  hist_head_ = 0;
-  for (std::size_t k = 0; k < x_hist_.size(); ++k) {  // steady motion before t = 0
-    x_hist_[(x_hist_.size() - k) % x_hist_.size()] = -feed * dt * static_cast<double>(k);
-  }
-  force_ = force_nominal_;
-  depth_ = dist_.depth_profile(0.0);
-  sensor_u_ = cfg.sensor.offset_V + sensor_.volts_per_newton() * force_nominal_;
-  faults_.reset(sensor_u_);
-  flow_acc_ = force_acc_ = 0.0;
-  acc_n_ = 0;
+  set_fixed_actuator(cfg, mp);
+  start_machine(cfg, mp, dt);
+  check_buffers(cfg, dt, duration);
+  warm_up(cfg, dt);
+  prime_history(cfg, dt);
 
   if (streamed_) {
     rec_ = sim::Recorder::streamed(rig_a_channels(), {},
@@ -210,7 +239,11 @@ double Rig::chip_feed_mm_per_rev() const noexcept {
   return std::max((slide_.state().x_m - position_ago(rev_steps_)) * 1000.0, 0.0);
 }
 
-void Rig::step() noexcept {
+// step() in phases, in the order they run.
+
+// The spindle turns, the tool cuts the local blank at the chip the slide's path leaves, and the
+// tool's life is used; the load sensor follows the force. Returns the slide's position [mm].
+inline double Rig::cut_step() noexcept {
   t_ += dt_;
   ++step_;
   phi_ += 2.0 * std::numbers::pi * rev_per_s_ * dt_;
@@ -233,7 +266,12 @@ void Rig::step() noexcept {
   life_used_ += used;
   if (t_disturbance_ >= 0.0) life_used_td_ += used;
   (void)sensor_.step(dt_, force_);
+  return x_mm;
+}
 
+// The controller: the machine's outputs from outside (a LinuxCNC session), or the machine side
+// run here every control period on what the sensor reads, faults included.
+inline void Rig::control_step() noexcept {
   if (external_) {  // what the machine's analog input reads, every step
     sensor_u_ = faults_.apply(cfg_.faults, t_, sensor_.sample(), cfg_.sensor.saturation_V * 2.0 + 1.0);
     ctl_out_ = act_.out;
@@ -250,7 +288,11 @@ void Rig::step() noexcept {
     machine_.update(in);
     ctl_out_ = machine_.output();
   }
+}
 
+// The flow the regulator delivers this step, from the valve's state (external), the throttle,
+// or the pulse train the controller commands.
+inline double Rig::regulator_flow() noexcept {
   double q = 0.0;
   if (external_) {
     // The valve's state from the machine's pulse train: the spool is driven open while the
@@ -277,18 +319,11 @@ void Rig::step() noexcept {
     }
     q = reg_.step(dt_, h, f, cfg_.pulse_width_s);
   }
-  slide_.step(dt_, q, force_);
+  return q;
+}
 
-  hist_head_ = (hist_head_ + 1) % x_hist_.size();
-  x_hist_[hist_head_] = slide_.state().x_m;
-
-  flow_acc_ += q;
-  force_acc_ += force_;
-  ++acc_n_;
-  if (!std::isfinite(slide_.state().v_m_per_s) || !std::isfinite(slide_.state().p_cyl_Pa))
-    sound_ = false;
-  if (step_ % record_every_ != 0) return;
-
+// One recorded row, averaged over the steps since the last.
+inline void Rig::record_row(double x_mm) noexcept {
   const auto& s = slide_.state();
   const double n = static_cast<double>(acc_n_);
   if (cfg_.controller_kind == ControllerKind::None && !external_) sensor_u_ = sensor_.sample();
@@ -332,6 +367,25 @@ void Rig::step() noexcept {
   rec_.push_row(row);
   flow_acc_ = force_acc_ = 0.0;
   acc_n_ = 0;
+}
+
+void Rig::step() noexcept {
+  const double x_mm = cut_step();
+  control_step();
+  const double q = regulator_flow();
+  slide_.step(dt_, q, force_);
+
+  hist_head_ = (hist_head_ + 1) % x_hist_.size();
+  x_hist_[hist_head_] = slide_.state().x_m;
+
+  flow_acc_ += q;
+  force_acc_ += force_;
+  ++acc_n_;
+  if (!std::isfinite(slide_.state().v_m_per_s) || !std::isfinite(slide_.state().p_cyl_Pa))
+    sound_ = false;
+  if (step_ % record_every_ != 0) return;
+
+  record_row(x_mm);
 }
 
 Rig::VolumeBalance Rig::volume_balance() const noexcept {

@@ -113,6 +113,18 @@ class Rig {
  private:
   double chip_feed_mm_per_rev() const noexcept;
   double position_ago(std::size_t steps) const noexcept;
+  // configure()'s phases, in the order they run (rig.cpp says what each decides).
+  void check_step_for_slide(const RigConfig& cfg, double dt) const;
+  void set_fixed_actuator(const RigConfig& cfg, const control::SlideMachine::Params& mp);
+  void start_machine(const RigConfig& cfg, const control::SlideMachine::Params& mp, double dt);
+  void check_buffers(const RigConfig& cfg, double dt, double duration) const;
+  void warm_up(const RigConfig& cfg, double dt);
+  void prime_history(const RigConfig& cfg, double dt);
+  // step()'s phases, in the order they run.
+  double cut_step() noexcept;
+  void control_step() noexcept;
+  double regulator_flow() noexcept;
+  void record_row(double x_mm) noexcept;
 
   RigConfig cfg_{};
   double dt_ = 1e-4;

@@ -232,94 +232,106 @@ void read_sensor(TableReader& root, RigConfig& a, std::uint64_t seed) {
   s->finish();
 }
 
-void read_controller(TableReader& root, RigConfig& a) {
-  auto c = root.table("controller", true);
-  root.document("controller",
-      "read even with type = \"none\" (then it only matters for [compare] and [sweep])");
-  const std::string kind =
-      c->pick({"type", {}, "no control, AIM (amplitude-pulse) or FIM (frequency-pulse)"},
-              {"none", "aim", "fim"});
-  a.controller_kind = kind == "aim"   ? ControllerKind::Aim
-                      : kind == "fim" ? ControllerKind::Fim
-                                      : ControllerKind::None;
+// read_controller() in phases, in the order it reads the keys.
+
+// The regulation: mode, programmed feed, force setpoint, control period, filters and PI.
+void read_regulation(TableReader& c, RigConfig& a) {
   auto& p = a.controller;
-  p.mode = c->pick({"mode", {}, "finishing holds the feed, roughing the force"},
-                   {"finishing", "roughing"}, "finishing") == "roughing"
+  p.mode = c.pick({"mode", {}, "finishing holds the feed, roughing the force"},
+                  {"finishing", "roughing"}, "finishing") == "roughing"
                ? PulseFeedController::Mode::Roughing
                : PulseFeedController::Mode::Finishing;
-  c->require(
+  c.require(
       {"feed_mm_per_min", {0.0, 1e5, true, false}, "programmed feed, from the ЗПУ", kMm / 60.0},
       p.feed_m_per_s);
-  if (p.mode == PulseFeedController::Mode::Roughing || c->is_describing())
-    c->require({"force_set_N",
-                {0.0, 1e6, true, false},
-                "roughing only, and required there; an unknown key in finishing"},
-               p.force_set_N);
-  c->read({"period_ms", {0.0, 1000.0, true, false}, "control period", kMs}, p.period_s);
-  c->read({"leak_estimate_factor", Range::closed(0, 10),
-           "the controller's K_leak as a multiple of the plant's"},
-          a.leak_estimate_factor);
-  c->read({"force_filter_ms", Range::closed(0, 1e4), "low-pass on the force estimate", kMs},
-          p.force_filter_s);
-  c->read({"compensate_compliance", {}, "finishing: add C·dP̂/dt/F (beyond the seed)"},
-          a.compensate_compliance);
-  c->read({"rate_filter_ms", Range::closed(0, 1e4), "low-pass on the force rate of that term", kMs},
-          p.rate_filter_s);
-  c->read({"kp", Range::closed(0, 100), "roughing PI: gain"}, p.kp);
-  c->read({"ti_s", Range::closed(0, 100), "roughing PI: integral time"}, p.ti_s);
-  c->read({"feed_min_fraction",
-           {0.0, 1.0, false, true},
-           "roughing: lowest feed as a fraction of the programmed feed"},
-          p.feed_min_fraction);
-  c->read({"slot_min_mm", Range::closed(0, 10), "AIM: smallest slot", kMm}, p.slot_min_m);
+  if (p.mode == PulseFeedController::Mode::Roughing || c.is_describing())
+    c.require({"force_set_N",
+               {0.0, 1e6, true, false},
+               "roughing only, and required there; an unknown key in finishing"},
+              p.force_set_N);
+  c.read({"period_ms", {0.0, 1000.0, true, false}, "control period", kMs}, p.period_s);
+  c.read({"leak_estimate_factor", Range::closed(0, 10),
+          "the controller's K_leak as a multiple of the plant's"},
+         a.leak_estimate_factor);
+  c.read({"force_filter_ms", Range::closed(0, 1e4), "low-pass on the force estimate", kMs},
+         p.force_filter_s);
+  c.read({"compensate_compliance", {}, "finishing: add C·dP̂/dt/F (beyond the seed)"},
+         a.compensate_compliance);
+  c.read({"rate_filter_ms", Range::closed(0, 1e4), "low-pass on the force rate of that term", kMs},
+         p.rate_filter_s);
+  c.read({"kp", Range::closed(0, 100), "roughing PI: gain"}, p.kp);
+  c.read({"ti_s", Range::closed(0, 100), "roughing PI: integral time"}, p.ti_s);
+  c.read({"feed_min_fraction",
+          {0.0, 1.0, false, true},
+          "roughing: lowest feed as a fraction of the programmed feed"},
+         p.feed_min_fraction);
+}
+
+// What the actuator may be driven to: AIM's slot, FIM's frequency and its ramp, the duty.
+void read_actuator_range(TableReader& c, RigConfig& a) {
+  auto& p = a.controller;
+  c.read({"slot_min_mm", Range::closed(0, 10), "AIM: smallest slot", kMm}, p.slot_min_m);
   p.slot_max_m = a.regulator.max_slot_m;
-  c->read({.key = "slot_max_mm",
-           .range = {0.0, 10.0, true, false},
-           .doc = "AIM: largest slot (default max_slot_mm)",
-           .scale = kMm,
-           .derived = "regulator.max_slot_mm"},
-          p.slot_max_m);
-  c->read({"frequency_min_Hz", Range::closed(0, 1e4), "FIM: lowest frequency"}, p.frequency_min_Hz);
-  c->read({"frequency_max_Hz", {0.0, 1e4, true, false}, "FIM: highest frequency"},
-          p.frequency_max_Hz);
-  c->read({"frequency_ramp_Hz_per_s", {0.0, 1e7, true, false}, "converter ПЧ ramp"},
-          p.frequency_ramp_Hz_per_s);
-  c->read({"duty_max", {0.0, 1.0, true, false}, "f·Δt limit"}, p.duty_max);
+  c.read({.key = "slot_max_mm",
+          .range = {0.0, 10.0, true, false},
+          .doc = "AIM: largest slot (default max_slot_mm)",
+          .scale = kMm,
+          .derived = "regulator.max_slot_mm"},
+         p.slot_max_m);
+  c.read({"frequency_min_Hz", Range::closed(0, 1e4), "FIM: lowest frequency"}, p.frequency_min_Hz);
+  c.read({"frequency_max_Hz", {0.0, 1e4, true, false}, "FIM: highest frequency"},
+         p.frequency_max_Hz);
+  c.read({"frequency_ramp_Hz_per_s", {0.0, 1e7, true, false}, "converter ПЧ ramp"},
+         p.frequency_ramp_Hz_per_s);
+  c.read({"duty_max", {0.0, 1.0, true, false}, "f·Δt limit"}, p.duty_max);
+}
+
+// The plausible sensor range and the stuck-sensor check.
+void read_sensor_monitor(TableReader& c, RigConfig& a) {
+  auto& p = a.controller;
   auto& mon = p.sensor_monitor;
-  c->read({"sensor_min_V", Range::any(), "plausible sensor range: lowest"}, mon.min);
+  c.read({"sensor_min_V", Range::any(), "plausible sensor range: lowest"}, mon.min);
   mon.max = a.sensor.saturation_V + 0.5;
-  c->read({"sensor_max_V", Range::any(),
-           "plausible sensor range: highest (default saturation_V + 0.5)"},
-          mon.max);
-  c->read({"sensor_stuck_ms", Range::closed(0, 1e5), "unchanged this long: stuck", kMs},
-          mon.stuck_time_s);
-  c->read(
+  c.read({"sensor_max_V", Range::any(),
+          "plausible sensor range: highest (default saturation_V + 0.5)"},
+         mon.max);
+  c.read({"sensor_stuck_ms", Range::closed(0, 1e5), "unchanged this long: stuck", kMs},
+         mon.stuck_time_s);
+  c.read(
       {"sensor_stuck_tolerance_V", Range::closed(0, 10), "a change at or below it counts as none"},
       mon.stuck_tolerance);
   mon.noise_sigma = a.sensor.noise_V;  // scale of the suspect (frozen) check
-  c->check(mon.min < mon.max, "sensor_max_V", "must exceed sensor_min_V");
-  c->check(p.slot_min_m < p.slot_max_m, "slot_max_mm", "must exceed slot_min_mm");
-  c->check(p.frequency_min_Hz < p.frequency_max_Hz, "frequency_max_Hz",
-           "must exceed frequency_min_Hz");
-  // The machine side around the controller: roughing's tool alarms and the laws along the
-  // travel (control::SlideMachine).
+}
+
+// The machine side around the controller: roughing's tool alarms (control::SlideMachine).
+void read_tool_alarms(TableReader& c, RigConfig& a) {
+  const auto& p = a.controller;
   auto& m = a.machine;
-  c->read({"overload_factor", {1.0, 1e6, true, false},
-           "roughing: overload alarm above this × force_set_N …"},
-          m.overload_factor);
-  c->read({"overload_time_ms", Range::closed(0, 1e5), "… for longer than this", kMs},
-          m.overload_time_s);
-  c->read({"breakage_drop", {0.0, 1e6, true, false},
-           "roughing: breakage alarm when the force falls by this × force_set_N …"},
-          m.breakage_drop);
+  c.read({"overload_factor",
+          {1.0, 1e6, true, false},
+          "roughing: overload alarm above this × force_set_N …"},
+         m.overload_factor);
+  c.read({"overload_time_ms", Range::closed(0, 1e5), "… for longer than this", kMs},
+         m.overload_time_s);
+  c.read({"breakage_drop",
+          {0.0, 1e6, true, false},
+          "roughing: breakage alarm when the force falls by this × force_set_N …"},
+         m.breakage_drop);
   m.breakage_window_s = std::max(m.breakage_window_s, p.period_s);
-  c->read({"breakage_window_ms", {0.0, 1e4, true, false},
-           "… within this (1 … 255 control periods; default 10 ms or one period)", kMs},
-          m.breakage_window_s);
-  c->check(m.breakage_window_s >= p.period_s * (1 - 1e-9) &&
-               m.breakage_window_s <= p.period_s * 255.0 * (1 + 1e-9),
-           "breakage_window_ms", "must span 1 … 255 control periods");
-  for (auto& t : c->tables("feed_law")) {
+  c.read({"breakage_window_ms",
+          {0.0, 1e4, true, false},
+          "… within this (1 … 255 control periods; default 10 ms or one period)",
+          kMs},
+         m.breakage_window_s);
+  c.check(m.breakage_window_s >= p.period_s * (1 - 1e-9) &&
+              m.breakage_window_s <= p.period_s * 255.0 * (1 + 1e-9),
+          "breakage_window_ms", "must span 1 … 255 control periods");
+}
+
+// The laws along the travel (control::SlideMachine): the feed's and the force setpoint's.
+void read_travel_laws(TableReader& c, RigConfig& a) {
+  auto& m = a.machine;
+  for (auto& t : c.tables("feed_law")) {
     control::SlideMachine::LawPoint pt{};
     t.require({"at_mm", Range::any(), "slide travel of the point", kMm}, pt.position_m);
     t.require({"feed_mm_per_min", {0.0, 1e5, true, false}, "finishing feed there", kMm / 60.0},
@@ -327,25 +339,50 @@ void read_controller(TableReader& root, RigConfig& a) {
     t.finish();
     m.feed_law.push_back(pt);
   }
-  c->document("feed_law",
-              "finishing: the programmed feed along the travel {at_mm, feed_mm_per_min}, "
-              "linear between points, held beyond; at_mm strictly increasing (the seed's "
-              "\"any law of h\")");
-  for (auto& t : c->tables("force_law")) {
+  c.document("feed_law",
+             "finishing: the programmed feed along the travel {at_mm, feed_mm_per_min}, "
+             "linear between points, held beyond; at_mm strictly increasing (the seed's "
+             "\"any law of h\")");
+  for (auto& t : c.tables("force_law")) {
     control::SlideMachine::LawPoint pt{};
     t.require({"at_mm", Range::any(), "slide travel of the point", kMm}, pt.position_m);
     t.require({"force_N", {0.0, 1e6, true, false}, "roughing force setpoint there"}, pt.value);
     t.finish();
     m.force_law.push_back(pt);
   }
-  c->document("force_law",
-              "roughing: the force setpoint along the travel {at_mm, force_N}, linear between "
-              "points, held beyond; at_mm strictly increasing");
+  c.document("force_law",
+             "roughing: the force setpoint along the travel {at_mm, force_N}, linear between "
+             "points, held beyond; at_mm strictly increasing");
   for (auto* law : {&m.feed_law, &m.force_law})
     for (std::size_t i = 1; i < law->size(); ++i)
-      c->check((*law)[i].position_m > (*law)[i - 1].position_m,
-               law == &m.feed_law ? "feed_law" : "force_law",
-               "at_mm must increase from point to point");
+      c.check((*law)[i].position_m > (*law)[i - 1].position_m,
+              law == &m.feed_law ? "feed_law" : "force_law",
+              "at_mm must increase from point to point");
+}
+
+void read_controller(TableReader& root, RigConfig& a) {
+  auto c = root.table("controller", true);
+  root.document("controller",
+                "read even with type = \"none\" (then it only matters for [compare] and [sweep])");
+  const std::string kind =
+      c->pick({"type", {}, "no control, AIM (amplitude-pulse) or FIM (frequency-pulse)"},
+              {"none", "aim", "fim"});
+  a.controller_kind = kind == "aim"   ? ControllerKind::Aim
+                      : kind == "fim" ? ControllerKind::Fim
+                                      : ControllerKind::None;
+  read_regulation(*c, a);
+  read_actuator_range(*c, a);
+  read_sensor_monitor(*c, a);
+  const auto& p = a.controller;
+  const auto& mon = p.sensor_monitor;
+  c->check(mon.min < mon.max, "sensor_max_V", "must exceed sensor_min_V");
+  c->check(p.slot_min_m < p.slot_max_m, "slot_max_mm", "must exceed slot_min_mm");
+  c->check(p.frequency_min_Hz < p.frequency_max_Hz, "frequency_max_Hz",
+           "must exceed frequency_min_Hz");
+  // The machine side around the controller: roughing's tool alarms and the laws along the
+  // travel (control::SlideMachine).
+  read_tool_alarms(*c, a);
+  read_travel_laws(*c, a);
   c->finish();
 }
 

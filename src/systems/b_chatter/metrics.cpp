@@ -87,12 +87,11 @@ void Measure::marks(std::span<const double> v) noexcept {
   rz_max_ = std::max(rz_max_, rz);
 }
 
-void Measure::result(Run& r, double dead_zone_um) {
-  const double start = rig_->cut_start_s(), end = n_ == 0 ? 0.0 : last_[0];
-  r.t_end = end;
-  r.t0 = start + 0.7 * (end - start);
-  r.t1 = end - 0.05;
-  // The window's rows: the first at t ≥ t0 (time grows row by row) up to the last at t ≤ t1.
+// result() in phases: the window's first row, the window's statistics (in result()), the mean
+// feeds over the cut, the surface.
+
+// The first spilled row at t ≥ t0 (time grows row by row).
+std::size_t Measure::first_row_at(double t0) const {
   const io::RowSpill& sp = *spill_;
   const std::size_t rows = sp.rows();
   double one[kWidth];
@@ -103,12 +102,52 @@ void Measure::result(Run& r, double dead_zone_um) {
   std::size_t lo_i = 0, hi_i = rows;
   while (lo_i < hi_i) {
     const std::size_t mid = lo_i + (hi_i - lo_i) / 2;
-    if (time_of(mid) < r.t0)
+    if (time_of(mid) < t0)
       lo_i = mid + 1;
     else
       hi_i = mid;
   }
-  const std::size_t first = lo_i;
+  return lo_i;
+}
+
+// The mean feeds over the cut: from its first row (every row when it never started) to the
+// last.
+void Measure::mean_feeds(Run& r, double start) const noexcept {
+  const bool from_first = start < 0.0 || !k0_seen_;
+  const double* k0 = from_first ? first_ : k0_row_;
+  const std::size_t k0_index = from_first ? (start < 0.0 ? 0 : n_) : k0_;
+  if (k0_index + 1 < n_) {
+    const double dt = last_[0] - k0[0];
+    r.feed_mean[0] = (last_[1] - k0[1]) / dt * 60.0;
+    r.feed_mean[1] = (last_[2] - k0[2]) / dt * 60.0;
+  }
+}
+
+// The surface the programmed feed leaves and the one the marks measured along the path.
+void Measure::surface(Run& r) const noexcept {
+  Surface& sf = r.surface;
+  const auto& cfg = rig_->config();
+  const double s_p =
+      cfg.setup == TwinSetup::FeedDivision ? 0.5 * cfg.feed_mm_per_rev : cfg.feed_mm_per_rev;
+  sf.Rz_programmed_um = s_p * s_p / (8.0 * nose_mm_) * 1e3;
+  sf.Ra_programmed_um = s_p * s_p / (32.0 * nose_mm_) * 1e3;
+  sf.length_mm = path_;
+  if (path_ > 0.0) {
+    sf.Rz_mean_um = rz_path_ / path_ * 1e3;
+    sf.Ra_mean_um = ra_path_ / path_ * 1e3;
+    sf.Rz_min_um = rz_min_ * 1e3;
+    sf.Rz_max_um = rz_max_ * 1e3;
+  }
+}
+
+void Measure::result(Run& r, double dead_zone_um) {
+  const double start = rig_->cut_start_s(), end = n_ == 0 ? 0.0 : last_[0];
+  r.t_end = end;
+  r.t0 = start + 0.7 * (end - start);
+  r.t1 = end - 0.05;
+  // The window's rows: the first at t ≥ t0 up to the last at t ≤ t1.
+  const io::RowSpill& sp = *spill_;
+  const std::size_t first = first_row_at(r.t0);
   // Hands the window's rows to f in order; returns the index past the last.
   std::vector<double> block(1024 * kWidth);
   const auto window = [&](auto&& f) {
@@ -164,29 +203,8 @@ void Measure::result(Run& r, double dead_zone_um) {
     if (crossings > 4 && r.vibration_um > dead_zone_um)
       r.chatter_Hz = (crossings - 1) / (2.0 * (tc1 - tc0));
   }
-  // The mean feeds over the cut: from its first row (every row when it never started) to the
-  // last.
-  const bool from_first = start < 0.0 || !k0_seen_;
-  const double* k0 = from_first ? first_ : k0_row_;
-  const std::size_t k0_index = from_first ? (start < 0.0 ? 0 : n_) : k0_;
-  if (k0_index + 1 < n_) {
-    const double dt = last_[0] - k0[0];
-    r.feed_mean[0] = (last_[1] - k0[1]) / dt * 60.0;
-    r.feed_mean[1] = (last_[2] - k0[2]) / dt * 60.0;
-  }
-  Surface& sf = r.surface;
-  const auto& cfg = rig_->config();
-  const double s_p = cfg.setup == TwinSetup::FeedDivision ? 0.5 * cfg.feed_mm_per_rev
-                                                          : cfg.feed_mm_per_rev;
-  sf.Rz_programmed_um = s_p * s_p / (8.0 * nose_mm_) * 1e3;
-  sf.Ra_programmed_um = s_p * s_p / (32.0 * nose_mm_) * 1e3;
-  sf.length_mm = path_;
-  if (path_ > 0.0) {
-    sf.Rz_mean_um = rz_path_ / path_ * 1e3;
-    sf.Ra_mean_um = ra_path_ / path_ * 1e3;
-    sf.Rz_min_um = rz_min_ * 1e3;
-    sf.Rz_max_um = rz_max_ * 1e3;
-  }
+  mean_feeds(r, start);
+  surface(r);
   spill_.reset();
 }
 

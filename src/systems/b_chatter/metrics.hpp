@@ -38,6 +38,10 @@ class Measure final : public sim::RowSink {
   enum : std::size_t { kT, kY, kYh, kPower, kPowerMeasured, kDelay, kOneOut, kWidth };
   // The feed marks of the row on the finished surface (Surface below), path-weighted.
   void marks(std::span<const double> v) noexcept;
+  // result()'s phases (metrics.cpp).
+  [[nodiscard]] std::size_t first_row_at(double t0) const;
+  void mean_feeds(Run& r, double start) const noexcept;
+  void surface(Run& r) const noexcept;
   const Rig* rig_;
   bool twin_;
   std::size_t t_, y_, yh_, c1_, c2_, pw_, pwm_, dl_, z1_, z2_, v1_, v2_, rpm_;

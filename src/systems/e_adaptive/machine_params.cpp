@@ -25,7 +25,7 @@ control::AdaptiveFeedController::Params controller(const RigConfig& e, const Mac
       e.force_parameter != cutting::ForceParameter::Power) {
     c.sensor_monitor.min = -1.2 * e.spindle.max_power_W;
     c.sensor_monitor.max = 2.0 * e.spindle.max_power_W;
-    c.force_limit = std::min(c.cut_power_max_W, e.spindle.max_power_W);
+    c.load_limit = std::min(c.cut_power_max_W, e.spindle.max_power_W);
   }
   if (std::isfinite(h.feed_programmed_mm_per_rev)) {
     c.feed_programmed_mm_per_rev = h.feed_programmed_mm_per_rev;

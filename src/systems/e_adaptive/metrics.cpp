@@ -22,7 +22,7 @@ MetricsAccumulator::MetricsAccumulator(const Rig& rig, double settle_s)
   alarm_ = rec.index("alarm");
   hold_ = rec.index("feed_hold");
   reason_ = rec.index("reason_code");
-  limit_ = rig.force_limit();
+  limit_ = rig.load_limit();
   ceiling_ = cfg.controller.allow_above_programmed ? cfg.controller.feed_max_mm_per_rev
                                                    : rig.programmed_feed();
   feed_min_ = cfg.controller.feed_min_mm_per_rev;
@@ -92,7 +92,7 @@ Metrics MetricsAccumulator::result(const Rig& rig) const {
   m.finished = rig.finished();
   m.cycle_time_s = rig.cycle_time_s();
   m.time_in_cut_s = rig.time_in_cut_s();
-  m.force_limit = rig.force_limit();
+  m.load_limit = rig.load_limit();
   m.tool_life_used_fraction = rig.tool_life_used();
   m.tool_life_used_nominal_hardness_fraction = rig.tool_life_used_nominal_hardness();
   m.tool_life_planned_min = rig.tool_life_planned_min();
@@ -105,7 +105,7 @@ Metrics MetricsAccumulator::result(const Rig& rig) const {
   m.force_Pz_peak_N = m_.force_Pz_peak_N;
   m.spindle_power_peak_kW = m_.spindle_power_peak_kW;
   m.force_peak_rev_mean = f_rev_.peak();
-  const double limit = m.force_limit;
+  const double limit = m.load_limit;
   m.force_overshoot_pct = 100.0 * (m.force_peak_rev_mean - limit) / limit;
   if (steady_n_ > 0) {
     m.force_within_5pct_fraction = within_n_ / steady_n_;

@@ -26,7 +26,7 @@ struct Metrics {
   bool finished = false;
   double cycle_time_s = 0.0;
   double time_in_cut_s = 0.0;
-  double force_limit = 0.0;
+  double load_limit = 0.0;
   double force_peak = 0.0;           // raw (record-interval mean) peak of the true parameter
   double force_peak_rev_mean = 0.0;  // peak of the per-revolution mean
   double force_overshoot_pct = 0.0;  // of the per-revolution mean

@@ -98,7 +98,7 @@ void add_run_plots(io::Report& rep, const std::vector<PlotRun>& runs, const std:
   Plot force = compared("Per-revolution " + pname + " (the feed's reach) and its limit" + suffix,
                         pname + " [" + unit + "]", PathPlots::kForceRev);
   force.series.push_back(
-      {"limit", {0.0, path_end}, {main.m->force_limit, main.m->force_limit}, "#555", true, false});
+      {"limit", {0.0, path_end}, {main.m->load_limit, main.m->load_limit}, "#555", true, false});
   rep.plots.push_back(force);
   rep.plots.push_back(compared("Feed per revolution (chip thickness)" + suffix, "feed [mm/rev]",
                                PathPlots::kFeedRev));
@@ -135,7 +135,7 @@ void add_run_plots(io::Report& rep, const std::vector<PlotRun>& runs, const std:
       along_time(main, "force_parameter", "as the controller saw it (sensor 4)", "#c4c9d0"));
   raw.series.push_back(along_time(main, "force_parameter_true", "true", "#b45309"));
   raw.series.push_back(
-      {"limit", {0.0, t_end}, {main.m->force_limit, main.m->force_limit}, "#1f2328", true, false});
+      {"limit", {0.0, t_end}, {main.m->load_limit, main.m->load_limit}, "#1f2328", true, false});
   rep.plots.push_back(raw);
 
   Plot depth = detail("What the tool meets: depth of cut (main run)", "depth [mm]");

@@ -54,14 +54,14 @@ Rig::WorstCase Rig::worst_case(const RigConfig& cfg, const cutting::CuttingModel
   };
   WorstCase w{.depth_mm = t_max, .hardness = hard, .wear_factor = wear, .speed_m_per_min = v};
   double lo = cfg.controller.feed_min_mm_per_rev, hi = cfg.controller.feed_max_mm_per_rev;
-  if (param(lo) > cfg.controller.force_limit) {
+  if (param(lo) > cfg.controller.load_limit) {
     w.at_min = true;
-  } else if (param(hi) <= cfg.controller.force_limit) {
+  } else if (param(hi) <= cfg.controller.load_limit) {
     lo = hi;
   } else {
     for (int i = 0; i < 60; ++i) {
       const double mid = 0.5 * (lo + hi);
-      (param(mid) > cfg.controller.force_limit ? hi : lo) = mid;
+      (param(mid) > cfg.controller.load_limit ? hi : lo) = mid;
     }
   }
   w.feed_mm_per_rev = lo;
@@ -169,12 +169,12 @@ void Rig::plan_pass(std::size_t k) noexcept {
                                       cut_.power_W(f, cp.speed_programmed_m_per_min));
     };
     double lo = cp.feed_min_mm_per_rev, hi = cp.feed_max_mm_per_rev;
-    if (param(hi) <= cp.force_limit) {
+    if (param(hi) <= cp.load_limit) {
       lo = hi;
-    } else if (param(lo) < cp.force_limit) {
+    } else if (param(lo) < cp.load_limit) {
       for (int i = 0; i < 50; ++i) {
         const double mid = 0.5 * (lo + hi);
-        (param(mid) > cp.force_limit ? hi : lo) = mid;
+        (param(mid) > cp.load_limit ? hi : lo) = mid;
       }
     }
     plunge_feed_mm_per_rev_ = lo;
@@ -207,14 +207,11 @@ Rig::Move Rig::move() const noexcept {
   return m;
 }
 
-bool Rig::step() noexcept {
-  if (finished() || t_ >= max_t_) return false;
-  t_ += dt_;
-  ++step_;
-  const double rpm = spindle_.rpm();
-  const double z_mm = axis_.position_m() * 1000.0;
+// step() in phases, in the order they run.
 
-  // The program, one pass after another: the next move once this one has arrived.
+// The program, one pass after another: the next move once this one has arrived. False when the
+// last pass has ended.
+inline bool Rig::advance_program(double z_mm) noexcept {
   const double settle_mm_s = 1.0;  // the z axis has arrived: within 5 µm and below 1 mm/s
   const bool z_settled = std::abs(axis_.measured_velocity_m_per_s()) * 1e3 < settle_mm_s;
   switch (phase_) {
@@ -247,7 +244,12 @@ bool Rig::step() noexcept {
       if (x_mm_ <= x_down_mm_) phase_ = x_down_mm_ > x_pass_mm_ ? Phase::Plunge : Phase::Turn;
       break;
   }
+  return true;
+}
 
+// The cutting process at the tool's position, the tool's life it uses, the spindle under the
+// cut's torque and the power meter on the drive.
+inline void Rig::cut_step(double rpm, double z_mm) noexcept {
   // The cutting process at the tool's position (machine z = −z: the plant's stock runs to −z).
   plant_.step({x_mm_, -z_mm, rpm}, dt_, pout_);
   const double depth = pout_.depth_mm;
@@ -261,23 +263,16 @@ bool Rig::step() noexcept {
     life_used_nominal_ += dt_ / (60.0 * cut_.tool_life_min(v, s, depth));  // as if h = 1
   }
   removed_mm3_ = pout_.removed_mm3;
-  const double cut_power = pout_.cut_power_W;
   // The torque that supplies the cutting power Pz·V (V at the surface, x + t, as the plant
   // counts it): one radius for the power and the torque.
   const double torque = f.Pz * (x_mm_ + depth) * 1e-3;
   spindle_.step(dt_, rpm_cmd_, torque);
-  const double true_param = pout_.force_parameter;
   power_meter_.step(dt_, spindle_.electrical_power_W());
+}
 
-  // The program: G95 at the programmed feed, G96 at V_p (the CNC's constant surface speed at
-  // the tool's diameter), one program line per pass. Sensor 4 is sampled at the control period
-  // (its noise is drawn per sample) and held between.
-  if ((step_ - 1) % control_every_ == 0) {
-    const double measured = cfg_.force_parameter == cutting::ForceParameter::Power
-                                ? power_meter_.sample()
-                                : pout_.force_measured;
-    sensor_held_ = faults_.apply(cfg_.faults, t_, measured, cfg_.force_sensor.range * 2.0 + 1.0);
-  }
+// What the machine side reads: sensor 4 (held between control periods), the drive's power, the
+// spindle, the axes and the program's line, speed and feed.
+inline control::AdaptiveMachine::Input Rig::machine_input(double z_mm) const noexcept {
   const auto& cp = machine_.controller().params();
   control::AdaptiveMachine::Input in;
   in.nominal_period_s = dt_;
@@ -302,17 +297,33 @@ bool Rig::step() noexcept {
   in.per_rev = true;
   in.x_mm = x_mm_;
   in.z_mm = -z_mm;
-  in.cutting_speed_m_per_min = v;
+  in.cutting_speed_m_per_min = pout_.speed_m_per_min;  // sensor 20 [m/min]
   in.tool_number = 1;
   in.program_line = static_cast<std::int32_t>(pass_) + 1;
   in.max_override = cp.feed_max_mm_per_rev / cp.feed_programmed_mm_per_rev;
   if (phase_ == Phase::Plunge) in.feed_max_cmd = plunge_feed_mm_per_rev_;
-  machine_.update(in, mout_);
+  return in;
+}
+
+// The program: G95 at the programmed feed, G96 at V_p (the CNC's constant surface speed at the
+// tool's diameter), one program line per pass. Sensor 4 is sampled at the control period (its
+// noise is drawn per sample) and held between; the machine side runs every step.
+inline void Rig::control_step(double z_mm) noexcept {
+  if ((step_ - 1) % control_every_ == 0) {
+    const double measured = cfg_.force_parameter == cutting::ForceParameter::Power
+                                ? power_meter_.sample()
+                                : pout_.force_measured;
+    sensor_held_ = faults_.apply(cfg_.faults, t_, measured, cfg_.force_sensor.range * 2.0 + 1.0);
+  }
+  machine_.update(machine_input(z_mm), mout_);
   force_seen_ = mout_.load;
   if (mout_.control_period) rpm_cmd_ = mout_.spindle_speed_out;
   if (mout_.feed_hold && first_hold_s_ < 0.0) first_hold_s_ = t_;
-  // The axes: z a servo axis with its lag and encoder; x an ideal cross slide that stops on
-  // its target.
+}
+
+// The axes: z a servo axis with its lag and encoder; x an ideal cross slide that stops on its
+// target.
+inline void Rig::move_axes(double z_mm) noexcept {
   const double feed_mm_s = mout_.feed_hold ? 0.0 : mout_.feed_per_rev_mm * spindle_.rpm() / 60.0;
   const double rapid_mm_s = cfg_.rapid_m_per_s * 1e3;
   double vz_mm_s = 0.0;
@@ -336,12 +347,18 @@ bool Rig::step() noexcept {
       break;
   }
   axis_.step(vz_mm_s * 1e-3);
+}
 
-  acc_param_ += true_param;
-  acc_pz_ += f.Pz;
-  acc_py_ += f.Py;
-  acc_depth_ += depth;
-  acc_power_ += cut_power;
+// The step's values into the running means, and a recorded row every record_every_ steps.
+inline void Rig::record_step(double z_mm) noexcept {
+  const double s = pout_.feed_per_rev_mm;
+  const double v = pout_.speed_m_per_min;
+  const double strength = pout_.strength_factor;
+  acc_param_ += pout_.force_parameter;
+  acc_pz_ += pout_.Pz_N;
+  acc_py_ += pout_.Py_N;
+  acc_depth_ += pout_.depth_mm;
+  acc_power_ += pout_.cut_power_W;
   ++acc_n_;
   if (!std::isfinite(spindle_.omega()) || !std::isfinite(axis_.position_m())) sound_ = false;
   if (step_ % record_every_ == 0) {
@@ -374,6 +391,19 @@ bool Rig::step() noexcept {
     acc_param_ = acc_pz_ = acc_py_ = acc_depth_ = acc_power_ = 0.0;
     acc_n_ = 0;
   }
+}
+
+bool Rig::step() noexcept {
+  if (finished() || t_ >= max_t_) return false;
+  t_ += dt_;
+  ++step_;
+  const double rpm = spindle_.rpm();
+  const double z_mm = axis_.position_m() * 1000.0;
+  if (!advance_program(z_mm)) return false;
+  cut_step(rpm, z_mm);
+  control_step(z_mm);
+  move_axes(z_mm);
+  record_step(z_mm);
   return true;
 }
 

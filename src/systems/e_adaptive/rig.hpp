@@ -66,8 +66,8 @@ class Rig {
   [[nodiscard]] double programmed_feed() const noexcept {
     return machine_.controller().params().feed_programmed_mm_per_rev;
   }
-  [[nodiscard]] double force_limit() const noexcept {
-    return machine_.controller().params().force_limit;
+  [[nodiscard]] double load_limit() const noexcept {
+    return machine_.controller().params().load_limit;
   }
   [[nodiscard]] bool numerically_sound() const noexcept { return sound_; }
   // Time the controller first held the feed (feed command 0), or −1; exact, not recorded.
@@ -112,6 +112,13 @@ class Rig {
   // The approach of pass k from the workpiece as it is now: where to come down and whether to
   // plunge.
   void plan_pass(std::size_t k) noexcept;
+  // step()'s phases, in the order they run (rig.cpp says what each decides).
+  bool advance_program(double z_mm) noexcept;
+  void cut_step(double rpm, double z_mm) noexcept;
+  [[nodiscard]] control::AdaptiveMachine::Input machine_input(double z_mm) const noexcept;
+  void control_step(double z_mm) noexcept;
+  void move_axes(double z_mm) noexcept;
+  void record_step(double z_mm) noexcept;
   [[nodiscard]] bool feeding() const noexcept {
     return phase_ == Phase::Plunge || phase_ == Phase::Turn;
   }

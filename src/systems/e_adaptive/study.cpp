@@ -90,7 +90,7 @@ json metrics_json(const Run& r, const std::string& unit, const Cost& cost) {
           {"cycle_time_s", json_number(m.cycle_time_s)},
           {"time_in_cut_s", json_number(m.time_in_cut_s)},
           {"force_parameter_unit", unit},
-          {"force_limit_N", json_number(m.force_limit)},
+          {"force_limit_N", json_number(m.load_limit)},
           {"force_peak_N", json_number(m.force_peak)},
           {"force_peak_rev_mean_N", json_number(m.force_peak_rev_mean)},
           {"force_overshoot_pct", json_number(m.force_overshoot_pct)},
@@ -239,7 +239,7 @@ void EStudy::baseline_note(const Run& fixed, Claims& claims) const {
   const Rig::WorstCase w = Rig::worst_case(c, cut, stock);
   std::string s = "fixed baseline: s = " + fmt(w.feed_mm_per_rev, "%.3f") + " mm/rev at V_p " +
                   fmt(w.speed_m_per_min) + " m/min, the largest feed whose handbook " + pname_ +
-                  " stays within the limit (" + fmt(c.controller.force_limit, "%.0f") + " " +
+                  " stays within the limit (" + fmt(c.controller.load_limit, "%.0f") + " " +
                   unit_ + ") at the worst spot the scenario knows: depth " +
                   fmt(w.depth_mm, "%.2f") + " mm (the deepest pass + 3σ of the allowance), " +
                   "hardness " + fmt(w.hardness, "%.2f") + ", worn-tool force factor " +
@@ -354,7 +354,7 @@ void EStudy::report_metrics(Report& rep) const {
     rep.metrics.emplace_back("cycle time [s]", "part not finished: the run stopped at " +
                                                    fmt(m.cycle_time_s, "%.1f") + " s");
   add("time in cut [s]", m.time_in_cut_s);
-  add(pname_ + " limit [" + unit_ + "]", m.force_limit);
+  add(pname_ + " limit [" + unit_ + "]", m.load_limit);
   add("peak per-revolution " + pname_ + " [" + unit_ + "]", m.force_peak_rev_mean);
   add("peak " + pname_ + " incl. runout within a revolution [" + unit_ + "]", m.force_peak);
   add("steady cutting within 5 % of the limit [share]", m.force_within_5pct_fraction, "%.3f");
