@@ -68,7 +68,7 @@ void AdaptiveFeedController::configure(const Params& p) {
   pi_.preset(s_prog);
   contact_.reset();
   over_s_ = 0.0;
-  high_since_s_ = 1e9;
+  collapse_.configure(p.breakage_drop_window_s);
   alarm_ = false;
   alarm_reason_ = Reason::None;
   held_rpm_ = 0.0;
@@ -111,7 +111,7 @@ void AdaptiveFeedController::reset_alarm() noexcept {
   alarm_reason_ = Reason::None;
   monitor_.reset();
   over_s_ = 0.0;
-  high_since_s_ = 1e9;
+  collapse_.reset();
 }
 
 void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
@@ -151,7 +151,7 @@ void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
   if (!in.feed_block) {  // rapid: inactive, restart bumpless at the next feed block
     contact_.reset();
     over_s_ = 0.0;
-    high_since_s_ = 1e9;
+    collapse_.reset();
     pi_.preset(s_prog);
     feed_ramp_.reset(s_prog);
     reason = Reason::NotInFeedBlock;
@@ -168,11 +168,10 @@ void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     }
     // Breakage: a spike, or a collapse from a loaded cut to nothing within a few ms.
     if (in.force > p_.breakage_spike * limit) raise(Reason::ToolBreakage);
-    high_since_s_ = in.force > 0.5 * limit ? 0.0 : high_since_s_ + measured.elapsed_s;
+    collapse_.push(in.force, measured.elapsed_s, in.force > 0.5 * limit);  // kept if loaded
     // A window of 0 turns the collapse detector off (AdaptiveMachine's path-aware one replaces
     // it): `≤ 0` still fired on a fall from half the limit to air within one control period.
-    if (p_.breakage_drop_window_s > 0.0 && in.force < air &&
-        high_since_s_ <= p_.breakage_drop_window_s)
+    if (p_.breakage_drop_window_s > 0.0 && collapse_.fell_to(in.force, air))
       raise(Reason::ToolBreakage);
     // Overload: above the limit too long although the feed is already at its minimum.
     const bool at_min = feed_ramp_.value() <= p_.feed_min_mm_per_rev * (1.0 + 1e-9);
@@ -181,7 +180,7 @@ void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
                   : 0.0;
     if (over_s_ >= p_.overload_time_s && p_.overload_time_s > 0.0) raise(Reason::Overload);
   } else if (in.reading_unusable && contact_.in_cut()) {
-    high_since_s_ += measured.elapsed_s;  // time passes for the collapse window, unjudged
+    collapse_.pass(measured.elapsed_s);  // time passes for the collapse window, unjudged
   }
 
   // The regulated force: the mean over the last revolution (or the raw sample).

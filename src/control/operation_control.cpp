@@ -220,13 +220,12 @@ void OperationStats::sample(double load, double load_rev, bool whole_rev, double
 bool PathBreakage::update(double load, double limit, double nominal_depth_mm,
                           double guaranteed_depth_mm, double dt) noexcept {
   if (!std::isfinite(load) || !(limit > 0.0)) return false;
+  collapse_.push(load, dt, load > 0.5 * limit);  // kept if loaded
   if (load > 0.5 * limit) {
-    high_since_s_ = 0.0;
     depth_high_ = nominal_depth_mm;
     return false;
   }
-  high_since_s_ += dt;
-  return load < p_.air * limit && high_since_s_ <= p_.window_s &&
+  return collapse_.fell_to(load, p_.air * limit) &&
          guaranteed_depth_mm >= std::max(p_.min_depth_mm, p_.keep * depth_high_);
 }
 

@@ -47,6 +47,7 @@
 #include <vector>
 
 #include "lathectl/control/building_blocks.hpp"
+#include "lathectl/control/collapse_detector.hpp"
 #include "lathectl/control/contact.hpp"
 #include "lathectl/control/per_revolution.hpp"
 #include "lathectl/control/types.hpp"
@@ -189,7 +190,7 @@ class AdaptiveFeedController {
   RateLimiter speed_ramp_;
   ContactDetector contact_;
   double over_s_ = 0.0;
-  double high_since_s_ = 1e9;  // time since the force was last above half the limit
+  CollapseDetector collapse_;  // the samples above half the limit, within breakage_drop_window_s
   bool alarm_ = false;
   Reason alarm_reason_ = Reason::None;
   double held_rpm_ = 0.0;
