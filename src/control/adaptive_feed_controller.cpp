@@ -73,8 +73,7 @@ void AdaptiveFeedController::configure(const Params& p) {
   alarm_reason_ = Reason::None;
   held_rpm_ = 0.0;
   depth_estimate_ = p.depth_planned_mm;
-  speed_filter_a_ =
-      p.speed_law_filter_s > 0.0 ? 1.0 - std::exp(-p.period_s / p.speed_law_filter_s) : 1.0;
+  speed_filter_ = core::FirstOrderLag(p.period_s, p.speed_law_filter_s);
   s_cur_filtered_ = p.feed_planned_mm_per_rev;
   // one revolution at the lowest speed, in control periods (allocated here, never in update())
   rev_mean_ = PerRevolutionMean(p.period_s, p.rpm_min);
@@ -262,7 +261,7 @@ void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     if (contact_.in_cut() && in.rpm > 0.0 && in.feed_rate_mm_per_min > 0.0) {
       const double s_meas = std::clamp(in.feed_rate_mm_per_min / in.rpm, p_.feed_min_mm_per_rev,
                                        p_.feed_max_mm_per_rev);  // computer 11
-      s_cur_filtered_ += speed_filter_a_ * (s_meas - s_cur_filtered_);
+      s_cur_filtered_ = speed_filter_.step_increment(s_cur_filtered_, s_meas);
       const double s_cur = s_cur_filtered_;
       v_opt = p_.speed_programmed_m_per_min * std::pow(p_.feed_planned_mm_per_rev / s_cur, p_.y_v);
       if (p_.y_v_ranges > 0) {  // y_v (and Cv) of the range containing each feed

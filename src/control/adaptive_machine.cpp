@@ -472,9 +472,9 @@ void AdaptiveMachine::acceleration_power(double rpm, double dt, double nominal_s
     if (accel_n_ < kAccelRing) ++accel_n_;
     if (std::isfinite(accel)) accel_W_ = accel;
   }
-  const double a = p_.power_lag_s > 0.0 ? 1.0 - std::exp(-dt / p_.power_lag_s) : 1.0;
-  accel_lagged_W_ += a * (accel_W_ - accel_lagged_W_);
-  wdw_lagged_ += a * (wdw_ - wdw_lagged_);
+  const core::FirstOrderLag lag(dt, p_.power_lag_s);  // the meter's
+  accel_lagged_W_ = lag.step_increment(accel_lagged_W_, accel_W_);
+  wdw_lagged_ = lag.step_increment(wdw_lagged_, wdw_);
 }
 
 // The handbook law's load at a chip (the load's own parameter: N, or W with the power sensor),
@@ -574,7 +574,7 @@ void AdaptiveMachine::learn_specific_force(const Input& in, double rpm, double d
   const double m = model_load(t, s, v);
   if (!(m > 0.0) || !std::isfinite(m)) return;
   const double k = std::clamp(out.load_rev / m, 0.2, 5.0);
-  kappa_ += (1.0 - std::exp(-dt / p_.specific_force_time_s)) * (k - kappa_);
+  kappa_ = core::FirstOrderLag(dt, p_.specific_force_time_s).step_increment(kappa_, k);
   kappa_learned_ = true;
 }
 

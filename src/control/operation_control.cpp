@@ -54,9 +54,9 @@ void IdleTare::learn(double n, double drive_power_W, double dt) noexcept {
     ++populated_;
   } else {
     // A running mean: the plain mean while the bin is young, then exponential (tau_s).
-    const double a = dt / std::min(weight_s_[k] + dt, p_.tau_s);
-    power_[k] += a * (drive_power_W - power_[k]);
-    rpm_[k] += a * (n - rpm_[k]);
+    const auto mean = core::FirstOrderLag::with_gain(dt / std::min(weight_s_[k] + dt, p_.tau_s));
+    power_[k] = mean.step_increment(power_[k], drive_power_W);
+    rpm_[k] = mean.step_increment(rpm_[k], n);
   }
   weight_s_[k] += dt;
   dirty_ = true;

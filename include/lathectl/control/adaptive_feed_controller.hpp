@@ -51,6 +51,7 @@
 #include "lathectl/control/contact.hpp"
 #include "lathectl/control/per_revolution.hpp"
 #include "lathectl/control/types.hpp"
+#include "lathectl/core/first_order_lag.hpp"
 
 namespace lathectl::control {
 
@@ -196,7 +197,7 @@ class AdaptiveFeedController {
   double held_rpm_ = 0.0;
   double depth_estimate_ = 0.0;
   double s_cur_filtered_ = 0.0;
-  double speed_filter_a_ = 1.0;
+  core::FirstOrderLag speed_filter_;  // of the measured feed, speed_law_filter_s
   PerRevolutionMean rev_mean_;  // of the accepted readings, since the cut began
 };
 

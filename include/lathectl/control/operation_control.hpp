@@ -32,6 +32,7 @@
 #include <cstdint>
 
 #include "lathectl/control/collapse_detector.hpp"
+#include "lathectl/core/first_order_lag.hpp"
 
 namespace lathectl::control {
 
