@@ -6,10 +6,16 @@
 
 namespace lathectl::control {
 
+// (The ring's index wraps by a mask: kCapacity is a power of two. push() ages the queue itself
+// rather than through pass(): it runs every control period, and the call was a third of its
+// cost.)
+static_assert((CollapseDetector::kCapacity & (CollapseDetector::kCapacity - 1)) == 0);
+
 void CollapseDetector::age_by(double elapsed) noexcept {
-  for (std::size_t k = 0; k < size_; ++k) at(k).age += elapsed;
-  while (size_ > 0 && !(at(0).age <= window_)) {  // out of the window: never counts again
-    head_ = (head_ + 1) % kCapacity;
+  constexpr std::size_t kMask = kCapacity - 1;
+  for (std::size_t k = 0, i = head_; k < size_; ++k, i = (i + 1) & kMask) ring_[i].age += elapsed;
+  while (size_ > 0 && !(ring_[head_].age <= window_)) {  // out of the window: never counts again
+    head_ = (head_ + 1) & kMask;
     --size_;
   }
 }
@@ -17,15 +23,20 @@ void CollapseDetector::age_by(double elapsed) noexcept {
 void CollapseDetector::pass(double elapsed) noexcept { age_by(elapsed); }
 
 void CollapseDetector::push(double x, double elapsed, bool keep) noexcept {
-  age_by(elapsed);
-  ++pushed_;
-  if (!keep || !std::isfinite(x)) return;
-  while (size_ > 0 && at(size_ - 1).x <= x) --size_;  // never the largest again
-  if (size_ == kCapacity) {  // full: forget the oldest
-    head_ = (head_ + 1) % kCapacity;
+  constexpr std::size_t kMask = kCapacity - 1;
+  for (std::size_t k = 0, i = head_; k < size_; ++k, i = (i + 1) & kMask) ring_[i].age += elapsed;
+  while (size_ > 0 && !(ring_[head_].age <= window_)) {
+    head_ = (head_ + 1) & kMask;
     --size_;
   }
-  at(size_) = {x, 0.0};
+  ++pushed_;
+  if (!keep || !std::isfinite(x)) return;
+  while (size_ > 0 && ring_[(head_ + size_ - 1) & kMask].x <= x) --size_;  // never the largest
+  if (size_ == kCapacity) {  // full: forget the oldest
+    head_ = (head_ + 1) & kMask;
+    --size_;
+  }
+  ring_[(head_ + size_) & kMask] = {x, 0.0};
   ++size_;
 }
 
