@@ -167,7 +167,7 @@ void AdaptiveFeedController::update(const Input& in, Output& out) noexcept {
     }
     // Breakage: a spike, or a collapse from a loaded cut to nothing within a few ms.
     if (in.force > p_.breakage_spike * limit) raise(Reason::ToolBreakage);
-    collapse_.push(in.force, measured.elapsed_s, in.force > 0.5 * limit);  // kept if loaded
+    collapse_.push(0.5 * limit, measured.elapsed_s, in.force > 0.5 * limit);  // loaded: its level
     // A window of 0 turns the collapse detector off (AdaptiveMachine's path-aware one replaces
     // it): `≤ 0` still fired on a fall from half the limit to air within one control period.
     if (p_.breakage_drop_window_s > 0.0 && collapse_.fell_to(in.force, air))

@@ -220,7 +220,9 @@ void OperationStats::sample(double load, double load_rev, bool whole_rev, double
 bool PathBreakage::update(double load, double limit, double nominal_depth_mm,
                           double guaranteed_depth_mm, double dt) noexcept {
   if (!std::isfinite(load) || !(limit > 0.0)) return false;
-  collapse_.push(load, dt, load > 0.5 * limit);  // kept if loaded
+  // Kept if loaded, as its level: fell_to asks only whether one lies in the window, and equal
+  // levels keep the queue at one sample (no aging of a queue of loads each period).
+  collapse_.push(0.5 * limit, dt, load > 0.5 * limit);
   if (load > 0.5 * limit) {
     depth_high_ = nominal_depth_mm;
     return false;
