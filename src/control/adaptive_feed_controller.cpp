@@ -68,13 +68,12 @@ void AdaptiveFeedController::configure(const Params& p) {
   pi_.preset(s_prog);
   contact_.reset();
   over_s_ = 0.0;
-  high_since_s_ = 1e9;
+  collapse_.configure(p.breakage_drop_window_s);
   alarm_ = false;
   alarm_reason_ = Reason::None;
   held_rpm_ = 0.0;
   depth_estimate_ = p.depth_planned_mm;
-  speed_filter_a_ =
-      p.speed_law_filter_s > 0.0 ? 1.0 - std::exp(-p.period_s / p.speed_law_filter_s) : 1.0;
+  speed_filter_ = core::FirstOrderLag(p.period_s, p.speed_law_filter_s);
   s_cur_filtered_ = p.feed_planned_mm_per_rev;
   // one revolution at the lowest speed, in control periods (allocated here, never in update())
   rev_mean_ = PerRevolutionMean(p.period_s, p.rpm_min);
@@ -111,7 +110,7 @@ void AdaptiveFeedController::reset_alarm() noexcept {
   alarm_reason_ = Reason::None;
   monitor_.reset();
   over_s_ = 0.0;
-  high_since_s_ = 1e9;
+  collapse_.reset();
 }
 
 // update() in phases, in the order they run; each is the text it was, moved (no formula changed).
@@ -152,7 +151,7 @@ inline Reason AdaptiveFeedController::judge_contact(const Input& in, const Perio
   if (!in.feed_block) {  // rapid: inactive, restart bumpless at the next feed block
     contact_.reset();
     over_s_ = 0.0;
-    high_since_s_ = 1e9;
+    collapse_.reset();
     pi_.preset(s_prog);
     feed_ramp_.reset(s_prog);
     reason = Reason::NotInFeedBlock;
@@ -169,11 +168,10 @@ inline Reason AdaptiveFeedController::judge_contact(const Input& in, const Perio
     }
     // Breakage: a spike, or a collapse from a loaded cut to nothing within a few ms.
     if (in.force > p_.breakage_spike * limit) raise(Reason::ToolBreakage);
-    high_since_s_ = in.force > 0.5 * limit ? 0.0 : high_since_s_ + measured.elapsed_s;
+    collapse_.push(0.5 * limit, measured.elapsed_s, in.force > 0.5 * limit);  // loaded: its level
     // A window of 0 turns the collapse detector off (AdaptiveMachine's path-aware one replaces
     // it): `≤ 0` still fired on a fall from half the limit to air within one control period.
-    if (p_.breakage_drop_window_s > 0.0 && in.force < air &&
-        high_since_s_ <= p_.breakage_drop_window_s)
+    if (p_.breakage_drop_window_s > 0.0 && collapse_.fell_to(in.force, air))
       raise(Reason::ToolBreakage);
     // Overload: above the limit too long although the feed is already at its minimum.
     const bool at_min = feed_ramp_.value() <= p_.feed_min_mm_per_rev * (1.0 + 1e-9);
@@ -182,7 +180,7 @@ inline Reason AdaptiveFeedController::judge_contact(const Input& in, const Perio
                   : 0.0;
     if (over_s_ >= p_.overload_time_s && p_.overload_time_s > 0.0) raise(Reason::Overload);
   } else if (in.reading_unusable && contact_.in_cut()) {
-    high_since_s_ += measured.elapsed_s;  // time passes for the collapse window, unjudged
+    collapse_.pass(measured.elapsed_s);  // time passes for the collapse window, unjudged
   }
   return reason;
 }
@@ -292,7 +290,7 @@ inline double AdaptiveFeedController::optimal_speed(const Input& in, double regu
     return v_opt;
   const double s_meas = std::clamp(in.feed_rate_mm_per_min / in.rpm, p_.feed_min_mm_per_rev,
                                    p_.feed_max_mm_per_rev);  // computer 11
-  s_cur_filtered_ += speed_filter_a_ * (s_meas - s_cur_filtered_);
+  s_cur_filtered_ = speed_filter_.step_increment(s_cur_filtered_, s_meas);
   const double s_cur = s_cur_filtered_;
   v_opt = p_.speed_programmed_m_per_min * std::pow(p_.feed_planned_mm_per_rev / s_cur, p_.y_v);
   if (p_.y_v_ranges > 0) {  // y_v (and Cv) of the range containing each feed

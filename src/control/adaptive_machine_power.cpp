@@ -107,9 +107,9 @@ void AdaptiveMachine::acceleration_power(double rpm, double dt, double nominal_s
     if (accel_n_ < kAccelRing) ++accel_n_;
     if (std::isfinite(accel)) accel_W_ = accel;
   }
-  const double a = p_.power_lag_s > 0.0 ? 1.0 - std::exp(-dt / p_.power_lag_s) : 1.0;
-  accel_lagged_W_ += a * (accel_W_ - accel_lagged_W_);
-  wdw_lagged_ += a * (wdw_ - wdw_lagged_);
+  const core::FirstOrderLag lag(dt, p_.power_lag_s);  // the meter's
+  accel_lagged_W_ = lag.step_increment(accel_lagged_W_, accel_W_);
+  wdw_lagged_ = lag.step_increment(wdw_lagged_, wdw_);
 }
 
 }  // namespace lathectl::control

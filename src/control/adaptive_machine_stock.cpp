@@ -140,7 +140,7 @@ void AdaptiveMachine::learn_specific_force(const Input& in, double rpm, double d
   const double m = model_load(t, s, v);
   if (!(m > 0.0) || !std::isfinite(m)) return;
   const double k = std::clamp(out.load_rev / m, 0.2, 5.0);
-  kappa_ += (1.0 - std::exp(-dt / p_.specific_force_time_s)) * (k - kappa_);
+  kappa_ = core::FirstOrderLag(dt, p_.specific_force_time_s).step_increment(kappa_, k);
   kappa_learned_ = true;
 }
 

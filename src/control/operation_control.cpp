@@ -54,9 +54,9 @@ void IdleTare::learn(double n, double drive_power_W, double dt) noexcept {
     ++populated_;
   } else {
     // A running mean: the plain mean while the bin is young, then exponential (tau_s).
-    const double a = dt / std::min(weight_s_[k] + dt, p_.tau_s);
-    power_[k] += a * (drive_power_W - power_[k]);
-    rpm_[k] += a * (n - rpm_[k]);
+    const auto mean = core::FirstOrderLag::with_gain(dt / std::min(weight_s_[k] + dt, p_.tau_s));
+    power_[k] = mean.step_increment(power_[k], drive_power_W);
+    rpm_[k] = mean.step_increment(rpm_[k], n);
   }
   weight_s_[k] += dt;
   dirty_ = true;
@@ -220,13 +220,14 @@ void OperationStats::sample(double load, double load_rev, bool whole_rev, double
 bool PathBreakage::update(double load, double limit, double nominal_depth_mm,
                           double guaranteed_depth_mm, double dt) noexcept {
   if (!std::isfinite(load) || !(limit > 0.0)) return false;
+  // Kept if loaded, as its level: fell_to asks only whether one lies in the window, and equal
+  // levels keep the queue at one sample (no aging of a queue of loads each period).
+  collapse_.push(0.5 * limit, dt, load > 0.5 * limit);
   if (load > 0.5 * limit) {
-    high_since_s_ = 0.0;
     depth_high_ = nominal_depth_mm;
     return false;
   }
-  high_since_s_ += dt;
-  return load < p_.air * limit && high_since_s_ <= p_.window_s &&
+  return collapse_.fell_to(load, p_.air * limit) &&
          guaranteed_depth_mm >= std::max(p_.min_depth_mm, p_.keep * depth_high_);
 }
 

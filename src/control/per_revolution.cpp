@@ -44,8 +44,8 @@ double PerRevolutionPeak::push(double t_s, double x, double rpm, bool cutting) n
   const double mean = mean_.push(x, rpm);
   if (cutting && !was_cutting_) contact_t_ = t_s;
   was_cutting_ = cutting;
-  if (cutting && t_s - contact_t_ > 60.0 / std::max(std::abs(rpm), 1.0))
-    peak_ = std::max(peak_, mean);
+  counted_ = cutting && t_s - contact_t_ > 60.0 / std::max(std::abs(rpm), 1.0);
+  if (counted_) peak_ = std::max(peak_, mean);
   return mean;
 }
 
@@ -54,6 +54,22 @@ std::vector<double> per_revolution_mean(std::span<const double> x, std::span<con
   PerRevolutionMean mean(dt_s);
   std::vector<double> out(x.size());
   for (std::size_t i = 0; i < x.size(); ++i) out[i] = mean.push(x[i], rpm[i]);
+  return out;
+}
+
+PerRevolutionRecord per_revolution_peak(std::span<const double> t_s, std::span<const double> x,
+                                        std::span<const double> rpm,
+                                        std::span<const unsigned char> cutting, double dt_s) {
+  PerRevolutionPeak peak;
+  peak.configure(dt_s);
+  PerRevolutionRecord out;
+  out.mean.resize(x.size());
+  out.counted.resize(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    out.mean[i] = peak.push(t_s[i], x[i], rpm[i], cutting[i] != 0);
+    out.counted[i] = peak.counted() ? 1 : 0;
+  }
+  out.peak = peak.peak();
   return out;
 }
 

@@ -38,8 +38,8 @@ void PulseFeedController::configure(const Params& p) {
   configured_ = true;
   ka_ = p.regulator_gain_per_m * p.pulse_width_s * p.frequency_Hz;  // (2)
   kf_ = p.regulator_gain_per_m * p.slot_m * p.pulse_width_s;        // (6)
-  filter_a_ = p.force_filter_s > 0.0 ? 1.0 - std::exp(-p.period_s / p.force_filter_s) : 1.0;
-  rate_a_ = p.rate_filter_s > 0.0 ? 1.0 - std::exp(-p.period_s / p.rate_filter_s) : 1.0;
+  force_lag_ = core::FirstOrderLag(p.period_s, p.force_filter_s);
+  rate_lag_ = core::FirstOrderLag(p.period_s, p.rate_filter_s);
   {
     auto mp = p.sensor_monitor;  // the monitor samples once per control period
     if (mp.period_s == 0.0) mp.period_s = p.period_s;
@@ -166,8 +166,8 @@ void PulseFeedController::update(const Input& in, Output& out) noexcept {
 
   const double measured = (in.sensor_V - p_.sensor_offset_V) / p_.sensor_V_per_N;
   const double previous = force_;
-  force_ += filter_a_ * (measured - force_);
-  force_rate_ += rate_a_ * ((force_ - previous) / p_.period_s - force_rate_);
+  force_ = force_lag_.step_increment(force_, measured);
+  force_rate_ = rate_lag_.step_increment(force_rate_, (force_ - previous) / p_.period_s);
 
   Reason reason = Reason::None;
   // A frozen reading (suspect, see SignalMonitor) never drives the feed up: the regulator and

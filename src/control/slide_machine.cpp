@@ -49,7 +49,9 @@ void SlideMachine::configure(const Params& p) {
   check_law(p.force_law, "force_law");
   ctl_.configure(p.controller);  // its own ParameterError, naming its parameter
   p_ = p;
+  // The window in samples (one push per control period), the samples before the present one.
   hist_n_ = static_cast<std::size_t>(std::llround(p.breakage_window_s / period));
+  collapse_.configure(static_cast<double>(hist_n_));
   over_limit_n_ = std::llround(p.overload_time_s / period);
   configured_ = true;
   start(0.0);
@@ -63,8 +65,7 @@ void SlideMachine::start(double force_N) noexcept {
   alarm_ = false;
   alarm_reason_ = Reason::None;
   over_n_ = 0;
-  head_ = 0;
-  filled_ = 0;
+  collapse_.reset();
   co_ = {};
   out_ = {};
   out_.enabled = true;
@@ -110,7 +111,7 @@ void SlideMachine::program(const Input& in) noexcept {
     const bool held = co_.alarm;  // a sensor alarm stays latched through off/on
     if (!held) ctl_.start(std::isfinite(f0) ? std::max(f0, 0.0) : 0.0);
     over_n_ = 0;
-    filled_ = 0;
+    collapse_.reset();
   }
 }
 
@@ -150,7 +151,7 @@ void SlideMachine::update(const Input& in) noexcept {
     alarm_ = false;
     alarm_reason_ = Reason::None;
     over_n_ = 0;
-    filled_ = 0;
+    collapse_.reset();
     ctl_.reset_alarm();
   }
   last_reset_ = in.reset_alarm;
@@ -165,25 +166,20 @@ void SlideMachine::update(const Input& in) noexcept {
   const auto& cp = ctl_.params();
   const bool roughing = cp.mode == Mode::Roughing;
   const double est = co_.force_estimate_N;
+  collapse_.push(est, 1.0);  // one sample per control period
 
   // Roughing's tool alarms (only when the sensor itself is trusted).
   if (roughing && !co_.alarm && !alarm_) {
     const double set = cp.force_set_N;
     over_n_ = est > p_.overload_factor * set ? over_n_ + 1 : 0;
     if (over_n_ > over_limit_n_) latch(Reason::Overload);
-    if (filled_ >= hist_n_) {
-      double peak = est;
-      for (std::size_t k = 1; k <= hist_n_; ++k)
-        peak = std::max(peak, hist_[(head_ + kBreakageSamples - k) % kBreakageSamples]);
-      if (peak - est > p_.breakage_drop * set && co_.feed_cmd_m_per_s > 0.0)
-        latch(Reason::ToolBreakage);
-    }
+    // (a whole window of samples before this one since the last restart)
+    if (collapse_.pushed() > hist_n_ && collapse_.fell_by(est, p_.breakage_drop * set) &&
+        co_.feed_cmd_m_per_s > 0.0)
+      latch(Reason::ToolBreakage);
   } else if (!roughing) {
     over_n_ = 0;
   }
-  hist_[head_] = est;
-  head_ = (head_ + 1) % kBreakageSamples;
-  if (filled_ < hist_n_) ++filled_;
 
   write_outputs(est);
 }

@@ -69,10 +69,9 @@ void EccentricDrive::step(double dt, double slot_cmd) noexcept {
                                   -p_.motor_max_speed_rad_per_s, p_.motor_max_speed_rad_per_s);
   if (dt != last_dt_) {
     last_dt_ = dt;
-    decay_ = p_.motor_time_constant_s > 0.0 ? std::exp(-dt / p_.motor_time_constant_s) : 0.0;
+    motor_lag_ = core::FirstOrderLag(dt, p_.motor_time_constant_s);
   }
-  const double a = decay_;
-  const double w_new = w_cmd + (omega_ - w_cmd) * a;
+  const double w_new = motor_lag_.step(omega_, w_cmd);
   theta_ += 0.5 * (omega_ + w_new) / p_.gear_ratio * dt;
   omega_ = w_new;
   const double lo = p_.profile_angle_rad.front();

@@ -29,7 +29,7 @@ void FeedAxis::configure(const Params& p, double dt_s) {
     throw std::invalid_argument("feed axis: velocity_window_s / dt exceeds 1e7 steps");
   p_ = p;
   dt_ = dt_s;
-  decay_ = p.time_constant_s > 0.0 ? std::exp(-dt_s / p.time_constant_s) : 0.0;
+  lag_ = core::FirstOrderLag(dt_s, p.time_constant_s);
   hist_.assign(static_cast<std::size_t>(window_steps) + 1, 0.0);
   reset(0.0, 0.0);
 }
@@ -49,7 +49,7 @@ void FeedAxis::reset(double z_m, double v_m_per_s) noexcept {
 
 void FeedAxis::step(double v_cmd_m_per_s) noexcept {
   const double v_ref = std::clamp(v_cmd_m_per_s, -p_.max_velocity_m_per_s, p_.max_velocity_m_per_s);
-  double v_new = v_ref + (v_ - v_ref) * decay_;
+  double v_new = lag_.step(v_, v_ref);
   const double dv_max = p_.max_acceleration_m_per_s2 * dt_;
   if (std::abs(v_new - v_) > dv_max) v_new = v_ + std::copysign(dv_max, v_new - v_);
   z_ += 0.5 * (v_ + v_new) * dt_;

@@ -28,21 +28,22 @@ std::string num(double v, int digits = 6) {
 }
 
 // Per-revolution mean of the force parameter in feed moves (a rapid through material is
-// reported on its own: no feed acts on it) and its peak.
-std::vector<double> rev_param(const io::CanonProgram& prog, const Samples& s) {
-  std::vector<double> f(s.param.size());
-  for (std::size_t i = 0; i < f.size(); ++i)
-    f[i] = prog.moves[static_cast<std::size_t>(s.move[i])].kind == CanonMove::Kind::Traverse
-               ? 0.0
-               : s.param[i];
-  return control::per_revolution_mean(f, s.rpm, s.dt_s);
-}
-double feed_peak(const io::CanonProgram& prog, const Samples& s, const std::vector<double>& rev) {
-  double peak = 0.0;
-  for (std::size_t i = 0; i < rev.size(); ++i)
-    if (prog.moves[static_cast<std::size_t>(s.move[i])].kind != CanonMove::Kind::Traverse)
-      peak = std::max(peak, rev[i]);
-  return peak;
+// reported on its own: no feed acts on it) and its peak by the rig's and the LinuxCNC plant's
+// rule (control::PerRevolutionPeak): over the cuts in feed moves, each cut's first revolution
+// left out. Time is the samples' own (the last step of a piece may be shorter than dt_s).
+control::PerRevolutionRecord rev_param(const io::CanonProgram& prog, const Samples& s) {
+  std::vector<double> f(s.param.size()), t(s.param.size());
+  std::vector<unsigned char> cutting(s.param.size());
+  double now = 0.0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    const bool feed =
+        prog.moves[static_cast<std::size_t>(s.move[i])].kind != CanonMove::Kind::Traverse;
+    f[i] = feed ? s.param[i] : 0.0;
+    cutting[i] = feed && s.depth[i] > 0.0 && s.feed_rev[i] > 0.0 ? 1 : 0;
+    t[i] = now;
+    now += s.dt[i];
+  }
+  return control::per_revolution_peak(t, f, s.rpm, cutting, s.dt_s);
 }
 
 struct PieceStats {
@@ -175,10 +176,9 @@ std::vector<std::string> warnings(const Program& p, const systems::e_adaptive::S
   const auto rev = rev_param(prog, r.after.s);
   double peak = 0.0;
   int line = 0;
-  for (std::size_t i = 0; i < rev.size(); ++i)
-    if (prog.moves[static_cast<std::size_t>(r.after.s.move[i])].kind != CanonMove::Kind::Traverse &&
-        rev[i] > peak) {
-      peak = rev[i];
+  for (std::size_t i = 0; i < rev.mean.size(); ++i)
+    if (rev.counted[i] != 0 && rev.mean[i] > peak) {
+      peak = rev.mean[i];
       line = prog.moves[static_cast<std::size_t>(r.after.s.move[i])].line;
     }
   if (peak > r.limit) {
@@ -210,7 +210,7 @@ namespace {
 // (by the optimised plan's pieces), the pieces below chatter margin 1.
 struct Compared {
   std::string unit;  // of the force parameter: "W" or "N"
-  std::vector<double> rev0, rev1;
+  control::PerRevolutionRecord rev0, rev1;
   std::vector<std::vector<PieceStats>> st0, st1;
   int below0 = 0, below1 = 0;
   double mm0 = 0.0, mm1 = 0.0;  // least chatter margin
@@ -222,8 +222,8 @@ Compared compare(const io::CanonProgram& prog, const Result& r,
   c.unit = e.rig.force_parameter == cutting::ForceParameter::Power ? "W" : "N";
   c.rev0 = rev_param(prog, r.before.s);
   c.rev1 = rev_param(prog, r.after.s);
-  c.st0 = stats(prog, r.optimized, r.before.s, c.rev0);
-  c.st1 = stats(prog, r.optimized, r.after.s, c.rev1);
+  c.st0 = stats(prog, r.optimized, r.before.s, c.rev0.mean);
+  c.st1 = stats(prog, r.optimized, r.after.s, c.rev1.mean);
   for (std::size_t mi = 0; mi < prog.moves.size(); ++mi) {
     if (prog.moves[mi].kind == CanonMove::Kind::Traverse) continue;
     for (std::size_t k = 0; k < r.optimized[mi].size(); ++k) {
@@ -280,8 +280,7 @@ const VerifyRun* verify_run(const Verified* v, const char* name) {
 }
 
 // summary.json's cycle times and peaks: predicted, and as LinuxCNC ran them (--verify).
-void summary_times(json& js, const io::CanonProgram& prog, const Result& r, const Verified* v,
-                   const Compared& c) {
+void summary_times(json& js, const Result& r, const Verified* v, const Compared& c) {
   const VerifyRun *vo = verify_run(v, "original"), *vp = verify_run(v, "optimized"),
                   *vo_on = verify_run(v, "original_online"),
                   *vp_on = verify_run(v, "optimized_online");
@@ -289,12 +288,12 @@ void summary_times(json& js, const io::CanonProgram& prog, const Result& r, cons
   js["predicted_cycle_time_optimized_s"] = r.after.cycle_time_s;
   js["predicted_accel_time_original_s"] = r.before.accel_time_s;
   js["predicted_accel_time_optimized_s"] = r.after.accel_time_s;
-  js["predicted_force_peak_rev_original_N"] = feed_peak(prog, r.before.s, c.rev0);
-  js["predicted_force_peak_rev_optimized_N"] = feed_peak(prog, r.after.s, c.rev1);
+  js["predicted_force_peak_rev_original_N"] = c.rev0.peak;
+  js["predicted_force_peak_rev_optimized_N"] = c.rev1.peak;
   js["cycle_time_original_s"] = vo ? vo->cycle_time_s : r.before.cycle_time_s;
   js["cycle_time_optimized_s"] = vp ? vp->cycle_time_s : r.after.cycle_time_s;
-  js["force_peak_rev_original_N"] = vo ? vo->force_peak_rev : feed_peak(prog, r.before.s, c.rev0);
-  js["force_peak_rev_optimized_N"] = vp ? vp->force_peak_rev : feed_peak(prog, r.after.s, c.rev1);
+  js["force_peak_rev_original_N"] = vo ? vo->force_peak_rev : c.rev0.peak;
+  js["force_peak_rev_optimized_N"] = vp ? vp->force_peak_rev : c.rev1.peak;
   js["prediction_error_pct"] = v ? json(v->prediction_error_pct) : json(nullptr);
   if (v) {
     js["prediction_error_line"] = v->prediction_error_line;
@@ -325,7 +324,7 @@ json summary_json(const Program& p, const Result& r, const systems::e_adaptive::
                           : e.rig.force_parameter == cutting::ForceParameter::Py ? "Py"
                                                                                  : "Pz";
   js["force_limit_N"] = r.limit;
-  summary_times(js, p.canon, r, v, c);
+  summary_times(js, r, v, c);
   js["blocks_changed"] = r.blocks_changed;
   js["splits_dropped"] = r.splits_dropped;
   // Chatter (scenario [chatter]): null without modes, or where no lobe reaches (stable at any
@@ -420,9 +419,9 @@ void report_plots(io::Report& rep, const io::CanonProgram& prog, const Result& r
               {},
               {}};
   pf.series.push_back(
-      {"original", decimate(r.before.s.path_mm, e0), decimate(c.rev0, e0), "", false, false});
+      {"original", decimate(r.before.s.path_mm, e0), decimate(c.rev0.mean, e0), "", false, false});
   pf.series.push_back(
-      {"optimised", decimate(r.after.s.path_mm, e1), decimate(c.rev1, e1), "", false, false});
+      {"optimised", decimate(r.after.s.path_mm, e1), decimate(c.rev1.mean, e1), "", false, false});
   pf.series.push_back({"limit",
                        {0.0, r.after.s.path_mm.empty() ? 1.0 : r.after.s.path_mm.back()},
                        {r.limit, r.limit},

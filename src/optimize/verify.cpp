@@ -11,6 +11,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
+#include <utility>
 
 #include "lathectl/io/channels_reader.hpp"
 #include "lathectl/io/errors.hpp"
@@ -96,10 +97,20 @@ VerifyRun run_sim_once(const std::string& name, const std::string& text, bool of
     rpm[i] = std::abs(rpm_col[i]);
     run.line.push_back(static_cast<int>(line[i]) - offset);
   }
-  std::vector<double> in_feed(run.force.size());  // rapids through material: reported apart
-  for (std::size_t i = 0; i < in_feed.size(); ++i)
-    in_feed[i] = control::is_feed_motion(run.motion[i]) ? run.force[i] : 0.0;
-  run.force_rev = control::per_revolution_mean(in_feed, rpm, dt_s);
+  // The per-revolution mean and its peak by the rule of lathectl run and the plant's pin
+  // (control::PerRevolutionPeak): in feed moves (rapids through material are reported apart),
+  // over the cuts, each cut's first revolution left out.
+  const auto &depth = col("depth_mm"), &feed_rev = col("feed_per_rev_mm");
+  std::vector<double> in_feed(run.force.size());
+  std::vector<unsigned char> cutting(run.force.size());
+  for (std::size_t i = 0; i < in_feed.size(); ++i) {
+    const bool feed = control::is_feed_motion(run.motion[i]);
+    in_feed[i] = feed ? run.force[i] : 0.0;
+    cutting[i] = feed && depth[i] > 0.0 && feed_rev[i] > 0.0 ? 1 : 0;
+  }
+  auto rev = control::per_revolution_peak(t, in_feed, rpm, cutting, dt_s);
+  run.force_rev = std::move(rev.mean);
+  run.force_peak_rev = rev.peak;
   // The cycle: until the last move ends (motion type ≠ 0), the same measure for every run; the
   // simulator's own cycle_time_s also counts a session that hangs after its last move.
   for (std::size_t i = run.motion.size(); i-- > 0;)
@@ -107,9 +118,6 @@ VerifyRun run_sim_once(const std::string& name, const std::string& text, bool of
       run.cycle_time_s = run.t[i] + dt_s;
       break;
     }
-  for (std::size_t i = 0; i < run.force_rev.size(); ++i)
-    if (control::is_feed_motion(run.motion[i]))
-      run.force_peak_rev = std::max(run.force_peak_rev, run.force_rev[i]);
   return run;
 }
 
@@ -180,7 +188,7 @@ Verified verify(const Program& p, const Result& r, const Options& opt, const Ver
   const VerifyRun& o = out.runs[1];
   int current = -1;  // the line the last sample was given
   for (std::size_t i = 0; i < o.t.size(); ++i) {
-    if (o.motion[i] != 2.0 && o.motion[i] != 3.0) continue;
+    if (!control::is_feed_motion(o.motion[i])) continue;
     int line = o.line[i];
     if (line != current && current >= 0 && path.count(line) != 0 &&
         distance(current, o.x[i], o.z[i]) < distance(line, o.x[i], o.z[i]))

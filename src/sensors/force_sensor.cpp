@@ -26,9 +26,9 @@ void LaggedNoisySensor::reset(double value) noexcept {
 void LaggedNoisySensor::step(double dt, double true_value) noexcept {
   if (dt != last_dt_) {  // the step is fixed in a run: one exp per run, not per step
     last_dt_ = dt;
-    decay_ = p_.time_constant_s > 0.0 ? std::exp(-dt / p_.time_constant_s) : 0.0;
+    lag_ = core::FirstOrderLag(dt, p_.time_constant_s);
   }
-  y_ = true_value + (y_ - true_value) * decay_;
+  y_ = lag_.step(y_, true_value);
 }
 
 double LaggedNoisySensor::sample() noexcept {

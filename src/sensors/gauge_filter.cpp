@@ -28,7 +28,7 @@ void GaugeFilter::configure(const Params& p, double dt) {
   p_ = p;
   const double tf =
       p.kind == GaugeFilterKind::SecondOrder ? 0.5 * p.time_constant_s : p.time_constant_s;
-  decay_ = std::exp(-dt / tf);
+  lag_ = core::FirstOrderLag(dt, tf);  // tf > 0
   ring_.assign(
       p.kind == GaugeFilterKind::Synchronous
           ? std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(window_s(p) / dt)))
@@ -47,8 +47,8 @@ void GaugeFilter::reset(double level) noexcept {
 double GaugeFilter::step(double g) noexcept {
   switch (p_.kind) {
     case GaugeFilterKind::SecondOrder:
-      s1_ = g + (s1_ - g) * decay_;
-      s_ = s1_ + (s_ - s1_) * decay_;
+      s1_ = lag_.step(s1_, g);
+      s_ = lag_.step(s_, s1_);
       return s_;
     case GaugeFilterKind::Synchronous: {
       ring_sum_ += g - ring_[ring_pos_];
@@ -65,7 +65,7 @@ double GaugeFilter::step(double g) noexcept {
     case GaugeFilterKind::FirstOrder:
       break;
   }
-  s_ = g + (s_ - g) * decay_;
+  s_ = lag_.step(s_, g);
   return s_;
 }
 

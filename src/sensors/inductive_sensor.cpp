@@ -26,10 +26,9 @@ double InductiveSensor::step(double dt, double force_N) noexcept {
   const double target = p_.offset_V + p_.gain_V_per_m * force_N / p_.holder_stiffness_N_per_m;
   if (dt != last_dt_) {
     last_dt_ = dt;
-    decay_ = p_.time_constant_s > 0.0 ? std::exp(-dt / p_.time_constant_s) : 0.0;
+    lag_ = core::FirstOrderLag(dt, p_.time_constant_s);
   }
-  const double a = decay_;
-  u_ = target + (u_ - target) * a;
+  u_ = lag_.step(u_, target);
   return std::clamp(u_, 0.0, p_.saturation_V);
 }
 

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "lathectl/core/first_order_lag.hpp"
+
 namespace lathectl::sensors {
 
 namespace {
@@ -113,8 +115,10 @@ void PowerSensor::update(double motor_power_W, double rpm, bool idle_block) noex
   measured_ = std::round(meter_.sample() / p_.adc_lsb_W) * p_.adc_lsb_W;
   if (idle_block) {
     // Exponential average with the window idle_average_s, restarted at the block's start.
-    const double b = was_idle_ ? 1.0 - std::exp(-dt_ / p_.idle_average_s) : 1.0;
-    avg_ += b * (measured_ - avg_);
+    // (at the start the average is the sample: no lag)
+    const core::FirstOrderLag lag =
+        was_idle_ ? core::FirstOrderLag(dt_, p_.idle_average_s) : core::FirstOrderLag();
+    avg_ = lag.step_increment(avg_, measured_);
     idle_ = avg_;
     idle_rpm_ = rpm;
   }

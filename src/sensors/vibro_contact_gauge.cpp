@@ -52,9 +52,8 @@ void VibroContactGauge::configure(const Params& p, double dt) {
   z_eq_ = st.static_offset_m;
   gain_ = st.signal_gain_V_per_m;
   const double L = p.coil_inductance_H, r = p.coil_resistance_ohm;
-  coil_decay_ = std::exp(-dt * r / L);
-  gen_decay_ =
-      p.generator_time_constant_s > 0.0 ? std::exp(-dt / p.generator_time_constant_s) : 0.0;
+  coil_lag_ = core::FirstOrderLag::with_decay(std::exp(-dt * r / L));  // τ = L/r
+  gen_lag_ = core::FirstOrderLag(dt, p.generator_time_constant_s);
   filter_.configure(filter_params(p), dt);
   linear_free_state();
   if (nonlinear()) {
@@ -195,13 +194,14 @@ double VibroContactGauge::step_generator(double x) noexcept {
   // rate r/(L·q), q = δ/(δ − z), with the supply at the step's midpoint and z held over it.
   const double vin = p_.supply_V * std::sin(omega_ * (t_ + free_.t0 + 0.5 * dt));
   const double L = p_.coil_inductance_H, r = p_.coil_resistance_ohm, W = p_.coil_turns;
-  double q = 1.0, decay = coil_decay_;
+  double q = 1.0;
+  core::FirstOrderLag coil = coil_lag_;
   if (p_.magnet_gap_m > 0.0) {
     q = p_.magnet_gap_m / (p_.magnet_gap_m - z_);
-    decay = std::exp(-dt * r / (L * q));
+    coil = core::FirstOrderLag::with_decay(std::exp(-dt * r / (L * q)));  // τ = L·q/r
   }
   const double phi_ss = vin * L * q / (W * r);
-  phi_ = phi_ss + (phi_ - phi_ss) * decay;
+  phi_ = coil.step(phi_, phi_ss);
   const double f_m = p_.force_coefficient_N_per_Wb2 * phi_ * phi_;  // (5)
   // Permanent magnet (9)-(11): F_M = F_M0·m², the generator's gain K_g·m², m = b₂/(b₂ − z).
   const double mg = p_.pm_gap_m > 0.0 ? p_.pm_gap_m / (p_.pm_gap_m - z_) : 1.0;
@@ -225,7 +225,7 @@ double VibroContactGauge::step_generator(double x) noexcept {
   v_ = v_new;
   // Generator (12).
   const double emf = p_.generator_V_per_m_per_s * mg * mg * v_;
-  u_ = emf + (u_ - emf) * gen_decay_;
+  u_ = gen_lag_.step(u_, emf);
   t_ += dt;
   return u_;
 }

@@ -67,5 +67,36 @@ TEST(PerRevolutionPeak, LeavesOutEachCutsFirstRevolution) {
   EXPECT_DOUBLE_EQ(p.value(), 150.0);
 }
 
+// A record's peak (lathectl optimize's prediction and its --verify runs) is PerRevolutionPeak's:
+// the same means, each cut's first revolution left out of the peak.
+TEST(PerRevolutionPeak, ARecordGivesThePeakOfTheRigsRule) {
+  // 600 rpm at 0.01 s: 10 samples a revolution. A cut from sample 20 to 59 whose force is 500 for
+  // its first 5 samples (the entry) and 200 after.
+  std::vector<double> t, x, rpm(100, 600.0);
+  std::vector<unsigned char> cutting;
+  for (int i = 0; i < 100; ++i) {
+    t.push_back(0.01 * i);
+    const bool cut = i >= 20 && i < 60;
+    cutting.push_back(cut ? 1 : 0);
+    x.push_back(!cut ? 0.0 : i < 25 ? 500.0 : 200.0);
+  }
+  const auto rec = per_revolution_peak(t, x, rpm, cutting, 0.01);
+  PerRevolutionPeak ref;
+  ref.configure(0.01);
+  ASSERT_EQ(rec.mean.size(), x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    EXPECT_EQ(rec.mean[i], ref.push(t[i], x[i], rpm[i], cutting[i] != 0)) << i;
+    EXPECT_EQ(rec.counted[i] != 0, ref.counted()) << i;
+  }
+  EXPECT_EQ(rec.peak, ref.peak());
+  // The entry's revolution is out (its mean, 350 at sample 29, is no cut's mean yet); the first
+  // sample past it (31: 0.3 − 0.2 is not > 0.1 in doubles) holds 3 samples of 500 and 7 of 200.
+  EXPECT_NEAR(rec.mean[29], 350.0, 1e-9);
+  EXPECT_EQ(rec.counted[30], 0);
+  EXPECT_EQ(rec.counted[31], 1);
+  EXPECT_NEAR(rec.peak, 290.0, 1e-9);
+  EXPECT_EQ(rec.counted[60], 0);  // out of the cut
+}
+
 }  // namespace
 }  // namespace lathectl::control

@@ -21,6 +21,8 @@ import subprocess
 import sys
 import tomllib
 
+from reasons import REASON  # the reason codes by name, from hal/reasons.json
+
 PERIOD_S = 1e-3
 FAILS = []
 
@@ -183,7 +185,7 @@ def test_adaptive(src, work):
     at = lambda t: int(round(t / PERIOD_S))
     check(not any(int(r[8]) for r in got), "thread period divides the control period")
     check(all(0.0 <= v <= 1.0 for v in af), "adaptive-feed stays in [0, 1] (never reverses)")
-    check(af[at(0.1)] == 1.0 and reason[at(0.1)] == 32,
+    check(af[at(0.1)] == 1.0 and reason[at(0.1)] == REASON["not_in_feed_block"],
           "rapid: adaptive-feed 1, reason not_in_feed_block (got %g, %d)" % (af[at(0.1)],
                                                                           reason[at(0.1)]))
     entry = min(spr[at(0.2):at(0.204)])
@@ -212,7 +214,9 @@ def test_adaptive(src, work):
           (None if first is None else first - at(3.5)))
     check(all(hold[at(3.51):]) and all(alarm[at(3.51):]) and all(v == 0.0 for v in af[at(3.51):]),
           "the hold latches: adaptive-feed 0, alarm on")
-    check(areason[-1] == 10, "alarm reason sensor_not_finite (10), got %d" % areason[-1])
+    check(areason[-1] == REASON["sensor_not_finite"],
+          "alarm reason sensor_not_finite (%d), got %d"
+          % (REASON["sensor_not_finite"], areason[-1]))
     check(rpm_out[-1] > 0.0, "the spindle keeps turning during the hold (%.0f rpm)" % rpm_out[-1])
     print("adaptive update(): max %d ns over %d calls" % (max(ns), len(ns)))
 

@@ -33,6 +33,7 @@ import sys
 import tomllib
 
 from sim_session import run_linuxcnc_sim
+from reasons import REASON
 
 FAILS = []
 # Motion's stop after an input (probe or feed-inhibit) changes in the base thread: seen in its
@@ -131,8 +132,8 @@ def main():
             backstop_err = m["backstop_um"] - proc["target_um"]
             for p in s["parts_detail"]:
                 tag = "never_trips part %d: " % p["part"]
-                check(p["alarm"] and p["reason"] == 60, tag + "alarm gauge_backstop (%d)"
-                      % p["reason"])
+                check(p["alarm"] and p["reason"] == REASON["gauge_backstop"],
+                      tag + "alarm gauge_backstop (%d)" % p["reason"])
                 check(p["unreachable"], tag + "the gauge said the threshold is unreachable")
                 check(abs(p["error_um"] - backstop_err) <= 0.1,
                       tag + "size at the backstop: %.3f µm (backstop %.1f)"
@@ -143,7 +144,7 @@ def main():
         if s:
             p = s["parts_detail"][0] if s["parts_detail"] else {}
             check(s["aborted_on_feed_hold"], "signal_lost: the feed held and the program aborted")
-            check(p.get("alarm") and p.get("reason") == 63,
+            check(p.get("alarm") and p.get("reason") == REASON["gauge_signal_lost"],
                   "signal_lost: alarm gauge_signal_lost (%s)" % p.get("reason"))
             at, held = p.get("wire_broken_at_um"), p.get("held_size_um")
             limit = rough_um_s * (supply_s + MOTION_STOP_S)

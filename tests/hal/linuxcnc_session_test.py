@@ -30,6 +30,8 @@ import subprocess
 import sys
 import tomllib
 
+from reasons import REASON  # the reason codes by name, from hal/reasons.json
+
 FAILS = []
 
 
@@ -193,8 +195,9 @@ def main():
               (None if nan_i is None or hold_i is None else hold_i - nan_i))
         if hold_i is not None:
             held = rows[hold_i:]
-            check(all(r["adaptive_feed"] == 0.0 and r["alarm"] == 1 and r["alarm_reason"] == 10
-                      for r in held), "fault: adaptive-feed 0, alarm latched, reason 10 after")
+            check(all(r["adaptive_feed"] == 0.0 and r["alarm"] == 1 and
+                      r["alarm_reason"] == REASON["sensor_not_finite"] for r in held),
+                  "fault: adaptive-feed 0, alarm latched, reason sensor_not_finite after")
             stop = next((i for i, r in enumerate(held) if abs(r["current_vel_mm_per_s"]) < 1e-9),
                         None)
             check(stop is not None and stop <= 100,

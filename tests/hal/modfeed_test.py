@@ -23,6 +23,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import halrun_test as H  # noqa: E402  (check, halrun, stream_session, FAILS)
+from reasons import REASON  # noqa: E402  (the reason codes by name, from hal/reasons.json)
 
 SCENARIO = "examples/linuxcnc/b_chatter_single.toml"
 # The re-plan's own thread, as a machine's HAL adds it (lathectl_modfeed(9)): slower than the
@@ -100,8 +101,9 @@ def test_stream(src, work):
             % (nc, 1000 / 0.85))
     after = [r for i, r in enumerate(got) if i >= 2300]
     H.check(all(r[3] == 1 for r in after), "engaged once a0 and ω_d come above the dead zone")
-    H.check(all(int(r[4]) in (50, 52) for r in after),
-            "reason code modulation_engaged (50) or modulation_limited (52)")
+    H.check(all(int(r[4]) in (REASON["modulation_engaged"], REASON["modulation_limited"])
+                for r in after),
+            "reason code modulation_engaged or modulation_limited")
     last = after[-1]
     s_min, ds, dl, n_s = last[5], last[6], last[7], int(last[8])
     H.check(ds > 0 and near_multiple(ds, 0.1), "ΔS = %.1f mm/min, a multiple of 0.1" % ds)
@@ -124,7 +126,8 @@ def test_stream(src, work):
         feeds = sorted({round(r[1], 6) for r in cut})
         H.check(feeds == [150.0, 175.0, 200.0, 225.0, 250.0],
                 "programmed (150, 25, 0.2, 4): levels %s" % feeds)
-        H.check(all(int(r[4]) == 53 for r in cut), "reason code modulation_programmed (53)")
+        H.check(all(int(r[4]) == REASON["modulation_programmed"] for r in cut),
+            "reason code modulation_programmed")
 
 
 def test_loop(src, work):
@@ -189,7 +192,9 @@ net zpos scale.0.out => lathectl-chatter.z-pos
     t_eng = (engaged[0] - contact[0]) * 1e-3
     wd = [r[2] for r in got[engaged[0]:] if r[2] > 0]
     fd = sum(wd) / len(wd) if wd else 0.0
-    H.check(all(int(r[5]) in (50, 52) for r in got[engaged[0]:]), "reason codes 50/52 while engaged")
+    H.check(all(int(r[5]) in (REASON["modulation_engaged"], REASON["modulation_limited"])
+                for r in got[engaged[0]:]),
+            "reason codes modulation_engaged/modulation_limited while engaged")
     # Time-mean path speed after engagement, over whole staircase cycles: the program's mean.
     i0 = engaged[0] + 100
     dt = (n - 1 - i0) * 1e-3

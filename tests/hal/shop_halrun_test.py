@@ -15,7 +15,7 @@ records the component in the same 1 ms period.
                                          collapses, while a programmed fast exit from the material
                                          does not, with the stock model (z_origin_mm); the
                                          controller's own collapse detector trips on that exit;
-                                         the tool's table row changed in a feed move: alarm 22
+                                         the tool's table row changed in a feed move: alarm tool_data_changed
   shop_halrun_test.py files SRC WORK     unreadable or wrong tools/taught files: the load fails
                                          with one line naming file, line and key
 """
@@ -27,6 +27,7 @@ import tomllib
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import halrun_test as h  # noqa: E402  (the halrun/streamer/sampler helpers and staging)
+from reasons import REASON  # noqa: E402  (the reason codes by name, from hal/reasons.json)
 
 check = h.check
 
@@ -94,7 +95,7 @@ def test_settings(src, work):
         t = k * h.PERIOD_S
         ph = [p for p in phases if p[0] <= t + 1e-9][-1]
         # A tool changes (M6) with motion stopped: motion-type 0 in that period (a tool number
-        # that changes inside a feed move is alarm 22, test_breakage).
+        # that changes inside a feed move is alarm tool_data_changed, test_breakage).
         mtype = 0 if rows and rows[-1][12] != ph[5] else 2
         rows.append([0.0, rpm, rpm, s_prog, s_prog * rpm / 60.0, x, mtype, ph[1], ph[2], ph[3],
                      ph[4], 0, ph[5], 10 + phases.index(ph)])
@@ -260,7 +261,7 @@ def test_breakage(src, work):
                        got[i]["force"] < air), None)
         i_stop = next((i for i, r in enumerate(got) if r["breakage"] == 1), None)
         check(i_drop is not None and i_stop == i_drop and got[i_stop]["hold"] == 1 and
-              got[i_stop]["reason"] == 21 and got[i_stop]["predicted"] > 1.5,
+              got[i_stop]["reason"] == REASON["tool_breakage"] and got[i_stop]["predicted"] > 1.5,
               "broken tool: breakage alarm and feed hold in the servo period the force collapses "
               "(%s periods; predicted depth %.2f mm)" %
               (None if i_drop is None or i_stop is None else i_stop - i_drop,
@@ -279,20 +280,22 @@ def test_breakage(src, work):
     # The tool table rewritten under the running program (LinuxCNC's rs274 as the same user:
     # halui.tool.diameter 0.8 → 1.6 mm with T2 in the spindle, measured beside a session). In a
     # rapid (0.7 s) nothing: the next move's data; in a feed move in the cut (1.4 s) its own
-    # alarm 22 and the hold in that servo period, never a breakage.
+    # alarm tool_data_changed and the hold in that servo period, never a breakage.
     got = breakage_session(src, work, "tool_data", "", "z_origin_mm=0",
                            diameter=lambda k: 0.8 if k < 700 else 1.2 if k < 1400 else 1.6,
                            rapid=lambda k: 690 <= k < 710)
     if got:
+        changed = REASON["tool_data_changed"]
         i = next((i for i, r in enumerate(got) if r["tool_data"] == 1 or r["alarm"]), None)
         check(i == 1400 and got[i - 1]["force"] > 100.0 and got[i]["hold"] == 1 and got[i]["alarm"] == 1 and
-              got[i]["reason"] == 22 and all(r["reason"] == 22 and r["hold"] == 1 and
-                                             not r["breakage"] for r in got[i:]),
-              "tool data changed in a feed move: alarm 22 and feed hold in that period, latched, "
+              got[i]["reason"] == changed and
+              all(r["reason"] == changed and r["hold"] == 1 and not r["breakage"]
+                  for r in got[i:]),
+              "tool data changed in a feed move: alarm tool_data_changed and feed hold in that period, latched, "
               "no breakage; in a rapid no alarm (first alarm in period %s)" % i)
     got = breakage_session(src, work, "exit_old", "", "", exit_at=-8.0)
     if got:
-        check(any(r["alarm"] and r["reason"] == 21 for r in got),
+        check(any(r["alarm"] and r["reason"] == REASON["tool_breakage"] for r in got),
               "the same exit with the controller's own collapse detector: a false breakage alarm "
               "(what pawn_bar.toml had to switch off)")
 

@@ -17,6 +17,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import halrun_test as h  # noqa: E402
+from reasons import REASON  # noqa: E402  (the reason codes by name, from hal/reasons.json)
 
 FAULT = 150
 N = 250
@@ -43,8 +44,8 @@ def main():
         slot = [r[2] for r in got]
         feed = [r[3] for r in got]
         h.check(not any(alarm[:FAULT]), name + ": no alarm before the fault")
-        h.check(alarm[FAULT] == 1 and reason[FAULT] == 11,
-                name + ": alarm sensor_out_of_range (11) in the fault's own period (got %d, %d)"
+        h.check(alarm[FAULT] == 1 and reason[FAULT] == REASON["sensor_out_of_range"],
+                name + ": alarm sensor_out_of_range in the fault's own period (got %d, %d)"
                 % (alarm[FAULT], reason[FAULT]))
         h.check(all(alarm[FAULT:]), name + ": the alarm stays latched")
         if roughing:

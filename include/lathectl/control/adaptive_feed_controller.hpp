@@ -47,9 +47,11 @@
 #include <vector>
 
 #include "lathectl/control/building_blocks.hpp"
+#include "lathectl/control/collapse_detector.hpp"
 #include "lathectl/control/contact.hpp"
 #include "lathectl/control/per_revolution.hpp"
 #include "lathectl/control/types.hpp"
+#include "lathectl/core/first_order_lag.hpp"
 
 namespace lathectl::control {
 
@@ -204,13 +206,13 @@ class AdaptiveFeedController {
   RateLimiter speed_ramp_;
   ContactDetector contact_;
   double over_s_ = 0.0;
-  double high_since_s_ = 1e9;  // time since the force was last above half the limit
+  CollapseDetector collapse_;  // the samples above half the limit, within breakage_drop_window_s
   bool alarm_ = false;
   Reason alarm_reason_ = Reason::None;
   double held_rpm_ = 0.0;
   double depth_estimate_ = 0.0;
   double s_cur_filtered_ = 0.0;
-  double speed_filter_a_ = 1.0;
+  core::FirstOrderLag speed_filter_;  // of the measured feed, speed_law_filter_s
   PerRevolutionMean rev_mean_;  // of the accepted readings, since the cut began
 };
 

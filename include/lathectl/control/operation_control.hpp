@@ -31,6 +31,9 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "lathectl/control/collapse_detector.hpp"
+#include "lathectl/core/first_order_lag.hpp"
+
 namespace lathectl::control {
 
 class IdleTare {
@@ -161,12 +164,19 @@ class PathBreakage {
     double keep = 0.5;        // predicted depth still ≥ keep × the loaded one: material is there
     double min_depth_mm = 0.05;
   };
-  void configure(const Params& p) noexcept { p_ = p; reset(); }
-  void reset() noexcept { high_since_s_ = 1e9; depth_high_ = 0.0; }
+  void configure(const Params& p) noexcept {
+    p_ = p;
+    collapse_.configure(p.window_s);
+    reset();
+  }
+  void reset() noexcept {
+    collapse_.reset();
+    depth_high_ = 0.0;
+  }
   // A period whose load cannot be judged (AdaptiveMachine: a power reading that cannot be
   // separated from the spindle's acceleration): time passes, nothing is judged, so a collapse
   // after it is measured from the last load that could be.
-  void skip(double dt) noexcept { high_since_s_ += dt; }
+  void skip(double dt) noexcept { collapse_.pass(dt); }
   // True in the period a collapse with engagement predicted is seen. dt: the time since the last
   // call as measured (PeriodTime::elapsed_s), never the thread's nominal period: after a late
   // period the fall of the load took that much longer than the number of calls says.
@@ -183,7 +193,7 @@ class PathBreakage {
 
  private:
   Params p_{};
-  double high_since_s_ = 1e9;
+  CollapseDetector collapse_;  // the loads above half the limit, within window_s
   double depth_high_ = 0.0;  // predicted depth while the load was above half the limit
 };
 

@@ -62,6 +62,8 @@ class PerRevolutionPeak {
   double push(double t_s, double x, double rpm, bool cutting) noexcept;
   [[nodiscard]] double peak() const noexcept { return peak_; }
   [[nodiscard]] double value() const noexcept { return mean_.value(); }
+  // The last sample counted toward the peak: in a cut, past the cut's first revolution.
+  [[nodiscard]] bool counted() const noexcept { return counted_; }
   // Time since the present (or last) cut began; large before the first.
   [[nodiscard]] double since_contact_s(double t_s) const noexcept { return t_s - contact_t_; }
 
@@ -70,10 +72,24 @@ class PerRevolutionPeak {
   double contact_t_ = -1e9;
   double peak_ = 0.0;
   bool was_cutting_ = false;
+  bool counted_ = false;
 };
 
 // The same mean over a whole record sampled every dt_s (x and rpm of the same length).
 std::vector<double> per_revolution_mean(std::span<const double> x, std::span<const double> rpm,
                                         double dt_s);
+
+// PerRevolutionPeak over a whole record sampled every dt_s: sample i at time t_s[i], x[i] at
+// speed rpm[i], in a cut when cutting[i] != 0 (all of the same length). For a host that reports a
+// recorded or predicted run's peak (`lathectl optimize`'s prediction and its --verify runs) by
+// the rule the rig and the LinuxCNC plant use.
+struct PerRevolutionRecord {
+  std::vector<double> mean;            // each sample's trailing-revolution mean
+  std::vector<unsigned char> counted;  // 1: the sample counts toward the peak
+  double peak = 0.0;                   // the largest mean of the samples that count
+};
+PerRevolutionRecord per_revolution_peak(std::span<const double> t_s, std::span<const double> x,
+                                        std::span<const double> rpm,
+                                        std::span<const unsigned char> cutting, double dt_s);
 
 }  // namespace lathectl::control

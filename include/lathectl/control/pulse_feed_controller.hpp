@@ -30,6 +30,7 @@
 
 #include "lathectl/control/building_blocks.hpp"
 #include "lathectl/control/types.hpp"
+#include "lathectl/core/first_order_lag.hpp"
 
 namespace lathectl::control {
 
@@ -119,9 +120,9 @@ class PulseFeedController {
   Params p_{};
   double ka_ = 0.0;
   double kf_ = 0.0;
-  double filter_a_ = 0.0;
+  core::FirstOrderLag force_lag_;  // force_filter_s
   double force_ = 0.0;
-  double rate_a_ = 0.0;
+  core::FirstOrderLag rate_lag_;  // rate_filter_s
   double force_rate_ = 0.0;
   SignalMonitor monitor_;
   PiRegulator pi_;

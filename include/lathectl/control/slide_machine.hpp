@@ -29,6 +29,7 @@
 #include <limits>
 #include <vector>
 
+#include "lathectl/control/collapse_detector.hpp"
 #include "lathectl/control/pulse_feed_controller.hpp"
 #include "lathectl/control/types.hpp"
 
@@ -38,7 +39,8 @@ class SlideMachine {
  public:
   using Mode = PulseFeedController::Mode;
   using Modulation = PulseFeedController::Modulation;
-  static constexpr std::size_t kBreakageSamples = 256;  // the breakage window's history
+  // The breakage window's history: the window and the present sample.
+  static constexpr std::size_t kBreakageSamples = CollapseDetector::kCapacity;
 
   struct LawPoint {
     double position_m = 0.0;
@@ -107,10 +109,8 @@ class SlideMachine {
   Reason alarm_reason_ = Reason::None;
   long long over_n_ = 0;        // control periods above the overload limit in a row
   long long over_limit_n_ = 0;  // overload_time_s in control periods
-  std::array<double, kBreakageSamples> hist_{};
-  std::size_t hist_n_ = 1;  // samples in the breakage window
-  std::size_t head_ = 0;
-  std::size_t filled_ = 0;
+  CollapseDetector collapse_;  // the force estimate over the breakage window
+  std::size_t hist_n_ = 1;     // samples in the breakage window
 };
 
 }  // namespace lathectl::control

@@ -12,6 +12,8 @@
 
 #include <vector>
 
+#include "lathectl/core/first_order_lag.hpp"
+
 namespace lathectl::drives {
 
 class EccentricDrive {
@@ -39,8 +41,8 @@ class EccentricDrive {
   double theta_ = 0.0;
   double omega_ = 0.0;  // motor speed
   double slot_ = 0.0;
-  double last_dt_ = -1.0;  // cache of e^(−dt/τ_m) for the last dt
-  double decay_ = 0.0;
+  double last_dt_ = -1.0;      // the step motor_lag_ is for
+  core::FirstOrderLag motor_lag_;
   double last_cmd_ = -1.0;  // cache of profile⁻¹ for the last command
   double target_ = 0.0;
 };

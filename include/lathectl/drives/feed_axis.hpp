@@ -13,6 +13,8 @@
 
 #include <vector>
 
+#include "lathectl/core/first_order_lag.hpp"
+
 namespace lathectl::drives {
 
 class FeedAxis {
@@ -35,7 +37,7 @@ class FeedAxis {
  private:
   Params p_{};
   double dt_ = 1e-4;
-  double decay_ = 0.0;
+  core::FirstOrderLag lag_;
   double z_ = 0.0;
   double v_ = 0.0;
   double v_meas_ = 0.0;

@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "lathectl/core/first_order_lag.hpp"
+
 namespace lathectl::hydraulics {
 
 struct SlotOrifice {
@@ -58,7 +60,8 @@ class ObliterationLayer {
       delta_ = 0.0;
       return h;
     }
-    if (h > 0.0) delta_ += (p_.layer_max_m - delta_) * (1.0 - std::exp(-dt / p_.time_constant_s));
+    if (h > 0.0)
+      delta_ = core::FirstOrderLag(dt, p_.time_constant_s).step_increment(delta_, p_.layer_max_m);
     return std::max(h - 2.0 * delta_, 0.0);
   }
   void flush() noexcept { delta_ = 0.0; }

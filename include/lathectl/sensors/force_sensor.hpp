@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <random>
 
+#include "lathectl/core/first_order_lag.hpp"
+
 namespace lathectl::sensors {
 
 class LaggedNoisySensor {
@@ -30,8 +32,8 @@ class LaggedNoisySensor {
  private:
   Params p_{};
   double y_ = 0.0;
-  double last_dt_ = -1.0;
-  double decay_ = 0.0;
+  double last_dt_ = -1.0;  // the step lag_ is for
+  core::FirstOrderLag lag_;
   std::mt19937_64 rng_{1};
   std::normal_distribution<double> normal_{0.0, 1.0};
 };

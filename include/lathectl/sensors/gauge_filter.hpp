@@ -12,6 +12,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "lathectl/core/first_order_lag.hpp"
+
 namespace lathectl::sensors {
 
 enum class GaugeFilterKind { FirstOrder, SecondOrder, Synchronous };
@@ -36,7 +38,7 @@ class GaugeFilter {
 
  private:
   Params p_{};
-  double decay_ = 0.0;
+  core::FirstOrderLag lag_;  // each stage's
   double s_ = 0.0, s1_ = 0.0;
   std::vector<double> ring_;  // synchronous: the window's samples and their running sum
   std::size_t ring_pos_ = 0;

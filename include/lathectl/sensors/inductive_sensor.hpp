@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <random>
 
+#include "lathectl/core/first_order_lag.hpp"
+
 namespace lathectl::sensors {
 
 class InductiveSensor {
@@ -38,8 +40,8 @@ class InductiveSensor {
  private:
   Params p_{};
   double u_ = 0.0;
-  double last_dt_ = -1.0;  // cache of e^(−dt/τ_s)
-  double decay_ = 0.0;
+  double last_dt_ = -1.0;  // the step lag_ is for
+  core::FirstOrderLag lag_;
   std::mt19937_64 rng_{1};
   std::normal_distribution<double> normal_{0.0, 1.0};
 };

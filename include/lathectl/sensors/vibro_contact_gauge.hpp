@@ -41,6 +41,7 @@
 
 #include <cstddef>
 
+#include "lathectl/core/first_order_lag.hpp"
 #include "lathectl/sensors/gauge_filter.hpp"
 
 namespace lathectl::sensors {
@@ -137,7 +138,7 @@ class VibroContactGauge {
   double t_ = 0.0;
   double phi_ = 0.0, z_ = 0.0, v_ = 0.0, u_ = 0.0;
   double a0_ = 0.0, z_eq_ = 0.0, gain_ = 0.0;
-  double coil_decay_ = 0.0, gen_decay_ = 0.0;
+  core::FirstOrderLag coil_lag_, gen_lag_;  // the flux's (free gap) and the generator's
   double omega_ = 0.0;
   State free_{};  // the free steady state reset() starts from
   sensors::GaugeFilter filter_;  // rectifier (13) and filter (14)

@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "lathectl/core/first_order_lag.hpp"
 #include "systems/a_pulse_feed/metrics.hpp"
 
 namespace lathectl::systems::a_pulse_feed {
@@ -246,7 +247,7 @@ struct AloneOverTheRun {
   // scaled by 1 − 2δ/h: the drift between the windows' middles (7.5 % and 97.5 % of the run).
   [[nodiscard]] double closed_form_drift(const hydraulics::ObliterationParams& ob,
                                          double eta) const {
-    const double g = 1.0 - std::exp(-width_s / ob.time_constant_s);
+    const double g = core::FirstOrderLag(width_s, ob.time_constant_s).gain();  // the orifice's
     const double r = (1.0 - eta) * (1.0 - g);
     const double d_star = g * ob.layer_max_m / (eta + (1.0 - eta) * g);
     const double T = 1.0 / frequency_Hz;

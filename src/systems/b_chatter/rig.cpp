@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "lathectl/core/first_order_lag.hpp"
 #include "lathectl/sim/config_error.hpp"
 #include "systems/b_chatter/machine_params.hpp"
 
@@ -225,10 +226,11 @@ bool Rig::step() noexcept {
   }
 
   // Feed drives, spindle, cutting position.
-  const double a = 1.0 - std::exp(-2.0 * kPi * cfg_.feed_drive_bandwidth_Hz * dt_);
+  const auto drive = core::FirstOrderLag::with_decay(  // τ = 1/(2π·bandwidth)
+      std::exp(-2.0 * kPi * cfg_.feed_drive_bandwidth_Hz * dt_));
   for (int i = 0; i < n_tools_; ++i) {
     Turret& tu = turrets_[i];
-    tu.v_mm_per_min += a * (tu.cmd_mm_per_min - tu.v_mm_per_min);
+    tu.v_mm_per_min = drive.step_increment(tu.v_mm_per_min, tu.cmd_mm_per_min);
     tu.z_mm += tu.v_mm_per_min / 60.0 * dt_;
   }
   spindle_.step(dt_, cfg_.rpm, process_.torque_N_m());

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "lathectl/control/gauge_machine.hpp"
+#include "lathectl/core/first_order_lag.hpp"
 #include "lathectl/dynamics/ornstein_uhlenbeck.hpp"
 #include "systems/d_gauging/machine_params.hpp"
 #include "lathectl/core/parallel.hpp"
@@ -113,7 +114,7 @@ class FilteredNoise {
       : g_(g), h_(h) {
     xi_.configure(p.noise_variance_m2, p.noise_beta_per_s, h);
     const double tau = 0.5 * g.filter_s;
-    e_ = std::exp(-h / tau);
+    lag_ = core::FirstOrderLag(h, tau);
     if (g.filter == LinearGauge::Filter::Synchronous)
       ring_.assign(static_cast<std::size_t>(std::llround(2.0 * g.lag_s() / h)) + 1, 0.0);
     warm_ = g.filter == LinearGauge::Filter::Synchronous ? 2.0 * g.lag_s() : 8.0 * tau;
@@ -136,9 +137,8 @@ class FilteredNoise {
     const double a = -g_.gain_V_per_m * xi_.value();
     const double b = -g_.gain_V_per_m * xi_.step(n01_(rng));
     if (ring_.empty()) {  // two lags τ = T_f/2, each exact for the linear input over the step
-      const double y1_new = b - (b - a) * tau_over_h() + (y1_ - a + (b - a) * tau_over_h()) * e_;
-      const double y2_new =
-          y1_new - (y1_new - y1_) * tau_over_h() + (y2_ - y1_ + (y1_new - y1_) * tau_over_h()) * e_;
+      const double y1_new = lag_.step_ramp(y1_, a, b, tau_over_h());
+      const double y2_new = lag_.step_ramp(y2_, y1_, y1_new, tau_over_h());
       y1_ = y1_new;
       y2_ = y2_new;
       return y2_;
@@ -153,7 +153,8 @@ class FilteredNoise {
  private:
   [[nodiscard]] double tau_over_h() const { return 0.5 * g_.filter_s / h_; }
   LinearGauge g_;
-  double h_, e_ = 0.0, warm_ = 0.0;
+  double h_, warm_ = 0.0;
+  core::FirstOrderLag lag_;  // each of the two
   dynamics::OrnsteinUhlenbeck xi_;
   double y1_ = 0.0, y2_ = 0.0, sum_ = 0.0;
   std::vector<double> ring_;
