@@ -30,8 +30,8 @@ nlohmann::json reasons_json() {
           {"reasons", rows}};
 }
 
-int reasons(bool json) {
-  if (json) {
+int reasons(bool as_json) {
+  if (as_json) {
     std::cout << reasons_json().dump(1) << "\n";
     return 0;
   }

@@ -33,7 +33,6 @@
 #include <utility>
 #include <vector>
 
-#include "lathectl/control/adaptive_machine.hpp"
 #include "lathectl/io/canon.hpp"
 #include "optimize/blend.hpp"
 #include "optimize/tools.hpp"
@@ -108,11 +107,6 @@ struct Piece {
   int out_line = 0;        // its line in optimized.ngc
 };
 using Plan = std::vector<std::vector<Piece>>;  // per move
-
-// System E's machine side as `optimize` runs it in the loop (Options::adaptive): the scenario's,
-// derived by e_adaptive::machine_params as the rig and lathectl_adaptive derive it.
-control::AdaptiveMachine::Params adaptive_machine_params(const systems::e_adaptive::Settings& e,
-                                                         const Options& opt);
 
 // The prediction along the program: one sample per servo period in feed moves and rapids.
 struct Samples {

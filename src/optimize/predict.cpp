@@ -22,6 +22,7 @@
 #include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/sensors/force_sensor.hpp"
 #include "systems/e_adaptive/machine_params.hpp"
+#include "optimize/adaptive_params.hpp"
 #include "optimize/optimize.hpp"
 #include "optimize/blend.hpp"
 #include "optimize/path.hpp"

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "lathectl/io/scenario.hpp"
+#include "optimize/adaptive_params.hpp"
 #include "optimize/optimize.hpp"
 #include "support/library.hpp"
 #include "systems/d_gauging/machine_params.hpp"

@@ -9,7 +9,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <memory>
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>  // run_lobes returns one: its callers include json.hpp
 #include <optional>
 #include <string>
 #include <vector>
