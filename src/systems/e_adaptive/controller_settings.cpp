@@ -19,8 +19,6 @@ using io::Param;
 using io::Range;
 using io::TableReader;
 
-constexpr double kMs = 1e-3;
-
 // The material's tool-life exponent (`yv` or `xv`) for the range that contains the feed.
 template <class Field>
 double tool_life_exponent(const cutting::Material& m, double feed, Field field, double fallback) {

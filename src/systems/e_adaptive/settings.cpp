@@ -33,8 +33,6 @@ using io::Param;
 using io::Range;
 using io::TableReader;
 
-constexpr double kMs = 1e-3;
-
 // Points {at_mm, <value key>} along z, at_mm strictly increasing.
 void read_profile(TableReader& t, std::string_view key, std::string_view value_key,
                   Range value_range, std::string_view value_doc,

@@ -13,6 +13,8 @@ class TableReader;
 
 namespace lathectl::systems::e_adaptive {
 
+inline constexpr double kMs = 1e-3;  // a key in ms, read in s
+
 extern const std::vector<std::string>
     kModes;  // the controllers' names, as the scenario spells them
 [[nodiscard]] Mode mode_from(const std::string& s);
