@@ -31,6 +31,9 @@ std::string doc(const std::string& page);
 std::string command_line_error(const CLI::App& app, const CLI::ParseError& e, int argc,
                                char** argv);
 
+// The program: parses argv, runs the command chosen, prints its errors; returns the exit code.
+int run_program(int argc, char** argv);
+
 // The commands, one file each.
 void add_run(CLI::App& app, Commands& out);
 void add_check(CLI::App& app, Commands& out);

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +24,7 @@ namespace fs = std::filesystem;
 namespace {
 constexpr std::size_t kBlock = std::size_t{1} << 20;  // bytes written at a time
 thread_local OutputStage* g_stage = nullptr;
+std::atomic<int> g_keep_values{0};
 
 void header(std::string& s, const std::vector<sim::Channel>& ch) {
   for (std::size_t i = 0; i < ch.size(); ++i) s += (i ? "," : "") + ch[i].name;
@@ -32,7 +34,13 @@ void header(std::string& s, const std::vector<sim::Channel>& ch) {
 
 ChannelStream::ChannelStream(const std::vector<sim::Channel>& channels) {
   header(buf_, channels);
+  keep_values_ = g_keep_values.load() > 0;
+  if (keep_values_)
+    for (const auto& c : channels) values_.names.push_back(c.name);
 }
+
+ChannelStream::KeepValues::KeepValues() { ++g_keep_values; }
+ChannelStream::KeepValues::~KeepValues() { --g_keep_values; }
 
 ChannelStream::ChannelStream(const std::vector<sim::Channel>& channels, const fs::path& file)
     : path_(file) {
@@ -53,6 +61,7 @@ void ChannelStream::row(std::span<const double> values) noexcept {
     append_general(buf_, values[i], 9);
   }
   buf_ += '\n';
+  if (keep_values_) values_.rows.insert(values_.rows.end(), values.begin(), values.end());
   if (fd_ >= 0 && buf_.size() >= kBlock) flush();
 }
 

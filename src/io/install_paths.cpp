@@ -25,9 +25,17 @@ bool inside(const fs::path& file, const fs::path& dir) {
   return !rel.empty() && *rel.begin() != "..";
 }
 
+fs::path g_program, g_prefix;  // set_program_location (set once, at a module's load)
+
 }  // namespace
 
+void set_program_location(const fs::path& file, const fs::path& prefix) {
+  g_program = file;
+  g_prefix = prefix;
+}
+
 fs::path self_executable() {
+  if (!g_program.empty()) return g_program;
   std::error_code ec;
   fs::path p = fs::read_symlink("/proc/self/exe", ec);
   return ec ? fs::path() : p;
@@ -36,7 +44,10 @@ fs::path self_executable() {
 std::string locate_tree(const char* env_var, const TreeLocations& tree, const std::string& probe) {
   if (const char* env = std::getenv(env_var); env && *env) return env;
   const fs::path exe = self_executable();
-  if (!exe.empty() && exe.has_parent_path() && exe.parent_path().has_parent_path()) {
+  if (!g_prefix.empty()) {
+    const fs::path own = g_prefix / tree.installed_rel;
+    if (holds(own, probe)) return own.string();
+  } else if (!exe.empty() && exe.has_parent_path() && exe.parent_path().has_parent_path()) {
     const fs::path own = exe.parent_path().parent_path() / tree.installed_rel;
     if (holds(own, probe)) return own.string();
   }

@@ -48,6 +48,8 @@ std::string Progress::text(double elapsed_s) const {
 
 void Progress::update(double fraction, const std::string& detail) {
   if (mode_ == Mode::Off) return;
+  if (poll_) poll_();
+  if (mode_ == Mode::Silent) return;
   std::lock_guard lock(mutex_);
   if (finished_) return;
   fraction_ = fraction;
@@ -65,7 +67,7 @@ void Progress::update(double fraction, const std::string& detail) {
 }
 
 void Progress::draw_locked() {
-  if (mode_ == Mode::Off || finished_) return;
+  if (mode_ == Mode::Off || mode_ == Mode::Silent || finished_) return;
   const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const std::string s = text(el);
   if (mode_ == Mode::Terminal)
@@ -83,7 +85,7 @@ void Progress::clear_locked() {
 }
 
 void Progress::finish() {
-  if (mode_ == Mode::Off) return;
+  if (mode_ == Mode::Off || mode_ == Mode::Silent) return;
   std::lock_guard lock(mutex_);
   if (finished_) return;
   if (drawn_ && mode_ == Mode::Terminal) {

@@ -19,6 +19,14 @@ namespace lathectl::io {
 
 class OutputStage;
 
+// The recorded columns at full precision (the CSV rounds them to 9 significant digits): kept by
+// the in-memory streams while a ChannelStream::KeepValues lives (the Python module's runs,
+// `lathectl.run`'s Run.channels); empty otherwise.
+struct ChannelValues {
+  std::vector<std::string> names;
+  std::vector<double> rows;  // row-major, names.size() values a row
+};
+
 class ChannelStream final : public sim::RowSink {
  public:
   // To a file (created, truncated).
@@ -36,6 +44,17 @@ class ChannelStream final : public sim::RowSink {
   // The text (in memory only; empty for a file).
   [[nodiscard]] const std::string& text() const noexcept { return buf_; }
   [[nodiscard]] std::string take_text() noexcept { return std::move(buf_); }
+  // The values at full precision (in memory, while a KeepValues lived when it was made).
+  [[nodiscard]] ChannelValues take_values() noexcept { return std::move(values_); }
+  // While one lives (any thread), the in-memory streams made also keep their values (a process
+  // flag: a study makes its streams on other threads than its caller's).
+  class KeepValues {
+   public:
+    KeepValues();
+    ~KeepValues();
+    KeepValues(const KeepValues&) = delete;
+    KeepValues& operator=(const KeepValues&) = delete;
+  };
 
   // Upper bound of one row's bytes: each value as %.9g is at most 16 characters
   // ("-1.23456789e-100"), plus its separator.
@@ -44,6 +63,8 @@ class ChannelStream final : public sim::RowSink {
  private:
   void flush() noexcept;
   std::string buf_;
+  ChannelValues values_;
+  bool keep_values_ = false;
   std::filesystem::path path_;
   int fd_ = -1;
   int failed_errno_ = 0;

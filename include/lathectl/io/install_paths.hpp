@@ -15,8 +15,14 @@ struct TreeLocations {
   std::string installed;      // under the configured install prefix (absolute)
 };
 
-// The executable of this process (/proc/self/exe resolved), or empty when unknown.
+// The executable of this process (/proc/self/exe resolved), or empty when unknown; in a library
+// loaded by another program (the Python module, whose process is python3) the file given to
+// set_program_location instead.
 [[nodiscard]] std::filesystem::path self_executable();
+// For a library that carries lathectl into another program: `file` is the library itself and
+// `prefix` its install prefix (/usr for /usr/lib/python3/dist-packages/lathectl/_lathectl.so),
+// used by locate_tree in place of the executable's.
+void set_program_location(const std::filesystem::path& file, const std::filesystem::path& prefix);
 
 // The directory of `tree` for the running program, `probe` a file that must exist in it ("" to
 // require only the directory), in this order:

@@ -6,6 +6,7 @@
 // a log that it is alive and how far it is.
 
 #include <chrono>
+#include <functional>
 #include <mutex>
 #include <string>
 
@@ -13,7 +14,8 @@ namespace lathectl::io {
 
 class Progress {
  public:
-  enum class Mode { Auto, Terminal, Plain, Off };
+  // Silent: followed (the simulations step one at a time and call the poll) but never drawn.
+  enum class Mode { Auto, Terminal, Plain, Off, Silent };
   // Seconds between two plain lines (and before the first).
   static constexpr double kPlainInterval = 10.0;
 
@@ -34,6 +36,9 @@ class Progress {
     print();
     if (mode_ == Mode::Terminal) draw_locked();  // a plain line waits for its interval
   }
+  // Called by every update() before anything is drawn, on the updating thread, outside the
+  // lock; it may throw to stop the work (the Python module: Ctrl-C → KeyboardInterrupt).
+  void set_poll(std::function<void()> poll) { poll_ = std::move(poll); }
   // Ends the line with a newline (once; also done by the destructor).
   void finish();
 
@@ -54,6 +59,7 @@ class Progress {
   bool drawn_ = false, finished_ = false;
   std::chrono::steady_clock::time_point start_, last_;
   std::mutex mutex_;
+  std::function<void()> poll_;
 };
 
 // The progress line the simulations of this thread report to while the scope lives (`run`:

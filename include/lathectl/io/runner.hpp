@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "lathectl/io/channel_stream.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/progress.hpp"
@@ -27,6 +28,8 @@ struct RunOutput {
   // streamed them into the StreamScope's stage (open_channel_stream).
   std::string channels_csv;
   std::string compare_csv;
+  // channels.csv's columns at full precision, kept only while a ChannelStream::KeepValues lives.
+  ChannelValues channels_values;
   Report report;
   std::string headline;  // one line for the demo index
   Verdict verdict;       // unmet claims, alarms, unfinished parts (also summary["verdict"])

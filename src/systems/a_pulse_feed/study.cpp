@@ -535,6 +535,7 @@ void PulseFeedStudy::finish(RunOutput& out) {
   const auto& mm = m();
   // In memory only without a stage (library callers, tests); else on disk already.
   out.channels_csv = main_->csv->take_text();
+  out.channels_values = main_->csv->take_values();
   if (cmp_) out.compare_csv = cmp_->csv->take_text();
   out.headline = main_->label + (cmp_ ? " vs " + cmp_->label : "") + ": feed dev " +
                  fmt(mm.feed_rate_deviation_pct) + " %, steady " +

@@ -408,6 +408,7 @@ void ChatterStudy::finish(io::RunOutput& out) {
   const Run& m = main();
   // In memory only without a stage (library callers, tests); else on disk already.
   out.channels_csv = m.csv->take_text();
+  out.channels_values = m.csv->take_values();
   if (compared_) out.compare_csv = without_->csv->take_text();
   out.headline =
       (off_ ? "no modulation " + fmt(off_->vibration_um, "%.3g") + " µm" : std::string()) +

@@ -376,6 +376,7 @@ void TracerStudy::finish(RunOutput& out) {
   // channels.csv (and channels_compare.csv) were streamed into the stage; without one (a
   // library caller) they were collected in memory.
   out.channels_csv = main().csv->take_text();
+  out.channels_values = main().csv->take_values();
   if (runs_.size() > 1) out.compare_csv = runs_[1]->csv->take_text();
   out.headline =
       main().label + ": max δx " + fmt(main().max_dx_um) + " µm, δy " + fmt(main().max_dy_um) +

@@ -522,6 +522,7 @@ void GaugingStudy::signal_plots(io::Report& rep) const {
 void GaugingStudy::finish(io::RunOutput& out) {
   // Streamed into the stage; without one (a library caller) collected in memory.
   out.channels_csv = parts_csv_->take_text();
+  out.channels_values = parts_csv_->take_values();
   out.compare_csv = rec_csv_->take_text();
   out.headline = std::to_string(n_sizes_) + " parts: mean error " +
                  fmt((st_.mean - p_.target_m) * kUm, "%.4f") + " µm, σ " +

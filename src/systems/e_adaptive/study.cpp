@@ -441,6 +441,7 @@ void EStudy::run_plots(Report& rep) const {
 void EStudy::finish(RunOutput& out) {
   // In memory only without a stage (library callers, tests); else on disk already.
   out.channels_csv = main().csv->take_text();
+  out.channels_values = main().csv->take_values();
   if (runs_.size() > 1) out.compare_csv = runs_[1]->csv->take_text();
   const Metrics& m = main().m;
   out.headline = main().label + ": " + cycle_phrase(m) + ", tool life used " +
