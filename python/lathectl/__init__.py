@@ -56,8 +56,10 @@ def _call(fn, label, at, *args):
         raise InputError(_scenario.relocate(str(e), label, at)) from None
 
 
-def _warn(ws):
+def _warn(ws, label, at):
     for w in ws:
+        if at is not None:
+            w = _scenario.relocate(w, label, at)
         _warnings.warn(w, ScenarioWarning, stacklevel=3)
 
 
@@ -74,7 +76,7 @@ def check(scenario, *, base_dir=None):
     """
     text, label, at = _source(scenario, base_dir)
     ws, _system, _name, _cost = _call(_lathectl._check, label, at, text, label)
-    _warn(ws)
+    _warn(ws, label, at)
 
 
 class Run:
@@ -164,5 +166,5 @@ def run(scenario, *, seed=None, base_dir=None, progress=None):
         progress = bool(getattr(sys.stderr, "isatty", lambda: False)())
     text, label, at = _source(scenario, base_dir)
     result, ws = _call(_lathectl._run, label, at, text, label, seed, bool(progress))
-    _warn(ws)
+    _warn(ws, label, at)
     return Run(result)

@@ -39,6 +39,10 @@ class Progress {
   // Called by every update() before anything is drawn, on the updating thread, outside the
   // lock; it may throw to stop the work (the Python module: Ctrl-C → KeyboardInterrupt).
   void set_poll(std::function<void()> poll) { poll_ = std::move(poll); }
+  // The poll alone (work that has no fraction to show, e.g. one part of many).
+  void poll() {
+    if (poll_) poll_();
+  }
   // Ends the line with a newline (once; also done by the destructor).
   void finish();
 
@@ -71,6 +75,10 @@ class ProgressScope {
   ProgressScope(const ProgressScope&) = delete;
   ProgressScope& operator=(const ProgressScope&) = delete;
   [[nodiscard]] static Progress* current();
+  // The current progress line's poll, if this thread has one (a long loop's chance to stop).
+  static void poll() {
+    if (Progress* p = current()) p->poll();
+  }
   // Numbers the simulations of the scope: 1, 2, ...
   static int next_simulation();
 };

@@ -13,6 +13,7 @@
 #include "systems/d_gauging/machine_params.hpp"
 #include "lathectl/core/parallel.hpp"
 #include "lathectl/design/vibro_gauge.hpp"
+#include "lathectl/io/progress.hpp"
 
 namespace lathectl::systems::d_gauging {
 
@@ -385,6 +386,7 @@ PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContac
   for (std::size_t k = 0;; ++k) {
     const double t = g.time_s();
     if (t >= t_max) break;
+    if ((k & 0x3fff) == 0) io::ProgressScope::poll();  // a caller may stop a long part
     x = x_at(std::min(t, stop));
     const double xi_now = xi.step(n01(rng));
     const double theta = theta0 + omega * t;
