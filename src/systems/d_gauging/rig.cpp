@@ -333,6 +333,33 @@ std::vector<double> filter_noise_samples(const GaugingProcess& p, const LinearGa
   return out;
 }
 
+namespace {
+// The size under the removal: x = x0 − rate·(t − t0) from t0 on, one segment a step of the cycle
+// (each step's command sets its rate when it operates).
+class RemovalSegments {
+ public:
+  struct Segment {
+    double t0, x0, rate;
+  };
+  RemovalSegments(double x0, double rate) { seg_[0] = {0.0, x0, rate}; }
+  [[nodiscard]] const Segment& at(double t) const {
+    std::size_t i = n_ - 1;
+    while (i > 0 && seg_[i].t0 > t) --i;
+    return seg_[i];
+  }
+  [[nodiscard]] double x(double t) const {
+    const Segment& s = at(t);
+    return s.x0 - s.rate * (t - s.t0);
+  }
+  [[nodiscard]] bool full() const { return n_ >= seg_.size(); }
+  void add(double t0, double x0, double rate) { seg_[n_++] = {t0, x0, rate}; }
+
+ private:
+  std::array<Segment, control::GaugeMachine::kMaxSteps + 1> seg_{};
+  std::size_t n_ = 1;
+};
+}  // namespace
+
 PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContactGauge::Params& gp,
                              double dt, double s_th, std::uint64_t seed, sim::Recorder* rec,
                              std::size_t record_every, double max_time_s) {
@@ -348,26 +375,13 @@ PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContac
   xi.configure(p.noise_variance_m2, p.noise_beta_per_s, dt);
   xi.start(n01(rng));
   const double a = p.removal_m_per_s;
-  // The removal in segments, one a step of the cycle: x = x0 − rate·(t − t0) from t0 on (one
-  // segment, the size step's, without a cycle).
-  struct Segment {
-    double t0, x0, rate;
-  };
-  std::array<Segment, control::GaugeMachine::kMaxSteps + 1> seg{};
-  std::size_t n_seg = 1;
-  seg[0] = {0.0, p.allowance_m,
-            a * p.cycle.rate_factor_of(p.cycle.before.empty()
-                                           ? control::GaugeMachine::Command::Size
-                                           : control::GaugeMachine::Command::Rough)};
-  const auto seg_at = [&](double t) -> const Segment& {
-    std::size_t i = n_seg - 1;
-    while (i > 0 && seg[i].t0 > t) --i;
-    return seg[i];
-  };
-  const auto x_at = [&](double t) {
-    const Segment& s = seg_at(t);
-    return s.x0 - s.rate * (t - s.t0);
-  };
+  // The removal in segments, one a step of the cycle (one, the size step's, without a cycle).
+  RemovalSegments seg(p.allowance_m,
+                      a * p.cycle.rate_factor_of(p.cycle.before.empty()
+                                                     ? control::GaugeMachine::Command::Size
+                                                     : control::GaugeMachine::Command::Rough));
+  const auto seg_at = [&](double t) -> const RemovalSegments::Segment& { return seg.at(t); };
+  const auto x_at = [&](double t) { return seg.x(t); };
   const auto& ir = p.interruption;
   // Each part meets the interruptions at its own angle.
   const double theta0 =
@@ -409,17 +423,17 @@ PartResult machine_part_full(const GaugingProcess& p, const sensors::VibroContac
             r.stop_s = stop;
           }
         }
-      } else if (out.tripped_steps > operated && n_seg < seg.size() && at < stop) {
+      } else if (out.tripped_steps > operated && !seg.full() && at < stop) {
         const auto c = p.cycle.before[static_cast<std::size_t>(out.tripped_steps - 1)].command;
-        seg[n_seg] = {at, x_at(at), a * p.cycle.rate_factor_of(c)};
-        ++n_seg;
+        const double x0 = x_at(at);
+        seg.add(at, x0, a * p.cycle.rate_factor_of(c));
         for (auto j = operated; j < out.tripped_steps; ++j)
-          r.step_at_m[static_cast<std::size_t>(j)] = seg[n_seg - 1].x0;
+          r.step_at_m[static_cast<std::size_t>(j)] = x0;
       }
       operated = out.tripped_steps;
     }
     if (out.backstop && !r.backstop) {  // x reaches the limit position first
-      const Segment& s = seg_at(g.time_s());
+      const auto& s = seg_at(g.time_s());
       stop = s.t0 + (s.x0 - p.backstop_m) / s.rate;
       r.stop_s = stop;
       r.backstop = true;
