@@ -97,6 +97,10 @@ def relocate(message, label, at):
     """The reader's message about the text made of a dict, placed at the dict's key path."""
     m = re.match(re.escape(label) + r":(\d+)(?::\d+)?: ", message)
     if m:
-        where = at.get(int(m.group(1)), "scenario dict")
-        return f"{where}: {message[m.end():]}"
+        rest = message[m.end():]
+        # The key the message is about (a missing one is placed at its table's line), else the
+        # key written on that line.
+        k = re.match(r"key '([^']+)'", rest)
+        where = k.group(1) if k else at.get(int(m.group(1)), "scenario dict")
+        return f"{where}: {rest}"
     return message.replace(label, DICT_LABEL)
