@@ -49,6 +49,7 @@ def _make(base_init, self, scenario, base_dir, *options):
     from . import _call, _source  # the package's: dict scenarios, their messages at key paths
     text, label, at = _source(scenario, base_dir)
     _call(base_init, label, at, self, text, label, *options)
+    self._made = True  # a constructor that raised leaves an object only a traceback sees
 
 
 def _file(path, base_dir):
@@ -60,10 +61,12 @@ def _file(path, base_dir):
     return path
 
 
-def _repr(m, system, extra=""):
+def _repr(m, system, extra=None):
+    if not m.__dict__.get("_made"):
+        return f"<lathectl.{type(m).__name__} (not made)>"
     o = m.outputs
     return (f"<lathectl.{type(m).__name__} {m.name!r} system {system}, period "
-            f"{m.period_s * 1e3:g} ms{extra}: reason {reason_name(o.reason)}"
+            f"{m.period_s * 1e3:g} ms{extra() if extra else ''}: reason {reason_name(o.reason)}"
             f"{', ALARM' if getattr(o, 'alarm', False) else ''}>")
 
 
@@ -125,7 +128,7 @@ class GaugeMachine(_lathectl._GaugeMachine):
               target_x_m, float(signal_lost))
 
     def __repr__(self):
-        return _repr(self, "D", f", {len(self.thresholds_V)} steps")
+        return _repr(self, "D", lambda: f", {len(self.thresholds_V)} steps")
 
 
 class AdaptiveMachine(_lathectl._AdaptiveMachine):
@@ -162,7 +165,7 @@ class AdaptiveMachine(_lathectl._AdaptiveMachine):
               period_s)
 
     def __repr__(self):
-        return _repr(self, "E", f", load in {self.load_unit}")
+        return _repr(self, "E", lambda: f", load in {self.load_unit}")
 
 
 class ModulationMachine(_lathectl._ModulationMachine):

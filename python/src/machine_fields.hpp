@@ -34,10 +34,8 @@ inline double to_double(PyObject* v, const char* cls, const char* name) {
 inline bool to_bool(PyObject* v, const char* cls, const char* name) {
   if (v == Py_True) return true;
   if (v == Py_False) return false;
-  if (!PyLong_Check(v) && !PyFloat_Check(v) && !PyBool_Check(v) &&
-      !PyObject_HasAttrString(v, "__index__"))
-    bad_value(cls, name, v, "a bool");
-  const int r = PyObject_IsTrue(v);
+  if (v == Py_None || PyUnicode_Check(v) || PyBytes_Check(v)) bad_value(cls, name, v, "a bool");
+  const int r = PyObject_IsTrue(v);  // ints, floats, numpy's bools
   if (r < 0) throw py::error_already_set();
   return r != 0;
 }

@@ -64,6 +64,7 @@ void bind_reasons(py::module_& m) {
     for (const auto& r : control::kReasons) {
       py::dict d;
       d["code"] = static_cast<int>(r.code);
+      d["bit"] = control::reason_index(r.code);
       d["name"] = std::string(r.name);
       d["alarm"] = r.alarm;
       d["systems"] = std::string(r.systems);

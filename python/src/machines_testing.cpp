@@ -195,6 +195,12 @@ void bind_testing(py::module_& m) {
                .machine()
                .params() == s.m.params();
   });
+  // The program's feed the rig writes (its fixed mode: the worst-case feed) [mm/rev].
+  m.def("_rig_feed_programmed", [](const AdaptiveState& s) {
+    systems::e_adaptive::Rig rig;
+    return probe<systems::e_adaptive::Rig, systems::e_adaptive::Settings>(*s.sc, rig)
+        .programmed_feed();
+  });
 }
 
 }  // namespace lathectl::python::machines
