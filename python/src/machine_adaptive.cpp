@@ -209,7 +209,20 @@ py::dict op_record(const control::AdaptiveMachine::OperationRecord& r) {
   return d;
 }
 
-py::object view(AdaptiveState& s) { return view_of(s.shared_from_this(), &s.out, s.view); }
+py::object view(AdaptiveState& s) { return view_of(s, &s.out, s.view); }
+
+struct AdaptiveUpdate {
+  using State = AdaptiveState;
+  using In = EIn;
+  static constexpr const char* name = "AdaptiveMachine.update";
+  static std::span<const InputField<In>> fields() { return kAdaptiveIn; }
+  static const Keywords& keywords() { return adaptive_keywords(); }
+  static In& input(State& s) { return s.in; }
+  static py::object run(State& s) {
+    s.m.update(s.in, s.out);
+    return view(s);
+  }
+};
 
 }  // namespace
 
@@ -237,11 +250,13 @@ void bind_adaptive(py::module_& m) {
           },
           "the last teach-in's record (a dict: seq, tool, operation, reference)");
   static const std::string update_doc =
+      "update($self, /, **inputs)\n--\n\n"
       "update(**inputs) -> AdaptiveOutputs: one servo period. Inputs not given keep their last "
       "value (as HAL pins do):\n" +
       adaptive_keywords().doc;
-  py::class_<AdaptiveState, std::shared_ptr<AdaptiveState>>(m, "_AdaptiveMachine")
-      .def(py::init([](const std::optional<std::string>& text, const std::string& label,
+  auto c = py::class_<AdaptiveState, std::shared_ptr<AdaptiveState>>(m, "_AdaptiveMachine");
+  def_keyword_method<AdaptiveUpdate>(c, "update", update_doc);
+  c.def(py::init([](const std::optional<std::string>& text, const std::string& label,
                        std::optional<std::string> sensor, std::optional<double> z_origin_mm,
                        std::optional<double> feed_programmed_mm_per_rev,
                        std::optional<std::string> tools, std::optional<std::string> taught,
@@ -254,14 +269,6 @@ void bind_adaptive(py::module_& m) {
            py::arg("z_origin_mm") = 0.0, py::arg("feed_programmed_mm_per_rev") = py::none(),
            py::arg("tools") = py::none(), py::arg("taught") = py::none(),
            py::arg("period_s") = py::none())
-      .def(
-          "update",
-          [](AdaptiveState& s, py::kwargs kw) {
-            set_inputs<EIn>(s.in, kAdaptiveIn, adaptive_keywords(), kw.ptr(), kAdaptive);
-            s.m.update(s.in, s.out);
-            return view(s);
-          },
-          update_doc.c_str())
       .def_property_readonly("outputs", &view)
       .def_property_readonly("inputs",
                              [](const AdaptiveState& s) { return inputs_dict<EIn>(s.in, kAdaptiveIn); })

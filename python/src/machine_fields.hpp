@@ -120,24 +120,72 @@ Keywords keywords_of(std::span<const InputField<In>> fields) {
   return k;
 }
 
-// Sets the inputs the keywords name: all of them, or (an unknown keyword, a bad value) none.
+// Sets the inputs the keywords name (a vectorcall's: their names in `kwnames`, their values in
+// `values`): all of them, or (an unknown keyword, a bad value) none.
 template <class In>
-void set_inputs(In& in, std::span<const InputField<In>> fields, const Keywords& k, PyObject* kwargs,
-                const char* cls) {
-  if (kwargs == nullptr) return;
+void set_inputs(In& in, std::span<const InputField<In>> fields, const Keywords& k,
+                PyObject* const* values, PyObject* kwnames, const char* cls) {
+  if (kwnames == nullptr) return;
   In next = in;
-  Py_ssize_t pos = 0;
-  PyObject *key = nullptr, *value = nullptr;
-  while (PyDict_Next(kwargs, &pos, &key, &value)) {
+  const Py_ssize_t n = PyTuple_GET_SIZE(kwnames);
+  for (Py_ssize_t j = 0; j < n; ++j) {
+    PyObject* key = PyTuple_GET_ITEM(kwnames, j);
     const int i = k.find(key);
     if (i < 0) {
-      PyErr_Format(PyExc_TypeError, "%s.update: no input %R (help(lathectl.%s.update) lists them)",
-                   cls, key, cls);
+      PyErr_Format(PyExc_TypeError, "%s: no input %R (help(lathectl.%s) lists them)", cls, key,
+                   cls);
       throw py::error_already_set();
     }
-    fields[static_cast<std::size_t>(i)].set(next, value, cls);
+    fields[static_cast<std::size_t>(i)].set(next, values[j], cls);
   }
   in = next;
+}
+
+// A method taking keyword inputs, called the fast way (METH_FASTCALL: no dict, no tuple made;
+// pybind11's own dispatch made both and cost twice as much). Spec says what it is:
+//   using State; using In; static const char* name (its "Class.method");
+//   static std::span<const InputField<In>> fields(); static const Keywords& keywords();
+//   static In& input(State&); static py::object run(State&)  (after the inputs are set).
+template <class Spec>
+PyObject* keyword_method(PyObject* self, PyObject* const* args, Py_ssize_t nargs,
+                         PyObject* kwnames) noexcept {
+  try {
+    if (nargs != 0) {
+      PyErr_Format(PyExc_TypeError, "%s takes keyword inputs only (name=value)", Spec::name);
+      return nullptr;
+    }
+    // self is an instance of the class (the method descriptor checks it); its C++ object is
+    // found directly (pybind11's one-base layout), not through a cast that looks its type up.
+    auto vh = reinterpret_cast<py::detail::instance*>(self)->get_value_and_holder();
+    if (!vh.holder_constructed()) {
+      PyErr_Format(PyExc_TypeError, "%s: the machine was not made (its constructor raised)",
+                   Spec::name);
+      return nullptr;
+    }
+    auto& s = *vh.template value_ptr<typename Spec::State>();
+    set_inputs<typename Spec::In>(Spec::input(s), Spec::fields(), Spec::keywords(), args, kwnames,
+                                  Spec::name);
+    return Spec::run(s).release().ptr();
+  } catch (py::error_already_set& e) {
+    e.restore();
+  } catch (const py::cast_error&) {
+    PyErr_Format(PyExc_TypeError, "%s: not a made machine", Spec::name);
+  } catch (const std::exception& e) {
+    PyErr_SetString(PyExc_RuntimeError, e.what());
+  }
+  return nullptr;
+}
+
+// Adds `Spec`'s method to a bound class as `method` with docstring `doc` (kept alive: static).
+template <class Spec, class Class>
+void def_keyword_method(Class& c, const char* method, const std::string& doc) {
+  auto* def = new PyMethodDef{method,
+                              reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(
+                                  &keyword_method<Spec>)),
+                              METH_FASTCALL | METH_KEYWORDS, doc.c_str()};  // never freed
+  PyObject* d = PyDescr_NewMethod(reinterpret_cast<PyTypeObject*>(c.ptr()), def);
+  if (d == nullptr) throw py::error_already_set();
+  py::setattr(c, method, py::reinterpret_steal<py::object>(d));
 }
 
 // The inputs as a dict (name: value), for inspection.
@@ -162,9 +210,9 @@ struct OutputView {
   ~OutputView() { *cache = nullptr; }
 };
 template <class State, class Out>
-py::object view_of(const std::shared_ptr<State>& s, const Out* out, PyObject*& cache) {
+py::object view_of(State& s, const Out* out, PyObject*& cache) {
   if (cache != nullptr) return py::reinterpret_borrow<py::object>(cache);
-  py::object o = py::cast(new OutputView<State, Out>(s, out, &cache),
+  py::object o = py::cast(new OutputView<State, Out>(s.shared_from_this(), out, &cache),
                           py::return_value_policy::take_ownership);
   cache = o.ptr();
   return o;

@@ -160,13 +160,38 @@ std::shared_ptr<ModulationState> make_modulation(const std::optional<std::string
   return s;
 }
 
-py::object view(ModulationState& s) { return view_of(s.shared_from_this(), &s.m.output(), s.view); }
+py::object view(ModulationState& s) { return view_of(s, &s.m.output(), s.view); }
 
 void sense_many(ModulationState& s, const py::array_t<double, py::array::c_style | py::array::forcecast>& x) {
   if (x.ndim() != 1) throw py::value_error("ModulationMachine.sense_many: a 1-D array of displacements [m]");
   const double* p = x.data();
   for (py::ssize_t i = 0; i < x.shape(0); ++i) s.m.sense(p[i]);
 }
+
+struct ModulationUpdate {
+  using State = ModulationState;
+  using In = BIn;
+  static constexpr const char* name = "ModulationMachine.update";
+  static std::span<const InputField<In>> fields() { return kModulationIn; }
+  static const Keywords& keywords() { return modulation_keywords(); }
+  static In& input(State& s) { return s.in; }
+  static py::object run(State& s) {
+    s.m.update(s.in);
+    return view(s);
+  }
+};
+struct ModulationServo {
+  using State = ModulationState;
+  using In = BServo;
+  static constexpr const char* name = "ModulationMachine.servo";
+  static std::span<const InputField<In>> fields() { return kServoIn; }
+  static const Keywords& keywords() { return servo_keywords(); }
+  static In& input(State& s) { return s.servo; }
+  static py::object run(State& s) {
+    s.m.servo(s.servo);
+    return view(s);
+  }
+};
 
 }  // namespace
 
@@ -175,16 +200,20 @@ void bind_modulation(py::module_& m) {
       m, "ModulationOutputs", "ModulationMachine's outputs (live: they change with each call)",
       kModulationOut);
   static const std::string update_doc =
+      "update($self, /, **inputs)\n--\n\n"
       "update(**inputs) -> ModulationOutputs: one module period (period_s). Inputs not given "
       "keep their last value (as HAL pins do):\n" +
       modulation_keywords().doc;
   static const std::string servo_doc =
+      "servo($self, /, **inputs)\n--\n\n"
       "servo(**inputs) -> ModulationOutputs: one servo period, before update() in a period that "
       "runs the module (the turret the output acts on, the path, the external offset). Inputs "
       "not given keep their last value:\n" +
       servo_keywords().doc;
-  py::class_<ModulationState, std::shared_ptr<ModulationState>>(m, "_ModulationMachine")
-      .def(py::init([](const std::optional<std::string>& text, const std::string& label,
+  auto c = py::class_<ModulationState, std::shared_ptr<ModulationState>>(m, "_ModulationMachine");
+  def_keyword_method<ModulationUpdate>(c, "update", update_doc);
+  def_keyword_method<ModulationServo>(c, "servo", servo_doc);
+  c.def(py::init([](const std::optional<std::string>& text, const std::string& label,
                        const std::string& output, double ceiling,
                        std::optional<double> module_period_s,
                        std::optional<double> sample_period_s) {
@@ -194,22 +223,6 @@ void bind_modulation(py::module_& m) {
            py::arg("text"), py::arg("label"), py::arg("output") = "drives",
            py::arg("ceiling") = 1.0, py::arg("module_period_s") = py::none(),
            py::arg("sample_period_s") = py::none())
-      .def(
-          "update",
-          [](ModulationState& s, py::kwargs kw) {
-            set_inputs<BIn>(s.in, kModulationIn, modulation_keywords(), kw.ptr(), kModulation);
-            s.m.update(s.in);
-            return view(s);
-          },
-          update_doc.c_str())
-      .def(
-          "servo",
-          [](ModulationState& s, py::kwargs kw) {
-            set_inputs<BServo>(s.servo, kServoIn, servo_keywords(), kw.ptr(), kModulation);
-            s.m.servo(s.servo);
-            return view(s);
-          },
-          servo_doc.c_str())
       .def(
           "sense", [](ModulationState& s, double y) { s.m.sense(y); }, py::arg("displacement_m"),
           "One sample of the vibration sensor (every sample_period_s): the part's displacement "

@@ -27,7 +27,7 @@
 namespace lathectl::python::machines {
 
 void bad_value(const char* cls, const char* name, PyObject* v, const char* expected) {
-  PyErr_Format(PyExc_TypeError, "%s.update: input '%s': expected %s, not %R", cls, name, expected,
+  PyErr_Format(PyExc_TypeError, "%s: input '%s': expected %s, not %R", cls, name, expected,
                v);
   throw py::error_already_set();
 }
@@ -151,26 +151,33 @@ std::shared_ptr<SlideState> make_slide(const std::optional<std::string>& text,
   return s;
 }
 
+struct SlideUpdate {
+  using State = SlideState;
+  using In = SIn;
+  static constexpr const char* name = "SlideMachine.update";
+  static std::span<const InputField<In>> fields() { return kSlideIn; }
+  static const Keywords& keywords() { return slide_keywords(); }
+  static In& input(State& s) { return s.in; }
+  static py::object run(State& s) {
+    s.m.update(s.in);
+    return view_of(s, &s.m.output(), s.view);
+  }
+};
+
 void bind_slide(py::module_& m) {
   bind_outputs<SlideState, SOut>(m, "SlideOutputs",
                                  "SlideMachine's outputs (live: they change with each update())",
                                  kSlideOut);
   static const std::string update_doc =
+      "update($self, /, **inputs)\n--\n\n"
       "update(**inputs) -> SlideOutputs: one control period (period_s). Inputs not given keep "
       "their last value (as HAL pins do):\n" +
       slide_keywords().doc;
-  py::class_<SlideState, std::shared_ptr<SlideState>>(m, "_SlideMachine")
-      .def(py::init(&make_slide), py::arg("text"), py::arg("label"), py::arg("machine_io") = false)
-      .def(
-          "update",
-          [](SlideState& s, py::kwargs kw) {
-            set_inputs<SIn>(s.in, kSlideIn, slide_keywords(), kw.ptr(), kSlide);
-            s.m.update(s.in);
-            return view_of(s.shared_from_this(), &s.m.output(), s.view);
-          },
-          update_doc.c_str())
+  auto c = py::class_<SlideState, std::shared_ptr<SlideState>>(m, "_SlideMachine");
+  def_keyword_method<SlideUpdate>(c, "update", update_doc);
+  c.def(py::init(&make_slide), py::arg("text"), py::arg("label"), py::arg("machine_io") = false)
       .def_property_readonly(
-          "outputs", [](SlideState& s) { return view_of(s.shared_from_this(), &s.m.output(), s.view); })
+          "outputs", [](SlideState& s) { return view_of(s, &s.m.output(), s.view); })
       .def_property_readonly("inputs", [](const SlideState& s) { return inputs_dict<SIn>(s.in, kSlideIn); })
       .def_property_readonly("period_s", [](const SlideState& s) { return s.m.params().controller.period_s; })
       .def_property_readonly("name", [](const SlideState& s) { return s.name; })
@@ -179,7 +186,7 @@ void bind_slide(py::module_& m) {
           "start",
           [](SlideState& s, std::optional<double> force_N) {
             s.m.start(force_N ? *force_N : s.start_force_N);
-            return view_of(s.shared_from_this(), &s.m.output(), s.view);
+            return view_of(s, &s.m.output(), s.view);
           },
           py::arg("force_N") = py::none());
 }
@@ -269,16 +276,31 @@ std::shared_ptr<GaugeState> make_gauge(const std::optional<std::string>& text,
   return s;
 }
 
+struct GaugeUpdate {
+  using State = GaugeState;
+  using In = GIn;
+  static constexpr const char* name = "GaugeMachine.update";
+  static std::span<const InputField<In>> fields() { return kGaugeIn; }
+  static const Keywords& keywords() { return gauge_keywords(); }
+  static In& input(State& s) { return s.in; }
+  static py::object run(State& s) {
+    s.m.update(s.in);
+    return view_of(s, &s.m.output(), s.view);
+  }
+};
+
 void bind_gauge(py::module_& m) {
   bind_outputs<GaugeState, GOut>(m, "GaugeOutputs",
                                  "GaugeMachine's outputs (live: they change with each update())",
                                  kGaugeOut);
   static const std::string update_doc =
+      "update($self, /, **inputs)\n--\n\n"
       "update(**inputs) -> GaugeOutputs: one sample (period_s). Inputs not given keep their "
       "last value:\n" +
       gauge_keywords().doc;
-  py::class_<GaugeState, std::shared_ptr<GaugeState>>(m, "_GaugeMachine")
-      .def(py::init([](const std::optional<std::string>& text, const std::string& label,
+  auto c = py::class_<GaugeState, std::shared_ptr<GaugeState>>(m, "_GaugeMachine");
+  def_keyword_method<GaugeUpdate>(c, "update", update_doc);
+  c.def(py::init([](const std::optional<std::string>& text, const std::string& label,
                        std::optional<double> threshold_V, std::optional<double> period_s,
                        std::optional<double> target_x_m, double signal_lost) {
              return make_gauge(text, label, {threshold_V, period_s, target_x_m, signal_lost});
@@ -286,16 +308,8 @@ void bind_gauge(py::module_& m) {
            py::arg("text"), py::arg("label"), py::arg("threshold_V") = py::none(),
            py::arg("period_s") = py::none(), py::arg("target_x_m") = py::none(),
            py::arg("signal_lost") = 0.0)
-      .def(
-          "update",
-          [](GaugeState& s, py::kwargs kw) {
-            set_inputs<GIn>(s.in, kGaugeIn, gauge_keywords(), kw.ptr(), kGauge);
-            s.m.update(s.in);
-            return view_of(s.shared_from_this(), &s.m.output(), s.view);
-          },
-          update_doc.c_str())
       .def_property_readonly(
-          "outputs", [](GaugeState& s) { return view_of(s.shared_from_this(), &s.m.output(), s.view); })
+          "outputs", [](GaugeState& s) { return view_of(s, &s.m.output(), s.view); })
       .def_property_readonly("inputs", [](const GaugeState& s) { return inputs_dict<GIn>(s.in, kGaugeIn); })
       .def_property_readonly("period_s", [](const GaugeState& s) { return s.m.params().period_s; })
       .def_property_readonly("name", [](const GaugeState& s) { return s.name; })
@@ -320,7 +334,7 @@ void bind_gauge(py::module_& m) {
       .def_property_readonly("removal_m_per_s", [](const GaugeState& s) { return s.removal_m_per_s; })
       .def("reset", [](GaugeState& s) {
         s.m.reset();
-        return view_of(s.shared_from_this(), &s.m.output(), s.view);
+        return view_of(s, &s.m.output(), s.view);
       });
 }
 
