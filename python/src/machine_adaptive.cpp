@@ -144,7 +144,7 @@ const Keywords& adaptive_keywords() {
 
 // What this host adds to the scenario (e_adaptive::MachineHost); unset: the rig's choice.
 struct AdaptiveHost {
-  std::optional<std::string> sensor;  // "force" | "power"; unset: the scenario's parameter
+  std::optional<std::string> sensor;        // "force" | "power"; unset: the scenario's parameter
   std::optional<double> z_origin_mm = 0.0;  // unset (None): no stock model
   std::optional<double> feed_programmed_mm_per_rev;
   std::optional<std::string> tools, taught;  // files
@@ -166,7 +166,8 @@ std::shared_ptr<AdaptiveState> make_adaptive(const std::optional<std::string>& t
       throw io::InputError("AdaptiveMachine: sensor='" + sensor + "': expected 'force' or 'power'");
     if (sensor == "power") host.load = e_adaptive::MachineHost::Load::SpindlePower;
     host.z_origin_mm = h.z_origin_mm ? *h.z_origin_mm : std::nan("");
-    if (h.feed_programmed_mm_per_rev) host.feed_programmed_mm_per_rev = *h.feed_programmed_mm_per_rev;
+    if (h.feed_programmed_mm_per_rev)
+      host.feed_programmed_mm_per_rev = *h.feed_programmed_mm_per_rev;
     e_adaptive::ToolTable table;
     if (h.tools) {  // the files as lathectl_adaptive reads them
       table = e_adaptive::read_tool_table(io::read_scenario_text(*h.tools), *h.tools);
@@ -209,7 +210,9 @@ py::dict op_record(const control::AdaptiveMachine::OperationRecord& r) {
   return d;
 }
 
-py::object view(AdaptiveState& s) { return view_of(s, &s.out, s.view); }
+py::object view(AdaptiveState& s) {
+  return view_of(s, &s.out, s.view);
+}
 
 struct AdaptiveUpdate {
   using State = AdaptiveState;
@@ -233,7 +236,9 @@ void bind_adaptive(py::module_& m) {
       kAdaptiveOut)
       .def_property_readonly(
           "idle_law",
-          [](const V& v) { return py::make_tuple(v.out->idle_law[0], v.out->idle_law[1], v.out->idle_law[2]); },
+          [](const V& v) {
+            return py::make_tuple(v.out->idle_law[0], v.out->idle_law[1], v.out->idle_law[2]);
+          },
           "the idle power law (p0 [W], p1 [W/rpm], p2 [W/rpm^2])")
       .def_property_readonly(
           "op", [](const V& v) { return op_record(v.out->op); },
@@ -257,31 +262,32 @@ void bind_adaptive(py::module_& m) {
   auto c = py::class_<AdaptiveState, std::shared_ptr<AdaptiveState>>(m, "_AdaptiveMachine");
   def_keyword_method<AdaptiveUpdate>(c, "update", update_doc);
   c.def(py::init([](const std::optional<std::string>& text, const std::string& label,
-                       std::optional<std::string> sensor, std::optional<double> z_origin_mm,
-                       std::optional<double> feed_programmed_mm_per_rev,
-                       std::optional<std::string> tools, std::optional<std::string> taught,
-                       std::optional<double> period_s) {
-             return make_adaptive(text, label,
-                                  {sensor, z_origin_mm, feed_programmed_mm_per_rev, tools, taught,
-                                   period_s});
-           }),
-           py::arg("text"), py::arg("label"), py::arg("sensor") = py::none(),
-           py::arg("z_origin_mm") = 0.0, py::arg("feed_programmed_mm_per_rev") = py::none(),
-           py::arg("tools") = py::none(), py::arg("taught") = py::none(),
-           py::arg("period_s") = py::none())
+                    std::optional<std::string> sensor, std::optional<double> z_origin_mm,
+                    std::optional<double> feed_programmed_mm_per_rev,
+                    std::optional<std::string> tools, std::optional<std::string> taught,
+                    std::optional<double> period_s) {
+          return make_adaptive(
+              text, label,
+              {sensor, z_origin_mm, feed_programmed_mm_per_rev, tools, taught, period_s});
+        }),
+        py::arg("text"), py::arg("label"), py::arg("sensor") = py::none(),
+        py::arg("z_origin_mm") = 0.0, py::arg("feed_programmed_mm_per_rev") = py::none(),
+        py::arg("tools") = py::none(), py::arg("taught") = py::none(),
+        py::arg("period_s") = py::none())
       .def_property_readonly("outputs", &view)
-      .def_property_readonly("inputs",
-                             [](const AdaptiveState& s) { return inputs_dict<EIn>(s.in, kAdaptiveIn); })
-      .def_property_readonly("period_s", [](const AdaptiveState& s) { return s.in.nominal_period_s; })
-      .def_property_readonly("control_period_s",
-                             [](const AdaptiveState& s) { return s.m.params().controller.period_s; })
+      .def_property_readonly(
+          "inputs", [](const AdaptiveState& s) { return inputs_dict<EIn>(s.in, kAdaptiveIn); })
+      .def_property_readonly("period_s",
+                             [](const AdaptiveState& s) { return s.in.nominal_period_s; })
+      .def_property_readonly(
+          "control_period_s",
+          [](const AdaptiveState& s) { return s.m.params().controller.period_s; })
       .def_property_readonly("load_unit", [](const AdaptiveState& s) { return s.load_unit; })
-      .def_property_readonly("load_limit",
-                             [](const AdaptiveState& s) { return s.m.params().controller.load_limit; })
-      .def_property_readonly("feed_programmed_mm_per_rev",
-                             [](const AdaptiveState& s) {
-                               return s.m.params().controller.feed_programmed_mm_per_rev;
-                             })
+      .def_property_readonly(
+          "load_limit", [](const AdaptiveState& s) { return s.m.params().controller.load_limit; })
+      .def_property_readonly(
+          "feed_programmed_mm_per_rev",
+          [](const AdaptiveState& s) { return s.m.params().controller.feed_programmed_mm_per_rev; })
       .def_property_readonly("name", [](const AdaptiveState& s) { return s.name; })
       .def_property_readonly("taught",
                              [](const AdaptiveState& s) {

@@ -67,39 +67,51 @@ struct OutputField {
 
 // Table rows: an input that is a member of In (a double, bool or int32 member; `expr` reads and
 // writes it, e.g. `in.force`), an output read by `expr` from `o`.
-#define LATHECTL_IN_F(In, key, expr, doc)                                          \
-  InputField<In> {                                                                 \
-    key, [](In & in, PyObject * v, const char* c) { expr = to_double(v, c, key); }, \
-        [](const In& in) -> py::object { return py::float_(expr); }, doc           \
+#define LATHECTL_IN_F(In, key, expr, doc)                                         \
+  InputField<In> {                                                                \
+    key, [](In& in, PyObject* v, const char* c) { expr = to_double(v, c, key); }, \
+        [](const In& in) -> py::object { return py::float_(expr); }, doc          \
   }
-#define LATHECTL_IN_B(In, key, expr, doc)                                        \
-  InputField<In> {                                                               \
-    key, [](In & in, PyObject * v, const char* c) { expr = to_bool(v, c, key); }, \
-        [](const In& in) -> py::object { return py::bool_(expr); }, doc          \
-  }
-#define LATHECTL_IN_I(In, key, expr, doc)                                       \
+#define LATHECTL_IN_B(In, key, expr, doc)                                       \
   InputField<In> {                                                              \
-    key, [](In & in, PyObject * v, const char* c) { expr = to_int(v, c, key); }, \
-        [](const In& in) -> py::object { return py::int_(expr); }, doc          \
+    key, [](In& in, PyObject* v, const char* c) { expr = to_bool(v, c, key); }, \
+        [](const In& in) -> py::object { return py::bool_(expr); }, doc         \
+  }
+#define LATHECTL_IN_I(In, key, expr, doc)                                      \
+  InputField<In> {                                                             \
+    key, [](In& in, PyObject* v, const char* c) { expr = to_int(v, c, key); }, \
+        [](const In& in) -> py::object { return py::int_(expr); }, doc         \
   }
 // An input whose member is not a plain bool or int (an enum): `set` assigns from `b` (a bool) or
 // `i` (an int32), `get` reads it back as that.
-#define LATHECTL_IN_BX(In, key, set_expr, get_expr, doc)                                   \
-  InputField<In> {                                                                         \
-    key, [](In & in, PyObject * v, const char* c) { const bool b = to_bool(v, c, key); set_expr; }, \
-        [](const In& in) -> py::object { return py::bool_(get_expr); }, doc                \
+#define LATHECTL_IN_BX(In, key, set_expr, get_expr, doc)                    \
+  InputField<In> {                                                          \
+    key,                                                                    \
+        [](In& in, PyObject* v, const char* c) {                            \
+          const bool b = to_bool(v, c, key);                                \
+          set_expr;                                                         \
+        },                                                                  \
+        [](const In& in) -> py::object { return py::bool_(get_expr); }, doc \
   }
-#define LATHECTL_IN_IX(In, key, set_expr, get_expr, doc)                                   \
-  InputField<In> {                                                                         \
-    key, [](In & in, PyObject * v, const char* c) { const std::int32_t i = to_int(v, c, key); set_expr; }, \
-        [](const In& in) -> py::object { return py::int_(get_expr); }, doc                 \
+#define LATHECTL_IN_IX(In, key, set_expr, get_expr, doc)                   \
+  InputField<In> {                                                         \
+    key,                                                                   \
+        [](In& in, PyObject* v, const char* c) {                           \
+          const std::int32_t i = to_int(v, c, key);                        \
+          set_expr;                                                        \
+        },                                                                 \
+        [](const In& in) -> py::object { return py::int_(get_expr); }, doc \
   }
-#define LATHECTL_OUT_F(Out, key, expr, doc) \
-  OutputField<Out> { key, [](const Out& o) -> py::object { return py::float_(expr); }, doc }
-#define LATHECTL_OUT_B(Out, key, expr, doc) \
-  OutputField<Out> { key, [](const Out& o) -> py::object { return py::bool_(expr); }, doc }
-#define LATHECTL_OUT_I(Out, key, expr, doc)                                                  \
-  OutputField<Out> {                                                                         \
+#define LATHECTL_OUT_F(Out, key, expr, doc)                               \
+  OutputField<Out> {                                                      \
+    key, [](const Out& o) -> py::object { return py::float_(expr); }, doc \
+  }
+#define LATHECTL_OUT_B(Out, key, expr, doc)                              \
+  OutputField<Out> {                                                     \
+    key, [](const Out& o) -> py::object { return py::bool_(expr); }, doc \
+  }
+#define LATHECTL_OUT_I(Out, key, expr, doc)                                                     \
+  OutputField<Out> {                                                                            \
     key, [](const Out& o) -> py::object { return py::int_(static_cast<long long>(expr)); }, doc \
   }
 
@@ -179,10 +191,9 @@ PyObject* keyword_method(PyObject* self, PyObject* const* args, Py_ssize_t nargs
 // Adds `Spec`'s method to a bound class as `method` with docstring `doc` (kept alive: static).
 template <class Spec, class Class>
 void def_keyword_method(Class& c, const char* method, const std::string& doc) {
-  auto* def = new PyMethodDef{method,
-                              reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(
-                                  &keyword_method<Spec>)),
-                              METH_FASTCALL | METH_KEYWORDS, doc.c_str()};  // never freed
+  auto* def = new PyMethodDef{
+      method, reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(&keyword_method<Spec>)),
+      METH_FASTCALL | METH_KEYWORDS, doc.c_str()};  // never freed
   PyObject* d = PyDescr_NewMethod(reinterpret_cast<PyTypeObject*>(c.ptr()), def);
   if (d == nullptr) throw py::error_already_set();
   py::setattr(c, method, py::reinterpret_steal<py::object>(d));
@@ -227,7 +238,8 @@ py::class_<OutputView<State, Out>> bind_outputs(py::module_& m, const char* name
   py::list names;
   for (const auto& f : fields) {
     const auto get = f.get;
-    c.def_property_readonly(f.name, [get](const V& v) { return get(*v.out); }, f.doc);
+    c.def_property_readonly(
+        f.name, [get](const V& v) { return get(*v.out); }, f.doc);
     names.append(f.name);
   }
   c.attr("_fields") = py::tuple(names);

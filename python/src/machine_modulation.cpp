@@ -32,10 +32,12 @@ using control::Turret;
 constexpr const char* kModulation = "ModulationMachine";
 
 const InputField<BIn> kModulationIn[] = {
-    LATHECTL_IN_B(BIn, "external_detectors", in.external_detectors,
-                  "a0_m and omega_d_rad_per_s come from detectors 19-20 outside (lathectl_modfeed's "
-                  "case) instead of the machine's own chain fed by sense() (default False)"),
-    LATHECTL_IN_F(BIn, "a0_m", in.a0_m, "(external) the vibration amplitude [m]; 0 below the dead zone"),
+    LATHECTL_IN_B(
+        BIn, "external_detectors", in.external_detectors,
+        "a0_m and omega_d_rad_per_s come from detectors 19-20 outside (lathectl_modfeed's "
+        "case) instead of the machine's own chain fed by sense() (default False)"),
+    LATHECTL_IN_F(BIn, "a0_m", in.a0_m,
+                  "(external) the vibration amplitude [m]; 0 below the dead zone"),
     LATHECTL_IN_F(BIn, "omega_d_rad_per_s", in.omega_d_rad_per_s,
                   "(external) the vibration frequency [rad/s]; 0 below the dead zone"),
     LATHECTL_IN_F(BIn, "spindle_power_W", in.motor_power_W,
@@ -57,11 +59,11 @@ const InputField<BIn> kModulationIn[] = {
                    static_cast<int>(in.source),
                    "0 no modulation, 1 programmed, 2 automatic (default: the scenario's)"),
     LATHECTL_IN_BX(BIn, "turret_left", in.turret = b ? Turret::Left : Turret::Right,
-                   in.turret == Turret::Left,
-                   "the block's turret flag (default: the scenario's)"),
+                   in.turret == Turret::Left, "the block's turret flag (default: the scenario's)"),
     LATHECTL_IN_F(BIn, "prog_s_min_mm_per_min", in.programmed.s_min_mm_per_min,
                   "(programmed) S_min [mm/min] (default: the scenario's)"),
-    LATHECTL_IN_F(BIn, "prog_ds_mm_per_min", in.programmed.ds_mm_per_min, "(programmed) dS [mm/min]"),
+    LATHECTL_IN_F(BIn, "prog_ds_mm_per_min", in.programmed.ds_mm_per_min,
+                  "(programmed) dS [mm/min]"),
     LATHECTL_IN_F(BIn, "prog_dl_mm", in.programmed.dl_mm, "(programmed) dl [mm]"),
     LATHECTL_IN_I(BIn, "prog_n_s", in.programmed.n_s, "(programmed) n_s"),
 };
@@ -86,7 +88,8 @@ const InputField<BServo> kServoIn[] = {
 
 #define F(key, expr, doc) LATHECTL_OUT_F(BOut, key, expr, doc)
 const OutputField<BOut> kModulationOut[] = {
-    F("feed_right_mm_per_min", o.feed_mm_per_min[0], "the feed to the right turret's drive [mm/min]"),
+    F("feed_right_mm_per_min", o.feed_mm_per_min[0],
+      "the feed to the right turret's drive [mm/min]"),
     F("feed_left_mm_per_min", o.feed_mm_per_min[1], "the feed to the left turret's drive [mm/min]"),
     F("s_min_mm_per_min", o.plan.s_min_mm_per_min, "the running plan's S_min [mm/min]"),
     F("ds_mm_per_min", o.plan.ds_mm_per_min, "the running plan's dS [mm/min]"),
@@ -140,7 +143,9 @@ std::shared_ptr<ModulationState> make_modulation(const std::optional<std::string
     if (h.output != "drives" && h.output != "factor" && h.output != "offset")
       throw io::InputError("ModulationMachine: output='" + h.output +
                            "': expected 'drives', 'factor' or 'offset'");
-    host.output = h.output == "factor" ? FO::Factor : h.output == "offset" ? FO::Offset : FO::Drives;
+    host.output = h.output == "factor"   ? FO::Factor
+                  : h.output == "offset" ? FO::Offset
+                                         : FO::Drives;
     host.ceiling = h.ceiling;
     if (h.module_period_s) host.module_period_s = *h.module_period_s;
     if (h.sample_period_s) host.sample_period_s = *h.sample_period_s;
@@ -160,10 +165,14 @@ std::shared_ptr<ModulationState> make_modulation(const std::optional<std::string
   return s;
 }
 
-py::object view(ModulationState& s) { return view_of(s, &s.m.output(), s.view); }
+py::object view(ModulationState& s) {
+  return view_of(s, &s.m.output(), s.view);
+}
 
-void sense_many(ModulationState& s, const py::array_t<double, py::array::c_style | py::array::forcecast>& x) {
-  if (x.ndim() != 1) throw py::value_error("ModulationMachine.sense_many: a 1-D array of displacements [m]");
+void sense_many(ModulationState& s,
+                const py::array_t<double, py::array::c_style | py::array::forcecast>& x) {
+  if (x.ndim() != 1)
+    throw py::value_error("ModulationMachine.sense_many: a 1-D array of displacements [m]");
   const double* p = x.data();
   for (py::ssize_t i = 0; i < x.shape(0); ++i) s.m.sense(p[i]);
 }
@@ -214,15 +223,12 @@ void bind_modulation(py::module_& m) {
   def_keyword_method<ModulationUpdate>(c, "update", update_doc);
   def_keyword_method<ModulationServo>(c, "servo", servo_doc);
   c.def(py::init([](const std::optional<std::string>& text, const std::string& label,
-                       const std::string& output, double ceiling,
-                       std::optional<double> module_period_s,
-                       std::optional<double> sample_period_s) {
-             return make_modulation(text, label,
-                                    {output, ceiling, module_period_s, sample_period_s});
-           }),
-           py::arg("text"), py::arg("label"), py::arg("output") = "drives",
-           py::arg("ceiling") = 1.0, py::arg("module_period_s") = py::none(),
-           py::arg("sample_period_s") = py::none())
+                    const std::string& output, double ceiling,
+                    std::optional<double> module_period_s, std::optional<double> sample_period_s) {
+          return make_modulation(text, label, {output, ceiling, module_period_s, sample_period_s});
+        }),
+        py::arg("text"), py::arg("label"), py::arg("output") = "drives", py::arg("ceiling") = 1.0,
+        py::arg("module_period_s") = py::none(), py::arg("sample_period_s") = py::none())
       .def(
           "sense", [](ModulationState& s, double y) { s.m.sense(y); }, py::arg("displacement_m"),
           "One sample of the vibration sensor (every sample_period_s): the part's displacement "
@@ -230,24 +236,22 @@ void bind_modulation(py::module_& m) {
       .def("sense_many", &sense_many, py::arg("displacement_m"),
            "sense() for each sample of a 1-D array [m], in order.")
       .def_property_readonly("outputs", &view)
-      .def_property_readonly("inputs",
-                             [](const ModulationState& s) {
-                               return inputs_dict<BIn>(s.in, kModulationIn);
-                             })
-      .def_property_readonly("servo_inputs",
-                             [](const ModulationState& s) {
-                               return inputs_dict<BServo>(s.servo, kServoIn);
-                             })
+      .def_property_readonly(
+          "inputs", [](const ModulationState& s) { return inputs_dict<BIn>(s.in, kModulationIn); })
+      .def_property_readonly(
+          "servo_inputs",
+          [](const ModulationState& s) { return inputs_dict<BServo>(s.servo, kServoIn); })
       .def_property_readonly("period_s",
                              [](const ModulationState& s) { return s.m.params().module.period_s; })
-      .def_property_readonly("sample_period_s", [](const ModulationState& s) {
-        return s.m.params().vibration.sample_period_s;
-      })
+      .def_property_readonly(
+          "sample_period_s",
+          [](const ModulationState& s) { return s.m.params().vibration.sample_period_s; })
       .def_property_readonly("name", [](const ModulationState& s) { return s.name; })
       .def_property_readonly("turret_left",
                              [](const ModulationState& s) { return s.m.turret() == Turret::Left; })
       .def_property_readonly("path_mm", [](const ModulationState& s) { return s.m.path_mm(); })
-      .def_property_readonly("chain_a0_m", [](const ModulationState& s) { return s.m.chain().a0_m(); })
+      .def_property_readonly("chain_a0_m",
+                             [](const ModulationState& s) { return s.m.chain().a0_m(); })
       .def_property_readonly("chain_omega_d_rad_per_s",
                              [](const ModulationState& s) { return s.m.chain().omega_d(); });
 }

@@ -27,8 +27,7 @@
 namespace lathectl::python::machines {
 
 void bad_value(const char* cls, const char* name, PyObject* v, const char* expected) {
-  PyErr_Format(PyExc_TypeError, "%s: input '%s': expected %s, not %R", cls, name, expected,
-               v);
+  PyErr_Format(PyExc_TypeError, "%s: input '%s': expected %s, not %R", cls, name, expected, v);
   throw py::error_already_set();
 }
 
@@ -92,8 +91,8 @@ const InputField<SIn> kSlideIn[] = {
                    in.mode = b ? control::SlideMachine::Mode::Roughing
                                : control::SlideMachine::Mode::Finishing,
                    in.mode == control::SlideMachine::Mode::Roughing,
-                  "True roughing (hold the force), False finishing (hold the feed); default: "
-                  "the scenario's controller.mode"),
+                   "True roughing (hold the force), False finishing (hold the feed); default: "
+                   "the scenario's controller.mode"),
     LATHECTL_IN_F(SIn, "feed_set_m_per_s", in.feed_m_per_s,
                   "the programmed feed [m/s]; <= 0 or NaN: the present one (default 0)"),
     LATHECTL_IN_F(SIn, "force_set_N", in.force_set_N,
@@ -105,7 +104,8 @@ const InputField<SIn> kSlideIn[] = {
 };
 
 const OutputField<SOut> kSlideOut[] = {
-    LATHECTL_OUT_F(SOut, "slot_m", o.slot_m, "AIM: the eccentric's slot command [m]; FIM: the slot"),
+    LATHECTL_OUT_F(SOut, "slot_m", o.slot_m,
+                   "AIM: the eccentric's slot command [m]; FIM: the slot"),
     LATHECTL_OUT_F(SOut, "frequency_Hz", o.frequency_Hz, "the pulse frequency [Hz]; 0: no pulses"),
     LATHECTL_OUT_B(SOut, "pulses", o.pulses, "the valve pulses (False: held shut)"),
     LATHECTL_OUT_F(SOut, "feed_cmd_m_per_s", o.feed_cmd_m_per_s, "the feed commanded [m/s]"),
@@ -176,10 +176,12 @@ void bind_slide(py::module_& m) {
   auto c = py::class_<SlideState, std::shared_ptr<SlideState>>(m, "_SlideMachine");
   def_keyword_method<SlideUpdate>(c, "update", update_doc);
   c.def(py::init(&make_slide), py::arg("text"), py::arg("label"), py::arg("machine_io") = false)
-      .def_property_readonly(
-          "outputs", [](SlideState& s) { return view_of(s, &s.m.output(), s.view); })
-      .def_property_readonly("inputs", [](const SlideState& s) { return inputs_dict<SIn>(s.in, kSlideIn); })
-      .def_property_readonly("period_s", [](const SlideState& s) { return s.m.params().controller.period_s; })
+      .def_property_readonly("outputs",
+                             [](SlideState& s) { return view_of(s, &s.m.output(), s.view); })
+      .def_property_readonly("inputs",
+                             [](const SlideState& s) { return inputs_dict<SIn>(s.in, kSlideIn); })
+      .def_property_readonly("period_s",
+                             [](const SlideState& s) { return s.m.params().controller.period_s; })
       .def_property_readonly("name", [](const SlideState& s) { return s.name; })
       .def_property_readonly("start_force_N", [](const SlideState& s) { return s.start_force_N; })
       .def(
@@ -301,16 +303,17 @@ void bind_gauge(py::module_& m) {
   auto c = py::class_<GaugeState, std::shared_ptr<GaugeState>>(m, "_GaugeMachine");
   def_keyword_method<GaugeUpdate>(c, "update", update_doc);
   c.def(py::init([](const std::optional<std::string>& text, const std::string& label,
-                       std::optional<double> threshold_V, std::optional<double> period_s,
-                       std::optional<double> target_x_m, double signal_lost) {
-             return make_gauge(text, label, {threshold_V, period_s, target_x_m, signal_lost});
-           }),
-           py::arg("text"), py::arg("label"), py::arg("threshold_V") = py::none(),
-           py::arg("period_s") = py::none(), py::arg("target_x_m") = py::none(),
-           py::arg("signal_lost") = 0.0)
-      .def_property_readonly(
-          "outputs", [](GaugeState& s) { return view_of(s, &s.m.output(), s.view); })
-      .def_property_readonly("inputs", [](const GaugeState& s) { return inputs_dict<GIn>(s.in, kGaugeIn); })
+                    std::optional<double> threshold_V, std::optional<double> period_s,
+                    std::optional<double> target_x_m, double signal_lost) {
+          return make_gauge(text, label, {threshold_V, period_s, target_x_m, signal_lost});
+        }),
+        py::arg("text"), py::arg("label"), py::arg("threshold_V") = py::none(),
+        py::arg("period_s") = py::none(), py::arg("target_x_m") = py::none(),
+        py::arg("signal_lost") = 0.0)
+      .def_property_readonly("outputs",
+                             [](GaugeState& s) { return view_of(s, &s.m.output(), s.view); })
+      .def_property_readonly("inputs",
+                             [](const GaugeState& s) { return inputs_dict<GIn>(s.in, kGaugeIn); })
       .def_property_readonly("period_s", [](const GaugeState& s) { return s.m.params().period_s; })
       .def_property_readonly("name", [](const GaugeState& s) { return s.name; })
       .def_property_readonly("thresholds_V",
@@ -326,12 +329,17 @@ void bind_gauge(py::module_& m) {
                                  l.append(static_cast<int>(st.command));
                                return l;
                              })
-      .def_property_readonly("backstop_m", [](const GaugeState& s) { return s.m.params().backstop_m; })
-      .def_property_readonly("free_signal_V", [](const GaugeState& s) { return s.m.params().free_signal_V; })
-      .def_property_readonly("rate_factor", [](const GaugeState& s) {
-        return py::make_tuple(s.rate_factor[0], s.rate_factor[1], s.rate_factor[2], s.rate_factor[3]);
-      })
-      .def_property_readonly("removal_m_per_s", [](const GaugeState& s) { return s.removal_m_per_s; })
+      .def_property_readonly("backstop_m",
+                             [](const GaugeState& s) { return s.m.params().backstop_m; })
+      .def_property_readonly("free_signal_V",
+                             [](const GaugeState& s) { return s.m.params().free_signal_V; })
+      .def_property_readonly("rate_factor",
+                             [](const GaugeState& s) {
+                               return py::make_tuple(s.rate_factor[0], s.rate_factor[1],
+                                                     s.rate_factor[2], s.rate_factor[3]);
+                             })
+      .def_property_readonly("removal_m_per_s",
+                             [](const GaugeState& s) { return s.removal_m_per_s; })
       .def("reset", [](GaugeState& s) {
         s.m.reset();
         return view_of(s, &s.m.output(), s.view);

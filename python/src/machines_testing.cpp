@@ -47,12 +47,15 @@ struct Columns {
   }
   [[nodiscard]] py::dict result() const {
     py::dict d;
-    for (const auto& [name, v] : out) d[name.c_str()] = py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
+    for (const auto& [name, v] : out)
+      d[name.c_str()] = py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
     return d;
   }
 };
 
-double rc(control::Reason r) { return static_cast<double>(static_cast<int>(r)); }
+double rc(control::Reason r) {
+  return static_cast<double>(static_cast<int>(r));
+}
 
 py::dict replay_slide(const SlideState& s, py::dict inputs) {
   Columns c(std::move(inputs));
