@@ -255,3 +255,15 @@ def test_update_loop_does_not_leak():
     print(f"10^6 GaugeMachine.update: {elapsed:.2f} s ({elapsed / 990_000 * 1e9:.0f} ns a call), "
           f"RSS grew {grown} kB")
     assert grown < 256
+
+
+def test_adaptive_host_options():
+    path = example("e_stepped_seed004.toml")
+    hal = pathlib.Path(__file__).resolve().parents[2] / "hal"
+    m = lathectl.AdaptiveMachine(path, sensor="power", z_origin_mm=None,
+                                 tools="config/lathectl-tools.toml", base_dir=hal)
+    assert m.load_unit == "W" and lathectl.AdaptiveMachine(path).load_unit == "N"
+    assert not _lathectl._rig_params_equal(m)  # another host's machine than the rig's
+    with pytest.raises(lathectl.InputError, match="nope.toml"):
+        lathectl.AdaptiveMachine(path, tools="nope.toml")
+    assert lathectl.AdaptiveMachine(path, period_s=1e-3).period_s == 1e-3
