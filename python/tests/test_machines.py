@@ -267,3 +267,23 @@ def test_adaptive_host_options():
     with pytest.raises(lathectl.InputError, match="nope.toml"):
         lathectl.AdaptiveMachine(path, tools="nope.toml")
     assert lathectl.AdaptiveMachine(path, period_s=1e-3).period_s == 1e-3
+
+
+def test_adaptive_operation_records():
+    """Two program lines in feed moves at a constant load: line 1's record when line 2 begins
+    (its mean load the load, 2 s in cut = 4000 servo periods of 0.5 ms), line 2's at
+    end_operation(); a load that never moves in a cut is a stuck sensor (alarm)."""
+    m = lathectl.AdaptiveMachine(example("e_stepped_seed004.toml"))
+    load = 0.8 * m.load_limit
+    for k in range(8000):
+        o = m.update(motion_type=2 if k > 500 else 1, spindle_rpm=600.0,
+                     spindle_rpm_programmed=600.0, requested_vel=m.feed_programmed_mm_per_rev,
+                     current_vel_mm_per_s=2.0, force=0.0 if k < 1000 else load, x_pos_mm=40.0,
+                     z_pos_mm=-0.002 * k, program_line=1 if k < 5000 else 2, tool_number=1)
+    assert o.op_seq == 1 and o.op["line"] == 1 and o.op["tool"] == 1
+    assert o.op["load_mean"] == pytest.approx(load, rel=1e-12)
+    assert o.op["time_in_cut_s"] == pytest.approx(4000 * m.period_s, rel=1e-9)
+    assert lathectl.reason_name(o.op["alarm"]) == "sensor_stuck" and o.alarm
+    o = m.end_operation()
+    assert o.op_seq == 2 and o.op["line"] == 2
+    assert o.op["time_in_cut_s"] == pytest.approx(3000 * m.period_s, rel=1e-9)
