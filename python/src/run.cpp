@@ -28,6 +28,12 @@ namespace lathectl::python {
 
 namespace {
 
+// A finished run: what `lathectl run` would write, held in memory.
+struct RunResult {
+  io::RunOutput out;
+  std::string name, system;
+};
+
 const io::MaterialLibrary& materials() {
   static const io::MaterialLibrary lib = io::MaterialLibrary::load_default();
   return lib;
@@ -35,18 +41,14 @@ const io::MaterialLibrary& materials() {
 
 }  // namespace
 
+// `text` given: the scenario's text (a dict made into TOML by the package), `label` its name in
+// messages and the directory its relative files are found in; else `label` is the file.
 io::Scenario read_scenario(const std::optional<std::string>& text, const std::string& label) {
   const std::string t = text ? *text : io::read_scenario_text(label);
   return systems::parse_scenario(t, label, materials());
 }
 
 namespace {
-
-// A finished run: what `lathectl run` would write, held in memory.
-struct RunResult {
-  io::RunOutput out;
-  std::string name, system;
-};
 
 py::list warnings_of(const io::Scenario& sc) {
   py::list w;
