@@ -168,3 +168,9 @@ def run(scenario, *, seed=None, base_dir=None, progress=None):
     result, ws = _call(_lathectl._run, label, at, text, label, seed, bool(progress))
     _warn(ws, label, at)
     return Run(result)
+
+
+from .machines import (SlideMachine, GaugeMachine, AdaptiveMachine, ModulationMachine,  # noqa: E402
+                       reason_name, reasons)
+__all__ += ["SlideMachine", "GaugeMachine", "AdaptiveMachine", "ModulationMachine",
+            "reason_name", "reasons"]

@@ -9,6 +9,10 @@
 #include <optional>
 #include <string>
 
+namespace lathectl::io {
+struct Scenario;
+}
+
 namespace lathectl::python {
 
 namespace py = pybind11;
@@ -21,6 +25,11 @@ void bind_machines(py::module_& m);  // machines.cpp: the machine-side objects
 
 // lathectl.InputError (a ValueError), created by module.cpp.
 PyObject* input_error_type();
+
+// A scenario read and validated by the same reader as `lathectl run` (run.cpp): `text` given, the
+// text the package made of a dict, `label` its name in messages and the directory its relative
+// files are found in; else `label` is the file. Throws io::InputError.
+io::Scenario read_scenario(const std::optional<std::string>& text, const std::string& label);
 
 // A JSON value as the Python object json.loads gives for its text (the same keys and numbers).
 py::object to_python(const nlohmann::json& j);

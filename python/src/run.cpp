@@ -39,12 +39,16 @@ const io::MaterialLibrary& materials() {
   return lib;
 }
 
+}  // namespace
+
 // `text` given: the scenario's text (a dict made into TOML by the package), `label` its name in
 // messages and the directory its relative files are found in; else `label` is the file.
-io::Scenario read(const std::optional<std::string>& text, const std::string& label) {
+io::Scenario read_scenario(const std::optional<std::string>& text, const std::string& label) {
   const std::string t = text ? *text : io::read_scenario_text(label);
   return systems::parse_scenario(t, label, materials());
 }
+
+namespace {
 
 py::list warnings_of(const io::Scenario& sc) {
   py::list w;
@@ -54,7 +58,7 @@ py::list warnings_of(const io::Scenario& sc) {
 
 py::tuple check(const std::optional<std::string>& text, const std::string& label) {
   std::optional<io::Scenario> sc;
-  without_gil("check", false, [&] { sc.emplace(read(text, label)); });
+  without_gil("check", false, [&] { sc.emplace(read_scenario(text, label)); });
   const auto e = systems::estimate(*sc);
   return py::make_tuple(warnings_of(*sc), sc->system, sc->name, systems::summary_text(e));
 }
@@ -63,7 +67,7 @@ py::tuple run(const std::optional<std::string>& text, const std::string& label,
               std::optional<std::uint64_t> seed, bool progress) {
   auto r = std::make_shared<RunResult>();
   std::optional<io::Scenario> sc;
-  without_gil("run", false, [&] { sc.emplace(read(text, label)); });
+  without_gil("run", false, [&] { sc.emplace(read_scenario(text, label)); });
   if (seed) sc->run.seed = *seed;
   r->name = sc->name;
   r->system = sc->system;
