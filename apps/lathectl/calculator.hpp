@@ -183,20 +183,29 @@ void require_finite(const std::string& who, const R& r, std::span<const Output<R
   }
 }
 
+// The inputs as untyped rows (the reference's and the Python module's).
+template <class A>
+std::vector<CalculatorInput> input_rows(std::span<const Input<A>> inputs) {
+  const A defaults{};
+  std::vector<CalculatorInput> rows;
+  for (const auto& in : inputs) {
+    CalculatorInput r{std::string(in.flag), std::string(in.param.key), std::string(in.unit),
+                      std::string(in.param.doc), bound_text(in.param.range), std::nullopt};
+    if (!in.note.empty()) r.doc += " " + std::string(in.note);
+    if (const auto* f = std::get_if<double A::*>(&in.field)) r.default_value = defaults.**f;
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
 // The reference: the inputs (flag, JSON key, unit, range, default, meaning) and outputs.
 template <class A>
 std::string inputs_markdown(std::span<const Input<A>> inputs) {
-  const A defaults{};
   std::vector<std::vector<std::string>> rows;
-  for (const auto& in : inputs) {
-    const auto* f = std::get_if<double A::*>(&in.field);
-    const std::string b = bound_text(in.param.range);
-    std::string meaning(in.param.doc);
-    if (!in.note.empty()) meaning += " " + std::string(in.note);
-    rows.push_back({"`" + std::string(in.flag) + "`", "`" + std::string(in.param.key) + "`",
-                    std::string(in.unit), b.empty() ? "any" : b,
-                    f ? format_number(defaults.**f) : "—", meaning});
-  }
+  for (const auto& r : input_rows<A>(inputs))
+    rows.push_back({"`" + r.flag + "`", "`" + r.key + "`", r.unit,
+                    r.range.empty() ? "any" : r.range,
+                    r.default_value ? format_number(*r.default_value) : "—", r.doc});
   return markdown_table({"flag", "JSON key", "unit", "range", "default", "meaning"}, rows);
 }
 

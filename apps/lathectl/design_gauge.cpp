@@ -301,6 +301,10 @@ int compute(const Args& a) {
 }
 
 void add(CLI::App& sub, Commands& out) {
+  // The flags' defaults again for each command line parsed: the Python module parses many in
+  // one process (lathectl.design.gauge), and a --force must not outlive its call.
+  force = false;
+  filter_kind = "first_order";
   add_calculator<Args>(sub, out, kInputs,
                        "Seed 003 and its formulas (20)-(25): " + doc("system-d-gauging.md") + ".",
                        &compute);
@@ -316,12 +320,14 @@ std::string reference() {
   return calculator_reference<Args, Result>(kInputs, kOutputs);
 }
 
+std::vector<CalculatorInput> inputs() { return input_rows<Args>(kInputs); }
+
 }  // namespace
 
 const Calculator kGauge{
     "gauge",
     "Seed 003: vibro-contact in-process gauge — free amplitude A0, gain K, threshold S_th (23), "
     "end time t_k (22), filtered noise D_y (25), size scatter σ_x and Cp",
-    &add, &reference};
+    &add, &reference, &inputs};
 
 }  // namespace lathectl::cli
