@@ -223,14 +223,17 @@ std::string outputs_markdown(std::span<const Output<R>> outputs, const char* si 
   return markdown_table({"result", si, shop}, rows);
 }
 
-// What every calculator does with its result: with --json the inputs and the results in SI and
-// shop units, else a title and one row per output.
+// What every calculator does with its result: with --json the inputs (and `more_inputs`: the
+// flags that are not number rows but change the result) and the results in SI and shop units,
+// else a title and one row per output.
 template <class A, class R>
 int print_result(const A& a, std::span<const Input<A>> inputs, const R& r,
-                 std::span<const Output<R>> outputs, const char* title) {
+                 std::span<const Output<R>> outputs, const char* title,
+                 const nlohmann::json& more_inputs = nlohmann::json::object()) {
   if (a.json) {
     nlohmann::json j;
     j["inputs"] = inputs_json<A>(a, inputs);
+    j["inputs"].update(more_inputs);
     outputs_json<R>(j, r, outputs);
     std::cout << j.dump(2) << "\n";
     return 0;

@@ -295,9 +295,13 @@ int compute(const Args& a) {
   if (a.tolerance_um)  // unbounded without noise (JSON null)
     r.Cp = r.size_sigma_m > 0.0 ? 2.0 * *a.tolerance_um * 1e-6 / (6.0 * r.size_sigma_m)
                                 : std::numeric_limits<double>::infinity();
+  // --filter and --force in the inputs too: what changes the result is in them, so that they
+  // can be given back (lathectl.design.gauge(**result["inputs"])).
+  nlohmann::json more = {{"filter", filter_kind}};
+  if (force) more["force"] = true;
   return print_result<Args, Result>(
       a, kInputs, r, kOutputs,
-      "Vibro-contact in-process gauge (seed 003, linearised (20)-(25); range: full model)");
+      "Vibro-contact in-process gauge (seed 003, linearised (20)-(25); range: full model)", more);
 }
 
 void add(CLI::App& sub, Commands& out) {
