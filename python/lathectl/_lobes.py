@@ -85,8 +85,9 @@ class Lobes:
         head = (f"critical depth {self.critical_depth_mm:.4g} mm at "
                 f"{self.chatter_frequency_Hz:.5g} Hz" if math.isfinite(self.critical_depth_mm)
                 else "no critical depth (no mode can chatter)")
-        span = (f"{len(self.speed_rpm)} speeds {self.speed_rpm[0]:.0f}–{self.speed_rpm[-1]:.0f} rpm"
-                if len(self.speed_rpm) else "no speeds")
+        n = len(self.speed_rpm)
+        span = (f"{n} speeds {self.speed_rpm[0]:.0f}–{self.speed_rpm[-1]:.0f} rpm" if n
+                else "no speeds")
         sd = f", SD at {len(self.sd_speed_rpm)} speeds" if self.sd_speed_rpm is not None else ""
         pockets = self.recommendation.get("pockets") or []
         best = (f"; best pocket {pockets[0]['speed_rpm']:.0f} rpm at "
@@ -137,7 +138,8 @@ def read_frf(path):
 
 class FittedModes(list):
     """The modes fitted to an FRF (:func:`fit_modes`): a list of dicts shaped like the machine
-    file's [[mode]] tables, and ``residual``, the fit's relative residual √(Σ|H−Ĥ|²/Σ|H|²)."""
+    file's [[mode]] tables, and ``residual``, the fit's relative residual
+    √(Σ|H−Ĥ|²/Σ|H|²)."""
 
     def __init__(self, modes, residual):
         super().__init__(modes)

@@ -82,8 +82,8 @@ def _doc(cli_name, description, rows):
     lines += ["", "Returns a dict: \"inputs\" (every input used) and the results."]
     if at >= 0:
         lines += ["", reference[at + 1:].rstrip()]
-    lines += ["", "Raises lathectl.InputError (a ValueError) naming the key: an unknown key, a value "
-              "out of range, inputs that do not go together."]
+    lines += ["", "Raises lathectl.InputError (a ValueError) naming the key: an unknown key, a "
+              "value out of range, inputs that do not go together."]
     return "\n".join(lines)
 
 

@@ -120,8 +120,9 @@ py::tuple run(const std::string& name, const std::vector<std::string>& args) {
 void bind_design(py::module_& m) {
   m.def("_design_names", &names);
   m.def("_design_inputs", &inputs, py::arg("name"));
-  m.def("_design_reference", [](const std::string& name) { return calculator(name).reference(); },
-        py::arg("name"));
+  m.def(
+      "_design_reference", [](const std::string& name) { return calculator(name).reference(); },
+      py::arg("name"));
   m.def("_design_run", &run, py::arg("name"), py::arg("args"));
 }
 

@@ -47,8 +47,7 @@ py::dict curve(const b::LobeCurve& c) {
 // `text` given: the machine file's text (a dict made into TOML by the package), `label` its name
 // in messages and the directory its relative files ([[frf]] file) are found in; else `label` is
 // the file. Returns (lobes.json as a dict, {"envelope"|"sd"|"chart": {speed_rpm, depth_mm}}).
-py::tuple lobes(const std::optional<std::string>& text, const std::string& label,
-                bool progress) {
+py::tuple lobes(const std::optional<std::string>& text, const std::string& label, bool progress) {
   std::optional<b::LobesInput> in;
   without_gil("lobes", false, [&] {
     in.emplace(text ? b::parse_lobes_input(*text, label) : b::load_lobes_input(label));
@@ -78,10 +77,10 @@ py::tuple read_frf(const std::string& path) {
 
 // The modes as the machine file's [[mode]] tables (angle 0: the fit is of the FRF as given,
 // already along the chip thickness), with the fit's relative residual.
-py::tuple fit_modes(const py::array_t<double, py::array::c_style | py::array::forcecast>& f_Hz,
-                    const py::array_t<std::complex<double>,
-                                      py::array::c_style | py::array::forcecast>& h,
-                    int max_modes) {
+py::tuple fit_modes(
+    const py::array_t<double, py::array::c_style | py::array::forcecast>& f_Hz,
+    const py::array_t<std::complex<double>, py::array::c_style | py::array::forcecast>& h,
+    int max_modes) {
   if (f_Hz.ndim() != 1 || h.ndim() != 1)
     throw py::value_error("fit_modes: frequency_Hz and H must be 1-D arrays");
   if (f_Hz.size() != h.size())
