@@ -183,20 +183,29 @@ void require_finite(const std::string& who, const R& r, std::span<const Output<R
   }
 }
 
+// The inputs as untyped rows (the reference's and the Python module's).
+template <class A>
+std::vector<CalculatorInput> input_rows(std::span<const Input<A>> inputs) {
+  const A defaults{};
+  std::vector<CalculatorInput> rows;
+  for (const auto& in : inputs) {
+    CalculatorInput r{std::string(in.flag), std::string(in.param.key), std::string(in.unit),
+                      std::string(in.param.doc), bound_text(in.param.range), std::nullopt};
+    if (!in.note.empty()) r.doc += " " + std::string(in.note);
+    if (const auto* f = std::get_if<double A::*>(&in.field)) r.default_value = defaults.**f;
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
 // The reference: the inputs (flag, JSON key, unit, range, default, meaning) and outputs.
 template <class A>
 std::string inputs_markdown(std::span<const Input<A>> inputs) {
-  const A defaults{};
   std::vector<std::vector<std::string>> rows;
-  for (const auto& in : inputs) {
-    const auto* f = std::get_if<double A::*>(&in.field);
-    const std::string b = bound_text(in.param.range);
-    std::string meaning(in.param.doc);
-    if (!in.note.empty()) meaning += " " + std::string(in.note);
-    rows.push_back({"`" + std::string(in.flag) + "`", "`" + std::string(in.param.key) + "`",
-                    std::string(in.unit), b.empty() ? "any" : b,
-                    f ? format_number(defaults.**f) : "—", meaning});
-  }
+  for (const auto& r : input_rows<A>(inputs))
+    rows.push_back({"`" + r.flag + "`", "`" + r.key + "`", r.unit,
+                    r.range.empty() ? "any" : r.range,
+                    r.default_value ? format_number(*r.default_value) : "—", r.doc});
   return markdown_table({"flag", "JSON key", "unit", "range", "default", "meaning"}, rows);
 }
 
@@ -214,14 +223,17 @@ std::string outputs_markdown(std::span<const Output<R>> outputs, const char* si 
   return markdown_table({"result", si, shop}, rows);
 }
 
-// What every calculator does with its result: with --json the inputs and the results in SI and
-// shop units, else a title and one row per output.
+// What every calculator does with its result: with --json the inputs (and `more_inputs`: the
+// flags that are not number rows but change the result) and the results in SI and shop units,
+// else a title and one row per output.
 template <class A, class R>
 int print_result(const A& a, std::span<const Input<A>> inputs, const R& r,
-                 std::span<const Output<R>> outputs, const char* title) {
+                 std::span<const Output<R>> outputs, const char* title,
+                 const nlohmann::json& more_inputs = nlohmann::json::object()) {
   if (a.json) {
     nlohmann::json j;
     j["inputs"] = inputs_json<A>(a, inputs);
+    j["inputs"].update(more_inputs);
     outputs_json<R>(j, r, outputs);
     std::cout << j.dump(2) << "\n";
     return 0;

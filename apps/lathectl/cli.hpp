@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,13 +48,26 @@ void add_optimize(CLI::App& app, Commands& out);
 void add_reasons(CLI::App& app, Commands& out);
 void add_systems(CLI::App& app, Commands& out);
 
-// The design calculators (design_<name>.cpp each; design.cpp lists them): the subcommand, and
-// the inputs and outputs as Markdown for `lathectl reference design`.
+// One number input of a design calculator, its table row untyped (calculator.hpp, Input): what
+// the Python module's lathectl.design.<name> needs to name its keyword arguments (the JSON keys)
+// after the flags, and to document them.
+struct CalculatorInput {
+  std::string flag;   // "--d-mm"
+  std::string key;    // "d_mm": the key of --json's "inputs"
+  std::string unit;   // shop unit ("" for a pure number)
+  std::string doc;    // the line of meaning, with the note ("(instead of T)") after it
+  std::string range;  // "in [0.001, 1000]", "> 0", "" (any finite number)
+  std::optional<double> default_value;  // none: given or absent
+};
+
+// The design calculators (design_<name>.cpp each; design.cpp lists them): the subcommand, the
+// inputs and outputs as Markdown for `lathectl reference design`, the number inputs as rows.
 struct Calculator {
   const char* name;         // "pulse-regulator"
   const char* description;  // the --help line and the reference's heading text
   void (*add)(CLI::App& sub, Commands& out);  // options and action of the subcommand `name`
   std::string (*reference)();
+  std::vector<CalculatorInput> (*inputs)();
 };
 extern const Calculator kPulseRegulator, kAdaptiveSpeed, kPlannedMode, kGauge, kTracer,
     kModulation;

@@ -236,12 +236,14 @@ std::string reference() {
          outputs_markdown<Result>(kOutputs);
 }
 
+std::vector<CalculatorInput> inputs() { return input_rows<Args>(kInputs); }
+
 }  // namespace
 
 const Calculator kAdaptiveSpeed{
     "adaptive-speed",
     "Seed 004: optimal speed V_opt = V_p·(S_p/S)^yv; handbook tool life T and speed for a life; "
     "feed per revolution. Each result is computed when its inputs are given",
-    &add, &reference};
+    &add, &reference, &inputs};
 
 }  // namespace lathectl::cli

@@ -295,12 +295,20 @@ int compute(const Args& a) {
   if (a.tolerance_um)  // unbounded without noise (JSON null)
     r.Cp = r.size_sigma_m > 0.0 ? 2.0 * *a.tolerance_um * 1e-6 / (6.0 * r.size_sigma_m)
                                 : std::numeric_limits<double>::infinity();
+  // --filter and --force in the inputs too: what changes the result is in them, so that they
+  // can be given back (lathectl.design.gauge(**result["inputs"])).
+  nlohmann::json more = {{"filter", filter_kind}};
+  if (force) more["force"] = true;
   return print_result<Args, Result>(
       a, kInputs, r, kOutputs,
-      "Vibro-contact in-process gauge (seed 003, linearised (20)-(25); range: full model)");
+      "Vibro-contact in-process gauge (seed 003, linearised (20)-(25); range: full model)", more);
 }
 
 void add(CLI::App& sub, Commands& out) {
+  // The flags' defaults again for each command line parsed: the Python module parses many in
+  // one process (lathectl.design.gauge), and a --force must not outlive its call.
+  force = false;
+  filter_kind = "first_order";
   add_calculator<Args>(sub, out, kInputs,
                        "Seed 003 and its formulas (20)-(25): " + doc("system-d-gauging.md") + ".",
                        &compute);
@@ -316,12 +324,14 @@ std::string reference() {
   return calculator_reference<Args, Result>(kInputs, kOutputs);
 }
 
+std::vector<CalculatorInput> inputs() { return input_rows<Args>(kInputs); }
+
 }  // namespace
 
 const Calculator kGauge{
     "gauge",
     "Seed 003: vibro-contact in-process gauge — free amplitude A0, gain K, threshold S_th (23), "
     "end time t_k (22), filtered noise D_y (25), size scatter σ_x and Cp",
-    &add, &reference};
+    &add, &reference, &inputs};
 
 }  // namespace lathectl::cli

@@ -187,12 +187,14 @@ std::string reference() {
   return calculator_reference<Args, Result>(kInputs, kOutputs);
 }
 
+std::vector<CalculatorInput> inputs() { return input_rows<Args>(kInputs); }
+
 }  // namespace
 
 const Calculator kModulation{
     "modulation",
     "Seed 001's CNC module: the modulated-feed plan (ω_m, A_P, S_min, ΔS, Δl, n_s) that quenches "
     "a vibration a0 at ω_d on a slender part between centres, the time-mean feed kept",
-    &add, &reference};
+    &add, &reference, &inputs};
 
 }  // namespace lathectl::cli

@@ -168,12 +168,14 @@ std::string reference() {
          outputs_markdown<Result>(kOutputs);
 }
 
+std::vector<CalculatorInput> inputs() { return input_rows<Args>(kInputs); }
+
 }  // namespace
 
 const Calculator kPlannedMode{
     "planned-mode",
     "Seed 004's setters: planned feed S_p (the largest the force, power, roughness and feed limits "
     "allow) and speed V_p (the planned tool life at S_p, handbook tool-life table)",
-    &add, &reference};
+    &add, &reference, &inputs};
 
 }  // namespace lathectl::cli

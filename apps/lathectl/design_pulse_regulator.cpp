@@ -116,11 +116,13 @@ std::string reference() {
   return calculator_reference<Args, R>(kInputs, kOutputs);
 }
 
+std::vector<CalculatorInput> inputs() { return input_rows<Args>(kInputs); }
+
 }  // namespace
 
 const Calculator kPulseRegulator{
     "pulse-regulator",
     "Seed 000: Q (1), Ka (2), S (3), Δh (4), Kf (6), Δf and duty of a pulsed flow regulator", &add,
-    &reference};
+    &reference, &inputs};
 
 }  // namespace lathectl::cli

@@ -121,12 +121,14 @@ std::string reference() {
   return calculator_reference<Args, Result>(kInputs, kOutputs);
 }
 
+std::vector<CalculatorInput> inputs() { return input_rows<Args>(kInputs); }
+
 }  // namespace
 
 const Calculator kTracer{
     "tracer",
     "Seed 002: linearised hydraulic tracer slide — steady lag on a cone (P0/E0 + v_T/C0)/i, "
     "damping ratio, natural frequency, transient lag and settling at a cylinder→cone change",
-    &add, &reference};
+    &add, &reference, &inputs};
 
 }  // namespace lathectl::cli

@@ -15,10 +15,13 @@ import warnings as _warnings
 from . import _lathectl
 from ._lathectl import InputError
 from . import _scenario
+from ._lobes import Lobes, FittedModes, lobes, read_frf, fit_modes
+from . import design
 
 __version__ = _lathectl.__version__
 __all__ = ["__version__", "InputError", "ScenarioWarning", "Run", "run", "check",
-           "examples_dir", "data_dir"]
+           "examples_dir", "data_dir",
+           "Lobes", "FittedModes", "lobes", "read_frf", "fit_modes", "design"]
 
 
 class ScenarioWarning(UserWarning):

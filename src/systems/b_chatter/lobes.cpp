@@ -102,7 +102,9 @@ std::vector<AlongPart> along_part(const LobesInput& in) {
   return along;
 }
 
-LobesRun compute(const LobesInput& in, io::Progress* progress) {
+}  // namespace
+
+LobesRun compute_lobes(const LobesInput& in, io::Progress* progress) {
   Ticker tick(in, progress);
   LobesRun r;
   r.fd = dynamics::frequency_domain_lobes(in.system, in.min_rpm, in.max_rpm, in.max_lobes,
@@ -114,11 +116,9 @@ LobesRun compute(const LobesInput& in, io::Progress* progress) {
   return r;
 }
 
-}  // namespace
-
 nlohmann::json run_lobes(const LobesInput& in, const std::filesystem::path& out_dir,
                          io::Progress* progress) {
-  const LobesRun r = compute(in, progress);
+  const LobesRun r = compute_lobes(in, progress);
   nlohmann::json j = lobes_json(in, r);
   write_lobes_outputs(in, r, j, out_dir);
   return j;

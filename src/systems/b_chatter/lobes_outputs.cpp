@@ -216,32 +216,22 @@ json part_json(const LobesInput& in, const std::vector<AlongPart>& along) {
           {"along_part", pos}};
 }
 
-
-// on a fine speed grid, the SD bisection points, the SD chart's boundary; a depth no lobe bounds
-// is NaN (an empty cell in lobes.csv).
-struct LobeCurves {
+// The curves of lobe_curves as the diagram's series.
+struct LobeSeries {
   Series env{"frequency domain: lower envelope", {}, {}, "#1f77b4", false, false};
   Series sdp{"semi-discretization (bisection)", {}, {}, "#d62728", false, true};
   Series sdc{"semi-discretization chart: ρ = 1", {}, {}, "#2ca02c", true, false};
 };
 
-void push_depth_mm(Series& s, double x, double depth_m) {
-  s.x.push_back(x);
-  s.y.push_back(std::isfinite(depth_m) ? depth_m * 1e3 : std::nan(""));
-}
-
-LobeCurves lobe_curves(const LobesInput& in, const LobesRun& r) {
-  LobeCurves c;
-  for (int k = 0; k <= 1000; ++k) {
-    const double n = in.min_rpm + (in.max_rpm - in.min_rpm) * k / 1000.0;
-    push_depth_mm(c.env, n, dynamics::envelope_depth(r.fd, n));
-  }
-  for (std::size_t k = 0; k < r.sd_speed.size(); ++k)
-    push_depth_mm(c.sdp, r.sd_speed[k], r.sd_depth[k]);
-  if (r.chart)
-    for (std::size_t i = 0; i < r.chart->speed_rpm.size(); ++i)
-      push_depth_mm(c.sdc, r.chart->speed_rpm[i], r.chart->boundary_depth_m[i]);
-  return c;
+LobeSeries lobe_series(const LobeCurves& c) {
+  LobeSeries s;
+  s.env.x = c.envelope.speed_rpm;
+  s.env.y = c.envelope.depth_mm;
+  s.sdp.x = c.sd.speed_rpm;
+  s.sdp.y = c.sd.depth_mm;
+  s.sdc.x = c.chart.speed_rpm;
+  s.sdc.y = c.chart.depth_mm;
+  return s;
 }
 
 void csv_series(std::string& csv, const Series& s) {
@@ -250,7 +240,7 @@ void csv_series(std::string& csv, const Series& s) {
 
 // lobes.csv: the curves, the SD chart's every cell, the measured FRF against its smoothing and
 // its fit, the critical depth along the part.
-std::string lobes_csv(const LobesInput& in, const LobesRun& r, const LobeCurves& c) {
+std::string lobes_csv(const LobesInput& in, const LobesRun& r, const LobeSeries& c) {
   std::string csv = "speed_rpm,frequency_domain_depth_mm\n";
   csv_series(csv, c.env);
   csv += "\nspeed_rpm,semi_discretization_depth_mm\n";
@@ -359,7 +349,7 @@ void report_metrics(const LobesInput& in, const LobesRun& r, const json& j, Repo
 
 // Minima only where a lobe has one inside the speed range; the lobes the range cuts off (their
 // lowest point is at an edge, not a minimum) in a table of their own.
-void report_lobes(const LobesInput& in, const LobesRun& r, const LobeCurves& c, const json& j,
+void report_lobes(const LobesInput& in, const LobesRun& r, const LobeSeries& c, const json& j,
                   Report& rep) {
   const auto& fd = r.fd;
   Table t{"Lobe minima inside the speed range (max_lobes " + std::to_string(in.max_lobes) + ")",
@@ -461,7 +451,7 @@ void report_along(const std::vector<AlongPart>& along, Report& rep) {
   rep.plots.push_back(along_plot);
 }
 
-Report lobes_report(const LobesInput& in, const LobesRun& r, const LobeCurves& c, const json& j) {
+Report lobes_report(const LobesInput& in, const LobesRun& r, const LobeSeries& c, const json& j) {
   Report rep;
   rep.title = "Stability lobes";
   rep.doc_page = "system-b-chatter.md";  // the lobes are system B's chatter model
@@ -497,6 +487,27 @@ Report lobes_report(const LobesInput& in, const LobesRun& r, const LobeCurves& c
 }
 }  // namespace
 
+namespace {
+void push_depth_mm(LobeCurve& c, double speed_rpm, double depth_m) {
+  c.speed_rpm.push_back(speed_rpm);
+  c.depth_mm.push_back(std::isfinite(depth_m) ? depth_m * 1e3 : std::nan(""));
+}
+}  // namespace
+
+LobeCurves lobe_curves(const LobesInput& in, const LobesRun& r) {
+  LobeCurves c;
+  for (int k = 0; k <= 1000; ++k) {
+    const double n = in.min_rpm + (in.max_rpm - in.min_rpm) * k / 1000.0;
+    push_depth_mm(c.envelope, n, dynamics::envelope_depth(r.fd, n));
+  }
+  for (std::size_t k = 0; k < r.sd_speed.size(); ++k)
+    push_depth_mm(c.sd, r.sd_speed[k], r.sd_depth[k]);
+  if (r.chart)
+    for (std::size_t i = 0; i < r.chart->speed_rpm.size(); ++i)
+      push_depth_mm(c.chart, r.chart->speed_rpm[i], r.chart->boundary_depth_m[i]);
+  return c;
+}
+
 json lobes_json(const LobesInput& in, const LobesRun& r) {
   const auto& fd = r.fd;
   json j;
@@ -517,7 +528,7 @@ json lobes_json(const LobesInput& in, const LobesRun& r) {
 
 void write_lobes_outputs(const LobesInput& in, const LobesRun& r, const json& j,
                          const std::filesystem::path& out_dir) {
-  const LobeCurves curves = lobe_curves(in, r);
+  const LobeSeries curves = lobe_series(lobe_curves(in, r));
   // One set: lobes.json never stands beside another machine's lobes.csv.
   io::write_output_set(out_dir,
                        {{"lobes.csv", lobes_csv(in, r, curves)},
