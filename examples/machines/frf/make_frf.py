@@ -7,7 +7,15 @@ lobes read from them can be checked against the modes (tests/io/lobes_frf_test.c
                 900 Hz mode (k 1.5e9 N/m, zeta 0.03); receptance, CSV
   tool_yy.uff   y response to y excitation: 150 Hz (k 2.13e8 N/m, zeta 0.010); accelerance in
                 m/s^2 per N, universal file format dataset 58 (ASCII, complex double, even)
-Both 40-600 Hz every 0.25 Hz. Run from this folder: python3 make_frf.py
+Both 40-600 Hz every 0.25 Hz.
+
+  boring_bar_xx.csv   a slender boring bar (400 Hz, k 1.5e6 N/m, zeta 0.02, 30 deg to x) on a
+                stiffer turret mode (650 Hz, k 5e6 N/m, zeta 0.03, -45 deg), measured along x (the
+                radial direction): the oriented receptance sum cos^2(theta)/(k(1 - r^2 + 2j zeta r)),
+                50-1000 Hz every 0.25 Hz, 2 % noise: the tap test of the Python notebook
+                examples/notebooks/tap_test_to_stable_cut.ipynb (the tool of
+                tests/systems/b_structure_test.cpp).
+Run from this folder: python3 make_frf.py
 """
 import cmath
 import math
@@ -53,3 +61,15 @@ with open("tool_yy.uff", "w") as out:
     for i in range(0, len(vals), 4):
         out.write("".join("%20.12E" % v for v in vals[i:i + 4]) + "\n")
     out.write("    -1\n")
+
+# The boring bar of the notebook (its own generator, so the two files above stay as they were).
+BAR = [(1.5e6, 0.02, 400.0, 30.0), (5e6, 0.03, 650.0, -45.0)]
+BAR_X = [(k / math.cos(math.radians(a)) ** 2, z, fn) for k, z, fn, a in BAR]
+rng = random.Random(36)
+with open("boring_bar_xx.csv", "w") as out:
+    out.write("# tap test of a boring bar, x (radial) response / x hammer (synthetic: make_frf.py)\n")
+    out.write("frequency_Hz,real_m_per_N,imag_m_per_N\n")
+    for k in range(int((1000.0 - 50.0) / 0.25) + 1):
+        f = 50.0 + 0.25 * k
+        h = noisy(receptance(BAR_X, f), rng)
+        out.write(f"{f:.2f},{h.real:.6e},{h.imag:.6e}\n")
