@@ -1,0 +1,38 @@
+"""The package as the build tree holds it (PYTHONPATH=build/<preset>/python, the harness
+tests/python/python_test.sh): the module and the program of one build are one version, and the
+module finds the source tree's data and examples from its own location, with no LATHECTL_*
+variable (the installed package's case is tests/package/package_test.sh's)."""
+import os
+import pathlib
+import subprocess
+
+import pytest
+
+import lathectl
+from lathectl import _lathectl
+
+PACKAGE = pathlib.Path(lathectl.__file__).resolve().parent  # build/<preset>/python/lathectl
+BUILD = PACKAGE.parent.parent
+SOURCE = pathlib.Path(__file__).resolve().parents[2]
+
+
+def test_package_is_the_build_trees():
+    assert pathlib.Path(_lathectl.__file__).resolve().parent == PACKAGE
+    assert pathlib.Path(os.environ["PYTHONPATH"]).resolve() == PACKAGE.parent
+    assert not [v for v in os.environ if v.startswith("LATHECTL")]
+
+
+def test_same_version_as_the_program():
+    program = BUILD / "lathectl"
+    if not program.exists():
+        pytest.skip(f"{program} not built")
+    out = subprocess.run([program, "--version"], check=True, capture_output=True, text=True)
+    assert out.stdout.strip() == f"lathectl {lathectl.__version__} (commit {_lathectl.commit})"
+
+
+def test_data_and_examples_from_the_source_tree():
+    assert pathlib.Path(lathectl.data_dir()).resolve() == SOURCE / "data"
+    assert (pathlib.Path(lathectl.data_dir()) / "materials.toml").is_file()
+    examples = pathlib.Path(lathectl.examples_dir()).resolve()
+    assert examples == SOURCE / "examples" / "scenarios"
+    assert (examples / "c_csv_template.toml").is_file()
