@@ -117,8 +117,9 @@ if(TARGET _lathectl)
   endif()
   set(CPACK_DEBIAN_PYTHON3-LATHECTL_PACKAGE_NAME python3-lathectl)
   set(CPACK_DEBIAN_PYTHON3-LATHECTL_PACKAGE_SECTION python)
+  set(_python_deps "python3 (>= ${_py}~), python3 (<< ${Python_VERSION_MAJOR}.${_py_next})")
   set(CPACK_DEBIAN_PYTHON3-LATHECTL_PACKAGE_DEPENDS
-      "python3 (>= ${_py}~), python3 (<< ${Python_VERSION_MAJOR}.${_py_next}), ${_numpy_deps}, lathectl (= ${LATHECTL_DEB_VERSION})")
+      "${_python_deps}, ${_numpy_deps}, lathectl (= ${LATHECTL_DEB_VERSION})")
   set(CPACK_COMPONENT_PYTHON3-LATHECTL_DESCRIPTION
 "adaptive lathe control: Python 3 package
 The Python module lathectl, built from the same C++ as the lathectl program:

@@ -24,7 +24,7 @@ pydir=$(cd "$(dirname "$module")/.." && pwd)  # .../python, holding the package 
 
 # The build tree's module alone: no variable of the caller's lathectl, Python or Jupyter
 # setup, no user site-packages (~/.local: a pip numpy there would not match Debian's).
-while read -r v; do unset "$v"; done < <(env | sed -n 's/^\(LATHECTL[A-Za-z0-9_]*\|PYTHON[A-Za-z0-9_]*\|JUPYTER[A-Za-z0-9_]*\)=.*/\1/p')
+while read -r v; do unset "$v"; done < <(env | sed -En 's/^((LATHECTL|PYTHON|JUPYTER)[A-Za-z0-9_]*)=.*/\1/p')
 mkdir -p "$work"
 work=$(cd "$work" && pwd)
 rm -rf "$work/run" "$work/out" "$work/state"
