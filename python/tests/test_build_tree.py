@@ -1,7 +1,8 @@
 """The package as the build tree holds it (PYTHONPATH=build/<preset>/python, the harness
 tests/python/python_test.sh): the module and the program of one build are one version, and the
-module finds the source tree's data and examples from its own location, with no LATHECTL_*
-variable (the installed package's case is tests/package/package_test.sh's)."""
+module finds the source tree's data and examples from its own location, with no
+LATHECTL_DATA_DIR nor LATHECTL_EXAMPLES_DIR (the installed package's case is
+tests/package/package_test.sh's)."""
 import os
 import pathlib
 import subprocess
@@ -19,7 +20,9 @@ SOURCE = pathlib.Path(__file__).resolve().parents[2]
 def test_package_is_the_build_trees():
     assert pathlib.Path(_lathectl.__file__).resolve().parent == PACKAGE
     assert pathlib.Path(os.environ["PYTHONPATH"]).resolve() == PACKAGE.parent
-    assert not [v for v in os.environ if v.startswith("LATHECTL")]
+    # (the harness passes LATHECTL, the program, and the outputs to compare with; nothing that
+    # would move the data)
+    assert "LATHECTL_DATA_DIR" not in os.environ and "LATHECTL_EXAMPLES_DIR" not in os.environ
 
 
 def test_same_version_as_the_program():

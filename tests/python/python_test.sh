@@ -6,12 +6,16 @@
 # writes beside itself fails). The notebook runs in its own directory (as a user's Jupyter
 # would), on a kernel that is /usr/bin/python3, and fails on any cell's error or a cell over
 # 600 s; the executed copy is kept in WORK/out.
-# Usage: python_test.sh pytest|notebook MODULE WORK FILE
+# Usage: python_test.sh pytest|notebook MODULE WORK FILE [NAME=VALUE...]
 #   MODULE: the extension module's file (build/<preset>/python/lathectl/_lathectl*.so), or
 #   "none" when this build has no Python module.
+#   NAME=VALUE: set for the test after the caller's LATHECTL_*, PYTHON* and JUPYTER* variables
+#   are gone (tests/CMakeLists.txt: LATHECTL, the program; LATHECTL_DEMO_OUT and
+#   LATHECTL_GOLDEN_LOBES_OUT, the program's own outputs of the demo and golden_lobes tests).
 # Exit 77 (skipped) when the module is not built or pytest / nbconvert / ipykernel is missing.
 set -uo pipefail
 kind=$1 module=$2 work=$3 file=$4
+shift 4
 py=/usr/bin/python3
 skip() { echo "SKIP: $*"; exit 77; }
 
@@ -36,6 +40,7 @@ export JUPYTER_CONFIG_DIR=$s/jupyter/config JUPYTER_DATA_DIR=$s/jupyter/data
 export JUPYTER_RUNTIME_DIR=$s/jupyter/runtime XDG_CACHE_HOME=$s/cache
 export XDG_CONFIG_HOME=$s/config XDG_DATA_HOME=$s/data XDG_RUNTIME_DIR=$s/runtime
 mkdir -p "$s/runtime" && chmod 700 "$s/runtime"
+for v in "$@"; do export "$v"; done
 cd "$work/run" || exit 1
 
 case "$kind" in
@@ -82,5 +87,5 @@ JSON
     awk -v a="$t0" -v b="$t1" -v n="$(basename "$file")" -v o="$work/out/$(basename "$file")" \
       'BEGIN { printf "notebook %s: executed in %.1f s (the executed copy: %s)\n", n, b - a, o }'
     ;;
-  *) echo "usage: python_test.sh pytest|notebook MODULE WORK FILE" >&2; exit 2 ;;
+  *) echo "usage: python_test.sh pytest|notebook MODULE WORK FILE [NAME=VALUE...]" >&2; exit 2 ;;
 esac
