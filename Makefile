@@ -13,7 +13,7 @@ deps-browser:
 	@bash scripts/install-deps.sh --browser
 
 deps-test:
-	@bash scripts/install-deps.sh --browser --linuxcnc --package
+	@bash scripts/install-deps.sh --browser --linuxcnc --package --python
 
 build: deps
 	@cmake --preset $(PRESET) >/dev/null
@@ -34,7 +34,7 @@ demo:
 # per target (scripts/fuzz-smoke.sh); open-ended fuzzing is make fuzz.
 test: deps-test
 	@LATHECTL_WERROR=ON bash scripts/fuzz-smoke.sh
-	@cmake --preset default -DLATHECTL_HAL=ON -DLATHECTL_WERROR=ON >/dev/null
+	@cmake --preset default -DLATHECTL_HAL=ON -DLATHECTL_PYTHON=ON -DLATHECTL_WERROR=ON >/dev/null
 	@cmake --build --preset default -j $(JOBS)
 	ctest --preset default -j $(JOBS)
 
@@ -50,8 +50,9 @@ bench: build
 fuzz: deps
 	@bash scripts/fuzz-smoke.sh --explore $(FUZZ_SECONDS)
 
-# The Debian packages lathectl and lathectl-linuxcnc → build/package/*.deb: a Release build with
-# the HAL components, Debian's hardening flags (dpkg-buildflags), installed under /usr; then lintian
+# The Debian packages lathectl, lathectl-linuxcnc and python3-lathectl → build/package/*.deb: a
+# Release build with the HAL components and the Python module, Debian's hardening flags
+# (dpkg-buildflags), installed under /usr; then lintian
 # (fails on errors; warnings are listed in README.md).
 PKG_FLAGS = -DCMAKE_CXX_FLAGS="$$(dpkg-buildflags --get CXXFLAGS) $$(dpkg-buildflags --get CPPFLAGS)" \
             -DCMAKE_EXE_LINKER_FLAGS="$$(dpkg-buildflags --get LDFLAGS)" \

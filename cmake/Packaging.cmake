@@ -1,8 +1,11 @@
-# CPack: two Debian packages from the install components (`make package`, or `cpack` in a build
+# CPack: three Debian packages from the install components (`make package`, or `cpack` in a build
 # directory):
 #   lathectl           the program, data/materials.toml, the examples, lathectl(1), docs
 #   lathectl-linuxcnc  the HAL modules, their (9) pages, the sample configuration,
 #                      lathectl-linuxcnc-sim; Depends: linuxcnc-uspace, lathectl (= same version)
+#   python3-lathectl   the Python package `import lathectl` (python/, when the module is built)
+#                      under /usr/lib/python3/dist-packages; Depends: the python3 and numpy ABIs it
+#                      was built for, lathectl (= same version) for the data and examples
 # The lathectl-dev component (static library, headers, CMake package) is not packaged: the library
 # is a static archive built with this project's flags and no stable ABI, for projects that build
 # lathectl from source (`cmake --install` installs it for find_package(lathectl)).
@@ -37,6 +40,9 @@ add_custom_target(deb_changelog ALL DEPENDS ${_pkgdir}/changelog.Debian.gz)
 set(_packages lathectl)
 if(TARGET lathectl_adaptive)
   list(APPEND _packages lathectl-linuxcnc)
+endif()
+if(TARGET _lathectl)
+  list(APPEND _packages python3-lathectl)
 endif()
 foreach(pkg ${_packages})
   install(FILES ${_pkgdir}/copyright ${_pkgdir}/changelog.Debian.gz
@@ -88,5 +94,42 @@ the simulated processes lathectl_plant and lathectl_chatter.
 Also a sample configuration (sim/lathectl in LinuxCNC's configuration picker)
 and lathectl-linuxcnc-sim, which runs an NC program headless on the simulated
 lathe and records the HAL signals.")
+
+# The extension module's ABIs, as Debian's own extension packages declare them (dh_python3,
+# dh_numpy3): the python3 it was built for (cpython-311: >= 3.11~, << 3.12), and numpy's C ABI
+# (numpy's headers compiled in: python3-numpy-abiN, with the oldest numpy of the same C API, from
+# /usr/share/numpy3/versions).
+if(TARGET _lathectl)
+  set(_py "${Python_VERSION_MAJOR}.${Python_VERSION_MINOR}")
+  math(EXPR _py_next "${Python_VERSION_MINOR} + 1")
+  set(_numpy_deps python3-numpy)
+  if(EXISTS /usr/share/numpy3/versions)
+    file(STRINGS /usr/share/numpy3/versions _abi REGEX "^abi ")
+    file(STRINGS /usr/share/numpy3/versions _api_min REGEX "^api-min-version ")
+    string(REGEX REPLACE "^abi +" "" _abi "${_abi}")
+    string(REGEX REPLACE "^api-min-version +" "" _api_min "${_api_min}")
+    if(_abi AND _api_min)
+      set(_numpy_deps "python3-numpy (>= ${_api_min}), python3-numpy-abi${_abi}")
+    endif()
+  endif()
+  if(_numpy_deps STREQUAL "python3-numpy")
+    message(WARNING "/usr/share/numpy3/versions unreadable: python3-lathectl depends on any numpy")
+  endif()
+  set(CPACK_DEBIAN_PYTHON3-LATHECTL_PACKAGE_NAME python3-lathectl)
+  set(CPACK_DEBIAN_PYTHON3-LATHECTL_PACKAGE_SECTION python)
+  set(_python_deps "python3 (>= ${_py}~), python3 (<< ${Python_VERSION_MAJOR}.${_py_next})")
+  set(CPACK_DEBIAN_PYTHON3-LATHECTL_PACKAGE_DEPENDS
+      "${_python_deps}, ${_numpy_deps}, lathectl (= ${LATHECTL_DEB_VERSION})")
+  set(CPACK_COMPONENT_PYTHON3-LATHECTL_DESCRIPTION
+"adaptive lathe control: Python 3 package
+The Python module lathectl, built from the same C++ as the lathectl program:
+scenarios of the five lathe control systems run closed-loop (summaries and
+channels as numpy arrays), stability lobes of a machine's modes or of a
+measured frequency response (CSV or UFF58), modal fitting, the engineering
+documents' design calculators, and the machine-side controller objects for
+one's own loops.
+.
+It uses the material library and the examples of the lathectl package.")
+endif()
 
 include(CPack)

@@ -9,6 +9,7 @@ pkgs=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev          # libFuzzer and sanitizer runtimes
   universal-ctags                   # scripts/size-report.sh (the size_rules test)
+  pybind11-dev python3-dev python3-numpy  # the Python module `lathectl` (python/, Debian's python3)
 )
 # The reports' plotting library (uPlot) comes from package-lock.json by `npm ci`, run by the
 # build. Debian's npm (with its nodejs) only when there is no npm already (e.g. a NodeSource node).
@@ -23,7 +24,12 @@ for opt in "$@"; do
     --linuxcnc) pkgs+=(linuxcnc-uspace linuxcnc-uspace-dev xvfb x11-apps netpbm) ;;
     # make package: CPack's dependency detection (dpkg-shlibdeps, file) and lintian.
     --package) pkgs+=(dpkg-dev file lintian) ;;
-    *) echo "install-deps: unknown option $opt (--browser, --linuxcnc, --package)" >&2; exit 2 ;;
+    # The Python package's tests (pytest) and the example notebooks executed headless
+    # (nbconvert on Debian's python3 kernel, matplotlib's figures).
+    --python) pkgs+=(python3-pytest jupyter-nbconvert python3-nbformat python3-ipykernel
+                     python3-matplotlib) ;;
+    *) echo "install-deps: unknown option $opt (--browser, --linuxcnc, --package, --python)" >&2
+       exit 2 ;;
   esac
 done
 

@@ -5,7 +5,10 @@
 # root — and, from a directory outside the source tree with no LATHECTL_* variables, runs
 # lathectl --version, one demo example, lobes on an installed machine file, and (installed only)
 # a halrun session loading the installed lathectl_adaptive on an installed scenario and a headless
-# LinuxCNC session (lathectl-linuxcnc-sim) on the installed sample configuration.
+# LinuxCNC session (lathectl-linuxcnc-sim) on the installed sample configuration; with the Python
+# module built, python3-lathectl's metadata and contents, and `import lathectl` from its installed
+# files finding the installed data and examples (none of the build or source tree), its run of an
+# installed example the same files as the program's.
 # Usage: package_test.sh BUILD_DIR SOURCE_DIR WORK_DIR
 # Exit 77 (skipped) when the packages cannot be installed here (not root, no sudo: after the
 # scratch-root checks pass) or lathectl is already installed from elsewhere (left alone).
@@ -46,6 +49,14 @@ if [ $hal -eq 1 ]; then
   [ ${#lcnc[@]} -eq 1 ] || fail "HAL build but no lathectl-linuxcnc_*_amd64.deb"
   lcnc=${lcnc[0]}
 fi
+pymod=("$build"/python/lathectl/_lathectl.cpython-*.so) pyd=("$work"/dist/python3-lathectl_*_amd64.deb)
+python=0
+if [ ${#pymod[@]} -gt 0 ]; then
+  python=1
+  [ ${#pyd[@]} -eq 1 ] || fail "Python module built but no python3-lathectl_*_amd64.deb"
+  pyd=${pyd[0]}
+  pymod=$(basename "${pymod[0]}")  # _lathectl.cpython-311-x86_64-linux-gnu.so
+fi
 
 # --- metadata: versions, dependencies, contents
 version=$(dpkg-deb -f "$cli" Version)
@@ -64,8 +75,8 @@ for f in ./usr/bin/lathectl ./usr/share/lathectl/materials.toml \
          ./usr/share/doc/lathectl/changelog.Debian.gz ./usr/share/doc/lathectl/README.md; do
   grep -q " $f\$" "$work/lathectl.contents" || fail "lathectl: $f missing"
 done
-grep -Eq '\.a$|/include/|/cmake/|\.so$' "$work/lathectl.contents" &&
-  fail "lathectl ships development or HAL files: $(grep -E '\.a$|/include/|/cmake/|\.so$' "$work/lathectl.contents")"
+grep -Eq '\.a$|/include/|/cmake/|\.so$|/dist-packages/' "$work/lathectl.contents" &&
+  fail "lathectl ships development, HAL or Python files: $(grep -E '\.a$|/include/|/cmake/|\.so$|/dist-packages/' "$work/lathectl.contents")"
 grep -Ev '^(-rw-r--r--|-rwxr-xr-x|drwxr-xr-x) root/root ' "$work/lathectl.contents" &&
   fail "lathectl: files not 0644/0755 root/root"
 if [ $hal -eq 1 ]; then
@@ -94,6 +105,33 @@ if [ $hal -eq 1 ]; then
   grep -Ev '^(-rw-r--r--|-rwxr-xr-x|drwxr-xr-x) root/root ' "$work/lathectl-linuxcnc.contents" &&
     fail "lathectl-linuxcnc: files not 0644/0755 root/root"
 fi
+if [ $python -eq 1 ]; then
+  # The ABIs the module was built for: its python3 (the cpython-XY tag of its file name) and
+  # numpy's (python3-numpy-abiN, as Debian's own extension packages), and lathectl's data.
+  tag=${pymod#_lathectl.cpython-}; tag=${tag%%-*}  # 311
+  pyver="${tag:0:1}.${tag:1}" pynext="${tag:0:1}.$(( ${tag:1} + 1 ))"
+  pdeps=$(dpkg-deb -f "$pyd" Depends)
+  echo "python3-lathectl $(dpkg-deb -f "$pyd" Version): Depends: $pdeps"
+  for d in "python3 (>= $pyver~)" "python3 (<< $pynext)" "python3-numpy (>= " "python3-numpy-abi" \
+           "lathectl (= $version)" "libc6"; do
+    grep -qF "$d" <<<"$pdeps" || fail "python3-lathectl: no dependency '$d' ($pdeps)"
+  done
+  [ "$(dpkg-deb -f "$pyd" Section)" = python ] || fail "python3-lathectl: Section $(dpkg-deb -f "$pyd" Section)"
+  dpkg-deb -c "$pyd" > "$work/python3-lathectl.contents"
+  dist=./usr/lib/python3/dist-packages/lathectl
+  for f in "$dist/__init__.py" "$dist/$pymod" ./usr/share/doc/python3-lathectl/copyright \
+           ./usr/share/doc/python3-lathectl/changelog.Debian.gz; do
+    grep -q " $f\$" "$work/python3-lathectl.contents" || fail "python3-lathectl: $f missing"
+  done
+  awk '{ print $6 }' "$work/python3-lathectl.contents" |
+    grep -Ev '^\./(usr/(lib/(python3/(dist-packages/(lathectl/.*)?)?)?|share/(doc/(python3-lathectl/.*)?)?)?)?$' &&
+    fail "python3-lathectl: files outside dist-packages/lathectl and its doc directory"
+  grep -Ev '^(-rw-r--r--|-rwxr-xr-x|drwxr-xr-x) root/root ' "$work/python3-lathectl.contents" &&
+    fail "python3-lathectl: files not 0644/0755 root/root"
+  # No run-time path into the build tree (the libraries are linked in statically).
+  dpkg-deb --fsys-tarfile "$pyd" | tar -xO "$dist/$pymod" > "$work/$pymod"
+  readelf -d "$work/$pymod" | grep -E 'RPATH|RUNPATH' && fail "python3-lathectl: $pymod has a run path"
+fi
 
 # --- install: dpkg -i (root or passwordless sudo) or dpkg -x into a scratch root
 SUDO=""
@@ -105,7 +143,7 @@ run=$(mktemp -d /tmp/lathectl-package-test.XXXXXX)  # the working directory: out
 marker=/var/tmp/lathectl-package-test.installed      # a killed run's leftovers are ours to remove
 cleanup() {
   if [ "$mode" = install ] && [ -e "$marker" ]; then
-    dpkg_locked "$work/purge.log" --purge lathectl-linuxcnc lathectl ||
+    dpkg_locked "$work/purge.log" --purge python3-lathectl lathectl-linuxcnc lathectl ||
       echo "cleanup: dpkg --purge failed (log: $work/purge.log)" >&2
     # The packaged modules are gone: put the build's back for the HAL tests that follow.
     [ $hal -eq 1 ] && bash "$src/scripts/install-hal-modules.sh" "$build" >/dev/null
@@ -116,7 +154,8 @@ cleanup() {
 trap cleanup EXIT
 
 if [ "$mode" = install ]; then
-  if dpkg-query -W -f='${Status}\n' lathectl lathectl-linuxcnc 2>/dev/null | grep -q "ok installed" &&
+  if dpkg-query -W -f='${Status}\n' lathectl lathectl-linuxcnc python3-lathectl 2>/dev/null |
+       grep -q "ok installed" &&
      [ ! -e "$marker" ]; then
     echo "SKIP: lathectl is installed on this machine (not by this test); leaving it alone"
     exit 77
@@ -124,6 +163,7 @@ if [ "$mode" = install ]; then
   $SUDO touch "$marker"
   pkgs=("$cli")
   [ $hal -eq 1 ] && pkgs+=("$lcnc")
+  [ $python -eq 1 ] && pkgs+=("$pyd")
   dpkg_locked "$work/dpkg-i.log" -i "${pkgs[@]}" ||
     { cat "$work/dpkg-i.log" >&2; fail "dpkg -i failed"; }
   root=""
@@ -131,7 +171,7 @@ if [ "$mode" = install ]; then
   [ "$(dpkg -S /usr/bin/lathectl | cut -d: -f1)" = lathectl ] || fail "/usr/bin/lathectl not from lathectl"
 else
   root=$work/root
-  for d in "$cli" ${lcnc:+"$lcnc"}; do dpkg -x "$d" "$root" || fail "dpkg -x $d"; done
+  for d in "$cli" ${lcnc:+"$lcnc"} ${pyd:+"$pyd"}; do dpkg -x "$d" "$root" || fail "dpkg -x $d"; done
 fi
 bin=$root/usr/bin/lathectl
 share=$root/usr/share/lathectl
@@ -170,6 +210,44 @@ if [ $hal -eq 1 ]; then
   "$root/usr/bin/lathectl-linuxcnc-sim" "$run/none.ngc" > sim.log 2>&1; rc=$?
   [ $rc -eq 2 ] && grep -q "none.ngc: no such program" sim.log ||
     fail "lathectl-linuxcnc-sim (exit $rc): $(cat sim.log)"
+fi
+
+if [ $python -eq 1 ]; then
+  # Debian's python3 with the installed package alone on its path (no LATHECTL_* variable, no
+  # user site); under strace when there is one, to show no file of the build or source tree is
+  # even looked at.
+  trace=()
+  strace -qq -o /dev/null true 2>/dev/null && trace=(strace -f -qq -e trace=%file -o "$run/py.strace")
+  env -u PYTHONHOME PYTHONPATH="$root/usr/lib/python3/dist-packages" "${trace[@]}" \
+    /usr/bin/python3 -s - "$root" "$upstream" > python.log 2>&1 <<'PY' || fail "import lathectl from the installed files: $(cat python.log)"
+import os, sys
+root, upstream = sys.argv[1], sys.argv[2]
+real = os.path.realpath
+import lathectl
+dist = real(os.path.join(root or "/", "usr/lib/python3/dist-packages"))
+share = real(os.path.join(root or "/", "usr/share/lathectl"))
+assert real(lathectl.__file__).startswith(dist + "/lathectl/"), lathectl.__file__
+assert lathectl.__version__ == upstream, (lathectl.__version__, upstream)
+assert real(lathectl.data_dir()) == share, (lathectl.data_dir(), share)
+assert real(lathectl.examples_dir()) == share + "/examples/scenarios", lathectl.examples_dir()
+# An installed example that reads a file relative to itself (templates/*.csv).
+r = lathectl.run(os.path.join(lathectl.examples_dir(), "c_csv_template.toml"))
+assert r.ok and len(r.channels["time_s"]) > 100, r
+r.write("py-run")
+print(r)
+PY
+  if [ ${#trace[@]} -gt 0 ]; then
+    # (a scratch root is in the build tree: its own files are not the tree's)
+    grep -F -e "\"$build" -e "\"$src" "$run/py.strace" | { [ -n "$root" ] && grep -vF "\"$root/" || cat; } |
+      head -n 5 > tree.txt
+    [ -s tree.txt ] && fail "import lathectl from the installed files looked into the build or source tree: $(cat tree.txt)"
+  fi
+  "$bin" run "$share/examples/scenarios/c_csv_template.toml" --out cli-run > run.log 2>&1 ||
+    { cat run.log >&2; fail "lathectl run c_csv_template"; }
+  for f in summary.json channels.csv; do
+    cmp -s cli-run/$f py-run/$f || fail "lathectl.run(...).write() $f differs from lathectl run's"
+  done
+  echo "python3-lathectl from installed files: ok ($(cat python.log))"
 fi
 
 if [ "$mode" = extract ]; then
