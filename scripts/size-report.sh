@@ -3,7 +3,7 @@
 # file over 600 lines.
 #
 #   scripts/size-report.sh                 lists every function over 100 lines and every source
-#                                          file over 600 lines (C++ under src, apps, hal, include),
+#                                          file over 600 lines (C++ under src, apps, hal, include, python),
 #                                          longest first, and their counts.
 #   scripts/size-report.sh --check FILE    the same measure, compared with the allow-list FILE
 #                                          (tests/size/allowed.txt): fails on any violation the
@@ -31,7 +31,7 @@ cd "$root"
 command -v ctags >/dev/null || { echo "size-report: needs Universal Ctags (Debian: universal-ctags)" >&2; exit 2; }
 
 dirs=()
-for d in src apps hal include; do [[ -d $d ]] && dirs+=("$d"); done
+for d in src apps hal include python; do [[ -d $d ]] && dirs+=("$d"); done
 
 # The real-time files, one a line (the list's globs expanded here, at the root).
 realtime_files() {

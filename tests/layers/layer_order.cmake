@@ -8,7 +8,7 @@
 #                                (validate.cpp, the rig it probes) < the rest (study, metrics, ...)
 #   every system                 src/systems/*.{hpp,cpp}: the registry, the runner, the estimate
 #   the optimiser                src/optimize
-#   the programs                 apps/, hal/
+#   the programs                 apps/, hal/, python/ (the Python module)
 #
 # A header's layer is its source's (x.hpp is where x.cpp is; a system's library is read from its
 # folder's lathectl_system() call); in a system's folder a header without a source (types alone:
@@ -101,7 +101,7 @@ function(layer_of rel out_rank out_name)
       message(SEND_ERROR "${rel}: the core folder ${folder} has no place in the order "
                          "(tests/layers/layer_order.cmake)")
     endif()
-  elseif(rel MATCHES "^(apps|hal)/")
+  elseif(rel MATCHES "^(apps|hal|python)/")
     set(rank ${rank_programs})
     set(name ${CMAKE_MATCH_1})
   endif()
@@ -118,7 +118,8 @@ set(known_seen "")
 
 file(GLOB_RECURSE files ${SOURCE_DIR}/include/*.hpp ${SOURCE_DIR}/src/*.hpp
      ${SOURCE_DIR}/src/*.cpp ${SOURCE_DIR}/apps/*.hpp ${SOURCE_DIR}/apps/*.cpp
-     ${SOURCE_DIR}/hal/*.hpp ${SOURCE_DIR}/hal/*.cpp)
+     ${SOURCE_DIR}/hal/*.hpp ${SOURCE_DIR}/hal/*.cpp ${SOURCE_DIR}/python/*.hpp
+     ${SOURCE_DIR}/python/*.cpp)
 if(NOT files)
   message(FATAL_ERROR "no sources under ${SOURCE_DIR}")
 endif()
