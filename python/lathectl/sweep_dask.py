@@ -298,12 +298,42 @@ def run(directory, scheduler, *, retries=RETRIES, progress=sys.stderr, client=No
 
 
 def _connect(scheduler, timeout):
-    from distributed import Client
-
     try:
-        return Client(scheduler, timeout=timeout, set_as_default=False)
+        from distributed import Client
+    except ImportError:
+        raise SweepError("the Dask client is not installed (Debian: apt install "
+                         "python3-distributed)") from None
+    try:
+        client = Client(scheduler, timeout=timeout, set_as_default=False)
     except (OSError, TimeoutError, ValueError) as e:
         raise SweepError(f"--scheduler {scheduler}: no Dask scheduler answers ({e})") from None
+    try:
+        _same_lathectl(client)
+    except BaseException:
+        client.close()
+        raise
+    return client
+
+
+def _worker_lathectl():
+    from lathectl import _lathectl
+
+    return f"{_lathectl.__version__} ({_lathectl.commit})"
+
+
+def _same_lathectl(client):
+    """Every worker present imports the same lathectl as this driver: the same reader, the same
+    numbers (a worker that joins later is not asked)."""
+    own = _worker_lathectl()
+    try:
+        theirs = client.run(_worker_lathectl)
+    except Exception as e:
+        raise SweepError(f"a Dask worker cannot import lathectl ({type(e).__name__}: {e}): "
+                         "install python3-lathectl on every node") from None
+    for worker, v in sorted(theirs.items()):
+        if v != own:
+            raise SweepError(f"the Dask worker {worker} has lathectl {v}, this driver {own}: "
+                             "install the same python3-lathectl on every node")
 
 
 def _drive(db, client, cases, retries, counts, prog):
