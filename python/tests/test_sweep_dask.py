@@ -21,6 +21,8 @@ import time
 import pytest
 
 distributed = pytest.importorskip("distributed")  # python3-distributed
+pytestmark = pytest.mark.filterwarnings(  # Debian 12's distributed on its tornado
+    "ignore:make_current is deprecated:DeprecationWarning")
 
 import lathectl
 from lathectl import _lathectl, sweep_dask
@@ -88,6 +90,7 @@ class Cluster:
         self.root = root
         self.procs = []
         self.workers = []
+        self.names = {}  # pid → name
         self.env = dict(os.environ, DASK_CONFIG=str(root / "dask-config"))
         sched = root / "scheduler.json"
         self._start([DASK, "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
@@ -107,6 +110,7 @@ class Cluster:
             p = subprocess.Popen(argv, stdout=log, stderr=subprocess.STDOUT, env=self.env,
                                  stdin=subprocess.DEVNULL, start_new_session=True)
         self.procs.append(p)
+        self.names[p.pid] = name
         return p
 
     def two_workers(self):
@@ -216,6 +220,68 @@ def test_files_travel_to_a_worker_without_base_dir(tmp_path):
     assert got[1] == "error" and str(base / "<case 5>") in got[2] and got[4] is None
 
 
+def b_case_with_machine_file():
+    """b_twin_feed_division, a short cut, its structure from ../machines/b_frf.toml (which names
+    two measured FRFs in turn)."""
+    t = (EXAMPLES / "b_twin_feed_division.toml").read_text()
+    t = re.sub(r"(?m)^\[(compare|sweep|study)\]\n(?:[^\[\n].*\n|\n)*", "", t)
+    t = re.sub(r"(?m)^duration_s = .*$", "duration_s = 0.6", t)
+    t = re.sub(r"(?m)^z_end_mm = .*$", "z_end_mm = 251", t)
+    return t + '\n[structure]\nmachine_file = "../machines/b_frf.toml"\n'
+
+
+def test_a_machine_file_travels_with_the_files_it_names(tmp_path):
+    shutil.copytree(EXAMPLES.parent / "machines", tmp_path / "machines")
+    base = tmp_path / "scenarios"
+    base.mkdir()
+    text = b_case_with_machine_file()
+    files = sweep_dask.files_named(text, str(base))
+    assert sorted(files) == ["../machines/b_frf.toml", "../machines/frf/tool_xx.csv",
+                             "../machines/frf/tool_yy.uff"]
+    want = local([(1, text, str(base))])[1]
+    assert want[0] == "ok"
+    shutil.rmtree(tmp_path / "machines")
+    shutil.rmtree(base)
+    got = sweep_dask.run_case(1, text, str(base), files)
+    assert (got[1], got[2], got[4]) == want
+
+
+def test_every_file_key_of_the_reader_is_shipped():
+    """The reader's own reference (generated from its documented keys): every key whose value is
+    a file relative to something is one files_named looks for (a name ending in file or csv)."""
+    docs = pathlib.Path(__file__).resolve().parents[2] / "docs"
+    rows = []
+    for ref in ("scenario-reference.md", "machine-file-reference.md"):
+        for line in (docs / ref).read_text().splitlines():
+            m = re.match(r"\| `([^`]+)` \|.*relative to\b", line)
+            if m:
+                rows.append(m.group(1))
+    assert sorted(set(rows)) == ["csv", "file", "machine_file"]
+    assert all(k.endswith(("file", "csv")) for k in rows)
+
+
+def test_a_task_the_cluster_gives_up_on_is_an_error_row(cluster, tmp_path, monkeypatch):
+    """A task that raises something not the case's own is retried (Dask's retries=2), then
+    recorded as an error; the other cases are not held up."""
+    ns = {"__name__": "__main__"}  # pickled by value: the workers cannot import this file
+    exec("def flaky(case_id, scenario, base_dir, files=None):\n"
+         "    from lathectl import sweep_dask\n"
+         f"    with open({str(tmp_path / 'runs')!r}, 'a') as f:\n"
+         "        f.write(f'{case_id}\\n')\n"
+         "    if case_id == 1:\n"
+         "        raise KeyError('no such thing')\n"
+         "    return sweep_dask.run_case(case_id, scenario, base_dir, files)\n", ns)
+    monkeypatch.setattr(sweep_dask, "run_case", ns["flaky"])
+    make_store(tmp_path, [a_case(8.0, f) for f in (50.0, 60.0, 70.0)])
+    counts = sweep_dask.run(tmp_path, cluster.address, progress=None)
+    assert counts == {"total": 3, "ran": 3, "ok": 2, "error": 1, "missing": 0}
+    got, _ = results(tmp_path)
+    assert got[1][:2] == ("error", "the cluster gave up on this case: KeyError: 'no such thing'")
+    assert got[1][3] is None
+    runs = (tmp_path / "runs").read_text().split()
+    assert sorted(runs) == ["0", "1", "1", "1", "2"]  # case 1: once and RETRIES times again
+
+
 def test_worker_killed_mid_sweep(cluster, tmp_path):
     n = 24
     cases = make_store(tmp_path, [a_case(40.0, 40.0 + 2.0 * i) for i in range(n)])
@@ -225,6 +291,10 @@ def test_worker_killed_mid_sweep(cluster, tmp_path):
     t.start()
     wait_rows(tmp_path, 4, t)
     victim = cluster.workers[0]
+    workers = cluster.client.scheduler_info()["workers"]
+    addr = next(a for a, w in workers.items() if w["name"] == cluster.names[victim.pid])
+    busy = cluster.client.processing([addr])[addr]
+    assert busy, "the victim has no case"  # one running, the rest queued behind it
     victim.send_signal(signal.SIGKILL)
     victim.wait()
     t.join(120)
@@ -234,7 +304,8 @@ def test_worker_killed_mid_sweep(cluster, tmp_path):
     assert rows == n and sorted(got) == list(range(n))  # none lost, none twice
     want = local(cases)
     assert all(got[i][3] == want[i][2] for i in range(n))
-    print(f"worker killed: {n - len(got)} cases lost, {rows - len(got)} recorded twice")
+    print(f"worker killed with {len(busy)} cases on it: {n - len(got)} cases lost, "
+          f"{rows - len(got)} recorded twice")
     cluster.two_workers()
 
 
