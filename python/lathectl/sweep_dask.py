@@ -4,10 +4,11 @@ Run as ``/usr/bin/python3 -m lathectl.sweep_dask --scheduler tcp://HOST:PORT DIR
 ``lathectl sweep SPEC --out DIR --scheduler ...`` does after it has filled DIR/sweep.sqlite's
 ``cases``), or from Python as :func:`run`. Every case without a ``results`` row goes to the
 cluster as one task; the task runs the case's scenario text with the same reader and the same
-registry as the local engine (``lathectl._lathectl._run(text, "<base_dir>/<case N>", None,
-False)``) and returns summary.json's text. Only this driver writes the store: one
-``INSERT OR IGNORE`` per case, in its own transaction, as the cases complete; a case is recorded
-once or not at all, whatever is killed when, and a rerun runs only the cases without a row.
+registry as the local engine (``lathectl._lathectl._run(text, "<base_dir>/case N", None,
+False)``, the label the local engine reads it under) and returns summary.json's text. Only
+this driver writes the store: one ``INSERT OR IGNORE`` per case, in its own transaction, as the
+cases complete; a case is recorded once or not at all, whatever is killed when, and a rerun runs
+only the cases without a row.
 
 What travels with a case: its scenario text and base_dir, and the bytes of the relative files it
 names (keys ending in ``file`` or ``csv``, and those a named TOML file names in turn, e.g. a
@@ -17,6 +18,7 @@ and gives the temporary directory's name back as base_dir in summary.json and in
 Absolute file names are not shipped: they must exist on every worker.
 """
 import argparse
+import hashlib
 import os
 import sqlite3
 import sys
@@ -37,7 +39,7 @@ class SweepError(RuntimeError):
 
 def case_label(base_dir, case_id):
     """The name a case is read under: its relative files are found beside it, messages name it."""
-    return os.path.join(base_dir, f"<case {case_id}>")
+    return os.path.join(base_dir, f"case {case_id}")
 
 
 # --- what travels with a case --------------------------------------------------------------
@@ -55,13 +57,15 @@ def _file_values(node):
             yield from _file_values(v)
 
 
-def files_named(text, base_dir):
+def files_named(text, base_dir, cache=None):
     """{path relative to base_dir: bytes} of the relative files a scenario's text names.
 
     A named TOML file (a machine file) is read in turn for the files it names, relative to its own
     folder. Files that do not exist are left out: the reader says so when the case runs.
+    cache: a dict {absolute path: bytes} kept across calls, so that a sweep reads each file once.
     """
     found = {}
+    cache = {} if cache is None else cache
 
     def walk(doc_text, doc_dir):
         try:
@@ -73,10 +77,14 @@ def files_named(text, base_dir):
                 continue
             path = os.path.normpath(os.path.join(doc_dir, name))
             rel = os.path.relpath(path, base_dir)
-            if rel in found or not os.path.isfile(path):
+            if rel in found:
                 continue
-            with open(path, "rb") as f:
-                found[rel] = f.read()
+            if path not in cache:
+                if not os.path.isfile(path):
+                    continue
+                with open(path, "rb") as f:
+                    cache[path] = f.read()
+            found[rel] = cache[path]
             if path.endswith(".toml"):
                 walk(found[rel].decode("utf-8", "replace"), os.path.dirname(path))
 
@@ -156,7 +164,8 @@ def _run_in(case_id, scenario, base_dir, t0, back):
         result, _warnings = _lathectl._run(scenario, case_label(base_dir, case_id), None, False)
         summary = result.summary_json
     except (ValueError, OSError, RuntimeError) as e:  # InputError is a ValueError
-        return case_id, "error", restore(str(e)), time.perf_counter() - t0, None
+        message = " ".join(restore(str(e)).replace("\r", "\n").split("\n"))  # one line
+        return case_id, "error", message, time.perf_counter() - t0, None
     return case_id, "ok", "", time.perf_counter() - t0, restore(summary)
 
 
@@ -235,14 +244,17 @@ class _Progress:
 
 def _submit(client, cases, retries):
     """{future: case_id}: one task per case; the files a case names scattered once per set."""
-    shipped = {}
+    shipped, read, digests = {}, {}, {}
     futures = {}
     token = uuid.uuid4().hex[:12]
     for case_id, scenario, base_dir in cases:
-        files = files_named(scenario, base_dir)
+        files = files_named(scenario, base_dir, read)
         handle = None
         if files:
-            k = (base_dir, tuple(sorted((r, hash(d)) for r, d in files.items())))
+            for d in files.values():  # the same bytes object for the same file: hashed once
+                if id(d) not in digests:
+                    digests[id(d)] = hashlib.sha256(d).digest()
+            k = (base_dir, tuple(sorted((r, digests[id(d)]) for r, d in files.items())))
             if k not in shipped:
                 # broadcast: every worker holds a copy, so a worker that dies loses none
                 shipped[k] = client.scatter([files], broadcast=True, hash=False)[0]

@@ -76,10 +76,10 @@ def local(cases):
     out = {}
     for i, text, base in cases:
         try:
-            r, _ = _lathectl._run(text, os.path.join(base, f"<case {i}>"), None, False)
+            r, _ = _lathectl._run(text, os.path.join(base, f"case {i}"), None, False)
             out[i] = ("ok", "", r.summary_json)
         except lathectl.InputError as e:
-            out[i] = ("error", str(e), None)
+            out[i] = ("error", str(e).replace("\n", " "), None)
     return out
 
 
@@ -185,8 +185,8 @@ def test_small_sweep_equals_the_local_engine(cluster, tmp_path):
     for i, (status, message, summary) in want.items():
         assert (got[i][0], got[i][1], got[i][3]) == (status, message, summary), i
         assert got[i][2] > 0
-    assert "<case 6>" in got[6][1] and "feed_mm_per_min" in got[6][1]
-    assert json.loads(got[7][3])["file"] == str(EXAMPLES / "<case 7>")
+    assert "/case 6:" in got[6][1] and "feed_mm_per_min" in got[6][1]
+    assert json.loads(got[7][3])["file"] == str(EXAMPLES / "case 7")
     # Everything recorded: the same command again runs nothing.
     assert sweep_dask.run(tmp_path, cluster.address, progress=None)["ran"] == 0
     assert results(tmp_path) == (got, 8)
@@ -217,7 +217,7 @@ def test_files_travel_to_a_worker_without_base_dir(tmp_path):
     assert (got[1], got[2], got[4]) == want
     # A file that is missing is the reader's error, naming the case's label.
     got = sweep_dask.run_case(5, sub, str(base), {})
-    assert got[1] == "error" and str(base / "<case 5>") in got[2] and got[4] is None
+    assert got[1] == "error" and str(base / "case 5") in got[2] and got[4] is None
 
 
 def b_case_with_machine_file():
