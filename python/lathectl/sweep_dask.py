@@ -19,6 +19,7 @@ Absolute file names are not shipped: they must exist on every worker.
 """
 import argparse
 import hashlib
+import logging
 import os
 import sqlite3
 import sys
@@ -265,15 +266,26 @@ def _submit(client, cases, retries):
     return futures
 
 
-def _failed_row(future, case_id):
-    """An `error` row of a case the cluster gave up on (its worker died too often, or its
-    exception outlived the retries)."""
+_LOST = object()  # the cluster cannot give a completed case's outcome: its scheduler is gone
+
+
+def _outcome(future, case_id):
+    """The row of a completed task; None for a task cancelled (no row: the next run runs it);
+    _LOST when the scheduler cannot be asked. A task in error is a case the cluster gave up on (its
+    worker died too often, or its exception outlived the retries): an `error` row."""
+    import asyncio
+    import concurrent.futures
+
     try:
-        e = future.exception()
-    except Exception as x:  # the future was cancelled or its scheduler is gone
-        e = x
-    msg = f"the cluster gave up on this case: {type(e).__name__}: {e}"
-    return case_id, "error", " ".join(msg.split()), 0.0, None
+        if future.status == "finished":
+            return future.result()
+        if future.status == "error":
+            e = future.exception()
+            msg = " ".join(f"the cluster gave up on this case: {type(e).__name__}: {e}".split())
+            return case_id, "error", msg, 0.0, None
+    except (OSError, TimeoutError, asyncio.CancelledError, concurrent.futures.CancelledError):
+        return _LOST
+    return None
 
 
 def run(directory, scheduler, *, retries=RETRIES, progress=sys.stderr, client=None,
@@ -353,24 +365,32 @@ def _drive(db, client, cases, retries, counts, prog):
 
     futures = _submit(client, cases, retries)
     for f in as_completed(list(futures), loop=client.loop):
-        case_id = futures.pop(f)
-        if f.status == "finished":
-            row = f.result()
-        elif f.status == "error":
-            row = _failed_row(f, case_id)
-        else:  # cancelled or lost with its scheduler: no row, the next run runs it again
-            f.release()
-            continue
+        row = _outcome(f, futures.pop(f))
         f.release()
+        if row is _LOST:
+            break  # the cases not recorded run next time
+        if row is None:
+            continue
         if _record(db, row):
             counts["ran"] += 1
             counts[row[1]] += 1
         prog.step(row[1])
 
 
+class _OneLine:
+    """A logging filter: Dask's messages without their tracebacks (a lost scheduler logs several
+    of asyncio's CancelledError); empty messages dropped."""
+
+    @staticmethod
+    def filter(record):
+        record.exc_info = record.exc_text = None
+        return bool(record.getMessage().strip())
+
+
 def main(argv=None):
-    """The command line: exit 0 when every case has a row, 1 when some have none, 2 on bad
-    input (no store, no scheduler)."""
+    """The command line: exit 0 when every case has a row, 1 when some have none (the cluster
+    was lost), 2 on bad input (no store, no scheduler, a worker with another lathectl), 130 when
+    interrupted (Ctrl-C)."""
     ap = argparse.ArgumentParser(
         prog="python3 -m lathectl.sweep_dask",
         description="Run the cases of DIR/sweep.sqlite without a result on a Dask cluster.")
@@ -381,10 +401,22 @@ def main(argv=None):
     ap.add_argument("dir", help="the sweep's output directory (holding sweep.sqlite)")
     a = ap.parse_args(argv)
     try:
+        import distributed  # noqa: F401  (sets up its logging: a handler on 'distributed')
+    except ImportError:
+        pass
+    # Dask's handler (of all its loggers) and the last resort (asyncio's, tornado's messages)
+    for h in logging.getLogger("distributed").handlers + [logging.lastResort]:
+        if h is not None:
+            h.addFilter(_OneLine)
+    try:
         c = run(a.dir, a.scheduler, retries=a.retries, progress=None if a.quiet else sys.stderr)
     except SweepError as e:
         print(f"lathectl sweep: {e}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("lathectl sweep: interrupted; the cases recorded are kept, the same command runs "
+              "the rest", file=sys.stderr)
+        return 130
     if c["missing"]:
         print(f"lathectl sweep: {c['missing']} of {c['total']} cases have no result (the "
               "cluster was lost?): run the same command again to run them", file=sys.stderr)

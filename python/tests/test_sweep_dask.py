@@ -87,18 +87,26 @@ class Cluster:
     """A scheduler and workers on 127.0.0.1 (no nanny: a SIGKILLed worker stays dead)."""
 
     def __init__(self, root):
+        root.mkdir(parents=True, exist_ok=True)
         self.root = root
         self.procs = []
         self.workers = []
         self.names = {}  # pid → name
         self.env = dict(os.environ, DASK_CONFIG=str(root / "dask-config"))
-        sched = root / "scheduler.json"
+        self.client = None
+        try:
+            self._up(root / "scheduler.json")
+        except BaseException:
+            self.close()
+            raise
+
+    def _up(self, sched):
         self._start([DASK, "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
                      "--scheduler-file", str(sched)], "scheduler")
         deadline = time.monotonic() + 60
         while not sched.exists() or not sched.read_text().strip().endswith("}"):
-            assert time.monotonic() < deadline, (root / "scheduler.log").read_text()
-            assert self.procs[0].poll() is None, (root / "scheduler.log").read_text()
+            log = self.root / "scheduler.log"
+            assert time.monotonic() < deadline and self.procs[0].poll() is None, log.read_text()
             time.sleep(0.1)
         self.address = json.loads(sched.read_text())["address"]
         self.client = distributed.Client(self.address, set_as_default=False, timeout=30)
@@ -138,7 +146,8 @@ class Cluster:
 
     def close(self):
         try:
-            self.client.close()
+            if self.client is not None:
+                self.client.close()
         finally:
             for p in self.procs:
                 if p.poll() is None:
@@ -344,3 +353,34 @@ def test_no_store_and_no_scheduler(tmp_path, capsys):
     make_store(tmp_path, [a_case(8.0, 60.0)])
     with pytest.raises(sweep_dask.SweepError, match="no Dask scheduler answers"):
         sweep_dask.run(tmp_path, "tcp://127.0.0.1:9", timeout=2)
+
+
+def test_scheduler_lost_then_rerun_on_another_cluster(tmp_path):
+    """The scheduler killed mid-sweep: the driver exits 1 with one line (no traceback), the cases
+    recorded stay; the same command against a new cluster runs the rest."""
+    n = 20
+    d = tmp_path / "sweep"
+    cases = make_store(d, [a_case(40.0, 45.0 + i) for i in range(n)])
+    first = Cluster(tmp_path / "c1")
+    try:
+        p = subprocess.Popen([sys.executable, "-m", "lathectl.sweep_dask", "--scheduler",
+                              first.address, str(d)], stderr=subprocess.PIPE, text=True)
+        wait_rows(d, 4, p)
+        first.procs[0].kill()  # the scheduler
+        _, err = p.communicate(timeout=90)
+    finally:
+        first.close()
+    before, rows = results(d)
+    assert p.returncode == 1, err
+    assert "Traceback" not in err and f"of {n} cases have no result" in err, err
+    assert 4 <= rows < n
+    second = Cluster(tmp_path / "c2")
+    try:
+        counts = sweep_dask.run(d, second.address, progress=None)
+    finally:
+        second.close()
+    got, rows = results(d)
+    assert counts["ran"] == n - len(before) and counts["missing"] == 0
+    assert rows == n and all(got[i] == before[i] for i in before)
+    want = local(cases)
+    assert all(got[i][3] == want[i][2] for i in range(n))
