@@ -24,6 +24,7 @@ import os
 import sqlite3
 import sys
 import tempfile
+import threading
 import time
 import tomllib
 import uuid
@@ -387,6 +388,25 @@ class _OneLine:
         return bool(record.getMessage().strip())
 
 
+def _follow_parent():
+    """Started by `lathectl sweep` (the parent process is the program): end when it ends, even
+    by SIGKILL, as if killed with it (the store keeps every case recorded, one transaction each),
+    so that a rerun's driver is the only one. Run by hand, the driver is left alone."""
+    ppid = os.getppid()
+    try:
+        if os.path.basename(os.readlink(f"/proc/{ppid}/exe")) != "lathectl":
+            return
+    except OSError:
+        return
+
+    def watch():
+        while os.getppid() == ppid:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="lathectl-parent", daemon=True).start()
+
+
 def main(argv=None):
     """The command line: exit 0 when every case has a row, 1 when some have none (the cluster
     was lost), 2 on bad input (no store, no scheduler, a worker with another lathectl), 130 when
@@ -400,6 +420,7 @@ def main(argv=None):
     ap.add_argument("--quiet", action="store_true", help="no progress lines")
     ap.add_argument("dir", help="the sweep's output directory (holding sweep.sqlite)")
     a = ap.parse_args(argv)
+    _follow_parent()
     try:
         import distributed  # noqa: F401  (sets up its logging: a handler on 'distributed')
     except ImportError:

@@ -347,6 +347,47 @@ def test_driver_killed_and_rerun(cluster, tmp_path):
           f"{t_rerun:.2f} s; 0 lost, 0 twice")
 
 
+def gone(pid):
+    """True when the process has ended (gone, or a zombie nobody reaps)."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] in "ZX"
+    except FileNotFoundError:
+        return True
+
+
+def test_driver_ends_with_lathectl_sweep(cluster, tmp_path):
+    """`lathectl sweep` killed with SIGKILL while its driver runs: the driver ends with it (no
+    orphan goes on beside the rerun's driver); the rerun completes."""
+    fake = tmp_path / "lathectl"  # a parent whose program is named lathectl: python3 itself
+    shutil.copy("/usr/bin/python3", fake)
+    d = tmp_path / "sweep"
+    n = 16
+    make_store(d, [a_case(40.0, 43.0 + 2.0 * i) for i in range(n)])
+    spawn = ("import subprocess, sys\n"
+             "p = subprocess.Popen(['/usr/bin/python3', '-m', 'lathectl.sweep_dask', '--quiet',"
+             " '--scheduler', sys.argv[1], sys.argv[2]])\n"
+             "print(p.pid, flush=True)\n"
+             "p.wait()\n")
+    parent = subprocess.Popen([str(fake), "-c", spawn, cluster.address, str(d)],
+                              stdout=subprocess.PIPE, text=True)
+    driver = int(parent.stdout.readline())
+    try:
+        wait_rows(d, 4, parent)
+    finally:
+        parent.kill()
+        parent.wait()
+    deadline = time.monotonic() + 10
+    while not gone(driver):
+        assert time.monotonic() < deadline, "the driver outlived lathectl sweep"
+        time.sleep(0.05)
+    _, rows = results(d)
+    time.sleep(0.5)
+    assert results(d)[1] == rows < n  # nothing recorded after it ended
+    assert sweep_dask.run(d, cluster.address, progress=None)["missing"] == 0
+    assert results(d)[1] == n
+
+
 def test_no_store_and_no_scheduler(tmp_path, capsys):
     assert sweep_dask.main(["--scheduler", "tcp://127.0.0.1:9", str(tmp_path)]) == 2
     assert "sweep.sqlite: no such file" in capsys.readouterr().err
