@@ -401,7 +401,7 @@ def _follow_parent():
 
     def watch():
         while os.getppid() == ppid:
-            time.sleep(0.5)
+            time.sleep(0.2)
         os._exit(1)
 
     threading.Thread(target=watch, name="lathectl-parent", daemon=True).start()
