@@ -120,6 +120,8 @@ if(TARGET _lathectl)
   set(_python_deps "python3 (>= ${_py}~), python3 (<< ${Python_VERSION_MAJOR}.${_py_next})")
   set(CPACK_DEBIAN_PYTHON3-LATHECTL_PACKAGE_DEPENDS
       "${_python_deps}, ${_numpy_deps}, lathectl (= ${LATHECTL_DEB_VERSION})")
+  # `lathectl sweep --scheduler`'s driver (lathectl.sweep_dask) and the workers of its cluster.
+  set(CPACK_DEBIAN_PYTHON3-LATHECTL_PACKAGE_SUGGESTS "python3-distributed")
   set(CPACK_COMPONENT_PYTHON3-LATHECTL_DESCRIPTION
 "adaptive lathe control: Python 3 package
 The Python module lathectl, built from the same C++ as the lathectl program:

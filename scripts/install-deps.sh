@@ -25,9 +25,10 @@ for opt in "$@"; do
     # make package: CPack's dependency detection (dpkg-shlibdeps, file) and lintian.
     --package) pkgs+=(dpkg-dev file lintian) ;;
     # The Python package's tests (pytest) and the example notebooks executed headless
-    # (nbconvert on Debian's python3 kernel, matplotlib's figures).
+    # (nbconvert on Debian's python3 kernel, matplotlib's figures); `lathectl sweep --scheduler`'s
+    # driver and its cluster tests (Dask distributed: the client, `dask scheduler`, `dask worker`).
     --python) pkgs+=(python3-pytest jupyter-nbconvert python3-nbformat python3-ipykernel
-                     python3-matplotlib) ;;
+                     python3-matplotlib python3-dask python3-distributed) ;;
     *) echo "install-deps: unknown option $opt (--browser, --linuxcnc, --package, --python)" >&2
        exit 2 ;;
   esac
