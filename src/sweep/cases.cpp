@@ -163,9 +163,11 @@ void check_values(const Spec& spec, const std::string& scenario_text,
     try {
       systems::parse_scenario(apply(scenario_text, label, {key}, {v}), label, lib);
     } catch (const io::InputError& e) {
+      std::string why = without_location(e.what(), label);
+      if (const std::string self = "key '" + key + "': "; why.rfind(self, 0) == 0)
+        why.erase(0, self.size());  // the spec's error names the key already
       throw io::InputError(io::located(spec.file, at.line, at.column,
-                                       "key '" + key + "' = " + to_text(v) + ": " +
-                                           without_location(e.what(), label)));
+                                       "key '" + key + "' = " + to_text(v) + ": " + why));
     }
   };
   for (const auto& g : spec.grid)
