@@ -28,6 +28,7 @@ struct SweepArgs {
 
 int sweep(const SweepArgs& a) {
   const auto spec = sweep::read_spec(a.spec);
+  const std::string driver = a.scheduler.empty() ? "" : sweep::find_dask_driver(a.scheduler);
   const std::string text = io::read_scenario_text(spec.scenario.string());
   const auto values = sweep::draw_values(spec);
   const auto lib = io::MaterialLibrary::load_default();
@@ -43,7 +44,7 @@ int sweep(const SweepArgs& a) {
   if (a.scheduler.empty())
     sweep::run_local(cases, store, a.workers, lib);
   else
-    sweep::run_dask(a.scheduler, dir);
+    sweep::run_dask(driver, a.scheduler, dir);
   const auto results = store.results();
   sweep::write_results(dir, spec, values, results);
   std::size_t ok = 0;

@@ -68,7 +68,7 @@ std::size_t run_local(const std::vector<Case>& cases, Store& store, unsigned wor
   return todo.size();
 }
 
-void run_dask(const std::string& scheduler, const std::filesystem::path& dir) {
+std::string find_dask_driver(const std::string& scheduler) {
   if (!std::regex_match(scheduler, std::regex(R"(tcp://[^\s:/]+:[0-9]{1,5})")))
     throw io::InputError("--scheduler " + scheduler +
                          ": expected a Dask scheduler's address, tcp://HOST:PORT");
@@ -79,6 +79,11 @@ void run_dask(const std::string& scheduler, const std::filesystem::path& dir) {
   if (!std::filesystem::exists(std::filesystem::path(pydir) / "lathectl" / "sweep_dask.py"))
     throw io::InputError("--scheduler: the Dask driver lathectl.sweep_dask is not in " + pydir +
                          " (install the python3-lathectl package, or build the Python module)");
+  return pydir;
+}
+
+void run_dask(const std::string& pydir, const std::string& scheduler,
+              const std::filesystem::path& dir) {
   const char* old = std::getenv("PYTHONPATH");
   const std::string pp = pydir + (old && *old ? ":" + std::string(old) : "");
   setenv("PYTHONPATH", pp.c_str(), 1);

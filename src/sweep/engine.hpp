@@ -25,11 +25,14 @@ Result run_case(const Case& c, const io::MaterialLibrary& lib);
 std::size_t run_local(const std::vector<Case>& cases, Store& store, unsigned workers,
                       const io::MaterialLibrary& lib);
 
-// The Dask engine: `/usr/bin/python3 -m lathectl.sweep_dask --scheduler ADDRESS DIR`, the module
-// found beside the program (the build tree's python/, or the installed package) and put on
-// PYTHONPATH. Throws io::InputError when the module is missing or ADDRESS is not tcp://HOST:PORT,
-// std::runtime_error when the driver fails.
-void run_dask(const std::string& scheduler, const std::filesystem::path& dir);
+// The directory holding the Dask driver lathectl/sweep_dask.py beside the program (the build
+// tree's python/, or the installed package; $LATHECTL_PYTHON_DIR first). Throws io::InputError
+// when it is missing or `scheduler` is not tcp://HOST:PORT. Called before anything is written.
+std::string find_dask_driver(const std::string& scheduler);
+// The Dask engine: `/usr/bin/python3 -m lathectl.sweep_dask --scheduler ADDRESS DIR` with `pydir`
+// on PYTHONPATH, waited for; std::runtime_error when the driver fails.
+void run_dask(const std::string& pydir, const std::string& scheduler,
+              const std::filesystem::path& dir);
 
 // DIR/cases.csv: `case`, then the varied keys' values (before any runs).
 void write_cases_csv(const std::filesystem::path& dir, const Spec& spec,

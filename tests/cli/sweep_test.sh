@@ -24,6 +24,14 @@ for e in e1:4 e2:4 e3:4; do
   [ ! -e "$work/$f" ] || bad "$f: wrote $work/$f"
 done
 
+# The Dask engine without its driver, or with an address that is not one: exit 2, nothing written.
+printf 'scenario = "%s"\n[grid]\n"run.duration_s" = [0.5]\n' "$sc" > "$work/v.toml"
+LATHECTL_PYTHON_DIR=$work/nowhere "$bin" sweep "$work/v.toml" --out "$work/d" --scheduler tcp://127.0.0.1:8786 > /dev/null 2> "$work/err.txt"; rc=$?
+[ "$rc" -eq 2 ] && grep -q "^error: --scheduler: the Dask driver lathectl.sweep_dask is not in $work/nowhere" "$work/err.txt" || bad "no driver: exit $rc: $(cat "$work/err.txt")"
+"$bin" sweep "$work/v.toml" --out "$work/d" --scheduler 127.0.0.1:8786 > /dev/null 2> "$work/err.txt"; rc=$?
+[ "$rc" -eq 2 ] && grep -q "^error: --scheduler 127.0.0.1:8786: expected" "$work/err.txt" || bad "bad address: exit $rc: $(cat "$work/err.txt")"
+[ ! -e "$work/d" ] || bad "--scheduler errors wrote $work/d"
+
 # 2. The cases, grid in the spec's order (the last fastest) × the random samples.
 cat > "$work/s.toml" <<EOT
 scenario = "$sc"
