@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <set>
 #include <string>
 
 #include "cli.hpp"
@@ -48,7 +49,16 @@ int sweep(const SweepArgs& a) {
   const auto results = store.results();
   sweep::write_results(dir, spec, values, results);
   std::size_t ok = 0;
-  for (const auto& r : results) ok += r.status == "ok";
+  std::set<std::string> seen;  // the metrics the cases have, for [output] metrics' names
+  for (const auto& r : results) {
+    ok += r.status == "ok";
+    if (r.summary && !spec.metrics.empty())
+      for (const auto& [name, v] : sweep::metrics_of(*r.summary)) seen.insert(name);
+  }
+  for (const auto& m : spec.metrics)
+    if (ok && !seen.contains(m))
+      std::cerr << "warning: " << a.spec << ": [output] metric '" << m
+                << "' is a number in no case's summary.json (its column is empty)\n";
   std::cout << "sweep " << a.spec << ": " << cases.size() << " cases, " << ok << " ok, "
             << results.size() - ok << " failed (" << results.size() - before << " run now, "
             << before << " done before)\n  → " << (dir / "report.html").string() << "\n";
