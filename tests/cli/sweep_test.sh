@@ -32,6 +32,22 @@ LATHECTL_PYTHON_DIR=$work/nowhere "$bin" sweep "$work/v.toml" --out "$work/d" --
 [ "$rc" -eq 2 ] && grep -q "^error: --scheduler 127.0.0.1:8786: expected" "$work/err.txt" || bad "bad address: exit $rc: $(cat "$work/err.txt")"
 [ ! -e "$work/d" ] || bad "--scheduler errors wrote $work/d"
 
+# The hand-over to the Dask driver (a stand-in here: the real one is python/lathectl/
+# sweep_dask.py): its arguments, PYTHONPATH, and the outputs written from the rows it recorded.
+mkdir -p "$work/py/lathectl"
+: > "$work/py/lathectl/__init__.py"
+cat > "$work/py/lathectl/sweep_dask.py" <<'EOT'
+import json, os, sqlite3, sys
+assert sys.argv[1:3] == ["--scheduler", "tcp://127.0.0.1:8786"], sys.argv
+assert os.environ["PYTHONPATH"].split(":")[0] == os.path.dirname(os.path.dirname(__file__))
+db = sqlite3.connect(os.path.join(sys.argv[3], "sweep.sqlite"), isolation_level=None)
+for (c,) in db.execute("SELECT case_id FROM cases").fetchall():
+    db.execute("INSERT OR IGNORE INTO results VALUES (?, 'ok', '', 0.5, ?)",
+               (c, json.dumps({"metrics": {"x": {"y": c + 0.25}}})))
+EOT
+LATHECTL_PYTHON_DIR=$work/py "$bin" sweep "$work/v.toml" --out "$work/d" --scheduler tcp://127.0.0.1:8786 > /dev/null 2> "$work/err.txt" || bad "hand-over: exit $?: $(cat "$work/err.txt")"
+grep -qx '0,0.5,ok,,0.5,0.25' "$work/d/results.csv" || bad "hand-over results: $(cat "$work/d/results.csv")"
+
 # 2. The cases, grid in the spec's order (the last fastest) × the random samples.
 cat > "$work/s.toml" <<EOT
 scenario = "$sc"
