@@ -5,6 +5,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
+#include <random>
 #include <sstream>
 #include <toml++/toml.h>
 #include <unistd.h>
@@ -170,6 +172,74 @@ TEST(SweepOutputs, MetricsAreTheNumericScalarsByTheirPath) {
   const std::vector<std::pair<std::string, double>> want = {
       {"a", 1.5}, {"b.with", 2.0}, {"e.f.g", -3e-7}};
   EXPECT_EQ(m, want);
+}
+
+// Random specs over an example: each either refused at one of its own lines (io::InputError) or
+// made into cases whose texts hold the drawn values bit for bit at their keys.
+TEST(SweepGenerated, RandomSpecsAreRefusedAtTheirLinesOrMadeExactly) {
+  const auto lib = io::MaterialLibrary::load_default();
+  const std::string text = io::read_scenario_text(kScenario);
+  const auto root = toml::parse(text);
+  std::vector<std::pair<std::string, double>> keys;  // the example's float keys and values
+  for (const auto& [t, n] : root)
+    if (const auto* tbl = n.as_table(); tbl && t.str() != "compare" && t.str() != "sweep")
+      for (const auto& [k, v] : *tbl)
+        if (const auto* f = v.as_floating_point())
+          keys.emplace_back(std::string(t.str()) + "." + std::string(k.str()), f->get());
+  ASSERT_GT(keys.size(), 20u);
+  std::mt19937_64 g(45);
+  int refused = 0, made = 0;
+  for (int iter = 0; iter < 25; ++iter) {
+    std::ostringstream spec;
+    spec << std::setprecision(17) << "scenario = \"" << kScenario << "\"\n[grid]\n";
+    std::vector<std::string> used;
+    const auto pick = [&] {
+      for (;;) {
+        const auto& k = keys[g() % keys.size()];
+        if (std::find(used.begin(), used.end(), k.first) == used.end()) {
+          used.push_back(k.first);
+          return k;
+        }
+      }
+    };
+    const auto scale = [&] { return -0.5 + static_cast<double>(g() % 2000) / 1000.0; };
+    for (std::uint64_t i = 0, n = 1 + g() % 2; i < n; ++i) {
+      const auto [k, v] = pick();
+      spec << "\"" << k << "\" = [" << v * scale() << ", " << v * scale() << "]\n";
+    }
+    spec << "[random]\nsamples = 2\nseed = " << iter << "\n";
+    const auto [rk, rv] = pick();
+    spec << "\"" << rk << "\" = { uniform = [" << rv * 0.9 << ", " << rv * 1.1 + 1e-9 << "] }\n";
+    const auto s = parse_spec(spec.str(), "gen.toml");
+    const auto values = draw_values(s);
+    try {
+      check_values(s, text, values, lib);
+    } catch (const io::InputError& e) {
+      const std::string what = e.what();
+      bool at_a_key = false;
+      for (const auto& k : s.varied_keys())
+        at_a_key |= what.find("key '" + k + "' = ") != std::string::npos &&
+                    what.rfind("gen.toml:", 0) == 0;
+      EXPECT_TRUE(at_a_key) << what << "\n" << spec.str();
+      ++refused;
+      continue;
+    }
+    const auto cases = make_cases(s, text, values);
+    ASSERT_EQ(cases.size(), values.size());
+    const auto names = s.varied_keys();
+    for (std::size_t c = 0; c < cases.size(); ++c) {
+      const auto t = toml::parse(cases[c].scenario);
+      for (std::size_t k = 0; k < names.size(); ++k) {
+        const auto dot = names[k].find('.');
+        const auto got = t[names[k].substr(0, dot)][names[k].substr(dot + 1)].value<double>();
+        const auto* i = std::get_if<std::int64_t>(&values[c][k]);  // "0" is written as 0
+        EXPECT_EQ(got, i ? static_cast<double>(*i) : std::get<double>(values[c][k])) << names[k];
+      }
+    }
+    ++made;
+  }
+  EXPECT_GT(made, 5);
+  EXPECT_GT(refused, 0);
 }
 
 }  // namespace
