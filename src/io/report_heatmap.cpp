@@ -72,8 +72,7 @@ void render_heat_map(std::string& out, const HeatMap& m) {
     out += "<text class=\"tick\" x=\"" + coord(bx + 18) + "\" y=\"" + coord(top + 10) + "\">" +
            escape(general(hi, 4)) + "</text>\n";
   }
-  out += "<text class=\"axis-label\" x=\"" + coord(bx) + "\" y=\"" + coord(top - 10) + "\">" +
-         escape(m.z_label) + "</text>\n</svg></figure>\n";
+  out += "</svg><figcaption>colour: " + escape(m.z_label) + " (grey: no value)</figcaption></figure>\n";
 }
 
 }  // namespace lathectl::io::detail

@@ -1,6 +1,7 @@
 // report.html of a sweep: the metrics over the varied keys (lines for one grid key, a heat map for
 // two, one per combination of the grid keys beyond two; random samples averaged per grid point),
 // a scatter for a random key alone, and the failed cases.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -129,6 +130,7 @@ std::string report_html(const Spec& spec, const std::vector<std::vector<Value>>&
   rep.title = "Sweep " + spec.file;
   rep.subtitle = spec.scenario.string();
   rep.doc_page = "sweep.md";
+  rep.plots_first = true;  // the map above the list of failed cases
   std::size_t ok = 0;
   double cpu = 0.0;
   std::vector<const Result*> by_case(values.size(), nullptr);
@@ -159,6 +161,8 @@ std::string report_html(const Spec& spec, const std::vector<std::vector<Value>>&
       for (const auto& [name, v] : metrics_of(*by_case[i]->summary))
         if (const auto it = index.find(name); it != index.end()) cols[it->second][i] = v;
   for (std::size_t m = 0; m < drawn; ++m) {
+    if (std::none_of(cols[m].begin(), cols[m].end(), [](double v) { return std::isfinite(v); }))
+      continue;  // in no case's summary (a warning says so)
     if (spec.grid.size() == 1)
       line_plots(spec, metrics[m], cols[m], rep);
     else if (spec.grid.size() >= 2)
