@@ -30,7 +30,7 @@ struct SweepArgs {
 int sweep(const SweepArgs& a) {
   const auto spec = sweep::read_spec(a.spec);
   const std::string driver = a.scheduler.empty() ? "" : sweep::find_dask_driver(a.scheduler);
-  const std::string text = io::read_scenario_text(spec.scenario.string());
+  const std::string text = sweep::read_scenario(spec);
   const auto values = sweep::draw_values(spec);
   const auto lib = io::MaterialLibrary::load_default();
   sweep::check_values(spec, text, values, lib);  // before anything is written

@@ -10,6 +10,7 @@
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/input_file.hpp"
+#include "lathectl/io/scenario.hpp"
 
 namespace lathectl::sweep {
 namespace {
@@ -223,6 +224,7 @@ Spec parse_spec(std::string_view text, const std::string& file_label) {
       const auto* str = n.as_string();
       if (!str || str->get().empty()) fail(file_label, n, key, "expected a file name");
       s.scenario = str->get();
+      s.scenario_at = place(n);
     } else if (key == "grid" && n.is_table()) {
       for (const auto& [gk, gn] : *n.as_table())
         s.grid.push_back(read_grid_key(file_label, std::string(gk.str()), gn));
@@ -253,6 +255,15 @@ Spec parse_spec(std::string_view text, const std::string& file_label) {
   // Absolute: a case's base_dir is read where the case runs (a Dask worker's directory too).
   s.scenario = std::filesystem::absolute(s.scenario).lexically_normal();
   return s;
+}
+
+std::string read_scenario(const Spec& spec) {
+  try {
+    return io::read_scenario_text(spec.scenario.string());
+  } catch (const io::InputError& e) {
+    throw io::InputError(io::located(spec.file, spec.scenario_at.line, spec.scenario_at.column,
+                                     "key 'scenario': " + std::string(e.what())));
+  }
 }
 
 Spec read_spec(const std::string& path) {

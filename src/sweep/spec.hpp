@@ -47,6 +47,7 @@ struct RandomKey {
 struct Spec {
   std::string file;                   // the spec's path as given (messages)
   std::filesystem::path scenario;     // the scenario file (relative ones made relative to SPEC)
+  Place scenario_at;                  // where the spec names it
   std::vector<GridKey> grid;          // in the spec's order (the last varies fastest)
   std::size_t samples = 0;            // [random] samples (0: no [random])
   std::uint64_t seed = 0;             // [random] seed
@@ -58,6 +59,9 @@ struct Spec {
   // The place of a varied key (its line in [grid] or [random]).
   [[nodiscard]] Place place_of(const std::string& key) const;
 };
+
+// The scenario's text; a file that cannot be read is an error at the spec's `scenario` line.
+std::string read_scenario(const Spec& spec);
 
 // Reads SPEC; throws io::InputError "SPEC:line:col: ..." naming the key.
 Spec read_spec(const std::string& path);

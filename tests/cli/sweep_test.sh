@@ -10,12 +10,13 @@ fail=0
 bad() { echo "FAIL: $*"; fail=1; }
 sc=$src/examples/scenarios/a_finishing_aim.toml
 
-# 1. A key the system does not know, a value out of range, a bad distribution: exit 2, one line
-#    naming the spec's line, no DIR.
+# 1. A key the system does not know, a value out of range, a bad distribution, a scenario that is
+#    not there: exit 2, one line naming the spec's line, no DIR.
 printf 'scenario = "%s"\n[grid]\n"run.duration_s" = [0.5]\n"slide.mas_kg" = [50]\n' "$sc" > "$work/e1.toml"
 printf 'scenario = "%s"\n[grid]\n"controller.feed_mm_per_min" = [60,\n  -5]\n' "$sc" > "$work/e2.toml"
 printf 'scenario = "%s"\n[random]\nsamples = 2\n"slide.mass_kg" = { gauss = [1, 2] }\n' "$sc" > "$work/e3.toml"
-for e in e1:4 e2:4 e3:4; do
+printf 'scenario = "missing.toml"\n[grid]\n"run.seed" = [1]\n' > "$work/e4.toml"
+for e in e1:4 e2:4 e3:4 e4:1; do
   f=${e%%:*}; line=${e#*:}
   "$bin" sweep "$work/$f.toml" --out "$work/$f" > /dev/null 2> "$work/err.txt"; rc=$?
   [ "$rc" -eq 2 ] || bad "$f: exit $rc, expected 2"
