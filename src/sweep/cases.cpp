@@ -171,6 +171,12 @@ void check_values(const Spec& spec, const std::string& scenario_text,
   const std::string base = spec.scenario.parent_path().string();
   const std::string label = case_label(base, -1);
   auto check = [&](const std::string& key, const Value& v, Place at) {
+    for (const char* t : kStudyTables)
+      if (parse_key_path(key).front().name == t)
+        throw io::InputError(io::located(
+            spec.file, at.line, at.column,
+            "key '" + key + "': the scenario's own studies ([study], [sweep], [compare]) are off "
+            "in a sweep's cases; vary the keys of one run"));
     std::string text;
     try {
       text = apply(scenario_text, label, {key}, {v});

@@ -131,6 +131,7 @@ TEST(SweepCases, ValuesAreCheckedByTheScenariosReader) {
   EXPECT_EQ(check("\"controller.feed_mm_per_min\" = [50, 70]\n"), "");
   EXPECT_EQ(check("\"slide.mas_kg\" = [50]\n").rfind("s.toml:3:", 0), 0u);
   EXPECT_EQ(check("\"cut.rpm\" = [50]\n").rfind("s.toml:3:", 0), 0u);  // A has no [cut]
+  EXPECT_NE(check("\"compare.controller\" = [\"fim\"]\n").find("studies"), std::string::npos);
   const auto e = check("\"controller.feed_mm_per_min\" = [50,\n -5]\n");
   EXPECT_EQ(e.rfind("s.toml:4:", 0), 0u) << e;
   EXPECT_NE(e.find("key 'controller.feed_mm_per_min' = -5: expected a number"), std::string::npos)
