@@ -35,22 +35,14 @@ Value draw(const Distribution& d, std::mt19937_64& g) {
   }
 }
 
-// The value as the scenario's node type wants it: an integer where the scenario writes a float
-// becomes that float (the reader takes either; the text stays the scenario's).
-void assign(toml::node& slot, const Value& v) {
-  if (const auto* i = std::get_if<std::int64_t>(&v); i && slot.is_floating_point()) {
-    slot.as_floating_point()->get() = static_cast<double>(*i);
-    return;
-  }
-  std::visit(
-      [&](const auto& x) {
-        using T = std::decay_t<decltype(x)>;
-        if (auto* p = slot.as<T>())
-          p->get() = x;
-        else if (auto* a = slot.as_array())  // an array replaced by a scalar: the reader says
-          *a = toml::array{x};
-      },
-      v);
+// Calls f with the value as TOML takes it: an integer where the scenario writes a float becomes
+// that float (the reader takes either; the text stays the scenario's).
+template <class F>
+void with_value(const Value& v, bool as_float, F&& f) {
+  if (const auto* i = std::get_if<std::int64_t>(&v); i && as_float)
+    f(static_cast<double>(*i));
+  else
+    std::visit(f, v);
 }
 
 toml::node* child(toml::node* parent, const PathPart& p, bool last, const std::string& key,
@@ -75,20 +67,29 @@ toml::node* child(toml::node* parent, const PathPart& p, bool last, const std::s
   return a->get(static_cast<std::size_t>(p.index));
 }
 
+// Sets the value at `key`, replacing what the scenario writes there (of any type: the reader
+// then judges it) or adding the key.
 void set(toml::table& root, const std::string& key, const Value& v, const std::string& label) {
   const auto parts = parse_key_path(key);
   toml::node* n = &root;
-  for (std::size_t i = 0; i < parts.size(); ++i) {
-    const bool last = i + 1 == parts.size();
-    toml::node* c = child(n, parts[i], last, key, label);
-    if (!c) {  // a key the scenario leaves at its default
-      std::visit([&](const auto& x) { n->as_table()->insert_or_assign(parts[i].name, x); }, v);
-      return;
-    }
-    n = c;
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) n = child(n, parts[i], false, key, label);
+  const PathPart& last = parts.back();
+  auto* t = n->as_table();
+  if (!t) throw io::InputError(label + ": key '" + key + "': below a value that is not a table");
+  toml::node* slot = t->get(last.name);
+  if (last.index >= 0) slot = child(n, last, true, key, label);
+  if (slot && (slot->is_table() || slot->is_array()))
+    throw io::InputError(label + ": key '" + key + "' is a " +
+                         (slot->is_table() ? "table" : "array") +
+                         ", not a value (an array's element is key[i])");
+  const bool as_float = slot && slot->is_floating_point();
+  if (last.index < 0) {
+    with_value(v, as_float, [&](const auto& x) { t->insert_or_assign(last.name, x); });
+  } else {
+    auto* a = t->get(last.name)->as_array();
+    const auto at = a->cbegin() + last.index;
+    with_value(v, as_float, [&](const auto& x) { a->replace(at, x); });
   }
-  if (n->is_table()) throw io::InputError(label + ": key '" + key + "' is a table, not a value");
-  assign(*n, v);
 }
 
 std::string vars_json(const std::vector<std::string>& keys, const std::vector<Value>& values) {

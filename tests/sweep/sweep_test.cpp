@@ -104,6 +104,14 @@ TEST(SweepCases, ApplySetsKeysElementsAndDropsStudiesBitForBit) {
   EXPECT_EQ(t["part"]["steps"][0]["depth_mm"].value<double>(), 2.5);
   EXPECT_EQ(t["cut"]["rpm"].value<std::int64_t>(), 450);  // a key the scenario leaves out
   EXPECT_FALSE(t.contains("compare") || t.contains("sweep") || t.contains("study"));
+  // A value of another type replaces the scenario's (the reader judges it); an array or table is
+  // not a value.
+  const auto t2 = toml::parse(apply(base, "t", {"part.new", "run.duration_s"},
+                                    {Value{std::int64_t{3}}, Value{std::string("x")}}));
+  EXPECT_EQ(t2["part"]["new"].value<std::int64_t>(), 3);
+  EXPECT_EQ(t2["run"]["duration_s"].value<std::string>(), "x");
+  EXPECT_THROW(apply(base, "t", {"part.d"}, {Value{1.0}}), io::InputError);
+  EXPECT_THROW(apply(base, "t", {"part"}, {Value{1.0}}), io::InputError);
   EXPECT_THROW(apply(base, "t", {"part.d[2]"}, {Value{1.0}}), io::InputError);
   EXPECT_THROW(apply(base, "t", {"run.duration_s.x"}, {Value{1.0}}), io::InputError);
   // Every example's values survive the round trip unchanged.
