@@ -52,9 +52,13 @@ void line_plots(const Spec& spec, const std::string& metric, const Column& col,
   p.y_label = metric;
   io::Series s;
   s.name = metric + (spec.samples > 1 ? " (mean of the samples)" : "");
-  for (std::size_t i = 0; i < g.values.size(); ++i) {
-    s.x.push_back(number(g.values[i]));
+  bool numeric = true;
+  for (const auto& v : g.values) numeric &= std::isfinite(number(v));
+  for (std::size_t i = 0; i < g.values.size(); ++i) {  // strings, booleans: by their index
+    s.x.push_back(numeric ? number(g.values[i]) : static_cast<double>(i));
     s.y.push_back(y[i]);
+    if (!numeric) p.x_label += std::string(i ? ", " : " (") + std::to_string(i) + ": " +
+                               label(g.values[i]) + (i + 1 == g.values.size() ? ")" : "");
   }
   s.points = g.values.size() < 3;
   p.series.push_back(std::move(s));
