@@ -96,7 +96,7 @@ grep -q "^3,0.3,0.001,0.0005,error,.*record_interval_s.*must be ≥ step_s" "$wo
 grep -q "Failed cases" "$work/c/report.html" || bad "report does not list the failed case"
 
 # 5. kill -9 mid-sweep, then the same command: every case once, the finished ones not rerun.
-printf 'scenario = "%s"\n[grid]\n"controller.feed_mm_per_min" = [50, 52, 54, 56, 58, 60, 62, 64, 66, 68]\n' "$sc" > "$work/k.toml"
+printf 'scenario = "%s"\n[grid]\n"run.duration_s" = [30.0]\n"controller.feed_mm_per_min" = [50, 52, 54, 56, 58, 60, 62, 64, 66, 68]\n' "$sc" > "$work/k.toml"
 "$bin" sweep "$work/k.toml" --out "$work/k" --workers 1 > /dev/null 2>&1 &
 pid=$!
 n=0
