@@ -6,6 +6,7 @@ set -euo pipefail
 pkgs=(
   g++ make cmake ninja-build pkg-config
   libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev
+  libsqlite3-dev                    # lathectl sweep's results store
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev          # libFuzzer and sanitizer runtimes
   universal-ctags                   # scripts/size-report.sh (the size_rules test)

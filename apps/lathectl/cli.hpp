@@ -47,6 +47,7 @@ void add_compare(CLI::App& app, Commands& out);
 void add_optimize(CLI::App& app, Commands& out);
 void add_reasons(CLI::App& app, Commands& out);
 void add_systems(CLI::App& app, Commands& out);
+void add_sweep(CLI::App& app, Commands& out);
 
 // One number input of a design calculator, its table row untyped (calculator.hpp, Input): what
 // the Python module's lathectl.design.<name> needs to name its keyword arguments (the JSON keys)

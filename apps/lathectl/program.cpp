@@ -40,6 +40,7 @@ int run_program(int argc, char** argv) {
   add_optimize(app, commands);
   add_reasons(app, commands);
   add_systems(app, commands);
+  add_sweep(app, commands);
 
   try {
     app.parse(argc, argv);

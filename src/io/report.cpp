@@ -304,11 +304,16 @@ std::string render_html(const Report& report, std::size_t max_points) {
   }
 
   const auto plots = [&] {
-    if (report.plots.empty()) return;
+    if (report.plots.empty() && report.heat_maps.empty()) return;
     out += "<section class=\"plots\" id=\"plots\">\n<h2>Plots</h2>\n";
     for (std::size_t i = 0; i < report.plots.size(); ++i) {
       out += "<div class=\"plot-box\" id=\"plot-" + std::to_string(i) + "\">\n";
       render_plot(out, report.plots[i], i, max_points);
+      out += "</div>\n";
+    }
+    for (const HeatMap& m : report.heat_maps) {
+      out += "<div class=\"plot-box\">\n";
+      detail::render_heat_map(out, m);
       out += "</div>\n";
     }
     out += "</section>\n";

@@ -133,4 +133,7 @@ std::string series_color(const Series& s, std::size_t index);
 void render_plot(std::string& out, const Plot& plot, std::size_t plot_index, std::size_t max_points,
                  std::vector<PlacedText>* placed = nullptr);
 
+// One <figure> with an inline SVG heat map (report_heatmap.cpp).
+void render_heat_map(std::string& out, const HeatMap& map);
+
 }  // namespace lathectl::io::detail

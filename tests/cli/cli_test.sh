@@ -445,7 +445,7 @@ for c in "coarse_a.toml:9:[0-9]*: key 'run.step_s': step_s .* too coarse" \
 done
 # command line: one line, the command and the flag named
 expect_rc 2 "unknown command" $bin frobnicate
-grep -qx "error: unknown command 'frobnicate' (run, check, demo, lobes, report, design, reference, compare, optimize, reasons, systems)" "$work/err.txt" || bad "unknown command: $(cat "$work/err.txt")"
+grep -qx "error: unknown command 'frobnicate' (run, check, demo, lobes, report, design, reference, compare, optimize, reasons, systems, sweep)" "$work/err.txt" || bad "unknown command: $(cat "$work/err.txt")"
 one_line "unknown command"
 expect_rc 2 "unknown design command" $bin design frob
 grep -qx "error: unknown command 'design frob' (pulse-regulator, adaptive-speed, planned-mode, gauge, tracer, modulation)" "$work/err.txt" || bad "unknown design command: $(cat "$work/err.txt")"

@@ -7,7 +7,7 @@
 #   one system's folder          its settings (what its HAL component links) < its check
 #                                (validate.cpp, the rig it probes) < the rest (study, metrics, ...)
 #   every system                 src/systems/*.{hpp,cpp}: the registry, the runner, the estimate
-#   the optimiser                src/optimize
+#   the optimiser, the sweep     src/optimize, src/sweep (`lathectl sweep`: runs any system)
 #   the programs                 apps/, hal/, python/ (the Python module)
 #
 # A header's layer is its source's (x.hpp is where x.cpp is; a system's library is read from its
@@ -33,6 +33,7 @@ set(rank_check 21)
 set(rank_system 22)
 set(rank_systems 23)
 set(rank_optimize 30)
+set(rank_sweep 30)
 set(rank_programs 40)
 
 # The library of each source of a system folder: lib_<folder>_<stem> = settings|check|system.
@@ -74,9 +75,9 @@ function(layer_of rel out_rank out_name)
     if(folder STREQUAL "sim" OR folder STREQUAL "io")
       set(rank ${rank_${folder}})
       set(name ${folder})
-    elseif(folder STREQUAL "optimize")
-      set(rank ${rank_optimize})
-      set(name optimize)
+    elseif(folder STREQUAL "optimize" OR folder STREQUAL "sweep")
+      set(rank ${rank_${folder}})
+      set(name ${folder})
     elseif(folder STREQUAL "systems")
       if(rel MATCHES "^src/systems/([^/]+)/([^/]+)\\.(hpp|cpp)$")
         set(sys ${CMAKE_MATCH_1})

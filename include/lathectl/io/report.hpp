@@ -52,6 +52,19 @@ struct Plot {
   std::vector<std::pair<double, std::string>> lanes = {};
 };
 
+// A heat map: z[iy][ix] over the grid xs × ys (category labels, in order), coloured from the
+// lowest z (blue) to the highest (red); a NaN cell is grey (no value: a failed case). Each cell
+// shows its value in a tooltip.
+struct HeatMap {
+  std::string title;
+  std::string x_label;  // with unit
+  std::string y_label;
+  std::string z_label;  // the colour's quantity, with unit
+  std::vector<std::string> xs;
+  std::vector<std::string> ys;
+  std::vector<std::vector<double>> z;  // ys.size() rows of xs.size()
+};
+
 struct Table {
   std::string title;
   std::vector<std::string> header;
@@ -87,6 +100,7 @@ struct Report {
   std::vector<Link> model_check_items = {};
   std::vector<Table> tables;
   std::vector<Plot> plots;
+  std::vector<HeatMap> heat_maps = {};  // after the plots
   // Page of docs/ that explains the seed, formula and block numbers the report cites (e.g.
   // "system-d-gauging.md"); the footer names it, in the sources and installed. Empty: the index.
   std::string doc_page;
