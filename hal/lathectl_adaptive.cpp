@@ -67,84 +67,6 @@ lathectl::hal::HomedGate homed_gate;
 lathectl::hal::UpdateTimer timer;
 long long last_ns = 0;
 
-// The machine's inputs from the pins (the period's timing is the caller's).
-void read_inputs(Pins& p, AdaptiveMachine::Input& in) noexcept {
-  in.enable = *p.enable;
-  in.reset = *p.reset;
-  in.force = *p.force;
-  in.spindle_power_W = *p.spindle_power;
-  in.rpm = *p.spindle_rpm;
-  in.rpm_programmed = *p.spindle_rpm_programmed;
-  in.current_vel_mm_s = *p.current_vel;
-  in.requested_vel = *p.requested_vel;
-  in.feed_upm = *p.feed_upm;
-  in.motion_type = *p.motion_type;
-  in.per_rev = *p.feed_per_rev_mode;
-  in.homed = homed_gate(*p.homed, *p.x_pos, *p.z_pos);
-  in.x_mm = *p.x_pos;
-  in.z_mm = *p.z_pos;
-  in.cutting_speed_m_per_min = *p.cutting_speed;
-  in.limit_cmd = *p.limit_cmd;
-  in.feed_min_cmd = *p.feed_min_cmd;
-  in.feed_max_cmd = *p.feed_max_cmd;
-  in.mode_cmd = *p.mode_cmd;
-  in.operation_cmd = *p.operation_cmd;
-  in.tool_number = *p.tool_number;
-  in.program_line = *p.program_line;
-  in.tool_diameter = *p.tool_diameter;
-  in.tool_offset_x = *p.tool_offset_x;
-  in.tool_offset_z = *p.tool_offset_z;
-  in.knob = *p.operator_override;
-  in.max_override = *p.max_feed_override;
-  in.scale_in_motion = *p.feed_override_in_motion;
-}
-
-// The machine's outputs to the pins, every period.
-void write_outputs(Pins& p, const AdaptiveMachine::Output& o) noexcept {
-  *p.adaptive_feed = o.adaptive_feed;
-  *p.feed_override = o.feed_override;
-  *p.feed_override_counts = o.feed_override_counts;
-  *p.feed_factor = o.feed_factor;
-  *p.spindle_speed_out = o.spindle_speed_out;
-  *p.spindle_override = o.spindle_override;
-  *p.feed_hold = o.feed_hold;
-  *p.alarm = o.alarm;
-  *p.reason = static_cast<std::int32_t>(o.reason);
-  *p.alarm_reason = static_cast<std::int32_t>(o.alarm_reason);
-  *p.feed_per_rev = o.feed_per_rev_mm;
-  *p.cutting_speed_cmd = o.speed_cmd_m_per_min;
-  *p.cutting_speed_opt = o.speed_opt_m_per_min;
-  *p.cut_power = o.cut_power_W;
-  *p.in_cut = o.in_cut;
-  *p.period_error = o.period_error;
-  *p.load = o.load;
-  *p.limit = o.limit;
-  *p.feed_min = o.feed_min;
-  *p.feed_max = o.feed_max;
-  *p.adaptive_on = o.adaptive_on;
-  *p.teaching = o.teaching;
-  *p.idle_power = o.idle_power_W;
-  *p.tare_ready = o.tare_ready;
-  *p.idle_p0 = o.idle_law[0];
-  *p.idle_p1 = o.idle_law[1];
-  *p.idle_p2 = o.idle_law[2];
-  *p.bad_setting = o.bad_setting;
-  *p.bad_code = static_cast<std::int32_t>(o.bad_code);
-  *p.bad_line = o.bad_line;
-  *p.bad_value = o.bad_value;
-  *p.overload_warn = o.overload_warn;
-  *p.overload_hold = o.overload_hold;
-  *p.load_rev = o.load_rev;
-  *p.load_percent = o.load_percent;
-  *p.predicted_depth = o.predicted_depth_mm;
-  *p.depth_ahead = o.depth_ahead_mm;
-  *p.feed_ceiling = o.feed_ceiling_mm_per_rev;
-  *p.specific_force = o.specific_force_ratio;
-  *p.inertia = o.inertia_kg_m2;
-  *p.breakage = o.breakage;
-  *p.tool_data_changed = o.tool_data_changed;
-}
-
 // An operation's and a teach-in's record, when a new one is out: its fields first, its
 // sequence number last (lathectl_oplog reads a record once the number changes).
 void write_records(Pins& p, const AdaptiveMachine::Output& o) noexcept {
@@ -179,14 +101,15 @@ void update(void*, long period_ns) {
   in.nominal_period_s = static_cast<double>(period_ns) * 1e-9;
   in.elapsed_s = last_ns > 0 ? static_cast<double>(now_ns - last_ns) * 1e-9 : 0.0;
   last_ns = now_ns;
-  read_inputs(p, in);
+  p.read_pins(in, out);  // the table's copies (pins/adaptive.hpp), then what is this file's
+  in.homed = homed_gate(*p.homed, *p.x_pos, *p.z_pos);
   if (*p.reset_max) timer.reset();
   timer.start();
   machine->update(in, out);
   const std::int32_t ns = timer.stop();
   if (out.control_period) *p.update_ns = ns;
   *p.update_ns_max = timer.max();
-  write_outputs(p, out);
+  p.write_pins(in, out);
   write_records(p, out);
 }
 

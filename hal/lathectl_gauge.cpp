@@ -97,36 +97,20 @@ void update(void*, long period) {
   if (!meter.begin(p.meter, period, s.period))
     return;  // the machine was configured for another sample period
   GaugeMachine::Input in;
-  in.generator_V = *p.generator;
+  p.read_pins(in, s.machine.output());  // the table's copies (pins/gauge.hpp)
   in.position_m = *p.x_pos * 1e-3;
-  in.rearm = *p.rearm;
   const double revs = s.spindle.update(*p.spindle_revs, static_cast<double>(period) * 1e-9);
   if (s.interruption.gate && s.interruption.any())
     in.gate = s.interruption.under(2.0 * std::numbers::pi * revs +
                                    *p.part_angle_deg * std::numbers::pi / 180.0);
   s.machine.update(in);
   const auto& o = s.machine.output();
-  *p.signal = o.signal_V;
-  *p.step = o.step;
-  *p.step_f = o.step;
-  *p.command = static_cast<std::int32_t>(o.command);
+  p.write_pins(in, o);
   // After the size: the scale of the last feed (the G38 stops on the probe; a retract after it
   // runs at the program's rate, scaled alike until the next part's rearm).
   const auto c = static_cast<std::size_t>(o.command);
   *p.feed_scale = o.size ? s.feed[2] : s.feed[c];
-  *p.probe = o.stop;
   *p.feed_hold = o.alarm && !o.backstop;  // a backstop ends the cut through the probe
-  *p.size = o.size;
-  *p.backstop = o.backstop;
-  *p.alarm = o.alarm;
-  *p.armed = o.armed;
-  *p.unreachable = o.unreachable;
-  *p.reason = static_cast<std::int32_t>(o.reason);
-  *p.next_threshold = o.next_threshold_V;
-  *p.trip_time = o.trip_time_s;
-  *p.part_time = o.time_s;
-  *p.trips = o.tripped_steps;
-  *p.bridged = o.bridged;
   // Trip-to-stop: the last sample the infeed still moved toward the part (X falling) after the
   // cut had to end, from that moment (stop-latency) and from the crossing (trip-to-stop). X comes
   // from the servo thread: it moves in steps of a servo period.

@@ -55,6 +55,21 @@ def reason_table(path):
     return ({r["code"]: r["name"] for r in rows}, {r["bit"]: r["name"] for r in rows})
 
 
+# The pins read: lathectl_adaptive's outputs of these names (its records, its setting errors and
+# the overload warning), with their types from pins.json (`lathectl_hal_pin_docs --json`, made
+# from the component's pin table and installed beside this script): one declaration of each pin.
+READ = re.compile(r"^(op-.*|teach-.*|bad-(code|line|value)|overload-warn)$")
+
+
+def read_pins(path):
+    """[(name, HAL type)] of lathectl_adaptive's out pins this program reads, from the pin list."""
+    kinds = {"s32": hal.HAL_S32, "float": hal.HAL_FLOAT, "bit": hal.HAL_BIT, "u32": hal.HAL_U32}
+    with open(path) as f:
+        comps = {c["name"]: c for c in json.load(f)["components"]}
+    return [(p["name"], kinds[p["type"]]) for p in comps["lathectl_adaptive"]["pins"]
+            if p["dir"] == "out" and READ.match(p["name"])]
+
+
 def reasons_of(mask, by_bit):
     """The names of the reasons set in op-reasons (bit = the reason's position in the table)."""
     mask &= 0xFFFFFFFF  # an s32 pin: bit 31 reads negative
@@ -167,15 +182,8 @@ def main():
     by_code, by_bit = reason_table(os.path.join(here, "reasons.json"))
 
     c = hal.component(a.name)
-    s32 = ["op-seq", "op-line", "op-tool", "op-operation", "op-mode", "op-reasons", "op-alarm",
-           "teach-seq", "teach-tool", "teach-operation", "bad-code", "bad-line"]
-    flt = ["op-limit", "op-load-mean", "op-load-peak", "op-feed-min", "op-feed-mean",
-           "op-time-in-cut", "op-time", "teach-reference", "bad-value"]
-    for n in s32:
-        c.newpin(n, hal.HAL_S32, hal.HAL_IN)
-    for n in flt:
-        c.newpin(n, hal.HAL_FLOAT, hal.HAL_IN)
-    c.newpin("overload-warn", hal.HAL_BIT, hal.HAL_IN)
+    for name, kind in read_pins(os.path.join(here, "pins.json")):
+        c.newpin(name, kind, hal.HAL_IN)
     c.newpin("rows", hal.HAL_S32, hal.HAL_OUT)
     c.newpin("missed", hal.HAL_S32, hal.HAL_OUT)
     c.ready()

@@ -72,18 +72,14 @@ void update(void*, long period_ns) {
   const bool on = homed_gate(*pins->enable, *pins->x_pos, *pins->z_pos);
   in.x_mm = on ? *pins->x_pos : std::nan("");
   in.z_mm = on ? *pins->z_pos : std::nan("");
-  in.rpm = *pins->spindle_rpm;
   lathectl::cutting::LathePlant::Output out;
+  pins->read_pins(in, out);  // the table's copies (pins/plant.hpp)
   plant->step(in, static_cast<double>(period_ns) * 1e-9, out);
   if (break_at > 0.0 && out.time_in_cut_s >= break_at) {  // a broken tool: nothing is cut
     out.force_measured = out.force_parameter = out.Pz_N = out.Py_N = out.cut_power_W = 0.0;
     out.depth_mm = 0.0;
   }
-  *pins->force = out.force_measured;
-  *pins->force_true = out.force_parameter;
-  *pins->pz = out.Pz_N;
-  *pins->py = out.Py_N;
-  *pins->cut_power = out.cut_power_W;
+  pins->write_pins(in, out);
   {  // the drive's power pin
     const double dt = static_cast<double>(period_ns) * 1e-9;
     meter.step(dt, drive.step(dt, in.rpm, out.cut_power_W));
@@ -91,12 +87,6 @@ void update(void*, long period_ns) {
     *pins->idle_drift_factor = drive.idle_factor();
     *pins->spindle_power = meter.sample();
   }
-  *pins->depth = out.depth_mm;
-  *pins->feed_per_rev = out.feed_per_rev_mm;
-  *pins->cutting_speed = out.speed_m_per_min;
-  *pins->strength_factor = out.strength_factor;
-  *pins->in_contact = out.in_contact;
-  *pins->time_in_cut = out.time_in_cut_s;
   {
     run_s += static_cast<double>(period_ns) * 1e-9;
     const bool feed_move = lathectl::control::is_feed_motion(*pins->motion_type);

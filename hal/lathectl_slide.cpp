@@ -100,28 +100,21 @@ void update(void*, long period) {
     return;
   }
   SlideMachine::Input in;
+  p.read_pins(in, s.machine.output());  // the table's copies (pins/slide.hpp)
   in.sensor_V = *p.sensor_in * *p.sensor_gain + *p.sensor_offset;
-  in.enable = *p.enable;
   in.mode = *p.roughing ? SlideMachine::Mode::Roughing : SlideMachine::Mode::Finishing;
   in.feed_m_per_s = *p.feed_set > 0.0 ? *p.feed_set * 1e-3 / 60.0 : s.default_feed;
   in.force_set_N = *p.force_set > 0.0 ? *p.force_set : s.default_force;
   in.position_m = *p.position * 1e-3;
-  in.reset_alarm = *p.reset;
   s.machine.update(in);
   const auto& o = s.machine.output();
+  p.write_pins(in, o);
   *p.sensor_V = in.sensor_V;
-  *p.force_estimate = o.force_estimate_N;
   *p.slot_cmd = o.slot_m * 1e3;
   if (s.aim) *p.eccentric_pos_cmd = s.eccentric.angle_of(o.slot_m);
-  *p.frequency = o.frequency_Hz;
   *p.feed_cmd = o.feed_cmd_m_per_s * 60e3;
   *p.feed_set_out = o.feed_set_m_per_s * 60e3;
-  *p.force_set_out = o.force_set_N;
   *p.roughing_out = o.mode == SlideMachine::Mode::Roughing;
-  *p.enabled = o.enabled;
-  *p.alarm = o.alarm;
-  *p.reason = static_cast<std::int32_t>(o.reason);
-  *p.alarm_reason = static_cast<std::int32_t>(o.alarm_reason);
   s.frequency.store(o.frequency_Hz);
   s.pulsing.store(o.pulses);
   meter.end(p.meter);

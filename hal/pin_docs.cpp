@@ -2,9 +2,16 @@
 // (hal/pins/<component>.hpp), as LinuxCNC's halcompile makes a .comp's: one .TP per group of rows
 // (rows with an empty doc share the next row's), `prefix.name type dir [unit]`, the doc wrapped.
 //
-//   lathectl_hal_pin_docs                 print every component's section
-//   lathectl_hal_pin_docs --check DIR     exit 1 naming each page in DIR whose section is stale
-//   lathectl_hal_pin_docs --update DIR    rewrite the sections in place
+//   lathectl_hal_pin_docs                       print every component's section
+//   lathectl_hal_pin_docs --check DIR [JSON]    exit 1 naming each page in DIR (and the pin list
+//                                               JSON) that is stale
+//   lathectl_hal_pin_docs --update DIR [JSON]   rewrite them in place
+//   lathectl_hal_pin_docs --json                print the pin list
+//
+// The pin list (hal/pins.json, installed beside lathectl_oplog.py) is every component's pins for
+// the userspace programs that read them (lathectl_oplog makes its input pins from it): per
+// component its name and prefix, per pin its name, HAL name, type, direction, count, unit and
+// the machine object's field it copies ("glue": the component's own code).
 //
 // A host program: it includes the tables (no HAL headers), not the components.
 
@@ -33,11 +40,12 @@ struct Row {
   const char* dir;
   int count;
   const char* unit;
+  const char* field;
   const char* doc;  // the heading's text for a heading
 };
 
-#define DOC_PIN(m, t, d, n, u, doc) Row{#m, #t, #d, n, u, doc},
-#define DOC_HEAD(text) Row{nullptr, "", "", 0, "", text},
+#define DOC_PIN(m, t, d, n, u, field, doc) Row{#m, #t, #d, n, u, #field, doc},
+#define DOC_HEAD(text) Row{nullptr, "", "", 0, "", "", text},
 
 struct Component {
   const char* name;
@@ -57,6 +65,13 @@ const std::vector<Component>& components() {
       {"lathectl_slide_plant", {LATHECTL_SLIDE_PLANT_PINS(DOC_PIN, DOC_HEAD)}, true},
   };
   return all;
+}
+
+std::string prefix_of(const Component& c) {
+  std::string prefix = c.name;
+  for (char& ch : prefix)
+    if (ch == '_') ch = '-';
+  return prefix;
 }
 
 // '_' → '-' (the pin's name), troff's minus for '-'.
@@ -97,9 +112,7 @@ std::string wrap(const std::string& text) {
 }
 
 std::string section(const Component& c, std::string& error) {
-  std::string prefix = c.name;
-  for (char& ch : prefix)
-    if (ch == '_') ch = '-';
+  const std::string prefix = prefix_of(c);
   std::vector<Row> rows = c.rows;
   if (c.meter) rows.insert(rows.end(), {LATHECTL_METER_PINS(DOC_PIN, DOC_HEAD)});
   std::string out = ".SH PINS\n";
@@ -120,6 +133,40 @@ std::string section(const Component& c, std::string& error) {
   return out;
 }
 
+std::string quoted(const std::string& s) {  // the tables' names, units and fields: plain ASCII
+  std::string out = "\"";
+  for (char ch : s) out += (ch == '"' || ch == '\\') ? std::string("\\") + ch : std::string(1, ch);
+  return out + "\"";
+}
+
+// The pin list, one pin a line (diffs stay readable).
+std::string pin_list() {
+  std::string out = "{\"components\": [\n";
+  bool first_c = true;
+  for (const Component& c : components()) {
+    const std::string prefix = prefix_of(c);
+    out += std::string(first_c ? "" : ",\n") + " {\"name\": " + quoted(c.name) +
+           ", \"prefix\": " + quoted(prefix) + ", \"pins\": [\n";
+    first_c = false;
+    std::vector<Row> rows = c.rows;
+    if (c.meter) rows.insert(rows.end(), {LATHECTL_METER_PINS(DOC_PIN, DOC_HEAD)});
+    bool first = true;
+    for (const Row& r : rows) {
+      if (r.member == nullptr) continue;
+      std::string name = r.member;
+      for (char& ch : name)
+        if (ch == '_') ch = '-';
+      out += std::string(first ? "" : ",\n") + "  {\"name\": " + quoted(name) +
+             ", \"pin\": " + quoted(prefix + "." + name) + ", \"type\": " + quoted(r.type) +
+             ", \"dir\": " + quoted(r.dir) + ", \"count\": " + std::to_string(r.count) +
+             ", \"unit\": " + quoted(r.unit) + ", \"field\": " + quoted(r.field) + "}";
+      first = false;
+    }
+    out += "\n ]}";
+  }
+  return out + "\n]}\n";
+}
+
 std::string read(const std::string& path) {
   std::ifstream f(path);
   std::stringstream ss;
@@ -138,13 +185,34 @@ std::string replaced(const std::string& page, const std::string& pins) {
 
 }  // namespace
 
+// A generated file against its committed copy: rewritten (--update) or named (--check).
+int compare(const std::string& path, const std::string& now, const std::string& mode,
+            const std::string& how) {
+  if (now == read(path)) return 0;
+  if (mode == "--update") {
+    std::ofstream(path) << now;
+    std::cout << "updated " << path << "\n";
+    return 0;
+  }
+  std::cerr << path << ": stale (" << how << ")\n";
+  return 1;
+}
+
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
-  if (!(argc == 1 || (argc == 3 && (mode == "--check" || mode == "--update")))) {
-    std::cerr << "usage: lathectl_hal_pin_docs [--check DIR | --update DIR]\n";
+  const bool files = (argc == 3 || argc == 4) && (mode == "--check" || mode == "--update");
+  if (!(argc == 1 || files || (argc == 2 && mode == "--json"))) {
+    std::cerr
+        << "usage: lathectl_hal_pin_docs [--check DIR [JSON] | --update DIR [JSON] | --json]\n";
     return 2;
   }
-  int rc = 0;
+  if (mode == "--json") {
+    std::cout << pin_list();
+    return 0;
+  }
+  const std::string how = "lathectl_hal_pin_docs --update " + std::string(files ? argv[2] : "") +
+                          (argc == 4 ? std::string(" ") + argv[3] : std::string());
+  int rc = argc == 4 ? compare(argv[3], pin_list(), mode, how) : 0;
   for (const Component& c : components()) {
     std::string error;
     const std::string pins = section(c, error);
@@ -157,20 +225,12 @@ int main(int argc, char** argv) {
       continue;
     }
     const std::string path = std::string(argv[2]) + "/" + c.name + ".9";
-    const std::string page = read(path);
-    const std::string now = replaced(page, pins);
+    const std::string now = replaced(read(path), pins);
     if (now.empty()) {
       std::cerr << path << ": no .SH PINS section\n";
       rc = 1;
-    } else if (now != page) {
-      if (mode == "--update") {
-        std::ofstream(path) << now;
-        std::cout << "updated " << path << "\n";
-      } else {
-        std::cerr << path << ": PINS section stale (lathectl_hal_pin_docs --update " << argv[2]
-                  << ")\n";
-        rc = 1;
-      }
+    } else {
+      rc |= compare(path, now, mode, how);
     }
   }
   return rc;

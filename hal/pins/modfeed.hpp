@@ -4,51 +4,51 @@
 // page. The component's pin block and export, and its man page's PINS section, are made from it.
 // clang-format off
 #define LATHECTL_MODFEED_PINS(PIN, HEAD) \
-  PIN(a0_um, float, in, 0, "", R"~(Vibration amplitude from the amplitude detector (ADC 19) [\(*mm]; 0 below the dead zone.)~") \
-  PIN(omega_d_Hz, float, in, 0, "", R"~(Vibration frequency from the frequency detector 20 [Hz]; 0 below the dead zone.)~") \
-  PIN(spindle_power, float, in, 0, "", R"~(Main motor's active power (sensor 11) [W].)~") \
-  PIN(spindle_rpm, float, in, 0, "", R"~(Spindle speed [rpm].)~") \
-  PIN(x_pos, float, in, 0, "", R"~(Tool radius [mm], for the cutting speed V = 2\(*p|x|n/1000.)~") \
-  PIN(requested_vel, float, in, 0, "", "") \
-  PIN(current_vel, float, in, 0, "", R"~(\fBmotion.requested\-vel\fR (the program's feed: mm/s under G94, the F word under G95) and \fBmotion.current\-vel\fR (the path speed that advances the staircase) [mm/s].)~") \
-  PIN(motion_type, s32, in, 0, "", "") \
-  PIN(feed_per_rev_mode, bit, in, 0, "", R"~(\fBmotion.motion\-type\fR (2 and 3 are feed moves) and whether the program runs G95.)~") \
-  PIN(idle_block, bit, in, 0, "", R"~(The NC block is flagged idle: the idle power is stored (switch 12, compensator 13).)~") \
-  PIN(turret_left, bit, in, 0, "", R"~(The block's turret flag (default from the scenario). The output modulates only the flagged turret's path: with \fBoutput=adaptive\fR on LinuxCNC's one\-path lathe that is the path itself; with \fBoutput=eoffset\fR the right turret's axis (\fBaxis\-pos\-right\fR) or the left one's.)~") \
-  PIN(source, s32, in, 0, "", R"~(0 no modulation, 1 programmed, 2 automatic (default from the scenario).)~") \
-  PIN(prog_s_min, float, in, 0, "mm/min", "") \
-  PIN(prog_ds, float, in, 0, "mm/min", "") \
-  PIN(prog_dl, float, in, 0, "mm", "") \
-  PIN(prog_n_s, s32, in, 0, "", R"~(The block's programmed (S_min, \(*DS, \(*Dl, n_s); n_s > 0 selects the programmed variant.)~") \
-  PIN(axis_pos_right, float, in, 0, "", "") \
-  PIN(axis_pos_left, float, in, 0, "", R"~(\fBoutput=eoffset\fR: the turrets' axial axes' planned positions (\fBaxis.w.pos\-cmd\fR, \fBaxis.z.pos\-cmd\fR) [mm].)~") \
-  PIN(axis_eoffset_right, float, in, 0, "", "") \
-  PIN(axis_eoffset_left, float, in, 0, "", R"~(\fBoutput=eoffset\fR: the offsets motion applies to them (\fBaxis.\fIL\fB.eoffset\fR) [mm].)~") \
-  PIN(enable, bit, in, 0, "", R"~(FALSE: no modulation, output 1/\fIceiling\fR (default TRUE).)~") \
-  PIN(adaptive_feed, float, out, 0, "", R"~(To \fBmotion.adaptive\-feed\fR.)~") \
-  PIN(feed, float, out, 0, "", R"~(The modulated feed [mm/min].)~") \
-  PIN(feed_ratio, float, out, 0, "", R"~(S(t)/S_p, 1 while not modulating.)~") \
-  PIN(eoffset_counts, s32, out, 0, "", "") \
-  PIN(eoffset_scale, float, out, 0, "", R"~(\fBoutput=eoffset\fR: to \fBaxis.\fIL\fB.eoffset\-counts\fR and \fB\-scale\fR of both turrets' axes (1e\-5 mm a count).)~") \
-  PIN(eoffset_enable_right, bit, out, 0, "", "") \
-  PIN(eoffset_enable_left, bit, out, 0, "", R"~(\fBoutput=eoffset\fR: to \fBaxis.\fIL\fB.eoffset\-enable\fR: the flagged turret's axis takes the offset.)~") \
-  PIN(eoffset, float, out, 0, "", "") \
-  PIN(axis_vel, float, out, 0, "", R"~(\fBoutput=eoffset\fR: the offset asked for [mm] and the flagged axis's planned velocity [mm/s].)~") \
-  PIN(cut_power, float, out, 0, "", R"~(N_c = N_m \- N_idle [W].)~") \
-  PIN(engaged, bit, out, 0, "", "") \
-  PIN(reason, s32, out, 0, "", R"~(Modulating, and why: 50 engaged, 51 released, 52 limited (the quenching condition wants more span than the limits allow), 53 programmed, 54 no cutting power to size A_P, 55 no idle power stored yet (no idle block has run, no idle table): no plan.)~") \
-  PIN(s_min, float, out, 0, "mm/min", "") \
-  PIN(ds, float, out, 0, "mm/min", "") \
-  PIN(dl, float, out, 0, "mm", "") \
-  PIN(n_s, s32, out, 0, "", R"~(The running plan.)~") \
-  PIN(omega_m_Hz, float, out, 0, "", "") \
-  PIN(ap_required, float, out, 0, "", "") \
-  PIN(ap_planned, float, out, 0, "", R"~(Modulation frequency [Hz]; the force amplitude the quenching condition asks for and the one the plan gives [N].)~") \
-  PIN(period_error, bit, out, 0, "", R"~(The thread period does not divide 1 ms: the module stays off.)~") \
-  PIN(update_ns, s32, out, 0, "ns", "") \
-  PIN(update_ns_max, s32, out, 0, "ns", "") \
-  PIN(reset_max, bit, in, 0, "", R"~(Wall time of the last and of the slowest module update; a TRUE \fBreset\-max\fR starts the worst case over.)~") \
-  PIN(plans_inline, s32, out, 0, "", "") \
-  PIN(plans_taken, s32, out, 0, "", R"~(Plans the servo function made itself (no \fBlathectl\-modfeed.plan\fR running) and plans it took from \fBlathectl\-modfeed.plan\fR, since the component was loaded.)~") \
-  PIN(plans_made, s32, out, 0, "", R"~(Plans \fBlathectl\-modfeed.plan\fR made (written by that function). A plan asked for in a block that ends before it comes is made but not taken.)~")
+  PIN(a0_um, float, in, 0, "", glue, R"~(Vibration amplitude from the amplitude detector (ADC 19) [\(*mm]; 0 below the dead zone.)~") \
+  PIN(omega_d_Hz, float, in, 0, "", glue, R"~(Vibration frequency from the frequency detector 20 [Hz]; 0 below the dead zone.)~") \
+  PIN(spindle_power, float, in, 0, "", glue, R"~(Main motor's active power (sensor 11) [W].)~") \
+  PIN(spindle_rpm, float, in, 0, "", glue, R"~(Spindle speed [rpm].)~") \
+  PIN(x_pos, float, in, 0, "", glue, R"~(Tool radius [mm], for the cutting speed V = 2\(*p|x|n/1000.)~") \
+  PIN(requested_vel, float, in, 0, "", glue, "") \
+  PIN(current_vel, float, in, 0, "", glue, R"~(\fBmotion.requested\-vel\fR (the program's feed: mm/s under G94, the F word under G95) and \fBmotion.current\-vel\fR (the path speed that advances the staircase) [mm/s].)~") \
+  PIN(motion_type, s32, in, 0, "", glue, "") \
+  PIN(feed_per_rev_mode, bit, in, 0, "", glue, R"~(\fBmotion.motion\-type\fR (2 and 3 are feed moves) and whether the program runs G95.)~") \
+  PIN(idle_block, bit, in, 0, "", glue, R"~(The NC block is flagged idle: the idle power is stored (switch 12, compensator 13).)~") \
+  PIN(turret_left, bit, in, 0, "", glue, R"~(The block's turret flag (default from the scenario). The output modulates only the flagged turret's path: with \fBoutput=adaptive\fR on LinuxCNC's one\-path lathe that is the path itself; with \fBoutput=eoffset\fR the right turret's axis (\fBaxis\-pos\-right\fR) or the left one's.)~") \
+  PIN(source, s32, in, 0, "", glue, R"~(0 no modulation, 1 programmed, 2 automatic (default from the scenario).)~") \
+  PIN(prog_s_min, float, in, 0, "mm/min", glue, "") \
+  PIN(prog_ds, float, in, 0, "mm/min", glue, "") \
+  PIN(prog_dl, float, in, 0, "mm", glue, "") \
+  PIN(prog_n_s, s32, in, 0, "", glue, R"~(The block's programmed (S_min, \(*DS, \(*Dl, n_s); n_s > 0 selects the programmed variant.)~") \
+  PIN(axis_pos_right, float, in, 0, "", glue, "") \
+  PIN(axis_pos_left, float, in, 0, "", glue, R"~(\fBoutput=eoffset\fR: the turrets' axial axes' planned positions (\fBaxis.w.pos\-cmd\fR, \fBaxis.z.pos\-cmd\fR) [mm].)~") \
+  PIN(axis_eoffset_right, float, in, 0, "", glue, "") \
+  PIN(axis_eoffset_left, float, in, 0, "", glue, R"~(\fBoutput=eoffset\fR: the offsets motion applies to them (\fBaxis.\fIL\fB.eoffset\fR) [mm].)~") \
+  PIN(enable, bit, in, 0, "", glue, R"~(FALSE: no modulation, output 1/\fIceiling\fR (default TRUE).)~") \
+  PIN(adaptive_feed, float, out, 0, "", glue, R"~(To \fBmotion.adaptive\-feed\fR.)~") \
+  PIN(feed, float, out, 0, "", glue, R"~(The modulated feed [mm/min].)~") \
+  PIN(feed_ratio, float, out, 0, "", glue, R"~(S(t)/S_p, 1 while not modulating.)~") \
+  PIN(eoffset_counts, s32, out, 0, "", glue, "") \
+  PIN(eoffset_scale, float, out, 0, "", glue, R"~(\fBoutput=eoffset\fR: to \fBaxis.\fIL\fB.eoffset\-counts\fR and \fB\-scale\fR of both turrets' axes (1e\-5 mm a count).)~") \
+  PIN(eoffset_enable_right, bit, out, 0, "", glue, "") \
+  PIN(eoffset_enable_left, bit, out, 0, "", glue, R"~(\fBoutput=eoffset\fR: to \fBaxis.\fIL\fB.eoffset\-enable\fR: the flagged turret's axis takes the offset.)~") \
+  PIN(eoffset, float, out, 0, "", glue, "") \
+  PIN(axis_vel, float, out, 0, "", glue, R"~(\fBoutput=eoffset\fR: the offset asked for [mm] and the flagged axis's planned velocity [mm/s].)~") \
+  PIN(cut_power, float, out, 0, "", glue, R"~(N_c = N_m \- N_idle [W].)~") \
+  PIN(engaged, bit, out, 0, "", glue, "") \
+  PIN(reason, s32, out, 0, "", glue, R"~(Modulating, and why: 50 engaged, 51 released, 52 limited (the quenching condition wants more span than the limits allow), 53 programmed, 54 no cutting power to size A_P, 55 no idle power stored yet (no idle block has run, no idle table): no plan.)~") \
+  PIN(s_min, float, out, 0, "mm/min", glue, "") \
+  PIN(ds, float, out, 0, "mm/min", glue, "") \
+  PIN(dl, float, out, 0, "mm", glue, "") \
+  PIN(n_s, s32, out, 0, "", glue, R"~(The running plan.)~") \
+  PIN(omega_m_Hz, float, out, 0, "", glue, "") \
+  PIN(ap_required, float, out, 0, "", glue, "") \
+  PIN(ap_planned, float, out, 0, "", glue, R"~(Modulation frequency [Hz]; the force amplitude the quenching condition asks for and the one the plan gives [N].)~") \
+  PIN(period_error, bit, out, 0, "", glue, R"~(The thread period does not divide 1 ms: the module stays off.)~") \
+  PIN(update_ns, s32, out, 0, "ns", glue, "") \
+  PIN(update_ns_max, s32, out, 0, "ns", glue, "") \
+  PIN(reset_max, bit, in, 0, "", glue, R"~(Wall time of the last and of the slowest module update; a TRUE \fBreset\-max\fR starts the worst case over.)~") \
+  PIN(plans_inline, s32, out, 0, "", glue, "") \
+  PIN(plans_taken, s32, out, 0, "", glue, R"~(Plans the servo function made itself (no \fBlathectl\-modfeed.plan\fR running) and plans it took from \fBlathectl\-modfeed.plan\fR, since the component was loaded.)~") \
+  PIN(plans_made, s32, out, 0, "", glue, R"~(Plans \fBlathectl\-modfeed.plan\fR made (written by that function). A plan asked for in a block that ends before it comes is made but not taken.)~")
 // clang-format on
