@@ -126,10 +126,8 @@ extern "C" int rtapi_app_main(void) {
     auto state = std::make_unique<State>();
     state->twin = b.setup != lathectl::dynamics::TwinSetup::Single;
     state->z_origin = lathectl::hal::number_param(z_origin_mm, "z_origin_mm", 0.0);
-    const double period = lathectl::hal::number_param(period_ns, "period_ns", 1e6);
-    if (!(period >= 1e4 && period <= 1e8))
-      throw lathectl::hal::Error("module parameter period_ns: expected 1e4 … 1e8");
-    state->period = std::lround(period);
+    state->period = lathectl::hal::ranged_param(period_ns, "period_ns", 1e6, 1e4, 1e8, "1e4 … 1e8");
+    const auto period = static_cast<double>(state->period);
     state->substeps = std::max(1, static_cast<int>(std::lround(period * 1e-9 / sc.run.step_s)));
     const double dt = period * 1e-9 / state->substeps;
     // The scenario's process (process damping included) as the rig maps it. One tool: the second
@@ -141,8 +139,8 @@ extern "C" int rtapi_app_main(void) {
       pp.tool2_lag_mm = 0.0;
     }
     state->cut.configure(pp, dt);
-    state->chain_every =
-        std::max(1, static_cast<int>(std::lround(lathectl::systems::b_chatter::kSamplePeriod_s / dt)));
+    state->chain_every = std::max(
+        1, static_cast<int>(std::lround(lathectl::systems::b_chatter::kSamplePeriod_s / dt)));
     auto vib = b.vibration;
     vib.sample_period_s = dt * state->chain_every;
     state->chain.configure(vib);

@@ -142,13 +142,10 @@ extern "C" int rtapi_app_main(void) {
     const auto sc = lathectl::hal::load_system(scenario, dg::kReadSection);
     const auto& d = sc.get<dg::Settings>();
     auto state = std::make_unique<State>();
-    if (size_x_mm == nullptr || *size_x_mm == '\0')
-      throw Error("module parameter size_x_mm=X (machine X at the target size) is required");
-    const double x_size = number_param(size_x_mm, "size_x_mm", 0.0);
-    const double period = number_param(period_ns, "period_ns", 1e5);
-    if (!(period >= 1e4 && period <= 1e7))
-      throw Error("module parameter period_ns: expected 1e4 … 1e7");
-    state->period = std::lround(period);
+    const double x_size =
+        lathectl::hal::required_param(size_x_mm, "size_x_mm", "machine X at the target size");
+    state->period = lathectl::hal::ranged_param(period_ns, "period_ns", 1e5, 1e4, 1e7, "1e4 … 1e7");
+    const auto period = static_cast<double>(state->period);
     const double rough = number_param(rough_factor, "rough_factor", d.sequence.rough_factor);
     const double fine = number_param(fine_factor, "fine_factor", d.sequence.fine_factor);
     if (!(rough >= fine && fine >= 1.0))

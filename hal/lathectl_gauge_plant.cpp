@@ -109,8 +109,8 @@ void update(void*, long period) {
       x = (s.r_mm - s.x_size_mm) * 1e-3 + s.target_m;
       s.xi.step(s.n01(s.rng));
       if (s.interruption.any() && std::isfinite(revs0))
-        under = s.interruption.depth_at(
-            s.theta0 + 2.0 * std::numbers::pi * (revs0 + rev_per_sub * k));
+        under =
+            s.interruption.depth_at(s.theta0 + 2.0 * std::numbers::pi * (revs0 + rev_per_sub * k));
     }
     u = s.gauge.step_generator(std::isfinite(s.r_mm) ? x + s.xi.value() - under : x);
   }
@@ -139,13 +139,10 @@ extern "C" int rtapi_app_main(void) {
     const auto sc = lathectl::hal::load_system(scenario, dg::kReadSection);
     const auto& d = sc.get<dg::Settings>();
     auto state = std::make_unique<State>();
-    if (size_x_mm == nullptr || *size_x_mm == '\0')
-      throw Error("module parameter size_x_mm=X (machine X at the target size) is required");
-    state->x_size_mm = number_param(size_x_mm, "size_x_mm", 0.0);
-    const double period = number_param(period_ns, "period_ns", 1e5);
-    if (!(period >= 1e4 && period <= 1e7))
-      throw Error("module parameter period_ns: expected 1e4 … 1e7");
-    state->period = std::lround(period);
+    state->x_size_mm =
+        lathectl::hal::required_param(size_x_mm, "size_x_mm", "machine X at the target size");
+    state->period = lathectl::hal::ranged_param(period_ns, "period_ns", 1e5, 1e4, 1e7, "1e4 … 1e7");
+    const auto period = static_cast<double>(state->period);
     state->substeps = std::max(1, static_cast<int>(std::lround(period * 1e-9 / sc.run.step_s)));
     const double dt = period * 1e-9 / state->substeps;
     if (std::abs(dt - sc.run.step_s) > 1e-3 * sc.run.step_s)

@@ -130,6 +130,23 @@ inline double number_param(const char* text, const char* key, double fallback) {
   return v;
 }
 
+// A module parameter holding a whole number within [lo, hi] (a thread's period in ns, ...);
+// `fallback` when unset.
+inline long ranged_param(const char* text, const char* key, double fallback, double lo, double hi,
+                         const char* range) {
+  const double v = number_param(text, key, fallback);
+  if (!(v >= lo && v <= hi))
+    throw Error(std::string("module parameter ") + key + ": expected " + range);
+  return std::lround(v);
+}
+
+// A module parameter holding a number that has no default; `what` says what it is.
+inline double required_param(const char* text, const char* key, const char* what) {
+  if (text == nullptr || *text == '\0')
+    throw Error(std::string("module parameter ") + key + "=X (" + what + ") is required");
+  return number_param(text, key, 0.0);
+}
+
 // The uid the realtime side opens files as. rtapi_app is setuid root and keeps its real and
 // effective uid 0; only its filesystem uid is the calling user's (or RTAPI_UID's when LinuxCNC was
 // started by root), so access(2) would answer for root: read the fsuid (4th Uid field) instead.

@@ -128,9 +128,8 @@ extern "C" int rtapi_app_main(void) {
     break_at = lathectl::hal::number_param(break_at_s, "break_at_s", 0.0);
     // The servo thread's period: the per-revolution window counts its samples (one revolution
     // at 1 rpm of them, allocated here).
-    const double period = lathectl::hal::number_param(period_ns, "period_ns", 1e6);
-    if (!(period >= 1e4 && period <= 1e8))
-      throw lathectl::hal::Error("module parameter period_ns: expected 1e4 … 1e8");
+    const auto period = static_cast<double>(
+        lathectl::hal::ranged_param(period_ns, "period_ns", 1e6, 1e4, 1e8, "1e4 … 1e8"));
     force_rev.configure(period * 1e-9);
     lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
     *pins->motion_type = 2;  // unconnected (halrun): every move is a feed move
