@@ -47,14 +47,7 @@ constexpr const char* kPrefix = "lathectl-adaptive";
 
 struct Pins {
   LATHECTL_HAL_PIN_BLOCK(LATHECTL_ADAPTIVE_PINS)
-  // parameters (read-only: the scenario's settings)
-  hal_float_t force_limit;
-  hal_float_t feed_min_default;
-  hal_float_t feed_max_default;
-  hal_float_t feed_programmed;
-  hal_float_t cutting_speed_programmed;
-  hal_float_t control_period;
-  hal_float_t rating;
+  LATHECTL_HAL_PARAM_BLOCK(LATHECTL_ADAPTIVE_PARAMS)
 };
 
 using lathectl::control::AdaptiveMachine;
@@ -156,7 +149,6 @@ extern "C" int rtapi_app_main(void) {
     } catch (const std::invalid_argument& x) {
       throw lathectl::hal::Error(x.what());
     }
-    const auto& c = mp.controller;
     auto m = std::make_unique<AdaptiveMachine>();
     m->configure(mp);
     Pins& p = lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
@@ -169,14 +161,7 @@ extern "C" int rtapi_app_main(void) {
     *p.feed_factor = 1.0;
     *p.spindle_override = 1.0;
     *p.program_line = -1;
-    x.constant(&p.force_limit, "force-limit", c.load_limit);
-    x.constant(&p.feed_min_default, "feed-min-default", c.feed_min_mm_per_rev);
-    x.constant(&p.feed_max_default, "feed-max-default", c.feed_max_mm_per_rev);
-    x.constant(&p.feed_programmed, "feed-programmed", c.feed_programmed_mm_per_rev);
-    x.constant(&p.cutting_speed_programmed, "cutting-speed-programmed",
-               c.speed_programmed_m_per_min);
-    x.constant(&p.control_period, "control-period", c.period_s);
-    x.constant(&p.rating, "rating", mp.rating.limit_max);
+    p.export_params(x, mp);
     machine = std::move(m);
     lathectl::hal::export_update(kPrefix, update, comp_id);
   });

@@ -350,6 +350,18 @@ void write_pin(const Slot& slot, const F& field) noexcept {
 #define LATHECTL_HAL_PIN_WRITE(m, t, d, n, u, f, doc) \
   ::lathectl::hal::write_pin<::lathectl::hal::PinDir::d>(m, f);
 #define LATHECTL_HAL_NO_HEAD(text)
+#define LATHECTL_HAL_PARAM_MEMBER(m, u, f, doc) hal_float_t m;
+#define LATHECTL_HAL_PARAM_EXPORT(m, u, f, doc) \
+  x_.constant(&m, ::lathectl::hal::pin_name(#m).c_str(), f);
+// Inside a pin block struct: a parameter table's members (read-only float parameters, rows
+// PARAM(member, unit, field, doc), named as pins are) and export_params(exporter, params), which
+// exports each with its field, an expression of the machine's Params `params`.
+#define LATHECTL_HAL_PARAM_BLOCK(LIST)                                            \
+  LIST(LATHECTL_HAL_PARAM_MEMBER)                                                 \
+  template <class Params>                                                         \
+  void export_params(const ::lathectl::hal::Exporter& x_, const Params& params) { \
+    LIST(LATHECTL_HAL_PARAM_EXPORT)                                               \
+  }
 // Inside a pin block struct: the table's members, export_pins(exporter), and the copies of the
 // pins whose field is the machine's: read_pins(in, out) sets the in pins' fields of `in` (the
 // machine's Input), write_pins(in, out) the out pins from `out` (its Output). Both take both, as

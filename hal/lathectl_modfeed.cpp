@@ -47,7 +47,8 @@ MODULE_LICENSE("GPL");
 
 LATHECTL_HAL_PARAM(scenario, "system-B scenario file (TOML) whose [modulation] sets the module");
 LATHECTL_HAL_PARAM(ceiling, "the program's F over the mean feed to keep (≥ 1), default 2");
-LATHECTL_HAL_PARAM(output, "adaptive (motion.adaptive-feed, default) or eoffset (one axis's offset)");
+LATHECTL_HAL_PARAM(output,
+                   "adaptive (motion.adaptive-feed, default) or eoffset (one axis's offset)");
 
 namespace {
 
@@ -59,10 +60,7 @@ constexpr const char* kPrefix = "lathectl-modfeed";
 
 struct Pins {
   LATHECTL_HAL_PIN_BLOCK(LATHECTL_MODFEED_PINS)
-  // parameters
-  hal_float_t ceiling;
-  hal_float_t coefficient;
-  hal_float_t part_mass;
+  LATHECTL_HAL_PARAM_BLOCK(LATHECTL_MODFEED_PARAMS)
 };
 
 struct State {
@@ -184,7 +182,8 @@ extern "C" int rtapi_app_main(void) {
     const auto& b = sc.get<lathectl::systems::b_chatter::Settings>().rig;
     const std::string out = output ? output : "adaptive";
     if (out != "adaptive" && out != "eoffset")
-      throw lathectl::hal::Error("module parameter output=" + out + ": expected adaptive or eoffset");
+      throw lathectl::hal::Error("module parameter output=" + out +
+                                 ": expected adaptive or eoffset");
     const bool eoffset = out == "eoffset";
     if (eoffset && ceiling)
       throw lathectl::hal::Error(
@@ -193,8 +192,8 @@ extern "C" int rtapi_app_main(void) {
     // B calls too); this host's: the module period, the feed out, the ceiling.
     namespace b_chatter = lathectl::systems::b_chatter;
     b_chatter::Host host;
-    host.output = eoffset ? ModulationMachine::FeedOutput::Offset
-                          : ModulationMachine::FeedOutput::Factor;
+    host.output =
+        eoffset ? ModulationMachine::FeedOutput::Offset : ModulationMachine::FeedOutput::Factor;
     host.ceiling = eoffset ? 1.0 : lathectl::hal::number_param(ceiling, "ceiling", 2.0);
     ModulationMachine::Params machine;
     try {
@@ -203,7 +202,6 @@ extern "C" int rtapi_app_main(void) {
       throw lathectl::hal::Error("module parameter " + e.key() + ": " + e.what());
     }
     const double c = machine.ceiling;
-    const auto& mp = machine.module;
     auto state = std::make_unique<State>();
     state->eoffset = eoffset;
     state->machine.configure(machine);
@@ -216,9 +214,7 @@ extern "C" int rtapi_app_main(void) {
     *p.source = static_cast<std::int32_t>(b.source);
     *p.turret_left = b.turret == Turret::Left;
     *p.enable = 1;
-    x.constant(&p.ceiling, "ceiling", c);
-    x.constant(&p.coefficient, "coefficient", mp.coefficient);
-    x.constant(&p.part_mass, "part-mass", mp.part_mass_kg);
+    p.export_params(x, machine);
     st = std::move(state);
     lathectl::hal::export_update(kPrefix, update, comp_id);
     lathectl::hal::export_update("lathectl-modfeed.plan", plan, comp_id);

@@ -20,6 +20,7 @@
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pins/adaptive.hpp"
@@ -46,20 +47,28 @@ struct Row {
 
 #define DOC_PIN(m, t, d, n, u, field, doc) Row{#m, #t, #d, n, u, #field, doc},
 #define DOC_HEAD(text) Row{nullptr, "", "", 0, "", "", text},
+#define DOC_PARAM(m, u, field, doc) Row{#m, "float", "ro", 0, u, #field, doc},
 
 struct Component {
   const char* name;
   std::vector<Row> rows;
-  bool meter;  // its realtime function reports itself (MeterPins), listed last
+  bool meter;                 // its realtime function reports itself (MeterPins), listed last
+  std::vector<Row> params{};  // its read-only parameters (a PARAMS table), if any
 };
 
 const std::vector<Component>& components() {
   static const std::vector<Component> all = {
-      {"lathectl_adaptive", {LATHECTL_ADAPTIVE_PINS(DOC_PIN, DOC_HEAD)}, false},
+      {"lathectl_adaptive",
+       {LATHECTL_ADAPTIVE_PINS(DOC_PIN, DOC_HEAD)},
+       false,
+       {LATHECTL_ADAPTIVE_PARAMS(DOC_PARAM)}},
       {"lathectl_chatter", {LATHECTL_CHATTER_PINS(DOC_PIN, DOC_HEAD)}, true},
       {"lathectl_gauge", {LATHECTL_GAUGE_PINS(DOC_PIN, DOC_HEAD)}, true},
       {"lathectl_gauge_plant", {LATHECTL_GAUGE_PLANT_PINS(DOC_PIN, DOC_HEAD)}, true},
-      {"lathectl_modfeed", {LATHECTL_MODFEED_PINS(DOC_PIN, DOC_HEAD)}, false},
+      {"lathectl_modfeed",
+       {LATHECTL_MODFEED_PINS(DOC_PIN, DOC_HEAD)},
+       false,
+       {LATHECTL_MODFEED_PARAMS(DOC_PARAM)}},
       {"lathectl_plant", {LATHECTL_PLANT_PINS(DOC_PIN, DOC_HEAD)}, false},
       {"lathectl_slide", {LATHECTL_SLIDE_PINS(DOC_PIN, DOC_HEAD)}, true},
       {"lathectl_slide_plant", {LATHECTL_SLIDE_PLANT_PINS(DOC_PIN, DOC_HEAD)}, true},
@@ -72,6 +81,13 @@ std::string prefix_of(const Component& c) {
   for (char& ch : prefix)
     if (ch == '_') ch = '-';
   return prefix;
+}
+
+// A component's pins: its table's rows, the meter's last.
+std::vector<Row> pin_rows(const Component& c) {
+  std::vector<Row> rows = c.rows;
+  if (c.meter) rows.insert(rows.end(), {LATHECTL_METER_PINS(DOC_PIN, DOC_HEAD)});
+  return rows;
 }
 
 // '_' → '-' (the pin's name), troff's minus for '-'.
@@ -111,11 +127,11 @@ std::string wrap(const std::string& text) {
   return out;
 }
 
-std::string section(const Component& c, std::string& error) {
+// A section of the page: `head` (".SH PINS\n", or PARAMETERS with its first line), the rows.
+std::string section(const Component& c, const std::vector<Row>& rows, const std::string& head,
+                    std::string& error) {
   const std::string prefix = prefix_of(c);
-  std::vector<Row> rows = c.rows;
-  if (c.meter) rows.insert(rows.end(), {LATHECTL_METER_PINS(DOC_PIN, DOC_HEAD)});
-  std::string out = ".SH PINS\n";
+  std::string out = head;
   bool open = false;  // a group's first tag written, its doc not yet
   for (const Row& r : rows) {
     if (r.member == nullptr) {
@@ -139,30 +155,33 @@ std::string quoted(const std::string& s) {  // the tables' names, units and fiel
   return out + "\"";
 }
 
-// The pin list, one pin a line (diffs stay readable).
+// A list of rows as JSON objects, one a line; `pin` is the HAL name.
+std::string rows_json(const std::string& prefix, const std::vector<Row>& rows) {
+  std::string out;
+  for (const Row& r : rows) {
+    if (r.member == nullptr) continue;
+    std::string name = r.member;
+    for (char& ch : name)
+      if (ch == '_') ch = '-';
+    out += std::string(out.empty() ? "" : ",\n") + "  {\"name\": " + quoted(name) +
+           ", \"pin\": " + quoted(prefix + "." + name) + ", \"type\": " + quoted(r.type) +
+           ", \"dir\": " + quoted(r.dir) + ", \"count\": " + std::to_string(r.count) +
+           ", \"unit\": " + quoted(r.unit) + ", \"field\": " + quoted(r.field) + "}";
+  }
+  return out;
+}
+
+// The pin list, one pin a line (diffs stay readable); a parameter's dir is "ro".
 std::string pin_list() {
   std::string out = "{\"components\": [\n";
-  bool first_c = true;
+  bool first = true;
   for (const Component& c : components()) {
     const std::string prefix = prefix_of(c);
-    out += std::string(first_c ? "" : ",\n") + " {\"name\": " + quoted(c.name) +
-           ", \"prefix\": " + quoted(prefix) + ", \"pins\": [\n";
-    first_c = false;
-    std::vector<Row> rows = c.rows;
-    if (c.meter) rows.insert(rows.end(), {LATHECTL_METER_PINS(DOC_PIN, DOC_HEAD)});
-    bool first = true;
-    for (const Row& r : rows) {
-      if (r.member == nullptr) continue;
-      std::string name = r.member;
-      for (char& ch : name)
-        if (ch == '_') ch = '-';
-      out += std::string(first ? "" : ",\n") + "  {\"name\": " + quoted(name) +
-             ", \"pin\": " + quoted(prefix + "." + name) + ", \"type\": " + quoted(r.type) +
-             ", \"dir\": " + quoted(r.dir) + ", \"count\": " + std::to_string(r.count) +
-             ", \"unit\": " + quoted(r.unit) + ", \"field\": " + quoted(r.field) + "}";
-      first = false;
-    }
-    out += "\n ]}";
+    out += std::string(first ? "" : ",\n") + " {\"name\": " + quoted(c.name) +
+           ", \"prefix\": " + quoted(prefix) + ", \"pins\": [\n" + rows_json(prefix, pin_rows(c)) +
+           "\n ], \"params\": [" +
+           (c.params.empty() ? "" : "\n" + rows_json(prefix, c.params) + "\n ") + "]}";
+    first = false;
   }
   return out + "\n]}\n";
 }
@@ -174,9 +193,10 @@ std::string read(const std::string& path) {
   return ss.str();
 }
 
-// The page with its PINS section (`.SH PINS` to the next `.SH`) replaced; empty if it has none.
-std::string replaced(const std::string& page, const std::string& pins) {
-  const auto begin = page.find("\n.SH PINS\n");
+// The page with its section `title` (`.SH title` to the next `.SH`) replaced; empty if it has
+// none.
+std::string replaced(const std::string& page, const std::string& title, const std::string& pins) {
+  const auto begin = page.find("\n.SH " + title + "\n");
   if (begin == std::string::npos) return {};
   auto end = page.find("\n.SH ", begin + 1);
   end = end == std::string::npos ? page.size() : end + 1;
@@ -215,23 +235,36 @@ int main(int argc, char** argv) {
   int rc = argc == 4 ? compare(argv[3], pin_list(), mode, how) : 0;
   for (const Component& c : components()) {
     std::string error;
-    const std::string pins = section(c, error);
+    // The sections the tables make: PINS always, PARAMETERS for a component with a PARAMS table.
+    std::vector<std::pair<std::string, std::string>> sections = {
+        {"PINS", section(c, pin_rows(c), ".SH PINS\n", error)}};
+    if (!c.params.empty())
+      sections.emplace_back("PARAMETERS",
+                            section(c, c.params,
+                                    ".SH PARAMETERS\nRead\\-only: the settings the machine runs "
+                                    "with, as its machine parameters derive them (the scenario, "
+                                    "the module parameters).\n",
+                                    error));
     if (!error.empty()) {
       std::cerr << error;
       rc = 1;
     }
     if (argc == 1) {
-      std::cout << ".\\\" " << c.name << "(9)\n" << pins;
+      std::cout << ".\\\" " << c.name << "(9)\n";
+      for (const auto& [title, text] : sections) std::cout << text;
       continue;
     }
     const std::string path = std::string(argv[2]) + "/" + c.name + ".9";
-    const std::string now = replaced(read(path), pins);
-    if (now.empty()) {
-      std::cerr << path << ": no .SH PINS section\n";
-      rc = 1;
-    } else {
-      rc |= compare(path, now, mode, how);
+    std::string now = read(path);
+    for (const auto& [title, text] : sections) {
+      now = replaced(now, title, text);
+      if (now.empty()) {
+        std::cerr << path << ": no .SH " << title << " section\n";
+        rc = 1;
+        break;
+      }
     }
+    if (!now.empty()) rc |= compare(path, now, mode, how);
   }
   return rc;
 }

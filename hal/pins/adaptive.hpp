@@ -95,4 +95,14 @@
   PIN(teach_tool, s32, out, 0, "", glue, "") \
   PIN(teach_operation, s32, out, 0, "", glue, "") \
   PIN(teach_reference, float, out, 0, "", glue, R"~(The last reference taught.)~")
+// Its read-only parameters, the scenario's settings as the machine runs them: rows
+// PARAM(member, unit, field, doc), field an expression of the machine's Params `params`.
+#define LATHECTL_ADAPTIVE_PARAMS(PARAM) \
+  PARAM(force_limit, "N or W", params.controller.load_limit, R"~(The load limit (force, or power with a power sensor).)~") \
+  PARAM(feed_min_default, "mm/rev", params.controller.feed_min_mm_per_rev, "") \
+  PARAM(feed_max_default, "mm/rev", params.controller.feed_max_mm_per_rev, R"~(The feed bounds when the program sets none.)~") \
+  PARAM(feed_programmed, "mm/rev", params.controller.feed_programmed_mm_per_rev, "") \
+  PARAM(cutting_speed_programmed, "m/min", params.controller.speed_programmed_m_per_min, R"~(The scenario's programmed feed and cutting speed.)~") \
+  PARAM(control_period, "s", params.controller.period_s, R"~(The control period.)~") \
+  PARAM(rating, "N or W", params.rating.limit_max, R"~(The largest limit a program may set.)~")
 // clang-format on

@@ -51,4 +51,10 @@
   PIN(plans_inline, s32, out, 0, "", glue, "") \
   PIN(plans_taken, s32, out, 0, "", glue, R"~(Plans the servo function made itself (no \fBlathectl\-modfeed.plan\fR running) and plans it took from \fBlathectl\-modfeed.plan\fR, since the component was loaded.)~") \
   PIN(plans_made, s32, out, 0, "", glue, R"~(Plans \fBlathectl\-modfeed.plan\fR made (written by that function). A plan asked for in a block that ends before it comes is made but not taken.)~")
+// Its read-only parameters: rows PARAM(member, unit, field, doc), field an expression of the
+// machine's Params `params`.
+#define LATHECTL_MODFEED_PARAMS(PARAM) \
+  PARAM(ceiling, "", params.ceiling, R"~(The ceiling in use: the program's F over the mean feed kept.)~") \
+  PARAM(coefficient, "", params.module.coefficient, R"~(c, the coefficient of the force amplitude's condition.)~") \
+  PARAM(part_mass, "kg", params.module.part_mass_kg, R"~(m_d, the part's modal mass.)~")
 // clang-format on

@@ -171,9 +171,26 @@ def test_adaptive(src, work):
     extra = ("setp lathectl-adaptive.enable 1\n"
              "setp lathectl-adaptive.feed-per-rev-mode 1\n")
     got = stream_session(work, "adaptive", ["lathectl_adaptive scenario=" + rt_scenario(src)],
-                         "ffffffs", rows, stim_pins, "ffbbssfsb", out_pins, extra)
+                         "ffffffs", rows, stim_pins, "ffbbssfsb", out_pins, extra,
+                         post="show param lathectl-adaptive")
     if not got:
         return
+    # The read-only float parameters (the function's own .time/.tmax are s32) are the parameter
+    # table's (hal/pins.json lists them), each with the scenario's value.
+    with open(os.path.join(src, "hal", "pins.json")) as f:
+        listed = next(c["params"] for c in json.load(f)["components"]
+                      if c["name"] == "lathectl_adaptive")
+    shown = {}
+    for line in LAST_LOG.splitlines():  # halcmd: owner type dir value name
+        w = line.split()
+        if len(w) == 5 and w[1] == "float" and w[4].startswith("lathectl-adaptive."):
+            shown[w[4]] = float(w[3])
+    check(sorted(shown) == sorted(p["pin"] for p in listed),
+          "parameters: the table's %d, shown %s" % (len(listed), sorted(shown)))
+    check(shown.get("lathectl-adaptive.force-limit") == limit and
+          shown.get("lathectl-adaptive.feed-programmed") == s_prog and
+          abs(shown.get("lathectl-adaptive.control-period", 0) - c["period_ms"] * 1e-3) < 1e-12,
+          "parameters hold the scenario's force limit, feed and period (%s)" % shown)
     af = [r[0] for r in got]
     spr = [r[1] for r in got]
     hold = [int(r[2]) for r in got]
