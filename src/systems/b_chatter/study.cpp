@@ -302,6 +302,11 @@ json ChatterStudy::run_metrics() const {
           {"forced_deflection_um", both(&Run::forced_um)},
           {"static_deflection_um", both(&Run::static_um)},
           {"chatter_frequency_Hz", json_number(chat.chatter_Hz)},
+          {"depth_swing",  // the user's cut (the main run): does its vibration grow?
+           {{"first_fifth_um", json_number(m.swing_first_um)},
+            {"last_fifth_um", json_number(m.swing_last_um)},
+            {"growth", json_number(m.swing_growth)},
+            {"frequency_Hz", json_number(m.swing_Hz)}}},
           {"modulation",
            {{"S_min_mm_per_min", o.plan.s_min_mm_per_min},
             {"dS_mm_per_min", o.plan.ds_mm_per_min},
