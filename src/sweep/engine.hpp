@@ -17,8 +17,9 @@
 namespace lathectl::sweep {
 
 // Runs one case as every engine does: its text read under case_label(base_dir, id)
-// (systems::parse_scenario) and run (systems::run_scenario). A failure (bad input, divergence)
-// is an "error" result with its message on one line, never an exception.
+// (systems::parse_scenario) and run (systems::run_scenario) for its summary alone
+// (io::SummaryOnly: no report built). A failure (bad input, divergence) is an "error" result
+// with its message on one line, never an exception.
 Result run_case(const Case& c, const io::MaterialLibrary& lib);
 
 // The local engine: the cases without a row in `store`, on `workers` threads (0: every core),
