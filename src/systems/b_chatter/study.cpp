@@ -67,7 +67,10 @@ void ChatterStudy::run_controllers() {
       2);
   off_ = compared_ ? without_.get() : (modulated_ ? nullptr : with_.get());
   find_linear_limits();
-  vdp_B_ = dynamics::quenching_threshold(0.1, 5.0);  // a0 = 2
+  // A constant of the model (a0 = 2), ~10⁹ instructions: computed once per process, not per
+  // run (a sweep's every case asked for it again).
+  static const double vdp_B = dynamics::quenching_threshold(0.1, 5.0);
+  vdp_B_ = vdp_B;
   quench_ = quenching();
 }
 
