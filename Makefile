@@ -30,9 +30,9 @@ demo:
 	[ $$rc -eq 0 ] && echo "open demo-out/index.html (the stability map, 150 runs: make stability-map)"; exit $$rc
 
 # The showcase of `lathectl sweep` (docs/sweep.md, "The stability map"): system B's time-domain
-# chatter over feed × speed, 150 runs (about 2 min on 2 cores), with the stability lobes of the
-# same structure drawn over it. WORKERS=N to use N cores (default: all); a rerun finishes an
-# interrupted map.
+# chatter over feed × speed, 150 runs (19 s of CPU: about 10 s on 2 free cores), with the
+# stability lobes of the same structure drawn over it. WORKERS=N to use N cores (default: all);
+# a rerun finishes an interrupted map.
 WORKERS ?= 0
 stability-map:
 	@cmake --preset $(PRESET) >/dev/null && cmake --build --preset $(PRESET) -j $(JOBS) --target lathectl
