@@ -4,7 +4,7 @@ BUILD := build/$(PRESET)
 JOBS ?= $(shell nproc)
 FUZZ_SECONDS ?= 600
 
-.PHONY: deps deps-browser deps-test build demo test test-asan bench fuzz format install-check package clean
+.PHONY: deps deps-browser deps-test build demo stability-map test test-asan bench fuzz format install-check package clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -27,7 +27,17 @@ demo:
 	  cmake --build --preset $(PRESET) -j $(JOBS) --target lathectl || exit $$?; \
 	t2=$$(date +%s); ./$(BUILD)/lathectl demo --out demo-out; rc=$$?; t3=$$(date +%s); \
 	echo "demo: dependencies $$((t1 - t0)) s, build $$((t2 - t1)) s, run $$((t3 - t2)) s"; \
-	[ $$rc -eq 0 ] && echo "open demo-out/index.html"; exit $$rc
+	[ $$rc -eq 0 ] && echo "open demo-out/index.html (the stability map, 150 runs: make stability-map)"; exit $$rc
+
+# The showcase of `lathectl sweep` (docs/sweep.md, "The stability map"): system B's time-domain
+# chatter over feed × speed, 150 runs (19 s of CPU: about 10 s on 2 free cores), with the
+# stability lobes of the same structure drawn over it. WORKERS=N to use N cores (default: all);
+# a rerun finishes an interrupted map.
+WORKERS ?= 0
+stability-map:
+	@cmake --preset $(PRESET) >/dev/null && cmake --build --preset $(PRESET) -j $(JOBS) --target lathectl
+	./$(BUILD)/lathectl sweep examples/sweeps/b_single_tool_map.toml --out map-out --workers $(WORKERS)
+	@echo "open map-out/report.html"
 
 # The fuzz step runs first so that ctest's summary line closes the output: the committed
 # regression corpus and the seed corpus replayed, then a fixed seed for a fixed number of runs
@@ -70,4 +80,4 @@ format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
 
 clean:
-	rm -rf build demo-out
+	rm -rf build demo-out map-out

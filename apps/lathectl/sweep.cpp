@@ -29,6 +29,7 @@ struct SweepArgs {
 
 int sweep(const SweepArgs& a) {
   const auto spec = sweep::read_spec(a.spec);
+  sweep::check_lobes_machine(spec);
   const std::string driver = a.scheduler.empty() ? "" : sweep::find_dask_driver(a.scheduler);
   const std::string text = sweep::read_scenario(spec);
   const auto values = sweep::draw_values(spec);

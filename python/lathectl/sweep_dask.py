@@ -5,7 +5,8 @@ Run as ``/usr/bin/python3 -m lathectl.sweep_dask --scheduler tcp://HOST:PORT DIR
 ``cases``), or from Python as :func:`run`. Every case without a ``results`` row goes to the
 cluster as one task; the task runs the case's scenario text with the same reader and the same
 registry as the local engine (``lathectl._lathectl._run(text, "<base_dir>/case N", None,
-False)``, the label the local engine reads it under) and returns summary.json's text. Only
+False, report=False)``, the label the local engine reads it under; like the local engine, for
+summary.json alone: no report built) and returns summary.json's text. Only
 this driver writes the store: one ``INSERT OR IGNORE`` per case, in its own transaction, as the
 cases complete; a case is recorded once or not at all, whatever is killed when, and a rerun runs
 only the cases without a row.
@@ -163,7 +164,8 @@ def _run_in(case_id, scenario, base_dir, t0, back):
         return s
 
     try:
-        result, _warnings = _lathectl._run(scenario, case_label(base_dir, case_id), None, False)
+        result, _warnings = _lathectl._run(scenario, case_label(base_dir, case_id), None, False,
+                                           report=False)
         summary = result.summary_json
     except (ValueError, OSError, RuntimeError) as e:  # InputError is a ValueError
         message = " ".join(restore(str(e)).replace("\r", "\n").split("\n"))  # one line

@@ -21,6 +21,7 @@
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/runner.hpp"
 #include "lathectl/io/scenario.hpp"
+#include "lathectl/io/study.hpp"
 #include "systems/estimate.hpp"
 #include "systems/registry.hpp"
 
@@ -63,8 +64,9 @@ py::tuple check(const std::optional<std::string>& text, const std::string& label
   return py::make_tuple(warnings_of(*sc), sc->system, sc->name, systems::summary_text(e));
 }
 
+// report false: summary.json alone (io::SummaryOnly, a sweep's case), no report built.
 py::tuple run(const std::optional<std::string>& text, const std::string& label,
-              std::optional<std::uint64_t> seed, bool progress) {
+              std::optional<std::uint64_t> seed, bool progress, bool report) {
   auto r = std::make_shared<RunResult>();
   std::optional<io::Scenario> sc;
   without_gil("run", false, [&] { sc.emplace(read_scenario(text, label)); });
@@ -73,6 +75,8 @@ py::tuple run(const std::optional<std::string>& text, const std::string& label,
   r->system = sc->system;
   without_gil("run " + sc->name, progress, [&] {
     io::ChannelStream::KeepValues keep;
+    std::optional<io::SummaryOnly> summary_only;
+    if (!report) summary_only.emplace();
     r->out = systems::run_scenario(*sc);
   });
   return py::make_tuple(r, warnings_of(*sc));
@@ -115,7 +119,8 @@ void bind_run(py::module_& m) {
       .def("channels", &channels)
       .def("write", &write, py::arg("dir"));
   m.def("_check", &check, py::arg("text"), py::arg("label"));
-  m.def("_run", &run, py::arg("text"), py::arg("label"), py::arg("seed"), py::arg("progress"));
+  m.def("_run", &run, py::arg("text"), py::arg("label"), py::arg("seed"), py::arg("progress"),
+        py::arg("report") = true);
   m.def("_data_dir", [] { return io::data_dir(); });
   m.def("_examples_dir", [] {
     return io::locate_tree("LATHECTL_EXAMPLES_DIR",

@@ -99,6 +99,14 @@ void Claims::add(const std::string& text, double value, bool met) {
 
 namespace lathectl::io {
 
+namespace {
+thread_local int summary_only_depth = 0;
+}  // namespace
+
+SummaryOnly::SummaryOnly() { ++summary_only_depth; }
+SummaryOnly::~SummaryOnly() { --summary_only_depth; }
+bool SummaryOnly::active() { return summary_only_depth > 0; }
+
 RunOutput Study::run() {
   RunOutput out;
   Claims claims;
@@ -113,7 +121,7 @@ RunOutput Study::run() {
   summary(out.summary);
   out.summary["claims"] = claims.json();
   out.report.description = sc_.description;
-  report(out.report);
+  if (!SummaryOnly::active()) report(out.report);
   out.report.notes = claims.notes();
   out.report.note_ids = claims.note_ids();
   auto& tables = out.report.tables;

@@ -14,6 +14,7 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/install_paths.hpp"
 #include "lathectl/io/progress.hpp"
+#include "lathectl/io/study.hpp"
 #include "systems/registry.hpp"
 
 extern char** environ;
@@ -32,6 +33,7 @@ std::string one_line(std::string s) {
 Result run_case(const Case& c, const io::MaterialLibrary& lib) {
   const auto t0 = std::chrono::steady_clock::now();
   Result r{c.id, "ok", "", 0.0, std::nullopt};
+  const io::SummaryOnly summary_only;  // the case keeps summary.json alone: no report built
   try {
     const auto sc = systems::parse_scenario(c.scenario, case_label(c.base_dir, c.id), lib);
     r.summary = systems::run_scenario(sc).summary.dump(2);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "lathectl/io/materials.hpp"
+#include "lathectl/io/report.hpp"
 #include "sweep/cases.hpp"
 #include "sweep/spec.hpp"
 #include "sweep/store.hpp"
@@ -16,8 +17,9 @@
 namespace lathectl::sweep {
 
 // Runs one case as every engine does: its text read under case_label(base_dir, id)
-// (systems::parse_scenario) and run (systems::run_scenario). A failure (bad input, divergence)
-// is an "error" result with its message on one line, never an exception.
+// (systems::parse_scenario) and run (systems::run_scenario) for its summary alone
+// (io::SummaryOnly: no report built). A failure (bad input, divergence) is an "error" result
+// with its message on one line, never an exception.
 Result run_case(const Case& c, const io::MaterialLibrary& lib);
 
 // The local engine: the cases without a row in `store`, on `workers` threads (0: every core),
@@ -46,6 +48,15 @@ std::vector<std::pair<std::string, double>> metrics_of(const std::string& summar
 void write_results(const std::filesystem::path& dir, const Spec& spec,
                    const std::vector<std::vector<Value>>& values,
                    const std::vector<Result>& results);
+
+// [report]'s machine file read as `lathectl lobes` reads it, before any case runs; an error is
+// an io::InputError at the spec's `lobes` line. Nothing without [report].
+void check_lobes_machine(const Spec& spec);
+// [report] (lobes_overlay.cpp): the lobes' boundary over rep's heat maps (their axes the speed
+// and depth keys), and each grid point's simulated verdict (`chatter`: the chatter metric per
+// grid point, NaN: none) set against it: the agreement in rep's metrics, the disagreements as a
+// table.
+void lobes_overlay(const Spec& spec, const std::vector<double>& chatter, io::Report& rep);
 
 // The report of a sweep (report.cpp): lines for one grid key, heat maps for two and more, the
 // failed cases listed.

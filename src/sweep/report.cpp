@@ -20,12 +20,6 @@ std::string label(const Value& v) {
   return to_text(v);
 }
 
-double number(const Value& v) {
-  if (const auto* d = std::get_if<double>(&v)) return *d;
-  if (const auto* i = std::get_if<std::int64_t>(&v)) return static_cast<double>(*i);
-  return std::numeric_limits<double>::quiet_NaN();
-}
-
 // metric value of each case (NaN: none), by case id.
 using Column = std::vector<double>;
 
@@ -53,9 +47,9 @@ void line_plots(const Spec& spec, const std::string& metric, const Column& col,
   io::Series s;
   s.name = metric + (spec.samples > 1 ? " (mean of the samples)" : "");
   bool numeric = true;
-  for (const auto& v : g.values) numeric &= std::isfinite(number(v));
+  for (const auto& v : g.values) numeric &= std::isfinite(number_of(v));
   for (std::size_t i = 0; i < g.values.size(); ++i) {  // strings, booleans: by their index
-    s.x.push_back(numeric ? number(g.values[i]) : static_cast<double>(i));
+    s.x.push_back(numeric ? number_of(g.values[i]) : static_cast<double>(i));
     s.y.push_back(y[i]);
     if (!numeric) p.x_label += std::string(i ? ", " : " (") + std::to_string(i) + ": " +
                                label(g.values[i]) + (i + 1 == g.values.size() ? ")" : "");
@@ -103,7 +97,7 @@ void scatter(const Spec& spec, const std::vector<std::vector<Value>>& values,
   s.name = metric;
   s.points = true;
   for (std::size_t i = 0; i < values.size(); ++i) {
-    s.x.push_back(number(values[i][k]));
+    s.x.push_back(number_of(values[i][k]));
     s.y.push_back(col[i]);
   }
   p.series.push_back(std::move(s));
@@ -173,6 +167,21 @@ std::string report_html(const Spec& spec, const std::vector<std::vector<Value>>&
       heat_maps(spec, metrics[m], cols[m], rep);
     else
       scatter(spec, values, metrics[m], cols[m], rep);
+  }
+  if (spec.lobes) {  // [report]: the lobes over the heat maps, the verdicts against them
+    Column chatter(values.size(), std::numeric_limits<double>::quiet_NaN());
+    if (!spec.lobes->chatter.empty())
+      for (std::size_t i = 0; i < values.size(); ++i)
+        if (by_case[i] && by_case[i]->summary)
+          for (const auto& [name, v] : metrics_of(*by_case[i]->summary))
+            if (name == spec.lobes->chatter) chatter[i] = v;
+    for (auto& h : rep.heat_maps)
+      if (h.z_label == spec.lobes->chatter) {  // blue: no chatter, red: chatter
+        h.z_centre = spec.lobes->chatter_above;
+        h.log_z = spec.lobes->chatter_above > 0.0 &&
+                  std::all_of(chatter.begin(), chatter.end(), [](double v) { return !(v <= 0.0); });
+      }
+    lobes_overlay(spec, per_point(chatter, std::max<std::size_t>(1, spec.samples)), rep);
   }
   if (ok < results.size()) rep.tables.push_back(failed_table(spec, values, results));
   return io::render_html(rep);

@@ -151,6 +151,82 @@ void read_output(const std::string& file, const toml::table& t, Spec& s) {
   }
 }
 
+// [report]: the lobes over the heat maps. Its keys are checked against [grid] after the whole
+// spec is read (check_report).
+void read_report(const std::string& file, const toml::table& t, Spec& s) {
+  LobesOverlay o;
+  o.at = place(t);
+  const auto text = [&](const toml::node& n, const std::string& key) {
+    const auto* str = n.as_string();
+    if (!str || str->get().empty()) fail(file, n, "report." + key, "expected a non-empty string");
+    return str->get();
+  };
+  bool has_reference = false;
+  for (const auto& [k, n] : t) {
+    const std::string key(k.str());
+    if (key == "lobes") {
+      o.machine = text(n, key);
+      o.machine_at = place(n);
+    } else if (key == "speed") {
+      o.speed = text(n, key);
+      o.speed_at = place(n);
+    } else if (key == "depth") {
+      o.depth = text(n, key);
+      o.depth_at = place(n);
+    } else if (key == "chatter") {
+      o.chatter = text(n, key);
+    } else if (key == "depth_reference") {
+      o.depth_reference = finite_number(file, n, "report.depth_reference");
+      if (!(o.depth_reference > 0.0)) fail(file, n, "report.depth_reference", "expected > 0");
+      has_reference = true;
+    } else if (key == "depth_exponent") {
+      o.depth_exponent = finite_number(file, n, "report.depth_exponent");
+      if (!(o.depth_exponent >= 0.0 && o.depth_exponent < 1.0))
+        fail(file, n, "report.depth_exponent", "expected a number in [0, 1)");
+    } else if (key == "chatter_above") {
+      o.chatter_above = finite_number(file, n, "report.chatter_above");
+    } else {
+      fail(file, n, "report." + key,
+           "unknown key (known: lobes, speed, depth, depth_reference, depth_exponent, chatter, "
+           "chatter_above)");
+    }
+  }
+  const std::pair<const char*, bool> required[] = {
+      {"lobes", o.machine.empty()}, {"speed", o.speed.empty()}, {"depth", o.depth.empty()}};
+  for (const auto& [key, missing] : required)
+    if (missing)
+      fail(file, t, std::string("report.") + key,
+           "required: [report] draws the lobes of a machine file (lobes = \"machine.toml\") "
+           "over the heat maps of the grid keys speed = \"...\" and depth = \"...\"");
+  if (o.depth_exponent > 0.0 && !has_reference)
+    fail(file, t, "report.depth_reference",
+         "required with depth_exponent: the depth key's value at which the machine file's K_f "
+         "holds");
+  s.lobes = std::move(o);
+}
+
+// [report]'s speed and depth: two different [grid] keys whose values are numbers.
+void check_report(const Spec& s) {
+  const auto& o = *s.lobes;
+  for (const bool speed : {true, false}) {
+    const std::string& key = speed ? o.speed : o.depth;
+    const std::string name = speed ? "report.speed" : "report.depth";
+    const Place p = speed ? o.speed_at : o.depth_at;
+    const auto g = std::find_if(s.grid.begin(), s.grid.end(),
+                                [&](const GridKey& k) { return k.key == key; });
+    const auto at = [&] { return io::located(s.file, p.line, p.column, "key '" + name); };
+    if (g == s.grid.end() || g - s.grid.begin() > 1)
+      throw io::InputError(at() + "': '" + key +
+                           "' is not one of the first two keys of [grid] (the heat maps' axes)");
+    for (const auto& v : g->values)
+      if (std::holds_alternative<bool>(v) || std::holds_alternative<std::string>(v))
+        throw io::InputError(at() + "': [grid] \"" + key + "\" has a value that is not a number");
+  }
+  if (o.speed == o.depth)
+    throw io::InputError(io::located(s.file, o.depth_at.line, o.depth_at.column,
+                                     "key 'report.depth': the same key as report.speed"));
+}
+
 void check_distinct_keys(const Spec& s) {
   std::set<std::string> seen;
   for (const auto& g : s.grid) seen.insert(g.key);
@@ -185,6 +261,12 @@ std::vector<PathPart> parse_key_path(const std::string& key) {
     i = dot + 1;
   }
   return parts;
+}
+
+double number_of(const Value& v) {
+  if (const auto* d = std::get_if<double>(&v)) return *d;
+  if (const auto* i = std::get_if<std::int64_t>(&v)) return static_cast<double>(*i);
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 std::string to_text(const Value& v) {
@@ -232,9 +314,12 @@ Spec parse_spec(std::string_view text, const std::string& file_label) {
       read_random(file_label, *n.as_table(), s);
     } else if (key == "output" && n.is_table()) {
       read_output(file_label, *n.as_table(), s);
+    } else if (key == "report" && n.is_table()) {
+      read_report(file_label, *n.as_table(), s);
     } else {
       fail(file_label, n, key,
-           "unknown key (a spec has scenario = \"...\", [grid], [random] and [output])");
+           "unknown key (a spec has scenario = \"...\", [grid], [random], [output] and "
+           "[report])");
     }
   }
   if (s.scenario.empty())
@@ -250,6 +335,12 @@ Spec parse_spec(std::string_view text, const std::string& file_label) {
   std::sort(s.grid.begin(), s.grid.end(), by_place);
   std::sort(s.random.begin(), s.random.end(), by_place);
   check_distinct_keys(s);
+  if (s.lobes) {
+    check_report(s);
+    if (s.lobes->machine.is_relative())
+      s.lobes->machine = std::filesystem::path(file_label).parent_path() / s.lobes->machine;
+    s.lobes->machine = std::filesystem::absolute(s.lobes->machine).lexically_normal();
+  }
   if (s.scenario.is_relative())
     s.scenario = std::filesystem::path(file_label).parent_path() / s.scenario;
   // Absolute: a case's base_dir is read where the case runs (a Dask worker's directory too).

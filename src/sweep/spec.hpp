@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -44,6 +45,23 @@ struct RandomKey {
   Distribution dist;
 };
 
+// [report] (optional): the stability lobes' boundary of a machine file (`lathectl lobes`, system
+// B) drawn over the heat maps of two grid keys, and the cases' verdict set against it.
+struct LobesOverlay {
+  std::filesystem::path machine;  // the machine file (relative ones made relative to SPEC)
+  Place at;                       // the [report] table
+  Place machine_at;
+  std::string speed, depth;       // the grid keys on the lobes' speed axis and depth axis
+  Place speed_at, depth_at;
+  // The lobes' limit depth b [mm] read as the depth key's value y: y = b without an exponent,
+  // y = reference·(b/reference)^(1/(1 − exponent)) with one (a force ∝ y^(1 − exponent) whose
+  // coefficient the machine file gives at y = reference).
+  double depth_reference = 0.0;   // 0: none
+  double depth_exponent = 0.0;
+  std::string chatter;            // the metric whose value above chatter_above means chatter
+  double chatter_above = 1.0;
+};
+
 struct Spec {
   std::string file;                   // the spec's path as given (messages)
   std::filesystem::path scenario;     // the scenario file (relative ones made relative to SPEC)
@@ -54,6 +72,7 @@ struct Spec {
   Place random_at;                    // the [random] table
   std::vector<RandomKey> random;      // in the spec's order
   std::vector<std::string> metrics;   // [output] metrics ("a.b"); empty: every numeric scalar
+  std::optional<LobesOverlay> lobes;  // [report]
   // The varied keys: grid keys then random keys (the columns of cases.csv and results.csv).
   [[nodiscard]] std::vector<std::string> varied_keys() const;
   // The place of a varied key (its line in [grid] or [random]).
@@ -73,6 +92,9 @@ struct PathPart {
   long index = -1;  // -1: none
 };
 std::vector<PathPart> parse_key_path(const std::string& key);
+
+// A number's value as a double; NaN for a boolean or a string.
+double number_of(const Value& v);
 
 // Value as TOML/JSON writes it (a string quoted as JSON does).
 std::string to_text(const Value& v);

@@ -66,6 +66,30 @@ TEST(SweepSpec, ErrorsNameTheLineAndKey) {
   EXPECT_NE(error_of("scenario = \"x\"\n").find("nothing to vary"), std::string::npos);
 }
 
+TEST(SweepSpec, ReportNamesTwoGridAxesAndIsRefusedAtItsLine) {
+  const std::string head = "scenario = \"x\"\n[grid]\n\"c.f\" = [0.1, 0.2]\n\"c.n\" = [1, 2]\n"
+                           "\"c.d\" = [0.5]\n[report]\nlobes = \"m.toml\"\n";  // lines 1-7
+  const auto s = parse_spec(head + "speed = \"c.n\"\ndepth = \"c.f\"\ndepth_reference = 0.1\n"
+                                   "depth_exponent = 0.49\nchatter = \"g.x\"\nchatter_above = 2\n",
+                            "dir/s.toml");
+  ASSERT_TRUE(s.lobes);
+  EXPECT_EQ(s.lobes->machine, fs::absolute("dir/m.toml").lexically_normal());
+  EXPECT_EQ(s.lobes->speed, "c.n");
+  EXPECT_EQ(s.lobes->depth_exponent, 0.49);
+  EXPECT_EQ(s.lobes->chatter_above, 2.0);
+  const auto at = [&](const std::string& tail, const std::string& where) {
+    const std::string e = error_of(head + tail);
+    EXPECT_EQ(e.rfind("s.toml:" + where, 0), 0u) << e;
+  };
+  at("speed = \"c.n\"\ndepth = \"c.d\"\n", "9:9: key 'report.depth'");  // the third grid key
+  at("speed = \"c.n\"\ndepth = \"c.n\"\n", "9:9: key 'report.depth': the same");
+  at("speed = \"c.x\"\ndepth = \"c.f\"\n", "8:9: key 'report.speed'");
+  at("speed = \"c.n\"\n", "6:1: key 'report.depth': required");
+  at("speed = \"c.n\"\ndepth = \"c.f\"\ndepth_exponent = 0.5\n", "6:1: key 'report.depth_reference'");
+  at("speed = \"c.n\"\ndepth = \"c.f\"\ndepth_exponent = 1\n", "10:18: key 'report.depth_exponent'");
+  at("speed = \"c.n\"\ndepth = \"c.f\"\ncolour = 1\n", "10:10: key 'report.colour': unknown");
+}
+
 TEST(SweepCases, GridLastKeyFastestCrossedWithTheSamples) {
   const auto s = parse_spec(
       "scenario = \"x\"\n[grid]\n\"a.x\" = [1, 2]\n\"a.y\" = [10, 20, 30]\n[random]\n"

@@ -55,6 +55,16 @@ struct Plot {
 // A heat map: z[iy][ix] over the grid xs × ys (category labels, in order), coloured from the
 // lowest z (blue) to the highest (red); a NaN cell is grey (no value: a failed case). Each cell
 // shows its value in a tooltip.
+// Lines over a heat map (a boundary drawn across the cells), in the numbers the cells stand for.
+struct HeatMapLine {
+  std::string name;       // the caption's legend
+  std::vector<double> x;  // same length as y; a NaN breaks the line
+  std::vector<double> y;
+  std::string color = "#000";
+  bool dashed = false;
+  bool points = false;  // markers instead of a line
+};
+
 struct HeatMap {
   std::string title;
   std::string x_label;  // with unit
@@ -63,6 +73,15 @@ struct HeatMap {
   std::vector<std::string> xs;
   std::vector<std::string> ys;
   std::vector<std::vector<double>> z;  // ys.size() rows of xs.size()
+  // Optional lines over the cells: the numbers the columns and rows stand for (strictly
+  // increasing, one per xs / ys entry: a cell's centre), placed linearly between the centres
+  // (and beyond the outer ones with their spacing), clipped to the map. Without both, no lines.
+  std::vector<double> x_values = {}, y_values = {};
+  std::vector<HeatMapLine> lines = {};
+  // The colour scale: logarithmic (values ≤ 0 grey), and white at z_centre when it is finite
+  // (below it blue, above it red: a threshold), else at the middle of the values' span.
+  bool log_z = false;
+  double z_centre = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct Table {

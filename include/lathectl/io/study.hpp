@@ -61,6 +61,19 @@ class Claims {
 // A system's study: one scenario's runs turned into summary.json, the report and the result files,
 // in named phases. A system derives from it, keeps what the phases share as members, and its
 // run() is `return MyStudy(sc).run();`. run() calls the phases in this order:
+// While a SummaryOnly lives on this thread, Study::run() leaves out the report phase (5: the
+// plots, tables and metrics only report.html shows): for a caller that keeps summary.json alone,
+// such as a sweep's case (docs/sweep.md). The summary, the channels and the headline are the
+// same: the report phase reads the study's runs, it changes nothing in them.
+class SummaryOnly {
+ public:
+  SummaryOnly();
+  ~SummaryOnly();
+  SummaryOnly(const SummaryOnly&) = delete;
+  SummaryOnly& operator=(const SummaryOnly&) = delete;
+  [[nodiscard]] static bool active();
+};
+
 class Study {
  public:
   explicit Study(const Scenario& sc) : sc_(sc) {}

@@ -10,6 +10,36 @@
 #include "lathectl/dynamics/delayed_coupling.hpp"
 
 namespace lathectl::systems::b_chatter {
+namespace {
+
+// The frequency of a signal's crossings of ±h (hysteresis): each change of side past ±h is a
+// crossing, and (crossings − 1) half periods lie between the first and the last.
+class Crossings {
+ public:
+  explicit Crossings(double h) : h_(h) {}
+  void operator()(double t, double v) noexcept {
+    const int s = v > h_ ? 1 : (v < -h_ ? -1 : 0);
+    if (s != 0 && s != sign_) {
+      if (sign_ != 0) {
+        ++crossings_;
+        if (std::isnan(tc0_)) tc0_ = t;
+        tc1_ = t;
+      }
+      sign_ = s;
+    }
+  }
+  [[nodiscard]] int count() const noexcept { return crossings_; }
+  [[nodiscard]] double frequency_Hz() const noexcept {
+    return (crossings_ - 1) / (2.0 * (tc1_ - tc0_));
+  }
+
+ private:
+  double h_;
+  int sign_ = 0, crossings_ = 0;
+  double tc0_ = kNaN, tc1_ = kNaN;
+};
+
+}  // namespace
 
 Measure::Measure(const Rig& rig, bool twin, io::OutputStage* stage, std::size_t spill_block_rows)
     : rig_(&rig), twin_(twin) {
@@ -25,7 +55,8 @@ Measure::Measure(const Rig& rig, bool twin, io::OutputStage* stage, std::size_t 
                                                        {&z2_, "z2_mm"},
                                                        {&v1_, "feed1_mm_per_min"},
                                                        {&v2_, "feed2_mm_per_min"},
-                                                       {&rpm_, "spindle_rpm"}};
+                                                       {&rpm_, "spindle_rpm"},
+                                                       {&d1_, "depth1_mm"}};
   for (const auto& [index, name] : read) *index = rig.recorder().index(name);
   nose_mm_ = rig.config().cutting.nose_radius_mm;
   spill_ = std::make_unique<io::RowSpill>(stage, "the steady window's rows", kWidth,
@@ -46,7 +77,8 @@ void Measure::row(std::span<const double> v) noexcept {
   ++n_;
   marks(v);
   const bool one_out = twin_ && ((v[c1_] == 0.0) != (v[c2_] == 0.0));
-  const double w[kWidth] = {v[t_], v[y_], v[yh_], v[pw_], v[pwm_], v[dl_], one_out ? 1.0 : 0.0};
+  const double w[kWidth] = {v[t_],  v[y_],  v[yh_], v[pw_], v[pwm_], v[dl_], one_out ? 1.0 : 0.0,
+                            v[d1_]};
   spill_->push(w);
 }
 
@@ -185,27 +217,51 @@ void Measure::result(Run& r, double dead_zone_um) {
     r.cut_power_measured_W = pm / n;
     r.one_out_share = out / n;
     // Chatter frequency: crossings of ±20 % of the amplitude (hysteresis), over the window.
-    int sign = 0, crossings = 0;
-    double tc0 = kNaN, tc1 = kNaN;
-    const double h = 0.2 * r.vibration_um;
-    window([&](const double* w) {
-      const double yh = w[kYh];
-      const int s = yh > h ? 1 : (yh < -h ? -1 : 0);
-      if (s != 0 && s != sign) {
-        if (sign != 0) {
-          ++crossings;
-          if (std::isnan(tc0)) tc0 = w[kT];
-          tc1 = w[kT];
-        }
-        sign = s;
-      }
-    });
-    if (crossings > 4 && r.vibration_um > dead_zone_um)
-      r.chatter_Hz = (crossings - 1) / (2.0 * (tc1 - tc0));
+    Crossings crossings(0.2 * r.vibration_um);
+    window([&](const double* w) { crossings(w[kT], w[kYh]); });
+    if (crossings.count() > 4 && r.vibration_um > dead_zone_um)
+      r.chatter_Hz = crossings.frequency_Hz();
   }
   mean_feeds(r, start);
   surface(r);
+  depth_swing(r);
   spill_.reset();
+}
+
+// The depth's swing while tool 1 cuts (Run::swing_*): the rows it cuts counted, then the first
+// and the last fifth of them read (each a pass over the kept rows).
+void Measure::depth_swing(Run& r) const {
+  const io::RowSpill& sp = *spill_;
+  std::vector<double> block(1024 * kWidth);
+  const auto rows = [&](auto&& f) {  // every kept row where tool 1 cuts, with its index
+    std::size_t k = 0;
+    for (std::size_t i = 0;;) {
+      const std::size_t n = sp.read(i, block);
+      if (n == 0) return k;
+      for (std::size_t j = 0; j < n; ++j, ++i)
+        if (const double* w = block.data() + j * kWidth; w[kDepth] > 0.0) f(k++, w);
+    }
+  };
+  const std::size_t cutting = rows([](std::size_t, const double*) {});
+  if (cutting < 50) return;
+  const std::size_t fifth = cutting / 5, late = cutting - fifth;
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300}, sum = 0.0;
+  rows([&](std::size_t k, const double* w) {
+    const int part = k < fifth ? 0 : (k >= late ? 1 : -1);
+    if (part < 0) return;
+    lo[part] = std::min(lo[part], w[kDepth]);
+    hi[part] = std::max(hi[part], w[kDepth]);
+    if (part == 1) sum += w[kDepth];
+  });
+  r.swing_first_um = 0.5 * (hi[0] - lo[0]) * 1e3;
+  r.swing_last_um = 0.5 * (hi[1] - lo[1]) * 1e3;
+  r.swing_growth = r.swing_last_um / r.swing_first_um;
+  const double mean = sum / static_cast<double>(fifth);
+  Crossings crossings(0.2 * 0.5 * (hi[1] - lo[1]));
+  rows([&](std::size_t k, const double* w) {
+    if (k >= late) crossings(w[kT], w[kDepth] - mean);
+  });
+  if (crossings.count() > 4) r.swing_Hz = crossings.frequency_Hz();
 }
 
 Limits linear_limits(const RigConfig& b, double x_mm, double rpm, int points) {

@@ -35,16 +35,17 @@ class Measure final : public sim::RowSink {
   void result(Run& r, double dead_zone_um);
 
  private:
-  enum : std::size_t { kT, kY, kYh, kPower, kPowerMeasured, kDelay, kOneOut, kWidth };
+  enum : std::size_t { kT, kY, kYh, kPower, kPowerMeasured, kDelay, kOneOut, kDepth, kWidth };
   // The feed marks of the row on the finished surface (Surface below), path-weighted.
   void marks(std::span<const double> v) noexcept;
   // result()'s phases (metrics.cpp).
   [[nodiscard]] std::size_t first_row_at(double t0) const;
   void mean_feeds(Run& r, double start) const noexcept;
   void surface(Run& r) const noexcept;
+  void depth_swing(Run& r) const;
   const Rig* rig_;
   bool twin_;
-  std::size_t t_, y_, yh_, c1_, c2_, pw_, pwm_, dl_, z1_, z2_, v1_, v2_, rpm_;
+  std::size_t t_, y_, yh_, c1_, c2_, pw_, pwm_, dl_, z1_, z2_, v1_, v2_, rpm_, d1_;
   double nose_mm_ = 0.8;
   bool marks_started_ = false;
   double z_marks_ = 0.0;  // the finishing tool's position at the last row
@@ -92,6 +93,11 @@ struct Run {
   double t0 = 0.0, t1 = 0.0;   // the window
   double t_end = 0.0;          // the last recorded row's time
   Surface surface;
+  // The depth tool 1 (the right turret) cuts, over the rows where it cuts: half its swing (max −
+  // min) in the first and the last fifth of those rows, their ratio (> 1: the vibration grows,
+  // chatter; < 1: it dies out), and the frequency of its crossings about the last fifth's mean
+  // (hysteresis ±20 % of that swing). NaN with fewer than 50 cutting rows.
+  double swing_first_um = kNaN, swing_last_um = kNaN, swing_growth = kNaN, swing_Hz = kNaN;
 };
 
 // The linear limits of the loops at a cutting position, as chip per revolution at the program's

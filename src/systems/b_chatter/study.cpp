@@ -67,7 +67,10 @@ void ChatterStudy::run_controllers() {
       2);
   off_ = compared_ ? without_.get() : (modulated_ ? nullptr : with_.get());
   find_linear_limits();
-  vdp_B_ = dynamics::quenching_threshold(0.1, 5.0);  // a0 = 2
+  // A constant of the model (a0 = 2), ~10⁹ instructions: computed once per process, not per
+  // run (a sweep's every case asked for it again).
+  static const double vdp_B = dynamics::quenching_threshold(0.1, 5.0);
+  vdp_B_ = vdp_B;
   quench_ = quenching();
 }
 
@@ -302,6 +305,11 @@ json ChatterStudy::run_metrics() const {
           {"forced_deflection_um", both(&Run::forced_um)},
           {"static_deflection_um", both(&Run::static_um)},
           {"chatter_frequency_Hz", json_number(chat.chatter_Hz)},
+          {"depth_swing",  // the user's cut (the main run): does its vibration grow?
+           {{"first_fifth_um", json_number(m.swing_first_um)},
+            {"last_fifth_um", json_number(m.swing_last_um)},
+            {"growth", json_number(m.swing_growth)},
+            {"frequency_Hz", json_number(m.swing_Hz)}}},
           {"modulation",
            {{"S_min_mm_per_min", o.plan.s_min_mm_per_min},
             {"dS_mm_per_min", o.plan.ds_mm_per_min},
