@@ -34,4 +34,17 @@ BENCHMARK_CAPTURE(BM_HandLoopA, finishing_aim, "a_finishing_aim.toml")
 BENCHMARK_CAPTURE(BM_HandLoopA, uncontrolled, "a_finishing_none.toml")
     ->Unit(benchmark::kMillisecond);
 
+// Beside BM_RigB_TwinTurret10s: 10 s of feed division's cut (no idle block), the module running.
+void BM_HandLoopB_TwinTurret10s(benchmark::State& state) {
+  const auto sc = load_scenario("b_twin_feed_division.toml");
+  auto b = sc.get<systems::b_chatter::Settings>().rig;
+  b.z_end_mm = b.z_start_mm + b.feed_mm_per_rev * b.rpm / 60.0 * 10.0;
+  b.idle_block_s = 0.0;
+  for (auto _ : state) {
+    const auto r = bench::hand_loop_b(b, sc.run.step_s, sc.run.record_interval_s, 12.0);
+    benchmark::DoNotOptimize(r.rows);
+  }
+}
+BENCHMARK(BM_HandLoopB_TwinTurret10s)->Unit(benchmark::kMillisecond);
+
 }  // namespace

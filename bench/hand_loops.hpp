@@ -39,4 +39,10 @@ struct HandRun {
 [[nodiscard]] HandRun hand_loop_a(const systems::a_pulse_feed::RigConfig& cfg, double dt,
                                   double record_interval, double duration);
 
+// Rig B's run (configure, then steps and rows until the cut's end or max_duration) for one tool
+// or feed division, without process damping or tool modes; the CNC's side is
+// control::ModulationMachine, called as the rig calls it.
+[[nodiscard]] HandRun hand_loop_b(const systems::b_chatter::RigConfig& cfg, double dt,
+                                  double record_interval, double max_duration);
+
 }  // namespace lathectl::bench
