@@ -41,11 +41,15 @@ HandRun hand_loop_b(const systems::b_chatter::RigConfig& cfg, double dt, double 
   const std::size_t cells = std::max<std::size_t>(64, static_cast<std::size_t>(std::lround(60.0 / pp.rpm_nominal / dt)));
   const auto m = static_cast<long long>(cells * 2);
   std::vector<double> ring_d(cells * 2, 0.0), ring_z(cells * 2, pp.z_start_mm);
+  auto wrap = [m](long long c) {
+    const long long i = c % m;
+    return static_cast<std::size_t>(i < 0 ? i + m : i);
+  };
   auto read = [&](const std::vector<double>& v, double cell) {
     const double fl = std::floor(cell);
-    const long long i = ((static_cast<long long>(fl) % m) + m) % m;
+    const std::size_t i = wrap(static_cast<long long>(fl));
     const double f = cell - fl;
-    return v[static_cast<std::size_t>(i)] * (1.0 - f) + v[static_cast<std::size_t>((i + 1) % m)] * f;
+    return v[i] * (1.0 - f) + v[i + 1 == ring_d.size() ? 0 : i + 1] * f;
   };
   struct Edge {
     double sigma, alpha, t0, lag, fc = 0.0, fp = 0.0, b = 0.0, s = 0.0;
@@ -189,12 +193,12 @@ HandRun hand_loop_b(const systems::b_chatter::RigConfig& cfg, double dt, double 
       const auto back = static_cast<long long>(e.lag) * static_cast<long long>(cells);
       const auto now = static_cast<long long>(std::floor(cell));
       for (long long c = std::max(e.last_cell + 1, now - m + 1); c <= now; ++c) {
-        const auto k = static_cast<std::size_t>(((c % m) + m) % m);
+        const std::size_t k = wrap(c);
         if (e.cutting) {
           ring_d[k] = -pen;
           ring_z[k] = z[i];
         } else if (back > 0) {
-          const auto k0 = static_cast<std::size_t>((((c - back) % m) + m) % m);
+          const std::size_t k0 = wrap(c - back);
           ring_d[k] = ring_d[k0];
           ring_z[k] = ring_z[k0];
         }
