@@ -1,6 +1,6 @@
-// The hand-written loops of hand_loops.hpp beside the rigs' benchmarks (bench/README.md): the
-// same simulated time, the same rows recorded (the rig into its sim::Recorder, the hand loop
-// into a flat array), configure and warm-up included in both.
+// The hand-written loops of hand_loops.hpp beside the rigs' benchmarks (docs/code-layout.md,
+// "Speed"): the same simulated time, the same rows recorded (the rig into its sim::Recorder, the
+// hand loop into a flat array), configure and warm-up included in both.
 
 #include <benchmark/benchmark.h>
 

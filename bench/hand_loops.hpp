@@ -3,8 +3,8 @@
 // the rigs, in the same order, as one function with plain locals, so that their results are
 // bit-identical to the rigs' (tests/systems/hand_loop_test.cpp) and their cost is the floor of
 // the stepping with no framework — no model objects, no recorder, no per-step dispatch. They
-// cover what their scenarios use and throw std::invalid_argument on anything else (docs in
-// bench/README.md).
+// cover what their scenarios use and throw std::invalid_argument on anything else
+// (docs/code-layout.md, "Speed").
 
 #include <cstddef>
 #include <vector>

@@ -92,7 +92,7 @@ class FeedSlide {
 
 // In the header: every rig steps it every step (rig A: 600 000 times per simulated minute); out
 // of line, the call and the reloads around it cost as much as its arithmetic
-// (bench/README.md, the hand-written loops).
+// (docs/code-layout.md, "Speed": the hand-written loops).
 inline void FeedSlide::step(double dt, double q_in, double load_N) noexcept {
   const double F = p_.piston_area_m2;
   // Velocity (semi-implicit in viscous friction).
