@@ -288,6 +288,35 @@ void BM_Output_StreamedRecorder(benchmark::State& state) {
       benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_Output_StreamedRecorder)->Arg(1000000)->Arg(4000000)->Iterations(1)->Unit(benchmark::kSecond);
+// The cost of one recorded row of rig A (17 channels, a row every 2 ms of a run): 30 000 rows
+// (a minute) pushed into 0 the columns (Recorder with a capacity: BM_RigA_60s), 1 a streamed
+// recorder's plots (the bounded pyramids), 2 the plots and channels.csv's text (a ChannelStream
+// in memory: what `lathectl run` formats, less the disk). s_per_row: the time per row.
+void BM_Output_RecordRowA(benchmark::State& state) {
+  std::vector<sim::Channel> ch;
+  for (int i = 0; i < 17; ++i) ch.push_back({"channel_" + std::to_string(i), ""});
+  constexpr std::size_t kRows = 30000;
+  std::vector<double> rows(kRows * ch.size());
+  for (std::size_t r = 0; r < kRows; ++r)
+    for (std::size_t i = 0; i < ch.size(); ++i)
+      rows[r * ch.size() + i] = i == 0 ? 0.002 * static_cast<double>(r + 1)
+                                       : std::sin(0.001 * static_cast<double>(r) * static_cast<double>(i)) *
+                                             std::pow(10.0, static_cast<double>(i % 8) - 4.0);
+  for (auto _ : state) {
+    io::ChannelStream csv(ch);
+    auto rec = state.range(0) == 0 ? sim::Recorder(ch, kRows)
+               : state.range(0) == 1 ? sim::Recorder::streamed(ch)
+                                     : sim::Recorder::streamed(ch, {&csv});
+    for (std::size_t r = 0; r < kRows; ++r)
+      rec.push_row(std::span<const double>(rows.data() + r * ch.size(), ch.size()));
+    benchmark::DoNotOptimize(rec.rows());
+    benchmark::DoNotOptimize(csv.text().size());
+  }
+  state.counters["s_per_row"] = benchmark::Counter(
+      static_cast<double>(kRows) * static_cast<double>(state.iterations()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_Output_RecordRowA)->Arg(0)->Arg(1)->Arg(2)->ArgName("store")->Unit(benchmark::kMillisecond);
 void BM_Chatter_TimeDomain10s(benchmark::State& state) {
   const auto s = bench_sdof();
   for (auto _ : state)

@@ -184,12 +184,20 @@ void TwinTurretCut::update_modes(double x) noexcept {
   }
 }
 
-double TwinTurretCut::read(const std::vector<double>& v, double cell) const noexcept {
+namespace {
+// c mod m in [0, m) with one 64-bit division (a step reads the rings four times and writes them
+// once: ((c % m) + m) % m and (i + 1) % m took three divisions a read).
+std::size_t wrap(long long c, long long m) noexcept {
+  const long long i = c % m;
+  return static_cast<std::size_t>(i < 0 ? i + m : i);
+}
+}  // namespace
+
+inline double TwinTurretCut::read(const std::vector<double>& v, double cell) const noexcept {
   const double fl = std::floor(cell);
-  const auto m = static_cast<long long>(ring_cells_);
-  const long long i = ((static_cast<long long>(fl) % m) + m) % m;
+  const std::size_t i = wrap(static_cast<long long>(fl), static_cast<long long>(ring_cells_));
   const double f = cell - fl;
-  return v[static_cast<std::size_t>(i)] * (1.0 - f) + v[static_cast<std::size_t>((i + 1) % m)] * f;
+  return v[i] * (1.0 - f) + v[i + 1 == ring_cells_ ? 0 : i + 1] * f;
 }
 
 double TwinTurretCut::surface_over(Edge& e, double cell, double z_lo, double z_hi) noexcept {
@@ -294,7 +302,7 @@ void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept
   e.cutting = e.b_mm > 0.0 && e.s_mm > 0.0;
   if (e.cutting) {
     const double v = kPi * p_.part.diameter_m * rpm;  // m/min
-    const cutting::Forces f = cut_.forces({e.b_mm, e.s_mm, v, 1.0, 1.0});
+    const cutting::Forces f = cut_.tangential_radial({e.b_mm, e.s_mm, v, 1.0, 1.0});
     e.fc = f.Pz;
     e.fp = f.Py;
   } else {
@@ -314,12 +322,12 @@ void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept
   // A stopped or reversed spindle writes nothing; a jump of more than a revolution is clipped.
   const long long from = std::max(e.last_cell + 1, now - m + 1);
   for (long long c = from; c <= now; ++c) {
-    const auto i = static_cast<std::size_t>(((c % m) + m) % m);
+    const std::size_t i = wrap(c, m);
     if (e.cutting) {
       w.d[i] = -pen;
       w.z[i] = z_mm;
     } else if (back > 0) {
-      const auto q = static_cast<std::size_t>((((c - back) % m) + m) % m);
+      const std::size_t q = wrap(c - back, m);
       w.d[i] = w.d[q];
       w.z[i] = w.z[q];
     }

@@ -34,6 +34,9 @@
 // checks the step against ω_h at configure. Stiction: if the velocity would cross zero and the
 // driving force is below F_c, the slide sticks (v = 0).
 
+#include <algorithm>
+#include <cmath>
+
 namespace lathectl::hydraulics {
 
 class FeedSlide {
@@ -86,5 +89,58 @@ class FeedSlide {
   State s_{};
   VolumeLedger ledger_{};
 };
+
+// In the header: every rig steps it every step (rig A: 600 000 times per simulated minute); out
+// of line, the call and the reloads around it cost as much as its arithmetic
+// (docs/code-layout.md, "Speed": the hand-written loops).
+inline void FeedSlide::step(double dt, double q_in, double load_N) noexcept {
+  const double F = p_.piston_area_m2;
+  // Velocity (semi-implicit in viscous friction).
+  const double drive = F * s_.p_cyl_Pa - load_N;
+  const double fc = p_.coulomb_friction_N;
+  const double m = p_.mass_kg;
+  const double b = p_.viscous_friction_N_s_per_m;
+  double v = s_.v_m_per_s;
+  if (v == 0.0 && std::abs(drive) <= fc) {
+    v = 0.0;  // stuck: static friction balances the drive
+  } else {
+    const double sgn = v != 0.0 ? (v > 0.0 ? 1.0 : -1.0) : (drive > 0.0 ? 1.0 : -1.0);
+    const double v_new = (m * v + dt * (drive - fc * sgn)) / (m + dt * b);
+    // Crossing zero: stop there; it moves on next step only if the drive beats stiction.
+    v = (v != 0.0 && v_new * v < 0.0) ? 0.0 : v_new;
+  }
+  s_.v_m_per_s = v;
+  s_.x_m += v * dt;
+  // Pressures with the new velocity.
+  double q_d = q_in;
+  if (p_.damper_capacitance_m3_per_Pa > 0.0) {
+    // The damper delivers at most what it holds (p_d ≥ 0).
+    q_d = std::min((s_.p_damper_Pa - s_.p_cyl_Pa) / p_.damper_resistance_Pa_s_per_m3,
+                   q_in + p_.damper_capacitance_m3_per_Pa * s_.p_damper_Pa / dt);
+    s_.p_damper_Pa += dt * (q_in - q_d) / p_.damper_capacitance_m3_per_Pa;
+    s_.p_damper_Pa = std::max(s_.p_damper_Pa, 0.0);
+  }
+  const double vol = p_.dead_volume_m3 + F * std::max(s_.x_m, 0.0);
+  const double swept = F * v * dt;
+  const double leak = p_.leak_m3_per_s_Pa * s_.p_cyl_Pa;  // 0 while cavitated
+  ledger_.delivered_m3 += q_in * dt;
+  ledger_.leaked_m3 += leak * dt;
+  const double p_old = s_.p_cyl_Pa;
+  if (s_.void_m3 > 0.0) {
+    // Cavitated: the chamber sits at p_cav = 0; net inflow refills the void first.
+    s_.void_m3 -= q_d * dt - swept;
+    if (s_.void_m3 < 0.0) {  // refilled within the step: the rest compresses the oil
+      s_.p_cyl_Pa = -s_.void_m3 * p_.bulk_modulus_Pa / vol;
+      s_.void_m3 = 0.0;
+    }
+  } else {
+    s_.p_cyl_Pa += dt * p_.bulk_modulus_Pa / vol * (q_d - F * v - leak);
+    if (s_.p_cyl_Pa < 0.0) {  // no tension in oil: the deficit opens a void (cavitation)
+      s_.void_m3 = -s_.p_cyl_Pa * vol / p_.bulk_modulus_Pa;
+      s_.p_cyl_Pa = 0.0;
+    }
+  }
+  ledger_.compressed_m3 += (s_.p_cyl_Pa - p_old) * vol / p_.bulk_modulus_Pa;
+}
 
 }  // namespace lathectl::hydraulics

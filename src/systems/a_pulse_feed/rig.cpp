@@ -175,7 +175,7 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   dt_ = dt;
   duration_ = duration;
   t_ = 0.0;
-  step_ = 0;
+  step_ = since_control_ = since_record_ = 0;
   phi_ = 0.0;
   t_disturbance_ = -1.0;
   x_disturbance_mm_ = 0.0;
@@ -230,12 +230,13 @@ double Rig::last_record_time() const noexcept {
   return t;
 }
 
-double Rig::position_ago(std::size_t steps) const noexcept {
-  const std::size_t n = x_hist_.size();
-  return x_hist_[(hist_head_ + n - steps % n) % n];
+// steps < the ring's size (rev_steps_ and the feed's window are): the index wraps by a compare,
+// not by a 64-bit `%` (two divisions a step were a tenth of the step's time).
+inline double Rig::position_ago(std::size_t steps) const noexcept {
+  return x_hist_[hist_head_ >= steps ? hist_head_ - steps : hist_head_ + x_hist_.size() - steps];
 }
 
-double Rig::chip_feed_mm_per_rev() const noexcept {
+inline double Rig::chip_feed_mm_per_rev() const noexcept {
   return std::max((slide_.state().x_m - position_ago(rev_steps_)) * 1000.0, 0.0);
 }
 
@@ -275,7 +276,8 @@ inline void Rig::control_step() noexcept {
   if (external_) {  // what the machine's analog input reads, every step
     sensor_u_ = faults_.apply(cfg_.faults, t_, sensor_.sample(), cfg_.sensor.saturation_V * 2.0 + 1.0);
     ctl_out_ = act_.out;
-  } else if (cfg_.controller_kind != ControllerKind::None && step_ % control_every_ == 0) {
+  } else if (cfg_.controller_kind != ControllerKind::None && ++since_control_ == control_every_) {
+    since_control_ = 0;
     sensor_u_ = faults_.apply(
         cfg_.faults, t_, sensor_.sample(),
         cfg_.sensor.saturation_V * 2.0 + 1.0);  // what the controller sees, faults included
@@ -375,7 +377,7 @@ void Rig::step() noexcept {
   const double q = regulator_flow();
   slide_.step(dt_, q, force_);
 
-  hist_head_ = (hist_head_ + 1) % x_hist_.size();
+  if (++hist_head_ == x_hist_.size()) hist_head_ = 0;
   x_hist_[hist_head_] = slide_.state().x_m;
 
   flow_acc_ += q;
@@ -383,8 +385,8 @@ void Rig::step() noexcept {
   ++acc_n_;
   if (!std::isfinite(slide_.state().v_m_per_s) || !std::isfinite(slide_.state().p_cyl_Pa))
     sound_ = false;
-  if (step_ % record_every_ != 0) return;
-
+  if (++since_record_ != record_every_) return;
+  since_record_ = 0;
   record_row(x_mm);
 }
 

@@ -135,6 +135,8 @@ class Rig {
   bool plots_ = true;
   Actuation act_{};
   std::size_t step_ = 0;
+  std::size_t since_control_ = 0;  // steps since the last control period (step_ % control_every_)
+  std::size_t since_record_ = 0;   // steps since the last row (step_ % record_every_)
   std::size_t record_every_ = 1;
   std::size_t control_every_ = 1;
   double speed_m_per_min_ = 0.0;

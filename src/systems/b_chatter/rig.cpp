@@ -139,6 +139,8 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   }
   if (cfg.setup != TwinSetup::Single) turrets_[1].z0_mm -= cfg.tool2_lag_mm;
   for (Turret& tu : turrets_) tu.z_mm = tu.z0_mm;
+  drive_lag_ = core::FirstOrderLag::with_decay(  // τ = 1/(2π·bandwidth)
+      std::exp(-2.0 * kPi * cfg.feed_drive_bandwidth_Hz * dt));
 
   cfg_.vibration.sample_period_s = dt * static_cast<double>(chain_every_);
   sim::configure_as("vibration_sensor",
@@ -226,8 +228,7 @@ bool Rig::step() noexcept {
   }
 
   // Feed drives, spindle, cutting position.
-  const auto drive = core::FirstOrderLag::with_decay(  // τ = 1/(2π·bandwidth)
-      std::exp(-2.0 * kPi * cfg_.feed_drive_bandwidth_Hz * dt_));
+  const auto& drive = drive_lag_;
   for (int i = 0; i < n_tools_; ++i) {
     Turret& tu = turrets_[i];
     tu.v_mm_per_min = drive.step_increment(tu.v_mm_per_min, tu.cmd_mm_per_min);

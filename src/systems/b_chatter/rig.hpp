@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "lathectl/control/modulation_machine.hpp"
+#include "lathectl/core/first_order_lag.hpp"
 #include "lathectl/cutting/cutting_model.hpp"
 #include "lathectl/drives/spindle_drive.hpp"
 #include "lathectl/dynamics/beam.hpp"
@@ -92,6 +93,7 @@ class Rig {
   double engaged_at_ = -1.0;
   double theta_ = 0.0;  // cumulative spindle angle
   Turret turrets_[2];
+  core::FirstOrderLag drive_lag_;  // the feed drives' lag over one step (its exp once, here)
   int n_tools_ = 1;
   dynamics::TwinTurretCut process_;
   // Noise-free high-pass of y for the metrics (same cut-off as the sensor's).
