@@ -9,6 +9,10 @@
 
 namespace lathectl::control {
 
+void AdaptiveMachine::follow_stock(const cutting::LathePlant& plant) {
+  if (stock_) stock_->follow(&plant);
+}
+
 // The stock model's chip every servo period, and the path-aware breakage detector on it: the
 // stop comes in the period the load collapses.
 void AdaptiveMachine::watch_path(const Input& in, Output& out, bool feed_move, double dt) noexcept {

@@ -1,7 +1,9 @@
 #include "lathectl/cutting/lathe_plant.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -52,6 +54,10 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   prefix_area_[0] = prefix_travel_[0] = 0.0;
   dirty_area_ = dirty_travel_ = 0;
   last_nose_ = {};
+  last_cut_ = {};
+  cuts_ = 0;
+  leader_ = nullptr;
+  leader_cuts_ = 0;
   theta_ = 0.0;
   bin_ = 0;
   has_last_ = false;
@@ -177,6 +183,7 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
   const double u_lo = (z - rn - z0) / cell;
   const double u_hi = (z + rn - z0) / cell;
   const double last = static_cast<double>(r_.size() - 1);
+  last_cut_ = {x, z, 0, 0, c};
   if (!(std::isfinite(x) && std::isfinite(z) && u_hi >= 0.0 && u_lo <= last)) {
     last_nose_.valid = false;
     return c;
@@ -229,7 +236,45 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
   c.removed = removed;
   c.on_blank = on_blank;
   removed_mm3_ = removed_mm3;
+  last_cut_ = {x, z, j0, j_end, c};
   return c;
+}
+
+void LathePlant::follow(const LathePlant* leader) {
+  leader_ = nullptr;
+  if (leader == nullptr) return;
+  const auto& l = *leader;
+  if (!(l.r_ == r_ && l.r_blank_low_ == r_blank_low_ && l.z0_ == z0_ &&
+        l.p_.cell_mm == p_.cell_mm && l.r_nose_ == r_nose_ && l.removed_mm3_ == removed_mm3_ &&
+        l.last_nose_.valid == last_nose_.valid && l.last_nose_.x == last_nose_.x &&
+        l.last_nose_.z == last_nose_.z && l.last_nose_.i0 == last_nose_.i0 &&
+        l.last_nose_.i1 == last_nose_.i1))
+    throw std::invalid_argument("lathe plant: follows a plant whose workpiece differs");
+  leader_ = leader;
+  leader_cuts_ = l.cuts_;
+}
+
+LathePlant::NoseCut LathePlant::nose_cut(double x, double z) noexcept {
+  ++cuts_;
+  if (leader_ != nullptr) {
+    const LathePlant& l = *leader_;
+    const LastCut& lc = l.last_cut_;
+    if (l.cuts_ == leader_cuts_ + 1 && std::bit_cast<std::uint64_t>(lc.x) == std::bit_cast<std::uint64_t>(x) &&
+        std::bit_cast<std::uint64_t>(lc.z) == std::bit_cast<std::uint64_t>(z)) {
+      // Both grids were equal before the leader's cut, which was at this position: after it
+      // they are equal again (the cells outside [j0, j_end) it did not touch).
+      std::copy(l.r_.begin() + static_cast<std::ptrdiff_t>(lc.j0),
+                l.r_.begin() + static_cast<std::ptrdiff_t>(lc.j_end),
+                r_.begin() + static_cast<std::ptrdiff_t>(lc.j0));
+      last_nose_ = l.last_nose_;
+      removed_mm3_ = l.removed_mm3_;
+      last_cut_ = lc;
+      leader_cuts_ = l.cuts_;
+      return lc.result;
+    }
+    leader_ = nullptr;  // out of step: its own grid from now on
+  }
+  return cut_under_nose(x, z);
 }
 
 // Spreads this step's chip and travel over the spindle-angle bins it swept, [a0, a1), opening
@@ -300,7 +345,7 @@ void LathePlant::cut(const Input& in, double dt, Output& out) noexcept {
   const double a1 = theta_ * static_cast<double>(kBins);
 
   // Material the nose removes this step.
-  const NoseCut nc = cut_under_nose(x, z);
+  const NoseCut nc = nose_cut(x, z);
   const double removed = nc.removed;
   double travel = 0.0;
   if (std::isfinite(x) && std::isfinite(z)) {

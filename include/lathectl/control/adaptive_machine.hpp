@@ -231,6 +231,14 @@ class AdaptiveMachine {
   // Publishes the operation running now (end of the program).
   void end_operation(Output& out) noexcept;
   [[nodiscard]] const Params& params() const noexcept { return p_; }
+  // The stock model follows `plant` (cutting::LathePlant::follow): a plant of the same blank
+  // that the caller cuts at the tool's position of each update(), just before it (rig E: its
+  // cutting process). Where it was so, the model takes the plant's cut instead of cutting its
+  // own grid again: the same numbers; where not, it cuts its own. No stock model: nothing.
+  // After configure(); not real-time (throws std::invalid_argument when the grids differ).
+  void follow_stock(const cutting::LathePlant& plant);
+  // The stock model has followed the plant at every update() so far.
+  [[nodiscard]] bool stock_following() const noexcept { return stock_ && stock_->following(); }
   [[nodiscard]] const AdaptiveFeedController& controller() const noexcept { return ctl_; }
   [[nodiscard]] std::size_t taught_count() const noexcept { return n_taught_; }
   [[nodiscard]] const Taught& taught(std::size_t i) const noexcept { return taught_[i]; }

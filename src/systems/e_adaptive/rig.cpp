@@ -113,6 +113,10 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
                            "the control period (controller.period_ms) must be a whole "
                            "number of steps, as on a machine's servo thread");
   sim::configure_as("controller", [&] { machine_.configure(mp); });
+  // The machine's stock model is the plant's blank cut by the same tool position every step,
+  // just after the plant (cut_step, then control_step): it takes the plant's cut instead of
+  // cutting the same cells again (LathePlant::follow: the same numbers, checked at each cut).
+  if (share_cut_) sim::configure_as("controller", [&] { machine_.follow_stock(plant_); });
   mout_ = {};
   sensor_held_ = 0.0;
   life_plan_min_ = cut_.tool_life_min(cp.speed_programmed_m_per_min, cp.feed_planned_mm_per_rev,

@@ -46,6 +46,9 @@ class Rig {
   void configure(const RigConfig& cfg, double dt_s, double record_interval_s,
                  double max_duration_s);
   void run() noexcept;                 // until the last pass ends or max_duration_s
+  // Off: the machine's stock model cuts its own grid rather than taking the plant's cut (the
+  // same numbers, at twice the grid work; a test compares). Set before configure().
+  void share_cut(bool on) noexcept { share_cut_ = on; }
   [[nodiscard]] bool step() noexcept;  // false when finished
 
   // Streamed (no columns): attach sinks between configure() and run().
@@ -124,6 +127,7 @@ class Rig {
   }
 
   RigConfig cfg_{};
+  bool share_cut_ = true;
   double dt_ = 5e-4;
   double t_ = 0.0;
   double max_t_ = 0.0;
