@@ -54,6 +54,7 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   prefix_area_[0] = prefix_travel_[0] = 0.0;
   dirty_area_ = dirty_travel_ = 0;
   last_nose_ = {};
+  pending_ = {};
   last_cut_ = {};
   cuts_ = 0;
   leader_ = nullptr;
@@ -334,6 +335,11 @@ void LathePlant::revolution_sums(bool area, double& area_rev, double& travel_rev
 }
 
 void LathePlant::cut(const Input& in, double dt, Output& out) noexcept {
+  cut_geometry(in, dt, out);
+  chip(out);
+}
+
+void LathePlant::cut_geometry(const Input& in, double dt, Output& out) noexcept {
   const double x = in.x_mm;
   const double z = stock_z_mm(in.z_mm);
   const double rpm = std::abs(in.rpm);
@@ -368,23 +374,26 @@ void LathePlant::cut(const Input& in, double dt, Output& out) noexcept {
   spread_over_bins(a0, a1, removed, travel);
   if (theta_ > 1e6) theta_ -= 1e6;  // keep the angle's fraction precise (1e6·kBins bins: whole)
   // The bins hold the last kBins − 1 bins and the filled part of the current one.
-  const double covered =
-      (static_cast<double>(kBins) - 1.0 + (a1 - std::floor(a1))) / static_cast<double>(kBins);
-  double area_rev = 0.0;
-  double travel_rev = 0.0;
-  revolution_sums(removed > 0.0, area_rev, travel_rev);
-  if (a1 > a0 && a1 - a0 < static_cast<double>(kBins)) {
-    area_rev /= covered;
-    travel_rev /= covered;
-  }
-
-  // Chip of the last revolution.
-  const double s = travel_rev;
-  out.chip_depth_mm = s > 1e-4 && removed > 0.0 ? area_rev / s : 0.0;
-  out.feed_per_rev_mm = s;
+  pending_ = {removed > 0.0, a1 > a0 && a1 - a0 < static_cast<double>(kBins),
+              (static_cast<double>(kBins) - 1.0 + (a1 - std::floor(a1))) /
+                  static_cast<double>(kBins)};
   out.removed_mm3 = removed_mm3_;
   out.engaged_depth_mm = engaged_;
   out.on_blank = nc.on_blank;
+}
+
+// Chip of the last revolution.
+void LathePlant::chip(Output& out) noexcept {
+  double area_rev = 0.0;
+  double travel_rev = 0.0;
+  revolution_sums(pending_.removed, area_rev, travel_rev);
+  if (pending_.scale) {
+    area_rev /= pending_.covered;
+    travel_rev /= pending_.covered;
+  }
+  const double s = travel_rev;
+  out.chip_depth_mm = s > 1e-4 && pending_.removed ? area_rev / s : 0.0;
+  out.feed_per_rev_mm = s;
 }
 
 void LathePlant::step(const Input& in, double dt, Output& out) noexcept {

@@ -347,6 +347,10 @@ class AdaptiveMachine {
   bool overload_latched_ = false;
   std::unique_ptr<cutting::LathePlant> stock_;
   cutting::LathePlant::Output stock_out_{};  // the stock model's last step
+  bool stock_chip_due_ = false;  // stock_out_'s chip not yet taken since the last cut
+  // stock_out_ with the last revolution's chip (LathePlant::chip, taken when first read after
+  // a cut: the control period's readers, not every servo period's cut).
+  const cutting::LathePlant::Output& stock_chip() noexcept;
   cutting::CuttingModel model_;              // the handbook's law (feed-forward)
   double kappa_ = 1.0;
   bool kappa_learned_ = false;

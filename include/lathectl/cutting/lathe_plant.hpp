@@ -99,6 +99,12 @@ class LathePlant {
   // the disturbances, the forces and the sensor — what a model of the blank needs
   // (control::AdaptiveMachine's stock model). step() is cut() and then the process.
   void cut(const Input& in, double dt_s, Output& out) noexcept;
+  // cut() in two halves, for a reader of the chip at fewer steps than it cuts: cut_geometry()
+  // leaves out's chip_depth_mm and feed_per_rev_mm as they were; chip() fills them as cut()
+  // would have at the last cut_geometry() (the bins' sums are the same additions in the same
+  // order whenever they are taken: the same numbers). cut() is the one and then the other.
+  void cut_geometry(const Input& in, double dt_s, Output& out) noexcept;
+  void chip(Output& out) noexcept;
   // This plant's workpiece follows `leader`'s, another plant of the same blank, grid and nose
   // that is cut at the same positions, each time just before this one (rig E: its plant, and
   // the machine's stock model fed the same tool position in the same step). A cut() at the
@@ -176,6 +182,14 @@ class LathePlant {
     std::size_t i1 = 0;
   };
   NosePass last_nose_{};
+  // What chip() needs of the last cut_geometry(): whether it removed material, and the share of
+  // a revolution the bins cover when they are to be scaled by it.
+  struct PendingChip {
+    bool removed = false;
+    bool scale = false;
+    double covered = 1.0;
+  };
+  PendingChip pending_{};
   // The latest cut_under_nose(): its position (bits compared) and the cells it may have changed.
   struct LastCut {
     double x = 0.0;
