@@ -8,6 +8,10 @@
 // plant's); the rest is here. Bit for bit the plant's numbers (tests/bench/hand_loop_e_test.cpp);
 // handbook force form and no sensor faults (the rig clears them from the plant) only.
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -43,6 +47,7 @@ class HandCutE {
                        std::ceil((blank.back().at_mm - blank.front().at_mm) / kCell)) + 1;
     r_.assign(n, 0.0);
     low_.assign(n, 0.0);
+    edge_.assign(static_cast<std::size_t>(std::ceil(2.0 * rn_ / kCell)) + 3, 0.0);
     for (std::size_t i = 0; i < n; ++i) {
       r_[i] = 0.5 * stock.blank_diameter_mm(z0_ + static_cast<double>(i) * kCell);
       low_[i] = r_[i] - cfg.stock.eccentricity_mm;
@@ -97,19 +102,42 @@ class HandCutE {
       nose_z_ = z;
       nose_i0_ = i0;
       nose_i1_ = i1;
-      const double top = x + rn_, rn2 = rn_ * rn_;
-      for (std::size_t i = j0; i < j1; ++i) {
-        const double dz = centre(i) - z;
-        const double edge = top - std::sqrt(std::max(rn2 - dz * dz, 0.0));
-        const double ri = r_[i];
+      // The edges first, two cells at a time (sqrtpd rounds as sqrtsd), then the cells and the
+      // sums in index order on locals (a store into r_ may alias any double of *this).
+      const double top = x + rn_, rn2 = rn_ * rn_, z0 = z0_;
+      const std::size_t n = j1 > j0 ? j1 - j0 : 0;
+      double* const e = edge_.data();
+      std::size_t k = 0;
+#if defined(__SSE2__)
+      const __m128d v_cell = _mm_set1_pd(kCell), v_z0 = _mm_set1_pd(z0), v_z = _mm_set1_pd(z),
+                    v_top = _mm_set1_pd(top), v_rn2 = _mm_set1_pd(rn2);
+      __m128d v_i = _mm_set_pd(static_cast<double>(j0) + 1.0, static_cast<double>(j0));
+      for (; k + 2 <= n; k += 2) {
+        const __m128d dz = _mm_sub_pd(_mm_add_pd(v_z0, _mm_mul_pd(v_i, v_cell)), v_z);
+        const __m128d under =
+            _mm_max_pd(_mm_sub_pd(v_rn2, _mm_mul_pd(dz, dz)), _mm_setzero_pd());
+        _mm_storeu_pd(e + k, _mm_sub_pd(v_top, _mm_sqrt_pd(under)));
+        v_i = _mm_add_pd(v_i, _mm_set1_pd(2.0));
+      }
+#endif
+      for (; k < n; ++k) {
+        const double dz = z0 + static_cast<double>(j0 + k) * kCell - z;
+        e[k] = top - std::sqrt(std::max(rn2 - dz * dz, 0.0));
+      }
+      double* const r = r_.data() + j0;
+      const double* const low = low_.data() + j0;
+      double mm3 = removed_mm3_;
+      for (k = 0; k < n; ++k) {
+        const double ri = r[k], edge = e[k];
         if (edge < ri) {
-          on_blank = on_blank || ri > low_[i];
+          on_blank = on_blank || ri > low[k];
           const double r_new = std::max(edge, 0.0);
           removed += (ri - r_new) * kCell;
-          removed_mm3_ += std::numbers::pi * (ri * ri - r_new * r_new) * kCell;
-          r_[i] = r_new;
+          mm3 += std::numbers::pi * (ri * ri - r_new * r_new) * kCell;
+          r[k] = r_new;
         }
       }
+      removed_mm3_ = mm3;
     } else {
       nose_valid_ = false;
     }
@@ -198,7 +226,7 @@ class HandCutE {
   static constexpr double kCell = 0.01;
   cutting::CuttingProcess cfg_{};
   double rn_ = 0.8, z0_ = 0.0, kmp_ = 1.0;
-  std::vector<double> r_, low_;
+  std::vector<double> r_, low_, edge_;
   cutting::Disturbances dist_;
   sensors::LaggedNoisySensor sensor_;
   bool nose_valid_ = false;
