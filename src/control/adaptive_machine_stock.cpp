@@ -59,7 +59,7 @@ void AdaptiveMachine::watch_path(const Input& in, Output& out, bool feed_move, d
 // The handbook law's load at a chip (the load's own parameter: N, or W with the power sensor),
 // at nominal hardness and a sharp tool.
 double AdaptiveMachine::model_load(double t, double s, double v) const noexcept {
-  const auto f = model_.forces({t, s, v, 1.0, 1.0});
+  const auto f = model_.forces_pz_py({t, s, v, 1.0, 1.0});  // the load is Pz, Py or Pz·V
   const auto which = p_.power_sensor ? cutting::ForceParameter::Power : p_.parameter;
   return cutting::force_parameter(which, f, model_.power_W(f, v));
 }

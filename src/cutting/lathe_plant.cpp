@@ -260,8 +260,10 @@ LathePlant::NoseCut LathePlant::nose_cut(double x, double z) noexcept {
   if (leader_ != nullptr) {
     const LathePlant& l = *leader_;
     const LastCut& lc = l.last_cut_;
-    if (l.cuts_ == leader_cuts_ + 1 && std::bit_cast<std::uint64_t>(lc.x) == std::bit_cast<std::uint64_t>(x) &&
-        std::bit_cast<std::uint64_t>(lc.z) == std::bit_cast<std::uint64_t>(z)) {
+    auto same = [](double a, double b) {
+      return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+    };
+    if (l.cuts_ == leader_cuts_ + 1 && same(lc.x, x) && same(lc.z, z)) {
       // Both grids were equal before the leader's cut, which was at this position: after it
       // they are equal again (the cells outside [j0, j_end) it did not touch).
       std::copy(l.r_.begin() + static_cast<std::ptrdiff_t>(lc.j0),
@@ -414,7 +416,7 @@ void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
   const double strength = dist_.strength_factor(z);
   Forces f{};
   if (t > 0.0 && s > 0.0 && v > 0.0) {
-    f = cut_.forces({t, s, v, strength, dist_.wear_factor(t_cut_)});
+    f = cut_.forces_pz_py({t, s, v, strength, dist_.wear_factor(t_cut_)});  // no Px here
     t_cut_ += dt;
     if (t_since_contact_ < 0.0) t_since_contact_ = 0.0;
   }
