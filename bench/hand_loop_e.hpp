@@ -68,10 +68,40 @@ class HandCutE {
     const double a0 = theta_ * 360.0;
     theta_ += rpm / 60.0 * dt;
     const double a1 = theta_ * 360.0;
-    // The nose over the grid: the cells under it come down to its edge, less those its last
-    // position left at or below the edge (behind it along the move, the nose no lower).
     double removed = 0.0;
     bool on_blank = false;
+    cut_cells(x, z, removed, on_blank);
+    double area_rev = 0.0, s = 0.0;
+    revolution(x, z, a0, a1, removed, area_rev, s);
+    // The chip with the blank's runout and the random allowance, the forces, the sensor.
+    double t = s > 1e-4 && removed > 0.0 ? area_rev / s : 0.0;
+    const double phi = 2.0 * std::numbers::pi * (theta_ - std::floor(theta_));
+    if (t > 0.0) {
+      if (on_blank) t += cfg_.stock.eccentricity_mm * std::sin(phi);
+      t = std::max(t + dist_.random_allowance_mm(z), 0.0);
+    }
+    const double v = std::isfinite(x) ? std::numbers::pi * 2.0 * (x + t) * rpm / 1000.0 : 0.0;
+    const double strength = dist_.strength_factor(z);
+    cutting::Forces f{};
+    if (t > 0.0 && s > 0.0 && v > 0.0) {
+      const auto& m = cfg_.cutting.material;
+      const double k = kmp_ * (strength == 1.0 ? 1.0 : std::pow(strength, m.kmp_exponent)) *
+                       dist_.wear_factor(t_cut_);
+      const double vv = std::max(v, 1.0);
+      f.Pz = 10.0 * m.Pz.Cp * std::pow(t, m.Pz.x) * std::pow(s, m.Pz.y) * std::pow(vv, m.Pz.n) * k;
+      f.Py = 10.0 * m.Py.Cp * std::pow(t, m.Py.x) * std::pow(s, m.Py.y) * std::pow(vv, m.Py.n) * k;
+      t_cut_ += dt;
+    }
+    const double power = f.Pz * v / 60.0;
+    sensor_.step(dt, cutting::force_parameter(cfg_.force_parameter, f, power));
+    out = {sensor_.sample(), f.Pz, f.Py, t, s, removed_mm3_};
+  }
+
+ private:
+  // The nose over the grid: the cells under it come down to its edge, less those its last
+  // position left at or below it (behind it along the move, the nose no lower). The removed
+  // cross-section [mm²], and whether it cut the blank's own surface.
+  void cut_cells(double x, double z, double& removed, bool& on_blank) noexcept {
     const double u_lo = (z - rn_ - z0_) / kCell, u_hi = (z + rn_ - z0_) / kCell;
     const double last = static_cast<double>(r_.size() - 1);
     if (std::isfinite(x) && std::isfinite(z) && u_hi >= 0.0 && u_lo <= last) {
@@ -108,7 +138,7 @@ class HandCutE {
       const std::size_t n = j1 > j0 ? j1 - j0 : 0;
       double* const e = edge_.data();
       std::size_t k = 0;
-#if defined(__SSE2__)
+  #if defined(__SSE2__)
       const __m128d v_cell = _mm_set1_pd(kCell), v_z0 = _mm_set1_pd(z0), v_z = _mm_set1_pd(z),
                     v_top = _mm_set1_pd(top), v_rn2 = _mm_set1_pd(rn2);
       __m128d v_i = _mm_set_pd(static_cast<double>(j0) + 1.0, static_cast<double>(j0));
@@ -119,7 +149,7 @@ class HandCutE {
         _mm_storeu_pd(e + k, _mm_sub_pd(v_top, _mm_sqrt_pd(under)));
         v_i = _mm_add_pd(v_i, _mm_set1_pd(2.0));
       }
-#endif
+  #endif
       for (; k < n; ++k) {
         const double dz = z0 + static_cast<double>(j0 + k) * kCell - z;
         e[k] = top - std::sqrt(std::max(rn2 - dz * dz, 0.0));
@@ -141,7 +171,12 @@ class HandCutE {
     } else {
       nose_valid_ = false;
     }
-    // The path travelled, and the bins of the angle swept (each bin entered is emptied first).
+  }
+
+  // The path travelled, the bins, and the last revolution's chip area and feed.
+  void revolution(double x, double z, double a0, double a1, double removed, double& area_rev,
+                  double& s) noexcept {
+    // The bins of the angle swept: each one entered is emptied first.
     double travel = 0.0;
     if (std::isfinite(x) && std::isfinite(z)) {
       if (has_last_) travel = std::hypot(x - last_x_, z - last_z_);
@@ -192,37 +227,15 @@ class HandCutE {
       for (std::size_t k = dirty_t_; k < 360; ++k) pre_t_[k + 1] = pre_t_[k] + trav_[k];
     }
     dirty_t_ = 360;
-    double area_rev = removed > 0.0 ? pre_a_[360] : 0.0, s = pre_t_[360];
+    area_rev = removed > 0.0 ? pre_a_[360] : 0.0;
+    s = pre_t_[360];
     if (a1 > a0 && a1 - a0 < 360.0) {
       const double covered = (359.0 + (a1 - std::floor(a1))) / 360.0;
       area_rev /= covered;
       s /= covered;
     }
-    // The chip with the blank's runout and the random allowance, the forces, the sensor.
-    double t = s > 1e-4 && removed > 0.0 ? area_rev / s : 0.0;
-    const double phi = 2.0 * std::numbers::pi * (theta_ - std::floor(theta_));
-    if (t > 0.0) {
-      if (on_blank) t += cfg_.stock.eccentricity_mm * std::sin(phi);
-      t = std::max(t + dist_.random_allowance_mm(z), 0.0);
-    }
-    const double v = std::isfinite(x) ? std::numbers::pi * 2.0 * (x + t) * rpm / 1000.0 : 0.0;
-    const double strength = dist_.strength_factor(z);
-    cutting::Forces f{};
-    if (t > 0.0 && s > 0.0 && v > 0.0) {
-      const auto& m = cfg_.cutting.material;
-      const double k = kmp_ * (strength == 1.0 ? 1.0 : std::pow(strength, m.kmp_exponent)) *
-                       dist_.wear_factor(t_cut_);
-      const double vv = std::max(v, 1.0);
-      f.Pz = 10.0 * m.Pz.Cp * std::pow(t, m.Pz.x) * std::pow(s, m.Pz.y) * std::pow(vv, m.Pz.n) * k;
-      f.Py = 10.0 * m.Py.Cp * std::pow(t, m.Py.x) * std::pow(s, m.Py.y) * std::pow(vv, m.Py.n) * k;
-      t_cut_ += dt;
-    }
-    const double power = f.Pz * v / 60.0;
-    sensor_.step(dt, cutting::force_parameter(cfg_.force_parameter, f, power));
-    out = {sensor_.sample(), f.Pz, f.Py, t, s, removed_mm3_};
   }
 
- private:
   static constexpr double kCell = 0.01;
   cutting::CuttingProcess cfg_{};
   double rn_ = 0.8, z0_ = 0.0, kmp_ = 1.0;
