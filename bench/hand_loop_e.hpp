@@ -68,11 +68,8 @@ class HandCutE {
     const double a0 = theta_ * 360.0;
     theta_ += rpm / 60.0 * dt;
     const double a1 = theta_ * 360.0;
-    double removed = 0.0;
-    bool on_blank = false;
-    cut_cells(x, z, removed, on_blank);
-    double area_rev = 0.0, s = 0.0;
-    revolution(x, z, a0, a1, removed, area_rev, s);
+    const auto [removed, on_blank] = cut_cells(x, z);
+    const auto [area_rev, s] = revolution(x, z, a0, a1, removed);
     // The chip with the blank's runout and the random allowance, the forces, the sensor.
     double t = s > 1e-4 && removed > 0.0 ? area_rev / s : 0.0;
     const double phi = 2.0 * std::numbers::pi * (theta_ - std::floor(theta_));
@@ -101,7 +98,15 @@ class HandCutE {
   // The nose over the grid: the cells under it come down to its edge, less those its last
   // position left at or below it (behind it along the move, the nose no lower). The removed
   // cross-section [mm²], and whether it cut the blank's own surface.
-  void cut_cells(double x, double z, double& removed, bool& on_blank) noexcept {
+  // (By value, on locals: through references the sums were stored at every cell, as a store
+  // into r_ may alias them.)
+  struct Cells {
+    double removed = 0.0;
+    bool on_blank = false;
+  };
+  Cells cut_cells(double x, double z) noexcept {
+    double removed = 0.0;
+    bool on_blank = false;
     const double u_lo = (z - rn_ - z0_) / kCell, u_hi = (z + rn_ - z0_) / kCell;
     const double last = static_cast<double>(r_.size() - 1);
     if (std::isfinite(x) && std::isfinite(z) && u_hi >= 0.0 && u_lo <= last) {
@@ -171,11 +176,15 @@ class HandCutE {
     } else {
       nose_valid_ = false;
     }
+    return {removed, on_blank};
   }
 
   // The path travelled, the bins, and the last revolution's chip area and feed.
-  void revolution(double x, double z, double a0, double a1, double removed, double& area_rev,
-                  double& s) noexcept {
+  struct Chip {
+    double area_rev = 0.0;  // [mm²]
+    double s = 0.0;         // [mm]
+  };
+  Chip revolution(double x, double z, double a0, double a1, double removed) noexcept {
     // The bins of the angle swept: each one entered is emptied first.
     double travel = 0.0;
     if (std::isfinite(x) && std::isfinite(z)) {
@@ -227,13 +236,14 @@ class HandCutE {
       for (std::size_t k = dirty_t_; k < 360; ++k) pre_t_[k + 1] = pre_t_[k] + trav_[k];
     }
     dirty_t_ = 360;
-    area_rev = removed > 0.0 ? pre_a_[360] : 0.0;
-    s = pre_t_[360];
+    double area_rev = removed > 0.0 ? pre_a_[360] : 0.0;
+    double s = pre_t_[360];
     if (a1 > a0 && a1 - a0 < 360.0) {
       const double covered = (359.0 + (a1 - std::floor(a1))) / 360.0;
       area_rev /= covered;
       s /= covered;
     }
+    return {area_rev, s};
   }
 
   static constexpr double kCell = 0.01;
