@@ -109,6 +109,7 @@ void AdaptiveMachine::configure(const Params& p) {
   inseparable_left_s_ = 0.0;
   inertia_ = p.spindle.inertia_kg_m2;
   stock_out_ = {};
+  stock_chip_due_ = false;
   kappa_ = 1.0;
   kappa_learned_ = false;
   has_anchor_ = has_dir_ = false;
@@ -402,7 +403,8 @@ inline AdaptiveFeedController::Input AdaptiveMachine::controller_input(const Inp
   if (p_.life_law && stock_) {
     // The depth the blank gives, and the hardness the cut shows: K_mp = h^kmp, so ĥ = κ^(1/kmp)
     // (κ also holds the tool's wear, which a slower speed suits too).
-    if (out.contact && stock_out_.chip_depth_mm > 0.05) ci.depth_known_mm = stock_out_.chip_depth_mm;
+    const double chip = stock_chip().chip_depth_mm;
+    if (out.contact && chip > 0.05) ci.depth_known_mm = chip;
     const double kmp = p_.process.cutting.material.kmp_exponent;
     const double h = kappa_learned_ && kmp > 0.0 ? std::clamp(std::pow(kappa_, 1.0 / kmp), 0.5, 2.0)
                                                  : 1.0;

@@ -9,6 +9,18 @@
 
 namespace lathectl::control {
 
+void AdaptiveMachine::follow_stock(const cutting::LathePlant& plant) {
+  if (stock_) stock_->follow(&plant);
+}
+
+const cutting::LathePlant::Output& AdaptiveMachine::stock_chip() noexcept {
+  if (stock_chip_due_) {
+    stock_->chip(stock_out_);
+    stock_chip_due_ = false;
+  }
+  return stock_out_;
+}
+
 // The stock model's chip every servo period, and the path-aware breakage detector on it: the
 // stop comes in the period the load collapses.
 void AdaptiveMachine::watch_path(const Input& in, Output& out, bool feed_move, double dt) noexcept {
@@ -17,8 +29,9 @@ void AdaptiveMachine::watch_path(const Input& in, Output& out, bool feed_move, d
   si.z_mm = in.homed ? in.z_mm : std::nan("");
   si.rpm = in.rpm;
   cutting::LathePlant::Output so;
-  stock_->cut(si, dt, so);  // the chip's geometry alone, for the time that passed
+  stock_->cut_geometry(si, dt, so);  // the chip's geometry alone, for the time that passed
   stock_out_ = so;
+  stock_chip_due_ = true;
   // The engagement at this instant, not the last revolution's chip: leaving the material at
   // 300 m/min the load falls within the 10 ms window while the revolution's mean depth (19 ms
   // at 1560 rpm for half of it) still predicted material, and a run-off read as a broken tool.
@@ -46,7 +59,7 @@ void AdaptiveMachine::watch_path(const Input& in, Output& out, bool feed_move, d
 // The handbook law's load at a chip (the load's own parameter: N, or W with the power sensor),
 // at nominal hardness and a sharp tool.
 double AdaptiveMachine::model_load(double t, double s, double v) const noexcept {
-  const auto f = model_.forces({t, s, v, 1.0, 1.0});
+  const auto f = model_.forces_pz_py({t, s, v, 1.0, 1.0});  // the load is Pz, Py or Pz·V
   const auto which = p_.power_sensor ? cutting::ForceParameter::Power : p_.parameter;
   return cutting::force_parameter(which, f, model_.power_W(f, v));
 }
@@ -91,7 +104,7 @@ double AdaptiveMachine::feed_forward(const Input& in, double rpm, bool feed_bloc
   // moves by a cell's worth as cells enter the nose, ±7 % at 8 mm/s on a 10 µm grid, and a dip
   // read as a rise ahead)
   const double now =
-      out.contact ? std::max(stock_out_.engaged_depth_mm, stock_out_.chip_depth_mm) : 0.0;
+      out.contact ? std::max(stock_out_.engaged_depth_mm, stock_chip().chip_depth_mm) : 0.0;
   if (!(ahead > now * (1.0 + p_.feed_forward_rise) + 0.02)) {
     // The rise reached: the ceiling stays for one more revolution. The engagement reaches the
     // new depth within 0.03 mm of travel, the per-revolution load the regulator sees only after
@@ -130,9 +143,10 @@ double AdaptiveMachine::feed_forward(const Input& in, double rpm, bool feed_bloc
 void AdaptiveMachine::learn_specific_force(const Input& in, double rpm, double dt,
                                            const Output& out) noexcept {
   if (!stock_ || !p_.feed_forward || !out.contact || !load_rev_.full() || !(rpm > 0.0)) return;
-  const double t = stock_out_.chip_depth_mm;
-  const double s = stock_out_.feed_per_rev_mm;
-  if (!(t > 0.05) || !(s > 0.01) || std::abs(stock_out_.engaged_depth_mm - t) > 0.05 * t) return;
+  const auto& so = stock_chip();
+  const double t = so.chip_depth_mm;
+  const double s = so.feed_per_rev_mm;
+  if (!(t > 0.05) || !(s > 0.01) || std::abs(so.engaged_depth_mm - t) > 0.05 * t) return;
   if (!(out.load_rev > ctl_.params().air_threshold * applied_.limit)) return;
   const double v = in.cutting_speed_m_per_min > 0.0
                        ? in.cutting_speed_m_per_min

@@ -52,18 +52,17 @@ void CuttingModel::configure(const Params& p) {
 }
 
 Forces CuttingModel::forces(const CutState& c) const noexcept { return forces_of(c, true); }
-Forces CuttingModel::tangential_radial(const CutState& c) const noexcept {
-  return forces_of(c, false);
-}
 
-Forces CuttingModel::forces_of(const CutState& c, bool axial) const noexcept {
+Forces CuttingModel::forces_pz_py(const CutState& c) const noexcept { return forces_of(c, false); }
+
+Forces CuttingModel::forces_of(const CutState& c, bool with_px) const noexcept {
   if (!(c.depth_mm > 0.0) || !(c.feed_mm_per_rev > 0.0)) return {};
   const double k = kmp_ * hardness_kp(p_.material.kmp_exponent, c.strength_factor) * c.wear_factor;
   if (p_.form == ForceForm::Handbook) {
     const double v = std::max(c.speed_m_per_min, 1.0);  // the power law has no meaning at V→0
     const CutState cv{c.depth_mm, c.feed_mm_per_rev, v, 1.0, 1.0};
     return {power_law(p_.material.Pz, cv, k), power_law(p_.material.Py, cv, k),
-            axial ? power_law(p_.material.Px, cv, k) : 0.0};
+            with_px ? power_law(p_.material.Px, cv, k) : 0.0};
   }
   // The Kienzle constants are the material's own (data/materials.toml gives them per grade):
   // Kmp, the handbook's strength correction to its reference grade, does not apply; the local
@@ -72,7 +71,7 @@ Forces CuttingModel::forces_of(const CutState& c, bool axial) const noexcept {
   const double b = c.depth_mm / sin_kappa_;
   const double h = c.feed_mm_per_rev * sin_kappa_;
   return {kienzle(p_.material.Fc, b, h) * kk, kienzle(p_.material.Fp, b, h) * kk,
-          axial ? kienzle(p_.material.Ff, b, h) * kk : 0.0};
+          with_px ? kienzle(p_.material.Ff, b, h) * kk : 0.0};
 }
 
 double CuttingModel::radial_force(const CutState& c) const noexcept {

@@ -1,7 +1,9 @@
 #include "lathectl/cutting/lathe_plant.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -52,6 +54,11 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   prefix_area_[0] = prefix_travel_[0] = 0.0;
   dirty_area_ = dirty_travel_ = 0;
   last_nose_ = {};
+  pending_ = {};
+  last_cut_ = {};
+  cuts_ = 0;
+  leader_ = nullptr;
+  leader_cuts_ = 0;
   theta_ = 0.0;
   bin_ = 0;
   has_last_ = false;
@@ -177,6 +184,7 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
   const double u_lo = (z - rn - z0) / cell;
   const double u_hi = (z + rn - z0) / cell;
   const double last = static_cast<double>(r_.size() - 1);
+  last_cut_ = {x, z, 0, 0, c};
   if (!(std::isfinite(x) && std::isfinite(z) && u_hi >= 0.0 && u_lo <= last)) {
     last_nose_.valid = false;
     return c;
@@ -229,7 +237,47 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
   c.removed = removed;
   c.on_blank = on_blank;
   removed_mm3_ = removed_mm3;
+  last_cut_ = {x, z, j0, j_end, c};
   return c;
+}
+
+void LathePlant::follow(const LathePlant* leader) {
+  leader_ = nullptr;
+  if (leader == nullptr) return;
+  const auto& l = *leader;
+  if (!(l.r_ == r_ && l.r_blank_low_ == r_blank_low_ && l.z0_ == z0_ &&
+        l.p_.cell_mm == p_.cell_mm && l.r_nose_ == r_nose_ && l.removed_mm3_ == removed_mm3_ &&
+        l.last_nose_.valid == last_nose_.valid && l.last_nose_.x == last_nose_.x &&
+        l.last_nose_.z == last_nose_.z && l.last_nose_.i0 == last_nose_.i0 &&
+        l.last_nose_.i1 == last_nose_.i1))
+    throw std::invalid_argument("lathe plant: follows a plant whose workpiece differs");
+  leader_ = leader;
+  leader_cuts_ = l.cuts_;
+}
+
+LathePlant::NoseCut LathePlant::nose_cut(double x, double z) noexcept {
+  ++cuts_;
+  if (leader_ != nullptr) {
+    const LathePlant& l = *leader_;
+    const LastCut& lc = l.last_cut_;
+    auto same = [](double a, double b) {
+      return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+    };
+    if (l.cuts_ == leader_cuts_ + 1 && same(lc.x, x) && same(lc.z, z)) {
+      // Both grids were equal before the leader's cut, which was at this position: after it
+      // they are equal again (the cells outside [j0, j_end) it did not touch).
+      std::copy(l.r_.begin() + static_cast<std::ptrdiff_t>(lc.j0),
+                l.r_.begin() + static_cast<std::ptrdiff_t>(lc.j_end),
+                r_.begin() + static_cast<std::ptrdiff_t>(lc.j0));
+      last_nose_ = l.last_nose_;
+      removed_mm3_ = l.removed_mm3_;
+      last_cut_ = lc;
+      leader_cuts_ = l.cuts_;
+      return lc.result;
+    }
+    leader_ = nullptr;  // out of step: its own grid from now on
+  }
+  return cut_under_nose(x, z);
 }
 
 // Spreads this step's chip and travel over the spindle-angle bins it swept, [a0, a1), opening
@@ -289,6 +337,11 @@ void LathePlant::revolution_sums(bool area, double& area_rev, double& travel_rev
 }
 
 void LathePlant::cut(const Input& in, double dt, Output& out) noexcept {
+  cut_geometry(in, dt, out);
+  chip(out);
+}
+
+void LathePlant::cut_geometry(const Input& in, double dt, Output& out) noexcept {
   const double x = in.x_mm;
   const double z = stock_z_mm(in.z_mm);
   const double rpm = std::abs(in.rpm);
@@ -300,7 +353,7 @@ void LathePlant::cut(const Input& in, double dt, Output& out) noexcept {
   const double a1 = theta_ * static_cast<double>(kBins);
 
   // Material the nose removes this step.
-  const NoseCut nc = cut_under_nose(x, z);
+  const NoseCut nc = nose_cut(x, z);
   const double removed = nc.removed;
   double travel = 0.0;
   if (std::isfinite(x) && std::isfinite(z)) {
@@ -323,23 +376,26 @@ void LathePlant::cut(const Input& in, double dt, Output& out) noexcept {
   spread_over_bins(a0, a1, removed, travel);
   if (theta_ > 1e6) theta_ -= 1e6;  // keep the angle's fraction precise (1e6·kBins bins: whole)
   // The bins hold the last kBins − 1 bins and the filled part of the current one.
-  const double covered =
-      (static_cast<double>(kBins) - 1.0 + (a1 - std::floor(a1))) / static_cast<double>(kBins);
-  double area_rev = 0.0;
-  double travel_rev = 0.0;
-  revolution_sums(removed > 0.0, area_rev, travel_rev);
-  if (a1 > a0 && a1 - a0 < static_cast<double>(kBins)) {
-    area_rev /= covered;
-    travel_rev /= covered;
-  }
-
-  // Chip of the last revolution.
-  const double s = travel_rev;
-  out.chip_depth_mm = s > 1e-4 && removed > 0.0 ? area_rev / s : 0.0;
-  out.feed_per_rev_mm = s;
+  pending_ = {removed > 0.0, a1 > a0 && a1 - a0 < static_cast<double>(kBins),
+              (static_cast<double>(kBins) - 1.0 + (a1 - std::floor(a1))) /
+                  static_cast<double>(kBins)};
   out.removed_mm3 = removed_mm3_;
   out.engaged_depth_mm = engaged_;
   out.on_blank = nc.on_blank;
+}
+
+// Chip of the last revolution.
+void LathePlant::chip(Output& out) noexcept {
+  double area_rev = 0.0;
+  double travel_rev = 0.0;
+  revolution_sums(pending_.removed, area_rev, travel_rev);
+  if (pending_.scale) {
+    area_rev /= pending_.covered;
+    travel_rev /= pending_.covered;
+  }
+  const double s = travel_rev;
+  out.chip_depth_mm = s > 1e-4 && pending_.removed ? area_rev / s : 0.0;
+  out.feed_per_rev_mm = s;
 }
 
 void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
@@ -360,7 +416,7 @@ void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
   const double strength = dist_.strength_factor(z);
   Forces f{};
   if (t > 0.0 && s > 0.0 && v > 0.0) {
-    f = cut_.forces({t, s, v, strength, dist_.wear_factor(t_cut_)});
+    f = cut_.forces_pz_py({t, s, v, strength, dist_.wear_factor(t_cut_)});  // no Px here
     t_cut_ += dt;
     if (t_since_contact_ < 0.0) t_since_contact_ = 0.0;
   }

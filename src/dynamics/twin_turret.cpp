@@ -302,7 +302,7 @@ void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept
   e.cutting = e.b_mm > 0.0 && e.s_mm > 0.0;
   if (e.cutting) {
     const double v = kPi * p_.part.diameter_m * rpm;  // m/min
-    const cutting::Forces f = cut_.tangential_radial({e.b_mm, e.s_mm, v, 1.0, 1.0});
+    const cutting::Forces f = cut_.forces_pz_py({e.b_mm, e.s_mm, v, 1.0, 1.0});
     e.fc = f.Pz;
     e.fp = f.Py;
   } else {

@@ -108,6 +108,21 @@ TEST(CuttingModel, ZeroForceOutOfCut) {
   }
 }
 
+// forces_pz_py (the lathe plant's) gives forces()'s Pz and Py, the same doubles, and no Px.
+TEST(CuttingModel, PzPyAloneAreTheForcesPzAndPy) {
+  for (const auto form : {ForceForm::Handbook, ForceForm::Kienzle}) {
+    const auto cm = model("steel_40Kh", form, 60.0);
+    for (const CutState c : {kRef, CutState{0.37, 0.071, 212.3, 1.17, 1.09}}) {
+      const auto all = cm.forces(c);
+      const auto two = cm.forces_pz_py(c);
+      EXPECT_EQ(two.Pz, all.Pz);
+      EXPECT_EQ(two.Py, all.Py);
+      EXPECT_GT(all.Px, 0.0);
+      EXPECT_EQ(two.Px, 0.0);
+    }
+  }
+}
+
 TEST(CuttingModel, StrengthFactorScalesAsPowerOfKmpExponent) {
   for (const auto form : {ForceForm::Handbook, ForceForm::Kienzle}) {
     const auto cm = model("steel_45", form);

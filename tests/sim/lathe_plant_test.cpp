@@ -202,3 +202,42 @@ TEST(LathePlant, RefusesABlankWithoutExtentAndBadGrids) {
 
 }  // namespace
 }  // namespace lathectl::sim
+
+namespace lathectl::sim {
+namespace {
+bool same(const LathePlant::Output& a, const LathePlant::Output& b) {
+  return a.removed_mm3 == b.removed_mm3 && a.chip_depth_mm == b.chip_depth_mm &&
+         a.feed_per_rev_mm == b.feed_per_rev_mm && a.engaged_depth_mm == b.engaged_depth_mm &&
+         a.on_blank == b.on_blank;
+}
+}  // namespace
+
+// A plant following another (rig E's stock model and its plant) takes the leader's cut where it
+// is cut at the leader's position just after it, and gives what cutting its own grid gives; once
+// out of step (another position) it cuts its own grid, still the same numbers as a plant alone.
+TEST(LathePlant, AFollowerGivesWhatItsOwnCutGivesInStepOrNot) {
+  LathePlant leader, follower, alone;
+  for (auto* p : {&leader, &follower, &alone}) p->configure(config(), {});
+  follower.follow(&leader);
+  LathePlant::Output lo, fo, ao;
+  double removed = 0.0;
+  for (int k = 0; k < 4000; ++k) {  // turning at x = 18 into the bar from z = +1 toward −z
+    const double z = 1.0 - 0.005 * k;
+    const bool apart = k >= 3000;  // the leader cuts 0.1 mm lower from here on
+    leader.step({apart ? 17.9 : 18.0, z, 1200.0}, 1e-3, lo);
+    follower.cut({18.0, z, 1190.0}, 1e-3, fo);
+    alone.cut({18.0, z, 1190.0}, 1e-3, ao);
+    ASSERT_TRUE(same(fo, ao)) << k;
+    ASSERT_EQ(follower.following(), !apart) << k;
+    ASSERT_EQ(follower.max_radius_mm(-1e9, 1e9), alone.max_radius_mm(-1e9, 1e9)) << k;
+    removed = fo.removed_mm3;
+  }
+  EXPECT_GT(removed, 0.0);
+  EXPECT_NE(lo.removed_mm3, fo.removed_mm3);  // the leader cut deeper: apart indeed
+  // A follower whose workpiece is not the leader's now is refused.
+  LathePlant fresh;
+  fresh.configure(config(), {});
+  EXPECT_THROW(fresh.follow(&leader), std::invalid_argument);
+}
+
+}  // namespace lathectl::sim

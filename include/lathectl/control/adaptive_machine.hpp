@@ -231,6 +231,14 @@ class AdaptiveMachine {
   // Publishes the operation running now (end of the program).
   void end_operation(Output& out) noexcept;
   [[nodiscard]] const Params& params() const noexcept { return p_; }
+  // The stock model follows `plant` (cutting::LathePlant::follow): a plant of the same blank
+  // that the caller cuts at the tool's position of each update(), just before it (rig E: its
+  // cutting process). Where it was so, the model takes the plant's cut instead of cutting its
+  // own grid again: the same numbers; where not, it cuts its own. No stock model: nothing.
+  // After configure(); not real-time (throws std::invalid_argument when the grids differ).
+  void follow_stock(const cutting::LathePlant& plant);
+  // The stock model has followed the plant at every update() so far.
+  [[nodiscard]] bool stock_following() const noexcept { return stock_ && stock_->following(); }
   [[nodiscard]] const AdaptiveFeedController& controller() const noexcept { return ctl_; }
   [[nodiscard]] std::size_t taught_count() const noexcept { return n_taught_; }
   [[nodiscard]] const Taught& taught(std::size_t i) const noexcept { return taught_[i]; }
@@ -339,6 +347,10 @@ class AdaptiveMachine {
   bool overload_latched_ = false;
   std::unique_ptr<cutting::LathePlant> stock_;
   cutting::LathePlant::Output stock_out_{};  // the stock model's last step
+  bool stock_chip_due_ = false;  // stock_out_'s chip not yet taken since the last cut
+  // stock_out_ with the last revolution's chip (LathePlant::chip, taken when first read after
+  // a cut: the control period's readers, not every servo period's cut).
+  const cutting::LathePlant::Output& stock_chip() noexcept;
   cutting::CuttingModel model_;              // the handbook's law (feed-forward)
   double kappa_ = 1.0;
   bool kappa_learned_ = false;

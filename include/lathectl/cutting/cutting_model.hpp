@@ -96,9 +96,9 @@ class CuttingModel {
 
   // Forces for one cutting state; zero when depth or feed is not positive (tool out of cut).
   [[nodiscard]] Forces forces(const CutState& c) const noexcept;
-  // Pz and Py alone (Px = 0, one power law fewer): a process that needs no feed force (rig B's
-  // cut, every step of each tool).
-  [[nodiscard]] Forces tangential_radial(const CutState& c) const noexcept;
+  // Pz and Py alone, Px left 0: the same two numbers as forces(), one force law fewer (three
+  // pow a step on rig E, whose plant reports no Px).
+  [[nodiscard]] Forces forces_pz_py(const CutState& c) const noexcept;
   // Only the radial force (cheaper: one power law, V^n cached). Not thread-safe on a shared
   // instance: each rig owns its model.
   [[nodiscard]] double radial_force(const CutState& c) const noexcept;
@@ -121,7 +121,7 @@ class CuttingModel {
 
  private:
   [[nodiscard]] const ToolLifeRange& life_range(double feed_mm_per_rev) const noexcept;
-  [[nodiscard]] Forces forces_of(const CutState& c, bool axial) const noexcept;
+  [[nodiscard]] Forces forces_of(const CutState& c, bool with_px) const noexcept;
   Params p_{};
   double kmp_ = 1.0;
   double sin_kappa_ = 1.0;

@@ -99,6 +99,24 @@ class LathePlant {
   // the disturbances, the forces and the sensor — what a model of the blank needs
   // (control::AdaptiveMachine's stock model). step() is cut() and then the process.
   void cut(const Input& in, double dt_s, Output& out) noexcept;
+  // cut() in two halves, for a reader of the chip at fewer steps than it cuts: cut_geometry()
+  // leaves out's chip_depth_mm and feed_per_rev_mm as they were; chip() fills them as cut()
+  // would have at the last cut_geometry() (the bins' sums are the same additions in the same
+  // order whenever they are taken: the same numbers). cut() is the one and then the other.
+  void cut_geometry(const Input& in, double dt_s, Output& out) noexcept;
+  void chip(Output& out) noexcept;
+  // This plant's workpiece follows `leader`'s, another plant of the same blank, grid and nose
+  // that is cut at the same positions, each time just before this one (rig E: its plant, and
+  // the machine's stock model fed the same tool position in the same step). A cut() at the
+  // position the leader's latest cut() had, the one after the cut at which both grids were last
+  // equal, copies the cells the leader changed and takes its removed cross-section instead of
+  // cutting them again: the same numbers, as it would have cut the same grid the same way. Any
+  // other cut() — another position, the leader cut twice or not at all — cuts this plant's own
+  // grid, as it does from then on (following() false). nullptr: no leader. The leader must
+  // outlive the following or be unset. Not real-time: compares the grids; throws
+  // std::invalid_argument when they are not equal now.
+  void follow(const LathePlant* leader);
+  [[nodiscard]] bool following() const noexcept { return leader_ != nullptr; }
   // Stock z of a machine z [mm].
   [[nodiscard]] double stock_z_mm(double z_machine_mm) const noexcept {
     return p_.z_origin_mm - z_machine_mm;
@@ -128,6 +146,8 @@ class LathePlant {
     bool on_blank = false;
   };
   NoseCut cut_under_nose(double x, double z) noexcept;
+  // cut_under_nose() or, following, the leader's cut taken over; counts the cuts.
+  NoseCut nose_cut(double x, double z) noexcept;
   void edges_under_nose(double x, double z, std::size_t j0, std::size_t n,
                         double* e) const noexcept;
   [[nodiscard]] std::size_t first_centre_after(double zq, bool or_at, std::size_t lo,
@@ -162,6 +182,26 @@ class LathePlant {
     std::size_t i1 = 0;
   };
   NosePass last_nose_{};
+  // What chip() needs of the last cut_geometry(): whether it removed material, and the share of
+  // a revolution the bins cover when they are to be scaled by it.
+  struct PendingChip {
+    bool removed = false;
+    bool scale = false;
+    double covered = 1.0;
+  };
+  PendingChip pending_{};
+  // The latest cut_under_nose(): its position (bits compared) and the cells it may have changed.
+  struct LastCut {
+    double x = 0.0;
+    double z = 0.0;
+    std::size_t j0 = 0;
+    std::size_t j_end = 0;
+    NoseCut result{};
+  };
+  LastCut last_cut_{};
+  std::uint64_t cuts_ = 0;  // nose_cut() calls since configure()
+  const LathePlant* leader_ = nullptr;
+  std::uint64_t leader_cuts_ = 0;  // the leader's cuts_ when both grids were last equal
   double theta_ = 0.0;  // spindle angle [rev], cumulative
   std::size_t bin_ = 0;
   double last_x_ = 0.0;

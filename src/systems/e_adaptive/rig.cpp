@@ -93,6 +93,7 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   cutting::CuttingProcess process = lathe_process(cfg);
   process.faults.clear();
   sim::configure_as("stock", [&] { plant_.configure(process, {}); });
+  pin_ = {};
   pout_ = {};
 
   // The machine side a lathe runs, from the scenario as every host derives it (machine_params:
@@ -113,6 +114,10 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
                            "the control period (controller.period_ms) must be a whole "
                            "number of steps, as on a machine's servo thread");
   sim::configure_as("controller", [&] { machine_.configure(mp); });
+  // The machine's stock model is the plant's blank cut by the same tool position every step,
+  // just after the plant (cut_step, then control_step): it takes the plant's cut instead of
+  // cutting the same cells again (LathePlant::follow: the same numbers, checked at each cut).
+  if (share_cut_) sim::configure_as("controller", [&] { machine_.follow_stock(plant_); });
   mout_ = {};
   sensor_held_ = 0.0;
   life_plan_min_ = cut_.tool_life_min(cp.speed_programmed_m_per_min, cp.feed_planned_mm_per_rev,
@@ -251,7 +256,8 @@ inline bool Rig::advance_program(double z_mm) noexcept {
 // cut's torque and the power meter on the drive.
 inline void Rig::cut_step(double rpm, double z_mm) noexcept {
   // The cutting process at the tool's position (machine z = −z: the plant's stock runs to −z).
-  plant_.step({x_mm_, -z_mm, rpm}, dt_, pout_);
+  pin_ = {x_mm_, -z_mm, rpm};
+  plant_.step(pin_, dt_, pout_);
   const double depth = pout_.depth_mm;
   const double s = pout_.feed_per_rev_mm;
   const double v = pout_.speed_m_per_min;  // sensor 20 [m/min]

@@ -46,12 +46,18 @@ class Rig {
   void configure(const RigConfig& cfg, double dt_s, double record_interval_s,
                  double max_duration_s);
   void run() noexcept;                 // until the last pass ends or max_duration_s
+  // Off: the machine's stock model cuts its own grid rather than taking the plant's cut (the
+  // same numbers, at twice the grid work; a test compares). Set before configure().
+  void share_cut(bool on) noexcept { share_cut_ = on; }
   [[nodiscard]] bool step() noexcept;  // false when finished
 
   // Streamed (no columns): attach sinks between configure() and run().
   [[nodiscard]] const sim::Recorder& recorder() const noexcept { return rec_; }
   void attach(sim::RowSink* sink) { rec_.attach(sink); }
   [[nodiscard]] const RigConfig& config() const noexcept { return cfg_; }
+  // The cutting process's input and output of the last step (BM_HandLoopE replays the path).
+  [[nodiscard]] const cutting::LathePlant::Input& cut_input() const noexcept { return pin_; }
+  [[nodiscard]] const cutting::LathePlant::Output& cut_output() const noexcept { return pout_; }
   [[nodiscard]] bool finished() const noexcept { return pass_ >= cfg_.stock.passes.size(); }
   [[nodiscard]] double cycle_time_s() const noexcept { return t_; }
   [[nodiscard]] double time_in_cut_s() const noexcept { return t_cut_; }
@@ -124,6 +130,7 @@ class Rig {
   }
 
   RigConfig cfg_{};
+  bool share_cut_ = true;
   double dt_ = 5e-4;
   double t_ = 0.0;
   double max_t_ = 0.0;
@@ -151,6 +158,7 @@ class Rig {
   cutting::CuttingModel cut_;  // tool life and the worst-case feed
   cutting::Stock stock_;       // the passes' geometry (the worst case; where a pass starts)
   cutting::LathePlant plant_;  // the cutting process and sensor 4's dynamometer
+  cutting::LathePlant::Input pin_{};
   cutting::LathePlant::Output pout_{};
   drives::FeedAxis axis_;
   drives::SpindleDrive spindle_;

@@ -1,0 +1,51 @@
+// bench/hand_loop_e.hpp, rig E's cutting process written out by hand for BM_HandLoopE, gives the
+// rig's plant's numbers bit for bit on the rig's own tool path over a whole part.
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstdint>
+#include <string>
+
+#include "../../bench/hand_loop_e.hpp"
+#include "lathectl/io/scenario.hpp"
+#include "support/library.hpp"
+#include "systems/e_adaptive/machine_params.hpp"
+#include "systems/e_adaptive/rig.hpp"
+#include "systems/e_adaptive/settings.hpp"
+
+using namespace lathectl::systems;
+
+namespace {
+bool same(double a, double b) {
+  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
+}  // namespace
+
+TEST(HandLoopE, TheRigsPlantBitForBitOverAPart) {
+  const auto sc = lathectl::io::load_scenario(
+      std::string(LATHECTL_SOURCE_DIR "/examples/scenarios/e_stepped_seed004.toml"),
+      lathectl::test::library(), e_adaptive::kReadSection);
+  const auto& cfg = sc.get<e_adaptive::Settings>().rig;
+  e_adaptive::Rig rig;
+  rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
+  auto process = e_adaptive::lathe_process(cfg);
+  process.faults.clear();
+  lathectl::bench::HandCutE hand;
+  hand.configure(process);
+  lathectl::bench::HandCutE::Out h;
+  std::size_t steps = 0, in_cut = 0;
+  while (rig.step()) {
+    const auto& in = rig.cut_input();
+    const auto& p = rig.cut_output();
+    hand.step(in.x_mm, in.z_mm, in.rpm, sc.run.step_s, h);
+    ASSERT_TRUE(same(h.Pz, p.Pz_N) && same(h.Py, p.Py_N) && same(h.depth, p.depth_mm) &&
+                same(h.feed, p.feed_per_rev_mm) && same(h.removed_mm3, p.removed_mm3) &&
+                same(h.force_measured, p.force_measured))
+        << "step " << steps << ": Pz " << h.Pz << " vs " << p.Pz_N;
+    ++steps;
+    in_cut += p.in_contact ? 1 : 0;
+  }
+  EXPECT_TRUE(rig.finished());
+  EXPECT_GT(in_cut, steps / 2);  // mostly cutting: the comparison covers the cut
+}
