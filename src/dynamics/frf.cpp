@@ -48,6 +48,70 @@ std::complex<double> modal_frf(const std::vector<Mode>& modes, double f_Hz) noex
   return h;
 }
 
+namespace {
+
+// The window's sums for the least squares Σ c_p·x^p, x = (f − f_i)/hw, about an anchor a near
+// f_i: Σ u^k, Σ u^k·Re y, Σ u^k·Im y with u = (f − a)/hw, kept as the window slides (a sample
+// added on the right, one dropped on the left: O(1) per step) and moved to x by the binomial
+// shift x = u − d, d = (f_i − a)/hw. The anchor moves to f_i, and the sums are taken afresh,
+// once |d| passes ½ (every quarter window or so: O(n) in all), so that |u| ≤ 1.5 and the shift
+// and the running sums lose no more than a few bits.
+struct WindowMoments {
+  static constexpr int kMax = 13;  // 2·6 + 1
+  double anchor = 0.0;
+  std::size_t lo = 0, hi = 0;      // the window summed, [lo, hi)
+  bool valid = false;
+  double m[kMax] = {}, re[kMax] = {}, im[kMax] = {};
+
+  void add(const Frf& in, std::size_t j, double hw, int terms, double sign) {
+    const double u = (in.frequency_Hz[j] - anchor) / hw;
+    const auto y = in.receptance_m_per_N[j];
+    double up = sign;
+    for (int k = 0; k < 2 * terms - 1; ++k, up *= u) {
+      m[k] += up;
+      if (k < terms) {
+        re[k] += up * y.real();
+        im[k] += up * y.imag();
+      }
+    }
+  }
+  void move_to(const Frf& in, std::size_t i, std::size_t l, std::size_t h, double hw, int terms) {
+    if (!valid || std::abs(in.frequency_Hz[i] - anchor) > 0.5 * hw || l >= hi) {
+      *this = WindowMoments{};
+      anchor = in.frequency_Hz[i];
+      lo = hi = l;
+      valid = true;
+    }
+    for (; hi < h; ++hi) add(in, hi, hw, terms, 1.0);
+    for (; lo < l; ++lo) add(in, lo, hw, terms, -1.0);
+  }
+};
+
+// The normal equations at f_i from the moments: Σ x^k = Σ_m C(k,m)·(−d)^(k−m)·Σ u^m.
+void shifted_normal_equations(const WindowMoments& w, double d, int terms, Eigen::MatrixXd& A,
+                              Eigen::VectorXd& br, Eigen::VectorXd& bi) {
+  double binom[WindowMoments::kMax][WindowMoments::kMax] = {};
+  double nd[WindowMoments::kMax];  // (−d)^k
+  nd[0] = 1.0;
+  for (int k = 1; k < WindowMoments::kMax; ++k) nd[k] = nd[k - 1] * -d;
+  double sx[WindowMoments::kMax] = {};
+  for (int k = 0; k < 2 * terms - 1; ++k) {
+    binom[k][0] = binom[k][k] = 1.0;
+    for (int j = 1; j < k; ++j) binom[k][j] = binom[k - 1][j - 1] + binom[k - 1][j];
+    for (int j = 0; j <= k; ++j) sx[k] += binom[k][j] * nd[k - j] * w.m[j];
+  }
+  for (int p = 0; p < terms; ++p) {
+    br(p) = bi(p) = 0.0;
+    for (int j = 0; j <= p; ++j) {
+      br(p) += binom[p][j] * nd[p - j] * w.re[j];
+      bi(p) += binom[p][j] * nd[p - j] * w.im[j];
+    }
+    for (int q = 0; q < terms; ++q) A(p, q) = sx[p + q];
+  }
+}
+
+}  // namespace
+
 Frf smooth_frf(const Frf& in, double hw, int order) {
   check_frf(in);
   if (!(hw > 0.0)) return in;
@@ -59,21 +123,28 @@ Frf smooth_frf(const Frf& in, double hw, int order) {
   std::size_t lo = 0, hi = 0;  // window [lo, hi)
   Eigen::MatrixXd A(terms, terms);
   Eigen::VectorXd br(terms), bi(terms), phi(terms);
+  WindowMoments moments;
   for (std::size_t i = 0; i < n; ++i) {
     while (f[lo] < f[i] - hw) ++lo;
     while (hi < n && f[hi] <= f[i] + hw) ++hi;
     if (hi - lo <= static_cast<std::size_t>(order + 1)) continue;  // the polynomial would be the data
-    // Least squares Σ c_p·x^p, x = (f − f_i)/hw; the value at f_i is c_0.
-    A.setZero();
-    br.setZero();
-    bi.setZero();
-    for (std::size_t j = lo; j < hi; ++j) {
-      const double x = (f[j] - f[i]) / hw;
-      double xp = 1.0;
-      for (Eigen::Index p = 0; p < terms; ++p, xp *= x) phi(p) = xp;
-      A.noalias() += phi * phi.transpose();
-      br += phi * in.receptance_m_per_N[j].real();
-      bi += phi * in.receptance_m_per_N[j].imag();
+    if (hi - lo > kSmoothingDirectSamples) {
+      moments.move_to(in, i, lo, hi, hw, static_cast<int>(terms));
+      shifted_normal_equations(moments, (f[i] - moments.anchor) / hw, static_cast<int>(terms), A,
+                               br, bi);
+    } else {
+      // Least squares Σ c_p·x^p, x = (f − f_i)/hw, summed sample by sample; the value is c_0.
+      A.setZero();
+      br.setZero();
+      bi.setZero();
+      for (std::size_t j = lo; j < hi; ++j) {
+        const double x = (f[j] - f[i]) / hw;
+        double xp = 1.0;
+        for (Eigen::Index p = 0; p < terms; ++p, xp *= x) phi(p) = xp;
+        A.noalias() += phi * phi.transpose();
+        br += phi * in.receptance_m_per_N[j].real();
+        bi += phi * in.receptance_m_per_N[j].imag();
+      }
     }
     const auto ldlt = A.ldlt();
     out.receptance_m_per_N[i] = {ldlt.solve(br)(0), ldlt.solve(bi)(0)};

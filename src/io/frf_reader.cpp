@@ -8,13 +8,12 @@
 #include <complex>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <numbers>
 #include <optional>
-#include <sstream>
 #include <vector>
 
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/input_file.hpp"
 
 namespace lathectl::io {
 
@@ -86,6 +85,18 @@ const char* kCsvUnits =
     "m_per_N, mm_per_N, um_per_N (receptance), m_per_s_per_N, mm_per_s_per_N (mobility), "
     "m_per_s2_per_N, mm_per_s2_per_N, g_per_N (accelerance)";
 
+// A spectrum's first row at 0 Hz (an analyser's DC bin) is skipped with a note: the conversions
+// from mobility and accelerance divide by ω, and the lobes need no static point.
+bool skip_zero(const std::string& file, int line, const dynamics::Frf& frf, double f,
+               std::vector<std::string>* notes) {
+  if (f != 0.0 || !frf.frequency_Hz.empty()) return false;
+  if (notes)
+    notes->push_back(located(file, line, 0,
+                             "the 0 Hz row skipped (mobility and accelerance are converted to "
+                             "receptance by dividing by ω; the lobes read frequencies > 0)"));
+  return true;
+}
+
 void check_point(const std::string& file, int line, const dynamics::Frf& frf, double f) {
   if (!(f > 0.0))
     fail(file, line, "frequency " + std::to_string(f) + " Hz: frequencies must be > 0");
@@ -112,10 +123,16 @@ struct Lines {
   }
 };
 
+// Excel's "CSV UTF-8" starts with a byte-order mark, which would hide a comment's '#'.
+std::string_view without_bom(std::string_view text) {
+  return text.starts_with("\xEF\xBB\xBF") ? text.substr(3) : text;
+}
+
 }  // namespace
 
-dynamics::Frf parse_frf_csv(std::string_view text, const std::string& file) {
-  Lines lines{text};
+dynamics::Frf parse_frf_csv(std::string_view text, const std::string& file,
+                            std::vector<std::string>* notes) {
+  Lines lines{without_bom(text)};
   std::string_view line;
   int header_line = 0;
   std::vector<std::string> names;
@@ -184,6 +201,7 @@ dynamics::Frf parse_frf_csv(std::string_view text, const std::string& file) {
                  "' is not a finite number");
       v[k] = *x;
     }
+    if (skip_zero(file, lines.number, frf, v[0], notes)) continue;
     check_point(file, lines.number, frf, v[0]);
     frf.frequency_Hz.push_back(v[0]);
     frf.receptance_m_per_N.push_back(receptance({v[1], v[2]}, *unit, v[0]));
@@ -370,7 +388,9 @@ std::vector<double> binary_values(std::string_view bytes, Lines& lines, const Bi
     v.push_back(x);
   }
   lines.pos += want * width;
-  // The rest of the data's last line, then the closing "-1".
+  // The rest of the data's last line (LF or, as measurement systems write 58b, CRLF), then the
+  // closing "-1".
+  if (lines.pos < bytes.size() && bytes[lines.pos] == '\r') ++lines.pos;
   if (lines.pos < bytes.size() && bytes[lines.pos] == '\n') ++lines.pos;
   lines.number = data_line;
   return v;
@@ -412,7 +432,7 @@ std::vector<double> text_values(Lines& lines, const Uff58& u, const std::string&
 
 // A dataset 58 (58b when binary) after its id line: the FRF as receptance.
 dynamics::Frf uff58(std::string_view bytes, Lines& lines, std::string_view id_line, bool binary,
-                    long units_code, const std::string& file) {
+                    long units_code, const std::string& file, std::vector<std::string>* notes) {
   const int kind_line = lines.number;
   // Record 6..11 follow five ID lines.
   const BinaryHeader h = binary ? binary_header(id_line, file, kind_line) : BinaryHeader{};
@@ -429,6 +449,7 @@ dynamics::Frf uff58(std::string_view bytes, Lines& lines, std::string_view id_li
     const double f = u.even == 1 ? u.x0 + u.dx * static_cast<double>(k) : v[k * 3];
     const std::complex<double> y = u.even == 1 ? std::complex<double>(v[2 * k], v[2 * k + 1])
                                                : std::complex<double>(v[3 * k + 1], v[3 * k + 2]);
+    if (skip_zero(file, data_line, frf, f, notes)) continue;
     check_point(file, data_line, frf, f);
     frf.frequency_Hz.push_back(f);
     frf.receptance_m_per_N.push_back(receptance(y, u.unit, f));
@@ -438,7 +459,8 @@ dynamics::Frf uff58(std::string_view bytes, Lines& lines, std::string_view id_li
 
 }  // namespace
 
-dynamics::Frf parse_frf_uff(std::string_view bytes, const std::string& file) {
+dynamics::Frf parse_frf_uff(std::string_view bytes, const std::string& file,
+                            std::vector<std::string>* notes) {
   Lines lines{bytes};
   std::string_view line;
   long units_code = 0;  // from a dataset 164
@@ -454,7 +476,7 @@ dynamics::Frf parse_frf_uff(std::string_view bytes, const std::string& file) {
     if (id == "164" && lines.next(line)) {
       units_code = field_int(line, 0, 10, file, lines.number, "dataset 164: units code");
     } else if (id == "58" || binary) {
-      return uff58(bytes, lines, line, binary, units_code, file);
+      return uff58(bytes, lines, line, binary, units_code, file, notes);
     }
     // Any other dataset: skip to its closing "-1".
     while (lines.next(line) && trim(line) != "-1") {
@@ -463,18 +485,16 @@ dynamics::Frf parse_frf_uff(std::string_view bytes, const std::string& file) {
   fail(file, lines.number, "no dataset 58 (function at nodal DOF) in the file");
 }
 
-dynamics::Frf parse_frf(std::string_view bytes, const std::string& file) {
+dynamics::Frf parse_frf(std::string_view bytes, const std::string& file,
+                        std::vector<std::string>* notes) {
   const auto t = trim(bytes.substr(0, std::min<std::size_t>(bytes.size(), 200)));
-  if (t.substr(0, 2) == "-1") return parse_frf_uff(bytes, file);
-  return parse_frf_csv(bytes, file);
+  if (t.substr(0, 2) == "-1") return parse_frf_uff(bytes, file, notes);
+  return parse_frf_csv(bytes, file, notes);
 }
 
-dynamics::Frf read_frf_file(const std::filesystem::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw InputError(located(path.string(), 0, 0, "cannot open the FRF file"));
-  std::ostringstream ss;
-  ss << f.rdbuf();
-  return parse_frf(ss.str(), path.string());
+dynamics::Frf read_frf_file(const std::filesystem::path& path, std::vector<std::string>* notes) {
+  return parse_frf(read_input_file(path, "an FRF file (CSV or UFF 58)", kMaxFrfBytes),
+                   path.string(), notes);
 }
 
 }  // namespace lathectl::io

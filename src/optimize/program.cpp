@@ -30,6 +30,7 @@
 #include "optimize/optimize.hpp"
 #include "optimize/path.hpp"
 #include "optimize/text.hpp"
+#include "optimize/tools.hpp"
 
 namespace lathectl::optimize {
 namespace {
@@ -273,6 +274,17 @@ std::string read_text(const std::filesystem::path& p) {
 }
 
 namespace {
+// LinuxCNC's tool table, read whole on the checked path; one without a tool is refused too.
+std::string read_tool_table_file(const fs::path& tbl) {
+  std::string text =
+      io::read_input_file(tbl, "a LinuxCNC tool table (--tool-table)", io::kMaxTomlBytes);
+  if (read_tool_table(text, tbl.string()).empty())
+    throw io::InputError(tbl.string() + ": " + (text.empty() ? "empty" : "no tool in it") +
+                         ", expected a LinuxCNC tool table (--tool-table): T, P, D, ... words "
+                         "per tool");
+  return text;
+}
+
 // Whether the INI's [TRAJ]LINEAR_UNITS says millimetres (LinuxCNC: mm, metric, millimeter(s)).
 bool metric_machine(const std::string& ini) {
   std::istringstream in(ini);
@@ -332,23 +344,28 @@ std::string tool_table_in_inches(const std::string& text) {
 
 io::CanonProgram interpret(const std::vector<std::string>& lines, const std::string& label,
                            const Options& opt) {
+  const fs::path ini = opt.ini;
+  fs::path tbl =
+      opt.tool_table.empty() ? ini.parent_path() / "lathectl-lathe.tbl" : fs::path(opt.tool_table);
+  // The tool table on the checked path, before the temporary directory exists: a FIFO, a device,
+  // a directory, a missing or an empty file is one line naming it and --tool-table (LinuxCNC
+  // would say "Requested tool 1 not found", or wait for ever on a FIFO). rs274 reads the copy.
+  std::string table;
+  if (!opt.ini.empty()) table = read_tool_table_file(tbl);
   TempDir tmp;
   {
     std::ofstream f(tmp.path / "program.ngc");
     for (const auto& l : marked_lines(lines, opt.spindle_rpm)) f << l << '\n';
     std::ofstream v(tmp.path / "program.var");
   }
-  const fs::path ini = opt.ini;
-  fs::path tbl =
-      opt.tool_table.empty() ? ini.parent_path() / "lathectl-lathe.tbl" : fs::path(opt.tool_table);
   // LinuxCNC 2.9's standalone interpreter takes the tool table's lengths in inches, whatever the
   // INI's [TRAJ]LINEAR_UNITS (its canon's length unit; milltask converts, rs274 does not): the
   // simulated lathe's T1 D0.8 became a nose of 10.16 mm radius under G41/G42 (a 7 mm entry move
   // "not greater than the tool radius", a gouge at every concave corner), and a Z1 offset
   // 25.4 mm. On a millimetre machine it reads a copy with those lengths in inches.
-  if (!opt.ini.empty() && fs::exists(tbl) && metric_machine(read_text(ini))) {
+  if (!opt.ini.empty()) {
     std::ofstream t(tmp.path / "tools.tbl");
-    t << tool_table_in_inches(read_text(tbl));
+    t << (metric_machine(read_text(ini)) ? tool_table_in_inches(table) : table);
     tbl = tmp.path / "tools.tbl";
   }
   // HOME: LinuxCNC 2.9's standalone interpreter creates its tool table as a shared map at
@@ -368,6 +385,13 @@ io::CanonProgram interpret(const std::vector<std::string>& lines, const std::str
   if (rc != 0 && !fs::exists(tmp.path / "canon.txt"))
     throw io::InputError(label + ": cannot run LinuxCNC's interpreter '" + opt.rs274 +
                          "' (linuxcnc-uspace; --rs274 PATH)");
+  // rs274 writes its canonical commands even for an empty program (its units, offsets, ...):
+  // nothing written is a program that is not rs274 (--rs274 /bin/true), not a program without
+  // feed moves.
+  if (bytes_of(tmp.path / "canon.txt") == 0)
+    throw io::InputError("--rs274 '" + opt.rs274 + "' exited with status " + std::to_string(rc) +
+                         " without writing the canonical commands LinuxCNC's interpreter "
+                         "writes: it is not LinuxCNC's rs274 (linuxcnc-uspace)");
   if (rc != 0) throw io::InputError(interpreter_error(err, label));
   return io::parse_canon(read_text(tmp.path / "canon.txt"), label, opt.start_x_mm, opt.start_z_mm);
 }

@@ -152,4 +152,16 @@ expect_bad tool_table_disagrees "$up/user_part.ngc" "$up/user_part_c45.toml" \
 printf 'T1 P1 D0.8 Q1\nT2 P2 D0.4 K3\n' >"$work/bad.tbl"
 expect_bad tool_table_word "$up/user_part.ngc" "$up/user_part_c45.toml" \
   "bad.tbl:2: tool table word 'K3'" --tool-file "$up/user_part_tools.toml" --tool-table "$work/bad.tbl"
+# The tool table on the checked path (issue 49): a FIFO (it blocked for ever), /dev/zero, a
+# directory, a missing or an empty file is one line naming --tool-table and the file, no output,
+# no temporary directory left; --rs274 that is not rs274 is named, not "no feed moves".
+cr="$src/examples/linuxcnc/cautious_roughing.ngc"
+mkfifo "$work/fifo.tbl"; mkdir -p "$work/dir.tbl" "$work/tmp_tbl"; : >"$work/empty.tbl"
+for t in fifo:"$work/fifo.tbl" zero:/dev/zero dir:"$work/dir.tbl" missing:"$work/none.tbl" \
+         empty:"$work/empty.tbl"; do
+  TMPDIR="$work/tmp_tbl" expect_bad "tbl_${t%%:*}" "$cr" "$sa" "${t#*:}: .*(--tool-table)" \
+    --tool-table "${t#*:}"
+done
+[ -z "$(ls -A "$work/tmp_tbl")" ] || { echo "FAIL a bad tool table left $(ls "$work/tmp_tbl")"; fail=1; }
+expect_bad rs274_true "$cr" "$sa" "^error: --rs274 '/bin/true' exited with status 0 without" --rs274 /bin/true
 exit $fail

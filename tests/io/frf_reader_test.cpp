@@ -252,3 +252,57 @@ TEST(FrfUff58, LocatedErrors) {
   few += "  1.000000000000E-08  1.000000000000E-08\n    -1\n";
   EXPECT_NE(msg(few).find("closes after 1 of its 3 points"), std::string::npos);
 }
+
+// Valid exports a reader once refused (issue 49): Excel's "CSV UTF-8" (a byte-order mark before
+// the comment's '#'), and a mobility spectrum from 0 Hz (the DC row skipped with a note naming
+// the file and line: V/(jω) has no value there).
+TEST(FrfCsv, ByteOrderMarkAndZeroHertzRow) {
+  std::string text = "\xEF\xBB\xBF# exported\nfrequency_Hz,real_m_per_s_per_N,imag_m_per_s_per_N\n";
+  text += "0,0,0\n";
+  char b[160];
+  for (const double f : {390.0, 400.0, 410.0}) {
+    const auto v = std::complex<double>(0.0, 2.0 * kPi * f) * h_of(f);
+    std::snprintf(b, sizeof b, "%.17g,%.17g,%.17g\n", f, v.real(), v.imag());
+    text += b;
+  }
+  std::vector<std::string> notes;
+  const auto frf = io::parse_frf(text, "tap.csv", &notes);
+  ASSERT_EQ(frf.frequency_Hz.size(), 3u);
+  EXPECT_EQ(frf.frequency_Hz[0], 390.0);
+  EXPECT_NEAR(std::abs(frf.receptance_m_per_N[1] / h_of(400.0) - 1.0), 0.0, 1e-12);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("tap.csv:3: the 0 Hz row skipped"), std::string::npos) << notes[0];
+  // Any other frequency ≤ 0 is still refused.
+  EXPECT_NE(message("frequency_Hz,real_m_per_N,imag_m_per_N\n-1,1,1\n5,1,1\n").find("> 0"),
+            std::string::npos);
+}
+
+// A 58b whose records end in CRLF, as measurement systems export it (the binary block then ends
+// in "\r\n" before the closing "-1"), evenly spaced from 0 Hz: the 0 Hz point skipped.
+TEST(FrfUff58, BinaryWithCrlfRecordsFromZeroHertz) {
+  const int n = 5;
+  std::string ascii = uff58_header(6, n, 1, 0.0, 100.0, "m");
+  char b[100];
+  std::snprintf(b, sizeof b, "%6d%c%6d%6d%12d%12d%6d%6d%12d%12d\n", 58, 'b', 1, 2, 11, n * 16, 0,
+                0, 0, 0);
+  ascii.replace(ascii.find("    58\n"), 7, b);
+  std::string crlf;
+  for (const char c : ascii) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  std::string data;
+  for (int k = 0; k < n; ++k) {
+    const auto h = k == 0 ? std::complex<double>(1e-7, 0.0) : h_of(100.0 * k);
+    for (double x : {h.real(), h.imag()}) {
+      unsigned char c[8];
+      std::memcpy(c, &x, 8);
+      if (std::endian::native != std::endian::little) std::reverse(c, c + 8);
+      data.append(reinterpret_cast<const char*>(c), 8);
+    }
+  }
+  std::vector<std::string> notes;
+  const auto frf = io::parse_frf(crlf + data + "\r\n    -1\r\n", "tap.uff", &notes);
+  ASSERT_EQ(frf.frequency_Hz.size(), 4u);
+  for (int k = 1; k < n; ++k)
+    EXPECT_EQ(frf.receptance_m_per_N[static_cast<std::size_t>(k - 1)], h_of(100.0 * k));
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("the 0 Hz row skipped"), std::string::npos) << notes[0];
+}

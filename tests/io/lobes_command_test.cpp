@@ -2,7 +2,12 @@
 // [part] between centres with or without tool modes, and located errors.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <cstdio>
 #include <numbers>
 #include <string>
@@ -250,6 +255,36 @@ TEST(LobesFrf, MissingFileNamesTheMachineFileAndTheFrfFile) {
     EXPECT_NE(m.find("key 'frf[0].file'"), std::string::npos) << m;
     EXPECT_NE(m.find("/tmp/nowhere/tap.csv"), std::string::npos) << m;
   }
+}
+
+// Every class a hostile [[frf]] file took off the checked path (issue 49: a FIFO blocked for
+// ever, /dev/zero ate 2 GB) is one line naming the machine file, the key and the FRF file.
+TEST(LobesFrf, UnreadableFilesAreRefusedBeforeAByteIsRead) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("lathectl-frf-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir / "dir.csv");
+  const auto fifo = dir / "fifo.csv";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  { std::ofstream(dir / "empty.csv"); }
+  const std::pair<std::string, std::string> cases[] = {
+      {(dir / "fifo.csv").string(), "FIFO"}, {"/dev/zero", "character device"},
+      {(dir / "dir.csv").string(), "directory"}, {(dir / "none.csv").string(), "no such file"},
+      {(dir / "empty.csv").string(), "empty"}};
+  for (const auto& [file, why] : cases) {
+    std::string m = "no error";
+    try {
+      (void)systems::b_chatter::parse_lobes_input(kHead + "[[frf]]\nfile = \"" + file + "\"\n",
+                                                  (dir / "m.toml").string());
+    } catch (const io::InputError& e) {
+      m = e.what();
+    }
+    EXPECT_NE(m.find("m.toml:"), std::string::npos) << m;
+    EXPECT_NE(m.find("key 'frf[0].file'"), std::string::npos) << m;
+    EXPECT_NE(m.find(file), std::string::npos) << m;
+    EXPECT_NE(m.find(why), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  }
+  std::filesystem::remove_all(dir);
 }
 
 // The recommendation keeps what it states: the depth is the pocket's top over the safety factor

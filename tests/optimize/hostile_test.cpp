@@ -367,5 +367,29 @@ TEST(Tools, LinuxCncToolTableFillsTheNoseAndMustAgree) {
   EXPECT_EQ(table_error("\n; only comments\nT5 P5 D1.2 ; a comment with K words\n"), "no error");
 }
 
+// The duplicate checks are linear (issue 49: 10⁵ tools took minutes, each against all before
+// it): a 10⁵-tool table and a 2·10⁴-tool file, the repeated tool last, named with its first line.
+TEST(OptimizeHostile, DuplicateToolsFoundInLinearTime) {
+  std::string table, file;
+  for (int t = 1; t <= 100000; ++t) table += "T" + std::to_string(t) + " P1 D0.8\n";
+  table += "T7 P1 D0.4\n";
+  try {
+    (void)read_tool_table(table, "t.tbl");
+    ADD_FAILURE() << "no error";
+  } catch (const io::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("t.tbl:100001: tool 7 again (first on line 7)"),
+              std::string::npos) << e.what();
+  }
+  for (int t = 0; t < 20000; ++t)
+    file += "[[tool]]\nnumber = " + std::to_string(t) + "\nkind = \"turning\"\n";
+  file += "[[tool]]\nnumber = 19999\nkind = \"turning\"\n";
+  try {
+    (void)read_tool_file(file, "tools.toml");
+    ADD_FAILURE() << "no error";
+  } catch (const io::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("tool 19999 twice"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace lathectl::optimize

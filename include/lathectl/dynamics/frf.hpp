@@ -40,6 +40,10 @@ std::complex<double> modal_frf(const std::vector<Mode>& modes, double f_Hz) noex
 // Local polynomial regression (degree `order`) of the real and imaginary parts over
 // ±half_window_Hz around each sample (Savitzky–Golay on a possibly uneven grid): noise averaged
 // over the window, a peak much wider than the window kept. half_window_Hz ≤ 0: unchanged.
+// Windows of up to kSmoothingDirectSamples samples are summed sample by sample (the numbers
+// every example's lobes were computed with); wider ones from sums kept as the window slides, in
+// O(n) instead of O(n·window) (a 40 001-row FRF took 51 s), equal to rounding.
+inline constexpr std::size_t kSmoothingDirectSamples = 512;
 Frf smooth_frf(const Frf& frf, double half_window_Hz, int order = 2);
 
 struct FrfFit {

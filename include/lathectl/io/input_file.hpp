@@ -15,6 +15,7 @@ namespace lathectl::io {
 inline constexpr std::uintmax_t kMaxTomlBytes = 16u << 20;       // scenario, machine, materials, tools
 inline constexpr std::uintmax_t kMaxJsonBytes = 256u << 20;      // operation log, summary.json
 inline constexpr std::uintmax_t kMaxProgramBytes = 64u << 20;    // an NC program
+inline constexpr std::uintmax_t kMaxFrfBytes = 512u << 20;       // a measured FRF (CSV, UFF 58)
 inline constexpr std::uintmax_t kMaxCsvBytes = 8ull << 30;       // channels.csv (read as a stream)
 
 // Throws InputError "PATH: ..." unless `path` names a regular file of at most `max_bytes`.

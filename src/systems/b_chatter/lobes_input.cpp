@@ -124,7 +124,7 @@ void read_frfs(TableReader& root, LobesInput& in, const std::filesystem::path& b
     f.file = file;
     f.path = (p.is_absolute() ? p : base / p).lexically_normal().string();
     try {
-      f.frf = io::read_frf_file(f.path);
+      f.frf = io::read_frf_file(f.path, &f.notes);
     } catch (const io::InputError& e) {
       t.fail("file", e.what());
     }

@@ -70,6 +70,7 @@ struct LobesFrf {
   double weight = 1.0;    // its share of the oriented FRF: cos²α, sin²α or cosα·sinα (×2 for
                           // a cross term whose reciprocal is not given)
   dynamics::Frf frf;      // receptance as read [m/N]
+  std::vector<std::string> notes;  // what the reader skipped (a 0 Hz row): lobes.json's warnings
 };
 
 // The measured side of the machine: the oriented sum of the [[frf]]s, as measured, fitted with

@@ -519,6 +519,8 @@ json lobes_json(const LobesInput& in, const LobesRun& r) {
     j["closed_form_sdof"] = closed_form_sdof(in);
   const int inside = lobes_list(in, fd, j);
   j["warnings"] = envelope_warnings(in, fd, inside, j);
+  for (const auto& f : in.frfs)
+    for (const auto& n : f.notes) j["warnings"].push_back(n);
   j["recommendation"] = recommendation_json(in, r.pockets);
   sd_json(in, r, j);
   if (in.part) j["part"] = part_json(in, r.along);
