@@ -46,9 +46,8 @@ void PlotPyramid::merge(Bucket& o, const Bucket& b) noexcept {
   o.count += 1;
 }
 
-void PlotPyramid::push(double x, double y) {
-  if (finished_) throw std::logic_error("PlotPyramid::push after finish");
-  if (!std::isfinite(x)) return;
+// x's bookkeeping for the next sample (before samples_ counts it).
+inline void PlotPyramid::track_x(double x) noexcept {
   if (samples_ == 0) {
     x0_ = x;
   } else {
@@ -58,7 +57,10 @@ void PlotPyramid::push(double x, double y) {
     if (uniform_ && (!(dx_ > 0.0) || std::abs(x - expected) > 1e-3 * dx_)) uniform_ = false;
   }
   last_x_ = x;
-  const float off = static_cast<float>(x - x0_);
+}
+
+// The sample's value at offset `off` (x placed by track_x) into level 0 and level 1's bucket.
+inline void PlotPyramid::push_value(double y, float off) {
   const float v = std::isfinite(y) ? static_cast<float>(std::clamp(y, -3.0e38, 3.0e38))
                                    : std::numeric_limits<float>::quiet_NaN();  // a gap
   if (!dropped_[0]) {
@@ -71,7 +73,8 @@ void PlotPyramid::push(double x, double y) {
     }
   }
   ++samples_;
-  if (levels_.size() < 2) add_level();
+  if (levels_.size() < 2) [[unlikely]]
+    add_level();
   // The sample as a bucket of one, into level 1 (a gap takes no extreme).
   Bucket& o = open_[1];
   if (o.count == 0) o.x_lo = o.x_hi = off;
@@ -86,6 +89,36 @@ void PlotPyramid::push(double x, double y) {
     o.x_hi = off;
   }
   if (++o.count == opt_.branching) close(1);
+}
+
+void PlotPyramid::push(double x, double y) {
+  if (finished_) throw std::logic_error("PlotPyramid::push after finish");
+  if (!std::isfinite(x)) return;
+  track_x(x);
+  push_value(y, static_cast<float>(x - x0_));
+}
+
+void PlotPyramid::push_row(std::span<PlotPyramid> series, double x, std::span<const double> y) {
+  const std::size_t n = std::min(series.size(), y.size());
+  if (n == 0) return;
+  PlotPyramid& lead = series[0];
+  const std::size_t before = lead.samples_;
+  lead.push(x, y[0]);
+  if (lead.samples_ == before) return;  // x not finite: skipped by all
+  const float off = static_cast<float>(x - lead.x0_);
+  for (std::size_t i = 1; i < n; ++i) {
+    PlotPyramid& p = series[i];
+    if (p.samples_ != before || p.finished_) [[unlikely]] {  // not fed the same x's
+      p.push(x, y[i]);
+      continue;
+    }
+    p.x0_ = lead.x0_;  // the same x's: the same bookkeeping
+    p.dx_ = lead.dx_;
+    p.last_x_ = lead.last_x_;
+    p.uniform_ = lead.uniform_;
+    p.monotonic_ = lead.monotonic_;
+    p.push_value(y[i], off);
+  }
 }
 
 // Stores `level`'s open bucket (its extremes in order, two NaN for one without a finite value)

@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <limits>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace lathectl::sim {
@@ -41,6 +42,10 @@ class PlotPyramid {
   // The next sample. A sample with a non-finite x is skipped (it cannot be placed); a non-finite
   // y is kept (level 0 shows it as a gap).
   void push(double x, double y);
+  // The next sample of several series against the same x (a streamed recorder's channels against
+  // its time): series[i].push(x, y[i]) for each i < min(sizes). Those fed the same x's as the
+  // first (as many samples) take its bookkeeping of x instead of repeating it.
+  static void push_row(std::span<PlotPyramid> series, double x, std::span<const double> y);
   // Closes the partial buckets; push() after finish() is an error (std::logic_error).
   void finish();
 
@@ -77,6 +82,8 @@ class PlotPyramid {
   static constexpr float kEmptyLo = std::numeric_limits<float>::infinity();
   static constexpr float kEmptyHi = -std::numeric_limits<float>::infinity();
   static void merge(Bucket& o, const Bucket& b) noexcept;  // b (later samples) into o
+  void track_x(double x) noexcept;
+  void push_value(double y, float off);
   void add_level();
   void close(std::size_t level, bool propagate = true);  // and the fuller ones above it
   void drop(std::size_t level);
