@@ -31,8 +31,7 @@ void Recorder::push_row(std::span<const double> values) noexcept {
   for (RowSink* s : sinks_) s->row(values);
   if (streamed_) {
     const double x = values.empty() ? 0.0 : values[0];
-    const std::size_t n = std::min(values.size(), plots_.size());
-    for (std::size_t i = 0; i < n; ++i) plots_[i].push(x, values[i]);
+    PlotPyramid::push_row(plots_, x, values);
     ++rows_;
     return;
   }

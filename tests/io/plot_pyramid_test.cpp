@@ -115,6 +115,39 @@ TEST(PlotPyramid, ALevelOverItsBudgetIsDroppedAndTheCoarserOnesCarryOn) {
   EXPECT_EQ(L[0].y.size(), 2 * ((100000 + 15) / 16));
 }
 
+// push_row (a streamed recorder's row: x's bookkeeping once) gives each series what pushing it
+// alone gives, bit for bit: uneven x, a non-finite x, gaps, ties, a short row.
+TEST(PlotPyramid, ARowOfSeriesEqualsEachSeriesPushedAlone) {
+  std::vector<PlotPyramid> alone(3), row(3);
+  for (std::size_t r = 0; r < 5000; ++r) {
+    const double t = 1e-3 * static_cast<double>(r) + (r > 3000 ? 1e-4 : 0.0);
+    const double x = r == 700 ? std::nan("") : t;
+    const double y[3] = {x, r % 97 == 0 ? std::nan("") : std::sin(1e-2 * static_cast<double>(r)),
+                         std::floor(static_cast<double>(r % 13) / 4.0)};
+    const std::size_t n = r == 2000 ? 2 : 3;  // the third series misses a row
+    for (std::size_t i = 0; i < n; ++i) alone[i].push(x, y[i]);
+    PlotPyramid::push_row(row, x, std::span<const double>(y, n));
+  }
+  for (std::size_t i = 0; i < 3; ++i) {
+    alone[i].finish();
+    row[i].finish();
+    EXPECT_EQ(row[i].samples(), alone[i].samples());
+    EXPECT_EQ(row[i].uniform(), alone[i].uniform());
+    EXPECT_EQ(row[i].dx(), alone[i].dx());
+    EXPECT_EQ(row[i].x_last(), alone[i].x_last());
+    const auto &a = alone[i].levels(), &b = row[i].levels();
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      ASSERT_EQ(a[k].y.size(), b[k].y.size());
+      ASSERT_EQ(a[k].x, b[k].x);
+      for (std::size_t j = 0; j < a[k].y.size(); ++j)  // NaN (a gap) where the other has NaN
+        ASSERT_TRUE(a[k].y[j] == b[k].y[j] || (std::isnan(a[k].y[j]) && std::isnan(b[k].y[j])));
+    }
+  }
+  EXPECT_FALSE(row[0].uniform());  // the step at row 3000
+  EXPECT_EQ(row[2].samples(), row[0].samples() - 1);
+}
+
 TEST(PlotPyramid, Base64IsRfc4648) {
   // RFC 4648 §10 test vectors.
   EXPECT_EQ(base64("", 0), "");

@@ -13,7 +13,9 @@
 // (what the page decodes), x as an offset from the first sample when the spacing is not uniform.
 
 #include <cstddef>
+#include <limits>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace lathectl::sim {
@@ -40,6 +42,10 @@ class PlotPyramid {
   // The next sample. A sample with a non-finite x is skipped (it cannot be placed); a non-finite
   // y is kept (level 0 shows it as a gap).
   void push(double x, double y);
+  // The next sample of several series against the same x (a streamed recorder's channels against
+  // its time): series[i].push(x, y[i]) for each i < min(sizes). Those fed the same x's as the
+  // first (as many samples) take its bookkeeping of x instead of repeating it.
+  static void push_row(std::span<PlotPyramid> series, double x, std::span<const double> y);
   // Closes the partial buckets; push() after finish() is an error (std::logic_error).
   void finish();
 
@@ -63,21 +69,29 @@ class PlotPyramid {
               std::size_t max_points = 4096) const;
 
  private:
-  struct Bucket {  // the bucket being filled at one level
+  // The bucket being filled at one level ≥ 1. Empty (no finite value yet): lo = +inf, hi = -inf
+  // (a finite value is clamped below ±3e38 as a float, a gap is NaN: both compare false), so
+  // taking an extreme is one comparison each, with no flag. x offsets are kept as the floats
+  // stored; while the bucket has no finite value, both are its first sample's.
+  struct Bucket {
+    float lo = kEmptyLo, hi = kEmptyHi;
+    float x_lo = 0.0f, x_hi = 0.0f;
     std::size_t count = 0;
-    float lo = 0.0f, hi = 0.0f;
-    double x_lo = 0.0, x_hi = 0.0;  // offsets of the extremes
-    std::size_t i_lo = 0, i_hi = 0;  // sample index of the extremes (their order)
-    bool any = false;               // a finite value seen
+    bool lo_first = true;  // the minimum occurred no later than the maximum
   };
-  void feed(std::size_t level, const Bucket& b);  // a closed bucket of level-1 into `level`
-  void close(std::size_t level, bool propagate = true);
-  void store(std::size_t level, float v, double x_offset);
+  static constexpr float kEmptyLo = std::numeric_limits<float>::infinity();
+  static constexpr float kEmptyHi = -std::numeric_limits<float>::infinity();
+  static void merge(Bucket& o, const Bucket& b) noexcept;  // b (later samples) into o
+  void track_x(double x) noexcept;
+  void push_value(double y, float off);
+  void add_level();
+  void close(std::size_t level, bool propagate = true);  // and the fuller ones above it
+  void drop(std::size_t level);
 
   Options opt_;
   std::vector<Level> levels_;
-  std::vector<Bucket> open_;      // per level ≥ 1 (index = level)
-  std::vector<bool> dropped_;
+  std::vector<Bucket> open_;            // per level ≥ 1 (index = level)
+  std::vector<unsigned char> dropped_;  // per level
   std::size_t samples_ = 0;
   double x0_ = 0.0, dx_ = 0.0, last_x_ = 0.0;
   bool uniform_ = true, monotonic_ = true, finished_ = false;
