@@ -35,6 +35,9 @@ import tomllib
 import lathectl_shopdata as shop
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+# scripts/linuxcnc-sim puts lines in front of the user's program: lines are the user's (as
+# lathectl_oplog's).
+LINE_OFFSET = int(os.environ.get("LATHECTL_SIM_LINE_OFFSET", "0"))
 
 
 def ini_value(section, key):
@@ -193,7 +196,9 @@ class Lcnc:
         if self.s is not None:
             try:
                 self.s.poll()
-                return {"program_line": int(self.s.motion_line), "tool": int(self.s.tool_in_spindle),
+                line = int(self.s.motion_line)
+                return {"program_line": max(0, line - LINE_OFFSET) if line else 0,
+                        "tool": int(self.s.tool_in_spindle),
                         "spindle_rpm": float(self.s.spindle[0]["speed"]),
                         "feed_override": float(self.s.feedrate)}
             except Exception:
@@ -217,7 +222,7 @@ class System:
             if name:
                 wanted.append(self.prefix + "." + name)
         self.part = None
-        if "part" in s and hal.component_exists(comps[s["part"]["component"]]["prefix"]):
+        if "part" in s and hal.component_exists(s["part"]["component"]):
             pp = comps[s["part"]["component"]]["prefix"]
             wanted += [pp + "." + n for n in s["part"]["pins"]]
             self.part = pp
@@ -238,17 +243,23 @@ class System:
         """Net each of our in pins to its source's signal (a new one when it has none)."""
         for src, mine in self.pins.items():
             sig = drivers.get(src)
-            if sig is None:
-                sig = "lathectl-publish-" + src.replace(".", "-")
-                if sig not in drivers.values():
-                    self.hal.new_sig(sig, {"float": self.hal.HAL_FLOAT, "bit": self.hal.HAL_BIT,
-                                           "s32": self.hal.HAL_S32, "u32": self.hal.HAL_U32}[
-                        self.kind(src)])
-                    self.hal.connect(src, sig)
+            if sig is None:  # (HAL names are at most 47 characters)
+                sig = "pub-" + src.replace("lathectl-", "", 1).replace(".", "-")
+                self.hal.new_sig(sig, {"float": self.hal.HAL_FLOAT, "bit": self.hal.HAL_BIT,
+                                       "s32": self.hal.HAL_S32, "u32": self.hal.HAL_U32}[
+                    self.kind(src)])
+                self.hal.connect(src, sig)
                 drivers[src] = sig
             self.hal.connect(name + "." + mine, sig)
+            # (the hal module prints a failed connect and goes on: check it took)
+            got = {s["NAME"]: s["DRIVER"] for s in self.hal.get_info_signals()}
+            if got.get(sig) != src:
+                raise SystemExit("lathectl_publish: could not net %s to %s" % (src, sig))
         for p in self.params:
-            self.params[p] = self.hal.get_value(p)
+            try:
+                self.params[p] = self.hal.get_value(p)
+            except RuntimeError:  # a module older than its pin table: the key is null
+                print("lathectl_publish: no parameter %s" % p, file=sys.stderr, flush=True)
         self.last = {src: self.c[mine] for src, mine in self.pins.items()}
 
     def kind(self, src):
@@ -278,7 +289,8 @@ class System:
         for key, how, name, kind, _ in self.keys:
             v = (self.c[self.pins[name]] if how == "pin" else self.params[name] if how == "param"
                  else self.hal.get_value(name))
-            obj[key] = bool(v) if kind == "bool" else int(v) if kind == "int" else float(v)
+            obj[key] = (None if v is None else bool(v) if kind == "bool" else int(v)
+                        if kind == "int" else float(v))
         return obj
 
     def events(self, now, by_code, by_bit):
@@ -323,7 +335,8 @@ class System:
         seq = self.get("op-seq")
         if seq != self.last.get("op"):
             if "op" in self.last:
-                row = lathectl_oplog.operation_row(self.get, seq, 0.0, 0, by_code, by_bit)
+                row = lathectl_oplog.operation_row(self.get, seq, 0.0, LINE_OFFSET, by_code,
+                                                   by_bit)
                 row.pop("time_s")
                 row["op_seq"] = row.pop("seq")
                 out.append(dict({"ts": now, "type": "operation"}, **row))
@@ -350,8 +363,9 @@ def shdr_values(objs, systems):
             values[key] = "UNAVAILABLE" if v is None else v
         for key, _, _, kind, _ in s.keys:
             v = obj[key]
-            values["%s_%s" % (s.letter, key)] = ("true" if v else "false") if kind == "bool" else (
-                "%.6g" % v if kind == "float" else v)
+            values["%s_%s" % (s.letter, key)] = "UNAVAILABLE" if v is None else (
+                "true" if v else "false") if kind == "bool" else ("%.6g" % v if kind == "float"
+                                                                  else v)
         code = obj["reason"]
         values["%s_reason" % s.letter] = (code, s.reasons.get(s.code_of(code), {}).get(
             "meaning", "")) if code else ("", "")
@@ -420,7 +434,7 @@ def main():
     by_code = {k: r["name"] for k, r in reasons.items()}
     by_bit = {r["bit"]: r["name"] for r in reasons.values()}
     systems = [System(s, comps, c, a.unit, reasons, tolerance_um()) for s in shop.SYSTEMS
-               if hal.component_exists(comps[shop.SYSTEMS[s]["component"]]["prefix"])]
+               if hal.component_exists(shop.SYSTEMS[s]["component"])]
     c.ready()
     drivers = {sig["DRIVER"]: sig["NAME"] for sig in hal.get_info_signals() if sig["DRIVER"]}
     for s in systems:

@@ -35,10 +35,12 @@ def clean(text):
 
 
 def value_lines(ts, values):
-    """Samples and events: one line, `ts|key|value|key|value...`."""
-    if not values:
-        return []
-    return [ts + "".join("|%s|%s" % (k, clean(v)) for k, v in values.items())]
+    """Samples and events: one line, `ts|key|value|key|value...`; a Message (a tuple value) on
+    a line of its own, `ts|key|native_code|text`."""
+    plain = {k: v for k, v in values.items() if not isinstance(v, tuple)}
+    lines = [ts + "".join("|%s|%s" % (k, clean(v)) for k, v in plain.items())] if plain else []
+    return lines + ["%s|%s|%s" % (ts, k, clean(v)) for k, v in values.items()
+                    if isinstance(v, tuple)]
 
 
 def condition_lines(ts, key, active):

@@ -51,7 +51,8 @@ SYSTEMS = {
 COMMON = [("ts", "float", "s", "unix time the pins were read"),
           ("machine", "str", "", "[LATHECTL]MACHINE, default the host name"),
           ("system", "str", "", "A, B, D or E"),
-          ("program_line", "int", "", "LinuxCNC's program line (stat().motion_line)"),
+          ("program_line", "int", "", "the program line (stat().motion_line; in linuxcnc-sim the "
+                                      "user's program's line)"),
           ("tool", "int", "", "the tool in the spindle (stat().tool_in_spindle)"),
           ("spindle_rpm", "float", "rpm", "spindle speed (stat().spindle[0]['speed'])"),
           ("feed_override", "float", "", "LinuxCNC's feed override ratio, 1.0 = 100 % "
