@@ -16,7 +16,8 @@ import threading
 import time
 
 HEARTBEAT_MS = 10000     # `* PONG 10000`: an agent expects data or a PONG within this
-MAX_CLIENTS = 16         # more are accepted and closed at once (the backlog never fills)
+MAX_CLIENTS = 16         # past it a new client replaces the oldest that never PINGed, or is
+                         # closed at once (the backlog never fills)
 MAX_LINE = 1024          # a client's line longer than this is junk: dropped up to its newline
 MAX_OUT = 256 * 1024     # a client that does not read this much is closed (it is not an agent)
 
@@ -58,6 +59,7 @@ class _Client:
         self.inbuf = b""
         self.skipping = False  # inside an over-long line: drop to its newline
         self.out = bytearray()
+        self.pinged = False  # sent a valid `* PING`: an agent, not evicted at the cap
 
 
 class ShdrServer:
@@ -78,7 +80,7 @@ class ShdrServer:
         self.snapshot = {}         # key -> the line part that sets it now (for a new client)
         self.conditions = {}       # key -> its condition lines' (level, code, text)
         self.running = True
-        self.stats = {"accepted": 0, "refused": 0, "dropped_slow": 0, "junk_lines": 0,
+        self.stats = {"accepted": 0, "refused": 0, "evicted": 0, "dropped_slow": 0, "junk_lines": 0,
                       "pings": 0}
         self.thread = threading.Thread(target=self._run, name="shdr", daemon=True)
 
@@ -159,7 +161,7 @@ class ShdrServer:
             except OSError:
                 return
             self._dispatch()  # what the others have not had yet is in the new one's snapshot
-            if len(self.clients) >= self.max_clients:
+            if len(self.clients) >= self.max_clients and not self._evict():
                 self.stats["refused"] += 1
                 sock.close()
                 continue
@@ -171,6 +173,16 @@ class ShdrServer:
             with self.lock:
                 full = self._full()
             self._send(c, full)
+
+    def _evict(self):
+        """At the cap: close the oldest client that never sent a `* PING` (an agent sends one
+        at once), so that connections held open by someone else cannot lock the agent out."""
+        for c in self.clients.values():
+            if not c.pinged:
+                self.stats["evicted"] += 1
+                self._close(c.sock)
+                return True
+        return False
 
     def _read(self, c):
         try:
@@ -196,6 +208,7 @@ class ShdrServer:
                 continue
             if line.strip() == b"* PING":
                 self.stats["pings"] += 1
+                c.pinged = True
                 self._send(c, b"* PONG %d\n" % HEARTBEAT_MS)
                 if c.sock not in self.clients:
                     return

@@ -115,10 +115,14 @@ def shdr_test():
         t.join(timeout=10)
     st = dict(srv.stats)
     bufs = max([len(c.inbuf) for c in srv.clients.values()] or [0])
-    check(ok and st["refused"] >= 900 and stats.get("opened") == 1000 and len(srv.clients) <= shdr.MAX_CLIENTS and
+    c, fc = client()  # a new agent among them gets in (a silent one is closed for it)
+    c.sendall(b"* PING\n")
+    snap = [fc.readline() for _ in range(2)]
+    ok = ok and fc.readline() == b"* PONG 10000\n" and b"|E_load_N|12" in snap[0]
+    check(ok and st["refused"] + st["evicted"] >= 900 and stats.get("opened") == 1000 and len(srv.clients) <= shdr.MAX_CLIENTS and
           bufs <= shdr.MAX_LINE + 4096,
           "SHDR: with junk, an endless line and 1000 connections (%d opened) it still answers "
-          "and streams, %d clients at most, input buffers <= %d bytes (%s)" %
+          "and streams, a new agent gets in, %d clients at most, input buffers <= %d bytes (%s)" %
           (stats.get("opened", 0), shdr.MAX_CLIENTS, bufs, st))
     srv.stop()
 
