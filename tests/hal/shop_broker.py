@@ -6,6 +6,7 @@ scripts/linuxcnc-sim --mqtt/--shdr (hal/lathectl_publish.py)."""
 import json
 import os
 import pwd
+import shutil
 import socket
 import subprocess
 import sys
@@ -27,6 +28,7 @@ class Broker:
 
     def __init__(self, work):
         self.work, self.port = work, free_port()
+        shutil.rmtree(work, ignore_errors=True)  # no retained state, no session of a previous run
         os.makedirs(os.path.join(work, "mosquitto-db"), exist_ok=True)
         self.pwfile = os.path.join(work, "passwd")
         open(self.pwfile, "w").close()
@@ -108,11 +110,9 @@ def shdr_read(port, seconds=1.5):
     """Connect, read the snapshot and stream for `seconds`, PING: (lines, pong line)."""
     s = socket.create_connection(("127.0.0.1", port), timeout=5)
     s.settimeout(0.2)
-    buf, end, pinged = b"", time.time() + seconds, False
+    s.sendall(b"* PING\n")  # as an agent does at once
+    buf, end = b"", time.time() + seconds
     while time.time() < end:
-        if not pinged and time.time() > end - seconds / 2:
-            s.sendall(b"* PING\n")
-            pinged = True
         try:
             d = s.recv(65536)
             if not d:
@@ -128,6 +128,7 @@ def shdr_read(port, seconds=1.5):
 
 def hostile(port, stop, stats):
     """Until stop is set: binary junk, an endless line, and 1000 connections held open."""
+    t0 = time.time()
     def junk():
         try:
             s = socket.create_connection(("127.0.0.1", port), timeout=2)
@@ -135,8 +136,8 @@ def hostile(port, stop, stats):
                 s.sendall(os.urandom(4096))
                 time.sleep(0.01)
             s.close()
-        except OSError as e:
-            stats["junk_error"] = str(e)
+        except OSError as e:  # (the server closes every client when the session ends)
+            stats["junk_closed_after_s"] = round(time.time() - t0, 1)
 
     def endless():
         try:
@@ -145,10 +146,11 @@ def hostile(port, stop, stats):
                 s.sendall(b"A" * 65536)
                 time.sleep(0.01)
             s.close()
-        except OSError as e:
-            stats["endless_error"] = str(e)
+        except OSError as e:  # (the server closes every client when the session ends)
+            stats["endless_closed_after_s"] = round(time.time() - t0, 1)
 
     def many():
+        time.sleep(0.3)  # junk and endless first, among the served ones
         socks = []
         stats["opened"] = 0
         for _ in range(1000):
@@ -169,13 +171,56 @@ def hostile(port, stop, stats):
     return ts
 
 
+def realtime(out, live, t_from):
+    """The controller's own time per period (signals.csv's update_ns, one row per servo period)
+    before and from t_from (wall time; the recording's start placed by the first live object in
+    the cut against the first row in the cut, within one live period), and LinuxCNC's complaints
+    of late realtime periods in its log."""
+    import csv
+    rows = [(float(r["time_s"]), float(r["update_ns"]), float(r["in_cut"]))
+            for r in csv.DictReader(open(os.path.join(out, "signals.csv")))]
+    t_live = next((o["ts"] for _, o in live if o.get("in_cut")), None)
+    t_row = next((t for t, _, c in rows if c), None)
+    if t_live is None or t_row is None:
+        return {}
+    split = t_from - (t_live - t_row)
+
+    def stats(v):
+        v = sorted(x for x in v if x > 0)
+        return {"periods": len(v), "p99_ns": v[int(0.99 * (len(v) - 1))], "max_ns": v[-1]} if v \
+            else {}
+
+    log = open(os.path.join(out, "linuxcnc.log"), errors="replace").read()
+    return {"update_ns_before": stats(u for t, u, _ in rows if t < split),
+            "update_ns_during": stats(u for t, u, _ in rows if t >= split),
+            "rtapi_late_warnings": log.count("Unexpected realtime delay")}
+
+
+def spooled(out):
+    """Events the publisher keeps for the broker now (its spool, OUT/publish-spool.sqlite)."""
+    import sqlite3
+    try:
+        db = sqlite3.connect("file:%s?mode=ro" % os.path.join(out, "publish-spool.sqlite"),
+                             uri=True, timeout=1)
+        n = db.execute("SELECT COUNT(*) FROM events").fetchone()[0]
+        db.close()
+        return n
+    except sqlite3.Error:
+        return 0
+
+
 class ShopRun:
     """One session publishing: before it, a broker and a subscriber; during it (a thread), the
     SHDR snapshot and heartbeat, the broker stopped for `away` s and restarted, commands published
     to lathectl/..., then hostile SHDR clients; after it, the checks (`report(check)`)."""
 
-    def __init__(self, work, machine, system, away=2.0, hostile_clients=True):
-        self.work, self.machine, self.system = work, machine, system
+    def __init__(self, work, machine, system, away=2.0, hostile_clients=True, unit="N",
+                 spool_dir=None):
+        """spool_dir: the session's output directory; then the broker is stopped once the first
+        event has arrived and restarted once the publisher has spooled `spooled` events (or after
+        `away` s)."""
+        self.work, self.machine, self.system, self.unit = work, machine, system, unit
+        self.spool_dir = spool_dir
         self.broker = Broker(work)
         self.sub = Subscriber(self.broker)
         self.shdr_port = free_port()
@@ -199,16 +244,23 @@ class ShopRun:
         # commands a stranger might send: the publisher subscribes to nothing
         import paho.mqtt.publish as publish
         for topic in ("lathectl/%s/%s/set" % (self.machine, self.system), "lathectl/%s/cmd" %
-                      self.machine, "lathectl/%s/%s/live" % (self.machine, self.system)):
+                      self.machine, "lathectl/%s/%s/command" % (self.machine, self.system)):
             publish.single(topic, json.dumps({"limit_N": 1.0, "feed_override": 0.0}),
                            hostname="127.0.0.1", port=self.broker.port,
                            auth={"username": "publisher", "password": "publisher-secret"})
         self.result["stranger_at"] = time.time()
         if not self.away:
             return
+        if self.spool_dir:
+            self.sub.wait_for(lambda m: m[1].endswith("/event"), 60)
         self.broker.stop()
         self.result["broker_stopped"] = time.time()
-        time.sleep(self.away)
+        end = time.time() + self.away
+        while time.time() < end and not self.stop.is_set():
+            if self.spool_dir and spooled(self.spool_dir) >= 2:
+                time.sleep(0.5)
+                break
+            time.sleep(0.1)
         self.broker.start()
         self.result["broker_started"] = time.time()
         if self.hostile_clients and not self.stop.is_set():
@@ -216,7 +268,11 @@ class ShopRun:
             self.result["hostile_from"] = time.time()
             self.result["hostile"] = {}
             hostile(self.shdr_port, self.stop, self.result["hostile"])
-            time.sleep(0.3)
+            h = self.result["hostile"]
+            for _ in range(100):  # the 1000 connections held: then an agent comes
+                if h.get("opened", 0) + h.get("connect_failed", 0) >= 1000:
+                    break
+                time.sleep(0.1)
             self.result["shdr_during"], self.result["pong_during"] = shdr_read(self.shdr_port, 1.0)
 
     def finish(self):
@@ -240,7 +296,7 @@ class ShopRun:
         check(states[:1] == [b"online"] and states[-1:] == [b"offline"],
               "%s: state online, then offline at the end (%s)" % (m, states))
         live = self.sub.json("/%s/live" % s)
-        keys = shop.all_keys(comps, s)
+        keys = shop.all_keys(comps, s, self.unit)
         check(live and all(list(o) == keys for _, o in live),
               "%s: %d live objects, each with the generated keys (%s ...)" % (m, len(live),
                                                                               keys[9:12]))
@@ -248,13 +304,15 @@ class ShopRun:
         rate = (len(ts) - 1) / (ts[-1] - ts[0]) if len(ts) > 2 else 0.0
         check(9.0 <= rate <= 11.0, "%s: live rate %.2f Hz (10 ± 1)" % (m, rate))
         lat = sorted(t - o["ts"] for t, o in live if o["ts"] < r.get("stranger_at", 1e18))
-        res = {"live": len(live), "rate_Hz": round(rate, 3),
+        res = {"live": len(live), "rate_Hz": round(rate, 3), "sample": max(
+                   (o for _, o in live), key=lambda o: abs(o.get("load_" + self.unit) or 0.0)),
                "latency_ms": {"median": round(1e3 * statistics.median(lat), 2),
                               "p95": round(1e3 * lat[int(0.95 * (len(lat) - 1))], 2),
                               "max": round(1e3 * lat[-1], 2)} if lat else None}
         check(lat and lat[-1] < 0.5, "%s: pin -> subscriber latency %s ms" % (m, res["latency_ms"]))
-        check(all(o["limit_" + ("N" if s in "AE" else "um" if s == "B" else "V")] is not None
-                  for _, o in live), "%s: the limit has its unit in its key" % m)
+        lim = "limit_" + {"A": "N", "E": self.unit, "B": "um", "D": "V"}[s]
+        check(all(o[lim] is not None for _, o in live), "%s: the limit has its unit in its key, "
+              "%s (%s)" % (m, lim, sorted({o[lim] for _, o in live})[-3:]))
         ev = self.sub.json("/%s/event" % s)
         seqs = sorted({o["seq"] for _, o in ev})
         last = pub["last_seq"][s]
@@ -273,7 +331,7 @@ class ShopRun:
         check(not subs, "%s: the publisher subscribed to nothing (broker log)" % m)
         check(r.get("pong") == "* PONG 10000", "%s: SHDR heartbeat answered (%r)" % (m, r.get("pong")))
         xml = subprocess.run([sys.executable, os.path.join(HAL, "lathectl_publish.py"),
-                              "--devices-xml", "--systems", s, "--machine", m],
+                              "--devices-xml", "--systems", s, "--machine", m, "--unit", self.unit],
                              capture_output=True, text=True).stdout
         ns = {"m": "urn:mtconnect.org:MTConnectDevices:2.0"}
         declared = {d.get("id") for d in ET.fromstring(xml).iterfind(".//m:DataItem", ns)}
@@ -286,7 +344,7 @@ class ShopRun:
                 sent.add(f[1])
             else:
                 sent.update(f[1::2])
-        check(sent and sent <= declared and "%s_load_%s" % (s, "N" if s in "AE" else "V") in sent,
+        check(sent and sent <= declared and "%s_load_%s" % (s, {"A": "N", "E": self.unit, "B": "um", "D": "V"}[s]) in sent,
               "%s: SHDR sent %d keys, every one declared in Devices.xml (undeclared: %s)" %
               (m, len(sent), sorted(sent - declared)))
         if "hostile_from" in r:
@@ -295,11 +353,12 @@ class ShopRun:
             res["hostile"] = dict(r["hostile"], shdr=pub.get("shdr"),
                                   update_max_ns_before=max(before) if before else None,
                                   update_max_ns_during=max(during) if during else None,
-                                  live_during=len(during))
-            check(r.get("pong_during") == "* PONG 10000" and during and
-                  pub["shdr"]["refused"] > 0,
-                  "%s: with 1000 connections, junk and an endless line the SHDR server still "
-                  "answers and the publisher still publishes (%s)" % (m, res["hostile"]))
+                                  live_during=len(during), **realtime(out, live, r["hostile_from"]))
+            check(r.get("pong_during") == "* PONG 10000" and r.get("shdr_during") and during
+                  and pub["shdr"]["refused"] + pub["shdr"]["evicted"] >= 900,
+                  "%s: with 1000 connections held, junk and an endless line a new SHDR client "
+                  "still gets the snapshot and its PONG, and the publisher still publishes (%s)"
+                  % (m, res["hostile"]))
         with open(os.path.join(out, "shop.json"), "w") as f:
             json.dump(res, f, indent=1)
         print("%s: %s" % (m, json.dumps(res)))
