@@ -154,6 +154,8 @@ class Mqtt:
 
     def flush(self):
         """Hand paho every spooled event it does not hold yet (in order)."""
+        if not self.connected:
+            return
         for rowid, topic, payload in self.spool.rows():
             if rowid in self.handed or not self.connected:
                 continue
