@@ -239,6 +239,7 @@ class System:
         self.params = {k[2]: None for k in self.keys if k[1] == "param"}
         self.alarms = []
         self.last = {}
+        self.gauged = False
         self.tolerance_um = tolerance_um
 
     def connect(self, drivers, name):
@@ -289,7 +290,8 @@ class System:
         obj["reason"] = self.reason_name(self.get(shop.SYSTEMS[self.letter]["reason"]))
         obj["alarms"] = self.active_alarms()
         for key, how, name, kind, _ in self.keys:
-            v = (self.c[self.pins[name]] if how == "pin" else self.params[name] if how == "param"
+            v = (self.c[self.pins[name]] if how == "pin" or (how == "part" and self.gauged) else
+                 None if how == "part" else self.params[name] if how == "param"
                  else self.hal.get_value(name))
             obj[key] = (None if v is None else bool(v) if kind == "bool" else int(v)
                         if kind == "int" else float(v))
@@ -316,6 +318,7 @@ class System:
                 out.append({"ts": now, "type": "gauged_part", "part": self.last["part"],
                             "size_error_um": round(err, 4), "lower_um": -self.tolerance_um,
                             "upper_um": self.tolerance_um})
+                self.gauged = True  # size_error_um: the last gauged part's from now on
             self.last["part"] = n
         return out
 

@@ -15,7 +15,8 @@ import xml.etree.ElementTree as ET
 
 # Per system: its component, the pins published as (stem, pin) — the key is the stem with the
 # pin's unit — where the reason code and the alarm are, and the pins events are made from.
-# A pin read by get_value (an in pin, a parameter) is marked "param:" / "in:".
+# A pin read by get_value (an in pin, a parameter) is marked "param:" / "in:"; "part:" a pin of
+# the simulated part's component (D: the last gauged part's size; null without it).
 SYSTEMS = {
     "E": {"component": "lathectl_adaptive", "live": [
         ("load", "load"), ("limit", "limit"), ("rev_mean_load", "load-rev"),
@@ -42,7 +43,8 @@ SYSTEMS = {
     "D": {"component": "lathectl_gauge", "live": [
         ("load", "signal"), ("limit", "next-threshold"), ("step", "step"),
         ("command", "command"), ("trips", "trips"), ("armed", "armed"), ("size", "size"),
-        ("backstop", "backstop"), ("update_max", "update-ns-max")],
+        ("backstop", "backstop"), ("update_max", "update-ns-max"),
+        ("size_error", "part:finished-error-um")],
         "reason": "reason", "alarm": "alarm", "alarm_reason": "reason", "events": [],
         # the simulated part (scripts/linuxcnc-sim-gauge): its size when the next one is loaded
         "part": {"component": "lathectl_gauge_plant", "pins": ["part", "finished-error-um", "error-um"]}},
@@ -87,11 +89,14 @@ def pin_info(comps, component, ref):
     is netted to it), 'in' (an in pin, read with get_value) or 'param' (a parameter, read once)."""
     how, _, name = ref.rpartition(":")
     how = how or "pin"
+    if how == "part":  # the gauged part's (D's simulated part, when its plant is loaded)
+        component = next(s["part"]["component"] for s in SYSTEMS.values()
+                         if s["component"] == component)
     c = comps[component]
     rows = c["params"] if how == "param" else c["pins"]
     for p in rows:
         if p["name"] == name:
-            if how == "pin" and p["dir"] != "out":
+            if how in ("pin", "part") and p["dir"] != "out":
                 raise ValueError("%s.%s is not an out pin" % (component, name))
             return how, p
     raise KeyError("%s has no %s %s (hal/pins.json)" % (component, how, name))
@@ -105,8 +110,9 @@ def live_keys(comps, system, load_unit="N"):
         how, p = pin_info(comps, s["component"], ref)
         kind = "float" if how == "param" else KINDS[p["type"]]
         unit = p["unit"] if p["unit"] != "N or W" else load_unit
+        comp = s["part"]["component"] if how == "part" else s["component"]
         out.append((key_of(stem, p["unit"], load_unit), how,
-                    comps[s["component"]]["prefix"] + "." + p["name"], kind, unit))
+                    comps[comp]["prefix"] + "." + p["name"], kind, unit))
     return out
 
 

@@ -249,6 +249,13 @@ class ShopRun:
                            hostname="127.0.0.1", port=self.broker.port,
                            auth={"username": "publisher", "password": "publisher-secret"})
         self.result["stranger_at"] = time.time()
+        # its pins: only in pins (nothing it could write), none driving a signal
+        env = dict(os.environ)
+        if os.getuid() == 0:
+            env.setdefault("RTAPI_UID", "65534")
+            env.setdefault("RTAPI_FIFO_PATH", "/tmp/.rtapi_fifo")
+        self.result["pins"] = subprocess.run(["halcmd", "-s", "show", "pin", "lathectl-publish"],
+                                             capture_output=True, text=True, env=env).stdout
         if not self.away:
             return
         if self.spool_dir:
@@ -329,6 +336,10 @@ class ShopRun:
         subs = [l for l in self.broker.log().splitlines()
                 if "SUBSCRIBE" in l and "lathectl-publish" in l]
         check(not subs, "%s: the publisher subscribed to nothing (broker log)" % m)
+        pins = [l.split() for l in r.get("pins", "").splitlines() if l.strip()]
+        check(pins and all(p[2] == "IN" and "==>" not in p for p in pins),
+              "%s: the publisher's %d pins are all in pins (%s ...)" %
+              (m, len(pins), " ".join(pins[0]) if pins else r.get("pins")))
         check(r.get("pong") == "* PONG 10000", "%s: SHDR heartbeat answered (%r)" % (m, r.get("pong")))
         xml = subprocess.run([sys.executable, os.path.join(HAL, "lathectl_publish.py"),
                               "--devices-xml", "--systems", s, "--machine", m, "--unit", self.unit],
