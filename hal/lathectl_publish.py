@@ -23,6 +23,7 @@ components' out pins when it starts (to the out pin's signal, or a new one).
 import argparse
 import configparser
 import json
+import math
 import os
 import queue
 import signal
@@ -62,6 +63,22 @@ def reason_table():
     return {r["code"]: r for r in rows}
 
 
+def strict(obj):
+    """The object with every NaN or infinity as None: strict JSON, which a browser's JSON.parse
+    reads (a NaN sensor, a limit not set)."""
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {k: strict(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [strict(v) for v in obj]
+    return obj
+
+
+def dumps(obj):
+    return json.dumps(strict(obj), allow_nan=False)
+
+
 class Spool:
     """The events not yet acknowledged by the broker, on disk (SQLite), oldest dropped past max;
     each system's last seq, so numbers survive a restart of the publisher too."""
@@ -86,7 +103,7 @@ class Spool:
         self.set_meta("seq_" + system, seq)
         event = dict(seq=seq, **event)
         cur = self.db.execute("INSERT INTO events (topic, payload) VALUES (?, ?)",
-                              (topic, json.dumps(event)))
+                              (topic, dumps(event)))
         over = self.db.execute("SELECT COUNT(*) FROM events").fetchone()[0] - self.limit
         if over > 0:
             self.db.execute("DELETE FROM events WHERE id IN (SELECT id FROM events ORDER BY id "
@@ -170,7 +187,7 @@ class Mqtt:
 
     def live(self, system, obj):
         if self.connected:
-            self.c.publish("%s/%s/live" % (self.base, system), json.dumps(obj), qos=0)
+            self.c.publish("%s/%s/live" % (self.base, system), dumps(obj), qos=0)
 
     def close(self):
         end = time.time() + 3.0  # the events handed over: their acknowledgements
@@ -295,6 +312,7 @@ class System:
                  else self.hal.get_value(name))
             obj[key] = (None if v is None else bool(v) if kind == "bool" else int(v)
                         if kind == "int" else float(v))
+        obj = strict(obj)  # a NaN (a lost sensor) is null, in MQTT and SHDR alike
         return obj
 
     def events(self, now, by_code, by_bit):

@@ -302,6 +302,15 @@ class ShopRun:
         states = [p for _, t, p, _ in self.sub.msgs if t == "lathectl/%s/state" % m]
         check(states[:1] == [b"online"] and states[-1:] == [b"offline"],
               "%s: state online, then offline at the end (%s)" % (m, states))
+        raw = [p for _, t, p, _ in self.sub.msgs if t.endswith("/live") or t.endswith("/event")]
+        def strict(p):
+            try:
+                json.loads(p, parse_constant=lambda c: 1 / 0)
+                return True
+            except ZeroDivisionError:
+                return False
+        check(raw and all(strict(p) for p in raw),
+              "%s: strict JSON (no NaN, no Infinity) in %d payloads" % (m, len(raw)))
         live = self.sub.json("/%s/live" % s)
         keys = shop.all_keys(comps, s, self.unit)
         check(live and all(list(o) == keys for _, o in live),
@@ -331,6 +340,7 @@ class ShopRun:
               "%s: events sent %d == received %d across the broker's restart (seq %s..%d, "
               "%d still spooled)" % (m, res["events_sent"], len(seqs), pub["first_seq"][s], last,
                                      pub["spooled"]))
+        res["event_samples"] = {o["type"]: o for _, o in reversed(ev)}
         away = [o for t, o in ev if r.get("broker_stopped", 0) < o["ts"] < r.get("broker_started", 0)]
         res["events_while_away"] = len(away)
         subs = [l for l in self.broker.log().splitlines()
