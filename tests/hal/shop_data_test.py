@@ -184,6 +184,19 @@ def spool_and_broker(work):
     mq.close()
     sub.stop()
     broker.stop()
+    # TLS: the publisher verifies the broker with --cafile
+    tls = Broker(os.path.join(work, "broker-tls"), tls=True)
+    a = argparse.Namespace(mqtt="127.0.0.1:%d" % tls.port, username="publisher",
+                           password="publisher-secret",
+                           cafile=os.path.join(work, "broker-tls", "ca.pem"))
+    mq = pub.Mqtt(a, "m1", pub.Spool(os.path.join(work, "spool-tls.sqlite"), 10))
+    end = time.time() + 5
+    while not mq.connected and time.time() < end:
+        mq.service()
+        time.sleep(0.02)
+    check(mq.connected, "MQTT over TLS: the publisher verified the broker with --cafile")
+    mq.close()
+    tls.stop()
 
 
 def main():
@@ -200,7 +213,7 @@ def main():
               "(scripts/install-deps.sh --linuxcnc)")
         sys.exit(77)
     os.makedirs(work, exist_ok=True)
-    for f in ("bounded.sqlite", "spool.sqlite"):
+    for f in ("bounded.sqlite", "spool.sqlite", "spool-tls.sqlite"):
         if os.path.exists(os.path.join(work, f)):
             os.unlink(os.path.join(work, f))
     sys.path.insert(0, os.path.join(src, "hal"))
