@@ -25,7 +25,7 @@ for opt in "$@"; do
     # Shop data out (lathectl_publish, docs/shop-data.md): the MQTT client and the broker its
     # tests start.
     --linuxcnc) pkgs+=(linuxcnc-uspace linuxcnc-uspace-dev xvfb x11-apps netpbm
-                       python3-paho-mqtt mosquitto) ;;
+                       python3-paho-mqtt mosquitto openssl) ;;
     # make package: CPack's dependency detection (dpkg-shlibdeps, file) and lintian.
     --package) pkgs+=(dpkg-dev file lintian) ;;
     # The Python package's tests (pytest) and the example notebooks executed headless

@@ -208,8 +208,9 @@ def main():
         paho = None
     else:
         paho = True
-    if not shutil.which("mosquitto") or not shutil.which("mosquitto_passwd") or not paho:
-        print("skipped: mosquitto or python3-paho-mqtt not installed "
+    if not (shutil.which("mosquitto") and shutil.which("mosquitto_passwd") and paho and
+            shutil.which("openssl")):
+        print("skipped: mosquitto, python3-paho-mqtt or openssl not installed "
               "(scripts/install-deps.sh --linuxcnc)")
         sys.exit(77)
     os.makedirs(work, exist_ok=True)
