@@ -84,6 +84,9 @@ set(CPACK_DEBIAN_LATHECTL-LINUXCNC_PACKAGE_NAME lathectl-linuxcnc)
 set(CPACK_DEBIAN_LATHECTL-LINUXCNC_PACKAGE_SECTION electronics)
 set(CPACK_DEBIAN_LATHECTL-LINUXCNC_PACKAGE_DEPENDS
     "linuxcnc-uspace, python3, lathectl (= ${LATHECTL_DEB_VERSION})")
+# lathectl_publish's MQTT client (shop data out, docs/shop-data.md); its SHDR needs nothing.
+set(CPACK_DEBIAN_LATHECTL-LINUXCNC_PACKAGE_RECOMMENDS "python3-paho-mqtt")
+set(CPACK_DEBIAN_LATHECTL-LINUXCNC_PACKAGE_SUGGESTS "mosquitto")
 set(CPACK_COMPONENT_LATHECTL-LINUXCNC_DESCRIPTION
 "adaptive lathe control: LinuxCNC HAL components
 Realtime HAL components for LinuxCNC (uspace) built from the same controller

@@ -76,6 +76,22 @@ def reasons_of(mask, by_bit):
     return [by_bit.get(b, "bit%d" % b) for b in range(32) if mask >> b & 1]
 
 
+def operation_row(get, seq, time_s, line_offset, by_code, by_bit):
+    """The operation log's row of the last finished operation, from the op-* pins (get(name) reads
+    one): operations.csv's columns, FIELDS (lathectl_publish sends the same as its event)."""
+    limit = get("op-limit")
+    alarm = get("op-alarm")
+    return {"seq": seq, "time_s": round(time_s, 3), "tool": get("op-tool"),
+            "operation": get("op-operation"), "line": get("op-line") - line_offset,
+            "mode": MODES.get(get("op-mode"), str(get("op-mode"))), "limit": round(limit, 3),
+            "load_mean": round(get("op-load-mean"), 3), "load_peak": round(get("op-load-peak"), 3),
+            "load_peak_pct": round(100.0 * get("op-load-peak") / limit, 2) if limit else 0.0,
+            "feed_min": round(get("op-feed-min"), 4), "feed_mean": round(get("op-feed-mean"), 4),
+            "time_in_cut_s": round(get("op-time-in-cut"), 3), "time_s_line": round(get("op-time"), 3),
+            "reasons": " ".join(reasons_of(get("op-reasons"), by_bit)),
+            "alarm": by_code.get(alarm, str(alarm)) if alarm else ""}
+
+
 def atomic_write(path, text):
     d = os.path.dirname(os.path.abspath(path))
     fd, tmp = tempfile.mkstemp(dir=d, prefix="." + os.path.basename(path) + ".")
@@ -221,19 +237,8 @@ def main():
         if seq != last["op"]:
             missed += max(0, (seq - last["op"]) - 1)
             last["op"] = seq
-            limit = c["op-limit"]
-            names = reasons_of(c["op-reasons"], by_bit)
-            alarm = c["op-alarm"]
-            row = {"seq": seq, "time_s": round(time.monotonic() - t0, 3), "tool": c["op-tool"],
-                   "operation": c["op-operation"], "line": c["op-line"] - a.line_offset,
-                   "mode": MODES.get(c["op-mode"], str(c["op-mode"])), "limit": round(limit, 3),
-                   "load_mean": round(c["op-load-mean"], 3),
-                   "load_peak": round(c["op-load-peak"], 3),
-                   "load_peak_pct": round(100.0 * c["op-load-peak"] / limit, 2) if limit else 0.0,
-                   "feed_min": round(c["op-feed-min"], 4), "feed_mean": round(c["op-feed-mean"], 4),
-                   "time_in_cut_s": round(c["op-time-in-cut"], 3),
-                   "time_s_line": round(c["op-time"], 3), "reasons": " ".join(names),
-                   "alarm": by_code.get(alarm, str(alarm)) if alarm else ""}
+            row = operation_row(lambda n: c[n], seq, time.monotonic() - t0, a.line_offset,
+                                by_code, by_bit)
             rows.append(row)
             w.writerow([row[k] for k in FIELDS])
             fcsv.flush()

@@ -22,7 +22,10 @@ for opt in "$@"; do
     # linuxcnc-uspace would pull in a realtime kernel.
     # The operator panel's test: AXIS on a virtual display (xvfb), its screenshot (xwd from
     # x11-apps, xwdtopnm/pnmtopng from netpbm).
-    --linuxcnc) pkgs+=(linuxcnc-uspace linuxcnc-uspace-dev xvfb x11-apps netpbm) ;;
+    # Shop data out (lathectl_publish, docs/shop-data.md): the MQTT client, the broker its tests
+    # start and openssl for their TLS certificates.
+    --linuxcnc) pkgs+=(linuxcnc-uspace linuxcnc-uspace-dev xvfb x11-apps netpbm
+                       python3-paho-mqtt mosquitto openssl) ;;
     # make package: CPack's dependency detection (dpkg-shlibdeps, file) and lintian.
     --package) pkgs+=(dpkg-dev file lintian) ;;
     # The Python package's tests (pytest) and the example notebooks executed headless

@@ -32,6 +32,7 @@ import subprocess
 import sys
 import tomllib
 
+from shop_broker import ShopRun  # a broker, a subscriber, SHDR clients (issue 46)
 from sim_session import run_linuxcnc_sim
 from reasons import REASON
 
@@ -92,8 +93,19 @@ def main():
     supply_s = 1.0 / sc["transducer"]["supply_Hz"]
 
     if "series" in cases:
-        s, rc = session(src, work, "series", "--parts", "3")
+        # Shop data out (issue 46): this session publishes (MQTT, SHDR); every part an event.
+        shop = ShopRun(os.path.join(work, "broker-series"), "test-d", "D", away=0,
+                       hostile_clients=False)
+        s, rc = session(src, work, "series", "--parts", "3", *shop.args())
+        shop.finish()
         if s:
+            shop.report(check, os.path.join(work, "series"))
+            got = [o for _, o in shop.sub.json("/D/event") if o["type"] == "gauged_part"]
+            check([(o["part"], round(o["size_error_um"], 2), o["lower_um"], o["upper_um"])
+                   for o in got] == [(p["part"], round(p["error_um"], 2), -tol, tol)
+                                     for p in s["parts_detail"]],
+                  "series: each part's size published as a gauged_part event (%s)" %
+                  [(o["part"], o["size_error_um"]) for o in got])
             m = s["metrics"]
             check(rc == 0 and s["finished"], "series: the program finished (exit %d, %s)"
                   % (rc, s["errors"]))

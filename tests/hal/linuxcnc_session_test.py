@@ -31,6 +31,7 @@ import sys
 import tomllib
 
 from reasons import REASON  # the reason codes by name, from hal/reasons.json
+from shop_broker import ShopRun  # a broker, a subscriber, SHDR clients (issue 46)
 
 FAILS = []
 
@@ -41,12 +42,18 @@ def check(cond, what):
         FAILS.append(what)
 
 
-def run(src, work, scenario, name):
+def run(src, work, scenario, name, shop_run=None):
+    """One session (with shop_run, publishing to its broker and SHDR port: shop_broker)."""
     out = os.path.join(work, name)
     p = subprocess.run([os.path.join(src, "scripts/linuxcnc-sim"),
                         os.path.join(src, "examples/linuxcnc/step_allowance.ngc"),
                         os.path.join(src, "examples/linuxcnc", scenario), "--out", out,
-                        "--timeout", "120"], capture_output=True, text=True, timeout=300)
+                        "--timeout", "120"] + (shop_run.args() if shop_run else []),
+                       capture_output=True, text=True, timeout=300)
+    if shop_run:
+        shop_run.finish()
+        if p.returncode == 0:
+            shop_run.report(check, out)
     if p.returncode != 0:
         print(p.stdout + p.stderr)
         check(False, name + ": linuxcnc-sim ran")
@@ -147,7 +154,10 @@ def main():
     sc = tomllib.load(open(os.path.join(src, "examples/linuxcnc/step_allowance.toml"), "rb"))
     limit = sc["controller"]["force_limit_N"]
 
-    summary, rows = run(src, work, "step_allowance.toml", "step")
+    # Shop data out (issue 46): this session publishes to a broker that is stopped and restarted
+    # in the middle, and serves SHDR to a client and to hostile ones.
+    shop = ShopRun(os.path.join(work, "broker-step"), "test-e", "E", away=2.0)
+    summary, rows = run(src, work, "step_allowance.toml", "step", shop)
     if summary:
         check(summary["finished"] and not summary["errors"] and not summary["alarms"],
               "step: program finished, no errors, no alarms (%s)" % summary["alarms"])
@@ -183,7 +193,11 @@ def main():
               "adaptive-feed min %.3f" %
               (peak, peak_rev, summary["cycle_time_s"], summary["adaptive_feed_min"]))
 
-    summary, rows = run(src, work, "step_allowance_sensor_fault.toml", "fault")
+    shop = ShopRun(os.path.join(work, "broker-fault"), "test-e-fault", "E", away=0)
+    summary, rows = run(src, work, "step_allowance_sensor_fault.toml", "fault", shop)
+    got = [o for _, o in shop.sub.json("/E/event") if o["type"] == "alarm_raised"]
+    check([o["alarm"] for o in got] == ["sensor_not_finite"],
+          "fault: the alarm was published as an event (%s)" % got)
     if summary:
         check(summary["aborted_on_feed_hold"], "fault: the program was held (and then aborted)")
         check([a["reason"] for a in summary["alarms"]] == ["sensor_not_finite"],

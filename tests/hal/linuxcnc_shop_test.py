@@ -83,7 +83,7 @@ def tools_file(work, unit):
     return path
 
 
-def run(src, work, unit):
+def run(src, work, unit, shop_run=None):
     prog, lines = program(src, work, unit)
     out = os.path.join(work, unit)
     taught = os.path.join(work, "taught-%s.toml" % unit)
@@ -94,6 +94,8 @@ def run(src, work, unit):
            tools_file(work, unit), "--taught", taught, "--timeout", "150", "--quiet"]
     if unit == "W":
         cmd += ["--sensor", "power"]
+    if shop_run:
+        cmd += shop_run.args()
     first = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if unit == "N":  # a second session beside a running one is refused, the first lives on
         import time
@@ -104,6 +106,18 @@ def run(src, work, unit):
               "a second linuxcnc-sim is refused (exit %d: %s), the first runs on" %
               (second.returncode, second.stderr.strip()))
     out_s, err_s = first.communicate(timeout=300)
+    if shop_run:
+        shop_run.finish()
+        if os.path.exists(os.path.join(out, "publish.json")):
+            shop_run.report(check, out)
+            ev = shop_run.sub.json("/E/event")
+            ops = [o for _, o in ev if o["type"] == "operation"]
+            logged = json.load(open(os.path.join(out, "operations.json")))["rows"]
+            check([(o["op_seq"], o["line"], o["load_peak"]) for o in ops] ==
+                  [(r["seq"], r["line"], r["load_peak"]) for r in logged]
+                  and any(o["type"] == "teach_in" for _, o in ev),
+                  unit + ": every logged operation published as an event (%d), and the teach-in"
+                  % len(ops))
     summary_path = os.path.join(out, "summary.json")
     if not os.path.exists(summary_path):
         print(out_s + err_s)
@@ -345,7 +359,12 @@ def main():
     force = run(src, work, "N")
     if force:
         analyse(force, "N", report)
-    power = run(src, work, "W")
+    # Shop data out (issue 46): the session on power publishes (its keys in W); the broker is
+    # stopped after the first event until two more wait in the publisher's spool (at most 20 s).
+    from shop_broker import ShopRun
+    power = run(src, work, "W", ShopRun(os.path.join(work, "broker-W"), "test-shop", "E",
+                                         away=20.0, hostile_clients=False, unit="W",
+                                         spool_dir=os.path.join(work, "W")))
     if power:
         analyse(power, "W", report)
         tare(power, src, report)

@@ -88,7 +88,9 @@ if [ $hal -eq 1 ]; then
   # Each system's part on LinuxCNC, as its registry entry names it (hal/systems.tsv): its modules
   # and their man pages, its runner, its display, its configuration in the picker.
   expected=(./usr/share/lathectl/hal/reasons.json ./usr/share/lathectl/hal/pins.json
-            ./usr/share/lathectl/hal/systems.tsv
+            ./usr/share/lathectl/hal/systems.tsv ./usr/share/lathectl/hal/lathectl_publish.py
+            ./usr/share/lathectl/hal/lathectl_shopdata.py ./usr/share/lathectl/hal/lathectl_shdr.py
+            ./usr/share/lathectl/scripts/linuxcnc-sim-publish.sh
             ./usr/share/lathectl/scripts/linuxcnc_session.py ./usr/share/doc/lathectl-linuxcnc/copyright)
   while IFS=$'\t' read -r id folder docs runner config display components; do
     [ "${id:0:1}" != "#" ] && [ "$runner" != "-" ] || continue
