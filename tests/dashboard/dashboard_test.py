@@ -15,7 +15,7 @@
   what was sent; its JS heap and DOM node count (after a full collection) at 10 min and at 60 min
   must stay bounded; the page sends no PUBLISH (the broker's log) and reaches no other host.
 Screenshots: WORK_DIR/live.png, WORK_DIR/hour.png; numbers: WORK_DIR/result.json.
-Exit 0 ok, 1 a check failed, 77 chromium or mosquitto not installed (CTest skip).
+Exit 0 ok, 1 a check failed, 77 chromium, mosquitto or python3-paho-mqtt not installed (CTest skip).
 """
 
 import json
@@ -35,7 +35,11 @@ for tool in ("/usr/bin/chromium", "/usr/sbin/mosquitto", "/usr/bin/mosquitto_pas
         print(f"{tool} not installed")
         sys.exit(77)
 
-import paho.mqtt.client as mqtt  # noqa: E402  (python3-paho-mqtt, with mosquitto)
+try:
+    import paho.mqtt.client as mqtt  # python3-paho-mqtt (scripts/install-deps.sh --browser)
+except ImportError:
+    print("python3-paho-mqtt not installed")
+    sys.exit(77)
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cdp import Chromium  # noqa: E402
@@ -180,7 +184,7 @@ def check_access(broker, fails):
 
 
 class Feeder:
-    """The contract's messages (/work SHOPDATA contract: live at 10 Hz, events with seq) for lathe1
+    """The contract's messages (docs/shop-data.md: live at 10 Hz, events with seq) for lathe1
     (system E: load_N against limit_N, an operation every 30 s, an overload alarm every minute)
     and lathe2 (system D: the allowance load_um against limit_um, a gauged part every 10 s)."""
 
