@@ -26,6 +26,7 @@
   const stats = { messages: 0, live: 0, events: 0, bad: 0, renders: 0 };
   const machines = new Map();
   const $ = (id) => document.getElementById(id);
+  const decoder = new TextDecoder();
   let client = null;
 
   // A fixed-size ring of rows of k numbers (Float64Array columns): push overwrites the oldest.
@@ -149,7 +150,7 @@
   function parse(payload) {
     if (payload.length > MAX_PAYLOAD) return null;
     try {
-      const v = JSON.parse(new TextDecoder().decode(payload));
+      const v = JSON.parse(decoder.decode(payload));
       return v && typeof v === 'object' && !Array.isArray(v) ? v : null;
     } catch (e) {
       return null;
@@ -162,7 +163,7 @@
     if (t[0] !== 'lathectl' || !NAME_RE.test(t[1] || '')) { ++stats.bad; return; }
     if (t.length === 3 && t[2] === 'state') {
       const m = machine(t[1]);
-      const text = new TextDecoder().decode(payload.subarray(0, 16));
+      const text = decoder.decode(payload.subarray(0, 16));
       if (m) { m.online = text === 'online' ? true : text === 'offline' ? false : null; m.lcDirty = true; }
       return;
     }
@@ -245,7 +246,8 @@
     for (const m of machines.values()) {
       if (m.lcDirty) renderMachine(m);
       for (const s of m.systems.values()) {
-        s.ui.stale.textContent = s.live && now - s.liveAt > STALE_MS ? 'no live data' : '';
+        const stale = s.live && now - s.liveAt > STALE_MS ? 'no live data' : '';
+        if (s.ui.stale.textContent !== stale) s.ui.stale.textContent = stale;
         if (s.dirty) renderSystem(s);
         if (s.partsDirty) renderParts(s);
       }
@@ -307,6 +309,14 @@
   }
 
   function width(box) { return Math.max(280, box.clientWidth || 480); }
+  function resize() {
+    for (const m of machines.values()) {
+      for (const s of m.systems.values()) {
+        if (s.chart) s.chart.setSize({ width: width(s.ui.chartBox), height: 150 });
+        if (s.sizeChart) s.sizeChart.setSize({ width: width(s.ui.sizeBox), height: 170 });
+      }
+    }
+  }
 
   function chart(s) {
     const data = s.ring.ordered();
@@ -407,6 +417,7 @@
     $('logout').addEventListener('click', logout);
     const user = sessionStorage.getItem('lathectl.user');
     if (user !== null) connect(user, sessionStorage.getItem('lathectl.pass') || '');
+    window.addEventListener('resize', resize);
     setInterval(render, RENDER_MS);
   }
 
