@@ -125,12 +125,14 @@
     const bar = el('div', 'bar', row);
     s = { letter, box, loadKey: null, limitKey: null, live: null, liveAt: 0, dirty: false,
           ring: new Ring(LIVE_POINTS, 3), chart: null, lastSeq: null, missed: 0, repeated: 0,
-          lastOp: null, parts: null, sizes: null, sizeChart: null, partsDirty: false, extra: new Map(),
+          lastOp: null, parts: null, sizes: null, sizeChart: null, partsDirty: false,
+          extra: new Map(),
           ui: { fill: el('div', 'fill', bar), load: field(row, 'load', 'load'),
                 limit: field(row, 'limit', 'limit'), pct: field(row, 'of limit', 'load-pct'),
                 reason: field(box, 'reason', 'reason'), alarms: field(box, 'alarms', 'alarms'),
                 stale: el('span', 'stale', box, ''),
-                missed: field(box, 'missed events', 'missed'), op: field(box, 'last operation', 'operation') } };
+                missed: field(box, 'missed events', 'missed'),
+                op: field(box, 'last operation', 'operation') } };
     s.ui.chartBox = el('div', 'chart', box);
     s.ui.extra = el('div', 'extra', box);
     if (letter === 'D') {
@@ -164,7 +166,10 @@
     if (t.length === 3 && t[2] === 'state') {
       const m = machine(t[1]);
       const text = decoder.decode(payload.subarray(0, 16));
-      if (m) { m.online = text === 'online' ? true : text === 'offline' ? false : null; m.lcDirty = true; }
+      if (m) {
+        m.online = text === 'online' ? true : text === 'offline' ? false : null;
+        m.lcDirty = true;
+      }
       return;
     }
     if (t.length !== 4 || !SYSTEMS.includes(t[2])) { ++stats.bad; return; }
@@ -260,8 +265,9 @@
 
   function renderMachine(m) {
     m.lcDirty = false;
-    m.ui.state.textContent = m.online === true ? 'online' : m.online === false ? 'offline' : 'state unknown';
-    m.ui.state.className = 'state ' + (m.online === true ? 'online' : m.online === false ? 'offline' : 'unknown');
+    const state = m.online === true ? 'online' : m.online === false ? 'offline' : 'unknown';
+    m.ui.state.textContent = state === 'unknown' ? 'state unknown' : state;
+    m.ui.state.className = 'state ' + state;
     const p = m.lc;
     if (!p) return;
     m.ui.line.textContent = Number.isInteger(p.program_line) ? p.program_line : '–';
@@ -297,7 +303,8 @@
   // The system's other numeric live values, one row per key (at most EXTRA_KEYS rows, made once).
   function renderExtra(s, p) {
     for (const k of Object.keys(p)) {
-      if (LC_KEYS.includes(k) || k === s.loadKey || k === s.limitKey || typeof p[k] !== 'number') continue;
+      if (LC_KEYS.includes(k) || k === s.loadKey || k === s.limitKey) continue;
+      if (typeof p[k] !== 'number') continue;
       let v = s.extra.get(k);
       if (!v) {
         if (s.extra.size >= EXTRA_KEYS) continue;
@@ -346,7 +353,8 @@
         width: width(s.ui.sizeBox), height: 170, scales: { x: { time: false } },
         axes: [{ label: 'part' }, { label: 'size error (µm)' }],
         series: [{ label: 'part' },
-                 { label: 'size_error_um', stroke: '#2ca02c', width: 1, points: { show: true, size: 4 } },
+                 { label: 'size_error_um', stroke: '#2ca02c', width: 1,
+                   points: { show: true, size: 4 } },
                  { label: 'lower_um', stroke: '#7f7f7f', dash: [4, 4] },
                  { label: 'upper_um', stroke: '#7f7f7f', dash: [4, 4] }],
       }, data, s.ui.sizeBox);
@@ -362,7 +370,10 @@
   }
 
   function connect(user, pass) {
-    if (!location.host) { status('open this page from the broker (http://HOST:9001/)', 'error'); return; }
+    if (!location.host) {
+      status('open this page from the broker (http://HOST:9001/)', 'error');
+      return;
+    }
     const url = (location.protocol === 'https:' ? 'wss://' : 'ws://') + location.host + '/mqtt';
     // A session the broker keeps (clean off, one client id per browser tab): QoS 1 events
     // published while the page or the broker was away arrive when it is back.
@@ -385,7 +396,8 @@
     client.on('reconnect', () => status('reconnecting to ' + url, 'busy'));
     client.on('offline', () => status('broker unreachable: ' + url, 'error'));
     client.on('error', (err) => {
-      if (err && (err.code === 4 || err.code === 5)) {  // CONNACK: bad user name or password, not authorised
+      // CONNACK 4: bad user name or password, 5: not authorised.
+      if (err && (err.code === 4 || err.code === 5)) {
         logout();
         status('the broker refused user ' + user + ': ' + err.message, 'error');
       } else {

@@ -125,12 +125,17 @@ class Chromium:
             time.sleep(0.05)
 
     def memory(self):
-        """After a full garbage collection: the JS heap's used bytes and the DOM's node count."""
+        """After a full garbage collection: the JS heap's used bytes, the nodes in the document
+        (elements and text), and Blink's counters of live nodes (those in the document and the
+        detached ones it has not yet collected) and event listeners."""
         self.send("HeapProfiler.collectGarbage")
         heap = self.send("Runtime.getHeapUsage")
         metrics = {m["name"]: m["value"] for m in self.send("Performance.getMetrics")["metrics"]}
+        attached = self.eval("(w => { let n = 0; while (w.nextNode()) ++n; return n; })"
+                             "(document.createTreeWalker(document, NodeFilter.SHOW_ALL))")
         return {"heap_used": heap["usedSize"], "heap_total": heap["totalSize"],
-                "nodes": int(metrics["Nodes"]), "listeners": int(metrics["JSEventListeners"])}
+                "dom_nodes": attached, "blink_nodes": int(metrics["Nodes"]),
+                "listeners": int(metrics["JSEventListeners"])}
 
     def screenshot(self, path):
         shot = self.send("Page.captureScreenshot", {"format": "png", "captureBeyondViewport": True})

@@ -225,7 +225,8 @@ class Feeder:
         common = {"ts": ts, "spindle_rpm": 1200.0 + 0.5 * (k % 40), "feed_override": 0.95}
         alarm = 600 <= k % 1200 < 650   # lathe1: an overload alarm 5 s of every 2 min
         load = 760.0 + 240.0 * math.sin(k / 25.0) + (300.0 if alarm else 0.0)
-        self.live("lathe1", {**common, "program_line": 10 + (k // 300) % 40, "tool": 1 + (k // 300) % 3,
+        self.live("lathe1", {**common, "program_line": 10 + (k // 300) % 40,
+                             "tool": 1 + (k // 300) % 3,
                              "load_N": round(load, 3), "limit_N": 1000.0,
                              "feed_mm_per_rev": round(0.25 * min(1.0, 1000.0 / load), 4),
                              "reason": "force limit" if load > 950.0 else "", "alarms":
@@ -250,7 +251,8 @@ class Feeder:
             size = round(self.rng.gauss(0.8, 1.2), 3)
             self.sizes.append(size)
             self.event("lathe2", {"ts": ts, "type": "gauged_part", "part": len(self.sizes),
-                                  "size_error_um": size, "lower_um": LOWER_UM, "upper_um": UPPER_UM})
+                                  "size_error_um": size, "lower_um": LOWER_UM,
+                                  "upper_um": UPPER_UM})
 
     def stop(self):
         for m, c in self.clients.items():
@@ -291,17 +293,19 @@ def main():
     if not fails:
         m0, m1 = result["memory_10min"], result["memory_60min"]
         print(f"ok: page {result['page_bytes']} bytes; {result['sent']}; JS heap after 10 min "
-              f"{m0['heap_used']} B, after 60 min {m1['heap_used']} B; DOM nodes {m0['nodes']} → "
-              f"{m1['nodes']}; {result['capability']}; fast-forward {result['ff_seconds']:.1f} s; "
-              f"screenshots in {work}")
+              f"{m0['heap_used']} B, after 60 min {m1['heap_used']} B; nodes in the document "
+              f"{m0['dom_nodes']} → {m1['dom_nodes']}; {result['capability']}; fast-forward "
+              f"{result['ff_seconds']:.1f} s; screenshots in {work}")
     return 1 if fails else 0
 
 
 def run_page(chrome, broker, work, fails, result, make_feeder):
     base = f"http://127.0.0.1:{broker.ws_port}/"
     chrome.open(base, network=True)
-    chrome.wait_for("document.readyState === 'complete' && !!window.lathectlDashboard", what="the page")
-    login = ("document.getElementById('user').value = {u}; document.getElementById('pass').value = {p};"
+    chrome.wait_for("document.readyState === 'complete' && !!window.lathectlDashboard",
+                    what="the page")
+    login = ("document.getElementById('user').value = {u};"
+             " document.getElementById('pass').value = {p};"
              " document.getElementById('login').requestSubmit(); true")
     chrome.eval(login.format(u=json.dumps(DASH_USER), p=json.dumps("not-the-password")))
     chrome.wait_for("document.getElementById('status').textContent.includes('refused')",
@@ -326,17 +330,21 @@ def run_page(chrome, broker, work, fails, result, make_feeder):
         result["memory_3s"] = chrome.memory()
         result["requests"] = sorted(set(chrome.requests))
         chrome.send("Network.disable")  # not a websocket frame event per message from here on
-        others = [u for u in result["requests"] if not u.startswith((base, f"ws://127.0.0.1:{broker.ws_port}/"))]
+        ws = f"ws://127.0.0.1:{broker.ws_port}/"
+        others = [u for u in result["requests"] if not u.startswith((base, ws))]
         if others:
             fails.append(f"the page reached other hosts: {others}")
         k_next = restart_broker(chrome, broker, feeder, k_next, fails, result)
         started = time.monotonic()
         marks = [(EARLY, "memory_10min"), (HOUR, "memory_60min")]
         marks += [(h * HOUR, f"memory_{h}h") for h in range(2, HOURS + 1)]
+        result["ff_send_seconds"] = 0.0
         for target, name in marks:
             while k_next < target:
+                t = time.monotonic()
                 for k in range(k_next, min(target, k_next + 2000)):
                     feed_sample(feeder, k)
+                result["ff_send_seconds"] += time.monotonic() - t
                 k_next = min(target, k_next + 2000)
                 wait_caught_up(chrome, feeder)
             time.sleep(0.4)
@@ -346,8 +354,7 @@ def run_page(chrome, broker, work, fails, result, make_feeder):
         check_values(chrome, feeder, fails, "after an hour")
         result["sent"] = dict(feeder.sent)
         result["page_stats"] = chrome.eval(stats)
-        result["capability"] = chrome.eval(
-            "document.querySelector('[data-machine=lathe2] [data-system=D] .capability .value').textContent")
+        result["capability"] = text(chrome, "lathe2", "D", "capability")
     finally:
         feeder.stop()
     check_memory(result, fails)
@@ -400,7 +407,8 @@ def check_values(chrome, feeder, fails, when):
     state = chrome.eval("document.querySelector('[data-machine=lathe1] .state').textContent")
     if state != "online":
         fails.append(f"{when}: lathe1's state {state!r}, expected 'online'")
-    line = chrome.eval("document.querySelector('[data-machine=lathe1] .program-line .value').textContent")
+    line = chrome.eval("document.querySelector("
+                       "'[data-machine=lathe1] .program-line .value').textContent")
     if line != str(e["program_line"]):
         fails.append(f"{when}: lathe1's program line {line!r}, sent {e['program_line']}")
     if len(feeder.sizes) >= 2:
@@ -416,14 +424,16 @@ def check_values(chrome, feeder, fails, when):
 
 def check_memory(result, fails):
     """Bounded: from 10 min to 60 min (five times as many messages again) the heap grows by less
-    than 1 MiB and the DOM keeps its node count."""
-    m0, m1 = result.get("memory_10min"), result.get(f"memory_{HOURS}h" if HOURS > 1 else "memory_60min")
+    than 1 MiB and the document keeps its node count (Blink's own counter, which also holds the
+    detached nodes not yet collected, is reported: it moved by one between runs)."""
+    last = f"memory_{HOURS}h" if HOURS > 1 else "memory_60min"
+    m0, m1 = result.get("memory_10min"), result.get(last)
     if not (m0 and m1):
         return
     if m1["heap_used"] - m0["heap_used"] > 1 << 20:
         fails.append(f"JS heap grew from {m0['heap_used']} to {m1['heap_used']} bytes")
-    if m1["nodes"] > m0["nodes"]:
-        fails.append(f"DOM nodes grew from {m0['nodes']} to {m1['nodes']}")
+    if m1["dom_nodes"] != m0["dom_nodes"]:
+        fails.append(f"the document's nodes went from {m0['dom_nodes']} to {m1['dom_nodes']}")
 
 
 def check_log(broker, fails, result):
