@@ -14,7 +14,7 @@ CHROMIUM = "/usr/bin/chromium"
 
 
 class Chromium:
-    def __init__(self, profile, log_path, width=1400, height=1800):
+    def __init__(self, profile, log_path, width=1400, height=1800, flags=()):
         to_r, self._to_w = os.pipe()
         self._from_r, from_w = os.pipe()
         # The browser's ends above 9, so that placing them on 3 and 4 closes neither.
@@ -26,7 +26,7 @@ class Chromium:
                  "--disable-background-networking", "--disable-component-update", "--disable-sync",
                  "--disable-extensions", "--hide-scrollbars", "--mute-audio",
                  f"--window-size={width},{height}", f"--user-data-dir={profile}",
-                 "--remote-debugging-pipe", "about:blank"]
+                 "--remote-debugging-pipe", *flags, "about:blank"]
         # fd 3 and 4 of the browser are our pipes' ends (bash places them; Python's own fds are
         # close-on-exec).
         script = f'exec "$@" 3<&{to_r} 4>&{from_w} {to_r}<&- {from_w}>&-'
