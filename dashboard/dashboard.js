@@ -384,7 +384,7 @@
     }
     status('connecting to ' + url, 'busy');
     client = mqtt.connect(url, { username: user, password: pass, clientId: id, clean: false,
-                                 protocolVersion: 4, reconnectPeriod: 2000, connectTimeout: 10000 });
+                                 protocolVersion: 4, reconnectPeriod: 1000, connectTimeout: 10000 });
     client.on('connect', () => {
       status('connected to ' + url + ' as ' + user + ' (read only)', 'ok');
       $('login').hidden = true;

@@ -175,7 +175,12 @@ def check_access(broker, fails):
     for c, topic in ((reader, "lathectl/lathe1/E/event"), (lathe1, "lathectl/lathe2/D/event"),
                      (lathe1, "lathectl/lathe1/E/event")):
         c.publish(topic, b"access-check", qos=1).wait_for_publish()
-    time.sleep(0.5)
+    # Each publish acknowledged before the next: once the last (allowed) one is in, a refused
+    # one that had been let through would be in too.
+    deadline = time.monotonic() + 5
+    while not got and time.monotonic() < deadline:
+        time.sleep(0.02)
+    time.sleep(0.05)
     for c in (reader, lathe1):
         c.loop_stop()
         c.disconnect()
