@@ -12,8 +12,9 @@
 - headless Chromium opens the page mosquitto serves from WWW_DIR (its http_dir), logs in through
   its form (a wrong password first), shows live values: 3 s in real time, then an hour of 10 Hz
   samples fast-forwarded. The page's load, Cp/Cpk and missed-event counts are checked against
-  what was sent; its JS heap and DOM node count (after a full collection) at 10 min and at 60 min
-  must stay bounded; the page sends no PUBLISH (the broker's log) and reaches no other host.
+  what was sent; a payload that is no JSON and markup in a value do no harm; its JS heap and DOM
+  node count (after a full collection) at 10 min and at 60 min must stay bounded; the page sends
+  no PUBLISH (the broker's log) and reaches no other host.
 Screenshots: WORK_DIR/live.png, WORK_DIR/hour.png; numbers: WORK_DIR/result.json.
 Exit 0 ok, 1 a check failed, 77 chromium, mosquitto or python3-paho-mqtt not installed (CTest skip).
 """
@@ -339,6 +340,7 @@ def run_page(chrome, broker, work, fails, result, make_feeder):
         others = [u for u in result["requests"] if not u.startswith((base, ws))]
         if others:
             fails.append(f"the page reached other hosts: {others}")
+        check_hostile(chrome, feeder, fails)
         k_next = restart_broker(chrome, broker, feeder, k_next, fails, result)
         started = time.monotonic()
         marks = [(EARLY, "memory_10min"), (HOUR, "memory_60min")]
@@ -359,12 +361,36 @@ def run_page(chrome, broker, work, fails, result, make_feeder):
         check_values(chrome, feeder, fails, "after an hour")
         result["sent"] = dict(feeder.sent)
         result["page_stats"] = chrome.eval(stats)
+        if result["page_stats"]["bad"] != 1:
+            fails.append(f"the page counted {result['page_stats']['bad']} bad messages, sent 1")
         result["capability"] = text(chrome, "lathe2", "D", "capability")
     finally:
         feeder.stop()
     check_memory(result, fails)
     if chrome.exceptions:
         fails.append(f"the page threw: {chrome.exceptions[:3]}")
+
+
+def check_hostile(chrome, feeder, fails):
+    """What a publisher may send that it should not: a payload that is no JSON is counted as bad
+    and dropped, markup in a value is shown as its text and never becomes an element."""
+    lathe1 = feeder.clients["lathe1"]
+    lathe1.publish("lathectl/lathe1/E/live", b"\xff not json {", qos=1).wait_for_publish()
+    markup = '<img id="injected" src="x" onerror="window.injected = 1">limit'
+    payload = {**feeder.last["lathe1"], "reason": markup}
+    lathe1.publish("lathectl/lathe1/E/live", json.dumps(payload), qos=1).wait_for_publish()
+    feeder.sent["live"] += 1
+    wait_caught_up(chrome, feeder)
+    chrome.wait_for("window.lathectlDashboard.stats().bad >= 1", what="the bad payload counted")
+    time.sleep(0.4)  # a render
+    reason = text(chrome, "lathe1", "E", "reason")
+    if reason != markup:
+        fails.append(f"the reason {markup!r} is shown as {reason!r}")
+    if chrome.eval("!!document.getElementById('injected') || !!window.injected"):
+        fails.append("markup received became an element of the page")
+    bad = chrome.eval("window.lathectlDashboard.stats().bad")
+    if bad != 1:
+        fails.append(f"the page counted {bad} bad messages, sent 1")
 
 
 def restart_broker(chrome, broker, feeder, k_next, fails, result):
