@@ -188,7 +188,8 @@
       s.loadKey = Object.keys(p).find((k) => k.startsWith('load_')) || null;
       s.limitKey = Object.keys(p).find((k) => k.startsWith('limit_')) || null;
     }
-    s.ring.push([p.ts, num(p[s.loadKey]), num(p[s.limitKey])]);
+    // The chart's time only goes forward (a publisher's clock set back starts no loop in it).
+    if (!(p.ts < s.ring.last(0))) s.ring.push([p.ts, num(p[s.loadKey]), num(p[s.limitKey])]);
     s.live = p;
     s.liveAt = performance.now();
     s.dirty = true;
