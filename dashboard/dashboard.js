@@ -302,17 +302,21 @@
   }
 
   // The system's other numeric live values, one row per key (at most EXTRA_KEYS rows, made once).
+  // A number, a bit (yes/no) or null (the publisher's value that is not a finite number: –).
   function renderExtra(s, p) {
     for (const k of Object.keys(p)) {
       if (LC_KEYS.includes(k) || k === s.loadKey || k === s.limitKey) continue;
-      if (typeof p[k] !== 'number') continue;
+      const x = p[k];
+      if (typeof x !== 'number' && typeof x !== 'boolean' && x !== null) continue;
       let v = s.extra.get(k);
       if (!v) {
-        if (s.extra.size >= EXTRA_KEYS) continue;
+        if (x === null || s.extra.size >= EXTRA_KEYS) continue;
         v = field(s.ui.extra, k, 'key');
+        v.parentNode.dataset.key = k;
         s.extra.set(k, v);
       }
-      v.textContent = +p[k].toPrecision(6);
+      v.textContent = x === null ? '–' : typeof x === 'boolean' ? (x ? 'yes' : 'no')
+                                                                 : +x.toPrecision(6);
     }
   }
 

@@ -192,7 +192,8 @@ def check_access(broker, fails):
 class Feeder:
     """The contract's messages (docs/shop-data.md: live at 10 Hz, events with seq) for lathe1
     (system E: load_N against limit_N, an operation every 30 s, an overload alarm every minute)
-    and lathe2 (system D: the allowance load_um against limit_um, a gauged part every 10 s)."""
+    and lathe2 (system D: the gauge's signal load_V against the next threshold limit_V, a gauged
+    part every 10 s), with the keys lathectl_publish sends (docs/shop-data.md)."""
 
     def __init__(self, broker, t0):
         self.t0 = t0
@@ -236,7 +237,7 @@ class Feeder:
                              "load_N": round(load, 3), "limit_N": 1000.0,
                              "feed_mm_per_rev": round(0.25 * min(1.0, 1000.0 / load), 4),
                              "reason": "force limit" if load > 950.0 else "", "alarms":
-                             ["overload"] if alarm else []})
+                             ["overload"] if alarm else [], "in_cut": k % 300 < 280})
         if k % 1200 == 600:
             self.event("lathe1", {"ts": ts, "type": "alarm_raised", "alarm": "overload",
                                   "message": "load above 120 % of the limit"})
@@ -249,10 +250,13 @@ class Feeder:
                                   "limit": 1000.0, "load_mean": 760.0, "load_peak": 1000.0,
                                   "load_peak_pct": 100.0, "feed_mean": 0.24, "time_in_cut_s": 28.5})
         phase = k % 100
+        # D as lathectl_publish sends it: the gauge's signal against the next threshold (null
+        # between parts), the last gauged part's size (null before the first).
         self.live("lathe2", {**common, "program_line": 5, "tool": 2,
-                             "load_um": round(max(0.0, 120.0 - 1.3 * phase), 3), "limit_um": 0.0,
-                             "size_error_um": round(1.3 * (90 - phase), 3) if phase < 90 else 0.0,
-                             "reason": "spark-out" if phase >= 90 else "", "alarms": []})
+                             "load_V": round(4.0 - 0.035 * phase, 4),
+                             "limit_V": 1.0 if phase < 90 else None, "step": min(3, phase // 30),
+                             "size_error_um": self.sizes[-1] if self.sizes else None,
+                             "reason": "spark_out" if phase >= 90 else "", "alarms": []})
         if phase == 99:
             size = round(self.rng.gauss(0.8, 1.2), 3)
             self.sizes.append(size)
@@ -428,13 +432,18 @@ def check_values(chrome, feeder, fails, when):
     want = {("lathe1", "E", "load"): f"{e['load_N']:.1f} N",
             ("lathe1", "E", "limit"): f"{e['limit_N']:.1f} N",
             ("lathe1", "E", "load-pct"): f"{100 * e['load_N'] / e['limit_N']:.0f} %",
-            ("lathe2", "D", "load"): f"{d['load_um']:.1f} um",
+            ("lathe2", "D", "load"): f"{d['load_V']:.1f} V",
+            ("lathe2", "D", "limit"): "– V" if d["limit_V"] is None else f"{d['limit_V']:.1f} V",
             ("lathe1", "E", "missed"): "0",
             ("lathe2", "D", "missed"): "2" if feeder.seq["lathe2"] > SKIPPED_SEQ[-1] else "0"}
     for (machine, system, cls), value in want.items():
         got = text(chrome, machine, system, cls)
         if got != value:
             fails.append(f"{when}: {machine} {system} {cls} shows {got!r}, sent {value!r}")
+    in_cut = chrome.eval("document.querySelector("
+                         "'[data-machine=lathe1] [data-key=in_cut] .value').textContent")
+    if in_cut != ("yes" if e["in_cut"] else "no"):
+        fails.append(f"{when}: lathe1's in_cut shows {in_cut!r}, sent {e['in_cut']}")
     state = chrome.eval("document.querySelector('[data-machine=lathe1] .state').textContent")
     if state != "online":
         fails.append(f"{when}: lathe1's state {state!r}, expected 'online'")
