@@ -4,6 +4,6 @@ execute_process(COMMAND ${NPM} ci --no-audit --no-fund --ignore-scripts --loglev
                 WORKING_DIRECTORY ${DIR} RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "`npm ci` in ${DIR} failed (exit ${rc}): the reports' plotting library "
-                      "(uPlot, package-lock.json) could not be installed; it needs the npm "
+                      "(uPlot) and the dashboard's MQTT.js (package-lock.json) could not be installed; it needs the npm "
                       "registry or an npm cache that holds it.")
 endif()

@@ -17,7 +17,8 @@ pkgs=(
 command -v npm >/dev/null 2>&1 || pkgs+=(npm)
 for opt in "$@"; do
   case "$opt" in
-    --browser) pkgs+=(chromium) ;;  # headless report rendering test
+    # Headless report rendering; the live dashboard's test (its broker, a paho publisher).
+    --browser) pkgs+=(chromium mosquitto python3-paho-mqtt) ;;
     # HAL components and the simulated LinuxCNC session; without --no-install-recommends
     # linuxcnc-uspace would pull in a realtime kernel.
     # The operator panel's test: AXIS on a virtual display (xvfb), its screenshot (xwd from

@@ -72,7 +72,9 @@ for f in ./usr/bin/lathectl ./usr/share/lathectl/materials.toml \
          ./usr/share/lathectl/examples/machines/b_sdof.toml \
          ./usr/share/lathectl/examples/linuxcnc/step_allowance.toml \
          ./usr/share/man/man1/lathectl.1.gz ./usr/share/doc/lathectl/copyright \
-         ./usr/share/doc/lathectl/changelog.Debian.gz ./usr/share/doc/lathectl/README.md; do
+         ./usr/share/doc/lathectl/changelog.Debian.gz ./usr/share/doc/lathectl/README.md \
+         ./usr/share/lathectl/dashboard/index.html ./usr/share/lathectl/mosquitto/lathectl.conf \
+         ./usr/share/lathectl/mosquitto/lathectl.acl; do
   grep -q " $f\$" "$work/lathectl.contents" || fail "lathectl: $f missing"
 done
 grep -Eq '\.a$|/include/|/cmake/|\.so$|/dist-packages/' "$work/lathectl.contents" &&
@@ -202,6 +204,11 @@ grep -q "demo: 1 scenarios" demo.log || fail "demo did not run exactly one examp
 "$bin" design adaptive-speed --material steel_45 --Vp 120 --Sp 0.3 --S 0.4 > design.log 2>&1 ||
   { cat design.log >&2; fail "design adaptive-speed --material steel_45 (the installed materials.toml)"; }
 zcat "$root/usr/share/man/man1/lathectl.1.gz" | grep -q '^\.TH LATHECTL 1' || fail "lathectl(1)"
+# The live dashboard: the built page (nothing left to inline) where the broker sample serves it.
+www=$(sed -n 's/^http_dir //p' "$share/mosquitto/lathectl.conf")
+[ "$www" = /usr/share/lathectl/dashboard ] && [ -s "$root$www/index.html" ] &&
+  ! grep -q '/\*@[A-Z_]*@\*/' "$root$www/index.html" ||
+  fail "the broker sample's http_dir '$www' does not hold the built dashboard"
 echo "CLI from installed files: ok"
 
 if [ $hal -eq 1 ]; then
