@@ -189,6 +189,24 @@ def check_access(broker, fails):
         fails.append(f"ACL: a reader of lathectl/# got {got}, expected lathe1's own topic only")
 
 
+SENT_KEYS = {}   # system -> every live key the feeder sent
+
+
+def check_keys_are_the_publishers(fails):
+    """The feeder stands in for the machines (a LinuxCNC session per dashboard test would cost
+    minutes); its live keys must be ones the real publisher sends: lathectl_publish.py --keys,
+    generated from hal/pins.json."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    publisher = os.path.join(here, "..", "..", "hal", "lathectl_publish.py")
+    out = subprocess.run(["/usr/bin/python3", publisher, "--keys"], capture_output=True,
+                         text=True, check=True).stdout
+    keys = json.loads(out)
+    for system, sent in SENT_KEYS.items():
+        extra = sorted(sent - set(keys.get(system, [])))
+        if extra:
+            fails.append(f"the feeder sends {system} keys the publisher does not: {extra}")
+
+
 class Feeder:
     """The contract's messages (docs/shop-data.md: live at 10 Hz, events with seq) for lathe1
     (system E: load_N against limit_N, an operation every 30 s, an overload alarm every minute)
@@ -220,6 +238,7 @@ class Feeder:
     def live(self, machine, payload):
         system = MACHINES[machine][0]
         payload = {"machine": machine, "system": system, **payload}
+        SENT_KEYS.setdefault(system, set()).update(payload)
         info = self.clients[machine].publish(f"lathectl/{machine}/{system}/live",
                                              json.dumps(payload), qos=0)
         if info.rc == mqtt.MQTT_ERR_SUCCESS:  # QoS 0 while the broker is away: dropped
@@ -296,6 +315,7 @@ def main():
             chrome.close()
         broker.stop()
     check_log(broker, fails, result)
+    check_keys_are_the_publishers(fails)
     with open(os.path.join(work, "result.json"), "w") as f:
         json.dump(result, f, indent=1)
     for msg in fails:
