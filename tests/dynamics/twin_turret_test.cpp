@@ -217,6 +217,8 @@ TEST(TwinTurretCut, PowerChipLawIsKienzlesExponentOnTheDepth) {
                 1e-12 * lin.radial_N(0));
     EXPECT_NEAR(pow_law.tangential_N(0), lin.tangential_N(0) * std::pow(r, -mat.Fc.m),
                 1e-12 * lin.tangential_N(0));
-    if (a_um == 0.0) EXPECT_DOUBLE_EQ(pow_law.radial_N(0), lin.radial_N(0));
+    if (a_um == 0.0) {
+      EXPECT_DOUBLE_EQ(pow_law.radial_N(0), lin.radial_N(0));
+    }
   }
 }
