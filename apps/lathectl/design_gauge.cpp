@@ -10,6 +10,7 @@
 
 #include "calculator.hpp"
 #include "cli.hpp"
+#include "design_gauge.hpp"
 #include "lathectl/design/vibro_gauge.hpp"
 #include "lathectl/io/errors.hpp"
 
@@ -158,6 +159,43 @@ const Output<Result> kOutputs[] = {
 // kind (flags that are not number rows).
 bool force = false;
 std::string filter_kind = "first_order";
+// --calibration FILE.csv: the line measured on the transducer (design_gauge_calibration.cpp)
+// instead of its physics, whose flags are then refused; `bound` says which flags were given.
+std::string calibration_path;
+std::shared_ptr<BoundInputs<Args>> bound;
+// The transducer's physical flags (coil, probe, contact, magnets, generator): what a measured
+// calibration replaces. --supply-Hz stays (the synchronous filter's window), as do the filter,
+// the relay and the process.
+const char* const kPhysical[] = {"--supply-V",      "--coil-turns",    "--coil-ohm",
+                                 "--coil-H",        "--force-coeff",   "--probe-mass-g",
+                                 "--probe-damping", "--probe-stiffness-N-per-mm",
+                                 "--contact-stiffness-N-per-mm",       "--contact-damping",
+                                 "--generator",     "--generator-ms",  "--magnet-gap-mm",
+                                 "--pm-force-N",    "--pm-gap-mm"};
+
+int from_calibration(const Args& a, const design::GaugeInput& in) {
+  std::string given;
+  for (const char* f : kPhysical)
+    if (const auto* o = bound->option(f); o && o->count() > 0)
+      given += (given.empty() ? "" : ", ") + std::string(f);
+  if (!given.empty())
+    throw io::InputError("design gauge: " + given + ": the transducer's physics, refused beside "
+                         "--calibration (the measured curve holds them)");
+  CalibrationRun run;
+  run.path = calibration_path;
+  run.in = in;
+  run.tolerance_um = a.tolerance_um;
+  run.json = a.json;
+  run.force = force;
+  run.inputs = inputs_json<Args>(a, kInputs);
+  for (const char* f : kPhysical)
+    for (const auto& row : kInputs)
+      if (row.flag == f) run.inputs.erase(std::string(row.param.key));
+  run.inputs["calibration"] = calibration_path;
+  run.inputs["filter"] = filter_kind;
+  if (force) run.inputs["force"] = true;
+  return gauge_from_calibration(run);
+}
 
 design::GaugeInput gauge_input(const Args& a) {
   design::GaugeInput in;
@@ -277,6 +315,7 @@ int compute(const Args& a) {
                   a.target_um, a.allowance_um);
     throw io::InputError(who + buf);
   }
+  if (!calibration_path.empty()) return from_calibration(a, in);
   check_full_model_cost(in, who);
   Result r = gauge_result(in, a, who);
   r.sigma_y_V = std::sqrt(r.noise_variance_V2);
@@ -309,9 +348,13 @@ void add(CLI::App& sub, Commands& out) {
   // one process (lathectl.design.gauge), and a --force must not outlive its call.
   force = false;
   filter_kind = "first_order";
-  add_calculator<Args>(sub, out, kInputs,
-                       "Seed 003 and its formulas (20)-(25): " + doc("system-d-gauging.md") + ".",
-                       &compute);
+  calibration_path.clear();
+  bound = add_calculator<Args>(
+      sub, out, kInputs, "Seed 003 and its formulas (20)-(25): " + doc("system-d-gauging.md") + ".",
+      &compute);
+  sub.add_option("--calibration", calibration_path,
+                 "design from the transducer's measured curve, a CSV allowance_um,voltage_V, "
+                 "instead of its coil and probe (whose flags it refuses)");
   sub.add_option("--filter", filter_kind,
                  "filter after the rectifier: first_order (the seed's), second_order, synchronous")
       ->check(CLI::IsMember({"first_order", "second_order", "synchronous"}))
@@ -321,7 +364,9 @@ void add(CLI::App& sub, Commands& out) {
 }
 
 std::string reference() {
-  return calculator_reference<Args, Result>(kInputs, kOutputs);
+  return calculator_reference<Args, Result>(kInputs, kOutputs) +
+         "\nResults with `--calibration FILE.csv` (the transducer's flags refused):\n\n" +
+         calibration_outputs_markdown();
 }
 
 std::vector<CalculatorInput> inputs() { return input_rows<Args>(kInputs); }

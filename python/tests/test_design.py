@@ -4,6 +4,7 @@ given back give the same result, bad keys and values raise InputError naming the
 import inspect
 import json
 import os
+import pathlib
 import subprocess
 import warnings
 
@@ -13,6 +14,7 @@ import lathectl
 from lathectl import design
 
 LATHECTL = os.environ.get("LATHECTL", "lathectl")
+CALIBRATION = str(pathlib.Path(__file__).resolve().parents[2] / "examples/gauges/d_calibration.csv")
 NAMES = ["pulse_regulator", "adaptive_speed", "planned_mode", "gauge", "tracer", "modulation"]
 # Inputs each calculator is tried with beside its defaults (the first three with a default are
 # also changed by 10 % each, one at a time).
@@ -27,8 +29,10 @@ CASES = {
                      {"t_mm": 3, "material": "cast_iron_SCh20", "power_limit_kW": 5,
                       "D_mm": 60}],
     "gauge": [{"target_um": 150, "tolerance_um": 10},
-              {"filter": "second_order"}, {"target_um": 240, "force": True}],
-    "tracer": [{"i": 4, "alpha_deg": 20}],
+              {"filter": "second_order"}, {"target_um": 240, "force": True},
+              {"calibration": CALIBRATION, "tolerance_um": 10},
+              {"calibration": CALIBRATION, "coil_turns": 900}],
+    "tracer": [{"i": 4, "alpha_deg": 20}, {"alpha_deg": 0}],
     "modulation": [{"x_mm": 300, "n_rpm": 700}],
 }
 

@@ -72,26 +72,41 @@ GaugeResult gauge(const GaugeInput& in) {
     r.free_amplitude_m = r.intercept_m = g.free_amplitude_m();
     r.static_offset_m = g.static_offset_m();
   }
-  const double K = r.signal_gain_V_per_m, A = r.intercept_m;
-  r.signal_at_target_V = K * (A - in.target_m);
-  r.threshold_V = threshold_23({K, A}, in.target_m, in.removal_m_per_s,
-                               sensors::VibroContactGauge::filter_lag_s(p) + in.relay_response_s);
-  r.end_time_s =
-      in.removal_m_per_s > 0.0 ? (in.allowance_m - in.target_m) / in.removal_m_per_s : INFINITY;
-  // (25), extended to the filter: 1/(1 + βT_f) for the seed's first order.
-  const double factor = sensors::VibroContactGauge::filter_noise_factor(p, in.noise_beta_per_s);
-  r.noise_variance_V2 = in.noise_variance_m2 * K * K * factor;
-  r.size_sigma_m = std::sqrt(in.noise_variance_m2 * factor);
+  const auto pn = process_numbers({r.signal_gain_V_per_m, r.intercept_m}, in);
+  r.signal_at_target_V = pn.signal_at_target_V;
+  r.threshold_V = pn.threshold_V;
+  r.end_time_s = pn.end_time_s;
+  r.noise_variance_V2 = pn.noise_variance_V2;
+  r.size_sigma_m = pn.size_sigma_m;
   const double dt = full_model_step(p);
   r.range = signal_range(p, dt, in.allowance_m, std::sqrt(r.noise_variance_V2));
-  const double lag =
-      in.removal_m_per_s * (sensors::VibroContactGauge::filter_lag_s(p) + in.relay_response_s);
+  const double lag = pn.lag_m;
   r.largest_target_m = size_at_signal(p, dt, r.range.low_V, 0.0, r.range.floor_start_m) - lag;
   const double x_trip = in.target_m + lag;
   r.trip_spread_m =
       sensors::VibroContactGauge::settled_signal(p, dt, x_trip, full_model_settle(p), 0.4).spread_m;
   r.regular = r.trip_spread_m <= kRegularSpread * r.free_amplitude_m;
   return r;
+}
+
+ProcessNumbers process_numbers(const GaugeLine& line, const GaugeInput& in) {
+  sensors::VibroContactGauge::Params p;  // the filter's part: its kind, T_f, the supply's ω
+  p.supply_Hz = in.supply_Hz;
+  p.filter_time_constant_s = in.filter_time_constant_s;
+  p.filter = in.filter;
+  const double K = line.gain_V_per_m;
+  const double lag_s = sensors::VibroContactGauge::filter_lag_s(p) + in.relay_response_s;
+  ProcessNumbers n;
+  n.signal_at_target_V = K * (line.intercept_m - in.target_m);
+  n.threshold_V = threshold_23(line, in.target_m, in.removal_m_per_s, lag_s);
+  n.end_time_s =
+      in.removal_m_per_s > 0.0 ? (in.allowance_m - in.target_m) / in.removal_m_per_s : INFINITY;
+  // (25), extended to the filter: 1/(1 + βT_f) for the seed's first order.
+  const double factor = sensors::VibroContactGauge::filter_noise_factor(p, in.noise_beta_per_s);
+  n.noise_variance_V2 = in.noise_variance_m2 * K * K * factor;
+  n.size_sigma_m = std::sqrt(in.noise_variance_m2 * factor);
+  n.lag_m = in.removal_m_per_s * lag_s;
+  return n;
 }
 
 double threshold_23(const GaugeLine& line, double target_m, double removal_m_per_s, double lag_s) {

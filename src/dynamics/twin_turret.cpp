@@ -30,6 +30,9 @@ void TwinTurretCut::validate(const Params& p, double dt) {
   require(p.part.damping_ratio < 1.0, "the part's damping ratio must be below 1");
   require(p.rpm_nominal > 0.0 && p.feed_mm_per_rev > 0.0, "rpm and feed must be positive");
   require(p.depth_mm[0] >= 0.0 && p.depth_mm[1] >= 0.0, "depths must be non-negative");
+  require(p.chip_law == ChipLaw::Linear ||
+              (p.depth_mm[0] > 0.0 && (p.setup == TwinSetup::Single || p.depth_mm[1] > 0.0)),
+          "the power chip law needs a positive depth t0 on every tool: F(t0)·(t/t0)^(1−m)");
   require(p.overlap >= 0.0 && p.overlap <= 1.0, "overlap must be in [0, 1]");
   require(p.tool2_lag_mm >= 0.0, "tool2_lag must be non-negative");
   require(p.slowest_feed_fraction > 0.0 && p.slowest_feed_fraction <= 1.0,
@@ -305,6 +308,11 @@ void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept
     const cutting::Forces f = cut_.forces_pz_py({e.b_mm, e.s_mm, v, 1.0, 1.0});
     e.fc = f.Pz;
     e.fp = f.Py;
+    if (p_.chip_law == ChipLaw::Power) {  // F_linear(t0)·(t/t0)^(1−m) = F_linear(t)·(t/t0)^−m
+      const double r = e.b_mm / e.t0_mm;
+      e.fc *= std::pow(r, -p_.cutting.material.Fc.m);
+      e.fp *= std::pow(r, -p_.cutting.material.Fp.m);
+    }
   } else {
     e.fc = e.fp = 0.0;
   }

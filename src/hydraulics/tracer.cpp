@@ -33,6 +33,12 @@ double TracerLinear::lag(double q0, double qd0, double v, double tau) const noex
   return q_ss + std::real(c1 * std::exp(l1 * tau) + c2 * std::exp(l2 * tau));
 }
 
+ProfileError cone_profile_error(double q, double alpha, double beta) noexcept {
+  const double s = std::sin(alpha + beta), sa = std::sin(alpha), ca = std::cos(alpha);
+  // |sin α|, |cos α| below 1e-12: a cylinder or a shoulder, where (12) or (13) has no equal y or x.
+  return {std::abs(sa) < 1e-12 ? NAN : q * s / sa, std::abs(ca) < 1e-12 ? NAN : 0.0 - q * s / ca};
+}
+
 TracerLinear::Transient TracerLinear::transient(double q0, double qd0, double v) const noexcept {
   const double q_ss = v / (C0_per_s * lever_ratio);
   const double slowest =

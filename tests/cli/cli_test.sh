@@ -258,8 +258,12 @@ grep -q "key 'process.target_um'.*force_threshold" "$work/err.txt" || bad "near 
 #   V_pr = 0.3·600/60 = 3 mm/s = 180 mm/min
 #   v_T = 3·sin 30°/sin 75° = 1.5/0.9659258 = 1.5529143 mm/s = 93.17486 mm/min
 #   P0/E0 = 500/2000 = 0.25 mm = 250 µm;  v_T/C0 = 1.5529143/20 mm = 77.64571 µm
-#   q_ss = (250 + 77.64571)/3 = 109.21524 µm; axial = radial = 109.21524·cos 45° = 77.22684 µm
+#   h on the cone (9) = 250 + 77.64571 = 327.64571 µm; q_ss = 327.64571/3 = 109.21524 µm
 #   static P0/(E0·i) = 250/3 = 83.33333 µm; dynamic v_T/(C0·i) = 25.88190 µm
+#   seed (12): δx = 25.88190·sin 75°/sin 30° = 50.00000 µm (= V_pr/(C0·i) = 3/60 mm)
+#   seed (13): δy = −25.88190·sin 75°/cos 30° = −28.86751 µm (= −V_pr·tan 30°/(C0·i))
+#   Fig. 1a at V_k = v_T: P = E0·(h − v_T/C0) is P0 = 500 N at h = 327.64571 µm (the 11th of 21
+#   points from 0 to 2h); Fig. 1b at P = P0: V_k = C0·(h − P0/E0) is v_T = 1.5529143 mm/s there
 #   ζ = sqrt(2e6/(100·3))/(2·20) = sqrt(6666.667)/40 = 81.64966/40 = 2.041241 → aperiodic
 #   ω_n = sqrt(3·2e6/100) = sqrt(60000) = 244.94897 rad/s → f_n = 38.98484 Hz
 #   cylinder→cone, aperiodic: no overshoot, peak dynamic lag = 25.88190 µm. Roots
@@ -267,16 +271,25 @@ grep -q "key 'process.target_um'.*force_threshold" "$work/err.txt" || bad "near 
 #   slow coefficient c1 = (60 − 935.88989)/(935.88989 − 64.11011)·q_dyn = −1.0047146·q_dyn,
 #   2 % band: τ = ln(1.0047146/0.02)/64.11011 = 61.094 ms (the scan samples it: ±0.1 %)
 expect_rc 0 "design tracer json" $bin design tracer --E0 2000 --C0 20 --M 100 --i 3 --P0 500 \
-  --beta-deg 45 --alpha-deg 30 --s 0.3 --n 600 --json
-python3 - "$work/out.txt" <<'PY' || bad "design tracer json values: $(cat "$work/out.txt")"
-import json, sys
+  --beta-deg 45 --alpha-deg 30 --s 0.3 --n 600 --characteristics "$work/fig1.csv" --json
+python3 - "$work/out.txt" "$work/fig1.csv" <<'PY' || bad "design tracer json values: $(cat "$work/out.txt")"
+import csv, json, sys
 j = json.load(open(sys.argv[1]))
+rows = list(csv.DictReader(open(sys.argv[2])))
+assert len(rows) == 84 and rows[0]["figure"] == "1a" and rows[-1]["figure"] == "1b", rows[:2]
+op_a = [r for r in rows if r["figure"] == "1a" and r["held"] == "V_k_mm_per_s" and float(r["held_value"]) > 0][10]
+op_b = [r for r in rows if r["figure"] == "1b" and float(r["held_value"]) == 500][10]
+assert abs(float(op_a["h_mm"]) - 0.32764571) < 1e-8 and abs(float(op_a["P_N"]) - 500) < 1e-6, op_a
+assert abs(float(op_b["V_k_mm_per_s"]) - 1.5529143) < 1e-6, op_b
+assert j["inputs"]["characteristics"] == sys.argv[2]
+j["inputs"].pop("characteristics")
 si, shop, inp = j["si"], j["shop"], j["inputs"]
 def near(a, b, rel=1e-6): assert abs(a / b - 1) < rel, (a, b)
 near(shop["V_pr_mm_per_min"], 180); near(si["V_pr_m_per_s"], 3e-3)
 near(shop["v_T_mm_per_min"], 93.17486); near(si["v_T_m_per_s"], 1.5529143e-3)
 near(shop["q_ss_um"], 109.21524); near(si["q_ss_m"], 109.21524e-6)
-near(shop["q_ss_axial_um"], 77.22684); near(shop["q_ss_radial_um"], 77.22684)
+near(shop["h_cone_um"], 327.64571); near(shop["dx_um"], 50.0); near(shop["dy_um"], -28.86751)
+assert "q_ss_axial_um" not in shop  # the lag's axial component is not the seed's δx (issue 48)
 near(shop["q_static_um"], 83.33333); near(shop["q_dynamic_um"], 25.88190)
 near(shop["zeta"], 2.041241); near(si["zeta"], 2.041241)
 near(si["omega_n_rad_per_s"], 244.94897); near(shop["f_n_Hz"], 38.98484)
@@ -296,6 +309,7 @@ assert shop["transient_peak_lag_um"] > shop["q_dynamic_um"] * 1.01, shop
 PY
 expect_rc 0 "design tracer table" $bin design tracer
 for row in "steady lag q_ss (along slide) .* 109.215 µm" "damping ratio ζ .* 2.04124" \
+           "(12) δx at equal y .* 50 µm" "(13) δy at equal x .* -28.8675 µm" \
            "natural frequency ω_n/2π .* 38.9848 Hz" "aperiodic (ζ ≥ 1) .* yes"; do
   grep -q "$row" "$work/out.txt" || bad "design tracer table lacks '$row': $(cat "$work/out.txt")"
 done
@@ -311,6 +325,10 @@ expect_rc 2 "design tracer not a number" $bin design tracer --E0 stiff
 [ "$(wc -l < "$work/err.txt")" -eq 1 ] || bad "tracer non-number message is not one line"
 expect_rc 2 "design tracer zero feed" $bin design tracer --s 0
 expect_rc 2 "design tracer beta out of range" $bin design tracer --beta-deg 0
+# on a cylinder (α = 0) there is no δx at equal y: left out, not nan
+expect_rc 0 "design tracer cylinder" $bin design tracer --alpha-deg 0 --json
+python3 -c 'import json,sys; s=json.load(open(sys.argv[1]))["shop"]; assert "dx_um" not in s and s["dy_um"] == 0, s' \
+  "$work/out.txt" || bad "design tracer cylinder: $(cat "$work/out.txt")"
 
 # stability lobes: the SDOF example against its closed form 2kζ(1+ζ)/(K_f cos²θ) = 7.3188 mm
 expect_rc 0 "lobes" $bin lobes "$src/examples/machines/b_sdof.toml" --out "$work/lobes"

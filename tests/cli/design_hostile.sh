@@ -16,11 +16,14 @@ declare -A base=(
   [gauge]="--tolerance-um 10"
   [tracer]=""
   [modulation]="--L-mm 600 --x-mm 285"
+  # design gauge from a measured calibration: the process flags, and the physical ones refused
+  [gauge-calibration]="--tolerance-um 10 --allowance-um 200 --calibration $(dirname "$0")/../../examples/gauges/d_calibration.csv"
 )
 values=(0 -1 nan inf 1e300 1e-300)
 
-for calc in pulse-regulator adaptive-speed planned-mode gauge tracer modulation; do
-  flags=$("$bin" reference design "$calc" | sed -n 's/^| `\(--[A-Za-z0-9-]*\)` | `.*/\1/p')
+for calc in pulse-regulator adaptive-speed planned-mode gauge tracer modulation gauge-calibration; do
+  cmd=${calc%-calibration}
+  flags=$("$bin" reference design "$cmd" | sed -n 's/^| `\(--[A-Za-z0-9-]*\)` | `.*/\1/p')
   [ -n "$flags" ] || bad "$calc: no flags in its reference"
   for flag in $flags; do
     for v in "${values[@]}"; do
@@ -29,7 +32,7 @@ for calc in pulse-regulator adaptive-speed planned-mode gauge tracer modulation;
       [ "$calc" = pulse-regulator ] && [ "$flag" = --f-Hz ] && args=$(echo "$args" | sed 's/ --T-ms [^ ]* / /')
       runs=$((runs + 1))
       # shellcheck disable=SC2086
-      timeout 20 "$bin" design "$calc" $args "$flag" "$v" --json >"$work/out.txt" 2>"$work/err.txt"
+      timeout 20 "$bin" design "$cmd" $args "$flag" "$v" --json >"$work/out.txt" 2>"$work/err.txt"
       rc=$?
       what="design $calc $flag $v"
       case $rc in

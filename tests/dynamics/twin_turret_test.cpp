@@ -193,3 +193,32 @@ TEST(TwinTurretCut, PloughingGrowsFasterThanViscousOnceTheSlopePassesTheClearanc
 
 }  // namespace
 }  // namespace lathectl::dynamics
+
+// The power chip law (issue 48): F(t) = F_linear(t0)·(t/t0)^(1−m), m Kienzle's of each force.
+// One tool, no regeneration (μ = 0), the part displaced 50 µm into the tool: the first step's
+// depth is t0 + 0.05 mm and its forces are the linear law's times (t/t0)^(−m) (steel_40Kh: m_Fc,
+// m_Fp from data/materials.toml). At t = t0 (no displacement) the two laws are the same force.
+TEST(TwinTurretCut, PowerChipLawIsKienzlesExponentOnTheDepth) {
+  for (const double a_um : {0.0, 50.0, -50.0}) {
+    TwinTurretCut lin, pow_law;
+    TwinTurretCut::Params p = single_tool(false, a_um);
+    lin.configure(p, 2e-5);
+    p.chip_law = ChipLaw::Power;
+    pow_law.configure(p, 2e-5);
+    const double z[2] = {p.z_start_mm + 1e-3, 0.0};
+    lin.step(1e-3, 820.0, z);
+    pow_law.step(1e-3, 820.0, z);
+    const double t = lin.depth_mm(0), r = t / p.depth_mm[0];
+    ASSERT_TRUE(lin.cutting(0) && pow_law.cutting(0));
+    ASSERT_GT(lin.radial_N(0), 0.0);
+    EXPECT_NEAR(t, 2.0 + a_um * 1e-3, 1e-9);
+    const auto& mat = p.cutting.material;
+    EXPECT_NEAR(pow_law.radial_N(0), lin.radial_N(0) * std::pow(r, -mat.Fp.m),
+                1e-12 * lin.radial_N(0));
+    EXPECT_NEAR(pow_law.tangential_N(0), lin.tangential_N(0) * std::pow(r, -mat.Fc.m),
+                1e-12 * lin.tangential_N(0));
+    if (a_um == 0.0) {
+      EXPECT_DOUBLE_EQ(pow_law.radial_N(0), lin.radial_N(0));
+    }
+  }
+}

@@ -214,3 +214,28 @@ TEST(SlideTarget, AdvancesAtTheConeRate) {
 }
 
 }  // namespace
+
+// Seed 002's (12)-(13) on the design calculator's default case (β = 45°, α = 30°, V_pr = 3 mm/s,
+// C0·i = 60 1/s), by hand from the geometry in tests/sim/rig_c_test.cpp's header:
+//   v_T = 3·sin 30°/sin 75° = 1.552914 mm/s, q = v_T/(C0·i) = 25.881905 µm
+//   δx = q·sin 75°/sin 30° = 25.881905·0.9659258/0.5 = 50.000000 µm = V_pr/(C0·i) = 3/60 mm
+//   δy = −q·sin 75°/cos 30° = −25.881905·0.9659258/0.8660254 = −28.867513 µm = −V_pr·tan 30°/60
+TEST(TracerProfileError, SeedTwelveThirteenByHand) {
+  using lathectl::hydraulics::cone_profile_error;
+  constexpr double kDeg = std::numbers::pi / 180.0;
+  const double q = 3e-3 * std::sin(30.0 * kDeg) / std::sin(75.0 * kDeg) / 60.0;
+  EXPECT_NEAR(q, 25.881905e-6, 1e-12);
+  const auto e = cone_profile_error(q, 30.0 * kDeg, 45.0 * kDeg);
+  EXPECT_NEAR(e.dx_m, 50.000000e-6, 1e-12);
+  EXPECT_NEAR(e.dy_m, -28.867513e-6, 1e-12);
+  // Free of β at the steady lag: the same δx, δy at β = 60° with its own v_T.
+  const double q60 = 3e-3 * std::sin(30.0 * kDeg) / std::sin(90.0 * kDeg) / 60.0;
+  const auto e60 = cone_profile_error(q60, 30.0 * kDeg, 60.0 * kDeg);
+  EXPECT_NEAR(e60.dx_m, 50e-6, 1e-15);
+  EXPECT_NEAR(e60.dy_m, -28.867513e-6, 1e-12);
+  // No equal y on a cylinder, no equal x on a shoulder.
+  EXPECT_TRUE(std::isnan(cone_profile_error(q, 0.0, 45.0 * kDeg).dx_m));
+  EXPECT_TRUE(std::isnan(cone_profile_error(q, 90.0 * kDeg, 45.0 * kDeg).dy_m));
+  // Fig. 1's static characteristic (9) at dV/dt = 0: h = P/E0 + V/C0 = 500/2e6 + 1.5e-3/20.
+  EXPECT_NEAR(TracerLinear{}.static_opening_m(500.0, 1.5e-3), 0.25e-3 + 0.075e-3, 1e-18);
+}

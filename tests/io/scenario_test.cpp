@@ -364,10 +364,11 @@ TEST(ScenarioB, EveryKeyOfItsTablesIsDescribed) {
   const auto rows =
       own_rows(systems::b_chatter::kSection, {"part", "cut", "vibration_sensor", "power_sensor",
                                      "modulation", "process_damping", "study"});
-  // part 6, cut 13, sensors 6 + 6, modulation 20, process damping 5, study 2
-  EXPECT_EQ(rows.size(), 58u);
+  // part 6, cut 14 (cut.chip_law: issue 48), sensors 6 + 6, modulation 20, process damping 5,
+  // study 2
+  EXPECT_EQ(rows.size(), 59u);
   for (const auto& r : rows) EXPECT_FALSE(r.doc.empty()) << r.key;
-  for (const char* k : {"modulation.S_min_mm_per_min", "modulation.dl_mm",
+  for (const char* k : {"cut.chip_law", "modulation.S_min_mm_per_min", "modulation.dl_mm",
                         "power_sensor.idle_table_rpm", "study.sweep_feed_mm_per_rev"})
     EXPECT_TRUE(described(rows, k)) << k;
   // The defaults shown are the settings' own, in the file's units.

@@ -107,6 +107,19 @@ struct GaugeLine {
 constexpr double kRegularSpread = 0.03;
 // (23): S_th = K·(B − x_k − a·lag_s), lag_s = T_f + t_r for the first-order filter.
 double threshold_23(const GaugeLine& line, double target_m, double removal_m_per_s, double lag_s);
+// What (22), (23) and (25) give for a line (K, B) and the process, filter and relay of `in`
+// (its transducer fields unused but supply_Hz, which the synchronous filter's window needs):
+// gauge() for the transducer's line, `design gauge --calibration` for a measured one.
+struct ProcessNumbers {
+  double signal_at_target_V = 0.0;  // K·(B − x_k)
+  double threshold_V = 0.0;         // (23)
+  double end_time_s = 0.0;          // (22)
+  double noise_variance_V2 = 0.0;   // D_y (25), for the filter of `in`
+  double size_sigma_m = 0.0;        // σ_x
+  double lag_m = 0.0;               // a·(filter lag + t_r): the trip is this far above x_k
+};
+ProcessNumbers process_numbers(const GaugeLine& line, const GaugeInput& in);
+
 // The full model's local line: least squares through its settled mean signal at x_trip + 10 µm·i,
 // i = −2…2 (the calibration a shop makes with setting masters around the trip point).
 GaugeLine calibrated_line(const sensors::VibroContactGauge::Params& p, double dt_s,

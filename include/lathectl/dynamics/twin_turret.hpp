@@ -73,6 +73,19 @@ namespace lathectl::dynamics {
 enum class TwinSetup : std::uint8_t { Single, FeedDivision, DepthDivision };
 enum class InterToolDelay : std::uint8_t { AxialPositions, Fixed };
 
+// How the force follows the instantaneous depth t, the chip dimension the radial vibration
+// changes (issue 48, seed 001's quenching). Linear: Kienzle's F = k1.1·b·h^(1−m) with b = t/sin κ,
+// linear in t (the default, the model of the goldens). Power: F(t) = F_linear(t0)·(t/t0)^(1−m),
+// Kienzle's exponent applied to t — the classical regenerative model's view of the vibration
+// normal to the cut surface as a change of chip thickness, with the power law of F. W. Taylor
+// (1907, "On the art of cutting metals": 3/4, i.e. m = 0.25) that Kalmár-Nagy, Stépán & Moon
+// ("Subcritical Hopf bifurcation in the delay equation model for machine tool vibrations",
+// Nonlinear Dynamics 26, 2001, 121–142) expand to third order: F(t0 + Δ) = F(t0)·[1 + (1−m)·Δ/t0
+// − m(1−m)/2·(Δ/t0)² + m(1−m)(1+m)/6·(Δ/t0)³ …]. m is the material's Kienzle m of each force
+// (Fc for Pz, Fp for Py). The same static force at t0; the slope there is (1 − m)× the linear
+// law's, and the gain of an oscillation grows with its amplitude (the cubic term): subcritical.
+enum class ChipLaw : std::uint8_t { Linear, Power };
+
 // The flank's ploughing of the surface it has just cut (see above); off unless enabled.
 struct ProcessDamping {
   bool enabled = false;
@@ -105,6 +118,7 @@ class TwinTurretCut {
     double rpm_nominal = 800.0;
     double feed_mm_per_rev = 0.1;
     InterToolDelay inter_tool_delay = InterToolDelay::AxialPositions;
+    ChipLaw chip_law = ChipLaw::Linear;
     // The slowest sustained feed of tool 1 as a share of feed_mm_per_rev (a modulated feed
     // runs below it): sizes the surface memory the axial-position delay searches.
     double slowest_feed_fraction = 1.0;

@@ -35,6 +35,12 @@ struct TracerLinear {
     return P0_N / (E0_N_per_m * lever_ratio);
   }
   [[nodiscard]] double steady_lag_m(double v_template_m_per_s) const noexcept;
+  // The static characteristic of (9), dV_k/dt = 0 (the seed's Fig. 1 linearised): the spool
+  // opening h = P/E0 + V_k/C0 at piston force P and copying speed V_k; Fig. 1a is P = E0·(h −
+  // V_k/C0) at a held V_k, Fig. 1b V_k = C0·(h − P/E0) at a held P.
+  [[nodiscard]] double static_opening_m(double P_N, double V_m_per_s) const noexcept {
+    return P_N / E0_N_per_m + V_m_per_s / C0_per_s;
+  }
 
   // Closed form of the lag q = s_T − s − P0/(E0·i) after a change at τ = 0 to a template rate
   // v [m/s], starting from q(0) = q0, q̇(0) = qd0: (M/E0)·q̈ + q̇/C0 + i·q = v/C0.
@@ -49,6 +55,20 @@ struct TracerLinear {
   };
   [[nodiscard]] Transient transient(double q0, double qd0, double v) const noexcept;
 };
+
+// The seed's (12)-(13): the profile error on a cone of angle α (template y = x·tan α) when the
+// tool lags q along the slide d = (−cos β, sin β), i.e. sits at the template point + q·(cos β,
+// −sin β). Signed tool minus template, as rig C's dx_um and dy_um:
+//   (12) δx at equal y = q·cos β + q·sin β/tan α = q·sin(α + β)/sin α
+//   (13) δy at equal x = −q·sin β − q·cos β·tan α = −q·sin(α + β)/cos α
+// With the steady dynamic lag q = v_T/(C0·i), v_T = V_pr·sin α/sin(α + β): δx = V_pr/(C0·i),
+// δy = −V_pr·tan α/(C0·i), both free of β. δx is undefined on a cylinder (α = 0), δy on a
+// shoulder (α = 90°): NaN there.
+struct ProfileError {
+  double dx_m, dy_m;
+};
+[[nodiscard]] ProfileError cone_profile_error(double lag_m, double alpha_rad,
+                                              double beta_rad) noexcept;
 
 // Template profile: a polyline y_T(x) (x ascending; a vertical step is two points at one x).
 class TemplateProfile {

@@ -53,6 +53,8 @@ struct RigConfig {
   // Depth division: the pass of tool 1 whose surface tool 2 meets, from the tools' axial
   // positions at every step (the physics) or frozen at round(lag/s) + ½ revolutions.
   dynamics::InterToolDelay inter_tool_delay = dynamics::InterToolDelay::AxialPositions;
+  // The force against the depth: linear (Kienzle, the default) or the power law (t/t0)^(1−m).
+  dynamics::ChipLaw chip_law = dynamics::ChipLaw::Linear;
   // The flank's ploughing (process damping); K_sp = 0: off (the default model).
   dynamics::ProcessDamping process_damping{};
   // The seed's quenching formula: the number it prints (1.41) and how the garbled text is read:
@@ -89,6 +91,7 @@ inline dynamics::TwinTurretCut::Params cut_params(const RigConfig& cfg) {
   pp.rpm_nominal = cfg.rpm;
   pp.feed_mm_per_rev = cfg.feed_mm_per_rev;
   pp.inter_tool_delay = cfg.inter_tool_delay;
+  pp.chip_law = cfg.chip_law;
   pp.process_damping = cfg.process_damping;
   pp.tool_modes = cfg.tool_modes;
   // The slowest feed of tool 1 (the right turret) a modulation can hold, for the surface memory.

@@ -108,6 +108,15 @@ void read_cut(TableReader& root, RigConfig& b) {
               {"axial_positions", "fixed"}, "axial_positions") == "fixed";
   b.inter_tool_delay =
       fixed ? dynamics::InterToolDelay::Fixed : dynamics::InterToolDelay::AxialPositions;
+  const bool power =
+      c->pick({"chip_law",
+               {},
+               "the force against the instantaneous depth the radial vibration changes: linear "
+               "(Kienzle's b, the seed's model) or power, F(t0)·(t/t0)^(1−m) with the material's "
+               "Kienzle m (nonlinear in the vibration: where quenching can act; "
+               "docs/system-b-chatter.md)"},
+              {"linear", "power"}, "linear") == "power";
+  b.chip_law = power ? dynamics::ChipLaw::Power : dynamics::ChipLaw::Linear;
   c->finish();
 }
 

@@ -401,6 +401,10 @@ void ChatterStudy::model_metrics(json& m) const {
         {"uncut_reads", pc.uncut_reads()},
         {"clipped_reads", pc.clipped_reads()}};
   }
+  if (b_.chip_law == dynamics::ChipLaw::Power)  // absent with the default linear law
+    m["chip_law"] = {{"model", "power"},
+                     {"m_Fc", b_.cutting.material.Fc.m},
+                     {"m_Fp", b_.cutting.material.Fp.m}};
   if (b_.process_damping.on())
     m["process_damping"] = {{"model", "indentation"},
                             {"K_sp_N_per_mm3", b_.process_damping.k_sp_N_per_m3 * 1e-9},
