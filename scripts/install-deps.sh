@@ -21,8 +21,8 @@ for opt in "$@"; do
     # HAL components and the simulated LinuxCNC session; without --no-install-recommends
     # linuxcnc-uspace would pull in a realtime kernel.
     # The operator panel's test: AXIS on a virtual display (xvfb), its screenshot (xwd from
-    # x11-apps, xwdtopnm/pnmtopng from netpbm).
-    --linuxcnc) pkgs+=(linuxcnc-uspace linuxcnc-uspace-dev xvfb x11-apps netpbm) ;;
+    # x11-apps, xwdtopnm/pnmtopng from netpbm). lathectl_vibsensor's ALSA capture: libasound2-dev.
+    --linuxcnc) pkgs+=(linuxcnc-uspace linuxcnc-uspace-dev xvfb x11-apps netpbm libasound2-dev) ;;
     # make package: CPack's dependency detection (dpkg-shlibdeps, file) and lintian.
     --package) pkgs+=(dpkg-dev file lintian) ;;
     # The Python package's tests (pytest) and the example notebooks executed headless
