@@ -1,0 +1,115 @@
+#!/usr/bin/python3
+"""lathectl_vibsensor (B's measuring chain on a real accelerometer) on a recorded chatter signal,
+with no hardware: the twin-turret example's vibration (b_twin_feed_division at 1 mm depth, so
+that it chatters within 10 s), simulated by rig B at 48 kHz and converted to acceleration
+(tests/hal/vibsensor_record.cpp), played
+
+  - through the real ALSA capture path: ALSA's `file` plugin (slave null, infile the raw S32_LE
+    samples, format raw) from this test's own configuration (ALSA_CONFIG_PATH); it neither paces
+    nor ends, so the component stops after the known frame count (--frames);
+  - from the same samples as a WAV file (PCM 32) and as a CSV of time,acceleration (--file).
+
+a0 and ω_d at each amplitude gate's end are compared with the simulated chain's (the rig's
+VibrationChain on the displacement, its noise off) over the developed chatter.
+
+  vibsensor_test.py SOURCE_DIR WORK_DIR     (env VIBSENSOR, VIBSENSOR_RECORD: the two programs)
+"""
+
+import os
+import re
+import subprocess
+import sys
+import wave
+
+import numpy as np
+
+RATE = 48000
+SENSITIVITY = 0.0102   # V per m/s², a 100 mV/g IEPE accelerometer
+FULL_SCALE = 2.0       # V at the interface's digital full scale
+SECONDS = 10.0
+WINDOW = (9.0, 10.0)   # s: the developed chatter the outputs are compared over
+
+
+def scenario(src):
+    """b_twin_feed_division for SECONDS at 48 kHz, 1 mm deep, the chain's noise off."""
+    text = open(os.path.join(src, "examples/scenarios/b_twin_feed_division.toml")).read()
+    text = re.sub(r"\[run\][^\[]*", "[run]\nduration_s = %g\nstep_s = %.17g\n"
+                  "record_interval_s = 1e-3\nseed = 1\n\n" % (SECONDS, 1 / RATE), text)
+    text = text.replace("depth_mm = [0.5, 0.5]", "depth_mm = [1.0, 1.0]")
+    text = text.replace("z_end_mm = 320", "z_end_mm = 268")  # the cut within SECONDS
+    text = text.replace("[vibration_sensor]\n", "[vibration_sensor]\nnoise_um = 0\n")
+    return re.sub(r"^\[study\]\n(?:(?!\[).*\n?)*", "", text, flags=re.M)
+
+
+def print_rows(cmd, env=None):
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True, env=env, timeout=120)
+    rows = np.loadtxt(out.stdout.splitlines()[1:], delimiter=",", ndmin=2)
+    return out.stdout, rows, out.stderr
+
+
+def main():
+    src, work = sys.argv[1], sys.argv[2]
+    vibsensor, record = os.environ["VIBSENSOR"], os.environ["VIBSENSOR_RECORD"]
+    os.makedirs(work, exist_ok=True)
+    sc = os.path.join(work, "b_record.toml")
+    open(sc, "w").write(scenario(src))
+    subprocess.run([record, sc, work, str(SENSITIVITY), str(FULL_SCALE)], check=True,
+                   stdout=subprocess.DEVNULL, timeout=600)
+    raw, wav, csv = (os.path.join(work, "rec." + e) for e in ("raw", "wav", "csv"))
+    samples = np.fromfile(raw, dtype="<i4")
+    assert np.max(np.abs(samples)) < 2 ** 31 * 0.9, "the recording would clip"
+    with wave.open(wav, "wb") as w:  # PCM 32, the same samples
+        w.setnchannels(1)
+        w.setsampwidth(4)
+        w.setframerate(RATE)
+        w.writeframes(samples.tobytes())
+    np.savetxt(csv, np.column_stack([np.arange(len(samples)) / RATE,
+                                     samples * FULL_SCALE / SENSITIVITY / 2 ** 31]),
+               delimiter=",", fmt="%.17g", header="time_s,acceleration_m_s2", comments="")
+    conf = os.path.join(work, "asound.conf")
+    open(conf, "w").write('pcm.lathectl_rec {\n  type file\n  slave.pcm { type null }\n'
+                          '  file "/dev/null"\n  infile "%s"\n  format "raw"\n}\n' % raw)
+    env = dict(os.environ, ALSA_CONFIG_PATH=conf)
+    common = [vibsensor, "--scenario", sc, "--sensitivity", str(SENSITIVITY), "--full-scale",
+              str(FULL_SCALE), "--print"]
+    alsa_text, alsa, alsa_err = print_rows(
+        common + ["--device", "lathectl_rec", "--rate", str(RATE), "--format", "S32_LE",
+                  "--frames", str(len(samples))], env)
+    wav_text, from_wav, _ = print_rows(common + ["--file", wav])
+    _, from_csv, _ = print_rows(common + ["--file", csv])
+    assert "0 overruns, 0 clipped" in alsa_err, alsa_err
+    # The ALSA path and the WAV file carry the same samples into the same chain: the same rows.
+    assert alsa_text == wav_text, "ALSA and WAV differ"
+    # The CSV's values are the samples' m/s² (to 17 digits): the same a0 and ω_d.
+    assert np.allclose(from_csv, from_wav, rtol=0, atol=1e-6), "CSV and WAV differ"
+
+    # Against the simulated chain, gate by gate (both publish at the gates' ends, every 2400
+    # samples; the rig's chain samples the displacement at 1e-4 s, this one the acceleration at
+    # 48 kHz).
+    sim = np.loadtxt(os.path.join(work, "sim.csv"), delimiter=",", skiprows=1, ndmin=2)
+    n = min(len(sim), len(alsa))
+    assert np.allclose(sim[:n, 0], alsa[:n, 0]), "the gates are not aligned"
+    sim, alsa = sim[:n], alsa[:n]
+    win = (alsa[:, 0] > WINDOW[0] + 1e-9) & (alsa[:, 0] <= WINDOW[1] + 1e-9)
+    da0 = alsa[win, 1] - sim[win, 1]
+    dfreq = alsa[win, 2] - sim[win, 2]
+    print("gates compared: %d (t %.2f … %.2f s)" % (win.sum(), *WINDOW))
+    print("a0 [um]: ALSA mean %.3f, simulated chain mean %.3f; difference mean %+.3f, max |%.3f|"
+          % (alsa[win, 1].mean(), sim[win, 1].mean(), da0.mean(), np.abs(da0).max()))
+    print("the same a0 in %d of %d gates, the same omega_d in %d"
+          % ((da0 == 0).sum(), win.sum(), (dfreq == 0).sum()))
+    print("omega_d [Hz]: ALSA mean %.2f, simulated chain mean %.2f; difference max |%.2f|"
+          % (alsa[win, 2].mean(), sim[win, 2].mean(), np.abs(dfreq).max()))
+    for row_a, row_s in zip(alsa[win], sim[win]):
+        print("  t %.2f  a0 %.0f / %.0f um   f %.1f / %.1f Hz"
+              % (row_a[0], row_a[1], row_s[1], row_a[2], row_s[2]))
+    assert alsa[win, 1].min() > 5, "no developed chatter in the window"
+    # One ADC step (1 um: the sampled peak, the acceleration's high-pass) and the detector's
+    # resolution 1/(2·gate) = 5 Hz.
+    assert np.abs(da0).max() <= 1.0 + 1e-9, da0
+    assert np.abs(dfreq).max() <= 5.0 + 1e-9, dfreq
+    print("vibsensor: ALSA, WAV and CSV paths agree with the simulated chain")
+
+
+if __name__ == "__main__":
+    main()
