@@ -10,7 +10,9 @@ that it chatters within 10 s), simulated by rig B at 48 kHz and converted to acc
   - from the same samples as a WAV file (PCM 32) and as a CSV of time,acceleration (--file).
 
 a0 and ω_d at each amplitude gate's end are compared with the simulated chain's (the rig's
-VibrationChain on the displacement, its noise off) over the developed chatter.
+VibrationChain on the displacement, its noise off) over the developed chatter. Then, in a halrun
+session of about 2 s, the component replays the last 1.5 s as a WAV in real time with its pins
+netted to lathectl_modfeed's a0-um and omega-d-Hz, which end at --print's last row.
 
   vibsensor_test.py SOURCE_DIR WORK_DIR     (env VIBSENSOR, VIBSENSOR_RECORD: the two programs)
 """
@@ -47,9 +49,54 @@ def print_rows(cmd, env=None):
     return out.stdout, rows, out.stderr
 
 
+def hal_session(src, work, sc, samples, common):
+    """The recording's last 1.5 s replayed by the HAL component into lathectl_modfeed's pins."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import halrun_test as H
+    tail = os.path.join(work, "tail.wav")
+    with wave.open(tail, "wb") as w:
+        w.setnchannels(1)
+        w.setsampwidth(4)
+        w.setframerate(RATE)
+        w.writeframes(samples[-int(1.5 * RATE):].tobytes())
+    _, rows, _ = print_rows(common + ["--file", tail])
+    args = " ".join(a for a in common if a != "--print")
+    hal = "\n".join([
+        "loadrt threads name1=servo period1=1000000",
+        "loadrt lathectl_modfeed scenario=%s" % H.rt_path(src, sc),
+        "addf lathectl-modfeed servo",
+        "loadusr -W %s --file %s" % (args, tail),
+        "net vib-a0 lathectl-vibsensor.a0-um => lathectl-modfeed.a0-um",
+        "net vib-fd lathectl-vibsensor.omega-d-Hz => lathectl-modfeed.omega-d-Hz",
+        "start",
+        "loadusr -w sleep 2.5",
+        "show pin lathectl-vibsensor",
+        "show pin lathectl-modfeed.a0-um",
+        "show pin lathectl-modfeed.omega-d-Hz",
+        "stop", ""])
+    rc, log = H.halrun(hal, work, "vibsensor")
+    assert rc == 0, log
+
+    def pin(name):
+        m = re.search(r"\s(\S+)\s+%s(?:\s|$)" % re.escape(name), log, re.M)
+        assert m, name + " not shown:\n" + log
+        v = m.group(1)
+        return {"TRUE": 1.0, "FALSE": 0.0}.get(v) if v in ("TRUE", "FALSE") else \
+            float(int(v, 16) if v.startswith("0x") else v)
+    last = rows[-1]
+    print("HAL: a0-um %g, omega-d-Hz %g at modfeed (--print's last row: %g, %g), running %d,"
+          " frames %d" % (pin("lathectl-modfeed.a0-um"), pin("lathectl-modfeed.omega-d-Hz"),
+                          last[1], last[2], pin("lathectl-vibsensor.running"),
+                          pin("lathectl-vibsensor.frames")))
+    assert pin("lathectl-vibsensor.frames") == int(1.5 * RATE)
+    assert pin("lathectl-vibsensor.running") == 0
+    assert pin("lathectl-modfeed.a0-um") == last[1] and last[1] > 5
+    assert pin("lathectl-modfeed.omega-d-Hz") == last[2]
+
+
 def main():
-    src, work = sys.argv[1], sys.argv[2]
-    vibsensor, record = os.environ["VIBSENSOR"], os.environ["VIBSENSOR_RECORD"]
+    src, work = (os.path.abspath(a) for a in sys.argv[1:3])
+    vibsensor, record = (os.path.abspath(os.environ[v]) for v in ("VIBSENSOR", "VIBSENSOR_RECORD"))
     os.makedirs(work, exist_ok=True)
     sc = os.path.join(work, "b_record.toml")
     open(sc, "w").write(scenario(src))
@@ -109,6 +156,7 @@ def main():
     assert np.abs(da0).max() <= 1.0 + 1e-9, da0
     assert np.abs(dfreq).max() <= 5.0 + 1e-9, dfreq
     print("vibsensor: ALSA, WAV and CSV paths agree with the simulated chain")
+    hal_session(src, work, sc, samples, common)
 
 
 if __name__ == "__main__":
