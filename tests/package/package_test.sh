@@ -89,7 +89,8 @@ if [ $hal -eq 1 ]; then
   # and their man pages, its runner, its display, its configuration in the picker.
   expected=(./usr/share/lathectl/hal/reasons.json ./usr/share/lathectl/hal/pins.json
             ./usr/share/lathectl/hal/systems.tsv
-            ./usr/share/lathectl/scripts/linuxcnc_session.py ./usr/share/doc/lathectl-linuxcnc/copyright)
+            ./usr/share/lathectl/scripts/linuxcnc_session.py ./usr/share/doc/lathectl-linuxcnc/copyright
+            ./usr/bin/lathectl_vibsensor ./usr/share/man/man9/lathectl_vibsensor.9.gz)
   while IFS=$'\t' read -r id folder docs runner config display components; do
     [ "${id:0:1}" != "#" ] && [ "$runner" != "-" ] || continue
     for c in ${components//,/ }; do  # name=links
