@@ -13,6 +13,8 @@ a0 and ω_d at each amplitude gate's end are compared with the simulated chain's
 VibrationChain on the displacement, its noise off) over the developed chatter. Then, in a halrun
 session of about 2 s, the component replays the last 1.5 s as a WAV in real time with its pins
 netted to lathectl_modfeed's a0-um and omega-d-Hz, which end at --print's last row.
+Refusals (a bad CSV row, a channel the WAV lacks, no sensitivity, no file, no device): one line
+naming the file and line, exit 2.
 
   vibsensor_test.py SOURCE_DIR WORK_DIR     (env VIBSENSOR, VIBSENSOR_RECORD: the two programs)
 """
@@ -94,6 +96,25 @@ def hal_session(src, work, sc, samples, common):
     assert pin("lathectl-modfeed.omega-d-Hz") == last[2]
 
 
+def bad_input(work, vibsensor, wav):
+    """Refusals: one line naming the file (and line), exit 2, no output rows."""
+    bad = os.path.join(work, "bad.csv")
+    open(bad, "w").write("time_s,acceleration_m_s2\n0,1\n2e-5,x\n")
+    cases = [([bad], bad + ":3: expected a row `time_s,acceleration_m_s2` of two numbers"),
+             ([wav, "--channel", "1", "--sensitivity", "0.01"],
+              wav + ": WAV: channel 1 asked for, the file has 1 (counted from 0)"),
+             ([wav], "--sensitivity V_per_m_s2 (> 0) is required with --device or a WAV"),
+             ([os.path.join(work, "none.wav"), "--sensitivity", "0.01"],
+              os.path.join(work, "none.wav") + ": no such file (expected a signal (WAV))")]
+    for args, message in cases:
+        p = subprocess.run([vibsensor, "--print", "--file"] + args, capture_output=True, text=True)
+        assert p.returncode == 2 and p.stdout == "", (args, p.returncode, p.stdout)
+        assert p.stderr.strip() == "lathectl_vibsensor: " + message, p.stderr
+    p = subprocess.run([vibsensor, "--print", "--device", "lathectl_no_such_pcm", "--sensitivity",
+                        "0.01"], capture_output=True, text=True)
+    assert p.returncode == 2 and "ALSA device lathectl_no_such_pcm: open:" in p.stderr, p.stderr
+
+
 def main():
     src, work = (os.path.abspath(a) for a in sys.argv[1:3])
     vibsensor, record = (os.path.abspath(os.environ[v]) for v in ("VIBSENSOR", "VIBSENSOR_RECORD"))
@@ -156,6 +177,7 @@ def main():
     assert np.abs(da0).max() <= 1.0 + 1e-9, da0
     assert np.abs(dfreq).max() <= 5.0 + 1e-9, dfreq
     print("vibsensor: ALSA, WAV and CSV paths agree with the simulated chain")
+    bad_input(work, vibsensor, wav)
     hal_session(src, work, sc, samples, common)
 
 
