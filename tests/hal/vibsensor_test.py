@@ -13,7 +13,8 @@ a0 and ω_d at each amplitude gate's end are compared with the simulated chain's
 VibrationChain on the displacement, its noise off) over the developed chatter. Then, in a halrun
 session of about 2 s, the component replays the last 1.5 s as a WAV in real time with its pins
 netted to lathectl_modfeed's a0-um and omega-d-Hz, which end at --print's last row.
-Refusals (a bad CSV row, a channel the WAV lacks, no sensitivity, no file, no device): one line
+The same samples as FLOAT_LE, and as S16_LE in the second of two interleaved channels, give
+the same a0 and ω_d. Refusals (a bad CSV row, a channel the WAV lacks, no sensitivity, no file, no device): one line
 naming the file and line, exit 2.
 
   vibsensor_test.py SOURCE_DIR WORK_DIR     (env VIBSENSOR, VIBSENSOR_RECORD: the two programs)
@@ -94,6 +95,29 @@ def hal_session(src, work, sc, samples, common):
     assert pin("lathectl-vibsensor.running") == 0
     assert pin("lathectl-modfeed.a0-um") == last[1] and last[1] > 5
     assert pin("lathectl-modfeed.omega-d-Hz") == last[2]
+
+
+def other_formats(work, vibsensor, common, samples, s32_rows):
+    """The device's other formats through the same plugin: FLOAT_LE mono, and S16_LE as the
+    second of two interleaved channels (the first a different signal): within one ADC step and
+    the detector's resolution of the S32 rows, nearly all gates equal."""
+    for fmt, channels, data in (
+            ("FLOAT_LE", 1, (samples / 2.0 ** 31).astype("<f4")),
+            ("S16_LE", 2, np.column_stack([(samples[::-1] >> 16), samples >> 16]).astype("<i2"))):
+        raw = os.path.join(work, "rec-%s.raw" % fmt)
+        data.tofile(raw)
+        conf = os.path.join(work, "asound-%s.conf" % fmt)
+        open(conf, "w").write('pcm.lathectl_rec {\n  type file\n  slave.pcm { type null }\n'
+                              '  file "/dev/null"\n  infile "%s"\n  format "raw"\n}\n' % raw)
+        _, rows, _ = print_rows(
+            common + ["--device", "lathectl_rec", "--rate", str(RATE), "--format", fmt,
+                      "--channels", str(channels), "--channel", str(channels - 1),
+                      "--frames", str(len(samples))], dict(os.environ, ALSA_CONFIG_PATH=conf))
+        da0, df = rows[:, 1] - s32_rows[:, 1], rows[:, 2] - s32_rows[:, 2]
+        print("%s (%d channel(s)): a0 equal in %d of %d gates, max |%.0f| um; omega_d max |%.0f| Hz"
+              % (fmt, channels, (da0 == 0).sum(), len(rows), np.abs(da0).max(), np.abs(df).max()))
+        assert len(rows) == len(s32_rows) and np.abs(da0).max() <= 1 and np.abs(df).max() <= 5
+        assert (da0 == 0).mean() > 0.9
 
 
 def bad_input(work, vibsensor, wav):
@@ -177,6 +201,7 @@ def main():
     assert np.abs(da0).max() <= 1.0 + 1e-9, da0
     assert np.abs(dfreq).max() <= 5.0 + 1e-9, dfreq
     print("vibsensor: ALSA, WAV and CSV paths agree with the simulated chain")
+    other_formats(work, vibsensor, common, samples, from_wav)
     bad_input(work, vibsensor, wav)
     hal_session(src, work, sc, samples, common)
 
