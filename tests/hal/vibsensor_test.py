@@ -14,8 +14,8 @@ VibrationChain on the displacement, its noise off) over the developed chatter. T
 session of about 2 s, the component replays the last 1.5 s as a WAV in real time with its pins
 netted to lathectl_modfeed's a0-um and omega-d-Hz, which end at --print's last row.
 The same samples as FLOAT_LE, and as S16_LE in the second of two interleaved channels, give
-the same a0 and ω_d. Refusals (a bad CSV row, a channel the WAV lacks, no sensitivity, no file, no device): one line
-naming the file and line, exit 2.
+the same a0 and ω_d. Refusals (a bad CSV row, a channel the WAV lacks, no sensitivity, no file,
+no device): one line naming the file and line, exit 2.
 
   vibsensor_test.py SOURCE_DIR WORK_DIR     (env VIBSENSOR, VIBSENSOR_RECORD: the two programs)
 """
