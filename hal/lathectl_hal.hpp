@@ -10,7 +10,9 @@
 extern "C" {
 #include <hal.h>
 #include <rtapi.h>
+#ifdef RTAPI  // a realtime module's; a userspace component (ULAPI, lathectl_vibsensor) has none
 #include <rtapi_app.h>
+#endif
 }
 
 #include <cerrno>
@@ -114,10 +116,12 @@ Pins& export_pin_block(Pins*& pins, int comp_id, const char* prefix) {
   return *pins;
 }
 
+#ifdef RTAPI
 // The realtime function `prefix` (uses floating point, not reentrant).
 inline void export_update(const char* prefix, void (*fn)(void*, long), int comp_id) {
   check(hal_export_funct(prefix, fn, nullptr, 1, 0, comp_id), "hal_export_funct");
 }
+#endif
 
 // A module parameter holding a number (RTAPI has no floating-point module parameters).
 inline double number_param(const char* text, const char* key, double fallback) {

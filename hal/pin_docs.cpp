@@ -32,6 +32,7 @@
 #include "pins/plant.hpp"
 #include "pins/slide.hpp"
 #include "pins/slide_plant.hpp"
+#include "pins/vibsensor.hpp"
 
 namespace {
 
@@ -72,6 +73,7 @@ const std::vector<Component>& components() {
       {"lathectl_plant", {LATHECTL_PLANT_PINS(DOC_PIN, DOC_HEAD)}, false},
       {"lathectl_slide", {LATHECTL_SLIDE_PINS(DOC_PIN, DOC_HEAD)}, true},
       {"lathectl_slide_plant", {LATHECTL_SLIDE_PLANT_PINS(DOC_PIN, DOC_HEAD)}, true},
+      {"lathectl_vibsensor", {LATHECTL_VIBSENSOR_PINS(DOC_PIN, DOC_HEAD)}, false},
   };
   return all;
 }

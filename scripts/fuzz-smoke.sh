@@ -31,12 +31,12 @@ esac
 # budget is runs, not seconds, so a slow or loaded machine does the same work and finds the same.
 # Remeasured 2026-11-27: a lobes run had become 17.5 ms of CPU (machine files with [[frf]] are
 # fitted to modes), 6000 runs 105 s, and a scenario run 5.3 ms (8000: 43 s); back in the budget
-# with 1500 and 5000 runs.
+# with 1500 and 5000 runs. The recorded signals' reader (signal, 2026-12-06): 100000 runs 6 s.
 SEED=20261126
 declare -A RUNS=([scenario]=5000 [materials]=60000 [lobes]=1500 [tool_limits]=100000
                  [channels_csv]=200000 [canon]=50000 [json_file]=30000 [frf]=20000
-                 [calibration]=20000)
-targets=(scenario materials lobes tool_limits channels_csv canon json_file frf calibration)
+                 [calibration]=20000 [signal]=100000)
+targets=(scenario materials lobes tool_limits channels_csv canon json_file frf calibration signal)
 
 cmake --preset fuzz -DLATHECTL_WERROR="${LATHECTL_WERROR:-OFF}" >/dev/null
 # Only the fuzz targets and what they link (not the program): the libraries are built with
@@ -61,6 +61,10 @@ cp examples/gauges/*.csv "$seeds/calibration/"
 # A few rows of a channels.csv as lathectl writes it (header, numbers, nan, inf).
 printf 'time_s,x_mm,force_N\n0,1.5,-2e-05\n0.001,nan,inf\n0.002,-inf,3\n' >"$seeds/channels_csv/seed.csv"
 cp tests/optimize/canon_example.txt "$seeds/canon/"
+# lathectl_vibsensor's recordings: a 16-bit mono WAV of four frames, a CSV of time,acceleration.
+printf 'RIFF\x2c\0\0\0WAVEfmt \x10\0\0\0\x01\0\x01\0\x80\xbb\0\0\0\x77\x01\0\x02\0\x10\0data\x08\0\0\0\0\0\xff\x7f\0\x80\x01\0' \
+  >"$seeds/signal/seed.wav"
+printf 'time_s,acceleration_m_s2\n0,1.5\n2.0833e-05,-20\n4.1667e-05,3e1\n' >"$seeds/signal/seed.csv"
 # An operation log lathectl_oplog wrote in a LinuxCNC session, and two runs' summary.json.
 cp tests/cli/operations_two_tool.json tests/golden/summaries/{c_csv_template,a_regulator_flow}.json \
   "$seeds/json_file/"

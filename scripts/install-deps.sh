@@ -22,10 +22,10 @@ for opt in "$@"; do
     # HAL components and the simulated LinuxCNC session; without --no-install-recommends
     # linuxcnc-uspace would pull in a realtime kernel.
     # The operator panel's test: AXIS on a virtual display (xvfb), its screenshot (xwd from
-    # x11-apps, xwdtopnm/pnmtopng from netpbm).
+    # x11-apps, xwdtopnm/pnmtopng from netpbm). lathectl_vibsensor's ALSA capture: libasound2-dev.
     # Shop data out (lathectl_publish, docs/shop-data.md): the MQTT client, the broker its tests
     # start and openssl for their TLS certificates.
-    --linuxcnc) pkgs+=(linuxcnc-uspace linuxcnc-uspace-dev xvfb x11-apps netpbm
+    --linuxcnc) pkgs+=(linuxcnc-uspace linuxcnc-uspace-dev xvfb x11-apps netpbm libasound2-dev
                        python3-paho-mqtt mosquitto openssl) ;;
     # make package: CPack's dependency detection (dpkg-shlibdeps, file) and lintian.
     --package) pkgs+=(dpkg-dev file lintian) ;;

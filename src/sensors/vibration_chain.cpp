@@ -48,13 +48,30 @@ void VibrationChain::configure(const Params& p) {
   p_ = p;
   rng_.seed(p.seed);
   highpass_.configure(p.highpass_Hz, p.sample_period_s);
+  accel_highpass_.configure(p.highpass_Hz, p.sample_period_s);
+  accel_ = velocity_ = displacement_ = sensor_ = 0.0;
   amp_ = peak_ = a_timer_ = a0_ = f_timer_ = omega_d_ = 0.0;
   crossings_ = sign_ = 0;
 }
 
 void VibrationChain::update(double x) noexcept {
   x += p_.noise_m * noise_(rng_);
-  const double y = highpass_.step(x);
+  detect(highpass_.step(x));
+}
+
+void VibrationChain::update_acceleration(double a) noexcept {
+  // Trapezoidal integration of the high-passed acceleration, twice.
+  const double h = accel_highpass_.step(a);
+  const double half = 0.5 * p_.sample_period_s;
+  const double v = velocity_ + half * (h + accel_);
+  displacement_ += half * (v + velocity_);
+  velocity_ = v;
+  accel_ = h;
+  detect(highpass_.step(displacement_));
+}
+
+void VibrationChain::detect(double y) noexcept {
+  sensor_ = y;
   amp_ = std::abs(y) < p_.dead_zone_m ? 0.0 : y;
 
   peak_ = std::max(peak_, std::abs(amp_));

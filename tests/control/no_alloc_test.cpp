@@ -397,6 +397,11 @@ TEST(NoAlloc, ModulatedFeedControllerAndVibrationChainNeverAllocate) {
   }
   EXPECT_EQ(g_allocations.load() - before, 0) << "update() allocated";
   EXPECT_GT(engaged, 1000);
+  VibrationChain accelerometer;  // a real sensor's input
+  accelerometer.configure({});
+  const long at = g_allocations.load();
+  for (int k = 0; k < 10000; ++k) accelerometer.update_acceleration(20.0 * std::sin(k * 0.14));
+  EXPECT_EQ(g_allocations.load() - at, 0) << "update_acceleration() allocated";
 }
 
 // System B's machine side as the rig and lathectl_modfeed run it: the chain fed at its sample

@@ -93,7 +93,8 @@ if [ $hal -eq 1 ]; then
             ./usr/share/lathectl/hal/systems.tsv ./usr/share/lathectl/hal/lathectl_publish.py
             ./usr/share/lathectl/hal/lathectl_shopdata.py ./usr/share/lathectl/hal/lathectl_shdr.py
             ./usr/share/lathectl/scripts/linuxcnc-sim-publish.sh
-            ./usr/share/lathectl/scripts/linuxcnc_session.py ./usr/share/doc/lathectl-linuxcnc/copyright)
+            ./usr/share/lathectl/scripts/linuxcnc_session.py ./usr/share/doc/lathectl-linuxcnc/copyright
+            ./usr/bin/lathectl_vibsensor ./usr/share/man/man9/lathectl_vibsensor.9.gz)
   while IFS=$'\t' read -r id folder docs runner config display components; do
     [ "${id:0:1}" != "#" ] && [ "$runner" != "-" ] || continue
     for c in ${components//,/ }; do  # name=links
