@@ -34,8 +34,9 @@ esac
 # with 1500 and 5000 runs.
 SEED=20261126
 declare -A RUNS=([scenario]=5000 [materials]=60000 [lobes]=1500 [tool_limits]=100000
-                 [channels_csv]=200000 [canon]=50000 [json_file]=30000 [frf]=20000)
-targets=(scenario materials lobes tool_limits channels_csv canon json_file frf)
+                 [channels_csv]=200000 [canon]=50000 [json_file]=30000 [frf]=20000
+                 [linuxcnc_ini]=50000)
+targets=(scenario materials lobes tool_limits channels_csv canon json_file frf linuxcnc_ini)
 
 cmake --preset fuzz -DLATHECTL_WERROR="${LATHECTL_WERROR:-OFF}" >/dev/null
 # Only the fuzz targets and what they link (not the program): the libraries are built with
@@ -59,6 +60,7 @@ cp hal/config/lathectl-tools.toml "$seeds/tool_limits/"
 # A few rows of a channels.csv as lathectl writes it (header, numbers, nan, inf).
 printf 'time_s,x_mm,force_N\n0,1.5,-2e-05\n0.001,nan,inf\n0.002,-inf,3\n' >"$seeds/channels_csv/seed.csv"
 cp tests/optimize/canon_example.txt "$seeds/canon/"
+cp hal/config/*.ini "$seeds/linuxcnc_ini/"
 # An operation log lathectl_oplog wrote in a LinuxCNC session, and two runs' summary.json.
 cp tests/cli/operations_two_tool.json tests/golden/summaries/{c_csv_template,a_regulator_flow}.json \
   "$seeds/json_file/"

@@ -10,6 +10,8 @@
 #include <string>
 
 #include "lathectl/io/canon.hpp"
+#include "lathectl/io/errors.hpp"
+#include "lathectl/io/linuxcnc_ini.hpp"
 #include "lathectl/io/materials.hpp"
 #include "optimize/optimize.hpp"
 #include "optimize/text.hpp"
@@ -139,6 +141,42 @@ TEST(Inch, AnInchProgramAndItsMetricTwinGiveTheSameOptimisation) {
       EXPECT_NEAR(ci.moves[k].feed, cm.moves[k].feed, kPrinted) << "move " << k;
     }
   }
+}
+
+// LinuxCNC's own inch lathe (sim/axis/lathe.ini, written here as it ships, its comments and
+// aligned keys included): its limits in mm, the least velocity and acceleration, its table.
+TEST(Inch, MachineIniInMillimetres) {
+  const auto ini = io::parse_linuxcnc_ini(
+      "[TRAJ]\n         COORDINATES = X Z\n        LINEAR_UNITS = inch\n"
+      "MAX_LINEAR_VELOCITY = 3.333334\nMAX_LINEAR_ACCELERATION = 20.0\n"
+      "#BACK_TOOL_LATHE = 1 #uncomment for back tool lathe\n"
+      "[EMCIO]\n                 TOOL_TABLE = lathe.tbl\n"
+      "[AXIS_X]\n       MIN_LIMIT = -10.0\n       MAX_LIMIT = 10.0\n    MAX_VELOCITY = 3.333333\n"
+      "[AXIS_Z]\n       MIN_LIMIT = -2.0\n       MAX_LIMIT = 4.0\nMAX_ACCELERATION = 20.0\n",
+      "lathe.ini");
+  const auto m = io::lathe_machine(ini);
+  EXPECT_DOUBLE_EQ(m.unit_mm, 25.4);
+  EXPECT_DOUBLE_EQ(*m.x_min, -254.0);
+  EXPECT_DOUBLE_EQ(*m.z_max, 101.6);
+  EXPECT_DOUBLE_EQ(*m.max_velocity_mm_s, 3.333333 * 25.4);  // [AXIS_X]'s, below [TRAJ]'s
+  EXPECT_DOUBLE_EQ(*m.max_acceleration_mm_s2, 508.0);
+  EXPECT_EQ(m.tool_table, "lathe.tbl");
+  EXPECT_EQ(ini.find("AXIS_Z", "MIN_LIMIT")->line, 14);
+  // A velocity ≤ 0, MIN_LIMIT above MAX_LIMIT: file, line, section and key.
+  const auto err = [](const char* text) {
+    try {
+      (void)io::lathe_machine(io::parse_linuxcnc_ini(text, "m.ini"));
+    } catch (const io::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(err("[TRAJ]\nLINEAR_UNITS=mm\n[AXIS_Z]\nMAX_VELOCITY = 0\n"),
+            "m.ini:4: [AXIS_Z]MAX_VELOCITY = '0': must be > 0");
+  EXPECT_EQ(err("[TRAJ]\nLINEAR_UNITS=mm\n[AXIS_X]\nMIN_LIMIT = 5\nMAX_LIMIT = -5\n"),
+            "m.ini:4: [AXIS_X]MIN_LIMIT = '5': above its MAX_LIMIT");
+  EXPECT_EQ(err("[AXIS_X]\nMIN_LIMIT = 5\n"), "m.ini: [TRAJ]LINEAR_UNITS missing: the "
+                                                 "machine's length unit (mm or inch)");
 }
 
 }  // namespace
