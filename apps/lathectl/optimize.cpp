@@ -64,9 +64,6 @@ int run(Args& a) {
   if (a.opt.tool_table.empty()) a.opt.tool_table = optimize::machine_tool_table(a.opt.ini, machine);
   if (machine.max_acceleration_mm_s2) a.opt.machine.accel_mm_s2 = *machine.max_acceleration_mm_s2;
   if (machine.max_velocity_mm_s) a.opt.machine.vmax_mm_s = *machine.max_velocity_mm_s;
-  if (a.verify && !a.ini.empty())
-    throw io::InputError("--verify with --ini: the simulated lathe runs with its own machine "
-                         "(hal/config/lathectl-lathe.ini) only; verify without --ini");
   if (!a.tool_file.empty()) {
     // The tool file says what LinuxCNC's tool table cannot (kind, insert width, feed range);
     // the table gives each tool's nose (D) and angles, and the two must agree.
@@ -104,6 +101,11 @@ int run(Args& a) {
     for (std::string w; words >> w;) vo.sim.push_back(w);
     vo.scenario = fs::absolute(a.scenario).string();
     vo.timeout_s = a.timeout_s;
+    if (!a.ini.empty()) {
+      vo.machine = machine;
+      vo.tool_table_text =
+          io::read_input_file(a.opt.tool_table, "a LinuxCNC tool table", io::kMaxTomlBytes);
+    }
     v = std::make_unique<optimize::Verified>(optimize::verify(prog, result, a.opt, vo));
   }
   io::write_output_set(a.out, optimize::output_files(prog, result, e, a.opt, a.scenario, v.get()));

@@ -29,6 +29,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -95,6 +96,9 @@ std::string read_text(const std::filesystem::path& p);
 io::CanonProgram interpret(const std::vector<std::string>& lines, const std::string& label,
                            const Options& opt);
 Program read_program(const std::string& path, const Options& opt);
+// LinuxCNC's tool table with its lengths (D, X Y Z U V W) times `factor` (an inch table for the
+// millimetre simulated lathe: 25.4), its angles, numbers, orientation and comments as they were.
+std::string tool_table_scaled(const std::string& text, double factor);
 // The INI's [EMCIO]TOOL_TABLE, relative to the INI's folder as LinuxCNC takes it; InputError
 // naming the INI when it has none.
 std::string machine_tool_table(const std::string& ini_file, const io::LatheMachine& mc);
@@ -218,6 +222,10 @@ struct VerifyOptions {
   std::vector<std::string> sim;  // the simulator's command (may start with a wrapper: flock …)
   std::string scenario;          // the scenario file
   double timeout_s = 1200.0;
+  // The user's machine (--ini): the simulated lathe takes its soft limits, velocity and
+  // acceleration (mm) and its tool table (in mm, tool_table_text), not its HAL files.
+  std::optional<io::LatheMachine> machine;
+  std::string tool_table_text;
 };
 Verified verify(const Program& p, const Result& r, const Options& opt, const VerifyOptions& v);
 

@@ -257,9 +257,11 @@ std::string read_tool_table_file(const fs::path& tbl) {
   return text;
 }
 
-// The tool table with its lengths (D and the X Y Z U V W offsets) in inches; the angles (I, J,
-// A, B, C), numbers and orientation as they were, comments kept.
-std::string tool_table_in_inches(const std::string& text) {
+}  // namespace
+
+// The tool table with its lengths (D and the X Y Z U V W offsets) times `factor`; the angles (I,
+// J, A, B, C), numbers and orientation as they were, comments kept.
+std::string tool_table_scaled(const std::string& text, double factor) {
   std::istringstream in(text);
   std::string out;
   for (std::string l; std::getline(in, l);) {
@@ -278,7 +280,7 @@ std::string tool_table_in_inches(const std::string& text) {
         const double v = std::strtod(w.c_str() + 1, &end);
         if (end != w.c_str() + 1 && *end == '\0') {
           char b[40];
-          std::snprintf(b, sizeof b, "%c%.10g", c, v / 25.4);
+          std::snprintf(b, sizeof b, "%c%.10g", c, v * factor);
           w = b;
         }
       }
@@ -289,7 +291,6 @@ std::string tool_table_in_inches(const std::string& text) {
   }
   return out;
 }
-}  // namespace
 
 std::string machine_tool_table(const std::string& ini_file, const io::LatheMachine& mc) {
   if (mc.tool_table.empty())
@@ -324,7 +325,7 @@ io::CanonProgram interpret(const std::vector<std::string>& lines, const std::str
   // 25.4 mm. On a millimetre machine it reads a copy with those lengths in inches.
   if (!opt.ini.empty()) {
     std::ofstream t(tmp.path / "tools.tbl");
-    t << (mc.unit_mm == 1.0 ? tool_table_in_inches(table) : table);
+    t << (mc.unit_mm == 1.0 ? tool_table_scaled(table, 1.0 / 25.4) : table);
     tbl = tmp.path / "tools.tbl";
   }
   // HOME: LinuxCNC 2.9's standalone interpreter creates its tool table as a shared map at
