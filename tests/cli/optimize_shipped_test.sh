@@ -29,8 +29,9 @@ check() {
       fail=1
       return
     fi
-    if grep -qi '^g20' "$prog" && ! grep -qi '^g20' "$work/$name/optimized.ngc"; then
-      echo "FAIL $name: optimized.ngc lost the program's G20"
+    if grep -qi '^g20' "$prog" && { ! grep -qi '^g20' "$work/$name/optimized.ngc" ||
+        ! grep -Eq '"program_units": *"inch"' "$work/$name/summary.json"; }; then
+      echo "FAIL $name: optimized.ngc lost the program's G20, or summary.json's program_units"
       fail=1
       return
     fi
