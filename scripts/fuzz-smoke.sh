@@ -31,7 +31,7 @@ esac
 # budget is runs, not seconds, so a slow or loaded machine does the same work and finds the same.
 # Remeasured 2026-11-27: a lobes run had become 17.5 ms of CPU (machine files with [[frf]] are
 # fitted to modes), 6000 runs 105 s, and a scenario run 5.3 ms (8000: 43 s); back in the budget
-# with 1500 and 5000 runs.
+# with 1500 and 5000 runs. A machine's INI (linuxcnc_ini, 2026-12-06): 50000 runs 9 s.
 SEED=20261126
 declare -A RUNS=([scenario]=5000 [materials]=60000 [lobes]=1500 [tool_limits]=100000
                  [channels_csv]=200000 [canon]=50000 [json_file]=30000 [frf]=20000
