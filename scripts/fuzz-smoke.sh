@@ -32,11 +32,13 @@ esac
 # Remeasured 2026-11-27: a lobes run had become 17.5 ms of CPU (machine files with [[frf]] are
 # fitted to modes), 6000 runs 105 s, and a scenario run 5.3 ms (8000: 43 s); back in the budget
 # with 1500 and 5000 runs. The recorded signals' reader (signal, 2026-12-06): 100000 runs 6 s.
+# A machine's INI (linuxcnc_ini, 2026-12-06): 50000 runs 9 s.
 SEED=20261126
 declare -A RUNS=([scenario]=5000 [materials]=60000 [lobes]=1500 [tool_limits]=100000
                  [channels_csv]=200000 [canon]=50000 [json_file]=30000 [frf]=20000
-                 [calibration]=20000 [signal]=100000)
-targets=(scenario materials lobes tool_limits channels_csv canon json_file frf calibration signal)
+                 [calibration]=20000 [signal]=100000 [linuxcnc_ini]=50000)
+targets=(scenario materials lobes tool_limits channels_csv canon json_file frf calibration signal
+         linuxcnc_ini)
 
 cmake --preset fuzz -DLATHECTL_WERROR="${LATHECTL_WERROR:-OFF}" >/dev/null
 # Only the fuzz targets and what they link (not the program): the libraries are built with
@@ -65,6 +67,7 @@ cp tests/optimize/canon_example.txt "$seeds/canon/"
 printf 'RIFF\x2c\0\0\0WAVEfmt \x10\0\0\0\x01\0\x01\0\x80\xbb\0\0\0\x77\x01\0\x02\0\x10\0data\x08\0\0\0\0\0\xff\x7f\0\x80\x01\0' \
   >"$seeds/signal/seed.wav"
 printf 'time_s,acceleration_m_s2\n0,1.5\n2.0833e-05,-20\n4.1667e-05,3e1\n' >"$seeds/signal/seed.csv"
+cp hal/config/*.ini "$seeds/linuxcnc_ini/"
 # An operation log lathectl_oplog wrote in a LinuxCNC session, and two runs' summary.json.
 cp tests/cli/operations_two_tool.json tests/golden/summaries/{c_csv_template,a_regulator_flow}.json \
   "$seeds/json_file/"

@@ -54,6 +54,14 @@ io::IndexEntry index_entry(const io::Scenario& sc, const io::RunOutput& r) {
   e.summary = r.headline;
   e.status = r.verdict.ok() ? 1 : -1;
   e.verdict = r.verdict.line(false);
+  // A failure on purpose (demonstrates_failure: no control, a sensor fault, a set-up forced
+  // through) is what it shows, not a ✘; one that does not fail is.
+  if (sc.demonstrates_failure) {
+    e.status = r.verdict.ok() ? -1 : 0;
+    e.verdict = (r.verdict.ok() ? "a demonstration of failure that did not fail: "
+                                : "demonstration of failure, on purpose: ") +
+                e.verdict;
+  }
   for (const auto& c : r.verdict.criteria)
     if (!c.met) e.problems.push_back({"✘ " + c.text, e.href + "#verdict"});
   for (const auto& a : r.verdict.alarms) e.problems.push_back({"alarm: " + a, e.href + "#verdict"});
@@ -116,10 +124,12 @@ int demo(const std::string& out, const std::string& dir, const std::vector<std::
           }
           io::write_outputs(r, stage, "../index.html");
           entries[i] = index_entry(scenarios[i], r);
-          failed[i] = r.verdict.ok() ? 0 : 1;
+          const bool on_purpose = scenarios[i].demonstrates_failure;
+          failed[i] = r.verdict.ok() == on_purpose ? 1 : 0;
           progress.print_above([&] {
             std::cout << "  " << scenarios[i].name << ": " << r.headline << " — "
-                      << r.verdict.line() << std::endl;
+                      << (on_purpose ? "demonstration of failure: " : "") << r.verdict.line()
+                      << std::endl;
           });
           const std::size_t k = ++done;
           progress.update(static_cast<double>(k) / static_cast<double>(n),
@@ -139,14 +149,20 @@ int demo(const std::string& out, const std::string& dir, const std::vector<std::
   progress.finish();
   io::write_file_atomic(fs::path(out) / "index.html",
                         io::render_index_html("lathectl demo — example scenarios", entries));
-  std::string which;
-  std::size_t n_failed = 0;
-  for (std::size_t i = 0; i < n; ++i)
+  std::string which, shown;
+  std::size_t n_failed = 0, n_shown = 0;
+  for (std::size_t i = 0; i < n; ++i) {
     if (failed[i]) which += (n_failed++ ? ", " : "") + scenarios[i].name;
+    if (scenarios[i].demonstrates_failure && !failed[i])
+      shown += (n_shown++ ? ", " : "") + scenarios[i].name;
+  }
   std::cout << "demo: " << n << " scenarios, " << n_failed
             << " with unmet acceptance criteria, alarms or unfinished parts"
-            << (n_failed ? " (" + which + ")" : "") << " → "
-            << (fs::path(out) / "index.html").string() << "\n";
+            << (n_failed ? " (" + which + ")" : "");
+  if (n_shown > 0)
+    std::cout << "; " << n_shown << " demonstrations of failure, failing as they should ("
+              << shown << ")";
+  std::cout << " → " << (fs::path(out) / "index.html").string() << "\n";
   return strict && n_failed > 0 ? kStrictFailure : 0;
 }
 
@@ -167,7 +183,8 @@ void add_demo(CLI::App& app, Commands& out) {
                   "run only these examples (file names without .toml; default: all)");
   sub->add_flag("--strict", a->strict,
                 "exit 3 when any scenario has an acceptance criterion not met, an alarm or an "
-                "unfinished part (the model checks, the seeds' claims, do not count)");
+                "unfinished part (the model checks, the seeds' claims, do not count; a "
+                "demonstration of failure counts when it does not fail)");
   out.push_back({sub, [a] { return demo(a->out, a->dir, a->only, a->strict); }});
 }
 

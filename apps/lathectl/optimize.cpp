@@ -14,6 +14,7 @@
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/input_file.hpp"
 #include "lathectl/io/install_paths.hpp"
+#include "lathectl/io/linuxcnc_ini.hpp"
 #include "lathectl/io/materials.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/scenario.hpp"
@@ -27,7 +28,7 @@ namespace {
 
 
 struct Args {
-  std::string program, scenario, out = "optimize-out", sim, rs274 = "rs274", tool_file;
+  std::string program, scenario, out = "optimize-out", sim, rs274 = "rs274", tool_file, ini;
   bool verify = false;
   double timeout_s = 1800.0;
   optimize::Options opt;
@@ -54,20 +55,25 @@ int run(Args& a) {
     throw io::InputError(a.scenario +
                          ": key 'stock.blank': lathectl optimize needs the blank's "
                          "extent along z (at least two points)");
-  a.opt.ini = (fs::path(hal_config_dir()) / "lathectl-lathe.ini").string();
-  if (a.opt.tool_table.empty())
-    a.opt.tool_table = (fs::path(hal_config_dir()) / "lathectl-lathe.tbl").string();
+  // The machine: the user's INI (--ini) or the simulated lathe's, read on the checked path; its
+  // units, soft limits, velocity, acceleration and tool table ([EMCIO]TOOL_TABLE beside it,
+  // unless --tool-table).
+  a.opt.ini = a.ini.empty() ? (fs::path(hal_config_dir()) / "lathectl-lathe.ini").string() : a.ini;
+  const auto machine = io::lathe_machine(io::parse_linuxcnc_ini(
+      io::read_input_file(a.opt.ini, "a LinuxCNC INI file (--ini)", io::kMaxTomlBytes), a.opt.ini));
+  if (a.opt.tool_table.empty()) a.opt.tool_table = optimize::machine_tool_table(a.opt.ini, machine);
+  if (machine.max_acceleration_mm_s2) a.opt.machine.accel_mm_s2 = *machine.max_acceleration_mm_s2;
+  if (machine.max_velocity_mm_s) a.opt.machine.vmax_mm_s = *machine.max_velocity_mm_s;
   if (!a.tool_file.empty()) {
     // The tool file says what LinuxCNC's tool table cannot (kind, insert width, feed range);
     // the table gives each tool's nose (D) and angles, and the two must agree.
     a.opt.tool_specs = optimize::read_tool_file(
         io::read_input_file(a.tool_file, "a tool file", io::kMaxTomlBytes), a.tool_file);
-    optimize::apply_tool_table(
-        a.opt.tool_specs,
-        optimize::read_tool_table(
-            io::read_input_file(a.opt.tool_table, "a LinuxCNC tool table", io::kMaxTomlBytes),
-            a.opt.tool_table),
-        a.tool_file, a.opt.tool_table);
+    auto table = optimize::read_tool_table(
+        io::read_input_file(a.opt.tool_table, "a LinuxCNC tool table", io::kMaxTomlBytes),
+        a.opt.tool_table);
+    for (auto& t : table) t.diameter_mm *= machine.unit_mm;  // an inch machine's table: inches
+    optimize::apply_tool_table(a.opt.tool_specs, table, a.tool_file, a.opt.tool_table);
   }
   a.opt.rs274 = a.rs274;
   a.opt.label = a.program;
@@ -95,6 +101,11 @@ int run(Args& a) {
     for (std::string w; words >> w;) vo.sim.push_back(w);
     vo.scenario = fs::absolute(a.scenario).string();
     vo.timeout_s = a.timeout_s;
+    if (!a.ini.empty()) {
+      vo.machine = machine;
+      vo.tool_table_text =
+          io::read_input_file(a.opt.tool_table, "a LinuxCNC tool table", io::kMaxTomlBytes);
+    }
     v = std::make_unique<optimize::Verified>(optimize::verify(prog, result, a.opt, vo));
   }
   io::write_output_set(a.out, optimize::output_files(prog, result, e, a.opt, a.scenario, v.get()));
@@ -173,10 +184,13 @@ void add_optimize(CLI::App& app, Commands& out) {
   sub->add_option("--tool-file", a->tool_file,
                   "the program's other tools by T number: kind, insert width, feed range (TOML, "
                   "docs/optimize.md)");
+  sub->add_option("--ini", a->ini,
+                  "the machine's LinuxCNC INI: its units, X and Z soft limits, velocity, "
+                  "acceleration and tool table ([EMCIO]TOOL_TABLE) (default: the simulated "
+                  "lathe's lathectl-lathe.ini)");
   sub->add_option("--tool-table", a->opt.tool_table,
                   "LinuxCNC's tool table (.tbl) the interpreter and the tools' noses (D) and "
-                  "angles (I, J, Q) come from (default: the simulated lathe's "
-                  "lathectl-lathe.tbl)");
+                  "angles (I, J, Q) come from (default: the INI's [EMCIO]TOOL_TABLE)");
   sub->add_flag("--allow-rapid-in-material", a->opt.allow_rapid_in_material,
                 "optimise a program whose rapid (G0) passes through the blank (an error "
                 "otherwise); the lines from that rapid on keep their feeds");

@@ -14,6 +14,7 @@ namespace lathectl::io {
 namespace {
 
 constexpr std::string_view kMarker = "lathectl-line ";
+constexpr double kInchMm = 25.4;
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r'))
@@ -128,10 +129,10 @@ class CanonParser {
       }
       return true;
     }
-    if (name == "USE_LENGTH_UNITS") {
-      if (inner.find("MM") == std::string_view::npos)
-        fail(
-            "the program works in inches (G20); lathectl optimize reads millimetre programs (G21)");
+    if (name == "USE_LENGTH_UNITS") {  // G20 / G21 (CANON_UNITS_CM: no G code sets it)
+      state_.unit_mm = inner.find("INCHES") != std::string_view::npos ? kInchMm
+                       : inner.find("CM") != std::string_view::npos   ? 10.0
+                                                                      : 1.0;
       return true;
     }
     if (name == "SELECT_PLANE") {
@@ -145,7 +146,7 @@ class CanonParser {
         if (comma == std::string_view::npos || !numbers(inner.substr(comma + 1), a) || a.n < 1)
           state_.blend_tol_mm = 0.0;
         else
-          state_.blend_tol_mm = std::max(0.0, a.v[0]);
+          state_.blend_tol_mm = std::max(0.0, a.v[0]) * state_.unit_mm;
       } else {
         state_.blend_tol_mm = -1.0;
       }
@@ -184,8 +185,9 @@ class CanonParser {
     m.kind = name == "STRAIGHT_TRAVERSE" ? CanonMove::Kind::Traverse : CanonMove::Kind::Line;
     m.x0 = x_;
     m.z0 = z_;
-    m.x1 = x_ = a.v[0];
-    m.z1 = z_ = a.v[2];
+    const double u = state_.unit_mm;
+    m.x1 = x_ = a.v[0] * u;
+    m.z1 = z_ = a.v[2] * u;
     if (std::abs(a.v[1]) > 1e-9) fail("a move in Y: a lathe program moves in X and Z only");
     m.stop_before = std::exchange(stop_pending_, false);
     prog_.moves.push_back(m);
@@ -198,10 +200,11 @@ class CanonParser {
     m.kind = CanonMove::Kind::Arc;
     m.x0 = x_;
     m.z0 = z_;
-    m.z1 = z_ = a.v[0];
-    m.x1 = x_ = a.v[1];
-    m.zc = a.v[2];
-    m.xc = a.v[3];
+    const double u = state_.unit_mm;
+    m.z1 = z_ = a.v[0] * u;
+    m.x1 = x_ = a.v[1] * u;
+    m.zc = a.v[2] * u;
+    m.xc = a.v[3] * u;
     m.rotation = static_cast<int>(a.v[4]);
     if (m.rotation == 0) fail("ARC_FEED: rotation 0");
     const double r0 = std::hypot(m.x0 - m.xc, m.z0 - m.zc);
@@ -220,34 +223,36 @@ class CanonParser {
   // The modal state the numbered commands set: feed mode and rate, spindle, synchronisation,
   // offsets, tool.
   void setting(std::string_view name, const Args& a) {
+    const double u = state_.unit_mm;
     if (name == "SET_FEED_MODE") {
       need(name, a, 2);
       state_.per_rev = a.v[1] > 0.5;
     } else if (name == "SET_FEED_RATE") {
       need(name, a, 1);
-      state_.feed = a.v[0];
+      state_.feed = a.v[0] * u;  // in/min, in/rev under G20
     } else if (name == "SET_SPINDLE_MODE") {
       need(name, a, 2);
       state_.css = a.v[1] > 0.0;
       state_.css_max_rpm = a.v[1];
     } else if (name == "SET_SPINDLE_SPEED") {
       need(name, a, 2);
-      state_.speed = a.v[1];
+      // G96 under G20: surface feet per minute (LinuxCNC's canon: 12 in per foot).
+      state_.speed = state_.css && u == kInchMm ? a.v[1] * kInchMm * 12.0 / 1000.0 : a.v[1];
     } else if (name == "START_SPEED_FEED_SYNC") {
       need(name, a, 1);
       state_.synced = true;
-      state_.pitch_mm = a.v[0];
+      state_.pitch_mm = a.v[0] * u;
     } else if (name == "SET_G5X_OFFSET") {
       need(name, a, 4);
-      g5x_ = {a.v[1], a.v[3]};
+      g5x_ = {a.v[1] * u, a.v[3] * u};
       offsets();
     } else if (name == "SET_G92_OFFSET") {
       need(name, a, 3);
-      g92_ = {a.v[0], a.v[2]};
+      g92_ = {a.v[0] * u, a.v[2] * u};
       offsets();
     } else if (name == "USE_TOOL_LENGTH_OFFSET") {
       need(name, a, 3);
-      tlo_ = {a.v[0], a.v[2]};
+      tlo_ = {a.v[0] * u, a.v[2] * u};
       offsets();
     } else if (name == "SELECT_TOOL") {
       need(name, a, 1);

@@ -10,9 +10,11 @@
 namespace lathectl::io {
 
 namespace {
-// A settings row is a key, not a table heading; the description is the report's introduction.
+// A settings row is a key, not a table heading; the description is the report's introduction,
+// demonstrates_failure a note to lathectl demo, not what the run used.
 bool is_setting(const ParamRecord& p) {
-  return p.kind != "table" && p.kind != "array of tables" && p.key != "description";
+  return p.kind != "table" && p.kind != "array of tables" && p.key != "description" &&
+         p.key != "demonstrates_failure";
 }
 
 // Every key the scenario's reader read (defaults included), in the file's units: summary.json's

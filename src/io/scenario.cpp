@@ -30,6 +30,12 @@ void read_common(TableReader& root, Scenario& sc, const std::vector<const Sectio
   root.check(!sc.name.empty(), "name", "must not be empty");
   sc.description = root.string("description", "");
   root.document("description", "free text; it becomes the report's introduction");
+  sc.demonstrates_failure = root.boolean("demonstrates_failure", false);
+  root.document("demonstrates_failure",
+                "true: the scenario shows a failure on purpose (no control, a sensor fault, a "
+                "set-up forced through); lathectl demo lists it as a demonstration of failure, "
+                "not as not accepted, and --strict does not count it (its report's verdict is "
+                "unchanged)");
   read_run(root, sc.run);
 }
 }  // namespace

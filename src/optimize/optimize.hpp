@@ -29,11 +29,13 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "lathectl/io/canon.hpp"
+#include "lathectl/io/linuxcnc_ini.hpp"
 #include "optimize/blend.hpp"
 #include "optimize/tools.hpp"
 #include "systems/e_adaptive/settings.hpp"
@@ -64,8 +66,8 @@ struct Options {
   std::vector<int> tools;
   // The program's other tools (--tool-file, tools.hpp): kind, insert width, feed range.
   std::vector<ToolSpec> tool_specs;
-  std::string ini;               // the simulated lathe's INI
-  std::string tool_table;        // LinuxCNC's tool table (empty: lathectl-lathe.tbl beside ini)
+  std::string ini;         // the machine's INI (--ini; default the simulated lathe's)
+  std::string tool_table;  // LinuxCNC's tool table (empty: the INI's [EMCIO]TOOL_TABLE)
   double start_x_mm = 60.0;      // where the tool stands before the program (the sim's home)
   double start_z_mm = 60.0;
   Machine machine;      // the planner's limits for the blends (blend.hpp)
@@ -94,6 +96,12 @@ std::string read_text(const std::filesystem::path& p);
 io::CanonProgram interpret(const std::vector<std::string>& lines, const std::string& label,
                            const Options& opt);
 Program read_program(const std::string& path, const Options& opt);
+// LinuxCNC's tool table with its lengths (D, X Y Z U V W) times `factor` (an inch table for the
+// millimetre simulated lathe: 25.4), its angles, numbers, orientation and comments as they were.
+std::string tool_table_scaled(const std::string& text, double factor);
+// The INI's [EMCIO]TOOL_TABLE, relative to the INI's folder as LinuxCNC takes it; InputError
+// naming the INI when it has none.
+std::string machine_tool_table(const std::string& ini_file, const io::LatheMachine& mc);
 // InputError naming the line of the first move beyond the INI's soft limits ([AXIS_X] and
 // [AXIS_Z] MIN_LIMIT/MAX_LIMIT, in machine coordinates: the move plus its offsets), which
 // LinuxCNC refuses to run. read_program checks it when Options::ini is set.
@@ -214,6 +222,10 @@ struct VerifyOptions {
   std::vector<std::string> sim;  // the simulator's command (may start with a wrapper: flock …)
   std::string scenario;          // the scenario file
   double timeout_s = 1200.0;
+  // The user's machine (--ini): the simulated lathe takes its soft limits, velocity and
+  // acceleration (mm) and its tool table (in mm, tool_table_text), not its HAL files.
+  std::optional<io::LatheMachine> machine;
+  std::string tool_table_text;
 };
 Verified verify(const Program& p, const Result& r, const Options& opt, const VerifyOptions& v);
 

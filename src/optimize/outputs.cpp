@@ -320,6 +320,12 @@ json summary_json(const Program& p, const Result& r, const systems::e_adaptive::
   json js;
   js["program"] = p.file;
   js["scenario"] = scenario_file;
+  // The units optimized.ngc writes in (its F words, its pieces' X Z I K): the program's, G20 or
+  // G21 where each move is; everything else here and in blocks.csv is in mm.
+  bool mm = false, inch = false;
+  for (const auto& m : p.canon.moves) (m.unit_mm > 1.0 + 1e-9 ? inch : mm) = true;
+  js["program_units"] = inch && mm ? "mm and inch" : inch ? "inch" : "mm";
+  js["machine_ini"] = opt.ini;
   js["force_parameter"] = c.unit == "W"                                          ? "power"
                           : e.rig.force_parameter == cutting::ForceParameter::Py ? "Py"
                                                                                  : "Pz";

@@ -27,6 +27,7 @@
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/input_file.hpp"
+#include "lathectl/io/linuxcnc_ini.hpp"
 #include "optimize/optimize.hpp"
 #include "optimize/path.hpp"
 #include "optimize/text.hpp"
@@ -196,47 +197,16 @@ std::string interpreter_error(const std::string& err, const std::string& label) 
   return io::located(label, line, 0, "LinuxCNC's interpreter (rs274) rejects the program: " + msg);
 }
 
-// A number of a LinuxCNC INI file: `key = value` in `[section]` (comments start with '#' or
-// ';'); nullopt when absent or not a number.
-std::optional<double> ini_number(const std::string& text, const std::string& section,
-                                 const std::string& key) {
-  std::istringstream in(text);
-  bool inside = false;
-  for (std::string l; std::getline(in, l);) {
-    const auto b = l.find_first_not_of(" \t\r");
-    if (b == std::string::npos || l[b] == '#' || l[b] == ';') continue;
-    if (l[b] == '[') {
-      inside = l.compare(b, section.size() + 2, "[" + section + "]") == 0;
-      continue;
-    }
-    if (!inside) continue;
-    const auto eq = l.find('=', b);
-    if (eq == std::string::npos) continue;
-    std::string k = l.substr(b, eq - b);
-    while (!k.empty() && (k.back() == ' ' || k.back() == '\t')) k.pop_back();
-    if (k != key) continue;
-    char* end = nullptr;
-    const std::string v = l.substr(eq + 1);
-    const double d = std::strtod(v.c_str(), &end);
-    if (end == v.c_str() || !std::isfinite(d)) return std::nullopt;
-    return d;
-  }
-  return std::nullopt;
-}
-
 }  // namespace
 
 void check_soft_limits(const Program& p, const std::string& ini_file) {
-  const std::string ini = read_text(ini_file);
+  const auto mc = io::lathe_machine(io::parse_linuxcnc_ini(read_text(ini_file), ini_file));
   struct Axis {
     const char* name;
     std::optional<double> lo, hi;
   };
-  const Axis ax[2] = {{"AXIS_X", ini_number(ini, "AXIS_X", "MIN_LIMIT"),
-                       ini_number(ini, "AXIS_X", "MAX_LIMIT")},
-                      {"AXIS_Z", ini_number(ini, "AXIS_Z", "MIN_LIMIT"),
-                       ini_number(ini, "AXIS_Z", "MAX_LIMIT")}};
-  constexpr double kTol = 1e-4;  // the interpreter's 4 decimals
+  const Axis ax[2] = {{"AXIS_X", mc.x_min, mc.x_max}, {"AXIS_Z", mc.z_min, mc.z_max}};
+  constexpr double kTol = 1e-4;  // mm: the interpreter's 4 decimals
   for (const auto& m : p.canon.moves) {
     // An arc's extent lies between its ends: sampled finely enough for 1e-4 mm at any radius
     // a lathe turns (r·(1 − cos(π/n)) with n = 2048).
@@ -249,11 +219,13 @@ void check_soft_limits(const Program& p, const std::string& ini_file) {
         const bool high = ax[a].hi && pos[a] > *ax[a].hi + kTol;
         if (!low && !high) continue;
         char buf[240];
+        const double u = mc.unit_mm;  // the INI's numbers in its own units
         std::snprintf(buf, sizeof buf,
-                      "the move reaches machine %c %.4f, beyond the soft limit [%s] %s = %g of "
+                      "the move reaches machine %c %.4f%s, beyond the soft limit [%s] %s = %g of "
                       "%s: LinuxCNC refuses the program",
-                      a == 0 ? 'X' : 'Z', pos[a], ax[a].name, low ? "MIN_LIMIT" : "MAX_LIMIT",
-                      low ? *ax[a].lo : *ax[a].hi, ini_file.c_str());
+                      a == 0 ? 'X' : 'Z', pos[a] / u, u > 1.0 ? " in" : "", ax[a].name,
+                      low ? "MIN_LIMIT" : "MAX_LIMIT", (low ? *ax[a].lo : *ax[a].hi) / u,
+                      ini_file.c_str());
         throw io::InputError(io::located(p.file, m.line, 0, buf));
       }
     }
@@ -285,32 +257,11 @@ std::string read_tool_table_file(const fs::path& tbl) {
   return text;
 }
 
-// Whether the INI's [TRAJ]LINEAR_UNITS says millimetres (LinuxCNC: mm, metric, millimeter(s)).
-bool metric_machine(const std::string& ini) {
-  std::istringstream in(ini);
-  bool inside = false;
-  for (std::string l; std::getline(in, l);) {
-    const auto b = l.find_first_not_of(" \t\r");
-    if (b == std::string::npos || l[b] == '#' || l[b] == ';') continue;
-    if (l[b] == '[') {
-      inside = l.compare(b, 6, "[TRAJ]") == 0;
-      continue;
-    }
-    const auto eq = l.find('=', b);
-    if (!inside || eq == std::string::npos) continue;
-    std::string k = l.substr(b, eq - b), v;
-    while (!k.empty() && (k.back() == ' ' || k.back() == '\t')) k.pop_back();
-    if (k != "LINEAR_UNITS") continue;
-    std::istringstream(l.substr(eq + 1)) >> v;
-    for (char& c : v) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return v == "mm" || v == "metric" || v == "millimeter" || v == "millimeters";
-  }
-  return false;
-}
+}  // namespace
 
-// The tool table with its lengths (D and the X Y Z U V W offsets) in inches; the angles (I, J,
-// A, B, C), numbers and orientation as they were, comments kept.
-std::string tool_table_in_inches(const std::string& text) {
+// The tool table with its lengths (D and the X Y Z U V W offsets) times `factor`; the angles (I,
+// J, A, B, C), numbers and orientation as they were, comments kept.
+std::string tool_table_scaled(const std::string& text, double factor) {
   std::istringstream in(text);
   std::string out;
   for (std::string l; std::getline(in, l);) {
@@ -329,7 +280,7 @@ std::string tool_table_in_inches(const std::string& text) {
         const double v = std::strtod(w.c_str() + 1, &end);
         if (end != w.c_str() + 1 && *end == '\0') {
           char b[40];
-          std::snprintf(b, sizeof b, "%c%.10g", c, v / 25.4);
+          std::snprintf(b, sizeof b, "%c%.10g", c, v * factor);
           w = b;
         }
       }
@@ -340,13 +291,22 @@ std::string tool_table_in_inches(const std::string& text) {
   }
   return out;
 }
-}  // namespace
+
+std::string machine_tool_table(const std::string& ini_file, const io::LatheMachine& mc) {
+  if (mc.tool_table.empty())
+    throw io::InputError(ini_file + ": [EMCIO]TOOL_TABLE missing: the machine's tool table "
+                                    "(or --tool-table TABLE)");
+  const fs::path t(mc.tool_table);
+  return (t.is_absolute() ? t : fs::path(ini_file).parent_path() / t).string();
+}
 
 io::CanonProgram interpret(const std::vector<std::string>& lines, const std::string& label,
                            const Options& opt) {
   const fs::path ini = opt.ini;
-  fs::path tbl =
-      opt.tool_table.empty() ? ini.parent_path() / "lathectl-lathe.tbl" : fs::path(opt.tool_table);
+  io::LatheMachine mc;
+  if (!opt.ini.empty()) mc = io::lathe_machine(io::parse_linuxcnc_ini(read_text(ini), opt.ini));
+  fs::path tbl = opt.tool_table.empty() ? fs::path(machine_tool_table(opt.ini, mc))
+                                        : fs::path(opt.tool_table);
   // The tool table on the checked path, before the temporary directory exists: a FIFO, a device,
   // a directory, a missing or an empty file is one line naming it and --tool-table (LinuxCNC
   // would say "Requested tool 1 not found", or wait for ever on a FIFO). rs274 reads the copy.
@@ -365,7 +325,7 @@ io::CanonProgram interpret(const std::vector<std::string>& lines, const std::str
   // 25.4 mm. On a millimetre machine it reads a copy with those lengths in inches.
   if (!opt.ini.empty()) {
     std::ofstream t(tmp.path / "tools.tbl");
-    t << (metric_machine(read_text(ini)) ? tool_table_in_inches(table) : table);
+    t << (mc.unit_mm == 1.0 ? tool_table_scaled(table, 1.0 / 25.4) : table);
     tbl = tmp.path / "tools.tbl";
   }
   // HOME: LinuxCNC 2.9's standalone interpreter creates its tool table as a shared map at

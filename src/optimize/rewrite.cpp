@@ -24,8 +24,16 @@ std::string number(double v, int decimals) {
   std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
   return buf;
 }
+// A feed [mm/rev, mm/min] as the move's program writes it: under G20 in in/rev (5 decimals) or
+// in/min (2), else mm/rev (4) or mm/min (1).
+bool inch(const CanonMove& m) { return m.unit_mm > 1.0 + 1e-9; }
 std::string feed_text(const CanonMove& m, double f) {
-  return number(f, m.per_rev ? 4 : 1);
+  return number(f / m.unit_mm, (m.per_rev ? 4 : 1) + (inch(m) ? 1 : 0));
+}
+// A length [mm] in the move's program units: 4 decimals, 5 in inches (rs274 prints 4 of either,
+// so the point written is the one it read, to its rounding).
+std::string length_text(const CanonMove& m, double v) {
+  return number(v / m.unit_mm, inch(m) ? 5 : 4);
 }
 
 // The line's text inside a comment: parentheses would end it early.
@@ -75,11 +83,12 @@ bool finishing_cycle(const std::string& l) {
 std::string move_text(const CanonMove& m, double from, double to, double feed) {
   const auto [xs, zs] = point_at(m, from);
   const auto [xe, ze] = point_at(m, to);
-  if (m.kind == CanonMove::Kind::Traverse) return "G0 X" + number(xe, 4) + " Z" + number(ze, 4);
+  const std::string end = " X" + length_text(m, xe) + " Z" + length_text(m, ze);
+  if (m.kind == CanonMove::Kind::Traverse) return "G0" + end;
   std::string t = m.kind == CanonMove::Kind::Line ? "G1" : (m.rotation < 0 ? "G2" : "G3");
-  t += " X" + number(xe, 4) + " Z" + number(ze, 4);
+  t += end;
   if (m.kind == CanonMove::Kind::Arc)
-    t += " I" + number(m.xc - xs, 4) + " K" + number(m.zc - zs, 4);
+    t += " I" + length_text(m, m.xc - xs) + " K" + length_text(m, m.zc - zs);
   return t + " F" + feed_text(m, feed);
 }
 
@@ -93,12 +102,14 @@ bool same_path(const io::CanonProgram& orig, const io::CanonProgram& opt) {
     return v;
   };
   const auto a = real(orig), b = real(opt);
-  constexpr double kTol = 2e-3;  // mm (the program's 4 decimals, the interpreter's 4)
+  // mm: the program's 4 decimals, the interpreter's 4 (of an inch, 2.54 µm, under G20)
+  const auto tol = [](const CanonMove& m) { return inch(m) ? 4e-3 : 2e-3; };
   std::size_t j = 0;
   for (const CanonMove* o : a) {
     for (;;) {
       if (j >= b.size()) return false;
       const CanonMove& m = *b[j++];
+      const double kTol = tol(*o);
       if ((m.kind == CanonMove::Kind::Traverse) != (o->kind == CanonMove::Kind::Traverse))
         return false;
       if (o->kind == CanonMove::Kind::Arc) {

@@ -51,7 +51,7 @@ VerifyRun run_sim_once(const std::string& name, const std::string& text, bool of
   }
   std::string cmd;
   for (const auto& w : v.sim) cmd += shell_quote(w) + " ";
-  char num[64];
+  char num[128];
   cmd += shell_quote(prog.string()) + " " + shell_quote(v.scenario) + " --out " +
          shell_quote(out.string()) + " --quiet --timeout " +
          std::to_string(static_cast<long>(v.timeout_s));
@@ -60,6 +60,22 @@ VerifyRun run_sim_once(const std::string& name, const std::string& text, bool of
   if (opt.spindle_rpm > 0.0) {
     std::snprintf(num, sizeof num, " --spindle-rpm %.6g", opt.spindle_rpm);
     cmd += num;
+  }
+  if (v.machine) {  // the user's machine: its limits and tools on the simulated lathe
+    const auto& m = *v.machine;
+    const auto num_or = [](const std::optional<double>& x, double d) { return x ? *x : d; };
+    std::snprintf(num, sizeof num, " --axis-limits %.6g,%.6g,%.6g,%.6g", num_or(m.x_min, -1e9),
+                  num_or(m.x_max, 1e9), num_or(m.z_min, -1e9), num_or(m.z_max, 1e9));
+    cmd += num;
+    if (m.max_velocity_mm_s) {
+      std::snprintf(num, sizeof num, " --max-velocity %.6g", *m.max_velocity_mm_s);
+      cmd += num;
+    }
+    if (m.max_acceleration_mm_s2) {
+      std::snprintf(num, sizeof num, " --max-acceleration %.6g", *m.max_acceleration_mm_s2);
+      cmd += num;
+    }
+    cmd += " --tool-table " + shell_quote((dir / "machine.tbl").string());
   }
   cmd += " >" + shell_quote((dir / (name + ".log")).string()) + " 2>&1";
   const int rc = std::system(cmd.c_str());
@@ -146,6 +162,10 @@ Verified verify(const Program& p, const Result& r, const Options& opt, const Ver
                            fs::perms::others_read | fs::perms::others_exec);
   std::string original;
   for (const auto& l : p.lines) original += l + "\n";
+  if (v.machine) {  // the simulated lathe works in mm: the table's lengths too
+    std::ofstream t(dir / "machine.tbl");
+    t << tool_table_scaled(v.tool_table_text, v.machine->unit_mm);
+  }
   Verified out;
   const double dt = r.after.s.dt_s;  // the servo period
   try {

@@ -164,4 +164,17 @@ for t in fifo:"$work/fifo.tbl" zero:/dev/zero dir:"$work/dir.tbl" missing:"$work
 done
 [ -z "$(ls -A "$work/tmp_tbl")" ] || { echo "FAIL a bad tool table left $(ls "$work/tmp_tbl")"; fail=1; }
 expect_bad rs274_true "$cr" "$sa" "^error: --rs274 '/bin/true' exited with status 0 without" --rs274 /bin/true
+# --ini (issue 47) on the same checked path: a FIFO, a directory, a missing file are one line
+# naming --ini and the file; a bad value names the file, line, section and key; an INI without
+# [EMCIO]TOOL_TABLE (and no --tool-table) is named.
+mkfifo "$work/fifo.ini"; mkdir -p "$work/dir.ini"
+for t in fifo:"$work/fifo.ini" dir:"$work/dir.ini" missing:"$work/none.ini"; do
+  expect_bad "ini_${t%%:*}" "$cr" "$sa" "${t#*:}: .*(--ini)" --ini "${t#*:}"
+done
+printf '[TRAJ]\nLINEAR_UNITS = mm\n[AXIS_X]\nMIN_LIMIT = -5\nMAX_LIMIT = 12O\n' >"$work/bad.ini"
+expect_bad ini_value "$cr" "$sa" "bad.ini:5: \\[AXIS_X\\]MAX_LIMIT = '12O': not a number" --ini "$work/bad.ini"
+printf '[TRAJ]\nLINEAR_UNITS = furlong\n' >"$work/unit.ini"
+expect_bad ini_unit "$cr" "$sa" "unit.ini:2: \\[TRAJ\\]LINEAR_UNITS = 'furlong'" --ini "$work/unit.ini"
+printf '[TRAJ]\nLINEAR_UNITS = inch\n' >"$work/notable.ini"
+expect_bad ini_no_table "$cr" "$sa" "notable.ini: \\[EMCIO\\]TOOL_TABLE missing" --ini "$work/notable.ini"
 exit $fail

@@ -39,8 +39,10 @@ grep -q "— ✔ 1 of 1 acceptance criterion met · model checks: 0 of 1 met (no
 "$bin" run --strict "$work/abad.toml" --out "$work/abad" > "$work/out.txt" 2>&1; rc=$?
 [ "$rc" -eq 2 ] || bad "unknown acceptance key: exit $rc, expected 2"
 grep -q "acceptance.max_force_pct" "$work/out.txt" || bad "unknown key message: $(cat "$work/out.txt")"
-# demo over two examples, one with an alarm: summary line, index marks, strict exit 3.
-mkdir -p "$work/ex"; cp "$ex/a_roughing_aim.toml" "$ex/a_sensor_dropout.toml" "$work/ex/"
+# demo over two examples, one with an alarm (a_sensor_dropout without its demonstrates_failure):
+# summary line, index marks, strict exit 3.
+mkdir -p "$work/ex"; cp "$ex/a_roughing_aim.toml" "$work/ex/"
+grep -v '^demonstrates_failure' "$ex/a_sensor_dropout.toml" > "$work/ex/a_sensor_dropout.toml"
 "$bin" demo --examples "$work/ex" --out "$work/d" > "$work/out.txt" 2> "$work/err.txt" || bad "demo: exit $?"
 grep -q "^demo: 2 scenarios, 1 with unmet acceptance criteria, alarms or unfinished parts (a_sensor_dropout) → " "$work/out.txt" || bad "demo line: $(cat "$work/out.txt")"
 grep -q "a_sensor_dropout: .* — ✘ alarm sensor_not_finite (code 10) at 5 s" "$work/out.txt" || bad "dropout line: $(cat "$work/out.txt")"
@@ -51,6 +53,14 @@ grep -q '<span class="mark ok">✔</span>' "$work/d/index.html" || bad "index ha
 [ "$rc" -eq 3 ] || bad "demo --strict: exit $rc, expected 3"
 "$bin" demo --strict --examples "$work/ex" --out "$work/d3" a_roughing_aim > /dev/null 2>&1; rc=$?
 [ "$rc" -eq 0 ] || bad "demo --strict on a clean example: exit $rc, expected 0"
+# The shipped a_sensor_dropout is a demonstration of failure (demonstrates_failure = true): said
+# so on the console and in the index, no ✘, and --strict passes while it fails as it should.
+mkdir -p "$work/exd"; cp "$ex/a_roughing_aim.toml" "$ex/a_sensor_dropout.toml" "$work/exd/"
+"$bin" demo --strict --examples "$work/exd" --out "$work/d4" > "$work/out.txt" 2>&1; rc=$?
+[ "$rc" -eq 0 ] || bad "demo --strict with a demonstration of failure: exit $rc, expected 0"
+grep -q "^demo: 2 scenarios, 0 with unmet acceptance criteria, alarms or unfinished parts; 1 demonstrations of failure, failing as they should (a_sensor_dropout) → " "$work/out.txt" || bad "demo line with a demonstration: $(cat "$work/out.txt")"
+grep -q "demonstration of failure, on purpose: ✘ 1 alarm" "$work/d4/index.html" || bad "index does not name the demonstration"
+! grep -q '<span class="mark bad">✘</span>' "$work/d4/index.html" || bad "index marks a demonstration of failure ✘"
 "$bin" --help | grep -q "3 with --strict (run, demo): an acceptance criterion not met" || bad "--help does not document exit code 3"
 [ "$fail" -eq 0 ] && echo "verdict cli: ok"
 [ "$fail" -eq 0 ]

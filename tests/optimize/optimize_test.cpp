@@ -101,8 +101,6 @@ TEST(Canon, ReadsMovesModesAndLines) {
 }
 
 TEST(Canon, RefusesWhatItCannotRead) {
-  EXPECT_THROW(io::parse_canon("1 N..... USE_LENGTH_UNITS(CANON_UNITS_INCHES)\n", "t"),
-               io::InputError);
   EXPECT_THROW(io::parse_canon("1 N..... STRAIGHT_FEED(1.0, 0.0, x, 0, 0, 0)\n", "t"),
                io::InputError);
   EXPECT_THROW(io::parse_canon("1 N..... SELECT_PLANE(CANON_PLANE_XY)\n"

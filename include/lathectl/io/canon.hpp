@@ -4,7 +4,10 @@
 //
 //     <seq> N<word>|N..... NAME(args)
 //
-// read into the moves of a turning program (plane XZ, X the radius, millimetres). What LinuxCNC
+// read into the moves of a turning program (plane XZ, X the radius, millimetres: rs274 prints a
+// G20 program's lengths, feeds and thread pitches in inches and its G96 surface speed in feet
+// per minute, each converted here as LinuxCNC's canon converts it, by the units in force when
+// the command comes). What LinuxCNC
 // runs is what is read: G7x cycles, subroutines, loops and cutter compensation arrive expanded.
 // The program line of a move comes from a marker comment, "(lathectl-line N)", that the caller
 // puts on each line of the copy it interprets (rs274 prints a line's last comment as
@@ -26,7 +29,7 @@
 //                                              what lies between the program's coordinates
 //                                              and the machine's (the soft limits are the latter)
 //   SELECT_TOOL(t), COMMENT("…"), USE_LENGTH_UNITS(CANON_UNITS_MM|_INCHES)
-// Anything else is passed over. Inch units and arcs outside the XZ plane are refused.
+// Anything else is passed over. Arcs outside the XZ plane are refused.
 
 #include <string>
 #include <string_view>
@@ -39,10 +42,14 @@ struct CanonMove {
   Kind kind = Kind::Line;
   int line = 0;                                   // program line (the marker), 0 when none was seen
   double x0 = 0.0, z0 = 0.0, x1 = 0.0, z1 = 0.0;  // start and end: radius, z [mm]
+  // The program's length unit at this move [mm]: 25.4 under G20, 1 under G21 (what a line
+  // written for it divides by).
+  double unit_mm = 1.0;
   double xc = 0.0, zc = 0.0;                      // arc centre
   int rotation = 0;                               // arc: < 0 G2, > 0 G3
   bool per_rev = false;                           // G95
   double feed = 0.0;                              // mm/rev (G95) or mm/min (G94); 0 before any F
+                                                  // (an inch program's F × 25.4)
   bool css = false;                               // G96
   double css_max_rpm = 0.0;                       // G96's D
   double speed = 0.0;                             // rpm (G97) or m/min (G96)

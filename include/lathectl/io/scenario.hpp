@@ -63,6 +63,7 @@ struct Scenario {
   std::string system;  // "A" … "E" (systems/registry.cpp)
   std::string name;
   std::string description;
+  bool demonstrates_failure = false;  // a failure on purpose (lathectl demo lists it apart)
   RunSettings run;
   std::shared_ptr<const ParamLog> params;  // every key read, with its value (the report's table)
   // Values read but not ones a shop would mean ("file:line:col: key 'k': ..."): printed on
