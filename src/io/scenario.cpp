@@ -71,7 +71,7 @@ Scenario load_scenario(const std::string& path, const MaterialLibrary& lib,
 }
 
 void print_warnings(const Scenario& sc) {
-  for (const auto& w : sc.warnings) std::cerr << "warning: " << w << "\n";
+  for (const auto& w : sc.warnings) std::cerr << "warning: " << error_line(w) << "\n";
 }
 
 ParamLog describe_section(const Section& section, const MaterialLibrary& lib, int variant) {
