@@ -232,7 +232,7 @@ int compare(const std::vector<std::string>& dirs, const std::string& out) {
                            system_of(runs[0]) + ", " + runs[i].label + " of system " +
                            system_of(runs[i]) +
                            ": compare runs of one system (the same claims, metrics and channels)");
-  io::prepare_output_dir(out, "--out");
+  io::prepare_output_dir(out, "--out", true, {dirs.begin(), dirs.end()});
 
   json summary{{"runs", dirs}};
   io::Report rep;
