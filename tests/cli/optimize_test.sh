@@ -70,6 +70,12 @@ fi
 # optimize.
 printf 'G18 G21 G95\nM3 S1000\nG0 X15 Z2\nG1 Z-500 F0.2\nG0 X30\nM2\n' >"$work/soft.ngc"
 expect_bad soft_limit "$work/soft.ngc" "$sa" "soft.ngc:4: .*\[AXIS_Z\] MIN_LIMIT"
+# Work that grows with the cycle time is bounded (issue 49: G76 P0.001 ran 67 s to 3.5 GB, G95
+# F0.0001 70 s to 4 GB): over an hour of servo periods is refused before a sample, at the line.
+printf 'G18 G21 G95\nM3 S1194\nG0 X25 Z2\nG0 X18.5\nG1 Z-50 F0.0001\nG0 X25\nM2\n' >"$work/slow_feed.ngc"
+expect_bad slow_feed "$work/slow_feed.ngc" "$sa" "slow_feed.ngc:5: the program runs about 7.* h .* over the 1 h"
+printf 'G18 G21 G95\nM3 S1194\nG0 X25 Z2\nG0 X20\nG76 P0.001 Z-30 I-1 J0.2 K1.2 Q29.5 H1\nG0 X25\nM2\n' >"$work/fine_thread.ngc"
+expect_bad fine_thread "$work/fine_thread.ngc" "$sa" "fine_thread.ngc:5: .*at a pitch of 0.001 mm"
 # A thread with no F before it (G76 and G33 need none) and a valid 250-character line (the line
 # marker used to push it past rs274's 252): both read, the thread line left as written.
 long=$(printf 'G1 Z-50 F0.15 (%0234d)' 0)
