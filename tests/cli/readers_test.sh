@@ -60,5 +60,16 @@ expect2 "lobes --out the machine file's folder" "holds the input" "$bin" lobes "
 [ -f "$work/P/a.toml" ] && [ ! -e "$work/never" ] || bad "--out: an input gone or an output written"
 ls -a "$work" | grep -q tmp- && bad "--out: a staging directory left"
 
+# Inputs held whole are bounded up front (issue 49: a 200 MB operation log took 2.4 GB, compare
+# on two 700 MB channels.csv ran out of memory): sparse files, refused before a byte is read.
+mkdir -p "$work/r1" "$work/r2"
+for r in r1 r2; do echo '{}' >"$work/$r/summary.json"; truncate -s 600M "$work/$r/channels.csv"; done
+expect2 "compare 1.2 GB of channels" "compare: the runs' channels.csv hold 1200 MiB in all, more than the 1024 MiB" \
+  "$bin" compare "$work/r1" "$work/r2" --out "$work/never"
+truncate -s 33M "$work/big_log.json"
+expect2 "a 33 MiB operation log" "big_log.json: 33 MiB, more than the 32 MiB" \
+  "$bin" report "$work/big_log.json" --out "$work/never.html"
+[ ! -e "$work/never" ] && [ ! -e "$work/never.html" ] || bad "bounded inputs: an output written"
+
 [ $fail -eq 0 ] && echo "readers: every case held"
 exit $fail
