@@ -60,6 +60,14 @@ expect2 "lobes --out the machine file's folder" "holds the input" "$bin" lobes "
 [ -f "$work/P/a.toml" ] && [ ! -e "$work/never" ] || bad "--out: an input gone or an output written"
 ls -a "$work" | grep -q tmp- && bad "--out: a staging directory left"
 
+# A scenario's name is one printable path component: "../escaped" made the demo write a
+# directory beside its --out.
+mkdir -p "$work/ex" "$work/demo"
+sed '2s/^name = .*/name = "..\/escaped"/' "$src/examples/scenarios/a_regulator_switching.toml" >"$work/ex/x.toml"
+expect2 "a name ../escaped" "x.toml:2:8: key 'name': must be printable text without /" \
+  "$bin" demo --examples "$work/ex" --out "$work/demo/out"
+[ ! -e "$work/demo/escaped" ] && [ ! -e "$work/demo/out" ] || bad "demo: a directory written"
+
 # Inputs held whole are bounded up front (issue 49: a 200 MB operation log took 2.4 GB, compare
 # on two 700 MB channels.csv ran out of memory): sparse files, refused before a byte is read.
 mkdir -p "$work/r1" "$work/r2"
