@@ -36,9 +36,10 @@ esac
 SEED=20261126
 declare -A RUNS=([scenario]=5000 [materials]=60000 [lobes]=1500 [tool_limits]=100000
                  [channels_csv]=200000 [canon]=50000 [json_file]=30000 [frf]=20000
-                 [calibration]=20000 [signal]=100000 [linuxcnc_ini]=50000)
+                 [calibration]=20000 [signal]=100000 [linuxcnc_ini]=50000 [tool_table]=50000
+                 [tool_file]=30000)
 targets=(scenario materials lobes tool_limits channels_csv canon json_file frf calibration signal
-         linuxcnc_ini)
+         linuxcnc_ini tool_table tool_file)
 
 cmake --preset fuzz -DLATHECTL_WERROR="${LATHECTL_WERROR:-OFF}" >/dev/null
 # Only the fuzz targets and what they link (not the program): the libraries are built with
@@ -60,6 +61,9 @@ cp examples/machines/*.toml "$seeds/lobes/"
 cp examples/machines/frf/*.csv examples/machines/frf/*.uff "$seeds/frf/"
 cp hal/config/lathectl-tools.toml "$seeds/tool_limits/"
 cp examples/gauges/*.csv "$seeds/calibration/"
+# lathectl optimize's LinuxCNC tool table and tool file as the project writes them.
+cp hal/config/lathectl-lathe.tbl "$seeds/tool_table/"
+cp tests/optimize/programs/user_part_tools.toml "$seeds/tool_file/"
 # A few rows of a channels.csv as lathectl writes it (header, numbers, nan, inf).
 printf 'time_s,x_mm,force_N\n0,1.5,-2e-05\n0.001,nan,inf\n0.002,-inf,3\n' >"$seeds/channels_csv/seed.csv"
 cp tests/optimize/canon_example.txt "$seeds/canon/"

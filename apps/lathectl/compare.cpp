@@ -15,6 +15,8 @@
 #include "cli.hpp"
 #include "lathectl/io/channels_reader.hpp"
 #include "lathectl/io/errors.hpp"
+#include "lathectl/io/format.hpp"
+#include "lathectl/io/input_file.hpp"
 #include "lathectl/io/json_file.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/report.hpp"
@@ -30,6 +32,23 @@ struct Run {
   json summary;
   io::ChannelTable channels;
 };
+
+// The runs' channels.csv in all within io::kMaxCompareCsvBytes, before one is read (two 700 MB
+// files ran out of memory): compare holds their columns.
+void check_channel_bytes(const std::vector<std::string>& dirs) {
+  double total = 0.0;
+  std::error_code ec;
+  for (const std::string& d : dirs) {
+    const auto n = fs::file_size(fs::path(d) / "channels.csv", ec);
+    if (!ec) total += static_cast<double>(n);
+  }
+  if (total > static_cast<double>(io::kMaxCompareCsvBytes))
+    throw io::InputError(
+        "compare: the runs' channels.csv hold " + io::fmt(total / (1 << 20), "%.0f") +
+        " MiB in all, more than the " + io::fmt(static_cast<double>(io::kMaxCompareCsvBytes >> 20), "%.0f") +
+        " MiB compare reads (it holds their columns, about 3.3 bytes of memory a byte): compare "
+        "shorter runs, or runs recorded at a larger [run] record_interval_s");
+}
 
 Run read_run(const std::string& dir) {
   std::error_code ec;
@@ -219,6 +238,7 @@ int compare(const std::vector<std::string>& dirs, const std::string& out) {
     if (fs::exists(out, ec) && fs::equivalent(d, out, ec))
       throw io::InputError("--out " + out + ": is one of the runs compared; choose another");
   std::vector<Run> runs;
+  check_channel_bytes(dirs);
   for (const std::string& d : dirs) runs.push_back(read_run(d));
   // Runs of different systems share no claims and hardly a metric or channel: a comparison of them
   // would be a page of "—". Say so instead.
@@ -232,7 +252,7 @@ int compare(const std::vector<std::string>& dirs, const std::string& out) {
                            system_of(runs[0]) + ", " + runs[i].label + " of system " +
                            system_of(runs[i]) +
                            ": compare runs of one system (the same claims, metrics and channels)");
-  io::prepare_output_dir(out, "--out");
+  io::prepare_output_dir(out, "--out", true, {dirs.begin(), dirs.end()});
 
   json summary{{"runs", dirs}};
   io::Report rep;

@@ -103,9 +103,9 @@ int demo(const std::string& out, const std::string& dir, const std::vector<std::
   const auto lib = io::MaterialLibrary::load_default();
   // Parse all first: nothing runs on a half-read example set.
   std::vector<io::Scenario> scenarios;
-  for (const auto& f : example_files(dir, only))
-    scenarios.push_back(systems::load_scenario(f.string(), lib));
-  io::prepare_output_dir(out, "--out", false);
+  const auto files = example_files(dir, only);
+  for (const auto& f : files) scenarios.push_back(systems::load_scenario(f.string(), lib));
+  io::prepare_output_dir(out, "--out", false, {files.begin(), files.end()});
 
   const std::size_t n = scenarios.size();
   std::vector<io::IndexEntry> entries(n);

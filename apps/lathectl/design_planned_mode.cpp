@@ -100,6 +100,9 @@ int compute(const Args& a) {
   in.kp = std::pow(mat->strength / mat->strength_base * a.h, mat->kmp_exponent);
   in.depth_mm = *a.t;
   in.life_min = a.T;
+  if (!(a.s_min <= a.s_max))
+    throw io::InputError(who + "--s-min " + format_number(a.s_min) + " mm/rev exceeds --s-max " +
+                         format_number(a.s_max) + " mm/rev: the feed range is empty");
   in.feed_min_mm_per_rev = a.s_min;
   in.feed_max_mm_per_rev = a.s_max;
   const double inf = std::numeric_limits<double>::infinity();

@@ -145,7 +145,9 @@ int compute(const Args& a) {
   r.peak = tr.peak_m;
   r.settling = tr.settling_s;
   if (!std::isfinite(r.q_ss) || !std::isfinite(r.peak) || !std::isfinite(r.settling))
-    throw io::InputError(who + "the inputs give no finite result");
+    throw io::InputError(who +
+                         "the inputs give no finite result: --s · --n (the carriage feed), --P0, "
+                         "--E0, --C0, --M and --i are too far apart");
   require_finite<Result>(who, r, kOutputs, "--E0, --C0, --M, --i, --P0, --s and --n");
   nlohmann::json more = nlohmann::json::object();
   if (!characteristics_path.empty()) {

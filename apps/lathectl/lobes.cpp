@@ -7,6 +7,7 @@
 #include <string>
 
 #include "cli.hpp"
+#include "lathectl/io/errors.hpp"
 #include "systems/b_chatter/lobes.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/progress.hpp"
@@ -53,7 +54,9 @@ void print_recommendation(const nlohmann::json& r) {
 
 int lobes(const std::string& file, const std::string& out, bool recommend) {
   const auto in = systems::b_chatter::load_lobes_input(file);  // refuses work over its bounds
-  io::prepare_output_dir(out, "--out");
+  std::vector<std::filesystem::path> inputs{file};
+  for (const auto& f : in.frfs) inputs.emplace_back(f.path);
+  io::prepare_output_dir(out, "--out", true, inputs);
   // A run longer than a few seconds says first what it will cost (estimated before computing),
   // then shows its progress: a bar on a terminal, a line every 10 s in a pipe or a log.
   const auto cost = systems::b_chatter::lobes_cost(in);
@@ -71,7 +74,8 @@ int lobes(const std::string& file, const std::string& out, bool recommend) {
     io::Progress progress("lobes");  // a line every 10 s in a pipe or a log (kPlainInterval)
     j = systems::b_chatter::run_lobes(in, out, &progress);
   }
-  for (const auto& w : j["warnings"]) std::cerr << "warning: " << w.get<std::string>() << "\n";
+  for (const auto& w : j["warnings"])
+    std::cerr << "warning: " << io::error_line(w.get<std::string>()) << "\n";
   // No lobe at all (every mode across the chip thickness): JSON null, said in words.
   const auto& crit = j["critical_depth_mm"];
   if (crit.is_number() && std::isfinite(crit.get<double>()))

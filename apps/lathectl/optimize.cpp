@@ -85,7 +85,8 @@ int run(Args& a) {
     throw io::InputError(a.program + ": the tool never touches the blank of " + a.scenario +
                          " (its face is at machine Z " + io::fmt(a.opt.z_origin_mm) +
                          ", the part toward -Z; --z-origin-mm Z places it)");
-  io::prepare_output_dir(a.out, "--out");  // before --verify's runs, not after them
+  io::prepare_output_dir(a.out, "--out", true,  // before --verify's runs, not after them
+                         {a.program, a.scenario, a.tool_file, a.opt.tool_table});
   std::unique_ptr<optimize::Verified> v;
   if (a.verify) {
     optimize::VerifyOptions vo;

@@ -46,8 +46,10 @@ int run_program(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-    // A bad command line is bad input like any other: one line naming the command and the flag.
-    std::cerr << "error: " << command_line_error(app, e, argc, argv) << "\n";
+    // Every message below is one printable, bounded line (io::error_line): a file's or a flag's
+  // text never reaches the terminal raw.
+  // A bad command line is bad input like any other: one line naming the command and the flag.
+    std::cerr << "error: " << io::error_line(command_line_error(app, e, argc, argv)) << "\n";
     return kBadInput;
   }
 
@@ -55,13 +57,13 @@ int run_program(int argc, char** argv) {
     for (const auto& c : commands)
       if (c.app->parsed()) return c.run();
   } catch (const io::InputError& e) {
-    std::cerr << "error: " << e.what() << "\n";
+    std::cerr << "error: " << io::error_line(e.what()) << "\n";
     return kBadInput;
   } catch (const std::filesystem::filesystem_error& e) {
     // Where the results were to go cannot take them (a full disk, a quota, a read-only or vanished
     // directory): the user's to fix, like a bad --out. Nothing half written is left (the output
     // sets are staged and removed on failure).
-    std::cerr << "error: " << e.path1().string() << ": " << e.code().message()
+    std::cerr << "error: " << io::error_line(e.path1().string()) << ": " << e.code().message()
               << (e.code() == std::errc::no_space_on_device
                       ? " (free space on that file system, or choose another --out)"
                       : "")
@@ -72,7 +74,7 @@ int run_program(int argc, char** argv) {
                  "(lathectl check FILE estimates a run's size)\n";
     return kBadInput;
   } catch (const std::exception& e) {
-    std::cerr << "internal error: " << e.what() << "\n";
+    std::cerr << "internal error: " << io::error_line(e.what()) << "\n";
     return 1;
   }
   return 1;

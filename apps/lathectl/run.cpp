@@ -23,7 +23,7 @@ namespace {
 int run(const std::string& scenario, const std::string& out, bool strict) {
   const auto lib = io::MaterialLibrary::load_default();
   const auto sc = systems::load_scenario(scenario, lib);
-  io::prepare_output_dir(out, "--out");  // before the simulation, not after it
+  io::prepare_output_dir(out, "--out", true, {scenario});  // before the simulation, not after it
   // A long run says up front what it will cost (the progress line then says how far it is).
   if (const auto e = systems::estimate(sc); e.wall_s > 30.0)
     std::cerr << "run " << sc.name << ": " << systems::summary_text(e) << "\n";

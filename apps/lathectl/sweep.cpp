@@ -37,7 +37,7 @@ int sweep(const SweepArgs& a) {
   sweep::check_values(spec, text, values, lib);  // before anything is written
   const auto cases = sweep::make_cases(spec, text, values);
   const fs::path dir(a.out);
-  io::prepare_output_dir(dir, "--out", false);
+  io::prepare_output_dir(dir, "--out", false, {a.spec, spec.scenario});
   fs::create_directories(dir);
   sweep::Store store(dir / "sweep.sqlite");
   store.fill_or_check(cases, a.spec);
@@ -58,7 +58,7 @@ int sweep(const SweepArgs& a) {
   }
   for (const auto& m : spec.metrics)
     if (ok && !seen.contains(m))
-      std::cerr << "warning: " << a.spec << ": [output] metric '" << m
+      std::cerr << "warning: " << io::error_line(a.spec + ": [output] metric '" + m)
                 << "' is a number in no case's summary.json (its column is empty)\n";
   std::cout << "sweep " << a.spec << ": " << cases.size() << " cases, " << ok << " ok, "
             << results.size() - ok << " failed (" << results.size() - before << " run now, "

@@ -22,11 +22,7 @@ bool parse_number(std::string_view text, double& v) {
 }
 
 // The printable start of a field for a message (a fuzzer may feed anything).
-std::string shown(std::string_view s) {
-  std::string out;
-  for (const char c : s.substr(0, 24)) out += (c >= 0x20 && c < 0x7f) ? c : '?';
-  return s.size() > 24 ? out + "…" : out;
-}
+std::string shown(std::string_view s) { return printable(s, 24); }
 
 }  // namespace
 
@@ -46,7 +42,7 @@ ChannelTable read_channels_csv(std::istream& in, const std::string& file) {
         throw InputError(located(file, 1, 0, where + " '" + shown(name) +
                                                  "': a column name is letters, digits and _"));
     if (!seen.insert(name).second)
-      throw InputError(located(file, 1, 0, where + " '" + name + "': named twice"));
+      throw InputError(located(file, 1, 0, where + " '" + printable(name) + "': named twice"));
     t.names.push_back(name);
     if (comma == std::string::npos) break;
     pos = comma + 1;
@@ -64,7 +60,7 @@ ChannelTable read_channels_csv(std::istream& in, const std::string& file) {
     for (std::size_t c = 0; c < t.names.size(); ++c) {
       if (pos > line.size())
         throw InputError(located(file, line_no, 0,
-                                 "column '" + t.names[c] + "': missing (" + std::to_string(c) +
+                                 "column '" + printable(t.names[c]) + "': missing (" + std::to_string(c) +
                                      " of " + std::to_string(t.names.size()) + " fields)"));
       const std::size_t comma = line.find(',', pos);
       const std::size_t end = comma == std::string::npos ? line.size() : comma;
@@ -72,7 +68,7 @@ ChannelTable read_channels_csv(std::istream& in, const std::string& file) {
       double v = 0.0;
       if (!parse_number(field, v))
         throw InputError(located(file, line_no, 0,
-                                 "column '" + t.names[c] + "': expected a number, got '" +
+                                 "column '" + printable(t.names[c]) + "': expected a number, got '" +
                                      shown(field) + "'"));
       t.columns[c].push_back(v);
       pos = comma == std::string::npos ? line.size() + 1 : comma + 1;

@@ -160,8 +160,8 @@ dynamics::Frf parse_frf_csv(std::string_view text, const std::string& file,
     else if (n.rfind("imag_", 0) == 0) slot = &ii, imag_unit = n.substr(5);
     else
       fail(file, header_line,
-           "column '" + n + "': expected frequency_Hz, real_<unit> and imag_<unit>");
-    if (*slot >= 0) fail(file, header_line, "column '" + n + "' given twice");
+           "column '" + printable(n) + "': expected frequency_Hz, real_<unit> and imag_<unit>");
+    if (*slot >= 0) fail(file, header_line, "column '" + printable(n) + "' given twice");
     *slot = static_cast<int>(k);
   }
   if (fi < 0) fail(file, header_line, "missing column 'frequency_Hz'");
@@ -170,10 +170,10 @@ dynamics::Frf parse_frf_csv(std::string_view text, const std::string& file,
   const auto unit = csv_unit(real_unit);
   if (!unit)
     fail(file, header_line,
-         "cannot tell the units of column 'real_" + real_unit + "': expected one of " + kCsvUnits);
+         "cannot tell the units of column 'real_" + printable(real_unit) + "': expected one of " + kCsvUnits);
   if (imag_unit != real_unit)
     fail(file, header_line,
-         "columns 'real_" + real_unit + "' and 'imag_" + imag_unit + "' differ in units");
+         "columns 'real_" + printable(real_unit) + "' and 'imag_" + printable(imag_unit) + "' differ in units");
   dynamics::Frf frf;
   while (lines.next(line)) {
     const auto t = trim(line);
@@ -196,8 +196,8 @@ dynamics::Frf parse_frf_csv(std::string_view text, const std::string& file,
       const auto x = number(fields[static_cast<std::size_t>(idx[k])]);
       if (!x)
         fail(file, lines.number,
-             "column '" + names[static_cast<std::size_t>(idx[k])] + "': '" +
-                 std::string(trim(fields[static_cast<std::size_t>(idx[k])])) +
+             "column '" + printable(names[static_cast<std::size_t>(idx[k])]) + "': '" +
+                 printable(trim(fields[static_cast<std::size_t>(idx[k])])) +
                  "' is not a finite number");
       v[k] = *x;
     }
@@ -223,7 +223,7 @@ long field_int(std::string_view line, std::size_t at, std::size_t width, const s
   long v = 0;
   const auto r = std::from_chars(f.data(), f.data() + f.size(), v);
   if (r.ec != std::errc() || r.ptr != f.data() + f.size())
-    fail(file, n, std::string(what) + ": '" + std::string(f) + "' is not an integer");
+    fail(file, n, std::string(what) + ": '" + printable(f) + "' is not an integer");
   return v;
 }
 double field_real(std::string_view line, std::size_t at, std::size_t width, const std::string& file,
@@ -232,7 +232,7 @@ double field_real(std::string_view line, std::size_t at, std::size_t width, cons
   const auto f = trim(line.substr(at, width));
   if (f.empty()) return 0.0;
   const auto v = number(f);
-  if (!v) fail(file, n, std::string(what) + ": '" + std::string(f) + "' is not a number");
+  if (!v) fail(file, n, std::string(what) + ": '" + printable(f) + "' is not a number");
   return *v;
 }
 std::string field_text(std::string_view line, std::size_t at, std::size_t width) {
@@ -344,7 +344,7 @@ Uff58 uff58_records(Lines& lines, const std::string& file, long units_code) {
   const auto unit = uff_unit(y_type, y_units, units_code);
   if (!unit)
     fail(file, at[9], "record 9: cannot tell the ordinate's units (specific data type " +
-                          std::to_string(y_type) + ", units label '" + y_units +
+                          std::to_string(y_type) + ", units label '" + printable(y_units) +
                           "'): expected displacement (8) in m, mm or um, velocity (11) in "
                           "m/s or mm/s, or acceleration (12) in m/s^2, mm/s^2 or g — or an "
                           "empty label with a dataset 164 of SI units (1) before it");
@@ -353,7 +353,7 @@ Uff58 uff58_records(Lines& lines, const std::string& file, long units_code) {
   const std::string d_units = field_text(rec[10], 47, 20);
   if ((d_type != 13 && d_type != 9) || !(d_units == "N" || none(d_units)))
     fail(file, at[10], "record 10: the denominator must be a force (13) in N, found data type " +
-                           std::to_string(d_type) + " in '" + d_units + "'");
+                           std::to_string(d_type) + " in '" + printable(d_units) + "'");
   return u;
 }
 
@@ -420,7 +420,7 @@ std::vector<double> text_values(Lines& lines, const Uff58& u, const std::string&
       pos += w;
       if (f.empty()) continue;
       const auto x = number(f);
-      if (!x) fail(file, lines.number, "record 12: '" + std::string(f) + "' is not a finite number");
+      if (!x) fail(file, lines.number, "record 12: '" + printable(f) + "' is not a finite number");
       v.push_back(*x);
     }
     if (pos < line.size() && !trim(line.substr(pos)).empty())

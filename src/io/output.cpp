@@ -206,8 +206,27 @@ void write_output_file(const fs::path& path, const std::string& content, const s
   }
 }
 
-void prepare_output_dir(const fs::path& dir_in, const std::string& flag, bool whole_set) {
+void check_not_above(const fs::path& dir, const std::string& flag,
+                     const std::vector<fs::path>& inputs) {
+  std::error_code ec;
+  const fs::path out = fs::weakly_canonical(fs::absolute(dir, ec), ec);
+  if (ec) return;  // prepare_output_dir reports what is wrong with it
+  for (const auto& input : inputs) {
+    std::error_code ec_in;
+    const fs::path in = fs::weakly_canonical(fs::absolute(input, ec_in), ec_in);
+    if (ec_in || input.empty()) continue;
+    const auto [o, i] = std::mismatch(out.begin(), out.end(), in.begin(), in.end());
+    if (o != out.end() && !o->empty()) continue;  // out is not a prefix of in
+    throw InputError(flag + " " + dir.string() + ": " +
+                     (i == in.end() ? "is the input " : "holds the input ") + input.string() +
+                     ", which the results would replace; choose a directory outside the inputs");
+  }
+}
+
+void prepare_output_dir(const fs::path& dir_in, const std::string& flag, bool whole_set,
+                        const std::vector<fs::path>& inputs) {
   if (dir_in.empty()) throw InputError(flag + ": empty; name a directory for the results");
+  check_not_above(dir_in, flag, inputs);
   const fs::path dir = normalized(dir_in);
   const std::string label = flag + " " + dir_in.string();
   std::error_code ec;

@@ -28,6 +28,12 @@ void read_common(TableReader& root, Scenario& sc, const std::vector<const Sectio
   sc.name = root.string("name");
   root.document("name", "the run's name in reports and summary.json");
   root.check(!sc.name.empty(), "name", "must not be empty");
+  // It names the demo's directory of the run and heads the console's lines: one path component
+  // of printable text (a "../x" wrote outside the demo's --out; an escape reached the terminal).
+  root.check(sc.name != "." && sc.name != ".." &&
+                 sc.name.find_first_of("/\\") == std::string::npos &&
+                 printable(sc.name, sc.name.size()) == sc.name,
+             "name", "must be printable text without / or \\ and not . or .. (it names a directory)");
   sc.description = root.string("description", "");
   root.document("description", "free text; it becomes the report's introduction");
   sc.demonstrates_failure = root.boolean("demonstrates_failure", false);
@@ -77,7 +83,7 @@ Scenario load_scenario(const std::string& path, const MaterialLibrary& lib,
 }
 
 void print_warnings(const Scenario& sc) {
-  for (const auto& w : sc.warnings) std::cerr << "warning: " << w << "\n";
+  for (const auto& w : sc.warnings) std::cerr << "warning: " << error_line(w) << "\n";
 }
 
 ParamLog describe_section(const Section& section, const MaterialLibrary& lib, int variant) {

@@ -116,7 +116,12 @@ struct Piece {
 };
 using Plan = std::vector<std::vector<Piece>>;  // per move
 
-// The prediction along the program: one sample per servo period in feed moves and rapids.
+// The prediction along the program: one sample per servo period in feed moves and rapids, at
+// most kMaxPredictedSamples of them (an hour of the program at 1 ms, about 0.55 GB a
+// prediction): a longer program is refused at its slowest move before one is taken.
+inline constexpr double kMaxPredictedSamples = 3.6e6;
+// The canonical moves a program may have (read_program): about 0.8 GB of what optimize holds.
+inline constexpr std::size_t kMaxProgramMoves = 500'000;
 struct Samples {
   double dt_s = 0.001;
   std::vector<int> move, piece;

@@ -7,6 +7,7 @@
 // the force, is only smaller.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -49,21 +50,40 @@ control::AdaptiveMachine::Params adaptive_machine_params(const systems::e_adapti
 
 namespace {
 
-// Reserves the samples: the moves' times at their start speeds, plus a margin.
-void reserve_samples(const io::CanonProgram& prog, const Plan& plan, double rapid, Samples& s) {
-  double t = 0.0;
+// Reserves the samples: the moves' times at their start speeds, plus a margin. Refuses, before
+// a sample is taken, a program whose samples would exceed kMaxPredictedSamples (G76 P0.001 or
+// G95 F0.0001 over a few cm: hours of servo periods, gigabytes), naming the slowest move's line.
+void reserve_samples(const io::CanonProgram& prog, const Plan& plan, double rapid,
+                     const Options& opt, Samples& s) {
+  double t = 0.0, slowest_t = 0.0;
+  const CanonMove* slowest = nullptr;
   for (std::size_t mi = 0; mi < prog.moves.size(); ++mi) {
     const CanonMove& m = prog.moves[mi];
     const double rpm = spindle_rpm(m, m.x0);
+    double tm = 0.0;
     for (const Piece& pc : plan[mi]) {
       const double v = m.kind == CanonMove::Kind::Traverse ? rapid
                        : m.synced                          ? m.pitch_mm * rpm / 60.0
                        : m.per_rev                         ? pc.feed * rpm / 60.0
                                                            : pc.feed / 60.0;
-      if (v > 0.0) t += move_length(m) * (pc.to - pc.from) / std::min(v, rapid);
+      if (v > 0.0) tm += move_length(m) * (pc.to - pc.from) / std::min(v, rapid);
     }
+    t += tm;
+    if (tm > slowest_t) slowest_t = tm, slowest = &m;
   }
-  const auto n = static_cast<std::size_t>(std::min(t / s.dt_s * 1.1 + 1000.0, 5e7));
+  if (t / s.dt_s > kMaxPredictedSamples && slowest) {
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "the program runs about %.3g h (%.3g servo periods of 1 ms), over the %.3g h "
+                  "lathectl optimize predicts (its memory grows with the cycle time); this "
+                  "move alone takes %.3g h at %s %.4g mm%s: a larger feed or pitch",
+                  t / 3600.0, t / s.dt_s, kMaxPredictedSamples * s.dt_s / 3600.0,
+                  slowest_t / 3600.0, slowest->synced ? "a pitch of" : "a feed of",
+                  slowest->synced ? slowest->pitch_mm : slowest->feed,
+                  slowest->synced ? "" : slowest->per_rev ? "/rev" : "/min");
+    throw io::InputError(io::located(opt.label, slowest->line, 0, buf));
+  }
+  const auto n = static_cast<std::size_t>(t / s.dt_s * 1.1 + 1000.0);
   for (auto* v : {&s.path_mm, &s.depth, &s.feed_rev, &s.speed, &s.rpm, &s.strength, &s.param,
                   &s.pz, &s.py, &s.power, &s.torque, &s.life_use, &s.x, &s.z, &s.dt, &s.wear})
     v->reserve(n);
@@ -382,7 +402,7 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
     if (!prog.moves.empty()) drive.reset(spindle_rpm(prog.moves.front(), prog.moves.front().x0));
     meter.reset(0.0);
   }
-  reserve_samples(prog, plan, rapid, s);
+  reserve_samples(prog, plan, rapid, opt, s);
   const std::vector<Seg> segs = planner_segments(prog, plan, opt);
   Walker w{e, opt, rapid, plant, cut, wear, machine, mo, drive, meter, pr};
   walk_segments(prog, plan, segs, opt, w);

@@ -365,6 +365,15 @@ Program read_program(const std::string& path, const Options& opt) {
     p.lines.push_back(l);
   }
   p.canon = interpret(p.lines, path, opt);
+  // Everything after the interpreter holds a few kB a move (segments with their blend arcs,
+  // pieces, the rewritten program, blocks.csv): a 10⁶-line program took 1.6 GB.
+  if (p.canon.moves.size() > kMaxProgramMoves)
+    throw io::InputError(io::located(
+        path, p.canon.moves[kMaxProgramMoves].line, 0,
+        "the program has " + std::to_string(p.canon.moves.size()) + " moves, more than the " +
+            std::to_string(kMaxProgramMoves) +
+            " lathectl optimize takes (about 1.6 kB of memory a move); this is the first beyond: "
+            "split the program"));
   if (!opt.ini.empty()) check_soft_limits(p, opt.ini);
   bool feed = false;
   for (const auto& m : p.canon.moves) feed = feed || m.kind != io::CanonMove::Kind::Traverse;

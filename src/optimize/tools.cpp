@@ -9,7 +9,7 @@
 #include <unordered_set>
 
 #include "lathectl/io/errors.hpp"
-#include "lathectl/io/study.hpp"
+#include "lathectl/io/format.hpp"
 #include "lathectl/io/toml_reader.hpp"
 
 namespace lathectl::optimize {
@@ -82,7 +82,7 @@ std::vector<TableTool> read_tool_table(const std::string& text, const std::strin
       any = true;
       auto bad = [&](const std::string& why) {
         throw io::InputError(io::located(file, line_no, 0,
-                                         "tool table word '" + w + "': " + why +
+                                         "tool table word '" + io::printable(w) + "': " + why +
                                              " (LinuxCNC skips the line: the tool is missing)"));
       };
       const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(w[0])));

@@ -70,6 +70,16 @@ fi
 # optimize.
 printf 'G18 G21 G95\nM3 S1000\nG0 X15 Z2\nG1 Z-500 F0.2\nG0 X30\nM2\n' >"$work/soft.ngc"
 expect_bad soft_limit "$work/soft.ngc" "$sa" "soft.ngc:4: .*\[AXIS_Z\] MIN_LIMIT"
+# Work that grows with the cycle time is bounded (issue 49: G76 P0.001 ran 67 s to 3.5 GB, G95
+# F0.0001 70 s to 4 GB): over an hour of servo periods is refused before a sample, at the line.
+printf 'G18 G21 G95\nM3 S1194\nG0 X25 Z2\nG0 X18.5\nG1 Z-50 F0.0001\nG0 X25\nM2\n' >"$work/slow_feed.ngc"
+expect_bad slow_feed "$work/slow_feed.ngc" "$sa" "slow_feed.ngc:5: the program runs about 7.* h .* over the 1 h"
+printf 'G18 G21 G95\nM3 S1194\nG0 X25 Z2\nG0 X20\nG76 P0.001 Z-30 I-1 J0.2 K1.2 Q29.5 H1\nG0 X25\nM2\n' >"$work/fine_thread.ngc"
+expect_bad fine_thread "$work/fine_thread.ngc" "$sa" "fine_thread.ngc:5: .*at a pitch of 0.001 mm"
+# More moves than optimize holds (a 10⁶-line program took 1.6 GB): refused at the first beyond
+# (a loop rs274 expands to 500 001 moves: the program itself is short).
+printf 'G18 G21 G95\nM3 S1194\nG0 X25 Z2\nG0 X19.9\no100 repeat [250001]\nG1 Z1.999 F0.3\nG1 Z2\no100 endrepeat\nG0 X25\nM2\n' >"$work/many_moves.ngc"
+expect_bad many_moves "$work/many_moves.ngc" "$sa" "many_moves.ngc:[67]: the program has 50000[0-9] moves, more than the 500000"
 # A thread with no F before it (G76 and G33 need none) and a valid 250-character line (the line
 # marker used to push it past rs274's 252): both read, the thread line left as written.
 long=$(printf 'G1 Z-50 F0.15 (%0234d)' 0)

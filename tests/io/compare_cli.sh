@@ -70,4 +70,14 @@ printf '{\n"metrics": {}\n' >badjson/summary.json
 expect_bad "badjson/summary.json:3:1: not JSON" run1 badjson
 printf '{\n"metrics": {},\n"claims": {}\n}\n' >badjson/summary.json
 expect_bad "badjson/summary.json:3:1: key 'claims': expected an array" run1 badjson
+# --out an earlier output set holding the runs compared (issue 49: it succeeded and replaced the
+# set, the runs with it): refused before anything is written, the runs kept.
+cp -r run1 run2 cmp/
+rc=0
+"$lathectl" compare cmp/run1 cmp/run2 --out cmp 2>err.txt >/dev/null || rc=$?
+if [[ $rc -ne 2 ]] || ! grep -qF -- "--out cmp: holds the input cmp/run1" err.txt ||
+   [[ ! -f cmp/run1/summary.json || ! -f cmp/run2/channels.csv ]]; then
+  echo "FAIL: compare cmp/run1 cmp/run2 --out cmp → exit $rc: $(cat err.txt)" >&2
+  exit 1
+fi
 echo "ok: bad input → exit 2, one line, nothing written"

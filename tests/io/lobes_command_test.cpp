@@ -287,6 +287,45 @@ TEST(LobesFrf, UnreadableFilesAreRefusedBeforeAByteIsRead) {
   std::filesystem::remove_all(dir);
 }
 
+// A fitted mode is held to a typed [[mode]]'s bounds (issue 49): an FRF whose peak lies at
+// 1.5 GHz (was blamed on [speed] min_rpm) or is 1e100 m/N high (a critical depth of 1e-107 mm
+// where a typed mode that soft is refused) is refused at frf[0].file, naming the FRF file.
+TEST(LobesFrf, FittedModesUnderTheBoundsOfTypedModes) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("lathectl-frf-fit-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  // A single mode k, ζ = 0.05 at f_n, 400 samples over 0.5..1.5 f_n: H = 1/(k(1 − r² + 2iζr)).
+  const auto sdof = [&](const std::string& name, double k, double fn) {
+    std::ofstream f(dir / name);
+    f << "frequency_Hz,real_m_per_N,imag_m_per_N\n";
+    for (int i = 0; i < 400; ++i) {
+      const double r = 0.5 + i / 399.0, den = k * ((1 - r * r) * (1 - r * r) + 0.01 * r * r);
+      f << r * fn << "," << (1 - r * r) / den << "," << -0.1 * r / den << "\n";
+    }
+    return (dir / name).string();
+  };
+  const std::pair<std::string, std::string> cases[] = {
+      {sdof("ghz.csv", 5e7, 1.5e9), "above the 1e+06 Hz a [[mode]] may have"},
+      {sdof("soft.csv", 1e-100, 500.0), "no lathe's mode is that soft"}};
+  for (const auto& [file, why] : cases) {
+    std::string m = "no error";
+    try {
+      (void)systems::b_chatter::parse_lobes_input(kHead + "[[frf]]\nfile = \"" + file + "\"\n",
+                                                  (dir / "m.toml").string());
+    } catch (const io::InputError& e) {
+      m = e.what();
+    }
+    EXPECT_NE(m.find("key 'frf[0].file'"), std::string::npos) << m;
+    EXPECT_NE(m.find(file), std::string::npos) << m;
+    EXPECT_NE(m.find(why), std::string::npos) << m;
+    EXPECT_EQ(m.find("min_rpm"), std::string::npos) << m;
+  }
+  // The same mode at 800 Hz and 5e7 N/m is read (the bounds refuse no lathe's mode).
+  EXPECT_NO_THROW((void)systems::b_chatter::parse_lobes_input(
+      kHead + "[[frf]]\nfile = \"" + sdof("ok.csv", 5e7, 800.0) + "\"\n", (dir / "m.toml").string()));
+  std::filesystem::remove_all(dir);
+}
+
 // The recommendation keeps what it states: the depth is the pocket's top over the safety factor
 // or the spindle's limit, the envelope at the speed is at least that depth, the power and torque
 // stay within the machine's, and one grid step beyond each margin the envelope is below it.

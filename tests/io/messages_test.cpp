@@ -197,4 +197,21 @@ TEST(Messages, ImplausibleToleranceAndModeStiffness) {
 }
 
 }  // namespace
+
+// What a file or flag holds reaches the terminal escaped and bounded (issue 49: escape sequences
+// and 10 MB header lines were echoed raw into the one error line): every control byte, C1
+// control and non-UTF-8 byte as \xNN, UTF-8 kept, cut with "…".
+TEST(Printable, EscapesControlsAndCutsLongText) {
+  EXPECT_EQ(io::printable("a\x1b[31mb\x07\n"), "a\\x1b[31mb\\x07\\x0a");
+  EXPECT_EQ(io::printable("\xc2\x9b" "2J \xff\xfe µ·→ \xed\xa0\x80"),
+            "\\xc2\\x9b2J \\xff\\xfe µ·→ \\xed\\xa0\\x80");
+  const std::string cut = io::printable(std::string(10'000'000, 'A'));
+  EXPECT_EQ(cut.size(), 203u);  // 200 characters and "…" (3 bytes)
+  EXPECT_EQ(cut.find_first_not_of('A'), 200u);
+  EXPECT_EQ(cut.substr(200), "…");
+  EXPECT_EQ(io::printable("µµµµ", 3), "µµµ…");
+  EXPECT_EQ(io::printable("abc", 3), "abc");
+  EXPECT_EQ(io::error_line(std::string(5000, 'x')).size(), io::kMaxErrorLineChars + 3);
+}
+
 }  // namespace lathectl::io

@@ -55,5 +55,26 @@ TEST(Estimate, AdaptiveRunsAreUpperBounds) {
   EXPECT_NE(systems::summary_text(e).find("at most"), std::string::npos);
 }
 
+// A's regulator studies are counted (issue 49: check left them out, 17–21× low): the tolerance
+// Monte Carlo's 6 draws of `samples` regulators of 600 steps, the obliteration study's
+// 1 + |η| + 2·|layers| regulators over the run at a quarter pulse period a step.
+TEST(Estimate, CountsARegulatorStudies) {
+  const auto base = systems::estimate(parsed(test::example_text("a_regulator_switching")));
+  const auto many = systems::estimate(parsed(
+      test::edited(test::example_text("a_regulator_switching"), "samples = 400", "samples = 40000")));
+  EXPECT_NEAR(many.cpu_s - base.cpu_s, 6.0 * (40000.0 - 400.0) * 600.0 * 14e-9, 1e-9);
+  const auto ob = systems::estimate(parsed(test::example_text("a_obliteration")));
+  EXPECT_NE(ob.breakdown.find("obliteration study 21 regulators × 1.4e+05 steps"), std::string::npos)
+      << ob.breakdown;
+}
+
+// E counts the runs beside the comparison as run_beside makes them: seed004 (fixed, prior art,
+// seed law) adds the prior art at the seed's tool budget, so 4 runs, not 3.
+TEST(Estimate, CountsTheRunsBesideAdaptiveRuns) {
+  const auto e = systems::estimate(parsed(test::example_text("e_stepped_seed004")));
+  const auto one = systems::estimate(parsed(test::example_text("e_stepped_fixed")));
+  EXPECT_DOUBLE_EQ(e.simulated_steps, 4.0 * one.simulated_steps);
+}
+
 }  // namespace
 }  // namespace lathectl

@@ -6,6 +6,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 
 namespace lathectl::io {
@@ -14,6 +15,19 @@ class InputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// Text from a file or a command line made safe for one line on a terminal: every control byte
+// (C0, DEL, the C1 controls U+0080–U+009F, whose CSI starts escape sequences as ESC [ does) and
+// every byte that is not UTF-8 written as \xNN (ESC as \x1b, a newline as \x0a), valid UTF-8
+// kept (µ, ·, →); cut after `max_chars` characters with "…". What a reader quotes from its
+// input goes through it (kMaxQuotedChars), and the program's one error line does again
+// (error_line: kMaxErrorLineChars), so no reader can echo an escape or a 10 MB line raw.
+inline constexpr std::size_t kMaxQuotedChars = 200;
+inline constexpr std::size_t kMaxErrorLineChars = 1000;
+[[nodiscard]] std::string printable(std::string_view text,
+                                    std::size_t max_chars = kMaxQuotedChars);
+// The message as the program prints it after "error: ": printable(message, kMaxErrorLineChars).
+[[nodiscard]] std::string error_line(std::string_view message);
 
 // "file:line:col: message" (line/col omitted when 0).
 [[nodiscard]] std::string located(const std::string& file, int line, int column,

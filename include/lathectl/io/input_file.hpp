@@ -13,10 +13,15 @@ namespace lathectl::io {
 
 // Upper bounds of the inputs lathectl reads whole.
 inline constexpr std::uintmax_t kMaxTomlBytes = 16u << 20;       // scenario, machine, materials, tools
-inline constexpr std::uintmax_t kMaxJsonBytes = 256u << 20;      // operation log, summary.json
+// operation log, summary.json: held parsed with each value's place, about 14 bytes of memory a
+// byte (a 23 MB log: 310 MB), so 32 MiB is about 0.45 GB (256 MiB was 3.5 GB; issue 49).
+inline constexpr std::uintmax_t kMaxJsonBytes = 32u << 20;
 inline constexpr std::uintmax_t kMaxProgramBytes = 64u << 20;    // an NC program
 inline constexpr std::uintmax_t kMaxFrfBytes = 512u << 20;       // a measured FRF (CSV, UFF 58)
 inline constexpr std::uintmax_t kMaxCsvBytes = 8ull << 30;       // channels.csv (read as a stream)
+// What `lathectl compare` reads of its runs' channels.csv in all: their columns are held, about
+// 3.3 bytes of memory a byte (two 100 MB files: 0.66 GB), so 1 GiB is about 3.5 GB.
+inline constexpr std::uintmax_t kMaxCompareCsvBytes = 1ull << 30;
 
 // Throws InputError "PATH: ..." unless `path` names a regular file of at most `max_bytes`.
 // `what` names the kind of file in the message ("a scenario file (.toml)").

@@ -47,9 +47,17 @@ inline constexpr const char* kOutputMarker = ".lathectl-output";
 // Checks, before anything runs, that `dir` can receive results: it is a directory or can be
 // created, and is writable; with `whole_set` (a run's set, replaced as a whole) an existing `dir`
 // must also be empty or a lathectl output set. Removes temporaries that dead runs left beside it
-// and in it. Throws InputError "FLAG DIR: ..." (one line).
+// and in it. Throws InputError "FLAG DIR: ..." (one line). `inputs` are the files and
+// directories the command reads: `dir` may be none of them nor hold one (check_not_above).
 void prepare_output_dir(const std::filesystem::path& dir, const std::string& flag,
-                        bool whole_set = true);
+                        bool whole_set = true,
+                        const std::vector<std::filesystem::path>& inputs = {});
+// Throws InputError "FLAG DIR: ..." when `dir` is one of `inputs` or an ancestor of one (the
+// same file or directory under any name, symbolic links resolved): an output set replaces `dir`
+// as a whole, so `lathectl compare P/x P/y --out P` would remove the runs it compares. Every
+// command's --out goes through it (prepare_output_dir), before anything is written.
+void check_not_above(const std::filesystem::path& dir, const std::string& flag,
+                     const std::vector<std::filesystem::path>& inputs);
 
 // Writes `files` (name, content) as one set replacing `dir` as a whole: staged in
 // DIR.tmp-<pid>/ beside it, then swapped into place (renameat2 RENAME_EXCHANGE, or two renames

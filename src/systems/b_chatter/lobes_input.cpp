@@ -307,6 +307,36 @@ void check_limits(TableReader& root, std::optional<TableReader>& part_table, con
   }
 }
 
+// The modes fitted to the [[frf]]s under the bounds of a typed [[mode]] (io::read_modes: f_n up
+// to kMaxModeHz, k up to 1e13 N/m, 0 < ζ < 1) and its limit depth (check_limits): a peak at
+// 1.5 GHz or of 1e100 m/N is the file's, named at frf[0].file with every file of the sum.
+void check_fitted_modes(TableReader& root, const LobesInput& in) {
+  if (!in.measured) return;
+  std::string files;
+  for (const auto& f : in.frfs) files += (files.empty() ? "" : ", ") + f.path;
+  const double kf = in.system.kf_N_per_m2;
+  for (const auto& m : in.measured->fit.modes) {
+    std::string why;
+    if (!(m.natural_frequency_Hz > 0.0 && m.natural_frequency_Hz <= kMaxModeHz))
+      why = "a natural frequency of " + fmt(m.natural_frequency_Hz) + " Hz, above the " +
+            fmt(kMaxModeHz) + " Hz a [[mode]] may have";
+    else if (!(m.stiffness_N_per_m > 0.0 && m.stiffness_N_per_m < 1e13))
+      why = "a stiffness of " + fmt(m.stiffness_N_per_m) +
+            " N/m, outside the (0, 1e13) N/m a [[mode]] may have";
+    else if (!(m.damping_ratio > 0.0 && m.damping_ratio < 1.0))
+      why = "a damping ratio of " + fmt(m.damping_ratio) + ", outside (0, 1)";
+    else if (const double b = sdof_limit_m(m, kf); !(b >= kMinLimitDepth_m))
+      why = "a limit depth 2kζ(1+ζ)/K_f of " + fmt(b) + " m (k = " + fmt(m.stiffness_N_per_m) +
+            " N/m, a peak of about " + fmt(1.0 / (2.0 * m.stiffness_N_per_m * m.damping_ratio)) +
+            " m/N), below " + fmt(kMinLimitDepth_m) + " m: no lathe's mode is that soft";
+    if (!why.empty())
+      root.tables("frf").front().fail(
+          "file", "the mode fitted to the measured FRF (" + files + ") at " +
+                      fmt(m.natural_frequency_Hz) + " Hz has " + why +
+                      ": check the file's frequency column (Hz) and units (m/N)");
+  }
+}
+
 std::string gigabytes(double bytes) { return fmt(bytes / 1e9, "%.2g") + " GB"; }
 std::string duration(double s) {
   return s < 120.0 ? fmt(s, "%.0f") + " s"
@@ -375,6 +405,7 @@ LobesInput read_lobes_input(const io::TomlDocument& doc) {
   } catch (const std::invalid_argument& e) {
     root.tables("frf").front().fail("file", std::string("the measured FRF: ") + e.what());
   }
+  check_fitted_modes(root, in);
   in.modal = lobes_modal_system_at(in, in.part ? in.part->position_m : 0.0);
   {
     auto part_table = root.table("part");

@@ -27,17 +27,22 @@ using io::fixed;
 // System D's series on LinuxCNC (scripts/linuxcnc-sim-gauge's summary.json): every number read
 // is checked (JsonFile names the file, line and key of a bad one).
 // The histogram: bins of a tenth of the tolerance over ±1.5 tolerances (the limits inside),
-// wider when a size lies beyond; the normal law of the series' own mean and σ.
+// wider when a size lies beyond, at most kMaxHistogramBins of them (a part far off widens the
+// bins instead of multiplying them); the normal law of the series' own mean and σ.
+constexpr double kMaxHistogramBins = 400.0;
+constexpr double kMaxSizeErrorUm = 1e12;
+
 io::Plot size_histogram(const std::vector<double>& sizes, double tol, double mean, double sigma) {
   double lo = -1.5 * tol, hi = 1.5 * tol;
   for (double e : sizes) {
     lo = std::min(lo, e);
     hi = std::max(hi, e);
   }
-  const double w = 0.1 * tol;
-  const auto bins = static_cast<std::size_t>(std::ceil((hi - lo) / w)) + 1;
+  const double w = std::max(0.1 * tol, (hi - lo) / (kMaxHistogramBins - 1.0));
+  const double n = std::min(std::ceil((hi - lo) / w), kMaxHistogramBins - 1.0);  // finite: < 400
+  const auto bins = static_cast<std::size_t>(n) + 1;
   std::vector<double> counts(bins, 0.0);
-  for (double e : sizes) counts[static_cast<std::size_t>((e - lo) / w)] += 1.0;
+  for (double e : sizes) counts[static_cast<std::size_t>(std::clamp((e - lo) / w, 0.0, n))] += 1.0;
   io::Series hist{"finished sizes (" + std::to_string(sizes.size()) + " parts)",
                   {},
                   {},
@@ -77,6 +82,10 @@ int gauge_series_report(const fs::path& summary, const std::string& out_arg) {
   const auto& m = doc["metrics"];
   const auto num = [&](const char* k) { return f.number(m, "metrics", k); };
   const double tol = num("tolerance_um"), mean = num("size_mean_error_um");
+  // The histogram's bins are tenths of it; a size's limits are target ± it.
+  if (!(tol > 0.0) || tol > 1e6)
+    f.fail("metrics.tolerance_um", "expected a tolerance above 0 and at most 1e6 µm, got " +
+                                       io::fmt(tol));
   if (!doc.contains("parts_detail") || !doc["parts_detail"].is_array())
     f.fail("parts_detail", "expected the parts, one object each");
   const auto& parts = doc["parts_detail"];
@@ -114,6 +123,9 @@ int gauge_series_report(const fs::path& summary, const std::string& out_arg) {
     const std::string key = io::JsonFile::element("parts_detail", i);
     if (!p.is_object()) f.fail(key, "expected a part");
     const double e = f.number(p, key, "error_um");
+    if (std::abs(e) > kMaxSizeErrorUm)  // the histogram's range stays finite
+      f.fail(io::JsonFile::member(key, "error_um"),
+             "expected a size error of at most 1e12 µm, got " + io::fmt(e));
     sizes.push_back(e);
     std::string steps;
     if (p.contains("steps") && p["steps"].is_array())
