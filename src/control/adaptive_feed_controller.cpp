@@ -204,7 +204,7 @@ inline double AdaptiveFeedController::feed_target(const Input& in, double error,
   const PiRegulator pi_before = pi_;
   if (contact_.in_cut()) {
     Reason lim = Reason::None;
-    target = pi_.update(error, p_.period_s, lim);
+    target = pi_.update(error, regulator_dt(in), lim);
     if (reason == Reason::None) reason = lim;
   } else {
     target = std::min(p_.air_feed_mm_per_rev, p_.feed_max_mm_per_rev);
@@ -235,11 +235,23 @@ inline double AdaptiveFeedController::feed_target(const Input& in, double error,
   return target;
 }
 
+// The regulator's time step: the control period, counted in revolutions above 60/ti_s rpm. The
+// regulator acts on the per-revolution mean, and what it meets along the part (a hard spot, a
+// collar, the blank at an entry) passes in revolutions, not seconds: its integral time and the
+// feed's rise hold as set up to 600 rpm at ti_s = 0.1 s and take one revolution's time above.
+// At 1300 rpm a 5 mm hard spot at 0.4 mm/rev passed in half a second, the integral lagged it
+// and the per-revolution power rose 11 % over the limit; the entry's ramp took 2.8 times as many
+// revolutions as at 600 rpm (issue 47's forged shaft).
+inline double AdaptiveFeedController::regulator_dt(const Input& in) const noexcept {
+  const double rev_s = in.rpm > 0.0 ? 60.0 / in.rpm : 0.0;
+  return rev_s > 0.0 && p_.ti_s > rev_s ? p_.period_s * (p_.ti_s / rev_s) : p_.period_s;
+}
+
 // The feed ramp towards the target: down at once, up at its rate limit, with the PI kept from
 // storing what the ramp did not let through. Returns the feed per revolution commanded.
 inline double AdaptiveFeedController::ramp_feed(const Input& in, double target, double error,
                                          bool sensor_ok, Reason& reason) noexcept {
-  const double dt = p_.period_s;
+  const double dt = regulator_dt(in);
   const double s_prog = p_.feed_programmed_mm_per_rev;
   if (target < feed_ramp_.value()) {
     feed_ramp_.reset(target);  // decreases are never delayed: they protect the tool
