@@ -235,16 +235,16 @@ inline double AdaptiveFeedController::feed_target(const Input& in, double error,
   return target;
 }
 
-// The regulator's time step: the control period, counted in revolutions above 60/ti_s rpm. The
+// The regulator's time step: the control period, counted in revolutions above 600 rpm. The
 // regulator acts on the per-revolution mean, and what it meets along the part (a hard spot, a
 // collar, the blank at an entry) passes in revolutions, not seconds: its integral time and the
-// feed's rise hold as set up to 600 rpm at ti_s = 0.1 s and take one revolution's time above.
-// At 1300 rpm a 5 mm hard spot at 0.4 mm/rev passed in half a second, the integral lagged it
-// and the per-revolution power rose 11 % over the limit; the entry's ramp took 2.8 times as many
-// revolutions as at 600 rpm (issue 47's forged shaft).
+// feed's rise hold as set up to 600 rpm (a revolution of 0.1 s, the default ti_s) and shrink
+// with the revolution above. At 1300 rpm a 5 mm hard spot at 0.4 mm/rev passed in half a
+// second, the integral lagged it and the per-revolution power rose 11 % over the limit; the
+// entry's ramp took 2.2 times as many revolutions as at 600 rpm (issue 47's forged shaft).
 inline double AdaptiveFeedController::regulator_dt(const Input& in) const noexcept {
-  const double rev_s = in.rpm > 0.0 ? 60.0 / in.rpm : 0.0;
-  return rev_s > 0.0 && p_.ti_s > rev_s ? p_.period_s * (p_.ti_s / rev_s) : p_.period_s;
+  constexpr double kReferenceRpm = 600.0;
+  return in.rpm > kReferenceRpm ? p_.period_s * (in.rpm / kReferenceRpm) : p_.period_s;
 }
 
 // The feed ramp towards the target: down at once, up at its rate limit, with the PI kept from
