@@ -223,19 +223,17 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
   double removed = 0.0;
   double removed_mm3 = removed_mm3_;
   bool on_blank = false;
-  // (a cell still at the blank's radius, low + e, is the blank's own surface, which the runout
-  // lifts; any other an earlier cut left, at every angle)
-  const double pristine = cfg_.stock.eccentricity_mm - 1e-9;
-  double top_blank = 0.0, top_cut = 0.0;
+  double top = 0.0;  // the highest surface cut, at cell top_k
+  std::size_t top_k = n;
   for (std::size_t k = 0; k < n; ++k) {
     const double ri = r[k];
     const double edge = e[k];
     if (edge < ri) {
       on_blank = on_blank || ri > low[k];
-      if (ri > low[k] + pristine)
-        top_blank = std::max(top_blank, ri);
-      else
-        top_cut = std::max(top_cut, ri);
+      if (ri > top) {
+        top = ri;
+        top_k = k;
+      }
       const double r_new = std::max(edge, 0.0);
       removed += (ri - r_new) * cell;
       removed_mm3 += std::numbers::pi * (ri * ri - r_new * r_new) * cell;
@@ -244,8 +242,12 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
   }
   c.removed = removed;
   c.on_blank = on_blank;
-  c.top_blank = top_blank;
-  c.top_cut = top_cut;
+  // The highest surface cut is the blank's own while its cell is still at the blank's radius
+  // (low + e), which the runout lifts; any other an earlier cut left, at every angle.
+  if (top_k < n) {
+    c.top = top;
+    c.top_on_blank = top > low[top_k] + (cfg_.stock.eccentricity_mm - 1e-9);
+  }
   removed_mm3_ = removed_mm3;
   last_cut_ = {x, z, j0, j_end, c};
   return c;
@@ -393,7 +395,7 @@ void LathePlant::cut_geometry(const Input& in, double dt, Output& out) noexcept 
   out.engaged_depth_mm = engaged_;
   out.on_blank = nc.on_blank;
   out.cut_surface_depth_mm =
-      nc.on_blank && nc.top_cut > nc.top_blank ? std::max(nc.top_cut - x, 0.0) : 0.0;
+      nc.on_blank && !nc.top_on_blank ? std::max(nc.top - x, 0.0) : 0.0;
 }
 
 // Chip of the last revolution.

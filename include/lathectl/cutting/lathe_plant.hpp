@@ -150,8 +150,8 @@ class LathePlant {
   struct NoseCut {
     double removed = 0.0;  // cross-section removed this step [mm²]
     bool on_blank = false;
-    double top_blank = 0.0;  // the highest radius cut this step of the blank's own surface
-    double top_cut = 0.0;    // and of a surface an earlier cut left (at every angle) [mm]
+    double top = 0.0;           // the highest radius cut this step [mm]
+    bool top_on_blank = false;  // it is the blank's own surface (else an earlier cut's)
   };
   NoseCut cut_under_nose(double x, double z) noexcept;
   // cut_under_nose() or, following, the leader's cut taken over; counts the cuts.
