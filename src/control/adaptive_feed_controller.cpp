@@ -235,13 +235,14 @@ inline double AdaptiveFeedController::feed_target(const Input& in, double error,
   return target;
 }
 
-// The regulator's time step: the control period, counted in revolutions above 600 rpm. The
+// The integral's time step: the control period, counted in revolutions above 600 rpm. The
 // regulator acts on the per-revolution mean, and what it meets along the part (a hard spot, a
-// collar, the blank at an entry) passes in revolutions, not seconds: its integral time and the
-// feed's rise hold as set up to 600 rpm (a revolution of 0.1 s, the default ti_s) and shrink
-// with the revolution above. At 1300 rpm a 5 mm hard spot at 0.4 mm/rev passed in half a
-// second, the integral lagged it and the per-revolution power rose 11 % over the limit; the
-// entry's ramp took 2.2 times as many revolutions as at 600 rpm (issue 47's forged shaft).
+// collar) passes in revolutions, not seconds: its integral time holds as set up to 600 rpm (a
+// revolution of 0.1 s, the default ti_s) and shrinks with the revolution above. At 1300 rpm a
+// 5 mm hard spot at 0.4 mm/rev passed in half a second, the integral lagged it and the
+// per-revolution power rose 11 % over the limit (issue 47's forged shaft). The feed's ramp
+// stays in seconds: counted in revolutions too, entries and corners at 1500-1900 rpm rose
+// 5-7 % over on generated parts that held 2.6-3.7 %.
 inline double AdaptiveFeedController::regulator_dt(const Input& in) const noexcept {
   constexpr double kReferenceRpm = 600.0;
   return in.rpm > kReferenceRpm ? p_.period_s * (in.rpm / kReferenceRpm) : p_.period_s;
@@ -251,7 +252,7 @@ inline double AdaptiveFeedController::regulator_dt(const Input& in) const noexce
 // storing what the ramp did not let through. Returns the feed per revolution commanded.
 inline double AdaptiveFeedController::ramp_feed(const Input& in, double target, double error,
                                          bool sensor_ok, Reason& reason) noexcept {
-  const double dt = regulator_dt(in);
+  const double dt = p_.period_s;
   const double s_prog = p_.feed_programmed_mm_per_rev;
   if (target < feed_ramp_.value()) {
     feed_ramp_.reset(target);  // decreases are never delayed: they protect the tool

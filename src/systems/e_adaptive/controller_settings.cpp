@@ -247,8 +247,7 @@ void read_regulator(TableReader& c, RigConfig& e) {
          p.ti_s);
   c.read({"feed_rate_limit_per_s",
           {0.0, 1e3, true, false},
-          "rate limit of the feed, fraction of the programmed feed per s (at 600 rpm; above, "
-          "per 10 revolutions)"},
+          "rate limit of the feed, fraction of the programmed feed per s"},
          p.feed_rate_limit_per_s);
   c.read({"speed_rate_limit_m_per_min_per_s",
           {0.0, 1e5, true, false},
