@@ -223,11 +223,17 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
   double removed = 0.0;
   double removed_mm3 = removed_mm3_;
   bool on_blank = false;
+  double top = 0.0;  // the highest surface cut, at cell top_k
+  std::size_t top_k = n;
   for (std::size_t k = 0; k < n; ++k) {
     const double ri = r[k];
     const double edge = e[k];
     if (edge < ri) {
       on_blank = on_blank || ri > low[k];
+      if (ri > top) {
+        top = ri;
+        top_k = k;
+      }
       const double r_new = std::max(edge, 0.0);
       removed += (ri - r_new) * cell;
       removed_mm3 += std::numbers::pi * (ri * ri - r_new * r_new) * cell;
@@ -236,6 +242,12 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
   }
   c.removed = removed;
   c.on_blank = on_blank;
+  // The highest surface cut is the blank's own while its cell is still at the blank's radius
+  // (low + e), which the runout lifts; any other an earlier cut left, at every angle.
+  if (top_k < n) {
+    c.top = top;
+    c.top_on_blank = top > low[top_k] + (cfg_.stock.eccentricity_mm - 1e-9);
+  }
   removed_mm3_ = removed_mm3;
   last_cut_ = {x, z, j0, j_end, c};
   return c;
@@ -382,6 +394,8 @@ void LathePlant::cut_geometry(const Input& in, double dt, Output& out) noexcept 
   out.removed_mm3 = removed_mm3_;
   out.engaged_depth_mm = engaged_;
   out.on_blank = nc.on_blank;
+  out.cut_surface_depth_mm =
+      nc.on_blank && !nc.top_on_blank ? std::max(nc.top - x, 0.0) : 0.0;
 }
 
 // Chip of the last revolution.
@@ -407,7 +421,14 @@ void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
   double t = out.chip_depth_mm;
   const double phi = 2.0 * std::numbers::pi * (theta_ - std::floor(theta_));
   if (t > 0.0) {
-    if (out.on_blank) t += cfg_.stock.eccentricity_mm * std::sin(phi);
+    if (out.on_blank) {
+      // The runout of the eccentric blank's surface, t + e·sin φ — but where the nose meets the
+      // blank below a surface an earlier pass left (running off onto a forged neck's taper),
+      // that pass cut the blank down to its surface at every angle: the chip is no deeper.
+      const double runout = t + cfg_.stock.eccentricity_mm * std::sin(phi);
+      const double cap = out.cut_surface_depth_mm;
+      t = cap > 0.0 ? std::min(runout, std::max(t, cap)) : runout;
+    }
     t = std::max(t + dist_.random_allowance_mm(z), 0.0);
   }
   // No position (not homed): no cutting speed either — a NaN here made the cutting power, and

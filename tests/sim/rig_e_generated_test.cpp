@@ -15,9 +15,14 @@
 //     mean that ends it. With the ramp also stopped by the present sample above the limit:
 //     199 of 200 within 5 %, the worst 5.6 % over (an entry on power, seed 1156); with power
 //     readings held while the spindle's acceleration cannot be separated from them (an
-//     inertia still to be learned): all 200, the worst 4.8 % over. The test holds
-//     99 % within 5 % and every part within 7.5 %, so a regression shows, and prints the
-//     distribution and the worst parts.
+//     inertia still to be learned): all 200, the worst 4.8 % over. Widened (issue 47: every
+//     fifth part a forged shaft run off into its neck, eccentric with a hard spot, on the
+//     spindle's power at its limit, 160-300 m/min): 80.5 %, the worst 21.2 % over; with the
+//     runout capped at an earlier pass's surface, the integral counted in revolutions above
+//     600 rpm, the program's speed in air and the per-revolution mean over one revolution
+//     exactly: 81 %, the worst 12.6 % (the 160 others 99.4 %, 6.8 %). The test holds 99 % within
+//     5 % and every part within 7.5 %, so a regression shows (it fails today on the forged
+//     parts' hard spots), and prints the distribution and the worst parts.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -70,6 +70,10 @@ TEST(MachineParams, EveryHostOfSystemERunsTheScenariosMachine) {
     opt.z_origin_mm = 0.0;
     const auto optimiser = optimize::adaptive_machine_params(e, opt);
     auto expect = hal;
+    if (e.rig.force_parameter == cutting::ForceParameter::Power)  // (e_forged_shaft_power)
+      // lathectl_adaptive with sensor=power: sensor 4 is the drive's power meter, as in the rig
+      expect = e_adaptive::machine_params(
+          e.rig, {.load = e_adaptive::MachineHost::Load::SpindlePower, .z_origin_mm = 0.0});
     if (e.rig.worst_case_feed) {  // the rig writes its own program: the worst case's feed
       expect.controller.feed_programmed_mm_per_rev = ran.controller.feed_programmed_mm_per_rev;
       expect.controller.feed_min_mm_per_rev = ran.controller.feed_min_mm_per_rev;

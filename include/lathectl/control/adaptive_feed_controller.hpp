@@ -190,6 +190,7 @@ class AdaptiveFeedController {
   Reason judge_contact(const Input& in, const PeriodTime& measured, bool sensor_ok) noexcept;
   double regulated_load(const Input& in, bool sensor_ok) noexcept;
   double feed_target(const Input& in, double error, bool suspect, Reason& reason) noexcept;
+  [[nodiscard]] double regulator_dt(const Input& in) const noexcept;
   double ramp_feed(const Input& in, double target, double error, bool sensor_ok,
                    Reason& reason) noexcept;
   double estimate_depth(const Input& in, bool known, double regulated, double s_cur) noexcept;

@@ -1,8 +1,10 @@
 #pragma once
 // The per-revolution mean: at each sample, the mean over the trailing window of one spindle
-// revolution at that sample's speed, w = round(60 / max(n, n_min) / Δt) samples (at least 1, at
-// most the samples since the last restart). A feed drive cannot act within a revolution, so this
-// is the force a feed controller answers for. One class for the controller's regulated force, the
+// revolution at that sample's speed, w = 60 / max(n, n_min) / Δt samples (at least 1): its
+// whole samples and the fraction w − ⌊w⌋ of the sample before them, so a once-per-revolution
+// swing cancels whatever the record's interval; until a whole revolution has been pushed since
+// the last restart, the mean of the samples since it (at most ⌊w⌋). A feed drive cannot act
+// within a revolution, so this is the force a feed controller answers for. One class for the controller's regulated force, the
 // machine side's overload levels and operation log (AdaptiveMachine), and every claim, metric and
 // plot of a run that shows it — so what a machine limits is what a simulation reports.
 //

@@ -85,6 +85,12 @@ class LathePlant {
     // this falls within 0.03 mm of travel.
     double engaged_depth_mm = 0.0;
     bool on_blank = false;  // the nose cut the blank's own (eccentric) surface this step
+    // The highest surface the nose cut this step that an earlier cut left (not the blank's own),
+    // as a depth below it [mm]; 0: none, or the blank's own surface is higher. No runout deepens
+    // the chip past it (a pass running off onto the blank's taper into a neck, a pass after one
+    // shallower than the eccentricity): the earlier cut took the eccentric blank down to it at
+    // every angle.
+    double cut_surface_depth_mm = 0.0;
     // The last revolution's chip by the geometry alone, A_rev / s [mm]: depth_mm without the
     // runout and the random allowance (what a model of the blank knows).
     double chip_depth_mm = 0.0;
@@ -144,6 +150,8 @@ class LathePlant {
   struct NoseCut {
     double removed = 0.0;  // cross-section removed this step [mm²]
     bool on_blank = false;
+    double top = 0.0;           // the highest radius cut this step [mm]
+    bool top_on_blank = false;  // it is the blank's own surface (else an earlier cut's)
   };
   NoseCut cut_under_nose(double x, double z) noexcept;
   // cut_under_nose() or, following, the leader's cut taken over; counts the cuts.

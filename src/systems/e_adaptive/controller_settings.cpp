@@ -242,7 +242,9 @@ void read_regulator(TableReader& c, RigConfig& e) {
           kMs},
          p.period_s);
   c.read({"kp", Range::closed(0, 100), "feed PI (regulator 7): proportional gain"}, p.kp);
-  c.read({"ti_s", Range::closed(0, 100), "feed PI: integral time"}, p.ti_s);
+  c.read({"ti_s", Range::closed(0, 100),
+          "feed PI: integral time (at 600 rpm; above, in revolutions)"},
+         p.ti_s);
   c.read({"feed_rate_limit_per_s",
           {0.0, 1e3, true, false},
           "rate limit of the feed, fraction of the programmed feed per s"},
