@@ -2,11 +2,13 @@
 // channels overlaid on one axis (the first column of channels.csv: time, or the part number), the
 // settings that differ, the metrics with their differences to the first run, and the claims whose
 // verdict changed. Writes summary.json and report.html as one output set.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <span>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
@@ -20,6 +22,8 @@
 #include "lathectl/io/json_file.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/report.hpp"
+#include "lathectl/io/study.hpp"
+#include "lathectl/sim/recorder.hpp"
 
 namespace lathectl::cli {
 namespace {
@@ -27,28 +31,47 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+// A run's channels as channels.csv is read, row by row: every row while there are at most
+// kExactRows (the plots are then built from every sample, as they always were), and a bounded
+// min/max pyramid per channel (sim::Recorder::streamed, as `lathectl run` records) for a longer
+// run, so compare's memory does not grow with channels.csv (two 700 MB files held as columns ran
+// out of memory; issue 49).
+class RunChannels final : public io::ChannelRowSink {
+ public:
+  static constexpr std::size_t kExactRows = sim::Recorder::kPlotValuesPerLevel;
+  void header(const std::vector<std::string>& names) override {
+    std::vector<sim::Channel> channels;
+    for (const std::string& n : names) channels.push_back({n, ""});
+    exact_ = sim::Recorder(channels, kExactRows);
+    streamed_ = sim::Recorder::streamed(std::move(channels));
+  }
+  void row(std::span<const double> values) override {
+    exact_.push_row(values);
+    streamed_.push_row(values);
+  }
+  [[nodiscard]] const std::vector<sim::Channel>& channels() const { return exact_.channels(); }
+  [[nodiscard]] std::size_t rows() const { return streamed_.rows(); }
+  // Channel c against channel 0: every sample, or (a longer run) the pyramid and its points.
+  [[nodiscard]] io::Series series(std::size_t c, std::string name) const {
+    if (exact_.dropped() > 0)
+      return io::recorded_series(streamed_, channels()[c].name.c_str(), std::move(name), "");
+    io::Series s;
+    s.name = std::move(name);
+    const auto x = exact_.column(std::size_t{0}), y = exact_.column(c);
+    s.x.assign(x.begin(), x.end());
+    s.y.assign(y.begin(), y.end());
+    return s;
+  }
+
+ private:
+  sim::Recorder exact_, streamed_;
+};
+
 struct Run {
   std::string label;  // the directory as given
   json summary;
-  io::ChannelTable channels;
+  RunChannels channels;
 };
-
-// The runs' channels.csv in all within io::kMaxCompareCsvBytes, before one is read (two 700 MB
-// files ran out of memory): compare holds their columns.
-void check_channel_bytes(const std::vector<std::string>& dirs) {
-  double total = 0.0;
-  std::error_code ec;
-  for (const std::string& d : dirs) {
-    const auto n = fs::file_size(fs::path(d) / "channels.csv", ec);
-    if (!ec) total += static_cast<double>(n);
-  }
-  if (total > static_cast<double>(io::kMaxCompareCsvBytes))
-    throw io::InputError(
-        "compare: the runs' channels.csv hold " + io::fmt(total / (1 << 20), "%.0f") +
-        " MiB in all, more than the " + io::fmt(static_cast<double>(io::kMaxCompareCsvBytes >> 20), "%.0f") +
-        " MiB compare reads (it holds their columns, about 3.3 bytes of memory a byte): compare "
-        "shorter runs, or runs recorded at a larger [run] record_interval_s");
-}
 
 Run read_run(const std::string& dir) {
   std::error_code ec;
@@ -70,8 +93,8 @@ Run read_run(const std::string& dir) {
     if (it == r.summary.end() || !(metrics ? it->is_object() : it->is_array()))
       file.fail(key, metrics ? "expected an object" : "expected an array");
   }
-  r.channels = io::read_channels_csv(csv);
-  if (r.channels.names.empty() || r.channels.columns[0].empty())
+  io::read_channels_csv(csv, r.channels);
+  if (r.channels.rows() == 0)
     throw io::InputError(csv.string() + ": no rows");
   return r;
 }
@@ -205,29 +228,59 @@ io::Table claims_table(const std::vector<Run>& runs, json& out, std::size_t& cha
   return t;
 }
 
+// Series of equal records share one pyramid, so the report holds their data once (as it does for
+// series given whole, by their values): a longer run's constant channels.
+void share_equal_pyramids(std::vector<io::Plot>& plots) {
+  using P = sim::PlotPyramid;
+  const auto same = [](const P& a, const P& b) {
+    if (a.samples() != b.samples() || a.x0() != b.x0() || a.x_last() != b.x_last() ||
+        a.dx() != b.dx() || a.uniform() != b.uniform() || a.levels().size() != b.levels().size())
+      return false;
+    for (std::size_t i = 0; i < a.levels().size(); ++i)
+      if (a.levels()[i].bucket != b.levels()[i].bucket || a.levels()[i].y != b.levels()[i].y ||
+          a.levels()[i].x != b.levels()[i].x)
+        return false;
+    return true;
+  };
+  std::vector<std::shared_ptr<const P>> kept;
+  for (io::Plot& p : plots)
+    for (io::Series& s : p.series) {
+      if (!s.pyramid) continue;
+      const auto it = std::find_if(kept.begin(), kept.end(), [&](const auto& k) {
+        return same(*k, *s.pyramid);
+      });
+      if (it == kept.end())
+        kept.push_back(s.pyramid);
+      else
+        s.pyramid = *it;
+    }
+}
+
 // One plot per channel: the runs overlaid on the first column (time or part number).
 std::vector<io::Plot> channel_plots(const std::vector<Run>& runs) {
   std::vector<std::string> order;
   for (const Run& r : runs)
-    for (std::size_t c = 1; c < r.channels.names.size(); ++c)
-      if (std::find(order.begin(), order.end(), r.channels.names[c]) == order.end())
-        order.push_back(r.channels.names[c]);
+    for (std::size_t c = 1; c < r.channels.channels().size(); ++c)
+      if (std::find(order.begin(), order.end(), r.channels.channels()[c].name) == order.end())
+        order.push_back(r.channels.channels()[c].name);
   std::vector<io::Plot> plots;
   for (const std::string& name : order) {
     io::Plot p;
     p.title = name;
     p.y_label = name;
     for (std::size_t i = 0; i < runs.size(); ++i) {
-      const auto& ch = runs[i].channels;
-      const auto at = std::find(ch.names.begin(), ch.names.end(), name);
-      if (at == ch.names.end()) continue;
-      if (p.x_label.empty()) p.x_label = ch.names[0] == "time_s" ? "time [s]" : ch.names[0];
-      p.series.push_back({"run " + std::to_string(i + 1), ch.columns[0],
-                          ch.columns[static_cast<std::size_t>(at - ch.names.begin())], "",
-                          false, ch.names[0] != "time_s"});
+      const auto& ch = runs[i].channels.channels();
+      const auto at = std::find_if(ch.begin(), ch.end(),
+                                   [&](const sim::Channel& c) { return c.name == name; });
+      if (at == ch.end()) continue;
+      if (p.x_label.empty()) p.x_label = ch[0].name == "time_s" ? "time [s]" : ch[0].name;
+      p.series.push_back(runs[i].channels.series(static_cast<std::size_t>(at - ch.begin()),
+                                                 "run " + std::to_string(i + 1)));
+      p.series.back().points = ch[0].name != "time_s";
     }
     plots.push_back(std::move(p));
   }
+  share_equal_pyramids(plots);
   return plots;
 }
 
@@ -238,7 +291,6 @@ int compare(const std::vector<std::string>& dirs, const std::string& out) {
     if (fs::exists(out, ec) && fs::equivalent(d, out, ec))
       throw io::InputError("--out " + out + ": is one of the runs compared; choose another");
   std::vector<Run> runs;
-  check_channel_bytes(dirs);
   for (const std::string& d : dirs) runs.push_back(read_run(d));
   // Runs of different systems share no claims and hardly a metric or channel: a comparison of them
   // would be a page of "—". Say so instead.

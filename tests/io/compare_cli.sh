@@ -43,6 +43,37 @@ print(f"ok: 1 setting differs (feed 60 → 90 mm/min), {numeric} numeric metrics
 PY
 grep -q 'id="lathectl-plot-data"' cmp/report.html || { echo "FAIL: no interactive plot data" >&2; exit 1; }
 
+# A run longer than compare keeps whole (16384 rows; issue 49: channels.csv is streamed into a
+# bounded plot per channel): run2's rows three times over, 18000 rows; each of its series' plot
+# data covers every row, to the last time.
+mkdir -p long && cp run2/summary.json long/
+python3 - run2/channels.csv long/channels.csv <<'PY'
+import sys
+lines = open(sys.argv[1]).read().splitlines()
+rows = [r.split(",", 1) for r in lines[1:]]
+span = float(rows[-1][0])
+with open(sys.argv[2], "w") as f:
+    f.write(lines[0] + "\n")
+    for k in range(3):
+        f.writelines(f"{float(t) + k * span!r},{rest}\n" for t, rest in rows)
+PY
+"$lathectl" compare run1 long --out cmp_long >/dev/null
+python3 - cmp_long/report.html long/channels.csv <<'PY'
+import json, re, sys
+html = open(sys.argv[1]).read()
+text = re.search(r'id="lathectl-plot-data"[^>]*>(.*?)</script>', html, re.S).group(1)
+data = json.loads(text.replace("<\\/", "</"))
+lines = open(sys.argv[2]).read().splitlines()
+rows, last = lines[1:], float(lines[-1].split(",", 1)[0])
+assert len(data["plots"]) == len(lines[0].split(",")) - 1, len(data["plots"])
+blobs = {s["blob"] for p in data["plots"] for s in p["series"] if s["name"] == "run 2"}
+for b in blobs:
+    blob = data["blobs"][b]
+    assert blob["n"] == len(rows) == 18000 and blob["x1"] == last, (blob["n"], blob["x1"], last)
+    assert blob["levels"][0]["b"] > 1, blob["levels"][0]["b"]  # the pyramid, not the rows
+print(f"ok: a {len(rows)}-row run streamed, {len(blobs)} series to t = {last} s")
+PY
+
 # Bad input: exit 2, one line naming what is wrong, nothing written.
 expect_bad() {  # expect_bad WHAT_THE_MESSAGE_NAMES ARGS...
   local names=$1

@@ -10,6 +10,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -258,6 +259,26 @@ TEST(ChannelsReader, BadInputNamesFileLineAndColumn) {
   EXPECT_EQ(error("t,y\n0,1,2\n"), "c.csv:2: more fields than the 2 columns of the header");
   EXPECT_EQ(error("t,y\n0, 1\n"), "c.csv:2: column 'y': expected a number, got ' 1'");
   EXPECT_EQ(error("t,y\n\n0,1\n"), "c.csv:2: empty line");
+  // A line is held whole: one over the bound (a sparse file, say) is refused at its number.
+  EXPECT_EQ(error("t,y\n0,1\n" + std::string(kMaxChannelsLineBytes + 2, '1')),
+            "c.csv:3: a line longer than 1 MiB: not a channels.csv (one row of numbers a line)");
+}
+
+// compare's reading: each row handed over as it is read (CRLF lines, a blank last line).
+TEST(ChannelsReader, StreamsRowsToASink) {
+  struct Sink final : ChannelRowSink {
+    std::vector<std::string> names;
+    std::vector<std::vector<double>> rows;
+    void header(const std::vector<std::string>& n) override { names = n; }
+    void row(std::span<const double> v) override { rows.emplace_back(v.begin(), v.end()); }
+  } sink;
+  std::istringstream in("time_s,y\r\n0,1.5\r\n0.25,-2\r\n1e-3,nan\r\n\r\n");
+  read_channels_csv(in, "c.csv", sink);
+  ASSERT_EQ(sink.names, (std::vector<std::string>{"time_s", "y"}));
+  ASSERT_EQ(sink.rows.size(), 3U);
+  EXPECT_EQ(sink.rows[1], (std::vector<double>{0.25, -2.0}));
+  EXPECT_EQ(sink.rows[2][0], 1e-3);
+  EXPECT_TRUE(std::isnan(sink.rows[2][1]));
 }
 
 }  // namespace
