@@ -7,7 +7,10 @@
 // Keys are named the way the TOML reader names them: "a.b", "rows[3]", "rows[3].limit".
 // Nesting is bounded (kMaxDepth): a deeper file is refused, not recursed into.
 
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -24,6 +27,18 @@ class JsonFile {
   JsonFile(std::string file, std::string_view text);
   // Reads and parses `file`; `what` names it when it cannot be read ("the operation log").
   static JsonFile read(const std::filesystem::path& file, const std::string& what);
+
+  // Each element of the document's array member `array` ("rows"), handed to `each` as soon as it
+  // is read — with its key ("rows[3]") and the file, whose locate() and fail() place it and its
+  // members — and then dropped, with the places of its values. Called from within the parse.
+  using Element = std::function<void(const JsonFile&, const nlohmann::json&, const std::string&)>;
+  // Reads `file` a chunk at a time through the checked input path (io::InputStream, at most
+  // `max_bytes`) and parses it as the constructor does, except that the elements of `array` are
+  // streamed to `each` and left out of doc() (there an empty array): memory does not grow with
+  // them. (`chunk` bytes are read at a time: a test cuts the text anywhere.)
+  static JsonFile read_streamed(const std::filesystem::path& file, const std::string& what,
+                                std::uintmax_t max_bytes, const std::string& array,
+                                const Element& each, std::size_t chunk = std::size_t{1} << 20);
 
   [[nodiscard]] const nlohmann::json& doc() const noexcept { return doc_; }
   [[nodiscard]] const std::string& file() const noexcept { return file_; }
@@ -46,6 +61,7 @@ class JsonFile {
   std::string file_;
   nlohmann::json doc_;
   std::map<std::string, std::pair<int, int>, std::less<>> at_;  // key → line, column
+  JsonFile() = default;
   friend class JsonLocator;
 };
 
