@@ -111,8 +111,11 @@ class JsonLocator {
   }
   bool key(json::string_t& k) {
     const auto [line, col] = token_start();
-    frames_.back().key = JsonFile::member(frames_.back().path, k);
-    f_.at_.try_emplace(frames_.back().key, line, col);
+    Frame& top = frames_.back();  // (its key's text reused: no allocation a member)
+    top.key.assign(top.path);
+    if (!top.key.empty()) top.key += '.';
+    top.key += k;
+    f_.at_.try_emplace(top.key, line, col);
     return dom_.key(k);
   }
   bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception& e) {
@@ -167,8 +170,8 @@ class JsonLocator {
     return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == ',' || c == ':';
   }
   // Nothing left to read (a streamed file: after reading its next chunk).
-  bool exhausted() {
-    if (read_ < end_) return false;
+  bool exhausted() { return read_ >= end_ && at_end(); }  // (per character: inlined)
+  bool at_end() {
     if (in_ == nullptr || eof_) return true;
     refill();
     return read_ == end_;
@@ -351,19 +354,17 @@ void JsonFile::fail(const std::string& key, const std::string& message) const {
 
 double JsonFile::number(const json& obj, const std::string& key, const char* name) const {
   if (!obj.is_object()) fail(key, "expected an object");
-  const std::string k = member(key, name);
-  const auto it = obj.find(name);
-  if (it == obj.end() || !it->is_number()) fail(k, "expected a number");
+  const auto it = obj.find(name);  // (the member's key written only for a message)
+  if (it == obj.end() || !it->is_number()) fail(member(key, name), "expected a number");
   const double v = it->get<double>();
-  if (!std::isfinite(v)) fail(k, "expected a finite number");
+  if (!std::isfinite(v)) fail(member(key, name), "expected a finite number");
   return v;
 }
 
 std::string JsonFile::text(const json& obj, const std::string& key, const char* name) const {
   if (!obj.is_object()) fail(key, "expected an object");
-  const std::string k = member(key, name);
   const auto it = obj.find(name);
-  if (it == obj.end() || !it->is_string()) fail(k, "expected a string");
+  if (it == obj.end() || !it->is_string()) fail(member(key, name), "expected a string");
   return it->get<std::string>();
 }
 
