@@ -58,13 +58,14 @@ class JsonLocator {
         last_(text.data()),
         counted_(text.data()) {}
   JsonLocator(JsonFile& f, InputStream& in, std::size_t chunk, const std::string& array,
-              const JsonFile::Element& each)
+              const JsonFile::Element& each, std::vector<std::string> keep)
       : f_(f),
         dom_(f.doc_, false),
         in_(&in),
         chunk_(std::max<std::size_t>(chunk, 1)),
         array_(array),
-        each_(&each) {
+        each_(&each),
+        keep_(std::move(keep)) {
     buf_.resize(chunk_ + kKeep);
     begin_ = end_ = read_ = last_ = counted_ = buf_.data();
   }
@@ -72,44 +73,60 @@ class JsonLocator {
   JsonCursor end() { return {this, true}; }
 
   bool null() {
+    if (skip_ > 0) return skipped();
     const bool s = value();
     return dom_.null() && streamed(s);
   }
   bool boolean(bool v) {
+    if (skip_ > 0) return skipped();
     const bool s = value();
     return dom_.boolean(v) && streamed(s);
   }
   bool number_integer(json::number_integer_t v) {
+    if (skip_ > 0) return skipped();
     const bool s = value();
     return dom_.number_integer(v) && streamed(s);
   }
   bool number_unsigned(json::number_unsigned_t v) {
+    if (skip_ > 0) return skipped();
     const bool s = value();
     return dom_.number_unsigned(v) && streamed(s);
   }
   bool number_float(json::number_float_t v, const json::string_t& str) {
+    if (skip_ > 0) return skipped();
     const bool s = value();
     return dom_.number_float(v, str) && streamed(s);
   }
   bool string(json::string_t& v) {
+    if (skip_ > 0) return skipped();
     const bool s = value();
     return dom_.string(v) && streamed(s);
   }
   bool binary(json::binary_t& b) {
+    if (skip_ > 0) return skipped();
     const bool s = value();
     return dom_.binary(b) && streamed(s);
   }
-  bool start_object(std::size_t n) { return open(false) && dom_.start_object(n); }
-  bool start_array(std::size_t n) { return open(true) && dom_.start_array(n); }
+  bool start_object(std::size_t n) {
+    const Open o = open(false);
+    return o == Open::skip || (o == Open::build && dom_.start_object(n));
+  }
+  bool start_array(std::size_t n) {
+    const Open o = open(true);
+    return o == Open::skip || (o == Open::build && dom_.start_array(n));
+  }
   bool end_object() {
+    if (skip_ > 0) return close_skipped();
     const bool s = close();
     return dom_.end_object() && streamed(s);
   }
   bool end_array() {
+    if (skip_ > 0) return close_skipped();
     const bool s = close();
     return dom_.end_array() && streamed(s);
   }
   bool key(json::string_t& k) {
+    if (skip_ > 0) return skipped();
     const auto [line, col] = token_start();
     Frame& top = frames_.back();  // (its key's text reused: no allocation a member)
     top.key.assign(top.path);
@@ -164,6 +181,8 @@ class JsonLocator {
   bool found_ = false;  // the next token's start, found before its chunk was dropped
   std::pair<int, int> found_at_;
   std::vector<Frame> frames_;
+  std::vector<std::string> keep_;  // streamed: the other top-level members held
+  int skip_ = 0;                   // > 0: that deep inside a value left out
   std::string error_;
 
   static bool blank(char c) {
@@ -276,13 +295,40 @@ class JsonLocator {
     (void)place();
     return s;
   }
-  bool open(bool array) {
-    std::string k = place();
+  enum class Open { fail, build, skip };
+  Open open(bool array) {
+    if (skip_ > 0) (void)token_start();
+    std::string k = skip_ > 0 ? std::string() : place();
     if (frames_.size() >= static_cast<std::size_t>(JsonFile::kMaxDepth)) {
       fail_at(read_ - 1, "nested deeper than " + std::to_string(JsonFile::kMaxDepth) + " levels");
-      return false;
+      return Open::fail;
     }
-    frames_.push_back({std::move(k), array, 0, {}});
+    const bool skip = skip_ > 0 || left_out(array);
+    frames_.push_back({skip ? std::string() : std::move(k), array, 0, {}});
+    skip_ += skip ? 1 : 0;
+    return skip ? Open::skip : Open::build;
+  }
+  // Streamed: an array or object opening now that nobody reads is left out of the document (its
+  // key stays, with null): the document itself when it is an array, and the top-level members
+  // other than the streamed array and keep_ (the streamed one too when it is not an array).
+  bool left_out(bool array) const {
+    if (each_ == nullptr) return false;
+    if (frames_.empty()) return array;
+    if (frames_.size() != 1 || frames_[0].array) return false;
+    const std::string& name = frames_[0].key;
+    if (name == array_) return !array;
+    return std::find(keep_.begin(), keep_.end(), name) == keep_.end();
+  }
+  // Inside a value left out: only the places the next token is looked for from.
+  bool skipped() {
+    (void)token_start();
+    return true;
+  }
+  bool close_skipped() {
+    --skip_;
+    found_ = false;
+    last_ = read_;
+    frames_.pop_back();
     return true;
   }
   bool close() {
@@ -318,12 +364,13 @@ JsonFile JsonFile::read(const std::filesystem::path& file, const std::string& wh
 
 JsonFile JsonFile::read_streamed(const std::filesystem::path& file, const std::string& what,
                                  std::uintmax_t max_bytes, const std::string& array,
-                                 const Element& each, std::size_t chunk) {
+                                 const Element& each, std::vector<std::string> keep,
+                                 std::size_t chunk) {
   InputStream in(file, what, max_bytes);
   JsonFile f;
   f.file_ = file.string();
   {
-    JsonLocator sax(f, in, chunk, array, each);
+    JsonLocator sax(f, in, chunk, array, each, std::move(keep));
     const bool ok = json::sax_parse(sax.begin(), sax.end(), &sax);
     sax.rethrow();
     if (!ok) throw InputError(located(f.file_, 0, 0, "not JSON"));

@@ -98,8 +98,8 @@ OperationLog read_operation_log(const std::filesystem::path& file,
     }
     each(o);
   };
-  const JsonFile f =
-      JsonFile::read_streamed(file, "the operation log", kMaxOperationLogBytes, "rows", row, chunk);
+  const JsonFile f = JsonFile::read_streamed(file, "the operation log", kMaxOperationLogBytes,
+                                             "rows", row, {"taught", "messages"}, chunk);
   OperationLog log = read_head(f);
   if (!wrong_row.empty()) throw InputError(wrong_row);
   read_tail(f, log);

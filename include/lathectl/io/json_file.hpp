@@ -16,6 +16,7 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 namespace lathectl::io {
 
@@ -35,10 +36,14 @@ class JsonFile {
   // Reads `file` a chunk at a time through the checked input path (io::InputStream, at most
   // `max_bytes`) and parses it as the constructor does, except that the elements of `array` are
   // streamed to `each` and left out of doc() (there an empty array): memory does not grow with
-  // them. (`chunk` bytes are read at a time: a test cuts the text anywhere.)
+  // them. Of the other top-level members only those named in `keep` keep an array or object
+  // value (the others, a document that is an array and an `array` that is not one: null), so no
+  // shape of the file makes it held whole. (`chunk` bytes are read at a time: a test cuts the
+  // text anywhere.)
   static JsonFile read_streamed(const std::filesystem::path& file, const std::string& what,
                                 std::uintmax_t max_bytes, const std::string& array,
-                                const Element& each, std::size_t chunk = std::size_t{1} << 20);
+                                const Element& each, std::vector<std::string> keep,
+                                std::size_t chunk = std::size_t{1} << 20);
 
   [[nodiscard]] const nlohmann::json& doc() const noexcept { return doc_; }
   [[nodiscard]] const std::string& file() const noexcept { return file_; }
