@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <utility>
 
 #include "lathectl/io/errors.hpp"
 
@@ -53,35 +54,48 @@ void check_input_file(const std::filesystem::path& path, const std::string& what
   (void)stat_input(path, what, max_bytes);
 }
 
-std::string read_input_file(const std::filesystem::path& path, const std::string& what,
-                            std::uintmax_t max_bytes) {
-  const struct stat st = stat_input(path, what, max_bytes);
+InputStream::InputStream(const std::filesystem::path& path, std::string what,
+                         std::uintmax_t max_bytes)
+    : path_(path), what_(std::move(what)), max_bytes_(max_bytes) {
+  const struct stat st = stat_input(path_, what_, max_bytes_);
+  size_ = static_cast<std::uintmax_t>(st.st_size);
   // O_NONBLOCK: had the path been swapped for a FIFO since stat(), open() must not wait for a
   // writer; fstat() below refuses it.
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-  if (fd < 0) throw InputError(path.string() + ": cannot open (" + std::strerror(errno) + ")");
-  struct Closer {
-    int fd;
-    ~Closer() { ::close(fd); }
-  } closer{fd};
+  fd_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd_ < 0) throw InputError(path_.string() + ": cannot open (" + std::strerror(errno) + ")");
   struct stat now{};
-  if (::fstat(fd, &now) != 0 || !S_ISREG(now.st_mode))
-    throw InputError(path.string() + ": is " + kind_of(now.st_mode) + ", expected " + what);
-  std::string text;
-  text.reserve(static_cast<std::size_t>(st.st_size));
-  char buf[1 << 16];
-  for (;;) {
-    const ssize_t n = ::read(fd, buf, sizeof buf);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      throw InputError(path.string() + ": read error (" + std::strerror(errno) + ")");
-    }
-    if (n == 0) break;
-    text.append(buf, static_cast<std::size_t>(n));
-    if (text.size() > max_bytes)
-      throw InputError(path.string() + ": grew past " + mib(max_bytes) + " while being read (" +
-                       what + ")");
+  if (::fstat(fd_, &now) != 0 || !S_ISREG(now.st_mode)) {
+    ::close(fd_);
+    throw InputError(path_.string() + ": is " + kind_of(now.st_mode) + ", expected " + what_);
   }
+}
+
+InputStream::~InputStream() {
+  ::close(fd_);
+}
+
+std::size_t InputStream::read(char* buf, std::size_t n) {
+  for (;;) {
+    const ssize_t got = ::read(fd_, buf, n);
+    if (got < 0) {
+      if (errno == EINTR) continue;
+      throw InputError(path_.string() + ": read error (" + std::strerror(errno) + ")");
+    }
+    read_ += static_cast<std::uintmax_t>(got);
+    if (read_ > max_bytes_)
+      throw InputError(path_.string() + ": grew past " + mib(max_bytes_) + " while being read (" +
+                       what_ + ")");
+    return static_cast<std::size_t>(got);
+  }
+}
+
+std::string read_input_file(const std::filesystem::path& path, const std::string& what,
+                            std::uintmax_t max_bytes) {
+  InputStream in(path, what, max_bytes);
+  std::string text;
+  text.reserve(static_cast<std::size_t>(in.size_at_open()));
+  char buf[1 << 16];
+  while (const std::size_t n = in.read(buf, sizeof buf)) text.append(buf, n);
   return text;
 }
 

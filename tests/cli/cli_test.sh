@@ -601,6 +601,18 @@ grep -qx "error: .*oplog_bad.json:3:[0-9]*: key 'rows\[0\].limit': expected a nu
 # the log of a LinuxCNC session (linuxcnc_shop: two tools, teach-in, a refused value)
 expect_rc 0 "report of a session's log" $bin report "$src/tests/cli/operations_two_tool.json" --out "$work/two_tool.html"
 grep -q "5 operations, 2 tools" "$work/out.txt" || bad "report of a session's log: $(cat "$work/out.txt")"
+# A long log (issue 49: read as a stream): the table holds the first 1000 operations and one line
+# for the rest; the totals are over every row (20000 × 0.25 s in cut; the highest peak / limit,
+# 150 %, and the one alarm are in rows past the table's cut).
+awk 'BEGIN { printf "{\"unit\": \"N\", \"rows\": [\n";
+  for (i = 0; i < 20000; i++) printf "%s{\"tool\": %d, \"operation\": 0, \"line\": %d, \"mode\": \"adaptive\", \"limit\": 1000.0, \"load_mean\": 900.0, \"load_peak\": %s, \"feed_min\": 0.5, \"feed_mean\": 0.8, \"time_in_cut_s\": 0.25, \"reasons\": \"none\", \"alarm\": \"%s\"}\n",
+    i ? "," : "", i % 3 + 1, i + 1, i == 15000 ? "1500.0" : "990.0", i == 19999 ? "overload" : "";
+  print "]}" }' > "$work/oplog_long.json"
+expect_rc 0 "report of a 20000-operation log" $bin report "$work/oplog_long.json" --out "$work/long.html"
+grep -qx "20000 operations, 3 tools, peak 150.0 % of the limit → .*long.html" "$work/out.txt" || bad "long log: $(cat "$work/out.txt")"
+[ "$(grep -o '<td>adaptive</td>' "$work/long.html" | wc -l)" -eq 1000 ] || bad "long log: the table does not stop at 1000 operations"
+grep -q "… 19000 more operations: see operations.csv / the log" "$work/long.html" || bad "long log: no line for the operations left out"
+grep -q "5000.00 s" "$work/long.html" && grep -q "<td>alarms</td><td>1</td>" "$work/long.html" || bad "long log: totals not over every row"
 printf '{"rows": [\n' > "$work/oplog_syntax.json"
 expect_rc 2 "report with broken JSON" $bin report "$work/oplog_syntax.json"
 grep -q "oplog_syntax.json:2:1: not JSON" "$work/err.txt" || bad "report syntax message: $(cat "$work/err.txt")"

@@ -75,9 +75,15 @@ mkdir -p "$work/r1" "$work/r2"
 for r in r1 r2; do echo '{"metrics": {}, "claims": []}' >"$work/$r/summary.json"; truncate -s 600M "$work/$r/channels.csv"; done
 expect2 "compare a 600 MB channels.csv of one line" "r1/channels.csv:1: a line longer than 1 MiB" \
   "$bin" compare "$work/r1" "$work/r2" --out "$work/never"
+# The operation log is streamed too (its 32 MiB bound dropped): a sparse one is refused at its
+# first byte, one past the 8 GiB that bound the time up front.
 truncate -s 33M "$work/big_log.json"
-expect2 "a 33 MiB operation log" "big_log.json: 33 MiB, more than the 32 MiB" \
+expect2 "a 33 MiB operation log of NULs" "big_log.json:1:1: not JSON" \
   "$bin" report "$work/big_log.json" --out "$work/never.html"
+truncate -s 9G "$work/big_log.json"
+expect2 "a 9 GiB operation log" "big_log.json: 9216 MiB, more than the 8192 MiB" \
+  "$bin" report "$work/big_log.json" --out "$work/never.html"
+rm -f "$work/big_log.json"
 [ ! -e "$work/never" ] && [ ! -e "$work/never.html" ] || bad "bounded inputs: an output written"
 
 [ $fail -eq 0 ] && echo "readers: every case held"

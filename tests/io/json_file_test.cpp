@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
+#include <vector>
 
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/operation_log.hpp"
@@ -21,6 +24,34 @@ std::string error_of(const std::string& text, bool oplog = false) {
     return e.what();
   }
   return "";
+}
+
+// The same text read as `lathectl report` reads a log, a chunk at a time (cut anywhere, from one
+// byte a chunk), its rows streamed: the error message with the file's directory left out, "" when
+// the log reads; `tools` the rows' tool numbers as they were handed on.
+std::string streamed_error(const std::string& text, std::size_t chunk,
+                           std::vector<int>* tools = nullptr) {
+  const auto dir =
+      std::filesystem::temp_directory_path() /
+      ("json_file_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  std::filesystem::create_directories(dir);
+  const auto file = dir / "f.json";
+  std::ofstream(file, std::ios::binary) << text;
+  std::string msg;
+  try {
+    (void)read_operation_log(
+        file,
+        [&](const OperationLog::Operation& o) {
+          if (tools) tools->push_back(o.tool);
+        },
+        chunk);
+  } catch (const InputError& e) {
+    msg = e.what();
+    const std::string prefix = dir.string() + "/";
+    if (msg.rfind(prefix, 0) == 0) msg.erase(0, prefix.size());
+  }
+  std::filesystem::remove_all(dir);
+  return msg;
 }
 
 const char* kRow =
@@ -89,6 +120,43 @@ TEST(OperationLog, ReadsTheRowsAndLocatesABadValue) {
             "f.json:1:14: key 'unit': expected N or W");
   EXPECT_EQ(error_of("{\"rows\": [], \"taught\": [{\"tool\": 1}]}", true),
             "f.json:1:25: key 'taught[0].operation' (missing in taught[0]): expected a number");
+}
+
+TEST(OperationLog, StreamedInChunksReadsAndLocatesAsWhole) {
+  std::string good = std::string("{\"unit\": \"W\",\r\n \"rows\": [") + kRow + ",\n" + kRow +
+                     "],\n \"messages\": []}";
+  good.replace(good.rfind("\"tool\": 1"), 9, "\"tool\": 4");
+  std::string bad_row = std::string("{\"rows\": [") + kRow + ",\n" + kRow + "]}";
+  bad_row.replace(bad_row.rfind("1433.6"), 6, "\"high\"");
+  const std::vector<std::string> texts = {
+      good, bad_row, "{\"rows\": [\n", "{\n  \"a\": 1,\n  \"b\": tru\n}", "{} x", "",
+      "{\"rows\": [\n  3]}", "[]", "{\"rows\": [], \"unit\": \"kW\"}",
+      "{\"rows\": [], \"taught\": [{\"tool\": 1}]}",
+      // a wrong row and a wrong unit after it: the unit first, as when read whole
+      "{\"rows\": [\n  3], \"unit\": \"kW\"}",
+      // a wrong row and a syntax error after it: the syntax error first
+      "{\"rows\": [\n  3], \"unit\": }",
+      // the shapes whose values a streamed read leaves out (null), with the same messages
+      "[{\"a\": [1, 2]}]", "{\"rows\": {\"a\": [1]}}", "{\"unit\": {\"a\": 1}, \"rows\": []}",
+      std::string("{\"x\": {\"deep\": [1, {\"y\": 2}]}, \"rows\": [") + kRow + "]}",
+      "{\"x\": " + std::string(JsonFile::kMaxDepth, '[') + std::string(JsonFile::kMaxDepth, ']') +
+          ", \"rows\": []}"};
+  for (const std::string& text : texts) {
+    const std::string whole = error_of(text, true);
+    for (const std::size_t chunk : {1, 2, 3, 5, 7, 64, 1 << 20}) {
+      SCOPED_TRACE(text + " in chunks of " + std::to_string(chunk));
+      std::vector<int> tools;
+      EXPECT_EQ(streamed_error(text, chunk, &tools), whole);
+      if (whole.empty()) {
+        std::vector<int> read_whole;
+        for (const auto& o : read_operation_log(JsonFile("f.json", text)).rows)
+          read_whole.push_back(o.tool);
+        EXPECT_EQ(tools, read_whole);
+        EXPECT_FALSE(tools.empty() && text == good);
+      }
+    }
+  }
+  EXPECT_EQ(error_of(bad_row, true), "f.json:5:24: key 'rows[1].load_peak': expected a number");
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 // Every value is checked where it is read: a wrong one is one InputError naming the file, the
 // line and the key ("operations.json:12:5: key 'rows[0].limit': expected a number").
 
+#include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -35,5 +37,19 @@ struct OperationLog {
 };
 
 [[nodiscard]] OperationLog read_operation_log(const JsonFile& f);
+
+// One operation, rows[i] at key `key` ("rows[3]") of `f`, checked.
+[[nodiscard]] OperationLog::Operation read_operation(const JsonFile& f, const nlohmann::json& row,
+                                                     const std::string& key);
+
+// The log read a chunk at a time (at most kMaxOperationLogBytes): each operation handed to
+// `each` as it is read and dropped (the log returned has no rows), so memory does not grow with
+// the log. A wrong file is the InputError read_operation_log(JsonFile) reports (a syntax error
+// first, then the document's keys, then the first wrong row, then the rest); `each` may then
+// have seen the rows before the wrong one.
+[[nodiscard]] OperationLog read_operation_log(
+    const std::filesystem::path& file,
+    const std::function<void(const OperationLog::Operation&)>& each,
+    std::size_t chunk = std::size_t{1} << 20);
 
 }  // namespace lathectl::io

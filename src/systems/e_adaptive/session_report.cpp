@@ -7,15 +7,17 @@
 #include <map>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "lathectl/io/channels_reader.hpp"
 #include "lathectl/io/errors.hpp"
 #include "lathectl/io/format.hpp"
-#include "lathectl/io/json_file.hpp"
 #include "lathectl/io/operation_log.hpp"
 #include "lathectl/io/output.hpp"
 #include "lathectl/io/report.hpp"
+#include "lathectl/io/study.hpp"
+#include "lathectl/sim/recorder.hpp"
 #include "systems/e_adaptive/entry.hpp"
 
 namespace lathectl::systems::e_adaptive {
@@ -67,6 +69,66 @@ void add_recording_plots(io::Report& r, const fs::path& signals, const std::stri
   }
 }
 
+// The operations as the log is read (io::read_operation_log streams them): the first kTableRows
+// in the table, every one in the totals and in the plot over the program's lines (every one
+// while there are at most kExactRows, else a bounded min/max pyramid per series, as `lathectl
+// compare` plots a long channels.csv), so memory does not grow with the log (issue 49).
+class Operations {
+ public:
+  static constexpr std::size_t kTableRows = 1000;
+  static constexpr std::size_t kExactRows = sim::Recorder::kPlotValuesPerLevel;
+  Operations() : exact_(channels(), kExactRows), streamed_(sim::Recorder::streamed(channels())) {}
+
+  void add(const io::OperationLog::Operation& o) {
+    const double pct = o.limit > 0.0 ? o.load_peak / o.limit : 0.0;
+    if (table_.size() < kTableRows)
+      table_.push_back({fixed(o.line, 0), std::to_string(o.tool), fixed(o.operation, 0), o.mode,
+                        fixed(o.limit, 1), fixed(o.load_mean, 1), fixed(o.load_peak, 1),
+                        fixed(100.0 * pct, 1) + " %", fixed(o.feed_min, 3), fixed(o.feed_mean, 3),
+                        fixed(o.time_in_cut_s, 2), o.reasons, o.alarm});
+    ++count_;
+    t_cut_ += o.time_in_cut_s;
+    if (o.time_in_cut_s > 0.0) worst_ = std::max(worst_, pct);
+    alarms_ += o.alarm.empty() ? 0 : 1;
+    ++tools_[o.tool];  // (a whole number ≥ 0: read_operation_log checks)
+    const double row[] = {o.line, o.limit, o.load_mean, o.load_peak};
+    exact_.push_row(row);
+    streamed_.push_row(row);
+  }
+  std::size_t count() const { return count_; }
+  std::size_t tools() const { return tools_.size(); }
+  double time_in_cut() const { return t_cut_; }
+  double worst() const { return worst_; }  // the highest peak / limit of a line in the cut
+  int alarms() const { return alarms_; }
+  std::vector<std::vector<std::string>>& table() { return table_; }
+  // Channel c (1 limit, 2 load mean, 3 peak) against the line: every row, or the pyramid's.
+  io::Series series(std::size_t c, std::string name, bool dashed) const {
+    io::Series s;
+    if (exact_.dropped() > 0) {
+      s = io::recorded_series(streamed_, exact_.channels()[c].name.c_str(), std::move(name), "",
+                              dashed);
+    } else {
+      s = {std::move(name), {}, {}, "", dashed, true};
+      const auto x = exact_.column(std::size_t{0}), y = exact_.column(c);
+      s.x.assign(x.begin(), x.end());
+      s.y.assign(y.begin(), y.end());
+    }
+    s.points = true;
+    return s;
+  }
+
+ private:
+  static std::vector<sim::Channel> channels() {
+    return {{"line", ""}, {"limit", ""}, {"load_mean", ""}, {"load_peak", ""}};
+  }
+  std::vector<std::vector<std::string>> table_;
+  std::size_t count_ = 0;
+  double t_cut_ = 0.0, worst_ = 0.0;
+  int alarms_ = 0;
+  std::map<int, int> tools_;
+  sim::Recorder exact_, streamed_;
+};
+
 }  // namespace
 
 // Any other path: an operation log, or the directory holding it (the registry asks B's and D's
@@ -84,8 +146,9 @@ int session_report(const fs::path& path, const std::string& out_arg) {
   const fs::path out = out_arg.empty() ? log.parent_path() / "report.html" : fs::path(out_arg);
   const fs::path signals = log.parent_path() / "signals.csv";
   io::check_output_file(out, "--out", {log, signals});
+  Operations ops_read;
   const io::OperationLog oplog =
-      io::read_operation_log(io::JsonFile::read(log, "the operation log"));
+      io::read_operation_log(log, [&](const io::OperationLog::Operation& o) { ops_read.add(o); });
   const std::string file = log.string();
   const std::string& unit = oplog.unit;
 
@@ -106,43 +169,22 @@ int session_report(const fs::path& path, const std::string& out_arg) {
                 {"line", "tool", "operation", "mode", "limit [" + unit + "]",
                  "load mean [" + unit + "]", "peak per rev [" + unit + "]", "peak / limit",
                  "feed min", "feed mean", "in cut [s]", "reasons", "alarm"},
-                {}};
-  double t_cut = 0.0, worst = 0.0;
-  int alarms = 0;
-  std::map<int, int> tools;
-  io::Series mean_s{"load mean per line", {}, {}, "", false, true};
-  io::Series peak_s{"peak per revolution", {}, {}, "", false, true};
-  io::Series lim_s{"limit", {}, {}, "", true, true};
-  for (const auto& o : oplog.rows) {
-    const double line = o.line, limit = o.limit, mean = o.load_mean, peak = o.load_peak;
-    const double cut = o.time_in_cut_s;
-    const int tool = o.tool;  // (a whole number ≥ 0: read_operation_log checks)
-    const std::string& alarm = o.alarm;
-    const double pct = limit > 0.0 ? peak / limit : 0.0;
-    ops.rows.push_back({fixed(line, 0), std::to_string(tool), fixed(o.operation, 0), o.mode,
-                        fixed(limit, 1), fixed(mean, 1), fixed(peak, 1),
-                        fixed(100.0 * pct, 1) + " %", fixed(o.feed_min, 3), fixed(o.feed_mean, 3),
-                        fixed(cut, 2), o.reasons, alarm});
-    t_cut += cut;
-    if (cut > 0.0) worst = std::max(worst, pct);
-    alarms += alarm.empty() ? 0 : 1;
-    ++tools[tool];
-    mean_s.x.push_back(line);
-    mean_s.y.push_back(mean);
-    peak_s.x.push_back(line);
-    peak_s.y.push_back(peak);
-    lim_s.x.push_back(line);
-    lim_s.y.push_back(limit);
-  }
-  r.metrics = {{"operations (lines with feed moves)", std::to_string(ops.rows.size())},
-               {"tools", std::to_string(tools.size())},
-               {"time in cut", fixed(t_cut, 2) + " s"},
+                std::move(ops_read.table())};
+  const double worst = ops_read.worst();
+  r.metrics = {{"operations (lines with feed moves)", std::to_string(ops_read.count())},
+               {"tools", std::to_string(ops_read.tools())},
+               {"time in cut", fixed(ops_read.time_in_cut(), 2) + " s"},
                {"highest peak per revolution / limit", fixed(100.0 * worst, 1) + " %"},
-               {"alarms", std::to_string(alarms)}};
+               {"alarms", std::to_string(ops_read.alarms())}};
   if (oplog.missed_rows > 0)
     r.metrics.emplace_back("operations not logged (shorter than the log's poll)",
                            fixed(oplog.missed_rows, 0));
   r.tables.push_back(ops);
+  if (ops_read.count() > ops.rows.size())  // the table's cut, one line below it
+    r.tables.push_back({"",
+                        {},
+                        {{"… " + std::to_string(ops_read.count() - ops.rows.size()) +
+                          " more operations: see operations.csv / the log"}}});
   if (!oplog.taught.empty()) {
     io::Table t{"Taught references", {"tool", "operation", "reference", "unit"}, {}};
     for (const auto& e : oplog.taught)
@@ -150,14 +192,16 @@ int session_report(const fs::path& path, const std::string& out_arg) {
     r.tables.push_back(t);
   }
   for (const auto& m : oplog.messages) r.notes.push_back(fixed(m.time_s, 2) + " s: " + m.text);
-  r.plots.push_back({"Load per program line",
-                     "program line",
-                     "load [" + unit + "]",
-                     {lim_s, mean_s, peak_s},
-                     {}});
+  r.plots.push_back(
+      {"Load per program line",
+       "program line",
+       "load [" + unit + "]",
+       {ops_read.series(1, "limit", true), ops_read.series(2, "load mean per line", false),
+        ops_read.series(3, "peak per revolution", false)},
+       {}});
   add_recording_plots(r, signals, unit);
   io::write_output_file(out, io::render_html(r), "--out", {log, signals});
-  std::cout << ops.rows.size() << " operations, " << tools.size() << " tools, peak "
+  std::cout << ops_read.count() << " operations, " << ops_read.tools() << " tools, peak "
             << fixed(100.0 * worst, 1) << " % of the limit → " << out.string() << "\n";
   return 0;
 }
