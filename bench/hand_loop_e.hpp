@@ -68,13 +68,16 @@ class HandCutE {
     const double a0 = theta_ * 360.0;
     theta_ += rpm / 60.0 * dt;
     const double a1 = theta_ * 360.0;
-    const auto [removed, on_blank] = cut_cells(x, z);
+    const auto [removed, on_blank, cap] = cut_cells(x, z);
     const auto [area_rev, s] = revolution(x, z, a0, a1, removed);
     // The chip with the blank's runout and the random allowance, the forces, the sensor.
     double t = s > 1e-4 && removed > 0.0 ? area_rev / s : 0.0;
     const double phi = 2.0 * std::numbers::pi * (theta_ - std::floor(theta_));
     if (t > 0.0) {
-      if (on_blank) t += cfg_.stock.eccentricity_mm * std::sin(phi);
+      if (on_blank) {  // the runout, no deeper than a surface an earlier pass left (the plant's)
+        const double runout = t + cfg_.stock.eccentricity_mm * std::sin(phi);
+        t = cap > 0.0 ? std::min(runout, std::max(t, cap)) : runout;
+      }
       t = std::max(t + dist_.random_allowance_mm(z), 0.0);
     }
     const double v = std::isfinite(x) ? std::numbers::pi * 2.0 * (x + t) * rpm / 1000.0 : 0.0;
@@ -103,10 +106,12 @@ class HandCutE {
   struct Cells {
     double removed = 0.0;
     bool on_blank = false;
+    double cap = 0.0;  // below a surface an earlier cut left [mm] (LathePlant's cut_surface_depth_mm)
   };
   Cells cut_cells(double x, double z) noexcept {
     double removed = 0.0;
     bool on_blank = false;
+    double cap = 0.0;
     const double u_lo = (z - rn_ - z0_) / kCell, u_hi = (z + rn_ - z0_) / kCell;
     const double last = static_cast<double>(r_.size() - 1);
     if (std::isfinite(x) && std::isfinite(z) && u_hi >= 0.0 && u_lo <= last) {
@@ -162,10 +167,16 @@ class HandCutE {
       double* const r = r_.data() + j0;
       const double* const low = low_.data() + j0;
       double mm3 = removed_mm3_;
+      double highest = 0.0;  // the highest surface cut, at cell top_k
+      std::size_t top_k = n;
       for (k = 0; k < n; ++k) {
         const double ri = r[k], edge = e[k];
         if (edge < ri) {
           on_blank = on_blank || ri > low[k];
+          if (ri > highest) {
+            highest = ri;
+            top_k = k;
+          }
           const double r_new = std::max(edge, 0.0);
           removed += (ri - r_new) * kCell;
           mm3 += std::numbers::pi * (ri * ri - r_new * r_new) * kCell;
@@ -173,10 +184,13 @@ class HandCutE {
         }
       }
       removed_mm3_ = mm3;
+      if (on_blank && top_k < n &&
+          !(highest > low[top_k] + (cfg_.stock.eccentricity_mm - 1e-9)))
+        cap = std::max(highest - x, 0.0);
     } else {
       nose_valid_ = false;
     }
-    return {removed, on_blank};
+    return {removed, on_blank, cap};
   }
 
   // The path travelled, the bins, and the last revolution's chip area and feed.

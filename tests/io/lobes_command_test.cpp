@@ -257,6 +257,17 @@ TEST(LobesFrf, MissingFileNamesTheMachineFileAndTheFrfFile) {
   }
 }
 
+// The one-line error a machine file whose [[frf]] file is FILE gives ("no error" if none).
+static std::string frf_error(const std::string& file, const std::filesystem::path& dir) {
+  try {
+    (void)systems::b_chatter::parse_lobes_input(kHead + "[[frf]]\nfile = \"" + file + "\"\n",
+                                                (dir / "m.toml").string());
+  } catch (const io::InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
 // Every class a hostile [[frf]] file took off the checked path (issue 49: a FIFO blocked for
 // ever, /dev/zero ate 2 GB) is one line naming the machine file, the key and the FRF file.
 TEST(LobesFrf, UnreadableFilesAreRefusedBeforeAByteIsRead) {
@@ -271,13 +282,7 @@ TEST(LobesFrf, UnreadableFilesAreRefusedBeforeAByteIsRead) {
       {(dir / "dir.csv").string(), "directory"}, {(dir / "none.csv").string(), "no such file"},
       {(dir / "empty.csv").string(), "empty"}};
   for (const auto& [file, why] : cases) {
-    std::string m = "no error";
-    try {
-      (void)systems::b_chatter::parse_lobes_input(kHead + "[[frf]]\nfile = \"" + file + "\"\n",
-                                                  (dir / "m.toml").string());
-    } catch (const io::InputError& e) {
-      m = e.what();
-    }
+    const std::string m = frf_error(file, dir);
     EXPECT_NE(m.find("m.toml:"), std::string::npos) << m;
     EXPECT_NE(m.find("key 'frf[0].file'"), std::string::npos) << m;
     EXPECT_NE(m.find(file), std::string::npos) << m;
@@ -308,13 +313,7 @@ TEST(LobesFrf, FittedModesUnderTheBoundsOfTypedModes) {
       {sdof("ghz.csv", 5e7, 1.5e9), "above the 1e+06 Hz a [[mode]] may have"},
       {sdof("soft.csv", 1e-100, 500.0), "no lathe's mode is that soft"}};
   for (const auto& [file, why] : cases) {
-    std::string m = "no error";
-    try {
-      (void)systems::b_chatter::parse_lobes_input(kHead + "[[frf]]\nfile = \"" + file + "\"\n",
-                                                  (dir / "m.toml").string());
-    } catch (const io::InputError& e) {
-      m = e.what();
-    }
+    const std::string m = frf_error(file, dir);
     EXPECT_NE(m.find("key 'frf[0].file'"), std::string::npos) << m;
     EXPECT_NE(m.find(file), std::string::npos) << m;
     EXPECT_NE(m.find(why), std::string::npos) << m;
