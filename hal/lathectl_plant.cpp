@@ -3,7 +3,7 @@
 // cutting::LathePlant (cutting model, stock, disturbances and force sensor of the library).
 //
 //   loadrt lathectl_plant scenario=PATH [z_origin_mm=0] [cell_mm=0.01] [warmup_s=120]
-//                         [idle_drift=0.15] [period_ns=1000000]
+//                         [idle_drift=0.15] [period_ns=1000000] [tool_file=PATH]
 //   addf lathectl-plant servo-thread
 //
 // Pins (hal/pins/plant.hpp; lathectl_plant(9)): the tool's position, the spindle's speed and the
@@ -11,16 +11,23 @@
 // geometry, the per-revolution force (control::PerRevolutionPeak: `lathectl run`'s
 // force_peak_rev_mean_N), the stock's radius at probe-z, and the spindle drive's power
 // (drives::SpindlePowerAtSpeed through the scenario's power meter, as `lathectl run` and
-// `lathectl optimize` see it).
+// `lathectl optimize` see it). tool_file (lathectl optimize's --tool-file, its reader
+// io::read_tool_file): a grooving or parting tool in the spindle (pin tool-number,
+// iocontrol.0.tool-number) cuts its insert's whole width in feed moves, as the optimiser predicts
+// it (cutting::LathePlant::Input::insert_width_mm); any other tool cuts with the nose.
 
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "lathectl/control/per_revolution.hpp"
 #include "lathectl/control/types.hpp"
 #include "lathectl/cutting/lathe_plant.hpp"
 #include "lathectl/drives/spindle_drive.hpp"
+#include "lathectl/io/scenario.hpp"
+#include "lathectl/io/tool_file.hpp"
 #include "lathectl/sensors/force_sensor.hpp"
 #include "lathectl_hal.hpp"
 #include "pins/plant.hpp"
@@ -41,6 +48,9 @@ LATHECTL_HAL_PARAM(break_at_s,
                    "default never");
 LATHECTL_HAL_PARAM(period_ns, "period of the servo thread this runs in [ns], default 1000000");
 LATHECTL_HAL_PARAM(idle_drift, "extra idle power of the cold machine (fraction), default 0.15");
+LATHECTL_HAL_PARAM(tool_file,
+                   "tool file (TOML [[tool]], lathectl optimize --tool-file): the insert width of "
+                   "each grooving or parting tool; default none (every tool cuts with the nose)");
 
 namespace {
 
@@ -63,6 +73,16 @@ lathectl::hal::UpdateTimer timer;
 lathectl::hal::HomedGate homed_gate;
 lathectl::control::PerRevolutionPeak force_rev;  // configured at load for the controller's period
 double run_s = 0.0;
+// (tool number, insert width [mm]) of the tool file's grooving and parting tools, read at load.
+std::vector<std::pair<int, double>> plunge_tools;
+
+// The width of cut of the tool in the spindle in a feed move: its insert's, 0 for the nose.
+double insert_width(std::int32_t tool, bool feed_move) noexcept {
+  if (!feed_move) return 0.0;  // a rapid through material: the nose (as the optimiser's)
+  for (const auto& [number, width] : plunge_tools)
+    if (number == tool) return width;
+  return 0.0;
+}
 
 void update(void*, long period_ns) {
   timer.start();
@@ -74,6 +94,9 @@ void update(void*, long period_ns) {
   in.z_mm = on ? *pins->z_pos : std::nan("");
   lathectl::cutting::LathePlant::Output out;
   pins->read_pins(in, out);  // the table's copies (pins/plant.hpp)
+  const bool feed_move = lathectl::control::is_feed_motion(*pins->motion_type);
+  in.insert_width_mm = insert_width(*pins->tool_number, feed_move);
+  *pins->insert_width = in.insert_width_mm;
   plant->step(in, static_cast<double>(period_ns) * 1e-9, out);
   if (break_at > 0.0 && out.time_in_cut_s >= break_at) {  // a broken tool: nothing is cut
     out.force_measured = out.force_parameter = out.Pz_N = out.Py_N = out.cut_power_W = 0.0;
@@ -89,7 +112,6 @@ void update(void*, long period_ns) {
   }
   {
     run_s += static_cast<double>(period_ns) * 1e-9;
-    const bool feed_move = lathectl::control::is_feed_motion(*pins->motion_type);
     const bool cutting = feed_move && out.depth_mm > 0.0 && out.feed_per_rev_mm > 0.0;
     *pins->force_rev_mean =
         force_rev.push(run_s, feed_move ? out.force_parameter : 0.0, in.rpm, cutting);
@@ -131,6 +153,13 @@ extern "C" int rtapi_app_main(void) {
     const auto period = static_cast<double>(
         lathectl::hal::ranged_param(period_ns, "period_ns", 1e6, 1e4, 1e8, "1e4 … 1e8"));
     force_rev.configure(period * 1e-9);
+    plunge_tools.clear();
+    if (tool_file != nullptr && *tool_file != '\0') {
+      lathectl::hal::require_readable(tool_file, "tool file");
+      for (const auto& t : lathectl::io::read_tool_file(lathectl::io::read_scenario_text(tool_file),
+                                                        tool_file))
+        if (t.plunge()) plunge_tools.emplace_back(t.number, t.insert_width_mm);
+    }
     lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
     *pins->motion_type = 2;  // unconnected (halrun): every move is a feed move
     plant = std::move(model);

@@ -102,6 +102,7 @@ int run(Args& a) {
     for (std::string w; words >> w;) vo.sim.push_back(w);
     vo.scenario = fs::absolute(a.scenario).string();
     vo.timeout_s = a.timeout_s;
+    if (!a.tool_file.empty()) vo.tool_file = fs::absolute(a.tool_file).string();
     if (!a.ini.empty()) {
       vo.machine = machine;
       vo.tool_table_text =

@@ -437,7 +437,8 @@ void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
   const double strength = dist_.strength_factor(z);
   Forces f{};
   if (t > 0.0 && s > 0.0 && v > 0.0) {
-    f = cut_.forces_pz_py({t, s, v, strength, dist_.wear_factor(t_cut_)});  // no Px here
+    const double b = in.insert_width_mm > 0.0 ? in.insert_width_mm : t;  // a plunge: its width
+    f = cut_.forces_pz_py({b, s, v, strength, dist_.wear_factor(t_cut_)});  // no Px here
     t_cut_ += dt;
     if (t_since_contact_ < 0.0) t_since_contact_ = 0.0;
   }

@@ -231,6 +231,9 @@ struct VerifyOptions {
   // acceleration (mm) and its tool table (in mm, tool_table_text), not its HAL files.
   std::optional<io::LatheMachine> machine;
   std::string tool_table_text;
+  // The tool file (--tool-file; empty: none): the simulated lathe's plant cuts its grooving and
+  // parting tools with their inserts' width, as the prediction does (linuxcnc-sim --tool-file).
+  std::string tool_file;
 };
 Verified verify(const Program& p, const Result& r, const Options& opt, const VerifyOptions& v);
 

@@ -178,17 +178,6 @@ struct Walker {
     return v;
   }
 
-  // A grooving or parting insert cuts its whole width (tools.hpp): the law at b = width, chip
-  // thickness = the feed per revolution; the plant's stock follows the nose.
-  void plunge_forces(const ToolSpec& spec, cutting::LathePlant::Output& out) {
-    const auto f = cut.forces({spec.insert_width_mm, out.feed_per_rev_mm, out.speed_m_per_min,
-                               out.strength_factor, wear.wear_factor(out.time_in_cut_s)});
-    out.Pz_N = f.Pz;
-    out.Py_N = f.Py;
-    out.cut_power_W = cut.power_W(f, out.speed_m_per_min);
-    out.force_parameter = cutting::force_parameter(e.rig.force_parameter, f, out.cut_power_W);
-  }
-
   // One servo period of System E's machine side on the sample.
   void adaptive_step(const CanonMove& m, double feed, bool rapid_move, double rpm, double rpm_run,
                      double v, double dt, double x1, double z1,
@@ -298,8 +287,11 @@ struct Walker {
       u += step_u;
       const auto [x1, z1] = point_at(m, u);
       cutting::LathePlant::Output out;
-      plant.step({.x_mm = x1, .z_mm = z1, .rpm = rpm_run}, dt, out);
-      if (plunge && out.depth_mm > 0.0 && out.feed_per_rev_mm > 0.0) plunge_forces(*spec, out);
+      // A grooving or parting insert cuts its whole width (the plant's Input::insert_width_mm,
+      // the law the LinuxCNC plant takes for the tool in its spindle too).
+      plant.step({.x_mm = x1, .z_mm = z1, .rpm = rpm_run,
+                  .insert_width_mm = plunge ? spec->insert_width_mm : 0.0},
+                 dt, out);
       if (opt.adaptive) adaptive_step(m, feed, rapid_move, rpm, rpm_run, v, dt, x1, z1, out);
       record(mi, pi, step_u * len, rpm, dt, x1, z1, out);
       track_rapid(m, rapid_move, step_u * len, dt, out);

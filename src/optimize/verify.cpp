@@ -77,6 +77,7 @@ VerifyRun run_sim_once(const std::string& name, const std::string& text, bool of
     }
     cmd += " --tool-table " + shell_quote((dir / "machine.tbl").string());
   }
+  if (!v.tool_file.empty()) cmd += " --tool-file " + shell_quote(v.tool_file);
   cmd += " >" + shell_quote((dir / (name + ".log")).string()) + " 2>&1";
   const int rc = std::system(cmd.c_str());
   if (!fs::exists(out / "summary.json")) {

@@ -6,7 +6,8 @@ outputs in the same period, and the recording is checked against what the compon
   halrun_test.py adaptive SOURCE_DIR WORK_DIR   controller: feed by force, limits, sensor loss
   halrun_test.py cut_power SOURCE_DIR WORK_DIR  controller: the speed law's power limit with a
                                                 power sensor and with Py + spindle power meter
-  halrun_test.py plant SOURCE_DIR WORK_DIR      plant: handbook force of a straight turn
+  halrun_test.py plant SOURCE_DIR WORK_DIR      plant: handbook force of a straight turn, and
+                                                of a grooving insert's plunge (tool_file=)
   halrun_test.py bad_input SOURCE_DIR WORK_DIR  bad scenario / module parameters fail the load
   halrun_test.py timing SOURCE_DIR WORK_DIR [SECONDS]
                                                 worst-case update() time over a long session
@@ -353,6 +354,61 @@ def test_plant(src, work):
     sigma = sc["sensor"].get("noise_N", 0.0)
     check(abs(sd - sigma) < 0.2 * sigma + 2.0, "sensor noise σ %.1f N (scenario %g N)" % (sd, sigma))
     print("plant update(): max %d ns over %d calls" % (max(int(r[6]) for r in got), len(got)))
+    test_plant_groove(src, work, sc)
+
+
+GROOVE_TOOLS = """[[tool]]
+number = 2
+kind = "grooving"
+insert_width_mm = 3.0
+"""
+
+
+def test_plant_groove(src, work, sc):
+    """tool_file= (lathectl optimize's tool file): T2, a 3 mm grooving insert, plunged at 0.05
+    mm/rev from X21 to X18 at Z-6 cuts its whole width (the law at t = 3 mm, s = the feed per
+    revolution, at the plant's V), under tool-number 2 only; T1 on the same path cuts with the
+    nose."""
+    tools = os.path.join(work, "groove-tools.toml")
+    with open(tools, "w") as f:
+        f.write(GROOVE_TOOLS)
+    rpm, s = 1000.0, 0.05
+    vx = s * rpm / 60.0
+    n = int(3.0 / vx / PERIOD_S)
+    rows = [[21.0 - vx * k * PERIOD_S, -6.0, rpm] for k in range(n)]
+    pz = {}
+    for tool in (1, 2):
+        got = stream_session(work, "plant-groove-t%d" % tool,
+                             ["lathectl_plant scenario=%s tool_file=%s"
+                              % (rt_scenario(src), rt_path(src, tools))], "fff", rows,
+                             ["lathectl-plant.x-pos", "lathectl-plant.z-pos",
+                              "lathectl-plant.spindle-rpm"], "ffff",
+                             ["lathectl-plant.pz", "lathectl-plant.feed-per-rev",
+                              "lathectl-plant.cutting-speed", "lathectl-plant.insert-width"],
+                             "setp lathectl-plant.enable 1\nsetp lathectl-plant.tool-number %d\n"
+                             % tool)
+        if not got:
+            return
+        last = got[-int(60.0 / rpm / PERIOD_S):]  # the last revolution: the chip is built up
+        mean = lambda col: sum(r[col] for r in last) / len(last)
+        pz[tool] = mean(0)
+        width = 3.0 if tool == 2 else 0.0
+        check(all(r[3] == width for r in got), "T%d: insert-width %g mm" % (tool, width))
+        if tool == 2:
+            want = handbook_pz(src, sc, 3.0, mean(1), mean(2))
+            check(abs(pz[2] - want) < 0.01 * want,
+                  "T2 plunge: Pz %.1f N against the law at the insert's 3 mm width, s %.4f mm/rev,"
+                  " V %.1f m/min: %.1f N" % (pz[2], mean(1), mean(2), want))
+    check(pz[2] > 1.3 * pz[1], "T2's 3 mm insert %.1f N, T1's nose on the same path %.1f N"
+          % (pz[2], pz[1]))
+
+
+def bad_tools(src, work):
+    """A tool file whose grooving tool (its table on line 1) has no insert width."""
+    path = os.path.join(work, "bad-tools.toml")
+    with open(path, "w") as f:
+        f.write("[[tool]]\nnumber = 2\nkind = \"grooving\"\n")
+    return rt_path(src, path)
 
 
 def test_bad_input(src, work):
@@ -372,6 +428,8 @@ def test_bad_input(src, work):
         ("lathectl_plant scenario=%s z_origin_mm=abc" % rt_scenario(src),
          ["z_origin_mm=abc", "expected a number"]),
         ("lathectl_plant scenario=%s" % aim, ["system-E"]),
+        ("lathectl_plant scenario=%s tool_file=%s" % (rt_scenario(src), bad_tools(src, work)),
+         ["bad-tools.toml:1", "insert_width_mm", "required"]),
     ]
     if os.getuid() == 0:
         # Not staged: a scenario in a directory only root may enter, the situation of a checkout

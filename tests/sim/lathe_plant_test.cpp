@@ -135,6 +135,45 @@ TEST(LathePlant, FacingSwapsFeedAndDepth) {
   EXPECT_NEAR(out.Pz_N, handbook_pz(c, out.depth_mm, 0.2, v), 0.01 * out.Pz_N);
 }
 
+// A 3 mm grooving insert (Input::insert_width_mm) plunged at 0.05 mm/rev beside the nose alone
+// on the same path: the same stock, chip and speed, and at every step the cutting law at the
+// insert's width and the feed per revolution (the law lathectl optimize and the LinuxCNC plant
+// share), not at the nose's engagement.
+TEST(LathePlant, AGroovingInsertCutsItsWholeWidth) {
+  const auto c = config();
+  LathePlant nose, insert;
+  nose.configure(c, {});
+  insert.configure(c, {});
+  cutting::CuttingModel law;
+  law.configure(c.cutting);
+  cutting::Disturbances wear;
+  wear.configure(c.disturbances);
+  const double dt = 1e-3, rpm = 800.0, feed = 0.05;
+  const auto n = static_cast<int>(3.0 / (feed * rpm / 60.0) / dt);  // x 21 → 18 at z −6
+  LathePlant::Output a, b;
+  int cut = 0;
+  for (int k = 1; k <= n; ++k) {
+    const double x = 21.0 - 3.0 * k / n;
+    const double t_before = b.time_in_cut_s;
+    nose.step({x, -6.0, rpm}, dt, a);
+    insert.step({.x_mm = x, .z_mm = -6.0, .rpm = rpm, .insert_width_mm = 3.0}, dt, b);
+    ASSERT_EQ(b.depth_mm, a.depth_mm);
+    ASSERT_EQ(b.feed_per_rev_mm, a.feed_per_rev_mm);
+    ASSERT_EQ(b.removed_mm3, a.removed_mm3);
+    if (!(b.depth_mm > 0.0 && b.feed_per_rev_mm > 0.0)) continue;
+    ++cut;
+    const auto f = law.forces({3.0, b.feed_per_rev_mm, b.speed_m_per_min, b.strength_factor,
+                               wear.wear_factor(t_before)});
+    ASSERT_DOUBLE_EQ(b.Pz_N, f.Pz) << k;
+    ASSERT_DOUBLE_EQ(b.Py_N, f.Py) << k;
+  }
+  EXPECT_GT(cut, n / 2);
+  EXPECT_NEAR(b.feed_per_rev_mm, feed, 1e-3);
+  // The nose (r 0.8) meets the groove's bottom about 1.6 mm wide: the insert's 3 mm cut is
+  // the stronger.
+  EXPECT_GT(b.Pz_N, 1.3 * a.Pz_N);
+}
+
 TEST(LathePlant, ASecondPassCutsOnlyWhatTheFirstLeft) {
   const auto c = config();
   LathePlant p;

@@ -65,6 +65,12 @@ class LathePlant {
     double x_mm = 0.0;  // tool radius (machine x)
     double z_mm = 0.0;  // machine z
     double rpm = 0.0;   // actual spindle speed (sign ignored)
+    // > 0: a grooving or parting insert of this width [mm] cuts (io::ToolSpec::plunge()): its
+    // whole width is the width of cut, the cutting law taken at t = the width and s = the feed
+    // per revolution (its chip thickness); 0: the nose at its engagement t. The one copy of that
+    // law (lathectl optimize's prediction, the LinuxCNC plant). The stock follows the nose and
+    // depth_mm stays the nose's chip either way.
+    double insert_width_mm = 0.0;
   };
   struct Output {
     double force_measured = 0.0;   // the sensor's sample of the force parameter (N or W)

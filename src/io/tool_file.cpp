@@ -1,4 +1,4 @@
-#include "optimize/tools.hpp"
+#include "lathectl/io/tool_file.hpp"
 
 #include <cctype>
 #include <cerrno>
@@ -12,7 +12,7 @@
 #include "lathectl/io/format.hpp"
 #include "lathectl/io/toml_reader.hpp"
 
-namespace lathectl::optimize {
+namespace lathectl::io {
 
 const char* kind_name(ToolSpec::Kind k) noexcept {
   switch (k) {
@@ -27,10 +27,8 @@ const char* kind_name(ToolSpec::Kind k) noexcept {
 }
 
 std::vector<ToolSpec> read_tool_file(const std::string& text, const std::string& file) {
-  using io::Param;
-  using io::Range;
-  const auto doc = io::TomlDocument::parse(text, file);
-  io::TableReader root(doc.root(), file, "");
+  const auto doc = TomlDocument::parse(text, file);
+  TableReader root(doc.root(), file, "");
   std::vector<ToolSpec> out;
   const std::vector<std::string> kinds{"turning", "facing",  "boring",
                                        "grooving", "parting", "threading"};
@@ -81,8 +79,8 @@ std::vector<TableTool> read_tool_table(const std::string& text, const std::strin
     for (std::string w; ws >> w;) {
       any = true;
       auto bad = [&](const std::string& why) {
-        throw io::InputError(io::located(file, line_no, 0,
-                                         "tool table word '" + io::printable(w) + "': " + why +
+        throw InputError(located(file, line_no, 0,
+                                         "tool table word '" + printable(w) + "': " + why +
                                              " (LinuxCNC skips the line: the tool is missing)"));
       };
       const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(w[0])));
@@ -119,9 +117,9 @@ std::vector<TableTool> read_tool_table(const std::string& text, const std::strin
     }
     if (!any) continue;
     if (!has_t)
-      throw io::InputError(io::located(file, line_no, 0, "a tool table line without its T word"));
+      throw InputError(located(file, line_no, 0, "a tool table line without its T word"));
     if (const auto [at, fresh] = first_line.emplace(t.number, line_no); !fresh)
-      throw io::InputError(io::located(file, line_no, 0,
+      throw InputError(located(file, line_no, 0,
                                        "tool " + std::to_string(t.number) + " again (first on line " +
                                            std::to_string(at->second) + ")"));
     out.push_back(t);
@@ -140,11 +138,11 @@ void apply_tool_table(std::vector<ToolSpec>& specs, const std::vector<TableTool>
     if (t->diameter_mm > 0.0) {
       const double r = 0.5 * t->diameter_mm;
       if (s.nose_radius_mm > 0.0 && std::abs(s.nose_radius_mm - r) > 1e-3)
-        throw io::InputError(io::located(
+        throw InputError(located(
             tool_file, 0, 0,
-            "tool " + std::to_string(s.number) + ": nose_radius_mm = " + io::fmt(s.nose_radius_mm) +
+            "tool " + std::to_string(s.number) + ": nose_radius_mm = " + fmt(s.nose_radius_mm) +
                 " mm, but LinuxCNC's tool table " + table_file + ":" + std::to_string(t->line) +
-                " gives D" + io::fmt(t->diameter_mm) + " (a nose radius of " + io::fmt(r) +
+                " gives D" + fmt(t->diameter_mm) + " (a nose radius of " + fmt(r) +
                 " mm): one of the two is wrong"));
       s.nose_radius_mm = r;
     }
@@ -160,4 +158,4 @@ const ToolSpec* find_tool(const std::vector<ToolSpec>& tools, int number) noexce
   return nullptr;
 }
 
-}  // namespace lathectl::optimize
+}  // namespace lathectl::io
