@@ -4,7 +4,7 @@ BUILD := build/$(PRESET)
 JOBS ?= $(shell nproc)
 FUZZ_SECONDS ?= 600
 
-.PHONY: deps deps-browser deps-test build demo stability-map test test-asan bench fuzz format install-check package clean
+.PHONY: deps deps-browser deps-test build demo stability-map gauge-series test test-asan bench fuzz format install-check package clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -38,6 +38,15 @@ stability-map:
 	@cmake --preset $(PRESET) >/dev/null && cmake --build --preset $(PRESET) -j $(JOBS) --target lathectl
 	./$(BUILD)/lathectl sweep examples/sweeps/b_single_tool_map.toml --out map-out --workers $(WORKERS)
 	@echo "open map-out/report.html"
+
+# System D's long series on LinuxCNC against lathectl run (docs/system-d-gauging.md, "Size bias
+# on LinuxCNC"): PARTS parts in one session, about 4.5 s each (200: 15 minutes), not in make test.
+PARTS ?= 200
+gauge-series: deps-test
+	@cmake --preset default -DLATHECTL_HAL=ON >/dev/null
+	@cmake --build --preset default -j $(JOBS) --target lathectl lathectl_gauge lathectl_gauge_plant
+	scripts/linuxcnc-gauge-series --parts $(PARTS) --install build/default \
+	  --lathectl build/default/lathectl --out gauge-series-out
 
 # The fuzz step runs first so that ctest's summary line closes the output: the committed
 # regression corpus and the seed corpus replayed, then a fixed seed for a fixed number of runs

@@ -5,7 +5,8 @@
 //
 //   loadrt lathectl_gauge scenario=PATH size_x_mm=X [period_ns=100000] [rough_factor=4]
 //                         [fine_factor=2] [fine_um=60] [spark_um=25] [threshold_V=]
-//                         [signal_lost=0.05]
+//                         [signal_lost=0.05] [servo_period_ns=1000000]
+//                         [stop_latency_periods=0]
 //   addf lathectl-gauge base-thread
 //
 // It samples the generator's signal every period of a thread fast enough for the probe's 2ω
@@ -27,10 +28,16 @@
 //                after; interruptions too close for the bridge alarm gauge_no_round_surface.
 // The steps' feeds, fine_um and spark_um default to the scenario's [sequence] (the module
 // parameters override them).
-// The thresholds are the scenario's: the size threshold as `lathectl run` plans it (plan_threshold:
-// (23) on the full model's local line, or the seed's, or the given one), the earlier ones (23) on
-// the same line for the size where the next step starts (target + fine_um, target + spark_um) at
-// the removal rate of the step they end. Pins and parameters: lathectl_gauge(9).
+// The thresholds are the scenario's: the size threshold as `lathectl run` aims it
+// (machine_threshold: (23) on the full model's local line aimed past the first-passage bias, or
+// the seed's, or the given one), the earlier ones (23) on the same line for the size where the
+// next step starts (target + fine_um, target + spark_um) at the removal rate of the step they end.
+// stop_latency_periods × servo_period_ns: how long X goes on at the old feed after a command
+// (motion sees the output in its next servo period, X stands still 4 periods after that: 4.1–5.0
+// ms over 200 parts, scripts/linuxcnc-gauge-series; the INI's [LATHECTL]STOP_LATENCY_PERIODS =
+// 4.5); each command operates that much before t_r, so the axis stands still t_r after the
+// crossing on average, as in `lathectl run`.
+// Pins and parameters: lathectl_gauge(9).
 
 #include <algorithm>
 #include <cmath>
@@ -45,6 +52,7 @@
 #include "lathectl_hal.hpp"
 #include "pins/gauge.hpp"
 #include "systems/d_gauging/machine_params.hpp"
+#include "systems/d_gauging/rig.hpp"
 #include "systems/d_gauging/settings.hpp"
 
 MODULE_AUTHOR("lathectl");
@@ -61,6 +69,10 @@ LATHECTL_HAL_PARAM(spark_um, "size above target where spark-out starts [um], def
 LATHECTL_HAL_PARAM(threshold_V,
                    "the size threshold [V] instead of the scenario's plan "
                    "(\"scenario\": the plan's)");
+LATHECTL_HAL_PARAM(servo_period_ns, "motion's servo period [ns], default 1000000");
+LATHECTL_HAL_PARAM(stop_latency_periods,
+                   "servo periods X goes on at the old feed after a command (mean), default 0: "
+                   "each command operates that much before the relay's response");
 LATHECTL_HAL_PARAM(signal_lost,
                    "signal lost below this fraction of the free probe's signal, "
                    "default 0.05");
@@ -162,7 +174,11 @@ extern "C" int rtapi_app_main(void) {
     const auto plan = dg::plan_threshold(d, sc.run.step_s);
     const bool given =
         threshold_V != nullptr && *threshold_V != '\0' && std::string(threshold_V) != "scenario";
-    const double s_size = given ? number_param(threshold_V, "threshold_V", 0.0) : plan.threshold_V;
+    double s_size = given ? number_param(threshold_V, "threshold_V", 0.0) : plan.threshold_V;
+    const double latency =
+        number_param(stop_latency_periods, "stop_latency_periods", 0.0) * 1e-9 *
+        static_cast<double>(lathectl::hal::ranged_param(servo_period_ns, "servo_period_ns", 1e6,
+                                                        1e4, 1e8, "1e4 … 1e8"));
     // The cycle this machine runs: the scenario's sequence with the module parameters' feeds and
     // sizes (always on: a machine's cycle roughs and fines before size).
     dg::Sequence seq;
@@ -176,13 +192,19 @@ extern "C" int rtapi_app_main(void) {
     GaugeMachine::Params mp;
     try {
       pr.cycle = dg::cycle_for(d.transducer, seq, plan.line, pr, s_size);
+      // The size threshold as the run aims it (past the first-passage bias; on this cycle).
+      if (!given)
+        s_size = dg::machine_threshold(d, pr, plan, sc.run.step_s, sc.run.seed,
+                                       sc.run.duration_s)
+                     .threshold_V;
       // Machine X [m] of the backstop, where a G38 plunge toward it ends: reached within 1 nm
       // (the trajectory planner's rounding of the programmed X).
       mp = dg::machine_params(pr, gauge, s_size,
                               {.period_s = period * 1e-9,
                                .target_x_m = x_size * 1e-3,
                                .backstop_tolerance_m = 1e-9,
-                               .signal_lost = lost});
+                               .signal_lost = lost,
+                               .stop_latency_s = latency});
     } catch (const std::invalid_argument& e) {
       throw Error(e.what());
     }

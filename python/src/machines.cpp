@@ -251,8 +251,9 @@ std::shared_ptr<GaugeState> make_gauge(const std::optional<std::string>& text,
     namespace dg = systems::d_gauging;
     auto sc = std::make_shared<io::Scenario>(scenario_of(text, label, "D", kGauge));
     const auto& d = sc->get<dg::Settings>();
-    // As lathectl_gauge: the transducer as the run configures it, the threshold the plan gives
-    // (or the host's), the scenario's sequence before it on the plan's line.
+    // The transducer as the run configures it, the threshold the plan gives (or the host's; not
+    // aimed past the first-passage bias as lathectl_gauge's: that Monte Carlo is not run here),
+    // the scenario's sequence before it on the plan's line.
     sensors::VibroContactGauge gauge;
     dg::configure_transducer(*sc, gauge);
     try {

@@ -36,12 +36,13 @@ namespace lathectl::systems {
 
 namespace {
 // The HAL components of each system on LinuxCNC (hal/<name>.cpp) and what each links besides
-// the core. A's plant is rig A's plant and its metrics: it links A's whole library.
+// the core. A's plant is rig A's plant and its metrics: it links A's whole library; D's gauge
+// aims its size threshold as the study does (machine_threshold: the linearised parts).
 constexpr HalComponent kSlideHal[] = {{"lathectl_slide", "lathectl_a_pulse_feed_settings"},
                                       {"lathectl_slide_plant", "lathectl_a_pulse_feed"}};
 constexpr HalComponent kTwinHal[] = {{"lathectl_chatter", "lathectl_b_chatter_settings"},
                                      {"lathectl_modfeed", "lathectl_b_chatter_settings"}};
-constexpr HalComponent kGaugeHal[] = {{"lathectl_gauge", "lathectl_d_gauging_settings"},
+constexpr HalComponent kGaugeHal[] = {{"lathectl_gauge", "lathectl_d_gauging"},
                                       {"lathectl_gauge_plant", "lathectl_d_gauging_settings"}};
 constexpr HalComponent kLatheHal[] = {{"lathectl_adaptive", "lathectl_e_adaptive_settings"},
                                       {"lathectl_plant", "lathectl_e_adaptive_settings"}};

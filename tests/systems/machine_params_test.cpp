@@ -149,14 +149,23 @@ TEST(MachineParams, EveryHostOfSystemDRunsTheScenariosGauge) {
                                                {.period_s = period_s,
                                                 .target_x_m = x_size_m,
                                                 .backstop_tolerance_m = 1e-9,
-                                                .signal_lost = 0.05});
+                                                .signal_lost = 0.05,
+                                                .stop_latency_s = 4e-3});
     // What only the host owns, then the rest field by field.
     EXPECT_EQ(rig.period_s, g.step_s());
     EXPECT_EQ(hal.period_s, period_s);
     EXPECT_NEAR(hal.backstop_m - x_size_m, rig.backstop_m - p.target_m, 2e-9);
     EXPECT_EQ(rig.signal_lost_V, 0.0);
     EXPECT_EQ(hal.signal_lost_V, 0.05 * g.free_signal_V());
+    // The host's stop latency is taken off the relay's response: the axis stands still t_r after
+    // the crossing, as in the rig; a latency longer than t_r cannot be anticipated.
+    EXPECT_EQ(rig.relay_response_s, p.relay_response_s);
+    EXPECT_EQ(hal.relay_response_s, p.relay_response_s - 4e-3);
+    EXPECT_THROW((void)d_gauging::machine_params(
+                     p, g, plan.threshold_V, {.stop_latency_s = p.relay_response_s * 1.01}),
+                 std::invalid_argument);
     auto same = hal;
+    same.relay_response_s = rig.relay_response_s;
     same.period_s = rig.period_s;
     same.backstop_m = rig.backstop_m;
     same.signal_lost_V = rig.signal_lost_V;

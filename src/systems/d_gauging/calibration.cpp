@@ -144,4 +144,34 @@ NoiselessPart noiseless_part(const GaugingProcess& quiet,
   return {r.finished_m - quiet.target_m, line.spread_m, lv.ripple_V};
 }
 
+MachineThreshold machine_threshold(const Settings& d, const GaugingProcess& p,
+                                   const ThresholdPlan& plan, double dt, std::uint64_t seed,
+                                   double max_time_s, std::size_t kept) {
+  MachineThreshold m;
+  m.static_V = m.threshold_V = plan.threshold_V;
+  const bool dynamic = d.threshold == "calibrated_dynamic";
+  if (d.threshold != "calibrated" && !dynamic) return m;
+  const auto line = linear_gauge(plan.calibrated_line, d.transducer);
+  if (p.noise_variance_m2 > 0.0) {
+    LinearParts cal(p, line, plan.threshold_V, d.parts, seed + 1000003, kept);
+    m.bias = first_passage_bias(cal, p.target_m, line.gain_V_per_m);
+    auto q = p;
+    q.target_m -= m.bias.bias_m;
+    m.static_V = m.threshold_V = threshold_23(line, q);
+  }
+  if (dynamic) {
+    auto aim = p;
+    aim.noise_variance_m2 = 0.0;
+    aim.target_m -= m.bias.bias_m;
+    const double judge_se = std::sqrt(p.noise_variance_m2 *
+                                      line.noise_factor(p.noise_beta_per_s) /
+                                      static_cast<double>(d.parts));
+    m.dyn = calibrate_dynamic(aim, d.transducer, dt, m.static_V, line.gain_V_per_m,
+                              d.calibration_parts_max, std::max(0.1 * judge_se, 1e-10),
+                              seed + 17, max_time_s);
+    m.threshold_V = m.dyn.threshold_V;
+  }
+  return m;
+}
+
 }  // namespace lathectl::systems::d_gauging

@@ -1,6 +1,8 @@
 #include "systems/d_gauging/machine_params.hpp"
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace lathectl::systems::d_gauging {
 
@@ -24,7 +26,11 @@ control::GaugeMachine::Params machine_params(const GaugingProcess& p,
   // The guard after an interruption, where the surface has gated ones.
   const auto& ir = p.interruption;
   m.gate_guard_s = ir.any() && ir.gate ? ir.guard_s : 0.0;
-  m.relay_response_s = p.relay_response_s;
+  if (!(h.stop_latency_s >= 0.0 && h.stop_latency_s <= p.relay_response_s))
+    throw std::invalid_argument("the host's stop latency (" + std::to_string(h.stop_latency_s) +
+                                " s) must be 0 … the relay's response t_r (" +
+                                std::to_string(p.relay_response_s) + " s)");
+  m.relay_response_s = p.relay_response_s - h.stop_latency_s;
   // The relay arms once the signal has settled below the threshold after the first contact.
   m.arm_after_s = 5.0 * gp.filter_time_constant_s;
   m.backstop_m = (std::isfinite(h.target_x_m) ? h.target_x_m + (p.backstop_m - p.target_m)

@@ -24,6 +24,11 @@ struct MachineHost {
   // Signal lost below this fraction of the free signal for a whole window; 0: not checked
   // (a simulated part's wire does not break).
   double signal_lost = 0.0;
+  // How long the host's axis goes on at the old feed after a command [s] (LinuxCNC: motion reads
+  // the gauge's outputs in its next servo period, and the position comes back periods later).
+  // The relay's response is shortened by it, so a command takes effect t_r after its crossing as
+  // in the rig (whose stop is immediate: 0). At most t_r.
+  double stop_latency_s = 0.0;
 };
 
 // The cycle's steps before size for a sequence on `line` (gauging_cycle), with the delay the

@@ -27,6 +27,7 @@
 #include "lathectl/design/vibro_gauge.hpp"
 #include "lathectl/sensors/vibro_contact_gauge.hpp"
 #include "lathectl/sim/recorder.hpp"
+#include "systems/d_gauging/settings.hpp"
 
 #include "systems/d_gauging/rig_config.hpp"
 
@@ -201,6 +202,23 @@ DynamicCalibration calibrate_dynamic(const GaugingProcess& p,
                                      double threshold0_V, double gain_V_per_m,
                                      std::size_t max_parts, double precision_m, std::uint64_t seed,
                                      double max_time_s);
+
+// The size threshold a machine runs with, for the study's parts and lathectl_gauge alike (one
+// derivation: LinuxCNC ran the plan's while run aimed past the bias, +0.11 µm at σ = 3 µm): the
+// plan's (23); calibrated with noise, (23) on the calibrated line aimed at target − the
+// first-passage bias of d.parts linearised parts (streams from `seed` + 1000003, study.cpp says
+// why); calibrated_dynamic, that moved until the full model's noiseless part finishes at
+// target − the bias (calibrate_dynamic, `seed` + 17). p: the process with its cycle.
+struct MachineThreshold {
+  double threshold_V = 0.0;
+  double static_V = 0.0;   // before the dynamic calibration
+  FirstPassageBias bias;   // zero unless calibrated with noise
+  DynamicCalibration dyn;  // calibrated_dynamic only
+};
+MachineThreshold machine_threshold(const Settings& d, const GaugingProcess& p,
+                                   const ThresholdPlan& plan, double dt, std::uint64_t seed,
+                                   double max_time_s,
+                                   std::size_t kept = LinearParts::kKeptParts);
 
 // One full-model part without noise for a transducer variant, with its own calibrated (23)
 // (no bias: no noise): the finished error, and the probe's Poincaré spread and the signal's

@@ -87,27 +87,22 @@ void GaugingStudy::calibrate() {
   cal_line_ = linear_gauge(plan_.calibrated_line, d_.transducer);
   dyn_line_ = cal_line_;  // moved onto the full model in full_part()
   level_at_trip_ = full_model_signal(d_.transducer, dt_, plan_.x_trip_m, settle);
-  s_static_ = plan_.threshold_V;
-  first_passage_calibration();
-  // calibrated_dynamic: S_th moved until the full model's part WITHOUT noise finishes at
-  // target − the first-passage bias. With noise the calibration was only as precise as its few
-  // full-model parts (64 parts: ±0.2 µm), far coarser than the linearised Monte Carlo that
-  // judges the mean (20 000 parts: ±0.012 µm), which then missed the target by 16 of its
-  // standard errors. Without noise each part is exact: the deterministic part of the full
-  // model's error (ripple, the probe's amplitude lag) is calibrated to a tenth of the judging
-  // Monte Carlo's standard error, and the noise's part is the bias the linearised model measures
-  // precisely (first_passage_calibration).
-  if (dynamic()) {
-    auto aim = quiet_;
-    aim.target_m -= bias_m_;
-    const double judge_se = std::sqrt(p_.noise_variance_m2 *
-                                      cal_line_.noise_factor(p_.noise_beta_per_s) /
-                                      static_cast<double>(d_.parts));
-    dyn_ = calibrate_dynamic(aim, d_.transducer, dt_, s_static_, cal_line_.gain_V_per_m,
-                             d_.calibration_parts_max, std::max(0.1 * judge_se, 1e-10),
-                             sc_.run.seed + 17, sc_.run.duration_s);
-  }
-  s_th_ = dynamic() ? dyn_.threshold_V : s_static_;
+  // The threshold the machine runs (machine_threshold: lathectl_gauge aims with the same):
+  // calibrated with noise, (23) aimed past the first-passage bias; calibrated_dynamic: S_th moved
+  // until the full model's part WITHOUT noise finishes at target − the first-passage bias. With
+  // noise the calibration was only as precise as its few full-model parts (64 parts: ±0.2 µm),
+  // far coarser than the linearised Monte Carlo that judges the mean (20 000 parts: ±0.012 µm),
+  // which then missed the target by 16 of its standard errors. Without noise each part is exact:
+  // the deterministic part of the full model's error (ripple, the probe's amplitude lag) is
+  // calibrated to a tenth of the judging Monte Carlo's standard error, and the noise's part is
+  // the bias the linearised model measures precisely.
+  const auto th = machine_threshold(d_, p_, plan_, dt_, sc_.run.seed, sc_.run.duration_s,
+                                    kept_parts_);
+  bias_m_ = th.bias.bias_m;
+  bias_se_m_ = th.bias.standard_error_m;
+  s_static_ = th.static_V;
+  dyn_ = th.dyn;
+  s_th_ = th.threshold_V;
   seed_signal_dev_pct_ =
       100.0 * (K_ * (A0_ - plan_.x_trip_m) - level_at_trip_.mean_V) / level_at_trip_.mean_V;
 }
@@ -121,16 +116,7 @@ void GaugingStudy::calibrate() {
 // study's, streams apart), made precise by a control variate: ε(t*)/K has mean 0 and follows
 // the finished size closely, so mean(e) − c·mean(ε*/K) has a small fraction of mean(e)'s
 // scatter. (23) is then aimed at target − bias.
-void GaugingStudy::first_passage_calibration() {
-  if (!calibrated() || !(p_.noise_variance_m2 > 0.0)) return;
-  LinearParts cal(p_, line(), plan_.threshold_V, d_.parts, sc_.run.seed + 1000003, kept_parts_);
-  const auto bias = first_passage_bias(cal, p_.target_m, line().gain_V_per_m);
-  bias_m_ = bias.bias_m;
-  bias_se_m_ = bias.standard_error_m;
-  auto q = p_;
-  q.target_m -= bias_m_;
-  s_static_ = threshold_23(line(), q);
-}
+// (machine_threshold, calibration.cpp, computes it.)
 
 // 2. One full-model part without noise against the linear prediction (inside the range).
 void GaugingStudy::full_part() {

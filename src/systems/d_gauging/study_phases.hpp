@@ -72,7 +72,6 @@ class GaugingStudy final : public io::Study {
   void configure_gauge();
   void open_result_files();
   void calibrate();
-  void first_passage_calibration();
   void full_part();
   void linear_monte_carlo();
   void noise_check();
