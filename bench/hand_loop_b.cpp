@@ -85,8 +85,8 @@ HandRun hand_loop_b(const systems::b_chatter::RigConfig& cfg, double dt, double 
     }
   };
   update_modes(pp.z_start_mm);
-  q[0] = pp.initial_disturbance_um * 1e-6;
-  double y = q[0];
+  bool seed_pending = pp.initial_disturbance_um != 0.0;  // applied at the first contact
+  double y = 0.0;
   bool sound = true;
   // The turrets' drives, the spindle (SpindleDrive::reset), the high-pass (HighPass2).
   double z[2], z0[2] = {cfg.z_start_mm - cfg.approach_mm, cfg.z_start_mm - cfg.approach_mm};
@@ -172,6 +172,11 @@ HandRun hand_loop_b(const systems::b_chatter::RigConfig& cfg, double dt, double 
     theta += w * dt;
     const double rpm = w / kRpm;
     update_modes(z[0]);
+    if (seed_pending && (z[0] > pp.z_start_mm || z[n_tools - 1] > pp.z_start_mm)) {
+      seed_pending = false;
+      q[0] += pp.initial_disturbance_um * 1e-6;
+      y += pp.initial_disturbance_um * 1e-6;
+    }
     double fy = 0.0;
     for (int i = 0; i < n_tools; ++i) {  // TwinTurretCut::cut
       Edge& e = edges[i];

@@ -155,8 +155,8 @@ void TwinTurretCut::configure(const Params& p, double dt) {
   for (int j = 0; j < kMaxModes; ++j) q_[j] = qd_[j] = shape_[j] = 0.0;
   modes_at_mm_ = -1e9;
   update_modes(p.z_start_mm);
-  q_[0] = p.initial_disturbance_um * 1e-6;
-  y_ = q_[0];
+  seed_pending_ = p.initial_disturbance_um != 0.0;
+  y_ = 0.0;
 }
 
 void TwinTurretCut::update_modes(double x) noexcept {
@@ -345,6 +345,11 @@ void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept
 
 void TwinTurretCut::step(double theta, double rpm, const double z_mm[2]) noexcept {
   update_modes(z_mm[0]);
+  if (seed_pending_ && (z_mm[0] > p_.z_start_mm || z_mm[n_tools_ - 1] > p_.z_start_mm)) {
+    seed_pending_ = false;  // the first tool meets the material: the part displaced by then
+    q_[0] += p_.initial_disturbance_um * 1e-6;
+    y_ += p_.initial_disturbance_um * 1e-6;
+  }
   double fy = 0.0;
   for (int i = 0; i < n_tools_; ++i) {
     cut(edges_[i], theta, rpm, z_mm[i]);

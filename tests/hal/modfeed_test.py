@@ -219,7 +219,12 @@ net zpos scale.0.out => lathectl-chatter.z-pos
         # the programmed feed before it touches the part.
         rig_after_contact = m["engaged_at_s"] - 0.5 - 1.0 / (0.30 * 820 / 60.0)
         summary["rig"]["engaged_after_contact_s"] = rig_after_contact
-        H.check(abs(t_eng - rig_after_contact) < 0.05,
+        # Within one gate of frequency detector 20 (0.1 s; the gates count from each host's
+        # start, not from the contact) and the estimate above (the 30 Hz feed drive's 5 ms lag):
+        # with the 1 µm initial disturbance at the contact a0 reaches the dead zone near a gate's
+        # end here (measured: HAL 0.808 s, lathectl run 0.905 s; the rig alone with its approach
+        # 30 µm shorter 0.807 s; before, with no seed, 1.108 s against 1.105 s).
+        H.check(abs(t_eng - rig_after_contact) < 0.11,
                 "engaged %.3f s after contact in LinuxCNC's HAL, %.3f s in lathectl run" %
                 (t_eng, rig_after_contact))
         H.check((got[-1][7], got[-1][8], round(got[-1][9], 6)) ==

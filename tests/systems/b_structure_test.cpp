@@ -81,13 +81,18 @@ std::string tap_csv(const std::vector<dynamics::Mode>& modes, double lo, double 
   return t;
 }
 
-// b_twin_feed_division's shaft cut by one tool for 4 mm (about 4 s), no modulation.
+// b_twin_feed_division's shaft cut by one tool for 4 mm (about 4 s), no modulation, no initial
+// disturbance.
 std::string scenario(const std::string& machine_file) {
   std::string s = test::example_text("b_twin_feed_division");
   s = s.substr(0, s.find("[modulation]"));
   s = test::edited(s, "setup = \"feed_division\"", "setup = \"single\"");
   s = test::edited(s, "depth_mm = [0.5, 0.5]", "depth_mm = [0.5]");
   s = test::edited(s, "z_end_mm = 320", "z_end_mm = 254");
+  // The run main measured: the 1 µm disturbance then decayed before the contact (it is applied
+  // at the contact now); the one tool's entry (≈ 46 µm) seeds this chatter, and the last 20 %
+  // lies where the growth meets the tool leaving the cut, so 1 µm more moves its peak by 6 %.
+  s = test::edited(s, "z_end_mm = 254", "z_end_mm = 254\ninitial_disturbance_um = 0");
   s = test::edited(s, "duration_s = 60", "duration_s = 10");
   std::string structure = "[structure]\nmachine_file = \"";
   structure += machine_file;

@@ -112,6 +112,9 @@ class TwinTurretCut {
     double tool2_lag_mm = 0.0;
     double z_start_mm = 100.0;      // the material starts here (from the left centre)
     bool modes_follow_tool = true;  // false: the modes stay at z_start (for checks)
+    // The part's displacement at the start of the cut: added to the first mode in the step a
+    // tool first passes z_start (not at configure(), where it decayed before the cut by a
+    // host's own time to contact and left the chatter to grow from the steps' nm asymmetry).
     double initial_disturbance_um = 1.0;
     // For sizing the rings: the spindle speed (one cell per step at it) and the feed per
     // revolution (the depth division's lag in revolutions).
@@ -210,6 +213,7 @@ class TwinTurretCut {
          tphi22_[kMaxToolModes] = {}, tg1_[kMaxToolModes] = {}, tg2_[kMaxToolModes] = {};
   double modes_at_mm_ = -1e9;
   double y_ = 0.0;
+  bool seed_pending_ = false;  // initial_disturbance_um not yet applied (at the first contact)
   long long uncut_reads_ = 0, clipped_reads_ = 0;
   double delay_rev_ = 0.0;
   double sin_kappa_ = 1.0;
