@@ -90,7 +90,8 @@ class CanonParser {
                        name == "USE_TOOL_LENGTH_OFFSET" || name == "STRAIGHT_TRAVERSE" || name == "STRAIGHT_FEED" ||
                        name == "ARC_FEED" || name == "SET_FEED_MODE" || name == "SET_FEED_RATE" ||
                        name == "SET_SPINDLE_MODE" || name == "SET_SPINDLE_SPEED" ||
-                       name == "START_SPEED_FEED_SYNC" || name == "SELECT_TOOL";
+                       name == "START_SPEED_FEED_SYNC" || name == "SELECT_TOOL" ||
+                       name == "CHANGE_TOOL";
     if (!known) return;
     Args a;
     if (!numbers(inner, a)) fail(std::string(name) + ": arguments are not numbers");
@@ -260,7 +261,13 @@ class CanonParser {
       // be undefined behaviour in the conversion to int.
       if (!(a.v[0] >= 0.0 && a.v[0] <= 99999.0))
         fail("SELECT_TOOL: tool number " + std::to_string(a.v[0]) + " outside [0, 99999]");
-      state_.tool = static_cast<int>(a.v[0]);
+      selected_ = static_cast<int>(a.v[0]);
+    } else if (name == "CHANGE_TOOL") {
+      // T only prepares a tool; M6 puts it in the spindle (LinuxCNC's iocontrol tool-number, the
+      // pin the LinuxCNC plant reads). CHANGE_TOOL's argument is the tool table's pocket/index
+      // (SELECT_TOOL(10) then CHANGE_TOOL(3) in tests/optimize/canon_example.txt), not the tool
+      // number: the tool now in the spindle is the last one selected.
+      state_.tool = selected_;
     }
   }
 
@@ -269,6 +276,7 @@ class CanonParser {
   CanonMove state_;  // the modal state, copied into each move
   double x_, z_;
   int out_line_ = 0;
+  int selected_ = 0;  // the last SELECT_TOOL (T word): in the spindle only after CHANGE_TOOL (M6)
   bool stop_pending_ = true;  // the first move starts from rest
   bool plane_xz_ = false;
   std::array<double, 2> g5x_{}, g92_{}, tlo_{};  // x, z of each offset

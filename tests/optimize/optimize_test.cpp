@@ -115,6 +115,23 @@ TEST(Canon, RefusesWhatItCannotRead) {
   EXPECT_NO_THROW(io::parse_canon("1 N..... SELECT_TOOL(2)\n", "t"));
 }
 
+// T only prepares the next tool; M6 (CHANGE_TOOL, whose argument is the tool table's pocket, not
+// the tool number) puts it in the spindle. The moves between cut with the tool still in it, as
+// LinuxCNC's iocontrol.0.tool-number (the pin the LinuxCNC plant reads) says.
+TEST(Canon, TheToolInTheSpindleChangesAtM6NotAtT) {
+  const auto p = io::parse_canon(
+      "1 N..... SELECT_TOOL(1)\n"
+      "2 N..... CHANGE_TOOL(1)\n"
+      "3 N..... SELECT_TOOL(10)\n"
+      "4 N..... STRAIGHT_TRAVERSE(5.0, 0.0, 1.0, 0.0, 0.0, 0.0)\n"
+      "5 N..... CHANGE_TOOL(3)\n"
+      "6 N..... STRAIGHT_TRAVERSE(6.0, 0.0, 1.0, 0.0, 0.0, 0.0)\n",
+      "t");
+  ASSERT_EQ(p.moves.size(), 2U);
+  EXPECT_EQ(p.moves[0].tool, 1);
+  EXPECT_EQ(p.moves[1].tool, 10);
+}
+
 TEST(Text, FeedWordsAndMarkers) {
   EXPECT_EQ(with_feed("G1 Z-50 F0.3", "0.4500").value(), "G1 Z-50 F0.4500");
   EXPECT_EQ(with_feed("G1 Z-50 f 0.3 (cut)", "0.4500").value(), "G1 Z-50 f 0.4500 (cut)");
