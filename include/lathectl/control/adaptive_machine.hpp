@@ -278,6 +278,7 @@ class AdaptiveMachine {
                        bool& sensing) noexcept;
   void control(const Input& in, Output& out, double dt_measured) noexcept;
   void acceleration_power(double rpm, double dt, double nominal_s) noexcept;
+  [[nodiscard]] double shaft_power(double drawn, double rpm) const noexcept;
   [[nodiscard]] double model_load(double depth_mm, double feed_mm_per_rev,
                                   double speed_m_per_min) const noexcept;
   double feed_forward(const Input& in, double rpm, bool feed_block, Output& out) noexcept;
