@@ -40,7 +40,17 @@ double AdaptiveMachine::measured_load(const Input& in, bool feed_move, double rp
   // Until the tare has learned this speed: what the drive draws in air by its parameters (the
   // idle law and viscous friction; without the friction a prior-art run at a steady 1750 rpm
   // read 336 W of cutting in air and took it for contact).
-  const double idle = learned ? tare_.idle_W(rpm) : drives::air_power_W(p_.spindle, rpm);
+  // With fewer than three bins the tare's fit is a constant or a line, which knows nothing of the
+  // law's slope and curvature: 10 % from its one bin (2340 rpm against 2490) a constant read the
+  // air power 300 W high, and a braking cut (over η) 6 % low (issue 47's forged shafts). Then the
+  // prior's law runs through the nearest bin: P_air(n) + (tare − P_air) at that bin.
+  double idle = drives::air_power_W(p_.spindle, rpm);
+  if (learned && tare_.ready()) {
+    idle = tare_.idle_W(rpm);
+  } else if (learned) {
+    const double nb = tare_.nearest_bin_rpm(rpm);
+    idle += tare_.idle_W(nb) - drives::air_power_W(p_.spindle, nb);
+  }
   out.idle_power_W = std::isfinite(idle) ? idle : 0.0;
   out.idle_law = tare_.coefficients();
   out.tare_ready = learned;
