@@ -204,6 +204,8 @@ inline double AdaptiveFeedController::feed_target(const Input& in, double error,
   const PiRegulator pi_before = pi_;
   if (contact_.in_cut()) {
     Reason lim = Reason::None;
+    const double drift = in.feed_drift_mm_per_rev_per_s;
+    if (std::isfinite(drift) && drift != 0.0) pi_.shift(drift * p_.period_s);
     target = pi_.update(error, regulator_dt(in), lim);
     if (reason == Reason::None) reason = lim;
   } else {

@@ -89,6 +89,11 @@ void AdaptiveMachine::configure(const Params& p) {
     stock_ = std::make_unique<cutting::LathePlant>();
     stock_->configure(p.process, {.z_origin_mm = p.z_origin_mm});
     model_.configure(p.process.cutting);
+    // y of the load's law in the feed (M ∝ s^y: the handbook's y, or Kienzle's 1 − m), from
+    // the law itself at a 10 % step
+    feed_exponent_ = std::log(model_load(1.0, 0.33, 100.0) / model_load(1.0, 0.3, 100.0)) /
+                     std::log(1.1);
+    if (!std::isfinite(feed_exponent_)) feed_exponent_ = 0.0;
     PathBreakage::Params bp;
     bp.window_s = p.controller.breakage_drop_window_s;
     bp.air = c.air_threshold;
@@ -112,6 +117,8 @@ void AdaptiveMachine::configure(const Params& p) {
   stock_chip_due_ = false;
   kappa_ = 1.0;
   kappa_learned_ = false;
+  ln_kappa_lag_ = kappa_rate_ = 0.0;
+  kappa_trend_ = false;
   has_anchor_ = has_dir_ = false;
   ff_ceiling_ = ff_hold_s_ = 0.0;
   teach_ = TeachIn{};
@@ -399,6 +406,7 @@ inline AdaptiveFeedController::Input AdaptiveMachine::controller_input(const Inp
   auto ci = adaptive_input(parameter, sig);
   ci.dt_s = dt_measured;
   ci.feed_ceiling_mm_per_rev = feed_forward(in, rpm, r.feed_block, out);
+  ci.feed_drift_mm_per_rev_per_s = r.sensing ? hardness_drift(out) : 0.0;
   ci.reading_unusable = !r.sensing;
   if (p_.life_law && stock_) {
     // The depth the blank gives, and the hardness the cut shows: K_mp = h^kmp, so ĥ = κ^(1/kmp)

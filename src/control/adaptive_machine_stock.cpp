@@ -139,9 +139,14 @@ double AdaptiveMachine::feed_forward(const Input& in, double rpm, bool feed_bloc
 
 // κ, the specific force the cut shows: the per-revolution load over the law's at the last
 // revolution's geometric chip, in a steady cut (the chip of the revolution and of the last few
-// cells of travel agree: no step, entry or exit inside the window).
+// cells of travel agree: no step, entry or exit inside the window). Also its trend, d ln κ/dt:
+// ln κ less its own lag over one revolution, over that revolution (a ramp r reads r after a
+// revolution or two); forgotten whenever the cut is not steady.
 void AdaptiveMachine::learn_specific_force(const Input& in, double rpm, double dt,
                                            const Output& out) noexcept {
+  const bool trend = kappa_trend_;
+  kappa_trend_ = false;
+  kappa_rate_ = 0.0;
   if (!stock_ || !p_.feed_forward || !out.contact || !load_rev_.full() || !(rpm > 0.0)) return;
   const auto& so = stock_chip();
   const double t = so.chip_depth_mm;
@@ -156,6 +161,28 @@ void AdaptiveMachine::learn_specific_force(const Input& in, double rpm, double d
   const double k = std::clamp(out.load_rev / m, 0.2, 5.0);
   kappa_ = core::FirstOrderLag(dt, p_.specific_force_time_s).step_increment(kappa_, k);
   kappa_learned_ = true;
+  const double ln_k = std::log(k);
+  const double rev_s = 60.0 / rpm;
+  ln_kappa_lag_ = trend ? core::FirstOrderLag(dt, rev_s).step_increment(ln_kappa_lag_, ln_k) : ln_k;
+  kappa_rate_ = (ln_k - ln_kappa_lag_) / rev_s;
+  kappa_trend_ = true;
+}
+
+// The drift of the feed a rising specific force takes at the limit (a hard spot coming into
+// the chip) [mm/rev per s; ≤ 0]. At the limit L = κ·M(t, s, V) with M ∝ s^y (y the law's feed
+// exponent, on power too: P = Pz·V), so holding L while κ rises takes
+//   d ln s/dt = −(1/y)·d ln κ/dt,   ds/dt = −(s/y)·d ln κ/dt.
+// The regulator's integral alone follows such a ramp only with an error of the ramp's rate over
+// its integral gain: a hardness rising 30 % over 5 mm at 0.45 mm/rev is 3 % of load a
+// revolution, and the per-revolution load ran 6-8 % over its limit on generated forged shafts
+// (issue 47). Fed to the integral, it follows the ramp; the regulator corrects what is left.
+// Only near the limit (the per-revolution load within 5 % below it or above): a harder spot
+// under a load well below the limit takes no lower feed.
+double AdaptiveMachine::hardness_drift(const Output& out) const noexcept {
+  if (!kappa_trend_ || !(kappa_rate_ > 0.0) || applied_.mode != 2 || !out.contact) return 0.0;
+  if (!(out.load_rev >= 0.95 * applied_.limit) || !(feed_exponent_ > 0.0)) return 0.0;
+  const double s = co_.feed_per_rev_mm;
+  return s > 0.0 ? -s * kappa_rate_ / feed_exponent_ : 0.0;
 }
 
 }  // namespace lathectl::control

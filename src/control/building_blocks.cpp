@@ -76,6 +76,10 @@ void PiRegulator::preset(double output) noexcept {
   out_ = integral_;
 }
 
+void PiRegulator::shift(double delta) noexcept {
+  integral_ = std::clamp(integral_ + delta, p_.out_min, p_.out_max);
+}
+
 double PiRegulator::update(double error, double dt, Reason& limited) noexcept {
   const double ki = p_.ti_s > 0.0 ? p_.kp / p_.ti_s : 0.0;
   const double raw_before = p_.kp * error + integral_;

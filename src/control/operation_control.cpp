@@ -121,6 +121,14 @@ double IdleTare::idle_W(double rpm) const noexcept {
   return c_[0] + c_[1] * n + c_[2] * n * n;
 }
 
+double IdleTare::nearest_bin_rpm(double rpm) const noexcept {
+  const double n = std::abs(rpm);
+  double best = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t k = 0; k < kBins; ++k)
+    if (weight_s_[k] != 0.0 && !(std::abs(rpm_[k] - n) >= std::abs(best - n))) best = rpm_[k];
+  return best;
+}
+
 bool IdleTare::covers(double rpm) const noexcept {
   const double n = std::abs(rpm);
   const double near = std::max(0.1 * n, p_.rpm_max / static_cast<double>(kBins));

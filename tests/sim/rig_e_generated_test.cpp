@@ -20,9 +20,14 @@
 //     spindle's power at its limit, 160-300 m/min): 80.5 %, the worst 21.2 % over; with the
 //     runout capped at an earlier pass's surface, the integral counted in revolutions above
 //     600 rpm, the program's speed in air and the per-revolution mean over one revolution
-//     exactly: 81 %, the worst 12.6 % (the 160 others 99.4 %, 6.8 %). The test holds 99 % within
-//     5 % and every part within 7.5 %, so a regression shows (it fails today on the forged
-//     parts' hard spots), and prints the distribution and the worst parts.
+//     exactly: 81 %, the worst 12.6 % (the 160 others 99.4 %, 6.8 %). With a braking drive's
+//     friction taken off on the shaft's side, the integral driven by the specific force's trend
+//     (a hardness ramp) and the metric summed every simulation step (Rig::load_rev: seed 1146's
+//     6.8 % was 5.6 % on its 20 ms record) and the idle tare's prior law through its nearest bin
+//     (a one-bin constant read a braking cut 6 % low): 94.5 %, the worst 6.4 % (forged: 30 of 40
+//     within, median 4.6 %; the 160 others 99.4 %, 5.6 %). The test holds 99 % within 5 % and
+//     every part within 7.5 % on the 160, so a regression shows, and prints the distribution and
+//     the worst parts of both kinds.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -155,9 +160,9 @@ TEST(RigEGenerated, EveryGeneratedPartIsFinishedWithNoFalseAlarm) {
   }
   // The acceptance (≥ 99 % of parts within 5 % of the limit, the worst ≤ 7.5 %) holds on the
   // round-3 kinds of part. On issue 47's forged shafts on power (every fifth seed) it does NOT
-  // hold yet — 3 of 40 within 5 %, the worst 12.6 % over (the hard spot at 250–300 m/min; issue 47
-  // stays open on it): their statistics are printed, not gated, so that the gate is not widened
-  // to pass. When the controller holds them, gate them with the others.
+  // hold yet — 30 of 40 within 5 %, the worst 6.4 % over (hardness ramps entered before their
+  // trend shows; issue 47 stays open on it): their statistics are printed, not gated, so that
+  // the gate is not widened to pass. When the controller holds them, gate them with the others.
   const Stats other = stats(out, false), forged = stats(out, true);
   print("round-3 parts", other);
   print("forged shafts on power (issue 47, not yet gated)", forged);

@@ -138,6 +138,11 @@ class AdaptiveFeedController {
     // stock model: what a known rise in the depth ahead takes at the limit) [mm/rev]; ≤ 0 or
     // not finite: none. Never below s_min; in a cut the regulator restarts from it.
     double feed_ceiling_mm_per_rev = 0.0;
+    // A drift of the feed the limit takes, known from outside (AdaptiveMachine: the specific
+    // force rising, a hard spot coming into the chip) [mm/rev per s]; added to the regulator's
+    // integral in a cut, so it follows the drift without the error a ramp otherwise takes.
+    // 0 or not finite: none.
+    double feed_drift_mm_per_rev_per_s = 0.0;
     // The depth of cut when it is known (AdaptiveMachine's stock model: the last revolution's
     // chip) [mm]; > 0: the depth-corrected law takes it instead of estimating t̂ from the force,
     // which reads a harder spot as a deeper cut. ≤ 0 or not finite: estimated as before.

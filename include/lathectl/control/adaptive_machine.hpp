@@ -278,10 +278,12 @@ class AdaptiveMachine {
                        bool& sensing) noexcept;
   void control(const Input& in, Output& out, double dt_measured) noexcept;
   void acceleration_power(double rpm, double dt, double nominal_s) noexcept;
+  [[nodiscard]] double shaft_power(double drawn, double rpm) const noexcept;
   [[nodiscard]] double model_load(double depth_mm, double feed_mm_per_rev,
                                   double speed_m_per_min) const noexcept;
   double feed_forward(const Input& in, double rpm, bool feed_block, Output& out) noexcept;
   void learn_specific_force(const Input& in, double rpm, double dt, const Output& out) noexcept;
+  [[nodiscard]] double hardness_drift(const Output& out) const noexcept;
   // update()'s phases, in the order they run (adaptive_machine.cpp says what each decides).
   bool period_fits(const Input& in, Output& out) noexcept;
   void read_motion(const Input& in, const Output& out) noexcept;
@@ -354,6 +356,10 @@ class AdaptiveMachine {
   cutting::CuttingModel model_;              // the handbook's law (feed-forward)
   double kappa_ = 1.0;
   bool kappa_learned_ = false;
+  double ln_kappa_lag_ = 0.0;  // ln κ lagged by one revolution (its trend)
+  double kappa_rate_ = 0.0;    // d ln κ/dt [1/s] while kappa_trend_
+  bool kappa_trend_ = false;
+  double feed_exponent_ = 0.0;  // y of the law's M ∝ s^y
   // The path's direction: the last 2 µm of travel (a tool standing still keeps it).
   double anchor_x_ = 0.0, anchor_z_ = 0.0, dir_x_ = 0.0, dir_z_ = 0.0;
   bool has_anchor_ = false, has_dir_ = false;

@@ -96,6 +96,9 @@ class PiRegulator {
   double update(double error, double dt, Reason& limited) noexcept;
   // Bumpless start: set the integrator so the next output equals `output` at zero error.
   void preset(double output) noexcept;
+  // Moves the integrator by `delta` within the output range (a known drift of the output the
+  // error need not build: a feed-forward into the integral).
+  void shift(double delta) noexcept;
   void set_limits(double out_min, double out_max) noexcept;
   [[nodiscard]] double output() const noexcept { return out_; }
 

@@ -57,6 +57,9 @@ class IdleTare {
   // inside the span of three or more learned bins. Elsewhere the fit would extrapolate.
   [[nodiscard]] bool covers(double rpm) const noexcept;
   [[nodiscard]] std::size_t bins_learned() const noexcept { return populated_; }
+  // The speed of the learned bin nearest rpm (NaN before any): where a fit of fewer than three
+  // bins (a constant or a line) is right.
+  [[nodiscard]] double nearest_bin_rpm(double rpm) const noexcept;
   // The fitted law's coefficients p0 [W], p1 [W/rpm], p2 [W/rpm²].
   [[nodiscard]] std::array<double, 3> coefficients() const noexcept { return c_; }
 

@@ -6,7 +6,7 @@
 namespace lathectl::systems::e_adaptive {
 
 MetricsAccumulator::MetricsAccumulator(const Rig& rig, double settle_s)
-    : settle_s_(settle_s), onsets_(rig.config().faults) {
+    : settle_s_(settle_s), rig_(rig), onsets_(rig.config().faults) {
   const auto& rec = rig.recorder();
   const auto& cfg = rig.config();
   t_ = rec.index("time_s");
@@ -43,11 +43,11 @@ void MetricsAccumulator::row(std::span<const double> v) noexcept {
   if (i == 0) t0_ = t;
   if (i == 1) {
     dt_rec_ = t - t0_;
-    f_rev_.configure(dt_rec_);
     if (first_row_code_pending_) reason_entry(prev_code_).total_s += dt_rec_;
   }
   const bool cutting = v[depth_] > 0.0 && v[s_] > 0.0;
-  const double f_rev = f_rev_.push(t, v[f_], v[rpm_], cutting);
+  const control::PerRevolutionPeak& rev = rig_.load_rev();  // up to this row's step
+  const double f_rev = rev.value();
   onsets_.push(t, v[alarm_], v[reason_]);
 
   // Decisions by reason code.
@@ -72,7 +72,7 @@ void MetricsAccumulator::row(std::span<const double> v) noexcept {
   s_sum_ += v[s_];
   v_sum_ += v[v_];
   const bool regulating = v[s_cmd_] < ceiling_ * 0.995 && v[s_cmd_] > feed_min_ * 1.005;
-  if (v[in_cut_] > 0.5 && regulating && f_rev_.since_contact_s(t) >= settle_s_ && v[hold_] < 0.5) {
+  if (v[in_cut_] > 0.5 && regulating && rev.since_contact_s(t) >= settle_s_ && v[hold_] < 0.5) {
     ++steady_n_;
     steady_sum_ += f_rev;
     if (std::abs(f_rev - limit_) <= 0.05 * limit_) ++within_n_;
@@ -104,7 +104,7 @@ Metrics MetricsAccumulator::result(const Rig& rig) const {
   m.force_peak = m_.force_peak;
   m.force_Pz_peak_N = m_.force_Pz_peak_N;
   m.spindle_power_peak_kW = m_.spindle_power_peak_kW;
-  m.force_peak_rev_mean = f_rev_.peak();
+  m.force_peak_rev_mean = rig.load_rev().peak();
   const double limit = m.load_limit;
   m.force_overshoot_pct = 100.0 * (m.force_peak_rev_mean - limit) / limit;
   if (steady_n_ > 0) {

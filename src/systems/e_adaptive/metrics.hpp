@@ -3,7 +3,8 @@
 //   force (per revolution): the true force parameter averaged over one spindle revolution — a
 //     feed drive cannot act within a revolution (the chip is the travel over the last one), so
 //     runout of an eccentric blank swings the instantaneous force around this mean; the raw
-//     peak is reported too
+//     peak is reported too. The mean is the rig's, of every simulation step (Rig::load_rev),
+//     read at each recorded row
 //   steady cutting: in cut, the feed regulating between its limits, ≥ settle_s after contact
 //   force_within_5pct_fraction: share of steady-cutting time with |F_rev − limit| ≤ 5 %
 //   force_overshoot_pct: largest (F_rev − limit)/limit anywhere in cut
@@ -73,7 +74,7 @@ class MetricsAccumulator final : public sim::RowSink {
   std::size_t t_, f_, pz_, rpm_, in_cut_, depth_, s_, s_cmd_, v_, power_, alarm_, hold_, reason_;
   double settle_s_, limit_, ceiling_, feed_min_;
   Metrics m_;
-  control::PerRevolutionPeak f_rev_;  // the per-revolution mean and its peak over the cuts
+  const Rig& rig_;  // its per-revolution mean and peak over the cuts (Rig::load_rev)
   sim::AlarmOnsets onsets_;
   std::size_t n_ = 0;
   double t0_ = 0.0, dt_rec_ = 0.0;

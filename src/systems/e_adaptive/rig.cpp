@@ -144,6 +144,8 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   faults_.reset(0.0);
   acc_param_ = acc_pz_ = acc_py_ = acc_depth_ = acc_power_ = 0.0;
   acc_n_ = 0;
+  load_rev_ = {};
+  load_rev_.configure(dt, std::max(cfg.spindle.min_rpm, 1.0));
   // Streamed: rows go to the sinks the study attaches (metrics, channels.csv), not to memory;
   // the disk-space check of channels.csv bounds the duration instead of a row limit.
   rec_ = sim::Recorder::streamed(rig_channels());
@@ -361,6 +363,8 @@ inline void Rig::record_step(double z_mm) noexcept {
   const double v = pout_.speed_m_per_min;
   const double strength = pout_.strength_factor;
   acc_param_ += pout_.force_parameter;
+  (void)load_rev_.push(t_, pout_.force_parameter, spindle_.rpm(),
+                       pout_.depth_mm > 0.0 && pout_.feed_per_rev_mm > 0.0);
   acc_pz_ += pout_.Pz_N;
   acc_py_ += pout_.Py_N;
   acc_depth_ += pout_.depth_mm;
