@@ -67,7 +67,8 @@ int run(Args& a) {
   // The machine's tool table: each tool's orientation Q (where its programmed point is on the
   // nose, as LinuxCNC moves it) and, with a tool file, its nose (D) and angles.
   auto table = optimize::read_tool_table(
-      io::read_input_file(a.opt.tool_table, "a LinuxCNC tool table", io::kMaxTomlBytes),
+      io::read_input_file(a.opt.tool_table, "a LinuxCNC tool table (--tool-table)",
+                          io::kMaxTomlBytes),
       a.opt.tool_table);
   for (auto& t : table) t.diameter_mm *= machine.unit_mm;  // an inch machine's table: inches
   if (!a.tool_file.empty()) {
