@@ -39,6 +39,9 @@ class HandCutE {
       throw std::invalid_argument("hand loop E: handbook forces and no faults only");
     cfg_ = cfg;
     rn_ = cfg.cutting.nose_radius_mm;
+    const cutting::NoseOffset q = cutting::nose_centre_offset(cfg.tool_orientation);
+    ox_ = static_cast<double>(q.x - 1) * rn_;  // the plant's: lowest x less the programmed x
+    oz_ = static_cast<double>(q.z) * rn_;      // the centre's machine z less the programmed z
     const auto& blank = cfg.stock.blank_diameter_mm;
     cutting::Stock stock;
     stock.configure_blank(cfg.stock);
@@ -62,8 +65,11 @@ class HandCutE {
     kmp_ = std::pow(m.strength / m.strength_base, m.kmp_exponent);
   }
 
-  void step(double x, double z_machine, double rpm_signed, double dt, Out& out) noexcept {
-    const double z = 0.0 - z_machine;
+  // (x, z_machine): the programmed point, the tool tip of the scenario's orientation; the nose
+  // cuts at its lowest point under its centre, as the plant's.
+  void step(double x_prog, double z_machine, double rpm_signed, double dt, Out& out) noexcept {
+    const double x = x_prog + ox_;
+    const double z = (0.0 - z_machine) - oz_;
     const double rpm = std::abs(rpm_signed);
     const double a0 = theta_ * 360.0;
     theta_ += rpm / 60.0 * dt;
@@ -266,6 +272,7 @@ class HandCutE {
   std::vector<double> r_, low_, edge_;
   cutting::Disturbances dist_;
   sensors::LaggedNoisySensor sensor_;
+  double ox_ = 0.0, oz_ = 0.0;
   bool nose_valid_ = false;
   double nose_x_ = 0.0, nose_z_ = 0.0;
   std::size_t nose_i0_ = 0, nose_i1_ = 0;

@@ -64,17 +64,21 @@ int run(Args& a) {
   if (a.opt.tool_table.empty()) a.opt.tool_table = optimize::machine_tool_table(a.opt.ini, machine);
   if (machine.max_acceleration_mm_s2) a.opt.machine.accel_mm_s2 = *machine.max_acceleration_mm_s2;
   if (machine.max_velocity_mm_s) a.opt.machine.vmax_mm_s = *machine.max_velocity_mm_s;
+  // The machine's tool table: each tool's orientation Q (where its programmed point is on the
+  // nose, as LinuxCNC moves it) and, with a tool file, its nose (D) and angles.
+  auto table = optimize::read_tool_table(
+      io::read_input_file(a.opt.tool_table, "a LinuxCNC tool table (--tool-table)",
+                          io::kMaxTomlBytes),
+      a.opt.tool_table);
+  for (auto& t : table) t.diameter_mm *= machine.unit_mm;  // an inch machine's table: inches
   if (!a.tool_file.empty()) {
     // The tool file says what LinuxCNC's tool table cannot (kind, insert width, feed range);
     // the table gives each tool's nose (D) and angles, and the two must agree.
     a.opt.tool_specs = optimize::read_tool_file(
         io::read_input_file(a.tool_file, "a tool file", io::kMaxTomlBytes), a.tool_file);
-    auto table = optimize::read_tool_table(
-        io::read_input_file(a.opt.tool_table, "a LinuxCNC tool table", io::kMaxTomlBytes),
-        a.opt.tool_table);
-    for (auto& t : table) t.diameter_mm *= machine.unit_mm;  // an inch machine's table: inches
     optimize::apply_tool_table(a.opt.tool_specs, table, a.tool_file, a.opt.tool_table);
   }
+  a.opt.table_tools = std::move(table);
   a.opt.rs274 = a.rs274;
   a.opt.label = a.program;
   const auto prog = optimize::read_program(a.program, a.opt);

@@ -22,6 +22,9 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   const double r_nose = p.nose_radius_mm < 0.0 ? cfg.cutting.nose_radius_mm : p.nose_radius_mm;
   if (!(r_nose > 0.0) || r_nose > 50.0)
     throw std::invalid_argument("lathe plant: nose radius must be in (0, 50] mm");
+  const int q = p.orientation < 0 ? cfg.tool_orientation : p.orientation;
+  if (q < 0 || q > 9)
+    throw std::invalid_argument("lathe plant: the tool orientation is 0–9 (LinuxCNC's Q)");
   const double length = blank.back().at_mm - blank.front().at_mm;
   const double cells = length / p.cell_mm;
   if (cells > 5e7)
@@ -37,6 +40,7 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   cfg_ = cfg;
   p_ = p;
   r_nose_ = r_nose;
+  set_orientation(q);
   z0_ = blank.front().at_mm;
   const auto n = static_cast<std::size_t>(std::ceil(cells)) + 1;
   r_.assign(n, 0.0);
@@ -68,6 +72,13 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   engaged_ = engaged_area_ = engaged_travel_ = 0.0;
 }
 
+void LathePlant::set_orientation(int q) noexcept {
+  q_ = q >= 0 && q <= 9 ? q : 0;
+  const NoseOffset o = nose_centre_offset(q_);
+  ox_ = static_cast<double>(o.x - 1) * r_nose_;
+  oz_ = static_cast<double>(o.z) * r_nose_;
+}
+
 double LathePlant::radius_mm(double z) const noexcept {
   const double u = (z - z0_) / p_.cell_mm;
   if (u < 0.0 || u > static_cast<double>(r_.size() - 1)) return 0.0;
@@ -85,15 +96,16 @@ double LathePlant::max_radius_mm(double z_lo, double z_hi) const noexcept {
   return r;
 }
 
-double LathePlant::depth_ahead_mm(double x, double z_machine, double dx, double dz,
+double LathePlant::depth_ahead_mm(double x_prog, double z_machine, double dx, double dz,
                                   double distance) const noexcept {
   const double len = std::hypot(dx, dz);
-  if (!std::isfinite(x) || !std::isfinite(z_machine) || !(len > 0.0) || !std::isfinite(len) ||
+  if (!std::isfinite(x_prog) || !std::isfinite(z_machine) || !(len > 0.0) || !std::isfinite(len) ||
       !(distance >= 0.0) || r_.empty())
     return 0.0;
   const double ux = dx / len;
   const double uz_stock = -dz / len;  // the stock runs toward −z
-  const double z = stock_z_mm(z_machine);
+  const double x = nose_low_x_mm(x_prog);  // the nose's lowest point, as the plant cuts
+  const double z = nose_centre_stock_z_mm(z_machine);
   const double x_end = x + ux * distance;
   const double z_end = z + uz_stock * distance;
   if (std::abs(uz_stock) >= std::abs(ux)) {
@@ -258,7 +270,8 @@ void LathePlant::follow(const LathePlant* leader) {
   if (leader == nullptr) return;
   const auto& l = *leader;
   if (!(l.r_ == r_ && l.r_blank_low_ == r_blank_low_ && l.z0_ == z0_ &&
-        l.p_.cell_mm == p_.cell_mm && l.r_nose_ == r_nose_ && l.removed_mm3_ == removed_mm3_ &&
+        l.p_.cell_mm == p_.cell_mm && l.r_nose_ == r_nose_ && l.q_ == q_ &&
+        l.removed_mm3_ == removed_mm3_ &&
         l.last_nose_.valid == last_nose_.valid && l.last_nose_.x == last_nose_.x &&
         l.last_nose_.z == last_nose_.z && l.last_nose_.i0 == last_nose_.i0 &&
         l.last_nose_.i1 == last_nose_.i1))
@@ -353,9 +366,11 @@ void LathePlant::cut(const Input& in, double dt, Output& out) noexcept {
   chip(out);
 }
 
+// The plant cuts at the nose's lowest point (x) under its centre (stock z): the programmed
+// point moved by the orientation's offset (nose_low_x_mm, nose_centre_stock_z_mm).
 void LathePlant::cut_geometry(const Input& in, double dt, Output& out) noexcept {
-  const double x = in.x_mm;
-  const double z = stock_z_mm(in.z_mm);
+  const double x = nose_low_x_mm(in.x_mm);
+  const double z = nose_centre_stock_z_mm(in.z_mm);
   const double rpm = std::abs(in.rpm);
 
   // Spindle angle of this step, in bins: [a0, a1).
@@ -414,8 +429,8 @@ void LathePlant::chip(Output& out) noexcept {
 
 void LathePlant::step(const Input& in, double dt, Output& out) noexcept {
   cut(in, dt, out);
-  const double x = in.x_mm;
-  const double z = stock_z_mm(in.z_mm);
+  const double x = nose_low_x_mm(in.x_mm);
+  const double z = nose_centre_stock_z_mm(in.z_mm);
   const double rpm = std::abs(in.rpm);
   const double s = out.feed_per_rev_mm;
   double t = out.chip_depth_mm;

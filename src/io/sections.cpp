@@ -27,7 +27,7 @@ void read_run(TableReader& root, RunSettings& run) {
 
 void read_material_tool(TableReader& root, const MaterialLibrary& lib,
                         cutting::CuttingModel::Params& cutting, cutting::DisturbanceParams* wear,
-                        bool kienzle_only) {
+                        bool kienzle_only, int* orientation) {
   auto mat = root.table("material", true);
   root.document("material", "the work material, from the library data/materials.toml");
   const std::string name = mat->string("name");
@@ -63,6 +63,14 @@ void read_material_tool(TableReader& root, const MaterialLibrary& lib,
                    "to 95°, the common 93° and 95° turning tools: past 90° the split is the "
                    "straight edge's geometry and the coefficients, fitted at κ ≤ 90°, are "
                    "extrapolated)");
+    if (orientation) {
+      *orientation = static_cast<int>(tool->integer("orientation", 0, 9, *orientation));
+      tool->document("orientation",
+                     "LinuxCNC's lathe tool orientation Q (tool table Q): the programmed point is "
+                     "this imaginary tool tip of the nose (2: turning and facing toward the chuck, "
+                     "the tip's x the nose's lowest point, its z the nose's leading point; 0 or "
+                     "9: the nose's centre)");
+    }
     if (wear) {
       if (auto w = tool->table("wear")) {
         wear->wear_VB0_mm = w->number("initial_VB_mm", Range::closed(0, 2), 0.0);

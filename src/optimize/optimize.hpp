@@ -42,6 +42,11 @@
 
 namespace lathectl::optimize {
 
+struct Options;
+// The orientation (LinuxCNC's Q) tool `number` cuts with: the tool table's Q (1–9), else (not in
+// the table, or Q0: not given) the scenario's [tool] orientation.
+int tool_orientation(const Options& opt, const systems::e_adaptive::Settings& e, int number);
+
 struct Options {
   double spindle_rpm = 0.0;      // > 0: "M3 S<rpm>" before the program (as linuxcnc-sim)
   double z_origin_mm = 0.0;      // machine z of the stock's z = 0 (as linuxcnc-sim)
@@ -68,6 +73,9 @@ struct Options {
   std::vector<ToolSpec> tool_specs;
   std::string ini;         // the machine's INI (--ini; default the simulated lathe's)
   std::string tool_table;  // LinuxCNC's tool table (empty: the INI's [EMCIO]TOOL_TABLE)
+  // Its tools as read (read_tool_table): each one's orientation Q places the programmed point on
+  // the nose (tool_orientation); empty: every tool has the scenario's [tool] orientation.
+  std::vector<TableTool> table_tools;
   double start_x_mm = 60.0;      // where the tool stands before the program (the sim's home)
   double start_z_mm = 60.0;
   Machine machine;      // the planner's limits for the blends (blend.hpp)

@@ -48,6 +48,12 @@ control::AdaptiveMachine::Params adaptive_machine_params(const systems::e_adapti
   return systems::e_adaptive::machine_params(e.rig, host);
 }
 
+int tool_orientation(const Options& opt, const systems::e_adaptive::Settings& e, int number) {
+  for (const auto& t : opt.table_tools)
+    if (t.number == number && t.orientation > 0) return t.orientation;
+  return e.rig.tool_orientation;
+}
+
 namespace {
 
 // Reserves the samples: the moves' times at their start speeds, plus a margin. Refuses, before
@@ -157,6 +163,7 @@ struct Walker {
   Prediction& pr;
   double path = 0.0;
   double leaving_mm = 0.0;  // what is left of a retract's way out of the cut before it
+  int q_tool = -1;  // the tool whose orientation the plant has (set_orientation)
 
   // The velocity of a feed move at the piece's F: a thread (G33, G33.1, G76) advances its pitch
   // per revolution whatever the modal F (LinuxCNC synchronises the move to the spindle:
@@ -269,6 +276,11 @@ struct Walker {
     const double du_len = 1.0 / len;
     const ToolSpec* spec = find_tool(opt.tool_specs, m.tool);
     const bool plunge = spec && spec->plunge() && !rapid_move && !m.synced;
+    // The programmed point is this tool's tip (its orientation Q): the nose's centre follows it.
+    if (m.tool != q_tool) {
+      q_tool = m.tool;
+      plant.set_orientation(tool_orientation(opt, e, m.tool));
+    }
     while (u < u_to - 1e-12) {
       const auto [x, z] = point_at(m, u);
       const double rpm = spindle_rpm(m, x);

@@ -154,6 +154,17 @@ if [ $rc -ne 0 ] && grep -q "user_part_c45.toml:.*stock.passes.*lathectl run cut
 else
   echo "FAIL lathectl run without passes: exit $rc: $(cat "$work/no_passes_run.err")"; fail=1
 fi
+# Issue 47: a shaft end faced 1 mm at Z0 (the blank's face at Z1), past the centre, then G0 Z2.
+# The programmed point is the tool tip (T1: Q2), so the face is cut at Z0 and the rapid leaves
+# it; with the nose's lowest point programmed (before) the rapid ran through a ring the facing
+# left at Z0.8-1: "a rapid drives the tool through the blank (0.004 s in material)".
+if "$bin" optimize "$up/facing.ngc" "$up/user_part_c45.toml" --z-origin-mm 1 --out "$work/facing" \
+     >"$work/facing.out" 2>&1 && grep -q 'predicted cycle' "$work/facing.out" &&
+   grep -Eq '"predicted_rapid_in_material_s": *0(\.0)?,' "$work/facing/summary.json"; then
+  echo "ok   the user's facing program: $(head -n 1 "$work/facing.out")"
+else
+  echo "FAIL the user's facing program: $(cat "$work/facing.out")"; fail=1
+fi
 # LinuxCNC's tool table and the tool file must agree: T2's nose in the table is D0.8 (r 0.4).
 printf '[[tool]]\nnumber = 2\nkind = "grooving"\ninsert_width_mm = 3.0\nnose_radius_mm = 0.2\n' >"$work/tools_r02.toml"
 expect_bad tool_table_disagrees "$up/user_part.ngc" "$up/user_part_c45.toml" \

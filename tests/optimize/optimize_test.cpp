@@ -201,6 +201,38 @@ TEST(Predict, StraightPassMatchesTheHandbookForce) {
   EXPECT_NEAR(t_feed, 14.0 / (f * 1194.0 / 60.0), 1e-9);
 }
 
+// A shoulder where the program puts it (issue 47): the pass at X18 to Z-12 then faces the shoulder
+// up to X21 at Z-12. The programmed point is the tool tip of its orientation: with the scenario's
+// (Q2) the bar stays whole from Z-12 on toward the chuck and the pass's diameter is X18; a tool
+// table's Q6 for tool 1 (the nose's lowest point programmed) cuts the face one nose radius
+// deeper, at Z-12.8, as the plant did before.
+TEST(Predict, AShoulderIsWhereTheToolTipOfItsOrientationPutsIt) {
+  const auto& e = step_allowance();
+  const double r = e.rig.cutting.nose_radius_mm;
+  io::CanonProgram prog = rapid_and_pass(25.0, 5.0);
+  CanonMove m = prog.moves.back();
+  m.x0 = 18.0, m.z0 = -12.0, m.x1 = 21.0, m.z1 = -12.0;
+  prog.moves.push_back(m);
+  for (auto& mv : prog.moves) mv.tool = 1;
+  auto radius_at = [](const Prediction& pr, double z) {  // the part's profile point nearest z
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < pr.part_z.size(); ++i)
+      if (std::abs(pr.part_z[i] - z) < std::abs(pr.part_z[k] - z)) k = i;
+    return pr.part_r[k];
+  };
+  Options opt;
+  opt.blends = false;  // the programmed corner, not G64's blend arc across it
+  const auto tip = predict(prog, programmed(prog), e, opt);
+  const double rz = 0.3 * 0.3 / (8.0 * r);  // the pass's feed marks
+  for (double z = -11.2; z < -2.0; z += 0.5) EXPECT_NEAR(radius_at(tip, z), 18.0, rz) << z;
+  for (double z = -12.05; z > -14.9; z -= 0.25) EXPECT_EQ(radius_at(tip, z), 20.0) << z;
+  opt.table_tools = {TableTool{.number = 1, .orientation = 6}};
+  const auto low = predict(prog, programmed(prog), e, opt);
+  EXPECT_NEAR(radius_at(low, -12.0), 18.0, rz);  // the nose's centre, where the tip's was
+  EXPECT_LT(radius_at(low, -12.5), 19.0);           // the face r deeper
+  EXPECT_EQ(radius_at(low, -12.0 - r - 0.05), 20.0);
+}
+
 // With only the force binding, the handbook law inverts: s = (L / (10·Cp·t^x·V^n·Kmp))^(1/y).
 TEST(Plan, LargestFeedInvertsTheForceLaw) {
   const auto& e = step_allowance();

@@ -117,9 +117,12 @@ inline GeneratedProgram generate_program(unsigned seed) {
     add("G0 " + X(R + 2.0) + " Z2");
   } else {
     // Under cutter compensation in some: G42 on the lead-in, the tool table's nose (T1: D0.8)
-    // to the right of the path, G40 on the way out.
+    // to the right of the path, G40 on the way out. The lead-in stands 1 mm out on the chamfer's
+    // line: rs274 puts the tip of the compensated nose (T1's Q2) 0.61 mm beyond the lead-in
+    // point along z, so from 0.5 mm out it entered the face at rapid (issue 47: the plant now
+    // cuts the face where the program puts it, not a nose radius deeper).
     const std::string on = g.compensation ? "G42 " : "", off = g.compensation ? "G40 " : "";
-    add(on + "G0 " + X(r_fin - c - 0.5) + " Z" + num(-face + 0.5));
+    add(on + "G0 " + X(r_fin - c - 1.0) + " Z" + num(-face + 1.0));
     g.finishing_lines.push_back(add("G1 " + X(r_fin) + " Z" + num(-face - c) + " " + F(ff)));
     g.finishing_lines.push_back(add("G1 Z" + num(-Ls)));
     g.finishing_lines.push_back(add("G2 " + X(r_fin + q) + " Z" + num(-Ls - q) + " R" + num(q)));

@@ -38,9 +38,11 @@ TEST(FeedForward, DepthAheadSeesTheCollarAndAPlungesWidth) {
   p.configure(config(), {});
   const double r_n = p.nose_radius_mm();
   // Turning toward the chuck from stock z = 5: the bar's 2 mm until the window reaches the
-  // collar (its face from 15 to 15.5 mm), then its 4 mm.
+  // collar (its face from 15 to 15.5 mm), then its 4 mm. The programmed point is the tool tip
+  // (Q2): the nose's leading point, so the window ends where the path does.
   EXPECT_NEAR(p.depth_ahead_mm(18.0, -5.0, 0.0, -1.0, 9.0), 2.0, 1e-9);
-  EXPECT_NEAR(p.depth_ahead_mm(18.0, -5.0, 0.0, -1.0, 15.5 - 5.0 - r_n + 0.05), 4.0, 1e-9);
+  EXPECT_NEAR(p.depth_ahead_mm(18.0, -5.0, 0.0, -1.0, 15.5 - 5.0 - 0.05), 3.8, 0.05);  // on its face
+  EXPECT_NEAR(p.depth_ahead_mm(18.0, -5.0, 0.0, -1.0, 15.5 - 5.0 + 0.05), 4.0, 1e-9);
   // Toward the face, away from the collar: the bar only.
   EXPECT_NEAR(p.depth_ahead_mm(18.0, -5.0, 0.0, 1.0, 10.0), 2.0, 1e-9);
   // A taper going down 1 in 10 over 10 mm ends 1 mm lower: 3 mm below the bar.

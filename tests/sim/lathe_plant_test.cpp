@@ -113,7 +113,7 @@ TEST(LathePlant, FeedPerRevolutionIsExactAtHighSpeed) {
 TEST(LathePlant, FirstRevolutionBuildsTheChipUp) {
   const auto c = config();
   LathePlant p;
-  p.configure(c, {});
+  p.configure(c, {.orientation = 6});  // the nose's lowest point under its centre programmed
   // Half a revolution after the nose meets the face: about half the chip.
   (void)move(p, 18.0, 2.0, 18.0, 0.8, 600.0, 0.3);  // nose (r 0.8) touches the face at z = 0.8
   const auto half = move(p, 18.0, 0.8, 18.0, 0.8 - 0.15, 600.0, 0.3);
@@ -125,7 +125,7 @@ TEST(LathePlant, FirstRevolutionBuildsTheChipUp) {
 TEST(LathePlant, FacingSwapsFeedAndDepth) {
   const auto c = config();
   LathePlant p;
-  p.configure(c, {});
+  p.configure(c, {.orientation = 6});  // Q6: the programmed point is the nose's lowest point
   // Face 1 mm off the end of the bar, feeding toward the axis at 0.2 mm/rev.
   (void)move(p, 25.0, 5.0, 25.0, -1.0 + 0.8, 1000.0, 1.0);  // position beside the face, in air
   const auto out = move(p, 25.0, -0.2, 10.0, -0.2, 1000.0, 0.2);
@@ -191,15 +191,15 @@ TEST(LathePlant, ASecondPassCutsOnlyWhatTheFirstLeft) {
 // Faces and shoulders are part of the radius profile R(z): what a facing cut removed stays
 // removed. The user's facing (0.5 mm off the end, down past the axis to x = −0.5) leaves, over
 // the nose's reach, R(z') = max(0, x + r − √(r² − (z' − z)²)) (the nose's circle, its lowest
-// point at the controlled point, as the plant's FacingSwapsFeedAndDepth); the retract along the
-// axis (machine +z, out of the part) removes nothing; and the next cut over the faced end meets
-// material first where the nose's circle reaches the untouched bar at z + r.
+// point at the controlled point: orientation Q6, as FacingSwapsFeedAndDepth); the retract along
+// the axis (machine +z, out of the part) removes nothing; and the next cut over the faced end
+// meets material first where the nose's circle reaches the untouched bar at z + r.
 TEST(LathePlant, AFacedEndStaysFacedForTheMovesAfterIt) {
   const auto c = config();
   const double r = c.cutting.nose_radius_mm;
   const double R = 0.5 * c.stock.blank_diameter_mm.front().value;
   LathePlant p;
-  p.configure(c, {});
+  p.configure(c, {.orientation = 6});
   const double zf = -0.5;  // machine z of the facing cut: stock z 0.5
   (void)move(p, R + 2.0, 5.0, R + 2.0, zf, 1000.0, 5.0);
   (void)move(p, R + 2.0, zf, -0.5, zf, 1000.0, 0.15);
@@ -228,6 +228,47 @@ TEST(LathePlant, AFacedEndStaysFacedForTheMovesAfterIt) {
     }
   }
   EXPECT_NEAR(first, zf, 0.02);
+}
+
+// The programmed point is the imaginary tool tip of LinuxCNC's orientation Q (rs274ngc's
+// latheorigin_x/z): a facing cut at machine z_f down to x_f removes the band of the nose's
+// circle centred at z_f + q_z·r (stock z_origin − that), and leaves the band's middle at the
+// nose's lowest point, x_f + (q_x − 1)·r. Q2, the scenarios' default: the diameter is x_f, the
+// face the nose's leading point at z_f itself (the part toward −z is untouched from z_f on).
+TEST(LathePlant, TheProgrammedPointIsTheToolTipOfTheOrientation) {
+  auto c = config();
+  const double r = c.cutting.nose_radius_mm;
+  const double R = 0.5 * c.stock.blank_diameter_mm.front().value;
+  EXPECT_EQ(c.tool_orientation, 2);
+  for (int q = 0; q <= 9; ++q) {
+    c.tool_orientation = q;
+    LathePlant p;
+    p.configure(c, {.z_origin_mm = 1.0});
+    EXPECT_EQ(p.orientation(), q);
+    const cutting::NoseOffset o = cutting::nose_centre_offset(q);
+    const double zf = -2.0, xf = R - 3.0;  // stock z 3, 3 mm below the bar's radius
+    (void)move(p, R + 2.0, zf, xf, zf, 1000.0, 0.2);
+    const double zc = 1.0 - (zf + o.z * r);  // the nose centre's stock z
+    const double low = xf + (o.x - 1) * r;
+    EXPECT_NEAR(p.radius_mm(zc), low, 1e-4) << "Q" << q;  // the cell nearest the centre
+    EXPECT_NEAR(p.radius_mm(zc + r + 0.02), R, 1e-9) << "Q" << q;
+    EXPECT_NEAR(p.radius_mm(zc - r - 0.02), R, 1e-9) << "Q" << q;
+    EXPECT_NEAR(p.nose_centre_stock_z_mm(zf), zc, 1e-12);
+    EXPECT_NEAR(p.nose_low_x_mm(xf), low, 1e-12);
+  }
+  c.tool_orientation = 2;  // the face: at machine z_f − 0.01 the bar, at z_f + 0.01 cut
+  LathePlant p;
+  p.configure(c, {.z_origin_mm = 1.0});
+  (void)move(p, R + 2.0, 0.0, -0.2, 0.0, 1000.0, 0.2);
+  EXPECT_NEAR(p.radius_mm(p.stock_z_mm(-0.01)), R, 1e-9);
+  EXPECT_LE(p.radius_mm(p.stock_z_mm(0.01)), -0.2 + r);  // under the nose's leading arc
+  EXPECT_EQ(p.radius_mm(p.stock_z_mm(0.5)), 0.0);
+  c.tool_orientation = 10;
+  EXPECT_THROW(p.configure(c, {}), std::invalid_argument);
+  // A change of tool (set_orientation) moves the nose, not the workpiece.
+  p.set_orientation(9);
+  EXPECT_EQ(p.orientation(), 9);
+  EXPECT_NEAR(p.nose_low_x_mm(5.0), 5.0 - r, 1e-12);
 }
 
 TEST(LathePlant, RefusesABlankWithoutExtentAndBadGrids) {

@@ -6,8 +6,14 @@
 //
 //   workpiece: radius R(z) on a grid of `cell_mm` along the part, from the scenario's blank
 //              (z from its first to its last point; no material outside)
-//   tool:      a round nose of radius r_n whose lowest point is the controlled point (x, z):
-//              edge(z') = x + r_n − sqrt(r_n² − (z' − z)²),  |z' − z| ≤ r_n
+//   tool:      a round nose of radius r_n; the controlled (programmed) point (x, z) is the
+//              imaginary tool tip of LinuxCNC's lathe tool orientation Q (tool table Q): the
+//              nose's centre lies at (x + q_x·r_n, z + q_z·r_n), machine coordinates, with
+//              (q_x, q_z) = nose_centre_offset(Q) (Q 0 or 9: the centre itself). Its lowest
+//              point (x_c − r_n, z_c) cuts: edge(z') = x_c − r_n + r_n − sqrt(r_n² − (z' − z_c)²)
+//              over |z' − z_c| ≤ r_n. Q 1, 2, 6 (the turning orientations) keep x_c − r_n = x:
+//              a diameter is where the program puts it, and with Q 2 a face or a shoulder cut
+//              toward −z at the program's z (the nose's leading point, z_c − r_n = z).
 //   each step: R(z') ← min(R(z'), edge(z')); the removed cross-section ΔA = Σ ΔR·dz  [mm²]
 //   chip:      over the last spindle revolution (360 angle bins): A_rev = Σ ΔA, path travel
 //              ℓ_rev = Σ |Δ(x, z)|;  feed per revolution s = ℓ_rev, depth t = A_rev / s
@@ -36,6 +42,31 @@
 
 namespace lathectl::cutting {
 
+// LinuxCNC's lathe tool orientation Q (1–9; 0 and 9: the nose's centre): where the nose's centre
+// lies from the programmed point, in nose radii along machine x and z — rs274ngc's
+// latheorigin_x/z (interp_queue.cc) and AXIS's lathe_shapes (glcanon.py). Q 2: the tip at the
+// nose's −x, −z corner (turning and facing toward the chuck, −z); Q 1: its −x, +z corner.
+struct NoseOffset {
+  int x = 0;
+  int z = 0;
+};
+[[nodiscard]] constexpr NoseOffset nose_centre_offset(int q) noexcept {
+  switch (q) {
+    case 1: return {1, -1};
+    case 2: return {1, 1};
+    case 3: return {-1, 1};
+    case 4: return {-1, -1};
+    case 5: return {0, -1};
+    case 6: return {1, 0};
+    case 7: return {0, 1};
+    case 8: return {-1, 0};
+    default: return {0, 0};  // 0, 9: the centre
+  }
+}
+// The orientation a scenario's tool has when it gives none: turning toward the chuck (−z), where
+// the tip's x is the nose's lowest point (diameters as before the orientation was modelled).
+inline constexpr int kDefaultToolOrientation = 2;
+
 // The cutting process of a system-E scenario: what the tool meets and what sensor 4 reads.
 // Defaults are the scenario's (a random allowance correlated over 20 mm, a dynamometer that
 // saturates at 10⁵ N); systems::e_adaptive::RigConfig adds the machine around it.
@@ -52,6 +83,9 @@ struct CuttingProcess {
   ForceParameter force_parameter = ForceParameter::Pz;
   sensors::LaggedNoisySensor::Params force_sensor{.range = 1e5};  // N (dynamometer) or W (power)
   std::vector<sensors::SensorFault> faults;
+  // The tool's orientation Q (the scenario's [tool] orientation): where its programmed point is
+  // on the nose (nose_centre_offset).
+  int tool_orientation = kDefaultToolOrientation;
 };
 
 class LathePlant {
@@ -60,9 +94,10 @@ class LathePlant {
     double cell_mm = 0.01;       // workpiece grid along z
     double z_origin_mm = 0.0;    // machine z of the stock's z = 0
     double nose_radius_mm = -1;  // < 0: the scenario's tool nose radius
+    int orientation = -1;        // < 0: the scenario's tool orientation (tool_orientation)
   };
   struct Input {        // x or z not finite: no position (e.g. not homed) — nothing is cut
-    double x_mm = 0.0;  // tool radius (machine x)
+    double x_mm = 0.0;  // the programmed point (the tool tip of the orientation): machine x
     double z_mm = 0.0;  // machine z
     double rpm = 0.0;   // actual spindle speed (sign ignored)
     // > 0: a grooving or parting insert of this width [mm] cuts (io::ToolSpec::plunge()): its
@@ -129,6 +164,11 @@ class LathePlant {
   // std::invalid_argument when they are not equal now.
   void follow(const LathePlant* leader);
   [[nodiscard]] bool following() const noexcept { return leader_ != nullptr; }
+  // The tool's orientation from now on (LinuxCNC's tool table Q of the tool in the spindle, 0–9;
+  // another is taken as 0): the nose's centre moves with it, the workpiece stays. Never
+  // allocates or throws.
+  void set_orientation(int q) noexcept;
+  [[nodiscard]] int orientation() const noexcept { return q_; }
   // Stock z of a machine z [mm].
   [[nodiscard]] double stock_z_mm(double z_machine_mm) const noexcept {
     return p_.z_origin_mm - z_machine_mm;
@@ -150,6 +190,12 @@ class LathePlant {
                                       double distance_mm) const noexcept;
   // The tool nose radius the plant cuts with [mm].
   [[nodiscard]] double nose_radius_mm() const noexcept { return r_nose_; }
+  // Stock z of the nose's centre for the programmed machine z [mm] (the orientation's offset).
+  [[nodiscard]] double nose_centre_stock_z_mm(double z_machine_mm) const noexcept {
+    return stock_z_mm(z_machine_mm) - oz_;
+  }
+  // The nose's lowest x for the programmed machine x [mm] (x itself for Q 1, 2, 6).
+  [[nodiscard]] double nose_low_x_mm(double x_mm) const noexcept { return x_mm + ox_; }
 
  private:
   static constexpr std::size_t kBins = 360;
@@ -171,6 +217,9 @@ class LathePlant {
   CuttingProcess cfg_{};
   Params p_{};
   double r_nose_ = 0.8;
+  int q_ = kDefaultToolOrientation;
+  double ox_ = 0.0;  // the nose's lowest x less the programmed x: (q_x − 1)·r_n (0.0 for Q 2)
+  double oz_ = 0.0;  // the nose centre's machine z less the programmed z: q_z·r_n
   double z0_ = 0.0;  // stock z of the first cell
   std::vector<double> r_;
   std::vector<double> r_blank_low_;  // lowest point of the eccentric blank per cell

@@ -155,13 +155,14 @@ void Rig::plan_pass(std::size_t k) noexcept {
   const auto& q = cfg_.stock.passes[k];
   const double r_n = plant_.nose_radius_mm();
   x_pass_mm_ = 0.5 * q.diameter_mm;
+  // The nose's centre when the programmed point (the tool tip of the orientation) is at z_start.
+  const double zc = plant_.nose_centre_stock_z_mm(-q.z_start_mm);
   // Material above the pass's radius before z_start, where the tool would come down and travel
   // in the approach: a shoulder. Come down above it at z_start and plunge there.
-  const double before = plant_.max_radius_mm(q.z_start_mm - cfg_.approach_mm - r_n,
-                                             q.z_start_mm - r_n);
+  const double before = plant_.max_radius_mm(zc - cfg_.approach_mm - r_n, zc - r_n);
   if (before > x_pass_mm_ + 1e-6) {
     z_approach_mm_ = q.z_start_mm;
-    const double top = plant_.max_radius_mm(q.z_start_mm - r_n, q.z_start_mm + r_n);
+    const double top = plant_.max_radius_mm(zc - r_n, zc + r_n);
     x_down_mm_ = top + cfg_.approach_mm;
     // The plunge's feed: what the pass's full depth takes at the limit (the handbook's force
     // law, V_p, nominal hardness and a sharp tool), set on the plunge as its feed_max (M68 E2 on

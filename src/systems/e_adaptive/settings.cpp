@@ -241,7 +241,7 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
                                                   const io::MaterialLibrary& lib) {
   auto out = std::make_unique<Settings>();
   auto& e = out->rig;
-  io::read_material_tool(root, lib, e.cutting, &e.disturbances);
+  io::read_material_tool(root, lib, e.cutting, &e.disturbances, false, &e.tool_orientation);
   read_stock(root, e, sc.run.seed);
   read_feed_axis(root, e);
   {
