@@ -9,16 +9,6 @@
 
 namespace lathectl::cutting {
 
-namespace {
-double power_law(const PowerLaw& law, const CutState& c, double kp) noexcept {
-  return 10.0 * law.Cp * std::pow(c.depth_mm, law.x) * std::pow(c.feed_mm_per_rev, law.y) *
-         std::pow(c.speed_m_per_min, law.n) * kp;
-}
-double kienzle(const KienzleLaw& law, double b_mm, double h_mm) noexcept {
-  return law.k11_N_per_mm2 * b_mm * std::pow(h_mm, 1.0 - law.m);
-}
-}  // namespace
-
 void CuttingModel::configure(const Params& p) {
   const Material& m = p.material;
   if (!(m.strength > 0.0) || !(m.strength_base > 0.0))
@@ -37,29 +27,6 @@ void CuttingModel::configure(const Params& p) {
   cached_speed_ = -1.0;
   kmp_ = std::pow(m.strength / m.strength_base, m.kmp_exponent);
   sin_kappa_ = std::sin(p.approach_angle_deg * std::numbers::pi / 180.0);
-}
-
-Forces CuttingModel::forces(const CutState& c) const noexcept { return forces_of(c, true); }
-
-Forces CuttingModel::forces_pz_py(const CutState& c) const noexcept { return forces_of(c, false); }
-
-Forces CuttingModel::forces_of(const CutState& c, bool with_px) const noexcept {
-  if (!(c.depth_mm > 0.0) || !(c.feed_mm_per_rev > 0.0)) return {};
-  const double k = kmp_ * hardness_kp(p_.material.kmp_exponent, c.strength_factor) * c.wear_factor;
-  if (p_.form == ForceForm::Handbook) {
-    const double v = std::max(c.speed_m_per_min, 1.0);  // the power law has no meaning at V→0
-    const CutState cv{c.depth_mm, c.feed_mm_per_rev, v, 1.0, 1.0};
-    return {power_law(p_.material.Pz, cv, k), power_law(p_.material.Py, cv, k),
-            with_px ? power_law(p_.material.Px, cv, k) : 0.0};
-  }
-  // The Kienzle constants are the material's own (data/materials.toml gives them per grade):
-  // Kmp, the handbook's strength correction to its reference grade, does not apply; the local
-  // hardness and wear factors do.
-  const double kk = k / kmp_;
-  const double b = c.depth_mm / sin_kappa_;
-  const double h = c.feed_mm_per_rev * sin_kappa_;
-  return {kienzle(p_.material.Fc, b, h) * kk, kienzle(p_.material.Fp, b, h) * kk,
-          with_px ? kienzle(p_.material.Ff, b, h) * kk : 0.0};
 }
 
 double CuttingModel::radial_force_kienzle(const CutState& c, double k) const noexcept {

@@ -296,10 +296,12 @@ void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept
   // other turret's pass): read one cell ahead, past what this tool itself wrote last step.
   auto at = [&](double lag_rev) { return cell - lag_rev * n_rev + (lag_rev == 0.0 ? 1.0 : 0.0); };
   Ring& w = rings_[e.write_ring];
-  const double z_read = read(w.z, at(e.z_lag_rev));
+  const double at_z = at(e.z_lag_rev);
+  const double z_read = read(w.z, at_z);
   e.s_mm = z_mm - z_read;
-  const double d_read = e.axial ? surface_over(e, cell, std::min(z_read, z_mm), z_mm)
-                                : read(rings_[e.d_ring].d, at(e.d_lag_rev));
+  const double d_read =
+      e.axial ? surface_over(e, cell, std::min(z_read, z_mm), z_mm)
+              : read(rings_[e.d_ring].d, e.d_lag_rev == e.z_lag_rev ? at_z : at(e.d_lag_rev));
   const double pen = e.sigma * y_ - e.u;  // the tool's penetration into the part
   e.b_mm = e.t0_mm + (pen + e.d_weight * d_read) * 1e3;
   e.cutting = e.b_mm > 0.0 && e.s_mm > 0.0;
@@ -343,7 +345,7 @@ void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept
   if (now > e.last_cell) e.last_cell = now;
 }
 
-void TwinTurretCut::step(double theta, double rpm, const double z_mm[2]) noexcept {
+[[gnu::flatten]] void TwinTurretCut::step(double theta, double rpm, const double z_mm[2]) noexcept {
   update_modes(z_mm[0]);
   double fy = 0.0;
   for (int i = 0; i < n_tools_; ++i) {
@@ -372,12 +374,6 @@ void TwinTurretCut::step(double theta, double rpm, const double z_mm[2]) noexcep
     if (!std::isfinite(e.u) || std::abs(e.u) > 0.05) sound_ = false;
   }
   if (!std::isfinite(y_) || std::abs(y_) > 0.05) sound_ = false;
-}
-
-double TwinTurretCut::torque_N_m() const noexcept {
-  double t = 0.0;
-  for (int i = 0; i < n_tools_; ++i) t += edges_[i].fc * 0.5 * p_.part.diameter_m;
-  return t;
 }
 
 double TwinTurretCut::power_W(double rpm) const noexcept {
