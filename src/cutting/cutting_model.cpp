@@ -9,28 +9,6 @@
 
 namespace lathectl::cutting {
 
-namespace {
-double power_law(const PowerLaw& law, const CutState& c, double kp) noexcept {
-  return 10.0 * law.Cp * std::pow(c.depth_mm, law.x) * std::pow(c.feed_mm_per_rev, law.y) *
-         std::pow(c.speed_m_per_min, law.n) * kp;
-}
-double kienzle(const KienzleLaw& law, double b_mm, double h_mm) noexcept {
-  return law.k11_N_per_mm2 * b_mm * std::pow(h_mm, 1.0 - law.m);
-}
-double hardness_kp(double kmp_exponent, double strength_factor) noexcept {
-  return strength_factor == 1.0 ? 1.0 : std::pow(strength_factor, kmp_exponent);
-}
-}  // namespace
-
-double CuttingModel::LastPow::operator()(double b, double e) noexcept {
-  if (!(b == base && e == exponent)) {  // NaN at first: never equal
-    base = b;
-    exponent = e;
-    value = std::pow(b, e);
-  }
-  return value;
-}
-
 void CuttingModel::configure(const Params& p) {
   const Material& m = p.material;
   if (!(m.strength > 0.0) || !(m.strength_base > 0.0))
@@ -51,70 +29,13 @@ void CuttingModel::configure(const Params& p) {
   sin_kappa_ = std::sin(p.approach_angle_deg * std::numbers::pi / 180.0);
 }
 
-Forces CuttingModel::forces(const CutState& c) const noexcept { return forces_of(c, true); }
-
-Forces CuttingModel::forces_pz_py(const CutState& c) const noexcept { return forces_of(c, false); }
-
-Forces CuttingModel::forces_of(const CutState& c, bool with_px) const noexcept {
-  if (!(c.depth_mm > 0.0) || !(c.feed_mm_per_rev > 0.0)) return {};
-  const double k = kmp_ * hardness_kp(p_.material.kmp_exponent, c.strength_factor) * c.wear_factor;
-  if (p_.form == ForceForm::Handbook) {
-    const double v = std::max(c.speed_m_per_min, 1.0);  // the power law has no meaning at V→0
-    const CutState cv{c.depth_mm, c.feed_mm_per_rev, v, 1.0, 1.0};
-    return {power_law(p_.material.Pz, cv, k), power_law(p_.material.Py, cv, k),
-            with_px ? power_law(p_.material.Px, cv, k) : 0.0};
-  }
-  // The Kienzle constants are the material's own (data/materials.toml gives them per grade):
-  // Kmp, the handbook's strength correction to its reference grade, does not apply; the local
-  // hardness and wear factors do.
-  const double kk = k / kmp_;
-  const double b = c.depth_mm / sin_kappa_;
-  const double h = c.feed_mm_per_rev * sin_kappa_;
-  return {kienzle(p_.material.Fc, b, h) * kk, kienzle(p_.material.Fp, b, h) * kk,
-          with_px ? kienzle(p_.material.Ff, b, h) * kk : 0.0};
-}
-
-double CuttingModel::radial_force(const CutState& c) const noexcept {
-  if (!(c.depth_mm > 0.0) || !(c.feed_mm_per_rev > 0.0)) return 0.0;
-  const double k = kmp_ * hardness_kp(p_.material.kmp_exponent, c.strength_factor) * c.wear_factor;
-  if (p_.form == ForceForm::Handbook) {
-    const double v = std::max(c.speed_m_per_min, 1.0);
-    if (v != cached_speed_) {  // the speed changes far less often than depth and feed
-      cached_speed_ = v;
-      cached_speed_term_ = std::pow(v, p_.material.Py.n);
-    }
-    const auto& law = p_.material.Py;
-    return 10.0 * law.Cp * depth_force_(c.depth_mm, law.x) * std::pow(c.feed_mm_per_rev, law.y) *
-           cached_speed_term_ * k;
-  }
+double CuttingModel::radial_force_kienzle(const CutState& c, double k) const noexcept {
   return kienzle(p_.material.Fp, c.depth_mm / sin_kappa_, c.feed_mm_per_rev * sin_kappa_) * k /
          kmp_;
 }
 
 double CuttingModel::power_W(const Forces& f, double speed_m_per_min) const noexcept {
   return f.Pz * speed_m_per_min / 60.0;
-}
-
-const ToolLifeRange& CuttingModel::life_range(double feed_mm_per_rev) const noexcept {
-  return feed_range(p_.material.tool_life, p_.material.tool_life_ranges, feed_mm_per_rev);
-}
-
-double CuttingModel::kmv(double strength_factor) const noexcept {
-  const double nv = p_.material.kmv_exponent;
-  return strength_factor == 1.0 || nv == 0.0 || !(strength_factor > 0.0)
-             ? 1.0
-             : std::pow(strength_factor, -nv);
-}
-
-double CuttingModel::tool_life_min(double speed_m_per_min, double feed_mm_per_rev, double depth_mm,
-                                   double strength_factor) const noexcept {
-  if (p_.material.tool_life_ranges == 0 || !(speed_m_per_min > 0.0) || !(feed_mm_per_rev > 0.0) ||
-      !(depth_mm > 0.0))
-    return std::numeric_limits<double>::infinity();
-  const auto& r = life_range(feed_mm_per_rev);
-  const double ratio = r.Cv * kmv(strength_factor) /
-                       (speed_m_per_min * depth_life_(depth_mm, r.xv) * feed_life_(feed_mm_per_rev, r.yv));
-  return std::pow(ratio, 1.0 / r.m);
 }
 
 double CuttingModel::speed_for_life(double life_min, double feed_mm_per_rev, double depth_mm,

@@ -34,20 +34,8 @@ void Disturbances::configure(const DisturbanceParams& p) {
   last_x_ = 0.0;
 }
 
-double Disturbances::depth_profile(double x) const noexcept {
-  double depth = p_.depth_mm;
-  for (const auto& s : p_.depth_steps) {
-    if (x <= s.at_mm) break;
-    const double ramp =
-        p_.step_ramp_mm > 0.0 ? std::min((x - s.at_mm) / p_.step_ramp_mm, 1.0) : 1.0;
-    depth += (s.value - depth) * ramp;
-  }
-  return depth;
-}
-
-double Disturbances::strength_factor(double x) const noexcept {
+double Disturbances::hardness_between(double x) const noexcept {
   const auto& h = p_.hardness;
-  if (h.empty()) return 1.0;
   if (x <= h.front().at_mm) return h.front().value;
   if (x >= h.back().at_mm) return h.back().value;
   const auto it = std::upper_bound(h.begin(), h.end(), x,
@@ -68,11 +56,6 @@ double Disturbances::first_change_mm() const noexcept {
   return first;
 }
 
-double Disturbances::wear_factor(double t_cut) const noexcept {
-  return 1.0 +
-         p_.wear_force_gain_per_mm * (p_.wear_VB0_mm + p_.wear_rate_mm_per_min * t_cut / 60.0);
-}
-
 double Disturbances::random_allowance_mm(double x) noexcept {
   if (p_.random_sigma_mm > 0.0) {
     const double dx = std::abs(x - last_x_);
@@ -83,17 +66,6 @@ double Disturbances::random_allowance_mm(double x) noexcept {
   }
   last_x_ = x;
   return random_mm_;
-}
-
-LocalCut Disturbances::at(double x, double phi, double t_cut) noexcept {
-  (void)random_allowance_mm(x);
-  LocalCut c;
-  const double runout = p_.runout_mm > 0.0 ? p_.runout_mm * std::sin(phi) : 0.0;
-  c.depth_mm = std::max(depth_profile(x) + runout + random_mm_, 0.0);
-  c.strength_factor = strength_factor(x);
-  c.flank_wear_mm = p_.wear_VB0_mm + p_.wear_rate_mm_per_min * t_cut / 60.0;
-  c.wear_factor = wear_factor(t_cut);
-  return c;
 }
 
 }  // namespace lathectl::cutting

@@ -296,10 +296,23 @@ void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept
   // other turret's pass): read one cell ahead, past what this tool itself wrote last step.
   auto at = [&](double lag_rev) { return cell - lag_rev * n_rev + (lag_rev == 0.0 ? 1.0 : 0.0); };
   Ring& w = rings_[e.write_ring];
-  const double z_read = read(w.z, at(e.z_lag_rev));
-  e.s_mm = z_mm - z_read;
-  const double d_read = e.axial ? surface_over(e, cell, std::min(z_read, z_mm), z_mm)
-                                : read(rings_[e.d_ring].d, at(e.d_lag_rev));
+  double z_read = 0.0, d_read = 0.0;
+  if (!e.axial && e.d_lag_rev == e.z_lag_rev) {  // both at one position: one index, as read()
+    const double pos = at(e.z_lag_rev);
+    const double fl = std::floor(pos);
+    const std::size_t i = wrap(static_cast<long long>(fl), static_cast<long long>(ring_cells_));
+    const std::size_t i1 = i + 1 == ring_cells_ ? 0 : i + 1;
+    const double f = pos - fl;
+    const auto& d = rings_[e.d_ring].d;
+    z_read = w.z[i] * (1.0 - f) + w.z[i1] * f;
+    d_read = d[i] * (1.0 - f) + d[i1] * f;
+    e.s_mm = z_mm - z_read;
+  } else {
+    z_read = read(w.z, at(e.z_lag_rev));
+    e.s_mm = z_mm - z_read;
+    d_read = e.axial ? surface_over(e, cell, std::min(z_read, z_mm), z_mm)
+                     : read(rings_[e.d_ring].d, at(e.d_lag_rev));
+  }
   const double pen = e.sigma * y_ - e.u;  // the tool's penetration into the part
   e.b_mm = e.t0_mm + (pen + e.d_weight * d_read) * 1e3;
   e.cutting = e.b_mm > 0.0 && e.s_mm > 0.0;
@@ -329,21 +342,23 @@ void TwinTurretCut::cut(Edge& e, double theta, double rpm, double z_mm) noexcept
   const auto now = static_cast<long long>(std::floor(cell));
   // A stopped or reversed spindle writes nothing; a jump of more than a revolution is clipped.
   const long long from = std::max(e.last_cell + 1, now - m + 1);
+  double* const wd = w.d.data();  // the rings' storage, loaded once (stores do not reload it)
+  double* const wz = w.z.data();
   for (long long c = from; c <= now; ++c) {
     const std::size_t i = wrap(c, m);
     if (e.cutting) {
-      w.d[i] = -pen;
-      w.z[i] = z_mm;
+      wd[i] = -pen;
+      wz[i] = z_mm;
     } else if (back > 0) {
       const std::size_t q = wrap(c - back, m);
-      w.d[i] = w.d[q];
-      w.z[i] = w.z[q];
+      wd[i] = wd[q];
+      wz[i] = wz[q];
     }
   }
   if (now > e.last_cell) e.last_cell = now;
 }
 
-void TwinTurretCut::step(double theta, double rpm, const double z_mm[2]) noexcept {
+[[gnu::flatten]] void TwinTurretCut::step(double theta, double rpm, const double z_mm[2]) noexcept {
   update_modes(z_mm[0]);
   if (seed_pending_ && (z_mm[0] > p_.z_start_mm || z_mm[n_tools_ - 1] > p_.z_start_mm)) {
     seed_pending_ = false;  // the first tool meets the material: the part displaced by then
@@ -363,8 +378,9 @@ void TwinTurretCut::step(double theta, double rpm, const double z_mm[2]) noexcep
     qd_[j] = qd;
     y_ += q;
   }
-  for (int i = 0; i < n_tools_; ++i) {  // each tool under its own force, pushed off the part
-    Edge& e = edges_[i];
+  for (int i = 0; i < n_tools_ && n_tool_modes_ == 0; ++i) edges_[i].u = 0.0;  // rigid tools
+  for (int i = 0; i < n_tools_ && n_tool_modes_ > 0; ++i) {  // each tool under its own force,
+    Edge& e = edges_[i];                                      // pushed off the part
     const double f = e.fp + e.fd;
     e.u = 0.0;
     for (int j = 0; j < n_tool_modes_; ++j) {
@@ -377,12 +393,6 @@ void TwinTurretCut::step(double theta, double rpm, const double z_mm[2]) noexcep
     if (!std::isfinite(e.u) || std::abs(e.u) > 0.05) sound_ = false;
   }
   if (!std::isfinite(y_) || std::abs(y_) > 0.05) sound_ = false;
-}
-
-double TwinTurretCut::torque_N_m() const noexcept {
-  double t = 0.0;
-  for (int i = 0; i < n_tools_; ++i) t += edges_[i].fc * 0.5 * p_.part.diameter_m;
-  return t;
 }
 
 double TwinTurretCut::power_W(double rpm) const noexcept {

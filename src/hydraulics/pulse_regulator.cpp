@@ -29,6 +29,7 @@ void PulseRegulator::configure(const Params& p) {
   v_open_ = p.opening_time_s > 0.0 ? travel / p.opening_time_s : inf;
   v_close_ = p.closing_time_s > 0.0 ? travel / p.closing_time_s : inf;
   layer_.configure(p.obliteration);
+  layer_on_ = p.obliteration.layer_max_m > 0.0;
   reset();
 }
 

@@ -22,16 +22,6 @@ void InductiveSensor::set_steady(double force_N) noexcept {
   u_ = p_.offset_V + p_.gain_V_per_m * force_N / p_.holder_stiffness_N_per_m;
 }
 
-double InductiveSensor::step(double dt, double force_N) noexcept {
-  const double target = p_.offset_V + p_.gain_V_per_m * force_N / p_.holder_stiffness_N_per_m;
-  if (dt != last_dt_) {
-    last_dt_ = dt;
-    lag_ = core::FirstOrderLag(dt, p_.time_constant_s);
-  }
-  u_ = lag_.step(u_, target);
-  return std::clamp(u_, 0.0, p_.saturation_V);
-}
-
 double InductiveSensor::sample() noexcept {
   const double noise = p_.noise_V > 0.0 ? p_.noise_V * normal_(rng_) : 0.0;
   return std::clamp(u_ + noise, 0.0, p_.saturation_V);

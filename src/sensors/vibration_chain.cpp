@@ -28,15 +28,6 @@ void HighPass2::configure(double cutoff_Hz, double dt) noexcept {
   x1_ = x2_ = y1_ = y2_ = 0.0;
 }
 
-double HighPass2::step(double x) noexcept {
-  const double y = b0_ * x + b1_ * x1_ + b2_ * x2_ - a1_ * y1_ - a2_ * y2_;
-  x2_ = x1_;
-  x1_ = x;
-  y2_ = y1_;
-  y1_ = y;
-  return y;
-}
-
 void VibrationChain::configure(const Params& p) {
   require(p.sample_period_s > 0.0, "vibration chain: sample_period_s must be positive");
   require(p.highpass_Hz > 0.0 && p.highpass_Hz < 0.25 / p.sample_period_s,

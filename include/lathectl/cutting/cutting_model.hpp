@@ -23,9 +23,13 @@
 // Units here are the handbook's shop units (mm, mm/rev, m/min, N); callers convert from SI.
 // All evaluation calls are noexcept and allocation-free.
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <string>
+
+#include "lathectl/cutting/feed_range.hpp"
 
 namespace lathectl::cutting {
 
@@ -122,6 +126,17 @@ class CuttingModel {
  private:
   [[nodiscard]] const ToolLifeRange& life_range(double feed_mm_per_rev) const noexcept;
   [[nodiscard]] Forces forces_of(const CutState& c, bool with_px) const noexcept;
+  [[nodiscard]] double radial_force_kienzle(const CutState& c, double k) const noexcept;
+  [[nodiscard]] static double power_law(const PowerLaw& law, const CutState& c, double kp) noexcept {
+    return 10.0 * law.Cp * std::pow(c.depth_mm, law.x) * std::pow(c.feed_mm_per_rev, law.y) *
+           std::pow(c.speed_m_per_min, law.n) * kp;
+  }
+  [[nodiscard]] static double kienzle(const KienzleLaw& law, double b_mm, double h_mm) noexcept {
+    return law.k11_N_per_mm2 * b_mm * std::pow(h_mm, 1.0 - law.m);
+  }
+  [[nodiscard]] static double hardness_kp(double kmp_exponent, double strength_factor) noexcept {
+    return strength_factor == 1.0 ? 1.0 : std::pow(strength_factor, kmp_exponent);
+  }
   Params p_{};
   double kmp_ = 1.0;
   double sin_kappa_ = 1.0;
@@ -136,11 +151,79 @@ class CuttingModel {
     double base = std::numeric_limits<double>::quiet_NaN();
     double exponent = std::numeric_limits<double>::quiet_NaN();
     double value = 0.0;
-    double operator()(double b, double e) noexcept;
+    double operator()(double b, double e) noexcept {
+      if (!(b == base && e == exponent)) {  // NaN at first: never equal
+        base = b;
+        exponent = e;
+        value = std::pow(b, e);
+      }
+      return value;
+    }
   };
   mutable LastPow depth_force_;  // t^x of Py (radial_force)
   mutable LastPow depth_life_;   // t^xv (tool_life_min)
   mutable LastPow feed_life_;    // s^yv (tool_life_min)
 };
+
+// The per-step laws in the header (issue 45 item 6): a rig calls them every step, and out of
+// line each call stored and reloaded the rig's state around it.
+inline Forces CuttingModel::forces(const CutState& c) const noexcept { return forces_of(c, true); }
+
+inline Forces CuttingModel::forces_pz_py(const CutState& c) const noexcept { return forces_of(c, false); }
+
+inline Forces CuttingModel::forces_of(const CutState& c, bool with_px) const noexcept {
+  if (!(c.depth_mm > 0.0) || !(c.feed_mm_per_rev > 0.0)) return {};
+  const double k = kmp_ * hardness_kp(p_.material.kmp_exponent, c.strength_factor) * c.wear_factor;
+  if (p_.form == ForceForm::Handbook) {
+    const double v = std::max(c.speed_m_per_min, 1.0);  // the power law has no meaning at V→0
+    const CutState cv{c.depth_mm, c.feed_mm_per_rev, v, 1.0, 1.0};
+    return {power_law(p_.material.Pz, cv, k), power_law(p_.material.Py, cv, k),
+            with_px ? power_law(p_.material.Px, cv, k) : 0.0};
+  }
+  // The Kienzle constants are the material's own (data/materials.toml gives them per grade):
+  // Kmp, the handbook's strength correction to its reference grade, does not apply; the local
+  // hardness and wear factors do.
+  const double kk = k / kmp_;
+  const double b = c.depth_mm / sin_kappa_;
+  const double h = c.feed_mm_per_rev * sin_kappa_;
+  return {kienzle(p_.material.Fc, b, h) * kk, kienzle(p_.material.Fp, b, h) * kk,
+          with_px ? kienzle(p_.material.Ff, b, h) * kk : 0.0};
+}
+
+inline double CuttingModel::radial_force(const CutState& c) const noexcept {
+  if (!(c.depth_mm > 0.0) || !(c.feed_mm_per_rev > 0.0)) return 0.0;
+  const double k = kmp_ * hardness_kp(p_.material.kmp_exponent, c.strength_factor) * c.wear_factor;
+  if (p_.form != ForceForm::Handbook) return radial_force_kienzle(c, k);
+  const double v = std::max(c.speed_m_per_min, 1.0);
+  if (v != cached_speed_) {  // the speed changes far less often than depth and feed
+    cached_speed_ = v;
+    cached_speed_term_ = std::pow(v, p_.material.Py.n);
+  }
+  const auto& law = p_.material.Py;
+  return 10.0 * law.Cp * depth_force_(c.depth_mm, law.x) * std::pow(c.feed_mm_per_rev, law.y) *
+         cached_speed_term_ * k;
+}
+
+inline const ToolLifeRange& CuttingModel::life_range(double feed_mm_per_rev) const noexcept {
+  return feed_range(p_.material.tool_life, p_.material.tool_life_ranges, feed_mm_per_rev);
+}
+
+inline double CuttingModel::kmv(double strength_factor) const noexcept {
+  const double nv = p_.material.kmv_exponent;
+  return strength_factor == 1.0 || nv == 0.0 || !(strength_factor > 0.0)
+             ? 1.0
+             : std::pow(strength_factor, -nv);
+}
+
+inline double CuttingModel::tool_life_min(double speed_m_per_min, double feed_mm_per_rev,
+                                          double depth_mm, double strength_factor) const noexcept {
+  if (p_.material.tool_life_ranges == 0 || !(speed_m_per_min > 0.0) || !(feed_mm_per_rev > 0.0) ||
+      !(depth_mm > 0.0))
+    return std::numeric_limits<double>::infinity();
+  const auto& r = life_range(feed_mm_per_rev);
+  const double ratio = r.Cv * kmv(strength_factor) /
+                       (speed_m_per_min * depth_life_(depth_mm, r.xv) * feed_life_(feed_mm_per_rev, r.yv));
+  return std::pow(ratio, 1.0 / r.m);
+}
 
 }  // namespace lathectl::cutting

@@ -13,6 +13,8 @@
 // x is the tool's travel along its feed path [mm]; φ the spindle angle [rad]; t_cut the time in
 // cut [s]. Measurement noise lives with each sensor, seeded from the scenario.
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -63,11 +65,49 @@ class Disturbances {
   [[nodiscard]] double first_change_mm() const noexcept;
 
  private:
+  [[nodiscard]] double hardness_between(double travel_mm) const noexcept;
   DisturbanceParams p_{};
   std::mt19937_64 rng_{1};
   std::normal_distribution<double> normal_{0.0, 1.0};
   double random_mm_ = 0.0;
   double last_x_ = 0.0;
 };
+
+// The per-step path in the header (issue 45 item 6): a rig asks it every step, and out of line
+// each call stored and reloaded the rig's state around it. What a part without a term asks
+// (no random allowance, no hardness points) costs a compare.
+inline LocalCut Disturbances::at(double x, double phi, double t_cut) noexcept {
+  if (p_.random_sigma_mm > 0.0)
+    (void)random_allowance_mm(x);
+  else
+    last_x_ = x;  // what random_allowance_mm does without a random allowance
+  LocalCut c;
+  const double runout = p_.runout_mm > 0.0 ? p_.runout_mm * std::sin(phi) : 0.0;
+  c.depth_mm = std::max(depth_profile(x) + runout + random_mm_, 0.0);
+  c.strength_factor = strength_factor(x);
+  c.flank_wear_mm = p_.wear_VB0_mm + p_.wear_rate_mm_per_min * t_cut / 60.0;
+  c.wear_factor = wear_factor(t_cut);
+  return c;
+}
+
+inline double Disturbances::depth_profile(double x) const noexcept {
+  double depth = p_.depth_mm;
+  for (const auto& s : p_.depth_steps) {
+    if (x <= s.at_mm) break;
+    const double ramp =
+        p_.step_ramp_mm > 0.0 ? std::min((x - s.at_mm) / p_.step_ramp_mm, 1.0) : 1.0;
+    depth += (s.value - depth) * ramp;
+  }
+  return depth;
+}
+
+inline double Disturbances::strength_factor(double x) const noexcept {
+  return p_.hardness.empty() ? 1.0 : hardness_between(x);
+}
+
+inline double Disturbances::wear_factor(double t_cut) const noexcept {
+  return 1.0 +
+         p_.wear_force_gain_per_mm * (p_.wear_VB0_mm + p_.wear_rate_mm_per_min * t_cut / 60.0);
+}
 
 }  // namespace lathectl::cutting

@@ -10,7 +10,13 @@
 // Integration: semi-implicit Euler on ω (the viscous term implicit). The speed command is
 // rate-limited by `max_accel_rpm_per_s` (the drive's ramp).
 
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
 namespace lathectl::drives {
+
+inline constexpr double kRadPerSPerRpm = 2.0 * std::numbers::pi / 60.0;
 
 class SpindleDrive {
  public:
@@ -87,5 +93,36 @@ class SpindlePowerAtSpeed {
   Drift d_{};
   double rpm_ = 0.0, t_s_ = 0.0, idle_W_ = 0.0;
 };
+
+// The per-step path in the header: a rig steps the drive every step (issue 45 item 6).
+inline void SpindleDrive::step(double dt, double rpm_cmd, double load_torque_N_m) noexcept {
+  // Command ramp, then the speed loop.
+  const double target = std::clamp(rpm_cmd, p_.min_rpm, p_.max_rpm) * kRadPerSPerRpm;
+  const double dw_max = p_.max_accel_rpm_per_s * kRadPerSPerRpm * dt;
+  w_cmd_ += std::clamp(target - w_cmd_, -dw_max, dw_max);
+
+  const double w_base = p_.max_power_W / p_.max_torque_N_m;
+  const double t_lim = std::min(p_.max_torque_N_m, p_.max_power_W / std::max(std::abs(w_), w_base));
+  const double e = w_cmd_ - w_;
+  const double p_term = p_.kp_N_m_s * e;
+  // Conditional integration: hold the integral while the output is at its limit and the error
+  // would push it further. The clamp drops what lies beyond a limit that has fallen with speed
+  // (constant-power range), so recovery is not delayed.
+  const double i_next = integral_ + p_.kp_N_m_s / p_.ti_s * e * dt;
+  const double u_next = p_term + i_next;
+  if (!(std::abs(u_next) > t_lim && u_next * e > 0.0)) integral_ = i_next;
+  integral_ = std::clamp(integral_, -t_lim, t_lim);
+  const double u = p_term + integral_;
+  limited_ = std::abs(u) > t_lim;
+  tm_ = std::clamp(u, -t_lim, t_lim);
+
+  // Semi-implicit Euler: viscous term implicit.
+  const double J = p_.inertia_kg_m2;
+  w_ = (J * w_ + dt * (tm_ - load_torque_N_m)) / (J + dt * p_.viscous_N_m_s);
+}
+
+inline double SpindleDrive::rpm() const noexcept {
+  return w_ / kRadPerSPerRpm;
+}
 
 }  // namespace lathectl::drives

@@ -147,7 +147,11 @@ class TwinTurretCut {
     return edges_[i].sigma * y_ - edges_[i].u;
   }
   // Σ F_c·D/2 and Σ F_c·V at the last step.
-  [[nodiscard]] double torque_N_m() const noexcept;
+  [[nodiscard]] double torque_N_m() const noexcept {  // in the header: a rig asks it every step
+    double t = 0.0;
+    for (int i = 0; i < n_tools_; ++i) t += edges_[i].fc * 0.5 * p_.part.diameter_m;
+    return t;
+  }
   [[nodiscard]] double power_W(double rpm) const noexcept;
   [[nodiscard]] bool sound() const noexcept { return sound_; }
   [[nodiscard]] const Params& params() const noexcept { return p_; }

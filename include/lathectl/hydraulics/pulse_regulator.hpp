@@ -53,8 +53,11 @@ class PulseRegulator {
 
  private:
   // Moves y toward target at speed v for time tau; returns ∫ max(y, 0) dt over it and adds the
-  // time with y > 0 to open_time.
+  // time with y > 0 to open_time (kLayer: with an obliteration layer, which alone needs it).
+  template <bool kLayer>
   double move(double target, double v, double tau, double& open_time) noexcept;
+  template <bool kLayer>
+  double step_with(double dt, double slot_m, double frequency_Hz, double pulse_width_s) noexcept;
 
   Params p_{};
   double gain_ = 0.0;    // K_o [m³/s per m]
@@ -63,6 +66,7 @@ class PulseRegulator {
   double phase_ = 0.0;  // position in the period, [0, 1)
   double y_ = 0.0;      // spool opening past the lap edge [m]; −lap when fully closed
   ObliterationLayer layer_;
+  bool layer_on_ = false;  // an obliteration layer (layer_max_m > 0) to grow and sweep
 };
 
 // Continuous throttle (the seed's baseline): a fixed slot opening with obliteration.
@@ -100,24 +104,32 @@ inline double positive_time(double y0, double y1, double tau) noexcept {
 }
 }  // namespace detail
 
+template <bool kLayer>
 inline double PulseRegulator::move(double target, double v, double tau, double& open_time) noexcept {
+  (void)open_time;  // kLayer alone adds to it
   const double dist = std::abs(target - y_);
   const double t_reach = std::isinf(v) ? 0.0 : dist / v;
   double area = 0.0;
   if (t_reach >= tau) {
     const double y1 = y_ + (target > y_ ? 1.0 : -1.0) * v * tau;
     area = detail::positive_area(y_, y1, tau);
-    open_time += detail::positive_time(y_, y1, tau);
+    if constexpr (kLayer) open_time += detail::positive_time(y_, y1, tau);
     y_ = y1;
   } else {
     area = detail::positive_area(y_, target, t_reach) + std::max(target, 0.0) * (tau - t_reach);
-    open_time += detail::positive_time(y_, target, t_reach) + (target > 0.0 ? tau - t_reach : 0.0);
+    if constexpr (kLayer)
+      open_time += detail::positive_time(y_, target, t_reach) + (target > 0.0 ? tau - t_reach : 0.0);
     y_ = target;
   }
   return area;
 }
 
 inline double PulseRegulator::step(double dt, double h, double f, double dt_pulse) noexcept {
+  return layer_on_ ? step_with<true>(dt, h, f, dt_pulse) : step_with<false>(dt, h, f, dt_pulse);
+}
+
+template <bool kLayer>
+inline double PulseRegulator::step_with(double dt, double h, double f, double dt_pulse) noexcept {
   h = std::clamp(h, 0.0, p_.max_slot_m);
   if (y_ > h) y_ = h;  // the stop moved in
   const double closed = -p_.lap_m;
@@ -139,9 +151,10 @@ inline double PulseRegulator::step(double dt, double h, double f, double dt_puls
       }
       seg = std::min(remaining, t_edge);
     }
-    const bool was_open = y_ > 0.0;
-    area += move(on ? h : closed, on ? v_open_ : v_close_, seg, open_time);
-    if (was_open && y_ <= 0.0) layer_.sweep();  // the closing edge sweeps (a share of) it off
+    [[maybe_unused]] const bool was_open = y_ > 0.0;
+    area += move<kLayer>(on ? h : closed, on ? v_open_ : v_close_, seg, open_time);
+    if constexpr (kLayer)
+      if (was_open && y_ <= 0.0) layer_.sweep();  // the closing edge sweeps (a share of) it off
     if (pulsing) {
       phase_ = seg == t_edge ? (on ? duty : 0.0) : phase_ + seg * f;
     }
@@ -151,7 +164,8 @@ inline double PulseRegulator::step(double dt, double h, double f, double dt_puls
   // The layer grows from the oil flowing through the open slot (over the open time, so the
   // result does not depend on the step) and narrows the slot: scale the flow by effective over
   // nominal opening.
-  return gain_ * area / dt * (layer_.step(open_time, h) / h);
+  if constexpr (kLayer) return gain_ * area / dt * (layer_.step(open_time, h) / h);
+  return gain_ * area / dt * (h / h);  // the layer's step without a layer: h
 }
 
 }  // namespace lathectl::hydraulics

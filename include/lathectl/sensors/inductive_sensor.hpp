@@ -7,6 +7,7 @@
 //   U_D = clamp(U + n, 0, U_sat),  n ~ N(0, σ²) white, seeded
 // U_D rises with Py, so the adder's ΔU = U0 − U_D falls as the force grows.
 
+#include <algorithm>
 #include <cstdint>
 #include <random>
 
@@ -45,5 +46,16 @@ class InductiveSensor {
   std::mt19937_64 rng_{1};
   std::normal_distribution<double> normal_{0.0, 1.0};
 };
+
+// In the header: a rig steps it every step (issue 45 item 6).
+inline double InductiveSensor::step(double dt, double force_N) noexcept {
+  const double target = p_.offset_V + p_.gain_V_per_m * force_N / p_.holder_stiffness_N_per_m;
+  if (dt != last_dt_) {
+    last_dt_ = dt;
+    lag_ = core::FirstOrderLag(dt, p_.time_constant_s);
+  }
+  u_ = lag_.step(u_, target);
+  return std::clamp(u_, 0.0, p_.saturation_V);
+}
 
 }  // namespace lathectl::sensors

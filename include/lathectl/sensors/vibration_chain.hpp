@@ -43,7 +43,14 @@ namespace lathectl::sensors {
 class HighPass2 {
  public:
   void configure(double cutoff_Hz, double sample_period_s) noexcept;
-  double step(double x) noexcept;
+  double step(double x) noexcept {  // in the header: a rig steps it every step
+    const double y = b0_ * x + b1_ * x1_ + b2_ * x2_ - a1_ * y1_ - a2_ * y2_;
+    x2_ = x1_;
+    x1_ = x;
+    y2_ = y1_;
+    y1_ = y;
+    return y;
+  }
 
  private:
   double b0_ = 1, b1_ = 0, b2_ = 0, a1_ = 0, a2_ = 0;

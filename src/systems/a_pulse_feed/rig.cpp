@@ -371,7 +371,7 @@ inline void Rig::record_row(double x_mm) noexcept {
   acc_n_ = 0;
 }
 
-void Rig::step() noexcept {
+[[gnu::flatten]] void Rig::step() noexcept {
   const double x_mm = cut_step();
   control_step();
   const double q = regulator_flow();

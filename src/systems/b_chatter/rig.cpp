@@ -119,6 +119,7 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   max_t_ = max_duration;
   t_ = 0.0;
   step_ = 0;
+  since_control_ = since_chain_ = since_record_ = 0;
   done_ = false;
   t_cut_start_ = engaged_at_ = -1.0;
   theta_ = 0.0;
@@ -189,13 +190,13 @@ void Rig::configure(const RigConfig& cfg, double dt, double record_interval, dou
   rec_ = sim::Recorder(rig_b_channels(), static_cast<std::size_t>(max_rows_));
 }
 
-bool Rig::step() noexcept {
+[[gnu::flatten]] bool Rig::step() noexcept {
   if (done_ || t_ >= max_t_ || !process_.sound()) return false;
   const bool idle_block = t_ < cfg_.idle_block_s;
   const bool feed_block = !idle_block;
   if (feed_block && t_cut_start_ < 0.0) t_cut_start_ = t_;
 
-  if (step_ % control_every_ == 0) {
+  if (since_control_ == 0) {  // step_ % control_every_ == 0, without a 64-bit division
     // The servo period as the machine runs it (the feeds go to the drives: the flag's turret at
     // once, the turrets' paths measured below), then the module period.
     control::ModulationMachine::Servo sv;
@@ -241,9 +242,9 @@ bool Rig::step() noexcept {
   process_.step(theta_, spindle_.rpm(), z);
   const double y = process_.y_m();
   y_hp_ = highpass_.step(y);
-  if (step_ % chain_every_ == 0) machine_.sense(y);
+  if (since_chain_ == 0) machine_.sense(y);
 
-  if (step_ % record_every_ == 0) {
+  if (since_record_ == 0) {
     const double cut_power = process_.power_W(spindle_.rpm());
     const auto& mo = machine_.output();
     const auto& pl = mo.plan;
@@ -281,6 +282,9 @@ bool Rig::step() noexcept {
   }
   t_ += dt_;
   ++step_;
+  if (++since_control_ == control_every_) since_control_ = 0;
+  if (++since_chain_ == chain_every_) since_chain_ = 0;
+  if (++since_record_ == record_every_) since_record_ = 0;
   if (turrets_[0].z_mm >= cfg_.z_end_mm && (n_tools_ == 1 || turrets_[1].z_mm >= cfg_.z_end_mm))
     done_ = true;
   return !done_;

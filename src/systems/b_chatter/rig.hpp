@@ -83,6 +83,8 @@ class Rig {
   double t_ = 0.0;
   double max_t_ = 0.0;
   std::size_t step_ = 0;
+  // Steps since the last control, sensing and recorded row (step_ % control_every_ etc.).
+  std::size_t since_control_ = 0, since_chain_ = 0, since_record_ = 0;
   std::size_t record_every_ = 1;
   std::size_t chain_every_ = 1;
   std::size_t control_every_ = 1;
