@@ -50,11 +50,15 @@ bool AdaptiveMachine::ToolWatch::update(int t, double d, double ox, double oz, b
   return changed;
 }
 
-void AdaptiveMachine::configure(const Params& p) {
-  if (p.tools.size() > kMaxTools)
-    throw std::invalid_argument("more than " + std::to_string(kMaxTools) + " tools");
-  if (p.taught.size() > kMaxTaught)
-    throw std::invalid_argument("more than " + std::to_string(kMaxTaught) + " taught references");
+namespace {
+// configure()'s refusals, before anything is changed.
+void check_params(const AdaptiveMachine::Params& p) {
+  if (p.tools.size() > AdaptiveMachine::kMaxTools)
+    throw std::invalid_argument("more than " + std::to_string(AdaptiveMachine::kMaxTools) +
+                                " tools");
+  if (p.taught.size() > AdaptiveMachine::kMaxTaught)
+    throw std::invalid_argument("more than " + std::to_string(AdaptiveMachine::kMaxTaught) +
+                                " taught references");
   if (!(p.power_lag_s >= 0.0)) throw std::invalid_argument("power_lag_s must be ≥ 0");
   if (!(p.override_step > 0.0)) throw std::invalid_argument("override_step must be > 0");
   if (!(p.learn_inertia_min_s > 0.0))
@@ -69,6 +73,11 @@ void AdaptiveMachine::configure(const Params& p) {
     throw std::invalid_argument(
         "the tool-life speed law needs the stock model (z_origin_mm): its depth and hardness "
         "come from the blank's geometry and the cut's specific force");
+}
+}  // namespace
+
+void AdaptiveMachine::configure(const Params& p) {
+  check_params(p);
   p_ = p;
   auto c = p.controller;
   if (p.stock_model) c.breakage_drop_window_s = 0.0;  // the path-aware detector replaces it
