@@ -63,8 +63,7 @@ double AdaptiveMachine::measured_load(const Input& in, bool feed_move, double rp
   // power there is J·ω·dω/dt alone (least squares through the origin).
   if (p_.learn_inertia && !feed_move && learned && std::isfinite(drawn) &&
       std::abs(wdw_lagged_) > 20.0 * std::abs(rpm) * 2.0 * std::numbers::pi / 60.0) {
-    const double mech = mech_net;
-    j_sxy_ += wdw_lagged_ * mech;
+    j_sxy_ += wdw_lagged_ * mech_net;
     j_sxx_ += wdw_lagged_ * wdw_lagged_;
     j_seen_s_ += dt;
     if (j_seen_s_ >= p_.learn_inertia_min_s && j_sxx_ > 0.0 && j_sxy_ > 0.0) {
