@@ -76,6 +76,16 @@ VerifyRun run_sim_once(const std::string& name, const std::string& text, bool of
       cmd += num;
     }
     cmd += " --tool-table " + shell_quote((dir / "machine.tbl").string());
+    // Where the prediction starts (machine_start: the INI's home, or the simulated lathe's) and
+    // where its M6 goes ([EMCIO]TOOL_CHANGE_POSITION, or none).
+    std::snprintf(num, sizeof num, " --home %.6g,%.6g", opt.start_x_mm, opt.start_z_mm);
+    cmd += num;
+    if (m.tool_change_x && m.tool_change_z)
+      std::snprintf(num, sizeof num, " --tool-change-position %.6g,%.6g", *m.tool_change_x,
+                    *m.tool_change_z);
+    else
+      std::snprintf(num, sizeof num, " --tool-change-position none");
+    cmd += num;
   }
   if (!v.tool_file.empty()) cmd += " --tool-file " + shell_quote(v.tool_file);
   cmd += " >" + shell_quote((dir / (name + ".log")).string()) + " 2>&1";
