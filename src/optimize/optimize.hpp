@@ -266,6 +266,11 @@ Verified verify(const Program& p, const Result& r, const Options& opt, const Ver
 std::vector<std::string> warnings(const Program& p, const systems::e_adaptive::Settings& e,
                                   const Result& r);
 
+// What a rapid through material on `line` is, for messages: "a rapid (G0)", or, when the line's
+// only rapid is LinuxCNC's travel at its M6, "LinuxCNC's travel to [EMCIO]TOOL_CHANGE_POSITION
+// at the M6".
+std::string rapid_what(const io::CanonProgram& prog, int line);
+
 // A note for a program whose G64 blends cut inside its contour in material (blend.hpp).
 std::string blend_note(const Prediction& p);
 

@@ -160,6 +160,39 @@ TEST(ToolChange, InterpretAddsTheTravelOfTheSimulatedLathe) {
   EXPECT_EQ(travels, 1);
 }
 
+// A travel through the blank is refused as LinuxCNC's, at the M6's line: T1 cuts Ø40 → Ø36 from
+// Z2 to Z-12, then the change goes to (60, -100) behind it, through the uncut bar and its collar.
+TEST(ToolChange, ATravelThroughTheBlankIsNamedAsSuch) {
+  const std::string canon =
+      "1 N..... SELECT_PLANE(CANON_PLANE_XZ)\n"
+      "2 N..... SET_FEED_MODE(0, 1)\n"
+      "3 N..... SET_FEED_RATE(0.3000)\n"
+      "4 N..... SET_SPINDLE_SPEED(0, 1194.0000)\n"
+      "5 N..... START_SPINDLE_CLOCKWISE(0)\n"
+      "6 N..... COMMENT(\"lathectl-line 2\")\n"
+      "7 N..... STRAIGHT_TRAVERSE(18.0000, 0.0000, 2.0000, 0.0000, 0.0000, 0.0000)\n"
+      "8 N..... COMMENT(\"lathectl-line 3\")\n"
+      "9 N..... STRAIGHT_FEED(18.0000, 0.0000, -12.0000, 0.0000, 0.0000, 0.0000)\n"
+      "10 N..... COMMENT(\"lathectl-line 4\")\n"
+      "11 N..... SELECT_TOOL(2)\n"
+      "12 N..... CHANGE_TOOL(2)\n";
+  Program p;
+  p.file = "behind.ngc";
+  p.lines = {"G18 G21 G95 M3 S1194", "G0 X18 Z2", "G1 Z-12 F0.3", "T2 M6"};
+  p.canon = io::parse_canon(canon, p.file, 60.0, 60.0, io::ToolChangePosition{60.0, -100.0});
+  try {
+    (void)optimize(p, tc_bar(), Options{});
+    FAIL() << "no error";
+  } catch (const io::InputError& ex) {
+    EXPECT_EQ(std::string(ex.what()).rfind("behind.ngc:4: LinuxCNC's travel to "
+                                           "[EMCIO]TOOL_CHANGE_POSITION at the M6 drives the tool "
+                                           "through the blank (",
+                                           0),
+              0U)
+        << ex.what();
+  }
+}
+
 // The start on a user's machine: its home when clear of the blank (Ø40 with a Ø44 collar from the
 // face at machine Z0, a 0.8 mm nose), else the simulated lathe's start and one line naming the INI and its keys.
 TEST(ToolChange, HomeIsTakenOnlyClearOfTheBlank) {
