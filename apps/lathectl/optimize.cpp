@@ -79,6 +79,14 @@ int run(Args& a) {
     optimize::apply_tool_table(a.opt.tool_specs, table, a.tool_file, a.opt.tool_table);
   }
   a.opt.table_tools = std::move(table);
+  // The user's machine starts the program where its homing leaves the tool, when that is clear
+  // of the blank (optimize::machine_start); --verify's simulated lathe homes there too.
+  if (!a.ini.empty()) {
+    const auto start = optimize::machine_start(machine, a.opt.ini, e, a.opt);
+    a.opt.start_x_mm = start.x_mm;
+    a.opt.start_z_mm = start.z_mm;
+    if (!start.from_ini) std::cout << "note: " << start.note << "\n";
+  }
   a.opt.rs274 = a.rs274;
   a.opt.label = a.program;
   const auto prog = optimize::read_program(a.program, a.opt);

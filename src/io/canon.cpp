@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -79,7 +80,9 @@ bool command(std::string_view ln, std::string_view& name, std::string_view& inne
 // Reads the commands one by one into moves, each a copy of the modal state.
 class CanonParser {
  public:
-  CanonParser(const std::string& label, double x, double z) : label_(label), x_(x), z_(z) {}
+  CanonParser(const std::string& label, double x, double z,
+              std::optional<ToolChangePosition> tool_change)
+      : label_(label), tool_change_(tool_change), x_(x), z_(z) {}
 
   void line(std::string_view ln) {
     ++out_line_;
@@ -263,6 +266,7 @@ class CanonParser {
         fail("SELECT_TOOL: tool number " + std::to_string(a.v[0]) + " outside [0, 99999]");
       selected_ = static_cast<int>(a.v[0]);
     } else if (name == "CHANGE_TOOL") {
+      if (tool_change_) travel_to_tool_change();
       // T only prepares a tool; M6 puts it in the spindle (LinuxCNC's iocontrol tool-number, the
       // pin the LinuxCNC plant reads). CHANGE_TOOL's argument is the tool table's pocket/index
       // (SELECT_TOOL(10) then CHANGE_TOOL(3) in tests/optimize/canon_example.txt), not the tool
@@ -271,7 +275,30 @@ class CanonParser {
     }
   }
 
+  // LinuxCNC's task before the change (emccanon.cc CHANGE_TOOL): flush_segments(), then one
+  // EMC_TRAJ_LINEAR_MOVE of type TOOLCHANGE to the position, in machine coordinates, at
+  // getStraightVelocity/Acceleration (a G0's), all axes together; the tool load waits for it.
+  // The interpreter then takes the machine's position as its own (convert_tool_change:
+  // toolchange_flag), so the next move starts there.
+  void travel_to_tool_change() {
+    CanonMove m = state_;
+    m.kind = CanonMove::Kind::Traverse;
+    m.tool_change = true;
+    m.synced = false;
+    m.x0 = x_;
+    m.z0 = z_;
+    m.x1 = tool_change_->x_mm - state_.offset_x;
+    m.z1 = tool_change_->z_mm - state_.offset_z;
+    if (std::hypot(m.x1 - m.x0, m.z1 - m.z0) <= 1e-9) return;
+    x_ = m.x1;
+    z_ = m.z1;
+    m.stop_before = true;
+    stop_pending_ = true;  // the change itself waits for motion
+    prog_.moves.push_back(m);
+  }
+
   const std::string& label_;
+  std::optional<ToolChangePosition> tool_change_;
   CanonProgram prog_;
   CanonMove state_;  // the modal state, copied into each move
   double x_, z_;
@@ -285,8 +312,8 @@ class CanonParser {
 }  // namespace
 
 CanonProgram parse_canon(std::string_view text, const std::string& label, double start_x_mm,
-                         double start_z_mm) {
-  CanonParser parser(label, start_x_mm, start_z_mm);
+                         double start_z_mm, std::optional<ToolChangePosition> tool_change) {
+  CanonParser parser(label, start_x_mm, start_z_mm, tool_change);
   std::size_t pos = 0;
   while (pos < text.size()) {
     std::size_t end = text.find('\n', pos);

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "lathectl/io/errors.hpp"
 
@@ -38,6 +39,60 @@ std::optional<double> number(const LinuxcncIni& ini, std::string_view section,
   if (r.ec != std::errc() || r.ptr != end || !std::isfinite(v)) bad(ini, *e, "not a number");
   if (positive && !(v > 0.0)) bad(ini, *e, "must be > 0");
   return v * scale;
+}
+
+// [EMCIO]TOOL_CHANGE_POSITION: LinuxCNC's task reads "X Y Z", "X Y Z A B C" or nine numbers
+// (taskclass.cc readToolChange, sscanf); a lathe takes X and Z.
+void tool_change_position(const LinuxcncIni& ini, LatheMachine& m) {
+  const auto* e = ini.find("EMCIO", "TOOL_CHANGE_POSITION");
+  if (e == nullptr) return;
+  std::vector<double> v;
+  std::string_view rest = e->value;
+  while (!(rest = ini_trim(rest)).empty()) {
+    std::size_t n = 0;
+    while (n < rest.size() && !std::isspace(static_cast<unsigned char>(rest[n]))) ++n;
+    const char* b = rest.data();
+    const char* end = b + n;
+    if (*b == '+') ++b;
+    double d = 0.0;
+    const auto r = std::from_chars(b, end, d);
+    if (r.ec != std::errc() || r.ptr != end || !std::isfinite(d))
+      bad(ini, *e, "not a number: '" + std::string(rest.substr(0, n)) + "' (X Y Z [A B C [U V W]])");
+    v.push_back(d);
+    rest.remove_prefix(n);
+  }
+  if (v.size() < 3) bad(ini, *e, "expected X Y Z [A B C [U V W]] (machine coordinates)");
+  m.tool_change_x = v[0] * m.unit_mm;
+  m.tool_change_z = v[2] * m.unit_mm;
+}
+
+// The joint of `axis` (X or Z) as trivkins numbers them: the letters of [KINS]KINEMATICS's
+// coordinates= in order, else the identity X Y Z A B C U V W.
+int joint_of(const LinuxcncIni& ini, char axis) {
+  std::string k;
+  if (const auto* e = ini.find("KINS", "KINEMATICS")) k = e->value;
+  std::transform(k.begin(), k.end(), k.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+  const auto at = k.find("COORDINATES=");
+  if (at == std::string::npos) return axis == 'X' ? 0 : 2;
+  int j = 0;
+  for (std::size_t i = at + 12; i < k.size() && !std::isspace(static_cast<unsigned char>(k[i])); ++i) {
+    if (k[i] == axis) return j;
+    if (std::isalpha(static_cast<unsigned char>(k[i]))) ++j;
+  }
+  return axis == 'X' ? 0 : 2;
+}
+
+void home(const LinuxcncIni& ini, LatheMachine& m) {
+  for (const char axis : {'X', 'Z'}) {
+    const std::string joint = "JOINT_" + std::to_string(joint_of(ini, axis));
+    (void)number(ini, joint, "HOME_OFFSET", m.unit_mm, false);
+    (axis == 'X' ? m.home_x_key : m.home_z_key) = "[" + joint + "]HOME";
+    const auto h = number(ini, joint, "HOME", m.unit_mm, false);
+    if (!h) continue;
+    (axis == 'X' ? m.home_x : m.home_z) = *h;
+    (axis == 'X' ? m.home_x_line : m.home_z_line) = ini.find(joint, "HOME")->line;
+  }
 }
 
 }  // namespace
@@ -113,6 +168,8 @@ LatheMachine lathe_machine(const LinuxcncIni& ini) {
   m.max_velocity_mm_s = least("MAX_LINEAR_VELOCITY", "MAX_VELOCITY");
   m.max_acceleration_mm_s2 = least("MAX_LINEAR_ACCELERATION", "MAX_ACCELERATION");
   if (const auto* t = ini.find("EMCIO", "TOOL_TABLE")) m.tool_table = t->value;
+  tool_change_position(ini, m);
+  home(ini, m);
   return m;
 }
 

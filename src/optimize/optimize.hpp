@@ -115,6 +115,21 @@ std::string machine_tool_table(const std::string& ini_file, const io::LatheMachi
 // LinuxCNC refuses to run. read_program checks it when Options::ini is set.
 void check_soft_limits(const Program& p, const std::string& ini_file);
 
+// Where the tool stands when the program starts on the user's machine (--ini): where LinuxCNC's
+// homing leaves it, [JOINT_n]HOME of X's and Z's joints (0 when absent), when that lies clear
+// of the blank: above its largest radius (eccentricity included) or in front of its face, by
+// the nose's width (2·r_ε) at least. Else the simulated lathe's start (Options::start_x_mm,
+// start_z_mm) and `note`, one line naming the INI's file, line and key: the simulated lathe has
+// no work offsets, so a home inside the blank (LinuxCNC's own sim/axis/lathe.ini has no HOME:
+// X0 Z0, the face's centre) would start the tool in the material.
+struct MachineStart {
+  double x_mm = 0.0, z_mm = 0.0;
+  bool from_ini = false;  // the INI's home is taken
+  std::string note;       // why it is not ("" when it is)
+};
+MachineStart machine_start(const io::LatheMachine& mc, const std::string& ini_file,
+                           const systems::e_adaptive::Settings& e, const Options& opt);
+
 // A piece of a move at one feed: the share [from, to] of the move's length.
 struct Piece {
   double from = 0.0, to = 1.0;
@@ -250,6 +265,11 @@ Verified verify(const Program& p, const Result& r, const Options& opt, const Ver
 // predicted to chatter.
 std::vector<std::string> warnings(const Program& p, const systems::e_adaptive::Settings& e,
                                   const Result& r);
+
+// What a rapid through material on `line` is, for messages: "a rapid (G0)", or, when the line's
+// only rapid is LinuxCNC's travel at its M6, "LinuxCNC's travel to [EMCIO]TOOL_CHANGE_POSITION
+// at the M6".
+std::string rapid_what(const io::CanonProgram& prog, int line);
 
 // A note for a program whose G64 blends cut inside its contour in material (blend.hpp).
 std::string blend_note(const Prediction& p);

@@ -1,6 +1,7 @@
 // The output set of `lathectl optimize`: optimized.ngc, blocks.csv (one row per piece of each
 // feed move), summary.json and report.html (io::render_html).
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -161,17 +162,28 @@ std::string blend_note(const Prediction& p) {
          "the program sets a tolerance (G64 P0.01) or exact path (G61).";
 }
 
+std::string rapid_what(const io::CanonProgram& prog, int line) {
+  bool travel = false, other = false;
+  for (const auto& m : prog.moves)
+    if (m.line == line && m.kind == CanonMove::Kind::Traverse) (m.tool_change ? travel : other) = true;
+  return travel && !other ? "LinuxCNC's travel to [EMCIO]TOOL_CHANGE_POSITION at the M6"
+                          : "a rapid (G0)";
+}
+
 std::vector<std::string> warnings(const Program& p, const systems::e_adaptive::Settings& e,
                                   const Result& r) {
   const auto& prog = p.canon;
   const std::string unit = e.rig.force_parameter == cutting::ForceParameter::Power ? "W" : "N";
   std::vector<std::string> w;
-  if (r.before.rapid_in_material_s > 0.0)
-    w.push_back("A rapid (G0) of line " + std::to_string(r.before.rapid_first_line) +
+  if (r.before.rapid_in_material_s > 0.0) {
+    std::string what = rapid_what(prog, r.before.rapid_first_line);
+    what[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(what[0])));
+    w.push_back(what + " of line " + std::to_string(r.before.rapid_first_line) +
                 " passes through material for " + num(r.before.rapid_in_material_s, 3) +
                 " s, up to " + num(r.before.rapid_peak, 4) + " " + unit +
                 ": feeds cannot help there; the program's path must change. The lines from it "
                 "on keep their programmed feeds.");
+  }
   // The optimised program's peak above the limit: only a line kept as written can do that.
   const auto rev = rev_param(prog, r.after.s);
   double peak = 0.0;

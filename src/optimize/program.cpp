@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -300,6 +301,33 @@ std::string machine_tool_table(const std::string& ini_file, const io::LatheMachi
   return (t.is_absolute() ? t : fs::path(ini_file).parent_path() / t).string();
 }
 
+MachineStart machine_start(const io::LatheMachine& mc, const std::string& ini_file,
+                           const systems::e_adaptive::Settings& e, const Options& opt) {
+  const auto& blank = e.rig.stock.blank_diameter_mm;
+  double r_max = 0.0, z_lo = 0.0;
+  for (const auto& b : blank) r_max = std::max(r_max, 0.5 * b.value);
+  if (!blank.empty()) z_lo = blank.front().at_mm;
+  r_max += e.rig.stock.eccentricity_mm;
+  const double nose = 2.0 * e.rig.cutting.nose_radius_mm;
+  // Machine z = z_origin − stock z: the face (stock z_lo) at machine z_origin − z_lo.
+  const double face_z = opt.z_origin_mm - z_lo;
+  MachineStart s{mc.home_x, mc.home_z, true, {}};
+  if (mc.home_x >= r_max + nose || mc.home_z >= face_z + nose) return s;
+  const auto key = [](const std::string& k, int line) {
+    return line == 0 ? k + " absent (0)" : k + " (line " + std::to_string(line) + ")";
+  };
+  char buf[400];
+  const double u = mc.unit_mm;
+  std::snprintf(buf, sizeof buf,
+                "%s: %s, %s: LinuxCNC homes the tool at X%g Z%g %s, in the blank (radius up to "
+                "%.4g mm, face at machine Z%.4g mm; the simulated lathe has no work offsets); it "
+                "starts at X%g Z%g mm as without --ini",
+                ini_file.c_str(), key(mc.home_x_key, mc.home_x_line).c_str(),
+                key(mc.home_z_key, mc.home_z_line).c_str(), mc.home_x / u, mc.home_z / u,
+                u > 1.0 ? "inch" : "mm", r_max, face_z, opt.start_x_mm, opt.start_z_mm);
+  return {opt.start_x_mm, opt.start_z_mm, false, buf};
+}
+
 io::CanonProgram interpret(const std::vector<std::string>& lines, const std::string& label,
                            const Options& opt) {
   const fs::path ini = opt.ini;
@@ -353,7 +381,13 @@ io::CanonProgram interpret(const std::vector<std::string>& lines, const std::str
                          " without writing the canonical commands LinuxCNC's interpreter "
                          "writes: it is not LinuxCNC's rs274 (linuxcnc-uspace)");
   if (rc != 0) throw io::InputError(interpreter_error(err, label));
-  return io::parse_canon(read_text(tmp.path / "canon.txt"), label, opt.start_x_mm, opt.start_z_mm);
+  // The travel to [EMCIO]TOOL_CHANGE_POSITION at each M6 is LinuxCNC's task's, not the
+  // interpreter's: rs274 does not print it (io::parse_canon adds it).
+  std::optional<io::ToolChangePosition> tool_change;
+  if (mc.tool_change_x && mc.tool_change_z)
+    tool_change = io::ToolChangePosition{*mc.tool_change_x, *mc.tool_change_z};
+  return io::parse_canon(read_text(tmp.path / "canon.txt"), label, opt.start_x_mm, opt.start_z_mm,
+                         tool_change);
 }
 
 Program read_program(const std::string& path, const Options& opt) {

@@ -363,7 +363,7 @@ void keep_after_rapid(const Program& p, const Prediction& before, const Options&
   if (!opt.allow_rapid_in_material)
     throw io::InputError(io::located(
         p.file, before.rapid_first_line, 0,
-        "a rapid (G0) drives the tool through the blank (" +
+        rapid_what(p.canon, before.rapid_first_line) + " drives the tool through the blank (" +
             number(before.rapid_in_material_s, 3) + " s in material, the force parameter up to " +
             number(before.rapid_peak, 0) +
             " predicted): the path must change (--allow-rapid-in-material to optimise the "

@@ -38,6 +38,37 @@ std::string with_mode(const std::string& text, bool off) {
   return line + text;
 }
 
+// The user's machine on the simulated lathe (--verify --ini): its limits, velocity,
+// acceleration and tools, the start the prediction takes and its tool-change position.
+std::string machine_options(const io::LatheMachine& m, const Options& opt, const fs::path& dir) {
+  std::string cmd;
+  char num[128];
+  const auto num_or = [](const std::optional<double>& x, double d) { return x ? *x : d; };
+  std::snprintf(num, sizeof num, " --axis-limits %.6g,%.6g,%.6g,%.6g", num_or(m.x_min, -1e9),
+                num_or(m.x_max, 1e9), num_or(m.z_min, -1e9), num_or(m.z_max, 1e9));
+  cmd += num;
+  if (m.max_velocity_mm_s) {
+    std::snprintf(num, sizeof num, " --max-velocity %.6g", *m.max_velocity_mm_s);
+    cmd += num;
+  }
+  if (m.max_acceleration_mm_s2) {
+    std::snprintf(num, sizeof num, " --max-acceleration %.6g", *m.max_acceleration_mm_s2);
+    cmd += num;
+  }
+  cmd += " --tool-table " + shell_quote((dir / "machine.tbl").string());
+  // Where the prediction starts (machine_start: the INI's home, or the simulated lathe's) and
+  // where its M6 goes ([EMCIO]TOOL_CHANGE_POSITION, or none).
+  std::snprintf(num, sizeof num, " --home %.6g,%.6g", opt.start_x_mm, opt.start_z_mm);
+  cmd += num;
+  if (m.tool_change_x && m.tool_change_z)
+    std::snprintf(num, sizeof num, " --tool-change-position %.6g,%.6g", *m.tool_change_x,
+                  *m.tool_change_z);
+  else
+    std::snprintf(num, sizeof num, " --tool-change-position none");
+  cmd += num;
+  return cmd;
+}
+
 VerifyRun run_sim_once(const std::string& name, const std::string& text, bool off,
                        const Options& opt, const VerifyOptions& v, const fs::path& dir,
                        double dt_s) {
@@ -61,22 +92,7 @@ VerifyRun run_sim_once(const std::string& name, const std::string& text, bool of
     std::snprintf(num, sizeof num, " --spindle-rpm %.6g", opt.spindle_rpm);
     cmd += num;
   }
-  if (v.machine) {  // the user's machine: its limits and tools on the simulated lathe
-    const auto& m = *v.machine;
-    const auto num_or = [](const std::optional<double>& x, double d) { return x ? *x : d; };
-    std::snprintf(num, sizeof num, " --axis-limits %.6g,%.6g,%.6g,%.6g", num_or(m.x_min, -1e9),
-                  num_or(m.x_max, 1e9), num_or(m.z_min, -1e9), num_or(m.z_max, 1e9));
-    cmd += num;
-    if (m.max_velocity_mm_s) {
-      std::snprintf(num, sizeof num, " --max-velocity %.6g", *m.max_velocity_mm_s);
-      cmd += num;
-    }
-    if (m.max_acceleration_mm_s2) {
-      std::snprintf(num, sizeof num, " --max-acceleration %.6g", *m.max_acceleration_mm_s2);
-      cmd += num;
-    }
-    cmd += " --tool-table " + shell_quote((dir / "machine.tbl").string());
-  }
+  if (v.machine) cmd += machine_options(*v.machine, opt, dir);
   if (!v.tool_file.empty()) cmd += " --tool-file " + shell_quote(v.tool_file);
   cmd += " >" + shell_quote((dir / (name + ".log")).string()) + " 2>&1";
   const int rc = std::system(cmd.c_str());

@@ -67,6 +67,10 @@ check quadrants "$nc/lathe_g7x_quadrants.ngc" "$sc/quadrants.toml" \
 # G20 on LinuxCNC's inch lathe (its T7); on the simulated lathe T7 is not in the table.
 check lathecomp "$nc/lathecomp.ngc" "$sc/lathecomp.toml" optimised \
   --spindle-rpm 800 --z-origin-mm 44 "${inch[@]}"
+# lathe.ini has no [JOINT_n]HOME: LinuxCNC homes at X0 Z0, inside this blank; the run starts at
+# the simulated lathe's X60 Z60 and says so, naming the INI and its keys (docs/optimize.md).
+grep -q "^note: $lathe_ini: \[JOINT_0\]HOME absent (0), \[JOINT_1\]HOME absent (0): LinuxCNC homes the tool at X0 Z0 inch, in the blank" \
+  "$work/lathecomp.out" || { echo "FAIL lathecomp: no note on lathe.ini's home"; fail=1; }
 check lathecomp_lathectl "$nc/lathecomp.ngc" "$sc/lathecomp.toml" \
   "lathecomp.ngc:30: LinuxCNC's interpreter \\(rs274\\) rejects the program: Requested tool 7 not found" \
   --spindle-rpm 800 --z-origin-mm 44

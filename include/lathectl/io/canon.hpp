@@ -31,6 +31,7 @@
 //   SELECT_TOOL(t), COMMENT("…"), USE_LENGTH_UNITS(CANON_UNITS_MM|_INCHES)
 // Anything else is passed over. Arcs outside the XZ plane are refused.
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -67,6 +68,9 @@ struct CanonMove {
   // Something between the previous move and this one makes LinuxCNC stop (a dwell, a tool
   // change, a spindle command, a program stop, an M1xx): no blend across it.
   bool stop_before = false;
+  // LinuxCNC's own travel at an M6 to the INI's [EMCIO]TOOL_CHANGE_POSITION (a Traverse the
+  // program does not write: parse_canon's tool_change), on the M6's line with the tool leaving.
+  bool tool_change = false;
 };
 
 struct CanonProgram {
@@ -76,9 +80,19 @@ struct CanonProgram {
 // The marker comment for program line `line` ("lathectl-line 12").
 std::string canon_line_marker(int line);
 
+// The machine's [EMCIO]TOOL_CHANGE_POSITION, X (radius) and Z in machine coordinates [mm].
+struct ToolChangePosition {
+  double x_mm = 0.0, z_mm = 0.0;
+};
+
 // Reads rs274's output. `label` names the program in messages; start: the tool's position
-// before the first move (x, z). Throws InputError, one line, on what it cannot read.
+// before the first move (x, z). With `tool_change`, each CHANGE_TOOL (M6) is preceded by what
+// LinuxCNC's task adds there and rs274 does not print (emccanon.cc CHANGE_TOOL): a straight
+// rapid of all axes together, from rest to rest, to that machine position (the program's
+// coordinates: minus the offsets in force), from where the next move starts. Throws
+// InputError, one line, on what it cannot read.
 CanonProgram parse_canon(std::string_view text, const std::string& label, double start_x_mm = 0.0,
-                         double start_z_mm = 0.0);
+                         double start_z_mm = 0.0,
+                         std::optional<ToolChangePosition> tool_change = std::nullopt);
 
 }  // namespace lathectl::io

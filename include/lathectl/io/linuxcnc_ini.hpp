@@ -35,10 +35,22 @@ struct LatheMachine {
   // MAX_ACCELERATION given (mm/s, mm/s²); nullopt when none is.
   std::optional<double> max_velocity_mm_s, max_acceleration_mm_s2;
   std::string tool_table;  // [EMCIO]TOOL_TABLE as written ("" when absent)
+  // [EMCIO]TOOL_CHANGE_POSITION's X and Z ("X Y Z [A B C [U V W]]", machine coordinates, X the
+  // radius; Y and the rest a lathe does not have): where LinuxCNC's task moves the tool at each M6
+  // before the change (emccanon.cc CHANGE_TOOL); nullopt when the INI gives none.
+  std::optional<double> tool_change_x, tool_change_z;
+  // Where homing leaves X's and Z's joints: [JOINT_n]HOME (LinuxCNC's default 0 when absent),
+  // n the joint of the axis ([KINS]KINEMATICS trivkins coordinates=…, else X 0, Z 2); the key
+  // ("[JOINT_1]HOME") and its line (0 when absent), for messages. HOME_OFFSET (the home switch's
+  // position) is checked as a number; after homing the joint stands at HOME (homing.c).
+  double home_x = 0.0, home_z = 0.0;
+  std::string home_x_key, home_z_key;
+  int home_x_line = 0, home_z_line = 0;
 };
 // Throws InputError naming the file, line, section and key of a value that is not what LinuxCNC
 // takes (a unit it does not know, a limit that is not a finite number, a velocity or
-// acceleration ≤ 0, MIN_LIMIT above MAX_LIMIT), or the file, section and key of a missing
+// acceleration ≤ 0, MIN_LIMIT above MAX_LIMIT, a TOOL_CHANGE_POSITION that is not three or more
+// numbers, a HOME or HOME_OFFSET that is not a number), or the file, section and key of a missing
 // [TRAJ]LINEAR_UNITS.
 LatheMachine lathe_machine(const LinuxcncIni& ini);
 
