@@ -241,8 +241,11 @@ struct VerifyOptions {
   std::string scenario;          // the scenario file
   double timeout_s = 1200.0;
   // The user's machine (--ini): the simulated lathe takes its soft limits, velocity and
-  // acceleration (mm) and its tool table (in mm, tool_table_text), not its HAL files.
+  // acceleration (mm), not its HAL files.
   std::optional<io::LatheMachine> machine;
+  // The tool table of --ini or --tool-table (in the machine's units; empty: the simulated
+  // lathe's own): the simulated lathe's, in mm, so its plant cuts each tool's nose and Q as
+  // the prediction did.
   std::string tool_table_text;
   // The tool file (--tool-file; empty: none): the simulated lathe's plant cuts its grooving and
   // parting tools with their inserts' width, as the prediction does (linuxcnc-sim --tool-file).

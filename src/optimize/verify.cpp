@@ -75,8 +75,9 @@ VerifyRun run_sim_once(const std::string& name, const std::string& text, bool of
       std::snprintf(num, sizeof num, " --max-acceleration %.6g", *m.max_acceleration_mm_s2);
       cmd += num;
     }
-    cmd += " --tool-table " + shell_quote((dir / "machine.tbl").string());
   }
+  if (!v.tool_table_text.empty())  // the machine's or --tool-table's: the plant cuts its noses
+    cmd += " --tool-table " + shell_quote((dir / "machine.tbl").string());
   if (!v.tool_file.empty()) cmd += " --tool-file " + shell_quote(v.tool_file);
   cmd += " >" + shell_quote((dir / (name + ".log")).string()) + " 2>&1";
   const int rc = std::system(cmd.c_str());
@@ -163,9 +164,10 @@ Verified verify(const Program& p, const Result& r, const Options& opt, const Ver
                            fs::perms::others_read | fs::perms::others_exec);
   std::string original;
   for (const auto& l : p.lines) original += l + "\n";
-  if (v.machine) {  // the simulated lathe works in mm: the table's lengths too
+  if (!v.tool_table_text.empty()) {  // the simulated lathe works in mm: the table's lengths too
     std::ofstream t(dir / "machine.tbl");
-    t << tool_table_scaled(v.tool_table_text, v.machine->unit_mm);
+    t << (v.machine ? tool_table_scaled(v.tool_table_text, v.machine->unit_mm)
+                    : v.tool_table_text);
   }
   Verified out;
   const double dt = r.after.s.dt_s;  // the servo period
