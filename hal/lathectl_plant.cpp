@@ -4,6 +4,7 @@
 //
 //   loadrt lathectl_plant scenario=PATH [z_origin_mm=0] [cell_mm=0.01] [warmup_s=120]
 //                         [idle_drift=0.15] [period_ns=1000000] [tool_file=PATH]
+//                         [tool_table=PATH]
 //   addf lathectl-plant servo-thread
 //
 // Pins (hal/pins/plant.hpp; lathectl_plant(9)): the tool's position, the spindle's speed and the
@@ -15,6 +16,10 @@
 // io::read_tool_file): a grooving or parting tool in the spindle (pin tool-number,
 // iocontrol.0.tool-number) cuts its insert's whole width in feed moves, as the optimiser predicts
 // it (cutting::LathePlant::Input::insert_width_mm); any other tool cuts with the nose.
+// tool_table (LinuxCNC's tool table, the INI's [EMCIO]TOOL_TABLE, in mm; its reader
+// io::read_tool_table): the tool in the spindle cuts with its own nose and orientation, the
+// choice lathectl optimize's prediction makes (io::tool_geometry: the tool file's nose radius,
+// else the table's D/2, else the scenario's; the table's Q, else the scenario's orientation).
 
 #include <cmath>
 #include <cstdint>
@@ -48,6 +53,9 @@ LATHECTL_HAL_PARAM(break_at_s,
                    "default never");
 LATHECTL_HAL_PARAM(period_ns, "period of the servo thread this runs in [ns], default 1000000");
 LATHECTL_HAL_PARAM(idle_drift, "extra idle power of the cold machine (fraction), default 0.15");
+LATHECTL_HAL_PARAM(tool_table,
+                   "LinuxCNC's tool table ([EMCIO]TOOL_TABLE, mm): the nose (D/2) and orientation "
+                   "(Q) of the tool in the spindle; default none (the scenario's tool)");
 LATHECTL_HAL_PARAM(tool_file,
                    "tool file (TOML [[tool]], lathectl optimize --tool-file): the insert width of "
                    "each grooving or parting tool; default none (every tool cuts with the nose)");
@@ -75,6 +83,12 @@ lathectl::control::PerRevolutionPeak force_rev;  // configured at load for the c
 double run_s = 0.0;
 // (tool number, insert width [mm]) of the tool file's grooving and parting tools, read at load.
 std::vector<std::pair<int, double>> plunge_tools;
+// The tool file's and the tool table's tools (read at load) and the scenario's nose: the tool in
+// the spindle's geometry (io::tool_geometry), set on the plant when the tool changes.
+std::vector<lathectl::io::ToolSpec> file_tools;
+std::vector<lathectl::io::TableTool> table_tools;
+lathectl::io::ToolGeometry scenario_tool;
+std::int32_t tool_in_plant = -1;
 
 // The width of cut of the tool in the spindle in a feed move: its insert's, 0 for the nose.
 double insert_width(std::int32_t tool, bool feed_move) noexcept {
@@ -94,6 +108,12 @@ void update(void*, long period_ns) {
   in.z_mm = on ? *pins->z_pos : std::nan("");
   lathectl::cutting::LathePlant::Output out;
   pins->read_pins(in, out);  // the table's copies (pins/plant.hpp)
+  if (*pins->tool_number != tool_in_plant) {  // M6: the new tool's nose, the stock stays
+    tool_in_plant = *pins->tool_number;
+    const auto g =
+        lathectl::io::tool_geometry(file_tools, table_tools, tool_in_plant, scenario_tool);
+    plant->set_tool(g.nose_radius_mm, g.orientation);
+  }
   const bool feed_move = lathectl::control::is_feed_motion(*pins->motion_type);
   in.insert_width_mm = insert_width(*pins->tool_number, feed_move);
   *pins->insert_width = in.insert_width_mm;
@@ -122,18 +142,45 @@ void update(void*, long period_ns) {
   *pins->update_ns_max = timer.max();
 }
 
+// The tool file and the tool table (module parameters), as lathectl optimize reads them: one
+// reader each, the table filling the file's noses where it gives none and the two agreeing.
+void read_tools(const lathectl::systems::e_adaptive::RigConfig& e) {
+  plunge_tools.clear();
+  file_tools.clear();
+  table_tools.clear();
+  scenario_tool = {e.cutting.nose_radius_mm, e.tool_orientation};
+  tool_in_plant = -1;
+  const bool has_file = tool_file != nullptr && *tool_file != '\0';
+  if (has_file) {
+    lathectl::hal::require_readable(tool_file, "tool file");
+    file_tools = lathectl::io::read_tool_file(lathectl::io::read_scenario_text(tool_file), tool_file);
+    for (const auto& t : file_tools)
+      if (t.plunge()) plunge_tools.emplace_back(t.number, t.insert_width_mm);
+  }
+  if (tool_table != nullptr && *tool_table != '\0') {
+    lathectl::hal::require_readable(tool_table, "tool table");
+    table_tools = lathectl::io::read_tool_table(lathectl::io::read_scenario_text(tool_table),
+                                                tool_table);
+    lathectl::io::apply_tool_table(file_tools, table_tools, has_file ? tool_file : "",
+                                   tool_table);
+  }
+}
+
 }  // namespace
 
 extern "C" int rtapi_app_main(void) {
   return lathectl::hal::load_component(kName, comp_id, [] {
     namespace e_adaptive = lathectl::systems::e_adaptive;
     const auto sc = lathectl::hal::load_system(scenario, e_adaptive::kReadSection);
+    const auto& e = sc.get<e_adaptive::Settings>().rig;
+    read_tools(e);
     lathectl::cutting::LathePlant::Params p;
     p.z_origin_mm = lathectl::hal::number_param(z_origin_mm, "z_origin_mm", 0.0);
     p.cell_mm = lathectl::hal::number_param(cell_mm, "cell_mm", 0.01);
+    p.max_nose_radius_mm = lathectl::io::largest_nose_radius_mm(file_tools, table_tools,
+                                                                scenario_tool.nose_radius_mm);
     auto model = std::make_unique<lathectl::cutting::LathePlant>();
-    model->configure(e_adaptive::lathe_process(sc.get<e_adaptive::Settings>().rig), p);
-    const auto& e = sc.get<e_adaptive::Settings>().rig;
+    model->configure(e_adaptive::lathe_process(e), p);
     const lathectl::drives::SpindlePowerAtSpeed::Drift drift{
         .factor = lathectl::hal::number_param(idle_drift, "idle_drift", 0.15),
         .warmup_s = lathectl::hal::number_param(warmup_s, "warmup_s", 120.0)};
@@ -153,13 +200,6 @@ extern "C" int rtapi_app_main(void) {
     const auto period = static_cast<double>(
         lathectl::hal::ranged_param(period_ns, "period_ns", 1e6, 1e4, 1e8, "1e4 … 1e8"));
     force_rev.configure(period * 1e-9);
-    plunge_tools.clear();
-    if (tool_file != nullptr && *tool_file != '\0') {
-      lathectl::hal::require_readable(tool_file, "tool file");
-      for (const auto& t : lathectl::io::read_tool_file(lathectl::io::read_scenario_text(tool_file),
-                                                        tool_file))
-        if (t.plunge()) plunge_tools.emplace_back(t.number, t.insert_width_mm);
-    }
     lathectl::hal::export_pin_block(pins, comp_id, kPrefix);
     *pins->motion_type = 2;  // unconnected (halrun): every move is a feed move
     plant = std::move(model);

@@ -61,6 +61,7 @@ int run(Args& a) {
   a.opt.ini = a.ini.empty() ? (fs::path(hal_config_dir()) / "lathectl-lathe.ini").string() : a.ini;
   const auto machine = io::lathe_machine(io::parse_linuxcnc_ini(
       io::read_input_file(a.opt.ini, "a LinuxCNC INI file (--ini)", io::kMaxTomlBytes), a.opt.ini));
+  const bool own_table = !a.ini.empty() || !a.opt.tool_table.empty();  // not the sim's own
   if (a.opt.tool_table.empty()) a.opt.tool_table = optimize::machine_tool_table(a.opt.ini, machine);
   if (machine.max_acceleration_mm_s2) a.opt.machine.accel_mm_s2 = *machine.max_acceleration_mm_s2;
   if (machine.max_velocity_mm_s) a.opt.machine.vmax_mm_s = *machine.max_velocity_mm_s;
@@ -115,11 +116,10 @@ int run(Args& a) {
     vo.scenario = fs::absolute(a.scenario).string();
     vo.timeout_s = a.timeout_s;
     if (!a.tool_file.empty()) vo.tool_file = fs::absolute(a.tool_file).string();
-    if (!a.ini.empty()) {
-      vo.machine = machine;
+    if (!a.ini.empty()) vo.machine = machine;
+    if (own_table)  // the simulated lathe cuts with the tools the prediction took
       vo.tool_table_text =
           io::read_input_file(a.opt.tool_table, "a LinuxCNC tool table", io::kMaxTomlBytes);
-    }
     v = std::make_unique<optimize::Verified>(optimize::verify(prog, result, a.opt, vo));
   }
   io::write_output_set(a.out, optimize::output_files(prog, result, e, a.opt, a.scenario, v.get()));

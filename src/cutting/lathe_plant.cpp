@@ -22,6 +22,9 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   const double r_nose = p.nose_radius_mm < 0.0 ? cfg.cutting.nose_radius_mm : p.nose_radius_mm;
   if (!(r_nose > 0.0) || r_nose > 50.0)
     throw std::invalid_argument("lathe plant: nose radius must be in (0, 50] mm");
+  const double r_nose_max = std::max(r_nose, p.max_nose_radius_mm);
+  if (!(r_nose_max <= 50.0))
+    throw std::invalid_argument("lathe plant: the largest nose radius must be in (0, 50] mm");
   const int q = p.orientation < 0 ? cfg.tool_orientation : p.orientation;
   if (q < 0 || q > 9)
     throw std::invalid_argument("lathe plant: the tool orientation is 0–9 (LinuxCNC's Q)");
@@ -40,11 +43,12 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   cfg_ = cfg;
   p_ = p;
   r_nose_ = r_nose;
+  r_nose_max_ = r_nose_max;
   set_orientation(q);
   z0_ = blank.front().at_mm;
   const auto n = static_cast<std::size_t>(std::ceil(cells)) + 1;
   r_.assign(n, 0.0);
-  edge_.assign(static_cast<std::size_t>(std::ceil(2.0 * r_nose / p.cell_mm)) + 3, 0.0);
+  edge_.assign(static_cast<std::size_t>(std::ceil(2.0 * r_nose_max / p.cell_mm)) + 3, 0.0);
   r_blank_low_.assign(n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
     const double z = z0_ + static_cast<double>(i) * p.cell_mm;
@@ -77,6 +81,20 @@ void LathePlant::set_orientation(int q) noexcept {
   const NoseOffset o = nose_centre_offset(q_);
   ox_ = static_cast<double>(o.x - 1) * r_nose_;
   oz_ = static_cast<double>(o.z) * r_nose_;
+}
+
+void LathePlant::set_tool(double nose_radius_mm, int q) noexcept {
+  const double r = std::clamp(nose_radius_mm, 1e-6, r_nose_max_);
+  if (r != r_nose_) {
+    r_nose_ = r;
+    // The cells the last pass left below its edge (cut_under_nose) were another nose's; a
+    // follower's next cut no longer matches this plant's (a tool change counts as a cut), and
+    // this plant no longer cuts as its leader.
+    last_nose_.valid = false;
+    ++cuts_;
+    leader_ = nullptr;
+  }
+  set_orientation(q);
 }
 
 double LathePlant::radius_mm(double z) const noexcept {

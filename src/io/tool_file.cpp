@@ -1,5 +1,6 @@
 #include "lathectl/io/tool_file.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -156,6 +157,30 @@ const ToolSpec* find_tool(const std::vector<ToolSpec>& tools, int number) noexce
   for (const auto& t : tools)
     if (t.number == number) return &t;
   return nullptr;
+}
+
+ToolGeometry tool_geometry(const std::vector<ToolSpec>& specs,
+                           const std::vector<TableTool>& table, int number,
+                           const ToolGeometry& scenario) noexcept {
+  ToolGeometry g = scenario;
+  for (const auto& t : table) {  // the last of a number, as apply_tool_table (numbers unique)
+    if (t.number != number) continue;
+    // Q0 with a nose (D > 0): its centre. Q0 without one: LinuxCNC's point tool, the point
+    // where the program puts it, on a nose the table does not give: the scenario's tip.
+    if (t.orientation != 0 || t.diameter_mm > 0.0) g.orientation = t.orientation;
+    g.nose_radius_mm = t.diameter_mm > 0.0 ? 0.5 * t.diameter_mm : scenario.nose_radius_mm;
+  }
+  if (const ToolSpec* s = find_tool(specs, number); s != nullptr && s->nose_radius_mm > 0.0)
+    g.nose_radius_mm = s->nose_radius_mm;
+  return g;
+}
+
+double largest_nose_radius_mm(const std::vector<ToolSpec>& specs,
+                              const std::vector<TableTool>& table, double scenario_mm) noexcept {
+  double r = scenario_mm;
+  for (const auto& t : table) r = std::max(r, 0.5 * t.diameter_mm);
+  for (const auto& s : specs) r = std::max(r, s.nose_radius_mm);
+  return r;
 }
 
 }  // namespace lathectl::io

@@ -43,9 +43,14 @@
 namespace lathectl::optimize {
 
 struct Options;
-// The orientation (LinuxCNC's Q) tool `number` cuts with: the tool table's Q (1–9), else (not in
-// the table, or Q0: not given) the scenario's [tool] orientation.
-int tool_orientation(const Options& opt, const systems::e_adaptive::Settings& e, int number);
+// The nose tool `number` cuts with in the prediction (io::tool_geometry, the LinuxCNC plant's
+// choice): --tool-file's nose_radius_mm, else the tool table's D/2, else the scenario's [tool]
+// nose_radius_mm; the tool table's Q (Q0 with D > 0: the nose's centre, as LinuxCNC) when the
+// table lists the tool, else the scenario's [tool] orientation.
+io::ToolGeometry tool_geometry(const Options& opt, const systems::e_adaptive::Settings& e,
+                               int number);
+// The largest nose of them all (the plant's scratch, LathePlant::Params::max_nose_radius_mm).
+double largest_nose_radius_mm(const Options& opt, const systems::e_adaptive::Settings& e);
 
 struct Options {
   double spindle_rpm = 0.0;      // > 0: "M3 S<rpm>" before the program (as linuxcnc-sim)
@@ -73,8 +78,8 @@ struct Options {
   std::vector<ToolSpec> tool_specs;
   std::string ini;         // the machine's INI (--ini; default the simulated lathe's)
   std::string tool_table;  // LinuxCNC's tool table (empty: the INI's [EMCIO]TOOL_TABLE)
-  // Its tools as read (read_tool_table): each one's orientation Q places the programmed point on
-  // the nose (tool_orientation); empty: every tool has the scenario's [tool] orientation.
+  // Its tools as read (read_tool_table): each one's nose (D/2) and orientation Q (where the
+  // programmed point is on it; tool_geometry); empty: every tool has the scenario's [tool].
   std::vector<TableTool> table_tools;
   double start_x_mm = 60.0;      // where the tool stands before the program (the sim's home)
   double start_z_mm = 60.0;
@@ -251,8 +256,11 @@ struct VerifyOptions {
   std::string scenario;          // the scenario file
   double timeout_s = 1200.0;
   // The user's machine (--ini): the simulated lathe takes its soft limits, velocity and
-  // acceleration (mm) and its tool table (in mm, tool_table_text), not its HAL files.
+  // acceleration (mm), not its HAL files.
   std::optional<io::LatheMachine> machine;
+  // The tool table of --ini or --tool-table (in the machine's units; empty: the simulated
+  // lathe's own): the simulated lathe's, in mm, so its plant cuts each tool's nose and Q as
+  // the prediction did.
   std::string tool_table_text;
   // The tool file (--tool-file; empty: none): the simulated lathe's plant cuts its grooving and
   // parting tools with their inserts' width, as the prediction does (linuxcnc-sim --tool-file).

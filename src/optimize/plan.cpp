@@ -127,7 +127,7 @@ struct FeedContext {
   const systems::e_adaptive::Settings& e;
   const Options& opt;
   FeedLimits lim;
-  double r_nose;
+  double r_nose;  // the largest nose of the program's tools (tool_geometry)
   std::vector<double> rev_depth;
 };
 void span_feed(const FeedContext& ctx, const CanonMove& m, const std::string& finishing,
@@ -137,13 +137,14 @@ void span_feed(const FeedContext& ctx, const CanonMove& m, const std::string& fi
   const auto& e = ctx.e;
   const auto& opt = ctx.opt;
   FeedLimits lim = ctx.lim;
-  double r_nose = ctx.r_nose;
-  if (spec) {  // the insert's own feed range (air included) and corner radius
+  // The finish's corner radius: the tool's own nose (tool_geometry: the tool file's, the tool
+  // table's D/2, the scenario's), the one the prediction cut with.
+  const double r_nose = tool_geometry(opt, e, m.tool).nose_radius_mm;
+  if (spec) {  // the insert's own feed range (air included)
     if (spec->feed_min_mm_per_rev > 0.0) lim.feed_min = spec->feed_min_mm_per_rev;
     if (spec->feed_max_mm_per_rev > 0.0) lim.feed_max = spec->feed_max_mm_per_rev;
     lim.feed_min = std::min(lim.feed_min, lim.feed_max);
     lim.air = std::min(lim.air, lim.feed_max);
-    if (spec->nose_radius_mm > 0.0) r_nose = spec->nose_radius_mm;
   }
   const auto& rev_depth = ctx.rev_depth;
   double rpm_min = std::numeric_limits<double>::infinity();
@@ -240,6 +241,20 @@ std::vector<char> near_material(const Samples& s, double reach) {
   return near;
 }
 
+// The largest nose among the tools the program's moves use (tool_geometry): the reach of
+// near_material().
+double program_nose_mm(const io::CanonProgram& prog, const systems::e_adaptive::Settings& e,
+                       const Options& opt) {
+  double r = 0.0;
+  int last = -1;
+  for (const CanonMove& m : prog.moves)
+    if (m.tool != last) {
+      last = m.tool;
+      r = std::max(r, tool_geometry(opt, e, m.tool).nose_radius_mm);
+    }
+  return r > 0.0 ? r : e.rig.cutting.nose_radius_mm;
+}
+
 }  // namespace
 
 Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
@@ -249,7 +264,7 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
   const FeedLimits lim = feed_limits(e, opt);
   cutting::CuttingModel cut;
   cut.configure(e.rig.cutting);
-  const double r_nose = e.rig.cutting.nose_radius_mm;
+  const double r_nose = program_nose_mm(prog, e, opt);
   const FeedContext ctx{cut, e, opt, lim, r_nose, control::per_revolution_mean(s.depth, s.rpm, s.dt_s)};
   const auto& rev_depth = ctx.rev_depth;
   const std::vector<char> near = near_material(s, 2.0 * r_nose + lim.air + 0.5);
@@ -321,7 +336,7 @@ Plan choose_feeds(const io::CanonProgram& prog, const Prediction& before,
     // The per-revolution depth that decides a boundary trails the tool by a revolution and the
     // nose reaches r_ε ahead of it: the slower piece of each pair takes `lead` more of the path,
     // so the heavier engagement never starts at the faster feed.
-    const double lead = (2.0 * r_nose + lim.feed_max) / len;
+    const double lead = (2.0 * tool_geometry(opt, e, m.tool).nose_radius_mm + lim.feed_max) / len;
     for (std::size_t k = 0; k + 1 < pieces.size(); ++k) {
       auto& p0 = pieces[k];
       auto& p1 = pieces[k + 1];
@@ -345,7 +360,7 @@ void refeed(const io::CanonProgram& prog, Plan& plan, const Prediction& trial,
   cutting::CuttingModel cut;
   cut.configure(e.rig.cutting);
   const FeedLimits lim = feed_limits(e, opt);
-  const double r_nose = e.rig.cutting.nose_radius_mm;
+  const double r_nose = program_nose_mm(prog, e, opt);
   const FeedContext ctx{cut, e, opt, lim, r_nose, control::per_revolution_mean(s.depth, s.rpm, s.dt_s)};
   const std::vector<char> near = near_material(s, 2.0 * r_nose + lim.air + 0.5);
   // A piece's samples are contiguous: a blend arc's come just before the piece it counts to.

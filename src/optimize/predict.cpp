@@ -48,10 +48,15 @@ control::AdaptiveMachine::Params adaptive_machine_params(const systems::e_adapti
   return systems::e_adaptive::machine_params(e.rig, host);
 }
 
-int tool_orientation(const Options& opt, const systems::e_adaptive::Settings& e, int number) {
-  for (const auto& t : opt.table_tools)
-    if (t.number == number && t.orientation > 0) return t.orientation;
-  return e.rig.tool_orientation;
+io::ToolGeometry tool_geometry(const Options& opt, const systems::e_adaptive::Settings& e,
+                               int number) {
+  return io::tool_geometry(opt.tool_specs, opt.table_tools, number,
+                           {e.rig.cutting.nose_radius_mm, e.rig.tool_orientation});
+}
+
+double largest_nose_radius_mm(const Options& opt, const systems::e_adaptive::Settings& e) {
+  return io::largest_nose_radius_mm(opt.tool_specs, opt.table_tools,
+                                    e.rig.cutting.nose_radius_mm);
 }
 
 namespace {
@@ -163,7 +168,7 @@ struct Walker {
   Prediction& pr;
   double path = 0.0;
   double leaving_mm = 0.0;  // what is left of a retract's way out of the cut before it
-  int q_tool = -1;  // the tool whose orientation the plant has (set_orientation)
+  int q_tool = -1;  // the tool whose nose the plant has (set_tool)
 
   // The velocity of a feed move at the piece's F: a thread (G33, G33.1, G76) advances its pitch
   // per revolution whatever the modal F (LinuxCNC synchronises the move to the spindle:
@@ -255,7 +260,7 @@ struct Walker {
                    const cutting::LathePlant::Output& out) {
     const bool contact = out.force_parameter > 0.0;
     if (!rapid_move) {
-      leaving_mm = contact ? 2.0 * e.rig.cutting.nose_radius_mm + out.feed_per_rev_mm : 0.0;
+      leaving_mm = contact ? 2.0 * plant.nose_radius_mm() + out.feed_per_rev_mm : 0.0;
     } else if (contact && leaving_mm > 0.0) {
       leaving_mm -= step_mm;
     } else if (contact) {
@@ -276,10 +281,12 @@ struct Walker {
     const double du_len = 1.0 / len;
     const ToolSpec* spec = find_tool(opt.tool_specs, m.tool);
     const bool plunge = spec && spec->plunge() && !rapid_move && !m.synced;
-    // The programmed point is this tool's tip (its orientation Q): the nose's centre follows it.
+    // The programmed point is this tool's tip (its orientation Q) and the plant cuts with its
+    // nose: the nose's centre follows it.
     if (m.tool != q_tool) {
       q_tool = m.tool;
-      plant.set_orientation(tool_orientation(opt, e, m.tool));
+      const io::ToolGeometry g = tool_geometry(opt, e, m.tool);
+      plant.set_tool(g.nose_radius_mm, g.orientation);
     }
     while (u < u_to - 1e-12) {
       const auto [x, z] = point_at(m, u);
@@ -376,7 +383,10 @@ Prediction predict(const io::CanonProgram& prog, const Plan& plan,
   Samples& s = pr.s;
   s.dt_s = 0.001;  // LinuxCNC's servo period in the simulated lathe
   cutting::LathePlant plant;
-  plant.configure(e.rig, cutting::LathePlant::Params{.cell_mm = 0.01, .z_origin_mm = opt.z_origin_mm});
+  plant.configure(e.rig, cutting::LathePlant::Params{
+                            .cell_mm = 0.01,
+                            .z_origin_mm = opt.z_origin_mm,
+                            .max_nose_radius_mm = largest_nose_radius_mm(opt, e)});
   // The workpiece on a grid of at most 4000 points along z, before and (at the end) after.
   {
     const auto& b = e.rig.stock.blank_diameter_mm;

@@ -55,7 +55,6 @@ std::string machine_options(const io::LatheMachine& m, const Options& opt, const
     std::snprintf(num, sizeof num, " --max-acceleration %.6g", *m.max_acceleration_mm_s2);
     cmd += num;
   }
-  cmd += " --tool-table " + shell_quote((dir / "machine.tbl").string());
   // Where the prediction starts (machine_start: the INI's home, or the simulated lathe's) and
   // where its M6 goes ([EMCIO]TOOL_CHANGE_POSITION, or none).
   std::snprintf(num, sizeof num, " --home %.6g,%.6g", opt.start_x_mm, opt.start_z_mm);
@@ -93,6 +92,8 @@ VerifyRun run_sim_once(const std::string& name, const std::string& text, bool of
     cmd += num;
   }
   if (v.machine) cmd += machine_options(*v.machine, opt, dir);
+  if (!v.tool_table_text.empty())  // the machine's or --tool-table's: the plant cuts its noses
+    cmd += " --tool-table " + shell_quote((dir / "machine.tbl").string());
   if (!v.tool_file.empty()) cmd += " --tool-file " + shell_quote(v.tool_file);
   cmd += " >" + shell_quote((dir / (name + ".log")).string()) + " 2>&1";
   const int rc = std::system(cmd.c_str());
@@ -179,9 +180,10 @@ Verified verify(const Program& p, const Result& r, const Options& opt, const Ver
                            fs::perms::others_read | fs::perms::others_exec);
   std::string original;
   for (const auto& l : p.lines) original += l + "\n";
-  if (v.machine) {  // the simulated lathe works in mm: the table's lengths too
+  if (!v.tool_table_text.empty()) {  // the simulated lathe works in mm: the table's lengths too
     std::ofstream t(dir / "machine.tbl");
-    t << tool_table_scaled(v.tool_table_text, v.machine->unit_mm);
+    t << (v.machine ? tool_table_scaled(v.tool_table_text, v.machine->unit_mm)
+                    : v.tool_table_text);
   }
   Verified out;
   const double dt = r.after.s.dt_s;  // the servo period

@@ -6,8 +6,9 @@ outputs in the same period, and the recording is checked against what the compon
   halrun_test.py adaptive SOURCE_DIR WORK_DIR   controller: feed by force, limits, sensor loss
   halrun_test.py cut_power SOURCE_DIR WORK_DIR  controller: the speed law's power limit with a
                                                 power sensor and with Py + spindle power meter
-  halrun_test.py plant SOURCE_DIR WORK_DIR      plant: handbook force of a straight turn, and
-                                                of a grooving insert's plunge (tool_file=)
+  halrun_test.py plant SOURCE_DIR WORK_DIR      plant: handbook force of a straight turn, of a
+                                                grooving insert's plunge (tool_file=), and the
+                                                tool table's nose and Q (tool_table=)
   halrun_test.py bad_input SOURCE_DIR WORK_DIR  bad scenario / module parameters fail the load
   halrun_test.py timing SOURCE_DIR WORK_DIR [SECONDS]
                                                 worst-case update() time over a long session
@@ -355,6 +356,7 @@ def test_plant(src, work):
     check(abs(sd - sigma) < 0.2 * sigma + 2.0, "sensor noise σ %.1f N (scenario %g N)" % (sd, sigma))
     print("plant update(): max %d ns over %d calls" % (max(int(r[6]) for r in got), len(got)))
     test_plant_groove(src, work, sc)
+    test_plant_tool_table(src, work, sc)
 
 
 GROOVE_TOOLS = """[[tool]]
@@ -403,11 +405,54 @@ def test_plant_groove(src, work, sc):
           % (pz[2], pz[1]))
 
 
+def test_plant_tool_table(src, work, sc):
+    """tool_table= (LinuxCNC's tool table, [EMCIO]TOOL_TABLE): the tool in the spindle cuts with
+    the table's nose D/2 and orientation Q. A pass at X18 to Z-6: T1 (D0.8 Q6: r 0.4, the nose's
+    centre at the programmed Z) cuts the shoulder's fillet r - sqrt(r^2 - dz^2) about Z-6, down to
+    Z-6.4; T3, not in the table, cuts with the scenario's nose (r 0.8, Q2: the centre at Z-5.2),
+    down to Z-6, where the program puts it. The stock's radius read at probe-z."""
+    table = os.path.join(work, "plant.tbl")
+    with open(table, "w") as f:
+        f.write("T1 P1 D0.8 Q6 ; a 0.4 mm nose, the programmed point at its lowest point\n")
+    rpm, s, x, z_end = 1000.0, 0.6, 18.0, -6.0
+    vz = s * rpm / 60.0
+    rows = [[x, 2.0 - vz * k * PERIOD_S, rpm, 0.0] for k in range(int(8.0 / vz / PERIOD_S))]
+    cases = {1: (0.4, 0.0), 3: (sc["tool"]["nose_radius_mm"], 1.0)}  # tool: (r, q_z)
+    for tool, (r, qz) in cases.items():
+        zc = z_end + qz * r  # the nose's centre at the end of the pass
+        probes = [zc - 0.5 * r, zc - 0.8 * r, zc - 1.05 * r]
+        stim = rows + [[x, z_end, rpm, p] for p in probes for _ in range(20)]
+        got = stream_session(work, "plant-table-t%d" % tool,
+                             ["lathectl_plant scenario=%s tool_table=%s"
+                              % (rt_scenario(src), rt_path(src, table))], "ffff", stim,
+                             ["lathectl-plant.x-pos", "lathectl-plant.z-pos",
+                              "lathectl-plant.spindle-rpm", "lathectl-plant.probe-z"], "f",
+                             ["lathectl-plant.probe-radius"],
+                             "setp lathectl-plant.enable 1\nsetp lathectl-plant.tool-number %d\n"
+                             % tool)
+        if not got:
+            return
+        for k, p in enumerate(probes):
+            got_r = got[len(rows) + 20 * k + 19][0]
+            dz = abs(p - zc)
+            want = 20.0 if dz > r else x + r - math.sqrt(r * r - dz * dz)
+            check(abs(got_r - want) < 0.01, "T%d (r %g): the stock's radius at Z%.3f %.4f mm "
+                  "(the nose's circle about Z%g: %.4f mm)" % (tool, r, p, got_r, zc, want))
+
+
 def bad_tools(src, work):
     """A tool file whose grooving tool (its table on line 1) has no insert width."""
     path = os.path.join(work, "bad-tools.toml")
     with open(path, "w") as f:
         f.write("[[tool]]\nnumber = 2\nkind = \"grooving\"\n")
+    return rt_path(src, path)
+
+
+def bad_table(src, work):
+    """A tool table whose second line has an orientation LinuxCNC does not know."""
+    path = os.path.join(work, "bad.tbl")
+    with open(path, "w") as f:
+        f.write("T1 P1 D0.8 Q2\nT2 P2 D0.8 Q12\n")
     return rt_path(src, path)
 
 
@@ -430,6 +475,8 @@ def test_bad_input(src, work):
         ("lathectl_plant scenario=%s" % aim, ["system-E"]),
         ("lathectl_plant scenario=%s tool_file=%s" % (rt_scenario(src), bad_tools(src, work)),
          ["bad-tools.toml:1", "insert_width_mm", "required"]),
+        ("lathectl_plant scenario=%s tool_table=%s" % (rt_scenario(src), bad_table(src, work)),
+         ["bad.tbl:2", "Q12"]),
     ]
     if os.getuid() == 0:
         # Not staged: a scenario in a directory only root may enter, the situation of a checkout

@@ -325,7 +325,7 @@ TEST(Tools, LinuxCncToolTableFillsTheNoseAndMustAgree) {
   const auto table = read_tool_table(io::read_input_file(tbl, "a tool table", 1 << 20), tbl);
   ASSERT_EQ(table.size(), 3u);
   EXPECT_EQ(table[0].number, 1);
-  EXPECT_DOUBLE_EQ(table[0].diameter_mm, 0.8);
+  EXPECT_DOUBLE_EQ(table[0].diameter_mm, 1.6);  // the examples' 0.8 mm nose
   EXPECT_DOUBLE_EQ(table[0].front_angle_deg, 95.0);
   EXPECT_DOUBLE_EQ(table[0].back_angle_deg, 155.0);
   EXPECT_EQ(table[0].orientation, 2);  // a right-hand turning tool: the tip at the nose's -X -Z corner

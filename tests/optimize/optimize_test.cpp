@@ -233,6 +233,46 @@ TEST(Predict, AShoulderIsWhereTheToolTipOfItsOrientationPutsIt) {
   EXPECT_EQ(radius_at(low, -12.0 - r - 0.05), 20.0);
 }
 
+// The prediction cuts with the tool's own nose (tool_geometry): the tool table's D/2, not the
+// scenario's. The pass at X18 ends at Z-12 with the tip of Q2, the nose's centre at
+// (18 + r, -12 + r): the shoulder's fillet is its circle, R(z) = 18 + r - sqrt(r² - (z - z_c)²)
+// over Z-12 … z_c, with r = D/2 of T1 D0.8 and D1.6 alike; the tool file's nose wins over the
+// table's.
+TEST(Predict, TheToolTablesNoseCutsTheShoulderFillet) {
+  const auto& e = step_allowance();
+  io::CanonProgram prog = rapid_and_pass(25.0, 5.0);
+  CanonMove m = prog.moves.back();
+  m.x0 = 18.0, m.z0 = -12.0, m.x1 = 21.0, m.z1 = -12.0;
+  prog.moves.push_back(m);
+  for (auto& mv : prog.moves) mv.tool = 1;
+  Options opt;
+  opt.blends = false;
+  for (const double d : {0.8, 1.6}) {
+    opt.table_tools = {TableTool{.number = 1, .diameter_mm = d, .orientation = 2}};
+    const double r = 0.5 * d, zc = -12.0 + r;
+    EXPECT_EQ(tool_geometry(opt, e, 1).nose_radius_mm, r);
+    const auto pr = predict(prog, programmed(prog), e, opt);
+    int checked = 0;
+    for (std::size_t i = 0; i < pr.part_z.size(); ++i) {
+      const double dz = pr.part_z[i] - zc;  // the fillet where its slope is below 2
+      if (dz > -0.85 * r && dz < -0.2 * r) {
+        EXPECT_NEAR(pr.part_r[i], 18.0 + r - std::sqrt(r * r - dz * dz), 0.012)
+            << "D" << d << " Z" << pr.part_z[i];
+        ++checked;
+      }
+    }
+    EXPECT_GE(checked, 3) << "D" << d;
+  }
+  opt.tool_specs = {ToolSpec{.number = 1, .nose_radius_mm = 1.2}};
+  EXPECT_EQ(tool_geometry(opt, e, 1).nose_radius_mm, 1.2);
+  opt.table_tools = {TableTool{.number = 1, .diameter_mm = 0.0, .orientation = 0}};  // no nose
+  opt.tool_specs.clear();
+  EXPECT_EQ(tool_geometry(opt, e, 1).nose_radius_mm, e.rig.cutting.nose_radius_mm);
+  EXPECT_EQ(tool_geometry(opt, e, 1).orientation, e.rig.tool_orientation);  // a point tool
+  opt.table_tools[0].diameter_mm = 0.8;
+  EXPECT_EQ(tool_geometry(opt, e, 1).orientation, 0);  // Q0 with a nose: its centre
+}
+
 // With only the force binding, the handbook law inverts: s = (L / (10·Cp·t^x·V^n·Kmp))^(1/y).
 TEST(Plan, LargestFeedInvertsTheForceLaw) {
   const auto& e = step_allowance();

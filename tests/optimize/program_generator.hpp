@@ -116,13 +116,14 @@ inline GeneratedProgram generate_program(unsigned seed) {
         add("G70 Q100 " + X(R + 2.0) + " Z2 D0 E0 P1 " + F(ff)));
     add("G0 " + X(R + 2.0) + " Z2");
   } else {
-    // Under cutter compensation in some: G42 on the lead-in, the tool table's nose (T1: D0.8)
-    // to the right of the path, G40 on the way out. The lead-in stands 1 mm out on the chamfer's
-    // line: rs274 puts the tip of the compensated nose (T1's Q2) 0.61 mm beyond the lead-in
-    // point along z, so from 0.5 mm out it entered the face at rapid (issue 47: the plant now
-    // cuts the face where the program puts it, not a nose radius deeper).
+    // Under cutter compensation in some: G42 on the lead-in, the tool table's nose (T1: D1.6)
+    // to the right of the path, G40 on the way out. The lead-in stands 2 mm out on the chamfer's
+    // line: rs274 puts the tip of the compensated nose (T1's Q2) about 1.5 r beyond the lead-in
+    // point along z (0.61 mm for D0.8), so from 0.5 mm out it entered the face at rapid (issue
+    // 47: the plant now cuts the face where the program puts it, not a nose radius deeper), and
+    // from 1 mm out with the table's D1.6 (the prediction cuts with the table's nose).
     const std::string on = g.compensation ? "G42 " : "", off = g.compensation ? "G40 " : "";
-    add(on + "G0 " + X(r_fin - c - 1.0) + " Z" + num(-face + 1.0));
+    add(on + "G0 " + X(r_fin - c - 2.0) + " Z" + num(-face + 2.0));
     g.finishing_lines.push_back(add("G1 " + X(r_fin) + " Z" + num(-face - c) + " " + F(ff)));
     g.finishing_lines.push_back(add("G1 Z" + num(-Ls)));
     g.finishing_lines.push_back(add("G2 " + X(r_fin + q) + " Z" + num(-Ls - q) + " R" + num(q)));

@@ -271,6 +271,28 @@ TEST(LathePlant, TheProgrammedPointIsTheToolTipOfTheOrientation) {
   EXPECT_NEAR(p.nose_low_x_mm(5.0), 5.0 - r, 1e-12);
 }
 
+// A change of tool (set_tool: the nose and Q of the tool table's tool in the spindle) cuts as a
+// plant configured with that nose cuts: the same numbers. The workpiece stays; a nose beyond
+// Params::max_nose_radius_mm is the largest.
+TEST(LathePlant, AToolChangeCutsAsAPlantOfThatNose) {
+  const auto c = config();
+  const double R = 0.5 * c.stock.blank_diameter_mm.front().value;
+  LathePlant a, b;
+  a.configure(c, {.nose_radius_mm = 0.4, .orientation = 6});
+  b.configure(c, {.max_nose_radius_mm = 1.6});
+  b.set_tool(0.4, 6);
+  EXPECT_EQ(b.nose_radius_mm(), 0.4);
+  EXPECT_EQ(b.orientation(), 6);
+  const auto oa = move(a, R - 2.0, 2.0, R - 2.0, -10.0, 1000.0, 0.3);
+  const auto ob = move(b, R - 2.0, 2.0, R - 2.0, -10.0, 1000.0, 0.3);
+  EXPECT_EQ(oa.Pz_N, ob.Pz_N);
+  EXPECT_EQ(oa.removed_mm3, ob.removed_mm3);
+  for (double z = 0.0; z < 12.0; z += 0.013) EXPECT_EQ(a.radius_mm(z), b.radius_mm(z)) << z;
+  b.set_tool(5.0, 2);
+  EXPECT_EQ(b.nose_radius_mm(), 1.6);
+  EXPECT_NEAR(b.radius_mm(5.0), R - 2.0, 1e-9);
+}
+
 TEST(LathePlant, RefusesABlankWithoutExtentAndBadGrids) {
   auto c = config();
   LathePlant p;

@@ -95,6 +95,9 @@ class LathePlant {
     double z_origin_mm = 0.0;    // machine z of the stock's z = 0
     double nose_radius_mm = -1;  // < 0: the scenario's tool nose radius
     int orientation = -1;        // < 0: the scenario's tool orientation (tool_orientation)
+    // The largest nose set_tool() may set [mm] (the scratch under the nose is sized for it at
+    // configure()); below the nose radius: the nose radius.
+    double max_nose_radius_mm = 0.0;
   };
   struct Input {        // x or z not finite: no position (e.g. not homed) — nothing is cut
     double x_mm = 0.0;  // the programmed point (the tool tip of the orientation): machine x
@@ -168,6 +171,11 @@ class LathePlant {
   // another is taken as 0): the nose's centre moves with it, the workpiece stays. Never
   // allocates or throws.
   void set_orientation(int q) noexcept;
+  // The tool in the spindle from now on (io::tool_geometry of the tool table's and tool file's
+  // tool): its nose radius [mm] (clamped to (0, Params::max_nose_radius_mm]) and orientation
+  // (set_orientation). The workpiece and the chip's revolution stay; a new radius ends
+  // following (follow()) a leader, here and in this plant's followers. Never allocates or throws.
+  void set_tool(double nose_radius_mm, int q) noexcept;
   [[nodiscard]] int orientation() const noexcept { return q_; }
   // Stock z of a machine z [mm].
   [[nodiscard]] double stock_z_mm(double z_machine_mm) const noexcept {
@@ -217,6 +225,7 @@ class LathePlant {
   CuttingProcess cfg_{};
   Params p_{};
   double r_nose_ = 0.8;
+  double r_nose_max_ = 0.8;  // what edge_ holds (Params::max_nose_radius_mm)
   int q_ = kDefaultToolOrientation;
   double ox_ = 0.0;  // the nose's lowest x less the programmed x: (q_x − 1)·r_n (0.0 for Q 2)
   double oz_ = 0.0;  // the nose centre's machine z less the programmed z: q_z·r_n

@@ -8,15 +8,15 @@
 //   number = 2
 //   kind = "grooving"          # turning, facing, boring, grooving, parting, threading
 //   insert_width_mm = 3.0      # grooving and parting: the width of cut of a plunge
-//   nose_radius_mm = 0.2       # the finish Ra = f²/(32 r); default: the scenario's [tool]
+//   nose_radius_mm = 0.2       # the nose (cut, finish Ra = f²/(32 r)); default: table D/2
 //   feed_min_mm_per_rev = 0.02 # the maker's feed range for the insert
 //   feed_max_mm_per_rev = 0.08
 //
 // A tool listed here is optimised within its own feed range; a grooving or parting tool's cut is
 // taken at its insert's width (the width of cut b of the cutting law, the feed per revolution
 // its chip thickness), not at the turning nose's engagement; a threading tool's feed moves
-// outside threads keep their feeds. Turning, facing and boring tools are predicted with the
-// scenario's insert geometry and cutting law (their own nose radius only for the finish).
+// outside threads keep their feeds. Every tool cuts with its own nose (tool_geometry: this
+// nose_radius_mm, else the tool table's D/2, else the scenario's) and the scenario's cutting law.
 // Every error names the file, line and key (io::InputError); unknown keys are errors.
 
 #include <string>
@@ -29,7 +29,7 @@ struct ToolSpec {
   int number = 0;
   Kind kind = Kind::Turning;
   double insert_width_mm = 0.0;  // grooving, parting
-  double nose_radius_mm = 0.0;   // 0: the scenario's
+  double nose_radius_mm = 0.0;   // 0: the tool table's D/2, else the scenario's
   double feed_min_mm_per_rev = 0.0, feed_max_mm_per_rev = 0.0;  // 0: the scenario's controller
   // From LinuxCNC's tool table (read_tool_table): the insert's front and back angle (I, J) [°]
   // and orientation (Q, 1–9; 0: not given).
@@ -66,5 +66,28 @@ void apply_tool_table(std::vector<ToolSpec>& specs, const std::vector<TableTool>
 
 // The spec of tool `number`, nullptr when the file does not list it.
 const ToolSpec* find_tool(const std::vector<ToolSpec>& tools, int number) noexcept;
+
+// The nose tool `number` cuts with, as the plant's geometry (cutting::LathePlant::set_tool): the
+// one choice the optimiser's prediction and the LinuxCNC plant (lathectl_plant tool_table=) make.
+//   nose radius: the tool file's nose_radius_mm, else the tool table's D/2 (D > 0; D0 or no D
+//                is not a nose, an insert is never sharp), else the scenario's [tool];
+//   orientation: the tool table's Q when the table lists the tool, else the scenario's [tool].
+//                Q0 (or no Q) is what LinuxCNC makes of it: with a nose (D > 0) its centre, as
+//                Q9 (rs274ngc's cutter compensation translates neither, latheorigin_x/z in
+//                interp_queue.cc; AXIS draws no lathe tool for Q0); without one (D0) a point
+//                tool, its point where the program puts it (a radius of 0 translates nothing),
+//                which on the nose taken from elsewhere is the scenario's tip.
+// Never allocates or throws (the plant calls it in its real-time update at a tool change).
+struct ToolGeometry {
+  double nose_radius_mm = 0.0;
+  int orientation = 0;
+};
+ToolGeometry tool_geometry(const std::vector<ToolSpec>& specs,
+                           const std::vector<TableTool>& table, int number,
+                           const ToolGeometry& scenario) noexcept;
+// The largest nose radius tool_geometry() gives any tool of the two lists (the scenario's
+// included): what the plant's scratch is sized for (cutting::LathePlant::Params).
+double largest_nose_radius_mm(const std::vector<ToolSpec>& specs,
+                              const std::vector<TableTool>& table, double scenario_mm) noexcept;
 
 }  // namespace lathectl::io
