@@ -39,8 +39,9 @@ std::string with_mode(const std::string& text, bool off) {
 }
 
 // The user's machine on the simulated lathe (--verify --ini): its limits, velocity,
-// acceleration and tools, the start the prediction takes and its tool-change position.
-std::string machine_options(const io::LatheMachine& m, const Options& opt, const fs::path& dir) {
+// acceleration, the start the prediction takes and its tool-change position (its tools: the
+// caller passes the table, which --tool-table alone gives too).
+std::string machine_options(const io::LatheMachine& m, const Options& opt) {
   std::string cmd;
   char num[128];
   const auto num_or = [](const std::optional<double>& x, double d) { return x ? *x : d; };
@@ -91,7 +92,7 @@ VerifyRun run_sim_once(const std::string& name, const std::string& text, bool of
     std::snprintf(num, sizeof num, " --spindle-rpm %.6g", opt.spindle_rpm);
     cmd += num;
   }
-  if (v.machine) cmd += machine_options(*v.machine, opt, dir);
+  if (v.machine) cmd += machine_options(*v.machine, opt);
   if (!v.tool_table_text.empty())  // the machine's or --tool-table's: the plant cuts its noses
     cmd += " --tool-table " + shell_quote((dir / "machine.tbl").string());
   if (!v.tool_file.empty()) cmd += " --tool-file " + shell_quote(v.tool_file);
