@@ -177,6 +177,7 @@ class HandCutE {
       double* const r = r_.data() + j0;
       const double* const low = low_.data() + j0;
       double mm3 = removed_mm3_;
+      const double ecc = cfg_.stock.eccentricity_mm;
       double highest = 0.0;  // the highest surface cut, at cell top_k
       std::size_t top_k = n;
       for (k = 0; k < n; ++k) {
@@ -191,6 +192,8 @@ class HandCutE {
           removed += (ri - r_new) * kCell;
           mm3 += std::numbers::pi * (ri * ri - r_new * r_new) * kCell;
           r[k] = r_new;
+        } else if (x >= ri && x < ri + ecc && ri > low[k] + (ecc - 1e-9)) {
+          r[k] = ri - 2e-9;  // the blank's high side cut (the plant's mark)
         }
       }
       removed_mm3_ = mm3;

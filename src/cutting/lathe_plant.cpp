@@ -239,6 +239,7 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
   bool on_blank = false;
   double top = 0.0;  // the highest surface cut, at cell top_k
   std::size_t top_k = n;
+  const double ecc = cfg_.stock.eccentricity_mm;
   for (std::size_t k = 0; k < n; ++k) {
     const double ri = r[k];
     const double edge = e[k];
@@ -252,6 +253,13 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
       removed += (ri - r_new) * cell;
       removed_mm3 += std::numbers::pi * (ri * ri - r_new * r_new) * cell;
       r[k] = r_new;
+    } else if (x >= ri && x < ri + ecc && ri > low[k] + (ecc - 1e-9)) {
+      // A pass within the runout above the blank's mean radius cuts its high side, which the
+      // grid (one radius a cell) cannot hold: the cell is marked as no longer the blank's own
+      // surface, so a later pass's chip gets no runout above it (2e-9 mm lower, nothing counted
+      // as removed). Unmarked, a second pass read the full runout there and met a chip 15 %
+      // deeper than where the first pass had cut the taper before it (generated part 1157).
+      r[k] = ri - 2e-9;
     }
   }
   c.removed = removed;

@@ -325,6 +325,22 @@ TEST(LathePlant, AnEccentricBlanksChipAveragesToItsGeometryAtAnyStep) {
   }
 }
 
+// A pass at the eccentric blank's mean radius cuts its high side: a later pass meets the surface
+// min(R + e·sin φ, R), a chip of mean (R − x) − e/π, not the blank's full runout.
+TEST(LathePlant, APassAtTheBlanksMeanRadiusCutsItsHighSideForTheNext) {
+  auto c = config();
+  c.stock.eccentricity_mm = 1.0;
+  c.disturbances.random_sigma_mm = 0.0;
+  LathePlant p;
+  p.configure(c, {.nose_radius_mm = 1.2});
+  (void)move(p, 20.0, 2.0, 20.0, -12.0, 800.0, 0.25);  // x = R = 20: no chip by the geometry
+  (void)move(p, 20.0, -12.0, 25.0, -12.0, 800.0, 5.0);  // out, back and down in air
+  (void)move(p, 25.0, -12.0, 25.0, 2.0, 800.0, 5.0);
+  (void)move(p, 25.0, 2.0, 18.0, 2.0, 800.0, 5.0);
+  const auto m = move_mean(p, 18.0, 2.0, -12.0, 800.0, 0.25);
+  EXPECT_NEAR(m.depth, 2.0 - 1.0 / std::numbers::pi, 5e-3);  // was 2.0: the full runout
+}
+
 TEST(LathePlant, AFollowerGivesWhatItsOwnCutGivesInStepOrNot) {
   LathePlant leader, follower, alone;
   for (auto* p : {&leader, &follower, &alone}) p->configure(config(), {});
