@@ -55,6 +55,7 @@ class HandCutE {
       r_[i] = 0.5 * stock.blank_diameter_mm(z0_ + static_cast<double>(i) * kCell);
       low_[i] = r_[i] - cfg.stock.eccentricity_mm;
     }
+    r_min_ = *std::min_element(r_.begin(), r_.end());
     auto dp = cfg.disturbances;
     dp.depth_steps.clear();
     dp.runout_mm = 0.0;
@@ -192,10 +193,13 @@ class HandCutE {
           removed += (ri - r_new) * kCell;
           mm3 += std::numbers::pi * (ri * ri - r_new * r_new) * kCell;
           r[k] = r_new;
-        } else if (x >= ri && x < ri + ecc && ri > low[k] + (ecc - 1e-9)) {
-          r[k] = ri - 2e-9;  // the blank's high side cut (the plant's mark)
         }
       }
+      if (ecc > 0.0 && x >= r_min_)  // the blank's high side cut (the plant's mark)
+        for (k = 0; k < n; ++k) {
+          const double ri = r[k];
+          if (x >= ri && x < ri + ecc && ri > low[k] + (ecc - 1e-9)) r[k] = ri - 2e-9;
+        }
       removed_mm3_ = mm3;
       if (top_k < n) {  // decided where the front takes a cell the last position did not cover
         const std::size_t top_i = j0 + top_k;
@@ -284,6 +288,7 @@ class HandCutE {
   cutting::CuttingProcess cfg_{};
   double rn_ = 0.8, z0_ = 0.0, kmp_ = 1.0;
   std::vector<double> r_, low_, edge_;
+  double r_min_ = 0.0;  // the blank's smallest mean radius
   cutting::Disturbances dist_;
   sensors::LaggedNoisySensor sensor_;
   double ox_ = 0.0, oz_ = 0.0;

@@ -223,6 +223,7 @@ class LathePlant {
   double z0_ = 0.0;  // stock z of the first cell
   std::vector<double> r_;
   std::vector<double> r_blank_low_;  // lowest point of the eccentric blank per cell
+  double r_blank_min_ = 0.0;          // the blank's smallest mean radius
   std::vector<double> edge_;         // scratch: the nose's edge over the cells under it
   CuttingModel cut_;
   Stock stock_;
