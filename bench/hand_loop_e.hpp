@@ -55,6 +55,7 @@ class HandCutE {
       r_[i] = 0.5 * stock.blank_diameter_mm(z0_ + static_cast<double>(i) * kCell);
       low_[i] = r_[i] - cfg.stock.eccentricity_mm;
     }
+    r_min_ = *std::min_element(r_.begin(), r_.end());
     auto dp = cfg.disturbances;
     dp.depth_steps.clear();
     dp.runout_mm = 0.0;
@@ -120,6 +121,10 @@ class HandCutE {
     double cap = 0.0;
     const double u_lo = (z - rn_ - z0_) / kCell, u_hi = (z + rn_ - z0_) / kCell;
     const double last = static_cast<double>(r_.size() - 1);
+    const Top prev = top_;  // the last step's chip top (the plant's held decision)
+    const bool prev_valid = nose_valid_;
+    const std::size_t prev_i0 = nose_i0_, prev_i1 = nose_i1_;
+    top_ = {};
     if (std::isfinite(x) && std::isfinite(z) && u_hi >= 0.0 && u_lo <= last) {
       const auto i0 = static_cast<std::size_t>(std::ceil(std::max(u_lo, 0.0)));
       const auto i1 = static_cast<std::size_t>(std::floor(std::min(u_hi, last)));
@@ -173,6 +178,7 @@ class HandCutE {
       double* const r = r_.data() + j0;
       const double* const low = low_.data() + j0;
       double mm3 = removed_mm3_;
+      const double ecc = cfg_.stock.eccentricity_mm;
       double highest = 0.0;  // the highest surface cut, at cell top_k
       std::size_t top_k = n;
       for (k = 0; k < n; ++k) {
@@ -189,10 +195,22 @@ class HandCutE {
           r[k] = r_new;
         }
       }
+      if (ecc > 0.0 && x >= r_min_)  // the blank's high side cut (the plant's mark)
+        for (k = 0; k < n; ++k) {
+          const double ri = r[k];
+          if (x >= ri && x < ri + ecc && ri > low[k] + (ecc - 1e-9)) r[k] = ri - 2e-9;
+        }
       removed_mm3_ = mm3;
-      if (on_blank && top_k < n &&
-          !(highest > low[top_k] + (cfg_.stock.eccentricity_mm - 1e-9)))
-        cap = std::max(highest - x, 0.0);
+      if (top_k < n) {  // decided where the front takes a cell the last position did not cover
+        const std::size_t top_i = j0 + top_k;
+        if (prev_valid && prev.highest > 0.0 && top_i >= prev_i0 && top_i <= prev_i1)
+          top_ = prev;
+        else
+          top_ = {on_blank, highest,
+                  highest > low[top_k] + (cfg_.stock.eccentricity_mm - 1e-9)};
+        on_blank = top_.on_blank;
+        if (on_blank && !top_.on_blank_surface) cap = std::max(top_.highest - x, 0.0);
+      }
     } else {
       nose_valid_ = false;
     }
@@ -270,10 +288,17 @@ class HandCutE {
   cutting::CuttingProcess cfg_{};
   double rn_ = 0.8, z0_ = 0.0, kmp_ = 1.0;
   std::vector<double> r_, low_, edge_;
+  double r_min_ = 0.0;  // the blank's smallest mean radius
   cutting::Disturbances dist_;
   sensors::LaggedNoisySensor sensor_;
   double ox_ = 0.0, oz_ = 0.0;
   bool nose_valid_ = false;
+  struct Top {
+    bool on_blank = false;
+    double highest = 0.0;
+    bool on_blank_surface = false;
+  };
+  Top top_{};  // the chip's top: decided where the nose's front met fresh material
   double nose_x_ = 0.0, nose_z_ = 0.0;
   std::size_t nose_i0_ = 0, nose_i1_ = 0;
   double theta_ = 0.0, last_x_ = 0.0, last_z_ = 0.0, removed_mm3_ = 0.0, t_cut_ = 0.0;

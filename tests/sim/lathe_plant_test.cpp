@@ -317,6 +317,52 @@ bool same(const LathePlant::Output& a, const LathePlant::Output& b) {
 // A plant following another (rig E's stock model and its plant) takes the leader's cut where it
 // is cut at the leader's position just after it, and gives what cutting its own grid gives; once
 // out of step (another position) it cuts its own grid, still the same numbers as a plant alone.
+// An eccentric blank: the chip is t + e·sin φ, whose mean over whole revolutions is the
+// geometry's t, whatever the simulation step. (A step travels less than a cell; one that took no
+// new cell at the nose's front read the nose's own last cut as an earlier pass's surface and
+// clipped the runout's upper half: here 1.79 mm at 1 ms, 1.71 mm at 0.25 ms.)
+TEST(LathePlant, AnEccentricBlanksChipAveragesToItsGeometryAtAnyStep) {
+  auto c = config();
+  c.stock.eccentricity_mm = 1.0;
+  c.disturbances.random_sigma_mm = 0.0;
+  for (double dt : {1e-3, 2.5e-4}) {
+    LathePlant p;
+    p.configure(c, {.nose_radius_mm = 1.2});  // x + r_n above the blank's low side R − e
+    // 40 mm bar at x = 18 (t = 2) at 0.25 mm/rev and 800 rpm, toward −z from z = +2; the mean
+    // over the last 10 revolutions of the 12 mm.
+    const double rpm = 800.0, v = 0.25 * rpm / 60.0;
+    const auto n = static_cast<int>(14.0 / v / dt);
+    const auto last = static_cast<int>(10.0 * 60.0 / rpm / dt);
+    double depth = 0.0, chip = 0.0;
+    LathePlant::Output out;
+    for (int k = 1; k <= n; ++k) {
+      p.step({18.0, 2.0 - 14.0 * k / n, rpm}, dt, out);
+      if (k > n - last) {
+        depth += out.depth_mm / last;
+        chip += out.chip_depth_mm / last;
+      }
+    }
+    EXPECT_NEAR(chip, 2.0, 2e-3) << dt;
+    EXPECT_NEAR(depth, 2.0, 5e-3) << dt;
+  }
+}
+
+// A pass at the eccentric blank's mean radius cuts its high side: a later pass meets the surface
+// min(R + e·sin φ, R), a chip of mean (R − x) − e/π, not the blank's full runout.
+TEST(LathePlant, APassAtTheBlanksMeanRadiusCutsItsHighSideForTheNext) {
+  auto c = config();
+  c.stock.eccentricity_mm = 1.0;
+  c.disturbances.random_sigma_mm = 0.0;
+  LathePlant p;
+  p.configure(c, {.nose_radius_mm = 1.2});
+  (void)move(p, 20.0, 2.0, 20.0, -12.0, 800.0, 0.25);  // x = R = 20: no chip by the geometry
+  (void)move(p, 20.0, -12.0, 25.0, -12.0, 800.0, 5.0);  // out, back and down in air
+  (void)move(p, 25.0, -12.0, 25.0, 2.0, 800.0, 5.0);
+  (void)move(p, 25.0, 2.0, 18.0, 2.0, 800.0, 5.0);
+  const auto m = move_mean(p, 18.0, 2.0, -12.0, 800.0, 0.25);
+  EXPECT_NEAR(m.depth, 2.0 - 1.0 / std::numbers::pi, 5e-3);  // was 2.0: the full runout
+}
+
 TEST(LathePlant, AFollowerGivesWhatItsOwnCutGivesInStepOrNot) {
   LathePlant leader, follower, alone;
   for (auto* p : {&leader, &follower, &alone}) p->configure(config(), {});

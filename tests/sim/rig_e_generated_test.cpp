@@ -25,7 +25,10 @@
 //     (a hardness ramp) and the metric summed every simulation step (Rig::load_rev: seed 1146's
 //     6.8 % was 5.6 % on its 20 ms record) and the idle tare's prior law through its nearest bin
 //     (a one-bin constant read a braking cut 6 % low): 94.5 %, the worst 6.4 % (forged: 30 of 40
-//     within, median 4.6 %; the 160 others 99.4 %, 5.6 %). The test holds 99 % within 5 % and
+//     within, median 4.6 %; the 160 others 99.4 %, 5.6 %). With the plant's runout decided where
+//     the nose meets fresh material and a pass within the runout above the blank's mean radius
+//     marking its high side (without the mark seed 1157 went 10.6 % over): the 160 all within,
+//     the worst 4.4 %; forged 24 of 40, the worst 6.3 %. The test holds 99 % within 5 % and
 //     every part within 7.5 % on the 160, so a regression shows, and prints the distribution and
 //     the worst parts of both kinds.
 #include <gtest/gtest.h>
@@ -160,7 +163,7 @@ TEST(RigEGenerated, EveryGeneratedPartIsFinishedWithNoFalseAlarm) {
   }
   // The acceptance (≥ 99 % of parts within 5 % of the limit, the worst ≤ 7.5 %) holds on the
   // round-3 kinds of part. On issue 47's forged shafts on power (every fifth seed) it does NOT
-  // hold yet — 30 of 40 within 5 %, the worst 6.4 % over (hardness ramps entered before their
+  // hold yet — 24 of 40 within 5 %, the worst 6.3 % over (hardness ramps entered before their
   // trend shows; issue 47 stays open on it): their statistics are printed, not gated, so that
   // the gate is not widened to pass. When the controller holds them, gate them with the others.
   const Stats other = stats(out, false), forged = stats(out, true);

@@ -214,6 +214,10 @@ class LathePlant {
     bool top_on_blank = false;  // it is the blank's own surface (else an earlier cut's)
   };
   NoseCut cut_under_nose(double x, double z) noexcept;
+  struct NosePass;
+  static void chip_top(NoseCut& c, const NoseCut& prev, const NosePass& prev_nose,
+                       std::size_t top_i, double top, bool top_on_blank) noexcept;
+  void mark_high_side(double x, std::size_t j0, std::size_t n) noexcept;
   // cut_under_nose() or, following, the leader's cut taken over; counts the cuts.
   NoseCut nose_cut(double x, double z) noexcept;
   void edges_under_nose(double x, double z, std::size_t j0, std::size_t n,
@@ -232,6 +236,7 @@ class LathePlant {
   double z0_ = 0.0;  // stock z of the first cell
   std::vector<double> r_;
   std::vector<double> r_blank_low_;  // lowest point of the eccentric blank per cell
+  double r_blank_min_ = 0.0;          // the blank's smallest mean radius
   std::vector<double> edge_;         // scratch: the nose's edge over the cells under it
   CuttingModel cut_;
   Stock stock_;
