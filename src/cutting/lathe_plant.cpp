@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -25,6 +26,8 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   const int q = p.orientation < 0 ? cfg.tool_orientation : p.orientation;
   if (q < 0 || q > 9)
     throw std::invalid_argument("lathe plant: the tool orientation is 0–9 (LinuxCNC's Q)");
+  if (!(p.edge_length_mm >= 0.0) || p.edge_length_mm > 1000.0)
+    throw std::invalid_argument("lathe plant: edge_length_mm must be in [0, 1000] mm");
   const double length = blank.back().at_mm - blank.front().at_mm;
   const double cells = length / p.cell_mm;
   if (cells > 5e7)
@@ -40,6 +43,9 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   cfg_ = cfg;
   p_ = p;
   r_nose_ = r_nose;
+  front_deg_ = std::isfinite(p.front_angle_deg) ? p.front_angle_deg : cfg.tool_front_angle_deg;
+  back_deg_ = std::isfinite(p.back_angle_deg) ? p.back_angle_deg : cfg.tool_back_angle_deg;
+  edge_len_ = p.edge_length_mm;
   set_orientation(q);
   z0_ = blank.front().at_mm;
   const auto n = static_cast<std::size_t>(std::ceil(cells)) + 1;
@@ -51,6 +57,7 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
     r_[i] = 0.5 * stock_.blank_diameter_mm(z);
     r_blank_low_[i] = r_[i] - cfg.stock.eccentricity_mm;
   }
+  r_top_ = *std::max_element(r_.begin(), r_.end());
   sensor_.reset(0.0);
   faults_.reset(0.0);
   bin_area_.fill(0.0);
@@ -58,6 +65,7 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   prefix_area_[0] = prefix_travel_[0] = 0.0;
   dirty_area_ = dirty_travel_ = 0;
   last_nose_ = {};
+  last_edge_ = {};
   pending_ = {};
   last_cut_ = {};
   cuts_ = 0;
@@ -72,11 +80,57 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   engaged_ = engaged_area_ = engaged_travel_ = 0.0;
 }
 
+std::array<StraightEdge, 2> straight_edges_of(int q, double r_n, double front_deg,
+                                              double back_deg, double edge_length_mm) noexcept {
+  std::array<StraightEdge, 2> out{};
+  if (q < 1 || q > 8 || !(r_n > 0.0) || !(edge_length_mm > 0.0)) return out;
+  if (front_deg == 0.0 && back_deg == 0.0) return out;  // none given: the nose alone
+  const double deg = std::numbers::pi / 180.0;
+  const double lo = std::min(front_deg, back_deg) * deg;
+  const double hi = std::max(front_deg, back_deg) * deg;
+  if (!(hi - lo > 0.0 && hi - lo < std::numbers::pi)) return out;
+  // AXIS's lathe tool: the edge at angle a runs along machine (x, z) = (sin a, cos a) from the
+  // nose's point centre + r·n, n = (−cos a, sin a) for the smaller angle, (cos a, −sin a) for
+  // the larger; stock z runs the other way.
+  for (int k = 0; k < 2; ++k) {
+    const double a = k == 0 ? lo : hi;
+    const double sign = k == 0 ? -1.0 : 1.0;
+    const double nx = sign * std::cos(a);
+    const double nz_stock = sign * std::sin(a);  // machine n_z = −sign·sin a
+    const double dx = std::sin(a);
+    const double dz_stock = -std::cos(a);
+    // On the lower side (the tangent point below the centre), rising, and not vertical.
+    if (!(nx < -1e-9 && dx > 1e-9 && std::abs(dz_stock) > 1e-9)) continue;
+    StraightEdge& e = out[static_cast<std::size_t>(k)];
+    e.on = true;
+    e.side = dz_stock > 0.0 ? 1 : -1;
+    e.slope = dx / std::abs(dz_stock);
+    e.hx = r_n * (1.0 + nx);
+    e.hz = r_n * nz_stock;
+    e.reach = edge_length_mm * std::abs(dz_stock);
+  }
+  return out;
+}
+
 void LathePlant::set_orientation(int q) noexcept {
   q_ = q >= 0 && q <= 9 ? q : 0;
   const NoseOffset o = nose_centre_offset(q_);
   ox_ = static_cast<double>(o.x - 1) * r_nose_;
   oz_ = static_cast<double>(o.z) * r_nose_;
+  derive_edges();
+}
+
+void LathePlant::set_edges(double front_deg, double back_deg) noexcept {
+  front_deg_ = std::isfinite(front_deg) ? front_deg : 0.0;
+  back_deg_ = std::isfinite(back_deg) ? back_deg : 0.0;
+  derive_edges();
+}
+
+// The edges of the tool as it is now (its orientation, nose and angles); what the last cut left
+// along them is not known for the new ones.
+void LathePlant::derive_edges() noexcept {
+  edges_ = straight_edges_of(q_, r_nose_, front_deg_, back_deg_, edge_len_);
+  last_edge_ = {};
 }
 
 double LathePlant::radius_mm(double z) const noexcept {
@@ -109,21 +163,53 @@ double LathePlant::depth_ahead_mm(double x_prog, double z_machine, double dx, do
   const double x_end = x + ux * distance;
   const double z_end = z + uz_stock * distance;
   if (std::abs(uz_stock) >= std::abs(ux)) {
-    const double reach = uz_stock >= 0.0 ? r_nose_ : -r_nose_;
+    // The nose's reach ahead, or a straight edge's where one leads.
+    double ahead = r_nose_;
+    for (const StraightEdge& g : edges_)
+      if (g.on && (g.side > 0) == (uz_stock >= 0.0))
+        ahead = std::max(ahead, static_cast<double>(g.side) * g.hz + g.reach);
+    const double reach = uz_stock >= 0.0 ? ahead : -ahead;
     const double r_max = max_radius_mm(std::min(z, z_end + reach), std::max(z, z_end + reach));
     return std::max(r_max - std::min(x, x_end), 0.0);
   }
-  // The nose's circle at the path's end: the cells whose material stands above its edge.
+  // The tool at the path's end: the cells whose material stands above its edge — under the
+  // nose's circle (the arc, or a straight edge where it is lower), then along the straight
+  // edges beyond it.
   const double last = static_cast<double>(r_.size() - 1);
-  const double u_lo = std::max((z_end - r_nose_ - z0_) / p_.cell_mm, 0.0);
-  const double u_hi = std::min((z_end + r_nose_ - z0_) / p_.cell_mm, last);
-  if (!(u_lo <= u_hi)) return 0.0;
+  const double f_lo = (z_end - r_nose_ - z0_) / p_.cell_mm;
+  const double f_hi = (z_end + r_nose_ - z0_) / p_.cell_mm;
+  const double u_lo = std::max(f_lo, 0.0);
+  const double u_hi = std::min(f_hi, last);
   double width = 0.0;
-  for (auto i = static_cast<std::size_t>(std::ceil(u_lo));
-       i <= static_cast<std::size_t>(std::floor(u_hi)) && i < r_.size(); ++i) {
-    const double dzc = z0_ + static_cast<double>(i) * p_.cell_mm - z_end;
-    const double edge = x_end + r_nose_ - std::sqrt(std::max(r_nose_ * r_nose_ - dzc * dzc, 0.0));
-    if (r_[i] > edge) width += p_.cell_mm;
+  auto along_edges = [&](double c, double edge) {
+    for (const StraightEdge& g : edges_) {
+      const double d = static_cast<double>(g.side) * (c - (z_end + g.hz));
+      if (g.on && d >= 0.0 && d <= g.reach) edge = std::min(edge, x_end + g.hx + d * g.slope);
+    }
+    return edge;
+  };
+  if (u_lo <= u_hi) {
+    for (auto i = static_cast<std::size_t>(std::ceil(u_lo));
+         i <= static_cast<std::size_t>(std::floor(u_hi)) && i < r_.size(); ++i) {
+      const double c = z0_ + static_cast<double>(i) * p_.cell_mm;
+      const double dzc = c - z_end;
+      double edge = x_end + r_nose_ - std::sqrt(std::max(r_nose_ * r_nose_ - dzc * dzc, 0.0));
+      edge = along_edges(c, edge);
+      if (r_[i] > edge) width += p_.cell_mm;
+    }
+  }
+  for (const StraightEdge& g : edges_) {
+    if (!g.on) continue;
+    const double a = g.side < 0 ? std::min(std::ceil(f_lo) - 1.0, last)
+                                : std::max(std::floor(f_hi) + 1.0, 0.0);
+    const double far = (z_end + g.hz + static_cast<double>(g.side) * g.reach - z0_) / p_.cell_mm;
+    const double b = g.side < 0 ? std::max(std::ceil(far), 0.0) : std::min(std::floor(far), last);
+    if (g.side < 0 ? a < b : a > b) continue;
+    for (auto i = static_cast<std::ptrdiff_t>(a);; i += g.side) {
+      const double c = z0_ + static_cast<double>(i) * p_.cell_mm;
+      if (r_[static_cast<std::size_t>(i)] > along_edges(c, std::numeric_limits<double>::infinity())) width += p_.cell_mm;
+      if (i == static_cast<std::ptrdiff_t>(b)) break;
+    }
   }
   return width;
 }
@@ -188,7 +274,7 @@ void LathePlant::edges_under_nose(double x, double z, std::size_t j0, std::size_
 // Members are read into locals and removed_mm3_ summed in one: a store into r_ may alias any
 // double of *this, so the compiler reloaded them and stored removed_mm3_ on every cell (rig E:
 // 240 cells a step, most of its time). The sums run in the same order: the same numbers.
-LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
+LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z, bool edges) noexcept {
   NoseCut c;
   const double cell = p_.cell_mm;
   const double rn = r_nose_;
@@ -196,9 +282,18 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
   const double u_lo = (z - rn - z0) / cell;
   const double u_hi = (z + rn - z0) / cell;
   const double last = static_cast<double>(r_.size() - 1);
-  last_cut_ = {x, z, 0, 0, c};
-  if (!(std::isfinite(x) && std::isfinite(z) && u_hi >= 0.0 && u_lo <= last)) {
+  last_cut_ = {x, z, 0, 0, c, edges};
+  if (!(std::isfinite(x) && std::isfinite(z))) {
     last_nose_.valid = false;
+    last_edge_ = {};
+    return c;
+  }
+  std::size_t lo = r_.size();  // the cells the straight edges changed: [lo, hi)
+  std::size_t hi = 0;
+  if (!(u_hi >= 0.0 && u_lo <= last)) {  // the nose off the grid; its edges may reach it
+    last_nose_.valid = false;
+    cut_beyond_nose(x, z, edges, std::ceil(u_lo), std::floor(u_hi), c, lo, hi);
+    if (lo < hi) last_cut_ = {x, z, lo, hi, c, edges};
     return c;
   }
   const auto i0 = static_cast<std::size_t>(std::ceil(std::max(u_lo, 0.0)));
@@ -224,12 +319,17 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
       j_end = std::max({first_centre_after(lp.z, true, j0, j_end), lp.i0, j0});
   }
   last_nose_ = {true, x, z, i0, i1};
-  if (j_end <= j0) return c;
+  if (j_end <= j0) {
+    cut_beyond_nose(x, z, edges, std::ceil(u_lo), std::floor(u_hi), c, lo, hi);
+    if (lo < hi) last_cut_ = {x, z, lo, hi, c, edges};
+    return c;
+  }
   // The edge under each cell first (the cells are independent: two at a time where the CPU has
   // SSE2, whose sqrtpd rounds as sqrtsd does), then the cells and the sums, in index order.
   const std::size_t n = j_end - j0;
   double* const e = edge_.data();
   edges_under_nose(x, z, j0, n, e);
+  if (edges) edges_within_nose(x, z, j0, n, e);
   double* const r = r_.data() + j0;
   const double* const low = r_blank_low_.data() + j0;
   double removed = 0.0;
@@ -261,9 +361,113 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
     c.top_on_blank = top > low[top_k] + (cfg_.stock.eccentricity_mm - 1e-9);
   }
   removed_mm3_ = removed_mm3;
-  last_cut_ = {x, z, j0, j_end, c};
+  cut_beyond_nose(x, z, edges, std::ceil(u_lo), std::floor(u_hi), c, lo, hi);
+  last_cut_ = {x, z, std::min(j0, lo), std::max(j_end, hi), c, edges};
   return c;
 }
+
+// e[k] = min(e[k], the straight edges) over the cells j0 + k under the nose that lie along an
+// edge (beyond its tangent point): x_t + side·(c − z_t)·tan β, as cut_beyond_nose() computes it.
+void LathePlant::edges_within_nose(double x, double z, std::size_t j0, std::size_t n,
+                                   double* e) const noexcept {
+  const double cell = p_.cell_mm;
+  const double z0 = z0_;
+  for (const StraightEdge& g : edges_) {
+    if (!g.on) continue;
+    const double xt = x + g.hx;
+    const double zt = z + g.hz;
+    const double side = static_cast<double>(g.side);
+    const std::size_t k0 = g.side < 0 ? 0 : first_centre_after(zt, true, j0, j0 + n) - j0;
+    const std::size_t k1 = g.side < 0 ? first_centre_after(zt, false, j0, j0 + n) - j0 : n;
+    for (std::size_t k = k0; k < k1; ++k) {
+      const double c = z0 + static_cast<double>(j0 + k) * cell;
+      e[k] = std::min(e[k], xt + side * (c - zt) * g.slope);
+    }
+  }
+}
+
+// The straight edges beyond the nose's cells [i0f, i1f] (its circle's, not clipped to the grid),
+// each from the nose outward along its length, until it rises past the blank's largest radius.
+// An edge that has not come down since the last cut (its tangent point no lower and no further
+// out along it) meets only cells the last cut left at or below it — those beyond the nose now
+// were along it then — and is skipped: turning toward the nose's side leaves its trailing edge
+// above the surface, and costs nothing here.
+void LathePlant::cut_beyond_nose(double x, double z, bool edges, double i0f, double i1f,
+                                 NoseCut& c, std::size_t& lo, std::size_t& hi) noexcept {
+  if (!edges) {  // not kept along the edges this step: not known at the next
+    last_edge_ = {};
+    return;
+  }
+  const double cell = p_.cell_mm;
+  const double z0 = z0_;
+  const double last = static_cast<double>(r_.size() - 1);
+  const double r_top = r_top_;
+  double* const r = r_.data();
+  const double* const low = r_blank_low_.data();
+  double removed = c.removed;
+  double mm3 = removed_mm3_;
+  bool on_blank = c.on_blank;
+  double top = c.top;
+  std::size_t top_i = r_.size();
+  for (std::size_t k = 0; k < edges_.size(); ++k) {
+    const StraightEdge& g = edges_[k];
+    if (!g.on) continue;
+    const double xt = x + g.hx;
+    const double zt = z + g.hz;
+    const double side = static_cast<double>(g.side);
+    const double near = z + side * r_nose_;  // the nose's last z on this side
+    EdgePass& lp = last_edge_[k];
+    const bool kept = lp.valid && xt >= lp.x && side * (zt - lp.z) <= 0.0 &&
+                      side * (near - lp.z) > 1e-9;
+    lp = {true, xt, zt};
+    if (kept) continue;
+    // Cell indices from the nose outward, a (nearest) to b (farthest), inclusive.
+    const double a = g.side < 0 ? std::min(i0f - 1.0, last) : std::max(i1f + 1.0, 0.0);
+    const double b = g.side < 0 ? std::max(std::ceil((zt - g.reach - z0) / cell), 0.0)
+                                : std::min(std::floor((zt + g.reach - z0) / cell), last);
+    if (g.side < 0 ? a < b : a > b) continue;
+    const auto ia = static_cast<std::ptrdiff_t>(a);
+    const auto ib = static_cast<std::ptrdiff_t>(b);
+    const std::ptrdiff_t step = g.side;
+    for (std::ptrdiff_t i = ia;; i += step) {
+      const auto u = static_cast<std::size_t>(i);
+      const double ci = z0 + static_cast<double>(u) * cell;
+      const double edge = xt + side * (ci - zt) * g.slope;
+      if (edge >= r_top) break;
+      const double ri = r[u];
+      if (edge < ri) {
+        on_blank = on_blank || ri > low[u];
+        if (ri > top) {
+          top = ri;
+          top_i = u;
+        }
+        const double r_new = std::max(edge, 0.0);
+        removed += (ri - r_new) * cell;
+        mm3 += std::numbers::pi * (ri * ri - r_new * r_new) * cell;
+        r[u] = r_new;
+        lo = std::min(lo, u);
+        hi = std::max(hi, u + 1);
+      }
+      if (i == ib) break;
+    }
+  }
+  c.removed = removed;
+  c.on_blank = on_blank;
+  if (top_i < r_.size()) {
+    c.top = top;
+    c.top_on_blank = top > low[top_i] + (cfg_.stock.eccentricity_mm - 1e-9);
+  }
+  removed_mm3_ = mm3;
+}
+
+namespace {
+template <class Passes>
+bool same_edge_passes(const Passes& a, const Passes& b) {
+  for (std::size_t k = 0; k < a.size(); ++k)
+    if (a[k].valid != b[k].valid || a[k].x != b[k].x || a[k].z != b[k].z) return false;
+  return true;
+}
+}  // namespace
 
 void LathePlant::follow(const LathePlant* leader) {
   leader_ = nullptr;
@@ -271,6 +475,8 @@ void LathePlant::follow(const LathePlant* leader) {
   const auto& l = *leader;
   if (!(l.r_ == r_ && l.r_blank_low_ == r_blank_low_ && l.z0_ == z0_ &&
         l.p_.cell_mm == p_.cell_mm && l.r_nose_ == r_nose_ && l.q_ == q_ &&
+        l.front_deg_ == front_deg_ && l.back_deg_ == back_deg_ && l.edge_len_ == edge_len_ &&
+        same_edge_passes(l.last_edge_, last_edge_) &&
         l.removed_mm3_ == removed_mm3_ &&
         l.last_nose_.valid == last_nose_.valid && l.last_nose_.x == last_nose_.x &&
         l.last_nose_.z == last_nose_.z && l.last_nose_.i0 == last_nose_.i0 &&
@@ -280,7 +486,7 @@ void LathePlant::follow(const LathePlant* leader) {
   leader_cuts_ = l.cuts_;
 }
 
-LathePlant::NoseCut LathePlant::nose_cut(double x, double z) noexcept {
+LathePlant::NoseCut LathePlant::nose_cut(double x, double z, bool edges) noexcept {
   ++cuts_;
   if (leader_ != nullptr) {
     const LathePlant& l = *leader_;
@@ -288,13 +494,14 @@ LathePlant::NoseCut LathePlant::nose_cut(double x, double z) noexcept {
     auto same = [](double a, double b) {
       return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
     };
-    if (l.cuts_ == leader_cuts_ + 1 && same(lc.x, x) && same(lc.z, z)) {
+    if (l.cuts_ == leader_cuts_ + 1 && same(lc.x, x) && same(lc.z, z) && lc.edges == edges) {
       // Both grids were equal before the leader's cut, which was at this position: after it
       // they are equal again (the cells outside [j0, j_end) it did not touch).
       std::copy(l.r_.begin() + static_cast<std::ptrdiff_t>(lc.j0),
                 l.r_.begin() + static_cast<std::ptrdiff_t>(lc.j_end),
                 r_.begin() + static_cast<std::ptrdiff_t>(lc.j0));
       last_nose_ = l.last_nose_;
+      last_edge_ = l.last_edge_;
       removed_mm3_ = l.removed_mm3_;
       last_cut_ = lc;
       leader_cuts_ = l.cuts_;
@@ -302,7 +509,7 @@ LathePlant::NoseCut LathePlant::nose_cut(double x, double z) noexcept {
     }
     leader_ = nullptr;  // out of step: its own grid from now on
   }
-  return cut_under_nose(x, z);
+  return cut_under_nose(x, z, edges);
 }
 
 // Spreads this step's chip and travel over the spindle-angle bins it swept, [a0, a1), opening
@@ -380,7 +587,8 @@ void LathePlant::cut_geometry(const Input& in, double dt, Output& out) noexcept 
   const double a1 = theta_ * static_cast<double>(kBins);
 
   // Material the nose removes this step.
-  const NoseCut nc = nose_cut(x, z);
+  // A grooving or parting insert's sides are its width's, not a turning insert's edges.
+  const NoseCut nc = nose_cut(x, z, !(in.insert_width_mm > 0.0));
   const double removed = nc.removed;
   double travel = 0.0;
   if (std::isfinite(x) && std::isfinite(z)) {
