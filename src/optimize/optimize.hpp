@@ -27,6 +27,7 @@
 // the warnings, blend note and output files in outputs.cpp (lathectl_optimize_plan); verify in
 // verify.cpp (lathectl_optimize_verify).
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -46,6 +47,10 @@ struct Options;
 // The orientation (LinuxCNC's Q) tool `number` cuts with: the tool table's Q (1–9), else (not in
 // the table, or Q0: not given) the scenario's [tool] orientation.
 int tool_orientation(const Options& opt, const systems::e_adaptive::Settings& e, int number);
+// The insert's front and back angle of tool `number` [°]: the tool table's I and J where it gives
+// either, else the scenario's [tool] front_angle_deg and back_angle_deg (both 0: the default).
+std::array<double, 2> tool_angles(const Options& opt, const systems::e_adaptive::Settings& e,
+                                  int number);
 
 struct Options {
   double spindle_rpm = 0.0;      // > 0: "M3 S<rpm>" before the program (as linuxcnc-sim)

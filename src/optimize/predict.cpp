@@ -48,6 +48,14 @@ control::AdaptiveMachine::Params adaptive_machine_params(const systems::e_adapti
   return systems::e_adaptive::machine_params(e.rig, host);
 }
 
+std::array<double, 2> tool_angles(const Options& opt, const systems::e_adaptive::Settings& e,
+                                  int number) {
+  for (const auto& t : opt.table_tools)
+    if (t.number == number && (t.front_angle_deg != 0.0 || t.back_angle_deg != 0.0))
+      return {t.front_angle_deg, t.back_angle_deg};
+  return {e.rig.tool_front_angle_deg, e.rig.tool_back_angle_deg};
+}
+
 int tool_orientation(const Options& opt, const systems::e_adaptive::Settings& e, int number) {
   for (const auto& t : opt.table_tools)
     if (t.number == number && t.orientation > 0) return t.orientation;
@@ -280,6 +288,8 @@ struct Walker {
     if (m.tool != q_tool) {
       q_tool = m.tool;
       plant.set_orientation(tool_orientation(opt, e, m.tool));
+      const auto [front, back] = tool_angles(opt, e, m.tool);  // its insert's edges (I, J)
+      plant.set_edges(front, back);
     }
     while (u < u_to - 1e-12) {
       const auto [x, z] = point_at(m, u);
