@@ -46,6 +46,7 @@ class HandCutE {
     // The insert's straight edges (the plant's; their geometry is configuration, not the step).
     edges_ = cutting::straight_edges_of(cfg.tool_orientation, rn_, cfg.tool_front_angle_deg,
                                         cfg.tool_back_angle_deg, cutting::kDefaultEdgeLengthMm);
+    any_edge_ = edges_[0].on || edges_[1].on;
     const auto& blank = cfg.stock.blank_diameter_mm;
     cutting::Stock stock;
     stock.configure_blank(cfg.stock);
@@ -184,7 +185,7 @@ class HandCutE {
       }
       // The straight edges where they run under the nose: x_t + side·(c − z_t)·tan β.
       for (const auto& g : edges_) {
-        if (!g.on) continue;
+        if (!any_edge_ || !g.on) continue;
         const double xt = x + g.hx, zt = z + g.hz, side = static_cast<double>(g.side);
         const std::size_t k0 = g.side < 0 ? 0 : first_after(zt, true, j0, j0 + n) - j0;
         const std::size_t k1 = g.side < 0 ? first_after(zt, false, j0, j0 + n) - j0 : n;
@@ -221,7 +222,7 @@ class HandCutE {
     // largest radius; skipped where an edge has not come down since the last step.
     const double i0f = std::ceil(u_lo), i1f = std::floor(u_hi);
     double mm3 = removed_mm3_;
-    for (std::size_t g_k = 0; g_k < 2; ++g_k) {
+    for (std::size_t g_k = 0; any_edge_ && g_k < 2; ++g_k) {
       const auto& g = edges_[g_k];
       if (!g.on) continue;
       const double xt = x + g.hx, zt = z + g.hz, side = static_cast<double>(g.side);
@@ -340,6 +341,7 @@ class HandCutE {
   double nose_x_ = 0.0, nose_z_ = 0.0;
   std::size_t nose_i0_ = 0, nose_i1_ = 0;
   std::array<cutting::StraightEdge, 2> edges_{};
+  bool any_edge_ = false;
   std::array<bool, 2> edge_valid_{};
   std::array<double, 2> edge_x_{}, edge_z_{};
   double r_top_ = 0.0;

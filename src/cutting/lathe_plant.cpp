@@ -130,6 +130,7 @@ void LathePlant::set_edges(double front_deg, double back_deg) noexcept {
 // along them is not known for the new ones.
 void LathePlant::derive_edges() noexcept {
   edges_ = straight_edges_of(q_, r_nose_, front_deg_, back_deg_, edge_len_);
+  any_edge_ = edges_[0].on || edges_[1].on;
   last_edge_ = {};
 }
 
@@ -194,7 +195,7 @@ double LathePlant::depth_ahead_mm(double x_prog, double z_machine, double dx, do
       const double c = z0_ + static_cast<double>(i) * p_.cell_mm;
       const double dzc = c - z_end;
       double edge = x_end + r_nose_ - std::sqrt(std::max(r_nose_ * r_nose_ - dzc * dzc, 0.0));
-      edge = along_edges(c, edge);
+      if (any_edge_) edge = along_edges(c, edge);
       if (r_[i] > edge) width += p_.cell_mm;
     }
   }
@@ -292,7 +293,7 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z, bool edges) n
   std::size_t hi = 0;
   if (!(u_hi >= 0.0 && u_lo <= last)) {  // the nose off the grid; its edges may reach it
     last_nose_.valid = false;
-    cut_beyond_nose(x, z, edges, std::ceil(u_lo), std::floor(u_hi), c, lo, hi);
+    if (any_edge_) cut_beyond_nose(x, z, edges, std::ceil(u_lo), std::floor(u_hi), c, lo, hi);
     if (lo < hi) last_cut_ = {x, z, lo, hi, c, edges};
     return c;
   }
@@ -320,7 +321,7 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z, bool edges) n
   }
   last_nose_ = {true, x, z, i0, i1};
   if (j_end <= j0) {
-    cut_beyond_nose(x, z, edges, std::ceil(u_lo), std::floor(u_hi), c, lo, hi);
+    if (any_edge_) cut_beyond_nose(x, z, edges, std::ceil(u_lo), std::floor(u_hi), c, lo, hi);
     if (lo < hi) last_cut_ = {x, z, lo, hi, c, edges};
     return c;
   }
@@ -329,7 +330,7 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z, bool edges) n
   const std::size_t n = j_end - j0;
   double* const e = edge_.data();
   edges_under_nose(x, z, j0, n, e);
-  if (edges) edges_within_nose(x, z, j0, n, e);
+  if (edges && any_edge_) edges_within_nose(x, z, j0, n, e);
   double* const r = r_.data() + j0;
   const double* const low = r_blank_low_.data() + j0;
   double removed = 0.0;
@@ -361,7 +362,7 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z, bool edges) n
     c.top_on_blank = top > low[top_k] + (cfg_.stock.eccentricity_mm - 1e-9);
   }
   removed_mm3_ = removed_mm3;
-  cut_beyond_nose(x, z, edges, std::ceil(u_lo), std::floor(u_hi), c, lo, hi);
+  if (any_edge_) cut_beyond_nose(x, z, edges, std::ceil(u_lo), std::floor(u_hi), c, lo, hi);
   last_cut_ = {x, z, std::min(j0, lo), std::max(j_end, hi), c, edges};
   return c;
 }

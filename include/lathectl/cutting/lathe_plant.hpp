@@ -292,6 +292,7 @@ class LathePlant {
   double back_deg_ = 0.0;
   double edge_len_ = kDefaultEdgeLengthMm;
   std::array<StraightEdge, 2> edges_{};
+  bool any_edge_ = false;  // edges_[0].on || edges_[1].on
   // Per edge: its tangent point (x, stock z) at the last cut, when every cell along it
   // (edge_length_mm) was at or below it then.
   struct EdgePass {
