@@ -58,6 +58,9 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
     r_blank_low_[i] = r_[i] - cfg.stock.eccentricity_mm;
   }
   r_top_ = *std::max_element(r_.begin(), r_.end());
+  block_max_.assign((n + kBlock - 1) / kBlock, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    block_max_[i / kBlock] = std::max(block_max_[i / kBlock], r_[i]);
   sensor_.reset(0.0);
   faults_.reset(0.0);
   bin_area_.fill(0.0);
@@ -430,12 +433,34 @@ void LathePlant::cut_beyond_nose(double x, double z, bool edges, double i0f, dou
     const auto ia = static_cast<std::ptrdiff_t>(a);
     const auto ib = static_cast<std::ptrdiff_t>(b);
     const std::ptrdiff_t step = g.side;
+    // Whole blocks of kBlock cells whose highest cell is at or below the edge where it enters
+    // them (it rises outward) are skipped; a block scanned whole gets its highest cell anew.
+    double* const bmax = block_max_.data();
+    const auto blk_first = [&](std::size_t u) {
+      return g.side > 0 ? u % kBlock == 0 : u % kBlock == kBlock - 1;
+    };
+    bool whole = false;  // the block being scanned was entered at its first cell
+    double run = 0.0;    // its highest cell so far
     for (std::ptrdiff_t i = ia;; i += step) {
       const auto u = static_cast<std::size_t>(i);
+      const std::size_t blk = u / kBlock;
       const double ci = z0 + static_cast<double>(u) * cell;
       const double edge = xt + side * (ci - zt) * g.slope;
       if (edge >= r_top) break;
+      if (blk_first(u)) {
+        if (edge >= bmax[blk]) {  // the block lies at or below the edge: to its last cell
+          const auto far = static_cast<std::ptrdiff_t>(g.side > 0 ? blk * kBlock + kBlock - 1
+                                                                  : blk * kBlock);
+          if (g.side > 0 ? far >= ib : far <= ib) break;
+          i = far;
+          whole = false;
+          continue;
+        }
+        whole = true;
+        run = 0.0;
+      }
       const double ri = r[u];
+      double r_now = ri;
       if (edge < ri) {
         on_blank = on_blank || ri > low[u];
         if (ri > top) {
@@ -446,9 +471,14 @@ void LathePlant::cut_beyond_nose(double x, double z, bool edges, double i0f, dou
         removed += (ri - r_new) * cell;
         mm3 += std::numbers::pi * (ri * ri - r_new * r_new) * cell;
         r[u] = r_new;
+        r_now = r_new;
         lo = std::min(lo, u);
         hi = std::max(hi, u + 1);
       }
+      run = std::max(run, r_now);
+      const bool blk_last = g.side > 0 ? u % kBlock == kBlock - 1 || u + 1 == r_.size()
+                                       : u % kBlock == 0;
+      if (whole && blk_last) bmax[blk] = run;
       if (i == ib) break;
     }
   }

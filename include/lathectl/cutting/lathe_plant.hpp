@@ -302,6 +302,10 @@ class LathePlant {
   };
   std::array<EdgePass, 2> last_edge_{};
   double r_top_ = 0.0;  // the blank's largest radius: no cell is higher
+  // The highest cell of each block of kBlock cells, or more (cells only come down): the straight
+  // edges skip the blocks below them.
+  static constexpr std::size_t kBlock = 64;
+  std::vector<double> block_max_;
   double z0_ = 0.0;  // stock z of the first cell
   std::vector<double> r_;
   std::vector<double> r_blank_low_;  // lowest point of the eccentric blank per cell
