@@ -83,58 +83,12 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   engaged_ = engaged_area_ = engaged_travel_ = 0.0;
 }
 
-std::array<StraightEdge, 2> straight_edges_of(int q, double r_n, double front_deg,
-                                              double back_deg, double edge_length_mm) noexcept {
-  std::array<StraightEdge, 2> out{};
-  if (q < 1 || q > 8 || !(r_n > 0.0) || !(edge_length_mm > 0.0)) return out;
-  if (front_deg == 0.0 && back_deg == 0.0) return out;  // none given: the nose alone
-  const double deg = std::numbers::pi / 180.0;
-  const double lo = std::min(front_deg, back_deg) * deg;
-  const double hi = std::max(front_deg, back_deg) * deg;
-  if (!(hi - lo > 0.0 && hi - lo < std::numbers::pi)) return out;
-  // AXIS's lathe tool: the edge at angle a runs along machine (x, z) = (sin a, cos a) from the
-  // nose's point centre + r·n, n = (−cos a, sin a) for the smaller angle, (cos a, −sin a) for
-  // the larger; stock z runs the other way.
-  for (int k = 0; k < 2; ++k) {
-    const double a = k == 0 ? lo : hi;
-    const double sign = k == 0 ? -1.0 : 1.0;
-    const double nx = sign * std::cos(a);
-    const double nz_stock = sign * std::sin(a);  // machine n_z = −sign·sin a
-    const double dx = std::sin(a);
-    const double dz_stock = -std::cos(a);
-    // On the lower side (the tangent point below the centre), rising, and not vertical.
-    if (!(nx < -1e-9 && dx > 1e-9 && std::abs(dz_stock) > 1e-9)) continue;
-    StraightEdge& e = out[static_cast<std::size_t>(k)];
-    e.on = true;
-    e.side = dz_stock > 0.0 ? 1 : -1;
-    e.slope = dx / std::abs(dz_stock);
-    e.hx = r_n * (1.0 + nx);
-    e.hz = r_n * nz_stock;
-    e.reach = edge_length_mm * std::abs(dz_stock);
-  }
-  return out;
-}
-
 void LathePlant::set_orientation(int q) noexcept {
   q_ = q >= 0 && q <= 9 ? q : 0;
   const NoseOffset o = nose_centre_offset(q_);
   ox_ = static_cast<double>(o.x - 1) * r_nose_;
   oz_ = static_cast<double>(o.z) * r_nose_;
   derive_edges();
-}
-
-void LathePlant::set_edges(double front_deg, double back_deg) noexcept {
-  front_deg_ = std::isfinite(front_deg) ? front_deg : 0.0;
-  back_deg_ = std::isfinite(back_deg) ? back_deg : 0.0;
-  derive_edges();
-}
-
-// The edges of the tool as it is now (its orientation, nose and angles); what the last cut left
-// along them is not known for the new ones.
-void LathePlant::derive_edges() noexcept {
-  edges_ = straight_edges_of(q_, r_nose_, front_deg_, back_deg_, edge_len_);
-  any_edge_ = edges_[0].on || edges_[1].on;
-  last_edge_ = {};
 }
 
 double LathePlant::radius_mm(double z) const noexcept {
@@ -274,6 +228,29 @@ void LathePlant::edges_under_nose(double x, double z, std::size_t j0, std::size_
   }
 }
 
+// The cells of [j0, j_end) the nose cannot cut, taken off its ends: those its last pass left at
+// or below its edge, where the edge has not come down since — the nose no lower (x ≥ x_prev)
+// and the cell no nearer its centre (|dz| ≥ |dz_prev|: behind the last position along the move).
+// Every rounded step of edge(x, dz) is monotone (the straight edges' too: they rise away from
+// the nose), so this holds for the computed edges and skipping them changes no number. Turning
+// skips the trailing half of the nose; a dwell skips all of it.
+void LathePlant::nose_window(double x, double z, std::size_t& j0,
+                             std::size_t& j_end) const noexcept {
+  const NosePass& lp = last_nose_;
+  if (lp.valid && x >= lp.x && lp.x > 0.01) {  // x > 0: the last pass left r = edge, not 0
+    // The skipped cells are a run at each end of [i0, i1]: the cell centres rise with i, so
+    // "c_i ≤ z_prev" holds up to one index and "c_i ≥ z_prev" from one on. Found by division
+    // and confirmed on the same computed centres (a walk cell by cell was a fifth of rig E's
+    // time, 120 cells a step).
+    // The trailing end: cells of the last pass at or behind z_prev.
+    if (z >= lp.z && j0 >= lp.i0 && j0 <= lp.i1)
+      j0 = std::min({first_centre_after(lp.z, false, j0, j_end), lp.i1 + 1, j_end});
+    // Moving toward −z: the cells of the last pass at or ahead of z_prev.
+    if (z <= lp.z && j_end - 1 >= lp.i0 && j_end - 1 <= lp.i1)
+      j_end = std::max({first_centre_after(lp.z, true, j0, j_end), lp.i0, j0});
+  }
+}
+
 // The nose's pass over the grid at (x, z): each cell under its circle comes down to its edge.
 // Members are read into locals and removed_mm3_ summed in one: a store into r_ may alias any
 // double of *this, so the compiler reloaded them and stored removed_mm3_ on every cell (rig E:
@@ -302,26 +279,9 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z, bool edges) n
   }
   const auto i0 = static_cast<std::size_t>(std::ceil(std::max(u_lo, 0.0)));
   const auto i1 = static_cast<std::size_t>(std::floor(std::min(u_hi, last)));
-  // The cells the nose cannot cut: those its last pass left at or below its edge, where the
-  // edge has not come down since — the nose no lower (x ≥ x_prev) and the cell no nearer its
-  // centre (|dz| ≥ |dz_prev|: behind the last position along the move). Every rounded step of
-  // edge(x, dz) is monotone, so this holds for the computed edges too and skipping them changes
-  // no number. Turning skips the trailing half of the nose; a dwell skips all of it.
   std::size_t j0 = i0;
   std::size_t j_end = i1 + 1;
-  const NosePass& lp = last_nose_;
-  if (lp.valid && x >= lp.x && lp.x > 0.01) {  // x > 0: the last pass left r = edge, not 0
-    // The skipped cells are a run at each end of [i0, i1]: the cell centres rise with i, so
-    // "c_i ≤ z_prev" holds up to one index and "c_i ≥ z_prev" from one on. Found by division
-    // and confirmed on the same computed centres (a walk cell by cell was a fifth of rig E's
-    // time, 120 cells a step).
-    // The trailing end: cells of the last pass at or behind z_prev.
-    if (z >= lp.z && j0 >= lp.i0 && j0 <= lp.i1)
-      j0 = std::min({first_centre_after(lp.z, false, j0, j_end), lp.i1 + 1, j_end});
-    // Moving toward −z: the cells of the last pass at or ahead of z_prev.
-    if (z <= lp.z && j_end - 1 >= lp.i0 && j_end - 1 <= lp.i1)
-      j_end = std::max({first_centre_after(lp.z, true, j0, j_end), lp.i0, j0});
-  }
+  nose_window(x, z, j0, j_end);
   last_nose_ = {true, x, z, i0, i1};
   if (j_end <= j0) {
     if (any_edge_) cut_beyond_nose(x, z, edges, std::ceil(u_lo), std::floor(u_hi), c, lo, hi);
@@ -368,127 +328,6 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z, bool edges) n
   if (any_edge_) cut_beyond_nose(x, z, edges, std::ceil(u_lo), std::floor(u_hi), c, lo, hi);
   last_cut_ = {x, z, std::min(j0, lo), std::max(j_end, hi), c, edges};
   return c;
-}
-
-// e[k] = min(e[k], the straight edges) over the cells j0 + k under the nose that lie along an
-// edge (beyond its tangent point): x_t + side·(c − z_t)·tan β, as cut_beyond_nose() computes it.
-void LathePlant::edges_within_nose(double x, double z, std::size_t j0, std::size_t n,
-                                   double* e) const noexcept {
-  const double cell = p_.cell_mm;
-  const double z0 = z0_;
-  for (const StraightEdge& g : edges_) {
-    if (!g.on) continue;
-    const double xt = x + g.hx;
-    const double zt = z + g.hz;
-    const double side = static_cast<double>(g.side);
-    const std::size_t k0 = g.side < 0 ? 0 : first_centre_after(zt, true, j0, j0 + n) - j0;
-    const std::size_t k1 = g.side < 0 ? first_centre_after(zt, false, j0, j0 + n) - j0 : n;
-    for (std::size_t k = k0; k < k1; ++k) {
-      const double c = z0 + static_cast<double>(j0 + k) * cell;
-      e[k] = std::min(e[k], xt + side * (c - zt) * g.slope);
-    }
-  }
-}
-
-// The straight edges beyond the nose's cells [i0f, i1f] (its circle's, not clipped to the grid),
-// each from the nose outward along its length, until it rises past the blank's largest radius.
-// An edge that has not come down since the last cut (its tangent point no lower and no further
-// out along it) meets only cells the last cut left at or below it — those beyond the nose now
-// were along it then — and is skipped: turning toward the nose's side leaves its trailing edge
-// above the surface, and costs nothing here.
-void LathePlant::cut_beyond_nose(double x, double z, bool edges, double i0f, double i1f,
-                                 NoseCut& c, std::size_t& lo, std::size_t& hi) noexcept {
-  if (!edges) {  // not kept along the edges this step: not known at the next
-    last_edge_ = {};
-    return;
-  }
-  const double cell = p_.cell_mm;
-  const double z0 = z0_;
-  const double last = static_cast<double>(r_.size() - 1);
-  const double r_top = r_top_;
-  double* const r = r_.data();
-  const double* const low = r_blank_low_.data();
-  double removed = c.removed;
-  double mm3 = removed_mm3_;
-  bool on_blank = c.on_blank;
-  double top = c.top;
-  std::size_t top_i = r_.size();
-  for (std::size_t k = 0; k < edges_.size(); ++k) {
-    const StraightEdge& g = edges_[k];
-    if (!g.on) continue;
-    const double xt = x + g.hx;
-    const double zt = z + g.hz;
-    const double side = static_cast<double>(g.side);
-    const double near = z + side * r_nose_;  // the nose's last z on this side
-    EdgePass& lp = last_edge_[k];
-    const bool kept = lp.valid && xt >= lp.x && side * (zt - lp.z) <= 0.0 &&
-                      side * (near - lp.z) > 1e-9;
-    lp = {true, xt, zt};
-    if (kept) continue;
-    // Cell indices from the nose outward, a (nearest) to b (farthest), inclusive.
-    const double a = g.side < 0 ? std::min(i0f - 1.0, last) : std::max(i1f + 1.0, 0.0);
-    const double b = g.side < 0 ? std::max(std::ceil((zt - g.reach - z0) / cell), 0.0)
-                                : std::min(std::floor((zt + g.reach - z0) / cell), last);
-    if (g.side < 0 ? a < b : a > b) continue;
-    const auto ia = static_cast<std::ptrdiff_t>(a);
-    const auto ib = static_cast<std::ptrdiff_t>(b);
-    const std::ptrdiff_t step = g.side;
-    // Whole blocks of kBlock cells whose highest cell is at or below the edge where it enters
-    // them (it rises outward) are skipped; a block scanned whole gets its highest cell anew.
-    double* const bmax = block_max_.data();
-    const auto blk_first = [&](std::size_t u) {
-      return g.side > 0 ? u % kBlock == 0 : u % kBlock == kBlock - 1;
-    };
-    bool whole = false;  // the block being scanned was entered at its first cell
-    double run = 0.0;    // its highest cell so far
-    for (std::ptrdiff_t i = ia;; i += step) {
-      const auto u = static_cast<std::size_t>(i);
-      const std::size_t blk = u / kBlock;
-      const double ci = z0 + static_cast<double>(u) * cell;
-      const double edge = xt + side * (ci - zt) * g.slope;
-      if (edge >= r_top) break;
-      if (blk_first(u)) {
-        if (edge >= bmax[blk]) {  // the block lies at or below the edge: to its last cell
-          const auto far = static_cast<std::ptrdiff_t>(g.side > 0 ? blk * kBlock + kBlock - 1
-                                                                  : blk * kBlock);
-          if (g.side > 0 ? far >= ib : far <= ib) break;
-          i = far;
-          whole = false;
-          continue;
-        }
-        whole = true;
-        run = 0.0;
-      }
-      const double ri = r[u];
-      double r_now = ri;
-      if (edge < ri) {
-        on_blank = on_blank || ri > low[u];
-        if (ri > top) {
-          top = ri;
-          top_i = u;
-        }
-        const double r_new = std::max(edge, 0.0);
-        removed += (ri - r_new) * cell;
-        mm3 += std::numbers::pi * (ri * ri - r_new * r_new) * cell;
-        r[u] = r_new;
-        r_now = r_new;
-        lo = std::min(lo, u);
-        hi = std::max(hi, u + 1);
-      }
-      run = std::max(run, r_now);
-      const bool blk_last = g.side > 0 ? u % kBlock == kBlock - 1 || u + 1 == r_.size()
-                                       : u % kBlock == 0;
-      if (whole && blk_last) bmax[blk] = run;
-      if (i == ib) break;
-    }
-  }
-  c.removed = removed;
-  c.on_blank = on_blank;
-  if (top_i < r_.size()) {
-    c.top = top;
-    c.top_on_blank = top > low[top_i] + (cfg_.stock.eccentricity_mm - 1e-9);
-  }
-  removed_mm3_ = mm3;
 }
 
 namespace {

@@ -40,6 +40,7 @@
 // Real-time: configure() allocates the grid and may throw; step() never allocates or throws.
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -273,6 +274,19 @@ class LathePlant {
                        std::size_t& lo, std::size_t& hi) noexcept;
   void edges_within_nose(double x, double z, std::size_t j0, std::size_t n,
                          double* e) const noexcept;
+  // What the straight edges cut this step: the sums cut_under_nose() keeps, and [lo, hi).
+  struct EdgeCut {
+    double removed = 0.0;
+    double mm3 = 0.0;
+    double top = 0.0;
+    bool on_blank = false;
+    std::size_t top_i = 0;
+    std::size_t lo = 0;
+    std::size_t hi = 0;
+  };
+  void cut_along_edge(const StraightEdge& g, double xt, double zt, std::ptrdiff_t ia,
+                      std::ptrdiff_t ib, EdgeCut& sums) noexcept;
+  void nose_window(double x, double z, std::size_t& j0, std::size_t& j_end) const noexcept;
   void derive_edges() noexcept;
   // cut_under_nose() or, following, the leader's cut taken over; counts the cuts.
   NoseCut nose_cut(double x, double z, bool edges) noexcept;
