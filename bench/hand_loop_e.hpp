@@ -38,10 +38,15 @@ class HandCutE {
     if (cfg.cutting.form != cutting::ForceForm::Handbook || !cfg.faults.empty())
       throw std::invalid_argument("hand loop E: handbook forces and no faults only");
     cfg_ = cfg;
+    edge_valid_ = {false, false};
     rn_ = cfg.cutting.nose_radius_mm;
     const cutting::NoseOffset q = cutting::nose_centre_offset(cfg.tool_orientation);
     ox_ = static_cast<double>(q.x - 1) * rn_;  // the plant's: lowest x less the programmed x
     oz_ = static_cast<double>(q.z) * rn_;      // the centre's machine z less the programmed z
+    // The insert's straight edges (the plant's; their geometry is configuration, not the step).
+    edges_ = cutting::straight_edges_of(cfg.tool_orientation, rn_, cfg.tool_front_angle_deg,
+                                        cfg.tool_back_angle_deg, cutting::kDefaultEdgeLengthMm);
+    any_edge_ = edges_[0].on || edges_[1].on;
     const auto& blank = cfg.stock.blank_diameter_mm;
     cutting::Stock stock;
     stock.configure_blank(cfg.stock);
@@ -56,6 +61,7 @@ class HandCutE {
       low_[i] = r_[i] - cfg.stock.eccentricity_mm;
     }
     r_min_ = *std::min_element(r_.begin(), r_.end());
+    r_top_ = *std::max_element(r_.begin(), r_.end());
     auto dp = cfg.disturbances;
     dp.depth_steps.clear();
     dp.runout_mm = 0.0;
@@ -125,7 +131,15 @@ class HandCutE {
     const bool prev_valid = nose_valid_;
     const std::size_t prev_i0 = nose_i0_, prev_i1 = nose_i1_;
     top_ = {};
-    if (std::isfinite(x) && std::isfinite(z) && u_hi >= 0.0 && u_lo <= last) {
+    const double ecc = cfg_.stock.eccentricity_mm;
+    double highest = 0.0;  // the chip's top: the nose's (held, or the highest surface it cut)
+    bool top_on_blank = false;  // the blank's own surface
+    if (!(std::isfinite(x) && std::isfinite(z))) {
+      nose_valid_ = false;
+      edge_valid_ = {false, false};
+      return {removed, on_blank, cap};
+    }
+    if (u_hi >= 0.0 && u_lo <= last) {
       const auto i0 = static_cast<std::size_t>(std::ceil(std::max(u_lo, 0.0)));
       const auto i1 = static_cast<std::size_t>(std::floor(std::min(u_hi, last)));
       std::size_t j0 = i0, j1 = i1 + 1;
@@ -175,12 +189,19 @@ class HandCutE {
         const double dz = z0 + static_cast<double>(j0 + k) * kCell - z;
         e[k] = top - std::sqrt(std::max(rn2 - dz * dz, 0.0));
       }
+      // The straight edges where they run under the nose: x_t + side·(c − z_t)·tan β.
+      for (const auto& g : edges_) {
+        if (!any_edge_ || !g.on) continue;
+        const double xt = x + g.hx, zt = z + g.hz, side = static_cast<double>(g.side);
+        const std::size_t k0 = g.side < 0 ? 0 : first_after(zt, true, j0, j0 + n) - j0;
+        const std::size_t k1 = g.side < 0 ? first_after(zt, false, j0, j0 + n) - j0 : n;
+        for (k = k0; k < k1; ++k)
+          e[k] = std::min(e[k], xt + side * (centre(j0 + k) - zt) * g.slope);
+      }
       double* const r = r_.data() + j0;
       const double* const low = low_.data() + j0;
       double mm3 = removed_mm3_;
-      const double ecc = cfg_.stock.eccentricity_mm;
-      double highest = 0.0;  // the highest surface cut, at cell top_k
-      std::size_t top_k = n;
+      std::size_t top_k = n;  // the cell of the highest surface cut
       for (k = 0; k < n; ++k) {
         const double ri = r[k], edge = e[k];
         if (edge < ri) {
@@ -203,17 +224,62 @@ class HandCutE {
       removed_mm3_ = mm3;
       if (top_k < n) {  // decided where the front takes a cell the last position did not cover
         const std::size_t top_i = j0 + top_k;
-        if (prev_valid && prev.highest > 0.0 && top_i >= prev_i0 && top_i <= prev_i1)
-          top_ = prev;
-        else
-          top_ = {on_blank, highest,
-                  highest > low[top_k] + (cfg_.stock.eccentricity_mm - 1e-9)};
-        on_blank = top_.on_blank;
-        if (on_blank && !top_.on_blank_surface) cap = std::max(top_.highest - x, 0.0);
+        if (prev_valid && prev.highest > 0.0 && top_i >= prev_i0 && top_i <= prev_i1) {
+          on_blank = prev.on_blank;
+          highest = prev.highest;
+          top_on_blank = prev.on_blank_surface;
+        } else {
+          top_on_blank = highest > low[top_k] + (ecc - 1e-9);
+        }
       }
     } else {
       nose_valid_ = false;
     }
+    // The straight edges beyond the nose, from it outward until they rise past the blank's
+    // largest radius; skipped where an edge has not come down since the last step.
+    const double i0f = std::ceil(u_lo), i1f = std::floor(u_hi);
+    double mm3 = removed_mm3_;
+    double low_top = 0.0;  // the blank's lowest under the highest cell an edge cut above the top
+    bool edge_top = false;
+    for (std::size_t g_k = 0; any_edge_ && g_k < 2; ++g_k) {
+      const auto& g = edges_[g_k];
+      if (!g.on) continue;
+      const double xt = x + g.hx, zt = z + g.hz, side = static_cast<double>(g.side);
+      const double near = z + side * rn_;
+      const bool kept = edge_valid_[g_k] && xt >= edge_x_[g_k] && side * (zt - edge_z_[g_k]) <= 0.0 &&
+                        side * (near - edge_z_[g_k]) > 1e-9;
+      edge_valid_[g_k] = true;
+      edge_x_[g_k] = xt;
+      edge_z_[g_k] = zt;
+      if (kept) continue;
+      const double a = g.side < 0 ? std::min(i0f - 1.0, last) : std::max(i1f + 1.0, 0.0);
+      const double b = g.side < 0 ? std::max(std::ceil((zt - g.reach - z0_) / kCell), 0.0)
+                                  : std::min(std::floor((zt + g.reach - z0_) / kCell), last);
+      if (g.side < 0 ? a < b : a > b) continue;
+      for (auto i = static_cast<std::ptrdiff_t>(a);; i += g.side) {
+        const auto u = static_cast<std::size_t>(i);
+        const double edge = xt + side * ((z0_ + static_cast<double>(u) * kCell) - zt) * g.slope;
+        if (edge >= r_top_) break;
+        const double ri = r_[u];
+        if (edge < ri) {
+          on_blank = on_blank || ri > low_[u];
+          if (ri > highest) {
+            highest = ri;
+            low_top = low_[u];
+            edge_top = true;
+          }
+          const double r_new = std::max(edge, 0.0);
+          removed += (ri - r_new) * kCell;
+          mm3 += std::numbers::pi * (ri * ri - r_new * r_new) * kCell;
+          r_[u] = r_new;
+        }
+        if (i == static_cast<std::ptrdiff_t>(b)) break;
+      }
+    }
+    removed_mm3_ = mm3;
+    if (edge_top) top_on_blank = highest > low_top + (ecc - 1e-9);
+    top_ = {on_blank, highest, top_on_blank};
+    if (on_blank && !top_on_blank) cap = std::max(highest - x, 0.0);
     return {removed, on_blank, cap};
   }
 
@@ -301,6 +367,11 @@ class HandCutE {
   Top top_{};  // the chip's top: decided where the nose's front met fresh material
   double nose_x_ = 0.0, nose_z_ = 0.0;
   std::size_t nose_i0_ = 0, nose_i1_ = 0;
+  std::array<cutting::StraightEdge, 2> edges_{};
+  bool any_edge_ = false;
+  std::array<bool, 2> edge_valid_{};
+  std::array<double, 2> edge_x_{}, edge_z_{};
+  double r_top_ = 0.0;
   double theta_ = 0.0, last_x_ = 0.0, last_z_ = 0.0, removed_mm3_ = 0.0, t_cut_ = 0.0;
   double engaged_area_ = 0.0, engaged_travel_ = 0.0;
   bool has_last_ = false;

@@ -113,6 +113,7 @@ void update(void*, long period_ns) {
     const auto g =
         lathectl::io::tool_geometry(file_tools, table_tools, tool_in_plant, scenario_tool);
     plant->set_tool(g.nose_radius_mm, g.orientation);
+    plant->set_edges(g.front_angle_deg, g.back_angle_deg);  // its insert's edges (I, J)
   }
   const bool feed_move = lathectl::control::is_feed_motion(*pins->motion_type);
   in.insert_width_mm = insert_width(*pins->tool_number, feed_move);
@@ -148,7 +149,8 @@ void read_tools(const lathectl::systems::e_adaptive::RigConfig& e) {
   plunge_tools.clear();
   file_tools.clear();
   table_tools.clear();
-  scenario_tool = {e.cutting.nose_radius_mm, e.tool_orientation};
+  scenario_tool = {e.cutting.nose_radius_mm, e.tool_orientation, e.tool_front_angle_deg,
+                   e.tool_back_angle_deg};
   tool_in_plant = -1;
   const bool has_file = tool_file != nullptr && *tool_file != '\0';
   if (has_file) {

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -28,6 +29,8 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   const int q = p.orientation < 0 ? cfg.tool_orientation : p.orientation;
   if (q < 0 || q > 9)
     throw std::invalid_argument("lathe plant: the tool orientation is 0–9 (LinuxCNC's Q)");
+  if (!(p.edge_length_mm >= 0.0) || p.edge_length_mm > 1000.0)
+    throw std::invalid_argument("lathe plant: edge_length_mm must be in [0, 1000] mm");
   const double length = blank.back().at_mm - blank.front().at_mm;
   const double cells = length / p.cell_mm;
   if (cells > 5e7)
@@ -44,6 +47,9 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   p_ = p;
   r_nose_ = r_nose;
   r_nose_max_ = r_nose_max;
+  front_deg_ = std::isfinite(p.front_angle_deg) ? p.front_angle_deg : cfg.tool_front_angle_deg;
+  back_deg_ = std::isfinite(p.back_angle_deg) ? p.back_angle_deg : cfg.tool_back_angle_deg;
+  edge_len_ = p.edge_length_mm;
   set_orientation(q);
   z0_ = blank.front().at_mm;
   const auto n = static_cast<std::size_t>(std::ceil(cells)) + 1;
@@ -56,6 +62,10 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
     r_blank_low_[i] = r_[i] - cfg.stock.eccentricity_mm;
   }
   r_blank_min_ = *std::min_element(r_.begin(), r_.end());
+  r_top_ = *std::max_element(r_.begin(), r_.end());
+  block_max_.assign((n + kBlock - 1) / kBlock, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    block_max_[i / kBlock] = std::max(block_max_[i / kBlock], r_[i]);
   sensor_.reset(0.0);
   faults_.reset(0.0);
   bin_area_.fill(0.0);
@@ -63,6 +73,7 @@ void LathePlant::configure(const CuttingProcess& cfg, const Params& p) {
   prefix_area_[0] = prefix_travel_[0] = 0.0;
   dirty_area_ = dirty_travel_ = 0;
   last_nose_ = {};
+  last_edge_ = {};
   pending_ = {};
   last_cut_ = {};
   cuts_ = 0;
@@ -82,6 +93,7 @@ void LathePlant::set_orientation(int q) noexcept {
   const NoseOffset o = nose_centre_offset(q_);
   ox_ = static_cast<double>(o.x - 1) * r_nose_;
   oz_ = static_cast<double>(o.z) * r_nose_;
+  derive_edges();
 }
 
 void LathePlant::set_tool(double nose_radius_mm, int q) noexcept {
@@ -128,21 +140,53 @@ double LathePlant::depth_ahead_mm(double x_prog, double z_machine, double dx, do
   const double x_end = x + ux * distance;
   const double z_end = z + uz_stock * distance;
   if (std::abs(uz_stock) >= std::abs(ux)) {
-    const double reach = uz_stock >= 0.0 ? r_nose_ : -r_nose_;
+    // The nose's reach ahead, or a straight edge's where one leads.
+    double ahead = r_nose_;
+    for (const StraightEdge& g : edges_)
+      if (g.on && (g.side > 0) == (uz_stock >= 0.0))
+        ahead = std::max(ahead, static_cast<double>(g.side) * g.hz + g.reach);
+    const double reach = uz_stock >= 0.0 ? ahead : -ahead;
     const double r_max = max_radius_mm(std::min(z, z_end + reach), std::max(z, z_end + reach));
     return std::max(r_max - std::min(x, x_end), 0.0);
   }
-  // The nose's circle at the path's end: the cells whose material stands above its edge.
+  // The tool at the path's end: the cells whose material stands above its edge — under the
+  // nose's circle (the arc, or a straight edge where it is lower), then along the straight
+  // edges beyond it.
   const double last = static_cast<double>(r_.size() - 1);
-  const double u_lo = std::max((z_end - r_nose_ - z0_) / p_.cell_mm, 0.0);
-  const double u_hi = std::min((z_end + r_nose_ - z0_) / p_.cell_mm, last);
-  if (!(u_lo <= u_hi)) return 0.0;
+  const double f_lo = (z_end - r_nose_ - z0_) / p_.cell_mm;
+  const double f_hi = (z_end + r_nose_ - z0_) / p_.cell_mm;
+  const double u_lo = std::max(f_lo, 0.0);
+  const double u_hi = std::min(f_hi, last);
   double width = 0.0;
-  for (auto i = static_cast<std::size_t>(std::ceil(u_lo));
-       i <= static_cast<std::size_t>(std::floor(u_hi)) && i < r_.size(); ++i) {
-    const double dzc = z0_ + static_cast<double>(i) * p_.cell_mm - z_end;
-    const double edge = x_end + r_nose_ - std::sqrt(std::max(r_nose_ * r_nose_ - dzc * dzc, 0.0));
-    if (r_[i] > edge) width += p_.cell_mm;
+  auto along_edges = [&](double c, double edge) {
+    for (const StraightEdge& g : edges_) {
+      const double d = static_cast<double>(g.side) * (c - (z_end + g.hz));
+      if (g.on && d >= 0.0 && d <= g.reach) edge = std::min(edge, x_end + g.hx + d * g.slope);
+    }
+    return edge;
+  };
+  if (u_lo <= u_hi) {
+    for (auto i = static_cast<std::size_t>(std::ceil(u_lo));
+         i <= static_cast<std::size_t>(std::floor(u_hi)) && i < r_.size(); ++i) {
+      const double c = z0_ + static_cast<double>(i) * p_.cell_mm;
+      const double dzc = c - z_end;
+      double edge = x_end + r_nose_ - std::sqrt(std::max(r_nose_ * r_nose_ - dzc * dzc, 0.0));
+      if (any_edge_) edge = along_edges(c, edge);
+      if (r_[i] > edge) width += p_.cell_mm;
+    }
+  }
+  for (const StraightEdge& g : edges_) {
+    if (!g.on) continue;
+    const double a = g.side < 0 ? std::min(std::ceil(f_lo) - 1.0, last)
+                                : std::max(std::floor(f_hi) + 1.0, 0.0);
+    const double far = (z_end + g.hz + static_cast<double>(g.side) * g.reach - z0_) / p_.cell_mm;
+    const double b = g.side < 0 ? std::max(std::ceil(far), 0.0) : std::min(std::floor(far), last);
+    if (g.side < 0 ? a < b : a > b) continue;
+    for (auto i = static_cast<std::ptrdiff_t>(a);; i += g.side) {
+      const double c = z0_ + static_cast<double>(i) * p_.cell_mm;
+      if (r_[static_cast<std::size_t>(i)] > along_edges(c, std::numeric_limits<double>::infinity())) width += p_.cell_mm;
+      if (i == static_cast<std::ptrdiff_t>(b)) break;
+    }
   }
   return width;
 }
@@ -203,10 +247,6 @@ void LathePlant::edges_under_nose(double x, double z, std::size_t j0, std::size_
   }
 }
 
-// The nose's pass over the grid at (x, z): each cell under its circle comes down to its edge.
-// Members are read into locals and removed_mm3_ summed in one: a store into r_ may alias any
-// double of *this, so the compiler reloaded them and stored removed_mm3_ on every cell (rig E:
-// 240 cells a step, most of its time). The sums run in the same order: the same numbers.
 // The highest surface cut is the blank's own while its cell is still at the blank's radius
 // (low + e), which the runout lifts; any other an earlier cut left, at every angle. Decided where
 // the nose's front takes a cell its last position did not cover (the material as the pass found
@@ -246,30 +286,14 @@ void LathePlant::mark_high_side(double x, std::size_t j0, std::size_t n) noexcep
   }
 }
 
-LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
-  NoseCut c;
-  const double cell = p_.cell_mm;
-  const double rn = r_nose_;
-  const double z0 = z0_;
-  const double u_lo = (z - rn - z0) / cell;
-  const double u_hi = (z + rn - z0) / cell;
-  const double last = static_cast<double>(r_.size() - 1);
-  const NoseCut prev = last_cut_.result;     // the last step's cut, for the chip's top below
-  const NosePass prev_nose = last_nose_;
-  last_cut_ = {x, z, 0, 0, c};
-  if (!(std::isfinite(x) && std::isfinite(z) && u_hi >= 0.0 && u_lo <= last)) {
-    last_nose_.valid = false;
-    return c;
-  }
-  const auto i0 = static_cast<std::size_t>(std::ceil(std::max(u_lo, 0.0)));
-  const auto i1 = static_cast<std::size_t>(std::floor(std::min(u_hi, last)));
-  // The cells the nose cannot cut: those its last pass left at or below its edge, where the
-  // edge has not come down since — the nose no lower (x ≥ x_prev) and the cell no nearer its
-  // centre (|dz| ≥ |dz_prev|: behind the last position along the move). Every rounded step of
-  // edge(x, dz) is monotone, so this holds for the computed edges too and skipping them changes
-  // no number. Turning skips the trailing half of the nose; a dwell skips all of it.
-  std::size_t j0 = i0;
-  std::size_t j_end = i1 + 1;
+// The cells of [j0, j_end) the nose cannot cut, taken off its ends: those its last pass left at
+// or below its edge, where the edge has not come down since — the nose no lower (x ≥ x_prev)
+// and the cell no nearer its centre (|dz| ≥ |dz_prev|: behind the last position along the move).
+// Every rounded step of edge(x, dz) is monotone (the straight edges' too: they rise away from
+// the nose), so this holds for the computed edges and skipping them changes no number. Turning
+// skips the trailing half of the nose; a dwell skips all of it.
+void LathePlant::nose_window(double x, double z, std::size_t& j0,
+                             std::size_t& j_end) const noexcept {
   const NosePass& lp = last_nose_;
   if (lp.valid && x >= lp.x && lp.x > 0.01) {  // x > 0: the last pass left r = edge, not 0
     // The skipped cells are a run at each end of [i0, i1]: the cell centres rise with i, so
@@ -283,13 +307,53 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
     if (z <= lp.z && j_end - 1 >= lp.i0 && j_end - 1 <= lp.i1)
       j_end = std::max({first_centre_after(lp.z, true, j0, j_end), lp.i0, j0});
   }
+}
+
+// The nose's pass over the grid at (x, z): each cell under its circle comes down to its edge.
+// Members are read into locals and removed_mm3_ summed in one: a store into r_ may alias any
+// double of *this, so the compiler reloaded them and stored removed_mm3_ on every cell (rig E:
+// 240 cells a step, most of its time). The sums run in the same order: the same numbers.
+LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z, bool edges) noexcept {
+  NoseCut c;
+  const double cell = p_.cell_mm;
+  const double rn = r_nose_;
+  const double z0 = z0_;
+  const double u_lo = (z - rn - z0) / cell;
+  const double u_hi = (z + rn - z0) / cell;
+  const double last = static_cast<double>(r_.size() - 1);
+  const NoseCut prev = last_cut_.result;  // the last step's cut, for the chip's top below
+  const NosePass prev_nose = last_nose_;
+  last_cut_ = {x, z, 0, 0, c, edges};
+  if (!(std::isfinite(x) && std::isfinite(z))) {
+    last_nose_.valid = false;
+    last_edge_ = {};
+    return c;
+  }
+  std::size_t lo = r_.size();  // the cells the straight edges changed: [lo, hi)
+  std::size_t hi = 0;
+  if (!(u_hi >= 0.0 && u_lo <= last)) {  // the nose off the grid; its edges may reach it
+    last_nose_.valid = false;
+    if (any_edge_) cut_beyond_nose(x, z, edges, std::ceil(u_lo), std::floor(u_hi), c, lo, hi);
+    if (lo < hi) last_cut_ = {x, z, lo, hi, c, edges};
+    return c;
+  }
+  const auto i0 = static_cast<std::size_t>(std::ceil(std::max(u_lo, 0.0)));
+  const auto i1 = static_cast<std::size_t>(std::floor(std::min(u_hi, last)));
+  std::size_t j0 = i0;
+  std::size_t j_end = i1 + 1;
+  nose_window(x, z, j0, j_end);
   last_nose_ = {true, x, z, i0, i1};
-  if (j_end <= j0) return c;
+  if (j_end <= j0) {
+    if (any_edge_) cut_beyond_nose(x, z, edges, std::ceil(u_lo), std::floor(u_hi), c, lo, hi);
+    if (lo < hi) last_cut_ = {x, z, lo, hi, c, edges};
+    return c;
+  }
   // The edge under each cell first (the cells are independent: two at a time where the CPU has
   // SSE2, whose sqrtpd rounds as sqrtsd does), then the cells and the sums, in index order.
   const std::size_t n = j_end - j0;
   double* const e = edge_.data();
   edges_under_nose(x, z, j0, n, e);
+  if (edges && any_edge_) edges_within_nose(x, z, j0, n, e);
   double* const r = r_.data() + j0;
   const double* const low = r_blank_low_.data() + j0;
   double removed = 0.0;
@@ -319,9 +383,19 @@ LathePlant::NoseCut LathePlant::cut_under_nose(double x, double z) noexcept {
     chip_top(c, prev, prev_nose, j0 + top_k, top,
              top > low[top_k] + (cfg_.stock.eccentricity_mm - 1e-9));
   removed_mm3_ = removed_mm3;
-  last_cut_ = {x, z, j0, j_end, c};
+  if (any_edge_) cut_beyond_nose(x, z, edges, std::ceil(u_lo), std::floor(u_hi), c, lo, hi);
+  last_cut_ = {x, z, std::min(j0, lo), std::max(j_end, hi), c, edges};
   return c;
 }
+
+namespace {
+template <class Passes>
+bool same_edge_passes(const Passes& a, const Passes& b) {
+  for (std::size_t k = 0; k < a.size(); ++k)
+    if (a[k].valid != b[k].valid || a[k].x != b[k].x || a[k].z != b[k].z) return false;
+  return true;
+}
+}  // namespace
 
 void LathePlant::follow(const LathePlant* leader) {
   leader_ = nullptr;
@@ -329,6 +403,8 @@ void LathePlant::follow(const LathePlant* leader) {
   const auto& l = *leader;
   if (!(l.r_ == r_ && l.r_blank_low_ == r_blank_low_ && l.z0_ == z0_ &&
         l.p_.cell_mm == p_.cell_mm && l.r_nose_ == r_nose_ && l.q_ == q_ &&
+        l.front_deg_ == front_deg_ && l.back_deg_ == back_deg_ && l.edge_len_ == edge_len_ &&
+        same_edge_passes(l.last_edge_, last_edge_) &&
         l.removed_mm3_ == removed_mm3_ &&
         l.last_nose_.valid == last_nose_.valid && l.last_nose_.x == last_nose_.x &&
         l.last_nose_.z == last_nose_.z && l.last_nose_.i0 == last_nose_.i0 &&
@@ -338,7 +414,7 @@ void LathePlant::follow(const LathePlant* leader) {
   leader_cuts_ = l.cuts_;
 }
 
-LathePlant::NoseCut LathePlant::nose_cut(double x, double z) noexcept {
+LathePlant::NoseCut LathePlant::nose_cut(double x, double z, bool edges) noexcept {
   ++cuts_;
   if (leader_ != nullptr) {
     const LathePlant& l = *leader_;
@@ -346,13 +422,14 @@ LathePlant::NoseCut LathePlant::nose_cut(double x, double z) noexcept {
     auto same = [](double a, double b) {
       return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
     };
-    if (l.cuts_ == leader_cuts_ + 1 && same(lc.x, x) && same(lc.z, z)) {
+    if (l.cuts_ == leader_cuts_ + 1 && same(lc.x, x) && same(lc.z, z) && lc.edges == edges) {
       // Both grids were equal before the leader's cut, which was at this position: after it
       // they are equal again (the cells outside [j0, j_end) it did not touch).
       std::copy(l.r_.begin() + static_cast<std::ptrdiff_t>(lc.j0),
                 l.r_.begin() + static_cast<std::ptrdiff_t>(lc.j_end),
                 r_.begin() + static_cast<std::ptrdiff_t>(lc.j0));
       last_nose_ = l.last_nose_;
+      last_edge_ = l.last_edge_;
       removed_mm3_ = l.removed_mm3_;
       last_cut_ = lc;
       leader_cuts_ = l.cuts_;
@@ -360,7 +437,7 @@ LathePlant::NoseCut LathePlant::nose_cut(double x, double z) noexcept {
     }
     leader_ = nullptr;  // out of step: its own grid from now on
   }
-  return cut_under_nose(x, z);
+  return cut_under_nose(x, z, edges);
 }
 
 // Spreads this step's chip and travel over the spindle-angle bins it swept, [a0, a1), opening
@@ -438,7 +515,8 @@ void LathePlant::cut_geometry(const Input& in, double dt, Output& out) noexcept 
   const double a1 = theta_ * static_cast<double>(kBins);
 
   // Material the nose removes this step.
-  const NoseCut nc = nose_cut(x, z);
+  // A grooving or parting insert's sides are its width's, not a turning insert's edges.
+  const NoseCut nc = nose_cut(x, z, !(in.insert_width_mm > 0.0));
   const double removed = nc.removed;
   double travel = 0.0;
   if (std::isfinite(x) && std::isfinite(z)) {

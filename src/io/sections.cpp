@@ -1,5 +1,6 @@
 #include "lathectl/io/sections.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <numbers>
 #include <optional>
@@ -25,9 +26,31 @@ void read_run(TableReader& root, RunSettings& run) {
   t->finish();
 }
 
+namespace {
+// [tool] front_angle_deg and back_angle_deg: the insert's straight edges (LinuxCNC's tool table
+// I and J, AXIS's convention), into angles[0] and angles[1].
+void read_insert_angles(TableReader& tool, double* angles) {
+  angles[0] = tool.number("front_angle_deg", Range::closed(-360.0, 360.0), angles[0]);
+  tool.document("front_angle_deg",
+                "the insert's front angle [°], LinuxCNC's tool table I: its straight edge leaves "
+                "the nose along machine (x, z) = (sin a, cos a) (AXIS's lathe tool drawing; "
+                "clockwise from +Z as LinuxCNC's lathe docs draw it); with back_angle_deg both 0 "
+                "(the default): the nose alone, no straight edges (a CNMG in a 95° holder: 85 "
+                "and 5 at orientation 2, 95 and 175 at 1)");
+  angles[1] = tool.number("back_angle_deg", Range::closed(-360.0, 360.0), angles[1]);
+  tool.document("back_angle_deg",
+                "the insert's back angle [°], LinuxCNC's tool table J; the included angle "
+                "|front − back| is in (0°, 180°)");
+  const double inc = std::abs(angles[0] - angles[1]);
+  if ((angles[0] != 0.0 || angles[1] != 0.0) && !(inc > 0.0 && inc < 180.0))
+    tool.fail("back_angle_deg", "the insert's included angle |front_angle_deg − back_angle_deg| "
+                                "must be in (0°, 180°), got " + std::to_string(inc) + "°");
+}
+}  // namespace
+
 void read_material_tool(TableReader& root, const MaterialLibrary& lib,
                         cutting::CuttingModel::Params& cutting, cutting::DisturbanceParams* wear,
-                        bool kienzle_only, int* orientation) {
+                        bool kienzle_only, int* orientation, double* angles) {
   auto mat = root.table("material", true);
   root.document("material", "the work material, from the library data/materials.toml");
   const std::string name = mat->string("name");
@@ -71,6 +94,7 @@ void read_material_tool(TableReader& root, const MaterialLibrary& lib,
                      "the tip's x the nose's lowest point, its z the nose's leading point; 0 or "
                      "9: the nose's centre)");
     }
+    if (angles) read_insert_angles(*tool, angles);
     if (wear) {
       if (auto w = tool->table("wear")) {
         wear->wear_VB0_mm = w->number("initial_VB_mm", Range::closed(0, 2), 0.0);

@@ -169,6 +169,10 @@ ToolGeometry tool_geometry(const std::vector<ToolSpec>& specs,
     // where the program puts it, on a nose the table does not give: the scenario's tip.
     if (t.orientation != 0 || t.diameter_mm > 0.0) g.orientation = t.orientation;
     g.nose_radius_mm = t.diameter_mm > 0.0 ? 0.5 * t.diameter_mm : scenario.nose_radius_mm;
+    // I and J where the table gives either (both 0: not given), else the scenario's.
+    const bool angles = t.front_angle_deg != 0.0 || t.back_angle_deg != 0.0;
+    g.front_angle_deg = angles ? t.front_angle_deg : scenario.front_angle_deg;
+    g.back_angle_deg = angles ? t.back_angle_deg : scenario.back_angle_deg;
   }
   if (const ToolSpec* s = find_tool(specs, number); s != nullptr && s->nose_radius_mm > 0.0)
     g.nose_radius_mm = s->nose_radius_mm;

@@ -43,10 +43,12 @@
 namespace lathectl::optimize {
 
 struct Options;
-// The nose tool `number` cuts with in the prediction (io::tool_geometry, the LinuxCNC plant's
+// The tool `number` cuts with in the prediction (io::tool_geometry, the LinuxCNC plant's
 // choice): --tool-file's nose_radius_mm, else the tool table's D/2, else the scenario's [tool]
 // nose_radius_mm; the tool table's Q (Q0 with D > 0: the nose's centre, as LinuxCNC) when the
-// table lists the tool, else the scenario's [tool] orientation.
+// table lists the tool, else the scenario's [tool] orientation; the insert's front and back
+// angle from the table's I and J where it gives either, else the scenario's [tool]
+// front_angle_deg and back_angle_deg.
 io::ToolGeometry tool_geometry(const Options& opt, const systems::e_adaptive::Settings& e,
                                int number);
 // The largest nose of them all (the plant's scratch, LathePlant::Params::max_nose_radius_mm).

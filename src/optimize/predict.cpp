@@ -51,7 +51,8 @@ control::AdaptiveMachine::Params adaptive_machine_params(const systems::e_adapti
 io::ToolGeometry tool_geometry(const Options& opt, const systems::e_adaptive::Settings& e,
                                int number) {
   return io::tool_geometry(opt.tool_specs, opt.table_tools, number,
-                           {e.rig.cutting.nose_radius_mm, e.rig.tool_orientation});
+                           {e.rig.cutting.nose_radius_mm, e.rig.tool_orientation,
+                            e.rig.tool_front_angle_deg, e.rig.tool_back_angle_deg});
 }
 
 double largest_nose_radius_mm(const Options& opt, const systems::e_adaptive::Settings& e) {
@@ -287,6 +288,7 @@ struct Walker {
       q_tool = m.tool;
       const io::ToolGeometry g = tool_geometry(opt, e, m.tool);
       plant.set_tool(g.nose_radius_mm, g.orientation);
+      plant.set_edges(g.front_angle_deg, g.back_angle_deg);  // its insert's edges (I, J)
     }
     while (u < u_to - 1e-12) {
       const auto [x, z] = point_at(m, u);

@@ -165,6 +165,26 @@ if "$bin" optimize "$up/facing.ngc" "$up/user_part_c45.toml" --z-origin-mm 1 --o
 else
   echo "FAIL the user's facing program: $(cat "$work/facing.out")"; fail=1
 fi
+# The same with a 0.4 mm nose (scenario and table: T1 D0.8, a CNMG in a 95-degree holder, I85
+# J5): the nose covers Z0-0.8 and its straight edge the rest of the 1 mm face; the nose alone
+# left a ring at Z0.8-1 for the retract ("line 10: a rapid (G0) drives the tool through the
+# blank").
+sed 's/^nose_radius_mm = 0.8$/nose_radius_mm = 0.4/' "$up/user_part_c45.toml" >"$work/c45_r04.toml"
+printf 'T1 P1 D0.8 Z0 I85 J5 Q2 ;\n' >"$work/t1_r04.tbl"
+if grep -q '^nose_radius_mm = 0.4$' "$work/c45_r04.toml" &&
+   "$bin" optimize "$up/facing.ngc" "$work/c45_r04.toml" --z-origin-mm 1 --out "$work/facing04" \
+     --tool-table "$work/t1_r04.tbl" >"$work/facing04.out" 2>&1 &&
+   grep -q 'predicted cycle' "$work/facing04.out" &&
+   grep -Eq '"predicted_rapid_in_material_s": *0(\.0)?,' "$work/facing04/summary.json"; then
+  echo "ok   the user's facing program, 0.4 mm nose: $(head -n 1 "$work/facing04.out")"
+else
+  echo "FAIL the user's facing program, 0.4 mm nose: $(cat "$work/facing04.out")"; fail=1
+fi
+# Its T1 without I and J (the nose alone): the ring is left and the retract refused.
+printf 'T1 P1 D0.8 Z0 Q2 ;\n' >"$work/t1_r04_nose.tbl"
+expect_bad facing04_nose_alone "$up/facing.ngc" "$work/c45_r04.toml" \
+  "facing.ngc:10: a rapid (G0) drives the tool through the blank" --z-origin-mm 1 \
+  --tool-table "$work/t1_r04_nose.tbl"
 # LinuxCNC's tool table and the tool file must agree: T2's nose in the table is D0.8 (r 0.4).
 printf '[[tool]]\nnumber = 2\nkind = "grooving"\ninsert_width_mm = 3.0\nnose_radius_mm = 0.2\n' >"$work/tools_r02.toml"
 expect_bad tool_table_disagrees "$up/user_part.ngc" "$up/user_part_c45.toml" \

@@ -49,3 +49,33 @@ TEST(HandLoopE, TheRigsPlantBitForBitOverAPart) {
   EXPECT_TRUE(rig.finished());
   EXPECT_GT(in_cut, steps / 2);  // mostly cutting: the comparison covers the cut
 }
+
+// The same with the insert's straight edges (a CNMG in a 95° holder, I85 J5 at Q2): the hand
+// copy cuts along them as the plant does, bit for bit.
+TEST(HandLoopE, TheRigsPlantBitForBitWithTheInsertsEdges) {
+  const auto sc = lathectl::io::load_scenario(
+      std::string(LATHECTL_SOURCE_DIR "/examples/scenarios/e_stepped_seed004.toml"),
+      lathectl::test::library(), e_adaptive::kReadSection);
+  auto cfg = sc.get<e_adaptive::Settings>().rig;
+  cfg.tool_front_angle_deg = 85.0;
+  cfg.tool_back_angle_deg = 5.0;
+  e_adaptive::Rig rig;
+  rig.configure(cfg, sc.run.step_s, sc.run.record_interval_s, sc.run.duration_s);
+  auto process = e_adaptive::lathe_process(cfg);
+  process.faults.clear();
+  lathectl::bench::HandCutE hand;
+  hand.configure(process);
+  lathectl::bench::HandCutE::Out h;
+  std::size_t steps = 0, in_cut = 0;
+  while (rig.step() && steps < 200000) {
+    const auto& in = rig.cut_input();
+    const auto& p = rig.cut_output();
+    hand.step(in.x_mm, in.z_mm, in.rpm, sc.run.step_s, h);
+    ASSERT_TRUE(same(h.Pz, p.Pz_N) && same(h.depth, p.depth_mm) &&
+                same(h.removed_mm3, p.removed_mm3) && same(h.force_measured, p.force_measured))
+        << "step " << steps << ": Pz " << h.Pz << " vs " << p.Pz_N;
+    ++steps;
+    in_cut += p.in_contact ? 1 : 0;
+  }
+  EXPECT_GT(in_cut, steps / 2);
+}

@@ -14,6 +14,16 @@
 //              over |z' − z_c| ≤ r_n. Q 1, 2, 6 (the turning orientations) keep x_c − r_n = x:
 //              a diameter is where the program puts it, and with Q 2 a face or a shoulder cut
 //              toward −z at the program's z (the nose's leading point, z_c − r_n = z).
+//              The insert's two straight edges leave the nose tangentially at its front and
+//              back angle a (LinuxCNC's tool table I, J; AXIS's drawing: direction (sin a, cos a)
+//              in machine (x, z), from the tangent point centre + r_n·(−cos a, sin a) for the
+//              smaller angle, centre + r_n·(cos a, −sin a) for the larger). The tool is the
+//              convex hull of the nose and the edges; the workpiece being R(z), what it cuts is
+//              its lower boundary: edge(z') = min(the nose's arc, each straight edge on the lower
+//              side that rises away from the nose), an edge x_t + |z' − z_t|·tan β from its
+//              tangent point (x_t, z_t), for edge_length_mm along it. A face or a shoulder deeper
+//              along z than the nose (2 r_n) is cut by an edge; in turning the trailing edge
+//              stays above the surface the nose's lowest point left: the chip is the nose's.
 //   each step: R(z') ← min(R(z'), edge(z')); the removed cross-section ΔA = Σ ΔR·dz  [mm²]
 //   chip:      over the last spindle revolution (360 angle bins): A_rev = Σ ΔA, path travel
 //              ℓ_rev = Σ |Δ(x, z)|;  feed per revolution s = ℓ_rev, depth t = A_rev / s
@@ -30,7 +40,9 @@
 // Real-time: configure() allocates the grid and may throw; step() never allocates or throws.
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "lathectl/cutting/cutting_model.hpp"
@@ -66,6 +78,37 @@ struct NoseOffset {
 // The orientation a scenario's tool has when it gives none: turning toward the chuck (−z), where
 // the tip's x is the nose's lowest point (diameters as before the orientation was modelled).
 inline constexpr int kDefaultToolOrientation = 2;
+// A common insert's angles (LinuxCNC's I and J, AXIS's convention: an edge at angle a runs along
+// machine (x, z) = (sin a, cos a)): a CNMG (80° rhombic) in the common 95° holder, for Q 2
+// (PCLNR) I85 J5, for Q 1 (PCLNL) I95 J175 — the 80° insert set symmetrically about the
+// orientation's centre line atan2(q_x, q_z). Not a default: a tool without angles (I and J both
+// 0) is the nose alone, as rig E's radial plunges at a shoulder need (see straight_edges_of).
+inline constexpr double kCnmgFrontAngleQ2Deg = 85.0;
+inline constexpr double kCnmgBackAngleQ2Deg = 5.0;
+// The length of each straight edge from its tangent point on the nose [mm]: a CNMG 12's edge.
+// Beyond it the holder is taken as clear of the part.
+inline constexpr double kDefaultEdgeLengthMm = 12.9;
+
+// An insert's straight edge where it bounds the tool from below and rises away from the nose
+// (else on = false), in the plant's stock coordinates (z_stock = z_origin − z_machine).
+struct StraightEdge {
+  bool on = false;
+  int side = 0;        // +1: it runs from the nose toward stock +z, −1: toward stock −z
+  double slope = 0.0;  // its rise in x per mm along z (tan β)
+  double hx = 0.0;     // its tangent point's x above the nose's lowest point [mm]
+  double hz = 0.0;     // its tangent point's stock z less the nose centre's [mm]
+  double reach = 0.0;  // its extent along z from the tangent point [mm]
+};
+// The straight edges of an insert of orientation q, nose radius r_n and front and back angle
+// [°], each edge_length_mm long. Both angles 0 (none given), Q 0 and 9 (the centre), and an
+// included angle outside (0°, 180°): none, the nose alone. (Why no default insert: rig E plunges
+// radially at a shoulder it keeps on the tool's trailing side; a CNMG's 5° edge, 12.9 mm long,
+// would cut a wedge up to 12.9 mm into that shoulder — on the generated parts, tool-breakage
+// and overload alarms. A real program ramps there or uses another tool.) An edge that
+// bounds the tool from above, or that runs downward (an internal tool's, below the nose: the
+// workpiece R(z) has no bore), cuts nothing here.
+std::array<StraightEdge, 2> straight_edges_of(int q, double r_n, double front_deg,
+                                              double back_deg, double edge_length_mm) noexcept;
 
 // The cutting process of a system-E scenario: what the tool meets and what sensor 4 reads.
 // Defaults are the scenario's (a random allowance correlated over 20 mm, a dynamometer that
@@ -86,6 +129,11 @@ struct CuttingProcess {
   // The tool's orientation Q (the scenario's [tool] orientation): where its programmed point is
   // on the nose (nose_centre_offset).
   int tool_orientation = kDefaultToolOrientation;
+  // The insert's front and back angle [°] (the scenario's [tool] front_angle_deg and
+  // back_angle_deg, LinuxCNC's tool table I and J, AXIS's convention); both 0: none given, the
+  // nose alone (straight_edges_of).
+  double tool_front_angle_deg = 0.0;
+  double tool_back_angle_deg = 0.0;
 };
 
 class LathePlant {
@@ -98,6 +146,10 @@ class LathePlant {
     // The largest nose set_tool() may set [mm] (the scratch under the nose is sized for it at
     // configure()); below the nose radius: the nose radius.
     double max_nose_radius_mm = 0.0;
+    // The insert's front and back angle [°] (LinuxCNC's I and J); not finite: the scenario's.
+    double front_angle_deg = std::numeric_limits<double>::quiet_NaN();
+    double back_angle_deg = std::numeric_limits<double>::quiet_NaN();
+    double edge_length_mm = kDefaultEdgeLengthMm;  // each straight edge's length
   };
   struct Input {        // x or z not finite: no position (e.g. not homed) — nothing is cut
     double x_mm = 0.0;  // the programmed point (the tool tip of the orientation): machine x
@@ -106,8 +158,8 @@ class LathePlant {
     // > 0: a grooving or parting insert of this width [mm] cuts (io::ToolSpec::plunge()): its
     // whole width is the width of cut, the cutting law taken at t = the width and s = the feed
     // per revolution (its chip thickness); 0: the nose at its engagement t. The one copy of that
-    // law (lathectl optimize's prediction, the LinuxCNC plant). The stock follows the nose and
-    // depth_mm stays the nose's chip either way.
+    // law (lathectl optimize's prediction, the LinuxCNC plant). The stock follows the nose (not
+    // the turning insert's straight edges) and depth_mm stays the nose's chip either way.
     double insert_width_mm = 0.0;
   };
   struct Output {
@@ -173,9 +225,19 @@ class LathePlant {
   void set_orientation(int q) noexcept;
   // The tool in the spindle from now on (io::tool_geometry of the tool table's and tool file's
   // tool): its nose radius [mm] (clamped to (0, Params::max_nose_radius_mm]) and orientation
-  // (set_orientation). The workpiece and the chip's revolution stay; a new radius ends
+  // (set_orientation, which derives the straight edges again for this nose; their angles:
+  // set_edges). The workpiece and the chip's revolution stay; a new radius ends
   // following (follow()) a leader, here and in this plant's followers. Never allocates or throws.
   void set_tool(double nose_radius_mm, int q) noexcept;
+  // The insert's front and back angle from now on [°] (LinuxCNC's tool table I and J; both 0,
+  // or an included angle max − min outside (0°, 180°): the nose alone, no straight edges).
+  // Depends on the orientation and nose radius: set_orientation() and set_tool() derive the
+  // edges again. Never allocates or throws.
+  void set_edges(double front_deg, double back_deg) noexcept;
+  // The straight edges the plant cuts with now (straight_edges_of its tool).
+  [[nodiscard]] const std::array<StraightEdge, 2>& straight_edges() const noexcept {
+    return edges_;
+  }
   [[nodiscard]] int orientation() const noexcept { return q_; }
   // Stock z of a machine z [mm].
   [[nodiscard]] double stock_z_mm(double z_machine_mm) const noexcept {
@@ -213,13 +275,34 @@ class LathePlant {
     double top = 0.0;           // the highest radius cut this step [mm]
     bool top_on_blank = false;  // it is the blank's own surface (else an earlier cut's)
   };
-  NoseCut cut_under_nose(double x, double z) noexcept;
+  // `edges`: with the insert's straight edges (not for a grooving or parting insert).
+  NoseCut cut_under_nose(double x, double z, bool edges) noexcept;
   struct NosePass;
   static void chip_top(NoseCut& c, const NoseCut& prev, const NosePass& prev_nose,
                        std::size_t top_i, double top, bool top_on_blank) noexcept;
   void mark_high_side(double x, std::size_t j0, std::size_t n) noexcept;
+  // The straight edges' cut beyond the nose's cells [i0f, i1f] (unclipped), added to c; widens
+  // [lo, hi) to the cells changed.
+  void cut_beyond_nose(double x, double z, bool edges, double i0f, double i1f, NoseCut& c,
+                       std::size_t& lo, std::size_t& hi) noexcept;
+  void edges_within_nose(double x, double z, std::size_t j0, std::size_t n,
+                         double* e) const noexcept;
+  // What the straight edges cut this step: the sums cut_under_nose() keeps, and [lo, hi).
+  struct EdgeCut {
+    double removed = 0.0;
+    double mm3 = 0.0;
+    double top = 0.0;
+    bool on_blank = false;
+    std::size_t top_i = 0;
+    std::size_t lo = 0;
+    std::size_t hi = 0;
+  };
+  void cut_along_edge(const StraightEdge& g, double xt, double zt, std::ptrdiff_t ia,
+                      std::ptrdiff_t ib, EdgeCut& sums) noexcept;
+  void nose_window(double x, double z, std::size_t& j0, std::size_t& j_end) const noexcept;
+  void derive_edges() noexcept;
   // cut_under_nose() or, following, the leader's cut taken over; counts the cuts.
-  NoseCut nose_cut(double x, double z) noexcept;
+  NoseCut nose_cut(double x, double z, bool edges) noexcept;
   void edges_under_nose(double x, double z, std::size_t j0, std::size_t n,
                         double* e) const noexcept;
   [[nodiscard]] std::size_t first_centre_after(double zq, bool or_at, std::size_t lo,
@@ -233,6 +316,24 @@ class LathePlant {
   int q_ = kDefaultToolOrientation;
   double ox_ = 0.0;  // the nose's lowest x less the programmed x: (q_x − 1)·r_n (0.0 for Q 2)
   double oz_ = 0.0;  // the nose centre's machine z less the programmed z: q_z·r_n
+  double front_deg_ = 0.0;  // the insert's angles as given (both 0: the orientation's default)
+  double back_deg_ = 0.0;
+  double edge_len_ = kDefaultEdgeLengthMm;
+  std::array<StraightEdge, 2> edges_{};
+  bool any_edge_ = false;  // edges_[0].on || edges_[1].on
+  // Per edge: its tangent point (x, stock z) at the last cut, when every cell along it
+  // (edge_length_mm) was at or below it then.
+  struct EdgePass {
+    bool valid = false;
+    double x = 0.0;
+    double z = 0.0;
+  };
+  std::array<EdgePass, 2> last_edge_{};
+  double r_top_ = 0.0;  // the blank's largest radius: no cell is higher
+  // The highest cell of each block of kBlock cells, or more (cells only come down): the straight
+  // edges skip the blocks below them.
+  static constexpr std::size_t kBlock = 64;
+  std::vector<double> block_max_;
   double z0_ = 0.0;  // stock z of the first cell
   std::vector<double> r_;
   std::vector<double> r_blank_low_;  // lowest point of the eccentric blank per cell
@@ -274,6 +375,7 @@ class LathePlant {
     std::size_t j0 = 0;
     std::size_t j_end = 0;
     NoseCut result{};
+    bool edges = true;  // cut with the straight edges
   };
   LastCut last_cut_{};
   std::uint64_t cuts_ = 0;  // nose_cut() calls since configure()

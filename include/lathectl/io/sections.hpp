@@ -21,11 +21,12 @@ namespace lathectl::io {
 void read_run(TableReader& root, RunSettings& run);
 // [material] (name from the library, force model) and [tool] (nose radius, approach angle and,
 // with `wear`, [tool.wear]; with `orientation`, its key orientation, LinuxCNC's Q, whose default
-// is the value it points at). `kienzle_only`: the system needs dF/db (system B).
+// is the value it points at; with `angles`, its keys front_angle_deg and back_angle_deg into
+// angles[0], angles[1], defaults the values there). `kienzle_only`: the system needs dF/db (system B).
 void read_material_tool(TableReader& root, const MaterialLibrary& lib,
                         cutting::CuttingModel::Params& cutting,
                         cutting::DisturbanceParams* wear = nullptr, bool kienzle_only = false,
-                        int* orientation = nullptr);
+                        int* orientation = nullptr, double* angles = nullptr);
 // [[fault]]: injected sensor faults.
 std::vector<sensors::SensorFault> read_faults(TableReader& root);
 // The spindle drive (systems B and E). With `defaults`, every key is optional and keeps the

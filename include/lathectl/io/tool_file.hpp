@@ -77,10 +77,15 @@ const ToolSpec* find_tool(const std::vector<ToolSpec>& tools, int number) noexce
 //                interp_queue.cc; AXIS draws no lathe tool for Q0); without one (D0) a point
 //                tool, its point where the program puts it (a radius of 0 translates nothing),
 //                which on the nose taken from elsewhere is the scenario's tip.
+//   front and back angle (the insert's straight edges, cutting::straight_edges_of): the tool
+//                table's I and J where either is non-zero, else the scenario's [tool]
+//                front_angle_deg and back_angle_deg (both 0: the nose alone).
 // Never allocates or throws (the plant calls it in its real-time update at a tool change).
 struct ToolGeometry {
   double nose_radius_mm = 0.0;
   int orientation = 0;
+  double front_angle_deg = 0.0;  // LinuxCNC's I [°]
+  double back_angle_deg = 0.0;   // LinuxCNC's J [°]
 };
 ToolGeometry tool_geometry(const std::vector<ToolSpec>& specs,
                            const std::vector<TableTool>& table, int number,

@@ -241,7 +241,11 @@ std::unique_ptr<io::SystemSettings> read_settings(TableReader& root, io::Scenari
                                                   const io::MaterialLibrary& lib) {
   auto out = std::make_unique<Settings>();
   auto& e = out->rig;
-  io::read_material_tool(root, lib, e.cutting, &e.disturbances, false, &e.tool_orientation);
+  double angles[2] = {e.tool_front_angle_deg, e.tool_back_angle_deg};
+  io::read_material_tool(root, lib, e.cutting, &e.disturbances, false, &e.tool_orientation,
+                         angles);
+  e.tool_front_angle_deg = angles[0];
+  e.tool_back_angle_deg = angles[1];
   read_stock(root, e, sc.run.seed);
   read_feed_axis(root, e);
   {
