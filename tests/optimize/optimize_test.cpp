@@ -271,6 +271,17 @@ TEST(Predict, TheToolTablesNoseCutsTheShoulderFillet) {
   EXPECT_EQ(tool_geometry(opt, e, 1).orientation, e.rig.tool_orientation);  // a point tool
   opt.table_tools[0].diameter_mm = 0.8;
   EXPECT_EQ(tool_geometry(opt, e, 1).orientation, 0);  // Q0 with a nose: its centre
+  // The insert's angles: the table's I and J where either is given, else the scenario's.
+  auto e2 = e;
+  e2.rig.tool_front_angle_deg = 95.0, e2.rig.tool_back_angle_deg = 175.0;
+  EXPECT_EQ(tool_geometry(opt, e2, 1).front_angle_deg, 95.0);
+  EXPECT_EQ(tool_geometry(opt, e2, 1).back_angle_deg, 175.0);
+  opt.table_tools[0].back_angle_deg = 5.0;  // J alone: I is 0, as the table says
+  EXPECT_EQ(tool_geometry(opt, e2, 1).front_angle_deg, 0.0);
+  EXPECT_EQ(tool_geometry(opt, e2, 1).back_angle_deg, 5.0);
+  opt.table_tools[0].front_angle_deg = 85.0;
+  EXPECT_EQ(tool_geometry(opt, e2, 1).front_angle_deg, 85.0);
+  EXPECT_EQ(tool_geometry(opt, e2, 1).back_angle_deg, 5.0);
 }
 
 // With only the force binding, the handbook law inverts: s = (L / (10·Cp·t^x·V^n·Kmp))^(1/y).
