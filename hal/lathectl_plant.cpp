@@ -19,7 +19,8 @@
 // tool_table (LinuxCNC's tool table, the INI's [EMCIO]TOOL_TABLE, in mm; its reader
 // io::read_tool_table): the tool in the spindle cuts with its own nose and orientation, the
 // choice lathectl optimize's prediction makes (io::tool_geometry: the tool file's nose radius,
-// else the table's D/2, else the scenario's; the table's Q, else the scenario's orientation).
+// else the table's D/2, else the scenario's; the table's Q, else the scenario's orientation;
+// the table's I and J, else the scenario's [tool] angles: the insert's straight edges).
 
 #include <cmath>
 #include <cstdint>
