@@ -152,5 +152,31 @@ TEST(LathePlantEdges, TurningADiameterIsTheNoseAloneBitForBit) {
   EXPECT_GT(a.removed_mm3, 1000.0);
 }
 
+// A tool change (set_tool: another nose and Q) derives the edges again for the new nose, the
+// angles kept (set_edges); the edges are straight_edges_of that tool, and a plant configured
+// with it from the start has the same.
+TEST(LathePlantEdges, AToolChangeDerivesTheEdgesForItsNose) {
+  auto c = fixtures::step_allowance_config();
+  LathePlant p, q;
+  p.configure(c, {.nose_radius_mm = 0.8, .orientation = 2, .max_nose_radius_mm = 0.8});
+  p.set_edges(85.0, 5.0);
+  p.set_tool(0.4, 1);
+  q.configure(c, {.nose_radius_mm = 0.4, .orientation = 1, .front_angle_deg = 85.0,
+                  .back_angle_deg = 5.0});
+  const auto want = cutting::straight_edges_of(1, 0.4, 85.0, 5.0, cutting::kDefaultEdgeLengthMm);
+  for (std::size_t k = 0; k < 2; ++k) {
+    for (const auto* g : {&p.straight_edges()[k], &q.straight_edges()[k]}) {
+      EXPECT_EQ(g->on, want[k].on) << k;
+      EXPECT_EQ(g->side, want[k].side) << k;
+      EXPECT_EQ(g->slope, want[k].slope) << k;
+      EXPECT_EQ(g->hx, want[k].hx) << k;
+      EXPECT_EQ(g->hz, want[k].hz) << k;
+      EXPECT_EQ(g->reach, want[k].reach) << k;
+    }
+  }
+  p.set_tool(0.8, 2);
+  EXPECT_EQ(p.straight_edges()[0].hx, cutting::straight_edges_of(2, 0.8, 85.0, 5.0, 12.9)[0].hx);
+}
+
 }  // namespace
 }  // namespace lathectl::sim
