@@ -25,9 +25,15 @@
 //     (a hardness ramp) and the metric summed every simulation step (Rig::load_rev: seed 1146's
 //     6.8 % was 5.6 % on its 20 ms record) and the idle tare's prior law through its nearest bin
 //     (a one-bin constant read a braking cut 6 % low): 94.5 %, the worst 6.4 % (forged: 30 of 40
-//     within, median 4.6 %; the 160 others 99.4 %, 5.6 %). The test holds 99 % within 5 % and
-//     every part within 7.5 % on the 160, so a regression shows, and prints the distribution and
-//     the worst parts of both kinds.
+//     within, median 4.6 %; the 160 others 99.4 %, 5.6 %); merged with the tool-tip point:
+//     92 %, the worst 6.8 % (forged 25 of 40, the worst 6.5 %, median 4.7 %). With the regulator
+//     comparing the per-revolution mean one revolution ahead while it rises with the limit (its
+//     trend from the load at the same angle a revolution ago: a hardness ramp or a deeper random
+//     allowance had shown in the mean a revolution late): 199 of 200 within 5 % (99.5 %), the
+//     worst 5.7 % (forged: 39 of 40, median 3.4 %; the 160 others all within, the worst 4.4 %).
+//     The test holds 99 % within 5 % and every part within 7.5 % on the whole generator and on
+//     the 160 round-3 parts alone, so a regression shows, and prints the distribution and the
+//     worst parts of both kinds.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -106,12 +112,14 @@ struct Stats {
   std::vector<const Outcome*> worst3;
 };
 
+enum class Kind { Other, Forged, All };
+
 // Per-revolution peak over the limit, of the parts of one kind whose limit is reachable.
-Stats stats(const std::vector<Outcome>& out, bool forged) {
+Stats stats(const std::vector<Outcome>& out, Kind which) {
   Stats st;
   std::vector<const Outcome*> kind;
   for (const auto& o : out) {
-    if (is_forged(o) != forged) continue;
+    if (which != Kind::All && is_forged(o) != (which == Kind::Forged)) continue;
     ++st.parts;
     if (o.reachable) kind.push_back(&o);
   }
@@ -159,14 +167,19 @@ TEST(RigEGenerated, EveryGeneratedPartIsFinishedWithNoFalseAlarm) {
           << " at " << a.time_s << " s";
   }
   // The acceptance (≥ 99 % of parts within 5 % of the limit, the worst ≤ 7.5 %) holds on the
-  // round-3 kinds of part. On issue 47's forged shafts on power (every fifth seed) it does NOT
-  // hold yet — 30 of 40 within 5 %, the worst 6.4 % over (hardness ramps entered before their
-  // trend shows; issue 47 stays open on it): their statistics are printed, not gated, so that
-  // the gate is not widened to pass. When the controller holds them, gate them with the others.
-  const Stats other = stats(out, false), forged = stats(out, true);
+  // whole generator, issue 47's forged shafts on power (every fifth seed) with the round-3
+  // kinds of part; and on the round-3 kinds alone, so a regression there is not hidden by the
+  // forged class.
+  const Stats other = stats(out, Kind::Other), forged = stats(out, Kind::Forged),
+              all = stats(out, Kind::All);
   print("round-3 parts", other);
-  print("forged shafts on power (issue 47, not yet gated)", forged);
+  print("forged shafts on power (issue 47)", forged);
+  std::printf("all %zu parts: within 5 %%: %.1f %%, worst %.1f %%\n", all.parts,
+              100.0 * all.within, all.worst);
   ASSERT_GT(other.reachable, 0u);
+  ASSERT_GT(forged.reachable, 0u);
+  EXPECT_GE(all.within, 0.99);
+  EXPECT_LE(all.worst, 7.5);
   EXPECT_GE(other.within, 0.99);
   EXPECT_LE(other.worst, 7.5);
 }
