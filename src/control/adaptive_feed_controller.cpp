@@ -77,6 +77,8 @@ void AdaptiveFeedController::configure(const Params& p) {
   s_cur_filtered_ = p.feed_planned_mm_per_rev;
   // one revolution at the lowest speed, in control periods (allocated here, never in update())
   rev_mean_ = PerRevolutionMean(p.period_s, p.rpm_min);
+  feed_rev_ = PerRevolutionMean(p.period_s, p.rpm_min);
+  chip_rev_ = PerRevolutionMean(p.period_s, p.rpm_min);
   trend_ = 0.0;
   configured_ = true;
 }
@@ -108,6 +110,8 @@ bool AdaptiveFeedController::set_operation(double load_limit, double feed_min_mm
 void AdaptiveFeedController::reset_alarm() noexcept {
   alarm_ = false;
   rev_mean_.restart();
+  feed_rev_.restart();
+  chip_rev_.restart();
   alarm_reason_ = Reason::None;
   monitor_.reset();
   over_s_ = 0.0;
@@ -191,9 +195,15 @@ inline double AdaptiveFeedController::regulated_load(const Input& in, bool senso
   double regulated = in.force;
   if (sensor_ok) {
     const double mean = rev_mean_.push(in.force, in.rpm);
+    // the chip that load was cut at: the feed's mean over the last revolution
+    (void)chip_rev_.push(feed_rev_.push(feed_ramp_.value(), in.rpm), in.rpm);
     if (p_.average_per_revolution && in.rpm > 0.0) regulated = mean;
   }
-  if (!in.feed_block || !contact_.in_cut()) rev_mean_.restart();  // a new cut, a new average
+  if (!in.feed_block || !contact_.in_cut()) {  // a new cut, a new average
+    rev_mean_.restart();
+    feed_rev_.restart();
+    chip_rev_.restart();
+  }
   return regulated;
 }
 
@@ -224,9 +234,28 @@ inline double AdaptiveFeedController::load_ahead(const Input& in, double regulat
     trend_ = 0.0;
     return regulated;
   }
+  // The change the regulator commanded itself comes out of the trend. The chip at an angle is
+  // the axial advance since the previous revolution, h(t) = the commanded feed's mean over the
+  // last revolution, and the load L ∝ h^y (y the law's feed exponent, force_model_y; on power
+  // P = F·V at the same speed too); so the feed alone makes L(t) = L(t − T)·(h(t)/h(t − T))^y,
+  // and only the plant's own change (hardness, depth) is L(t) − L(t − T)·(h(t)/h(t − T))^y.
+  // Counted, the feed's own rate-limited rise showed a revolution ahead and the proportional
+  // term dropped the feed at once: on e_worn_tool (567 rpm) the prior art cycled every 2.6
+  // revolutions, 0.14 ↔ 0.18 mm/rev. (The feed now against a revolution ago, not the chip,
+  // reads a drop as the plant's rise for the half revolution the chip lags it: worse.)
+  const double s_now = feed_rev_.value(), s_ago = chip_rev_.revolution_ago(in.rpm);
+  const double own = s_now > 0.0 && s_ago > 0.0 ? std::pow(s_now / s_ago, p_.force_model_y) : 1.0;
   const double quarter_rev_s = 0.25 * 60.0 / in.rpm;
-  trend_ = core::FirstOrderLag(p_.period_s, quarter_rev_s).step_increment(trend_, in.force - ago);
-  return regulated + std::max(trend_, 0.0);
+  trend_ = core::FirstOrderLag(p_.period_s, quarter_rev_s)
+               .step_increment(trend_, in.force - ago * (std::isfinite(own) ? own : 1.0));
+  // What the feed already commanded adds to the mean a revolution ahead, the plant unchanged:
+  // held at s(t), the chip goes from h(t) to s(t) over the next revolution, its mean there
+  // ≈ (h(t) + s(t))/2, so M(t + T) ≈ M(t)·((h(t) + s(t))/(2·h(t)))^y; counted while it rises,
+  // as the trend is (the rise a rate-limited feed has in flight, not its next revolution's).
+  const double flight =
+      s_now > 0.0 ? std::pow(0.5 * (s_now + feed_ramp_.value()) / s_now, p_.force_model_y) : 1.0;
+  return regulated + std::max(trend_, 0.0) +
+         std::max(regulated * ((std::isfinite(flight) ? flight : 1.0) - 1.0), 0.0);
 }
 
 // The feed the regulator asks for: the PI in a cut, the air feed out of it, under a known rise

@@ -222,7 +222,9 @@ class AdaptiveFeedController {
   double s_cur_filtered_ = 0.0;
   core::FirstOrderLag speed_filter_;  // of the measured feed, speed_law_filter_s
   PerRevolutionMean rev_mean_;  // of the accepted readings, since the cut began
-  double trend_ = 0.0;  // L(t) − L(t − T), low-passed over a quarter revolution (load_ahead)
+  PerRevolutionMean feed_rev_;  // the feed commanded, with rev_mean_'s samples: the chip h(t)
+  PerRevolutionMean chip_rev_;  // h(t) as pushed, for h(t − T) (load_ahead)
+  double trend_ = 0.0;  // L(t) − L(t − T)·(h(t)/h(t − T))^y, low-passed over T/4 (load_ahead)
 };
 
 }  // namespace lathectl::control
