@@ -21,6 +21,18 @@ void PerRevolutionMean::configure(double dt_s, double rpm_min) {
   }
 }
 
+double PerRevolutionMean::revolution_ago(double rpm) const noexcept {
+  if (m_ == 0) return std::nan("");
+  const double want = std::max(1.0, 60.0 / std::max(std::abs(rpm), rpm_min_) / dt_);
+  const auto w = static_cast<std::size_t>(std::floor(want));
+  const double frac = want - static_cast<double>(w);
+  if (w + 2 > since_restart_) return std::nan("");
+  // sample j is cum[j + 1] − cum[j]; the last one pushed is n_ − 1
+  auto sample = [&](std::size_t j) { return cum_[(j + 1) % m_] - cum_[j % m_]; };
+  const double a = sample(n_ - 1 - w), b = sample(n_ - 2 - w);
+  return a + frac * (b - a);
+}
+
 double PerRevolutionMean::push(double x, double rpm) noexcept {
   sum_ += x;  // Σ x[0..n] = cum[n + 1], summed in the order of the record
   ++n_;

@@ -34,6 +34,26 @@ TEST(PerRevolutionMean, WindowFollowsTheSpeedBothWays) {
   EXPECT_DOUBLE_EQ(m[50], 51.0 - 4.5);       // w = 10 again: the window grows back
 }
 
+// The sample a revolution back (AdaptiveFeedController's trend of the mean): a line is
+// interpolated exactly at a fractional window (1300 rpm at 2 ms: 23.08 samples), so the load's
+// rise over the revolution, x(t) − x(t − T), is the slope times T whatever the phase; a
+// once-per-revolution swing comes back within linear interpolation's Δθ²/8 of its amplitude
+// (Δθ = 2π/23.08: 0.93 %).
+TEST(PerRevolutionMean, RevolutionAgoInterpolatesAtTheSameAngle) {
+  const double dt = 0.002, rpm = 1300.0, T = 60.0 / rpm;
+  PerRevolutionMean line(dt, 100.0), swing(dt, 100.0);
+  EXPECT_TRUE(std::isnan(line.revolution_ago(rpm)));  // nothing a revolution back yet
+  for (int i = 0; i < 200; ++i) {
+    const double t = i * dt;
+    (void)line.push(3.0 + 5.0 * t, rpm);
+    (void)swing.push(100.0 * std::sin(2.0 * std::numbers::pi * t / T), rpm);
+    if (i < 25) continue;
+    EXPECT_NEAR(3.0 + 5.0 * t - line.revolution_ago(rpm), 5.0 * T, 1e-9) << i;
+    EXPECT_NEAR(swing.revolution_ago(rpm), 100.0 * std::sin(2.0 * std::numbers::pi * t / T), 0.93)
+        << i;
+  }
+}
+
 TEST(PerRevolutionMean, AStoppedSpindleCountsAsOneRpm) {
   const std::vector<double> x(10, 7.0), rpm(10, 0.0);
   const auto m = per_revolution_mean(x, rpm, 0.01);

@@ -28,9 +28,18 @@
 //     within, median 4.6 %; the 160 others 99.4 %, 5.6 %). With the plant's runout decided where
 //     the nose meets fresh material and a pass within the runout above the blank's mean radius
 //     marking its high side (without the mark seed 1157 went 10.6 % over): the 160 all within,
-//     the worst 4.4 %; forged 24 of 40, the worst 6.3 %. The test holds 99 % within 5 % and
-//     every part within 7.5 % on the 160, so a regression shows, and prints the distribution and
-//     the worst parts of both kinds.
+//     the worst 4.4 %; forged 24 of 40, the worst 6.3 %. With the regulator comparing the
+//     per-revolution mean one revolution ahead while it rises with the limit (its trend from the
+//     load at the same angle a revolution ago: a hardness ramp or a deeper random allowance had
+//     shown in the mean a revolution late; on the earlier plant 184 -> 199 of 200): all 200 within
+//     5 %, the worst 4.7 % (forged: 40 of 40, median 3.2 %; the 160 others all within, 3.0 %).
+//     With the feed's own commanded change taken out of that trend (it had driven a limit cycle,
+//     e_worn_tool's prior art 0.14 <-> 0.18 mm/rev every 2.6 revolutions) and the rise already in
+//     flight counted instead: 199 of 200 within 5 %, the worst 5.3 % (forged: 39 of 40, median
+//     3.9 %; the 160 others all within, the worst 4.1 %).
+//     The test holds 99 % within 5 % and every part within 7.5 % on the whole generator and on
+//     the 160 round-3 parts alone, so a regression shows, and prints the distribution and the
+//     worst parts of both kinds.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -109,12 +118,14 @@ struct Stats {
   std::vector<const Outcome*> worst3;
 };
 
+enum class Kind { Other, Forged, All };
+
 // Per-revolution peak over the limit, of the parts of one kind whose limit is reachable.
-Stats stats(const std::vector<Outcome>& out, bool forged) {
+Stats stats(const std::vector<Outcome>& out, Kind which) {
   Stats st;
   std::vector<const Outcome*> kind;
   for (const auto& o : out) {
-    if (is_forged(o) != forged) continue;
+    if (which != Kind::All && is_forged(o) != (which == Kind::Forged)) continue;
     ++st.parts;
     if (o.reachable) kind.push_back(&o);
   }
@@ -162,14 +173,19 @@ TEST(RigEGenerated, EveryGeneratedPartIsFinishedWithNoFalseAlarm) {
           << " at " << a.time_s << " s";
   }
   // The acceptance (≥ 99 % of parts within 5 % of the limit, the worst ≤ 7.5 %) holds on the
-  // round-3 kinds of part. On issue 47's forged shafts on power (every fifth seed) it does NOT
-  // hold yet — 24 of 40 within 5 %, the worst 6.3 % over (hardness ramps entered before their
-  // trend shows; issue 47 stays open on it): their statistics are printed, not gated, so that
-  // the gate is not widened to pass. When the controller holds them, gate them with the others.
-  const Stats other = stats(out, false), forged = stats(out, true);
+  // whole generator, issue 47's forged shafts on power (every fifth seed) with the round-3
+  // kinds of part; and on the round-3 kinds alone, so a regression there is not hidden by the
+  // forged class.
+  const Stats other = stats(out, Kind::Other), forged = stats(out, Kind::Forged),
+              all = stats(out, Kind::All);
   print("round-3 parts", other);
-  print("forged shafts on power (issue 47, not yet gated)", forged);
+  print("forged shafts on power (issue 47)", forged);
+  std::printf("all %zu parts: within 5 %%: %.1f %%, worst %.1f %%\n", all.parts,
+              100.0 * all.within, all.worst);
   ASSERT_GT(other.reachable, 0u);
+  ASSERT_GT(forged.reachable, 0u);
+  EXPECT_GE(all.within, 0.99);
+  EXPECT_LE(all.worst, 7.5);
   EXPECT_GE(other.within, 0.99);
   EXPECT_LE(other.worst, 7.5);
 }

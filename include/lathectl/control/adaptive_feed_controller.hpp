@@ -116,8 +116,9 @@ class AdaptiveFeedController {
     double breakage_drop_window_s = 0.01;  // 0: no collapse detector
     // Regulate the force averaged over one spindle revolution (window from the measured speed):
     // the feed reaches the chip only over a revolution, so within-revolution swings (runout of
-    // an eccentric blank) are not the feed's to fight. Contact, air and breakage use the raw
-    // signal.
+    // an eccentric blank) are not the feed's to fight; the regulator compares the mean one
+    // revolution ahead while it rises (its trend from the load at the same angle a revolution
+    // ago) with the limit. Contact, air and breakage use the raw signal.
     bool average_per_revolution = true;
     SignalMonitor::Params sensor_monitor;
   };
@@ -194,6 +195,7 @@ class AdaptiveFeedController {
   Reason check_sensor(const Input& in, const PeriodTime& measured, bool& suspect) noexcept;
   Reason judge_contact(const Input& in, const PeriodTime& measured, bool sensor_ok) noexcept;
   double regulated_load(const Input& in, bool sensor_ok) noexcept;
+  double load_ahead(const Input& in, double regulated, bool sensor_ok) noexcept;
   double feed_target(const Input& in, double error, bool suspect, Reason& reason) noexcept;
   [[nodiscard]] double regulator_dt(const Input& in) const noexcept;
   double ramp_feed(const Input& in, double target, double error, bool sensor_ok,
@@ -220,6 +222,9 @@ class AdaptiveFeedController {
   double s_cur_filtered_ = 0.0;
   core::FirstOrderLag speed_filter_;  // of the measured feed, speed_law_filter_s
   PerRevolutionMean rev_mean_;  // of the accepted readings, since the cut began
+  PerRevolutionMean feed_rev_;  // the feed commanded, with rev_mean_'s samples: the chip h(t)
+  PerRevolutionMean chip_rev_;  // h(t) as pushed, for h(t − T) (load_ahead)
+  double trend_ = 0.0;  // L(t) − L(t − T)·(h(t)/h(t − T))^y, low-passed over T/4 (load_ahead)
 };
 
 }  // namespace lathectl::control

@@ -35,6 +35,9 @@ class PerRevolutionMean {
   // revolution ending with it.
   double push(double x, double rpm) noexcept;
   [[nodiscard]] double value() const noexcept { return value_; }
+  // The sample one revolution before the last one pushed, at speed rpm, interpolated between
+  // the two samples around it; NaN while fewer samples than a revolution and two are held.
+  [[nodiscard]] double revolution_ago(double rpm) const noexcept;
   [[nodiscard]] std::size_t samples() const noexcept { return since_restart_; }
   // The last mean spans a whole revolution (not fewer samples since the restart).
   [[nodiscard]] bool full() const noexcept { return full_; }
