@@ -11,8 +11,8 @@ and with sensor=power (the spindle drive's power minus the learned idle power, W
     op 4, 2 mm before: they end at the shoulders op 1 and op 3 left at Z-20 and Z-40, and the
     feed-forward from the stock model lowers the feed from about 1.2 mm before them, as it
     should: in one fresh-clone run op 2's last revolution in the 1 mm window read 941 N against
-    the 1000 N limit; op 4's, since T2 cuts with its own 0.4 mm nose (the table's D0.8, issue
-    47), read 831 N against 900 N at Z-38.8, the 66 before it 891-916 N);
+    the 1000 N limit; op 4's, in the first fresh-clone run after issue 47's merges, read 831 N
+    against 900 N at Z-38.8, the 66 before it 891-916 N);
   - the limit pin switches in the servo period the program's value reaches motion (M68: the
     analog output; M67: the first period of the next move);
   - teach-in: the taught reference within 2 % of the true mean load over the steady cut, stored
