@@ -51,6 +51,17 @@ from sim_session import run_linuxcnc_sim  # noqa: E402
 SEEDS = (1039, 1002)
 
 
+
+def rig_tool_table(work):
+    """The rig's tool: T1 with the scenario's nose (no D) at Q2 and no I/J (the nose alone, as rig
+    E cuts). The simulated lathe's T1 is a CNMG (I85 J5), whose 5-degree end edge cuts into the
+    shoulders the generated programs plunge beside (seed 1039: overload, tool breakage, +49.5 %
+    per revolution): LinuxCNC and the rig compare the same tool."""
+    path = os.path.join(work, "rig-tools.tbl")
+    with open(path, "w") as f:
+        f.write("T1 P1 Q2 ; the rig's tool: the scenario's nose alone (no D, no I/J)\n")
+    return path
+
 def main():
     src, work, tool = (os.path.abspath(a) for a in sys.argv[1:4])
     shutil.rmtree(work, ignore_errors=True)
@@ -75,7 +86,8 @@ def main():
         r = run_linuxcnc_sim([os.path.join(src, "scripts/linuxcnc-sim"),
                               os.path.join(work, "generated_%d.ngc" % seed),
                               os.path.join(work, "generated_%d.toml" % seed),
-                              "--out", out, "--timeout", "60", "--quiet"])
+                              "--out", out, "--timeout", "60", "--quiet",
+                              "--tool-table", rig_tool_table(work)])
         path = os.path.join(out, "summary.json")
         if not os.path.exists(path):
             print(r.stdout + r.stderr)

@@ -326,8 +326,8 @@ TEST(Tools, LinuxCncToolTableFillsTheNoseAndMustAgree) {
   ASSERT_EQ(table.size(), 3u);
   EXPECT_EQ(table[0].number, 1);
   EXPECT_DOUBLE_EQ(table[0].diameter_mm, 1.6);  // the examples' 0.8 mm nose
-  EXPECT_DOUBLE_EQ(table[0].front_angle_deg, 0.0);  // no I/J: the nose alone, as rig E
-  EXPECT_DOUBLE_EQ(table[0].back_angle_deg, 0.0);
+  EXPECT_DOUBLE_EQ(table[0].front_angle_deg, 85.0);  // a CNMG in a 95° holder: I85 J5
+  EXPECT_DOUBLE_EQ(table[0].back_angle_deg, 5.0);
   EXPECT_EQ(table[0].orientation, 2);  // a right-hand turning tool: the tip at the nose's -X -Z corner
   EXPECT_EQ(table[1].line, 2);
   EXPECT_DOUBLE_EQ(table[2].diameter_mm, 0.0);  // T10: "zero diameter"
@@ -338,7 +338,7 @@ TEST(Tools, LinuxCncToolTableFillsTheNoseAndMustAgree) {
       "tools.toml");
   apply_tool_table(specs, table, "tools.toml", tbl);
   EXPECT_DOUBLE_EQ(specs[0].nose_radius_mm, 0.4);  // D0.8 / 2: the table fills it
-  EXPECT_DOUBLE_EQ(specs[0].front_angle_deg, 0.0);
+  EXPECT_DOUBLE_EQ(specs[0].front_angle_deg, 85.0);
   EXPECT_EQ(specs[0].orientation, 2);
   EXPECT_DOUBLE_EQ(specs[1].nose_radius_mm, 0.1);  // D0: the table lacks it, the file gives it
 
