@@ -80,6 +80,7 @@ void AdaptiveFeedController::configure(const Params& p) {
   feed_rev_ = PerRevolutionMean(p.period_s, p.rpm_min);
   chip_rev_ = PerRevolutionMean(p.period_s, p.rpm_min);
   trend_ = 0.0;
+  trend_lag_rpm_ = -1.0;  // the lag is derived again for this period_s
   configured_ = true;
 }
 
@@ -245,8 +246,11 @@ inline double AdaptiveFeedController::load_ahead(const Input& in, double regulat
   // reads a drop as the plant's rise for the half revolution the chip lags it: worse.)
   const double s_now = feed_rev_.value(), s_ago = chip_rev_.revolution_ago(in.rpm);
   const double own = s_now > 0.0 && s_ago > 0.0 ? std::pow(s_now / s_ago, p_.force_model_y) : 1.0;
-  const double quarter_rev_s = 0.25 * 60.0 / in.rpm;
-  trend_ = core::FirstOrderLag(p_.period_s, quarter_rev_s)
+  if (in.rpm != trend_lag_rpm_) {  // its exp() only when the speed changes, not every period
+    trend_lag_rpm_ = in.rpm;
+    trend_lag_ = core::FirstOrderLag(p_.period_s, 0.25 * 60.0 / in.rpm);
+  }
+  trend_ = trend_lag_
                .step_increment(trend_, in.force - ago * (std::isfinite(own) ? own : 1.0));
   // What the feed already commanded adds to the mean a revolution ahead, the plant unchanged:
   // held at s(t), the chip goes from h(t) to s(t) over the next revolution, its mean there

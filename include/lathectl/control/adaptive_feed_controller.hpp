@@ -225,6 +225,8 @@ class AdaptiveFeedController {
   PerRevolutionMean feed_rev_;  // the feed commanded, with rev_mean_'s samples: the chip h(t)
   PerRevolutionMean chip_rev_;  // h(t) as pushed, for h(t − T) (load_ahead)
   double trend_ = 0.0;  // L(t) − L(t − T)·(h(t)/h(t − T))^y, low-passed over T/4 (load_ahead)
+  core::FirstOrderLag trend_lag_;  // over T/4 at trend_lag_rpm_
+  double trend_lag_rpm_ = -1.0;
 };
 
 }  // namespace lathectl::control
